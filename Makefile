@@ -1,0 +1,204 @@
+# hovox - heterogeneous-object modeling for multi-material 3D printing.
+#   make            library, CLI (build/hovox) and plugins
+#   make test       unit, header, CLI and sample tests (installs missing packages as root)
+#   make sanitize   the whole test suite built with ASan + UBSan (build-san/)
+#   make bench      benchmarks against the anchors named in the issues
+#   make demo       the gear sample end to end
+#   make deps       install every Debian package (build, test, bench)
+# Options: WERROR=1 (warnings are errors, as in CI), BUILD=dir, SHARED=../shared.
+
+BUILD   ?= build
+SHARED  ?= ../shared
+CC      ?= gcc
+CXX     ?= g++
+WERROR  ?= 0
+SAN     ?= 0
+OPT     ?= -O2
+
+ifeq ($(origin CC),default)
+CC := gcc
+endif
+
+WARN    := -Wall -Wextra -Wshadow -Wconversion -Wno-sign-conversion -Wformat=2 -Wundef
+ifeq ($(WERROR),1)
+WARN    += -Werror
+endif
+ifeq ($(SAN),1)
+SANFLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+OPT      := -O1
+endif
+
+ROOT    := $(abspath .)
+PLUGDIR := $(ROOT)/$(BUILD)/plugins
+CPPFLAGS_ALL := -Iinclude -D_GNU_SOURCE -DHV_PLUGIN_BUILD_DIR='"$(PLUGDIR)"' -MMD -MP
+CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp $(WARN) $(SANFLAGS)
+# Bridges keep default visibility: OpenVDB's template statics must unify with libopenvdb's
+# (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.
+CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
+                $(if $(filter 1,$(WERROR)),-Werror) $(SANFLAGS)
+PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 2>/dev/null)
+PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 2>/dev/null)
+LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
+
+# ---- sources ------------------------------------------------------------------------------
+LIB_DIRS  := src/core src/mesh src/voxel src/field src/material src/lua volumes slicing renderer
+LIB_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
+CLI_SRC   := $(wildcard src/cli/*.c)
+LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
+CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
+HEADERS   := $(wildcard include/hovox/*.h)
+
+# One plugin per C++ library: <dir>/<name>_bridge.cpp -> plugins/hovox-<name>.so
+VDB_LIBS  := -lopenvdb -ltbb -lImath-3_1
+OIIO_LIBS  = $(shell pkg-config --libs OpenImageIO 2>/dev/null)
+OIIO_CFLAGS = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
+VTK_INC   := -isystem /usr/include/vtk-9.1
+VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkCommonExecutionModel-9.1 \
+             -lvtkCommonDataModel-9.1 -lvtkCommonCore-9.1
+PLUGINS   := $(PLUGDIR)/hovox-vdb.so
+ifneq ($(wildcard renderer/oiio_bridge.cpp),)
+PLUGINS   += $(PLUGDIR)/hovox-oiio.so
+endif
+ifneq ($(wildcard volumes/vtk_bridge.cpp),)
+PLUGINS   += $(PLUGDIR)/hovox-vtk.so
+endif
+
+# ---- tests --------------------------------------------------------------------------------
+TEST_C    := $(wildcard tests/*/test_*.c)
+TEST_CXX  := $(wildcard tests/*/test_*.cpp)
+TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_C)) \
+             $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(TEST_CXX))
+TEST_SUPPORT := $(wildcard tests/support/*.c)
+TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
+CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
+CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
+
+.PHONY: all lib plugins test unit-tests header-tests cli-tests sample-tests sanitize bench \
+        demo deps clean check-deps-build check-deps-test
+
+all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
+
+lib: $(BUILD)/libhovox.a
+
+plugins: $(PLUGINS)
+
+# ---- dependencies: installed on demand (root) or the apt command printed -----------------
+$(BUILD)/.deps-build: scripts/install-deps.sh
+	@mkdir -p $(BUILD)
+	@sh scripts/install-deps.sh build
+	@touch $@
+$(BUILD)/.deps-test: scripts/install-deps.sh
+	@mkdir -p $(BUILD)
+	@sh scripts/install-deps.sh build test
+	@touch $@
+
+deps:
+	sh scripts/install-deps.sh
+
+# ---- build rules --------------------------------------------------------------------------
+# Objects are rebuilt when the flags change.
+FLAGS_NOW := $(CC) $(CXX) $(CPPFLAGS_ALL) $(CFLAGS_ALL) $(CXXFLAGS_ALL)
+$(BUILD)/.flags: FORCE
+	@mkdir -p $(BUILD)
+	@echo '$(FLAGS_NOW)' | cmp -s - $@ || echo '$(FLAGS_NOW)' > $@
+FORCE:
+
+$(BUILD)/obj/%.o: %.c $(BUILD)/.flags
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS_ALL) $(PKG_CFLAGS) $(CFLAGS_ALL) -c $< -o $@
+
+$(BUILD)/libhovox.a: $(LIB_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/libhovox.so: $(LIB_OBJ)
+	$(CC) -shared -o $@ $^ $(LIBS)
+
+$(BUILD)/hovox: $(CLI_OBJ) $(BUILD)/libhovox.a | $(PLUGINS)
+	$(CC) -o $@ $(CLI_OBJ) $(BUILD)/libhovox.a $(LIBS)
+
+$(BUILD)/obj/%.pic.o: %.cpp $(BUILD)/.flags
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS_ALL) $(CXXFLAGS_ALL) $(EXTRA_CXXFLAGS) -c $< -o $@
+
+$(PLUGDIR)/hovox-vdb.so: $(BUILD)/obj/volumes/vdb_bridge.pic.o
+	@mkdir -p $(dir $@)
+	$(CXX) -shared -o $@ $^ $(VDB_LIBS) $(SANFLAGS)
+
+$(PLUGDIR)/hovox-oiio.so: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
+$(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/renderer/oiio_bridge.pic.o
+	@mkdir -p $(dir $@)
+	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
+
+$(BUILD)/obj/volumes/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
+$(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/volumes/vtk_bridge.pic.o
+	@mkdir -p $(dir $@)
+	$(CXX) -shared -o $@ $^ $(VTK_LIBS) $(SANFLAGS)
+
+$(BUILD)/obj/renderer/oiio_bridge.pic.o: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
+
+# ---- tests --------------------------------------------------------------------------------
+$(BUILD)/obj/tests/%.o: tests/%.c $(BUILD)/.flags
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS_ALL) -Isrc -Itests $(PKG_CFLAGS) $(CRIT_CFLAGS) $(CFLAGS_ALL) -Wno-conversion -c $< -o $@
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
+	@mkdir -p $(dir $@)
+	$(CC) -o $@ $< $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a $(CRIT_LIBS) $(LIBS)
+
+$(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS_ALL) -Isrc -Itests $(CXXFLAGS_ALL) $(CRIT_CFLAGS) -o $@ $< $(TEST_SUPPORT_OBJ) \
+	    $(BUILD)/libhovox.a $(CRIT_LIBS) $(VDB_LIBS) $(LIBS)
+
+# Every public header compiles alone as C11 and as C++17.
+$(BUILD)/.headers-ok: $(HEADERS)
+	@mkdir -p $(BUILD)
+	@for h in $(HEADERS); do \
+	    echo "#include \"$${h#include/}\"" | $(CC) -std=c11 -pedantic -Wall -Wextra -Werror \
+	        -Iinclude -x c -fsyntax-only - || exit 1; \
+	    echo "#include \"$${h#include/}\"" | $(CXX) -std=c++17 -pedantic -Wall -Wextra -Werror \
+	        -Iinclude -x c++ -fsyntax-only - || exit 1; \
+	done
+	@echo "headers: $(words $(HEADERS)) public headers compile as C11 and C++17"
+	@touch $@
+
+header-tests: $(BUILD)/.headers-ok
+
+unit-tests: $(TEST_BIN) $(PLUGINS)
+	@fail=0; for t in $(TEST_BIN); do \
+	    HOVOX_SHARED=$(SHARED) HOVOX_BUILD=$(BUILD) $$t --jobs 2 >$$t.log 2>&1; rc=$$?; \
+	    tail -n 1 $$t.log | sed "s|^|$$(basename $$(dirname $$t))/$$(basename $$t): |"; \
+	    if [ $$rc -ne 0 ]; then cat $$t.log; fail=1; fi; \
+	done; exit $$fail
+
+cli-tests: $(BUILD)/hovox $(PLUGINS)
+	@HOVOX=$(ROOT)/$(BUILD)/hovox SHARED=$(SHARED) sh tests/cli/run.sh
+
+sample-tests: $(BUILD)/hovox $(PLUGINS)
+	@if [ -f tests/samples/run.sh ]; then HOVOX=$(ROOT)/$(BUILD)/hovox SHARED=$(SHARED) \
+	    sh tests/samples/run.sh; fi
+
+test: $(BUILD)/.deps-test
+	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory header-tests unit-tests cli-tests sample-tests
+
+sanitize: $(BUILD)/.deps-test
+	@$(MAKE) --no-print-directory BUILD=build-san SAN=1 all
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests cli-tests sample-tests
+
+bench: $(BUILD)/.deps-test
+	@sh scripts/install-deps.sh build test bench
+	@$(MAKE) --no-print-directory all
+	@HOVOX=$(ROOT)/$(BUILD)/hovox BUILD=$(BUILD) SHARED=$(SHARED) sh scripts/bench.sh
+
+demo: $(BUILD)/.deps-build
+	@$(MAKE) --no-print-directory all
+	@HOVOX=$(ROOT)/$(BUILD)/hovox sh scripts/demo.sh
+
+clean:
+	rm -rf build build-san
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

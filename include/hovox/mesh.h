@@ -1,0 +1,88 @@
+/* hovox/mesh.h - triangle meshes: STL input (binary and ASCII), exact vertex welding,
+ * edge adjacency and the mesh report (closedness, orientation, volume, shells). */
+#ifndef HOVOX_MESH_H
+#define HOVOX_MESH_H
+
+#include "hovox/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct hv_mesh hv_mesh;
+
+typedef enum hv_mesh_format {
+    HV_MESH_GENERATED = 0, /* built in memory */
+    HV_MESH_STL_BINARY = 1,
+    HV_MESH_STL_ASCII = 2
+} hv_mesh_format;
+
+/* What the mesh report says. Defects (open edges, flips, degenerate facets) are facts, not
+ * errors: a mesh that has them still loads. */
+typedef struct hv_mesh_report {
+    hv_mesh_format format;
+    uint64_t facets;            /* triangles as stored */
+    uint64_t vertices;          /* distinct positions after exact welding */
+    double bbox_min[3], bbox_max[3];
+    double volume;              /* signed, from the stored winding (positive: outward) */
+    double area;
+    uint64_t shells;            /* connected components through shared edges */
+    uint64_t open_edges;        /* edges used by one facet only */
+    uint64_t nonmanifold_edges; /* edges used by three or more facets */
+    uint64_t degenerate_facets; /* zero area: repeated or collinear vertices */
+    uint64_t flipped_facets;    /* facets whose winding disagrees with their shell's majority */
+    uint64_t normal_mismatch;   /* ASCII/binary stored normals opposite to the winding */
+} hv_mesh_report;
+
+/* Load an STL file. The format is decided by content: a file whose size is 84 + 50*n,
+ * n being the count at byte 80, is binary; otherwise it must be ASCII ("solid" ... "endsolid").
+ * Errors: HV_ERR_IO (missing, unreadable, a directory), HV_ERR_BAD_INPUT (truncated, trailing
+ * data, non-finite or non-numeric coordinates, missing keywords, no facets), HV_ERR_LIMIT
+ * (more than 2^31 facets), HV_ERR_NOMEM. The detail names the file, the facet or line, and
+ * the value. On success *out is a new mesh, freed with hv_mesh_destroy. */
+HV_API hv_status hv_mesh_load_stl(const char *path, hv_mesh **out);
+
+/* Same from memory; `name` is used in messages only. */
+HV_API hv_status hv_mesh_parse_stl(const void *data, size_t size, const char *name,
+                                   hv_mesh **out);
+
+/* Build a mesh from indexed triangles (3 floats per vertex, 3 indices per facet); vertices
+ * are welded again (exact match). Errors: HV_ERR_INVALID (index out of range, non-finite
+ * coordinate, no facets), HV_ERR_NOMEM. Copies the arrays. */
+HV_API hv_status hv_mesh_create(const float *xyz, size_t vertex_count, const uint32_t *facets,
+                                size_t facet_count, hv_mesh **out);
+
+/* Free a mesh; NULL is allowed. */
+HV_API void hv_mesh_destroy(hv_mesh *mesh);
+
+HV_API size_t hv_mesh_vertex_count(const hv_mesh *mesh);
+HV_API size_t hv_mesh_facet_count(const hv_mesh *mesh);
+/* 3 floats per vertex; owned by the mesh. */
+HV_API const float *hv_mesh_vertices(const hv_mesh *mesh);
+/* 3 vertex indices per facet (v0, v1, v2, counter-clockwise seen from outside). */
+HV_API const uint32_t *hv_mesh_facets(const hv_mesh *mesh);
+
+/* Edge adjacency: for facet f and local edge e (0: v0v1, 1: v1v2, 2: v2v0),
+ * neighbors[3f+e] is the facet across that edge, or HV_MESH_OPEN when no facet shares it.
+ * Around a non-manifold edge each facet is paired with one of opposite direction when
+ * possible (else the first one found); hv_mesh_edge_flags tells which edges those are. */
+#define HV_MESH_OPEN (-1)
+HV_API const int32_t *hv_mesh_neighbors(const hv_mesh *mesh);
+
+/* Per facet: bit e set when local edge e is non-manifold (shared by 3+ facets). */
+HV_API const uint8_t *hv_mesh_edge_flags(const hv_mesh *mesh);
+
+/* The report, computed when the mesh was built; owned by the mesh. */
+HV_API const hv_mesh_report *hv_mesh_get_report(const hv_mesh *mesh);
+
+/* Where the mesh came from ("gear.stl"; "" for generated meshes); owned by the mesh. */
+HV_API const char *hv_mesh_name(const hv_mesh *mesh);
+
+/* Write binary STL (ascii = 0) or ASCII STL (ascii = 1) atomically (temporary file renamed
+ * when complete). Errors: HV_ERR_IO. */
+HV_API hv_status hv_mesh_write_stl(const hv_mesh *mesh, const char *path, int ascii);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,178 @@
+/* src/cli/common.c - error reporting, exit codes, option parsing and the progress bar. */
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli.h"
+
+int cli_exit_code(hv_status s)
+{
+    switch (s) {
+    case HV_OK: return EXIT_OK;
+    case HV_ERR_INVALID:
+    case HV_ERR_BAD_INPUT:
+    case HV_ERR_NOT_FOUND:
+    case HV_ERR_UNSUPPORTED: return EXIT_BAD_INPUT;
+    case HV_ERR_IO: return EXIT_IO;
+    case HV_ERR_NOMEM:
+    case HV_ERR_LIMIT: return EXIT_RESOURCE;
+    case HV_ERR_CANCELLED: return EXIT_INTERRUPTED;
+    case HV_ERR_INTERNAL: return EXIT_INTERNAL;
+    }
+    return EXIT_INTERNAL;
+}
+
+int cli_fail(hv_status s)
+{
+    const char *msg = hv_last_error();
+    if (s == HV_ERR_CANCELLED && cli_interrupted()) msg = "interrupted";
+    fprintf(stderr, "hovox: %s\n", *msg ? msg : hv_status_name(s));
+    return cli_exit_code(s);
+}
+
+int cli_usage_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "hovox %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\nTry 'hovox %s --help'.\n", cmd);
+    va_end(ap);
+    return EXIT_USAGE;
+}
+
+int cli_parse_double(const char *cmd, const char *opt, const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
+        return cli_usage_error(cmd, "%s: '%s' is not a finite number", opt, s);
+    *out = v;
+    return 0;
+}
+
+int cli_parse_int(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE)
+        return cli_usage_error(cmd, "%s: '%s' is not an integer", opt, s);
+    if (v < lo || v > hi)
+        return cli_usage_error(cmd, "%s: %ld is out of range [%ld, %ld]", opt, v, lo, hi);
+    *out = v;
+    return 0;
+}
+
+int cli_parse_vec(const char *cmd, const char *opt, const char *s, int n, double *out)
+{
+    const char *p = s;
+    for (int i = 0; i < n; ++i) {
+        char *end;
+        errno = 0;
+        double v = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v))
+            return cli_usage_error(cmd, "%s: '%s' is not %d comma-separated numbers", opt, s, n);
+        out[i] = v;
+        p = end;
+        if (i + 1 < n) {
+            if (*p != ',')
+                return cli_usage_error(cmd, "%s: '%s' is not %d comma-separated numbers", opt, s,
+                                       n);
+            ++p;
+        }
+    }
+    if (*p != '\0')
+        return cli_usage_error(cmd, "%s: '%s' is not %d comma-separated numbers", opt, s, n);
+    return 0;
+}
+
+int cli_parse_size(const char *cmd, const char *opt, const char *s, unsigned long long *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || errno == ERANGE || !(v >= 0))
+        return cli_usage_error(cmd, "%s: '%s' is not a size (e.g. 512M, 8G)", opt, s);
+    double mul = 1;
+    switch (*end) {
+    case 'k': case 'K': mul = 1024.0; ++end; break;
+    case 'm': case 'M': mul = 1024.0 * 1024; ++end; break;
+    case 'g': case 'G': mul = 1024.0 * 1024 * 1024; ++end; break;
+    case 't': case 'T': mul = 1024.0 * 1024 * 1024 * 1024; ++end; break;
+    default: break;
+    }
+    if (*end == 'B' || *end == 'b') ++end;
+    if (*end != '\0' || v * mul > 1.8e19)
+        return cli_usage_error(cmd, "%s: '%s' is not a size (e.g. 512M, 8G)", opt, s);
+    *out = (unsigned long long)(v * mul);
+    return 0;
+}
+
+/* ---- signals and progress -------------------------------------------------------------- */
+
+static volatile sig_atomic_t g_interrupted;
+
+static void on_signal(int sig)
+{
+    g_interrupted = sig;
+}
+
+void cli_install_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+}
+
+int cli_interrupted(void) { return g_interrupted != 0; }
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void cli_progress_init(cli_progress *p, int quiet)
+{
+    memset(p, 0, sizeof *p);
+    p->enabled = !quiet && isatty(STDERR_FILENO);
+}
+
+int cli_progress_fn(void *user, const char *stage, double fraction)
+{
+    cli_progress *p = user;
+    if (g_interrupted) return 1;
+    if (!p || !p->enabled) return 0;
+    double t = now_seconds();
+    int new_stage = strncmp(p->stage, stage, sizeof p->stage - 1) != 0;
+    if (!new_stage && t - p->last_draw < 0.1 && fraction < 1.0) return 0;
+    if (new_stage && p->drawn) fputc('\n', stderr);
+    snprintf(p->stage, sizeof p->stage, "%s", stage);
+    p->last_draw = t;
+    int width = 40, fill = (int)(fraction * width + 0.5);
+    char bar[64];
+    for (int i = 0; i < width; ++i) bar[i] = i < fill ? '#' : '.';
+    bar[width] = '\0';
+    fprintf(stderr, "\r%-14s [%s] %3d%%", stage, bar, (int)(fraction * 100 + 0.5));
+    fflush(stderr);
+    p->drawn = 1;
+    return 0;
+}
+
+void cli_progress_done(cli_progress *p)
+{
+    if (p->enabled && p->drawn) fputc('\n', stderr);
+    p->drawn = 0;
+    p->stage[0] = '\0';
+}

@@ -1,0 +1,53 @@
+/* src/cli/main.c - `hovox <command> [options]`: the command table, --help, --version. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const cli_command g_commands[] = {
+    {"info", cmd_info, "report on an STL mesh: size, volume, shells, defects"},
+    {"generate", cmd_generate, "write a parametric closed mesh (sphere, gear, knot, ...)"},
+};
+
+static void print_help(FILE *out)
+{
+    fprintf(out,
+            "usage: hovox <command> [options]\n"
+            "       hovox --version | --help\n"
+            "\n"
+            "Heterogeneous-object modeling for multi-material 3D printing.\n"
+            "\n"
+            "Commands:\n");
+    for (size_t i = 0; i < sizeof g_commands / sizeof g_commands[0]; ++i)
+        fprintf(out, "  %-10s %s\n", g_commands[i].name, g_commands[i].summary);
+    fprintf(out,
+            "\n"
+            "Run 'hovox <command> --help' for a command's options.\n"
+            "\n"
+            "Exit codes: 0 ok, 1 bad input, 2 usage, 3 resource limit, 4 I/O,\n"
+            "            70 internal error, 130 interrupted.\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        print_help(stderr);
+        return EXIT_USAGE;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
+        printf("hovox %s\n", hv_version());
+        return EXIT_OK;
+    }
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        print_help(stdout);
+        return EXIT_OK;
+    }
+    for (size_t i = 0; i < sizeof g_commands / sizeof g_commands[0]; ++i)
+        if (strcmp(cmd, g_commands[i].name) == 0) {
+            cli_install_signals();
+            return g_commands[i].run(argc - 1, argv + 1);
+        }
+    fprintf(stderr, "hovox: unknown command '%s'\nTry 'hovox --help'.\n", cmd);
+    return EXIT_USAGE;
+}

@@ -1,0 +1,113 @@
+/* src/core/internal.h - helpers shared by hovox modules (not part of the public API):
+ * growable buffers, a JSON reader/writer, whole-file reads, atomic writes, plugins and a
+ * parallel-for over OpenMP that reports progress from the calling thread. */
+#ifndef HOVOX_INTERNAL_H
+#define HOVOX_INTERNAL_H
+
+#include <stdarg.h>
+#include <stdio.h>
+
+#include "hovox/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HV_MIN(a, b) ((a) < (b) ? (a) : (b))
+#define HV_MAX(a, b) ((a) > (b) ? (a) : (b))
+#define HV_CLAMP(x, lo, hi) ((x) < (lo) ? (lo) : (x) > (hi) ? (hi) : (x))
+#define HV_COUNT(a) (sizeof(a) / sizeof((a)[0]))
+
+/* File name without directories, for messages. */
+const char *hv_basename(const char *path);
+
+/* ---- allocation: NULL on failure with HV_ERR_NOMEM recorded ---------------------------- */
+void *hv_malloc(size_t size);
+void *hv_calloc(size_t count, size_t size);
+void *hv_realloc(void *p, size_t size);
+/* count*size with overflow check; on overflow records HV_ERR_LIMIT and returns NULL. */
+void *hv_malloc_array(size_t count, size_t size);
+char *hv_strdup(const char *s);
+/* Grow *p (holding *cap elements of `size`) to hold at least `need`. */
+hv_status hv_grow(void **p, size_t *cap, size_t need, size_t size);
+
+/* ---- growable string --------------------------------------------------------------------- */
+typedef struct hv_buf {
+    char *data; /* NUL-terminated when non-NULL */
+    size_t len, cap;
+    int failed; /* an append ran out of memory; data holds what fit */
+} hv_buf;
+void hv_buf_init(hv_buf *b);
+void hv_buf_free(hv_buf *b);
+void hv_buf_append(hv_buf *b, const char *s, size_t n);
+void hv_buf_puts(hv_buf *b, const char *s);
+void hv_buf_printf(hv_buf *b, const char *fmt, ...) HV_PRINTF(2, 3);
+void hv_buf_vprintf(hv_buf *b, const char *fmt, va_list ap);
+/* Append s as a JSON string literal (quotes and escapes). */
+void hv_buf_json_string(hv_buf *b, const char *s);
+/* Append a double in shortest round-trip-ish form (%.17g trimmed to %.9g when exact enough);
+ * non-finite values become null. */
+void hv_buf_json_number(hv_buf *b, double v);
+
+/* ---- JSON reader (DOM) -------------------------------------------------------------------- */
+typedef enum hv_json_type {
+    HV_JSON_NULL, HV_JSON_BOOL, HV_JSON_NUMBER, HV_JSON_STRING, HV_JSON_ARRAY, HV_JSON_OBJECT
+} hv_json_type;
+typedef struct hv_json hv_json;
+struct hv_json {
+    hv_json_type type;
+    double number;  /* NUMBER, BOOL (0/1) */
+    char *string;   /* STRING; key of object members */
+    char *key;      /* member name when inside an object */
+    hv_json *child; /* first element or member */
+    hv_json *next;  /* next sibling */
+    size_t count;   /* children */
+};
+/* Parse text (len bytes). On error records HV_ERR_BAD_INPUT "line L, column C: ..." and
+ * returns NULL. Free with hv_json_free. */
+hv_json *hv_json_parse(const char *text, size_t len);
+void hv_json_free(hv_json *j);
+const hv_json *hv_json_get(const hv_json *obj, const char *key);
+const hv_json *hv_json_at(const hv_json *arr, size_t i);
+
+/* ---- files ------------------------------------------------------------------------------ */
+/* Read a whole file (NUL appended, not counted). Errors: HV_ERR_IO naming the path and errno
+ * text (missing, directory, unreadable), HV_ERR_LIMIT (> max bytes), HV_ERR_NOMEM. */
+hv_status hv_read_file(const char *path, size_t max, char **data, size_t *size);
+
+/* Atomic output: open "<dir>/.<name>.tmp-<pid>-<n>" for writing; commit renames it to path,
+ * abort removes it. Temporary files of a killed process never carry the final name. */
+typedef struct hv_atomic_file {
+    FILE *fp;
+    char *path;
+    char *tmp;
+} hv_atomic_file;
+hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode);
+hv_status hv_atomic_commit(hv_atomic_file *af); /* fflush, fsync-less close, rename */
+void hv_atomic_abort(hv_atomic_file *af);
+/* A temporary path next to `path` (caller frees), for writers that take a path. */
+char *hv_temp_path(const char *path);
+
+/* ---- plugins ---------------------------------------------------------------------------- */
+/* Load plugins/<name>.so (searched in $HOVOX_PLUGIN_DIR, <exe dir>/plugins,
+ * <exe dir>/../plugins, <exe dir>/../lib/hovox/plugins, the build-time directory) and return
+ * the address of `symbol`. Errors: HV_ERR_UNSUPPORTED naming the places tried and dlerror. */
+hv_status hv_plugin_symbol(const char *name, const char *symbol, void **out);
+
+/* ---- parallel loops ---------------------------------------------------------------------- */
+/* Call fn(ctx, begin, end, thread) over [0, n) in chunks of `grain` on hv_threads() threads.
+ * Progress (stage, done/n) is reported from the calling thread; a cancel stops handing out
+ * chunks and returns HV_ERR_CANCELLED. fn returns HV_OK or a status (with its message set on
+ * its own thread); the first failure by chunk order is returned, its message copied to the
+ * calling thread. Results must not depend on which thread ran which chunk. */
+typedef hv_status (*hv_range_fn)(void *ctx, size_t begin, size_t end, int thread);
+hv_status hv_parallel_for(size_t n, size_t grain, hv_range_fn fn, void *ctx,
+                          const hv_progress *progress, const char *stage);
+
+/* Report progress from the calling thread; returns HV_ERR_CANCELLED (message set) on cancel. */
+hv_status hv_progress_report(const hv_progress *p, const char *stage, double fraction);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,150 @@
+/* src/core/parallel.c - thread count, a chunked parallel-for over OpenMP with progress and
+ * cancellation reported on the calling thread, physical memory, plugin loading. */
+#include <dlfcn.h>
+#include <limits.h>
+#include <omp.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "internal.h"
+
+static int g_threads;
+
+void hv_set_threads(int threads) { g_threads = threads > 0 ? threads : 0; }
+
+int hv_threads(void)
+{
+    if (g_threads > 0) return g_threads;
+    const char *env = getenv("HOVOX_THREADS");
+    if (env && *env) {
+        long n = strtol(env, NULL, 10);
+        if (n > 0 && n <= 1024) return (int)n;
+    }
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)HV_MIN(n, 1024) : 1;
+}
+
+uint64_t hv_physical_memory(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || size <= 0) return 0;
+    return (uint64_t)pages * (uint64_t)size;
+}
+
+hv_status hv_progress_report(const hv_progress *p, const char *stage, double fraction)
+{
+    if (p && p->fn && p->fn(p->user, stage, HV_CLAMP(fraction, 0.0, 1.0)) != 0)
+        return hv_error_set(HV_ERR_CANCELLED, "%s: cancelled", stage);
+    return HV_OK;
+}
+
+hv_status hv_parallel_for(size_t n, size_t grain, hv_range_fn fn, void *ctx,
+                          const hv_progress *progress, const char *stage)
+{
+    if (n == 0) return hv_progress_report(progress, stage, 1.0);
+    if (grain == 0) grain = 1;
+    size_t chunks = (n + grain - 1) / grain;
+    int threads = hv_threads();
+    if ((size_t)threads > chunks) threads = (int)chunks;
+
+    atomic_size_t next = 0, done = 0;
+    atomic_int stop = 0;
+    /* the failing chunk with the lowest index wins, so the message is deterministic */
+    size_t fail_chunk = SIZE_MAX;
+    hv_status fail_status = HV_OK;
+    char fail_msg[2048] = "";
+    hv_status cancel = HV_OK;
+
+#pragma omp parallel num_threads(threads)
+    {
+        int t = omp_get_thread_num();
+        for (;;) {
+            if (atomic_load(&stop)) break;
+            size_t c = atomic_fetch_add(&next, 1);
+            if (c >= chunks) break;
+            size_t b = c * grain, e = HV_MIN(n, b + grain);
+            hv_status s = fn(ctx, b, e, t);
+            if (s != HV_OK) {
+#pragma omp critical(hv_parallel_fail)
+                {
+                    if (c < fail_chunk) {
+                        fail_chunk = c;
+                        fail_status = s;
+                        strncpy(fail_msg, hv_last_error(), sizeof fail_msg - 1);
+                    }
+                }
+                atomic_store(&stop, 1);
+                break;
+            }
+            size_t d = atomic_fetch_add(&done, e - b) + (e - b);
+            if (t == 0 && progress && progress->fn) {
+                if (hv_progress_report(progress, stage, (double)d / (double)n) != HV_OK) {
+                    cancel = HV_ERR_CANCELLED;
+                    atomic_store(&stop, 1);
+                }
+            }
+        }
+    }
+    if (fail_status != HV_OK) return hv_error_set(fail_status, "%s", fail_msg);
+    if (cancel != HV_OK) return hv_error_set(HV_ERR_CANCELLED, "%s: cancelled", stage);
+    return hv_progress_report(progress, stage, 1.0);
+}
+
+/* ---- plugins ----------------------------------------------------------------------------- */
+
+#ifndef HV_PLUGIN_BUILD_DIR
+#define HV_PLUGIN_BUILD_DIR ""
+#endif
+
+static void *try_open(const char *dir, const char *name, hv_buf *tried)
+{
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/%s.so", dir, name);
+    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char *e = dlerror();
+        /* keep the loader's reason when the file exists: that is the useful one */
+        if (access(path, F_OK) == 0) hv_buf_printf(tried, "\n  %s (%s)", path, e ? e : "?");
+        else hv_buf_printf(tried, "\n  %s (missing)", path);
+    }
+    return h;
+}
+
+hv_status hv_plugin_symbol(const char *name, const char *symbol, void **out)
+{
+    *out = NULL;
+    hv_buf tried;
+    hv_buf_init(&tried);
+    void *h = NULL;
+    const char *env = getenv("HOVOX_PLUGIN_DIR");
+    if (env && *env) h = try_open(env, name, &tried);
+    if (!h) {
+        char exe[PATH_MAX];
+        ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+        if (n > 0) {
+            exe[n] = '\0';
+            char *slash = strrchr(exe, '/');
+            if (slash) *slash = '\0';
+            static const char *const rel[] = {"/plugins", "/../plugins", "/../lib/hovox/plugins"};
+            for (size_t i = 0; i < HV_COUNT(rel) && !h; ++i) {
+                char dir[PATH_MAX];
+                snprintf(dir, sizeof dir, "%s%s", exe, rel[i]);
+                h = try_open(dir, name, &tried);
+            }
+        }
+    }
+    if (!h && HV_PLUGIN_BUILD_DIR[0]) h = try_open(HV_PLUGIN_BUILD_DIR, name, &tried);
+    if (!h) {
+        hv_status s = hv_error_set(HV_ERR_UNSUPPORTED, "plugin %s not found; tried:%s", name,
+                                   tried.data ? tried.data : " nothing");
+        hv_buf_free(&tried);
+        return s;
+    }
+    hv_buf_free(&tried);
+    void *sym = dlsym(h, symbol);
+    if (!sym) return hv_error_set(HV_ERR_UNSUPPORTED, "plugin %s has no symbol %s", name, symbol);
+    *out = sym;
+    return HV_OK;
+}

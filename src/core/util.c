@@ -1,0 +1,292 @@
+/* src/core/util.c - checked allocation, growable strings, whole-file reads, atomic writes. */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "internal.h"
+
+const char *hv_basename(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+void *hv_malloc(size_t size)
+{
+    void *p = malloc(size ? size : 1);
+    if (!p) hv_error_set(HV_ERR_NOMEM, "out of memory (allocating %zu bytes)", size);
+    return p;
+}
+
+void *hv_calloc(size_t count, size_t size)
+{
+    void *p = calloc(count ? count : 1, size ? size : 1);
+    if (!p) hv_error_set(HV_ERR_NOMEM, "out of memory (allocating %zu x %zu bytes)", count, size);
+    return p;
+}
+
+void *hv_realloc(void *p, size_t size)
+{
+    void *q = realloc(p, size ? size : 1);
+    if (!q) hv_error_set(HV_ERR_NOMEM, "out of memory (allocating %zu bytes)", size);
+    return q;
+}
+
+void *hv_malloc_array(size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size) {
+        hv_error_set(HV_ERR_LIMIT, "array of %zu x %zu bytes exceeds the address space", count,
+                     size);
+        return NULL;
+    }
+    return hv_malloc(count * size);
+}
+
+char *hv_strdup(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = hv_malloc(n);
+    if (d) memcpy(d, s, n);
+    return d;
+}
+
+hv_status hv_grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap) return HV_OK;
+    size_t c = *cap ? *cap : 16;
+    while (c < need) {
+        if (c > SIZE_MAX / 2 / size) return hv_error_set(HV_ERR_LIMIT, "array too large");
+        c *= 2;
+    }
+    void *q = hv_realloc(*p, c * size);
+    if (!q) return HV_ERR_NOMEM;
+    *p = q;
+    *cap = c;
+    return HV_OK;
+}
+
+/* ---- hv_buf ---------------------------------------------------------------------------- */
+
+void hv_buf_init(hv_buf *b) { memset(b, 0, sizeof *b); }
+
+void hv_buf_free(hv_buf *b)
+{
+    free(b->data);
+    hv_buf_init(b);
+}
+
+void hv_buf_append(hv_buf *b, const char *s, size_t n)
+{
+    if (b->failed) return;
+    if (b->len + n + 1 > b->cap) {
+        size_t c = b->cap ? b->cap : 256;
+        while (c < b->len + n + 1) c *= 2;
+        char *d = realloc(b->data, c);
+        if (!d) {
+            b->failed = 1;
+            hv_error_set(HV_ERR_NOMEM, "out of memory (text of %zu bytes)", c);
+            return;
+        }
+        b->data = d;
+        b->cap = c;
+    }
+    memcpy(b->data + b->len, s, n);
+    b->len += n;
+    b->data[b->len] = '\0';
+}
+
+void hv_buf_puts(hv_buf *b, const char *s) { hv_buf_append(b, s, strlen(s)); }
+
+void hv_buf_vprintf(hv_buf *b, const char *fmt, va_list ap)
+{
+    char small[256];
+    va_list ap2;
+    va_copy(ap2, ap);
+    int n = vsnprintf(small, sizeof small, fmt, ap);
+    if (n < 0) {
+        va_end(ap2);
+        return;
+    }
+    if ((size_t)n < sizeof small) {
+        hv_buf_append(b, small, (size_t)n);
+    } else {
+        char *big = malloc((size_t)n + 1);
+        if (big) {
+            vsnprintf(big, (size_t)n + 1, fmt, ap2);
+            hv_buf_append(b, big, (size_t)n);
+            free(big);
+        } else {
+            b->failed = 1;
+        }
+    }
+    va_end(ap2);
+}
+
+void hv_buf_printf(hv_buf *b, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    hv_buf_vprintf(b, fmt, ap);
+    va_end(ap);
+}
+
+void hv_buf_json_string(hv_buf *b, const char *s)
+{
+    hv_buf_append(b, "\"", 1);
+    for (const unsigned char *p = (const unsigned char *)s; *p; ++p) {
+        switch (*p) {
+        case '"': hv_buf_append(b, "\\\"", 2); break;
+        case '\\': hv_buf_append(b, "\\\\", 2); break;
+        case '\n': hv_buf_append(b, "\\n", 2); break;
+        case '\r': hv_buf_append(b, "\\r", 2); break;
+        case '\t': hv_buf_append(b, "\\t", 2); break;
+        default:
+            if (*p < 0x20) hv_buf_printf(b, "\\u%04x", *p);
+            else hv_buf_append(b, (const char *)p, 1);
+        }
+    }
+    hv_buf_append(b, "\"", 1);
+}
+
+void hv_buf_json_number(hv_buf *b, double v)
+{
+    if (!isfinite(v)) {
+        hv_buf_puts(b, "null");
+        return;
+    }
+    char s[64];
+    /* the shortest of %.6g..%.17g that reads back exactly */
+    for (int prec = 6; prec <= 17; ++prec) {
+        snprintf(s, sizeof s, "%.*g", prec, v);
+        if (strtod(s, NULL) == v) break;
+    }
+    hv_buf_puts(b, s);
+}
+
+/* ---- files ----------------------------------------------------------------------------- */
+
+hv_status hv_read_file(const char *path, size_t max, char **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    int fd = open(path, O_RDONLY);
+    if (fd < 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        int e = errno;
+        close(fd);
+        return hv_error_set(HV_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
+    }
+    if (S_ISDIR(st.st_mode)) {
+        close(fd);
+        return hv_error_set(HV_ERR_IO, "%s: is a directory, not a file", path);
+    }
+    if (!S_ISREG(st.st_mode)) {
+        close(fd);
+        return hv_error_set(HV_ERR_IO, "%s: not a regular file", path);
+    }
+    if ((uint64_t)st.st_size > max) {
+        close(fd);
+        return hv_error_set(HV_ERR_LIMIT, "%s: file of %lld bytes exceeds the limit of %zu bytes",
+                            path, (long long)st.st_size, max);
+    }
+    size_t n = (size_t)st.st_size;
+    char *buf = malloc(n + 1);
+    if (!buf) {
+        close(fd);
+        return hv_error_set(HV_ERR_NOMEM, "%s: out of memory reading %zu bytes", path, n);
+    }
+    size_t got = 0;
+    while (got < n) {
+        ssize_t r = read(fd, buf + got, n - got);
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            int e = errno;
+            free(buf);
+            close(fd);
+            return hv_error_set(HV_ERR_IO, "%s: read failed: %s", path, strerror(e));
+        }
+        if (r == 0) break;
+        got += (size_t)r;
+    }
+    close(fd);
+    buf[got] = '\0';
+    *data = buf;
+    *size = got;
+    return HV_OK;
+}
+
+static atomic_uint g_temp_counter;
+
+char *hv_temp_path(const char *path)
+{
+    const char *base = hv_basename(path);
+    size_t dirlen = (size_t)(base - path);
+    size_t n = strlen(path) + 64;
+    char *tmp = hv_malloc(n);
+    if (!tmp) return NULL;
+    snprintf(tmp, n, "%.*s.%s.tmp-%ld-%u", (int)dirlen, path, base, (long)getpid(),
+             atomic_fetch_add(&g_temp_counter, 1u));
+    return tmp;
+}
+
+hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode)
+{
+    memset(af, 0, sizeof *af);
+    af->path = hv_strdup(path);
+    af->tmp = hv_temp_path(path);
+    if (!af->path || !af->tmp) {
+        hv_atomic_abort(af);
+        return HV_ERR_NOMEM;
+    }
+    af->fp = fopen(af->tmp, mode);
+    if (!af->fp) {
+        int e = errno;
+        free(af->path);
+        free(af->tmp);
+        memset(af, 0, sizeof *af);
+        return hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(e));
+    }
+    return HV_OK;
+}
+
+hv_status hv_atomic_commit(hv_atomic_file *af)
+{
+    int bad = ferror(af->fp);
+    int e = errno;
+    if (fclose(af->fp) != 0) {
+        bad = 1;
+        e = errno;
+    }
+    af->fp = NULL;
+    if (bad) {
+        hv_status s = hv_error_set(HV_ERR_IO, "%s: write failed: %s", af->path, strerror(e));
+        hv_atomic_abort(af);
+        return s;
+    }
+    if (rename(af->tmp, af->path) != 0) {
+        e = errno;
+        hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", af->path,
+                                   strerror(e));
+        hv_atomic_abort(af);
+        return s;
+    }
+    free(af->path);
+    free(af->tmp);
+    memset(af, 0, sizeof *af);
+    return HV_OK;
+}
+
+void hv_atomic_abort(hv_atomic_file *af)
+{
+    if (af->fp) fclose(af->fp);
+    if (af->tmp) unlink(af->tmp);
+    free(af->path);
+    free(af->tmp);
+    memset(af, 0, sizeof *af);
+}

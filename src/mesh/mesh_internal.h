@@ -1,0 +1,24 @@
+/* src/mesh/mesh_internal.h - the mesh object and its builder, shared by the STL reader,
+ * the generators and the slicer. */
+#ifndef HOVOX_MESH_INTERNAL_H
+#define HOVOX_MESH_INTERNAL_H
+
+#include "hovox/mesh.h"
+
+struct hv_mesh {
+    char *name;
+    size_t nv, nf;
+    float *xyz;       /* 3 per vertex */
+    uint32_t *tri;    /* 3 per facet */
+    int32_t *nbr;     /* 3 per facet */
+    uint8_t *eflags;  /* per facet, bit e: edge e non-manifold */
+    hv_mesh_report report;
+};
+
+/* Build a mesh from a triangle soup (9 floats per facet, finite, checked by the caller).
+ * `normals` (3 per facet) may be NULL; it only feeds report.normal_mismatch. Takes no
+ * ownership. */
+hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, const char *name,
+                            hv_mesh_format format, hv_mesh **out);
+
+#endif

@@ -1,0 +1,1 @@
+$HOVOX generate sphere radus=3 -o "$TMP/s.stl"

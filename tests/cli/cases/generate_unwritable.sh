@@ -1,0 +1,1 @@
+$HOVOX generate box -o /nonexistent-dir/box.stl

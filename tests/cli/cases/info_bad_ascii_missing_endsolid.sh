@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/ascii_missing_endsolid.stl

@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/ascii_non_numeric.stl

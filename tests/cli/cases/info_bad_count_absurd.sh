@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/count_absurd.stl

@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/count_too_large.stl

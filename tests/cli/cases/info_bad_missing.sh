@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/no_such_file.stl

@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/too_short.stl

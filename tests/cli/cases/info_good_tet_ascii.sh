@@ -1,0 +1,1 @@
+$HOVOX info tests/data/good/tet_ascii.stl

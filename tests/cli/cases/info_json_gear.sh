@@ -1,0 +1,1 @@
+$HOVOX info --json "$SHARED/meshes/helical_gear.stl"

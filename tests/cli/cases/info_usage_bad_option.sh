@@ -1,0 +1,1 @@
+$HOVOX info --bogus x.stl

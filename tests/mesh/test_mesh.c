@@ -1,0 +1,287 @@
+/* tests/mesh/test_mesh.c - STL reading (format detection, hostile files), welding,
+ * adjacency and the report, checked on hand-made and analytic meshes. */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <math.h>
+#include <string.h>
+
+#include "hovox/generate.h"
+#include "hovox/mesh.h"
+#include "support/support.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+static hv_mesh *load(const char *path)
+{
+    hv_mesh *m = NULL;
+    hv_status s = hv_mesh_load_stl(path, &m);
+    cr_assert_eq(s, HV_OK, "%s: %s", path, hv_last_error());
+    return m;
+}
+
+Test(stl, shared_meshes_load_with_expected_reports)
+{
+    hv_mesh *g = load(t_mesh_path("helical_gear.stl"));
+    const hv_mesh_report *r = hv_mesh_get_report(g);
+    cr_assert_eq(r->format, HV_MESH_STL_ASCII);
+    cr_assert_eq(r->facets, 17790);
+    cr_assert_eq(r->open_edges, 0);
+    cr_assert_eq(r->nonmanifold_edges, 0);
+    cr_assert_eq(r->degenerate_facets, 1);
+    cr_assert_eq(r->flipped_facets, 0);
+    cr_assert_eq(r->normal_mismatch, 15); /* stored normals disagree with the winding */
+    cr_assert_eq(r->shells, 1);
+    cr_assert_gt(r->volume, 0);
+    hv_mesh_destroy(g);
+
+    /* binary whose header starts with COLOR=: detected by size, not by "solid" */
+    hv_mesh *b = load(t_mesh_path("bolt_colored_header.stl"));
+    cr_assert_eq(hv_mesh_get_report(b)->format, HV_MESH_STL_BINARY);
+    cr_assert_eq(hv_mesh_get_report(b)->facets, 3000);
+    cr_assert_eq(hv_mesh_get_report(b)->open_edges, 0);
+    hv_mesh_destroy(b);
+
+    hv_mesh *u = load(t_mesh_path("bunny_1500.stl"));
+    cr_assert_eq(hv_mesh_get_report(u)->facets, 1500);
+    cr_assert_eq(hv_mesh_get_report(u)->shells, 1);
+    hv_mesh_destroy(u);
+}
+
+Test(stl, binary_with_solid_header_is_binary)
+{
+    hv_mesh *m = load("tests/data/good/tet_binary_solid_header.stl");
+    cr_assert_eq(hv_mesh_get_report(m)->format, HV_MESH_STL_BINARY);
+    cr_assert_eq(hv_mesh_facet_count(m), 4);
+    cr_assert_eq(hv_mesh_vertex_count(m), 4);
+    hv_mesh_destroy(m);
+    m = load("tests/data/good/tet_ascii_upper_crlf.stl");
+    cr_assert_eq(hv_mesh_get_report(m)->format, HV_MESH_STL_ASCII);
+    cr_assert_float_eq(hv_mesh_get_report(m)->volume, 1.0 / 6.0, 1e-9);
+    hv_mesh_destroy(m);
+}
+
+Test(stl, every_bad_file_fails_cleanly)
+{
+    static const struct { const char *file; hv_status status; const char *needle; } cases[] = {
+        {"empty.stl", HV_ERR_BAD_INPUT, "empty file"},
+        {"header_only.stl", HV_ERR_BAD_INPUT, "no facets"},
+        {"header_only_count5.stl", HV_ERR_BAD_INPUT, "declares 5 facets"},
+        {"count_too_large.stl", HV_ERR_BAD_INPUT, "declares 3 facets (234 bytes)"},
+        {"count_absurd.stl", HV_ERR_BAD_INPUT, "declares 4000000000 facets"},
+        {"trailing_garbage.stl", HV_ERR_BAD_INPUT, "7 bytes of trailing data"},
+        {"binary_nan.stl", HV_ERR_BAD_INPUT, "facet 1 (byte 158): vertex 1 has a non-finite x"},
+        {"binary_inf.stl", HV_ERR_BAD_INPUT, "facet 3"},
+        {"ascii_nan.stl", HV_ERR_BAD_INPUT, "line 5: facet 0: vertex 1 has a non-finite x"},
+        {"ascii_inf.stl", HV_ERR_BAD_INPUT, "(-inf)"},
+        {"ascii_missing_endloop.stl", HV_ERR_BAD_INPUT, "expected 'endloop', got 'endfacet'"},
+        {"ascii_missing_endfacet.stl", HV_ERR_BAD_INPUT, "expected 'endfacet', got 'facet'"},
+        {"ascii_missing_vertex.stl", HV_ERR_BAD_INPUT, "expected 'vertex', got 'endloop'"},
+        {"ascii_non_numeric.stl", HV_ERR_BAD_INPUT, "is not a number: 'abc'"},
+        {"ascii_truncated.stl", HV_ERR_BAD_INPUT, "unexpected end of file inside facet 1"},
+        {"ascii_no_facets.stl", HV_ERR_BAD_INPUT, "no facets"},
+        {"ascii_trailing_garbage.stl", HV_ERR_BAD_INPUT, "after 'endsolid'"},
+        {"ascii_missing_endsolid.stl", HV_ERR_BAD_INPUT, "expected 'facet' or 'endsolid'"},
+        {"too_short.stl", HV_ERR_BAD_INPUT, "not an STL file"},
+        {"a_directory.stl", HV_ERR_IO, "is a directory"},
+        {"no_such_file.stl", HV_ERR_IO, "No such file"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char path[256];
+        snprintf(path, sizeof path, "tests/data/bad/%s", cases[i].file);
+        hv_mesh *m = (hv_mesh *)0x1;
+        hv_status s = hv_mesh_load_stl(path, &m);
+        cr_assert_eq(s, cases[i].status, "%s: got %s (%s)", path, hv_status_name(s), hv_last_error());
+        cr_assert_null(m, "%s: out not cleared", path);
+        cr_assert(strstr(hv_last_error(), cases[i].needle) != NULL, "%s: message '%s' lacks '%s'",
+                  path, hv_last_error(), cases[i].needle);
+        cr_assert(strstr(hv_last_error(), path) != NULL, "%s: message does not name the file", path);
+    }
+}
+
+/* Truncating a valid file at every length must never crash or succeed falsely. */
+Test(stl, every_truncation_of_a_valid_file_fails_cleanly)
+{
+    static const char *files[] = {"tests/data/good/tet_ascii.stl",
+                                  "tests/data/good/tet_binary_solid_header.stl"};
+    for (int f = 0; f < 2; ++f) {
+        FILE *fp = fopen(files[f], "rb");
+        cr_assert_not_null(fp);
+        char buf[4096];
+        size_t n = fread(buf, 1, sizeof buf - 1, fp);
+        fclose(fp);
+        buf[n] = '\0';
+        /* an ASCII file stays valid once its "endsolid" keyword is complete */
+        char *end = strstr(buf, "endsolid");
+        size_t valid_from = f == 0 ? (size_t)(end - buf) + 8 : n;
+        for (size_t len = 0; len < valid_from; ++len) {
+            hv_mesh *m = NULL;
+            hv_status s = hv_mesh_parse_stl(buf, len, "cut.stl", &m);
+            cr_assert_neq(s, HV_OK, "%s cut at %zu accepted", files[f], len);
+            cr_assert_null(m);
+        }
+    }
+}
+
+Test(stl, write_read_round_trip)
+{
+    hv_mesh *m = load(t_mesh_path("bunny_1500.stl"));
+    for (int ascii = 0; ascii < 2; ++ascii) {
+        const char *p = t_tmpfile(ascii ? "b.ascii.stl" : "b.bin.stl");
+        cr_assert_eq(hv_mesh_write_stl(m, p, ascii), HV_OK, "%s", hv_last_error());
+        hv_mesh *r = load(p);
+        cr_assert_eq(hv_mesh_facet_count(r), hv_mesh_facet_count(m));
+        cr_assert_eq(hv_mesh_vertex_count(r), hv_mesh_vertex_count(m));
+        cr_assert_eq(memcmp(hv_mesh_vertices(r), hv_mesh_vertices(m),
+                            3 * sizeof(float) * hv_mesh_vertex_count(m)),
+                     0, "coordinates changed (ascii=%d)", ascii);
+        cr_assert_eq(hv_mesh_get_report(r)->normal_mismatch, 0);
+        hv_mesh_destroy(r);
+    }
+    hv_mesh_destroy(m);
+}
+
+Test(report, analytic_volumes_and_areas)
+{
+    hv_mesh *m;
+    double c[3] = {1, 2, 3};
+    cr_assert_eq(hv_generate_sphere(c, 10, 256, 128, &m), HV_OK);
+    const hv_mesh_report *r = hv_mesh_get_report(m);
+    cr_assert_float_eq(r->volume, 4.0 / 3.0 * M_PI * 1000, 4.0 / 3.0 * M_PI * 1000 * 1e-3);
+    cr_assert_float_eq(r->area, 4 * M_PI * 100, 4 * M_PI * 100 * 1e-3);
+    cr_assert_float_eq(r->bbox_min[2], -7.0, 1e-5);
+    cr_assert_eq(r->shells, 1);
+    hv_mesh_destroy(m);
+
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 3, 4};
+    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
+    cr_assert_float_eq(hv_mesh_get_report(m)->volume, 24.0, 1e-9);
+    cr_assert_float_eq(hv_mesh_get_report(m)->area, 52.0, 1e-9);
+    cr_assert_eq(hv_mesh_get_report(m)->vertices, 8);
+    hv_mesh_destroy(m);
+}
+
+Test(report, generated_shapes_are_closed_and_oriented)
+{
+    hv_mesh *ms[6] = {0};
+    double z[3] = {0, 0, 0}, hi[3] = {40, 30, 20};
+    cr_assert_eq(hv_generate_box_with_hole(z, hi, 8, 64, &ms[0]), HV_OK);
+    cr_assert_eq(hv_generate_torus(z, 20, 6, 64, 32, &ms[1]), HV_OK);
+    cr_assert_eq(hv_generate_cylinder(z, 0, 150, 27.5, 96, &ms[2]), HV_OK);
+    cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 400, 24, &ms[3]), HV_OK);
+    cr_assert_eq(hv_generate_gear(24, 34.5, 39.45, 9.54, 39.45, 0, 12, 1, &ms[4]), HV_OK);
+    cr_assert_eq(hv_generate_gear(12, 10, 12, 0, 8, 0.5, 8, 6, &ms[5]), HV_OK);
+    for (int i = 0; i < 6; ++i) {
+        const hv_mesh_report *r = hv_mesh_get_report(ms[i]);
+        cr_assert_eq(r->open_edges, 0, "shape %d", i);
+        cr_assert_eq(r->nonmanifold_edges, 0, "shape %d", i);
+        cr_assert_eq(r->flipped_facets, 0, "shape %d", i);
+        cr_assert_eq(r->degenerate_facets, 0, "shape %d", i);
+        cr_assert_eq(r->shells, 1, "shape %d", i);
+        cr_assert_gt(r->volume, 0, "shape %d", i);
+        hv_mesh_destroy(ms[i]);
+    }
+}
+
+/* Two unit tetrahedra sharing only an edge: one shell through that edge, which is
+ * non-manifold (4 facets). */
+Test(report, nonmanifold_edge_open_edges_and_flips)
+{
+    float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, /* tet A: 0..3 */
+                 0, -1, 0, 0, 0, -1}; /* tet B = 0, 1, 4, 5 shares edge 0-1 */
+    uint32_t f[] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, /* A outward */
+                    0, 1, 4, 0, 5, 1, 0, 4, 5, 1, 5, 4};
+    hv_mesh *m;
+    cr_assert_eq(hv_mesh_create(v, 6, f, 8, &m), HV_OK, "%s", hv_last_error());
+    const hv_mesh_report *r = hv_mesh_get_report(m);
+    cr_assert_eq(r->nonmanifold_edges, 1);
+    cr_assert_eq(r->shells, 1);
+    cr_assert_eq(r->open_edges, 0);
+    const uint8_t *fl = hv_mesh_edge_flags(m);
+    int flagged = 0;
+    for (int i = 0; i < 8; ++i) flagged += __builtin_popcount(fl[i]);
+    cr_assert_eq(flagged, 4);
+    hv_mesh_destroy(m);
+
+    /* drop one facet of A: three open edges */
+    cr_assert_eq(hv_mesh_create(v, 4, f, 3, &m), HV_OK);
+    cr_assert_eq(hv_mesh_get_report(m)->open_edges, 3);
+    const int32_t *nb = hv_mesh_neighbors(m);
+    int open = 0;
+    for (int i = 0; i < 9; ++i) open += nb[i] == HV_MESH_OPEN;
+    cr_assert_eq(open, 3);
+    hv_mesh_destroy(m);
+
+    /* flip one facet of A: one flipped facet, volume no longer 1/6 */
+    uint32_t g[] = {0, 2, 1, 0, 1, 3, 0, 2, 3, 1, 2, 3};
+    cr_assert_eq(hv_mesh_create(v, 4, g, 4, &m), HV_OK);
+    cr_assert_eq(hv_mesh_get_report(m)->flipped_facets, 1);
+    hv_mesh_destroy(m);
+}
+
+Test(report, separate_parts_and_degenerate_facets)
+{
+    hv_mesh *a, *b;
+    double c1[3] = {0, 0, 0};
+    cr_assert_eq(hv_generate_sphere(c1, 1, 8, 4, &a), HV_OK);
+    /* second copy shifted: two shells */
+    size_t nv = hv_mesh_vertex_count(a), nf = hv_mesh_facet_count(a);
+    float *v = malloc(2 * nv * 3 * sizeof(float) + 9 * sizeof(float));
+    uint32_t *f = malloc((2 * nf + 1) * 3 * sizeof(uint32_t));
+    memcpy(v, hv_mesh_vertices(a), nv * 3 * sizeof(float));
+    for (size_t i = 0; i < nv * 3; ++i) v[nv * 3 + i] = hv_mesh_vertices(a)[i] + (i % 3 == 0 ? 5.0f : 0.0f);
+    memcpy(f, hv_mesh_facets(a), nf * 3 * sizeof(uint32_t));
+    for (size_t i = 0; i < nf * 3; ++i) f[nf * 3 + i] = hv_mesh_facets(a)[i] + (uint32_t)nv;
+    /* plus a collinear sliver on three new collinear points */
+    float sl[9] = {10, 0, 0, 11, 0, 0, 12, 0, 0};
+    memcpy(v + 2 * nv * 3, sl, sizeof sl);
+    f[6 * nf] = (uint32_t)(2 * nv);
+    f[6 * nf + 1] = (uint32_t)(2 * nv + 1);
+    f[6 * nf + 2] = (uint32_t)(2 * nv + 2);
+    cr_assert_eq(hv_mesh_create(v, 2 * nv + 3, f, 2 * nf + 1, &b), HV_OK);
+    cr_assert_eq(hv_mesh_get_report(b)->shells, 3);
+    cr_assert_eq(hv_mesh_get_report(b)->degenerate_facets, 1);
+    cr_assert_eq(hv_mesh_get_report(b)->open_edges, 3);
+    hv_mesh_destroy(a);
+    hv_mesh_destroy(b);
+    free(v);
+    free(f);
+}
+
+Test(report, welding_is_exact_and_merges_signed_zero)
+{
+    float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, -0.0f, 0, 0, 1, 0, 0, 0, 0, 1, 1e-7f, 0, 0};
+    uint32_t f[] = {0, 1, 2, 3, 4, 5, 6, 1, 2};
+    hv_mesh *m;
+    cr_assert_eq(hv_mesh_create(v, 7, f, 3, &m), HV_OK);
+    /* -0 welds with 0; 1e-7 does not weld with 0 */
+    cr_assert_eq(hv_mesh_vertex_count(m), 5);
+    hv_mesh_destroy(m);
+}
+
+Test(report, deterministic_across_thread_counts)
+{
+    hv_mesh *m1, *m2;
+    hv_set_threads(1);
+    cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 2000, 64, &m1), HV_OK);
+    hv_set_threads(4);
+    cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 2000, 64, &m2), HV_OK);
+    hv_set_threads(0);
+    cr_assert_eq(memcmp(hv_mesh_get_report(m1), hv_mesh_get_report(m2), sizeof(hv_mesh_report)), 0);
+    cr_assert_eq(memcmp(hv_mesh_facets(m1), hv_mesh_facets(m2), 12 * hv_mesh_facet_count(m1)), 0);
+    cr_assert_eq(memcmp(hv_mesh_neighbors(m1), hv_mesh_neighbors(m2), 12 * hv_mesh_facet_count(m1)), 0);
+    hv_mesh_destroy(m1);
+    hv_mesh_destroy(m2);
+}
+
+Test(generate, rejects_bad_parameters)
+{
+    hv_mesh *m = NULL;
+    double c[3] = {0, 0, 0};
+    cr_assert_eq(hv_generate_sphere(c, -1, 8, 4, &m), HV_ERR_INVALID);
+    cr_assert_eq(hv_generate_torus(c, 5, 6, 8, 8, &m), HV_ERR_INVALID);
+    cr_assert_eq(hv_generate_gear(24, 10, 12, 11, 5, 0, 12, 1, &m), HV_ERR_INVALID);
+    cr_assert_eq(hv_generate_box_with_hole(c, c, 1, 8, &m), HV_ERR_INVALID);
+    cr_assert_null(m);
+}

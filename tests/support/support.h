@@ -1,0 +1,21 @@
+/* tests/support/support.h - helpers shared by the unit tests: where the shared material is,
+ * temporary directories, running a command and capturing its output. */
+#ifndef HOVOX_TEST_SUPPORT_H
+#define HOVOX_TEST_SUPPORT_H
+
+#include <stddef.h>
+
+/* Directory of the shared material ($HOVOX_SHARED, default "../shared"). */
+const char *t_shared(void);
+/* "<shared>/meshes/<name>" in a static buffer. */
+const char *t_mesh_path(const char *name);
+/* A fresh temporary directory (removed at exit). */
+const char *t_tmpdir(void);
+/* "<tmpdir>/<name>" in a rotating static buffer. */
+const char *t_tmpfile(const char *name);
+/* Run a shell command; returns its exit status and, if out != NULL, its stdout (malloc'd). */
+int t_run(const char *cmd, char **out);
+/* Does a file exist? */
+int t_exists(const char *path);
+
+#endif

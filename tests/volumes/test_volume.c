@@ -1,0 +1,342 @@
+/* tests/volumes/test_volume.c - the volume store: grids sharing a topology, leaf buffers,
+ * accessors, trilinear sampling, mask algebra, metadata, .vdb round trips (read back by the
+ * library and listed by vdb_print), cross-volume copies, memory accounting. */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hovox/volume.h"
+#include "support/support.h"
+
+static hv_volume *make(double vx, double vy, double vz)
+{
+    hv_transform xf = {{vx, vy, vz}, {0.5, -1.0, 2.0}};
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_volume_create(&xf, &v), HV_OK, "%s", hv_last_error());
+    return v;
+}
+
+/* Activate a solid box of voxels [lo, hi] (inclusive). */
+static void add_box(hv_volume *v, const int lo[3], const int hi[3])
+{
+    size_t cap = 1024, n = 0;
+    int32_t *o = malloc(cap * 3 * sizeof *o);
+    uint64_t *m = malloc(cap * 8 * sizeof *m);
+    for (int bx = lo[0] & ~7; bx <= hi[0]; bx += 8)
+        for (int by = lo[1] & ~7; by <= hi[1]; by += 8)
+            for (int bz = lo[2] & ~7; bz <= hi[2]; bz += 8) {
+                if (n == cap) {
+                    cap *= 2;
+                    o = realloc(o, cap * 3 * sizeof *o);
+                    m = realloc(m, cap * 8 * sizeof *m);
+                }
+                memset(m + 8 * n, 0, 8 * sizeof *m);
+                for (int x = 0; x < 8; ++x)
+                    for (int y = 0; y < 8; ++y)
+                        for (int z = 0; z < 8; ++z) {
+                            int p[3] = {bx + x, by + y, bz + z};
+                            if (p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1] ||
+                                p[2] < lo[2] || p[2] > hi[2])
+                                continue;
+                            unsigned off = HV_LEAF_OFFSET(x, y, z);
+                            m[8 * n + off / 64] |= 1ull << (off % 64);
+                        }
+                o[3 * n] = bx;
+                o[3 * n + 1] = by;
+                o[3 * n + 2] = bz;
+                ++n;
+            }
+    cr_assert_eq(hv_volume_topology_add(v, n, o, m), HV_OK, "%s", hv_last_error());
+    free(o);
+    free(m);
+}
+
+/* Fill float grid g with f(i,j,k) = i + 2j - 3k + 0.5 and bool grid b with (i+j+k) even. */
+static void fill(hv_volume *v, int g, int b)
+{
+    const int32_t *org = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) {
+        float *fb = g >= 0 ? hv_volume_leaf_float(v, g, l) : NULL;
+        uint64_t *bb = b >= 0 ? hv_volume_leaf_bool(v, b, l) : NULL;
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            int i = org[3 * l] + (int)(n >> 6), j = org[3 * l + 1] + (int)((n >> 3) & 7),
+                k = org[3 * l + 2] + (int)(n & 7);
+            if (fb) fb[n] = (float)(i + 2 * j - 3 * k) + 0.5f;
+            if (bb && ((i + j + k) & 1) == 0) bb[n / 64] |= 1ull << (n % 64);
+        }
+    }
+}
+
+Test(volume, grids_share_one_topology)
+{
+    hv_volume *v = make(0.5, 0.5, 0.5);
+    int lo[3] = {-5, 0, 3}, hi[3] = {12, 9, 20};
+    int f, b;
+    cr_assert_eq(hv_volume_grid_add(v, "density", HV_GRID_FLOAT, &f), HV_OK);
+    add_box(v, lo, hi);
+    cr_assert_eq(hv_volume_grid_add(v, "mask", HV_GRID_BOOL, &b), HV_OK);
+    cr_assert_eq(hv_volume_active_count(v), 18u * 10u * 18u);
+    int32_t a[3], z[3];
+    cr_assert(hv_volume_index_bbox(v, a, z));
+    cr_assert_eq(a[0], -5);
+    cr_assert_eq(z[2], 20);
+    cr_assert_eq(hv_volume_grid_find(v, "mask"), b);
+    cr_assert_eq(hv_volume_grid_find(v, "nope"), -1);
+    cr_assert_null(hv_volume_leaf_bool(v, f, 0));
+    cr_assert_null(hv_volume_leaf_float(v, b, 0));
+    /* a new grid starts at zero everywhere */
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+        for (int n = 0; n < 8; ++n) cr_assert_eq(hv_volume_leaf_bool(v, b, l)[n], 0u);
+    cr_assert_eq(hv_volume_grid_add(v, "mask", HV_GRID_FLOAT, NULL), HV_ERR_INVALID);
+    cr_assert_eq(hv_volume_grid_add(v, "", HV_GRID_FLOAT, NULL), HV_ERR_INVALID);
+    cr_assert_eq(hv_volume_grid_rename(v, f, "rho"), HV_OK);
+    cr_assert_str_eq(hv_volume_grid_name(v, f), "rho");
+    cr_assert_eq(hv_volume_grid_remove(v, f), HV_OK);
+    cr_assert_eq(hv_volume_grid_count(v), 1);
+    cr_assert_str_eq(hv_volume_grid_name(v, 0), "mask");
+    int32_t bad_origin[3] = {1, 0, 0};
+    uint64_t mask[8] = {1};
+    cr_assert_eq(hv_volume_topology_add(v, 1, bad_origin, mask), HV_ERR_INVALID);
+    hv_volume_destroy(v);
+    hv_volume_destroy(NULL);
+}
+
+Test(volume, accessor_and_trilinear_sampling)
+{
+    hv_volume *v = make(0.5, 0.25, 2.0); /* anisotropic voxels */
+    int lo[3] = {0, 0, 0}, hi[3] = {15, 15, 15};
+    add_box(v, lo, hi);
+    int g;
+    cr_assert_eq(hv_volume_grid_add(v, "f", HV_GRID_FLOAT, &g), HV_OK);
+    fill(v, g, -1);
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    cr_assert_float_eq(hv_accessor_float(&acc, g, 3, 4, 5), 3 + 8 - 15 + 0.5, 1e-6);
+    cr_assert_eq(hv_accessor_float(&acc, g, 16, 0, 0), 0.0f);
+    cr_assert(hv_accessor_active(&acc, 15, 15, 15));
+    cr_assert(!hv_accessor_active(&acc, -1, 0, 0));
+    cr_assert_eq(hv_accessor_set_float(&acc, g, 99, 0, 0, 1.0f), HV_ERR_INVALID);
+    /* a linear field is reproduced exactly inside; world (x,y,z) -> index via the transform */
+    for (int t = 0; t < 200; ++t) {
+        double idx[3] = {1 + 13.0 * rand() / RAND_MAX, 1 + 13.0 * rand() / RAND_MAX,
+                         1 + 13.0 * rand() / RAND_MAX};
+        double w[3], back[3];
+        hv_volume_index_to_world(v, idx, w);
+        hv_volume_world_to_index(v, w, back);
+        for (int a = 0; a < 3; ++a) cr_assert_float_eq(back[a], idx[a], 1e-9);
+        float out, cov;
+        hv_volume_sample(&acc, &g, 1, w, &out, &cov);
+        cr_assert_float_eq(out, idx[0] + 2 * idx[1] - 3 * idx[2] + 0.5, 1e-4);
+        cr_assert_float_eq(cov, 1.0f, 1e-6);
+    }
+    /* half a voxel outside the boundary: coverage 1/2, value renormalised from inside */
+    double w[3], idx[3] = {15.5, 5, 5};
+    hv_volume_index_to_world(v, idx, w);
+    float out, cov;
+    hv_volume_sample(&acc, &g, 1, w, &out, &cov);
+    cr_assert_float_eq(cov, 0.5f, 1e-6);
+    cr_assert_float_eq(out, 15 + 10 - 15 + 0.5, 1e-4);
+    idx[0] = 40;
+    hv_volume_index_to_world(v, idx, w);
+    hv_volume_sample(&acc, &g, 1, w, &out, &cov);
+    cr_assert_eq(cov, 0.0f);
+    cr_assert_eq(out, 0.0f);
+    hv_volume_destroy(v);
+}
+
+Test(volume, mask_algebra_and_restrict)
+{
+    hv_volume *v = make(1, 1, 1);
+    int lo[3] = {0, 0, 0}, hi[3] = {9, 9, 9};
+    add_box(v, lo, hi);
+    int a, b, d, f;
+    hv_volume_grid_add(v, "a", HV_GRID_BOOL, &a);
+    hv_volume_grid_add(v, "b", HV_GRID_BOOL, &b);
+    hv_volume_grid_add(v, "d", HV_GRID_BOOL, &d);
+    hv_volume_grid_add(v, "f", HV_GRID_FLOAT, &f);
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    /* a: x < 5, b: y < 5 */
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) {
+        const int32_t *o = hv_volume_leaf_origins(v) + 3 * l;
+        uint64_t *wa = hv_volume_leaf_bool(v, a, l), *wb = hv_volume_leaf_bool(v, b, l);
+        for (unsigned n = 0; n < 512; ++n) {
+            if (o[0] + (int)(n >> 6) < 5) wa[n / 64] |= 1ull << (n % 64);
+            if (o[1] + (int)((n >> 3) & 7) < 5) wb[n / 64] |= 1ull << (n % 64);
+        }
+    }
+    cr_assert_eq(hv_volume_mask_count(v, a), 500u);
+    cr_assert_eq(hv_volume_mask_combine(v, d, a, b, HV_MASK_UNION), HV_OK);
+    cr_assert_eq(hv_volume_mask_count(v, d), 750u);
+    cr_assert_eq(hv_volume_mask_combine(v, d, a, b, HV_MASK_INTERSECT), HV_OK);
+    cr_assert_eq(hv_volume_mask_count(v, d), 250u);
+    cr_assert_eq(hv_volume_mask_combine(v, d, a, b, HV_MASK_DIFFERENCE), HV_OK);
+    cr_assert_eq(hv_volume_mask_count(v, d), 250u);
+    cr_assert(hv_accessor_bool(&acc, d, 2, 7, 1));
+    cr_assert(!hv_accessor_bool(&acc, d, 2, 2, 1));
+    cr_assert_eq(hv_volume_mask_combine(v, d, a, f, HV_MASK_UNION), HV_ERR_INVALID);
+    /* restrict the topology to the difference: 250 voxels remain, values kept */
+    hv_accessor_set_float(&acc, f, 2, 7, 1, 42.0f);
+    cr_assert_eq(hv_volume_topology_restrict(v, d), HV_OK);
+    cr_assert_eq(hv_volume_active_count(v), 250u);
+    hv_accessor_init(&acc, v);
+    cr_assert_float_eq(hv_accessor_float(&acc, f, 2, 7, 1), 42.0f, 0);
+    cr_assert(!hv_accessor_active(&acc, 7, 7, 1));
+    cr_assert_eq(hv_volume_topology_restrict(v, f), HV_ERR_INVALID);
+    hv_volume_destroy(v);
+}
+
+Test(volume, metadata)
+{
+    hv_volume *v = make(1, 1, 1);
+    cr_assert_eq(hv_volume_meta_set_string(v, "b", "two"), HV_OK);
+    cr_assert_eq(hv_volume_meta_set_number(v, "a", 1.5), HV_OK);
+    cr_assert_eq(hv_volume_meta_set_json(v, "c.json", "{\"x\": [1, 2]}"), HV_OK);
+    cr_assert_eq(hv_volume_meta_set_json(v, "d.json", "{x}"), HV_ERR_INVALID);
+    cr_assert_eq(hv_volume_meta_set_string(v, "", "x"), HV_ERR_INVALID);
+    cr_assert_eq(hv_volume_meta_count(v), 3);
+    cr_assert_str_eq(hv_volume_meta_key(v, 0), "a");
+    double d;
+    cr_assert(hv_volume_meta_number(v, "a", &d));
+    cr_assert_eq(d, 1.5);
+    cr_assert_null(hv_volume_meta_string(v, "a"));
+    cr_assert_str_eq(hv_volume_meta_string(v, "b"), "two");
+    cr_assert_eq(hv_volume_meta_set_string(v, "b", NULL), HV_OK);
+    cr_assert_null(hv_volume_meta_string(v, "b"));
+    cr_assert_eq(hv_volume_meta_count(v), 2);
+    hv_volume_destroy(v);
+}
+
+Test(volume, save_load_round_trip_and_vdb_print)
+{
+    hv_volume *v = make(0.5, 0.5, 0.75);
+    int lo[3] = {-3, -3, -3}, hi[3] = {20, 11, 9};
+    add_box(v, lo, hi);
+    int g, b;
+    hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, &b);
+    hv_volume_grid_add(v, "material.steel", HV_GRID_FLOAT, &g);
+    fill(v, g, b);
+    hv_volume_meta_set_json(v, "hovox.materials.json", "[{\"name\": \"steel\"}]");
+    hv_volume_meta_set_number(v, "hovox.version", 1);
+    const char *path = t_tmpfile("round.vdb");
+    cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());
+
+    hv_volume *r = NULL;
+    cr_assert_eq(hv_volume_load(path, &r), HV_OK, "%s", hv_last_error());
+    hv_transform a = hv_volume_get_transform(v), c = hv_volume_get_transform(r);
+    cr_assert(hv_transform_same(&a, &c));
+    cr_assert_eq(hv_volume_grid_count(r), 2);
+    cr_assert_str_eq(hv_volume_grid_name(r, 0), "occupancy");
+    cr_assert_eq(hv_volume_grid_type(r, 0), HV_GRID_BOOL);
+    cr_assert_eq(hv_volume_grid_type(r, 1), HV_GRID_FLOAT);
+    cr_assert_eq(hv_volume_active_count(r), hv_volume_active_count(v));
+    cr_assert_eq(hv_volume_mask_count(r, 0), hv_volume_mask_count(v, b));
+    hv_accessor x, y;
+    hv_accessor_init(&x, v);
+    hv_accessor_init(&y, r);
+    for (int i = -4; i <= 21; ++i)
+        for (int j = -4; j <= 12; j += 3)
+            for (int k = -4; k <= 10; k += 2) {
+                cr_assert_eq(hv_accessor_float(&x, g, i, j, k), hv_accessor_float(&y, 1, i, j, k));
+                cr_assert_eq(hv_accessor_bool(&x, b, i, j, k), hv_accessor_bool(&y, 0, i, j, k));
+            }
+    cr_assert_str_eq(hv_volume_meta_string(r, "hovox.materials.json"), "[{\"name\": \"steel\"}]");
+    double d;
+    cr_assert(hv_volume_meta_number(r, "hovox.version", &d));
+    cr_assert_eq(d, 1.0);
+
+    /* the file is a real OpenVDB file: vdb_print lists both grids with their types */
+    char cmd[1024], *out = NULL;
+    snprintf(cmd, sizeof cmd, "vdb_print '%s' 2>&1", path);
+    cr_assert_eq(t_run(cmd, &out), 0, "vdb_print failed: %s", out);
+    cr_assert(strstr(out, "occupancy") && strstr(out, "bool"), "%s", out);
+    cr_assert(strstr(out, "material.steel") && strstr(out, "float"), "%s", out);
+    free(out);
+    hv_volume_destroy(v);
+    hv_volume_destroy(r);
+}
+
+Test(volume, load_errors)
+{
+    hv_volume *v = (hv_volume *)0x1;
+    cr_assert_eq(hv_volume_load("/nonexistent/x.vdb", &v), HV_ERR_IO);
+    cr_assert_null(v);
+    cr_assert_eq(hv_volume_load("/tmp", &v), HV_ERR_IO);
+    cr_assert_eq(hv_volume_load("tests/data/good/tet_ascii.stl", &v), HV_ERR_BAD_INPUT);
+    cr_assert(strstr(hv_last_error(), "not an OpenVDB file") != NULL);
+    /* a VDB file cut short */
+    hv_volume *s = make(1, 1, 1);
+    int lo[3] = {0, 0, 0}, hi[3] = {30, 30, 30};
+    add_box(s, lo, hi);
+    hv_volume_grid_add(s, "f", HV_GRID_FLOAT, NULL);
+    const char *p = t_tmpfile("cut.vdb");
+    cr_assert_eq(hv_volume_save(s, p), HV_OK);
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "truncate -s 300 '%s'", p);
+    cr_assert_eq(t_run(cmd, NULL), 0);
+    cr_assert_eq(hv_volume_load(p, &v), HV_ERR_BAD_INPUT, "%s", hv_last_error());
+    cr_assert_null(v);
+    cr_assert(strstr(hv_last_error(), p) != NULL);
+    hv_volume_destroy(s);
+}
+
+Test(volume, copy_union_clone)
+{
+    hv_volume *a = make(1, 1, 1), *b = make(1, 1, 1), *c = make(2, 1, 1);
+    int lo1[3] = {0, 0, 0}, hi1[3] = {9, 9, 9}, lo2[3] = {5, 5, 5}, hi2[3] = {14, 14, 14};
+    add_box(a, lo1, hi1);
+    add_box(b, lo2, hi2);
+    int ga, gb;
+    hv_volume_grid_add(a, "f", HV_GRID_FLOAT, &ga);
+    hv_volume_grid_add(b, "f", HV_GRID_FLOAT, &gb);
+    fill(b, gb, -1);
+    cr_assert_eq(hv_volume_grid_copy(a, "fromb", b, gb), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_volume_active_count(a), 1000u + 1000u - 125u);
+    int gc = hv_volume_grid_find(a, "fromb");
+    hv_accessor acc;
+    hv_accessor_init(&acc, a);
+    cr_assert_float_eq(hv_accessor_float(&acc, gc, 12, 12, 12), 12 + 24 - 36 + 0.5, 0);
+    cr_assert_eq(hv_accessor_float(&acc, gc, 1, 1, 1), 0.0f); /* a's own voxel, not in b */
+    cr_assert_eq(hv_accessor_float(&acc, ga, 12, 12, 12), 0.0f);
+    cr_assert_eq(hv_volume_grid_copy(c, "x", b, gb), HV_ERR_INVALID);
+    cr_assert(strstr(hv_last_error(), "different voxel lattices") != NULL);
+    /* copy within a volume */
+    cr_assert_eq(hv_volume_grid_copy(a, "again", a, gc), HV_OK);
+    hv_accessor_init(&acc, a);
+    cr_assert_float_eq(hv_accessor_float(&acc, hv_volume_grid_find(a, "again"), 12, 12, 12),
+                       12 + 24 - 36 + 0.5, 0);
+    /* clones are independent */
+    hv_volume *k = NULL;
+    cr_assert_eq(hv_volume_clone(a, &k), HV_OK);
+    hv_accessor ak;
+    hv_accessor_init(&ak, k);
+    hv_accessor_set_float(&ak, gc, 12, 12, 12, 7.0f);
+    cr_assert_float_eq(hv_accessor_float(&acc, gc, 12, 12, 12), 12 + 24 - 36 + 0.5, 0);
+    cr_assert_eq(hv_accessor_float(&ak, gc, 12, 12, 12), 7.0f);
+    cr_assert_eq(hv_volume_grid_count(k), hv_volume_grid_count(a));
+    hv_volume_destroy(a);
+    hv_volume_destroy(b);
+    hv_volume_destroy(c);
+    hv_volume_destroy(k);
+}
+
+Test(volume, memory_estimate_matches_use)
+{
+    hv_volume *v = make(1, 1, 1);
+    int lo[3] = {0, 0, 0}, hi[3] = {127, 127, 63};
+    add_box(v, lo, hi);
+    for (int i = 0; i < 3; ++i) {
+        char name[16];
+        snprintf(name, sizeof name, "m%d", i);
+        hv_volume_grid_add(v, name, HV_GRID_FLOAT, NULL);
+    }
+    hv_volume_grid_add(v, "occ", HV_GRID_BOOL, NULL);
+    uint64_t used = hv_volume_memory_bytes(v);
+    uint64_t est = hv_volume_memory_estimate(hv_volume_leaf_count(v), 3, 1);
+    cr_assert_gt(used, 3u * 128 * 128 * 64 * 4);
+    cr_assert(est > used * 0.8 && est < used * 1.5, "estimate %llu vs used %llu",
+              (unsigned long long)est, (unsigned long long)used);
+    hv_volume_destroy(v);
+}

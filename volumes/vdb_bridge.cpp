@@ -1,0 +1,518 @@
+// volumes/vdb_bridge.cpp - the only code that includes OpenVDB: grids sharing one topology,
+// leaf tables for C kernels, .vdb files. Built as plugins/hovox-vdb.so and loaded on first
+// use (linking libopenvdb costs ~40 ms of start-up). Every entry catches all exceptions
+// (HV_CATCH) and turns them into a status plus what(); nothing propagates into C.
+#include "vdb_bridge.h"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/io/File.h>
+#include <openvdb/math/Maps.h>
+#include <openvdb/tools/Prune.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <new>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Status values of hovox/core.h (the plugin does not link the library).
+enum { OK = 0, E_INVALID = 1, E_BAD_INPUT = 2, E_IO = 3, E_NOMEM = 4, E_INTERNAL = 9 };
+enum { T_FLOAT = 1, T_BOOL = 2 };
+
+thread_local std::string g_error;
+
+int fail(int status, const std::string &msg)
+{
+    g_error = msg;
+    return status;
+}
+
+#define HV_CATCH(code)                                                                 \
+    catch (const std::bad_alloc &) { return fail(E_NOMEM, "out of memory"); }          \
+    catch (const openvdb::Exception &e) { return fail(code, e.what()); }               \
+    catch (const std::exception &e) { return fail(code, e.what()); }                   \
+    catch (...) { return fail(code, "unknown exception in OpenVDB bridge"); }
+
+using openvdb::BoolGrid;
+using openvdb::Coord;
+using openvdb::FloatGrid;
+using openvdb::GridBase;
+using openvdb::MaskGrid;
+
+struct Volume {
+    openvdb::math::Transform::Ptr xf;
+    MaskGrid::Ptr topo;                 // the shared active topology
+    std::vector<GridBase::Ptr> grids;   // FloatGrid or BoolGrid, same topology as topo
+};
+
+openvdb::math::Transform::Ptr make_transform(const double v[3], const double o[3])
+{
+    openvdb::math::Transform::Ptr xf;
+    if (v[0] == v[1] && v[1] == v[2]) {
+        xf = openvdb::math::Transform::createLinearTransform(v[0]);
+        xf->postTranslate(openvdb::Vec3d(o[0], o[1], o[2]));
+    } else {
+        openvdb::math::MapBase::Ptr map(new openvdb::math::ScaleTranslateMap(
+            openvdb::Vec3d(v[0], v[1], v[2]), openvdb::Vec3d(o[0], o[1], o[2])));
+        xf.reset(new openvdb::math::Transform(map));
+    }
+    return xf;
+}
+
+GridBase::Ptr new_grid(int type, const openvdb::math::Transform::Ptr &xf)
+{
+    GridBase::Ptr g;
+    if (type == T_FLOAT) {
+        FloatGrid::Ptr f = FloatGrid::create(0.0f);
+        f->setSaveFloatAsHalf(false);
+        g = f;
+    } else {
+        g = BoolGrid::create(false);
+    }
+    g->setTransform(xf);
+    return g;
+}
+
+// Make grid g's active topology equal to v.topo (values of new voxels: background).
+void match_topology(Volume &v, GridBase &g)
+{
+    if (FloatGrid *f = dynamic_cast<FloatGrid *>(&g))
+        f->tree().topologyUnion(v.topo->tree());
+    else if (BoolGrid *b = dynamic_cast<BoolGrid *>(&g))
+        b->tree().topologyUnion(v.topo->tree());
+}
+
+// Leaf of `tree` at `origin`, which must exist (shared topology invariant).
+template <typename TreeT>
+typename TreeT::LeafNodeType *leaf_at(TreeT &tree, const Coord &origin)
+{
+    auto *leaf = tree.probeLeaf(origin);
+    if (!leaf) throw std::runtime_error("grid topology out of step with the volume topology");
+    return leaf;
+}
+
+// --- entries --------------------------------------------------------------------------
+
+const char *b_last_error() { return g_error.c_str(); }
+
+int b_create(const double voxel[3], const double origin[3], void **out)
+{
+    try {
+        Volume *v = new Volume;
+        v->xf = make_transform(voxel, origin);
+        v->topo = MaskGrid::create(false);
+        v->topo->setTransform(v->xf);
+        *out = v;
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+void b_destroy(void *impl) { delete static_cast<Volume *>(impl); }
+
+int b_clone(const void *impl, void **out)
+{
+    try {
+        const Volume *v = static_cast<const Volume *>(impl);
+        Volume *c = new Volume;
+        c->xf = v->xf->copy();
+        c->topo = v->topo->deepCopy();
+        c->topo->setTransform(c->xf);
+        for (const auto &g : v->grids) {
+            GridBase::Ptr d = g->deepCopyGrid();
+            d->setTransform(c->xf);
+            c->grids.push_back(d);
+        }
+        *out = c;
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+int b_grid_add(void *impl, int type)
+{
+    try {
+        Volume *v = static_cast<Volume *>(impl);
+        if (type != T_FLOAT && type != T_BOOL) return fail(E_INVALID, "unknown grid type");
+        GridBase::Ptr g = new_grid(type, v->xf);
+        match_topology(*v, *g);
+        v->grids.push_back(g);
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+int b_grid_remove(void *impl, int g)
+{
+    try {
+        Volume *v = static_cast<Volume *>(impl);
+        v->grids.erase(v->grids.begin() + g);
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+template <typename TreeT>
+void or_mask(TreeT &tree, const Coord &origin, const uint64_t *mask)
+{
+    auto *leaf = tree.touchLeaf(origin);
+    auto &vm = leaf->getValueMask();
+    for (int w = 0; w < 8; ++w) vm.template getWord<uint64_t>(w) |= mask[w];
+}
+
+int b_topology_add(void *impl, size_t n, const int32_t *origins, const uint64_t *masks)
+{
+    try {
+        Volume *v = static_cast<Volume *>(impl);
+        for (size_t b = 0; b < n; ++b) {
+            Coord o(origins[3 * b], origins[3 * b + 1], origins[3 * b + 2]);
+            const uint64_t *m = masks + 8 * b;
+            or_mask(v->topo->tree(), o, m);
+            for (auto &g : v->grids) {
+                if (FloatGrid *f = dynamic_cast<FloatGrid *>(g.get()))
+                    or_mask(f->tree(), o, m);
+                else if (BoolGrid *bg = dynamic_cast<BoolGrid *>(g.get()))
+                    or_mask(bg->tree(), o, m);
+            }
+        }
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+// Restrict every leaf's active mask to `keep`, resetting values that go inactive.
+template <typename TreeT>
+void restrict_tree(TreeT &tree, const MaskGrid &topo, typename TreeT::ValueType bg)
+{
+    for (auto it = tree.beginLeaf(); it; ++it) {
+        const auto *t = topo.tree().probeConstLeaf(it->origin());
+        if (!t) {
+            it->getValueMask().setOff();
+        } else {
+            it->setValueMask(t->getValueMask());
+        }
+        for (auto off = it->getValueMask().beginOff(); off; ++off) it->setValueOnly(off.pos(), bg);
+    }
+    openvdb::tools::pruneInactive(tree);
+}
+
+int b_topology_restrict(void *impl, int g)
+{
+    try {
+        Volume *v = static_cast<Volume *>(impl);
+        BoolGrid *keep = dynamic_cast<BoolGrid *>(v->grids.at(size_t(g)).get());
+        if (!keep) return fail(E_INVALID, "not a bool grid");
+        for (auto it = v->topo->tree().beginLeaf(); it; ++it) {
+            const auto *k = keep->tree().probeConstLeaf(it->origin());
+            auto &vm = it->getValueMask();
+            for (int w = 0; w < 8; ++w) {
+                uint64_t kw = k ? k->buffer().data()[w] : 0;
+                vm.template getWord<uint64_t>(w) &= kw;
+            }
+        }
+        openvdb::tools::pruneInactive(v->topo->tree());
+        for (auto &gp : v->grids) {
+            if (FloatGrid *f = dynamic_cast<FloatGrid *>(gp.get()))
+                restrict_tree(f->tree(), *v->topo, 0.0f);
+            else if (BoolGrid *b = dynamic_cast<BoolGrid *>(gp.get()))
+                restrict_tree(b->tree(), *v->topo, false);
+        }
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+int b_topology_union(void *dst, const void *src)
+{
+    try {
+        Volume *d = static_cast<Volume *>(dst);
+        const Volume *s = static_cast<const Volume *>(src);
+        d->topo->tree().topologyUnion(s->topo->tree());
+        for (auto &g : d->grids) match_topology(*d, *g);
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+size_t b_leaf_count(const void *impl)
+{
+    return static_cast<const Volume *>(impl)->topo->tree().leafCount();
+}
+
+int b_leaf_topology(const void *impl, int32_t *origins, const uint64_t **masks)
+{
+    try {
+        // non-const iteration: getWord() hands out a reference only on a mutable mask
+        Volume *v = const_cast<Volume *>(static_cast<const Volume *>(impl));
+        size_t i = 0;
+        for (auto it = v->topo->tree().beginLeaf(); it; ++it, ++i) {
+            const Coord &o = it->origin();
+            origins[3 * i] = o.x();
+            origins[3 * i + 1] = o.y();
+            origins[3 * i + 2] = o.z();
+            masks[i] = &it->getValueMask().template getWord<uint64_t>(0);
+        }
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+int b_leaf_buffers(void *impl, int g, void **buffers)
+{
+    try {
+        Volume *v = static_cast<Volume *>(impl);
+        GridBase *gp = v->grids.at(size_t(g)).get();
+        FloatGrid *f = dynamic_cast<FloatGrid *>(gp);
+        BoolGrid *b = dynamic_cast<BoolGrid *>(gp);
+        size_t i = 0;
+        for (auto it = v->topo->tree().cbeginLeaf(); it; ++it, ++i) {
+            if (f) buffers[i] = leaf_at(f->tree(), it->origin())->buffer().data();
+            else buffers[i] = leaf_at(b->tree(), it->origin())->buffer().data();
+        }
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+// Inactive values are meaningless to hovox but visible to other readers: clear them.
+template <typename TreeT>
+void clear_inactive(TreeT &tree, typename TreeT::ValueType bg)
+{
+    for (auto it = tree.beginLeaf(); it; ++it)
+        for (auto off = it->getValueMask().beginOff(); off; ++off) it->setValueOnly(off.pos(), bg);
+}
+
+int b_save(const void *impl, const char *path, int ngrids, const char *const *names, int nmeta,
+           const char *const *keys, const int *kinds, const char *const *strings,
+           const double *numbers)
+{
+    try {
+        const Volume *v = static_cast<const Volume *>(impl);
+        openvdb::GridPtrVec out;
+        for (int g = 0; g < ngrids; ++g) {
+            GridBase::Ptr gp = v->grids[size_t(g)];
+            if (FloatGrid *f = dynamic_cast<FloatGrid *>(gp.get())) clear_inactive(f->tree(), 0.0f);
+            else if (BoolGrid *b = dynamic_cast<BoolGrid *>(gp.get())) clear_inactive(b->tree(), false);
+            gp->setName(names[g]);
+            gp->insertMeta("hovox.index", openvdb::Int32Metadata(g)); // files list grids by name
+            out.push_back(gp);
+        }
+        openvdb::MetaMap meta;
+        for (int i = 0; i < nmeta; ++i) {
+            if (kinds[i] == HV_META_NUMBER)
+                meta.insertMeta(keys[i], openvdb::DoubleMetadata(numbers[i]));
+            else
+                meta.insertMeta(keys[i], openvdb::StringMetadata(strings[i]));
+        }
+        openvdb::io::File file(path);
+        file.write(out, meta);
+        file.close();
+        return OK;
+    }
+    HV_CATCH(E_IO)
+}
+
+// Convert any supported grid to FloatGrid or BoolGrid with tiles expanded.
+GridBase::Ptr convert_grid(const GridBase::Ptr &in, int *type)
+{
+    GridBase::Ptr out;
+    if (auto f = openvdb::gridPtrCast<FloatGrid>(in)) {
+        out = f;
+        *type = T_FLOAT;
+    } else if (auto d = openvdb::gridPtrCast<openvdb::DoubleGrid>(in)) {
+        FloatGrid::Ptr c = FloatGrid::create(FloatGrid::TreeType::Ptr(
+            new FloatGrid::TreeType(d->tree(), float(d->background()), openvdb::TopologyCopy())));
+        for (auto it = c->tree().beginLeaf(); it; ++it) {
+            const auto *src = d->tree().probeConstLeaf(it->origin());
+            for (openvdb::Index n = 0; n < FloatGrid::TreeType::LeafNodeType::SIZE; ++n)
+                it->setValueOnly(n, float(src->getValue(n)));
+        }
+        out = c;
+        *type = T_FLOAT;
+    } else if (auto i = openvdb::gridPtrCast<openvdb::Int32Grid>(in)) {
+        FloatGrid::Ptr c = FloatGrid::create(FloatGrid::TreeType::Ptr(
+            new FloatGrid::TreeType(i->tree(), float(i->background()), openvdb::TopologyCopy())));
+        for (auto it = c->tree().beginLeaf(); it; ++it) {
+            const auto *src = i->tree().probeConstLeaf(it->origin());
+            for (openvdb::Index n = 0; n < FloatGrid::TreeType::LeafNodeType::SIZE; ++n)
+                it->setValueOnly(n, float(src->getValue(n)));
+        }
+        out = c;
+        *type = T_FLOAT;
+    } else if (auto b = openvdb::gridPtrCast<BoolGrid>(in)) {
+        out = b;
+        *type = T_BOOL;
+    } else if (auto m = openvdb::gridPtrCast<MaskGrid>(in)) {
+        BoolGrid::Ptr c = BoolGrid::create(BoolGrid::TreeType::Ptr(
+            new BoolGrid::TreeType(m->tree(), false, true, openvdb::TopologyCopy())));
+        out = c;
+        *type = T_BOOL;
+    } else {
+        throw openvdb::TypeError("grid '" + in->getName() + "' has unsupported type " +
+                                 in->type() + " (hovox reads float, double, int32, bool, mask)");
+    }
+    if (*type == T_FLOAT) {
+        auto f = openvdb::gridPtrCast<FloatGrid>(out);
+        f->tree().voxelizeActiveTiles();
+        f->setSaveFloatAsHalf(false);
+    } else {
+        openvdb::gridPtrCast<BoolGrid>(out)->tree().voxelizeActiveTiles();
+    }
+    return out;
+}
+
+bool axis_aligned(const openvdb::math::Transform &xf, double voxel[3], double origin[3])
+{
+    if (!xf.isLinear()) return false;
+    openvdb::math::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            if (r != c && std::fabs(m(r, c)) > 1e-12 * std::fabs(m(r, r))) return false;
+    for (int a = 0; a < 3; ++a) {
+        voxel[a] = m(a, a);
+        origin[a] = m(3, a);
+        if (!(voxel[a] > 0) || !std::isfinite(voxel[a]) || !std::isfinite(origin[a])) return false;
+    }
+    return true;
+}
+
+int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_vdb_meta_cb meta_cb,
+           hv_vdb_grid_cb grid_cb, void *ctx)
+{
+    Volume *v = nullptr;
+    try {
+        openvdb::io::File file(path);
+        file.open(false);
+        openvdb::GridPtrVecPtr grids = file.getGrids();
+        openvdb::MetaMap::Ptr meta = file.getMetadata();
+        file.close();
+        if (!grids || grids->empty()) return fail(E_BAD_INPUT, "file holds no grids");
+        // restore hovox's grid order (OpenVDB returns grids by name)
+        std::stable_sort(grids->begin(), grids->end(), [](const GridBase::Ptr &a, const GridBase::Ptr &b) {
+            auto ia = a->getMetadata<openvdb::Int32Metadata>("hovox.index");
+            auto ib = b->getMetadata<openvdb::Int32Metadata>("hovox.index");
+            int x = ia ? ia->value() : INT32_MAX, y = ib ? ib->value() : INT32_MAX;
+            return x < y;
+        });
+        v = new Volume;
+        double v0[3] = {0, 0, 0}, o0[3] = {0, 0, 0};
+        for (size_t i = 0; i < grids->size(); ++i) {
+            const GridBase::Ptr &g = (*grids)[i];
+            double vs[3], os[3];
+            if (!axis_aligned(g->transform(), vs, os)) {
+                delete v;
+                return fail(E_BAD_INPUT, "grid '" + g->getName() +
+                                             "' has a transform that is not an axis-aligned scale "
+                                             "and translation");
+            }
+            if (i == 0) {
+                std::memcpy(v0, vs, sizeof v0);
+                std::memcpy(o0, os, sizeof o0);
+            } else {
+                for (int a = 0; a < 3; ++a)
+                    if (std::fabs(vs[a] - v0[a]) > 1e-9 * v0[a] ||
+                        std::fabs(os[a] - o0[a]) > 1e-9 * v0[a]) {
+                        delete v;
+                        return fail(E_BAD_INPUT, "grid '" + g->getName() +
+                                                     "' has a different transform from grid '" +
+                                                     (*grids)[0]->getName() + "'");
+                    }
+            }
+        }
+        v->xf = make_transform(v0, o0);
+        v->topo = MaskGrid::create(false);
+        v->topo->setTransform(v->xf);
+        for (const auto &g : *grids) {
+            int type = 0;
+            GridBase::Ptr c = convert_grid(g, &type);
+            c->setTransform(v->xf);
+            if (type == T_FLOAT)
+                v->topo->tree().topologyUnion(openvdb::gridPtrCast<FloatGrid>(c)->tree());
+            else
+                v->topo->tree().topologyUnion(openvdb::gridPtrCast<BoolGrid>(c)->tree());
+            v->grids.push_back(c);
+            if (grid_cb(ctx, g->getName().c_str(), type) != 0) {
+                delete v;
+                return fail(E_NOMEM, "out of memory");
+            }
+        }
+        v->topo->tree().voxelizeActiveTiles();
+        for (auto &g : v->grids) match_topology(*v, *g);
+        if (meta) {
+            for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it) {
+                const openvdb::Metadata::Ptr &m = it->second;
+                int rc = 0;
+                if (m->typeName() == openvdb::StringMetadata::staticTypeName())
+                    rc = meta_cb(ctx, it->first.c_str(), HV_META_STRING,
+                                 static_cast<openvdb::StringMetadata &>(*m).value().c_str(), 0.0);
+                else if (m->typeName() == openvdb::DoubleMetadata::staticTypeName())
+                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                                 static_cast<openvdb::DoubleMetadata &>(*m).value());
+                else if (m->typeName() == openvdb::FloatMetadata::staticTypeName())
+                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                                 static_cast<openvdb::FloatMetadata &>(*m).value());
+                else if (m->typeName() == openvdb::Int32Metadata::staticTypeName())
+                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                                 static_cast<openvdb::Int32Metadata &>(*m).value());
+                else if (m->typeName() == openvdb::Int64Metadata::staticTypeName())
+                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                                 double(static_cast<openvdb::Int64Metadata &>(*m).value()));
+                else
+                    rc = meta_cb(ctx, it->first.c_str(), HV_META_STRING, m->str().c_str(), 0.0);
+                if (rc != 0) {
+                    delete v;
+                    return fail(E_NOMEM, "out of memory");
+                }
+            }
+        }
+        std::memcpy(voxel, v0, sizeof v0);
+        std::memcpy(origin, o0, sizeof o0);
+        *out = v;
+        return OK;
+    }
+    catch (const std::bad_alloc &) { delete v; return fail(E_NOMEM, "out of memory"); }
+    catch (const std::exception &e) { delete v; return fail(E_BAD_INPUT, e.what()); }
+    catch (...) { delete v; return fail(E_BAD_INPUT, "unknown exception reading VDB file"); }
+}
+
+uint64_t b_memory(const void *impl)
+{
+    try {
+        const Volume *v = static_cast<const Volume *>(impl);
+        uint64_t total = v->topo->memUsage();
+        for (const auto &g : v->grids) total += g->memUsage();
+        return total;
+    } catch (...) {
+        return 0;
+    }
+}
+
+const hv_vdb_api g_api = {
+    HV_VDB_ABI,      b_last_error,   b_create,       b_destroy,      b_clone,
+    b_grid_add,      b_grid_remove,  b_topology_add, b_topology_restrict,
+    b_topology_union, b_leaf_count,  b_leaf_topology, b_leaf_buffers, b_save,
+    b_load,          b_memory,
+};
+
+} // namespace
+
+extern "C" __attribute__((visibility("default"))) const hv_vdb_api *hv_vdb_plugin_v1(void)
+{
+    static std::once_flag once;
+    static bool ok = false;
+    std::call_once(once, [] {
+        try {
+            openvdb::initialize();
+            ok = true;
+        } catch (...) {
+            ok = false;
+        }
+    });
+    return ok ? &g_api : nullptr;
+}

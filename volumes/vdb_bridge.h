@@ -1,0 +1,55 @@
+/* volumes/vdb_bridge.h - the function table between the C volume store (volume.c) and the
+ * OpenVDB bridge plugin (vdb_bridge.cpp, built as plugins/hovox-vdb.so). Internal: callers
+ * use hovox/volume.h. Every entry returns an hv_status; on failure the plugin's last_error()
+ * holds the message. No C++ exception crosses this table. */
+#ifndef HOVOX_VDB_BRIDGE_H
+#define HOVOX_VDB_BRIDGE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HV_VDB_ABI 1
+
+enum { HV_META_STRING = 0, HV_META_NUMBER = 1 };
+
+/* Called by load for each file-level metadata entry and each grid (in file order). */
+typedef int (*hv_vdb_meta_cb)(void *ctx, const char *key, int kind, const char *s, double d);
+typedef int (*hv_vdb_grid_cb)(void *ctx, const char *name, int type);
+
+typedef struct hv_vdb_api {
+    int abi;
+    const char *(*last_error)(void);
+    int (*create)(const double voxel[3], const double origin[3], void **out);
+    void (*destroy)(void *impl);
+    int (*clone)(const void *impl, void **out);
+    int (*grid_add)(void *impl, int type);
+    int (*grid_remove)(void *impl, int g);
+    /* topology: blocks of (origin, 8-word mask) to activate */
+    int (*topology_add)(void *impl, size_t n, const int32_t *origins, const uint64_t *masks);
+    int (*topology_restrict)(void *impl, int bool_grid);
+    int (*topology_union)(void *dst, const void *src);
+    /* leaf tables, in tree order of the shared topology */
+    size_t (*leaf_count)(const void *impl);
+    int (*leaf_topology)(const void *impl, int32_t *origins, const uint64_t **masks);
+    int (*leaf_buffers)(void *impl, int g, void **buffers);
+    /* files */
+    int (*save)(const void *impl, const char *path, int ngrids, const char *const *names,
+                int nmeta, const char *const *keys, const int *kinds,
+                const char *const *strings, const double *numbers);
+    int (*load)(const char *path, void **out, double voxel[3], double origin[3],
+                hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx);
+    uint64_t (*memory)(const void *impl);
+} hv_vdb_api;
+
+/* The plugin's one exported symbol. */
+typedef const hv_vdb_api *(*hv_vdb_entry_fn)(void);
+#define HV_VDB_ENTRY "hv_vdb_plugin_v1"
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,891 @@
+/* volumes/volume.c - the C side of the volume store: grid names, leaf tables and a block
+ * hash for C kernels, cached accessors, trilinear sampling, mask algebra, metadata. The
+ * OpenVDB work happens in the bridge plugin (vdb_bridge.cpp), loaded on first use. */
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "hovox/volume.h"
+#include "../src/core/internal.h"
+#include "vdb_bridge.h"
+
+typedef struct grid_entry {
+    char *name;
+    hv_grid_type type;
+    void **leaves; /* buffer per leaf */
+} grid_entry;
+
+typedef struct meta_entry {
+    char *key;
+    int is_number;
+    char *str;
+    double num;
+} meta_entry;
+
+typedef struct hash_slot {
+    int32_t key[3];
+    int64_t leaf; /* -1: empty */
+} hash_slot;
+
+struct hv_volume {
+    void *impl;
+    hv_transform xf;
+    int ngrids;
+    size_t gcap;
+    grid_entry *grids;
+    /* leaf table of the shared topology */
+    size_t nleaves;
+    int32_t *origins;
+    const uint64_t **masks;
+    size_t hcap; /* power of two */
+    hash_slot *hash;
+    /* metadata, sorted by key */
+    int nmeta;
+    size_t mcap;
+    meta_entry *meta;
+};
+
+/* ---- the bridge ------------------------------------------------------------------------- */
+
+static const hv_vdb_api *g_api;
+static hv_status g_api_status = HV_OK;
+static char g_api_error[2048];
+static pthread_once_t g_api_once = PTHREAD_ONCE_INIT;
+
+static void load_api(void)
+{
+    void *sym = NULL;
+    g_api_status = hv_plugin_symbol("hovox-vdb", HV_VDB_ENTRY, &sym);
+    if (g_api_status == HV_OK) {
+        g_api = ((hv_vdb_entry_fn)sym)();
+        if (!g_api || g_api->abi != HV_VDB_ABI) {
+            g_api = NULL;
+            g_api_status = hv_error_set(HV_ERR_UNSUPPORTED,
+                                        "OpenVDB bridge failed to initialise or has a different ABI");
+        }
+    }
+    if (g_api_status != HV_OK) strncpy(g_api_error, hv_last_error(), sizeof g_api_error - 1);
+}
+
+static hv_status api(void)
+{
+    pthread_once(&g_api_once, load_api);
+    if (g_api_status != HV_OK) return hv_error_set(g_api_status, "%s", g_api_error);
+    return HV_OK;
+}
+
+static hv_status bridge_fail(int status)
+{
+    return hv_error_set((hv_status)status, "OpenVDB: %s", g_api->last_error());
+}
+
+/* ---- leaf table ------------------------------------------------------------------------- */
+
+static uint64_t hash3(int32_t x, int32_t y, int32_t z)
+{
+    uint64_t h = (uint64_t)(uint32_t)(x >> 3) * 0x9E3779B97F4A7C15ull;
+    h ^= (uint64_t)(uint32_t)(y >> 3) * 0xC2B2AE3D27D4EB4Full;
+    h ^= (uint64_t)(uint32_t)(z >> 3) * 0x165667B19E3779F9ull;
+    return h ^ (h >> 29);
+}
+
+static int64_t hash_find(const hv_volume *v, int32_t x, int32_t y, int32_t z)
+{
+    if (!v->hcap) return -1;
+    size_t m = v->hcap - 1;
+    for (size_t i = (size_t)hash3(x, y, z) & m;; i = (i + 1) & m) {
+        const hash_slot *s = &v->hash[i];
+        if (s->leaf < 0) return -1;
+        if (s->key[0] == x && s->key[1] == y && s->key[2] == z) return s->leaf;
+    }
+}
+
+static void drop_table(hv_volume *v)
+{
+    free(v->origins);
+    free(v->masks);
+    free(v->hash);
+    v->origins = NULL;
+    v->masks = NULL;
+    v->hash = NULL;
+    v->nleaves = v->hcap = 0;
+    for (int g = 0; g < v->ngrids; ++g) {
+        free(v->grids[g].leaves);
+        v->grids[g].leaves = NULL;
+    }
+}
+
+static hv_status fill_grid_table(hv_volume *v, int g)
+{
+    free(v->grids[g].leaves);
+    v->grids[g].leaves = hv_calloc(v->nleaves ? v->nleaves : 1, sizeof(void *));
+    if (!v->grids[g].leaves) return HV_ERR_NOMEM;
+    if (v->nleaves == 0) return HV_OK;
+    int rc = g_api->leaf_buffers(v->impl, g, v->grids[g].leaves);
+    return rc ? bridge_fail(rc) : HV_OK;
+}
+
+/* Rebuild every table after a topology change. */
+static hv_status rebuild(hv_volume *v)
+{
+    drop_table(v);
+    size_t n = g_api->leaf_count(v->impl);
+    v->origins = hv_malloc_array(n ? 3 * n : 3, sizeof(int32_t));
+    v->masks = hv_malloc_array(n ? n : 1, sizeof(uint64_t *));
+    size_t cap = 16;
+    while (cap < 2 * n) cap *= 2;
+    v->hash = hv_malloc_array(cap, sizeof(hash_slot));
+    if (!v->origins || !v->masks || !v->hash) {
+        drop_table(v);
+        return HV_ERR_NOMEM;
+    }
+    v->nleaves = n;
+    v->hcap = cap;
+    for (size_t i = 0; i < cap; ++i) v->hash[i].leaf = -1;
+    if (n) {
+        int rc = g_api->leaf_topology(v->impl, v->origins, v->masks);
+        if (rc) {
+            drop_table(v);
+            return bridge_fail(rc);
+        }
+    }
+    for (size_t l = 0; l < n; ++l) {
+        const int32_t *o = v->origins + 3 * l;
+        for (size_t i = (size_t)hash3(o[0], o[1], o[2]) & (cap - 1);; i = (i + 1) & (cap - 1)) {
+            if (v->hash[i].leaf < 0) {
+                memcpy(v->hash[i].key, o, sizeof v->hash[i].key);
+                v->hash[i].leaf = (int64_t)l;
+                break;
+            }
+        }
+    }
+    for (int g = 0; g < v->ngrids; ++g) {
+        hv_status s = fill_grid_table(v, g);
+        if (s != HV_OK) {
+            drop_table(v);
+            return s;
+        }
+    }
+    return HV_OK;
+}
+
+/* ---- life cycle ------------------------------------------------------------------------- */
+
+static int transform_ok(const hv_transform *xf)
+{
+    for (int a = 0; a < 3; ++a)
+        if (!(xf->voxel[a] > 0) || !isfinite(xf->voxel[a]) || !isfinite(xf->origin[a])) return 0;
+    return 1;
+}
+
+static hv_volume *new_volume(const hv_transform *xf)
+{
+    hv_volume *v = hv_calloc(1, sizeof *v);
+    if (v) v->xf = *xf;
+    return v;
+}
+
+hv_status hv_volume_create(const hv_transform *xf, hv_volume **out)
+{
+    *out = NULL;
+    if (!transform_ok(xf))
+        return hv_error_set(HV_ERR_INVALID,
+                            "voxel size (%g, %g, %g) must be positive and finite, origin finite",
+                            xf->voxel[0], xf->voxel[1], xf->voxel[2]);
+    hv_status s = api();
+    if (s != HV_OK) return s;
+    hv_volume *v = new_volume(xf);
+    if (!v) return HV_ERR_NOMEM;
+    int rc = g_api->create(xf->voxel, xf->origin, &v->impl);
+    if (rc) {
+        free(v);
+        return bridge_fail(rc);
+    }
+    s = rebuild(v);
+    if (s != HV_OK) {
+        hv_volume_destroy(v);
+        return s;
+    }
+    *out = v;
+    return HV_OK;
+}
+
+static void free_meta(hv_volume *v)
+{
+    for (int i = 0; i < v->nmeta; ++i) {
+        free(v->meta[i].key);
+        free(v->meta[i].str);
+    }
+    free(v->meta);
+    v->meta = NULL;
+    v->nmeta = 0;
+    v->mcap = 0;
+}
+
+void hv_volume_destroy(hv_volume *v)
+{
+    if (!v) return;
+    drop_table(v);
+    for (int g = 0; g < v->ngrids; ++g) free(v->grids[g].name);
+    free(v->grids);
+    free_meta(v);
+    if (v->impl && g_api) g_api->destroy(v->impl);
+    free(v);
+}
+
+static hv_status copy_meta(hv_volume *dst, const hv_volume *src)
+{
+    for (int i = 0; i < src->nmeta; ++i) {
+        const meta_entry *m = &src->meta[i];
+        hv_status s = m->is_number ? hv_volume_meta_set_number(dst, m->key, m->num)
+                                   : hv_volume_meta_set_string(dst, m->key, m->str);
+        if (s != HV_OK) return s;
+    }
+    return HV_OK;
+}
+
+hv_status hv_volume_clone(const hv_volume *src, hv_volume **out)
+{
+    *out = NULL;
+    hv_volume *v = new_volume(&src->xf);
+    if (!v) return HV_ERR_NOMEM;
+    int rc = g_api->clone(src->impl, &v->impl);
+    if (rc) {
+        free(v);
+        return bridge_fail(rc);
+    }
+    hv_status s = HV_OK;
+    for (int g = 0; g < src->ngrids && s == HV_OK; ++g) {
+        s = hv_grow((void **)&v->grids, &v->gcap, (size_t)g + 1, sizeof *v->grids);
+        if (s == HV_OK) {
+            grid_entry *e = &v->grids[g];
+            memset(e, 0, sizeof *e);
+            e->type = src->grids[g].type;
+            e->name = hv_strdup(src->grids[g].name);
+            v->ngrids = g + 1;
+            if (!e->name) s = HV_ERR_NOMEM;
+        }
+    }
+    if (s == HV_OK) s = copy_meta(v, src);
+    if (s == HV_OK) s = rebuild(v);
+    if (s != HV_OK) {
+        hv_volume_destroy(v);
+        return s;
+    }
+    *out = v;
+    return HV_OK;
+}
+
+hv_transform hv_volume_get_transform(const hv_volume *v) { return v->xf; }
+
+int hv_transform_same(const hv_transform *a, const hv_transform *b)
+{
+    for (int i = 0; i < 3; ++i) {
+        double tol = 1e-9 * a->voxel[i];
+        if (fabs(a->voxel[i] - b->voxel[i]) > tol || fabs(a->origin[i] - b->origin[i]) > tol)
+            return 0;
+    }
+    return 1;
+}
+
+/* ---- grids ------------------------------------------------------------------------------ */
+
+int hv_volume_grid_count(const hv_volume *v) { return v->ngrids; }
+
+const char *hv_volume_grid_name(const hv_volume *v, int g)
+{
+    return g >= 0 && g < v->ngrids ? v->grids[g].name : NULL;
+}
+
+hv_grid_type hv_volume_grid_type(const hv_volume *v, int g)
+{
+    return g >= 0 && g < v->ngrids ? v->grids[g].type : (hv_grid_type)0;
+}
+
+int hv_volume_grid_find(const hv_volume *v, const char *name)
+{
+    for (int g = 0; g < v->ngrids; ++g)
+        if (strcmp(v->grids[g].name, name) == 0) return g;
+    return -1;
+}
+
+static hv_status check_name(const hv_volume *v, const char *name)
+{
+    size_t n = name ? strlen(name) : 0;
+    if (n == 0 || n > 255)
+        return hv_error_set(HV_ERR_INVALID, "grid name must have 1 to 255 bytes (got %zu)", n);
+    if (hv_volume_grid_find(v, name) >= 0)
+        return hv_error_set(HV_ERR_INVALID, "grid '%s' already exists", name);
+    return HV_OK;
+}
+
+hv_status hv_volume_grid_add(hv_volume *v, const char *name, hv_grid_type type, int *index)
+{
+    hv_status s = check_name(v, name);
+    if (s != HV_OK) return s;
+    if (type != HV_GRID_FLOAT && type != HV_GRID_BOOL)
+        return hv_error_set(HV_ERR_INVALID, "grid '%s': unknown type %d", name, (int)type);
+    s = hv_grow((void **)&v->grids, &v->gcap, (size_t)v->ngrids + 1, sizeof *v->grids);
+    if (s != HV_OK) return s;
+    char *copy = hv_strdup(name);
+    if (!copy) return HV_ERR_NOMEM;
+    int rc = g_api->grid_add(v->impl, (int)type);
+    if (rc) {
+        free(copy);
+        return bridge_fail(rc);
+    }
+    int g = v->ngrids++;
+    v->grids[g].name = copy;
+    v->grids[g].type = type;
+    v->grids[g].leaves = NULL;
+    s = fill_grid_table(v, g);
+    if (s != HV_OK) {
+        hv_volume_grid_remove(v, g);
+        return s;
+    }
+    if (index) *index = g;
+    return HV_OK;
+}
+
+hv_status hv_volume_grid_remove(hv_volume *v, int g)
+{
+    if (g < 0 || g >= v->ngrids)
+        return hv_error_set(HV_ERR_INVALID, "no grid with index %d (volume has %d)", g, v->ngrids);
+    int rc = g_api->grid_remove(v->impl, g);
+    if (rc) return bridge_fail(rc);
+    free(v->grids[g].name);
+    free(v->grids[g].leaves);
+    memmove(&v->grids[g], &v->grids[g + 1], (size_t)(v->ngrids - g - 1) * sizeof *v->grids);
+    --v->ngrids;
+    return HV_OK;
+}
+
+hv_status hv_volume_grid_rename(hv_volume *v, int g, const char *name)
+{
+    if (g < 0 || g >= v->ngrids)
+        return hv_error_set(HV_ERR_INVALID, "no grid with index %d (volume has %d)", g, v->ngrids);
+    if (strcmp(v->grids[g].name, name ? name : "") == 0) return HV_OK;
+    hv_status s = check_name(v, name);
+    if (s != HV_OK) return s;
+    char *copy = hv_strdup(name);
+    if (!copy) return HV_ERR_NOMEM;
+    free(v->grids[g].name);
+    v->grids[g].name = copy;
+    return HV_OK;
+}
+
+hv_status hv_volume_grid_copy(hv_volume *dst, const char *name, const hv_volume *src, int sg)
+{
+    if (sg < 0 || sg >= src->ngrids)
+        return hv_error_set(HV_ERR_INVALID, "no grid with index %d (volume has %d)", sg,
+                            src->ngrids);
+    if (!hv_transform_same(&dst->xf, &src->xf))
+        return hv_error_set(HV_ERR_INVALID,
+                            "cannot copy grid '%s': the volumes have different voxel lattices",
+                            src->grids[sg].name);
+    hv_grid_type type = src->grids[sg].type;
+    int dg = hv_volume_grid_find(dst, name);
+    if (dst == src && dg == sg) return HV_OK;
+    if (dg >= 0 && dst->grids[dg].type != type)
+        return hv_error_set(HV_ERR_INVALID, "grid '%s' exists with another type", name);
+    hv_status s;
+    if (dst != src) {
+        s = hv_volume_topology_union(dst, src);
+        if (s != HV_OK) return s;
+    }
+    if (dg < 0) {
+        s = hv_volume_grid_add(dst, name, type, &dg);
+        if (s != HV_OK) return s;
+    }
+    /* zero the destination, then copy src's active values leaf by leaf */
+    for (size_t l = 0; l < dst->nleaves; ++l) {
+        if (type == HV_GRID_FLOAT) memset(dst->grids[dg].leaves[l], 0, HV_LEAF_SIZE * sizeof(float));
+        else memset(dst->grids[dg].leaves[l], 0, HV_LEAF_WORDS * sizeof(uint64_t));
+    }
+    for (size_t l = 0; l < src->nleaves; ++l) {
+        const int32_t *o = src->origins + 3 * l;
+        int64_t dl = dst == src ? (int64_t)l : hash_find(dst, o[0], o[1], o[2]);
+        if (dl < 0) return hv_error_set(HV_ERR_INTERNAL, "grid copy: topology union incomplete");
+        const uint64_t *m = src->masks[l];
+        if (type == HV_GRID_FLOAT) {
+            const float *sb = src->grids[sg].leaves[l];
+            float *db = dst->grids[dg].leaves[dl];
+            for (unsigned n = 0; n < HV_LEAF_SIZE; ++n)
+                if (HV_BIT_GET(m, n)) db[n] = sb[n];
+        } else {
+            const uint64_t *sb = src->grids[sg].leaves[l];
+            uint64_t *db = dst->grids[dg].leaves[dl];
+            for (int w = 0; w < HV_LEAF_WORDS; ++w) db[w] = sb[w] & m[w];
+        }
+    }
+    return HV_OK;
+}
+
+/* ---- topology --------------------------------------------------------------------------- */
+
+size_t hv_volume_leaf_count(const hv_volume *v) { return v->nleaves; }
+const int32_t *hv_volume_leaf_origins(const hv_volume *v) { return v->origins; }
+const uint64_t *hv_volume_leaf_mask(const hv_volume *v, size_t l) { return v->masks[l]; }
+
+float *hv_volume_leaf_float(hv_volume *v, int g, size_t l)
+{
+    return v->grids[g].type == HV_GRID_FLOAT ? (float *)v->grids[g].leaves[l] : NULL;
+}
+
+uint64_t *hv_volume_leaf_bool(hv_volume *v, int g, size_t l)
+{
+    return v->grids[g].type == HV_GRID_BOOL ? (uint64_t *)v->grids[g].leaves[l] : NULL;
+}
+
+const float *hv_volume_leaf_float_c(const hv_volume *v, int g, size_t l)
+{
+    return v->grids[g].type == HV_GRID_FLOAT ? (const float *)v->grids[g].leaves[l] : NULL;
+}
+
+const uint64_t *hv_volume_leaf_bool_c(const hv_volume *v, int g, size_t l)
+{
+    return v->grids[g].type == HV_GRID_BOOL ? (const uint64_t *)v->grids[g].leaves[l] : NULL;
+}
+
+static uint64_t popcount8(const uint64_t *w)
+{
+    uint64_t c = 0;
+    for (int i = 0; i < HV_LEAF_WORDS; ++i) c += (uint64_t)__builtin_popcountll(w[i]);
+    return c;
+}
+
+uint64_t hv_volume_active_count(const hv_volume *v)
+{
+    uint64_t c = 0;
+    for (size_t l = 0; l < v->nleaves; ++l) c += popcount8(v->masks[l]);
+    return c;
+}
+
+int hv_volume_index_bbox(const hv_volume *v, int32_t lo[3], int32_t hi[3])
+{
+    int any = 0;
+    int32_t a[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, b[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (size_t l = 0; l < v->nleaves; ++l) {
+        const int32_t *o = v->origins + 3 * l;
+        const uint64_t *m = v->masks[l];
+        /* cheap reject: the leaf cannot move the box */
+        if (any && o[0] >= a[0] && o[0] + 7 <= b[0] && o[1] >= a[1] && o[1] + 7 <= b[1] &&
+            o[2] >= a[2] && o[2] + 7 <= b[2])
+            continue;
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            if (!HV_BIT_GET(m, n)) continue;
+            int32_t p[3] = {o[0] + (int32_t)(n >> 6), o[1] + (int32_t)((n >> 3) & 7),
+                            o[2] + (int32_t)(n & 7)};
+            for (int k = 0; k < 3; ++k) {
+                if (p[k] < a[k]) a[k] = p[k];
+                if (p[k] > b[k]) b[k] = p[k];
+            }
+            any = 1;
+        }
+    }
+    if (any) {
+        memcpy(lo, a, sizeof a);
+        memcpy(hi, b, sizeof b);
+    }
+    return any;
+}
+
+hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
+                                 const uint64_t *masks)
+{
+    for (size_t b = 0; b < n; ++b)
+        for (int k = 0; k < 3; ++k)
+            if (origins[3 * b + k] & 7)
+                return hv_error_set(HV_ERR_INVALID,
+                                    "block %zu: origin (%d, %d, %d) is not a multiple of 8", b,
+                                    origins[3 * b], origins[3 * b + 1], origins[3 * b + 2]);
+    int rc = g_api->topology_add(v->impl, n, origins, masks);
+    hv_status s = rc ? bridge_fail(rc) : HV_OK;
+    hv_status r = rebuild(v);
+    return s != HV_OK ? s : r;
+}
+
+hv_status hv_volume_topology_restrict(hv_volume *v, int g)
+{
+    if (g < 0 || g >= v->ngrids || v->grids[g].type != HV_GRID_BOOL)
+        return hv_error_set(HV_ERR_INVALID, "topology restrict: grid %d is not a bool grid", g);
+    int rc = g_api->topology_restrict(v->impl, g);
+    hv_status s = rc ? bridge_fail(rc) : HV_OK;
+    hv_status r = rebuild(v);
+    return s != HV_OK ? s : r;
+}
+
+hv_status hv_volume_topology_union(hv_volume *dst, const hv_volume *src)
+{
+    if (!hv_transform_same(&dst->xf, &src->xf))
+        return hv_error_set(HV_ERR_INVALID, "topology union: the volumes have different lattices");
+    if (dst == src) return HV_OK;
+    int rc = g_api->topology_union(dst->impl, src->impl);
+    hv_status s = rc ? bridge_fail(rc) : HV_OK;
+    hv_status r = rebuild(dst);
+    return s != HV_OK ? s : r;
+}
+
+/* ---- masks ------------------------------------------------------------------------------ */
+
+hv_status hv_volume_mask_combine(hv_volume *v, int dst, int a, int b, hv_mask_op op)
+{
+    int gs[3] = {dst, a, b};
+    for (int i = 0; i < 3; ++i)
+        if (gs[i] < 0 || gs[i] >= v->ngrids || v->grids[gs[i]].type != HV_GRID_BOOL)
+            return hv_error_set(HV_ERR_INVALID, "mask combine: grid %d is not a bool grid", gs[i]);
+    if (op != HV_MASK_UNION && op != HV_MASK_INTERSECT && op != HV_MASK_DIFFERENCE)
+        return hv_error_set(HV_ERR_INVALID, "mask combine: unknown operation %d", (int)op);
+    for (size_t l = 0; l < v->nleaves; ++l) {
+        const uint64_t *wa = v->grids[a].leaves[l], *wb = v->grids[b].leaves[l];
+        uint64_t *wd = v->grids[dst].leaves[l];
+        const uint64_t *m = v->masks[l];
+        for (int w = 0; w < HV_LEAF_WORDS; ++w) {
+            uint64_t r = op == HV_MASK_UNION ? (wa[w] | wb[w])
+                         : op == HV_MASK_INTERSECT ? (wa[w] & wb[w]) : (wa[w] & ~wb[w]);
+            wd[w] = r & m[w];
+        }
+    }
+    return HV_OK;
+}
+
+uint64_t hv_volume_mask_count(const hv_volume *v, int g)
+{
+    if (g < 0 || g >= v->ngrids || v->grids[g].type != HV_GRID_BOOL) return 0;
+    uint64_t c = 0;
+    for (size_t l = 0; l < v->nleaves; ++l) {
+        const uint64_t *w = v->grids[g].leaves[l];
+        for (int i = 0; i < HV_LEAF_WORDS; ++i)
+            c += (uint64_t)__builtin_popcountll(w[i] & v->masks[l][i]);
+    }
+    return c;
+}
+
+/* ---- accessors -------------------------------------------------------------------------- */
+
+void hv_accessor_init(hv_accessor *acc, const hv_volume *v)
+{
+    acc->vol = v;
+    acc->key[0] = acc->key[1] = acc->key[2] = INT32_MIN;
+    acc->leaf = -1;
+}
+
+int64_t hv_accessor_leaf(hv_accessor *acc, int32_t i, int32_t j, int32_t k)
+{
+    int32_t x = i & ~7, y = j & ~7, z = k & ~7;
+    if (x != acc->key[0] || y != acc->key[1] || z != acc->key[2]) {
+        acc->key[0] = x;
+        acc->key[1] = y;
+        acc->key[2] = z;
+        acc->leaf = hash_find(acc->vol, x, y, z);
+    }
+    return acc->leaf;
+}
+
+int hv_accessor_active(hv_accessor *acc, int32_t i, int32_t j, int32_t k)
+{
+    int64_t l = hv_accessor_leaf(acc, i, j, k);
+    return l >= 0 && HV_BIT_GET(acc->vol->masks[l], HV_LEAF_OFFSET(i, j, k));
+}
+
+float hv_accessor_float(hv_accessor *acc, int g, int32_t i, int32_t j, int32_t k)
+{
+    int64_t l = hv_accessor_leaf(acc, i, j, k);
+    if (l < 0) return 0.0f;
+    unsigned n = HV_LEAF_OFFSET(i, j, k);
+    if (!HV_BIT_GET(acc->vol->masks[l], n)) return 0.0f;
+    return ((const float *)acc->vol->grids[g].leaves[l])[n];
+}
+
+int hv_accessor_bool(hv_accessor *acc, int g, int32_t i, int32_t j, int32_t k)
+{
+    int64_t l = hv_accessor_leaf(acc, i, j, k);
+    if (l < 0) return 0;
+    unsigned n = HV_LEAF_OFFSET(i, j, k);
+    const uint64_t *w = acc->vol->grids[g].leaves[l];
+    return (int)(HV_BIT_GET(acc->vol->masks[l], n) & HV_BIT_GET(w, n));
+}
+
+hv_status hv_accessor_set_float(hv_accessor *acc, int g, int32_t i, int32_t j, int32_t k,
+                                float value)
+{
+    int64_t l = hv_accessor_leaf(acc, i, j, k);
+    unsigned n = HV_LEAF_OFFSET(i, j, k);
+    if (l < 0 || !HV_BIT_GET(acc->vol->masks[l], n))
+        return hv_error_set(HV_ERR_INVALID, "voxel (%d, %d, %d) is not active", i, j, k);
+    ((float *)acc->vol->grids[g].leaves[l])[n] = value;
+    return HV_OK;
+}
+
+void hv_volume_world_to_index(const hv_volume *v, const double w[3], double idx[3])
+{
+    for (int a = 0; a < 3; ++a) idx[a] = (w[a] - v->xf.origin[a]) / v->xf.voxel[a];
+}
+
+void hv_volume_index_to_world(const hv_volume *v, const double idx[3], double w[3])
+{
+    for (int a = 0; a < 3; ++a) w[a] = v->xf.origin[a] + idx[a] * v->xf.voxel[a];
+}
+
+void hv_volume_sample(hv_accessor *acc, const int *grids, int n, const double world[3], float *out,
+                      float *coverage)
+{
+    const hv_volume *v = acc->vol;
+    double idx[3];
+    hv_volume_world_to_index(v, world, idx);
+    int32_t i0[3];
+    double f[3];
+    for (int a = 0; a < 3; ++a) {
+        double fl = floor(idx[a]);
+        if (!(fl > -2e9 && fl < 2e9)) { /* far outside or NaN */
+            for (int g = 0; g < n; ++g) out[g] = 0.0f;
+            if (coverage) *coverage = 0.0f;
+            return;
+        }
+        i0[a] = (int32_t)fl;
+        f[a] = idx[a] - fl;
+    }
+    double acc_v[64] = {0};
+    double wsum = 0.0;
+    int m = n < 64 ? n : 64;
+    for (int c = 0; c < 8; ++c) {
+        int32_t p[3] = {i0[0] + (c >> 2), i0[1] + ((c >> 1) & 1), i0[2] + (c & 1)};
+        double w = ((c >> 2) ? f[0] : 1 - f[0]) * (((c >> 1) & 1) ? f[1] : 1 - f[1]) *
+                   ((c & 1) ? f[2] : 1 - f[2]);
+        if (w <= 0.0) continue;
+        int64_t l = hv_accessor_leaf(acc, p[0], p[1], p[2]);
+        if (l < 0) continue;
+        unsigned off = HV_LEAF_OFFSET(p[0], p[1], p[2]);
+        if (!HV_BIT_GET(v->masks[l], off)) continue;
+        wsum += w;
+        for (int g = 0; g < m; ++g) acc_v[g] += w * ((const float *)v->grids[grids[g]].leaves[l])[off];
+    }
+    for (int g = 0; g < m; ++g) out[g] = wsum > 0 ? (float)(acc_v[g] / wsum) : 0.0f;
+    if (coverage) *coverage = (float)wsum;
+}
+
+/* ---- metadata --------------------------------------------------------------------------- */
+
+static int meta_index(const hv_volume *v, const char *key, int *found)
+{
+    int lo = 0, hi = v->nmeta;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        int c = strcmp(v->meta[mid].key, key);
+        if (c == 0) {
+            *found = 1;
+            return mid;
+        }
+        if (c < 0) lo = mid + 1;
+        else hi = mid;
+    }
+    *found = 0;
+    return lo;
+}
+
+static hv_status meta_put(hv_volume *v, const char *key, const char *str, const double *num)
+{
+    if (!key || !*key) return hv_error_set(HV_ERR_INVALID, "metadata key must not be empty");
+    int found;
+    int i = meta_index(v, key, &found);
+    if (!str && !num) { /* remove */
+        if (found) {
+            free(v->meta[i].key);
+            free(v->meta[i].str);
+            memmove(&v->meta[i], &v->meta[i + 1], (size_t)(v->nmeta - i - 1) * sizeof *v->meta);
+            --v->nmeta;
+        }
+        return HV_OK;
+    }
+    char *s = NULL;
+    if (str && !(s = hv_strdup(str))) return HV_ERR_NOMEM;
+    if (!found) {
+        char *k = hv_strdup(key);
+        if (!k || hv_grow((void **)&v->meta, &v->mcap, (size_t)v->nmeta + 1, sizeof *v->meta)) {
+            free(k);
+            free(s);
+            return HV_ERR_NOMEM;
+        }
+        memmove(&v->meta[i + 1], &v->meta[i], (size_t)(v->nmeta - i) * sizeof *v->meta);
+        v->meta[i].key = k;
+        v->meta[i].str = NULL;
+        ++v->nmeta;
+    }
+    free(v->meta[i].str);
+    v->meta[i].str = s;
+    v->meta[i].is_number = num != NULL;
+    v->meta[i].num = num ? *num : 0.0;
+    return HV_OK;
+}
+
+hv_status hv_volume_meta_set_string(hv_volume *v, const char *key, const char *value)
+{
+    return meta_put(v, key, value, NULL);
+}
+
+hv_status hv_volume_meta_set_json(hv_volume *v, const char *key, const char *json)
+{
+    if (json) {
+        hv_json *j = hv_json_parse(json, strlen(json));
+        if (!j) return hv_error_prefix(HV_ERR_INVALID, "metadata '%s': bad JSON: ", key);
+        hv_json_free(j);
+    }
+    return meta_put(v, key, json, NULL);
+}
+
+hv_status hv_volume_meta_set_number(hv_volume *v, const char *key, double value)
+{
+    return meta_put(v, key, NULL, &value);
+}
+
+const char *hv_volume_meta_string(const hv_volume *v, const char *key)
+{
+    int found;
+    int i = meta_index(v, key, &found);
+    return found && !v->meta[i].is_number ? v->meta[i].str : NULL;
+}
+
+int hv_volume_meta_number(const hv_volume *v, const char *key, double *value)
+{
+    int found;
+    int i = meta_index(v, key, &found);
+    if (!found || !v->meta[i].is_number) return 0;
+    *value = v->meta[i].num;
+    return 1;
+}
+
+int hv_volume_meta_count(const hv_volume *v) { return v->nmeta; }
+
+const char *hv_volume_meta_key(const hv_volume *v, int i)
+{
+    return i >= 0 && i < v->nmeta ? v->meta[i].key : NULL;
+}
+
+/* ---- files ------------------------------------------------------------------------------ */
+
+hv_status hv_volume_save(const hv_volume *v, const char *path)
+{
+    const char **names = hv_calloc((size_t)v->ngrids + 1, sizeof *names);
+    const char **keys = hv_calloc((size_t)v->nmeta + 1, sizeof *keys);
+    const char **strs = hv_calloc((size_t)v->nmeta + 1, sizeof *strs);
+    int *kinds = hv_calloc((size_t)v->nmeta + 1, sizeof *kinds);
+    double *nums = hv_calloc((size_t)v->nmeta + 1, sizeof *nums);
+    char *tmp = hv_temp_path(path);
+    hv_status s = HV_OK;
+    if (!names || !keys || !strs || !kinds || !nums || !tmp) {
+        s = HV_ERR_NOMEM;
+        goto done;
+    }
+    for (int g = 0; g < v->ngrids; ++g) names[g] = v->grids[g].name;
+    for (int i = 0; i < v->nmeta; ++i) {
+        keys[i] = v->meta[i].key;
+        kinds[i] = v->meta[i].is_number ? HV_META_NUMBER : HV_META_STRING;
+        strs[i] = v->meta[i].str ? v->meta[i].str : "";
+        nums[i] = v->meta[i].num;
+    }
+    int rc = g_api->save(v->impl, tmp, v->ngrids, names, v->nmeta, keys, kinds, strs, nums);
+    if (rc) {
+        s = hv_error_set((hv_status)rc, "%s: cannot write: %s", path, g_api->last_error());
+        remove(tmp);
+        goto done;
+    }
+    if (rename(tmp, path) != 0) {
+        s = hv_error_set(HV_ERR_IO, "%s: cannot rename into place", path);
+        remove(tmp);
+    }
+done:
+    free(names);
+    free(keys);
+    free(strs);
+    free(kinds);
+    free(nums);
+    free(tmp);
+    return s;
+}
+
+typedef struct load_ctx {
+    hv_volume *v;
+} load_ctx;
+
+static int load_meta(void *ctx, const char *key, int kind, const char *s, double d)
+{
+    hv_volume *v = ((load_ctx *)ctx)->v;
+    return (kind == HV_META_NUMBER ? meta_put(v, key, NULL, &d) : meta_put(v, key, s, NULL)) != HV_OK;
+}
+
+static int load_grid(void *ctx, const char *name, int type)
+{
+    hv_volume *v = ((load_ctx *)ctx)->v;
+    if (hv_grow((void **)&v->grids, &v->gcap, (size_t)v->ngrids + 1, sizeof *v->grids)) return 1;
+    grid_entry *e = &v->grids[v->ngrids];
+    memset(e, 0, sizeof *e);
+    /* unnamed or duplicate grids get a unique name */
+    char buf[300];
+    if (!*name || hv_volume_grid_find(v, name) >= 0)
+        snprintf(buf, sizeof buf, "%s%sgrid%d", name, *name ? "." : "", v->ngrids);
+    else
+        snprintf(buf, sizeof buf, "%s", name);
+    e->name = hv_strdup(buf);
+    if (!e->name) return 1;
+    e->type = (hv_grid_type)type;
+    ++v->ngrids;
+    return 0;
+}
+
+hv_status hv_volume_load(const char *path, hv_volume **out)
+{
+    *out = NULL;
+    struct stat st;
+    if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: no such file", path);
+    if (S_ISDIR(st.st_mode)) return hv_error_set(HV_ERR_IO, "%s: is a directory, not a file", path);
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return hv_error_set(HV_ERR_IO, "%s: cannot open for reading", path);
+    unsigned char magic[8] = {0};
+    size_t got = fread(magic, 1, 8, fp);
+    fclose(fp);
+    /* OpenVDB files start with the int64 magic 0x56444220 ("VDB ") */
+    if (got < 8 || !(magic[0] == 0x20 && magic[1] == 0x42 && magic[2] == 0x44 && magic[3] == 0x56))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: not an OpenVDB file (bad magic number)", path);
+    hv_status s = api();
+    if (s != HV_OK) return s;
+    hv_transform xf;
+    hv_volume *v = hv_calloc(1, sizeof *v);
+    if (!v) return HV_ERR_NOMEM;
+    load_ctx ctx = {v};
+    int rc = g_api->load(path, &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx);
+    if (rc) {
+        s = hv_error_set((hv_status)rc, "%s: %s", path, g_api->last_error());
+        v->impl = NULL;
+        hv_volume_destroy(v);
+        return s;
+    }
+    v->xf = xf;
+    s = rebuild(v);
+    if (s != HV_OK) {
+        hv_volume_destroy(v);
+        return s;
+    }
+    *out = v;
+    return HV_OK;
+}
+
+/* ---- memory ----------------------------------------------------------------------------- */
+
+uint64_t hv_volume_memory_bytes(const hv_volume *v)
+{
+    uint64_t b = g_api->memory(v->impl);
+    b += v->nleaves * (3 * sizeof(int32_t) + sizeof(void *) * (size_t)(v->ngrids + 1));
+    b += v->hcap * sizeof(hash_slot);
+    return b;
+}
+
+uint64_t hv_volume_memory_estimate(uint64_t leaves, int float_grids, int bool_grids)
+{
+    /* OpenVDB leaves: float 512*4 + mask 64 + origin/flags ~ 2152 B; bool 2*64 + ~32 B;
+     * the shared topology (mask leaf ~ 80 B); internal nodes ~ 3%; our tables ~ 64 B/leaf. */
+    uint64_t per_leaf = (uint64_t)float_grids * 2152u + (uint64_t)bool_grids * 160u + 80u +
+                        64u + 8u * (uint64_t)(float_grids + bool_grids);
+    return leaves * per_leaf + leaves * per_leaf / 32u + (1u << 20);
+}

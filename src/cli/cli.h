@@ -59,5 +59,14 @@ int cli_interrupted(void);
 /* Commands */
 int cmd_info(int argc, char **argv);
 int cmd_generate(int argc, char **argv);
+int cmd_voxelize(int argc, char **argv);
+int cmd_grade(int argc, char **argv);
+int cmd_probe(int argc, char **argv);
+int cmd_profile(int argc, char **argv);
+int cmd_run(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_contours(int argc, char **argv);
+int cmd_layers(int argc, char **argv);
+int cmd_export(int argc, char **argv);
 
 #endif

@@ -6,6 +6,15 @@
 
 static const cli_command g_commands[] = {
     {"info", cmd_info, "report on an STL mesh: size, volume, shells, defects"},
+    {"voxelize", cmd_voxelize, "voxelize a mesh into a .vdb model (surface + interior)"},
+    {"grade", cmd_grade, "assign materials by grading sources (AGS) on reference features"},
+    {"probe", cmd_probe, "material fractions at points of a model"},
+    {"profile", cmd_profile, "material fractions along a line, as CSV and a plot"},
+    {"run", cmd_run, "run a Lua modeling script"},
+    {"render", cmd_render, "ray-cast preview image of a model, with cut planes"},
+    {"contours", cmd_contours, "slice a mesh into contour loops (SVG, CLI)"},
+    {"layers", cmd_layers, "printer slice stacks (PNG) from a model and its mesh"},
+    {"export", cmd_export, "export a model to VTK (.vti image data, .vtu hexahedra)"},
     {"generate", cmd_generate, "write a parametric closed mesh (sphere, gear, knot, ...)"},
 };
 

@@ -68,12 +68,14 @@ TEST_C    := $(wildcard tests/*/test_*.c)
 TEST_CXX  := $(wildcard tests/*/test_*.cpp)
 TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_C)) \
              $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(TEST_CXX))
+BENCH_C   := $(wildcard tests/bench/*.c)
+BENCH_BIN := $(patsubst tests/bench/%.c,$(BUILD)/bench-tools/%,$(BENCH_C))
 TEST_SUPPORT := $(wildcard tests/support/*.c)
 TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
 CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
-.PHONY: all lib plugins test unit-tests header-tests cli-tests sample-tests sanitize bench \
+.PHONY: all lib plugins bench-tools test unit-tests header-tests cli-tests sample-tests sanitize bench \
         demo deps clean check-deps-build check-deps-test
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
@@ -191,7 +193,7 @@ sanitize: $(BUILD)/.deps-test
 
 bench: $(BUILD)/.deps-test
 	@sh scripts/install-deps.sh build test bench
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory all bench-tools
 	@HOVOX=$(ROOT)/$(BUILD)/hovox BUILD=$(BUILD) SHARED=$(SHARED) sh scripts/bench.sh
 
 demo: $(BUILD)/.deps-build

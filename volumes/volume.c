@@ -1,6 +1,7 @@
 /* volumes/volume.c - the C side of the volume store: grid names, leaf tables and a block
  * hash for C kernels, cached accessors, trilinear sampling, mask algebra, metadata. The
  * OpenVDB work happens in the bridge plugin (vdb_bridge.cpp), loaded on first use. */
+#include <errno.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
@@ -778,6 +779,15 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
         s = HV_ERR_NOMEM;
         goto done;
     }
+    {
+        /* fail early, with the final name and the system's reason, if we cannot write here */
+        FILE *probe = fopen(tmp, "wb");
+        if (!probe) {
+            s = hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+            goto done;
+        }
+        fclose(probe);
+    }
     for (int g = 0; g < v->ngrids; ++g) names[g] = v->grids[g].name;
     for (int i = 0; i < v->nmeta; ++i) {
         keys[i] = v->meta[i].key;
@@ -792,7 +802,7 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
         goto done;
     }
     if (rename(tmp, path) != 0) {
-        s = hv_error_set(HV_ERR_IO, "%s: cannot rename into place", path);
+        s = hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(errno));
         remove(tmp);
     }
 done:

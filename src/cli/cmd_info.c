@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "../core/internal.h"
+#include "../mesh/mesh_internal.h"
 #include "cli.h"
 #include "hovox/mesh.h"
 
@@ -47,39 +48,6 @@ static void print_text(const char *path, const hv_mesh_report *r)
     printf("closed              %s\n", closed ? "yes" : "no");
 }
 
-static void print_json(hv_buf *b, const char *path, const hv_mesh_report *r)
-{
-    hv_buf_puts(b, "{\"file\": ");
-    hv_buf_json_string(b, path);
-    hv_buf_printf(b, ", \"format\": \"%s\"",
-                  r->format == HV_MESH_STL_BINARY ? "binary" : r->format == HV_MESH_STL_ASCII ? "ascii" : "generated");
-    hv_buf_printf(b, ", \"facets\": %llu, \"vertices\": %llu", (unsigned long long)r->facets,
-                  (unsigned long long)r->vertices);
-    hv_buf_puts(b, ", \"bbox\": {\"min\": [");
-    for (int a = 0; a < 3; ++a) {
-        if (a) hv_buf_puts(b, ", ");
-        hv_buf_json_number(b, r->bbox_min[a]);
-    }
-    hv_buf_puts(b, "], \"max\": [");
-    for (int a = 0; a < 3; ++a) {
-        if (a) hv_buf_puts(b, ", ");
-        hv_buf_json_number(b, r->bbox_max[a]);
-    }
-    hv_buf_puts(b, "]}, \"volume\": ");
-    hv_buf_json_number(b, r->volume);
-    hv_buf_puts(b, ", \"area\": ");
-    hv_buf_json_number(b, r->area);
-    hv_buf_printf(b,
-                  ", \"shells\": %llu, \"open_edges\": %llu, \"nonmanifold_edges\": %llu, "
-                  "\"degenerate_facets\": %llu, \"flipped_facets\": %llu, "
-                  "\"normal_mismatch\": %llu, \"closed\": %s}",
-                  (unsigned long long)r->shells, (unsigned long long)r->open_edges,
-                  (unsigned long long)r->nonmanifold_edges,
-                  (unsigned long long)r->degenerate_facets,
-                  (unsigned long long)r->flipped_facets, (unsigned long long)r->normal_mismatch,
-                  r->open_edges == 0 && r->nonmanifold_edges == 0 ? "true" : "false");
-}
-
 int cmd_info(int argc, char **argv)
 {
     static const struct option opts[] = {
@@ -111,7 +79,7 @@ int cmd_info(int argc, char **argv)
         const hv_mesh_report *r = hv_mesh_get_report(mesh);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");
-            print_json(&out, path, r);
+            hv_mesh_report_json(&out, path, r);
         } else {
             if (i) putchar('\n');
             print_text(path, r);

@@ -4,6 +4,7 @@
 #define HOVOX_MESH_INTERNAL_H
 
 #include "hovox/mesh.h"
+#include "../core/internal.h"
 
 struct hv_mesh {
     char *name;
@@ -20,5 +21,9 @@ struct hv_mesh {
  * ownership. */
 hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, const char *name,
                             hv_mesh_format format, hv_mesh **out);
+
+/* Append the report as a JSON object (keys of `hovox info --json`). Floats read from STL
+ * print as the float they are ("0.1", not "0.10000000149"). */
+void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);
 
 #endif

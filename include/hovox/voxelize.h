@@ -1,0 +1,73 @@
+/* hovox/voxelize.h - mesh to volume after Wu 2.1 and Huang, Yagel, Filippov, Kurzion,
+ * "An Accurate Method for Voxelizing Polygon Meshes" (1998): per-triangle plane tests (face
+ * slab bounded by the edge planes, edge cylinders, vertex spheres) for a 6- or 26-separating
+ * surface, then the interior by flood fill (closed meshes) or ray-parity voting (meshes with
+ * holes or flipped facets). */
+#ifndef HOVOX_VOXELIZE_H
+#define HOVOX_VOXELIZE_H
+
+#include "hovox/mesh.h"
+#include "hovox/volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum hv_fill_mode {
+    HV_FILL_AUTO = 0,  /* flood when the mesh is closed, manifold and consistently oriented,
+                          else vote */
+    HV_FILL_FLOOD = 1, /* flood the outside from the grid border through non-surface voxels
+                          (6-connected for adjacency 6, 26-connected for 26); the rest is inside */
+    HV_FILL_VOTE = 2,  /* robust: a voxel is inside when the parity of surface crossings along
+                          its x, y and z lines says inside for at least two of the three; holes
+                          and flipped facets only mislead lines that pass through them */
+    HV_FILL_NONE = 3   /* surface only */
+} hv_fill_mode;
+
+typedef struct hv_voxelize_options {
+    int adjacency;          /* 6 (thin, no 6-connected tunnel) or 26 (no 26-connected tunnel) */
+    double voxel_size[3];   /* if voxel_size[0] > 0: voxel size per axis (give all three) */
+    int64_t dims[3];        /* else: dims[0] > 0 and dims[1] == dims[2] == 0: voxels along the
+                               longest axis (cubic voxels); all three > 0: voxels per axis
+                               (Wu's (64,64,45)), voxels anisotropic when the ratios differ */
+    hv_fill_mode fill;
+    uint64_t max_memory;    /* bytes the job may use; 0: half the physical memory */
+    const hv_progress *progress;
+} hv_voxelize_options;
+
+/* Defaults: adjacency 26, 128 voxels on the longest axis, HV_FILL_AUTO, half of memory. */
+HV_API void hv_voxelize_options_init(hv_voxelize_options *opt);
+
+/* The lattice a job will use and what it will cost, computed before any voxel is touched.
+ * Voxel (i,j,k), 0 <= i < dims[0] ..., has its centre at origin + (i*voxel[0], ...): the grid
+ * is centred on the mesh's bounding box. The surface may reach up to one voxel beyond it
+ * (indices -1 and dims). */
+typedef struct hv_voxel_plan {
+    hv_transform xf;
+    int64_t dims[3];
+    hv_fill_mode fill;       /* AUTO resolved */
+    uint64_t memory_bytes;   /* estimated peak */
+} hv_voxel_plan;
+
+/* Plan a job. Errors: HV_ERR_INVALID (adjacency not 6/26, voxel size or dims not positive and
+ * finite, a flat mesh with dims on a zero-extent axis), HV_ERR_LIMIT (more than 2^31 voxels on
+ * an axis, or the estimate exceeds max_memory: the message says how much it needs). */
+HV_API hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt,
+                                  hv_voxel_plan *plan);
+
+/* Voxelize. The new volume has bool grids "occupancy" (surface and interior; also the shared
+ * topology) and "surface" (the voxels the plane tests produced), and metadata
+ * "hovox.mesh.json" (the mesh report) and "hovox.voxelize.json" (adjacency, fill, dims).
+ * Multi-threaded over triangles and rows; the result does not depend on the thread count.
+ * Errors: those of hv_voxelize_plan, HV_ERR_NOMEM, HV_ERR_CANCELLED, HV_ERR_UNSUPPORTED (no
+ * OpenVDB bridge). Free the volume with hv_volume_destroy. */
+HV_API hv_status hv_voxelize(const hv_mesh *mesh, const hv_voxelize_options *opt,
+                             hv_volume **out);
+
+/* Name of a fill mode ("auto", "flood", "vote", "none"). */
+HV_API const char *hv_fill_mode_name(hv_fill_mode mode);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

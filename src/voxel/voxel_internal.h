@@ -1,0 +1,21 @@
+/* src/voxel/voxel_internal.h - the interior passes of the voxelizer (fill.c). */
+#ifndef HOVOX_VOXEL_INTERNAL_H
+#define HOVOX_VOXEL_INTERNAL_H
+
+#include "bitgrid.h"
+#include "hovox/mesh.h"
+
+/* occ = everything not reachable from the grid border through non-surface voxels
+ * (6-connected moves for adjacency 6, 26-connected for 26). occ must be zeroed. */
+hv_status hv_fill_flood(const hv_bitgrid *surf, hv_bitgrid *occ, int adjacency,
+                        const hv_progress *progress);
+
+/* occ = surf | majority over the x, y, z lines through each voxel centre of the crossing
+ * parity with the mesh; P holds the mesh vertices in grid coordinates. */
+hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *surf,
+                       hv_bitgrid *occ, const hv_progress *progress);
+
+/* Approximate bytes of a mesh in memory (for planning). */
+size_t mesh_bytes(const hv_mesh *m);
+
+#endif

@@ -1,0 +1,521 @@
+/* src/voxel/voxelize.c - mesh voxelization after Wu 2.1 and Huang, Yagel, Filippov, Kurzion
+ * (1998): each triangle marks the voxels whose centres lie in its face slab |n.c + D| <= t
+ * bounded by the three edge planes, or within Rc of an edge (cylinder) or vertex (sphere):
+ *   adjacency 6:  t = (L/2) max(|A|,|B|,|C|),  Rc = L/2         (no 6-connected tunnel)
+ *   adjacency 26: t = (L/2) (|A|+|B|+|C|),     Rc = (sqrt 3/2) L (no 26-connected tunnel)
+ * Work happens in index space (voxel centres at integers, L = 1), which also handles
+ * anisotropic voxels: separation is a property of the lattice. Only each triangle's voxel
+ * bounding box is visited, column by column along the normal's dominant axis. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/internal.h"
+#include "../mesh/mesh_internal.h"
+#include "bitgrid.h"
+#include "hovox/voxelize.h"
+#include "voxel_internal.h"
+
+#define PAD 8 /* empty voxels around the mesh box, so the grid border is outside */
+
+void hv_voxelize_options_init(hv_voxelize_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->adjacency = 26;
+    o->dims[0] = 128;
+    o->fill = HV_FILL_AUTO;
+}
+
+const char *hv_fill_mode_name(hv_fill_mode m)
+{
+    switch (m) {
+    case HV_FILL_AUTO: return "auto";
+    case HV_FILL_FLOOD: return "flood";
+    case HV_FILL_VOTE: return "vote";
+    case HV_FILL_NONE: return "none";
+    }
+    return "?";
+}
+
+/* ---- bit grids ------------------------------------------------------------------------- */
+
+uint64_t hv_bitgrid_bytes(const int64_t n[3])
+{
+    return (uint64_t)n[0] * (uint64_t)n[1] * (uint64_t)((n[2] + 63) / 64) * 8u;
+}
+
+hv_status hv_bitgrid_init(hv_bitgrid *g, const int64_t n[3], const int64_t lo[3])
+{
+    memset(g, 0, sizeof *g);
+    memcpy(g->n, n, sizeof g->n);
+    memcpy(g->lo, lo, sizeof g->lo);
+    g->words = (n[2] + 63) / 64;
+    g->bits = hv_calloc((size_t)(n[0] * n[1] * g->words), sizeof(uint64_t));
+    return g->bits ? HV_OK : HV_ERR_NOMEM;
+}
+
+void hv_bitgrid_free(hv_bitgrid *g)
+{
+    free(g->bits);
+    g->bits = NULL;
+}
+
+/* ---- planning ---------------------------------------------------------------------------- */
+
+static int64_t round_up8(int64_t x) { return (x + 7) & ~(int64_t)7; }
+
+hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_voxel_plan *p)
+{
+    memset(p, 0, sizeof *p);
+    const hv_mesh_report *r = hv_mesh_get_report(mesh);
+    const char *name = *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "mesh";
+    if (opt->adjacency != 6 && opt->adjacency != 26)
+        return hv_error_set(HV_ERR_INVALID, "adjacency must be 6 or 26 (got %d)", opt->adjacency);
+    double ext[3], ctr[3];
+    for (int a = 0; a < 3; ++a) {
+        ext[a] = r->bbox_max[a] - r->bbox_min[a];
+        ctr[a] = 0.5 * (r->bbox_max[a] + r->bbox_min[a]);
+    }
+    double longest = HV_MAX(ext[0], HV_MAX(ext[1], ext[2]));
+    if (opt->voxel_size[0] != 0 || opt->voxel_size[1] != 0 || opt->voxel_size[2] != 0) {
+        for (int a = 0; a < 3; ++a) {
+            double v = opt->voxel_size[a];
+            if (!(v > 0) || !isfinite(v))
+                return hv_error_set(HV_ERR_INVALID, "voxel size on axis %c must be > 0 (got %g)",
+                                    "xyz"[a], v);
+            double d = ceil(ext[a] / v - 1e-9);
+            if (d > 2147483647.0)
+                return hv_error_set(HV_ERR_LIMIT,
+                                    "%s: voxel size %g gives %.0f voxels on axis %c (limit 2^31)",
+                                    name, v, d, "xyz"[a]);
+            p->dims[a] = HV_MAX((int64_t)d, 1);
+            p->xf.voxel[a] = v;
+        }
+    } else if (opt->dims[0] > 0 && opt->dims[1] == 0 && opt->dims[2] == 0) {
+        if (!(longest > 0))
+            return hv_error_set(HV_ERR_INVALID, "%s: the mesh has no extent", name);
+        if (opt->dims[0] > 2147483647)
+            return hv_error_set(HV_ERR_LIMIT, "dims %lld exceed 2^31", (long long)opt->dims[0]);
+        double v = longest / (double)opt->dims[0];
+        for (int a = 0; a < 3; ++a) {
+            p->xf.voxel[a] = v;
+            p->dims[a] = HV_MAX((int64_t)ceil(ext[a] / v - 1e-9), 1);
+        }
+    } else if (opt->dims[0] > 0 && opt->dims[1] > 0 && opt->dims[2] > 0) {
+        for (int a = 0; a < 3; ++a) {
+            if (opt->dims[a] > 2147483647)
+                return hv_error_set(HV_ERR_LIMIT, "dims %lld exceed 2^31", (long long)opt->dims[a]);
+            if (!(ext[a] > 0))
+                return hv_error_set(HV_ERR_INVALID,
+                                    "%s: the mesh is flat along %c, so dims on that axis cannot "
+                                    "set a voxel size; give --voxel-size",
+                                    name, "xyz"[a]);
+            p->dims[a] = opt->dims[a];
+            p->xf.voxel[a] = ext[a] / (double)opt->dims[a];
+        }
+    } else {
+        return hv_error_set(HV_ERR_INVALID,
+                            "give a voxel size, dims along the longest axis, or dims on all "
+                            "three axes (got %lld,%lld,%lld)",
+                            (long long)opt->dims[0], (long long)opt->dims[1],
+                            (long long)opt->dims[2]);
+    }
+    /* centre the grid on the mesh box: voxel i covers [c + (i - d/2) v, c + (i + 1 - d/2) v] */
+    for (int a = 0; a < 3; ++a)
+        p->xf.origin[a] = ctr[a] - 0.5 * (double)(p->dims[a] - 1) * p->xf.voxel[a];
+
+    p->fill = opt->fill;
+    if (p->fill == HV_FILL_AUTO)
+        p->fill = r->open_edges == 0 && r->nonmanifold_edges == 0 && r->flipped_facets == 0
+                      ? HV_FILL_FLOOD
+                      : HV_FILL_VOTE;
+
+    /* memory: working bit grids (surface, outside or three parity grids), flood queue or
+     * crossing lists, and the volume's leaves (estimated from the mesh volume and area) */
+    int64_t n[3];
+    for (int a = 0; a < 3; ++a) n[a] = round_up8(p->dims[a]) + 2 * PAD;
+    uint64_t grid = hv_bitgrid_bytes(n);
+    uint64_t rows = (uint64_t)n[0] * (uint64_t)n[1];
+    uint64_t work = 2 * grid + rows * 5u;
+    if (p->fill == HV_FILL_VOTE) {
+        double vv = p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2];
+        double cross = r->area / cbrt(vv) / cbrt(vv) * 3.0; /* crossings of one axis, generous */
+        work = 4 * grid + (uint64_t)(cross * 12.0) + rows * 8u;
+    }
+    double cell = 8.0 * cbrt(p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2]);
+    double blocks = fabs(r->volume) / (cell * cell * cell) + 3.0 * r->area / (cell * cell);
+    double all_blocks = (double)(n[0] / 8) * (double)(n[1] / 8) * (double)(n[2] / 8);
+    uint64_t leaves = (uint64_t)HV_MIN(blocks, all_blocks) + 1;
+    p->memory_bytes = work + hv_volume_memory_estimate(leaves, 0, 2) + (uint64_t)mesh_bytes(mesh);
+
+    uint64_t budget = opt->max_memory ? opt->max_memory : hv_physical_memory() / 2;
+    if (budget && p->memory_bytes > budget)
+        return hv_error_set(HV_ERR_LIMIT,
+                            "%s: voxelizing at %lld x %lld x %lld needs about %.1f GiB, more "
+                            "than the limit of %.1f GiB (--max-memory)",
+                            name, (long long)p->dims[0], (long long)p->dims[1],
+                            (long long)p->dims[2], (double)p->memory_bytes / 1073741824.0,
+                            (double)budget / 1073741824.0);
+    return HV_OK;
+}
+
+/* ---- surface ------------------------------------------------------------------------------ */
+
+typedef struct surf_ctx {
+    const hv_mesh *mesh;
+    const double *P; /* vertices in grid coordinates (voxel centres at integers) */
+    hv_bitgrid *S;
+    double t_scale;  /* 6: max-norm, 26: 1-norm of the unit normal, times 1/2 */
+    int adj26;
+    double rc;
+} surf_ctx;
+
+static double dist2_segment(const double *a, const double *b, const double *c)
+{
+    double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+    double s = l2 > 0 ? (ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2]) / l2 : 0.0;
+    s = HV_CLAMP(s, 0.0, 1.0);
+    double d[3] = {ac[0] - s * ab[0], ac[1] - s * ab[1], ac[2] - s * ab[2]};
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+}
+
+static void voxelize_triangle(surf_ctx *c, size_t f)
+{
+    const uint32_t *tv = hv_mesh_facets(c->mesh) + 3 * f;
+    const double *p[3] = {c->P + 3 * (size_t)tv[0], c->P + 3 * (size_t)tv[1], c->P + 3 * (size_t)tv[2]};
+    double e1[3], e2[3], n[3];
+    for (int a = 0; a < 3; ++a) {
+        e1[a] = p[1][a] - p[0][a];
+        e2[a] = p[2][a] - p[0][a];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    /* Huang's inequalities are closed: a face exactly halfway between two voxel layers must
+     * mark both. Evaluate them with a tolerance far below a voxel so rounding never drops a
+     * boundary case (which would open a tunnel along the face). */
+    const double eps = 1e-7;
+    double rc = c->rc, rc2 = (rc + eps) * (rc + eps);
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = ceil(HV_MIN(p[0][a], HV_MIN(p[1][a], p[2][a])) - rc - eps);
+        hi[a] = floor(HV_MAX(p[0][a], HV_MAX(p[1][a], p[2][a])) + rc + eps);
+        lo[a] = HV_MAX(lo[a], 0.0);
+        hi[a] = HV_MIN(hi[a], (double)(c->S->n[a] - 1));
+    }
+    int degenerate = !(len > 1e-300);
+    double m[3][3] = {{0}}, mo[3] = {0}, ml[3] = {0}, D = 0, t = 0;
+    int w = 2, u = 0, v = 1;
+    if (!degenerate) {
+        for (int a = 0; a < 3; ++a) n[a] /= len;
+        D = -(n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2]);
+        double an[3] = {fabs(n[0]), fabs(n[1]), fabs(n[2])};
+        t = c->adj26 ? 0.5 * (an[0] + an[1] + an[2]) : 0.5 * HV_MAX(an[0], HV_MAX(an[1], an[2]));
+        /* edge planes: through the edge, containing the normal, facing the third vertex */
+        for (int k = 0; k < 3; ++k) {
+            const double *a = p[k], *b = p[(k + 1) % 3], *o = p[(k + 2) % 3];
+            double eb[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            m[k][0] = n[1] * eb[2] - n[2] * eb[1];
+            m[k][1] = n[2] * eb[0] - n[0] * eb[2];
+            m[k][2] = n[0] * eb[1] - n[1] * eb[0];
+            mo[k] = -(m[k][0] * a[0] + m[k][1] * a[1] + m[k][2] * a[2]);
+            if (m[k][0] * o[0] + m[k][1] * o[1] + m[k][2] * o[2] + mo[k] < 0) {
+                for (int q = 0; q < 3; ++q) m[k][q] = -m[k][q];
+                mo[k] = -mo[k];
+            }
+            ml[k] = sqrt(m[k][0] * m[k][0] + m[k][1] * m[k][1] + m[k][2] * m[k][2]);
+        }
+        w = an[0] >= an[1] && an[0] >= an[2] ? 0 : an[1] >= an[2] ? 1 : 2;
+        u = (w + 1) % 3;
+        v = (w + 2) % 3;
+    }
+    for (double iu = lo[u]; iu <= hi[u]; iu += 1.0)
+        for (double iv = lo[v]; iv <= hi[v]; iv += 1.0) {
+            double w0 = lo[w], w1 = hi[w];
+            if (!degenerate) {
+                /* |n.c + D| <= rc bounds w to a short interval: nothing further can be within
+                 * rc of the triangle (distance to the plane <= distance to the triangle) */
+                double base = -(D + n[u] * iu + n[v] * iv);
+                double a1 = (base - rc - eps) / n[w], a2 = (base + rc + eps) / n[w];
+                w0 = HV_MAX(w0, ceil(HV_MIN(a1, a2)));
+                w1 = HV_MIN(w1, floor(HV_MAX(a1, a2)));
+            }
+            for (double iw = w0; iw <= w1; iw += 1.0) {
+                double q[3];
+                q[u] = iu;
+                q[v] = iv;
+                q[w] = iw;
+                int hit = 0;
+                if (!degenerate) {
+                    double d = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + D;
+                    if (fabs(d) <= t + eps &&
+                        m[0][0] * q[0] + m[0][1] * q[1] + m[0][2] * q[2] + mo[0] >= -eps * ml[0] &&
+                        m[1][0] * q[0] + m[1][1] * q[1] + m[1][2] * q[2] + mo[1] >= -eps * ml[1] &&
+                        m[2][0] * q[0] + m[2][1] * q[1] + m[2][2] * q[2] + mo[2] >= -eps * ml[2])
+                        hit = 1;
+                }
+                if (!hit)
+                    for (int k = 0; k < 3 && !hit; ++k)
+                        if (dist2_segment(p[k], p[(k + 1) % 3], q) <= rc2) hit = 1;
+                if (hit) hv_bitgrid_set_atomic(c->S, (int64_t)q[0], (int64_t)q[1], (int64_t)q[2]);
+            }
+        }
+}
+
+static hv_status surf_range(void *ctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    for (size_t f = b; f < e; ++f) voxelize_triangle(ctx, f);
+    return HV_OK;
+}
+
+/* ---- storing the result -------------------------------------------------------------------- */
+
+typedef struct store_ctx {
+    const hv_bitgrid *occ, *surf;
+    int64_t nb[3];
+    /* per block-x slab: the non-empty blocks found */
+    size_t *count;
+    int32_t **origins;
+    uint64_t **masks;
+} store_ctx;
+
+static void block_words(const hv_bitgrid *g, int64_t bx, int64_t by, int64_t bz, uint64_t out[8])
+{
+    int64_t word = (bz * 8) >> 6, shift = (bz * 8) & 63;
+    for (int x = 0; x < 8; ++x) {
+        uint64_t acc = 0;
+        for (int y = 0; y < 8; ++y) {
+            uint64_t byte = (hv_bitgrid_row(g, bx * 8 + x, by * 8 + y)[word] >> shift) & 0xFFu;
+            acc |= byte << (8 * y);
+        }
+        out[x] = acc;
+    }
+}
+
+static hv_status store_slab(void *vctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    store_ctx *s = vctx;
+    for (size_t bx = b; bx < e; ++bx) {
+        size_t cap = 64, n = 0;
+        int32_t *o = hv_malloc_array(cap, 3 * sizeof *o);
+        uint64_t *m = hv_malloc_array(cap, 8 * sizeof *m);
+        if (!o || !m) {
+            free(o);
+            free(m);
+            return HV_ERR_NOMEM;
+        }
+        for (int64_t by = 0; by < s->nb[1]; ++by)
+            for (int64_t bz = 0; bz < s->nb[2]; ++bz) {
+                uint64_t w[8];
+                block_words(s->occ, (int64_t)bx, by, bz, w);
+                if (!(w[0] | w[1] | w[2] | w[3] | w[4] | w[5] | w[6] | w[7])) continue;
+                if (n == cap) {
+                    cap *= 2;
+                    int32_t *o2 = hv_realloc(o, cap * 3 * sizeof *o);
+                    if (!o2) {
+                        free(o);
+                        free(m);
+                        return HV_ERR_NOMEM;
+                    }
+                    o = o2;
+                    uint64_t *m2 = hv_realloc(m, cap * 8 * sizeof *m);
+                    if (!m2) {
+                        free(o);
+                        free(m);
+                        return HV_ERR_NOMEM;
+                    }
+                    m = m2;
+                }
+                o[3 * n] = (int32_t)(s->occ->lo[0] + (int64_t)bx * 8);
+                o[3 * n + 1] = (int32_t)(s->occ->lo[1] + by * 8);
+                o[3 * n + 2] = (int32_t)(s->occ->lo[2] + bz * 8);
+                memcpy(m + 8 * n, w, sizeof w);
+                ++n;
+            }
+        s->count[bx] = n;
+        s->origins[bx] = o;
+        s->masks[bx] = m;
+    }
+    return HV_OK;
+}
+
+typedef struct fill_ctx {
+    hv_volume *vol;
+    const hv_bitgrid *surf;
+    int g_occ, g_surf;
+} fill_ctx;
+
+static hv_status fill_leaves(void *vctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    fill_ctx *c = vctx;
+    const int32_t *org = hv_volume_leaf_origins(c->vol);
+    for (size_t l = b; l < e; ++l) {
+        const uint64_t *mask = hv_volume_leaf_mask(c->vol, l);
+        uint64_t *occ = hv_volume_leaf_bool(c->vol, c->g_occ, l);
+        uint64_t *srf = hv_volume_leaf_bool(c->vol, c->g_surf, l);
+        uint64_t w[8];
+        block_words(c->surf, (org[3 * l] - c->surf->lo[0]) / 8, (org[3 * l + 1] - c->surf->lo[1]) / 8,
+                    (org[3 * l + 2] - c->surf->lo[2]) / 8, w);
+        for (int k = 0; k < 8; ++k) {
+            occ[k] = mask[k];
+            srf[k] = w[k] & mask[k];
+        }
+    }
+    return HV_OK;
+}
+
+static hv_status store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_transform *xf,
+                       const hv_progress *progress, hv_volume **out)
+{
+    *out = NULL;
+    store_ctx s = {occ, surf, {occ->n[0] / 8, occ->n[1] / 8, occ->n[2] / 8}, NULL, NULL, NULL};
+    size_t nbx = (size_t)s.nb[0];
+    s.count = hv_calloc(nbx, sizeof *s.count);
+    s.origins = hv_calloc(nbx, sizeof *s.origins);
+    s.masks = hv_calloc(nbx, sizeof *s.masks);
+    hv_volume *vol = NULL;
+    int32_t *origins = NULL;
+    uint64_t *masks = NULL;
+    hv_status st = HV_OK;
+    if (!s.count || !s.origins || !s.masks) {
+        st = HV_ERR_NOMEM;
+        goto done;
+    }
+    st = hv_parallel_for(nbx, 1, store_slab, &s, progress, "store");
+    if (st != HV_OK) goto done;
+    size_t total = 0;
+    for (size_t i = 0; i < nbx; ++i) total += s.count[i];
+    origins = hv_malloc_array(total ? total : 1, 3 * sizeof *origins);
+    masks = hv_malloc_array(total ? total : 1, 8 * sizeof *masks);
+    if (!origins || !masks) {
+        st = HV_ERR_NOMEM;
+        goto done;
+    }
+    size_t at = 0;
+    for (size_t i = 0; i < nbx; ++i) {
+        memcpy(origins + 3 * at, s.origins[i], s.count[i] * 3 * sizeof *origins);
+        memcpy(masks + 8 * at, s.masks[i], s.count[i] * 8 * sizeof *masks);
+        at += s.count[i];
+        free(s.origins[i]);
+        free(s.masks[i]);
+        s.origins[i] = NULL;
+        s.masks[i] = NULL;
+    }
+    if ((st = hv_volume_create(xf, &vol)) != HV_OK) goto done;
+    int g_occ, g_surf;
+    if ((st = hv_volume_grid_add(vol, "occupancy", HV_GRID_BOOL, &g_occ)) != HV_OK ||
+        (st = hv_volume_grid_add(vol, "surface", HV_GRID_BOOL, &g_surf)) != HV_OK ||
+        (st = hv_volume_topology_add(vol, total, origins, masks)) != HV_OK)
+        goto done;
+    free(origins);
+    free(masks);
+    origins = NULL;
+    masks = NULL;
+    fill_ctx fc = {vol, surf, g_occ, g_surf};
+    st = hv_parallel_for(hv_volume_leaf_count(vol), 256, fill_leaves, &fc, NULL, "store");
+    if (st != HV_OK) goto done;
+    *out = vol;
+    vol = NULL;
+done:
+    if (s.origins)
+        for (size_t i = 0; i < nbx; ++i) {
+            free(s.origins[i]);
+            free(s.masks[i]);
+        }
+    free(s.count);
+    free(s.origins);
+    free(s.masks);
+    free(origins);
+    free(masks);
+    hv_volume_destroy(vol);
+    return st;
+}
+
+/* ---- entry ---------------------------------------------------------------------------------- */
+
+static hv_status set_metadata(hv_volume *vol, const hv_mesh *mesh, const hv_voxel_plan *plan,
+                              int adjacency)
+{
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_mesh_report_json(&b, hv_mesh_name(mesh), hv_mesh_get_report(mesh));
+    hv_status s = b.failed ? HV_ERR_NOMEM : hv_volume_meta_set_json(vol, "hovox.mesh.json", b.data);
+    hv_buf_free(&b);
+    if (s != HV_OK) return s;
+    hv_buf_init(&b);
+    hv_buf_printf(&b, "{\"adjacency\": %d, \"fill\": \"%s\", \"dims\": [%lld, %lld, %lld], \"voxel\": [",
+                  adjacency, hv_fill_mode_name(plan->fill), (long long)plan->dims[0],
+                  (long long)plan->dims[1], (long long)plan->dims[2]);
+    for (int a = 0; a < 3; ++a) {
+        if (a) hv_buf_puts(&b, ", ");
+        hv_buf_json_number(&b, plan->xf.voxel[a]);
+    }
+    hv_buf_puts(&b, "]}");
+    s = b.failed ? HV_ERR_NOMEM : hv_volume_meta_set_json(vol, "hovox.voxelize.json", b.data);
+    hv_buf_free(&b);
+    if (s == HV_OK) s = hv_volume_meta_set_string(vol, "hovox.version", hv_version());
+    return s;
+}
+
+size_t mesh_bytes(const hv_mesh *m)
+{
+    return hv_mesh_vertex_count(m) * 12 + hv_mesh_facet_count(m) * 25;
+}
+
+hv_status hv_voxelize(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_volume **out)
+{
+    *out = NULL;
+    hv_voxel_plan plan;
+    hv_status s = hv_voxelize_plan(mesh, opt, &plan);
+    if (s != HV_OK) return s;
+    int64_t n[3], lo[3];
+    for (int a = 0; a < 3; ++a) {
+        n[a] = round_up8(plan.dims[a]) + 2 * PAD;
+        lo[a] = -PAD;
+    }
+    hv_bitgrid S = {0}, occ = {0};
+    double *P = NULL;
+    if ((s = hv_bitgrid_init(&S, n, lo)) != HV_OK) goto done;
+    size_t nv = hv_mesh_vertex_count(mesh);
+    P = hv_malloc_array(nv, 3 * sizeof *P);
+    if (!P) {
+        s = HV_ERR_NOMEM;
+        goto done;
+    }
+    const float *xyz = hv_mesh_vertices(mesh);
+    for (size_t i = 0; i < nv; ++i)
+        for (int a = 0; a < 3; ++a)
+            P[3 * i + (size_t)a] = ((double)xyz[3 * i + (size_t)a] - plan.xf.origin[a]) / plan.xf.voxel[a] - (double)lo[a];
+    surf_ctx sc = {mesh, P, &S, 0, opt->adjacency == 26, opt->adjacency == 26 ? sqrt(3.0) / 2 : 0.5};
+    s = hv_parallel_for(hv_mesh_facet_count(mesh), 512, surf_range, &sc, opt->progress, "surface");
+    if (s != HV_OK) goto done;
+    if ((s = hv_bitgrid_init(&occ, n, lo)) != HV_OK) goto done;
+    switch (plan.fill) {
+    case HV_FILL_FLOOD: s = hv_fill_flood(&S, &occ, opt->adjacency, opt->progress); break;
+    case HV_FILL_VOTE: s = hv_fill_vote(mesh, P, &S, &occ, opt->progress); break;
+    default: memcpy(occ.bits, S.bits, (size_t)(n[0] * n[1] * S.words) * sizeof(uint64_t)); break;
+    }
+    if (s != HV_OK) goto done;
+    free(P);
+    P = NULL;
+    hv_volume *vol = NULL;
+    s = store(&occ, &S, &plan.xf, opt->progress, &vol);
+    if (s != HV_OK) goto done;
+    s = set_metadata(vol, mesh, &plan, opt->adjacency);
+    if (s != HV_OK) {
+        hv_volume_destroy(vol);
+        goto done;
+    }
+    *out = vol;
+done:
+    free(P);
+    hv_bitgrid_free(&S);
+    hv_bitgrid_free(&occ);
+    return s;
+}

@@ -1,0 +1,1 @@
+$HOVOX voxelize "$SHARED/meshes/bunny_1500.stl" --dims 4096 --max-memory 1G -o "$TMP/b.vdb"; echo "rc=$?"; ls "$TMP"

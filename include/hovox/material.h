@@ -1,0 +1,270 @@
+/* hovox/material.h - material space, reference features, grading sources and heterogeneous
+ * objects after Wu 2.2 (eq. 4-30): m named material primitives; compositions are vectors of
+ * m fractions >= 0 summing to 1 (eq. 12); a fixed reference feature (FRF) gives a distance
+ * d; an active grading source (AGS) maps d through ranges d-, dg, d+ and a distribution
+ * function f to a composition between Ms and Me (eq. 19-20); objects are lists of regions
+ * (geometry mask, AGS set) combined by Wu's Booleans (eq. 27-30). */
+#ifndef HOVOX_MATERIAL_H
+#define HOVOX_MATERIAL_H
+
+#include "hovox/mesh.h"
+#include "hovox/volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HV_MAX_MATERIALS 64
+
+/* ==== material table ==================================================================== */
+
+/* m named primitives with a display colour and physical properties (open-ended keys with SI
+ * units: "density" kg/m^3, "youngs_modulus" Pa, "poisson_ratio" 1, ...). Stored in a volume
+ * as one float grid per material ("material.<name>") plus this table as JSON in the metadata
+ * key "hovox.materials.json". */
+typedef struct hv_material_table hv_material_table;
+
+HV_API hv_status hv_material_table_create(hv_material_table **out);
+HV_API void hv_material_table_destroy(hv_material_table *t);
+HV_API hv_status hv_material_table_clone(const hv_material_table *t, hv_material_table **out);
+
+/* Add a material. Names: 1-64 bytes of [A-Za-z0-9_-], unique. rgba in [0,1] (NULL: the next
+ * colour of a distinguishable palette). Errors: HV_ERR_INVALID (name, colour, more than
+ * HV_MAX_MATERIALS). *index may be NULL. */
+HV_API hv_status hv_material_add(hv_material_table *t, const char *name, const float rgba[4],
+                                 int *index);
+HV_API int hv_material_count(const hv_material_table *t);
+HV_API const char *hv_material_name(const hv_material_table *t, int m);
+HV_API int hv_material_find(const hv_material_table *t, const char *name); /* -1: none */
+HV_API void hv_material_color(const hv_material_table *t, int m, float rgba[4]);
+HV_API hv_status hv_material_set_color(hv_material_table *t, int m, const float rgba[4]);
+/* The i-th colour of the default palette (tab10-like), for i >= 0. */
+HV_API void hv_material_palette(int i, float rgba[4]);
+/* Parse "#rrggbb", "#rrggbbaa" or "r,g,b[,a]" (0..1). Errors: HV_ERR_INVALID. */
+HV_API hv_status hv_color_parse(const char *s, float rgba[4]);
+
+/* Properties: set (replacing) a value with its SI unit (may be "" or NULL). Keys: 1-64 bytes
+ * of [A-Za-z0-9_.-]. Errors: HV_ERR_INVALID (key, non-finite value). */
+HV_API hv_status hv_material_set_property(hv_material_table *t, int m, const char *key,
+                                          double value, const char *unit);
+/* 1 and *value (and *unit, owned by the table, if unit != NULL) when material m has `key`. */
+HV_API int hv_material_property(const hv_material_table *t, int m, const char *key,
+                                double *value, const char **unit);
+HV_API int hv_material_property_count(const hv_material_table *t, int m);
+HV_API const char *hv_material_property_key(const hv_material_table *t, int m, int i);
+
+/* JSON form: {"materials": [{"name": ..., "color": [r,g,b,a], "properties": {key: {"value":
+ * v, "unit": u}}}]}. to_json: *json is malloc'd (free()). from_json errors: HV_ERR_BAD_INPUT. */
+HV_API hv_status hv_material_table_to_json(const hv_material_table *t, char **json);
+HV_API hv_status hv_material_table_from_json(const char *json, hv_material_table **out);
+
+/* The table stored in a volume's metadata. Errors: HV_ERR_NOT_FOUND (no table: not a graded
+ * model), HV_ERR_BAD_INPUT (corrupt table, or a material without its "material.<name>" float
+ * grid). */
+HV_API hv_status hv_material_table_load(const hv_volume *vol, hv_material_table **out);
+HV_API hv_status hv_material_table_store(hv_volume *vol, const hv_material_table *t);
+
+/* Float grid index of material m in vol ("material.<name>"), or -1. */
+HV_API int hv_material_grid(const hv_volume *vol, const hv_material_table *t, int m);
+
+/* Check a user-given composition: m entries, each >= 0 and summing to 1 within 1e-6 (Wu eq.
+ * 12). Errors: HV_ERR_INVALID naming `what` and the vector ("Ms = [0.1, 0.7, 0.3] sums to
+ * 1.1, not 1"). Never clamps. */
+HV_API hv_status hv_composition_check(const double *p, int m, const char *what);
+
+/* ==== distribution functions ============================================================ */
+
+/* f on [0, dg]: evaluated once into a table (4097 samples, linear interpolation) when an AGS
+ * is made; never called per voxel. */
+typedef struct hv_dfn hv_dfn;
+
+/* f(d) = a*d + b */
+HV_API hv_status hv_dfn_linear(double a, double b, hv_dfn **out);
+/* f(d) = amplitude * sin(k*d + phase) + offset (Wu's shaft: k = 0.1538) */
+HV_API hv_status hv_dfn_sine(double k, double amplitude, double phase, double offset,
+                             hv_dfn **out);
+/* f(d) = (d/dg)^p, p > 0 */
+HV_API hv_status hv_dfn_power(double p, hv_dfn **out);
+/* f(d) = 3t^2 - 2t^3, t = d/dg */
+HV_API hv_status hv_dfn_smoothstep(hv_dfn **out);
+/* Piecewise linear through (d_i, f_i), d strictly increasing, n >= 2; constant beyond the
+ * ends. Errors: HV_ERR_INVALID naming the offending point. */
+HV_API hv_status hv_dfn_table(const double *d, const double *f, int n, hv_dfn **out);
+/* An arithmetic expression in d (and dg): numbers, + - * / ^, parentheses, unary minus,
+ * sin cos tan exp log sqrt abs min max pow, pi. Errors: HV_ERR_INVALID "f: column 7:
+ * unknown name 'sn'". */
+HV_API hv_status hv_dfn_expr(const char *expr, hv_dfn **out);
+/* A callback (scripting languages): called only while tabulating, on the calling thread;
+ * a non-finite return value is an error. `user` must outlive the AGS creation. */
+typedef double (*hv_dfn_callback)(void *user, double d);
+HV_API hv_status hv_dfn_function(hv_dfn_callback fn, void *user, const char *description,
+                                 hv_dfn **out);
+HV_API void hv_dfn_destroy(hv_dfn *f);
+/* f(d) for a given dg (used by the table); NAN when a callback fails. */
+HV_API double hv_dfn_eval(const hv_dfn *f, double d, double dg);
+/* Text form for metadata and messages ("linear(0.105, 0)", "expr(sin(0.1538*d))"). */
+HV_API const char *hv_dfn_describe(const hv_dfn *f);
+
+/* ==== reference features ================================================================ */
+
+/* A fixed reference feature gives each point a distance d >= 0 (world units; dimensionless
+ * for the harmonic feature). Analytic features are exact; voxel features use the exact
+ * Euclidean distance transform of their feature voxels (src/field), computed once per
+ * evaluation lattice and cached. FRFs are reference-counted and immutable. */
+typedef struct hv_frf hv_frf;
+
+typedef enum hv_frf_kind {
+    HV_FRF_POINT, HV_FRF_LINE, HV_FRF_PLANE, HV_FRF_SEGMENT,
+    HV_FRF_CONTOUR, HV_FRF_MASK, HV_FRF_FACETS, HV_FRF_HARMONIC
+} hv_frf_kind;
+
+HV_API hv_status hv_frf_point(const double p[3], hv_frf **out);
+/* Infinite line (an axis) through origin along dir (non-zero). */
+HV_API hv_status hv_frf_line(const double origin[3], const double dir[3], hv_frf **out);
+/* Plane through point with normal (non-zero): d = |n.(x - point)| / |n|. */
+HV_API hv_status hv_frf_plane(const double point[3], const double normal[3], hv_frf **out);
+HV_API hv_status hv_frf_segment(const double a[3], const double b[3], hv_frf **out);
+/* The boundary of bool grid `grid` of vol (the model's contour): d = depth below the boundary
+ * for voxels inside (estimated from the distance transform to the outside, corrected by half
+ * the surface skin, see README), 0 outside. vol is copied (the mask only). */
+HV_API hv_status hv_frf_contour(const hv_volume *vol, const char *grid, hv_frf **out);
+/* Distance to the true voxels of bool grid `grid` of vol (copied). */
+HV_API hv_status hv_frf_mask(const hv_volume *vol, const char *grid, hv_frf **out);
+
+/* Facet selection: facets whose unit normal is within `angle_deg` of `normal` (if
+ * use_normal) and whose centroid lies in [box_lo, box_hi] (if use_box). */
+typedef struct hv_facet_select {
+    int use_normal;
+    double normal[3], angle_deg;
+    int use_box;
+    double box_lo[3], box_hi[3];
+} hv_facet_select;
+/* Distance to a group of mesh facets (copied). Errors: HV_ERR_INVALID (no facet selected). */
+HV_API hv_status hv_frf_facets(const hv_mesh *mesh, const hv_facet_select *sel, hv_frf **out);
+/* Number of facets a selection picks (for messages and scripts). */
+HV_API size_t hv_facet_select_count(const hv_mesh *mesh, const hv_facet_select *sel);
+/* Harmonic field inside bool grid `domain` of vol between facet groups: phi = 1 on group `one`,
+ * 0 on group `zero`, Laplace inside, zero normal derivative elsewhere; d = phi in [0, 1]. */
+HV_API hv_status hv_frf_harmonic(const hv_volume *vol, const char *domain, const hv_mesh *mesh,
+                                 const hv_facet_select *one, const hv_facet_select *zero,
+                                 hv_frf **out);
+
+HV_API hv_frf *hv_frf_retain(hv_frf *f);
+HV_API void hv_frf_release(hv_frf *f); /* NULL allowed */
+HV_API hv_frf_kind hv_frf_get_kind(const hv_frf *f);
+/* Text form ("line(0,0,0; 0,0,1)", "contour(occupancy)") for metadata and messages. */
+HV_API const char *hv_frf_describe(const hv_frf *f);
+/* Distance at a world point (analytic features exactly; voxel features from the cached field on
+ * the lattice of `vol`, trilinearly; computing it on first use). */
+HV_API hv_status hv_frf_distance(hv_frf *f, const hv_volume *lattice, const double p[3],
+                                 double *d);
+
+/* ==== grading sources =================================================================== */
+
+typedef struct hv_ags hv_ags;
+
+typedef struct hv_ags_desc {
+    hv_frf *frf;
+    double d_neg, d_grad, d_pos; /* d-, dg, d+ >= 0 */
+    const hv_dfn *f;             /* ignored when d_grad == 0 (a step: an MMO) */
+    const double *ms, *me;       /* m fractions each */
+    int m;
+    const char *name;            /* may be NULL */
+} hv_ags_desc;
+
+/* Make an AGS: validates the ranges (finite, >= 0), Ms and Me (hv_composition_check), and
+ * tabulates f over [0, dg], requiring 0 <= f <= 1 (within 1e-9) at every sample. Evaluation:
+ *   dg > 0:  P(d) = Ms + f(clamp(d - d-, 0, dg)) (Me - Ms)   (boundary values from f, eq. 14)
+ *   dg = 0:  P(d) = Ms for d < d-, Me for d >= d-            (a step: multi-material object)
+ * d+ is the extent of the positive constant range (Wu eq. 11), kept and reported.
+ * Errors: HV_ERR_INVALID, e.g. "f leaves [0, 1]: f(9.54) = 1.0017 (max over [0, 9.54])". */
+HV_API hv_status hv_ags_create(const hv_ags_desc *desc, hv_ags **out);
+/* Wu's move operator: the same source with d- replaced. */
+HV_API hv_status hv_ags_moved(const hv_ags *a, double d_neg, hv_ags **out);
+HV_API hv_ags *hv_ags_retain(hv_ags *a);
+HV_API void hv_ags_release(hv_ags *a);
+/* Composition at distance d (m values). */
+HV_API void hv_ags_eval(const hv_ags *a, double d, double *p);
+HV_API int hv_ags_materials(const hv_ags *a);
+HV_API const hv_frf *hv_ags_frf(const hv_ags *a);
+HV_API void hv_ags_ranges(const hv_ags *a, double *d_neg, double *d_grad, double *d_pos);
+HV_API const char *hv_ags_name(const hv_ags *a);
+/* Wu's 3-material distance-field paradigm (eq. 13): P = [f, 1 - f - C, C] over the gradient
+ * range, as an AGS with Ms = [f(0), 1 - f(0) - C, C], Me = [f(dg), 1 - f(dg) - C, C] and
+ * the same f. Checks 0 <= f <= 1 - C on [0, dg]. */
+HV_API hv_status hv_ags_wu3(hv_frf *frf, double d_neg, double d_grad, double d_pos,
+                            const hv_dfn *f, double C, hv_ags **out);
+
+/* ==== heterogeneous objects ============================================================== */
+
+typedef enum hv_blend {
+    HV_BLEND_NEAREST = 0, /* each voxel takes the source whose feature is nearest (ties: the
+                             first added) */
+    HV_BLEND_IDW = 1      /* inverse-distance weights 1 / (d_i + eps)^power, eps = voxel/2 */
+} hv_blend;
+
+/* An object: regions (geometry mask on a shared lattice, AGS set) over m materials, with a base
+ * composition for voxels no source covers (regions without AGS). */
+typedef struct hv_object hv_object;
+
+/* A one-region object: bool grid `grid` of vol (copied) with no AGS; base = material 0.
+ * Errors: HV_ERR_NOT_FOUND (no such bool grid), HV_ERR_INVALID (m out of range). */
+HV_API hv_status hv_object_create(const hv_volume *vol, const char *grid, int m,
+                                  hv_object **out);
+HV_API void hv_object_destroy(hv_object *o);
+HV_API hv_status hv_object_clone(const hv_object *o, hv_object **out);
+HV_API int hv_object_materials(const hv_object *o);
+HV_API int hv_object_region_count(const hv_object *o);
+/* Voxels of region r, and of the whole object. */
+HV_API uint64_t hv_object_region_voxels(const hv_object *o, int r);
+HV_API uint64_t hv_object_voxels(const hv_object *o);
+HV_API int hv_object_region_ags_count(const hv_object *o, int r);
+
+HV_API hv_status hv_object_set_base(hv_object *o, const double *p); /* checked */
+HV_API hv_status hv_object_set_blend(hv_object *o, hv_blend blend, double power);
+
+/* AGS operators (Wu 2.2.3) on every region: add (eq. 24), delete (25: HV_ERR_NOT_FOUND when
+ * absent), move (26: replaces the source by one with d- changed). The object keeps a reference. */
+HV_API hv_status hv_object_add_ags(hv_object *o, hv_ags *a);
+HV_API hv_status hv_object_delete_ags(hv_object *o, const hv_ags *a);
+HV_API hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg);
+
+/* Heterogeneous Booleans (Wu eq. 27-30) and plain CSG subtraction; a and b must share the
+ * lattice and the material count (HV_ERR_INVALID otherwise). Results are new objects:
+ *   intersect  H1 n H2 = (O1 n O2, G1 u G2)
+ *   unite      H1 u H2 = {(O1 - O2, G1), (O1 n O2, G1 u G2), (O2 - O1, G2)}
+ *   difference H1 - H2 = {(O1 - O2, G1), (O1 n O2, G2)}   (Wu: H2's material in the overlap)
+ *   merge      H1 + H2 = (O1 u O2, G1 u G2)
+ *   subtract   (O1 - O2, G1)                             (CSG)
+ * Empty regions are dropped. */
+typedef enum hv_bool_op {
+    HV_OP_INTERSECT, HV_OP_UNITE, HV_OP_DIFFERENCE, HV_OP_MERGE, HV_OP_SUBTRACT
+} hv_bool_op;
+HV_API hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op op,
+                                   hv_object **out);
+
+/* Evaluate into a new volume on the object's lattice: bool grid "occupancy" (union of the
+ * regions), one float grid "material.<name>" per material holding fractions that sum to 1 in
+ * every occupied voxel, metadata "hovox.materials.json" and "hovox.object.json" (regions and
+ * their sources). Multi-threaded over leaves, deterministic. Memory is planned first:
+ * HV_ERR_LIMIT when it would exceed max_memory (0: half of RAM), saying how much it needs.
+ * Errors: HV_ERR_INVALID (table has a different material count), HV_ERR_NOMEM,
+ * HV_ERR_CANCELLED. */
+HV_API hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t,
+                                    uint64_t max_memory, const hv_progress *progress,
+                                    hv_volume **out);
+/* Peak bytes hv_object_evaluate would need. */
+HV_API uint64_t hv_object_evaluate_estimate(const hv_object *o);
+
+/* ==== sampling a graded model ============================================================ */
+
+/* Material fractions at a world point of a graded volume: trilinear over the occupied voxels
+ * around it (renormalised, hv_volume_sample); *inside = 1 when the trilinear occupancy is at
+ * least 0.5. fractions: hv_material_count(t) values (all 0 far outside). */
+HV_API void hv_model_probe(hv_accessor *acc, const hv_material_table *t, const int *grids,
+                           const double p[3], int *inside, double *fractions);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -31,7 +31,7 @@ endif
 ROOT    := $(abspath .)
 PLUGDIR := $(ROOT)/$(BUILD)/plugins
 CPPFLAGS_ALL := -Iinclude -D_GNU_SOURCE -DHV_PLUGIN_BUILD_DIR='"$(PLUGDIR)"' -MMD -MP
-CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp $(WARN) $(SANFLAGS)
+CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-errno $(WARN) $(SANFLAGS) $(EXTRA_CFLAGS)
 # Bridges keep default visibility: OpenVDB's template statics must unify with libopenvdb's
 # (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.
 CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
@@ -41,7 +41,7 @@ PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo 2>/dev/null)
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
-LIB_DIRS  := src/core src/mesh src/voxel src/field src/material src/lua volumes slicing renderer
+LIB_DIRS  := src/core src/mesh src/voxel src/field src/material src/export src/lua volumes slicing renderer
 LIB_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
 CLI_SRC   := $(wildcard src/cli/*.c)
 LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
@@ -75,7 +75,7 @@ TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
 CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
-.PHONY: all lib plugins bench-tools test unit-tests header-tests cli-tests sample-tests sanitize bench \
+.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests sanitize bench \
         demo deps clean check-deps-build check-deps-test
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
@@ -154,6 +154,36 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 	$(CXX) $(CPPFLAGS_ALL) -Isrc -Itests $(CXXFLAGS_ALL) $(CRIT_CFLAGS) -o $@ $< $(TEST_SUPPORT_OBJ) \
 	    $(BUILD)/libhovox.a $(CRIT_LIBS) $(VDB_LIBS) $(LIBS)
 
+# Benchmark drivers (tests/bench/*.c): small programs that call one kernel on a file.
+$(BUILD)/bench-tools/%: $(BUILD)/obj/tests/bench/%.o $(BUILD)/libhovox.a
+	@mkdir -p $(dir $@)
+	$(CC) -o $@ $< $(BUILD)/libhovox.a $(LIBS)
+
+bench-tools: $(BENCH_BIN)
+
+# Fuzz targets (tests/fuzz/fuzz_*.c): replayed over their corpus in every test run; `make fuzz`
+# builds them with clang's libFuzzer and fuzzes each for FUZZ_SECONDS.
+FUZZ_C   := $(wildcard tests/fuzz/fuzz_*.c)
+FUZZ_BIN := $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_C))
+FUZZ_SECONDS ?= 60
+$(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(BUILD)/obj/tests/fuzz/replay.o $(BUILD)/libhovox.a
+	@mkdir -p $(dir $@)
+	$(CC) -o $@ $< $(BUILD)/obj/tests/fuzz/replay.o $(BUILD)/libhovox.a $(LIBS)
+
+fuzz-tests: $(FUZZ_BIN)
+	@for f in $(FUZZ_BIN); do n=$$(basename $$f); c=tests/fuzz/corpus/$${n#fuzz_}; \
+	    printf "%s: " $$n; $$f $$c/* || exit 1; done
+
+fuzz:
+	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
+	@mkdir -p build-fuzz/libfuzzer
+	@for t in $(FUZZ_C); do n=$$(basename $$t .c); c=tests/fuzz/corpus/$${n#fuzz_}; \
+	    clang -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -Itests $$t \
+	        build-fuzz/libhovox.a $(LIBS) -o build-fuzz/libfuzzer/$$n || exit 1; \
+	    mkdir -p build-fuzz/corpus-$$n; \
+	    build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \
+	done
+
 # Every public header compiles alone as C11 and as C++17.
 $(BUILD)/.headers-ok: $(HEADERS)
 	@mkdir -p $(BUILD)
@@ -184,12 +214,13 @@ sample-tests: $(BUILD)/hovox $(PLUGINS)
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory header-tests unit-tests cli-tests sample-tests
+	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests
 
 sanitize: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory BUILD=build-san SAN=1 all
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests cli-tests sample-tests
+	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 \
+	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests fuzz-tests cli-tests sample-tests
 
 bench: $(BUILD)/.deps-test
 	@sh scripts/install-deps.sh build test bench

@@ -65,20 +65,6 @@ openvdb::math::Transform::Ptr make_transform(const double v[3], const double o[3
     return xf;
 }
 
-GridBase::Ptr new_grid(int type, const openvdb::math::Transform::Ptr &xf)
-{
-    GridBase::Ptr g;
-    if (type == T_FLOAT) {
-        FloatGrid::Ptr f = FloatGrid::create(0.0f);
-        f->setSaveFloatAsHalf(false);
-        g = f;
-    } else {
-        g = BoolGrid::create(false);
-    }
-    g->setTransform(xf);
-    return g;
-}
-
 // Make grid g's active topology equal to v.topo (values of new voxels: background).
 void match_topology(Volume &v, GridBase &g)
 {
@@ -140,8 +126,18 @@ int b_grid_add(void *impl, int type)
     try {
         Volume *v = static_cast<Volume *>(impl);
         if (type != T_FLOAT && type != T_BOOL) return fail(E_INVALID, "unknown grid type");
-        GridBase::Ptr g = new_grid(type, v->xf);
-        match_topology(*v, *g);
+        // a topology copy of the shared mask tree is built in parallel by OpenVDB
+        GridBase::Ptr g;
+        if (type == T_FLOAT) {
+            FloatGrid::Ptr f = FloatGrid::create(FloatGrid::TreeType::Ptr(
+                new FloatGrid::TreeType(v->topo->tree(), 0.0f, openvdb::TopologyCopy())));
+            f->setSaveFloatAsHalf(false);
+            g = f;
+        } else {
+            g = BoolGrid::create(BoolGrid::TreeType::Ptr(
+                new BoolGrid::TreeType(v->topo->tree(), false, openvdb::TopologyCopy())));
+        }
+        g->setTransform(v->xf);
         v->grids.push_back(g);
         return OK;
     }

@@ -773,7 +773,8 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
     const char **strs = hv_calloc((size_t)v->nmeta + 1, sizeof *strs);
     int *kinds = hv_calloc((size_t)v->nmeta + 1, sizeof *kinds);
     double *nums = hv_calloc((size_t)v->nmeta + 1, sizeof *nums);
-    char *tmp = hv_temp_path(path);
+    int special = hv_path_is_special(path); /* /dev/null and the like: write in place */
+    char *tmp = special ? hv_strdup(path) : hv_temp_path(path);
     hv_status s = HV_OK;
     if (!names || !keys || !strs || !kinds || !nums || !tmp) {
         s = HV_ERR_NOMEM;
@@ -798,10 +799,10 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
     int rc = g_api->save(v->impl, tmp, v->ngrids, names, v->nmeta, keys, kinds, strs, nums);
     if (rc) {
         s = hv_error_set((hv_status)rc, "%s: cannot write: %s", path, g_api->last_error());
-        remove(tmp);
+        if (!special) remove(tmp);
         goto done;
     }
-    if (rename(tmp, path) != 0) {
+    if (!special && rename(tmp, path) != 0) {
         s = hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(errno));
         remove(tmp);
     }

@@ -115,7 +115,8 @@ typedef struct hv_frf hv_frf;
 
 typedef enum hv_frf_kind {
     HV_FRF_POINT, HV_FRF_LINE, HV_FRF_PLANE, HV_FRF_SEGMENT,
-    HV_FRF_CONTOUR, HV_FRF_MASK, HV_FRF_FACETS, HV_FRF_HARMONIC
+    HV_FRF_CONTOUR, HV_FRF_MASK, HV_FRF_FACETS, HV_FRF_HARMONIC,
+    HV_FRF_FIELD /* a stored distance grid ("distance.K" of a graded model) */
 } hv_frf_kind;
 
 HV_API hv_status hv_frf_point(const double p[3], hv_frf **out);
@@ -245,16 +246,45 @@ HV_API hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bo
 
 /* Evaluate into a new volume on the object's lattice: bool grid "occupancy" (union of the
  * regions), one float grid "material.<name>" per material holding fractions that sum to 1 in
- * every occupied voxel, metadata "hovox.materials.json" and "hovox.object.json" (regions and
- * their sources). Multi-threaded over leaves, deterministic. Memory is planned first:
+ * every occupied voxel, float grids "distance.K" holding the fields of voxel features (contour,
+ * mask, facets, harmonic), bool grids "region.R" when there are several regions, and metadata
+ * "hovox.materials.json" and "hovox.object.json": the complete grading definition (features,
+ * sources with their tabulated f, regions), so hv_object_from_model can rebuild the object.
+ * Multi-threaded over leaves, deterministic. Memory is planned first:
  * HV_ERR_LIMIT when it would exceed max_memory (0: half of RAM), saying how much it needs.
  * Errors: HV_ERR_INVALID (table has a different material count), HV_ERR_NOMEM,
  * HV_ERR_CANCELLED. */
 HV_API hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t,
                                     uint64_t max_memory, const hv_progress *progress,
                                     hv_volume **out);
+/* Evaluate again into `vol`, a volume hv_object_evaluate made for an object with the same
+ * regions (after AGS add/delete/move, a new base or blend): only material values change, no
+ * allocation. Errors: HV_ERR_INVALID (vol lacks a material grid, or a region voxel is not in
+ * vol), HV_ERR_CANCELLED. */
+HV_API hv_status hv_object_reevaluate(hv_object *o, const hv_material_table *t, hv_volume *vol,
+                                      const hv_progress *progress);
+
 /* Peak bytes hv_object_evaluate would need. */
 HV_API uint64_t hv_object_evaluate_estimate(const hv_object *o);
+
+/* Rebuild the object that graded `vol` (hv_object_evaluate's output, possibly saved and loaded)
+ * from its metadata and grids: analytic features exactly, voxel features as their stored
+ * fields, sources with their tabulated f, regions, base and blend. Errors: HV_ERR_NOT_FOUND
+ * (not a graded model), HV_ERR_BAD_INPUT (incomplete or corrupt definition). */
+HV_API hv_status hv_object_from_model(const hv_volume *vol, hv_object **out);
+
+/* Compute the fields of the object's voxel features over its box (once; evaluation does it
+ * too). Needed before hv_object_sample. */
+HV_API hv_status hv_object_prepare(hv_object *o, const hv_progress *progress);
+
+/* The composition the grading definition gives at a world point (direct evaluation, e.g. at
+ * printer resolution): the region whose voxel holds the point (or, within the surface skin, a
+ * neighbouring voxel's region), its sources at the exact distance (analytic features) or the
+ * trilinearly interpolated field (voxel features), blended as in evaluation. *inside = 0 (and
+ * fractions 0) when no region is within a voxel. Read-only and thread-safe after
+ * hv_object_prepare. fractions: hv_object_materials(o) values. */
+HV_API void hv_object_sample(const hv_object *o, const double p[3], int *inside,
+                             double *fractions);
 
 /* ==== sampling a graded model ============================================================ */
 

@@ -26,7 +26,12 @@ typedef enum hv_fill_mode {
 
 typedef struct hv_voxelize_options {
     int adjacency;          /* 6 (thin, no 6-connected tunnel) or 26 (no 26-connected tunnel) */
-    double voxel_size[3];   /* if voxel_size[0] > 0: voxel size per axis (give all three) */
+    const hv_transform *lattice; /* if set: voxelize on this lattice (its voxel size and phase;
+                               the index range covers the mesh), e.g. another model's, so
+                               that the two can be combined by Booleans */
+    double voxel_size[3];   /* else if voxel_size[0] > 0: voxel size per axis (give all three);
+                               the lattice is global: voxel centres at (n + 1/2) * size, so
+                               meshes voxelized with the same size share a lattice */
     int64_t dims[3];        /* else: dims[0] > 0 and dims[1] == dims[2] == 0: voxels along the
                                longest axis (cubic voxels); all three > 0: voxels per axis
                                (Wu's (64,64,45)), voxels anisotropic when the ratios differ */
@@ -39,11 +44,14 @@ typedef struct hv_voxelize_options {
 HV_API void hv_voxelize_options_init(hv_voxelize_options *opt);
 
 /* The lattice a job will use and what it will cost, computed before any voxel is touched.
- * Voxel (i,j,k), 0 <= i < dims[0] ..., has its centre at origin + (i*voxel[0], ...): the grid
- * is centred on the mesh's bounding box. The surface may reach up to one voxel beyond it
- * (indices -1 and dims). */
+ * Voxel (i,j,k) has its centre at origin + (i*voxel[0], ...); the mesh's box is covered by
+ * voxels first[a] <= i < first[a] + dims[a]. With dims the grid is centred on the mesh's box
+ * and first = 0; with a voxel size or a lattice, index 0 is the lattice's own (voxel centres at
+ * origin + n * voxel for every model on it), so models share one index space. The surface may
+ * reach one voxel beyond the box. */
 typedef struct hv_voxel_plan {
     hv_transform xf;
+    int64_t first[3];
     int64_t dims[3];
     hv_fill_mode fill;       /* AUTO resolved */
     uint64_t memory_bytes;   /* estimated peak */

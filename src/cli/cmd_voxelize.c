@@ -20,6 +20,9 @@ static const char *VOX_HELP =
     "  --dims X,Y,Z         voxels per axis (Wu's 64,64,45); voxels may be anisotropic\n"
     "  --voxel-size L       cubic voxels of size L (mesh units, mm)\n"
     "  --voxel-size X,Y,Z   voxel size per axis\n"
+    "  --like MODEL.vdb     the lattice of another model (to combine them by Booleans)\n"
+    "With --voxel-size the lattice is global (voxel centres at (n + 1/2) * L), so meshes\n"
+    "voxelized with the same size line up; with --dims the grid is centred on the mesh.\n"
     "Options:\n"
     "  --adjacency 6|26     6: thinnest surface without 6-connected tunnels; 26 (default):\n"
     "                       no 26-connected tunnels (every voxel a triangle touches)\n"
@@ -56,17 +59,18 @@ static int parse_dims(const char *s, int64_t dims[3])
 
 int cmd_voxelize(int argc, char **argv)
 {
-    enum { O_ADJ = 256, O_VS, O_DIMS, O_FILL, O_MEM, O_DRY, O_THREADS, O_JSON };
+    enum { O_ADJ = 256, O_VS, O_DIMS, O_FILL, O_MEM, O_DRY, O_THREADS, O_JSON, O_LIKE };
     static const struct option opts[] = {
         {"output", required_argument, NULL, 'o'},   {"adjacency", required_argument, NULL, O_ADJ},
         {"voxel-size", required_argument, NULL, O_VS}, {"dims", required_argument, NULL, O_DIMS},
         {"fill", required_argument, NULL, O_FILL},  {"max-memory", required_argument, NULL, O_MEM},
         {"dry-run", no_argument, NULL, O_DRY},      {"threads", required_argument, NULL, O_THREADS},
         {"json", no_argument, NULL, O_JSON},        {"quiet", no_argument, NULL, 'q'},
+        {"like", required_argument, NULL, O_LIKE},
         {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
     hv_voxelize_options opt;
     hv_voxelize_options_init(&opt);
-    const char *output = NULL;
+    const char *output = NULL, *like = NULL;
     int dry = 0, json = 0, quiet = 0, c, have_res = 0;
     optind = 1;
     opterr = 0;
@@ -83,7 +87,7 @@ int cmd_voxelize(int argc, char **argv)
             opt.adjacency = optarg[0] == '6' ? 6 : 26;
             break;
         case O_VS:
-            if (have_res++) return cli_usage_error("voxelize", "give one of --dims and --voxel-size");
+            if (have_res++) return cli_usage_error("voxelize", "give one of --dims, --voxel-size and --like");
             if (strchr(optarg, ',')) {
                 if (cli_parse_vec("voxelize", "--voxel-size", optarg, 3, opt.voxel_size)) return EXIT_USAGE;
             } else {
@@ -95,7 +99,7 @@ int cmd_voxelize(int argc, char **argv)
                     return cli_usage_error("voxelize", "--voxel-size must be positive (got '%s')", optarg);
             break;
         case O_DIMS:
-            if (have_res++) return cli_usage_error("voxelize", "give one of --dims and --voxel-size");
+            if (have_res++) return cli_usage_error("voxelize", "give one of --dims, --voxel-size and --like");
             if (parse_dims(optarg, opt.dims)) return EXIT_USAGE;
             break;
         case O_FILL:
@@ -115,6 +119,10 @@ int cmd_voxelize(int argc, char **argv)
             hv_set_threads((int)n);
             break;
         case O_JSON: json = 1; break;
+        case O_LIKE:
+            if (have_res++) return cli_usage_error("voxelize", "give one of --dims, --voxel-size and --like");
+            like = optarg;
+            break;
         case ':': return cli_usage_error("voxelize", "option '%s' needs a value", argv[optind - 1]);
         default: return cli_usage_error("voxelize", "unknown option '%s'", argv[optind - 1]);
         }
@@ -124,6 +132,15 @@ int cmd_voxelize(int argc, char **argv)
     if (!output && !dry) return cli_usage_error("voxelize", "missing -o MODEL.vdb");
     const char *path = argv[optind];
 
+    hv_transform lattice;
+    if (like) {
+        hv_volume *ref;
+        hv_status ls = hv_volume_load(like, &ref);
+        if (ls != HV_OK) return cli_fail(ls);
+        lattice = hv_volume_get_transform(ref);
+        hv_volume_destroy(ref);
+        opt.lattice = &lattice;
+    }
     hv_mesh *mesh;
     hv_status s = hv_mesh_load_stl(path, &mesh);
     if (s != HV_OK) return cli_fail(s);

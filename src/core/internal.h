@@ -80,13 +80,16 @@ hv_status hv_read_file(const char *path, size_t max, char **data, size_t *size);
 typedef struct hv_atomic_file {
     FILE *fp;
     char *path;
-    char *tmp;
+    char *tmp; /* NULL when writing straight to a special file (/dev/null, a FIFO, a tty) */
 } hv_atomic_file;
 hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode);
 hv_status hv_atomic_commit(hv_atomic_file *af); /* fflush, fsync-less close, rename */
 void hv_atomic_abort(hv_atomic_file *af);
 /* A temporary path next to `path` (caller frees), for writers that take a path. */
 char *hv_temp_path(const char *path);
+/* 1 when `path` exists and is not a regular file (a device, FIFO, socket): such targets are
+ * written in place, never replaced by a rename. */
+int hv_path_is_special(const char *path);
 
 /* ---- plugins ---------------------------------------------------------------------------- */
 /* Load plugins/<name>.so (searched in $HOVOX_PLUGIN_DIR, <exe dir>/plugins,

@@ -235,9 +235,27 @@ char *hv_temp_path(const char *path)
     return tmp;
 }
 
+int hv_path_is_special(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+}
+
 hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode)
 {
     memset(af, 0, sizeof *af);
+    if (hv_path_is_special(path)) { /* /dev/null, /dev/stdout, a FIFO: write in place */
+        af->path = hv_strdup(path);
+        if (!af->path) return HV_ERR_NOMEM;
+        af->fp = fopen(path, mode);
+        if (!af->fp) {
+            int e = errno;
+            free(af->path);
+            memset(af, 0, sizeof *af);
+            return hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(e));
+        }
+        return HV_OK;
+    }
     af->path = hv_strdup(path);
     af->tmp = hv_temp_path(path);
     if (!af->path || !af->tmp) {
@@ -268,6 +286,11 @@ hv_status hv_atomic_commit(hv_atomic_file *af)
         hv_status s = hv_error_set(HV_ERR_IO, "%s: write failed: %s", af->path, strerror(e));
         hv_atomic_abort(af);
         return s;
+    }
+    if (!af->tmp) { /* a special file, written in place */
+        free(af->path);
+        memset(af, 0, sizeof *af);
+        return HV_OK;
     }
     if (rename(af->tmp, af->path) != 0) {
         e = errno;

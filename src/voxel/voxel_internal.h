@@ -15,6 +15,10 @@ hv_status hv_fill_flood(const hv_bitgrid *surf, hv_bitgrid *occ, int adjacency,
 hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *surf,
                        hv_bitgrid *occ, const hv_progress *progress);
 
+/* Mark the voxels of grid S that the triangle p (grid coordinates: voxel centres at integers)
+ * covers by Huang's tests (adjacency 26 when adj26, else 6). Thread-safe (atomic OR). */
+void hv_voxel_mark_triangle(const double *p[3], int adj26, hv_bitgrid *S);
+
 /* Approximate bytes of a mesh in memory (for planning). */
 size_t mesh_bytes(const hv_mesh *m);
 

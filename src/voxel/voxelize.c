@@ -64,6 +64,17 @@ void hv_bitgrid_free(hv_bitgrid *g)
 
 static int64_t round_up8(int64_t x) { return (x + 7) & ~(int64_t)7; }
 
+/* The dense working grid: the plan's voxels plus PAD empty voxels around them, aligned to 8 so
+ * its 8^3 blocks are the volume's leaves. */
+static void grid_box(const hv_voxel_plan *p, int64_t lo[3], int64_t n[3])
+{
+    for (int a = 0; a < 3; ++a) {
+        int64_t l = p->first[a] - PAD;
+        lo[a] = l >= 0 ? l & ~(int64_t)7 : -((-l + 7) & ~(int64_t)7);
+        n[a] = round_up8(p->first[a] + p->dims[a] + PAD - lo[a]);
+    }
+}
+
 hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_voxel_plan *p)
 {
     memset(p, 0, sizeof *p);
@@ -77,7 +88,18 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
         ctr[a] = 0.5 * (r->bbox_max[a] + r->bbox_min[a]);
     }
     double longest = HV_MAX(ext[0], HV_MAX(ext[1], ext[2]));
-    if (opt->voxel_size[0] != 0 || opt->voxel_size[1] != 0 || opt->voxel_size[2] != 0) {
+    int snapped = 0; /* origin set below from a lattice phase instead of centring */
+    double phase[3] = {0, 0, 0};
+    if (opt->lattice) {
+        for (int a = 0; a < 3; ++a) {
+            double v = opt->lattice->voxel[a];
+            if (!(v > 0) || !isfinite(v) || !isfinite(opt->lattice->origin[a]))
+                return hv_error_set(HV_ERR_INVALID, "the target lattice has voxel size %g on axis %c", v, "xyz"[a]);
+            p->xf.voxel[a] = v;
+            phase[a] = opt->lattice->origin[a];
+        }
+        snapped = 1;
+    } else if (opt->voxel_size[0] != 0 || opt->voxel_size[1] != 0 || opt->voxel_size[2] != 0) {
         for (int a = 0; a < 3; ++a) {
             double v = opt->voxel_size[a];
             if (!(v > 0) || !isfinite(v))
@@ -88,9 +110,11 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
                 return hv_error_set(HV_ERR_LIMIT,
                                     "%s: voxel size %g gives %.0f voxels on axis %c (limit 2^31)",
                                     name, v, d, "xyz"[a]);
-            p->dims[a] = HV_MAX((int64_t)d, 1);
+            (void)d;
             p->xf.voxel[a] = v;
+            phase[a] = 0.5 * v;
         }
+        snapped = 1;
     } else if (opt->dims[0] > 0 && opt->dims[1] == 0 && opt->dims[2] == 0) {
         if (!(longest > 0))
             return hv_error_set(HV_ERR_INVALID, "%s: the mesh has no extent", name);
@@ -120,9 +144,26 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
                             (long long)opt->dims[0], (long long)opt->dims[1],
                             (long long)opt->dims[2]);
     }
-    /* centre the grid on the mesh box: voxel i covers [c + (i - d/2) v, c + (i + 1 - d/2) v] */
-    for (int a = 0; a < 3; ++a)
-        p->xf.origin[a] = ctr[a] - 0.5 * (double)(p->dims[a] - 1) * p->xf.voxel[a];
+    if (snapped) {
+        /* the lattice's voxels (centres at phase + n v) that cover the box */
+        for (int a = 0; a < 3; ++a) {
+            double v = p->xf.voxel[a];
+            /* the voxels whose cells [c - v/2, c + v/2) meet the box */
+            double n0 = floor((r->bbox_min[a] - phase[a]) / v + 0.5);
+            double n1 = HV_MAX(n0, ceil((r->bbox_max[a] - phase[a]) / v - 0.5));
+            if (n1 - n0 + 1 > 2147483647.0 || fabs(n0) > 1e15)
+                return hv_error_set(HV_ERR_LIMIT, "%s: voxel size %g gives %.0f voxels on axis %c (limit 2^31)",
+                                    name, v, n1 - n0 + 1, "xyz"[a]);
+            p->dims[a] = (int64_t)(n1 - n0) + 1;
+            p->first[a] = (int64_t)n0;
+            /* index 0 is the lattice's point nearest the phase origin, not the box corner */
+            p->xf.origin[a] = phase[a];
+        }
+    } else {
+        /* centre the grid on the mesh box: voxel i covers [c + (i - d/2) v, c + (i + 1 - d/2) v] */
+        for (int a = 0; a < 3; ++a)
+            p->xf.origin[a] = ctr[a] - 0.5 * (double)(p->dims[a] - 1) * p->xf.voxel[a];
+    }
 
     p->fill = opt->fill;
     if (p->fill == HV_FILL_AUTO)
@@ -132,8 +173,8 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
 
     /* memory: working bit grids (surface, outside or three parity grids), flood queue or
      * crossing lists, and the volume's leaves (estimated from the mesh volume and area) */
-    int64_t n[3];
-    for (int a = 0; a < 3; ++a) n[a] = round_up8(p->dims[a]) + 2 * PAD;
+    int64_t n[3], lo[3];
+    grid_box(p, lo, n);
     uint64_t grid = hv_bitgrid_bytes(n);
     uint64_t rows = (uint64_t)n[0] * (uint64_t)n[1];
     uint64_t work = 2 * grid + rows * 5u;
@@ -165,9 +206,7 @@ typedef struct surf_ctx {
     const hv_mesh *mesh;
     const double *P; /* vertices in grid coordinates (voxel centres at integers) */
     hv_bitgrid *S;
-    double t_scale;  /* 6: max-norm, 26: 1-norm of the unit normal, times 1/2 */
     int adj26;
-    double rc;
 } surf_ctx;
 
 static double dist2_segment(const double *a, const double *b, const double *c)
@@ -181,10 +220,8 @@ static double dist2_segment(const double *a, const double *b, const double *c)
     return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
 }
 
-static void voxelize_triangle(surf_ctx *c, size_t f)
+void hv_voxel_mark_triangle(const double *p[3], int adj26, hv_bitgrid *S)
 {
-    const uint32_t *tv = hv_mesh_facets(c->mesh) + 3 * f;
-    const double *p[3] = {c->P + 3 * (size_t)tv[0], c->P + 3 * (size_t)tv[1], c->P + 3 * (size_t)tv[2]};
     double e1[3], e2[3], n[3];
     for (int a = 0; a < 3; ++a) {
         e1[a] = p[1][a] - p[0][a];
@@ -198,13 +235,13 @@ static void voxelize_triangle(surf_ctx *c, size_t f)
      * mark both. Evaluate them with a tolerance far below a voxel so rounding never drops a
      * boundary case (which would open a tunnel along the face). */
     const double eps = 1e-7;
-    double rc = c->rc, rc2 = (rc + eps) * (rc + eps);
+    double rc = adj26 ? sqrt(3.0) / 2 : 0.5, rc2 = (rc + eps) * (rc + eps);
     double lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
         lo[a] = ceil(HV_MIN(p[0][a], HV_MIN(p[1][a], p[2][a])) - rc - eps);
         hi[a] = floor(HV_MAX(p[0][a], HV_MAX(p[1][a], p[2][a])) + rc + eps);
         lo[a] = HV_MAX(lo[a], 0.0);
-        hi[a] = HV_MIN(hi[a], (double)(c->S->n[a] - 1));
+        hi[a] = HV_MIN(hi[a], (double)(S->n[a] - 1));
     }
     int degenerate = !(len > 1e-300);
     double m[3][3] = {{0}}, mo[3] = {0}, ml[3] = {0}, D = 0, t = 0;
@@ -213,7 +250,7 @@ static void voxelize_triangle(surf_ctx *c, size_t f)
         for (int a = 0; a < 3; ++a) n[a] /= len;
         D = -(n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2]);
         double an[3] = {fabs(n[0]), fabs(n[1]), fabs(n[2])};
-        t = c->adj26 ? 0.5 * (an[0] + an[1] + an[2]) : 0.5 * HV_MAX(an[0], HV_MAX(an[1], an[2]));
+        t = adj26 ? 0.5 * (an[0] + an[1] + an[2]) : 0.5 * HV_MAX(an[0], HV_MAX(an[1], an[2]));
         /* edge planes: through the edge, containing the normal, facing the third vertex */
         for (int k = 0; k < 3; ++k) {
             const double *a = p[k], *b = p[(k + 1) % 3], *o = p[(k + 2) % 3];
@@ -260,9 +297,16 @@ static void voxelize_triangle(surf_ctx *c, size_t f)
                 if (!hit)
                     for (int k = 0; k < 3 && !hit; ++k)
                         if (dist2_segment(p[k], p[(k + 1) % 3], q) <= rc2) hit = 1;
-                if (hit) hv_bitgrid_set_atomic(c->S, (int64_t)q[0], (int64_t)q[1], (int64_t)q[2]);
+                if (hit) hv_bitgrid_set_atomic(S, (int64_t)q[0], (int64_t)q[1], (int64_t)q[2]);
             }
         }
+}
+
+static void voxelize_triangle(surf_ctx *c, size_t f)
+{
+    const uint32_t *tv = hv_mesh_facets(c->mesh) + 3 * f;
+    const double *p[3] = {c->P + 3 * (size_t)tv[0], c->P + 3 * (size_t)tv[1], c->P + 3 * (size_t)tv[2]};
+    hv_voxel_mark_triangle(p, c->adj26, c->S);
 }
 
 static hv_status surf_range(void *ctx, size_t b, size_t e, int thread)
@@ -449,8 +493,9 @@ static hv_status set_metadata(hv_volume *vol, const hv_mesh *mesh, const hv_voxe
     hv_buf_free(&b);
     if (s != HV_OK) return s;
     hv_buf_init(&b);
-    hv_buf_printf(&b, "{\"adjacency\": %d, \"fill\": \"%s\", \"dims\": [%lld, %lld, %lld], \"voxel\": [",
-                  adjacency, hv_fill_mode_name(plan->fill), (long long)plan->dims[0],
+    hv_buf_printf(&b, "{\"adjacency\": %d, \"fill\": \"%s\", \"first\": [%lld, %lld, %lld], \"dims\": [%lld, %lld, %lld], \"voxel\": [",
+                  adjacency, hv_fill_mode_name(plan->fill), (long long)plan->first[0],
+                  (long long)plan->first[1], (long long)plan->first[2], (long long)plan->dims[0],
                   (long long)plan->dims[1], (long long)plan->dims[2]);
     for (int a = 0; a < 3; ++a) {
         if (a) hv_buf_puts(&b, ", ");
@@ -475,10 +520,7 @@ hv_status hv_voxelize(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_vo
     hv_status s = hv_voxelize_plan(mesh, opt, &plan);
     if (s != HV_OK) return s;
     int64_t n[3], lo[3];
-    for (int a = 0; a < 3; ++a) {
-        n[a] = round_up8(plan.dims[a]) + 2 * PAD;
-        lo[a] = -PAD;
-    }
+    grid_box(&plan, lo, n);
     hv_bitgrid S = {0}, occ = {0};
     double *P = NULL;
     if ((s = hv_bitgrid_init(&S, n, lo)) != HV_OK) goto done;
@@ -492,7 +534,7 @@ hv_status hv_voxelize(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_vo
     for (size_t i = 0; i < nv; ++i)
         for (int a = 0; a < 3; ++a)
             P[3 * i + (size_t)a] = ((double)xyz[3 * i + (size_t)a] - plan.xf.origin[a]) / plan.xf.voxel[a] - (double)lo[a];
-    surf_ctx sc = {mesh, P, &S, 0, opt->adjacency == 26, opt->adjacency == 26 ? sqrt(3.0) / 2 : 0.5};
+    surf_ctx sc = {mesh, P, &S, opt->adjacency == 26};
     s = hv_parallel_for(hv_mesh_facet_count(mesh), 512, surf_range, &sc, opt->progress, "surface");
     if (s != HV_OK) goto done;
     if ((s = hv_bitgrid_init(&occ, n, lo)) != HV_OK) goto done;

@@ -3,7 +3,8 @@
 # Each cases/NAME.sh runs from the repository root with $HOVOX (the binary), $SHARED (the
 # shared material) and $TMP (a fresh directory). Expected output lives next to it in
 # NAME.out, NAME.err and NAME.rc; the path of $SHARED and $TMP print as "$SHARED", "$TMP".
-# UPDATE=1 rewrites the expected files from the current behaviour (review the diff!).
+# UPDATE=1 rewrites the expected files from the current behaviour (review the diff!);
+# ONLY=pattern restricts the run (and the update) to cases whose name contains it.
 set -u
 : "${HOVOX:?set HOVOX to the hovox binary}"
 SHARED=$(cd "${SHARED:-../shared}" && pwd)
@@ -13,6 +14,7 @@ pass=0
 fail=0
 for case in "$here"/cases/*.sh; do
     name=${case%.sh}
+    case "$(basename "$name")" in *"${ONLY:-}"*) ;; *) continue ;; esac
     TMP=$(mktemp -d)
     export TMP
     sh "$case" >"$TMP/.stdout" 2>"$TMP/.stderr"

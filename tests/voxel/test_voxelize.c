@@ -357,7 +357,25 @@ Test(voxelize, plans_refuse_and_validate)
     hv_voxel_plan plan;
     cr_assert_eq(hv_voxelize_plan(m, &o, &plan), HV_OK);
     cr_assert_eq(plan.dims[0], 4);
+    cr_assert_eq(plan.first[0], 0);
     cr_assert_float_eq(plan.xf.origin[0], 1.25, 1e-12);
+    /* the same voxel size on a shifted mesh: the same global lattice, other indices */
+    hv_mesh *m2;
+    double lo2[3] = {-7.4, 3, 0}, hi2[3] = {1, 9, 4};
+    cr_assert_eq(hv_generate_box(lo2, hi2, &m2), HV_OK);
+    hv_voxel_plan p2;
+    cr_assert_eq(hv_voxelize_plan(m2, &o, &p2), HV_OK);
+    cr_assert(hv_transform_same(&plan.xf, &p2.xf));
+    cr_assert_eq(p2.first[0], -3); /* centre -6.25 holds x = -7.4 */
+    cr_assert_eq(p2.dims[0], 4);
+    /* and on an explicit lattice */
+    hv_transform lat = {{0.4, 0.4, 0.4}, {0.1, 0.1, 0.1}};
+    hv_voxelize_options_init(&o);
+    o.lattice = &lat;
+    cr_assert_eq(hv_voxelize_plan(m2, &o, &p2), HV_OK);
+    cr_assert(hv_transform_same(&lat, &p2.xf));
+    cr_assert_eq(p2.first[0], -19); /* cell of -7.5 .. -7.1 */
+    hv_mesh_destroy(m2);
     hv_mesh_destroy(m);
 }
 

@@ -1,0 +1,74 @@
+/* hovox/profile.h - material fractions of a graded model sampled along a line segment (Wu
+ * 2.3, Fig. 26: material distribution on sample lines), as CSV and as a plot. */
+#ifndef HOVOX_PROFILE_H
+#define HOVOX_PROFILE_H
+
+#include <stdio.h>
+
+#include "hovox/material.h"
+#include "hovox/plot.h"
+#include "hovox/volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The samples of one line: sample i (0 <= i < n) lies at from + (to - from) * i / (n - 1),
+ * at distance t_i = |to - from| * i / (n - 1) from the start (world units: millimetres for
+ * models voxelized from STL). Each sample holds what hv_model_probe reports there: inside
+ * (trilinear occupancy >= 0.5) and the m material fractions (trilinear over the occupied
+ * voxels around the point, renormalised; the fractions of the nearest occupied voxels just
+ * outside the boundary, 0 far from the object). Immutable once made. */
+typedef struct hv_profile hv_profile;
+
+/* Sample the graded model vol at n >= 2 points from `from` to `to` (finite, distinct).
+ * Multi-threaded, the result independent of the thread count. The material table is copied
+ * from vol (hv_material_table_load), so vol may be freed afterwards.
+ * Errors: HV_ERR_NOT_FOUND (vol has no material table: not graded), HV_ERR_BAD_INPUT (corrupt
+ * table), HV_ERR_INVALID (n < 2, end points not finite or equal, length not finite),
+ * HV_ERR_NOMEM.
+ * Free with hv_profile_destroy. */
+HV_API hv_status hv_profile_sample(const hv_volume *vol, const double from[3], const double to[3],
+                                   int n, hv_profile **out);
+
+/* Free a profile; NULL is allowed. */
+HV_API void hv_profile_destroy(hv_profile *p);
+
+/* Number of samples n; number of materials m; the segment length |to - from|. */
+HV_API int hv_profile_samples(const hv_profile *p);
+HV_API int hv_profile_materials(const hv_profile *p);
+HV_API double hv_profile_length(const hv_profile *p);
+/* The material table of the model (owned by the profile). */
+HV_API const hv_material_table *hv_profile_table(const hv_profile *p);
+/* The end points given to hv_profile_sample. */
+HV_API void hv_profile_segment(const hv_profile *p, double from[3], double to[3]);
+
+/* Sample i (0 <= i < n): distance from the start, world position, inside flag (0 or 1) and the
+ * m fractions (owned by the profile, valid until it is freed). */
+HV_API double hv_profile_t(const hv_profile *p, int i);
+HV_API void hv_profile_position(const hv_profile *p, int i, double xyz[3]);
+HV_API int hv_profile_inside(const hv_profile *p, int i);
+HV_API const double *hv_profile_fractions(const hv_profile *p, int i);
+
+/* CSV: a header "t,x,y,z,inside,<material names...>" and one row per sample; t, x, y, z with
+ * 9 significant digits, fractions with 6 (they are stored as 32-bit floats). write_csv writes
+ * `path` atomically (a temporary name in the same directory, renamed when complete);
+ * write_csv_stream writes to an open stream (e.g. stdout), flushes it and leaves it open.
+ * Errors: HV_ERR_IO (cannot write or rename; no file is left under `path`), HV_ERR_NOMEM. */
+HV_API hv_status hv_profile_write_csv(const hv_profile *p, const char *path);
+HV_API hv_status hv_profile_write_csv_stream(const hv_profile *p, FILE *fp);
+
+/* A plot of the profile (width x height pixels, see hv_plot_create): distance along the line
+ * on x ("distance along the line (mm)"), one series per material in its table colour (alpha
+ * set to 1) on y ("material fraction", range [0, 1]), drawn only where the samples are inside;
+ * stretches outside the object are shaded and labelled "outside the object" (their ends
+ * halfway between an inside and an outside sample). Title "Material fractions along a line",
+ * subtitle the end points and the sample count; callers may change both, add markers (e.g. a
+ * grading source's d- and d- + dg) and then write it. Free with hv_plot_destroy.
+ * Errors: HV_ERR_INVALID (size), HV_ERR_NOMEM. */
+HV_API hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

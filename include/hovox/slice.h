@@ -1,0 +1,287 @@
+/* hovox/slice.h - the geometric slicer (Wu 2.4.1): a weighted directed graph (WDG) over the
+ * facets of a mesh, built once and sliced by planes z = h into closed contour loops, oriented
+ * and nested; layer height planning (uniform, adaptive); contour output as SVG and CLI. */
+#ifndef HOVOX_SLICE_H
+#define HOVOX_SLICE_H
+
+#include "hovox/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ==== The slicer ===========================================================================
+ *
+ * Nodes of the WDG are facets; an arc joins two facets sharing an edge and carries Wu's
+ * weight, the sum of the local vertex subscripts of that edge in the facet it leaves:
+ * v0v1 -> 1, v0v2 -> 2, v1v2 -> 3 (so the edge of weight w is the one opposite vertex 3 - w).
+ * Each arc also records the weight of the same edge in the facet it enters, so a traversal
+ * knows the shared edge from the weights alone, without comparing coordinates. Every facet
+ * has at most three arcs: the adjacency list is a fixed array of three slots per facet.
+ *
+ * Slicing a plane z = h walks the arcs (Wu's depth-first traversal): from a crossing facet,
+ * compute the crossing on its exit edge, follow the arc of that edge to the neighbour, whose
+ * entry point is the one just computed, and repeat until back at the start: one intersection
+ * per facet, the loop comes out in order, no sorting of segments. Only facets whose z-range
+ * contains h are touched: facets are kept sorted by their lowest z within classes of similar
+ * z-extent, so finding the crossing facets costs O(classes * log n + crossing facets).
+ *
+ * Degenerate cases are decided by rule:
+ *  - Symbolic perturbation: a vertex with z >= h counts as ABOVE the plane, z < h as below.
+ *    A facet crosses the plane when it has vertices on both sides, so exactly two of its
+ *    edges cross; the topology is that of the plane h - eps for an infinitesimal eps. A
+ *    vertex lying exactly on the plane gives crossings located at that vertex, and the
+ *    repeated point is emitted once. Facets and edges lying in the plane (all vertices
+ *    "above") are not crossed: a plane through a flat top face yields the outline of that
+ *    face (the section just below it); a plane through a flat bottom face yields nothing.
+ *  - Non-manifold edges (three or more facets): the traversal follows the mesh's pairing
+ *    (hv_mesh_neighbors: each facet continues into a facet of opposite edge direction), so
+ *    two solids touching along an edge give two loops that touch at a point.
+ *  - Open meshes: a traversal that reaches an edge used by one facet only is traced back from
+ *    its start to the other open edge, giving an open polyline from boundary to boundary.
+ *    Gap rule: after all chains of a layer are traced, the end of each open polyline is
+ *    joined to the nearest start of an open polyline (itself included) when their distance
+ *    is at most hv_slice_options.close_gap, repeatedly, in chain order; a polyline whose end
+ *    comes back to its own start this way becomes a closed loop (gaps counted in
+ *    hv_slice_loop.gaps). Ends join starts only (chains run the same way round the solid
+ *    when the facets are consistently oriented), so an unwelded triangle soup is rejoined
+ *    too. Polylines left open are reported as open (not part of the area or nesting).
+ *  - Loops with fewer than 3 distinct points (a plane touching an apex) or zero area, and
+ *    open polylines with fewer than 2, are dropped (counted in hv_slice_stats.dropped);
+ *    consecutive repeated points are removed.
+ *
+ * Orientation and nesting: a loop's parent is the smallest loop containing it (point in
+ * polygon by crossing number, majority over up to 5 of its vertices, so a single touching
+ * point does not decide). Depth 0, 2, 4 ... loops are outer boundaries, oriented
+ * counter-clockwise seen from +z (positive area); odd depths are holes, clockwise (negative
+ * area). The orientation therefore follows nesting, not the facet winding, so inside-out
+ * meshes still give outer CCW / hole CW.
+ *
+ * Thread safety: a slicer is immutable after hv_slicer_create; any number of threads may
+ * slice it at the same time. Results depend only on (mesh, h, options), never on the thread
+ * count or on the order in which layers are sliced. */
+typedef struct hv_slicer hv_slicer;
+
+/* Build the WDG and the z-sorted facet index from a mesh. The slicer copies what it needs
+ * (vertices as doubles, facets, arcs); the mesh may be destroyed afterwards.
+ * Errors: HV_ERR_INVALID (mesh NULL or without facets), HV_ERR_LIMIT (more than 2^31 - 1
+ * facets), HV_ERR_NOMEM, HV_ERR_CANCELLED. On success *out is a new slicer, freed with
+ * hv_slicer_destroy. */
+HV_API hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress,
+                                  hv_slicer **out);
+
+/* Free a slicer; NULL is allowed. */
+HV_API void hv_slicer_destroy(hv_slicer *slicer);
+
+/* Facts about the graph. */
+typedef struct hv_slicer_info {
+    size_t facets;
+    size_t arcs;            /* directed arcs (2 per shared manifold edge) */
+    size_t open_edges;      /* facet edges without a neighbour (open mesh boundary) */
+    size_t nonmanifold_arcs; /* arcs across edges shared by 3+ facets */
+    double bbox_min[3], bbox_max[3];
+} hv_slicer_info;
+HV_API void hv_slicer_get_info(const hv_slicer *slicer, hv_slicer_info *info);
+
+/* The arc of `facet` with Wu weight `weight` (1: v0v1, 2: v0v2, 3: v1v2): stores the
+ * neighbouring facet in *neighbor (HV_MESH_OPEN when the edge is open) and the weight of the
+ * same edge in the neighbour in *neighbor_weight (0 when open).
+ * Errors: HV_ERR_INVALID (facet or weight out of range). */
+HV_API hv_status hv_slicer_arc(const hv_slicer *slicer, size_t facet, int weight,
+                               int32_t *neighbor, int *neighbor_weight);
+
+/* ==== Slicing one plane ==================================================================== */
+
+/* Default gap rule distance (mm): open polyline ends at most this far apart are joined. */
+#define HV_SLICE_DEFAULT_CLOSE_GAP 0.05
+
+typedef struct hv_slice_options {
+    double close_gap; /* mm, >= 0; 0 joins only ends that coincide exactly */
+} hv_slice_options;
+
+/* Fill *options with the defaults (close_gap = HV_SLICE_DEFAULT_CLOSE_GAP). */
+HV_API void hv_slice_options_init(hv_slice_options *options);
+
+typedef struct hv_slice_loop {
+    const double *xy;  /* 2 * count doubles (x0, y0, x1, y1, ...), in order; a closed loop
+                        * does not repeat its first point. Owned by the slice. */
+    size_t count;      /* points */
+    int closed;        /* 1: closed loop, 0: open polyline */
+    int orientation;   /* +1 counter-clockwise seen from +z (outer), -1 clockwise (hole),
+                        * 0 open polyline */
+    int parent;        /* index of the smallest loop containing this one (for a hole: its
+                        * outer loop; for an island: the hole it sits in); -1 when none or
+                        * open */
+    int depth;         /* nesting depth: 0 outermost; even = outer, odd = hole; -1 open */
+    int gaps;          /* gaps bridged by the gap rule to close this loop (0 for a loop that
+                        * closed by itself) */
+    double area;       /* signed area in mm^2: > 0 outer, < 0 hole, 0 open */
+} hv_slice_loop;
+
+typedef struct hv_slice_stats {
+    double z;           /* the plane */
+    size_t loops;       /* closed loops (outers + holes) */
+    size_t outers, holes;
+    size_t open;        /* open polylines left after the gap rule */
+    size_t gaps_closed; /* gaps bridged by the gap rule in this slice */
+    size_t dropped;     /* chains dropped for having fewer than 3 (closed) or 2 (open)
+                         * distinct points */
+    size_t points;      /* over all loops and polylines */
+    size_t facets;      /* facets crossing the plane */
+    double area;        /* total: outer areas minus hole areas (mm^2) */
+} hv_slice_stats;
+
+/* One sliced plane: loops then open polylines. Opaque; read through the accessors. */
+typedef struct hv_slice hv_slice;
+
+/* Slice the plane z = h (options NULL = defaults). Any thread may call this concurrently on
+ * the same slicer. A plane outside the mesh gives an empty slice.
+ * Errors: HV_ERR_INVALID (h not finite, close_gap negative or not finite), HV_ERR_NOMEM.
+ * On success *out is a new slice, freed with hv_slice_destroy. */
+HV_API hv_status hv_slicer_slice(const hv_slicer *slicer, double h,
+                                 const hv_slice_options *options, hv_slice **out);
+
+/* Free a slice; NULL is allowed. */
+HV_API void hv_slice_destroy(hv_slice *slice);
+
+/* Number of entries in hv_slice_loops: the closed loops come first (hv_slice_stats.loops of
+ * them, in traversal order of their lowest-numbered facet), then the open polylines. */
+HV_API size_t hv_slice_loop_count(const hv_slice *slice);
+/* The loops; owned by the slice, valid until hv_slice_destroy. */
+HV_API const hv_slice_loop *hv_slice_loops(const hv_slice *slice);
+/* The statistics; owned by the slice. */
+HV_API const hv_slice_stats *hv_slice_get_stats(const hv_slice *slice);
+
+/* ==== Layer planning =======================================================================
+ *
+ * A layer is the slab [bottom, top]; it is cut at its mid-height z = (bottom + top) / 2, so
+ * the contour is the section halfway through the material it stands for (the staircase
+ * error is split evenly above and below). Layers start at the mesh's lowest z. The last
+ * layer is the one whose mid-height is still below the mesh's highest z: the printed height
+ * is the mesh height rounded to the nearest layer boundary. */
+typedef struct hv_layer {
+    double bottom, top; /* mm */
+    double z;           /* where the layer is cut: (bottom + top) / 2 */
+} hv_layer;
+
+typedef struct hv_layer_plan hv_layer_plan;
+
+/* Largest number of layers a plan may hold. */
+#define HV_LAYER_PLAN_MAX 10000000
+
+/* Uniform layers: the first layer `first_height` thick (<= 0: same as `height`), then layers
+ * `height` thick. Boundaries are computed as zmin + first + i * height (no accumulated
+ * rounding). Errors: HV_ERR_INVALID (height not finite or <= 0, first_height not finite),
+ * HV_ERR_LIMIT (more than HV_LAYER_PLAN_MAX layers, naming the count), HV_ERR_NOMEM.
+ * *out is freed with hv_layer_plan_destroy. */
+HV_API hv_status hv_slicer_plan_uniform(const hv_slicer *slicer, double first_height,
+                                        double height, hv_layer_plan **out);
+
+/* Adaptive layers by the cusp-height criterion (Dolenc & Makela 1994; Wu 2.4.1 "adaptive
+ * slicing"): a facet with unit normal n tolerates a layer of height cusp / |n_z| (the
+ * staircase step measured along its normal stays below `cusp`), so nearly horizontal
+ * surfaces get thin layers and vertical walls thick ones. A layer starting at z takes the
+ * largest height h <= max_height that every facet reaching into (z, z + h) tolerates:
+ * h = min over facets f overlapping (z, z + max_height) of max(tolerance_f, zmin_f - z),
+ * clamped to [min_height, max_height]. A flat face therefore ends a layer exactly at its
+ * height when it lies at least min_height above the layer's bottom. Zero-area facets are
+ * ignored. cusp <= 0 means cusp = min_height. first_height > 0 fixes the first layer.
+ * Errors: HV_ERR_INVALID (not 0 < min_height <= max_height, values not finite),
+ * HV_ERR_LIMIT, HV_ERR_NOMEM. *out is freed with hv_layer_plan_destroy. */
+HV_API hv_status hv_slicer_plan_adaptive(const hv_slicer *slicer, double first_height,
+                                         double min_height, double max_height, double cusp,
+                                         hv_layer_plan **out);
+
+/* A plan from explicit layers (copied): each needs finite bottom < top with
+ * bottom <= z <= top, and z strictly increasing from layer to layer.
+ * Errors: HV_ERR_INVALID (naming the layer and value), HV_ERR_LIMIT, HV_ERR_NOMEM. */
+HV_API hv_status hv_layer_plan_create(const hv_layer *layers, size_t count,
+                                      hv_layer_plan **out);
+
+HV_API size_t hv_layer_plan_count(const hv_layer_plan *plan);
+/* The layers, bottom to top; owned by the plan. */
+HV_API const hv_layer *hv_layer_plan_layers(const hv_layer_plan *plan);
+/* Free a plan; NULL is allowed. */
+HV_API void hv_layer_plan_destroy(hv_layer_plan *plan);
+
+/* ==== Slicing every layer of a plan ======================================================== */
+
+/* Receives the layers in order (index 0, 1, 2, ...) on the thread that called
+ * hv_slicer_slice_plan. *slice is owned by the caller of the sink during the call and freed
+ * after it returns; a sink that wants to keep it sets *slice = NULL and frees it later with
+ * hv_slice_destroy. A status other than HV_OK stops the run, which returns that status
+ * (the sink sets the message with hv_error_set). */
+typedef hv_status (*hv_slice_sink_fn)(void *user, size_t index, const hv_layer *layer,
+                                      hv_slice **slice);
+
+/* Slice every layer of `plan` at its z, multi-threaded (hv_threads() workers) over windows
+ * of consecutive layers, handing each finished layer to `sink` in order; only a window of
+ * slices is held in memory at a time, so memory does not grow with the number of layers.
+ * Deterministic: identical to hv_slicer_slice at each z. `progress` (may be NULL) is called
+ * on the calling thread with stage "contours"; a nonzero return cancels.
+ * Errors: HV_ERR_INVALID (NULL plan or sink, bad options), HV_ERR_NOMEM, HV_ERR_CANCELLED,
+ * or what the sink returned. */
+HV_API hv_status hv_slicer_slice_plan(const hv_slicer *slicer, const hv_layer_plan *plan,
+                                      const hv_slice_options *options, hv_slice_sink_fn sink,
+                                      void *user, const hv_progress *progress);
+
+/* ==== Contour files ========================================================================
+ *
+ * SVG: one <svg> whose user unit is 1 mm (width/height in mm, viewBox over the mesh's xy
+ * bounding box); y points up as seen from +z (an outer group flips the axis with
+ * transform="scale(1,-1)", coordinates in the paths are the true x, y). One
+ * <g id="layer-N" class="layer" data-index="N" data-z="..." data-bottom="..." data-top="...">
+ * per layer holding one <path class="loops"> with all closed loops (fill-rule="evenodd",
+ * outer loops counter-clockwise, holes clockwise) and, when there are any, one
+ * <path class="open"> with the open polylines (no fill, red stroke).
+ *
+ * CLI (Common Layer Interface 2.0), units mm ($$UNITS/00000001.000000): header
+ * $$HEADERSTART, $$ASCII or $$BINARY, $$UNITS, $$VERSION/200, $$LABEL/1,<label>,
+ * $$DIMENSION/xmin,ymin,zmin,xmax,ymax,zmax, $$LAYERS/n, $$HEADEREND. Per the CLI convention
+ * $$LAYER/z gives the TOP of a layer, and the thickness of a layer is the difference to the
+ * previous one; the first layer's thickness is given by a leading "zero layer" at the
+ * bottom of the first layer without polylines (counted in $$LAYERS; an empty plan has
+ * $$LAYERS/000000 and no layer). Polylines:
+ * $$POLYLINE/1,dir,n,x1,y1,...,xn,yn with dir 1 = counter-clockwise (outer), 0 = clockwise
+ * (hole), 2 = open; closed polylines repeat their first point at the end (n counts it).
+ * ASCII: $$GEOMETRYSTART ... $$GEOMETRYEND, numbers rounded to 6 decimals with trailing
+ * zeros dropped ("12.5", "40"). Binary: after
+ * $$HEADEREND, little-endian commands: uint16 127 (layer, long) + float32 z; uint16 130
+ * (polyline, long) + int32 id, dir, n + float32 x, y per point. */
+typedef enum hv_contour_format {
+    HV_CONTOUR_SVG = 0,
+    HV_CONTOUR_CLI_ASCII = 1,
+    HV_CONTOUR_CLI_BINARY = 2
+} hv_contour_format;
+
+typedef struct hv_contour_writer hv_contour_writer;
+
+/* Open a contour file for `layers` layers (the CLI header states the count; the SVG needs
+ * none) over the bounding box bbox_min/bbox_max (mm; x and y size the SVG, all three go to
+ * $$DIMENSION). `label` (may be NULL) names the part ($$LABEL, SVG <title>). The file is
+ * written under a temporary name and renamed by hv_contour_writer_close.
+ * Errors: HV_ERR_INVALID (bad format, non-finite box), HV_ERR_IO (naming the path), NOMEM.
+ * *out is finished with hv_contour_writer_close or hv_contour_writer_abort. */
+HV_API hv_status hv_contour_writer_open(const char *path, hv_contour_format format,
+                                        size_t layers, const double bbox_min[3],
+                                        const double bbox_max[3], const char *label,
+                                        hv_contour_writer **out);
+
+/* Append one layer (in increasing order). The slice's loops are written as they are
+ * (open polylines included). Errors: HV_ERR_INVALID (more layers than announced),
+ * HV_ERR_IO (write failed, naming the path), HV_ERR_NOMEM. */
+HV_API hv_status hv_contour_writer_add(hv_contour_writer *writer, const hv_layer *layer,
+                                       const hv_slice *slice);
+
+/* Finish the file and rename it to its final name; frees the writer in every case.
+ * Errors: HV_ERR_INVALID (fewer layers than announced), HV_ERR_IO; on error no file is left
+ * under the final name. NULL is allowed (returns HV_OK). */
+HV_API hv_status hv_contour_writer_close(hv_contour_writer *writer);
+
+/* Drop the file being written (nothing is left on disk) and free the writer; NULL allowed. */
+HV_API void hv_contour_writer_abort(hv_contour_writer *writer);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

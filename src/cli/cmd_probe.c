@@ -1,0 +1,221 @@
+/* src/cli/cmd_probe.c - `hovox probe MODEL.vdb X,Y,Z ... [--points FILE.csv]`: material
+ * fractions of a graded model at points, as CSV on stdout. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/internal.h"
+#include "cli.h"
+#include "hovox/material.h"
+
+static const char *PROBE_HELP =
+    "usage: hovox probe MODEL.vdb X,Y,Z [X,Y,Z ...] [--points FILE.csv]\n"
+    "\n"
+    "Material fractions of a graded model at points (world coordinates, mm). Prints CSV on\n"
+    "stdout: a header 'x,y,z,inside,<material names...>' and one row per point, the points\n"
+    "given as arguments first, then those of the --points files, in order.\n"
+    "  inside     1 when the trilinear occupancy at the point is at least 0.5, else 0\n"
+    "  fractions  trilinear over the occupied voxels around the point, renormalised so they\n"
+    "             sum to 1 up to the boundary; just outside the boundary they are those of\n"
+    "             the nearest occupied voxels, far from the object 0\n"
+    "\n"
+    "Options:\n"
+    "  --points FILE   read points from a CSV file of x,y,z rows (repeatable); a header line\n"
+    "                  (x,y,z) is allowed, blank lines and lines starting with # are skipped\n"
+    "  -h, --help      this text\n"
+    "\n"
+    "Negative coordinates need no quoting: 'hovox probe m.vdb -1.5,0,2' is a point.\n";
+
+#define MAX_POINTS_FILE (256u << 20)
+
+typedef struct points {
+    double *xyz;
+    size_t n, cap;
+} points;
+
+static int points_add(points *p, const double v[3])
+{
+    if (hv_grow((void **)&p->xyz, &p->cap, 3 * (p->n + 1), sizeof *p->xyz) != HV_OK) return -1;
+    memcpy(p->xyz + 3 * p->n, v, 3 * sizeof *v);
+    ++p->n;
+    return 0;
+}
+
+/* A field with blanks trimmed, as a finite number; 0 when it is not one. */
+static int field_number(const char *s, size_t len, double *out)
+{
+    while (len && (*s == ' ' || *s == '\t')) ++s, --len;
+    while (len && (s[len - 1] == ' ' || s[len - 1] == '\t')) --len;
+    if (len == 0 || len > 63) return 0;
+    char buf[64];
+    memcpy(buf, s, len);
+    buf[len] = '\0';
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return 0;
+    *out = v;
+    return 1;
+}
+
+/* "'text'" of a field, blanks trimmed, long ones cut, for messages. */
+static void field_shown(const char *s, size_t len, char *out, size_t size)
+{
+    while (len && (*s == ' ' || *s == '\t')) ++s, --len;
+    while (len && (s[len - 1] == ' ' || s[len - 1] == '\t')) --len;
+    snprintf(out, size, "'%.*s%s'", (int)HV_MIN(len, 40), s, len > 40 ? "..." : "");
+}
+
+/* Read x,y,z rows. Returns 0, or an exit code after printing the error. */
+static int read_points(const char *path, points *pts)
+{
+    char *data;
+    size_t size;
+    hv_status s = hv_read_file(path, MAX_POINTS_FILE, &data, &size);
+    if (s != HV_OK) return cli_fail(s);
+    int line = 0, rows = 0, rc = 0;
+    char *p = data, *end = data + size;
+    while (p < end && rc == 0) {
+        char *nl = memchr(p, '\n', (size_t)(end - p));
+        char *le = nl ? nl : end;
+        ++line;
+        size_t len = (size_t)(le - p);
+        if (len && p[len - 1] == '\r') --len;
+        size_t k = 0;
+        while (k < len && (p[k] == ' ' || p[k] == '\t')) ++k;
+        if (k < len && p[k] != '#') {
+            /* split into fields */
+            const char *f[4];
+            size_t fl[4];
+            int nf = 0;
+            const char *q = p, *qe = p + len;
+            for (;;) {
+                const char *c = memchr(q, ',', (size_t)(qe - q));
+                const char *fe = c ? c : qe;
+                if (nf < 4) {
+                    f[nf] = q;
+                    fl[nf] = (size_t)(fe - q);
+                }
+                ++nf;
+                if (!c) break;
+                q = c + 1;
+            }
+            double v[3];
+            int numeric = 0;
+            for (int i = 0; i < nf && i < 3; ++i) numeric += field_number(f[i], fl[i], &v[i]);
+            if (rows == 0 && numeric == 0 && nf == 3) {
+                /* a header line */
+            } else if (nf != 3) {
+                fprintf(stderr, "hovox: %s: line %d: expected 3 values x,y,z, found %d\n", path, line, nf);
+                rc = EXIT_BAD_INPUT;
+            } else {
+                for (int i = 0; i < 3 && rc == 0; ++i)
+                    if (!field_number(f[i], fl[i], &v[i])) {
+                        char shown[64];
+                        field_shown(f[i], fl[i], shown, sizeof shown);
+                        fprintf(stderr, "hovox: %s: line %d: %c = %s is not a finite number\n", path, line,
+                                "xyz"[i], shown);
+                        rc = EXIT_BAD_INPUT;
+                    }
+                if (rc == 0 && points_add(pts, v) != 0) rc = cli_fail(HV_ERR_NOMEM);
+            }
+            ++rows;
+        }
+        p = nl ? nl + 1 : end;
+    }
+    free(data);
+    return rc;
+}
+
+/* A failed material table load; a missing table gets the plain message. */
+static int materials_error(const char *model, hv_status s)
+{
+    if (s == HV_ERR_NOT_FOUND) {
+        fprintf(stderr, "hovox: %s: model has no materials: grade it first (hovox grade)\n", model);
+        return EXIT_BAD_INPUT;
+    }
+    return cli_fail(hv_error_prefix(s, "%s: ", model));
+}
+
+int cmd_probe(int argc, char **argv)
+{
+    const char *model = NULL;
+    const char *files[64];
+    int nfiles = 0, only_args = 0;
+    points pts = {NULL, 0, 0};
+    int rc = EXIT_OK;
+    /* hand-parsed: a point such as -1.5,0,2 looks like an option to getopt */
+    for (int i = 1; i < argc && rc == EXIT_OK; ++i) {
+        const char *a = argv[i];
+        double v[3];
+        if (!only_args && (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0)) {
+            fputs(PROBE_HELP, stdout);
+            free(pts.xyz);
+            return EXIT_OK;
+        }
+        if (!only_args && strcmp(a, "--") == 0) {
+            only_args = 1;
+        } else if (!only_args && (strcmp(a, "--points") == 0 || strncmp(a, "--points=", 9) == 0)) {
+            const char *f = a[8] == '=' ? a + 9 : (i + 1 < argc ? argv[++i] : NULL);
+            if (!f) rc = cli_usage_error("probe", "option '--points' needs a value");
+            else if (nfiles >= (int)HV_COUNT(files)) rc = cli_usage_error("probe", "at most %d --points files", (int)HV_COUNT(files));
+            else files[nfiles++] = f;
+        } else if (!only_args && a[0] == '-' && !(a[1] == '.' || (a[1] >= '0' && a[1] <= '9'))) {
+            rc = cli_usage_error("probe", "unknown option '%s'", a);
+        } else if (!model) {
+            model = a;
+        } else if (cli_parse_vec("probe", "point", a, 3, v) != 0) {
+            rc = EXIT_USAGE;
+        } else if (points_add(&pts, v) != 0) {
+            rc = cli_fail(HV_ERR_NOMEM);
+        }
+    }
+    if (rc == EXIT_OK && !model) rc = cli_usage_error("probe", "missing MODEL argument");
+    if (rc == EXIT_OK && pts.n == 0 && nfiles == 0)
+        rc = cli_usage_error("probe", "no points: give X,Y,Z arguments or --points FILE.csv");
+    for (int f = 0; f < nfiles && rc == EXIT_OK; ++f) rc = read_points(files[f], &pts);
+    if (rc != EXIT_OK) {
+        free(pts.xyz);
+        return rc;
+    }
+
+    hv_volume *vol = NULL;
+    hv_material_table *t = NULL;
+    hv_status s = hv_volume_load(model, &vol);
+    if (s != HV_OK) {
+        free(pts.xyz);
+        return cli_fail(s);
+    }
+    s = hv_material_table_load(vol, &t);
+    if (s != HV_OK) {
+        hv_volume_destroy(vol);
+        free(pts.xyz);
+        return materials_error(model, s);
+    }
+    int m = hv_material_count(t), grids[HV_MAX_MATERIALS];
+    for (int k = 0; k < m; ++k) grids[k] = hv_material_grid(vol, t, k);
+    fputs("x,y,z,inside", stdout);
+    for (int k = 0; k < m; ++k) printf(",%s", hv_material_name(t, k));
+    putchar('\n');
+    hv_accessor acc;
+    hv_accessor_init(&acc, vol);
+    double frac[HV_MAX_MATERIALS];
+    for (size_t i = 0; i < pts.n; ++i) {
+        const double *x = pts.xyz + 3 * i;
+        int inside;
+        hv_model_probe(&acc, t, grids, x, &inside, frac);
+        printf("%.9g,%.9g,%.9g,%d", x[0], x[1], x[2], inside);
+        for (int k = 0; k < m; ++k) printf(",%.6g", frac[k]);
+        putchar('\n');
+    }
+    hv_material_table_destroy(t);
+    hv_volume_destroy(vol);
+    free(pts.xyz);
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "hovox: stdout: write failed: %s\n", strerror(errno));
+        return EXIT_IO;
+    }
+    return EXIT_OK;
+}

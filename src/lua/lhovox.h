@@ -1,0 +1,33 @@
+/* src/lua/lhovox.h - the `hovox` Lua 5.4 module: modeling scripts over the C library. */
+#ifndef HOVOX_LHOVOX_H
+#define HOVOX_LHOVOX_H
+
+#include <lua.h>
+
+/* Open the module (pushes the `hovox` table). */
+int luaopen_hovox(lua_State *L);
+
+/* Sandbox: file writes by the module (and by io.open/io.output/os.remove/os.rename when
+ * hv_lua_sandbox has been applied) are allowed only below `dir` (NULL: no restriction). */
+void hv_lua_set_write_root(lua_State *L, const char *dir);
+
+/* Remove os.execute, io.popen, package.loadlib and C searchers; wrap io.open, io.output,
+ * os.remove, os.rename, os.tmpname to honour the write root. Call after the standard
+ * libraries are open and the write root is set. */
+void hv_lua_sandbox(lua_State *L);
+
+/* Shared by the binding files: the live object behind argument `arg` (raising "bad argument"
+ * when it is of another type or freed), pushing new objects, raising a library failure. */
+#include "hovox/material.h"
+hv_volume *hv_lua_model(lua_State *L, int arg);
+hv_mesh *hv_lua_mesh(lua_State *L, int arg);
+void hv_lua_push_model(lua_State *L, hv_volume *vol);
+int hv_lua_fail(lua_State *L, hv_status status);
+/* luaL_argerror with a printf-style message (C formats: %g for numbers). */
+int hv_lua_arg_error(lua_State *L, int arg, const char *fmt, ...) HV_PRINTF(3, 4);
+#define arg_error hv_lua_arg_error
+
+/* Raise "bad argument" unless writing `path` is allowed (for module functions). Returns path. */
+const char *hv_lua_check_write(lua_State *L, int arg, const char *path);
+
+#endif

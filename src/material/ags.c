@@ -1,0 +1,232 @@
+/* src/material/ags.c - active grading sources (Wu 2.2.2, eq. 19-23): ranges d-, dg, d+ on a
+ * reference feature's distance, a distribution function f tabulated once over [0, dg], and
+ * start/end compositions Ms, Me: P = Ms + f(d - d-) (Me - Ms) in the gradient range, with the
+ * constant ranges taking f's boundary values so P is continuous (eq. 14); dg = 0 is a step (an
+ * MMO). Also Wu's 3-material distance-field paradigm (eq. 13) as a constructor. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/internal.h"
+#include "material_internal.h"
+
+static hv_status check_ranges(double dn, double dg, double dp)
+{
+    const char *names[3] = {"d- (negative constant range)", "dg (gradient range)",
+                            "d+ (positive constant range)"};
+    double v[3] = {dn, dg, dp};
+    for (int i = 0; i < 3; ++i)
+        if (!isfinite(v[i]) || v[i] < 0)
+            return hv_error_set(HV_ERR_INVALID, "%s must be >= 0 (got %g)", names[i], v[i]);
+    return HV_OK;
+}
+
+/* Sample f into the table; f must stay in [lo, hi] (within 1e-9). */
+static hv_status tabulate(hv_ags *a, const hv_dfn *f, double lo, double hi)
+{
+    double dg = a->d_grad, worst = 0, worst_d = 0, worst_f = 0;
+    for (int i = 0; i <= HV_AGS_TABLE; ++i) {
+        double d = dg * i / HV_AGS_TABLE;
+        double v = hv_dfn_eval(f, d, dg);
+        if (!isfinite(v))
+            return hv_error_set(HV_ERR_INVALID, "f = %s is not a number at d = %.6g", hv_dfn_describe(f), d);
+        double out = v < lo ? lo - v : v > hi ? v - hi : 0;
+        if (out > worst) {
+            worst = out;
+            worst_d = d;
+            worst_f = v;
+        }
+        a->table[i] = (float)HV_CLAMP(v, 0.0, 1.0);
+    }
+    if (worst > 1e-9)
+        return hv_error_set(HV_ERR_INVALID,
+                            "f = %s leaves [%g, %g] on the gradient range [0, %g]: f(%.6g) = %.6g",
+                            hv_dfn_describe(f), lo, hi, dg, worst_d, worst_f);
+    return HV_OK;
+}
+
+hv_status hv_ags_create(const hv_ags_desc *desc, hv_ags **out)
+{
+    *out = NULL;
+    if (!desc->frf) return hv_error_set(HV_ERR_INVALID, "grading source without a reference feature");
+    if (desc->m < 1 || desc->m > HV_MAX_MATERIALS)
+        return hv_error_set(HV_ERR_INVALID, "material count %d out of range [1, %d]", desc->m, HV_MAX_MATERIALS);
+    hv_status s = check_ranges(desc->d_neg, desc->d_grad, desc->d_pos);
+    if (s != HV_OK) return s;
+    if ((s = hv_composition_check(desc->ms, desc->m, "Ms")) != HV_OK ||
+        (s = hv_composition_check(desc->me, desc->m, "Me")) != HV_OK)
+        return s;
+    if (desc->d_grad > 0 && !desc->f)
+        return hv_error_set(HV_ERR_INVALID, "a gradient range dg = %g needs a distribution function f",
+                            desc->d_grad);
+    hv_ags *a = hv_calloc(1, sizeof *a);
+    if (!a) return HV_ERR_NOMEM;
+    a->refs = 1;
+    a->frf = hv_frf_retain(desc->frf);
+    a->d_neg = desc->d_neg;
+    a->d_grad = desc->d_grad;
+    a->d_pos = desc->d_pos;
+    a->m = desc->m;
+    memcpy(a->ms, desc->ms, (size_t)desc->m * sizeof(double));
+    memcpy(a->me, desc->me, (size_t)desc->m * sizeof(double));
+    snprintf(a->name, sizeof a->name, "%s", desc->name ? desc->name : "");
+    if (desc->d_grad > 0) {
+        snprintf(a->fdesc, sizeof a->fdesc, "%s", hv_dfn_describe(desc->f));
+        if ((s = tabulate(a, desc->f, 0.0, 1.0)) != HV_OK) {
+            hv_ags_release(a);
+            return s;
+        }
+    } else {
+        snprintf(a->fdesc, sizeof a->fdesc, "step");
+        a->table[0] = 0.0f; /* unused: the step is evaluated directly */
+    }
+    *out = a;
+    return HV_OK;
+}
+
+hv_status hv_ags_moved(const hv_ags *a, double d_neg, hv_ags **out)
+{
+    *out = NULL;
+    hv_status s = check_ranges(d_neg, a->d_grad, a->d_pos);
+    if (s != HV_OK) return s;
+    hv_ags *b = hv_malloc(sizeof *b);
+    if (!b) return HV_ERR_NOMEM;
+    memcpy(b, a, sizeof *b);
+    b->refs = 1;
+    b->d_neg = d_neg;
+    hv_frf_retain(b->frf);
+    *out = b;
+    return HV_OK;
+}
+
+hv_ags *hv_ags_retain(hv_ags *a)
+{
+    if (a) __atomic_add_fetch(&a->refs, 1, __ATOMIC_RELAXED);
+    return a;
+}
+
+void hv_ags_release(hv_ags *a)
+{
+    if (!a || __atomic_sub_fetch(&a->refs, 1, __ATOMIC_ACQ_REL) > 0) return;
+    hv_frf_release(a->frf);
+    free(a);
+}
+
+void hv_ags_eval(const hv_ags *a, double d, double *p)
+{
+    double w = hv_ags_weight(a, (float)d);
+    for (int j = 0; j < a->m; ++j) p[j] = a->ms[j] + w * (a->me[j] - a->ms[j]);
+}
+
+int hv_ags_materials(const hv_ags *a) { return a->m; }
+const hv_frf *hv_ags_frf(const hv_ags *a) { return a->frf; }
+const char *hv_ags_name(const hv_ags *a) { return a->name; }
+
+void hv_ags_ranges(const hv_ags *a, double *dn, double *dg, double *dp)
+{
+    if (dn) *dn = a->d_neg;
+    if (dg) *dg = a->d_grad;
+    if (dp) *dp = a->d_pos;
+}
+
+/* Wu eq. 13, P = [f, 1 - f - C, C], is Ms + w (Me - Ms) with Ms = [0, 1 - C, C],
+ * Me = [1 - C, 0, C] and w = f / (1 - C): the ordinary machinery evaluates it. */
+typedef struct wu3_ctx {
+    const hv_dfn *f;
+    double C, dg;
+} wu3_ctx;
+
+static double wu3_weight(void *user, double d)
+{
+    const wu3_ctx *c = user;
+    double v = hv_dfn_eval(c->f, d, c->dg);
+    return c->C < 1 ? v / (1 - c->C) : (v == 0 ? 0 : NAN);
+}
+
+hv_status hv_ags_wu3(hv_frf *frf, double d_neg, double d_grad, double d_pos, const hv_dfn *f, double C,
+                     hv_ags **out)
+{
+    *out = NULL;
+    if (!(C >= 0 && C <= 1))
+        return hv_error_set(HV_ERR_INVALID, "Wu eq. 13: the constant composition C = %g must be in [0, 1]", C);
+    if (!(d_grad > 0) || !f)
+        return hv_error_set(HV_ERR_INVALID, "Wu eq. 13 needs a gradient range dg > 0 and f");
+    hv_ags probe;
+    memset(&probe, 0, sizeof probe);
+    probe.d_grad = d_grad;
+    hv_status s = tabulate(&probe, f, 0.0, 1.0 - C);
+    if (s != HV_OK) return hv_error_prefix(s, "Wu eq. 13 (C = %g): ", C);
+    wu3_ctx ctx = {f, C, d_grad};
+    char desc[300];
+    snprintf(desc, sizeof desc, "wu3(C=%g, f=%s)", C, hv_dfn_describe(f));
+    hv_dfn *w;
+    if ((s = hv_dfn_function(wu3_weight, &ctx, desc, &w)) != HV_OK) return s;
+    double ms[3] = {0, 1 - C, C}, me[3] = {1 - C, 0, C};
+    hv_ags_desc d = {frf, d_neg, d_grad, d_pos, w, ms, me, 3, "wu3"};
+    s = hv_ags_create(&d, out);
+    hv_dfn_destroy(w);
+    return s;
+}
+
+void hv_ags_json(hv_buf *b, const hv_ags *a, int feature)
+{
+    hv_buf_puts(b, "{\"name\": ");
+    hv_buf_json_string(b, a->name);
+    hv_buf_printf(b, ", \"feature\": %d, \"feature_text\": ", feature);
+    hv_buf_json_string(b, hv_frf_describe(a->frf));
+    hv_buf_puts(b, ", \"d_neg\": ");
+    hv_buf_json_number(b, a->d_neg);
+    hv_buf_puts(b, ", \"d_grad\": ");
+    hv_buf_json_number(b, a->d_grad);
+    hv_buf_puts(b, ", \"d_pos\": ");
+    hv_buf_json_number(b, a->d_pos);
+    hv_buf_puts(b, ", \"f\": ");
+    hv_buf_json_string(b, a->fdesc);
+    const double *vec[2] = {a->ms, a->me};
+    for (int v = 0; v < 2; ++v) {
+        hv_buf_puts(b, v ? ", \"me\": [" : ", \"ms\": [");
+        for (int j = 0; j < a->m; ++j) {
+            if (j) hv_buf_puts(b, ", ");
+            hv_buf_json_number(b, vec[v][j]);
+        }
+        hv_buf_puts(b, "]");
+    }
+    if (a->d_grad > 0) { /* the tabulated f: what evaluation uses, so a reload is exact */
+        hv_buf_puts(b, ", \"table\": [");
+        for (int i = 0; i <= HV_AGS_TABLE; ++i) {
+            if (i) hv_buf_puts(b, ",");
+            hv_buf_json_number(b, (double)a->table[i]);
+        }
+        hv_buf_puts(b, "]");
+    }
+    hv_buf_puts(b, "}");
+}
+
+hv_status hv_ags_from_parts(hv_frf *frf, double d_neg, double d_grad, double d_pos, const float *table,
+                            const char *fdesc, const double *ms, const double *me, int m,
+                            const char *name, hv_ags **out)
+{
+    *out = NULL;
+    hv_ags_desc d = {frf, d_neg, 0, d_pos, NULL, ms, me, m, name};
+    hv_status s = hv_ags_create(&d, out);
+    if (s != HV_OK) return s;
+    hv_ags *a = *out;
+    if (!(d_grad >= 0) || !isfinite(d_grad)) {
+        hv_ags_release(a);
+        *out = NULL;
+        return hv_error_set(HV_ERR_INVALID, "dg must be >= 0 (got %g)", d_grad);
+    }
+    a->d_grad = d_grad;
+    if (d_grad > 0) {
+        for (int i = 0; i <= HV_AGS_TABLE; ++i) {
+            if (!(table[i] >= 0.0f && table[i] <= 1.0f)) {
+                hv_ags_release(a);
+                *out = NULL;
+                return hv_error_set(HV_ERR_INVALID, "stored f table: entry %d is %g, not in [0, 1]", i, (double)table[i]);
+            }
+            a->table[i] = table[i];
+        }
+    }
+    snprintf(a->fdesc, sizeof a->fdesc, "%s", fdesc ? fdesc : "");
+    return HV_OK;
+}

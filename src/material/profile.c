@@ -1,0 +1,232 @@
+/* src/material/profile.c - material distribution on a sample line (Wu 2.3, Fig. 26): a graded
+ * model probed at n points of a segment, written as CSV and turned into a plot. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/internal.h"
+#include "hovox/profile.h"
+
+struct hv_profile {
+    int n, m;
+    double from[3], to[3], length;
+    hv_material_table *table;
+    double *t;           /* n */
+    double *pos;         /* 3n */
+    unsigned char *in;   /* n */
+    double *frac;        /* n*m, row i at frac + i*m */
+};
+
+typedef struct sample_job {
+    const hv_volume *vol;
+    hv_profile *p;
+    int grids[HV_MAX_MATERIALS];
+} sample_job;
+
+static hv_status sample_range(void *ctx, size_t begin, size_t end, int thread)
+{
+    (void)thread;
+    sample_job *job = ctx;
+    hv_profile *p = job->p;
+    hv_accessor acc;
+    hv_accessor_init(&acc, job->vol);
+    for (size_t i = begin; i < end; ++i) {
+        /* (1-u)*a + u*b hits both end points exactly */
+        double u = (double)i / (double)(p->n - 1);
+        double *x = p->pos + 3 * i;
+        for (int a = 0; a < 3; ++a) x[a] = (1.0 - u) * p->from[a] + u * p->to[a];
+        p->t[i] = u * p->length;
+        int inside;
+        hv_model_probe(&acc, p->table, job->grids, x, &inside, p->frac + i * (size_t)p->m);
+        p->in[i] = (unsigned char)(inside != 0);
+    }
+    return HV_OK;
+}
+
+hv_status hv_profile_sample(const hv_volume *vol, const double from[3], const double to[3], int n,
+                            hv_profile **out)
+{
+    *out = NULL;
+    if (n < 2) return hv_error_set(HV_ERR_INVALID, "profile: %d samples; at least 2 are needed", n);
+    for (int a = 0; a < 3; ++a)
+        if (!isfinite(from[a]) || !isfinite(to[a]))
+            return hv_error_set(HV_ERR_INVALID, "profile: end points (%g, %g, %g) and (%g, %g, %g) must be finite",
+                                from[0], from[1], from[2], to[0], to[1], to[2]);
+    double len = sqrt((to[0] - from[0]) * (to[0] - from[0]) + (to[1] - from[1]) * (to[1] - from[1]) +
+                      (to[2] - from[2]) * (to[2] - from[2]));
+    if (!(len > 0))
+        return hv_error_set(HV_ERR_INVALID, "profile: the line from (%g, %g, %g) to (%g, %g, %g) has length 0",
+                            from[0], from[1], from[2], to[0], to[1], to[2]);
+    if (!isfinite(len))
+        return hv_error_set(HV_ERR_INVALID, "profile: the line from (%g, %g, %g) to (%g, %g, %g) is too long",
+                            from[0], from[1], from[2], to[0], to[1], to[2]);
+    hv_material_table *table;
+    hv_status s = hv_material_table_load(vol, &table);
+    if (s != HV_OK) return s;
+    hv_profile *p = hv_calloc(1, sizeof *p);
+    if (!p) {
+        hv_material_table_destroy(table);
+        return HV_ERR_NOMEM;
+    }
+    p->table = table;
+    p->n = n;
+    p->m = hv_material_count(table);
+    p->length = len;
+    memcpy(p->from, from, sizeof p->from);
+    memcpy(p->to, to, sizeof p->to);
+    p->t = hv_malloc_array((size_t)n, sizeof *p->t);
+    p->pos = hv_malloc_array((size_t)n, 3 * sizeof *p->pos);
+    p->in = hv_malloc((size_t)n);
+    p->frac = hv_malloc_array((size_t)n, (size_t)HV_MAX(p->m, 1) * sizeof *p->frac);
+    if (!p->t || !p->pos || !p->in || !p->frac) {
+        s = HV_ERR_NOMEM;
+        hv_profile_destroy(p);
+        return s;
+    }
+    sample_job job;
+    job.vol = vol;
+    job.p = p;
+    for (int k = 0; k < p->m; ++k) job.grids[k] = hv_material_grid(vol, table, k);
+    s = hv_parallel_for((size_t)n, 4096, sample_range, &job, NULL, "profile");
+    if (s != HV_OK) {
+        hv_profile_destroy(p);
+        return s;
+    }
+    *out = p;
+    return HV_OK;
+}
+
+void hv_profile_destroy(hv_profile *p)
+{
+    if (!p) return;
+    hv_material_table_destroy(p->table);
+    free(p->t);
+    free(p->pos);
+    free(p->in);
+    free(p->frac);
+    free(p);
+}
+
+int hv_profile_samples(const hv_profile *p) { return p->n; }
+int hv_profile_materials(const hv_profile *p) { return p->m; }
+double hv_profile_length(const hv_profile *p) { return p->length; }
+const hv_material_table *hv_profile_table(const hv_profile *p) { return p->table; }
+
+void hv_profile_segment(const hv_profile *p, double from[3], double to[3])
+{
+    memcpy(from, p->from, sizeof p->from);
+    memcpy(to, p->to, sizeof p->to);
+}
+
+double hv_profile_t(const hv_profile *p, int i) { return p->t[i]; }
+
+void hv_profile_position(const hv_profile *p, int i, double xyz[3])
+{
+    memcpy(xyz, p->pos + 3 * (size_t)i, 3 * sizeof *xyz);
+}
+
+int hv_profile_inside(const hv_profile *p, int i) { return p->in[i]; }
+
+const double *hv_profile_fractions(const hv_profile *p, int i) { return p->frac + (size_t)i * p->m; }
+
+/* ---- CSV -------------------------------------------------------------------------------- */
+
+/* Rows go out in blocks of about 64 KiB: one stdio call per block, not per sample. `what`
+ * names the output in messages. */
+static hv_status csv_emit(const hv_profile *p, FILE *fp, const char *what)
+{
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_puts(&b, "t,x,y,z,inside");
+    for (int k = 0; k < p->m; ++k) {
+        hv_buf_puts(&b, ",");
+        hv_buf_puts(&b, hv_material_name(p->table, k));
+    }
+    hv_buf_puts(&b, "\n");
+    hv_status s = HV_OK;
+    for (int i = 0; i < p->n && s == HV_OK; ++i) {
+        const double *x = p->pos + 3 * (size_t)i, *f = p->frac + (size_t)i * p->m;
+        hv_buf_printf(&b, "%.9g,%.9g,%.9g,%.9g,%d", p->t[i], x[0], x[1], x[2], p->in[i]);
+        for (int k = 0; k < p->m; ++k) hv_buf_printf(&b, ",%.6g", f[k]);
+        hv_buf_puts(&b, "\n");
+        if (b.failed) {
+            s = hv_error_set(HV_ERR_NOMEM, "%s: out of memory formatting the CSV", what);
+        } else if (b.len >= 1 << 16 || i == p->n - 1) {
+            if (fwrite(b.data, 1, b.len, fp) != b.len)
+                s = hv_error_set(HV_ERR_IO, "%s: write failed: %s", what, strerror(errno));
+            b.len = 0;
+            b.data[0] = '\0';
+        }
+    }
+    hv_buf_free(&b);
+    if (s == HV_OK && (fflush(fp) != 0 || ferror(fp)))
+        s = hv_error_set(HV_ERR_IO, "%s: write failed: %s", what, strerror(errno));
+    return s;
+}
+
+hv_status hv_profile_write_csv_stream(const hv_profile *p, FILE *fp)
+{
+    return csv_emit(p, fp, "profile CSV");
+}
+
+hv_status hv_profile_write_csv(const hv_profile *p, const char *path)
+{
+    hv_atomic_file af;
+    hv_status s = hv_atomic_open(&af, path, "w");
+    if (s != HV_OK) return s;
+    if ((s = csv_emit(p, af.fp, path)) != HV_OK) {
+        hv_atomic_abort(&af);
+        return s;
+    }
+    return hv_atomic_commit(&af);
+}
+
+/* ---- plot ------------------------------------------------------------------------------- */
+
+hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out)
+{
+    *out = NULL;
+    hv_plot *pl;
+    hv_status s = hv_plot_create(width, height, &pl);
+    if (s != HV_OK) return s;
+    double *y = hv_malloc_array((size_t)p->n, sizeof *y);
+    if (!y) {
+        hv_plot_destroy(pl);
+        return HV_ERR_NOMEM;
+    }
+    char sub[256];
+    snprintf(sub, sizeof sub, "from (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g), %d samples", p->from[0],
+             p->from[1], p->from[2], p->to[0], p->to[1], p->to[2], p->n);
+    s = hv_plot_set_x(pl, p->t, (size_t)p->n);
+    if (s == HV_OK) s = hv_plot_set_title(pl, "Material fractions along a line", sub);
+    if (s == HV_OK) s = hv_plot_set_labels(pl, "distance along the line (mm)", "material fraction");
+    for (int k = 0; k < p->m && s == HV_OK; ++k) {
+        for (int i = 0; i < p->n; ++i) y[i] = p->in[i] ? p->frac[(size_t)i * p->m + k] : NAN;
+        float c[4];
+        hv_material_color(p->table, k, c);
+        c[3] = 1.0f;
+        s = hv_plot_add_series(pl, hv_material_name(p->table, k), y, c, NULL);
+    }
+    /* outside stretches: each run of outside samples, widened to the midpoints with its
+     * inside neighbours (the boundary lies somewhere between them) */
+    for (int i = 0; i < p->n && s == HV_OK;) {
+        if (p->in[i]) {
+            ++i;
+            continue;
+        }
+        int j = i;
+        while (j + 1 < p->n && !p->in[j + 1]) ++j;
+        double a = i > 0 ? 0.5 * (p->t[i - 1] + p->t[i]) : p->t[0];
+        double b = j + 1 < p->n ? 0.5 * (p->t[j] + p->t[j + 1]) : p->t[p->n - 1];
+        s = hv_plot_add_span(pl, a, b, "outside the object");
+        i = j + 1;
+    }
+    free(y);
+    if (s != HV_OK) {
+        hv_plot_destroy(pl);
+        return s;
+    }
+    *out = pl;
+    return HV_OK;
+}

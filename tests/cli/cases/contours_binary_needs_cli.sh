@@ -1,0 +1,1 @@
+$HOVOX contours tests/data/good/tet_ascii.stl --layer-height 0.1 --binary -o "$TMP/x.svg"

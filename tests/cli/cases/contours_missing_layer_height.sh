@@ -1,0 +1,1 @@
+$HOVOX contours tests/data/good/tet_ascii.stl -o "$TMP/x.cli"

@@ -1,0 +1,1 @@
+$HOVOX contours "$TMP/nothing.stl" --layer-height 0.1 -o "$TMP/x.cli"

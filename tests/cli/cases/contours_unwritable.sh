@@ -1,0 +1,1 @@
+$HOVOX contours tests/data/good/tet_ascii.stl --layer-height 0.1 -o /nonexistent-dir/x.cli

@@ -1,0 +1,1 @@
+$HOVOX probe "$TMP/none.vdb" 1,2,3

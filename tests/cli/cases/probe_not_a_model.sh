@@ -1,0 +1,1 @@
+$HOVOX probe tests/data/good/tet_ascii.stl 1,2,3

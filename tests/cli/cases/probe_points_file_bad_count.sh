@@ -1,0 +1,2 @@
+printf "1,2,3\n4,5\n" > "$TMP/p.csv"
+$HOVOX probe tests/data/models/gap3.vdb --points "$TMP/p.csv"

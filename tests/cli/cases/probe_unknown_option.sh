@@ -1,0 +1,1 @@
+$HOVOX probe tests/data/models/gap3.vdb 1,2,3 --frobnicate

@@ -1,0 +1,1 @@
+$HOVOX run tests/lua/scripts/args.lua one two

@@ -1,0 +1,1 @@
+$HOVOX run tests/lua/scripts/no_such_script.lua

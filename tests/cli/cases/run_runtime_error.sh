@@ -1,0 +1,1 @@
+$HOVOX run tests/lua/scripts/runtime_error.lua

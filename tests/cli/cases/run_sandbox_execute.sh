@@ -1,0 +1,1 @@
+$HOVOX run --sandbox tests/lua/scripts/sandbox_execute.lua

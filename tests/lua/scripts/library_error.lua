@@ -1,0 +1,2 @@
+print("loading")
+local mesh = hovox.load_mesh("no/such/mesh.stl")

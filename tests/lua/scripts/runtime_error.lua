@@ -1,0 +1,3 @@
+local m = hovox.generate.box{}
+
+error("boom")

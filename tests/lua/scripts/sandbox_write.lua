@@ -1,0 +1,13 @@
+local out = arg[1]
+local f = assert(io.open(out .. "/inside.txt", "w"))
+f:write("ok\n")
+f:close()
+hovox.generate.box{}:save(out .. "/box.stl")
+print("inside writes work")
+local ok, err = pcall(io.open, "/tmp/hovox-sandbox-escape.txt", "w")
+print(ok, err)
+ok, err = pcall(function() hovox.generate.box{}:save(out .. "/../escape.stl") end)
+print(ok, err)
+ok, err = pcall(io.popen, "ls")
+print(ok, err)
+print(io.open(out .. "/inside.txt"):read("l"))

@@ -1,0 +1,1 @@
+local model = hovox.voxelize("box.stl", {dims = 8})

@@ -1,0 +1,197 @@
+-- tests/lua/test_api.lua - every function of the hovox Lua module, checked against values
+-- computed here. Run: hovox run tests/lua/test_api.lua TMPDIR SHARED
+local tmp, shared = arg[1], arg[2]
+assert(tmp and shared, "usage: test_api.lua TMPDIR SHARED")
+local function near(a, b, tol, what)
+    assert(math.abs(a - b) <= (tol or 1e-9), string.format("%s: %.9g vs %.9g", what or "value", a, b))
+end
+local function fails(pattern, fn, ...)
+    local ok, err = pcall(fn, ...)
+    assert(not ok, "expected an error matching " .. pattern)
+    assert(tostring(err):find(pattern, 1, true), "error '" .. tostring(err) .. "' lacks '" .. pattern .. "'")
+end
+
+-- module
+assert(type(hovox.version) == "string")
+assert(require("hovox") == hovox)
+hovox.set_threads(2)
+hovox.set_threads(0)
+
+-- meshes: load, report, count, save
+local bunny = hovox.load_mesh(shared .. "/meshes/bunny_1500.stl")
+local r = bunny:report()
+assert(r.facets == 1500 and r.closed and r.shells == 1 and r.format == "ascii")
+assert(#r.bbox.min == 3)
+local nf, nv = bunny:count()
+assert(nf == 1500 and nv == r.vertices)
+bunny:save(tmp .. "/bunny.stl")
+bunny:save(tmp .. "/bunny_ascii.stl", {ascii = true})
+assert(hovox.load_mesh(tmp .. "/bunny.stl"):report().format == "binary")
+assert(tostring(bunny):find("1500 facets"))
+fails("No such file", hovox.load_mesh, tmp .. "/missing.stl")
+
+-- generators
+local s = hovox.generate.sphere{radius = 5, segments = 32, rings = 16}
+near(s:report().volume, 4 / 3 * math.pi * 125, 10, "sphere volume (32 x 16 polygon)")
+assert(hovox.generate.box{min = {0, 0, 0}, max = {1, 2, 3}}:report().volume == 6)
+assert(hovox.generate.box{min = {0, 0, 0}, max = {40, 30, 20}, hole = 8}:report().closed)
+assert(hovox.generate.torus{R = 10, r = 2}:report().closed)
+assert(hovox.generate.cylinder{length = 10, radius = 2}:report().closed)
+assert(hovox.generate.gear{}:report().closed)
+assert(hovox.generate.knot{facets = 20000}:report().facets >= 19000)
+fails("radius", hovox.generate.sphere, {radius = -1})
+fails("segments must be an integer", hovox.generate.sphere, {segments = 2.5})
+
+-- voxelize, models
+local box = hovox.generate.box{min = {0, 0, 0}, max = {20, 10, 10}}
+local m = hovox.voxelize(box, {dims = 40, adjacency = 6, fill = "flood"})
+local g = m:grids()
+assert(g[1].name == "occupancy" and g[1].type == "bool" and g[2].name == "surface")
+local xf = m:transform()
+near(xf.voxel[1], 0.5, 1e-12, "voxel size")
+assert(m:voxels() == m:voxels("occupancy"))
+assert(m:voxels("surface") < m:voxels())
+assert(m:meta("hovox.voxelize.json"):find('"adjacency": 6'))
+assert(m:meta("nothing") == nil)
+m:save(tmp .. "/box.vdb")
+local m2 = hovox.load(tmp .. "/box.vdb")
+assert(m2:voxels() == m:voxels())
+local aniso = hovox.voxelize(box, {dims = {40, 10, 10}})
+near(aniso:transform().voxel[2], 1.0, 1e-12, "anisotropic voxel")
+local snapped = hovox.voxelize(box, {voxel_size = 0.5})
+local like = hovox.voxelize(hovox.generate.box{min = {3, 3, 3}, max = {7, 7, 7}}, {like = snapped})
+near(like:transform().origin[1], snapped:transform().origin[1], 1e-12, "same lattice")
+fails("adjacency must be 6 or 26", hovox.voxelize, box, {adjacency = 18})
+fails("fill must be", hovox.voxelize, box, {fill = "magic"})
+fails("dims must be", hovox.voxelize, box, {dims = "x"})
+fails("needs about", hovox.voxelize, box, {dims = 4000, max_memory = 1e6})
+
+-- materials
+local mats = hovox.materials{
+    {name = "A", color = "#ff0000", density = 1000, youngs_modulus = 1e9},
+    "B",
+    {name = "C", color = {0, 0, 1}},
+}
+assert(mats:count() == 3)
+assert(table.concat(mats:names(), ",") == "A,B,C")
+assert(mats:color("A")[1] == 1 and mats:color("C")[3] == 1)
+local v, unit = mats:property("A", "density")
+assert(v == 1000 and unit == "kg/m^3")
+assert(mats:property("B", "density") == nil)
+fails("defined twice", hovox.materials, {"A", "A"})
+fails("colour", hovox.materials, {{name = "X", color = "#12"}})
+
+-- features
+local axis = hovox.axis{origin = {0, 5, 5}, direction = {1, 0, 0}}
+near(axis:distance{3, 5, 8}, 3, 1e-12, "axis distance")
+near(hovox.line{direction = {0, 0, 2}}:distance{3, 4, 9}, 5, 1e-12, "line distance")
+near(hovox.plane{point = {0, 0, 1}, normal = {0, 0, 5}}:distance{7, 7, 4}, 3, 1e-12, "plane")
+near(hovox.point{1, 1, 1}:distance{1, 1, 3}, 2, 1e-12, "point")
+near(hovox.point{point = {1, 1, 1}}:distance{1, 1, 3}, 2, 1e-12, "point table")
+near(hovox.segment{from = {0, 0, 0}, to = {10, 0, 0}}:distance{15, 3, 4}, math.sqrt(25 + 25), 1e-12, "segment")
+local contour = m:contour()
+assert(tostring(contour):find("contour"))
+near(contour:distance({10, 5, 5}, m), 5, 0.6, "contour depth")
+local bottom = hovox.facets(box, {normal = {0, 0, -1}, angle = 5})
+near(bottom:distance({10, 5, 4}, m), 4, 0.6, "facet group distance")
+local mask = m:mask("surface")
+near(mask:distance({10, 5, 5}, m), 4.5, 0.6, "mask distance")
+fails("direction must not be zero", hovox.axis, {direction = {0, 0, 0}})
+fails("voxel features need the model", contour.distance, contour, {1, 1, 1})
+fails("no bool grid 'nope'", m.mask, m, "nope")
+fails("picks no facet", hovox.facets, box, {normal = {1, 1, 1}, angle = 1})
+
+-- sources
+local src = hovox.ags{feature = axis, d_neg = 1, d_grad = 4, d_pos = 0, f = "d/dg",
+                      ms = {1, 0, 0}, me = {0, 1, 0}, name = "radial"}
+local p = src:eval(3)
+near(p[1], 0.5, 1e-6, "eval")
+near(p[1] + p[2] + p[3], 1, 1e-12, "sum")
+local a, b, c = src:ranges()
+assert(a == 1 and b == 4 and c == 0)
+near(src:moved(2):eval(3)[1], 0.75, 1e-6, "moved")
+local calls = 0
+local luaf = hovox.ags{feature = axis, d_grad = 2, ms = {1, 0, 0}, me = {0, 0, 1},
+                       f = function(d) calls = calls + 1; return (d / 2) ^ 2 end}
+near(luaf:eval(1)[3], 0.25, 1e-5, "lua f")
+assert(calls == 4097, "a Lua f is tabulated once: " .. calls .. " calls")
+near(hovox.ags{feature = axis, d_grad = 2, ms = {1, 0, 0}, me = {0, 1, 0}, f = {kind = "smoothstep"}}:eval(1)[2],
+     0.5, 1e-6, "smoothstep")
+near(hovox.ags{feature = axis, d_grad = 4, ms = {1, 0, 0}, me = {0, 1, 0},
+               f = {kind = "table", points = {{0, 0}, {2, 1}, {4, 1}}}}:eval(1)[2], 0.5, 1e-6, "table f")
+near(hovox.ags{feature = axis, d_grad = 10, ms = {1, 0, 0}, me = {0, 1, 0},
+               f = {kind = "sine", k = 0.1}}:eval(5)[2], math.sin(0.5), 1e-5, "sine f")
+near(hovox.ags{feature = axis, d_grad = 2, ms = {1, 0, 0}, me = {0, 1, 0}, f = {kind = "power", p = 3}}:eval(1)[2],
+     0.125, 1e-5, "power f")
+local step = hovox.ags{feature = axis, d_neg = 2, ms = {1, 0, 0}, me = {0, 1, 0}}
+assert(step:eval(1.9)[1] == 1 and step:eval(2)[2] == 1)
+fails("d_grad must be >= 0, got -1", hovox.ags, {feature = axis, d_grad = -1, ms = {1}, me = {1}})
+fails("ms = [0.5, 0.6] sums to 1.1", hovox.ags, {feature = axis, ms = {0.5, 0.6}, me = {0, 1}})
+fails("ms has 2 values and me 3", hovox.ags, {feature = axis, ms = {0, 1}, me = {0, 0, 1}})
+fails("feature must be a hovox feature", hovox.ags, {feature = 3, ms = {1}, me = {1}})
+fails("f(2) = 1.0017", hovox.ags, {feature = axis, d_grad = 2, f = "0.50085*d", ms = {1, 0}, me = {0, 1}})
+fails("f failed", hovox.ags, {feature = axis, d_grad = 2, f = function() error("boom") end, ms = {1, 0}, me = {0, 1}})
+fails("unknown name 'x'", hovox.ags, {feature = axis, d_grad = 2, f = "x", ms = {1, 0}, me = {0, 1}})
+
+-- objects and operators
+local o = hovox.object(m, mats)
+assert(o:voxels() == m:voxels() and #o:regions() == 1)
+local added = o:add_ags(src)
+assert(added == src)
+local s2 = o:add_ags{feature = hovox.plane{normal = {1, 0, 0}}, d_grad = 20, ms = {0, 0, 1}, me = {0, 1, 0}}
+assert(o:regions()[1].sources == 2)
+o:set_blend("idw", 2)
+o:set_blend("nearest")
+o:move_ags(src, 0.5)
+o:delete_ags(s2)
+assert(o:regions()[1].sources == 1)
+o:set_base{0, 0, 1}
+-- method calls name the method and count arguments after self, as Lua does
+fails("bad argument #1 to 'set_base' (base = [0.5, 0.6, 0] sums to 1.1", function() o:set_base{0.5, 0.6, 0} end)
+fails("bad argument #1 to 'add_ags' (d_grad must be >= 0, got -1)",
+      function() o:add_ags{feature = axis, d_grad = -1, ms = {1, 0, 0}, me = {1, 0, 0}} end)
+fails("no such grading source", o.delete_ags, o, s2)
+fails("invalid option 'magic'", o.set_blend, o, "magic")
+local graded = o:evaluate()
+local inside, f = graded:probe{10, 5, 6}
+assert(inside)
+near(f.A + f.B + f.C, 1, 1e-5, "probe sums to one")
+near(f[1], f.A, 0, "indexed and named")
+-- at distance 1 from the axis (d_neg moved to 0.5, dg 4): w = 0.125
+near(f.B, 0.125, 0.02, "moved source at the probe")
+local out_inside = graded:probe{100, 100, 100}
+assert(not out_inside)
+graded:save(tmp .. "/graded.vdb")
+local back = hovox.load(tmp .. "/graded.vdb")
+local _, fb = back:probe{10, 5, 6}
+near(fb.B, f.B, 1e-6, "reloaded")
+local prof = graded:profile{from = {0, 5, 5}, to = {20, 5, 5}, samples = 21, csv = tmp .. "/p.csv",
+                            plot = tmp .. "/p.png", title = "test"}
+assert(#prof.t == 21 and #prof.A == 21 and prof.inside[11])
+near(prof.t[21], 20, 1e-9, "profile length")
+assert(io.open(tmp .. "/p.csv"):read("l") == "t,x,y,z,inside,A,B,C")
+fails("samples must be", graded.profile, graded, {from = {0, 0, 0}, to = {1, 1, 1}, samples = 1})
+
+-- Booleans on one lattice: two boxes overlapping
+local b1 = hovox.voxelize(hovox.generate.box{min = {0, 0, 0}, max = {10, 10, 10}}, {voxel_size = 0.5})
+local b2 = hovox.voxelize(hovox.generate.box{min = {5, 0, 0}, max = {15, 10, 10}}, {voxel_size = 0.5})
+local h1, h2 = hovox.object(b1, mats), hovox.object(b2, mats)
+h1:add_ags{feature = hovox.point{0, 0, 0}, ms = {1, 0, 0}, me = {1, 0, 0}}
+h2:add_ags{feature = hovox.point{0, 0, 0}, ms = {0, 1, 0}, me = {0, 1, 0}}
+local n1, n2 = h1:voxels(), h2:voxels()
+local inter = h1:intersect(h2)
+local uni, diff, merged, sub = h1:union(h2), h1:difference(h2), h1:merge(h2), h1:subtract(h2)
+assert(#uni:regions() == 3 and #diff:regions() == 2 and #merged:regions() == 1)
+assert(uni:voxels() == merged:voxels() and uni:voxels() == n1 + n2 - inter:voxels())
+assert(sub:voxels() == n1 - inter:voxels() and diff:voxels() == n1)
+local gd = diff:evaluate()
+local _, left = gd:probe{2, 5, 5}
+local _, overlap = gd:probe{7.5, 5, 5}
+assert(left.A > 0.99 and overlap.B > 0.99, "difference: H2's material in the overlap (Wu eq. 29)")
+fails("different voxel lattices", h1.union, h1, hovox.object(aniso, mats))
+
+-- explicit freeing
+gd:free()
+fails("object was freed", gd.voxels, gd)
+collectgarbage()
+print("test_api.lua: all checks passed")

@@ -9,6 +9,7 @@
 
 #include "../core/internal.h"
 #include "hovox/profile.h"
+#include "hovox/slice.h"
 #include "lhovox.h"
 
 const luaL_Reg *hv_lua_model_extra(void);
@@ -110,6 +111,144 @@ static int model_profile(lua_State *L)
     return 1;
 }
 
+/* ---- contours ------------------------------------------------------------------------------ */
+
+typedef struct contour_run {
+    lua_State *L;
+    hv_contour_writer *writer;
+    int keep_loops;
+    int table; /* stack index of the result list */
+} contour_run;
+
+static void push_loops(lua_State *L, const hv_slice *slice)
+{
+    size_t n = hv_slice_loop_count(slice);
+    const hv_slice_loop *loops = hv_slice_loops(slice);
+    lua_createtable(L, (int)n, 0);
+    for (size_t i = 0; i < n; ++i) {
+        const hv_slice_loop *lp = &loops[i];
+        lua_createtable(L, 0, 6);
+        lua_createtable(L, (int)lp->count, 0);
+        for (size_t k = 0; k < lp->count; ++k) {
+            lua_createtable(L, 2, 0);
+            lua_pushnumber(L, lp->xy[2 * k]);
+            lua_rawseti(L, -2, 1);
+            lua_pushnumber(L, lp->xy[2 * k + 1]);
+            lua_rawseti(L, -2, 2);
+            lua_rawseti(L, -2, (lua_Integer)k + 1);
+        }
+        lua_setfield(L, -2, "points");
+        lua_pushboolean(L, lp->closed);
+        lua_setfield(L, -2, "closed");
+        lua_pushinteger(L, lp->orientation);
+        lua_setfield(L, -2, "orientation");
+        lua_pushinteger(L, lp->parent >= 0 ? lp->parent + 1 : 0);
+        lua_setfield(L, -2, "parent");
+        lua_pushnumber(L, lp->area);
+        lua_setfield(L, -2, "area");
+        lua_rawseti(L, -2, (lua_Integer)i + 1);
+    }
+}
+
+/* Runs on the calling thread, in layer order (hv_slicer_slice_plan's sink contract). */
+static hv_status contour_sink(void *user, size_t index, const hv_layer *layer, hv_slice **slice)
+{
+    contour_run *r = user;
+    lua_State *L = r->L;
+    const hv_slice_stats *st = hv_slice_get_stats(*slice);
+    if (!lua_checkstack(L, 8)) return hv_error_set(HV_ERR_NOMEM, "Lua stack exhausted");
+    lua_createtable(L, 0, 9);
+    lua_pushnumber(L, layer->z);
+    lua_setfield(L, -2, "z");
+    lua_pushnumber(L, layer->bottom);
+    lua_setfield(L, -2, "bottom");
+    lua_pushnumber(L, layer->top);
+    lua_setfield(L, -2, "top");
+    lua_pushnumber(L, st->area);
+    lua_setfield(L, -2, "area");
+    lua_pushinteger(L, (lua_Integer)st->loops);
+    lua_setfield(L, -2, "loops");
+    lua_pushinteger(L, (lua_Integer)st->holes);
+    lua_setfield(L, -2, "holes");
+    lua_pushinteger(L, (lua_Integer)st->open);
+    lua_setfield(L, -2, "open");
+    if (r->keep_loops) {
+        push_loops(L, *slice);
+        lua_setfield(L, -2, "contours");
+    }
+    lua_rawseti(L, r->table, (lua_Integer)index + 1);
+    return r->writer ? hv_contour_writer_add(r->writer, layer, *slice) : HV_OK;
+}
+
+/* hovox.contours(mesh, {layer_height = H, first_layer = H0, adaptive = {min, max[, cusp]},
+ *                       output = "x.svg" | "x.cli", binary = false, loops = true})
+ *   -> { {z, bottom, top, area, loops, holes, open, contours = { {points, closed,
+ *        orientation, parent, area}, ... }}, ... } */
+static int l_contours(lua_State *L)
+{
+    hv_mesh *mesh = hv_lua_mesh(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    lua_getfield(L, 2, "layer_height");
+    double h = luaL_optnumber(L, -1, 0);
+    lua_pop(L, 1);
+    double ad[3] = {0, 0, 0};
+    lua_getfield(L, 2, "adaptive");
+    int adaptive = lua_istable(L, -1);
+    if (adaptive) {
+        for (int i = 0; i < 3; ++i) {
+            lua_rawgeti(L, -1, i + 1);
+            ad[i] = lua_isnil(L, -1) && i == 2 ? 0 : luaL_checknumber(L, -1);
+            lua_pop(L, 1);
+        }
+        if (ad[2] == 0) ad[2] = ad[0];
+        if (!(ad[0] > 0 && ad[1] >= ad[0])) return arg_error(L, 2, "adaptive must be {min, max[, cusp]} with 0 < min <= max");
+    }
+    lua_pop(L, 1);
+    if (!adaptive && !(h > 0)) return arg_error(L, 2, "layer_height must be > 0, got %g", h);
+    lua_getfield(L, 2, "first_layer");
+    double first = luaL_optnumber(L, -1, adaptive ? ad[0] : h);
+    lua_pop(L, 1);
+    if (!(first > 0)) return arg_error(L, 2, "first_layer must be > 0, got %g", first);
+    const char *output = get_path(L, 2, "output");
+    lua_getfield(L, 2, "binary");
+    int binary = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "loops");
+    int keep = lua_isnil(L, -1) ? 1 : lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    hv_contour_format fmt = HV_CONTOUR_SVG;
+    if (output) {
+        size_t n = strlen(output);
+        if (n > 4 && strcmp(output + n - 4, ".cli") == 0) fmt = binary ? HV_CONTOUR_CLI_BINARY : HV_CONTOUR_CLI_ASCII;
+        else if (!(n > 4 && strcmp(output + n - 4, ".svg") == 0)) return arg_error(L, 2, "output must end in .svg or .cli");
+    }
+    hv_slicer *slicer = NULL;
+    hv_layer_plan *plan = NULL;
+    hv_status s = hv_slicer_create(mesh, NULL, &slicer);
+    if (s == HV_OK)
+        s = adaptive ? hv_slicer_plan_adaptive(slicer, first, ad[0], ad[1], ad[2], &plan)
+                     : hv_slicer_plan_uniform(slicer, first, h, &plan);
+    lua_createtable(L, plan ? (int)HV_MIN(hv_layer_plan_count(plan), (size_t)1 << 20) : 0, 0);
+    contour_run run = {L, NULL, keep, lua_gettop(L)};
+    if (s == HV_OK && output) {
+        hv_slicer_info info;
+        hv_slicer_get_info(slicer, &info);
+        s = hv_contour_writer_open(output, fmt, hv_layer_plan_count(plan), info.bbox_min, info.bbox_max, "hovox",
+                                   &run.writer);
+    }
+    hv_slice_options so;
+    hv_slice_options_init(&so);
+    if (s == HV_OK) s = hv_slicer_slice_plan(slicer, plan, &so, contour_sink, &run, NULL);
+    if (run.writer) {
+        if (s == HV_OK) s = hv_contour_writer_close(run.writer);
+        else hv_contour_writer_abort(run.writer);
+    }
+    hv_layer_plan_destroy(plan);
+    hv_slicer_destroy(slicer);
+    if (s != HV_OK) return fail(L, s);
+    return 1;
+}
+
 const luaL_Reg *hv_lua_model_extra(void)
 {
     static const luaL_Reg m[] = {{"profile", model_profile}, {NULL, NULL}};
@@ -118,6 +257,6 @@ const luaL_Reg *hv_lua_model_extra(void)
 
 const luaL_Reg *hv_lua_module_extra(void)
 {
-    static const luaL_Reg m[] = {{NULL, NULL}};
+    static const luaL_Reg m[] = {{"contours", l_contours}, {NULL, NULL}};
     return m;
 }

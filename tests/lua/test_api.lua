@@ -190,6 +190,25 @@ local _, overlap = gd:probe{7.5, 5, 5}
 assert(left.A > 0.99 and overlap.B > 0.99, "difference: H2's material in the overlap (Wu eq. 29)")
 fails("different voxel lattices", h1.union, h1, hovox.object(aniso, mats))
 
+-- contours (Wu 2.4.1): a box with a through hole, 5 mm layers
+local holed = hovox.generate.box{min = {0, 0, 0}, max = {40, 30, 20}, hole = 8, segments = 64}
+local layers = hovox.contours(holed, {layer_height = 5, output = tmp .. "/holed.svg"})
+assert(#layers == 4, "4 layers, got " .. #layers)
+near(layers[1].z, 2.5, 1e-9, "first cut at mid-layer")
+assert(layers[2].loops == 2 and layers[2].holes == 1 and layers[2].open == 0)
+local hole = 64 / 2 * 64 * math.sin(2 * math.pi / 64) -- the 64-gon's area
+near(layers[2].area, 1200 - hole, 1e-4, "outer minus hole") -- float vertices
+local c = layers[2].contours
+local outer, inner = c[1].orientation == 1 and c[1] or c[2], c[1].orientation == 1 and c[2] or c[1]
+assert(inner.orientation == -1 and inner.area < 0 and inner.parent > 0 and c[inner.parent] == outer)
+assert(#outer.points >= 4 and #outer.points[1] == 2)
+assert(io.open(tmp .. "/holed.svg"):read("a"):find("<svg", 1, true))
+local cl = hovox.contours(holed, {layer_height = 5, output = tmp .. "/holed.cli", loops = false})
+assert(cl[1].contours == nil and io.open(tmp .. "/holed.cli"):read("l"):find("$$HEADERSTART", 1, true))
+assert(#hovox.contours(holed, {adaptive = {1, 5}}) >= 4)
+fails("layer_height must be > 0", hovox.contours, holed, {layer_height = 0})
+fails("output must end in .svg or .cli", hovox.contours, holed, {layer_height = 1, output = tmp .. "/x.txt"})
+
 -- explicit freeing
 gd:free()
 fails("object was freed", gd.voxels, gd)

@@ -1,0 +1,689 @@
+/* src/export/export.c - graded models to VTK: which arrays (occupancy, fractions, derived
+ * properties), the exported box, the dense .vti arrays, the VTK plugin (loaded only here) and
+ * the atomic write. The .vtu mesh is built in hexmesh.c. */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "export_internal.h"
+#include "vtk_bridge.h"
+
+#define FRACTION_TOL 1e-4
+
+void hv_export_options_init(hv_export_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->format = HV_EXPORT_AUTO;
+    opt->coarsen = 1;
+    opt->coarsen_rule = HV_COARSEN_MAJORITY;
+    opt->mix = HV_MIX_VOIGT | HV_MIX_REUSS;
+}
+
+hv_export_format hv_export_format_from_path(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    if (!dot || strchr(dot, '/')) return HV_EXPORT_AUTO;
+    if (strcasecmp(dot, ".vti") == 0) return HV_EXPORT_VTI;
+    if (strcasecmp(dot, ".vtu") == 0) return HV_EXPORT_VTU;
+    return HV_EXPORT_AUTO;
+}
+
+/* ---- properties ------------------------------------------------------------------------- */
+
+hv_status ex_check_fractions(const ex_model *md, const double *p, int32_t i, int32_t j, int32_t k)
+{
+    double sum = 0;
+    for (int q = 0; q < md->m; ++q) {
+        if (!isfinite(p[q]) || p[q] < -FRACTION_TOL || p[q] > 1 + FRACTION_TOL)
+            return hv_error_set(HV_ERR_BAD_INPUT, "voxel (%d, %d, %d): fraction of '%s' is %.9g, "
+                                "outside [0, 1] (Wu eq. 12)", i, j, k,
+                                hv_material_name(md->table, q), p[q]);
+        sum += p[q];
+    }
+    if (fabs(sum - 1.0) > FRACTION_TOL)
+        return hv_error_set(HV_ERR_BAD_INPUT, "voxel (%d, %d, %d): material fractions sum to "
+                            "%.9g, not 1 (Wu eq. 12)", i, j, k, sum);
+    return HV_OK;
+}
+
+void ex_eval_props(const ex_model *md, const double *p, float *const *out, size_t idx)
+{
+    for (int q = 0; q < md->nprops; ++q) {
+        const ex_prop *e = &md->props[q];
+        double v = 0;
+        switch (e->kind) {
+        case EX_VOIGT: v = hv_property_voigt(p, e->x, md->m); break;
+        case EX_REUSS: v = hv_property_reuss(p, e->x, md->m); break;
+        case EX_TABLE: v = hv_linearization_eval(e->lin, p[e->mat]); break;
+        }
+        out[q][idx] = (float)v;
+    }
+}
+
+static void array_name(char *dst, size_t size, const char *key, const char *model,
+                       const char *unit)
+{
+    if (unit && *unit) snprintf(dst, size, "%s.%s[%s]", key, model, unit);
+    else snprintf(dst, size, "%s.%s", key, model);
+}
+
+static hv_status add_prop(ex_model *md, size_t *cap, const ex_prop *p)
+{
+    for (int q = 0; q < md->nprops; ++q)
+        if (strcmp(md->props[q].name, p->name) == 0)
+            return hv_error_set(HV_ERR_INVALID, "export: two arrays would be named '%s' (one "
+                                "linearization table per property)", p->name);
+    hv_status s = hv_grow((void **)&md->props, cap, (size_t)md->nprops + 1, sizeof *md->props);
+    if (s != HV_OK) return s;
+    md->props[md->nprops++] = *p;
+    return HV_OK;
+}
+
+/* The mixing-rule properties: every key that all materials define with one unit, in order of
+ * first appearance; the others are left out with a note. */
+static hv_status build_mix_props(ex_model *md, unsigned mix, size_t *cap)
+{
+    const hv_material_table *t = md->table;
+    for (int a = 0; a < md->m; ++a) {
+        for (int i = 0; i < hv_material_property_count(t, a); ++i) {
+            const char *key = hv_material_property_key(t, a, i);
+            int seen = 0;
+            for (int b = 0; b < a && !seen; ++b) seen = hv_material_property(t, b, key, NULL, NULL);
+            if (seen) continue;
+            if (a > 0) {
+                hv_buf_printf(&md->notes, "property '%s' left out: material '%s' has no value\n",
+                              key, hv_material_name(t, 0));
+                continue;
+            }
+            ex_prop p;
+            memset(&p, 0, sizeof p);
+            const char *unit0 = NULL;
+            int ok = 1;
+            for (int b = 0; b < md->m && ok; ++b) {
+                const char *unit = NULL;
+                if (!hv_material_property(t, b, key, &p.x[b], &unit)) {
+                    hv_buf_printf(&md->notes, "property '%s' left out: material '%s' has no "
+                                  "value\n", key, hv_material_name(t, b));
+                    ok = 0;
+                } else if (b == 0) {
+                    unit0 = unit ? unit : "";
+                } else if (strcmp(unit0, unit ? unit : "") != 0) {
+                    hv_buf_printf(&md->notes, "property '%s' left out: units differ ('%s' for "
+                                  "'%s', '%s' for '%s')\n", key, unit0, hv_material_name(t, 0),
+                                  unit ? unit : "", hv_material_name(t, b));
+                    ok = 0;
+                }
+            }
+            if (!ok) continue;
+            if (mix & HV_MIX_VOIGT) {
+                p.kind = EX_VOIGT;
+                array_name(p.name, sizeof p.name, key, "voigt", unit0);
+                hv_status s = add_prop(md, cap, &p);
+                if (s != HV_OK) return s;
+            }
+            if (mix & HV_MIX_REUSS) {
+                int bad = -1;
+                for (int b = 0; b < md->m && bad < 0; ++b)
+                    if (!(p.x[b] > 0)) bad = b;
+                if (bad >= 0) {
+                    hv_buf_printf(&md->notes, "'%s.reuss' left out: the inverse rule needs "
+                                  "positive values ('%s' has %g)\n", key,
+                                  hv_material_name(t, bad), p.x[bad]);
+                    continue;
+                }
+                p.kind = EX_REUSS;
+                array_name(p.name, sizeof p.name, key, "reuss", unit0);
+                hv_status s = add_prop(md, cap, &p);
+                if (s != HV_OK) return s;
+            }
+        }
+    }
+    return HV_OK;
+}
+
+static hv_status build_table_props(ex_model *md, const hv_export_options *opt, size_t *cap)
+{
+    for (int i = 0; i < opt->ntables; ++i) {
+        const hv_linearization *lin = opt->tables[i];
+        const char *prop = hv_linearization_property(lin), *mat = hv_linearization_material(lin);
+        if (!md->table)
+            return hv_error_set(HV_ERR_NOT_FOUND, "linearization of %s: the model has no "
+                                "materials (no material '%s')", prop, mat);
+        int j = hv_material_find(md->table, mat);
+        if (j < 0) {
+            hv_buf names;
+            hv_buf_init(&names);
+            for (int q = 0; q < md->m; ++q)
+                hv_buf_printf(&names, "%s%s", q ? ", " : "", hv_material_name(md->table, q));
+            hv_status s = hv_error_set(HV_ERR_NOT_FOUND, "linearization of %s: material '%s' "
+                                       "is not in the model (materials: %s)", prop, mat,
+                                       names.data ? names.data : "");
+            hv_buf_free(&names);
+            return s;
+        }
+        const char *unit = hv_linearization_unit(lin);
+        if (!*unit)
+            for (int q = 0; q < md->m && !*unit; ++q) {
+                const char *u = NULL;
+                if (hv_material_property(md->table, q, prop, NULL, &u) && u) unit = u;
+            }
+        ex_prop p;
+        memset(&p, 0, sizeof p);
+        p.kind = EX_TABLE;
+        p.lin = lin;
+        p.mat = j;
+        array_name(p.name, sizeof p.name, prop, "table", unit);
+        hv_status s = add_prop(md, cap, &p);
+        if (s != HV_OK) return s;
+    }
+    return HV_OK;
+}
+
+/* ---- the model: materials, occupancy, box ----------------------------------------------- */
+
+static void model_free(ex_model *md)
+{
+    hv_material_table_destroy(md->table);
+    free(md->props);
+    free(md->occ);
+    hv_buf_free(&md->notes);
+    memset(md, 0, sizeof *md);
+}
+
+static int world_to_range(double o, double v, double a, double b, int64_t *lo, int64_t *hi)
+{
+    double l = ceil((a - o) / v - 1e-9), h = floor((b - o) / v + 1e-9);
+    if (l < -2147483648.0) l = -2147483648.0;
+    if (h > 2147483647.0) h = 2147483647.0;
+    *lo = (int64_t)l;
+    *hi = (int64_t)h;
+    return l <= h;
+}
+
+static hv_status model_init(ex_model *md, const hv_volume *vol, const hv_export_options *opt)
+{
+    memset(md, 0, sizeof *md);
+    hv_buf_init(&md->notes);
+    md->vol = vol;
+    hv_status s = hv_material_table_load(vol, &md->table);
+    if (s == HV_ERR_NOT_FOUND) {
+        hv_error_clear();
+        s = HV_OK;
+        md->table = NULL;
+        hv_buf_puts(&md->notes, "the model has no material table: occupancy only\n");
+    } else if (s != HV_OK) {
+        return s;
+    }
+    if (md->table) {
+        md->m = hv_material_count(md->table);
+        for (int j = 0; j < md->m; ++j) md->grids[j] = hv_material_grid(vol, md->table, j);
+    }
+    size_t cap = 0;
+    if (md->table && opt->mix) s = build_mix_props(md, opt->mix, &cap);
+    if (s == HV_OK) s = build_table_props(md, opt, &cap);
+    if (s != HV_OK) return s;
+
+    /* occupied voxels per leaf */
+    md->nleaves = hv_volume_leaf_count(vol);
+    md->occ = hv_calloc(md->nleaves ? md->nleaves * 8 : 1, sizeof(uint64_t));
+    if (!md->occ) return HV_ERR_NOMEM;
+    int og = hv_volume_grid_find(vol, "occupancy");
+    if (og >= 0 && hv_volume_grid_type(vol, og) != HV_GRID_BOOL) og = -1;
+    const int32_t *orig = hv_volume_leaf_origins(vol);
+    hv_transform xf = hv_volume_get_transform(vol);
+    int64_t blo[3] = {0, 0, 0}, bhi[3] = {0, 0, 0};
+    if (opt->use_box) {
+        for (int a = 0; a < 3; ++a)
+            if (!world_to_range(xf.origin[a], xf.voxel[a], opt->box_lo[a], opt->box_hi[a],
+                                &blo[a], &bhi[a]))
+                return hv_error_set(HV_ERR_INVALID, "export: the box [%g, %g] on %c holds no "
+                                    "voxel centre (voxels at %g + i * %g)", opt->box_lo[a],
+                                    opt->box_hi[a], "xyz"[a], xf.origin[a], xf.voxel[a]);
+    }
+    int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+    for (size_t l = 0; l < md->nleaves; ++l) {
+        uint64_t *w = md->occ + 8 * l;
+        const uint64_t *act = hv_volume_leaf_mask(vol, l);
+        const uint64_t *ob = og >= 0 ? hv_volume_leaf_bool_c(vol, og, l) : NULL;
+        const int32_t *o = orig + 3 * l;
+        int inside = 1, outside = 0;
+        if (opt->use_box)
+            for (int a = 0; a < 3; ++a) {
+                if (o[a] < blo[a] || o[a] + 7 > bhi[a]) inside = 0;
+                if (o[a] + 7 < blo[a] || o[a] > bhi[a]) outside = 1;
+            }
+        if (outside) continue;
+        uint64_t any = 0;
+        for (int q = 0; q < 8; ++q) {
+            w[q] = act[q] & (ob ? ob[q] : ~0ull);
+            any |= w[q];
+        }
+        if (!any) continue;
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            if (!HV_BIT_GET(w, n)) continue;
+            int64_t v[3] = {o[0] + (int)(n >> 6), o[1] + (int)((n >> 3) & 7), o[2] + (int)(n & 7)};
+            if (!inside && (v[0] < blo[0] || v[0] > bhi[0] || v[1] < blo[1] || v[1] > bhi[1] ||
+                            v[2] < blo[2] || v[2] > bhi[2])) {
+                w[n >> 6] &= ~(1ull << (n & 63));
+                continue;
+            }
+            md->occupied++;
+            for (int a = 0; a < 3; ++a) {
+                if (v[a] < lo[a]) lo[a] = v[a];
+                if (v[a] > hi[a]) hi[a] = v[a];
+            }
+        }
+    }
+    for (int a = 0; a < 3; ++a) {
+        md->olo[a] = md->occupied ? lo[a] : 0;
+        md->ohi[a] = md->occupied ? hi[a] : -1;
+        md->lo[a] = opt->use_box ? blo[a] : md->olo[a];
+        md->hi[a] = opt->use_box ? bhi[a] : md->ohi[a];
+    }
+    return HV_OK;
+}
+
+/* ---- the VTK plugin ---------------------------------------------------------------------- */
+
+static const hv_vtk_api *g_vtk;
+static hv_status g_vtk_status = HV_OK;
+static char g_vtk_error[2048];
+static pthread_once_t g_vtk_once = PTHREAD_ONCE_INIT;
+
+static void load_vtk(void)
+{
+    void *sym = NULL;
+    g_vtk_status = hv_plugin_symbol("hovox-vtk", HV_VTK_ENTRY, &sym);
+    if (g_vtk_status == HV_OK) {
+        g_vtk = ((hv_vtk_entry_fn)sym)();
+        if (!g_vtk || g_vtk->abi != HV_VTK_ABI) {
+            g_vtk = NULL;
+            g_vtk_status = hv_error_set(HV_ERR_UNSUPPORTED,
+                                        "VTK bridge failed to initialise or has a different ABI");
+        }
+    }
+    if (g_vtk_status != HV_OK) strncpy(g_vtk_error, hv_last_error(), sizeof g_vtk_error - 1);
+}
+
+static hv_status vtk_api(void)
+{
+    pthread_once(&g_vtk_once, load_vtk);
+    if (g_vtk_status != HV_OK) return hv_error_set(g_vtk_status, "%s", g_vtk_error);
+    return HV_OK;
+}
+
+static int vtk_progress(void *user, double fraction)
+{
+    const hv_progress *p = user;
+    return p && p->fn ? p->fn(p->user, "export write", fraction) : 0;
+}
+
+/* ---- arrays --------------------------------------------------------------------------- */
+
+typedef struct ex_out {
+    int narrays;
+    hv_vtk_array arrays[1 + 2 * HV_MAX_MATERIALS + 64];
+    char names[1 + HV_MAX_MATERIALS][80];
+    void *buffers[1 + 2 * HV_MAX_MATERIALS + 64];
+    float *frac[HV_MAX_MATERIALS];
+    float **props;
+} ex_out;
+
+static void out_free(ex_out *o)
+{
+    for (int i = 0; i < o->narrays; ++i) free(o->buffers[i]);
+    free(o->props);
+}
+
+/* Names of the arrays, in file order, into the report. */
+static void report_names(const ex_model *md, hv_export_report *r)
+{
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_puts(&b, "occupancy");
+    for (int j = 0; j < md->m; ++j) hv_buf_printf(&b, ",fraction.%s", hv_material_name(md->table, j));
+    for (int q = 0; q < md->nprops; ++q) hv_buf_printf(&b, ",%s", md->props[q].name);
+    snprintf(r->names, sizeof r->names, "%s", b.data ? b.data : "");
+    hv_buf_free(&b);
+    snprintf(r->notes, sizeof r->notes, "%s", md->notes.data ? md->notes.data : "");
+    r->arrays = 1 + md->m + md->nprops;
+    r->materials = md->m;
+    r->occupied = md->occupied;
+    for (int a = 0; a < 3; ++a) {
+        r->lo[a] = md->lo[a];
+        r->hi[a] = md->hi[a];
+    }
+}
+
+/* Allocate the arrays (n tuples each): occupancy (uint8 for .vti, float for .vtu), fractions,
+ * properties. */
+static hv_status out_alloc(ex_out *o, const ex_model *md, size_t n, int occ_float)
+{
+    memset(o, 0, sizeof *o);
+    if (md->m + md->nprops + 1 > (int)HV_COUNT(o->arrays))
+        return hv_error_set(HV_ERR_LIMIT, "export: too many arrays (%d)", md->m + md->nprops + 1);
+    o->props = hv_calloc((size_t)md->nprops + 1, sizeof *o->props);
+    if (!o->props) return HV_ERR_NOMEM;
+    size_t nn = n ? n : 1;
+    hv_vtk_array *a = &o->arrays[o->narrays];
+    void *buf = hv_calloc(nn, occ_float ? sizeof(float) : 1);
+    if (!buf) return HV_ERR_NOMEM;
+    o->buffers[o->narrays++] = buf;
+    *a = (hv_vtk_array){"occupancy", occ_float ? HV_VTK_FLOAT32 : HV_VTK_UINT8, 1, (int64_t)n, buf};
+    for (int j = 0; j < md->m; ++j) {
+        snprintf(o->names[j], sizeof o->names[j], "fraction.%s", hv_material_name(md->table, j));
+        float *f = hv_calloc(nn, sizeof(float));
+        if (!f) return HV_ERR_NOMEM;
+        o->frac[j] = f;
+        o->buffers[o->narrays] = f;
+        o->arrays[o->narrays++] = (hv_vtk_array){o->names[j], HV_VTK_FLOAT32, 1, (int64_t)n, f};
+    }
+    for (int q = 0; q < md->nprops; ++q) {
+        float *f = hv_calloc(nn, sizeof(float));
+        if (!f) return HV_ERR_NOMEM;
+        o->props[q] = f;
+        o->buffers[o->narrays] = f;
+        o->arrays[o->narrays++] =
+            (hv_vtk_array){md->props[q].name, HV_VTK_FLOAT32, 1, (int64_t)n, f};
+    }
+    return HV_OK;
+}
+
+/* ---- .vti ------------------------------------------------------------------------------- */
+
+typedef struct vti_ctx {
+    const ex_model *md;
+    int64_t nx, ny;
+    uint8_t *occ;
+    float *const *frac;
+    float *const *props;
+} vti_ctx;
+
+static hv_status vti_range(void *ctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    const vti_ctx *c = ctx;
+    const ex_model *md = c->md;
+    const int32_t *orig = hv_volume_leaf_origins(md->vol);
+    double p[HV_MAX_MATERIALS];
+    const float *fr[HV_MAX_MATERIALS];
+    for (size_t l = b; l < e; ++l) {
+        const uint64_t *w = md->occ + 8 * l;
+        if (!(w[0] | w[1] | w[2] | w[3] | w[4] | w[5] | w[6] | w[7])) continue;
+        for (int j = 0; j < md->m; ++j) fr[j] = hv_volume_leaf_float_c(md->vol, md->grids[j], l);
+        const int32_t *o = orig + 3 * l;
+        for (unsigned q = 0; q < 8; ++q) {
+            for (uint64_t bits = w[q]; bits; bits &= bits - 1) {
+                unsigned n = q * 64 + (unsigned)__builtin_ctzll(bits);
+                int32_t i = o[0] + (int32_t)(n >> 6), j = o[1] + (int32_t)((n >> 3) & 7),
+                        k = o[2] + (int32_t)(n & 7);
+                size_t idx = (size_t)((i - md->lo[0]) +
+                                      c->nx * ((j - md->lo[1]) + c->ny * (k - md->lo[2])));
+                c->occ[idx] = 1;
+                if (!md->m) continue;
+                for (int m = 0; m < md->m; ++m) p[m] = fr[m][n];
+                hv_status s = ex_check_fractions(md, p, i, j, k);
+                if (s != HV_OK) return s;
+                for (int m = 0; m < md->m; ++m) c->frac[m][idx] = fr[m][n];
+                ex_eval_props(md, p, c->props, idx);
+            }
+        }
+    }
+    return HV_OK;
+}
+
+static hv_status vti_plan(const ex_model *md, hv_export_report *r)
+{
+    double pts = 1;
+    for (int a = 0; a < 3; ++a) {
+        r->dims[a] = md->hi[a] - md->lo[a] + 1;
+        pts *= (double)r->dims[a];
+    }
+    if (md->occupied == 0 && md->hi[0] < md->lo[0])
+        return hv_error_set(HV_ERR_INVALID, "export: the model has no occupied voxel (give a box "
+                            "to export an empty image)");
+    double bytes = pts * (1.0 + 4.0 * (md->m + md->nprops));
+    if (pts > 9.0e18 || bytes > 1.8e19)
+        return hv_error_set(HV_ERR_LIMIT, "export: the image would have %.3g points", pts);
+    r->points = (uint64_t)pts;
+    r->cells = 0;
+    r->memory_bytes = (uint64_t)bytes;
+    return HV_OK;
+}
+
+/* ---- .vtu --------------------------------------------------------------------------- */
+
+static hv_status vtu_plan(const ex_model *md, const hv_export_options *opt, ex_hexmesh *h,
+                          hv_export_report *r)
+{
+    hv_status s = ex_hexmesh_plan(h, md, opt->coarsen, opt->coarsen_rule, opt->progress);
+    if (s != HV_OK) return s;
+    if (h->ncells == 0)
+        return hv_error_set(HV_ERR_INVALID, "export: nothing to export: no %s inside the box",
+                            opt->coarsen > 1 ? "coarse cell is occupied enough" : "occupied voxel");
+    r->cells = h->ncells;
+    r->points = h->npoints;
+    for (int a = 0; a < 3; ++a) {
+        r->lo[a] = md->olo[a];
+        r->hi[a] = md->ohi[a];
+    }
+    r->dims[0] = r->dims[1] = r->dims[2] = 0;
+    /* connectivity (8 ids) + offsets (1 id) + cell type (1 byte) + arrays, points (3 floats) */
+    double id = ex_hexmesh_ids64(h) ? 8.0 : 4.0;
+    double bytes = (double)h->ncells * (9.0 * id + 1.0 + 4.0 * (1 + md->m + md->nprops)) +
+                   (double)h->npoints * 12.0;
+    r->memory_bytes = (uint64_t)bytes;
+    return HV_OK;
+}
+
+/* ---- entry points ------------------------------------------------------------------------ */
+
+static hv_status check_options(const char *path, const hv_export_options *opt,
+                               hv_export_format *fmt)
+{
+    *fmt = opt->format;
+    if (*fmt == HV_EXPORT_AUTO) {
+        *fmt = hv_export_format_from_path(path);
+        if (*fmt == HV_EXPORT_AUTO)
+            return hv_error_set(HV_ERR_INVALID, "%s: unknown extension (use .vti or .vtu)", path);
+    }
+    if (*fmt != HV_EXPORT_VTI && *fmt != HV_EXPORT_VTU)
+        return hv_error_set(HV_ERR_INVALID, "export: unknown format %d", (int)*fmt);
+    if (opt->coarsen < 1 || opt->coarsen > 4096)
+        return hv_error_set(HV_ERR_INVALID, "export: coarsen %d is out of range [1, 4096]",
+                            opt->coarsen);
+    if (opt->coarsen > 1 && *fmt != HV_EXPORT_VTU)
+        return hv_error_set(HV_ERR_INVALID, "export: coarsening applies to .vtu meshes only");
+    if (opt->coarsen_rule != HV_COARSEN_MAJORITY && opt->coarsen_rule != HV_COARSEN_ANY)
+        return hv_error_set(HV_ERR_INVALID, "export: unknown coarsen rule %d", (int)opt->coarsen_rule);
+    if (opt->mix & ~(unsigned)(HV_MIX_VOIGT | HV_MIX_REUSS))
+        return hv_error_set(HV_ERR_INVALID, "export: unknown mixing rule bits 0x%x", opt->mix);
+    if (opt->ntables < 0 || (opt->ntables > 0 && !opt->tables))
+        return hv_error_set(HV_ERR_INVALID, "export: %d tables but no table list", opt->ntables);
+    if (opt->zlib_level < 0 || opt->zlib_level > 9)
+        return hv_error_set(HV_ERR_INVALID, "export: zlib level %d is out of range [1, 9]",
+                            opt->zlib_level);
+    if (opt->use_box)
+        for (int a = 0; a < 3; ++a)
+            if (!isfinite(opt->box_lo[a]) || !isfinite(opt->box_hi[a]) ||
+                opt->box_lo[a] > opt->box_hi[a])
+                return hv_error_set(HV_ERR_INVALID, "export: box [%g, %g] on %c is empty or not "
+                                    "finite", opt->box_lo[a], opt->box_hi[a], "xyz"[a]);
+    return HV_OK;
+}
+
+static hv_status plan_all(const hv_volume *vol, const char *path, const hv_export_options *opt,
+                          ex_model *md, ex_hexmesh *h, hv_export_report *r)
+{
+    memset(r, 0, sizeof *r);
+    hv_export_format fmt;
+    hv_status s = check_options(path, opt, &fmt);
+    if (s != HV_OK) return s;
+    r->format = fmt;
+    s = model_init(md, vol, opt);
+    if (s != HV_OK) return s;
+    report_names(md, r);
+    return fmt == HV_EXPORT_VTI ? vti_plan(md, r) : vtu_plan(md, opt, h, r);
+}
+
+hv_status hv_export_plan(const hv_volume *vol, const char *path, const hv_export_options *opt,
+                         hv_export_report *report)
+{
+    hv_export_options defaults;
+    if (!opt) {
+        hv_export_options_init(&defaults);
+        opt = &defaults;
+    }
+    ex_model md;
+    ex_hexmesh h;
+    memset(&md, 0, sizeof md);
+    memset(&h, 0, sizeof h);
+    hv_export_report tmp;
+    hv_status s = plan_all(vol, path, opt, &md, &h, report ? report : &tmp);
+    ex_hexmesh_free(&h);
+    model_free(&md);
+    return s;
+}
+
+const char *ex_size_text(char *buf, size_t size, double bytes)
+{
+    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 5) {
+        bytes /= 1024.0;
+        ++u;
+    }
+    if (u == 0) snprintf(buf, size, "%.0f bytes", bytes);
+    else snprintf(buf, size, "%.1f %s", bytes, unit[u]);
+    return buf;
+}
+
+static hv_status check_budget(const hv_export_options *opt, const hv_export_report *r)
+{
+    uint64_t budget = opt->max_memory ? opt->max_memory : hv_physical_memory() / 2;
+    if (!budget || r->memory_bytes <= budget) return HV_OK;
+    char need[32], have[32];
+    ex_size_text(need, sizeof need, (double)r->memory_bytes);
+    ex_size_text(have, sizeof have, (double)budget);
+    if (r->format == HV_EXPORT_VTI)
+        return hv_error_set(HV_ERR_LIMIT, "export: the image of %lld x %lld x %lld points x %d "
+                            "arrays needs %s, more than the limit of %s (--max-memory); export "
+                            "a smaller box or a .vtu", (long long)r->dims[0],
+                            (long long)r->dims[1], (long long)r->dims[2], r->arrays, need, have);
+    return hv_error_set(HV_ERR_LIMIT, "export: the mesh of %llu hexahedra and %llu points needs "
+                        "%s, more than the limit of %s (--max-memory); coarsen it or export a "
+                        "smaller box", (unsigned long long)r->cells,
+                        (unsigned long long)r->points, need, have);
+}
+
+hv_status hv_export_write(const hv_volume *vol, const char *path, const hv_export_options *opt,
+                          hv_export_report *report)
+{
+    hv_export_options defaults;
+    if (!opt) {
+        hv_export_options_init(&defaults);
+        opt = &defaults;
+    }
+    hv_export_report tmp_report;
+    hv_export_report *r = report ? report : &tmp_report;
+    ex_model md;
+    ex_hexmesh h;
+    ex_out out;
+    memset(&md, 0, sizeof md);
+    memset(&h, 0, sizeof h);
+    memset(&out, 0, sizeof out);
+    char *tmp = NULL;
+    float *points = NULL;
+    void *conn = NULL;
+    int created = 0;
+
+    hv_status s = plan_all(vol, path, opt, &md, &h, r);
+    if (s == HV_OK) s = check_budget(opt, r);
+    if (s == HV_OK) s = vtk_api();
+    /* claim the temporary name now, so an unwritable place fails before the work */
+    if (s == HV_OK) {
+        tmp = hv_temp_path(path);
+        if (!tmp) s = HV_ERR_NOMEM;
+    }
+    if (s == HV_OK) {
+        int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0) {
+            int e = errno;
+            s = hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(e));
+        } else {
+            close(fd);
+            created = 1;
+        }
+    }
+
+    hv_vtk_array field[2];
+    int nfield = 0;
+    int32_t index_lo[3] = {(int32_t)md.lo[0], (int32_t)md.lo[1], (int32_t)md.lo[2]};
+    char *table_json = NULL;
+    if (s == HV_OK && md.table) {
+        s = hv_material_table_to_json(md.table, &table_json);
+        if (s == HV_OK) field[nfield++] = (hv_vtk_array){"hovox.materials.json", HV_VTK_STRING, 1, 1, table_json};
+    }
+    hv_vtk_write_opts wo = {opt->zlib_level ? opt->zlib_level : 1, vtk_progress,
+                            (void *)opt->progress, 0, field};
+    int rc = 0;
+    if (s == HV_OK && r->format == HV_EXPORT_VTI) {
+        field[nfield++] = (hv_vtk_array){"hovox.index_lo", HV_VTK_INT32, 3, 1, index_lo};
+        wo.nfield = nfield;
+        s = out_alloc(&out, &md, (size_t)r->points, 0);
+        if (s == HV_OK) {
+            vti_ctx c = {&md, r->dims[0], r->dims[1], out.buffers[0], out.frac, out.props};
+            s = hv_parallel_for(md.nleaves, 16, vti_range, &c, opt->progress, "export fill");
+        }
+        if (s == HV_OK) {
+            hv_transform xf = hv_volume_get_transform(vol);
+            double origin[3];
+            for (int a = 0; a < 3; ++a) origin[a] = xf.origin[a] + (double)md.lo[a] * xf.voxel[a];
+            rc = g_vtk->write_image(tmp, r->dims, origin, xf.voxel, out.narrays, out.arrays, &wo);
+        }
+    } else if (s == HV_OK) {
+        wo.nfield = nfield;
+        s = out_alloc(&out, &md, (size_t)r->cells, 1);
+        if (s == HV_OK) {
+            points = hv_malloc_array((size_t)r->points, 3 * sizeof(float));
+            conn = hv_malloc_array((size_t)r->cells, 8 * (ex_hexmesh_ids64(&h) ? 8u : 4u));
+            if (!points || !conn) s = HV_ERR_NOMEM;
+        }
+        if (s == HV_OK)
+            s = ex_hexmesh_fill(&h, &md, points, conn, ex_hexmesh_ids64(&h), out.buffers[0],
+                                out.frac, out.props, opt->progress);
+        if (s == HV_OK)
+            rc = g_vtk->write_hexes(tmp, (int64_t)r->points, points, (int64_t)r->cells, conn,
+                                    ex_hexmesh_ids64(&h), out.narrays, out.arrays, &wo);
+    }
+    if (s == HV_OK && rc != 0) {
+        if (rc == HV_ERR_CANCELLED) s = hv_error_set(HV_ERR_CANCELLED, "export write: cancelled");
+        else s = hv_error_set((hv_status)rc, "%s: %s", path, g_vtk->last_error());
+    }
+    if (s == HV_OK) {
+        struct stat st;
+        r->file_bytes = stat(tmp, &st) == 0 ? (uint64_t)st.st_size : 0;
+        if (rename(tmp, path) != 0) {
+            int e = errno;
+            s = hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(e));
+        } else {
+            created = 0;
+        }
+    }
+    if (created) unlink(tmp);
+    if (s != HV_OK) r->file_bytes = 0;
+    free(tmp);
+    free(table_json);
+    free(points);
+    free(conn);
+    out_free(&out);
+    ex_hexmesh_free(&h);
+    model_free(&md);
+    return s;
+}

@@ -1,0 +1,74 @@
+/* src/export/export_internal.h - what export.c (model, properties, .vti, the VTK plugin) and
+ * hexmesh.c (the .vtu hexahedral mesh) share. Internal. */
+#ifndef HOVOX_EXPORT_INTERNAL_H
+#define HOVOX_EXPORT_INTERNAL_H
+
+#include "../core/internal.h"
+#include "hovox/export.h"
+
+typedef enum ex_kind { EX_VOIGT, EX_REUSS, EX_TABLE } ex_kind;
+
+/* One derived property array. */
+typedef struct ex_prop {
+    ex_kind kind;
+    double x[HV_MAX_MATERIALS];  /* per-material values (mixing rules) */
+    const hv_linearization *lin; /* table */
+    int mat;                     /* table: the material whose fraction is the variable */
+    char name[200];
+} ex_prop;
+
+/* The model as the writers see it. */
+typedef struct ex_model {
+    const hv_volume *vol;
+    hv_material_table *table; /* NULL: no materials, occupancy only */
+    int m;
+    int grids[HV_MAX_MATERIALS];
+    int nprops;
+    ex_prop *props;
+    int64_t lo[3], hi[3];     /* exported voxel index range (inclusive) */
+    int64_t olo[3], ohi[3];   /* bounding box of the exported occupied voxels */
+    size_t nleaves;
+    uint64_t *occ;            /* 8 words per leaf: active, occupied and inside the box */
+    uint64_t occupied;
+    hv_buf notes;
+} ex_model;
+
+/* Material fractions at an occupied voxel must be finite, in [0,1] and sum to 1 (within
+ * 1e-4: they are stored as floats). HV_ERR_BAD_INPUT naming the voxel otherwise. */
+/* "12.3 MiB" and the like, into buf. */
+const char *ex_size_text(char *buf, size_t size, double bytes);
+
+hv_status ex_check_fractions(const ex_model *md, const double *p, int32_t i, int32_t j,
+                             int32_t k);
+/* out[q][idx] = property q of composition p. */
+void ex_eval_props(const ex_model *md, const double *p, float *const *out, size_t idx);
+
+/* The .vtu mesh: coarse cells on the lattice floor(voxel / N), kept by the rule; points are
+ * the cells' corners, each once. Numbering follows sorted leaf origins, then the in-leaf
+ * offset, so the result does not depend on threads. */
+typedef struct ex_hexmesh {
+    int n;                   /* N */
+    hv_coarsen_rule rule;
+    size_t ncl, nkl;         /* coarse-cell leaves, corner leaves */
+    int32_t *cl_origin, *kl_origin;
+    uint64_t *cl_mask, *kl_mask;     /* 8 words each: cells kept / corners used */
+    uint64_t *cl_base, *kl_base;     /* first cell / point id of each leaf */
+    uint16_t *kl_prefix;             /* 8 per corner leaf: set bits before each word */
+    size_t clh_cap, klh_cap;         /* hash tables (origin -> leaf), power of two */
+    int64_t *clh, *klh;
+    uint64_t ncells, npoints;
+} ex_hexmesh;
+
+/* Count cells and points (no big buffers). */
+hv_status ex_hexmesh_plan(ex_hexmesh *h, const ex_model *md, int n, hv_coarsen_rule rule,
+                          const hv_progress *progress);
+/* 32-bit point ids are enough (and half the memory) below 2^31 points and 2^28 cells. */
+int ex_hexmesh_ids64(const ex_hexmesh *h);
+/* Fill points (3 per point), connectivity (8 per cell: int64_t when conn64, else int32_t),
+ * cell arrays: occupancy, m fractions, md->nprops properties (each ncells floats). */
+hv_status ex_hexmesh_fill(const ex_hexmesh *h, const ex_model *md, float *points, void *conn,
+                          int conn64, float *occupancy, float *const *fractions,
+                          float *const *props, const hv_progress *progress);
+void ex_hexmesh_free(ex_hexmesh *h);
+
+#endif

@@ -1,0 +1,1 @@
+$HOVOX export "$TMP/m.vdb" -o "$TMP/m.vti" --properties hashin

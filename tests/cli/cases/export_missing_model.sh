@@ -1,0 +1,1 @@
+$HOVOX export "$TMP/none.vdb" -o "$TMP/m.vti"

@@ -8,6 +8,7 @@
 #include <lauxlib.h>
 
 #include "../core/internal.h"
+#include "hovox/export.h"
 #include "hovox/profile.h"
 #include "hovox/slice.h"
 #include "lhovox.h"
@@ -249,9 +250,108 @@ static int l_contours(lua_State *L)
     return 1;
 }
 
+/* ---- export ------------------------------------------------------------------------------- */
+
+/* model:export{path = "x.vti" | "x.vtu", box = {x0,y0,z0,x1,y1,z1}, coarsen = N,
+ *              keep = "majority" | "any", properties = "both" | "voigt" | "reuss" | "none",
+ *              linearize = {youngs_modulus = "table.csv", ...}, level = 1..9,
+ *              max_memory = bytes} -> {points, cells, occupied, arrays = "a,b,...", bytes} */
+static int model_export(lua_State *L)
+{
+    hv_volume *vol = check_model(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    const char *path = get_path(L, 2, "path");
+    if (!path) return arg_error(L, 2, "path is required (.vti or .vtu)");
+    hv_export_options o;
+    hv_export_options_init(&o);
+    o.format = hv_export_format_from_path(path);
+    lua_getfield(L, 2, "box");
+    if (!lua_isnil(L, -1)) {
+        if (!lua_istable(L, -1) || lua_rawlen(L, -1) != 6) return arg_error(L, 2, "box must be {x0, y0, z0, x1, y1, z1}");
+        for (int i = 0; i < 6; ++i) {
+            lua_rawgeti(L, -1, i + 1);
+            double v = luaL_checknumber(L, -1);
+            if (i < 3) o.box_lo[i] = v;
+            else o.box_hi[i - 3] = v;
+            lua_pop(L, 1);
+        }
+        o.use_box = 1;
+    }
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "coarsen");
+    lua_Integer n = luaL_optinteger(L, -1, o.coarsen);
+    lua_pop(L, 1);
+    if (n < 1 || n > 1024) return arg_error(L, 2, "coarsen must be in [1, 1024], got %lld", (long long)n);
+    o.coarsen = (int)n;
+    lua_getfield(L, 2, "keep");
+    const char *keep = luaL_optstring(L, -1, "majority");
+    lua_pop(L, 1);
+    if (strcmp(keep, "majority") == 0) o.coarsen_rule = HV_COARSEN_MAJORITY;
+    else if (strcmp(keep, "any") == 0) o.coarsen_rule = HV_COARSEN_ANY;
+    else return arg_error(L, 2, "keep must be majority or any, got '%s'", keep);
+    lua_getfield(L, 2, "properties");
+    const char *props = luaL_optstring(L, -1, "both");
+    lua_pop(L, 1);
+    if (strcmp(props, "both") == 0) o.mix = HV_MIX_VOIGT | HV_MIX_REUSS;
+    else if (strcmp(props, "voigt") == 0) o.mix = HV_MIX_VOIGT;
+    else if (strcmp(props, "reuss") == 0) o.mix = HV_MIX_REUSS;
+    else if (strcmp(props, "none") == 0) o.mix = 0;
+    else return arg_error(L, 2, "properties must be both, voigt, reuss or none, got '%s'", props);
+    lua_getfield(L, 2, "level");
+    lua_Integer level = luaL_optinteger(L, -1, 1);
+    lua_pop(L, 1);
+    if (level < 1 || level > 9) return arg_error(L, 2, "level must be in [1, 9], got %lld", (long long)level);
+    o.zlib_level = (int)level;
+    lua_getfield(L, 2, "max_memory");
+    o.max_memory = (uint64_t)luaL_optnumber(L, -1, 0);
+    lua_pop(L, 1);
+    /* linearization tables: loaded before anything is written; freed on every path */
+    hv_linearization *tables[32];
+    int nt = 0;
+    hv_status s = HV_OK;
+    lua_getfield(L, 2, "linearize");
+    if (lua_istable(L, -1)) {
+        lua_pushnil(L);
+        while (s == HV_OK && lua_next(L, -2)) {
+            if (lua_type(L, -2) != LUA_TSTRING || lua_type(L, -1) != LUA_TSTRING || nt == 32) {
+                lua_pop(L, 2);
+                for (int i = 0; i < nt; ++i) hv_linearization_destroy(tables[i]);
+                return arg_error(L, 2, "linearize must map property names to CSV files (at most 32)");
+            }
+            s = hv_linearization_load(lua_tostring(L, -1), lua_tostring(L, -2), &tables[nt]);
+            if (s == HV_OK) ++nt;
+            lua_pop(L, 1);
+        }
+        if (s != HV_OK) lua_pop(L, 1); /* the key left by the interrupted traversal */
+    }
+    lua_pop(L, 1);
+    hv_export_report rep;
+    if (s == HV_OK) {
+        o.tables = (const hv_linearization *const *)tables;
+        o.ntables = nt;
+        s = hv_export_write(vol, path, &o, &rep);
+    }
+    for (int i = 0; i < nt; ++i) hv_linearization_destroy(tables[i]);
+    if (s != HV_OK) return fail(L, s);
+    lua_createtable(L, 0, 6);
+    lua_pushinteger(L, (lua_Integer)rep.points);
+    lua_setfield(L, -2, "points");
+    lua_pushinteger(L, (lua_Integer)rep.cells);
+    lua_setfield(L, -2, "cells");
+    lua_pushinteger(L, (lua_Integer)rep.occupied);
+    lua_setfield(L, -2, "occupied");
+    lua_pushstring(L, rep.names);
+    lua_setfield(L, -2, "arrays");
+    lua_pushstring(L, rep.notes);
+    lua_setfield(L, -2, "notes");
+    lua_pushinteger(L, (lua_Integer)rep.file_bytes);
+    lua_setfield(L, -2, "bytes");
+    return 1;
+}
+
 const luaL_Reg *hv_lua_model_extra(void)
 {
-    static const luaL_Reg m[] = {{"profile", model_profile}, {NULL, NULL}};
+    static const luaL_Reg m[] = {{"profile", model_profile}, {"export", model_export}, {NULL, NULL}};
     return m;
 }
 

@@ -209,6 +209,15 @@ assert(#hovox.contours(holed, {adaptive = {1, 5}}) >= 4)
 fails("layer_height must be > 0", hovox.contours, holed, {layer_height = 0})
 fails("output must end in .svg or .cli", hovox.contours, holed, {layer_height = 1, output = tmp .. "/x.txt"})
 
+-- export (VTK)
+local ex = graded:export{path = tmp .. "/g.vti"}
+assert(ex.arrays:find("fraction.A", 1, true) and ex.points > 0 and ex.bytes > 0)
+assert(ex.notes:find("density", 1, true), "density is left out: only A defines it")
+local exu = graded:export{path = tmp .. "/g.vtu", coarsen = 2, keep = "any", properties = "none"}
+assert(exu.cells > 0 and not exu.arrays:find("voigt", 1, true))
+fails("path is required", graded.export, graded, {})
+fails("keep must be majority or any", graded.export, graded, {path = tmp .. "/x.vtu", keep = "some"})
+
 -- explicit freeing
 gd:free()
 fails("object was freed", gd.voxels, gd)

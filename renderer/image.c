@@ -1,0 +1,365 @@
+/* renderer/image.c - the project's image output: float RGBA images, 8-bit PNG through libpng
+ * (grey, grey+alpha, RGB, RGBA, indexed; pHYs resolution; to a file atomically or to memory),
+ * and EXR/TIFF through the OpenImageIO bridge plugin, loaded only when asked for. */
+#include <errno.h>
+#include <png.h>
+#include <pthread.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+#include "../src/core/internal.h"
+#include "hovox/render.h"
+#include "oiio_bridge.h"
+
+/* ---- float images ----------------------------------------------------------------------- */
+
+hv_status hv_image_create(int width, int height, hv_image **out)
+{
+    *out = NULL;
+    if (width < 1 || width > 65535 || height < 1 || height > 65535)
+        return hv_error_set(HV_ERR_INVALID, "image size %d x %d is outside 1..65535", width,
+                            height);
+    hv_image *img = hv_calloc(1, sizeof *img);
+    if (!img) return HV_ERR_NOMEM;
+    img->width = width;
+    img->height = height;
+    img->rgba = hv_calloc((size_t)width * (size_t)height, 4 * sizeof(float));
+    if (!img->rgba) {
+        free(img);
+        return hv_error_set(HV_ERR_NOMEM, "out of memory for a %d x %d image", width, height);
+    }
+    *out = img;
+    return HV_OK;
+}
+
+void hv_image_destroy(hv_image *img)
+{
+    if (!img) return;
+    free(img->rgba);
+    free(img);
+}
+
+static uint8_t quant8(float v)
+{
+    v = v * 255.0f + 0.5f;
+    return (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : v); /* NaN -> 0 */
+}
+
+void hv_image_to_rgba8(const hv_image *img, uint8_t *out)
+{
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; ++i) {
+        const float *p = img->rgba + 4 * i;
+        float a = p[3], inv = a > 0 ? 1.0f / a : 0;
+        for (int k = 0; k < 3; ++k) out[4 * i + k] = quant8(p[k] * inv);
+        out[4 * i + 3] = quant8(a);
+    }
+}
+
+/* ---- PNG -------------------------------------------------------------------------------- */
+
+void hv_png_options_init(hv_png_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->compression = -1;
+}
+
+typedef struct png_sink {
+    FILE *fp;          /* file output, or */
+    uint8_t *mem;      /* memory output */
+    size_t len, cap;
+    hv_status status;  /* of the failure that longjmp'd */
+    char msg[256];
+} png_sink;
+
+static void sink_error(png_structp png, png_const_charp msg)
+{
+    png_sink *s = png_get_error_ptr(png);
+    if (s->status == HV_OK) {
+        s->status = HV_ERR_INTERNAL;
+        snprintf(s->msg, sizeof s->msg, "libpng: %s", msg);
+    }
+    png_longjmp(png, 1);
+}
+
+static void sink_warning(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg; /* the library never prints */
+}
+
+static void sink_write(png_structp png, png_bytep data, size_t n)
+{
+    png_sink *s = png_get_io_ptr(png);
+    if (s->fp) {
+        if (fwrite(data, 1, n, s->fp) != n) {
+            s->status = HV_ERR_IO;
+            snprintf(s->msg, sizeof s->msg, "write failed: %s", strerror(errno));
+            png_error(png, "write failed");
+        }
+        return;
+    }
+    if (s->len + n > s->cap) {
+        size_t cap = s->cap ? s->cap : 65536;
+        while (cap < s->len + n) cap *= 2;
+        uint8_t *m = realloc(s->mem, cap);
+        if (!m) {
+            s->status = HV_ERR_NOMEM;
+            snprintf(s->msg, sizeof s->msg, "out of memory for a %zu-byte PNG", cap);
+            png_error(png, "out of memory");
+        }
+        s->mem = m;
+        s->cap = cap;
+    }
+    memcpy(s->mem + s->len, data, n);
+    s->len += n;
+}
+
+static void sink_flush(png_structp png)
+{
+    (void)png;
+}
+
+static hv_status check_png_args(const uint8_t *pixels, int width, int height, int channels,
+                                size_t stride, const hv_png_options *o)
+{
+    if (width < 1 || height < 1)
+        return hv_error_set(HV_ERR_INVALID, "PNG: image size %d x %d must be positive", width,
+                            height);
+    if (channels < 1 || channels > 4)
+        return hv_error_set(HV_ERR_INVALID, "PNG: %d channels (1 to 4)", channels);
+    if (stride && stride < (size_t)width * (size_t)channels)
+        return hv_error_set(HV_ERR_INVALID, "PNG: row stride %zu is less than %d x %d bytes",
+                            stride, width, channels);
+    if (!o) return HV_OK;
+    if (o->compression < -1 || o->compression > 9)
+        return hv_error_set(HV_ERR_INVALID, "PNG: compression level %d (0..9 or -1)",
+                            o->compression);
+    for (int a = 0; a < 2; ++a)
+        if (!(o->dpi[a] >= 0 && o->dpi[a] < 1e8))
+            return hv_error_set(HV_ERR_INVALID, "PNG: resolution %g dpi out of range", o->dpi[a]);
+    if (o->palette) {
+        if (channels != 1)
+            return hv_error_set(HV_ERR_INVALID, "PNG: a palette needs 1 channel (got %d)",
+                                channels);
+        if (o->palette_size < 1 || o->palette_size > 256)
+            return hv_error_set(HV_ERR_INVALID, "PNG: palette of %d colours (1..256)",
+                                o->palette_size);
+        size_t st = stride ? stride : (size_t)width;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                if (pixels[(size_t)y * st + (size_t)x] >= o->palette_size)
+                    return hv_error_set(
+                        HV_ERR_INVALID, "PNG: pixel (%d, %d) has index %d beyond the %d-colour palette",
+                        x, y, pixels[(size_t)y * st + (size_t)x], o->palette_size);
+    }
+    int depth = o->bit_depth ? o->bit_depth : 8;
+    if (depth != 1 && depth != 2 && depth != 4 && depth != 8)
+        return hv_error_set(HV_ERR_INVALID, "PNG: bit depth %d (1, 2, 4 or 8)", o->bit_depth);
+    if (depth < 8) {
+        if (channels != 1)
+            return hv_error_set(HV_ERR_INVALID, "PNG: bit depth %d needs 1 channel (got %d)", depth,
+                                channels);
+        if (o->palette && o->palette_size > (1 << depth))
+            return hv_error_set(HV_ERR_INVALID, "PNG: a %d-colour palette needs more than %d bits",
+                                o->palette_size, depth);
+        size_t st = stride ? stride : (size_t)width;
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                if (pixels[(size_t)y * st + (size_t)x] >> depth)
+                    return hv_error_set(HV_ERR_INVALID,
+                                        "PNG: pixel (%d, %d) value %d does not fit in %d bits", x,
+                                        y, pixels[(size_t)y * st + (size_t)x], depth);
+    }
+    if (o->text_key) {
+        size_t n = strlen(o->text_key);
+        if (n < 1 || n > 79 || !o->text_value)
+            return hv_error_set(HV_ERR_INVALID, "PNG: text key must be 1-79 bytes with a value");
+    }
+    return HV_OK;
+}
+
+/* libpng reports errors by longjmp; everything it needs to clean up lives in *s and the two
+ * structs, which are not modified between setjmp and the jump. */
+static hv_status encode(png_sink *s, const uint8_t *pixels, int width, int height, int channels,
+                        size_t stride, const hv_png_options *o)
+{
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, s, sink_error, sink_warning);
+    if (!png) return hv_error_set(HV_ERR_NOMEM, "PNG: out of memory");
+    png_infop info = png_create_info_struct(png);
+    if (!info) {
+        png_destroy_write_struct(&png, NULL);
+        return hv_error_set(HV_ERR_NOMEM, "PNG: out of memory");
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return hv_error_set(s->status, "PNG: %s", s->msg);
+    }
+    png_set_user_limits(png, 0x7fffffff, 0x7fffffff);
+    png_set_write_fn(png, s, sink_write, sink_flush);
+    int type = channels == 1 ? (o && o->palette ? PNG_COLOR_TYPE_PALETTE : PNG_COLOR_TYPE_GRAY)
+               : channels == 2 ? PNG_COLOR_TYPE_GRAY_ALPHA
+               : channels == 3 ? PNG_COLOR_TYPE_RGB
+                               : PNG_COLOR_TYPE_RGB_ALPHA;
+    int depth = o && o->bit_depth ? o->bit_depth : 8;
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, depth, type,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (o && o->palette) {
+        png_color pal[256];
+        for (int i = 0; i < o->palette_size; ++i) {
+            pal[i].red = o->palette[3 * i];
+            pal[i].green = o->palette[3 * i + 1];
+            pal[i].blue = o->palette[3 * i + 2];
+        }
+        png_set_PLTE(png, info, pal, o->palette_size);
+    }
+    if (o && (o->dpi[0] > 0 || o->dpi[1] > 0)) {
+        double dx = o->dpi[0] > 0 ? o->dpi[0] : o->dpi[1];
+        double dy = o->dpi[1] > 0 ? o->dpi[1] : o->dpi[0];
+        png_set_pHYs(png, info, (png_uint_32)(dx / 0.0254 + 0.5), (png_uint_32)(dy / 0.0254 + 0.5),
+                     PNG_RESOLUTION_METER);
+    }
+    if (o && o->text_key) {
+        png_text t;
+        memset(&t, 0, sizeof t);
+        t.compression = PNG_TEXT_COMPRESSION_NONE;
+        t.key = (png_charp)(uintptr_t)o->text_key;
+        t.text = (png_charp)(uintptr_t)o->text_value;
+        png_set_text(png, info, &t, 1);
+    }
+    if (o && o->compression >= 0) png_set_compression_level(png, o->compression);
+    png_write_info(png, info);
+    /* rows stay one pixel per byte; set after png_write_info, which resets the user depth */
+    if (depth < 8) png_set_packing(png);
+    size_t st = stride ? stride : (size_t)width * (size_t)channels;
+    for (int y = 0; y < height; ++y) png_write_row(png, pixels + (size_t)y * st);
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    return HV_OK;
+}
+
+hv_status hv_png_encode(const uint8_t *pixels, int width, int height, int channels, size_t stride,
+                        const hv_png_options *opt, uint8_t **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    hv_status st = check_png_args(pixels, width, height, channels, stride, opt);
+    if (st != HV_OK) return st;
+    png_sink s;
+    memset(&s, 0, sizeof s);
+    st = encode(&s, pixels, width, height, channels, stride, opt);
+    if (st != HV_OK) {
+        free(s.mem);
+        return st;
+    }
+    *data = s.mem;
+    *size = s.len;
+    return HV_OK;
+}
+
+hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int height, int channels,
+                       size_t stride, const hv_png_options *opt)
+{
+    hv_status st = check_png_args(pixels, width, height, channels, stride, opt);
+    if (st != HV_OK) return st;
+    hv_atomic_file af;
+    st = hv_atomic_open(&af, path, "wb");
+    if (st != HV_OK) return st;
+    png_sink s;
+    memset(&s, 0, sizeof s);
+    s.fp = af.fp;
+    st = encode(&s, pixels, width, height, channels, stride, opt);
+    if (st != HV_OK) {
+        hv_atomic_abort(&af);
+        return hv_error_prefix(st, "%s: ", path);
+    }
+    return hv_atomic_commit(&af);
+}
+
+/* ---- OpenImageIO plugin ----------------------------------------------------------------- */
+
+static const hv_oiio_api *g_oiio;
+static hv_status g_oiio_status = HV_OK;
+static char g_oiio_error[2048];
+static pthread_once_t g_oiio_once = PTHREAD_ONCE_INIT;
+
+static void load_oiio(void)
+{
+    void *sym = NULL;
+    g_oiio_status = hv_plugin_symbol("hovox-oiio", HV_OIIO_ENTRY, &sym);
+    if (g_oiio_status == HV_OK) {
+        g_oiio = ((hv_oiio_entry_fn)sym)();
+        if (!g_oiio || g_oiio->abi != HV_OIIO_ABI) {
+            g_oiio = NULL;
+            g_oiio_status = hv_error_set(
+                HV_ERR_UNSUPPORTED, "OpenImageIO bridge failed to initialise or has a different ABI");
+        }
+    }
+    if (g_oiio_status != HV_OK) strncpy(g_oiio_error, hv_last_error(), sizeof g_oiio_error - 1);
+}
+
+static hv_status write_oiio(const hv_image *img, const char *path, const char *format, int exr)
+{
+    pthread_once(&g_oiio_once, load_oiio);
+    if (g_oiio_status != HV_OK)
+        return hv_error_set(HV_ERR_UNSUPPORTED, "%s: %s output needs OpenImageIO: %s", path,
+                            exr ? "EXR" : "TIFF", g_oiio_error);
+    size_t n = (size_t)img->width * (size_t)img->height;
+    const float *px = img->rgba;
+    float *straight = NULL;
+    if (!exr) { /* TIFF: 8-bit straight alpha, like the PNG */
+        straight = hv_malloc_array(n, 4 * sizeof(float));
+        if (!straight) return HV_ERR_NOMEM;
+        for (size_t i = 0; i < n; ++i) {
+            float a = img->rgba[4 * i + 3], inv = a > 0 ? 1.0f / a : 0;
+            for (int k = 0; k < 3; ++k) straight[4 * i + k] = img->rgba[4 * i + k] * inv;
+            straight[4 * i + 3] = a;
+        }
+        px = straight;
+    }
+    char *tmp = hv_temp_path(path);
+    if (!tmp) {
+        free(straight);
+        return HV_ERR_NOMEM;
+    }
+    int rc = g_oiio->write(tmp, format, img->width, img->height, 4, px,
+                           exr ? HV_OIIO_HALF : HV_OIIO_UINT8, !exr);
+    free(straight);
+    hv_status st = HV_OK;
+    if (rc != 0) {
+        st = hv_error_set((hv_status)rc, "%s: %s", path, g_oiio->last_error());
+        unlink(tmp);
+    } else if (rename(tmp, path) != 0) {
+        st = hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(errno));
+        unlink(tmp);
+    }
+    free(tmp);
+    return st;
+}
+
+hv_status hv_image_write(const hv_image *img, const char *path)
+{
+    const char *base = hv_basename(path), *dot = strrchr(base, '.');
+    const char *ext = dot ? dot + 1 : "";
+    if (strcasecmp(ext, "png") == 0) {
+        uint8_t *px = hv_malloc_array((size_t)img->width * (size_t)img->height, 4);
+        if (!px) return HV_ERR_NOMEM;
+        hv_image_to_rgba8(img, px);
+        /* zlib level 3: a quarter of the default level's time for files ~20% larger */
+        hv_png_options o;
+        hv_png_options_init(&o);
+        o.compression = 3;
+        hv_status st = hv_png_write(path, px, img->width, img->height, 4, 0, &o);
+        free(px);
+        return st;
+    }
+    if (strcasecmp(ext, "exr") == 0) return write_oiio(img, path, "exr", 1);
+    if (strcasecmp(ext, "tif") == 0 || strcasecmp(ext, "tiff") == 0)
+        return write_oiio(img, path, "tiff", 0);
+    return hv_error_set(HV_ERR_UNSUPPORTED, "%s: unknown image format '%s' (png, exr, tif, tiff)",
+                        path, dot ? dot : "(no extension)");
+}

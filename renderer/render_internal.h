@@ -1,0 +1,94 @@
+/* renderer/render_internal.h - the renderer's private structures: the scene (per-voxel colour,
+ * occupancy and gradient in 9^3 bricks over a two-level block table, for empty-space skipping
+ * and hash-free sampling) and the camera. Not part of the public API. */
+#ifndef HOVOX_RENDER_INTERNAL_H
+#define HOVOX_RENDER_INTERNAL_H
+
+#include <stdint.h>
+
+#include "hovox/render.h"
+
+/* One voxel of a brick, 8 bytes: colour and alpha of its composition (0 when unoccupied, so a
+ * plain trilinear sum is already the occupancy-weighted sum), occupancy 0/255, and the smoothed
+ * occupancy gradient (scene.c) biased by 128 (each component in [-127, 127]). */
+typedef struct rvox {
+    uint8_t r, g, b, a;
+    uint8_t occ, gx, gy, gz;
+} rvox;
+
+/* A brick covers the 8^3 voxels of block B plus a one-voxel apron on the + sides, so the eight
+ * trilinear corners of any point whose floor lies in B are in one brick. Bricks exist for every
+ * block B such that B + {0,1}^3 holds an occupied voxel: elsewhere the coverage is exactly 0. */
+#define RB_DIM 9
+#define RB_VOX (RB_DIM * RB_DIM * RB_DIM)
+#define RB_INDEX(x, y, z) (((x) * RB_DIM + (y)) * RB_DIM + (z))
+
+/* Brick kinds: inside a solid (all 9^3 voxels occupied, zero gradient) the coverage is 1
+ * everywhere; if the colour is the same too, every sample is the same and a run of them
+ * composites in closed form. */
+enum { RB_GENERAL = 0, RB_SOLID = 1, RB_UNIFORM = 2 };
+
+/* Block table page: the 8^3 blocks of one 64^3-voxel macro cell. */
+typedef struct rpage {
+    int32_t brick[512]; /* brick index or -1 */
+    int32_t occ[512];   /* index into the occupied-leaf list or -1 (used while building) */
+} rpage;
+
+#define RP_INDEX(x, y, z) ((((x) & 7) << 6) | (((y) & 7) << 3) | ((z) & 7))
+
+struct hv_render_scene {
+    hv_transform xf;
+    int materials;      /* coloured materials (0: grey occupancy-only) */
+    uint64_t occupied;  /* occupied voxels */
+    int empty;
+    int32_t lo[3], hi[3]; /* inclusive index bbox of occupied voxels */
+    /* macro grid: mdims cells from macro coordinate mlo; top[] holds a page index or -1 */
+    int32_t mlo[3], mdims[3];
+    int32_t *top;
+    rpage *pages;
+    size_t npages;
+    rvox *bricks; /* nbricks * RB_VOX */
+    int32_t *brick_block; /* 3 block coordinates per brick */
+    uint8_t *brick_kind;  /* RB_GENERAL, RB_SOLID or RB_UNIFORM */
+    size_t nbricks;
+};
+
+/* floor(a / 2^s) for negative a too */
+static inline int32_t r_floor_shift(int32_t a, int s)
+{
+    return a >= 0 ? a >> s : -((-a + (1 << s) - 1) >> s);
+}
+
+/* Brick of block (bx,by,bz), or NULL. */
+static inline const rvox *r_brick(const hv_render_scene *s, int32_t bx, int32_t by, int32_t bz)
+{
+    int32_t mx = r_floor_shift(bx, 3) - s->mlo[0], my = r_floor_shift(by, 3) - s->mlo[1],
+            mz = r_floor_shift(bz, 3) - s->mlo[2];
+    if (mx < 0 || my < 0 || mz < 0 || mx >= s->mdims[0] || my >= s->mdims[1] || mz >= s->mdims[2])
+        return NULL;
+    int32_t p = s->top[((int64_t)mx * s->mdims[1] + my) * s->mdims[2] + mz];
+    if (p < 0) return NULL;
+    int32_t b = s->pages[p].brick[RP_INDEX(bx, by, bz)];
+    return b < 0 ? NULL : s->bricks + (size_t)b * RB_VOX;
+}
+
+/* ---- camera ----------------------------------------------------------------------------- */
+
+typedef struct rcam {
+    double eye[3];          /* perspective: centre of projection; ortho: on the start plane */
+    double fwd[3], right[3], up[3]; /* orthonormal */
+    int ortho;
+    double half_w, half_h;  /* perspective: tangents of the half angles; ortho: world half sizes */
+    int width, height;
+} rcam;
+
+/* Set up the camera of `opt` for scene `s` (fitting when asked). Errors: HV_ERR_INVALID. */
+hv_status r_camera_setup(const hv_render_scene *s, const hv_render_options *opt, rcam *cam);
+/* World ray through continuous image position (x, y) in pixels (0,0 = top-left corner):
+ * origin o, unit direction d. */
+void r_camera_ray(const rcam *cam, double x, double y, double o[3], double d[3]);
+
+/* The world bounding box corners of a scene (occupied voxel cells). */
+void r_scene_box(const hv_render_scene *s, double lo[3], double hi[3]);
+
+#endif

@@ -1,0 +1,450 @@
+/* renderer/scene.c - the render-ready form of a graded model (Wu 2.3): each voxel's colour
+ * sum p_j * colour_j, occupancy and Sobel-smoothed occupancy gradient, in 9^3 bricks (8^3 block
+ * plus apron) reached through a two-level block table (64^3 macro cells, 8^3 blocks) that the
+ * ray caster also walks to skip empty space. Built once per model, in parallel over bricks. */
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../src/core/internal.h"
+#include "hovox/material.h"
+#include "render_internal.h"
+
+/* Guards against absurdly spread-out volumes: the dense top level of the block table. */
+#define MAX_TOP_CELLS (1u << 26)
+
+typedef struct occ_leaf {
+    size_t leaf;     /* volume leaf number */
+    int32_t blk[3];  /* block coordinates */
+    int full;        /* all 512 voxels occupied */
+    uint64_t mask[8];
+} occ_leaf;
+
+typedef struct build_ctx {
+    hv_render_scene *s;
+    const hv_volume *vol;
+    const occ_leaf *occ;
+    uint8_t *colour_of_leaf; /* 512 x RGBA per occupied leaf */
+    int nmat;
+    int grids[HV_MAX_MATERIALS];
+    float colour[HV_MAX_MATERIALS][4];
+} build_ctx;
+
+void r_scene_box(const hv_render_scene *s, double lo[3], double hi[3])
+{
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = s->xf.origin[a] + ((double)s->lo[a] - 0.5) * s->xf.voxel[a];
+        hi[a] = s->xf.origin[a] + ((double)s->hi[a] + 0.5) * s->xf.voxel[a];
+    }
+}
+
+int hv_render_scene_bounds(const hv_render_scene *s, double lo[3], double hi[3])
+{
+    if (s->empty) return 0;
+    r_scene_box(s, lo, hi);
+    return 1;
+}
+
+int hv_render_scene_materials(const hv_render_scene *s) { return s->materials; }
+
+void hv_render_scene_destroy(hv_render_scene *s)
+{
+    if (!s) return;
+    free(s->top);
+    free(s->pages);
+    free(s->bricks);
+    free(s->brick_block);
+    free(s->brick_kind);
+    free(s);
+}
+
+/* Page of block (bx,by,bz), created on demand; NULL on allocation failure. */
+static rpage *page_of(hv_render_scene *s, size_t *pcap, const int32_t b[3])
+{
+    int32_t m[3];
+    for (int a = 0; a < 3; ++a) m[a] = r_floor_shift(b[a], 3) - s->mlo[a];
+    int64_t cell = ((int64_t)m[0] * s->mdims[1] + m[1]) * s->mdims[2] + m[2];
+    if (s->top[cell] < 0) {
+        if (hv_grow((void **)&s->pages, pcap, s->npages + 1, sizeof(rpage)) != HV_OK) return NULL;
+        rpage *p = &s->pages[s->npages];
+        for (int i = 0; i < 512; ++i) p->brick[i] = p->occ[i] = -1;
+        s->top[cell] = (int32_t)s->npages++;
+    }
+    return &s->pages[s->top[cell]];
+}
+
+/* Occupied-leaf index of block b, or -1. */
+static int32_t occ_at(const hv_render_scene *s, int32_t bx, int32_t by, int32_t bz)
+{
+    int32_t mx = r_floor_shift(bx, 3) - s->mlo[0], my = r_floor_shift(by, 3) - s->mlo[1],
+            mz = r_floor_shift(bz, 3) - s->mlo[2];
+    if (mx < 0 || my < 0 || mz < 0 || mx >= s->mdims[0] || my >= s->mdims[1] || mz >= s->mdims[2])
+        return -1;
+    int32_t p = s->top[((int64_t)mx * s->mdims[1] + my) * s->mdims[2] + mz];
+    return p < 0 ? -1 : s->pages[p].occ[RP_INDEX(bx, by, bz)];
+}
+
+static uint8_t to_u8(float v)
+{
+    v = v * 255.0f + 0.5f;
+    return (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : v);
+}
+
+/* Gradient filter: central differences of the occupancy smoothed by the binomial kernel
+ * [1 6 15 20 15 6 1] / 64 along each axis (a discrete Gaussian, sigma 1.22 voxels). Binary
+ * occupancy has only a few gradient directions; the smoothing turns the staircase of a
+ * voxelized sphere into smooth normals. A flat face gives |g| = (42 - 7) * 64 * 64 = 143360,
+ * stored divided by GRAD_SCALE (as 128). */
+#define GRAD_SCALE 1120
+#define KR 3 /* kernel radius */
+
+/* smoothed value of a 7-bit window of a row of occupancy bits */
+static int32_t g_window[128];
+static pthread_once_t g_window_once = PTHREAD_ONCE_INIT;
+
+static void init_window(void)
+{
+    static const int W7[7] = {1, 6, 15, 20, 15, 6, 1};
+    for (int m = 0; m < 128; ++m) {
+        int v = 0;
+        for (int k = 0; k < 7; ++k) v += ((m >> k) & 1) * W7[k];
+        g_window[m] = v;
+    }
+}
+
+static uint8_t grad_u8(int g)
+{
+    int v = (g >= 0 ? g + GRAD_SCALE / 2 : g - GRAD_SCALE / 2) / GRAD_SCALE;
+    return (uint8_t)(128 + (v < -127 ? -127 : v > 127 ? 127 : v));
+}
+
+/* Colours of occupied leaves [begin, end): sum p_j colour_j / sum p_j per occupied voxel. */
+static hv_status fill_colours(void *vctx, size_t begin, size_t end, int thread)
+{
+    (void)thread;
+    const build_ctx *c = vctx;
+    const float *mat[HV_MAX_MATERIALS];
+    for (size_t i = begin; i < end; ++i) {
+        const occ_leaf *ol = &c->occ[i];
+        uint8_t *out = c->colour_of_leaf + i * HV_LEAF_SIZE * 4;
+        for (int j = 0; j < c->nmat; ++j)
+            mat[j] = hv_volume_leaf_float_c(c->vol, c->grids[j], ol->leaf);
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            uint8_t *o = out + 4 * n;
+            if (!HV_BIT_GET(ol->mask, n)) {
+                o[0] = o[1] = o[2] = o[3] = 0;
+                continue;
+            }
+            float sum = 0, acc[4] = {0, 0, 0, 0};
+            for (int j = 0; j < c->nmat; ++j) {
+                float p = mat[j][n];
+                if (!(p > 0)) continue; /* negative or NaN: no contribution */
+                if (p > 1) p = 1;
+                sum += p;
+                for (int k = 0; k < 4; ++k) acc[k] += p * c->colour[j][k];
+            }
+            if (sum > 1e-6f) {
+                float inv = 1.0f / sum;
+                for (int k = 0; k < 4; ++k) o[k] = to_u8(acc[k] * inv);
+            } else { /* no material: grey */
+                o[0] = o[1] = o[2] = to_u8(0.7f);
+                o[3] = 255;
+            }
+        }
+    }
+    return HV_OK;
+}
+
+/* Fill bricks [begin, end): occupancy bits of the 17^3 neighbourhood (local -4..12) as rows
+ * along z, smoothed separably into S over local -1..9, then per voxel of the 9^3 brick the
+ * composition colour and the central differences of S. */
+static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
+{
+    (void)thread;
+    const build_ctx *c = vctx;
+    const hv_render_scene *s = c->s;
+    enum { N = 9 + 2 * (KR + 1), M = 9 + 2 };
+    const uint32_t FULL = (1u << N) - 1;
+    uint32_t rows[N][N]; /* bit z: local z - (KR + 1) */
+    int32_t T1[N][N][M], T2[N][M][M], S[M][M][M];
+    for (size_t bi = begin; bi < end; ++bi) {
+        const int32_t *B = s->brick_block + 3 * bi;
+        rvox *out = s->bricks + bi * RB_VOX;
+        int32_t nb[3][3][3];
+        int full = 1;
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz) {
+                    int32_t o = occ_at(s, B[0] + dx, B[1] + dy, B[2] + dz);
+                    nb[dx + 1][dy + 1][dz + 1] = o;
+                    full &= o >= 0 && c->occ[o].full;
+                }
+        /* deep inside a solid: all occupied, zero gradient */
+        int flat = full, any = 0, all = 1;
+        if (!full) {
+            /* row (x, y) of a block along z is byte y of its mask word x */
+            for (int x = 0; x < N; ++x) {
+                int lx = x - (KR + 1), bx = lx < 0 ? 0 : lx > 7 ? 2 : 1;
+                for (int y = 0; y < N; ++y) {
+                    int ly = y - (KR + 1), by = ly < 0 ? 0 : ly > 7 ? 2 : 1;
+                    uint32_t row = 0;
+                    for (int bz = 0; bz < 3; ++bz) {
+                        int32_t o = nb[bx][by][bz];
+                        if (o < 0) continue;
+                        uint32_t byte =
+                            (uint32_t)(c->occ[o].mask[lx & 7] >> (8 * (ly & 7))) & 0xFFu;
+                        row |= bz == 0 ? byte >> (8 - (KR + 1)) : bz == 1 ? byte << (KR + 1)
+                                                                         : byte << (KR + 9);
+                    }
+                    row &= FULL;
+                    rows[x][y] = row;
+                    any |= row != 0;
+                    all &= row == FULL;
+                }
+            }
+            flat = !any || all;
+        }
+        int solid = flat && (full || all);
+        if (!flat) {
+            for (int x = 0; x < N; ++x)
+                for (int y = 0; y < N; ++y) {
+                    uint32_t row = rows[x][y];
+                    int32_t *t = T1[x][y];
+                    if (row == 0 || row == FULL) {
+                        for (int z = 0; z < M; ++z) t[z] = row ? 64 : 0;
+                    } else {
+                        for (int z = 0; z < M; ++z) t[z] = g_window[(row >> z) & 127u];
+                    }
+                }
+            for (int x = 0; x < N; ++x)
+                for (int y = 0; y < M; ++y) {
+                    int32_t *t = T2[x][y];
+                    const int32_t *a0 = T1[x][y], *a1 = T1[x][y + 1], *a2 = T1[x][y + 2],
+                                  *a3 = T1[x][y + 3], *a4 = T1[x][y + 4], *a5 = T1[x][y + 5],
+                                  *a6 = T1[x][y + 6];
+                    for (int z = 0; z < M; ++z)
+                        t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
+                               20 * a3[z];
+                }
+            for (int x = 0; x < M; ++x)
+                for (int y = 0; y < M; ++y) {
+                    int32_t *t = S[x][y];
+                    const int32_t *a0 = T2[x][y], *a1 = T2[x + 1][y], *a2 = T2[x + 2][y],
+                                  *a3 = T2[x + 3][y], *a4 = T2[x + 4][y], *a5 = T2[x + 5][y],
+                                  *a6 = T2[x + 6][y];
+                    for (int z = 0; z < M; ++z)
+                        t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
+                               20 * a3[z];
+                }
+        }
+        for (int x = 0; x < RB_DIM; ++x)
+            for (int y = 0; y < RB_DIM; ++y) {
+                uint32_t row = flat ? ((full || all) ? FULL : 0) : rows[x + KR + 1][y + KR + 1];
+                for (int z = 0; z < RB_DIM; ++z) {
+                    rvox *v = &out[RB_INDEX(x, y, z)];
+                    int32_t o = nb[1 + (x >> 3)][1 + (y >> 3)][1 + (z >> 3)];
+                    unsigned off = HV_LEAF_OFFSET(x, y, z);
+                    if (((row >> (z + KR + 1)) & 1u) && o >= 0) {
+                        memcpy(&v->r, c->colour_of_leaf + ((size_t)o * HV_LEAF_SIZE + off) * 4, 4);
+                        v->occ = 255;
+                    } else {
+                        v->r = v->g = v->b = v->a = 0;
+                        v->occ = 0;
+                    }
+                    if (flat) {
+                        v->gx = v->gy = v->gz = 128;
+                        continue;
+                    }
+                    v->gx = grad_u8(S[x + 2][y + 1][z + 1] - S[x][y + 1][z + 1]);
+                    v->gy = grad_u8(S[x + 1][y + 2][z + 1] - S[x + 1][y][z + 1]);
+                    v->gz = grad_u8(S[x + 1][y + 1][z + 2] - S[x + 1][y + 1][z]);
+                }
+            }
+        uint8_t kind = RB_GENERAL;
+        if (solid) {
+            kind = RB_UNIFORM;
+            for (int i = 1; i < RB_VOX && kind == RB_UNIFORM; ++i)
+                if (memcmp(&out[i], &out[0], sizeof *out) != 0) kind = RB_SOLID;
+        }
+        s->brick_kind[bi] = kind;
+    }
+    return HV_OK;
+}
+
+hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progress,
+                                 hv_render_scene **out)
+{
+    *out = NULL;
+    hv_render_scene *s = hv_calloc(1, sizeof *s);
+    if (!s) return HV_ERR_NOMEM;
+    s->xf = hv_volume_get_transform(vol);
+    build_ctx c;
+    memset(&c, 0, sizeof c);
+    c.s = s;
+    c.vol = vol;
+    hv_status st = HV_OK;
+    occ_leaf *occ = NULL;
+    size_t pcap = 0;
+
+    /* material colours; a model without a table is grey */
+    hv_material_table *t = NULL;
+    st = hv_material_table_load(vol, &t);
+    if (st == HV_ERR_NOT_FOUND) {
+        hv_error_clear();
+        st = HV_OK;
+    }
+    if (st != HV_OK) goto fail;
+    if (t) {
+        c.nmat = hv_material_count(t);
+        for (int j = 0; j < c.nmat; ++j) {
+            c.grids[j] = hv_material_grid(vol, t, j);
+            hv_material_color(t, j, c.colour[j]);
+        }
+        hv_material_table_destroy(t);
+    }
+    s->materials = c.nmat;
+
+    /* occupied leaves: active voxels where "occupancy" (when present) is true */
+    int g_occ = hv_volume_grid_find(vol, "occupancy");
+    if (g_occ >= 0 && hv_volume_grid_type(vol, g_occ) != HV_GRID_BOOL) g_occ = -1;
+    size_t nl = hv_volume_leaf_count(vol), nocc = 0;
+    const int32_t *org = hv_volume_leaf_origins(vol);
+    occ = hv_malloc_array(nl ? nl : 1, sizeof *occ);
+    if (!occ) {
+        st = HV_ERR_NOMEM;
+        goto fail;
+    }
+    int32_t blo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, bhi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (int a = 0; a < 3; ++a) {
+        s->lo[a] = INT32_MAX;
+        s->hi[a] = INT32_MIN;
+    }
+    for (size_t l = 0; l < nl; ++l) {
+        const uint64_t *m = hv_volume_leaf_mask(vol, l);
+        const uint64_t *b = g_occ >= 0 ? hv_volume_leaf_bool_c(vol, g_occ, l) : NULL;
+        occ_leaf *o = &occ[nocc];
+        uint64_t anyw = 0;
+        for (int w = 0; w < 8; ++w) {
+            o->mask[w] = b ? m[w] & b[w] : m[w];
+            anyw |= o->mask[w];
+        }
+        if (!anyw) continue;
+        o->leaf = l;
+        o->full = 1;
+        for (int w = 0; w < 8; ++w) o->full &= o->mask[w] == ~0ull;
+        for (int a = 0; a < 3; ++a) {
+            o->blk[a] = r_floor_shift(org[3 * l + a], 3);
+            blo[a] = HV_MIN(blo[a], o->blk[a]);
+            bhi[a] = HV_MAX(bhi[a], o->blk[a]);
+        }
+        /* count and tight voxel bounds */
+        for (int w = 0; w < 8; ++w) s->occupied += (uint64_t)__builtin_popcountll(o->mask[w]);
+        if (o->full) {
+            for (int a = 0; a < 3; ++a) {
+                s->lo[a] = HV_MIN(s->lo[a], org[3 * l + a]);
+                s->hi[a] = HV_MAX(s->hi[a], org[3 * l + a] + 7);
+            }
+        } else {
+            for (unsigned w = 0; w < 8; ++w)
+                for (uint64_t bits = o->mask[w]; bits; bits &= bits - 1) {
+                    unsigned n = 64 * w + (unsigned)__builtin_ctzll(bits);
+                    int32_t p[3] = {org[3 * l] + (int32_t)(n >> 6),
+                                    org[3 * l + 1] + (int32_t)((n >> 3) & 7),
+                                    org[3 * l + 2] + (int32_t)(n & 7)};
+                    for (int a = 0; a < 3; ++a) {
+                        s->lo[a] = HV_MIN(s->lo[a], p[a]);
+                        s->hi[a] = HV_MAX(s->hi[a], p[a]);
+                    }
+                }
+        }
+        ++nocc;
+    }
+    if (nocc == 0) {
+        s->empty = 1;
+        for (int a = 0; a < 3; ++a) s->lo[a] = s->hi[a] = 0;
+        free(occ);
+        *out = s;
+        return hv_progress_report(progress, "prepare", 1.0);
+    }
+
+    /* block table over blocks blo-1 .. bhi+1 */
+    uint64_t cells = 1;
+    for (int a = 0; a < 3; ++a) {
+        s->mlo[a] = r_floor_shift(blo[a] - 1, 3);
+        s->mdims[a] = r_floor_shift(bhi[a] + 1, 3) - s->mlo[a] + 1;
+        cells *= (uint64_t)s->mdims[a];
+    }
+    if (cells > MAX_TOP_CELLS) {
+        st = hv_error_set(HV_ERR_LIMIT,
+                          "render: the model spans %d x %d x %d macro cells of 64^3 voxels "
+                          "(more than %u): too spread out to render",
+                          s->mdims[0], s->mdims[1], s->mdims[2], MAX_TOP_CELLS);
+        goto fail;
+    }
+    s->top = hv_malloc_array((size_t)cells, sizeof(int32_t));
+    if (!s->top) {
+        st = HV_ERR_NOMEM;
+        goto fail;
+    }
+    for (uint64_t i = 0; i < cells; ++i) s->top[i] = -1;
+    for (size_t i = 0; i < nocc; ++i) {
+        rpage *p = page_of(s, &pcap, occ[i].blk);
+        if (!p) {
+            st = HV_ERR_NOMEM;
+            goto fail;
+        }
+        p->occ[RP_INDEX(occ[i].blk[0], occ[i].blk[1], occ[i].blk[2])] = (int32_t)i;
+    }
+    /* bricks at B - {0,1}^3 of every occupied block B, numbered in leaf order */
+    size_t bcap = 0;
+    for (size_t i = 0; i < nocc; ++i)
+        for (int d = 0; d < 8; ++d) {
+            int32_t b[3] = {occ[i].blk[0] - (d >> 2), occ[i].blk[1] - ((d >> 1) & 1),
+                            occ[i].blk[2] - (d & 1)};
+            rpage *p = page_of(s, &pcap, b);
+            if (!p) {
+                st = HV_ERR_NOMEM;
+                goto fail;
+            }
+            int32_t *slot = &p->brick[RP_INDEX(b[0], b[1], b[2])];
+            if (*slot >= 0) continue;
+            if (s->nbricks >= (size_t)INT32_MAX) {
+                st = hv_error_set(HV_ERR_LIMIT, "render: more than 2^31 bricks");
+                goto fail;
+            }
+            if (hv_grow((void **)&s->brick_block, &bcap, 3 * (s->nbricks + 1), sizeof(int32_t)) !=
+                HV_OK) {
+                st = HV_ERR_NOMEM;
+                goto fail;
+            }
+            memcpy(s->brick_block + 3 * s->nbricks, b, sizeof b);
+            *slot = (int32_t)s->nbricks++;
+        }
+    s->bricks = hv_malloc_array(s->nbricks, RB_VOX * sizeof(rvox));
+    s->brick_kind = hv_malloc(s->nbricks);
+    if (!s->bricks || !s->brick_kind) {
+        st = hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)",
+                          s->nbricks, (double)s->nbricks * RB_VOX * sizeof(rvox) / 1048576.0);
+        goto fail;
+    }
+    c.occ = occ;
+    c.colour_of_leaf = hv_malloc_array(nocc, HV_LEAF_SIZE * 4);
+    if (!c.colour_of_leaf) {
+        st = HV_ERR_NOMEM;
+        goto fail;
+    }
+    pthread_once(&g_window_once, init_window);
+    st = hv_parallel_for(nocc, 16, fill_colours, &c, progress, "prepare");
+    if (st == HV_OK) st = hv_parallel_for(s->nbricks, 16, fill_bricks, &c, progress, "prepare");
+    free(c.colour_of_leaf);
+    if (st != HV_OK) goto fail;
+    free(occ);
+    *out = s;
+    return HV_OK;
+
+fail:
+    free(occ);
+    hv_render_scene_destroy(s);
+    return st;
+}

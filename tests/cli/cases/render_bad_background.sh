@@ -1,0 +1,1 @@
+$HOVOX render model.vdb --background '#12345' -o out.png

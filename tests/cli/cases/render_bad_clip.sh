@@ -1,0 +1,1 @@
+$HOVOX render model.vdb --clip 'x>>1' -o out.png

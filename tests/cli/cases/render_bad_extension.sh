@@ -1,0 +1,1 @@
+$HOVOX render model.vdb -o out.bmp

@@ -1,0 +1,1 @@
+$HOVOX render model.vdb --size 640 -o out.png

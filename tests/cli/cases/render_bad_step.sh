@@ -1,0 +1,1 @@
+$HOVOX render model.vdb --step 0 -o out.png

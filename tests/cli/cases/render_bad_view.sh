@@ -1,0 +1,1 @@
+$HOVOX render model.vdb --view diagonal -o out.png

@@ -1,0 +1,1 @@
+$HOVOX render "$TMP/nothing.vdb" -o "$TMP/out.png"; echo "rc=$?"; ls "$TMP"

@@ -1,0 +1,369 @@
+/* tests/render/test_image.c - image output: float images to 8-bit, the libpng writer (grey,
+ * grey+alpha, RGB, RGBA, indexed, pHYs, text; to files atomically and to memory), read back by
+ * libpng itself; EXR and TIFF through the OpenImageIO plugin, checked with oiiotool. */
+#include <criterion/criterion.h>
+#include <dirent.h>
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hovox/render.h"
+#include "support/support.h"
+
+typedef struct decoded {
+    png_uint_32 w, h;
+    int bit_depth, colour_type, channels;
+    png_uint_32 ppm_x, ppm_y;
+    int unit, npalette;
+    png_colorp palette;
+    char text_key[80], text_value[256];
+    uint8_t *pixels;
+} decoded;
+
+static size_t g_mem_pos, g_mem_len;
+static const uint8_t *g_mem;
+
+static void mem_read(png_structp png, png_bytep out, size_t n)
+{
+    (void)png;
+    cr_assert(g_mem_pos + n <= g_mem_len, "PNG read past the end");
+    memcpy(out, g_mem + g_mem_pos, n);
+    g_mem_pos += n;
+}
+
+/* Decode with the classic libpng API, keeping the stored format (no transformations). */
+static void decode(FILE *fp, const uint8_t *mem, size_t len, decoded *d)
+{
+    memset(d, 0, sizeof *d);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    cr_assert(png && info);
+    if (setjmp(png_jmpbuf(png))) cr_assert_fail("libpng could not read the PNG");
+    if (fp) {
+        png_init_io(png, fp);
+    } else {
+        g_mem = mem;
+        g_mem_len = len;
+        g_mem_pos = 0;
+        png_set_read_fn(png, NULL, mem_read);
+    }
+    png_read_info(png, info);
+    if (png_get_bit_depth(png, info) < 8) png_set_packing(png); /* one pixel per byte, raw */
+    png_read_update_info(png, info);
+    d->w = png_get_image_width(png, info);
+    d->h = png_get_image_height(png, info);
+    d->bit_depth = png_get_bit_depth(png, info);
+    d->colour_type = png_get_color_type(png, info);
+    d->channels = png_get_channels(png, info);
+    png_get_pHYs(png, info, &d->ppm_x, &d->ppm_y, &d->unit);
+    png_colorp pal;
+    if (png_get_PLTE(png, info, &pal, &d->npalette)) {
+        d->palette = malloc(sizeof *pal * (size_t)d->npalette);
+        memcpy(d->palette, pal, sizeof *pal * (size_t)d->npalette);
+    }
+    png_textp text;
+    int nt = 0;
+    if (png_get_text(png, info, &text, &nt) && nt > 0) {
+        snprintf(d->text_key, sizeof d->text_key, "%s", text[0].key);
+        snprintf(d->text_value, sizeof d->text_value, "%s", text[0].text);
+    }
+    size_t rb = png_get_rowbytes(png, info);
+    d->pixels = malloc(rb * d->h);
+    for (png_uint_32 y = 0; y < d->h; ++y) png_read_row(png, d->pixels + y * rb, NULL);
+    png_read_end(png, NULL);
+    png_destroy_read_struct(&png, &info, NULL);
+}
+
+static void decode_file(const char *path, decoded *d)
+{
+    FILE *fp = fopen(path, "rb");
+    cr_assert_not_null(fp, "cannot open %s", path);
+    decode(fp, NULL, 0, d);
+    fclose(fp);
+}
+
+static void free_decoded(decoded *d)
+{
+    free(d->pixels);
+    free(d->palette);
+}
+
+static uint8_t *pattern(int w, int h, int ch, size_t stride)
+{
+    uint8_t *p = calloc(stride * (size_t)h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < ch; ++c) p[(size_t)y * stride + (size_t)x * ch + c] = (uint8_t)(x * 7 + y * 13 + c * 50);
+    return p;
+}
+
+Test(image, png_round_trips_every_layout)
+{
+    static const int types[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                 PNG_COLOR_TYPE_RGB_ALPHA};
+    for (int ch = 1; ch <= 4; ++ch) {
+        int w = 37, h = 11;
+        size_t stride = (size_t)w * ch + 5; /* padded rows */
+        uint8_t *p = pattern(w, h, ch, stride);
+        char name[32];
+        snprintf(name, sizeof name, "layout%d.png", ch);
+        const char *path = t_tmpfile(name);
+        cr_assert_eq(hv_png_write(path, p, w, h, ch, stride, NULL), HV_OK, "%s", hv_last_error());
+        decoded d;
+        decode_file(path, &d);
+        cr_expect(d.w == (png_uint_32)w && d.h == (png_uint_32)h && d.bit_depth == 8);
+        cr_expect_eq(d.colour_type, types[ch]);
+        cr_expect_eq(d.ppm_x, 0u); /* no pHYs unless asked */
+        for (int y = 0; y < h; ++y)
+            cr_expect(memcmp(d.pixels + (size_t)y * w * ch, p + (size_t)y * stride, (size_t)w * ch) == 0,
+                      "%d channels: row %d differs", ch, y);
+        free_decoded(&d);
+        free(p);
+    }
+}
+
+Test(image, png_palette_resolution_text_and_memory)
+{
+    int w = 20, h = 9;
+    uint8_t *idx = malloc((size_t)w * h);
+    for (int i = 0; i < w * h; ++i) idx[i] = (uint8_t)(i % 3);
+    static const uint8_t pal[9] = {255, 0, 0, 0, 255, 0, 0, 0, 255};
+    hv_png_options o;
+    hv_png_options_init(&o);
+    o.palette = pal;
+    o.palette_size = 3;
+    o.dpi[0] = 600;
+    o.dpi[1] = 300;
+    o.compression = 1;
+    o.text_key = "Software";
+    o.text_value = "hovox test";
+    uint8_t *mem = NULL;
+    size_t len = 0;
+    cr_assert_eq(hv_png_encode(idx, w, h, 1, 0, &o, &mem, &len), HV_OK, "%s", hv_last_error());
+    cr_assert(len > 8 && memcmp(mem, "\x89PNG\r\n\x1a\n", 8) == 0);
+    decoded d;
+    decode(NULL, mem, len, &d);
+    cr_expect_eq(d.colour_type, PNG_COLOR_TYPE_PALETTE);
+    cr_expect_eq(d.npalette, 3);
+    cr_expect(d.palette[2].blue == 255 && d.palette[0].red == 255);
+    /* 600 dpi = 23622 px/m, 300 dpi = 11811 px/m */
+    cr_expect(d.unit == PNG_RESOLUTION_METER && d.ppm_x == 23622 && d.ppm_y == 11811, "pHYs %u %u",
+              d.ppm_x, d.ppm_y);
+    cr_expect_str_eq(d.text_key, "Software");
+    cr_expect_str_eq(d.text_value, "hovox test");
+    cr_expect(memcmp(d.pixels, idx, (size_t)w * h) == 0);
+    free_decoded(&d);
+    free(mem);
+    free(idx);
+}
+
+/* Sub-byte depths (1-bit masks, 2/4-bit palettes for halftoned layers): one pixel per byte in,
+ * packed in the file, unpacked by libpng on the way back. */
+Test(image, png_low_bit_depths)
+{
+    int w = 13, h = 5; /* rows that do not fill whole bytes */
+    uint8_t *px = malloc((size_t)w * h);
+    static const uint8_t pal[12] = {0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0, 255};
+    for (int depth = 1; depth <= 4; depth *= 2)
+        for (int indexed = 0; indexed < 2; ++indexed) {
+            int levels = indexed ? (depth == 1 ? 2 : 4) : 1 << depth;
+            for (int i = 0; i < w * h; ++i) px[i] = (uint8_t)((i * 7 + i / 3) % levels);
+            hv_png_options o;
+            hv_png_options_init(&o);
+            o.bit_depth = depth;
+            if (indexed) {
+                o.palette = pal;
+                o.palette_size = levels;
+            }
+            uint8_t *mem = NULL;
+            size_t len = 0;
+            cr_assert_eq(hv_png_encode(px, w, h, 1, 0, &o, &mem, &len), HV_OK, "%s", hv_last_error());
+            decoded d;
+            decode(NULL, mem, len, &d);
+            cr_expect(d.w == (png_uint_32)w && d.h == (png_uint_32)h);
+            cr_expect_eq(d.colour_type, indexed ? PNG_COLOR_TYPE_PALETTE : PNG_COLOR_TYPE_GRAY);
+            cr_expect(memcmp(d.pixels, px, (size_t)w * h) == 0, "depth %d%s: pixels differ", depth,
+                      indexed ? " indexed" : "");
+            /* packed: the file is smaller than one byte per pixel would allow */
+            cr_expect(len < (size_t)(w * h) + 200, "depth %d: %zu bytes", depth, len);
+            free_decoded(&d);
+            free(mem);
+        }
+    hv_png_options o;
+    hv_png_options_init(&o);
+    uint8_t *mem = NULL;
+    size_t len = 0;
+    for (int i = 0; i < w * h; ++i) px[i] = (uint8_t)(i % 4);
+    o.bit_depth = 3;
+    cr_expect_eq(hv_png_encode(px, w, h, 1, 0, &o, &mem, &len), HV_ERR_INVALID);
+    o.bit_depth = 2;
+    cr_expect_eq(hv_png_encode(px, w, h, 3, 0, &o, &mem, &len), HV_ERR_INVALID);
+    px[7] = 4;
+    cr_expect_eq(hv_png_encode(px, w, h, 1, 0, &o, &mem, &len), HV_ERR_INVALID);
+    cr_expect(strstr(hv_last_error(), "value 4 does not fit in 2 bits") != NULL, "%s", hv_last_error());
+    static const uint8_t pal8[24] = {0};
+    px[7] = 0;
+    o.palette = pal8;
+    o.palette_size = 8;
+    cr_expect_eq(hv_png_encode(px, w, h, 1, 0, &o, &mem, &len), HV_ERR_INVALID);
+    cr_expect(strstr(hv_last_error(), "8-colour palette needs more than 2 bits") != NULL, "%s",
+              hv_last_error());
+    cr_expect_null(mem);
+    free(px);
+}
+
+Test(image, png_rejects_bad_arguments)
+{
+    uint8_t px[64] = {0};
+    uint8_t *mem = NULL;
+    size_t len = 0;
+    hv_png_options o;
+    hv_png_options_init(&o);
+    cr_expect_eq(hv_png_encode(px, 0, 4, 1, 0, NULL, &mem, &len), HV_ERR_INVALID);
+    cr_expect_eq(hv_png_encode(px, 4, 4, 5, 0, NULL, &mem, &len), HV_ERR_INVALID);
+    cr_expect_eq(hv_png_encode(px, 4, 4, 3, 11, NULL, &mem, &len), HV_ERR_INVALID);
+    cr_expect(strstr(hv_last_error(), "stride") != NULL, "%s", hv_last_error());
+    static const uint8_t pal[6] = {0, 0, 0, 255, 255, 255};
+    o.palette = pal;
+    o.palette_size = 2;
+    px[13] = 2;
+    cr_expect_eq(hv_png_encode(px, 4, 4, 1, 0, &o, &mem, &len), HV_ERR_INVALID);
+    cr_expect(strstr(hv_last_error(), "pixel (1, 3) has index 2") != NULL, "%s", hv_last_error());
+    cr_expect_eq(hv_png_encode(px, 4, 4, 3, 0, &o, &mem, &len), HV_ERR_INVALID);
+    hv_png_options_init(&o);
+    o.compression = 10;
+    cr_expect_eq(hv_png_encode(px, 4, 4, 1, 0, &o, &mem, &len), HV_ERR_INVALID);
+    hv_png_options_init(&o);
+    o.text_key = "";
+    o.text_value = "x";
+    cr_expect_eq(hv_png_encode(px, 4, 4, 1, 0, &o, &mem, &len), HV_ERR_INVALID);
+    cr_expect_null(mem);
+}
+
+static int count_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    cr_assert_not_null(d);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) ++n;
+    closedir(d);
+    return n;
+}
+
+Test(image, png_write_failures_leave_no_file)
+{
+    uint8_t px[16] = {0};
+    const char *missing = t_tmpfile("no/such/dir/out.png");
+    cr_expect_eq(hv_png_write(missing, px, 4, 4, 1, 0, NULL), HV_ERR_IO);
+    cr_expect(strstr(hv_last_error(), "out.png") != NULL, "%s", hv_last_error());
+    /* a directory in the way of the final name: the rename fails, the temporary goes away */
+    char dir[512];
+    snprintf(dir, sizeof dir, "%s", t_tmpfile("fails"));
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "mkdir -p %s/taken.png/x", dir);
+    cr_assert_eq(t_run(cmd, NULL), 0);
+    char path[600];
+    snprintf(path, sizeof path, "%s/taken.png", dir);
+    cr_expect_eq(hv_png_write(path, px, 4, 4, 1, 0, NULL), HV_ERR_IO);
+    cr_expect_eq(count_entries(dir), 1, "a temporary file was left behind");
+}
+
+Test(image, float_to_rgba8_unpremultiplies)
+{
+    hv_image *img;
+    cr_assert_eq(hv_image_create(3, 1, &img), HV_OK);
+    float v[12] = {0.25f, 0.1f, 0.0f, 0.5f, /* premultiplied (0.5, 0.2, 0) at alpha 0.5 */
+                   0, 0, 0, 0,
+                   1.2f, -0.1f, NAN, 1.0f};
+    memcpy(img->rgba, v, sizeof v);
+    uint8_t out[12];
+    hv_image_to_rgba8(img, out);
+    cr_expect(out[0] == 128 && out[1] == 51 && out[2] == 0 && out[3] == 128, "%d %d %d %d", out[0],
+              out[1], out[2], out[3]);
+    cr_expect(out[4] == 0 && out[7] == 0);
+    cr_expect(out[8] == 255 && out[9] == 0 && out[10] == 0 && out[11] == 255);
+    hv_image_destroy(img);
+    cr_expect_eq(hv_image_create(0, 5, &img), HV_ERR_INVALID);
+    cr_expect_null(img);
+    cr_expect_eq(hv_image_create(5, 70000, &img), HV_ERR_INVALID);
+}
+
+static hv_image *constant(float r, float g, float b, float a)
+{
+    hv_image *img;
+    cr_assert_eq(hv_image_create(16, 8, &img), HV_OK);
+    for (int i = 0; i < 16 * 8; ++i) {
+        img->rgba[4 * i] = r * a;
+        img->rgba[4 * i + 1] = g * a;
+        img->rgba[4 * i + 2] = b * a;
+        img->rgba[4 * i + 3] = a;
+    }
+    return img;
+}
+
+Test(image, write_png_by_extension)
+{
+    hv_image *img = constant(0.2f, 0.4f, 0.6f, 0.8f);
+    const char *path = t_tmpfile("const.PNG");
+    cr_assert_eq(hv_image_write(img, path), HV_OK, "%s", hv_last_error());
+    decoded d;
+    decode_file(path, &d);
+    cr_expect_eq(d.colour_type, PNG_COLOR_TYPE_RGB_ALPHA);
+    cr_expect(d.pixels[0] == 51 && d.pixels[1] == 102 && d.pixels[2] == 153 && d.pixels[3] == 204,
+              "%d %d %d %d", d.pixels[0], d.pixels[1], d.pixels[2], d.pixels[3]);
+    free_decoded(&d);
+    cr_expect_eq(hv_image_write(img, t_tmpfile("const.bmp")), HV_ERR_UNSUPPORTED);
+    cr_expect(strstr(hv_last_error(), "'.bmp'") != NULL, "%s", hv_last_error());
+    cr_expect_eq(hv_image_write(img, t_tmpfile("noext")), HV_ERR_UNSUPPORTED);
+    hv_image_destroy(img);
+}
+
+/* "Stats Avg: a b c d" of oiiotool (integer formats print 0..255); straight: read the alpha as
+ * stored (unassociated). Returns the number of values read. */
+static int oiio_avg(const char *path, int straight, double avg[4])
+{
+    char cmd[700], *out = NULL;
+    snprintf(cmd, sizeof cmd, "oiiotool %s '%s' --printstats 2>&1",
+             straight ? "--iconfig oiio:UnassociatedAlpha 1" : "", path);
+    if (t_run(cmd, &out) != 0) {
+        free(out);
+        return -1;
+    }
+    const char *p = out ? strstr(out, "Stats Avg:") : NULL;
+    int n = p ? sscanf(p, "Stats Avg: %lf %lf %lf %lf", &avg[0], &avg[1], &avg[2], &avg[3]) : 0;
+    free(out);
+    return n;
+}
+
+Test(image, exr_and_tiff_through_openimageio)
+{
+    hv_image *img = constant(0.2f, 0.4f, 0.6f, 0.5f);
+    const char *exr = t_tmpfile("const.exr"), *tif = t_tmpfile("const.tiff");
+    hv_status s = hv_image_write(img, exr);
+    if (s == HV_ERR_UNSUPPORTED && strstr(hv_last_error(), "needs OpenImageIO")) {
+        hv_image_destroy(img);
+        cr_skip_test("OpenImageIO plugin not built: %s", hv_last_error());
+    }
+    cr_assert_eq(s, HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_image_write(img, tif), HV_OK, "%s", hv_last_error());
+    double a[4];
+    if (oiio_avg(exr, 0, a) != 4) {
+        hv_image_destroy(img);
+        cr_skip_test("oiiotool is not available");
+    }
+    /* EXR: premultiplied half floats */
+    cr_expect(fabs(a[0] - 0.1) < 1e-3 && fabs(a[1] - 0.2) < 1e-3 && fabs(a[2] - 0.3) < 1e-3 &&
+              fabs(a[3] - 0.5) < 1e-3, "EXR averages %g %g %g %g", a[0], a[1], a[2], a[3]);
+    /* TIFF: 8-bit straight alpha, as the PNG */
+    cr_assert_eq(oiio_avg(tif, 1, a), 4);
+    cr_expect(a[0] == 51 && a[1] == 102 && a[2] == 153 && a[3] == 128,
+              "TIFF averages %g %g %g %g", a[0], a[1], a[2], a[3]);
+    /* an unwritable EXR leaves nothing */
+    cr_expect_eq(hv_image_write(img, t_tmpfile("no/such/dir/x.exr")), HV_ERR_IO);
+    cr_expect(strstr(hv_last_error(), "x.exr") != NULL, "%s", hv_last_error());
+    hv_image_destroy(img);
+}

@@ -62,6 +62,9 @@ for _, r in ipairs(results) do
                    csv = out .. "/wu_gear_" .. name .. "_axial.csv",
                    plot = out .. "/wu_gear_" .. name .. "_axial.png",
                    title = "Wu gear (" .. name .. "): axial line at r = 25 mm"}
+    -- Wu Fig. 27: a cut-away preview (a quarter removed) shows the gradient inside
+    graded:render{path = out .. "/wu_gear_" .. name .. "_cut.png", surface = true,
+                  clip = "x>0&y<0", size = {640, 640}}
     local inside, f = graded:probe{0, 15, 20}
     print(string.format("%-10s %d voxels; at (0, 15, 20): A %.3f B %.3f C %.3f", name,
                         graded:voxels("occupancy"), f.A, f.B, f.C))

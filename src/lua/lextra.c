@@ -10,6 +10,7 @@
 #include "../core/internal.h"
 #include "hovox/export.h"
 #include "hovox/profile.h"
+#include "hovox/render.h"
 #include "hovox/slice.h"
 #include "lhovox.h"
 
@@ -349,9 +350,126 @@ static int model_export(lua_State *L)
     return 1;
 }
 
+/* ---- render -------------------------------------------------------------------------------- */
+
+static void opt_vec(lua_State *L, int idx, const char *key, double *out, int n, int *set)
+{
+    lua_getfield(L, idx, key);
+    if (!lua_isnil(L, -1)) {
+        if (!lua_istable(L, -1) || (int)lua_rawlen(L, -1) != n)
+            arg_error(L, 2, "%s must be a list of %d numbers", key, n);
+        for (int i = 0; i < n; ++i) {
+            lua_rawgeti(L, -1, i + 1);
+            int ok;
+            out[i] = lua_tonumberx(L, -1, &ok);
+            if (!ok || !isfinite(out[i])) arg_error(L, 2, "%s[%d] must be a finite number", key, i + 1);
+            lua_pop(L, 1);
+        }
+        if (set) *set = 1;
+    }
+    lua_pop(L, 1);
+}
+
+/* model:render{path = "x.png"|".exr"|".tif", size = {w, h}, surface = bool, flat = bool,
+ *              view = "iso"|..., eye = {x,y,z}, target = {...}, up = {...}, ortho = bool,
+ *              fov = deg, step = voxels, density = per mm, clip = "x>0&y<0" or {list},
+ *              clip_box = {x0,y0,z0,x1,y1,z1}, background = "#rrggbb"|"transparent",
+ *              aa = N} -- the options of `hovox render` */
+static int model_render(lua_State *L)
+{
+    hv_volume *vol = check_model(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    const char *path = get_path(L, 2, "path");
+    if (!path) return arg_error(L, 2, "path is required (.png, .exr or .tif)");
+    hv_render_options o;
+    hv_render_options_init(&o);
+    double size[2] = {o.width, o.height};
+    opt_vec(L, 2, "size", size, 2, NULL);
+    if (!(size[0] >= 1 && size[0] <= 65535 && size[1] >= 1 && size[1] <= 65535))
+        return arg_error(L, 2, "size must be {w, h} in 1..65535");
+    o.width = (int)size[0];
+    o.height = (int)size[1];
+    lua_getfield(L, 2, "surface");
+    if (lua_toboolean(L, -1)) o.mode = HV_RENDER_SURFACE;
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "flat");
+    if (lua_toboolean(L, -1)) {
+        o.ambient = 1;
+        o.diffuse = 0;
+        o.specular = 0;
+    }
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "view");
+    if (!lua_isnil(L, -1) && hv_view_parse(luaL_checkstring(L, -1), &o.camera.view) != HV_OK)
+        return arg_error(L, 2, "%s", hv_last_error());
+    lua_pop(L, 1);
+    opt_vec(L, 2, "eye", o.camera.eye, 3, &o.camera.use_eye);
+    opt_vec(L, 2, "target", o.camera.target, 3, NULL);
+    opt_vec(L, 2, "up", o.camera.up, 3, NULL);
+    lua_getfield(L, 2, "ortho");
+    o.camera.ortho = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    struct { const char *key; double *v; double lo, hi; } nums[] = {
+        {"fov", &o.camera.fov, 1, 179}, {"step", &o.step, 0.01, 4}, {"density", &o.density, 0, 1e9},
+        {"cut_opacity", &o.cut_opacity, 0, 1}};
+    for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
+        lua_getfield(L, 2, nums[i].key);
+        if (!lua_isnil(L, -1)) {
+            double v = luaL_checknumber(L, -1);
+            if (!(v >= nums[i].lo && v <= nums[i].hi))
+                return arg_error(L, 2, "%s must be in [%g, %g], got %g", nums[i].key, nums[i].lo, nums[i].hi, v);
+            *nums[i].v = v;
+        }
+        lua_pop(L, 1);
+    }
+    lua_getfield(L, 2, "aa");
+    lua_Integer aa = luaL_optinteger(L, -1, o.samples);
+    lua_pop(L, 1);
+    if (aa < 1 || aa > 8) return arg_error(L, 2, "aa must be in [1, 8], got %lld", (long long)aa);
+    o.samples = (int)aa;
+    lua_getfield(L, 2, "background");
+    if (!lua_isnil(L, -1)) {
+        const char *bg = luaL_checkstring(L, -1);
+        if (strcmp(bg, "transparent") == 0) {
+            for (int k = 0; k < 4; ++k) o.background[k] = 0;
+        } else if (hv_color_parse(bg, o.background) != HV_OK) {
+            return arg_error(L, 2, "%s", hv_last_error());
+        }
+    }
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "clip");
+    if (lua_type(L, -1) == LUA_TSTRING) {
+        if (hv_clip_parse(lua_tostring(L, -1), &o.clip[o.clips++]) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
+    } else if (lua_istable(L, -1)) {
+        int n = (int)lua_rawlen(L, -1);
+        if (n > HV_RENDER_MAX_CLIPS) return arg_error(L, 2, "at most %d clips", HV_RENDER_MAX_CLIPS);
+        for (int i = 1; i <= n; ++i) {
+            lua_rawgeti(L, -1, i);
+            if (hv_clip_parse(luaL_checkstring(L, -1), &o.clip[o.clips++]) != HV_OK)
+                return arg_error(L, 2, "%s", hv_last_error());
+            lua_pop(L, 1);
+        }
+    }
+    lua_pop(L, 1);
+    double box[6];
+    int have_box = 0;
+    opt_vec(L, 2, "clip_box", box, 6, &have_box);
+    if (have_box) {
+        if (o.clips == HV_RENDER_MAX_CLIPS) return arg_error(L, 2, "at most %d clips", HV_RENDER_MAX_CLIPS);
+        if (hv_clip_box(box, box + 3, &o.clip[o.clips++]) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
+    }
+    hv_image *img = NULL;
+    hv_status s = hv_render(vol, &o, NULL, &img);
+    if (s == HV_OK) s = hv_image_write(img, path);
+    hv_image_destroy(img);
+    if (s != HV_OK) return fail(L, s);
+    return 0;
+}
+
 const luaL_Reg *hv_lua_model_extra(void)
 {
-    static const luaL_Reg m[] = {{"profile", model_profile}, {"export", model_export}, {NULL, NULL}};
+    static const luaL_Reg m[] = {{"profile", model_profile}, {"export", model_export},
+                                 {"render", model_render}, {NULL, NULL}};
     return m;
 }
 

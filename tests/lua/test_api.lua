@@ -218,6 +218,15 @@ assert(exu.cells > 0 and not exu.arrays:find("voigt", 1, true))
 fails("path is required", graded.export, graded, {})
 fails("keep must be majority or any", graded.export, graded, {path = tmp .. "/x.vtu", keep = "some"})
 
+-- render
+graded:render{path = tmp .. "/r.png", size = {64, 48}, surface = true, clip = {"x>10", "z<2"}, view = "top"}
+graded:render{path = tmp .. "/v.png", size = {32, 32}, clip_box = {0, 0, 0, 5, 5, 5}, background = "transparent",
+              eye = {40, 40, 40}, target = {10, 5, 5}, flat = true, aa = 2}
+assert(io.open(tmp .. "/r.png", "rb"):read(4) == "\137PNG")
+fails("path is required", graded.render, graded, {})
+fails("clip", graded.render, graded, {path = tmp .. "/x.png", clip = "w>3"})
+fails("size must be", graded.render, graded, {path = tmp .. "/x.png", size = {0, 5}})
+
 -- explicit freeing
 gd:free()
 fails("object was freed", gd.voxels, gd)

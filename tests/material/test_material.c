@@ -142,6 +142,7 @@ Test(material, table_round_trips_through_a_volume)
     cr_assert_eq(v, 1180);
     cr_assert_str_eq(unit, "kg/m^3");
     cr_assert_eq(hv_material_property_count(r, 1), 2);
+    hv_material_table_destroy(r);
     cr_assert_eq(hv_material_table_from_json("{\"materials\": [{}]}", &r), HV_ERR_BAD_INPUT);
     float rgba[4];
     cr_assert_eq(hv_color_parse("#1f77b4", rgba), HV_OK);

@@ -1,0 +1,263 @@
+/* hovox/layers.h - printer slice stacks (Wu 2.4.2): material layers at printer resolution by
+ * trilinear interpolation between voxel layers and pixel overlap interpolation (POI), the
+ * exact contour as the geometric constraint, halftoning to one material per printer voxel,
+ * and the stack on disk (PNG layers, manifest.json, GrabCAD-style GCVF zip). */
+#ifndef HOVOX_LAYERS_H
+#define HOVOX_LAYERS_H
+
+#include "hovox/mesh.h"
+#include "hovox/slice.h"
+#include "hovox/volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ==== printer profiles =====================================================================
+ *
+ * A profile fixes the printer grid: dpi along x and y (pixel pitch 25.4/dpi mm) and the layer
+ * height. Built in:
+ *   j750   Stratasys J750 voxel printing: 600 x 300 dpi, 0.027 mm layers
+ *   j850   Stratasys J850 voxel printing (High Mix mode): 600 x 300 dpi, 0.027 mm layers
+ * (other layer heights of these printers, e.g. 0.014 mm, through a generic dpi and height). */
+typedef struct hv_printer_profile {
+    const char *name;        /* "j750" */
+    const char *description; /* one line for --help and the manifest */
+    double dpi[2];           /* x, y */
+    double layer_height;     /* mm */
+} hv_printer_profile;
+
+/* Number of built-in profiles, and profile i (0 <= i < count; NULL otherwise). Static data. */
+HV_API int hv_printer_profile_count(void);
+HV_API const hv_printer_profile *hv_printer_profile_at(int i);
+/* The built-in profile of that name (case-insensitive), or NULL. */
+HV_API const hv_printer_profile *hv_printer_profile_find(const char *name);
+
+/* ==== pixel overlap interpolation (Wu 2.4.2) ===============================================
+ *
+ * Pixels are rectangles; a new pixel is the area-weighted average of the old pixels it
+ * overlaps. On rectangular grids the overlap area of two pixels is the product of their
+ * overlaps along x and along y, so the operator is separable: exact for any ratio, up or
+ * down, and it conserves mass (sum of value x area) when both images cover the same
+ * rectangle. Wu's numbers are special cases: 5x5 -> 3x3 gives N1 = 0.36 O1 + 0.24 (O2 + O6)
+ * + 0.16 O7; 2x2 -> 3x3 gives N1 = O1, N2 = 0.5 (O1 + O2), N5 = 0.25 (O1 + O2 + O3 + O4).
+ *
+ * One exact step (Wu's "membrane": the old image stretched over the new one): src is sw x sh
+ * floats and dst dw x dh floats, rows first (index y * width + x), both covering the same
+ * rectangle. Errors: HV_ERR_INVALID (NULL buffers, sizes < 1 or above 2^24 per axis),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_poi_resample(const float *src, int sw, int sh, float *dst, int dw, int dh);
+
+/* Wu's repeated resampling I0 -> I1 -> ... -> Ik: while the new image is more than
+ * `max_ratio` times finer than the current one along an axis, an intermediate image of an
+ * exact `max_ratio`-ish step is inserted (each step is one exact POI; the chain is applied as
+ * one composed operator per axis, which is mathematically the same thing). max_ratio <= 1
+ * means a single step. Down-sampling is always one step (the exact box average).
+ * Errors as hv_poi_resample. */
+HV_API hv_status hv_poi_resample_steps(const float *src, int sw, int sh, float *dst, int dw,
+                                       int dh, double max_ratio);
+
+/* Default step ratio of the layer pipeline (see hv_layers_options.poi_step). */
+#define HV_POI_DEFAULT_STEP 1.5
+
+/* ==== contour rasterisation at printer resolution ==========================================
+ *
+ * A printer grid: pixel (c, r) is the rectangle of size |pixel[0]| x |pixel[1]| whose centre
+ * is at world (origin[0] + (c + 0.5) * pixel[0], origin[1] + (r + 0.5) * pixel[1]); pixel[1] is
+ * negative when rows run down in y (row 0 at the top, as in PNG). */
+typedef struct hv_raster_grid {
+    int width, height;
+    double origin[2]; /* mm: the corner of pixel (0, 0) that the formula above starts from */
+    double pixel[2];  /* mm: pitch along x (> 0) and y (!= 0, negative for rows down) */
+} hv_raster_grid;
+
+typedef enum hv_fill_rule {
+    HV_FILL_NONZERO = 0, /* inside where the winding number of the loops is not 0 */
+    HV_FILL_EVENODD = 1  /* inside where a ray crosses the loops an odd number of times */
+} hv_fill_rule;
+
+/* Rasterise the closed loops of a slice by centre sampling: a pixel is object (mask value 1)
+ * when its centre lies inside the loops under `rule`, else 0. Centres exactly on an edge follow
+ * the half-open convention (an edge covers y in [ymin, ymax) and a span x in [xa, xb)), so
+ * two loops sharing an edge never both claim a centre. The slicer orients loops (outer CCW,
+ * holes CW), so both rules agree on well-nested loops; they differ where shells overlap
+ * (nonzero: union, even-odd: exclusive or). Open polylines are not filled.
+ * Wu's distance threshold: with threshold > 0 (mm), pixels outside whose centre lies within
+ * `threshold` of a closed loop also become object. mask holds height rows of `stride` bytes
+ * (stride >= width; 0 means width). Errors: HV_ERR_INVALID (NULL arguments, bad grid,
+ * threshold negative or not finite). */
+HV_API hv_status hv_slice_rasterize(const hv_slice *slice, const hv_raster_grid *grid,
+                                    hv_fill_rule rule, double threshold, uint8_t *mask,
+                                    size_t stride);
+
+/* ==== blue noise =============================================================================
+ *
+ * A 3D threshold mask made by void-and-cluster (Ulichney 1993) on a torus: Gaussian energy
+ * (sigma in cells, kernel truncated at 3 sigma), an initial pattern of 10% ones from `seed`
+ * relaxed until the tightest cluster and the largest void coincide, then ranks by removing
+ * the tightest clusters (phase 1) and filling the largest voids (phases 2 and 3). The result
+ * is a permutation of 0 .. nx*ny*nz - 1 in ranks[(z * ny + y) * nx + x]; threshold = (rank
+ * + 0.5) / N. Deterministic for given arguments. Errors: HV_ERR_INVALID (sizes < 2 or a
+ * total above 2^24, sigma not in [0.5, 8]), HV_ERR_NOMEM, HV_ERR_CANCELLED. */
+HV_API hv_status hv_bluenoise_generate(int nx, int ny, int nz, double sigma, uint64_t seed,
+                                       uint32_t *ranks, const hv_progress *progress);
+
+/* Tile used by the halftoner. */
+#define HV_BLUENOISE_NX 64
+#define HV_BLUENOISE_NY 64
+#define HV_BLUENOISE_NZ 32
+
+/* The halftoner's tile (HV_BLUENOISE_NX x NY x NZ ranks, sigma 1.5, fixed seed), loaded from
+ * the cache file "<cache_dir>/bluenoise-64x64x32-s1.5-v1.bin" when present and valid (magic,
+ * sizes, CRC-32, permutation), else generated (a few seconds) and saved there atomically.
+ * cache_dir NULL: $XDG_CACHE_HOME/hovox, else $HOME/.cache/hovox; when the cache cannot be
+ * written the tile is still returned (*cached = 0). The tile is kept in memory for the rest
+ * of the process (shared, read-only; *ranks must not be freed). *cached (may be NULL): 1 when
+ * it came from the cache file or memory. Errors: HV_ERR_NOMEM, HV_ERR_CANCELLED. */
+HV_API hv_status hv_bluenoise_tile(const char *cache_dir, const hv_progress *progress,
+                                   const uint32_t **ranks, int *cached);
+
+/* ==== printer slice stacks ==================================================================
+ *
+ * For each layer of the printer plan (uniform layers of the printer's height from the mesh's
+ * lowest z, each cut at its mid-height z; hv_slicer_plan_uniform):
+ *  1. contour: the WDG slice at z rasterised at printer resolution (hv_slice_rasterize):
+ *     object vs background, as sharp as the contour;
+ *  2. material (method RESAMPLE, Wu 2.4.2): the two voxel layers around z interpolated
+ *     linearly in z (the z part of Wu's trilinear eq. 31-32) over occupied voxels only,
+ *     renormalised by the occupancy coverage; voxels with no coverage take the mean of their
+ *     nearest covered neighbours (a breadth-first extension, so pixels inside the contour
+ *     but outside the voxel model still get material); then POI up to the printer grid in
+ *     steps of at most poi_step per axis (Wu's repeated resampling, applied as one composed
+ *     exact operator). Fractions sum to 1 inside.
+ *     Method DIRECT: the grading definition itself (hv_object_from_model + hv_object_sample)
+ *     at each object pixel centre (x, y, z); pixels the definition does not cover keep the
+ *     resampled value.
+ *  3. output by mode: MASK 1-bit layers (1 = object); FRACTIONS one 8-bit grey layer per
+ *     material (round(255 p)); HALFTONE one palette index per pixel (0 = background, j + 1 =
+ *     material j), by error diffusion or blue noise (see hv_halftone_method).
+ *
+ * The stack goes to a temporary directory next to `dir` (".<name>.tmp-<pid>") that is
+ * renamed to `dir` when complete; on failure or cancel it is removed. Layers are processed
+ * by hv_threads() workers over runs of consecutive layers; each worker holds one layer's
+ * images, so memory does not depend on the number of layers. Output bytes do not depend on
+ * the thread count, and a range [first, last) produces the same files as the full run. */
+
+typedef enum hv_layers_mode {
+    HV_LAYERS_HALFTONE = 0,  /* indexed PNG, one material per pixel */
+    HV_LAYERS_FRACTIONS = 1, /* 8-bit grey PNG per material: the fraction */
+    HV_LAYERS_MASK = 2       /* 1-bit grey PNG: geometry only (no model needed) */
+} hv_layers_mode;
+
+typedef enum hv_layers_method {
+    HV_LAYERS_RESAMPLE = 0, /* trilinear + POI from the voxel model (Wu 2.4.2) */
+    HV_LAYERS_DIRECT = 1    /* the grading definition evaluated at every pixel */
+} hv_layers_method;
+
+/* Halftoning to one material per printer voxel:
+ *  BLUE_NOISE: material j at a pixel when the blue-noise threshold t (the tile repeated over
+ *    the stack, x and y by pixel, z by global layer index, offset by the seed) falls in
+ *    [p_0 + .. + p_{j-1}, p_0 + .. + p_j). Fully parallel.
+ *  ERROR_DIFFUSION: vector error diffusion: at each object pixel (serpentine rows) pick the
+ *    material with the largest target + accumulated error, subtract the one-hot choice, send
+ *    3/4 of the error to the unvisited object neighbours in the layer (Floyd-Steinberg 7, 3,
+ *    5, 1 / 16, renormalised over object pixels) and 1/4 to the same pixel of the next layer.
+ *    The error carried across layers restarts every HV_HALFTONE_BLOCK layers (global index),
+ *    from a small seeded zero-sum noise, so blocks run in parallel and a range run recomputes
+ *    from its block start: byte-identical to the full run. */
+typedef enum hv_halftone_method {
+    HV_HALFTONE_BLUE_NOISE = 0,
+    HV_HALFTONE_ERROR_DIFFUSION = 1
+} hv_halftone_method;
+
+#define HV_HALFTONE_BLOCK 32
+
+typedef struct hv_layers_options {
+    hv_layers_mode mode;           /* default HALFTONE */
+    hv_layers_method method;       /* default RESAMPLE */
+    hv_halftone_method halftone;   /* default BLUE_NOISE */
+    const char *profile;           /* name written to the manifest ("j750", "custom"); may be
+                                      NULL. Does not set dpi/layer_height: fill those from
+                                      hv_printer_profile_find. */
+    double dpi[2];                 /* printer dpi x, y (> 0) */
+    double layer_height;           /* mm (> 0) */
+    uint64_t seed;                 /* halftone seed (default 0) */
+    size_t first, last;            /* layer range [first, last) of the full plan; last == 0
+                                      means "to the end" (default: all layers) */
+    double threshold;              /* Wu's distance threshold in mm (default 0) */
+    hv_fill_rule fill_rule;        /* default NONZERO */
+    int margin;                    /* background pixels around the mesh's xy box (default 2) */
+    double poi_step;               /* largest up-sampling ratio per POI step (default
+                                      HV_POI_DEFAULT_STEP; <= 1: one step) */
+    uint8_t background[3];         /* halftone palette entry 0 (default black) */
+    int compare;                   /* also evaluate the other method and report the
+                                      difference (always on with DIRECT) */
+    double close_gap;              /* slicer gap rule (default HV_SLICE_DEFAULT_CLOSE_GAP) */
+    int compression;               /* PNG zlib level 0..9 (default 1: halftone layers are noise,
+                                      higher levels cost time for little) */
+    int force;                     /* replace an existing stack at dir (a directory holding a
+                                      hovox manifest.json); never other non-empty directories */
+    uint64_t max_memory;           /* refuse plans above this (bytes; 0: half of RAM) */
+    const char *cache_dir;         /* blue-noise cache (NULL: default, see hv_bluenoise_tile) */
+    const char *gcvf_path;         /* also write a GCVF zip there (HALFTONE or MASK); NULL: no */
+    const char *mesh_name;         /* for the manifest (may be NULL) */
+    const char *model_name;        /* for the manifest (may be NULL) */
+} hv_layers_options;
+
+/* Defaults as noted above; dpi and layer height from the j750 profile. */
+HV_API void hv_layers_options_init(hv_layers_options *o);
+
+/* What a job does or did. Filled by hv_layers_plan (plan fields) and hv_layers_write (all). */
+typedef struct hv_layers_report {
+    /* plan */
+    int width, height;            /* pixels of every layer */
+    double pixel_mm[2];           /* sx = 25.4/dpi_x, sy = -25.4/dpi_y */
+    double origin_mm[2];          /* pixel (c, r) centre: origin + (c + 0.5, r + 0.5) * pixel */
+    size_t layers_total;          /* layers of the full plan */
+    size_t first, last;           /* the range produced, [first, last) */
+    int materials;                /* 0 in MASK mode */
+    int bit_depth;                /* of the PNG layers */
+    uint64_t memory_bytes;        /* planned peak for the job (model and mesh excluded) */
+    int threads;
+    /* results (hv_layers_write) */
+    uint64_t object_pixels;       /* over the layers produced */
+    double target[64];            /* mean fraction per material over the object pixels */
+    double achieved[64];          /* HALFTONE: share of object pixels given each material */
+    int compared;                 /* 1 when diff_* hold a comparison */
+    double diff_mean, diff_max;   /* max_j |p_j(resample) - p_j(direct)| per object pixel:
+                                     mean and max over the stack */
+    uint64_t direct_fallback;     /* DIRECT: object pixels the definition did not cover */
+    size_t open_polylines;        /* open chains the slicer left (not filled) */
+    int bluenoise_cached;         /* the blue-noise tile came from the cache */
+} hv_layers_report;
+
+/* Compute the grid, the layer range and the memory a job needs, without writing. model may be
+ * NULL only in MASK mode. Errors: HV_ERR_INVALID (options out of range, range beyond the
+ * plan, no model for a material mode), HV_ERR_BAD_INPUT (model without material table or
+ * occupancy, mesh's xy/z box outside the model's voxels), HV_ERR_LIMIT (image above 2^31-1
+ * pixels a side, or memory above max_memory: the message says how much is needed),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_layers_plan(const hv_mesh *mesh, const hv_volume *model,
+                                const hv_layers_options *opt, hv_layers_report *report);
+
+/* Write the stack to directory `dir` (see above). `report` (may be NULL) receives the plan and
+ * the results. `progress` (may be NULL) is called with stages "bluenoise", "layers", "gcvf";
+ * a nonzero return cancels (HV_ERR_CANCELLED, nothing left under `dir`).
+ * Layout of `dir`:
+ *   manifest.json                       (see README "hovox layers")
+ *   layer-NNNNN.png                     HALFTONE and MASK, NNNNN = global layer index (at
+ *                                       least 5 digits)
+ *   <material>/layer-NNNNN.png          FRACTIONS, one directory per material
+ * GCVF (opt->gcvf_path): a zip (deflate or stored) of ConfigFile.xml and layer_<index>.png,
+ * written atomically.
+ * Errors: those of hv_layers_plan, HV_ERR_IO (dir exists and is not empty and not a
+ * replaceable stack, parent not writable, write failed; naming the path), HV_ERR_NOMEM,
+ * HV_ERR_CANCELLED. */
+HV_API hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const char *dir,
+                                 const hv_layers_options *opt, const hv_progress *progress,
+                                 hv_layers_report *report);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,1163 @@
+/* slicing/layers.c - printer slice stacks after Wu 2.4.2 ("heterogeneous object slicing with
+ * geometric constraint"): per layer the WDG contour rasterised at printer resolution, material
+ * from the voxel layers around the cut (eq. 31-32, z part) resampled by pixel overlap
+ * interpolation, or the grading definition evaluated directly; halftoning; PNG stack. */
+#include <math.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "../src/core/internal.h"
+#include "hovox/material.h"
+#include "hovox/render.h"
+#include "layers_internal.h"
+
+/* ---- profiles ------------------------------------------------------------------------------ */
+
+static const hv_printer_profile g_profiles[] = {
+    {"j750", "Stratasys J750 voxel printing: 600 x 300 dpi, 0.027 mm layers", {600, 300}, 0.027},
+    {"j850", "Stratasys J850 voxel printing (High Mix mode): 600 x 300 dpi, 0.027 mm layers",
+     {600, 300}, 0.027},
+};
+
+int hv_printer_profile_count(void) { return (int)HV_COUNT(g_profiles); }
+
+const hv_printer_profile *hv_printer_profile_at(int i)
+{
+    return i >= 0 && i < (int)HV_COUNT(g_profiles) ? &g_profiles[i] : NULL;
+}
+
+const hv_printer_profile *hv_printer_profile_find(const char *name)
+{
+    for (size_t i = 0; name && i < HV_COUNT(g_profiles); ++i)
+        if (strcasecmp(name, g_profiles[i].name) == 0) return &g_profiles[i];
+    return NULL;
+}
+
+void hv_layers_options_init(hv_layers_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->mode = HV_LAYERS_HALFTONE;
+    o->method = HV_LAYERS_RESAMPLE;
+    o->halftone = HV_HALFTONE_BLUE_NOISE;
+    o->profile = g_profiles[0].name;
+    o->dpi[0] = g_profiles[0].dpi[0];
+    o->dpi[1] = g_profiles[0].dpi[1];
+    o->layer_height = g_profiles[0].layer_height;
+    o->fill_rule = HV_FILL_NONZERO;
+    o->margin = 2;
+    o->poi_step = HV_POI_DEFAULT_STEP;
+    o->close_gap = HV_SLICE_DEFAULT_CLOSE_GAP;
+    o->compression = 1;
+}
+
+/* ---- the job -------------------------------------------------------------------------------- */
+
+#define RUN_LAYERS 8 /* consecutive layers per work unit outside error diffusion */
+#define WINDOW_PAD 3 /* voxels around the printer image in the resampling window */
+
+typedef struct worker {
+    int ready;
+    uint8_t *mask, *out, *gray;
+    float *frac, *err, *next;
+    float *xtmp, *yacc; /* POI passes: float is ample for weighted means of fractions */
+    int slab_k[2], slab_ok[2], slab_any[2];
+    uint8_t *slab_occ[2];
+    float *slab_mat[2];
+    float *vimg;
+    uint8_t *vstate;
+    int32_t *front, *front2;
+    double fd[HV_MAX_MATERIALS];
+    hv_accessor acc;
+} worker;
+
+typedef struct job {
+    const hv_layers_options *o;
+    const hv_volume *model;
+    hv_slicer *slicer;
+    hv_layer_plan *plan;
+    const hv_layer *layers;
+    size_t nlayers, first, last;
+    hv_slice_options sopt;
+    hv_raster_grid grid;
+    int W, H, m;
+    size_t plane;
+    double bbox_min[3], bbox_max[3];
+    /* model */
+    hv_material_table *table;
+    int occ_grid, mat_grid[HV_MAX_MATERIALS];
+    hv_transform xf;
+    int32_t klo, khi; /* model's index range in z */
+    int vi0, vj0, vw, vh;
+    hv_poi_axis ax, ay;
+    float *axw, *ayw; /* the operators' weights as floats, for the passes */
+    hv_object *obj;
+    /* halftone */
+    const uint32_t *ranks;
+    int bn_off[3], bn_cached;
+    uint8_t palette[3 * (HV_MAX_MATERIALS + 1)];
+    int palette_size, bit_depth;
+    /* output */
+    char *tmp;
+    /* per-layer statistics, indexed by layer - first */
+    uint64_t *st_pixels, *st_count, *st_fallback;
+    double *st_target, *st_dsum, *st_dmax;
+    size_t *st_open;
+    /* workers and progress */
+    worker *workers;
+    int threads;
+    const hv_progress *progress;
+    atomic_size_t done;
+    atomic_int cancel;
+    uint64_t memory;
+} job;
+
+static int uses_model(const hv_layers_options *o) { return o->mode != HV_LAYERS_MASK; }
+static int needs_object(const hv_layers_options *o)
+{
+    return uses_model(o) && (o->method == HV_LAYERS_DIRECT || o->compare);
+}
+
+static hv_status check_options(const hv_layers_options *o)
+{
+    if (!o) return hv_error_set(HV_ERR_INVALID, "layers: options are NULL");
+    if ((unsigned)o->mode > HV_LAYERS_MASK) return hv_error_set(HV_ERR_INVALID, "layers: unknown mode %d", (int)o->mode);
+    if ((unsigned)o->method > HV_LAYERS_DIRECT)
+        return hv_error_set(HV_ERR_INVALID, "layers: unknown method %d", (int)o->method);
+    if ((unsigned)o->halftone > HV_HALFTONE_ERROR_DIFFUSION)
+        return hv_error_set(HV_ERR_INVALID, "layers: unknown halftone method %d", (int)o->halftone);
+    for (int a = 0; a < 2; ++a)
+        if (!(o->dpi[a] >= 1 && o->dpi[a] <= 1e6))
+            return hv_error_set(HV_ERR_INVALID, "layers: %g dpi along %c is out of range (1 to 1e6)", o->dpi[a], "xy"[a]);
+    if (!(o->layer_height >= 1e-6 && o->layer_height <= 1e3))
+        return hv_error_set(HV_ERR_INVALID, "layers: layer height %g mm is out of range (1e-6 to 1000)", o->layer_height);
+    if (!(o->threshold >= 0 && o->threshold <= 1e3))
+        return hv_error_set(HV_ERR_INVALID, "layers: threshold %g mm must be in [0, 1000]", o->threshold);
+    if (o->margin < 0 || o->margin > 100000)
+        return hv_error_set(HV_ERR_INVALID, "layers: margin %d pixels out of range (0 to 100000)", o->margin);
+    if (!(o->poi_step >= 0 && o->poi_step <= 1e6))
+        return hv_error_set(HV_ERR_INVALID, "layers: POI step ratio %g out of range", o->poi_step);
+    if (o->fill_rule != HV_FILL_NONZERO && o->fill_rule != HV_FILL_EVENODD)
+        return hv_error_set(HV_ERR_INVALID, "layers: unknown fill rule %d", (int)o->fill_rule);
+    if (o->compression < 0 || o->compression > 9)
+        return hv_error_set(HV_ERR_INVALID, "layers: compression level %d (0 to 9)", o->compression);
+    if (!(o->close_gap >= 0) || !isfinite(o->close_gap))
+        return hv_error_set(HV_ERR_INVALID, "layers: close gap %g must be finite and >= 0", o->close_gap);
+    if (o->gcvf_path && o->mode == HV_LAYERS_FRACTIONS)
+        return hv_error_set(HV_ERR_INVALID, "layers: a GCVF archive holds halftone or mask layers, not fractions");
+    if (o->last && o->first >= o->last)
+        return hv_error_set(HV_ERR_INVALID, "layers: empty layer range %zu:%zu", o->first, o->last);
+    return HV_OK;
+}
+
+static void job_free(job *J)
+{
+    if (J->workers) {
+        for (int t = 0; t < J->threads; ++t) {
+            worker *w = &J->workers[t];
+            free(w->mask);
+            free(w->out);
+            free(w->gray);
+            free(w->frac);
+            free(w->err);
+            free(w->next);
+            free(w->xtmp);
+            free(w->yacc);
+            for (int s = 0; s < 2; ++s) {
+                free(w->slab_occ[s]);
+                free(w->slab_mat[s]);
+            }
+            free(w->vimg);
+            free(w->vstate);
+            free(w->front);
+            free(w->front2);
+        }
+        free(J->workers);
+    }
+    hv_poi_axis_free(&J->ax);
+    hv_poi_axis_free(&J->ay);
+    free(J->axw);
+    free(J->ayw);
+    hv_object_destroy(J->obj);
+    hv_material_table_destroy(J->table);
+    hv_layer_plan_destroy(J->plan);
+    hv_slicer_destroy(J->slicer);
+    free(J->st_pixels);
+    free(J->st_count);
+    free(J->st_fallback);
+    free(J->st_target);
+    free(J->st_dsum);
+    free(J->st_dmax);
+    free(J->st_open);
+    free(J->tmp);
+    memset(J, 0, sizeof *J);
+}
+
+static int ed_mode(const job *J)
+{
+    return J->o->mode == HV_LAYERS_HALFTONE && J->o->halftone == HV_HALFTONE_ERROR_DIFFUSION;
+}
+
+static uint64_t worker_bytes(const job *J)
+{
+    uint64_t px = (uint64_t)J->W * (uint64_t)J->H, m = (uint64_t)J->m;
+    uint64_t b = px * 3;                  /* mask, out, gray */
+    b += (uint64_t)1 << 20;              /* libpng and zlib state, contour crossings */
+    if (uses_model(J->o)) {
+        uint64_t vox = (uint64_t)J->vw * (uint64_t)J->vh;
+        b += px * m * 4;                  /* fractions */
+        if (ed_mode(J)) b += 2 * px * m * 4;
+        b += ((uint64_t)J->vh + 1) * (uint64_t)J->W * 4; /* x and y passes */
+        b += 2 * vox * (1 + 4 * m);       /* two voxel slabs */
+        b += vox * (4 * m + 1 + 8);       /* filled image, state, fronts */
+    }
+    return b;
+}
+
+/* The grid, range, window and operators; everything except the output. */
+static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
+                          const hv_layers_options *o, const hv_progress *progress)
+{
+    memset(J, 0, sizeof *J);
+    J->o = o;
+    J->model = model;
+    J->progress = progress;
+    hv_status st = check_options(o);
+    if (st != HV_OK) return st;
+    if (!mesh) return hv_error_set(HV_ERR_INVALID, "layers: no mesh");
+    if (uses_model(o) && !model)
+        return hv_error_set(HV_ERR_INVALID, "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
+                            o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
+    st = hv_slicer_create(mesh, NULL, &J->slicer);
+    if (st != HV_OK) return st;
+    hv_slicer_info info;
+    hv_slicer_get_info(J->slicer, &info);
+    memcpy(J->bbox_min, info.bbox_min, sizeof J->bbox_min);
+    memcpy(J->bbox_max, info.bbox_max, sizeof J->bbox_max);
+    hv_slice_options_init(&J->sopt);
+    J->sopt.close_gap = o->close_gap;
+    st = hv_slicer_plan_uniform(J->slicer, 0, o->layer_height, &J->plan);
+    if (st != HV_OK) return st;
+    J->nlayers = hv_layer_plan_count(J->plan);
+    J->layers = hv_layer_plan_layers(J->plan);
+    if (J->nlayers == 0)
+        return hv_error_set(HV_ERR_INVALID, "layers: the mesh is %g mm high: no layer of %g mm has its middle inside it",
+                            info.bbox_max[2] - info.bbox_min[2], o->layer_height);
+    J->first = o->first;
+    J->last = o->last ? o->last : J->nlayers;
+    if (J->first >= J->nlayers || J->last > J->nlayers || J->first >= J->last)
+        return hv_error_set(HV_ERR_INVALID, "layers: range %zu:%zu is outside the %zu layers of the plan (0:%zu)",
+                            o->first, J->last, J->nlayers, J->nlayers);
+
+    /* the printer grid over the mesh's xy box plus the margin (and the threshold band) */
+    double sx = 25.4 / o->dpi[0], py = 25.4 / o->dpi[1];
+    double mx = (double)o->margin + ceil(o->threshold / sx), my = (double)o->margin + ceil(o->threshold / py);
+    double wd = ceil((info.bbox_max[0] - info.bbox_min[0]) / sx - 1e-9) + 2 * mx;
+    double hd = ceil((info.bbox_max[1] - info.bbox_min[1]) / py - 1e-9) + 2 * my;
+    wd = HV_MAX(wd, 1.0);
+    hd = HV_MAX(hd, 1.0);
+    if (wd > (double)(1 << 30) || hd > (double)(1 << 30) || wd * hd > 4e12)
+        return hv_error_set(HV_ERR_LIMIT, "layers: the image would be %.0f x %.0f pixels", wd, hd);
+    J->W = (int)wd;
+    J->H = (int)hd;
+    J->plane = (size_t)J->W * (size_t)J->H;
+    J->grid.width = J->W;
+    J->grid.height = J->H;
+    J->grid.pixel[0] = sx;
+    J->grid.pixel[1] = -py;
+    J->grid.origin[0] = info.bbox_min[0] - mx * sx;
+    J->grid.origin[1] = info.bbox_max[1] + my * py;
+
+    if (uses_model(o)) {
+        st = hv_material_table_load(model, &J->table);
+        if (st == HV_ERR_NOT_FOUND)
+            return hv_error_set(HV_ERR_BAD_INPUT, "the model has no materials (grade it first with 'hovox grade'; "
+                                                  "--mode mask needs none)");
+        if (st != HV_OK) return st;
+        J->m = hv_material_count(J->table);
+        if (J->m < 1 || J->m > HV_MAX_MATERIALS)
+            return hv_error_set(HV_ERR_BAD_INPUT, "the model's material table holds %d materials", J->m);
+        J->occ_grid = hv_volume_grid_find(model, "occupancy");
+        if (J->occ_grid < 0 || hv_volume_grid_type(model, J->occ_grid) != HV_GRID_BOOL)
+            return hv_error_set(HV_ERR_BAD_INPUT, "the model has no bool grid 'occupancy'");
+        for (int j = 0; j < J->m; ++j) {
+            J->mat_grid[j] = hv_material_grid(model, J->table, j);
+            if (J->mat_grid[j] < 0)
+                return hv_error_set(HV_ERR_BAD_INPUT, "the model has no grid 'material.%s'", hv_material_name(J->table, j));
+        }
+        if (hv_volume_mask_count(model, J->occ_grid) == 0)
+            return hv_error_set(HV_ERR_BAD_INPUT, "the model has no occupied voxel");
+    }
+    if (model) {
+        /* the mesh must lie inside the model's voxels (one voxel of tolerance) */
+        hv_transform xf = hv_volume_get_transform(model);
+        J->xf = xf;
+        int32_t lo[3], hi[3];
+        if (!hv_volume_index_bbox(model, lo, hi)) return hv_error_set(HV_ERR_BAD_INPUT, "the model is empty");
+        J->klo = lo[2];
+        J->khi = hi[2];
+        for (int a = 0; a < 3; ++a) {
+            double wlo = xf.origin[a] + ((double)lo[a] - 1.5) * xf.voxel[a];
+            double whi = xf.origin[a] + ((double)hi[a] + 1.5) * xf.voxel[a];
+            if (info.bbox_min[a] < wlo || info.bbox_max[a] > whi)
+                return hv_error_set(HV_ERR_BAD_INPUT,
+                                    "the mesh (%c from %g to %g) is not inside the model's voxels (%c from %g to %g): "
+                                    "mesh and model do not match",
+                                    "xyz"[a], info.bbox_min[a], info.bbox_max[a], "xyz"[a], wlo + xf.voxel[a],
+                                    whi - xf.voxel[a]);
+        }
+    }
+    if (uses_model(o)) {
+        /* the voxel window under the printer image and the composed POI operators */
+        const hv_transform *xf = &J->xf;
+        double a = (J->grid.origin[0] - xf->origin[0]) / xf->voxel[0];
+        double b = (J->grid.origin[0] + J->W * sx - xf->origin[0]) / xf->voxel[0];
+        double i0 = floor(a + 0.5) - WINDOW_PAD, i1 = floor(b + 0.5) + WINDOW_PAD;
+        double c = (J->grid.origin[1] - J->H * py - xf->origin[1]) / xf->voxel[1];
+        double d = (J->grid.origin[1] - xf->origin[1]) / xf->voxel[1];
+        double j0 = floor(c + 0.5) - WINDOW_PAD, j1 = floor(d + 0.5) + WINDOW_PAD;
+        if (i1 - i0 + 1 > (double)(1 << 24) || j1 - j0 + 1 > (double)(1 << 24) || fabs(i0) > 2e9 || fabs(j0) > 2e9)
+            return hv_error_set(HV_ERR_LIMIT, "layers: the voxel window is %.0f x %.0f voxels", i1 - i0 + 1, j1 - j0 + 1);
+        J->vi0 = (int)i0;
+        J->vj0 = (int)j0;
+        J->vw = (int)(i1 - i0 + 1);
+        J->vh = (int)(j1 - j0 + 1);
+        st = hv_poi_axis_chain(xf->origin[0] + (i0 - 0.5) * xf->voxel[0], xf->voxel[0], J->vw, J->grid.origin[0], sx,
+                               J->W, o->poi_step, &J->ax);
+        if (st == HV_OK)
+            st = hv_poi_axis_chain(xf->origin[1] + (j0 - 0.5) * xf->voxel[1], xf->voxel[1], J->vh, J->grid.origin[1],
+                                   -py, J->H, o->poi_step, &J->ay);
+        if (st != HV_OK) return st;
+        size_t nx = J->ax.off[J->ax.n_out - 1] + (size_t)J->ax.len[J->ax.n_out - 1];
+        size_t ny = J->ay.off[J->ay.n_out - 1] + (size_t)J->ay.len[J->ay.n_out - 1];
+        J->axw = hv_malloc_array(nx, sizeof *J->axw);
+        J->ayw = hv_malloc_array(ny, sizeof *J->ayw);
+        if (!J->axw || !J->ayw) return HV_ERR_NOMEM;
+        for (size_t i = 0; i < nx; ++i) J->axw[i] = (float)J->ax.w[i];
+        for (size_t i = 0; i < ny; ++i) J->ayw[i] = (float)J->ay.w[i];
+    }
+    /* palette and bit depth */
+    if (o->mode == HV_LAYERS_HALFTONE) {
+        J->palette_size = J->m + 1;
+        memcpy(J->palette, o->background, 3);
+        for (int j = 0; j < J->m; ++j) {
+            float rgba[4];
+            hv_material_color(J->table, j, rgba);
+            for (int k = 0; k < 3; ++k)
+                J->palette[3 * (j + 1) + k] = (uint8_t)lround(HV_CLAMP(rgba[k], 0.0f, 1.0f) * 255.0f);
+        }
+        J->bit_depth = J->palette_size <= 2 ? 1 : J->palette_size <= 4 ? 2 : J->palette_size <= 16 ? 4 : 8;
+    } else {
+        J->bit_depth = o->mode == HV_LAYERS_MASK ? 1 : 8;
+    }
+    /* memory: the workers plus the per-layer statistics */
+    J->threads = HV_MAX(hv_threads(), 1);
+    size_t count = J->last - J->first;
+    uint64_t stats = (uint64_t)count * (uint64_t)(J->m * 16 + 56);
+    uint64_t fixed = stats;
+    if (uses_model(o)) {
+        uint64_t weights = (uint64_t)J->ax.off[J->ax.n_out - 1] + (uint64_t)J->ax.len[J->ax.n_out - 1] +
+                           (uint64_t)J->ay.off[J->ay.n_out - 1] + (uint64_t)J->ay.len[J->ay.n_out - 1];
+        fixed += (uint64_t)HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ * 4 + weights * 8 +
+                 (uint64_t)(J->ax.n_out + J->ay.n_out) * 16;
+    }
+    J->memory = (uint64_t)J->threads * worker_bytes(J) + fixed;
+    uint64_t budget = o->max_memory ? o->max_memory : hv_physical_memory() / 2;
+    char what[32];
+    if (uses_model(o)) snprintf(what, sizeof what, "%d material%s", J->m, J->m > 1 ? "s" : "");
+    else snprintf(what, sizeof what, "mask");
+    if (budget && J->memory > budget)
+        return hv_error_set(HV_ERR_LIMIT,
+                            "layers: the job needs about %.1f MiB (%d x %d pixels, %s, %d workers), more than the "
+                            "budget of %.1f MiB (--max-memory)",
+                            (double)J->memory / 1048576.0, J->W, J->H, what, J->threads, (double)budget / 1048576.0);
+    return HV_OK;
+}
+
+static void fill_plan_report(const job *J, hv_layers_report *r)
+{
+    memset(r, 0, sizeof *r);
+    r->width = J->W;
+    r->height = J->H;
+    r->pixel_mm[0] = J->grid.pixel[0];
+    r->pixel_mm[1] = J->grid.pixel[1];
+    r->origin_mm[0] = J->grid.origin[0];
+    r->origin_mm[1] = J->grid.origin[1];
+    r->layers_total = J->nlayers;
+    r->first = J->first;
+    r->last = J->last;
+    r->materials = J->m;
+    r->bit_depth = J->bit_depth;
+    r->memory_bytes = J->memory;
+    r->threads = J->threads;
+}
+
+hv_status hv_layers_plan(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *opt,
+                         hv_layers_report *report)
+{
+    job J;
+    hv_status st = job_plan(&J, mesh, model, opt, NULL);
+    if (st == HV_OK && report) fill_plan_report(&J, report);
+    job_free(&J);
+    return st;
+}
+
+/* ---- per-worker buffers ------------------------------------------------------------------- */
+
+static hv_status worker_ready(job *J, worker *w)
+{
+    if (w->ready) return HV_OK;
+    size_t px = J->plane, m = (size_t)J->m;
+    w->mask = hv_malloc(px);
+    w->out = hv_malloc(px);
+    w->gray = hv_malloc(px);
+    int ok = w->mask && w->out && w->gray;
+    if (ok && uses_model(J->o)) {
+        size_t vox = (size_t)J->vw * (size_t)J->vh;
+        w->frac = hv_malloc_array(px * m, sizeof *w->frac);
+        w->xtmp = hv_malloc_array((size_t)J->vh * (size_t)J->W, sizeof *w->xtmp);
+        w->yacc = hv_malloc_array((size_t)J->W, sizeof *w->yacc);
+        for (int s = 0; s < 2; ++s) {
+            w->slab_occ[s] = hv_malloc(vox);
+            w->slab_mat[s] = hv_malloc_array(vox * m, sizeof(float));
+            w->slab_ok[s] = 0;
+        }
+        w->vimg = hv_malloc_array(vox * m, sizeof *w->vimg);
+        w->vstate = hv_malloc(vox);
+        w->front = hv_malloc_array(vox, sizeof *w->front);
+        w->front2 = hv_malloc_array(vox, sizeof *w->front2);
+        ok = w->frac && w->xtmp && w->yacc && w->slab_occ[0] && w->slab_occ[1] && w->slab_mat[0] && w->slab_mat[1] && w->vimg &&
+             w->vstate && w->front && w->front2;
+        if (ok && ed_mode(J)) {
+            w->err = hv_calloc(px * m, sizeof *w->err);
+            w->next = hv_calloc(px * m, sizeof *w->next);
+            ok = w->err && w->next;
+        }
+        hv_accessor_init(&w->acc, J->model);
+    }
+    if (!ok) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the buffers of a %d x %d layer", J->W, J->H);
+    w->ready = 1;
+    return HV_OK;
+}
+
+/* ---- material: z interpolation, extension, POI (Wu 2.4.2) ---------------------------------- */
+
+/* Decode voxel layer k of the window into slab s. */
+static void slab_load(job *J, worker *w, int s, int32_t k)
+{
+    size_t vox = (size_t)J->vw * (size_t)J->vh;
+    uint8_t *occ = w->slab_occ[s];
+    float *mat = w->slab_mat[s];
+    int any = 0;
+    for (int j = 0; j < J->vh; ++j) {
+        for (int i = 0; i < J->vw; ++i) {
+            size_t p = (size_t)j * (size_t)J->vw + (size_t)i;
+            int32_t vi = J->vi0 + i, vj = J->vj0 + j;
+            int o = k >= J->klo && k <= J->khi && hv_accessor_bool(&w->acc, J->occ_grid, vi, vj, k);
+            occ[p] = (uint8_t)o;
+            any |= o;
+            for (int g = 0; g < J->m; ++g)
+                mat[(size_t)g * vox + p] = o ? hv_accessor_float(&w->acc, J->mat_grid[g], vi, vj, k) : 0.0f;
+        }
+    }
+    w->slab_k[s] = k;
+    w->slab_ok[s] = 1;
+    w->slab_any[s] = any;
+}
+
+static int slab_find(const worker *w, int32_t k)
+{
+    for (int s = 0; s < 2; ++s)
+        if (w->slab_ok[s] && w->slab_k[s] == k) return s;
+    return -1;
+}
+
+/* Slab holding voxel layer k, loaded into the slot that does not hold `keep` when missing. */
+static int slab_get(job *J, worker *w, int32_t k, int32_t keep)
+{
+    int s = slab_find(w, k);
+    if (s >= 0) return s;
+    s = slab_find(w, keep) == 0 ? 1 : 0;
+    slab_load(J, w, s, k);
+    return s;
+}
+
+/* The 8-neighbours of window pixel p inside the window: their indices in nb, the count
+ * returned. */
+static int neighbours8(const job *J, size_t p, size_t nb[8])
+{
+    int i = (int)(p % (size_t)J->vw), j = (int)(p / (size_t)J->vw), n = 0;
+    for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+            int a = i + di, b = j + dj;
+            if ((di || dj) && a >= 0 && b >= 0 && a < J->vw && b < J->vh)
+                nb[n++] = (size_t)b * (size_t)J->vw + (size_t)a;
+        }
+    return n;
+}
+
+/* Queue the untouched neighbours of p (state 0 -> 2) on list. */
+static size_t queue_neighbours(const job *J, uint8_t *state, size_t p, int32_t *list, size_t n)
+{
+    size_t nb[8];
+    int k = neighbours8(J, p, nb);
+    for (int t = 0; t < k; ++t)
+        if (state[nb[t]] == 0) {
+            state[nb[t]] = 2;
+            list[n++] = (int32_t)nb[t];
+        }
+    return n;
+}
+
+/* Mean of the assigned 8-neighbours, ring by ring from the covered pixels outwards: every
+ * window pixel gets a composition, the covered ones keep theirs. */
+static void extend(job *J, worker *w)
+{
+    int m = J->m;
+    size_t vox = (size_t)J->vw * (size_t)J->vh, nf = 0;
+    uint8_t *state = w->vstate; /* 1 assigned, 2 queued, 0 untouched */
+    for (size_t p = 0; p < vox; ++p)
+        if (state[p] == 1) nf = queue_neighbours(J, state, p, w->front, nf);
+    while (nf) {
+        for (size_t f = 0; f < nf; ++f) {
+            size_t p = (size_t)w->front[f], nb[8];
+            int k = neighbours8(J, p, nb), n = 0;
+            double acc[HV_MAX_MATERIALS] = {0};
+            for (int t = 0; t < k; ++t) {
+                if (state[nb[t]] != 1) continue;
+                ++n;
+                for (int g = 0; g < m; ++g) acc[g] += w->vimg[(size_t)g * vox + nb[t]];
+            }
+            for (int g = 0; g < m; ++g) w->vimg[(size_t)g * vox + p] = (float)(acc[g] / HV_MAX(n, 1));
+        }
+        size_t n2 = 0;
+        for (size_t f = 0; f < nf; ++f) state[w->front[f]] = 1;
+        for (size_t f = 0; f < nf; ++f) n2 = queue_neighbours(J, state, (size_t)w->front[f], w->front2, n2);
+        int32_t *t = w->front;
+        w->front = w->front2;
+        w->front2 = t;
+        nf = n2;
+    }
+}
+
+/* The window image at height z: linear in z between the voxel layers around it over the
+ * occupied voxels (renormalised by the coverage), then extended. */
+static hv_status voxel_image(job *J, worker *w, size_t index, double z)
+{
+    size_t vox = (size_t)J->vw * (size_t)J->vh;
+    int m = J->m;
+    double kz = (z - J->xf.origin[2]) / J->xf.voxel[2];
+    double kf = floor(kz);
+    int32_t k0 = (int32_t)HV_CLAMP(kf, -2e9, 2e9);
+    double t = kz - kf;
+    int s0 = slab_get(J, w, k0, k0 + 1);
+    int s1 = slab_get(J, w, k0 + 1, k0);
+    double w0 = 1 - t, w1 = t;
+    if (!(w->slab_any[s0] && w0 > 0) && !(w->slab_any[s1] && w1 > 0)) {
+        /* no occupied voxel around the cut in the window: the nearest voxel layer that has one */
+        int found = 0;
+        int32_t span = J->khi - J->klo + 2;
+        for (int32_t d = 0; d <= span && !found; ++d) {
+            int32_t cand[2] = {k0 - d, k0 + 1 + d};
+            for (int c = 0; c < 2 && !found; ++c) {
+                if (cand[c] < J->klo || cand[c] > J->khi) continue;
+                s0 = slab_get(J, w, cand[c], k0);
+                if (w->slab_any[s0]) {
+                    found = 1;
+                    s1 = s0;
+                    w0 = 1;
+                    w1 = 0;
+                }
+            }
+        }
+        if (!found)
+            return hv_error_set(HV_ERR_BAD_INPUT, "layer %zu (z = %g): the model has no occupied voxel under the mesh's section",
+                                index, z);
+    }
+    const uint8_t *o0 = w->slab_occ[s0], *o1 = w->slab_occ[s1];
+    const float *m0 = w->slab_mat[s0], *m1 = w->slab_mat[s1];
+    for (size_t p = 0; p < vox; ++p) {
+        double c0 = o0[p] ? w0 : 0, c1 = o1[p] ? w1 : 0, cov = c0 + c1;
+        if (cov > 0) {
+            w->vstate[p] = 1;
+            for (int g = 0; g < m; ++g)
+                w->vimg[(size_t)g * vox + p] =
+                    (float)((c0 * m0[(size_t)g * vox + p] + c1 * m1[(size_t)g * vox + p]) / cov);
+        } else {
+            w->vstate[p] = 0;
+        }
+    }
+    extend(J, w);
+    return HV_OK;
+}
+
+/* POI of the window image onto the object pixels of the layer (rows r0..r1, columns c0..c1 hold
+ * all of them), then renormalised to sum 1. */
+static void resample_layer(job *J, worker *w, int r0, int r1, int c0, int c1)
+{
+    size_t vox = (size_t)J->vw * (size_t)J->vh, W = (size_t)J->W, n = (size_t)(c1 - c0 + 1);
+    const hv_poi_axis *ax = &J->ax, *ay = &J->ay;
+    int jlo = J->vh, jhi = -1;
+    for (int r = r0; r <= r1; ++r) {
+        jlo = HV_MIN(jlo, ay->start[r]);
+        jhi = HV_MAX(jhi, ay->start[r] + ay->len[r] - 1);
+    }
+    for (int g = 0; g < J->m; ++g) {
+        const float *src = w->vimg + (size_t)g * vox;
+        float *dst = w->frac + (size_t)g * J->plane;
+        /* x pass over the voxel rows the object rows need */
+        for (int j = jlo; j <= jhi; ++j) {
+            const float *s = src + (size_t)j * (size_t)J->vw;
+            float *t = w->xtmp + (size_t)j * W;
+            for (int c = c0; c <= c1; ++c) {
+                const float *wt = J->axw + ax->off[c];
+                const float *p = s + ax->start[c];
+                float acc = 0;
+                for (int k = 0; k < ax->len[c]; ++k) acc += wt[k] * p[k];
+                t[c] = acc;
+            }
+        }
+        /* y pass, row by row as axpy over contiguous memory */
+        float *acc = w->yacc;
+        for (int r = r0; r <= r1; ++r) {
+            const uint8_t *mrow = w->mask + (size_t)r * W;
+            if (!memchr(mrow + c0, 1, n)) continue;
+            const float *wt = J->ayw + ay->off[r];
+            const float *base = w->xtmp + (size_t)ay->start[r] * W + (size_t)c0;
+            float w0 = wt[0];
+#pragma omp simd
+            for (size_t c = 0; c < n; ++c) acc[c] = w0 * base[c];
+            for (int k = 1; k < ay->len[r]; ++k) {
+                const float *bk = base + (size_t)k * W;
+                float wk = wt[k];
+#pragma omp simd
+                for (size_t c = 0; c < n; ++c) acc[c] += wk * bk[c];
+            }
+            memcpy(dst + (size_t)r * W + (size_t)c0, acc, n * sizeof *acc);
+        }
+    }
+    /* every operator row sums to 1 and the window image sums to 1 per pixel, so the fractions
+     * sum to 1 up to float rounding: no renormalisation pass */
+}
+
+/* Direct evaluation at the object pixel centres; compares with (and with DIRECT replaces) the
+ * resampled fractions. */
+static void direct_layer(job *J, worker *w, size_t li, double z, int r0, int r1, int c0, int c1)
+{
+    size_t W = (size_t)J->W;
+    double dsum = 0, dmax = 0;
+    uint64_t fallback = 0;
+    for (int r = r0; r <= r1; ++r)
+        for (int c = c0; c <= c1; ++c) {
+            size_t p = (size_t)r * W + (size_t)c;
+            if (!w->mask[p]) continue;
+            double pt[3] = {J->grid.origin[0] + ((double)c + 0.5) * J->grid.pixel[0],
+                            J->grid.origin[1] + ((double)r + 0.5) * J->grid.pixel[1], z};
+            int inside = 0;
+            hv_object_sample(J->obj, pt, &inside, w->fd);
+            if (!inside) {
+                ++fallback;
+                continue;
+            }
+            double d = 0;
+            for (int g = 0; g < J->m; ++g) d = HV_MAX(d, fabs(w->fd[g] - (double)w->frac[(size_t)g * J->plane + p]));
+            dsum += d;
+            dmax = HV_MAX(dmax, d);
+            if (J->o->method == HV_LAYERS_DIRECT)
+                for (int g = 0; g < J->m; ++g) w->frac[(size_t)g * J->plane + p] = (float)w->fd[g];
+        }
+    if (li != SIZE_MAX) {
+        J->st_dsum[li] = dsum;
+        J->st_dmax[li] = dmax;
+        J->st_fallback[li] = fallback;
+    }
+}
+
+/* ---- one layer ------------------------------------------------------------------------------ */
+
+static hv_status write_png(job *J, const char *path, const uint8_t *px, int palette)
+{
+    hv_png_options po;
+    hv_png_options_init(&po);
+    po.compression = J->o->compression;
+    po.dpi[0] = J->o->dpi[0];
+    po.dpi[1] = J->o->dpi[1];
+    po.bit_depth = palette ? J->bit_depth : J->o->mode == HV_LAYERS_MASK ? 1 : 8;
+    if (palette) {
+        po.palette = J->palette;
+        po.palette_size = J->palette_size;
+    }
+    return hv_png_write(path, px, J->W, J->H, 1, 0, &po);
+}
+
+static void layer_file(char *buf, size_t size, const char *dir, const char *sub, size_t index)
+{
+    if (sub) snprintf(buf, size, "%s/%s/layer-%05zu.png", dir, sub, index);
+    else snprintf(buf, size, "%s/layer-%05zu.png", dir, index);
+}
+
+/* Process global layer `index`; write it unless it is a pre-roll layer of error diffusion. */
+static hv_status do_layer(job *J, worker *w, size_t index, int write)
+{
+    const hv_layer *L = &J->layers[index];
+    size_t li = write ? index - J->first : SIZE_MAX;
+    hv_slice *slice = NULL;
+    hv_status st = hv_slicer_slice(J->slicer, L->z, &J->sopt, &slice);
+    if (st != HV_OK) return st;
+    st = hv_slice_rasterize(slice, &J->grid, J->o->fill_rule, J->o->threshold, w->mask, 0);
+    if (write) J->st_open[li] = hv_slice_get_stats(slice)->open;
+    hv_slice_destroy(slice);
+    if (st != HV_OK) return st;
+    /* bounding box of the object pixels */
+    int r0 = J->H, r1 = -1, c0 = J->W, c1 = -1;
+    uint64_t pixels = 0;
+    for (int r = 0; r < J->H; ++r) {
+        const uint8_t *row = w->mask + (size_t)r * (size_t)J->W;
+        const uint8_t *a = memchr(row, 1, (size_t)J->W);
+        if (!a) continue;
+        int ca = (int)(a - row), cb = J->W - 1;
+        while (!row[cb]) --cb;
+        for (int c = ca; c <= cb; ++c) pixels += row[c];
+        r0 = HV_MIN(r0, r);
+        r1 = r;
+        c0 = HV_MIN(c0, ca);
+        c1 = HV_MAX(c1, cb);
+    }
+    if (write) J->st_pixels[li] = pixels;
+    char path[4200];
+    if (J->o->mode == HV_LAYERS_MASK) {
+        if (!write) return HV_OK;
+        layer_file(path, sizeof path, J->tmp, NULL, index);
+        return write_png(J, path, w->mask, 0);
+    }
+    if (pixels) {
+        st = voxel_image(J, w, index, L->z);
+        if (st != HV_OK) return st;
+        resample_layer(J, w, r0, r1, c0, c1);
+        if (J->obj) direct_layer(J, w, li, L->z, r0, r1, c0, c1);
+    }
+    if (J->o->mode == HV_LAYERS_FRACTIONS) {
+        if (!write) return HV_OK;
+        double *tg = J->st_target + li * (size_t)J->m;
+        for (int g = 0; g < J->m && st == HV_OK; ++g) {
+            const float *f = w->frac + (size_t)g * J->plane;
+            double sum = 0;
+            for (size_t p = 0; p < J->plane; ++p) {
+                if (w->mask[p]) {
+                    sum += f[p];
+                    w->gray[p] = (uint8_t)lrintf(HV_CLAMP(f[p], 0.0f, 1.0f) * 255.0f);
+                } else {
+                    w->gray[p] = 0;
+                }
+            }
+            tg[g] = sum;
+            layer_file(path, sizeof path, J->tmp, hv_material_name(J->table, g), index);
+            st = write_png(J, path, w->gray, 0);
+        }
+        return st;
+    }
+    uint64_t counts[HV_MAX_MATERIALS] = {0};
+    double tsum[HV_MAX_MATERIALS] = {0};
+    if (ed_mode(J) && index % HV_HALFTONE_BLOCK == 0)
+        hv_halftone_diffuse_start(w->frac, J->m, J->W, J->H, w->mask, &w->err, &w->next, J->o->seed,
+                                  index / HV_HALFTONE_BLOCK, (int)(index & 1), w->out);
+    if (ed_mode(J))
+        hv_halftone_diffuse(w->frac, J->m, J->W, J->H, w->mask, w->err, w->next, (int)(index & 1), w->out, counts,
+                            tsum);
+    else
+        hv_halftone_bluenoise(w->frac, J->m, J->W, J->H, w->mask, J->ranks, J->bn_off, index, w->out, counts, tsum);
+    if (ed_mode(J)) {
+        float *t = w->err;
+        w->err = w->next;
+        w->next = t;
+    }
+    if (!write) return HV_OK;
+    memcpy(J->st_count + li * (size_t)J->m, counts, (size_t)J->m * sizeof *counts);
+    memcpy(J->st_target + li * (size_t)J->m, tsum, (size_t)J->m * sizeof *tsum);
+    layer_file(path, sizeof path, J->tmp, NULL, index);
+    return write_png(J, path, w->out, 1);
+}
+
+static hv_status layer_done(job *J, int t)
+{
+    size_t d = atomic_fetch_add(&J->done, 1) + 1;
+    if (t == 0 && J->progress && J->progress->fn) {
+        if (hv_progress_report(J->progress, "layers", (double)d / (double)(J->last - J->first)) != HV_OK) {
+            atomic_store(&J->cancel, 1);
+            return HV_ERR_CANCELLED;
+        }
+    }
+    return HV_OK;
+}
+
+static hv_status unit_range(void *ctx, size_t b, size_t e, int t)
+{
+    job *J = ctx;
+    worker *w = &J->workers[t];
+    hv_status st = worker_ready(J, w);
+    for (size_t u = b; u < e && st == HV_OK; ++u) {
+        size_t lo, hi, from;
+        if (ed_mode(J)) {
+            size_t block = J->first / HV_HALFTONE_BLOCK + u;
+            lo = block * HV_HALFTONE_BLOCK;
+            hi = HV_MIN(lo + HV_HALFTONE_BLOCK, J->last);
+            from = HV_MAX(lo, J->first); /* layers before `from` are recomputed, not written */
+        } else {
+            lo = J->first + u * RUN_LAYERS;
+            hi = HV_MIN(lo + RUN_LAYERS, J->last);
+            from = lo;
+        }
+        for (size_t i = lo; i < hi && st == HV_OK; ++i) {
+            if (atomic_load(&J->cancel)) return hv_error_set(HV_ERR_CANCELLED, "layers: cancelled");
+            st = do_layer(J, w, i, i >= from);
+            if (st == HV_OK && i >= from) st = layer_done(J, t);
+        }
+    }
+    if (st != HV_OK) atomic_store(&J->cancel, 1);
+    return st;
+}
+
+/* ---- manifest and GCVF ------------------------------------------------------------------------ */
+
+static const char *mode_name(hv_layers_mode m)
+{
+    return m == HV_LAYERS_HALFTONE ? "halftone" : m == HV_LAYERS_FRACTIONS ? "fractions" : "mask";
+}
+
+static void json_pair(hv_buf *b, double x, double y)
+{
+    hv_buf_puts(b, "[");
+    hv_buf_json_number(b, x);
+    hv_buf_puts(b, ", ");
+    hv_buf_json_number(b, y);
+    hv_buf_puts(b, "]");
+}
+
+static void color_hex(char out[8], const uint8_t *rgb) { snprintf(out, 8, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]); }
+
+static hv_status write_manifest(job *J, const hv_layers_report *r)
+{
+    const hv_layers_options *o = J->o;
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_printf(&b, "{\n  \"generator\": \"hovox %s\",\n  \"mode\": \"%s\",\n", hv_version(), mode_name(o->mode));
+    if (uses_model(o))
+        hv_buf_printf(&b, "  \"method\": \"%s\",\n", o->method == HV_LAYERS_DIRECT ? "direct" : "resample");
+    if (o->mode == HV_LAYERS_HALFTONE)
+        hv_buf_printf(&b, "  \"halftone\": \"%s\",\n  \"seed\": %llu,\n",
+                      o->halftone == HV_HALFTONE_ERROR_DIFFUSION ? "error-diffusion" : "blue-noise",
+                      (unsigned long long)o->seed);
+    hv_buf_puts(&b, "  \"profile\": ");
+    hv_buf_json_string(&b, o->profile ? o->profile : "custom");
+    hv_buf_puts(&b, ",\n  \"dpi\": ");
+    json_pair(&b, o->dpi[0], o->dpi[1]);
+    hv_buf_puts(&b, ",\n  \"layer_height_mm\": ");
+    hv_buf_json_number(&b, o->layer_height);
+    hv_buf_printf(&b, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"bit_depth\": %d,\n  \"pixel_mm\": ", J->W, J->H,
+                  J->bit_depth);
+    json_pair(&b, J->grid.pixel[0], J->grid.pixel[1]);
+    hv_buf_puts(&b, ",\n  \"origin_mm\": ");
+    json_pair(&b, J->grid.origin[0], J->grid.origin[1]);
+    hv_buf_printf(&b, ",\n  \"fill_rule\": \"%s\",\n  \"threshold_mm\": ", o->fill_rule == HV_FILL_EVENODD ? "evenodd" : "nonzero");
+    hv_buf_json_number(&b, o->threshold);
+    if (uses_model(o)) {
+        hv_buf_puts(&b, ",\n  \"poi_step\": ");
+        hv_buf_json_number(&b, o->poi_step);
+    }
+    hv_buf_puts(&b, ",\n  \"mesh\": ");
+    hv_buf_json_string(&b, o->mesh_name ? o->mesh_name : "");
+    if (J->model) {
+        hv_buf_puts(&b, ",\n  \"model\": ");
+        hv_buf_json_string(&b, o->model_name ? o->model_name : "");
+    }
+    hv_buf_puts(&b, ",\n  \"bbox_mm\": {\"min\": [");
+    for (int a = 0; a < 3; ++a) {
+        if (a) hv_buf_puts(&b, ", ");
+        hv_buf_json_number(&b, J->bbox_min[a]);
+    }
+    hv_buf_puts(&b, "], \"max\": [");
+    for (int a = 0; a < 3; ++a) {
+        if (a) hv_buf_puts(&b, ", ");
+        hv_buf_json_number(&b, J->bbox_max[a]);
+    }
+    hv_buf_puts(&b, "]}");
+    char hex[8];
+    if (o->mode == HV_LAYERS_HALFTONE) {
+        color_hex(hex, o->background);
+        hv_buf_printf(&b, ",\n  \"background\": {\"palette_index\": 0, \"color\": \"%s\"}", hex);
+    }
+    hv_buf_puts(&b, ",\n  \"materials\": [");
+    for (int g = 0; g < J->m; ++g) {
+        const char *name = hv_material_name(J->table, g);
+        float rgba[4];
+        hv_material_color(J->table, g, rgba);
+        uint8_t rgb[3];
+        for (int k = 0; k < 3; ++k) rgb[k] = (uint8_t)lround(HV_CLAMP(rgba[k], 0.0f, 1.0f) * 255.0f);
+        color_hex(hex, rgb);
+        hv_buf_printf(&b, "%s\n    {\"name\": ", g ? "," : "");
+        hv_buf_json_string(&b, name);
+        if (o->mode == HV_LAYERS_HALFTONE) hv_buf_printf(&b, ", \"palette_index\": %d", g + 1);
+        if (o->mode == HV_LAYERS_FRACTIONS) {
+            hv_buf_puts(&b, ", \"dir\": ");
+            hv_buf_json_string(&b, name);
+        }
+        hv_buf_printf(&b, ", \"color\": \"%s\", \"target\": ", hex);
+        hv_buf_json_number(&b, r->target[g]);
+        if (o->mode == HV_LAYERS_HALFTONE) {
+            hv_buf_puts(&b, ", \"achieved\": ");
+            hv_buf_json_number(&b, r->achieved[g]);
+        }
+        hv_buf_puts(&b, "}");
+    }
+    hv_buf_puts(&b, J->m ? "\n  ]" : "]");
+    hv_buf_printf(&b, ",\n  \"object_pixels\": %llu", (unsigned long long)r->object_pixels);
+    if (r->compared) {
+        hv_buf_puts(&b, ",\n  \"compare\": {\"what\": \"max over materials of |resample - direct| per object pixel\", \"mean\": ");
+        hv_buf_json_number(&b, r->diff_mean);
+        hv_buf_puts(&b, ", \"max\": ");
+        hv_buf_json_number(&b, r->diff_max);
+        hv_buf_printf(&b, ", \"direct_fallback_pixels\": %llu}", (unsigned long long)r->direct_fallback);
+    }
+    hv_buf_printf(&b, ",\n  \"layers_total\": %zu,\n  \"range\": [%zu, %zu],\n  \"layers\": [", J->nlayers, J->first,
+                  J->last);
+    for (size_t i = J->first; i < J->last; ++i) {
+        hv_buf_printf(&b, "%s\n    {\"index\": %zu, ", i > J->first ? "," : "", i);
+        if (o->mode == HV_LAYERS_FRACTIONS) {
+            hv_buf_puts(&b, "\"files\": {");
+            for (int g = 0; g < J->m; ++g) {
+                const char *name = hv_material_name(J->table, g);
+                hv_buf_printf(&b, "%s", g ? ", " : "");
+                hv_buf_json_string(&b, name);
+                hv_buf_printf(&b, ": \"%s/layer-%05zu.png\"", name, i);
+            }
+            hv_buf_puts(&b, "}");
+        } else {
+            hv_buf_printf(&b, "\"file\": \"layer-%05zu.png\"", i);
+        }
+        hv_buf_puts(&b, ", \"z_mm\": ");
+        hv_buf_json_number(&b, J->layers[i].z);
+        hv_buf_puts(&b, "}");
+    }
+    hv_buf_puts(&b, "\n  ]\n}\n");
+    if (b.failed) {
+        hv_buf_free(&b);
+        return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
+    }
+    char path[4200];
+    snprintf(path, sizeof path, "%s/manifest.json", J->tmp);
+    hv_atomic_file af;
+    hv_status st = hv_atomic_open(&af, path, "wb");
+    if (st == HV_OK) {
+        if (fwrite(b.data, 1, b.len, af.fp) != b.len) {
+            hv_atomic_abort(&af);
+            st = hv_error_set(HV_ERR_IO, "%s: write failed", path);
+        } else {
+            st = hv_atomic_commit(&af);
+        }
+    }
+    hv_buf_free(&b);
+    return st;
+}
+
+/* GCVF: ConfigFile.xml (the layout third-party GCVF writers use for GrabCAD Voxel Print:
+ * resolution, slice size and range, materials with their RGBA and voxel counts) and the
+ * layers as layer_<index>.png, stored (PNG data is deflated already). */
+static hv_status write_gcvf(job *J, const hv_layers_report *r, hv_atomic_file *af)
+{
+    const hv_layers_options *o = J->o;
+    hv_zip *z = NULL;
+    hv_status st = hv_zip_open(af->fp, o->gcvf_path, &z);
+    if (st != HV_OK) return st;
+    hv_buf x;
+    hv_buf_init(&x);
+    hv_buf_printf(&x,
+                  "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                  "<!-- GCVF - GrabCAD Voxel Print File, written by hovox %s -->\n"
+                  "<GCVF>\n"
+                  "    <Version>2</Version>\n"
+                  "    <Resolution>\n"
+                  "        <XDpi>%.0f</XDpi>\n"
+                  "        <YDpi>%.0f</YDpi>\n"
+                  "        <SliceThicknessNanoMeter>%.0f</SliceThicknessNanoMeter>\n"
+                  "    </Resolution>\n"
+                  "    <SliceDimensions>\n"
+                  "        <SliceWidth>%d</SliceWidth>\n"
+                  "        <SliceHeight>%d</SliceHeight>\n"
+                  "    </SliceDimensions>\n"
+                  "    <SliceRange>\n"
+                  "        <StartIndex>%zu</StartIndex>\n"
+                  "        <NumberOfSlices>%zu</NumberOfSlices>\n"
+                  "    </SliceRange>\n"
+                  "    <BitDepth>%d</BitDepth>\n"
+                  "    <MaxNumberOfColors>%d</MaxNumberOfColors>\n"
+                  "    <DataSemantics>Materials</DataSemantics>\n"
+                  "    <CreationMode>MODEL_ONLY</CreationMode>\n"
+                  "    <ImageFilePrefix>layer_</ImageFilePrefix>\n"
+                  "    <MaterialList>\n",
+                  hv_version(), o->dpi[0], o->dpi[1], o->layer_height * 1e6, J->W, J->H, J->first, J->last - J->first,
+                  J->bit_depth, o->mode == HV_LAYERS_MASK ? 2 : J->palette_size);
+    const uint8_t *bg = o->mode == HV_LAYERS_HALFTONE ? o->background : (const uint8_t *)"\0\0\0";
+    hv_buf_printf(&x, "        <BackGroundMaterialRGBA>%d %d %d 255</BackGroundMaterialRGBA>\n", bg[0], bg[1], bg[2]);
+    if (o->mode == HV_LAYERS_MASK) {
+        hv_buf_printf(&x,
+                      "        <Material>\n            <Name>model</Name>\n            <RGBA>255 255 255 255</RGBA>\n"
+                      "            <VoxelCount>%llu</VoxelCount>\n        </Material>\n",
+                      (unsigned long long)r->object_pixels);
+    } else {
+        for (int g = 0; g < J->m; ++g) {
+            uint64_t cnt = 0;
+            for (size_t li = 0; li < J->last - J->first; ++li) cnt += J->st_count[li * (size_t)J->m + (size_t)g];
+            const uint8_t *c = J->palette + 3 * (g + 1);
+            hv_buf_printf(&x,
+                          "        <Material>\n            <Name>%s</Name>\n            <RGBA>%d %d %d 255</RGBA>\n"
+                          "            <VoxelCount>%llu</VoxelCount>\n        </Material>\n",
+                          hv_material_name(J->table, g), c[0], c[1], c[2], (unsigned long long)cnt);
+        }
+    }
+    hv_buf_puts(&x, "    </MaterialList>\n</GCVF>\n");
+    if (x.failed) st = hv_error_set(HV_ERR_NOMEM, "out of memory");
+    if (st == HV_OK) st = hv_zip_add(z, "ConfigFile.xml", x.data, x.len, 6);
+    hv_buf_free(&x);
+    for (size_t i = J->first; i < J->last && st == HV_OK; ++i) {
+        char path[4200], name[64];
+        layer_file(path, sizeof path, J->tmp, NULL, i);
+        snprintf(name, sizeof name, "layer_%zu.png", i);
+        char *data = NULL;
+        size_t size = 0;
+        st = hv_read_file(path, (size_t)1 << 32, &data, &size);
+        if (st == HV_OK) st = hv_zip_add(z, name, data, size, 0);
+        free(data);
+        if (st == HV_OK && J->progress)
+            st = hv_progress_report(J->progress, "gcvf", (double)(i + 1 - J->first) / (double)(J->last - J->first));
+    }
+    if (st == HV_OK) return hv_zip_finish(z);
+    hv_zip_free(z);
+    return st;
+}
+
+/* ---- the job ---------------------------------------------------------------------------------- */
+
+static hv_status job_prepare_output(job *J)
+{
+    const hv_layers_options *o = J->o;
+    size_t count = J->last - J->first, m = (size_t)HV_MAX(J->m, 1);
+    J->st_pixels = hv_calloc(count, sizeof *J->st_pixels);
+    J->st_count = hv_calloc(count * m, sizeof *J->st_count);
+    J->st_fallback = hv_calloc(count, sizeof *J->st_fallback);
+    J->st_target = hv_calloc(count * m, sizeof *J->st_target);
+    J->st_dsum = hv_calloc(count, sizeof *J->st_dsum);
+    J->st_dmax = hv_calloc(count, sizeof *J->st_dmax);
+    J->st_open = hv_calloc(count, sizeof *J->st_open);
+    J->workers = hv_calloc((size_t)J->threads, sizeof *J->workers);
+    if (!J->st_pixels || !J->st_count || !J->st_fallback || !J->st_target || !J->st_dsum || !J->st_dmax ||
+        !J->st_open || !J->workers)
+        return HV_ERR_NOMEM;
+    if (o->gcvf_path && o->mode == HV_LAYERS_HALFTONE) {
+        /* GrabCAD tells materials apart by colour */
+        for (int a = 0; a < J->palette_size; ++a)
+            for (int b = a + 1; b < J->palette_size; ++b)
+                if (memcmp(J->palette + 3 * a, J->palette + 3 * b, 3) == 0)
+                    return hv_error_set(HV_ERR_INVALID,
+                                        "layers: %s and %s have the same colour #%02x%02x%02x; GCVF tells materials apart "
+                                        "by colour (change the colours or --background)",
+                                        a ? hv_material_name(J->table, a - 1) : "the background",
+                                        hv_material_name(J->table, b - 1), J->palette[3 * a], J->palette[3 * a + 1],
+                                        J->palette[3 * a + 2]);
+    }
+    hv_status st = HV_OK;
+    if (needs_object(o)) {
+        st = hv_object_from_model(J->model, &J->obj);
+        if (st == HV_ERR_NOT_FOUND)
+            return hv_error_set(HV_ERR_BAD_INPUT, "the model carries no grading definition (hovox.object.json): "
+                                                  "--method direct and --compare need a model made by 'hovox grade'");
+        if (st != HV_OK) return st;
+        if (hv_object_materials(J->obj) != J->m)
+            return hv_error_set(HV_ERR_BAD_INPUT, "the grading definition has %d materials, the model %d",
+                                hv_object_materials(J->obj), J->m);
+        st = hv_object_prepare(J->obj, J->progress);
+        if (st != HV_OK) return st;
+    }
+    if (o->mode == HV_LAYERS_HALFTONE && o->halftone == HV_HALFTONE_BLUE_NOISE) {
+        st = hv_bluenoise_tile(o->cache_dir, J->progress, &J->ranks, &J->bn_cached);
+        if (st != HV_OK) return st;
+        hv_bluenoise_offsets(o->seed, J->bn_off);
+    }
+    return st;
+}
+
+hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const char *dir,
+                          const hv_layers_options *o, const hv_progress *progress, hv_layers_report *report)
+{
+    if (!dir || !*dir) return hv_error_set(HV_ERR_INVALID, "layers: no output directory");
+    job J;
+    hv_status st = job_plan(&J, mesh, model, o, progress);
+    hv_layers_report rep;
+    memset(&rep, 0, sizeof rep);
+    if (st == HV_OK) {
+        fill_plan_report(&J, &rep);
+        st = job_prepare_output(&J);
+    }
+    if (st == HV_OK) st = hv_stack_begin(dir, o->force, &J.tmp);
+    if (st == HV_OK && o->mode == HV_LAYERS_FRACTIONS) {
+        for (int g = 0; g < J.m && st == HV_OK; ++g) {
+            char path[4200];
+            snprintf(path, sizeof path, "%s/%s", J.tmp, hv_material_name(J.table, g));
+            if (mkdir(path, 0777) != 0) st = hv_error_set(HV_ERR_IO, "%s: cannot create directory", path);
+        }
+    }
+    if (st == HV_OK) st = hv_progress_report(progress, "layers", 0.0);
+    if (st == HV_OK) {
+        size_t units = ed_mode(&J) ? (J.last - 1) / HV_HALFTONE_BLOCK - J.first / HV_HALFTONE_BLOCK + 1
+                                   : (J.last - J.first + RUN_LAYERS - 1) / RUN_LAYERS;
+        atomic_store(&J.done, 0);
+        atomic_store(&J.cancel, 0);
+        st = hv_parallel_for(units, 1, unit_range, &J, NULL, "layers");
+    }
+    if (st == HV_OK) {
+        /* statistics, summed in layer order so they do not depend on the threads */
+        size_t count = J.last - J.first;
+        double dsum = 0;
+        for (size_t li = 0; li < count; ++li) {
+            rep.object_pixels += J.st_pixels[li];
+            rep.direct_fallback += J.st_fallback[li];
+            rep.open_polylines += J.st_open[li];
+            dsum += J.st_dsum[li];
+            rep.diff_max = HV_MAX(rep.diff_max, J.st_dmax[li]);
+            for (int g = 0; g < J.m; ++g) {
+                rep.target[g] += J.st_target[li * (size_t)J.m + (size_t)g];
+                rep.achieved[g] += (double)J.st_count[li * (size_t)J.m + (size_t)g];
+            }
+        }
+        double np = (double)rep.object_pixels;
+        for (int g = 0; g < J.m; ++g) {
+            rep.target[g] = np > 0 ? rep.target[g] / np : 0;
+            rep.achieved[g] = np > 0 && o->mode == HV_LAYERS_HALFTONE ? rep.achieved[g] / np : 0;
+        }
+        if (J.obj) {
+            uint64_t compared = rep.object_pixels - rep.direct_fallback;
+            rep.compared = 1;
+            rep.diff_mean = compared ? dsum / (double)compared : 0;
+        }
+        rep.bluenoise_cached = J.bn_cached;
+        st = hv_progress_report(progress, "layers", 1.0);
+    }
+    if (st == HV_OK) st = write_manifest(&J, &rep);
+    hv_atomic_file zaf;
+    int zopen = 0;
+    if (st == HV_OK && o->gcvf_path) {
+        st = hv_atomic_open(&zaf, o->gcvf_path, "wb");
+        zopen = st == HV_OK;
+        if (st == HV_OK) st = write_gcvf(&J, &rep, &zaf);
+    }
+    if (st == HV_OK) st = hv_stack_commit(J.tmp, dir, o->force);
+    if (zopen) {
+        if (st == HV_OK) st = hv_atomic_commit(&zaf);
+        else hv_atomic_abort(&zaf);
+    }
+    if (st != HV_OK && J.tmp) hv_stack_abort(J.tmp);
+    if (report) *report = rep;
+    job_free(&J);
+    return st;
+}

@@ -1,0 +1,103 @@
+/* slicing/layers_internal.h - pieces of the printer-layer pipeline shared between its files
+ * and the tests (not public): separable POI axis operators, halftoning kernels, the stack
+ * directory, manifest and GCVF zip writers. */
+#ifndef HOVOX_LAYERS_INTERNAL_H
+#define HOVOX_LAYERS_INTERNAL_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "hovox/layers.h"
+
+/* ---- POI (poi.c) ---------------------------------------------------------------------------
+ * One axis of a separable area-weighted operator: output cell o averages input cells
+ * start[o] .. start[o] + len[o] - 1 with weights w[off[o] ...] (summing to 1). Every area
+ * weighted operator has contiguous support, and so has any composition of them. */
+typedef struct hv_poi_axis {
+    int n_in, n_out;
+    int *start, *len;
+    size_t *off;
+    double *w;
+    int steps; /* exact POI steps composed into this operator */
+} hv_poi_axis;
+
+void hv_poi_axis_free(hv_poi_axis *ax);
+
+/* One exact step: input cells [in_lo + i * in_pitch, in_lo + (i + 1) * in_pitch], i < n_in
+ * (in_pitch > 0); output cell o covers [min(a, b), max(a, b)] with a = out_origin +
+ * o * out_pitch, b = a + out_pitch (out_pitch may be negative). Weight = overlap / (sum of
+ * the cell's overlaps). An output cell outside the input takes the nearest input cell. */
+hv_status hv_poi_axis_step(double in_lo, double in_pitch, int n_in, double out_origin,
+                           double out_pitch, int n_out, hv_poi_axis *ax);
+
+/* Wu's repeated resampling along one axis: from the input cells to the output cells through
+ * intermediate grids that cover the input extent, each at most max_ratio times finer than the
+ * previous one (up-sampling only; max_ratio <= 1 or down-sampling: one step), composed into
+ * one operator. */
+hv_status hv_poi_axis_chain(double in_lo, double in_pitch, int n_in, double out_origin,
+                            double out_pitch, int n_out, double max_ratio, hv_poi_axis *ax);
+
+/* c = b o a (apply a, then b); b->n_in must equal a->n_out. */
+hv_status hv_poi_axis_compose(const hv_poi_axis *b, const hv_poi_axis *a, hv_poi_axis *c);
+
+/* Apply x then y operators to a src image (ax->n_in x ay->n_in floats, rows first) giving
+ * ax->n_out x ay->n_out floats. tmp holds ay->n_in * ax->n_out doubles. */
+void hv_poi_apply(const hv_poi_axis *ax, const hv_poi_axis *ay, const float *src, float *dst,
+                  double *tmp);
+
+/* ---- halftoning (halftone.c) ---------------------------------------------------------------- */
+
+/* 64-bit mix (splitmix64 finaliser) for seeds and per-pixel noise. */
+uint64_t hv_hash64(uint64_t x);
+
+/* Blue-noise offsets derived from a seed (x, y, z within the tile). */
+void hv_bluenoise_offsets(uint64_t seed, int off[3]);
+
+/* Blue-noise halftone of one layer: frac holds m planes of w*h floats (plane j at j*w*h),
+ * inside the object mask (1 = object). out[y*w+x] = 0 outside, else 1 + chosen material.
+ * `layer` is the global layer index, off the seed's tile offset. counts[j] += pixels given j;
+ * tsum (may be NULL) += the fractions summed over the object pixels. */
+void hv_halftone_bluenoise(const float *frac, int m, int w, int h, const uint8_t *mask,
+                           const uint32_t *ranks, const int off[3], size_t layer, uint8_t *out,
+                           uint64_t *counts, double *tsum);
+
+/* Vector error diffusion of one layer. err: m planes of w*h floats holding the error carried
+ * into this layer (read and cleared); next: m planes receiving the share for the next layer
+ * (added to). `serp` picks the direction of row 0. counts and tsum as above. */
+void hv_halftone_diffuse(const float *frac, int m, int w, int h, const uint8_t *mask,
+                         float *err, float *next, int serp, uint8_t *out, uint64_t *counts,
+                         double *tsum);
+
+/* Seeded zero-sum start error of a block of layers (m planes of w*h floats). */
+void hv_halftone_seed_error(float *err, int m, int w, int h, uint64_t seed, size_t block);
+
+/* Start a block of error diffusion on its first layer (frac, mask): the seeded error, then two
+ * discarded passes so the carried error is in its steady state; *err and *next are swapped as
+ * the passes go (use them afterwards as returned). scratch: w*h bytes. */
+void hv_halftone_diffuse_start(const float *frac, int m, int w, int h, const uint8_t *mask,
+                               float **err, float **next, uint64_t seed, size_t block, int serp,
+                               uint8_t *scratch);
+
+/* ---- the stack on disk (stack.c) ------------------------------------------------------------ */
+
+/* Create "<parent>/.<name>.tmp-<pid>" for dir (fresh, mode 0777 & umask); *tmp is malloc'd.
+ * Errors: HV_ERR_IO naming the path. Also checks up front that dir is absent, an empty
+ * directory, or (force) a hovox stack. */
+hv_status hv_stack_begin(const char *dir, int force, char **tmp);
+/* Move tmp to dir (replacing an empty dir or, with force, a hovox stack). */
+hv_status hv_stack_commit(const char *tmp, const char *dir, int force);
+/* Remove the temporary directory and everything in it (best effort). */
+void hv_stack_abort(const char *tmp);
+
+/* Minimal ZIP writer (PKWARE APPNOTE 6.3: local headers, data, central directory, end
+ * record; deflate or stored, CRC-32 from zlib, fixed 1980-01-01 timestamps so the bytes
+ * depend only on the content). At most 65535 entries and 4 GiB (no ZIP64): HV_ERR_LIMIT. */
+typedef struct hv_zip hv_zip;
+hv_status hv_zip_open(FILE *fp, const char *path_for_messages, hv_zip **out);
+/* Add an entry: deflated at `level` when that is smaller, else stored. */
+hv_status hv_zip_add(hv_zip *z, const char *name, const void *data, size_t size, int level);
+/* Write the central directory and end record; frees z (also on error). */
+hv_status hv_zip_finish(hv_zip *z);
+void hv_zip_free(hv_zip *z);
+
+#endif

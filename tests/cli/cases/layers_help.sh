@@ -1,0 +1,1 @@
+$HOVOX layers --help

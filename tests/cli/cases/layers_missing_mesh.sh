@@ -1,0 +1,1 @@
+$HOVOX layers model.vdb -o "$TMP/stack"

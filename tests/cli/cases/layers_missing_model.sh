@@ -1,0 +1,1 @@
+$HOVOX layers --mesh tests/data/good/tet_ascii.stl -o "$TMP/stack"

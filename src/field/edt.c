@@ -1,6 +1,7 @@
 /* src/field/edt.c - exact Euclidean distance transform of a voxel mask, after Felzenszwalb &
  * Huttenlocher, "Distance Transforms of Sampled Functions" (Theory of Computing 2012), sec. 3
  * (1-D lower envelope of parabolas) and sec. 4 (separable extension to 3-D). */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -206,7 +207,9 @@ static void z_row(const edt_ctx *c, int64_t row)
 
 /* Gathers rows [0, n) x columns [0, bw) of a strided block (row r at base + r * pitch) into
  * the tile as bw contiguous rows of n samples (a transpose, by 4x4 blocks where SSE is
- * available), and back. */
+ * available), and back (taking square roots in the last pass). Rows of the x pass lie a whole
+ * slice apart, beyond the reach of the hardware prefetchers, so the scatter of one tile
+ * prefetches the lines of the next tile (`next`): the gather then finds them in cache. */
 static void gather(float *tile, const float *base, size_t pitch, int64_t n, int64_t bw)
 {
     size_t sn = (size_t)n;
@@ -232,7 +235,8 @@ static void gather(float *tile, const float *base, size_t pitch, int64_t n, int6
             tile[(size_t)b * sn + (size_t)r] = base[(size_t)r * pitch + (size_t)b];
 }
 
-static void scatter(const float *tile, float *base, size_t pitch, int64_t n, int64_t bw, int root)
+static void scatter(const float *tile, float *base, size_t pitch, int64_t n, int64_t bw, int root,
+                    int next)
 {
     size_t sn = (size_t)n;
     int64_t r = 0;
@@ -240,6 +244,10 @@ static void scatter(const float *tile, float *base, size_t pitch, int64_t n, int
     if (bw == TILE)
         for (; r + 4 <= n; r += 4) {
             float *d0 = base + (size_t)r * pitch;
+            if (next) /* the next tile's columns of these rows: same pages, lines not yet read */
+                for (int q = 0; q < 4; ++q)
+                    for (int l = 0; l < TILE; l += 16)
+                        _mm_prefetch((const char *)(d0 + (size_t)q * pitch + TILE + l), _MM_HINT_T0);
             for (int b = 0; b < TILE; b += 4) {
                 const float *s = tile + (size_t)b * sn + (size_t)r;
                 __m128 a0 = _mm_loadu_ps(s), a1 = _mm_loadu_ps(s + sn),
@@ -273,7 +281,7 @@ static void y_tile(const edt_ctx *c, int64_t i, int64_t t, edt_scratch *w)
     float *base = c->out + ((size_t)i * (size_t)ny) * (size_t)nz + (size_t)k0;
     gather(w->tile, base, (size_t)nz, ny, bw);
     for (int64_t b = 0; b < bw; ++b) fh_row(w->tile + (size_t)b * (size_t)ny, ny, c->s2[1], w);
-    scatter(w->tile, base, (size_t)nz, ny, bw, 0);
+    scatter(w->tile, base, (size_t)nz, ny, bw, 0, t + 1 < c->nkt);
 }
 
 /* x pass (the last) over tile t of the y-row j: rows are nx voxels one slice apart. */
@@ -285,7 +293,7 @@ static void x_tile(const edt_ctx *c, int64_t j, int64_t t, edt_scratch *w)
     float *base = c->out + (size_t)j * (size_t)nz + (size_t)k0;
     gather(w->tile, base, slice, nx, bw);
     for (int64_t b = 0; b < bw; ++b) fh_row(w->tile + (size_t)b * (size_t)nx, nx, c->s2[0], w);
-    scatter(w->tile, base, slice, nx, bw, 1); /* the last pass: distances */
+    scatter(w->tile, base, slice, nx, bw, 1, t + 1 < c->nkt); /* last pass: distances */
 }
 
 /* Slices i in [b, e): z pass of every row, then the y pass while the slice is in cache. */
@@ -325,10 +333,11 @@ static hv_status x_tiles(void *ctx, size_t b, size_t e, int thread)
     return HV_OK;
 }
 
-/* Grain for n items: about 8 chunks per thread, at least `min` items each. */
+/* Grain for n items: about 32 chunks per thread (small enough that a thread descheduled on
+ * a busy machine delays the pass by little), at least `min` items each. */
 static size_t grain_for(size_t n, size_t min, int threads)
 {
-    size_t g = n / ((size_t)threads * 8);
+    size_t g = n / ((size_t)threads * 32);
     return HV_MAX(g, HV_MAX(min, (size_t)1));
 }
 
@@ -351,6 +360,22 @@ hv_status hv_edt(const uint8_t *feature, const int64_t dims[3], const double spa
     if (dims[0] > limit || dims[1] > limit / dims[0] || dims[2] > limit / (dims[0] * dims[1]))
         return hv_error_set(HV_ERR_LIMIT, "edt: %lld x %lld x %lld voxels exceed the limit of 2^40",
                             (long long)dims[0], (long long)dims[1], (long long)dims[2]);
+    /* squared distances live in floats between passes: each step must be a normal float and
+     * the grid's diagonal must not overflow */
+    double diag2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        double ext = (double)dims[a] * spacing[a];
+        diag2 += ext * ext;
+        if (spacing[a] * spacing[a] < FLT_MIN)
+            return hv_error_set(HV_ERR_INVALID,
+                                "edt: spacing %c too small for float squared distances (got %g)",
+                                axis[a], spacing[a]);
+    }
+    if (!(diag2 < FLT_MAX))
+        return hv_error_set(HV_ERR_INVALID,
+                            "edt: grid too large in physical units for float squared distances "
+                            "(diagonal %g)",
+                            sqrt(diag2));
 
     edt_ctx c = {feature, out, dims[0], dims[1], dims[2], {0, 0, 0}, NULL, NULL, 0};
     for (int a = 0; a < 3; ++a) c.s2[a] = spacing[a] * spacing[a];

@@ -2,6 +2,7 @@
  * the non-manifold multi-material meshes seed, sec. 5: phi = 1 on one group, 0 on the other,
  * zero normal derivative elsewhere), finite differences on the voxel grid, solved by conjugate
  * gradients preconditioned with a cell-centred geometric multigrid V-cycle. */
+#include <float.h>
 #include <math.h>
 #include <omp.h>
 #include <stdint.h>
@@ -397,6 +398,11 @@ hv_status hv_harmonic(const uint8_t *domain, const uint8_t *label, const int64_t
             return hv_error_set(HV_ERR_INVALID,
                                 "harmonic: spacing %c must be finite and > 0 (got %g)", axis[a],
                                 spacing[a]);
+        double wa = 1.0 / (spacing[a] * spacing[a]); /* the stencil weight, kept as a float */
+        if (!(wa >= FLT_MIN && wa <= FLT_MAX))
+            return hv_error_set(HV_ERR_INVALID,
+                                "harmonic: spacing %c out of range for float weights (got %g)",
+                                axis[a], spacing[a]);
     }
     if (!(tol > 0 && tol < 1))
         return hv_error_set(HV_ERR_INVALID, "harmonic: tolerance must be in (0, 1) (got %g)", tol);

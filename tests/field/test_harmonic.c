@@ -371,6 +371,10 @@ Test(harmonic, invalid_arguments)
     const double s0[3] = {1, 0, 1}, sn[3] = {NAN, 1, 1};
     expect_err(HV_ERR_INVALID, &g, g.d, s0, 1e-6, 10, "spacing y must be finite and > 0 (got 0)");
     expect_err(HV_ERR_INVALID, &g, g.d, sn, 1e-6, 10, "spacing x must be finite and > 0");
+    const double stiny[3] = {1, 1, 1e-25}, sbig[3] = {1e25, 1, 1};
+    expect_err(HV_ERR_INVALID, &g, g.d, stiny, 1e-6, 10,
+               "spacing z out of range for float weights (got 1e-25)");
+    expect_err(HV_ERR_INVALID, &g, g.d, sbig, 1e-6, 10, "spacing x out of range");
     expect_err(HV_ERR_INVALID, &g, g.d, iso, 0, 10, "tolerance must be in (0, 1) (got 0)");
     expect_err(HV_ERR_INVALID, &g, g.d, iso, 1.5, 10, "tolerance must be in (0, 1) (got 1.5)");
     expect_err(HV_ERR_INVALID, &g, g.d, iso, NAN, 10, "tolerance must be in (0, 1)");

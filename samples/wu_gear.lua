@@ -1,9 +1,21 @@
 -- samples/wu_gear.lua - Wu's third worked example (Wu 3, Fig. 27): a gear of three materials
 -- graded from two fixed reference features, the z axis and the bottom plane; AGS union of
 -- the two sources, then the heterogeneous union of two objects.
--- usage: hovox run samples/wu_gear.lua [OUTDIR] [DIMS]
+-- The heterogeneous union is also sliced for a Stratasys J750 (Wu 2.4.2): a stack of
+-- halftoned palette PNGs, one material per printer voxel.
+-- usage: hovox run samples/wu_gear.lua [OUTDIR] [DIMS] [LAYERS]
+--   DIMS: voxels along the longest side (default 128); LAYERS: the printer layers to write,
+--   "A:B" (layers A to B-1), "all" (default: 1461 layers, about 20 s) or "none"
+-- test-args: 96 700:704
 local out = arg[1] or "."
 local dims = tonumber(arg[2] or "128")
+local stack = arg[3] or "all"
+local range
+if stack ~= "all" and stack ~= "none" then
+    local a, b = stack:match("^(%d+):(%d+)$")
+    assert(a, "LAYERS must be A:B, all or none, not " .. stack)
+    range = {tonumber(a), tonumber(b)}
+end
 
 -- the gear: 24 teeth, tip radius 39.45 (= d- + dg + d+ of the axis source), a bore of 9.54
 -- (= d- of the axis source: the gradient starts at the bore), height 39.45 (= the sum of the
@@ -65,6 +77,13 @@ for _, r in ipairs(results) do
     -- Wu Fig. 27: a cut-away preview (a quarter removed) shows the gradient inside
     graded:render{path = out .. "/wu_gear_" .. name .. "_cut.png", surface = true,
                   clip = "x>0&y<0", size = {640, 640}}
+    -- Wu 2.4.2: the printer's slice stack of the final object
+    if name == "ho_union" and stack ~= "none" then
+        local st = graded:layers{mesh = mesh, dir = out .. "/wu_gear_j750", profile = "j750", layers = range}
+        print(string.format("J750 stack: layers %d to %d of %d, %d x %d pixels; achieved A %.4f B %.4f C %.4f",
+                            st.first, st.last - 1, st.layers, st.width, st.height, st.materials.A.achieved,
+                            st.materials.B.achieved, st.materials.C.achieved))
+    end
     local inside, f = graded:probe{0, 15, 20}
     print(string.format("%-10s %d voxels; at (0, 15, 20): A %.3f B %.3f C %.3f", name,
                         graded:voxels("occupancy"), f.A, f.B, f.C))

@@ -866,11 +866,13 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
         hv_buf_puts(&b, ",\n  \"poi_step\": ");
         hv_buf_json_number(&b, o->poi_step);
     }
-    hv_buf_puts(&b, ",\n  \"mesh\": ");
-    hv_buf_json_string(&b, o->mesh_name ? o->mesh_name : "");
+    hv_buf_puts(&b, ",\n  \"mesh\": "); /* null when the caller gave no name (the Lua API) */
+    if (o->mesh_name) hv_buf_json_string(&b, o->mesh_name);
+    else hv_buf_puts(&b, "null");
     if (J->model) {
         hv_buf_puts(&b, ",\n  \"model\": ");
-        hv_buf_json_string(&b, o->model_name ? o->model_name : "");
+        if (o->model_name) hv_buf_json_string(&b, o->model_name);
+        else hv_buf_puts(&b, "null");
     }
     hv_buf_puts(&b, ",\n  \"bbox_mm\": {\"min\": [");
     for (int a = 0; a < 3; ++a) {

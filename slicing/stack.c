@@ -119,7 +119,7 @@ hv_status hv_stack_begin(const char *dir, int force, char **tmp)
         return hv_error_set(HV_ERR_IO, "%s: directory exists and is not empty (not a hovox stack; "
                                        "refusing to replace it)", dir);
     if (kind == 2 && !force)
-        return hv_error_set(HV_ERR_IO, "%s: a stack exists there (use --force to replace it)", dir);
+        return hv_error_set(HV_ERR_IO, "%s: a stack exists there (--force, or force = true in Lua, replaces it)", dir);
     char *t = sibling(dir, "tmp");
     if (!t) return hv_error_set(HV_ERR_NOMEM, "out of memory");
     remove_tree(t); /* a leftover of an earlier process with our pid */

@@ -9,6 +9,7 @@
 
 #include "../core/internal.h"
 #include "hovox/export.h"
+#include "hovox/layers.h"
 #include "hovox/profile.h"
 #include "hovox/render.h"
 #include "hovox/slice.h"
@@ -466,10 +467,150 @@ static int model_render(lua_State *L)
     return 0;
 }
 
+/* ---- printer layers ------------------------------------------------------------------------ */
+
+/* model:layers{mesh = Mesh, dir = "stack", profile = "j750" | dpi = {x, y}, layer_height = H,
+ *              mode = "halftone"|"fractions"|"mask", method = "resample"|"direct",
+ *              halftone = "bluenoise"|"error", seed = N, layers = {first, last}, threshold,
+ *              fill_rule = "nonzero"|"evenodd", background = "#000000", compare = bool,
+ *              gcvf = "stack.zip", force = bool, max_memory}
+ *   -> {width, height, layers, first, last, object_pixels, materials = {name = {target,
+ *       achieved}}, diff_mean, diff_max} -- the options of `hovox layers` */
+static int model_layers(lua_State *L)
+{
+    hv_volume *vol = check_model(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    lua_getfield(L, 2, "mesh");
+    hv_mesh *mesh = hv_lua_mesh(L, -1);
+    lua_pop(L, 1); /* the options table keeps the mesh alive */
+    lua_getfield(L, 2, "dir");
+    const char *dir = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    if (!dir) return arg_error(L, 2, "dir is required (the stack's directory)");
+    hv_lua_check_write(L, 2, dir);
+    const char *gcvf = get_path(L, 2, "gcvf");
+    hv_layers_options o;
+    hv_layers_options_init(&o);
+    o.gcvf_path = gcvf;
+    /* the printer: a profile (default j750; layer_height may override its height), or a
+     * generic one from dpi = {x, y} and layer_height -- as in `hovox layers` */
+    lua_getfield(L, 2, "profile");
+    const char *prof = luaL_optstring(L, -1, NULL);
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "dpi");
+    int have_dpi = !lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (prof && have_dpi) return arg_error(L, 2, "profile and dpi exclude each other");
+    if (have_dpi) {
+        double dpi[2] = {0, 0};
+        opt_vec(L, 2, "dpi", dpi, 2, NULL);
+        lua_getfield(L, 2, "layer_height");
+        o.layer_height = luaL_optnumber(L, -1, 0);
+        lua_pop(L, 1);
+        if (!(dpi[0] > 0 && dpi[1] > 0 && o.layer_height > 0))
+            return arg_error(L, 2, "dpi = {x, y} needs values > 0 and layer_height > 0");
+        o.profile = "custom";
+        o.dpi[0] = dpi[0];
+        o.dpi[1] = dpi[1];
+    } else {
+        const hv_printer_profile *p = hv_printer_profile_find(prof ? prof : "j750");
+        if (!p) return arg_error(L, 2, "unknown printer profile '%s' (j750, j850, or dpi and layer_height)", prof);
+        o.profile = p->name;
+        o.dpi[0] = p->dpi[0];
+        o.dpi[1] = p->dpi[1];
+        lua_getfield(L, 2, "layer_height");
+        o.layer_height = luaL_optnumber(L, -1, p->layer_height);
+        lua_pop(L, 1);
+        if (!(o.layer_height > 0)) return arg_error(L, 2, "layer_height must be > 0");
+    }
+    struct { const char *key; const char *const *names; int *out; } choices[] = {
+        {"mode", (const char *const[]){"halftone", "fractions", "mask", NULL}, (int *)&o.mode},
+        {"method", (const char *const[]){"resample", "direct", NULL}, (int *)&o.method},
+        {"halftone", (const char *const[]){"bluenoise", "error", NULL}, (int *)&o.halftone},
+        {"fill_rule", (const char *const[]){"nonzero", "evenodd", NULL}, (int *)&o.fill_rule}};
+    for (size_t c = 0; c < sizeof choices / sizeof choices[0]; ++c) {
+        lua_getfield(L, 2, choices[c].key);
+        if (!lua_isnil(L, -1)) {
+            const char *v = luaL_checkstring(L, -1);
+            int k = 0;
+            while (choices[c].names[k] && strcmp(choices[c].names[k], v) != 0) ++k;
+            if (!choices[c].names[k]) return arg_error(L, 2, "%s: invalid option '%s'", choices[c].key, v);
+            *choices[c].out = k;
+        }
+        lua_pop(L, 1);
+    }
+    lua_getfield(L, 2, "seed");
+    o.seed = (uint64_t)luaL_optinteger(L, -1, 0);
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "threshold");
+    o.threshold = luaL_optnumber(L, -1, 0);
+    lua_pop(L, 1);
+    if (!(o.threshold >= 0)) return arg_error(L, 2, "threshold must be >= 0");
+    double range[2] = {0, 0};
+    opt_vec(L, 2, "layers", range, 2, NULL);
+    if (range[0] < 0 || range[1] < 0 || (range[1] > 0 && range[1] <= range[0]))
+        return arg_error(L, 2, "layers must be {first, last} with 0 <= first < last (last exclusive)");
+    o.first = (size_t)range[0];
+    o.last = (size_t)range[1];
+    lua_getfield(L, 2, "background");
+    if (!lua_isnil(L, -1)) {
+        float c[4];
+        if (hv_color_parse(luaL_checkstring(L, -1), c) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
+        for (int k = 0; k < 3; ++k) o.background[k] = (uint8_t)(c[k] * 255.0f + 0.5f);
+    }
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "compare");
+    o.compare = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "force");
+    o.force = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    lua_getfield(L, 2, "max_memory");
+    o.max_memory = (uint64_t)luaL_optnumber(L, -1, 0);
+    lua_pop(L, 1);
+    hv_layers_report rep;
+    hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, NULL, &rep);
+    if (s != HV_OK) return fail(L, s);
+    lua_createtable(L, 0, 10);
+    lua_pushinteger(L, rep.width);
+    lua_setfield(L, -2, "width");
+    lua_pushinteger(L, rep.height);
+    lua_setfield(L, -2, "height");
+    lua_pushinteger(L, (lua_Integer)rep.layers_total);
+    lua_setfield(L, -2, "layers");
+    lua_pushinteger(L, (lua_Integer)rep.first);
+    lua_setfield(L, -2, "first");
+    lua_pushinteger(L, (lua_Integer)rep.last);
+    lua_setfield(L, -2, "last");
+    lua_pushinteger(L, (lua_Integer)rep.object_pixels);
+    lua_setfield(L, -2, "object_pixels");
+    if (rep.compared) {
+        lua_pushnumber(L, rep.diff_mean);
+        lua_setfield(L, -2, "diff_mean");
+        lua_pushnumber(L, rep.diff_max);
+        lua_setfield(L, -2, "diff_max");
+    }
+    lua_createtable(L, 0, rep.materials);
+    hv_material_table *t = NULL;
+    if (rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
+        for (int j = 0; j < rep.materials && j < hv_material_count(t); ++j) {
+            lua_createtable(L, 0, 2);
+            lua_pushnumber(L, rep.target[j]);
+            lua_setfield(L, -2, "target");
+            lua_pushnumber(L, rep.achieved[j]);
+            lua_setfield(L, -2, "achieved");
+            lua_setfield(L, -2, hv_material_name(t, j));
+        }
+    }
+    hv_material_table_destroy(t);
+    lua_setfield(L, -2, "materials");
+    return 1;
+}
+
 const luaL_Reg *hv_lua_model_extra(void)
 {
     static const luaL_Reg m[] = {{"profile", model_profile}, {"export", model_export},
-                                 {"render", model_render}, {NULL, NULL}};
+                                 {"render", model_render}, {"layers", model_layers}, {NULL, NULL}};
     return m;
 }
 

@@ -227,6 +227,35 @@ fails("path is required", graded.render, graded, {})
 fails("clip", graded.render, graded, {path = tmp .. "/x.png", clip = "w>3"})
 fails("size must be", graded.render, graded, {path = tmp .. "/x.png", size = {0, 5}})
 
+-- printer layers (Wu 2.4.2): the 20 x 10 x 10 box at 0.5 mm pixels (plus a 2-pixel margin) and
+-- 1 mm layers; a layer exists while its mid-height is inside the mesh
+local st = graded:layers{mesh = box, dir = tmp .. "/stack", dpi = {50.8, 50.8}, layer_height = 1, compare = true}
+assert(st.width == 44 and st.height == 24 and st.layers == 10 and st.first == 0 and st.last == 10,
+       string.format("%d x %d x %d", st.width, st.height, st.layers))
+assert(st.object_pixels == 40 * 20 * 10, "every pixel of the box: " .. st.object_pixels)
+for _, k in ipairs{"A", "B", "C"} do
+    near(st.materials[k].achieved, st.materials[k].target, 0.02, "halftone keeps the mean of " .. k)
+end
+assert(st.diff_mean >= 0 and st.diff_max < 0.2, "resample vs direct: " .. st.diff_max)
+assert(io.open(tmp .. "/stack/layer-00009.png", "rb"):read(4) == "\137PNG")
+assert(io.open(tmp .. "/stack/manifest.json"):read("a"):find('"layers_total": 10', 1, true))
+local fr = graded:layers{mesh = box, dir = tmp .. "/fr", dpi = {25.4, 25.4}, layer_height = 2,
+                         mode = "fractions", method = "direct", layers = {1, 3}}
+assert(fr.first == 1 and fr.last == 3 and fr.layers == 5 and fr.width == 24)
+assert(io.open(tmp .. "/fr/B/layer-00002.png", "rb") and not io.open(tmp .. "/fr/B/layer-00000.png", "rb"))
+local mk = graded:layers{mesh = box, dir = tmp .. "/mask", profile = "j750", mode = "mask", layers = {0, 2},
+                         gcvf = tmp .. "/mask.zip"}
+assert(mk.width == math.ceil(20 / (25.4 / 600)) + 4 and mk.layers == math.floor(10 / 0.027 + 0.5), mk.width .. " " .. mk.layers)
+assert(io.open(tmp .. "/mask.zip", "rb"):read(2) == "PK")
+fails("a stack exists there", graded.layers, graded, {mesh = box, dir = tmp .. "/stack", profile = "j750"})
+graded:layers{mesh = box, dir = tmp .. "/stack", profile = "j750", layers = {5, 6}, force = true}
+fails("unknown printer profile 'x'", graded.layers, graded, {mesh = box, dir = tmp .. "/y", profile = "x"})
+fails("mode: invalid option 'gray'", graded.layers, graded, {mesh = box, dir = tmp .. "/y", profile = "j750", mode = "gray"})
+fails("dir is required", graded.layers, graded, {mesh = box, profile = "j750"})
+fails("needs values > 0 and layer_height > 0", graded.layers, graded, {mesh = box, dir = tmp .. "/y", dpi = {600, 300}})
+fails("profile and dpi exclude each other", graded.layers, graded,
+      {mesh = box, dir = tmp .. "/y", dpi = {600, 300}, layer_height = 1, profile = "j750"})
+
 -- explicit freeing
 gd:free()
 fails("object was freed", gd.voxels, gd)

@@ -18,6 +18,15 @@ extern "C" {
 #define HV_CLAMP(x, lo, hi) ((x) < (lo) ? (lo) : (x) > (hi) ? (hi) : (x))
 #define HV_COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
+/* Hot kernels built twice, for AVX2 (8-wide, gathers) and the x86-64 baseline, chosen at load
+ * time (GCC function multiversioning via ifunc). Off elsewhere and under sanitizers. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(HV_NO_CLONES)
+#define HV_HOT_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define HV_HOT_CLONES
+#endif
+
 /* File name without directories, for messages. */
 const char *hv_basename(const char *path);
 
@@ -48,6 +57,9 @@ void hv_buf_json_string(hv_buf *b, const char *s);
 /* Append a double in shortest round-trip-ish form (%.17g trimmed to %.9g when exact enough);
  * non-finite values become null. */
 void hv_buf_json_number(hv_buf *b, double v);
+/* A float as JSON: "%.9g" (always reads back exactly as a float; one conversion, for long
+ * tables), or the shortest form for 0 and 1; non-finite values become null. */
+void hv_buf_json_float(hv_buf *b, float v);
 
 /* ---- JSON reader (DOM) -------------------------------------------------------------------- */
 typedef enum hv_json_type {

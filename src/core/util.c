@@ -168,6 +168,21 @@ void hv_buf_json_number(hv_buf *b, double v)
     hv_buf_puts(b, s);
 }
 
+void hv_buf_json_float(hv_buf *b, float v)
+{
+    if (!isfinite(v)) {
+        hv_buf_puts(b, "null");
+        return;
+    }
+    if (v == 0.0f || v == 1.0f) {
+        hv_buf_puts(b, v == 0.0f ? "0" : "1");
+        return;
+    }
+    char s[32];
+    snprintf(s, sizeof s, "%.9g", (double)v);
+    hv_buf_puts(b, s);
+}
+
 /* ---- files ----------------------------------------------------------------------------- */
 
 hv_status hv_read_file(const char *path, size_t max, char **data, size_t *size)

@@ -195,7 +195,7 @@ void hv_ags_json(hv_buf *b, const hv_ags *a, int feature)
         hv_buf_puts(b, ", \"table\": [");
         for (int i = 0; i <= HV_AGS_TABLE; ++i) {
             if (i) hv_buf_puts(b, ",");
-            hv_buf_json_number(b, (double)a->table[i]);
+            hv_buf_json_float(b, a->table[i]);
         }
         hv_buf_puts(b, "]");
     }

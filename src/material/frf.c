@@ -477,7 +477,7 @@ static double analytic(const hv_frf *f, const double p[3])
     }
 }
 
-void hv_frf_leaf_distances(const hv_frf *f, const hv_transform *xf, const int32_t o[3], float *d)
+HV_HOT_CLONES void hv_frf_leaf_distances(const hv_frf *f, const hv_transform *xf, const int32_t o[3], float *d)
 {
     if (f->kind == HV_FRF_FIELD) {
         hv_accessor acc;

@@ -377,9 +377,10 @@ typedef struct eval_ctx {
     const int *grids; /* material grid indices in `out` */
 } eval_ctx;
 
-/* The AGS weight (f through its table) of 512 distances: hv_ags_weight unrolled into
- * branch-free arithmetic the compiler vectorises (the table reads stay scalar). */
-static void leaf_weights(const hv_ags *a, const float *d, float *w)
+/* The AGS weight (f through its table) of 512 distances: hv_ags_weight over a leaf, written
+ * branch-free so the compiler vectorises the arithmetic (the table reads stay scalar). The
+ * clamps are if-converted only under -fno-trapping-math (set in the Makefile). */
+HV_HOT_CLONES static void leaf_weights(const hv_ags *a, const float *d, float *w)
 {
     const float dn = (float)a->d_neg;
     if (a->d_grad <= 0) {
@@ -387,14 +388,18 @@ static void leaf_weights(const hv_ags *a, const float *d, float *w)
         for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) w[n] = d[n] >= dn ? 1.0f : 0.0f;
         return;
     }
-    const float scale = (float)(HV_AGS_TABLE / a->d_grad), top = (float)HV_AGS_TABLE - 0.5f;
+    const float scale = (float)(HV_AGS_TABLE / a->d_grad);
     const float *tab = a->table;
     int idx[HV_LEAF_SIZE];
     float frac[HV_LEAF_SIZE];
 #pragma omp simd
     for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
-        float s = fminf(fmaxf((d[n] - dn) * scale, 0.0f), (float)HV_AGS_TABLE);
-        int i = (int)fminf(s, top);
+        /* ternaries, not fminf/fmaxf (those keep NaN rules and stay calls); d is never NaN */
+        float s = (d[n] - dn) * scale;
+        s = s > 0.0f ? s : 0.0f;
+        s = s < (float)HV_AGS_TABLE ? s : (float)HV_AGS_TABLE;
+        int i = (int)s;
+        i = i < HV_AGS_TABLE - 1 ? i : HV_AGS_TABLE - 1; /* s = T: the last interval at t = 1 */
         idx[n] = i;
         frac[n] = s - (float)i;
     }
@@ -405,7 +410,7 @@ static void leaf_weights(const hv_ags *a, const float *d, float *w)
 }
 
 /* Compositions for one region's leaves, written into the output's material leaves. */
-static hv_status eval_leaves(void *vctx, size_t b, size_t e, int thread)
+HV_HOT_CLONES static hv_status eval_leaves(void *vctx, size_t b, size_t e, int thread)
 {
     (void)thread;
     eval_ctx *c = vctx;
@@ -448,13 +453,32 @@ static hv_status eval_leaves(void *vctx, size_t b, size_t e, int thread)
                 }
                 if (full) continue; /* written in place */
             } else if (o->blend == HV_BLEND_NEAREST) {
-                for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
-                    int best = 0;
-                    for (int s = 1; s < k; ++s)
-                        if (dist[s][n] < dist[best][n]) best = s;
-                    const hv_ags *a = r->ags[best];
-                    float ww = hv_ags_weight(a, dist[best][n]);
-                    for (int j = 0; j < m; ++j) val[j][n] = (float)(a->ms[j] + ww * (a->me[j] - a->ms[j]));
+                /* source by source: where it is strictly nearer than the nearest so far, its
+                 * composition replaces the running one (ties keep the earlier source) */
+                float best[HV_LEAF_SIZE];
+                for (int s = 0; s < k; ++s) {
+                    const hv_ags *a = r->ags[s];
+                    const float *ds = dist[s];
+                    leaf_weights(a, ds, w);
+                    if (s == 0) memcpy(best, ds, sizeof best);
+                    for (int j = 0; j < m; ++j) {
+                        const float ms = (float)a->ms[j], dm = (float)(a->me[j] - a->ms[j]);
+                        float *vj = val[j];
+                        if (s == 0) {
+#pragma omp simd
+                            for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) vj[n] = ms + w[n] * dm;
+                        } else {
+#pragma omp simd
+                            for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+                                const float v = ms + w[n] * dm; /* unconditional: the select vectorises */
+                                vj[n] = ds[n] < best[n] ? v : vj[n];
+                            }
+                        }
+                    }
+                    if (s > 0) {
+#pragma omp simd
+                        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) best[n] = ds[n] < best[n] ? ds[n] : best[n];
+                    }
                 }
             } else {
                 float eps = (float)(0.5 * hv_voxel_scale(&o->xf));

@@ -333,8 +333,7 @@ static hv_status write_oiio(const hv_image *img, const char *path, const char *f
     if (rc != 0) {
         st = hv_error_set((hv_status)rc, "%s: %s", path, g_oiio->last_error());
         unlink(tmp);
-    } else if (rename(tmp, path) != 0) {
-        st = hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(errno));
+    } else if ((st = hv_temp_commit(tmp, path)) != HV_OK) {
         unlink(tmp);
     }
     free(tmp);

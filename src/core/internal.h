@@ -97,8 +97,13 @@ typedef struct hv_atomic_file {
 hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode);
 hv_status hv_atomic_commit(hv_atomic_file *af); /* fflush, fsync-less close, rename */
 void hv_atomic_abort(hv_atomic_file *af);
-/* A temporary path next to `path` (caller frees), for writers that take a path. */
+/* A temporary path next to `path` (caller frees), for writers that take a path; for a
+ * special `path` (see below) one in $TMPDIR (default /tmp). */
 char *hv_temp_path(const char *path);
+/* Puts a finished temporary file in place: rename, or for a special `path` copy its bytes
+ * there and remove `tmp`. Errors: HV_ERR_IO naming `path` (then `tmp` is left to the caller
+ * when the rename failed, removed otherwise). */
+hv_status hv_temp_commit(const char *tmp, const char *path);
 /* 1 when `path` exists and is not a regular file (a device, FIFO, socket): such targets are
  * written in place, never replaced by a rename. */
 int hv_path_is_special(const char *path);

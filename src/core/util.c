@@ -242,12 +242,47 @@ char *hv_temp_path(const char *path)
 {
     const char *base = hv_basename(path);
     size_t dirlen = (size_t)(base - path);
-    size_t n = strlen(path) + 64;
+    const char *dir = path;
+    if (hv_path_is_special(path)) { /* not next to /dev/null: in $TMPDIR, copied by hv_temp_commit */
+        const char *t = getenv("TMPDIR");
+        dir = t && *t ? t : "/tmp";
+        dirlen = strlen(dir);
+    }
+    size_t n = dirlen + strlen(base) + 66;
     char *tmp = hv_malloc(n);
     if (!tmp) return NULL;
-    snprintf(tmp, n, "%.*s.%s.tmp-%ld-%u", (int)dirlen, path, base, (long)getpid(),
+    snprintf(tmp, n, "%.*s%s.%s.tmp-%ld-%u", (int)dirlen, dir,
+             dir != path && dirlen > 0 && dir[dirlen - 1] != '/' ? "/" : "", base, (long)getpid(),
              atomic_fetch_add(&g_temp_counter, 1u));
     return tmp;
+}
+
+hv_status hv_temp_commit(const char *tmp, const char *path)
+{
+    if (!hv_path_is_special(path)) {
+        if (rename(tmp, path) == 0) return HV_OK;
+        return hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(errno));
+    }
+    /* a device, FIFO or socket: stream the bytes into it, never replace it */
+    FILE *in = fopen(tmp, "rb"), *out = in ? fopen(path, "wb") : NULL;
+    hv_status s = HV_OK;
+    if (!in || !out) {
+        s = hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    } else {
+        char buf[1 << 16];
+        size_t n;
+        while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+            if (fwrite(buf, 1, n, out) != n) {
+                s = hv_error_set(HV_ERR_IO, "%s: write failed: %s", path, strerror(errno));
+                break;
+            }
+        if (s == HV_OK && ferror(in)) s = hv_error_set(HV_ERR_IO, "%s: read failed", tmp);
+    }
+    if (out && fclose(out) != 0 && s == HV_OK)
+        s = hv_error_set(HV_ERR_IO, "%s: write failed: %s", path, strerror(errno));
+    if (in) fclose(in);
+    unlink(tmp);
+    return s;
 }
 
 int hv_path_is_special(const char *path)

@@ -669,12 +669,7 @@ hv_status hv_export_write(const hv_volume *vol, const char *path, const hv_expor
     if (s == HV_OK) {
         struct stat st;
         r->file_bytes = stat(tmp, &st) == 0 ? (uint64_t)st.st_size : 0;
-        if (rename(tmp, path) != 0) {
-            int e = errno;
-            s = hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(e));
-        } else {
-            created = 0;
-        }
+        if ((s = hv_temp_commit(tmp, path)) == HV_OK) created = 0;
     }
     if (created) unlink(tmp);
     if (s != HV_OK) r->file_bytes = 0;

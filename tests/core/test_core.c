@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdatomic.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/internal.h"
@@ -123,6 +124,39 @@ Test(files, atomic_write_commits_or_leaves_nothing)
     t_run(cmd, &out);
     cr_assert_str_eq(out, "0\n", "temporary files left behind");
     free(out);
+}
+
+Test(files, temp_commit_renames_files_and_streams_into_special_ones)
+{
+    /* a regular target: the temporary sits next to it and is renamed */
+    const char *path = t_tmpfile("commit.bin");
+    char *tmp = hv_temp_path(path);
+    cr_assert_not_null(tmp);
+    cr_assert_eq(strncmp(tmp, t_tmpdir(), strlen(t_tmpdir())), 0, "%s not beside %s", tmp, path);
+    FILE *f = fopen(tmp, "wb");
+    fputs("payload", f);
+    fclose(f);
+    cr_assert_eq(hv_temp_commit(tmp, path), HV_OK);
+    cr_assert(t_exists(path) && !t_exists(tmp));
+    free(tmp);
+
+    /* /dev/null: the temporary goes to $TMPDIR, is copied in, removed, /dev/null stays */
+    setenv("TMPDIR", t_tmpdir(), 1);
+    tmp = hv_temp_path("/dev/null");
+    cr_assert_not_null(tmp);
+    cr_assert_eq(strncmp(tmp, t_tmpdir(), strlen(t_tmpdir())), 0, "%s not in TMPDIR", tmp);
+    f = fopen(tmp, "wb");
+    fputs("payload", f);
+    fclose(f);
+    cr_assert_eq(hv_temp_commit(tmp, "/dev/null"), HV_OK);
+    cr_assert(!t_exists(tmp));
+    struct stat st;
+    cr_assert(stat("/dev/null", &st) == 0 && S_ISCHR(st.st_mode), "/dev/null was replaced");
+    free(tmp);
+
+    /* a missing temporary is an I/O error naming the target */
+    cr_assert_eq(hv_temp_commit(t_tmpfile("no-such.tmp"), path), HV_ERR_IO);
+    cr_assert(strstr(hv_last_error(), "commit.bin") != NULL, "%s", hv_last_error());
 }
 
 Test(files, read_errors_name_the_path)

@@ -10,28 +10,11 @@
 #include "hovox/core.h"
 #include "hovox/slice.h"
 
+#include "bench.h"
+
 static const char *usage =
     "usage: bench_contours MESH.stl LAYER_HEIGHT [--runs N] [--threads T]\n"
     "  prints median seconds of: build (WDG + z index), slice (every layer), extract (both)\n";
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 typedef struct totals {
     size_t loops, open, points;

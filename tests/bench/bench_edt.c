@@ -13,33 +13,14 @@
 #include "hovox/core.h"
 #include "hovox/field.h"
 
+#include "bench.h"
+
 static const char *usage =
     "usage: bench_edt MASK.raw NX NY NZ [--invert] [--spacing SX,SY,SZ] [--runs N]\n"
     "                 [--threads T] [--reuse] [--out DIST.raw]\n"
     "  feature voxels are the nonzero bytes of MASK (the zero bytes with --invert, which\n"
     "  matches scipy.ndimage.distance_transform_edt(MASK)); prints the EDT time alone.\n"
     "  Each run writes a freshly allocated buffer (page faults included) unless --reuse.\n";
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* CPU time of the whole process (all threads), to tell a slow run from a crowded machine */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 int main(int argc, char **argv)
 {

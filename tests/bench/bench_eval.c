@@ -8,18 +8,7 @@
 
 #include "hovox/material.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
+#include "bench.h"
 
 int main(int argc, char **argv)
 {
@@ -73,8 +62,8 @@ int main(int argc, char **argv)
         kern[r] = now() - t0;
         hv_volume_destroy(out);
     }
-    qsort(times, (size_t)R, sizeof *times, cmp);
-    qsort(kern, (size_t)R, sizeof *kern, cmp);
+    qsort(times, (size_t)R, sizeof *times, cmp_double);
+    qsort(kern, (size_t)R, sizeof *kern, cmp_double);
     double med = times[R / 2], km = kern[R / 2], voxels = (double)N * N * N;
     printf("evaluate %d^3 = %.0f voxels, %d source%s, %d threads:\n", N, voxels, K, K > 1 ? "s" : "", hv_threads());
     printf("  kernel (re-evaluate into existing grids): median %.3f s, %.0f M voxel-evaluations/s\n", km,

@@ -10,23 +10,12 @@
 #include "hovox/export.h"
 #include "hovox/volume.h"
 
+#include "bench.h"
+
 static const char *usage =
     "usage: bench_export MODEL.vdb OUT.vti|OUT.vtu [--runs N] [--level L] [--coarsen N]\n"
     "                    [--properties voigt|reuss|both|none] [--threads T]\n"
     "  prints: total, build (hovox: cells, points, arrays) and write (VTK XML + zlib) medians\n";
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 /* time of the first "export write" callback: the build is done, VTK starts */
 typedef struct stage_clock {
@@ -39,12 +28,6 @@ static int on_progress(void *user, const char *stage, double fraction)
     stage_clock *c = user;
     if (c->write_start == 0 && strcmp(stage, "export write") == 0) c->write_start = now();
     return 0;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 int main(int argc, char **argv)

@@ -13,18 +13,7 @@
 #include "hovox/core.h"
 #include "hovox/field.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
+#include "bench.h"
 
 int main(int argc, char **argv)
 {
@@ -64,7 +53,7 @@ int main(int argc, char **argv)
             times[run] = now() - t0;
             if (s != HV_OK) return fprintf(stderr, "hv_harmonic: %s\n", hv_last_error()), 1;
         }
-        qsort(times, (size_t)runs, sizeof *times, cmp);
+        qsort(times, (size_t)runs, sizeof *times, cmp_double);
         printf("%-6s %d^3, tol %g, %d threads: median %.3f s (min %.3f), %d CG iterations", shapes[sh], n, tol,
                hv_threads(), times[runs / 2], times[0], iters);
         if (sh == 0) {

@@ -178,7 +178,7 @@ hv_status hv_contour_writer_open(const char *path, hv_contour_format format, siz
         xml_escaped(w, label);
         puts_(w, "</title>\n<desc>hovox contours; 1 user unit = 1 mm; seen from +z (y up); one group "
                  "per layer: data-z is the cut height, data-bottom/data-top the layer slab; "
-                 "outer loops counter-clockwise, holes clockwise, fill-rule evenodd</desc>\n"
+                 "outer loops counter-clockwise, holes clockwise, fill-rule nonzero</desc>\n"
                  "<style>.loops{fill:#3a7bd5;fill-opacity:0.25;stroke:#1d3f73;stroke-width:0.05}"
                  ".open{fill:none;stroke:#d62728;stroke-width:0.1}</style>\n"
                  "<g transform=\"scale(1,-1)\">\n");
@@ -223,7 +223,7 @@ static void svg_layer(hv_contour_writer *w, const hv_layer *L, const hv_slice *s
         for (size_t i = 0; i < n; ++i) {
             const hv_slice_loop *lp = &loops[i];
             if (lp->closed != (pass == 0)) continue;
-            puts_(w, any ? " M" : pass == 0 ? "<path class=\"loops\" fill-rule=\"evenodd\" d=\"M"
+            puts_(w, any ? " M" : pass == 0 ? "<path class=\"loops\" fill-rule=\"nonzero\" d=\"M"
                                             : "<path class=\"open\" d=\"M");
             any = 1;
             for (size_t k = 0; k < lp->count; ++k) {

@@ -44,6 +44,7 @@ typedef struct chain {
     int tail;    /* head chains: last chain of the list */
     int absorbed; /* joined after another chain */
     int gaps;
+    double vote; /* see facet_vote: > 0 when the facets put the material left of the chain */
 } chain;
 
 typedef struct work {
@@ -181,6 +182,25 @@ static int up_edge(unsigned below)
     return 0;
 }
 
+/* How far the segment a -> b, lying in facet f, agrees with f's outward normal: the length of
+ * the segment times the cosine between the facet's horizontal normal and the segment's right
+ * hand (y, -x). Summed over a loop, > 0 means the facets put the material on the left, so the
+ * loop runs counter-clockwise round solid and clockwise round a cavity. A minority of flipped
+ * facets cannot overturn it. */
+static inline double facet_vote(const hv_slicer *s, uint32_t f, const double a[2],
+                                const double b[2])
+{
+    const uint32_t *t = s->tri + 3 * (size_t)f;
+    const double *p = s->xyz + 3 * (size_t)t[0], *q = s->xyz + 3 * (size_t)t[1],
+                 *r = s->xyz + 3 * (size_t)t[2];
+    double ux = q[0] - p[0], uy = q[1] - p[1], uz = q[2] - p[2];
+    double vx = r[0] - p[0], vy = r[1] - p[1], vz = r[2] - p[2];
+    double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, len = sqrt(nx * nx + ny * ny);
+    if (!(len > 0)) return 0;
+    double dx = b[0] - a[0], dy = b[1] - a[1];
+    return (dy * nx - dx * ny) / len;
+}
+
 /* Trace the chain through crossing slot i0. */
 static hv_status trace(work *w, size_t i0)
 {
@@ -204,8 +224,13 @@ static hv_status trace(work *w, size_t i0)
     uint32_t f = f0;
     int ex = exit0;
     int open = 0;
+    double prev[2], vote = 0;
+    edge_point(s, f0, entry0, h, prev); /* where the loop enters the start facet */
     for (;;) {
         edge_point(s, f, ex, h, p);
+        vote += facet_vote(s, f, prev, p);
+        prev[0] = p[0];
+        prev[1] = p[1];
         if (push_point(&w->fw, &w->nfw, &w->cap_fw, p) != HV_OK) return HV_ERR_NOMEM;
         int32_t g = s->arc[3 * (size_t)f + (size_t)(ex - 1)];
         if (g < 0) {
@@ -235,13 +260,18 @@ static hv_status trace(work *w, size_t i0)
     c->n = w->nfw - c->off;
     if (!open) {
         c->closed = 1;
+        c->vote = vote;
         return HV_OK;
     }
-    /* open: trace backwards from the start's entry edge to the other boundary */
+    /* open: trace backwards from the start's entry edge to the other boundary; in loop order
+     * the segment of each facet runs from the point found next to the one found before */
     f = f0;
     int en = entry0;
-    for (;;) {
+    for (int k = 0;; ++k) {
         edge_point(s, f, en, h, p);
+        if (k > 0) vote += facet_vote(s, f, p, prev);
+        prev[0] = p[0];
+        prev[1] = p[1];
         if (push_point(&w->bw, &w->nbw, &w->cap_bw, p) != HV_OK) return HV_ERR_NOMEM;
         int32_t g = s->arc[3 * (size_t)f + (size_t)(en - 1)];
         if (g < 0) break;
@@ -257,6 +287,7 @@ static hv_status trace(work *w, size_t i0)
     }
     c = &w->chains[w->nchains - 1];
     c->bn = w->nbw - c->boff;
+    c->vote = vote;
     return HV_OK;
 }
 
@@ -356,6 +387,7 @@ static hv_status close_gaps(work *w, double gap)
             w->chains[ci->tail].next = (int)best;
             ci->tail = cb->tail;
             ci->gaps += cb->gaps;
+            ci->vote += cb->vote;
             cb->absorbed = 1;
         }
     }
@@ -430,9 +462,10 @@ static int cmp_nest(const void *a, const void *b)
     return x->idx < y->idx ? -1 : x->idx > y->idx;
 }
 
-/* Parent = smallest loop containing the loop (by vote of up to 5 of its vertices); depth
- * parity decides outer (CCW) or hole (CW); loops are reversed where needed. */
-static hv_status nest(hv_slice *sl, size_t nclosed)
+/* Parent = smallest loop containing the loop (by vote of up to 5 of its vertices). The facets
+ * decide outer (CCW) or hole (CW): votes[i] > 0 keeps loop i's direction, < 0 reverses it
+ * (negated when the whole mesh is inside out); depth parity decides a loop without a vote. */
+static hv_status nest(hv_slice *sl, size_t nclosed, const double *votes, int inverted)
 {
     if (nclosed == 0) return HV_OK;
     nest_item *it = hv_malloc_array(nclosed, sizeof *it);
@@ -465,12 +498,12 @@ static hv_status nest(hv_slice *sl, size_t nclosed)
                 pb[2] < bb[2] || pb[3] < bb[3])
                 continue;
             const hv_slice_loop *P = &sl->loops[it[q].idx];
-            size_t samples = HV_MIN(L->count, (size_t)5), votes = 0;
+            size_t samples = HV_MIN(L->count, (size_t)5), ins = 0;
             for (size_t k = 0; k < samples; ++k) {
                 size_t v = k * L->count / samples;
-                votes += (size_t)inside(P->xy, P->count, L->xy[2 * v], L->xy[2 * v + 1]);
+                ins += (size_t)inside(P->xy, P->count, L->xy[2 * v], L->xy[2 * v + 1]);
             }
-            if (2 * votes > samples) {
+            if (2 * ins > samples) {
                 L->parent = (int)it[q].idx;
                 L->depth = P->depth + 1;
                 break;
@@ -480,7 +513,9 @@ static hv_status nest(hv_slice *sl, size_t nclosed)
     free(it);
     for (size_t i = 0; i < nclosed; ++i) {
         hv_slice_loop *L = &sl->loops[i];
-        int want = L->depth % 2 == 0 ? 1 : -1;
+        double v = inverted ? -votes[i] : votes[i];
+        int traced = L->area > 0 ? 1 : -1;
+        int want = v > 0 ? traced : v < 0 ? -traced : L->depth % 2 == 0 ? 1 : -1;
         if ((L->area > 0 ? 1 : -1) != want) {
             double *xy = (double *)L->xy;
             for (size_t a = 0, b = L->count - 1; a < b; ++a, --b) {
@@ -510,7 +545,9 @@ static hv_status build_slice(work *w, double gap, hv_slice **out)
     size_t total = w->nfw + w->nbw;
     sl->xy = hv_malloc_array(2 * HV_MAX(total, (size_t)1), sizeof *sl->xy);
     sl->loops = hv_malloc_array(HV_MAX(w->nchains, (size_t)1), sizeof *sl->loops);
-    if (!sl->xy || !sl->loops) {
+    double *votes = hv_malloc_array(HV_MAX(w->nchains, (size_t)1), sizeof *votes);
+    if (!sl->xy || !sl->loops || !votes) {
+        free(votes);
         hv_slice_destroy(sl);
         return HV_ERR_NOMEM;
     }
@@ -529,6 +566,7 @@ static hv_status build_slice(work *w, double gap, hv_slice **out)
                 ++sl->stats.dropped;
                 continue;
             }
+            if (pass == 0) votes[nl] = c->vote;
             hv_slice_loop *L = &sl->loops[nl++];
             L->xy = xy;
             L->count = n;
@@ -549,7 +587,9 @@ static hv_status build_slice(work *w, double gap, hv_slice **out)
         }
     }
     sl->nloops = nl;
-    if (nest(sl, sl->stats.loops) != HV_OK) {
+    hv_status st = nest(sl, sl->stats.loops, votes, w->s->inverted);
+    free(votes);
+    if (st != HV_OK) {
         hv_slice_destroy(sl);
         return HV_ERR_NOMEM;
     }

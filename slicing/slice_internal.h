@@ -22,6 +22,7 @@ struct hv_slicer {
     size_t class_start[HV_SLICE_CLASSES + 1];
     double class_ext[HV_SLICE_CLASSES];
     hv_slicer_info info;
+    int inverted; /* the mesh's signed volume is negative (inside out): loop votes flip */
 };
 
 /* Wu weight of the edge between local vertices a and b (a != b) is a + b, so the edge of

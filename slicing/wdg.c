@@ -295,6 +295,21 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
             if (q < in->bbox_min[a]) in->bbox_min[a] = q;
             if (q > in->bbox_max[a]) in->bbox_max[a] = q;
         }
+    {
+        /* signed volume about the box centre (divergence theorem): an inside-out mesh has
+         * every loop's facet vote reversed */
+        double c[3], vol6 = 0;
+        for (int a = 0; a < 3; ++a) c[a] = 0.5 * (in->bbox_min[a] + in->bbox_max[a]);
+        for (size_t f = 0; f < nf; ++f) {
+            const double *p = s->xyz + 3 * (size_t)tri[3 * f], *q = s->xyz + 3 * (size_t)tri[3 * f + 1],
+                         *r = s->xyz + 3 * (size_t)tri[3 * f + 2];
+            double ax = p[0] - c[0], ay = p[1] - c[1], az = p[2] - c[2];
+            double bx = q[0] - c[0], by = q[1] - c[1], bz = q[2] - c[2];
+            double cx = r[0] - c[0], cy = r[1] - c[1], cz = r[2] - c[2];
+            vol6 += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+        }
+        s->inverted = vol6 < 0;
+    }
 
     st = hv_progress_report(progress, "slicer", 0.0);
     if (st != HV_OK) goto fail;

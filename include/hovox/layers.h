@@ -79,9 +79,10 @@ typedef enum hv_fill_rule {
 /* Rasterise the closed loops of a slice by centre sampling: a pixel is object (mask value 1)
  * when its centre lies inside the loops under `rule`, else 0. Centres exactly on an edge follow
  * the half-open convention (an edge covers y in [ymin, ymax) and a span x in [xa, xb)), so
- * two loops sharing an edge never both claim a centre. The slicer orients loops (outer CCW,
- * holes CW), so both rules agree on well-nested loops; they differ where shells overlap
- * (nonzero: union, even-odd: exclusive or). Open polylines are not filled.
+ * two loops sharing an edge never both claim a centre. The slicer orients loops by the facet
+ * normals (bodies CCW, cavities CW), so both rules agree on well-nested loops; they differ
+ * where bodies overlap or one lies inside another (nonzero: union, even-odd: exclusive or).
+ * Open polylines are not filled.
  * Wu's distance threshold: with threshold > 0 (mm), pixels outside whose centre lies within
  * `threshold` of a closed loop also become object. mask holds height rows of `stride` bytes
  * (stride >= width; 0 means width). Errors: HV_ERR_INVALID (NULL arguments, bad grid,

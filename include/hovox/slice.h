@@ -50,12 +50,18 @@ extern "C" {
  *    open polylines with fewer than 2, are dropped (counted in hv_slice_stats.dropped);
  *    consecutive repeated points are removed.
  *
- * Orientation and nesting: a loop's parent is the smallest loop containing it (point in
- * polygon by crossing number, majority over up to 5 of its vertices, so a single touching
- * point does not decide). Depth 0, 2, 4 ... loops are outer boundaries, oriented
- * counter-clockwise seen from +z (positive area); odd depths are holes, clockwise (negative
- * area). The orientation therefore follows nesting, not the facet winding, so inside-out
- * meshes still give outer CCW / hole CW.
+ * Orientation and nesting: the facets' outward normals decide which side of a loop is
+ * material. Each segment votes with its length times the cosine between its facet's
+ * horizontal normal and the segment's right-hand side; a loop with material on its left is
+ * kept, else reversed, so a few flipped facets cannot turn a loop, and when the whole mesh is
+ * inside out (negative signed volume) every vote is negated. Outer boundaries come out
+ * counter-clockwise seen from +z (positive area), holes (cavities) clockwise (negative area).
+ * A body inside another body, or two overlapping bodies, are both outers: filled with the
+ * nonzero rule they give the union, as the voxelizer does. A loop's parent is the smallest
+ * loop containing it (point in polygon by crossing number, majority over up to 5 of its
+ * vertices, so a single touching point does not decide); on well-formed meshes even depths
+ * are outers and odd depths holes, and a loop without a vote (all its facets degenerate)
+ * takes its orientation from that parity.
  *
  * Thread safety: a slicer is immutable after hv_slicer_create; any number of threads may
  * slice it at the same time. Results depend only on (mesh, h, options), never on the thread
@@ -112,7 +118,7 @@ typedef struct hv_slice_loop {
     int parent;        /* index of the smallest loop containing this one (for a hole: its
                         * outer loop; for an island: the hole it sits in); -1 when none or
                         * open */
-    int depth;         /* nesting depth: 0 outermost; even = outer, odd = hole; -1 open */
+    int depth;         /* nesting depth: 0 outermost; -1 open */
     int gaps;          /* gaps bridged by the gap rule to close this loop (0 for a loop that
                         * closed by itself) */
     double area;       /* signed area in mm^2: > 0 outer, < 0 hole, 0 open */
@@ -128,7 +134,8 @@ typedef struct hv_slice_stats {
                          * distinct points */
     size_t points;      /* over all loops and polylines */
     size_t facets;      /* facets crossing the plane */
-    double area;        /* total: outer areas minus hole areas (mm^2) */
+    double area;        /* total: outer areas minus hole areas (mm^2); where bodies overlap,
+                         * the overlap counts once per body */
 } hv_slice_stats;
 
 /* One sliced plane: loops then open polylines. Opaque; read through the accessors. */

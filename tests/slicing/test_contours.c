@@ -66,7 +66,6 @@ static void check_slice(const hv_slice *sl)
             double a = shoelace(L[i].xy, L[i].count);
             cr_assert(fabs(a - L[i].area) <= 1e-9 * (1 + fabs(a)), "area %g vs %g", a, L[i].area);
             cr_assert_eq(L[i].orientation, a > 0 ? 1 : -1);
-            cr_assert_eq(L[i].depth % 2 == 0, L[i].orientation > 0);
             if (L[i].parent >= 0) {
                 cr_assert_lt((size_t)L[i].parent, st->loops);
                 cr_assert_eq(L[L[i].parent].depth + 1, L[i].depth);
@@ -333,7 +332,7 @@ Test(areas, island_in_a_hole_and_inside_out_mesh)
     hv_slicer_destroy(s);
     hv_mesh_destroy(m);
 
-    /* all facets flipped: orientation follows nesting, not the winding */
+    /* all facets flipped (an inside-out mesh): still outer CCW, hole CW */
     m = merge(hb, NULL, 1);
     s = slicer_of(m);
     sl = slice_at(s, 7.3, 0);
@@ -345,6 +344,91 @@ Test(areas, island_in_a_hole_and_inside_out_mesh)
     hv_slicer_destroy(s);
     hv_mesh_destroy(m);
     hv_mesh_destroy(isl);
+    hv_mesh_destroy(hb);
+}
+
+Test(areas, facet_winding_decides_body_or_cavity)
+{
+    hv_mesh *big = gen_box(0, 0, 0, 10, 10, 2), *small = gen_box(3, 3, 0, 7, 7, 2);
+    hv_mesh *side = gen_box(5, 2, 0, 12, 8, 2);
+    /* a second body inside the first, facing outwards too: both are outers (nonzero = union) */
+    hv_mesh *m = merge(small, big, 0);
+    hv_slicer *s = slicer_of(m);
+    hv_slice *sl = slice_at(s, 1, 0);
+    check_slice(sl);
+    const hv_slice_stats *st = hv_slice_get_stats(sl);
+    cr_assert_eq(st->outers, 2);
+    cr_assert_eq(st->holes, 0);
+    const hv_slice_loop *L = hv_slice_loops(sl);
+    for (size_t i = 0; i < 2; ++i) {
+        cr_assert_eq(L[i].orientation, 1);
+        cr_assert(shoelace(L[i].xy, L[i].count) > 0);
+    }
+    cr_assert_eq(L[0].depth + L[1].depth, 1, "still nested: one inside the other");
+    hv_slice_destroy(sl);
+    hv_slicer_destroy(s);
+    hv_mesh_destroy(m);
+
+    /* the same inner box facing inwards is a cavity: a hole */
+    m = merge(small, big, 1);
+    s = slicer_of(m);
+    sl = slice_at(s, 1, 0);
+    check_slice(sl);
+    st = hv_slice_get_stats(sl);
+    cr_assert_eq(st->outers, 1);
+    cr_assert_eq(st->holes, 1);
+    cr_assert_float_eq(st->area, 84, 1e-9);
+    hv_slice_destroy(sl);
+    hv_slicer_destroy(s);
+    hv_mesh_destroy(m);
+
+    /* overlapping bodies: two outers, the area counts the overlap once per body */
+    m = merge(side, big, 0);
+    s = slicer_of(m);
+    sl = slice_at(s, 1, 0);
+    check_slice(sl);
+    st = hv_slice_get_stats(sl);
+    cr_assert_eq(st->outers, 2);
+    cr_assert_eq(st->holes, 0);
+    cr_assert_float_eq(st->area, 100 + 42, 1e-9);
+    hv_slice_destroy(sl);
+    hv_slicer_destroy(s);
+    hv_mesh_destroy(m);
+    hv_mesh_destroy(big);
+    hv_mesh_destroy(small);
+    hv_mesh_destroy(side);
+}
+
+Test(areas, a_few_flipped_facets_do_not_turn_a_loop)
+{
+    /* flip every 7th facet of the holed box, the start facet of some loops among them */
+    hv_mesh *hb = gen_holed_box();
+    size_t nv = hv_mesh_vertex_count(hb), nf = hv_mesh_facet_count(hb);
+    uint32_t *tri = malloc(3 * nf * sizeof *tri);
+    memcpy(tri, hv_mesh_facets(hb), 3 * nf * sizeof *tri);
+    for (size_t f = 0; f < nf; f += 7) {
+        uint32_t t = tri[3 * f + 1];
+        tri[3 * f + 1] = tri[3 * f + 2];
+        tri[3 * f + 2] = t;
+    }
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_create(hv_mesh_vertices(hb), nv, tri, nf, &m), HV_OK);
+    free(tri);
+    hv_slicer *s = slicer_of(m);
+    double hole = 0.5 * 64 * 8.0 * 8.0 * sin(2 * M_PI / 64);
+    for (int i = 0; i < 9; ++i) {
+        hv_slice *sl = slice_at(s, 0.5 + 19.0 * i / 8, 0);
+        check_slice(sl);
+        const hv_slice_stats *st = hv_slice_get_stats(sl);
+        if (st->open == 0) {
+            cr_assert_eq(st->outers, 1, "z %g", 0.5 + 19.0 * i / 8);
+            cr_assert_eq(st->holes, 1);
+            cr_assert_float_eq(st->area, 1200 - hole, 1e-4);
+        }
+        hv_slice_destroy(sl);
+    }
+    hv_slicer_destroy(s);
+    hv_mesh_destroy(m);
     hv_mesh_destroy(hb);
 }
 

@@ -5,10 +5,10 @@
 #   make bench      benchmarks against the anchors named in the issues
 #   make demo       the gear sample end to end
 #   make deps       install every Debian package (build, test, bench)
-# Options: WERROR=1 (warnings are errors, as in CI), BUILD=dir, SHARED=../shared.
+# Options: WERROR=1 (warnings are errors, as in CI), BUILD=dir, SHARED=tests/data (holds meshes/: copies of the shared test meshes).
 
 BUILD   ?= build
-SHARED  ?= ../shared
+SHARED  ?= tests/data
 CC      ?= gcc
 CXX     ?= g++
 WERROR  ?= 0

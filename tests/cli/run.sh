@@ -7,7 +7,7 @@
 # ONLY=pattern restricts the run (and the update) to cases whose name contains it.
 set -u
 : "${HOVOX:?set HOVOX to the hovox binary}"
-SHARED=$(cd "${SHARED:-../shared}" && pwd)
+SHARED=$(cd "${SHARED:-tests/data}" && pwd)
 export HOVOX SHARED
 here=$(dirname "$0")
 pass=0

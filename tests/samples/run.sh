@@ -3,7 +3,7 @@
 # leave its .vdb, CSV and PNG outputs (run with the arguments of its "-- test-args:" line); then the Lua API test scripts (tests/lua/test_*.lua).
 set -u
 : "${HOVOX:?set HOVOX to the hovox binary}"
-SHARED=$(cd "${SHARED:-../shared}" && pwd)
+SHARED=$(cd "${SHARED:-tests/data}" && pwd)
 pass=0
 fail=0
 for s in samples/*.lua; do

@@ -11,7 +11,7 @@
 const char *t_shared(void)
 {
     const char *s = getenv("HOVOX_SHARED");
-    return s && *s ? s : "../shared";
+    return s && *s ? s : "tests/data";
 }
 
 const char *t_mesh_path(const char *name)

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 
-/* Directory of the shared material ($HOVOX_SHARED, default "../shared"). */
+/* Directory holding meshes/ ($HOVOX_SHARED, default "tests/data": copies of the shared meshes). */
 const char *t_shared(void);
 /* "<shared>/meshes/<name>" in a static buffer. */
 const char *t_mesh_path(const char *name);

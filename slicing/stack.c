@@ -1,14 +1,10 @@
 /* slicing/stack.c - the slice stack on disk: a temporary directory renamed into place when
- * complete (nothing half-written under the final name), and a minimal ZIP writer (PKWARE
+ * complete (nothing half-written under the final name; src/core/outdir.c), and a minimal ZIP writer (PKWARE
  * APPNOTE 6.3.x: local headers, central directory, end record; raw deflate and CRC-32 from
  * zlib) for the GrabCAD voxel-print (GCVF) archive. */
-#include <dirent.h>
 #include <errno.h>
-#include <ftw.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include "../src/core/internal.h"
@@ -16,152 +12,27 @@
 
 /* ---- directories -------------------------------------------------------------------------- */
 
-/* parent directory and last component of `dir` (trailing slashes ignored); caller frees */
-static hv_status split_path(const char *dir, char **parent, char **name)
-{
-    size_t n = strlen(dir);
-    while (n > 1 && dir[n - 1] == '/') --n;
-    if (n == 0) return hv_error_set(HV_ERR_INVALID, "layers: empty output directory name");
-    size_t s = n;
-    while (s > 0 && dir[s - 1] != '/') --s;
-    *name = hv_malloc(n - s + 1);
-    *parent = hv_malloc(s + 2);
-    if (!*name || !*parent) {
-        free(*name);
-        free(*parent);
-        return HV_ERR_NOMEM;
-    }
-    memcpy(*name, dir + s, n - s);
-    (*name)[n - s] = '\0';
-    if (s == 0) strcpy(*parent, ".");
-    else {
-        memcpy(*parent, dir, s);
-        (*parent)[s] = '\0';
-    }
-    if (strcmp(*name, ".") == 0 || strcmp(*name, "..") == 0 || strcmp(*name, "/") == 0) {
-        free(*name);
-        free(*parent);
-        return hv_error_set(HV_ERR_INVALID, "%s: name the output directory itself (not . or ..)", dir);
-    }
-    return HV_OK;
-}
-
-static char *sibling(const char *dir, const char *tag)
-{
-    char *parent = NULL, *name = NULL;
-    if (split_path(dir, &parent, &name) != HV_OK) return NULL;
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_printf(&b, "%s%s.%s.%s-%ld", parent, strcmp(parent, ".") == 0 ? "/" : "", name, tag, (long)getpid());
-    free(parent);
-    free(name);
-    if (b.failed) {
-        hv_buf_free(&b);
-        return NULL;
-    }
-    return b.data;
-}
-
-static int rm_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb;
-    (void)ftw;
-    if (flag == FTW_DP) rmdir(path);
-    else unlink(path);
-    return 0;
-}
-
-static void remove_tree(const char *path)
-{
-    if (path && *path) nftw(path, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
-}
-
-/* 0: absent; 1: empty directory; 2: a hovox stack; 3: other non-empty directory; 4: not a
- * directory */
-static int classify(const char *dir)
-{
-    struct stat sb;
-    if (stat(dir, &sb) != 0) return 0;
-    if (!S_ISDIR(sb.st_mode)) return 4;
-    DIR *d = opendir(dir);
-    if (!d) return 3;
-    int empty = 1;
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL) {
-        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-        empty = 0;
-        break;
-    }
-    closedir(d);
-    if (empty) return 1;
-    hv_buf p;
-    hv_buf_init(&p);
-    hv_buf_printf(&p, "%s/manifest.json", dir);
-    char *text = NULL;
-    size_t size = 0;
-    int stack = 0;
-    if (!p.failed && hv_read_file(p.data, 1 << 30, &text, &size) == HV_OK)
-        stack = strstr(text, "\"generator\": \"hovox") != NULL;
-    hv_error_clear();
-    free(text);
-    hv_buf_free(&p);
-    return stack ? 2 : 3;
-}
+/* What a stack holds: manifest.json (written by hovox), layer PNGs, and in fractions mode one
+ * subdirectory of layer PNGs per material. */
+static const char *const k_stack_files[] = {"manifest.json", "layer-*.png", NULL};
+static const hv_outdir_rules k_stack = {
+    "stack", "manifest.json", "\"generator\": \"hovox", k_stack_files, 1, 1,
+    "(--force, or force = true in Lua, replaces it)"};
 
 hv_status hv_stack_begin(const char *dir, int force, char **tmp)
 {
     *tmp = NULL;
     /* layer paths are built in 4200-byte buffers: "<tmp>/<material>/layer-NNNNN.png" */
     if (strlen(dir) > 3900) return hv_error_set(HV_ERR_INVALID, "layers: output directory name of %zu bytes is too long", strlen(dir));
-    int kind = classify(dir);
-    if (kind == 4) return hv_error_set(HV_ERR_IO, "%s: exists and is not a directory", dir);
-    if (kind == 3)
-        return hv_error_set(HV_ERR_IO, "%s: directory exists and is not empty (not a hovox stack; "
-                                       "refusing to replace it)", dir);
-    if (kind == 2 && !force)
-        return hv_error_set(HV_ERR_IO, "%s: a stack exists there (--force, or force = true in Lua, replaces it)", dir);
-    char *t = sibling(dir, "tmp");
-    if (!t) return hv_error_set(HV_ERR_NOMEM, "out of memory");
-    remove_tree(t); /* a leftover of an earlier process with our pid */
-    if (mkdir(t, 0777) != 0) {
-        hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot create the output directory: %s", dir, strerror(errno));
-        free(t);
-        return s;
-    }
-    *tmp = t;
-    return HV_OK;
+    return hv_outdir_begin(dir, &k_stack, force, tmp);
 }
 
 hv_status hv_stack_commit(const char *tmp, const char *dir, int force)
 {
-    int kind = classify(dir);
-    if (kind == 2 && force) {
-        char *old = sibling(dir, "old");
-        if (!old) return hv_error_set(HV_ERR_NOMEM, "out of memory");
-        remove_tree(old);
-        if (rename(dir, old) != 0) {
-            hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot move the old stack aside: %s", dir, strerror(errno));
-            free(old);
-            return s;
-        }
-        if (rename(tmp, dir) != 0) {
-            hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot rename %s to it: %s", dir, tmp, strerror(errno));
-            if (rename(old, dir) != 0) { /* leave the old stack where the user can find it */ }
-            free(old);
-            return s;
-        }
-        remove_tree(old);
-        free(old);
-        return HV_OK;
-    }
-    if (kind == 2 || kind == 3 || kind == 4)
-        return hv_error_set(HV_ERR_IO, "%s: appeared while the stack was written; not replaced", dir);
-    if (rename(tmp, dir) != 0)
-        return hv_error_set(HV_ERR_IO, "%s: cannot rename %s to it: %s", dir, tmp, strerror(errno));
-    return HV_OK;
+    return hv_outdir_commit(tmp, dir, &k_stack, force);
 }
 
-void hv_stack_abort(const char *tmp) { remove_tree(tmp); }
+void hv_stack_abort(const char *tmp) { hv_outdir_abort(tmp); }
 
 /* ---- ZIP ------------------------------------------------------------------------------------ */
 

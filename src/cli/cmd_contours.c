@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
@@ -202,13 +203,20 @@ int cmd_contours(int argc, char **argv)
     hv_slicer_info info;
     memset(&info, 0, sizeof info);
     if (s == HV_OK) hv_slicer_get_info(slicer, &info);
+    if (s == HV_OK && hv_layer_plan_count(plan) == 0)
+        s = hv_error_set(HV_ERR_INVALID, "%s: the mesh is %g mm high: no layer of %g mm has its middle inside it",
+                         mesh_path, info.bbox_max[2] - info.bbox_min[2], have_ad ? ad[0] : lh);
     const char *label = hv_basename(mesh_path);
     if (s == HV_OK && output)
         s = hv_contour_writer_open(output, fmt, hv_layer_plan_count(plan), info.bbox_min,
                                    info.bbox_max, label, &writer);
-    if (s == HV_OK && dir && mkdir(dir, 0777) != 0 && errno != EEXIST)
-        s = hv_error_set(HV_ERR_IO, "%s: cannot create directory: %s", dir, strerror(errno));
-    run r = {writer, dir, info.bbox_min, info.bbox_max, label, json, &js, 0, 0, 0, 0, 0};
+    /* per-layer SVGs go to a temporary directory renamed into place when complete; an
+     * existing DIR is replaced when it holds only layer SVGs (an earlier run's) */
+    static const char *const svg_files[] = {"layer-*.svg", NULL};
+    static const hv_outdir_rules svg_dir = {"per-layer SVG directory", NULL, NULL, svg_files, 0, 0, NULL};
+    char *tmpdir = NULL;
+    if (s == HV_OK && dir) s = hv_outdir_begin(dir, &svg_dir, 0, &tmpdir);
+    run r = {writer, tmpdir, info.bbox_min, info.bbox_max, label, json, &js, 0, 0, 0, 0, 0};
     if (s == HV_OK) s = hv_slicer_slice_plan(slicer, plan, &sopt, sink, &r, &prog);
     cli_progress_done(&bar);
     if (s == HV_OK) {
@@ -216,6 +224,9 @@ int cmd_contours(int argc, char **argv)
     } else {
         hv_contour_writer_abort(writer);
     }
+    if (s == HV_OK && tmpdir) s = hv_outdir_commit(tmpdir, dir, &svg_dir, 0);
+    if (s != HV_OK && tmpdir) hv_outdir_abort(tmpdir);
+    free(tmpdir);
     if (s != HV_OK) {
         rc = cli_fail(s);
     } else if (json) {

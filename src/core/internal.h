@@ -108,6 +108,30 @@ hv_status hv_temp_commit(const char *tmp, const char *path);
  * written in place, never replaced by a rename. */
 int hv_path_is_special(const char *path);
 
+/* ---- output directories written whole (outdir.c) ----------------------------------------
+ * A job that writes a directory of files (a slice stack, per-layer SVGs) writes them into
+ * "<parent>/.<name>.tmp-<pid>" and renames that into place when complete, so nothing
+ * half-written ever appears under the final name; a killed job leaves only the hidden
+ * temporary, which the next job on the same directory removes once that process is gone.
+ * An existing directory is replaced only when everything in it is what such a job writes. */
+typedef struct hv_outdir_rules {
+    const char *what;               /* "stack", "per-layer SVG directory": for messages */
+    const char *marker;             /* a file that must exist (with marker_text in it), or NULL */
+    const char *marker_text;
+    const char *const *files;       /* NULL-terminated fnmatch patterns of the files written */
+    int subdirs;                    /* 1: one level of subdirectories of such files */
+    int need_force;                 /* replacing an existing one needs force */
+    const char *force_hint;         /* appended to "<dir>: a <what> exists there" */
+} hv_outdir_rules;
+/* Check that dir is absent, an empty directory or (force, or !need_force) one of ours, clear
+ * stale temporaries, and create the temporary (*tmp, malloc'd). Errors: HV_ERR_IO naming dir
+ * (and the first entry that is not ours), HV_ERR_INVALID (dir is "." or ".."), NOMEM. */
+hv_status hv_outdir_begin(const char *dir, const hv_outdir_rules *rules, int force, char **tmp);
+/* Put tmp in place of dir (replacing an empty dir or one of ours). Errors: HV_ERR_IO. */
+hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rules *rules, int force);
+/* Remove the temporary directory and everything in it (best effort). */
+void hv_outdir_abort(const char *tmp);
+
 /* ---- plugins ---------------------------------------------------------------------------- */
 /* Load plugins/<name>.so (searched in $HOVOX_PLUGIN_DIR, <exe dir>/plugins,
  * <exe dir>/../plugins, <exe dir>/../lib/hovox/plugins, the build-time directory) and return

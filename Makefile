@@ -175,6 +175,7 @@ fuzz-tests: $(FUZZ_BIN)
 	    printf "%s: " $$n; $$f $$c/* || exit 1; done
 
 fuzz:
+	@sh scripts/install-deps.sh build fuzz
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
 	@mkdir -p build-fuzz/libfuzzer
 	@for t in $(FUZZ_C); do n=$$(basename $$t .c); c=tests/fuzz/corpus/$${n#fuzz_}; \

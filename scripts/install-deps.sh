@@ -1,6 +1,7 @@
 #!/bin/sh
 # scripts/install-deps.sh - the Debian 12 packages hovox needs, by group.
-#   scripts/install-deps.sh [--check] [build] [test] [bench]   (no group: all of them)
+#   scripts/install-deps.sh [--check] [build] [test] [bench] [fuzz]   (no group: build, test,
+#   bench; fuzz is clang for `make fuzz`)
 # Installs what is missing when run as root (apt-get update once, then apt-get install -y
 # --no-install-recommends); otherwise prints the exact command and exits 1. --check only
 # reports (exit 1 when something is missing).
@@ -9,16 +10,17 @@ set -eu
 BUILD_PKGS="make gcc g++ pkg-config libopenvdb-dev libtbb-dev libopenimageio-dev libvtk9-dev \
 libpng-dev zlib1g-dev liblua5.4-dev libcairo2-dev fonts-dejavu-core"
 TEST_PKGS="libcriterion-dev libopenvdb-tools openimageio-tools python3 python3-numpy \
-python3-scipy python3-openvdb python3-vtk9 libxml2-utils"
+python3-scipy python3-openvdb python3-vtk9 libxml2-utils unzip"
 BENCH_PKGS="admesh prusa-slicer hyperfine time"
+FUZZ_PKGS="clang"
 
 check=0
 groups=""
 for a in "$@"; do
     case "$a" in
     --check) check=1 ;;
-    build | test | bench) groups="$groups $a" ;;
-    *) echo "install-deps.sh: unknown argument '$a' (groups: build test bench; --check)" >&2; exit 2 ;;
+    build | test | bench | fuzz) groups="$groups $a" ;;
+    *) echo "install-deps.sh: unknown argument '$a' (groups: build test bench fuzz; --check)" >&2; exit 2 ;;
     esac
 done
 [ -n "$groups" ] || groups="build test bench"
@@ -29,6 +31,7 @@ for g in $groups; do
     build) pkgs="$pkgs $BUILD_PKGS" ;;
     test) pkgs="$pkgs $TEST_PKGS" ;;
     bench) pkgs="$pkgs $BENCH_PKGS" ;;
+    fuzz) pkgs="$pkgs $FUZZ_PKGS" ;;
     esac
 done
 

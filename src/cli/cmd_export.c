@@ -102,7 +102,7 @@ int cmd_export(int argc, char **argv)
     int nlin = 0, quiet = 0, dry = 0, c, keep_given = 0;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:qh", opts, NULL)) != -1) {
         long n;
         unsigned long long size;
         double box[6];

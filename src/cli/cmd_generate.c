@@ -55,7 +55,7 @@ int cmd_generate(int argc, char **argv)
     int ascii = 0, c;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1) {
         switch (c) {
         case 'o': output = optarg; break;
         case 'a': ascii = 1; break;

@@ -166,7 +166,7 @@ int cmd_grade(int argc, char **argv)
     memset(groups, 0, sizeof groups);
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:qh", opts, NULL)) != -1) {
         group *g = ng ? &groups[ng - 1] : NULL;
         long n;
         switch (c) {

@@ -1,6 +1,7 @@
 /* src/cli/cmd_info.c - `hovox info MESH...`: the mesh report as text or JSON. */
 #include <getopt.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../core/internal.h"
@@ -55,7 +56,7 @@ int cmd_info(int argc, char **argv)
     int json = 0, c;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "+h", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
         case 'j': json = 1; break;
         case 'h': fputs(INFO_HELP, stdout); return EXIT_OK;
@@ -65,18 +66,22 @@ int cmd_info(int argc, char **argv)
     int n = argc - optind;
     if (n < 1) return cli_usage_error("info", "missing MESH argument");
     /* load everything first: no partial report on failure */
+    hv_mesh **meshes = calloc((size_t)n, sizeof *meshes);
+    if (!meshes) return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
+    for (int i = 0; i < n; ++i) {
+        hv_status s = hv_mesh_load_stl(argv[optind + i], &meshes[i]);
+        if (s != HV_OK) {
+            for (int k = 0; k < i; ++k) hv_mesh_destroy(meshes[k]);
+            free(meshes);
+            return cli_fail(s);
+        }
+    }
     hv_buf out;
     hv_buf_init(&out);
     if (json && n > 1) hv_buf_puts(&out, "[");
     for (int i = 0; i < n; ++i) {
         const char *path = argv[optind + i];
-        hv_mesh *mesh;
-        hv_status s = hv_mesh_load_stl(path, &mesh);
-        if (s != HV_OK) {
-            hv_buf_free(&out);
-            return cli_fail(s);
-        }
-        const hv_mesh_report *r = hv_mesh_get_report(mesh);
+        const hv_mesh_report *r = hv_mesh_get_report(meshes[i]);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");
             hv_mesh_report_json(&out, path, r);
@@ -84,8 +89,9 @@ int cmd_info(int argc, char **argv)
             if (i) putchar('\n');
             print_text(path, r);
         }
-        hv_mesh_destroy(mesh);
+        hv_mesh_destroy(meshes[i]);
     }
+    free(meshes);
     if (json) {
         if (n > 1) hv_buf_puts(&out, "]");
         hv_buf_puts(&out, "\n");

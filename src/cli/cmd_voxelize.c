@@ -74,7 +74,7 @@ int cmd_voxelize(int argc, char **argv)
     int dry = 0, json = 0, quiet = 0, c, have_res = 0;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qh", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:qh", opts, NULL)) != -1) {
         long n;
         unsigned long long size;
         switch (c) {

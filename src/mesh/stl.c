@@ -27,17 +27,40 @@ static float read_f32le(const unsigned char *p)
 
 static const char *axis_name(int a) { return a == 0 ? "x" : a == 1 ? "y" : "z"; }
 
-/* Text without NUL or control bytes (other than whitespace) in its first KiB, starting with
- * "solid" after optional whitespace: that is an ASCII STL candidate. */
-static int looks_ascii(const unsigned char *d, size_t n)
+/* Length of a UTF-8 byte order mark at d (editors on Windows write one), else 0. */
+static size_t bom_length(const unsigned char *d, size_t n)
 {
-    size_t i = 0;
-    while (i < n && isspace(d[i])) ++i;
-    if (n - i < 5 || strncasecmp((const char *)d + i, "solid", 5) != 0) return 0;
+    return n >= 3 && d[0] == 0xEF && d[1] == 0xBB && d[2] == 0xBF ? 3 : 0;
+}
+
+/* No NUL or control bytes (other than whitespace) in the first KiB. */
+static int is_text(const unsigned char *d, size_t n)
+{
     size_t lim = HV_MIN(n, (size_t)1024);
     for (size_t k = 0; k < lim; ++k)
         if (d[k] == 0 || (d[k] < 0x20 && !isspace(d[k]))) return 0;
     return 1;
+}
+
+/* Text starting with "solid" after an optional BOM and whitespace: an ASCII STL candidate. */
+static int looks_ascii(const unsigned char *d, size_t n)
+{
+    size_t i = bom_length(d, n);
+    while (i < n && isspace(d[i])) ++i;
+    if (n - i < 5 || strncasecmp((const char *)d + i, "solid", 5) != 0) return 0;
+    return is_text(d, n);
+}
+
+/* The error for text that is not an ASCII STL: quote its first word. */
+static hv_status not_stl_text(const unsigned char *d, size_t n, const char *name)
+{
+    size_t i = bom_length(d, n);
+    while (i < n && isspace(d[i])) ++i;
+    size_t k = i;
+    while (k < n && k - i < 24 && !isspace(d[k])) ++k;
+    return hv_error_set(HV_ERR_BAD_INPUT,
+                        "%s: not an STL file: text that starts with '%.*s', not 'solid'", name,
+                        (int)(k - i), (const char *)d + i);
 }
 
 static hv_status parse_binary(const unsigned char *d, size_t size, const char *name,
@@ -158,7 +181,8 @@ static hv_status read_number(lexer *lx, size_t facet, const char *what, float *o
 
 static hv_status parse_ascii(const char *d, size_t size, const char *name, hv_mesh **out)
 {
-    lexer lx = {d, d + size, 1, name, "", d, 0};
+    size_t bom = bom_length((const unsigned char *)d, size);
+    lexer lx = {d + bom, d + size, 1, name, "", d + bom, 0};
     size_t cap = 0, nf = 0;
     float *soup = NULL, *normals = NULL;
     size_t ncap = 0;
@@ -250,6 +274,7 @@ hv_status hv_mesh_parse_stl(const void *data, size_t size, const char *name, hv_
         uint64_t need = 84 + 50 * n;
         if (need == size) return parse_binary(d, size, name, out);
         if (looks_ascii(d, size)) return parse_ascii((const char *)data, size, name, out);
+        if (is_text(d, size)) return not_stl_text(d, size, name);
         if (need > size)
             return hv_error_set(HV_ERR_BAD_INPUT,
                                 "%s: truncated binary STL: header declares %llu facets "
@@ -262,6 +287,7 @@ hv_status hv_mesh_parse_stl(const void *data, size_t size, const char *name, hv_
                             (unsigned long long)need);
     }
     if (looks_ascii(d, size)) return parse_ascii((const char *)data, size, name, out);
+    if (is_text(d, size) && size > 0) return not_stl_text(d, size, name);
     return hv_error_set(HV_ERR_BAD_INPUT,
                         "%s: not an STL file: %zu bytes, too short for a binary header (84) "
                         "and not ASCII 'solid'",

@@ -99,7 +99,7 @@ HV_API hv_status hv_slicer_arc(const hv_slicer *slicer, size_t facet, int weight
 /* ==== Slicing one plane ==================================================================== */
 
 /* Default gap rule distance (mm): open polyline ends at most this far apart are joined. */
-#define HV_SLICE_DEFAULT_CLOSE_GAP 0.05
+#define HV_SLICE_DEFAULT_CLOSE_GAP 2.0
 
 typedef struct hv_slice_options {
     double close_gap; /* mm, >= 0; 0 joins only ends that coincide exactly */

@@ -41,7 +41,7 @@ static const char *CONTOURS_HELP =
     "  --json                 per-layer statistics as JSON on stdout (z, bottom, top, loops,\n"
     "                         outers, holes, open, gaps_closed, area in mm^2)\n"
     "Options:\n"
-    "  --close-gap D          join open polyline ends at most D mm apart (default 0.05);\n"
+    "  --close-gap D          join open polyline ends at most D mm apart (default 2);\n"
     "                         chains of an open mesh that still do not close are reported as\n"
     "                         open polylines (CLI dir 2, SVG class \"open\")\n"
     "  --threads N            worker threads (default: all cores)\n"

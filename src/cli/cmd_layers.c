@@ -56,7 +56,7 @@ static const char *LAYERS_HELP =
     "  --threshold D          Wu's threshold: pixels outside the contour but within D mm of it\n"
     "                         stay object (default 0)\n"
     "  --margin N             background pixels around the mesh's xy box (default 2)\n"
-    "  --close-gap D          join open contour ends at most D mm apart (default 0.05)\n"
+    "  --close-gap D          join open contour ends at most D mm apart (default 2)\n"
     "Other:\n"
     "  --poi-step R           largest up-sampling ratio of one POI step (default 1.5; 1: one\n"
     "                         exact step)\n"
@@ -342,7 +342,10 @@ int cmd_layers(int argc, char **argv)
             printf("compare     resample vs direct: mean %.6f, max %.6f (max over materials per pixel; %llu pixels "
                    "outside the definition)\n",
                    r.diff_mean, r.diff_max, (unsigned long long)r.direct_fallback);
-        if (r.open_polylines) printf("warning     %zu open contour polylines were not filled\n", r.open_polylines);
+        if (r.open_polylines)
+            fprintf(stderr, "hovox: warning: %s is open: %zu contour polylines stayed open and were not filled "
+                            "(--close-gap %g; a larger gap joins wider holes)\n",
+                    mesh_path, r.open_polylines, o.close_gap);
         printf("wrote       %s (%zu layers, %llu object pixels, %s%s%s)\n", out, r.last - r.first,
                (unsigned long long)r.object_pixels,
                o.mode == HV_LAYERS_HALFTONE ? (o.halftone == HV_HALFTONE_BLUE_NOISE ? "halftone blue-noise"

@@ -1,4 +1,5 @@
-# a tetrahedron with one face missing: open polylines are reported, or closed by --close-gap
+# a tetrahedron with one face missing: open polylines are reported (--close-gap 0), or closed
+# by the default gap rule (2 mm)
 cat > "$TMP/open.stl" <<'STL'
 solid open
 facet normal 0 0 -1
@@ -24,5 +25,5 @@ endloop
 endfacet
 endsolid open
 STL
-$HOVOX contours "$TMP/open.stl" --layer-height 0.5 -o "$TMP/open.cli" && grep POLYLINE "$TMP/open.cli" &&
-$HOVOX contours "$TMP/open.stl" --layer-height 0.5 --close-gap 1 --json
+$HOVOX contours "$TMP/open.stl" --layer-height 0.5 --close-gap 0 -o "$TMP/open.cli" && grep POLYLINE "$TMP/open.cli" &&
+$HOVOX contours "$TMP/open.stl" --layer-height 0.5 --json

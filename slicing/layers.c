@@ -368,11 +368,14 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     char what[32];
     if (uses_model(o)) snprintf(what, sizeof what, "%d material%s", J->m, J->m > 1 ? "s" : "");
     else snprintf(what, sizeof what, "mask");
-    if (budget && J->memory > budget)
+    if (budget && J->memory > budget) {
+        char nt[32], bt[32];
         return hv_error_set(HV_ERR_LIMIT,
-                            "layers: the job needs about %.1f MiB (%d x %d pixels, %s, %d workers), more than the "
-                            "budget of %.1f MiB (--max-memory)",
-                            (double)J->memory / 1048576.0, J->W, J->H, what, J->threads, (double)budget / 1048576.0);
+                            "layers: the job needs about %s (%d x %d pixels, %s, %d workers), more than the "
+                            "budget of %s (--max-memory, or max_memory in Lua)",
+                            hv_size_text(nt, sizeof nt, (double)J->memory), J->W, J->H, what, J->threads,
+                            hv_size_text(bt, sizeof bt, (double)budget));
+    }
     return HV_OK;
 }
 

@@ -71,19 +71,6 @@ static void print_list(const char *label, const char *csv)
     printf("\n");
 }
 
-static const char *size_text(char *buf, size_t size, double bytes)
-{
-    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
-    int u = 0;
-    while (bytes >= 1024.0 && u < 4) {
-        bytes /= 1024.0;
-        ++u;
-    }
-    if (u == 0) snprintf(buf, size, "%.0f bytes", bytes);
-    else snprintf(buf, size, "%.1f %s", bytes, unit[u]);
-    return buf;
-}
-
 int cmd_export(int argc, char **argv)
 {
     enum { O_BOX = 256, O_COARSEN, O_KEEP, O_PROPS, O_LIN, O_LEVEL, O_MEM, O_DRY, O_THREADS };
@@ -233,7 +220,7 @@ int cmd_export(int argc, char **argv)
                    (unsigned long long)rep.points);
         print_list("arrays", rep.names);
         char mem[32];
-        printf("memory      about %s\n", size_text(mem, sizeof mem, (double)rep.memory_bytes));
+        printf("memory      about %s\n", hv_size_text(mem, sizeof mem, (double)rep.memory_bytes));
         if (!dry) printf("wrote       %s (%llu bytes)\n", output, (unsigned long long)rep.file_bytes);
     }
     hv_volume_destroy(vol);

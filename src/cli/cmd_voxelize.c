@@ -28,8 +28,10 @@ static const char *VOX_HELP =
     "                       no 26-connected tunnels (every voxel a triangle touches)\n"
     "  --fill MODE          auto (default): flood for closed, manifold, consistently oriented\n"
     "                       meshes, else vote; flood: flood the outside from the border;\n"
-    "                       vote (alias winding): majority of x/y/z ray parity, robust to\n"
-    "                       holes and flipped facets; none: surface only\n"
+    "                       vote (alias winding): majority of the x/y/z lines of even\n"
+    "                       crossing parity, the generalized winding number where they\n"
+    "                       leave a voxel undecided; robust to holes and flipped facets;\n"
+    "                       none: surface only\n"
     "  --max-memory SIZE    refuse jobs that would need more (default: half of RAM), e.g. 8G\n"
     "  --dry-run            print the plan and its memory estimate, write nothing\n"
     "  --threads N          worker threads (default: all cores)\n"
@@ -152,6 +154,10 @@ int cmd_voxelize(int argc, char **argv)
     }
     hv_volume *vol = NULL;
     uint64_t occupied = 0, surface = 0;
+    if (plan.fill == HV_FILL_FLOOD && hv_mesh_get_report(mesh)->open_edges > 0)
+        fprintf(stderr, "hovox: warning: %s is open (%zu open edges): --fill flood leaks through its holes "
+                        "and may leave it hollow; --fill vote (auto's choice for open meshes) does not\n",
+                path, (size_t)hv_mesh_get_report(mesh)->open_edges);
     if (!dry) {
         cli_progress bar;
         cli_progress_init(&bar, quiet);

@@ -97,6 +97,8 @@ typedef struct hv_atomic_file {
 hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode);
 hv_status hv_atomic_commit(hv_atomic_file *af); /* fflush, fsync-less close, rename */
 void hv_atomic_abort(hv_atomic_file *af);
+/* "512 bytes", "8.8 KiB", "1.5 GiB" (binary units, one decimal) into buf; returns buf. */
+const char *hv_size_text(char *buf, size_t size, double bytes);
 /* A temporary path next to `path` (caller frees), for writers that take a path; for a
  * special `path` (see below) one in $TMPDIR (default /tmp). */
 char *hv_temp_path(const char *path);

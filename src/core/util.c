@@ -238,6 +238,19 @@ hv_status hv_read_file(const char *path, size_t max, char **data, size_t *size)
 
 static atomic_uint g_temp_counter;
 
+const char *hv_size_text(char *buf, size_t size, double bytes)
+{
+    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 5) {
+        bytes /= 1024.0;
+        ++u;
+    }
+    if (u == 0) snprintf(buf, size, "%.0f bytes", bytes);
+    else snprintf(buf, size, "%.1f %s", bytes, unit[u]);
+    return buf;
+}
+
 char *hv_temp_path(const char *path)
 {
     const char *base = hv_basename(path);

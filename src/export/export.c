@@ -551,33 +551,20 @@ hv_status hv_export_plan(const hv_volume *vol, const char *path, const hv_export
     return s;
 }
 
-const char *ex_size_text(char *buf, size_t size, double bytes)
-{
-    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB"};
-    int u = 0;
-    while (bytes >= 1024.0 && u < 5) {
-        bytes /= 1024.0;
-        ++u;
-    }
-    if (u == 0) snprintf(buf, size, "%.0f bytes", bytes);
-    else snprintf(buf, size, "%.1f %s", bytes, unit[u]);
-    return buf;
-}
-
 static hv_status check_budget(const hv_export_options *opt, const hv_export_report *r)
 {
     uint64_t budget = opt->max_memory ? opt->max_memory : hv_physical_memory() / 2;
     if (!budget || r->memory_bytes <= budget) return HV_OK;
     char need[32], have[32];
-    ex_size_text(need, sizeof need, (double)r->memory_bytes);
-    ex_size_text(have, sizeof have, (double)budget);
+    hv_size_text(need, sizeof need, (double)r->memory_bytes);
+    hv_size_text(have, sizeof have, (double)budget);
     if (r->format == HV_EXPORT_VTI)
         return hv_error_set(HV_ERR_LIMIT, "export: the image of %lld x %lld x %lld points x %d "
-                            "arrays needs %s, more than the limit of %s (--max-memory); export "
+                            "arrays needs %s, more than the limit of %s (--max-memory, or max_memory in Lua); export "
                             "a smaller box or a .vtu", (long long)r->dims[0],
                             (long long)r->dims[1], (long long)r->dims[2], r->arrays, need, have);
     return hv_error_set(HV_ERR_LIMIT, "export: the mesh of %llu hexahedra and %llu points needs "
-                        "%s, more than the limit of %s (--max-memory); coarsen it or export a "
+                        "%s, more than the limit of %s (--max-memory, or max_memory in Lua); coarsen it or export a "
                         "smaller box", (unsigned long long)r->cells,
                         (unsigned long long)r->points, need, have);
 }

@@ -36,7 +36,6 @@ typedef struct ex_model {
 /* Material fractions at an occupied voxel must be finite, in [0,1] and sum to 1 (within
  * 1e-4: they are stored as floats). HV_ERR_BAD_INPUT naming the voxel otherwise. */
 /* "12.3 MiB" and the like, into buf. */
-const char *ex_size_text(char *buf, size_t size, double bytes);
 
 hv_status ex_check_fractions(const ex_model *md, const double *p, int32_t i, int32_t j,
                              int32_t k);

@@ -708,12 +708,14 @@ hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t, uint64_t 
                                 o->reg[r].nags, MAX_SOURCES);
     uint64_t need = hv_object_evaluate_estimate(o);
     uint64_t budget = max_memory ? max_memory : hv_physical_memory() / 2;
-    if (budget && need > budget)
+    if (budget && need > budget) {
+        char nt[32], bt[32];
         return hv_error_set(HV_ERR_LIMIT,
-                            "evaluating %d materials on %llu voxels needs about %.1f GiB, more than the "
-                            "limit of %.1f GiB (--max-memory)",
-                            o->m, (unsigned long long)hv_object_voxels(o), (double)need / 1073741824.0,
-                            (double)budget / 1073741824.0);
+                            "evaluating %d materials on %llu voxels needs about %s, more than the "
+                            "limit of %s (--max-memory, or max_memory in Lua)",
+                            o->m, (unsigned long long)hv_object_voxels(o), hv_size_text(nt, sizeof nt, (double)need),
+                            hv_size_text(bt, sizeof bt, (double)budget));
+    }
     hv_volume *v;
     hv_status s = hv_volume_create(&o->xf, &v);
     if (s != HV_OK) return s;

@@ -7,8 +7,11 @@
  * edge functions evaluated in a canonical vertex order and ties broken by symbolic
  * perturbation, so a line through a shared edge or vertex, or grazing a face, is counted
  * consistently); a prefix XOR turns toggles into
- * crossing parity; a voxel is inside when two of the three axes say so. A hole or a flipped
- * facet only misleads the lines that pass through it. */
+ * crossing parity. Parity ignores orientation, so flipped facets change nothing. A closed
+ * surface crosses every full line an even number of times: a line with odd parity passed
+ * through a hole and is not heard; a voxel is inside when more of its even lines say inside
+ * than outside. Voxels left undecided (every line odd, or a tie) get the generalized winding
+ * number (Jacobson, Kavan, Sorkine-Hornung 2013) of the mesh at their centre, |w| > 1/2. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -276,46 +279,144 @@ static hv_status prefix_range(void *vctx, size_t b, size_t e, int thread)
     return HV_OK;
 }
 
+/* ---- undecided voxels: the generalized winding number (Jacobson et al. 2013) --------------- */
+
+typedef struct wind_ctx {
+    const hv_mesh *mesh;
+    const double *P;
+    const int64_t *cells; /* (i, j, k) triples */
+    uint8_t *inside;
+} wind_ctx;
+
+/* Sum of the signed solid angles of the facets seen from each cell centre, over 4 pi (Van
+ * Oosterom & Strackee 1983): 1 inside a closed outward mesh, 0 outside; a hole only removes
+ * its own solid angle, so |w| > 1/2 stays a sound inside test next to it. */
+static hv_status wind_range(void *vctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    wind_ctx *c = vctx;
+    const uint32_t *tri = hv_mesh_facets(c->mesh);
+    size_t nf = hv_mesh_facet_count(c->mesh);
+    for (size_t q = b; q < e; ++q) {
+        double px = (double)c->cells[3 * q], py = (double)c->cells[3 * q + 1], pz = (double)c->cells[3 * q + 2];
+        double sum = 0;
+        for (size_t f = 0; f < nf; ++f) {
+            const double *A = c->P + 3 * (size_t)tri[3 * f], *B = c->P + 3 * (size_t)tri[3 * f + 1],
+                         *C = c->P + 3 * (size_t)tri[3 * f + 2];
+            double ax = A[0] - px, ay = A[1] - py, az = A[2] - pz;
+            double bx = B[0] - px, by = B[1] - py, bz = B[2] - pz;
+            double cx = C[0] - px, cy = C[1] - py, cz = C[2] - pz;
+            double la = sqrt(ax * ax + ay * ay + az * az), lb = sqrt(bx * bx + by * by + bz * bz),
+                   lc = sqrt(cx * cx + cy * cy + cz * cz);
+            double det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+            double den = la * lb * lc + (ax * bx + ay * by + az * bz) * lc +
+                         (ax * cx + ay * cy + az * cz) * lb + (bx * cx + by * cy + bz * cz) * la;
+            sum += atan2(det, den);
+        }
+        c->inside[q] = fabs(sum) > M_PI; /* |w| = |sum| / (2 pi) > 1/2 */
+    }
+    return HV_OK;
+}
+
+/* At most this many facet-cell solid angles for the undecided voxels (a few seconds on two
+ * cores); beyond it they keep the plain majority of the three parities. */
+#define WIND_BUDGET 1.5e9
+
 hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *S, hv_bitgrid *occ,
                        const hv_progress *progress)
 {
-    hv_bitgrid T = {0}, two = {0};
-    hv_status st;
-    if ((st = hv_bitgrid_init(&T, S->n, S->lo)) != HV_OK) return st;
-    if ((st = hv_bitgrid_init(&two, S->n, S->lo)) != HV_OK) {
-        hv_bitgrid_free(&T);
-        return st;
-    }
-    size_t nwords = (size_t)(S->n[0] * S->n[1] * S->words);
+    hv_bitgrid T[3];
+    memset(T, 0, sizeof T);
+    hv_status st = HV_OK;
+    for (int a = 0; a < 3 && st == HV_OK; ++a) st = hv_bitgrid_init(&T[a], S->n, S->lo);
+    int64_t nx = S->n[0], ny = S->n[1], nz = S->n[2], W = S->words;
+    size_t nwords = (size_t)(nx * ny * W);
+    /* odd lines: a closed surface crosses every full line an even number of times, so a line
+     * with odd parity passed through a hole and says nothing; x lines are indexed (j, k) and y
+     * lines (i, k) as bit rows over k, z lines (i, j) one byte each */
+    uint64_t *odd0 = hv_calloc((size_t)(ny * W), sizeof *odd0), *odd1 = hv_calloc((size_t)(nx * W), sizeof *odd1);
+    uint8_t *odd2 = hv_calloc((size_t)(nx * ny), 1);
+    if (st == HV_OK && (!odd0 || !odd1 || !odd2)) st = HV_ERR_NOMEM;
     for (int axis = 0; axis < 3 && st == HV_OK; ++axis) {
-        memset(T.bits, 0, nwords * sizeof(uint64_t));
-        vote_ctx vc = {mesh, P, &T, axis};
+        vote_ctx vc = {mesh, P, &T[axis], axis};
         st = hv_parallel_for(hv_mesh_facet_count(mesh), 1024, vote_range, &vc, progress, "interior");
         if (st != HV_OK) break;
-        prefix_ctx pc = {&T, axis};
-        size_t n = axis == 0 ? (size_t)S->n[1] : axis == 1 ? (size_t)S->n[0] : (size_t)(S->n[0] * S->n[1]);
+        prefix_ctx pc = {&T[axis], axis};
+        size_t n = axis == 0 ? (size_t)ny : axis == 1 ? (size_t)nx : (size_t)(nx * ny);
         st = hv_parallel_for(n, axis == 2 ? 4096 : 8, prefix_range, &pc, NULL, "interior");
-        if (st != HV_OK) break;
-        /* majority of three, incrementally: occ = at least one so far, two = at least two */
-        for (size_t w = 0; w < nwords; ++w) {
-            uint64_t x = T.bits[w];
-            if (axis == 0) {
-                occ->bits[w] = x;
-            } else if (axis == 1) {
-                two.bits[w] = occ->bits[w] & x;
-                occ->bits[w] |= x;
-            } else {
-                occ->bits[w] = two.bits[w] | (occ->bits[w] & x);
+    }
+    if (st == HV_OK) {
+        for (int64_t j = 0; j < ny; ++j)
+            memcpy(odd0 + j * W, hv_bitgrid_row(&T[0], nx - 1, j), (size_t)W * sizeof *odd0);
+        for (int64_t i = 0; i < nx; ++i)
+            memcpy(odd1 + i * W, hv_bitgrid_row(&T[1], i, ny - 1), (size_t)W * sizeof *odd1);
+        for (int64_t i = 0; i < nx; ++i)
+            for (int64_t j = 0; j < ny; ++j)
+                odd2[i * ny + j] = (uint8_t)((hv_bitgrid_row(&T[2], i, j)[(nz - 1) >> 6] >> ((nz - 1) & 63)) & 1);
+    }
+    /* votes of the even lines only: inside when more of them say inside than outside; a tie
+     * (no even line, or one each way) is undecided and left to the winding number */
+    size_t nundecided = 0;
+    if (st == HV_OK) {
+        for (int64_t i = 0; i < nx; ++i)
+            for (int64_t j = 0; j < ny; ++j) {
+                uint64_t *p0 = hv_bitgrid_row(&T[0], i, j), *p1 = hv_bitgrid_row(&T[1], i, j);
+                const uint64_t *p2 = hv_bitgrid_row(&T[2], i, j), *s = hv_bitgrid_row(S, i, j);
+                uint64_t *o = hv_bitgrid_row(occ, i, j), r2 = odd2[i * ny + j] ? 0 : ~0ull;
+                for (int64_t w = 0; w < W; ++w) {
+                    uint64_t r0 = ~odd0[j * W + w], r1 = ~odd1[i * W + w];
+                    uint64_t a = p0[w] & r0, b = p1[w] & r1, c = p2[w] & r2;
+                    uint64_t x = ~p0[w] & r0, y = ~p1[w] & r1, z = ~p2[w] & r2;
+                    uint64_t inL = a ^ b ^ c, inH = (a & b) | (a & c) | (b & c);
+                    uint64_t outL = x ^ y ^ z, outH = (x & y) | (x & z) | (y & z);
+                    uint64_t gt = (inH & ~outH) | (~(inH ^ outH) & inL & ~outL);
+                    uint64_t eq = ~(inH ^ outH) & ~(inL ^ outL);
+                    uint64_t valid = hv_bitgrid_valid(S, w);
+                    o[w] = (gt | s[w]) & valid;
+                    /* this word's parities are used up: T[0] keeps the undecided, T[1] the
+                     * majority of all three lines (the fallback beyond the budget) */
+                    uint64_t undecided = eq & ~s[w] & valid;
+                    uint64_t maj = (p0[w] & p1[w]) | (p0[w] & p2[w]) | (p1[w] & p2[w]);
+                    p0[w] = undecided;
+                    p1[w] = maj;
+                    nundecided += (size_t)__builtin_popcountll(undecided);
+                }
             }
+    }
+    if (st == HV_OK && nundecided > 0) {
+        if ((double)nundecided * (double)hv_mesh_facet_count(mesh) <= WIND_BUDGET) {
+            int64_t *cells = hv_malloc_array(nundecided, 3 * sizeof *cells);
+            uint8_t *inside = hv_malloc(nundecided);
+            if (!cells || !inside) {
+                st = HV_ERR_NOMEM;
+            } else {
+                size_t q = 0;
+                for (int64_t i = 0; i < nx; ++i)
+                    for (int64_t j = 0; j < ny; ++j)
+                        for (int64_t w = 0; w < W; ++w)
+                            for (uint64_t u = hv_bitgrid_row(&T[0], i, j)[w]; u; u &= u - 1) {
+                                cells[3 * q] = i;
+                                cells[3 * q + 1] = j;
+                                cells[3 * q + 2] = 64 * w + __builtin_ctzll(u);
+                                ++q;
+                            }
+                wind_ctx wc = {mesh, P, cells, inside};
+                st = hv_parallel_for(nundecided, 16, wind_range, &wc, progress, "interior");
+                for (size_t k = 0; st == HV_OK && k < nundecided; ++k)
+                    if (inside[k]) {
+                        int64_t kz = cells[3 * k + 2];
+                        hv_bitgrid_row(occ, cells[3 * k], cells[3 * k + 1])[kz >> 6] |= 1ull << (kz & 63);
+                    }
+            }
+            free(cells);
+            free(inside);
+        } else { /* too many for the winding number: the plain majority of the three lines */
+            for (size_t w = 0; w < nwords; ++w) occ->bits[w] |= T[0].bits[w] & T[1].bits[w];
         }
     }
-    if (st == HV_OK)
-        for (size_t r = 0; r < (size_t)(S->n[0] * S->n[1]); ++r)
-            for (int64_t w = 0; w < S->words; ++w) {
-                size_t k = r * (size_t)S->words + (size_t)w;
-                occ->bits[k] = (occ->bits[k] | S->bits[k]) & hv_bitgrid_valid(S, w);
-            }
-    hv_bitgrid_free(&T);
-    hv_bitgrid_free(&two);
+    for (int a = 0; a < 3; ++a) hv_bitgrid_free(&T[a]);
+    free(odd0);
+    free(odd1);
+    free(odd2);
     return st;
 }

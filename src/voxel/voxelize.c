@@ -181,7 +181,7 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     if (p->fill == HV_FILL_VOTE) {
         double vv = p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2];
         double cross = r->area / cbrt(vv) / cbrt(vv) * 3.0; /* crossings of one axis, generous */
-        work = 4 * grid + (uint64_t)(cross * 12.0) + rows * 8u;
+        work = 5 * grid + (uint64_t)(cross * 12.0) + rows * 8u;
     }
     double cell = 8.0 * cbrt(p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2]);
     double blocks = fabs(r->volume) / (cell * cell * cell) + 3.0 * r->area / (cell * cell);
@@ -190,13 +190,15 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     p->memory_bytes = work + hv_volume_memory_estimate(leaves, 0, 2) + (uint64_t)mesh_bytes(mesh);
 
     uint64_t budget = opt->max_memory ? opt->max_memory : hv_physical_memory() / 2;
-    if (budget && p->memory_bytes > budget)
+    if (budget && p->memory_bytes > budget) {
+        char need[32], have[32];
         return hv_error_set(HV_ERR_LIMIT,
-                            "%s: voxelizing at %lld x %lld x %lld needs about %.1f GiB, more "
-                            "than the limit of %.1f GiB (--max-memory)",
-                            name, (long long)p->dims[0], (long long)p->dims[1],
-                            (long long)p->dims[2], (double)p->memory_bytes / 1073741824.0,
-                            (double)budget / 1073741824.0);
+                            "%s: voxelizing at %lld x %lld x %lld needs about %s, more than the "
+                            "limit of %s (--max-memory, or max_memory in Lua)",
+                            name, (long long)p->dims[0], (long long)p->dims[1], (long long)p->dims[2],
+                            hv_size_text(need, sizeof need, (double)p->memory_bytes),
+                            hv_size_text(have, sizeof have, (double)budget));
+    }
     return HV_OK;
 }
 

@@ -185,8 +185,33 @@ Test(voxelize, volume_converges_to_the_mesh_volume)
     hv_mesh_destroy(m);
 }
 
-/* A sphere with a hole and a sphere with flipped facets voxelize like the repaired sphere:
- * no leak to the outside, no hollow inside. */
+/* The sphere without its facets whose centroid lies within `deg` degrees of direction d
+ * (seen from the centre c): a hole facing any way, not only along an axis. */
+static hv_mesh *without_cap(const hv_mesh *m, const double c[3], const double d[3], double deg)
+{
+    size_t nv = hv_mesh_vertex_count(m), nf = hv_mesh_facet_count(m), keep = 0;
+    const float *xyz = hv_mesh_vertices(m);
+    const uint32_t *all = hv_mesh_facets(m);
+    uint32_t *tri = malloc(nf * 3 * sizeof *tri);
+    double dl = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (size_t f = 0; f < nf; ++f) {
+        double g[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a) g[a] += (xyz[3 * all[3 * f + k] + a] - c[a]) / 3.0;
+        double gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        if ((g[0] * d[0] + g[1] * d[1] + g[2] * d[2]) / (gl * dl) > cos(deg * M_PI / 180)) continue;
+        memcpy(tri + 3 * keep++, all + 3 * f, 3 * sizeof *tri);
+    }
+    hv_mesh *out = NULL;
+    cr_assert_eq(hv_mesh_create(xyz, nv, tri, keep, &out), HV_OK);
+    cr_assert_gt(hv_mesh_get_report(out)->open_edges, 0);
+    free(tri);
+    return out;
+}
+
+/* A sphere with a hole (facing an axis, a face diagonal or a space diagonal) and a sphere
+ * with flipped facets voxelize like the repaired sphere: no leak to the outside, no hollow
+ * inside. A diagonal hole is crossed by two or three of a voxel's axis lines. */
 Test(voxelize, holes_and_flipped_facets_do_not_leak_or_hollow, .timeout = 60)
 {
     hv_mesh *good;
@@ -216,8 +241,11 @@ Test(voxelize, holes_and_flipped_facets_do_not_leak_or_hollow, .timeout = 60)
     free(tri);
 
     hv_volume *ref = voxelize(good, 26, 64, HV_FILL_AUTO);
-    hv_mesh *bad[2] = {holed, flipped};
-    for (int b = 0; b < 2; ++b) {
+    const double d111[3] = {1, 1, 1}, d110[3] = {1, -1, 0};
+    hv_mesh *cap111 = without_cap(good, c, d111, 14), *cap110 = without_cap(good, c, d110, 10);
+    hv_mesh *bad[4] = {holed, flipped, cap111, cap110};
+    const char *what[4] = {"holed", "flipped", "diagonal hole (1,1,1)", "diagonal hole (1,-1,0)"};
+    for (int b = 0; b < 4; ++b) {
         hv_voxel_plan plan;
         hv_voxelize_options o;
         hv_voxelize_options_init(&o);
@@ -241,8 +269,8 @@ Test(voxelize, holes_and_flipped_facets_do_not_leak_or_hollow, .timeout = 60)
                     if (occ && r > 10 + 1.5 * xf.voxel[0]) ++leak;
                     if (!occ && r < 10 * cos(M_PI / 20) - 1.5 * xf.voxel[0]) ++hollow;
                 }
-        cr_assert_eq(leak, 0, "%s: %ld voxels leaked outside", b ? "flipped" : "holed", leak);
-        cr_assert_eq(hollow, 0, "%s: %ld voxels hollow inside", b ? "flipped" : "holed", hollow);
+        cr_assert_eq(leak, 0, "%s: %ld voxels leaked outside", what[b], leak);
+        cr_assert_eq(hollow, 0, "%s: %ld voxels hollow inside", what[b], hollow);
         if (b == 1) /* flips change nothing: same voxels as the repaired sphere */
             cr_assert_eq(hv_volume_mask_count(v, go), hv_volume_mask_count(ref, 0));
         hv_volume_destroy(v);
@@ -251,6 +279,8 @@ Test(voxelize, holes_and_flipped_facets_do_not_leak_or_hollow, .timeout = 60)
     hv_mesh_destroy(good);
     hv_mesh_destroy(holed);
     hv_mesh_destroy(flipped);
+    hv_mesh_destroy(cap111);
+    hv_mesh_destroy(cap110);
 }
 
 Test(voxelize, vote_agrees_with_flood_on_closed_meshes, .timeout = 60)

@@ -930,6 +930,8 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
     for (size_t i = J->first; i < J->last; ++i) {
         hv_buf_printf(&b, "%s\n    {\"index\": %zu, ", i > J->first ? "," : "", i);
         if (o->mode == HV_LAYERS_FRACTIONS) {
+            /* "file" as in every mode (the first material's layer), "files" all of them */
+            hv_buf_printf(&b, "\"file\": \"%s/layer-%05zu.png\", ", J->m ? hv_material_name(J->table, 0) : "", i);
             hv_buf_puts(&b, "\"files\": {");
             for (int g = 0; g < J->m; ++g) {
                 const char *name = hv_material_name(J->table, g);
@@ -941,8 +943,8 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
         } else {
             hv_buf_printf(&b, "\"file\": \"layer-%05zu.png\"", i);
         }
-        hv_buf_puts(&b, ", \"z_mm\": ");
-        hv_buf_json_number(&b, J->layers[i].z);
+        /* ten significant digits: 5.4135, not the 5.413500000000001 of the summation */
+        hv_buf_printf(&b, ", \"z_mm\": %.10g", J->layers[i].z);
         hv_buf_puts(&b, "}");
     }
     hv_buf_puts(&b, "\n  ]\n}\n");
@@ -1103,6 +1105,12 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
     if (st == HV_OK) {
         fill_plan_report(&J, &rep);
         st = job_prepare_output(&J);
+    }
+    if (st == HV_OK && o->gcvf_path && !o->force && !hv_path_is_special(o->gcvf_path)) {
+        /* like the stack: an existing archive is replaced only when asked */
+        struct stat sb;
+        if (stat(o->gcvf_path, &sb) == 0)
+            st = hv_error_set(HV_ERR_IO, "%s: exists (--force, or force = true in Lua, replaces it)", o->gcvf_path);
     }
     if (st == HV_OK) st = hv_stack_begin(dir, o->force, &J.tmp);
     if (st == HV_OK && o->mode == HV_LAYERS_FRACTIONS) {

@@ -146,7 +146,7 @@ int cmd_layers(int argc, char **argv)
     hv_layers_options o;
     hv_layers_options_init(&o);
     const char *mesh_path = NULL, *out = NULL, *profile = NULL;
-    int have_dpi = 0, have_lh = 0, quiet = 0, dry = 0, c, choice;
+    int have_dpi = 0, have_lh = 0, have_bg = 0, quiet = 0, dry = 0, c, choice;
     double dpi[2] = {0, 0}, lh = 0;
     optind = 1;
     opterr = 0;
@@ -204,6 +204,7 @@ int cmd_layers(int argc, char **argv)
             if (hv_color_parse(optarg, rgba) != HV_OK)
                 return cli_usage_error(CMD, "--background: '%s' is not a colour (#rrggbb)", optarg);
             for (int k = 0; k < 3; ++k) o.background[k] = (uint8_t)(rgba[k] * 255.0f + 0.5f);
+            have_bg = 1;
             break;
         }
         case O_GCVF: o.gcvf_path = optarg; break;
@@ -264,6 +265,8 @@ int cmd_layers(int argc, char **argv)
         return cli_usage_error(CMD, "--method and --compare need a material mode (halftone or fractions)");
     if (o.gcvf_path && o.mode == HV_LAYERS_FRACTIONS)
         return cli_usage_error(CMD, "--gcvf needs --mode halftone or mask");
+    if (have_bg && o.mode != HV_LAYERS_HALFTONE)
+        return cli_usage_error(CMD, "--background is the halftone palette's entry 0: it needs --mode halftone");
     if (have_dpi) {
         o.profile = "custom";
         o.dpi[0] = dpi[0];

@@ -81,47 +81,62 @@ static int any_bit(const uint64_t *w)
 
 /* ---- cells -------------------------------------------------------------------------------- */
 
-/* Occupied voxels of coarse cell c (voxels c*N .. c*N+N-1 per axis). */
-static int cell_count(const ex_model *md, hv_accessor *acc, int n, int32_t cx, int32_t cy,
-                      int32_t cz)
-{
-    int count = 0;
-    int32_t x0 = cx * n, y0 = cy * n, z0 = cz * n;
-    for (int32_t i = x0; i < x0 + n; ++i)
-        for (int32_t j = y0; j < y0 + n; ++j)
-            for (int32_t k = z0; k < z0 + n; ++k) {
-                int64_t l = hv_accessor_leaf(acc, i, j, k);
-                if (l >= 0 && HV_BIT_GET(md->occ + 8 * l, HV_LEAF_OFFSET(i, j, k))) ++count;
-            }
-    return count;
-}
-
-static int kept(const ex_hexmesh *h, int count)
+static int kept(const ex_hexmesh *h, int64_t count)
 {
     if (h->rule == HV_COARSEN_ANY) return count > 0;
-    return 2 * (int64_t)count >= (int64_t)h->n * h->n * h->n;
+    return 2 * count >= (int64_t)h->n * h->n * h->n;
 }
 
 typedef struct plan_ctx {
     ex_hexmesh *h;
     const ex_model *md;
+    int64_t *count; /* 512 per coarse block: occupied voxels of each coarse cell */
 } plan_ctx;
+
+/* Count the occupied voxels of every coarse cell by visiting the occupied voxels once (not
+ * the N^3 voxels of every cell: empty space costs nothing, whatever N). */
+static hv_status count_range(void *ctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    plan_ctx *c = ctx;
+    const ex_hexmesh *h = c->h;
+    const int32_t *orig = hv_volume_leaf_origins(c->md->vol);
+    int32_t n = h->n, last[3] = {INT32_MIN, 0, 0};
+    int64_t L = -1;
+    for (size_t l = b; l < e; ++l) {
+        const uint64_t *w = c->md->occ + 8 * l;
+        const int32_t *o = orig + 3 * l;
+        for (int q = 0; q < 8; ++q)
+            for (uint64_t u = w[q]; u; u &= u - 1) {
+                unsigned bit = (unsigned)(64 * q + __builtin_ctzll(u));
+                int32_t v[3] = {o[0] + (int32_t)(bit >> 6), o[1] + (int32_t)((bit >> 3) & 7),
+                                o[2] + (int32_t)(bit & 7)};
+                int32_t cc[3], blk[3];
+                for (int a = 0; a < 3; ++a) {
+                    cc[a] = floor_div(v[a], n);
+                    blk[a] = cc[a] & ~7;
+                }
+                if (blk[0] != last[0] || blk[1] != last[1] || blk[2] != last[2]) {
+                    L = hash_find(h->cl_origin, h->clh, h->clh_cap, blk[0], blk[1], blk[2]);
+                    memcpy(last, blk, sizeof last);
+                }
+                if (L < 0) continue; /* cannot happen: every touched block is listed */
+                unsigned cq = (unsigned)(((cc[0] & 7) << 6) | ((cc[1] & 7) << 3) | (cc[2] & 7));
+                __atomic_fetch_add(&c->count[512 * (size_t)L + cq], 1, __ATOMIC_RELAXED);
+            }
+    }
+    return HV_OK;
+}
 
 static hv_status cells_range(void *ctx, size_t b, size_t e, int thread)
 {
     (void)thread;
     plan_ctx *c = ctx;
     ex_hexmesh *h = c->h;
-    hv_accessor acc;
-    hv_accessor_init(&acc, c->md->vol);
     for (size_t L = b; L < e; ++L) {
-        const int32_t *o = h->cl_origin + 3 * L;
         uint64_t *w = h->cl_mask + 8 * L;
-        for (unsigned q = 0; q < HV_LEAF_SIZE; ++q) {
-            int cnt = cell_count(c->md, &acc, h->n, o[0] + (int32_t)(q >> 6),
-                                 o[1] + (int32_t)((q >> 3) & 7), o[2] + (int32_t)(q & 7));
-            if (kept(h, cnt)) w[q >> 6] |= 1ull << (q & 63);
-        }
+        for (unsigned q = 0; q < HV_LEAF_SIZE; ++q)
+            if (kept(h, c->count[512 * L + q])) w[q >> 6] |= 1ull << (q & 63);
     }
     return HV_OK;
 }
@@ -217,8 +232,11 @@ hv_status ex_hexmesh_plan(ex_hexmesh *h, const ex_model *md, int n, hv_coarsen_r
     if (!h->cl_mask || !h->cl_base) return HV_ERR_NOMEM;
     s = hash_build(h->cl_origin, h->ncl, &h->clh, &h->clh_cap);
     if (s != HV_OK) return s;
-    plan_ctx c = {h, md};
-    s = hv_parallel_for(h->ncl, 8, cells_range, &c, progress, "export cells");
+    plan_ctx c = {h, md, hv_calloc(h->ncl ? 512 * h->ncl : 1, sizeof(int64_t))};
+    if (!c.count) return HV_ERR_NOMEM;
+    s = hv_parallel_for(md->nleaves, 64, count_range, &c, progress, "export cells");
+    if (s == HV_OK) s = hv_parallel_for(h->ncl, 64, cells_range, &c, NULL, "export cells");
+    free(c.count);
     if (s != HV_OK) return s;
     for (size_t L = 0; L < h->ncl; ++L) {
         h->cl_base[L] = h->ncells;
@@ -354,19 +372,28 @@ static hv_status cells_fill_range(void *ctx, size_t b, size_t e, int thread)
                 int count = 0;
                 for (int j = 0; j < m; ++j) sum[j] = 0;
                 int32_t x0 = (o[0] + x) * n, y0 = (o[1] + y) * n, z0 = (o[2] + z) * n;
-                for (int32_t i = x0; i < x0 + n; ++i)
-                    for (int32_t jj = y0; jj < y0 + n; ++jj)
-                        for (int32_t k = z0; k < z0 + n; ++k) {
-                            int64_t l = hv_accessor_leaf(&acc, i, jj, k);
-                            unsigned off = HV_LEAF_OFFSET(i, jj, k);
-                            if (l < 0 || !HV_BIT_GET(md->occ + 8 * l, off)) continue;
-                            ++count;
-                            if (!m) continue;
-                            for (int j = 0; j < m; ++j)
-                                p[j] = hv_volume_leaf_float_c(md->vol, md->grids[j], (size_t)l)[off];
-                            hv_status s = ex_check_fractions(md, p, i, jj, k);
-                            if (s != HV_OK) return s;
-                            for (int j = 0; j < m; ++j) sum[j] += p[j];
+                /* by voxel leaves: an absent or empty leaf is skipped whole */
+                for (int32_t bx = x0 & ~7; bx < x0 + n; bx += 8)
+                    for (int32_t by = y0 & ~7; by < y0 + n; by += 8)
+                        for (int32_t bz = z0 & ~7; bz < z0 + n; bz += 8) {
+                            int64_t l = hv_accessor_leaf(&acc, bx, by, bz);
+                            if (l < 0 || !any_bit(md->occ + 8 * l)) continue;
+                            const uint64_t *lw = md->occ + 8 * l;
+                            for (int qq = 0; qq < 8; ++qq)
+                                for (uint64_t u = lw[qq]; u; u &= u - 1) {
+                                    unsigned off = (unsigned)(64 * qq + __builtin_ctzll(u));
+                                    int32_t i = bx + (int32_t)(off >> 6), jj = by + (int32_t)((off >> 3) & 7),
+                                            k = bz + (int32_t)(off & 7);
+                                    if (i < x0 || i >= x0 + n || jj < y0 || jj >= y0 + n || k < z0 || k >= z0 + n)
+                                        continue;
+                                    ++count;
+                                    if (!m) continue;
+                                    for (int j = 0; j < m; ++j)
+                                        p[j] = hv_volume_leaf_float_c(md->vol, md->grids[j], (size_t)l)[off];
+                                    hv_status s = ex_check_fractions(md, p, i, jj, k);
+                                    if (s != HV_OK) return s;
+                                    for (int j = 0; j < m; ++j) sum[j] += p[j];
+                                }
                         }
                 c->occupancy[id] = (float)(count * inv_cell);
                 if (m && count > 0) {

@@ -1272,6 +1272,41 @@ static int object_evaluate(lua_State *L)
     return 1;
 }
 
+/* obj:render{...}, obj:export{...}, obj:layers{...}, obj:profile{...}, obj:probe(...),
+ * obj:save(path): evaluate the object into a model (max_memory from the options table), call
+ * the model's method of that name (upvalue 1) with the same arguments, and free the model. */
+static int object_as_model(lua_State *L)
+{
+    CHECK(L, 1, l_object, MT_OBJECT);
+    int base = lua_gettop(L);
+    lua_pushcfunction(L, object_evaluate);
+    lua_pushvalue(L, 1);
+    if (base >= 2 && lua_istable(L, 2)) lua_pushvalue(L, 2);
+    else lua_pushnil(L);
+    lua_call(L, 2, 1); /* the model, at base + 1 */
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_pushvalue(L, base + 1);
+    for (int i = 2; i <= base; ++i) lua_pushvalue(L, i);
+    int rc = lua_pcall(L, base, LUA_MULTRET, 0);
+    lua_pushcfunction(L, model_free);
+    lua_pushvalue(L, base + 1);
+    lua_call(L, 1, 0);
+    if (rc == LUA_OK) return lua_gettop(L) - (base + 1);
+    /* the method ran without a name or a script line of its own: give the error both, as
+     * if the user had called it on the model ("#2" of the model call is "#1" of obj:name) */
+    const char *msg = lua_tostring(L, -1), *name = lua_tostring(L, lua_upvalueindex(2));
+    luaL_where(L, 1);
+    const char *where = lua_tostring(L, -1);
+    int n = 0, used = 0;
+    if (msg && sscanf(msg, "bad argument #%d to '?'%n", &n, &used) == 1 && used > 0)
+        lua_pushfstring(L, "%sbad argument #%d to '%s'%s", where, n - 1, name, msg + used);
+    else if (msg && strncmp(msg, where, strlen(where)) != 0)
+        lua_pushfstring(L, "%s%s", where, msg);
+    else
+        lua_pushvalue(L, -2);
+    return lua_error(L);
+}
+
 static int object_regions(lua_State *L)
 {
     l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
@@ -1377,7 +1412,17 @@ int luaopen_hovox(lua_State *L)
     luaL_getmetatable(L, MT_MODEL);
     lua_getfield(L, -1, "__index");
     luaL_setfuncs(L, hv_lua_model_extra(), 0);
-    lua_pop(L, 2);
+    /* the object gets the model's output methods, through an evaluation */
+    static const char *const via_model[] = {"render", "export", "layers", "profile", "probe", "save"};
+    luaL_getmetatable(L, MT_OBJECT);
+    lua_getfield(L, -1, "__index");
+    for (size_t i = 0; i < sizeof via_model / sizeof *via_model; ++i) {
+        lua_getfield(L, -3, via_model[i]);
+        lua_pushstring(L, via_model[i]);
+        lua_pushcclosure(L, object_as_model, 2);
+        lua_setfield(L, -2, via_model[i]);
+    }
+    lua_pop(L, 4);
 
     static const luaL_Reg gen[] = {{"sphere", g_sphere}, {"box", g_box},   {"torus", g_torus},
                                    {"cylinder", g_cylinder}, {"gear", g_gear}, {"knot", g_knot},

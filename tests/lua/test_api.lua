@@ -227,6 +227,20 @@ fails("path is required", graded.render, graded, {})
 fails("clip", graded.render, graded, {path = tmp .. "/x.png", clip = "w>3"})
 fails("size must be", graded.render, graded, {path = tmp .. "/x.png", size = {0, 5}})
 
+-- an object renders, exports, probes, profiles, saves and slices through an evaluation, with
+-- its errors named as its own
+o:render{path = tmp .. "/o.png", size = {16, 16}}
+assert(io.open(tmp .. "/o.png", "rb"):read(4) == "\137PNG")
+assert(o:export{path = tmp .. "/o.vti"}.bytes == graded:export{path = tmp .. "/g2.vti"}.bytes)
+local oin, ofr = o:probe{5, 5, 5}
+local gin, gfr = graded:probe{5, 5, 5}
+assert(oin == gin and ofr[1] == gfr[1] and ofr[2] == gfr[2], "object and model probe alike")
+o:save(tmp .. "/o.vdb")
+assert(hovox.load(tmp .. "/o.vdb"):grids()[1])
+fails("bad argument #1 to 'render' (table expected", o.render, o, 5)
+fails("bad argument #1 to 'probe'", function() return o:probe(1, 2, 3) end)
+fails("test_api.lua:", function() return o:probe(1, 2, 3) end)
+
 -- printer layers (Wu 2.4.2): the 20 x 10 x 10 box at 0.5 mm pixels (plus a 2-pixel margin) and
 -- 1 mm layers; a layer exists while its mid-height is inside the mesh
 local st = graded:layers{mesh = box, dir = tmp .. "/stack", dpi = {50.8, 50.8}, layer_height = 1, compare = true}

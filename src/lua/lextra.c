@@ -401,11 +401,20 @@ static int model_render(lua_State *L)
     }
     lua_pop(L, 1);
     lua_getfield(L, 2, "view");
-    if (!lua_isnil(L, -1) && hv_view_parse(luaL_checkstring(L, -1), &o.camera.view) != HV_OK)
+    int have_view = !lua_isnil(L, -1), have_target = 0;
+    if (have_view && hv_view_parse(luaL_checkstring(L, -1), &o.camera.view) != HV_OK)
         return arg_error(L, 2, "%s", hv_last_error());
     lua_pop(L, 1);
     opt_vec(L, 2, "eye", o.camera.eye, 3, &o.camera.use_eye);
-    opt_vec(L, 2, "target", o.camera.target, 3, NULL);
+    opt_vec(L, 2, "target", o.camera.target, 3, &have_target);
+    /* as the CLI: view or eye/target; the target defaults to the model's centre */
+    if (have_view && (o.camera.use_eye || have_target)) return arg_error(L, 2, "give either view or eye/target, not both");
+    if (have_target && !o.camera.use_eye) return arg_error(L, 2, "target needs eye");
+    int32_t ilo[3], ihi[3];
+    if (o.camera.use_eye && !have_target && hv_volume_index_bbox(vol, ilo, ihi)) {
+        double c[3] = {0.5 * (ilo[0] + ihi[0]), 0.5 * (ilo[1] + ihi[1]), 0.5 * (ilo[2] + ihi[2])};
+        hv_volume_index_to_world(vol, c, o.camera.target);
+    }
     opt_vec(L, 2, "up", o.camera.up, 3, NULL);
     lua_getfield(L, 2, "ortho");
     o.camera.ortho = lua_toboolean(L, -1);
@@ -456,6 +465,12 @@ static int model_render(lua_State *L)
     int have_box = 0;
     opt_vec(L, 2, "clip_box", box, 6, &have_box);
     if (have_box) {
+        for (int a = 0; a < 3; ++a) /* either corner first, as the CLI */
+            if (box[a] > box[a + 3]) {
+                double t = box[a];
+                box[a] = box[a + 3];
+                box[a + 3] = t;
+            }
         if (o.clips == HV_RENDER_MAX_CLIPS) return arg_error(L, 2, "at most %d clips", HV_RENDER_MAX_CLIPS);
         if (hv_clip_box(box, box + 3, &o.clip[o.clips++]) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
     }

@@ -226,6 +226,8 @@ assert(io.open(tmp .. "/r.png", "rb"):read(4) == "\137PNG")
 fails("path is required", graded.render, graded, {})
 fails("clip", graded.render, graded, {path = tmp .. "/x.png", clip = "w>3"})
 fails("size must be", graded.render, graded, {path = tmp .. "/x.png", size = {0, 5}})
+fails("give either view or eye/target", graded.render, graded, {path = tmp .. "/x.png", view = "top", eye = {1, 2, 3}})
+fails("target needs eye", graded.render, graded, {path = tmp .. "/x.png", target = {1, 2, 3}})
 
 -- an object renders, exports, probes, profiles, saves and slices through an evaluation, with
 -- its errors named as its own

@@ -315,7 +315,16 @@ static void cut_face(const rctx *c, ray *r, double t, const double n[3])
     if (alpha <= 0) return;
     float rgb[3], nf[3] = {(float)n[0], (float)n[1], (float)n[2]}, out[3];
     colour_of(og, col, rgb, NULL);
-    shade(c, r, rgb, nf, 1.0f, out);
+    if (c->kd > 0) {
+        /* a cut face is there to show the composition: lit from the eye (a headlight, no
+         * highlight) on top of a raised ambient, so a face the key light misses stays
+         * readable and faces at different angles still tell apart */
+        float nv = -(nf[0] * (float)r->d[0] + nf[1] * (float)r->d[1] + nf[2] * (float)r->d[2]);
+        float k = 0.6f + 0.4f * (nv < 0 ? -nv : nv);
+        for (int i = 0; i < 3; ++i) out[i] = rgb[i] * k > 1 ? 1 : rgb[i] * k;
+    } else {
+        shade(c, r, rgb, nf, 1.0f, out);
+    }
     composite(r, out, alpha);
     if (c->o->mode == HV_RENDER_SURFACE && alpha >= 1) r->done = 1;
 }

@@ -105,6 +105,14 @@ hv_status r_camera_setup(const hv_render_scene *s, const hv_render_options *opt,
     }
     for (int a = 0; a < 3; ++a) cam->fwd[a] = -e[a];
     cross3(cam->fwd, up, cam->right);
+    if (!(norm3(cam->right) > 1e-9 * (sqrt(dot3(up, up)) + 1e-300)) && up[0] == 0 && up[1] == 0 &&
+        up[2] > 0) {
+        /* looking straight down (or up) with the default z up: +y is up on the screen, as in
+         * the top view */
+        up[1] = 1;
+        up[2] = 0;
+        cross3(cam->fwd, up, cam->right);
+    }
     if (!(norm3(cam->right) > 1e-9 * (sqrt(dot3(up, up)) + 1e-300)))
         return hv_error_set(
             HV_ERR_INVALID, "render: up vector (%g, %g, %g) is zero or parallel to the view direction",

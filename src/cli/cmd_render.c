@@ -113,7 +113,7 @@ int cmd_render(int argc, char **argv)
     hv_render_options opt;
     hv_render_options_init(&opt);
     const char *output = NULL;
-    int quiet = 0, c, have_eye = 0, have_target = 0, have_view = 0;
+    int quiet = 0, c, have_eye = 0, have_target = 0, have_view = 0, have_up = 0;
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":o:qh", opts, NULL)) != -1) {
@@ -141,6 +141,7 @@ int cmd_render(int argc, char **argv)
             break;
         case O_UP:
             if (parse_vec3("--up", optarg, opt.camera.up)) return EXIT_USAGE;
+            have_up = 1;
             break;
         case O_ORTHO: opt.camera.ortho = 1; break;
         case O_FOV:
@@ -222,6 +223,7 @@ int cmd_render(int argc, char **argv)
     if ((have_target || have_eye) && have_view)
         return cli_usage_error(CMD, "give either --view or --eye/--target, not both");
     if (have_target && !have_eye) return cli_usage_error(CMD, "--target needs --eye");
+    if (have_up && !have_eye) return cli_usage_error(CMD, "--up needs --eye (preset views have their own)");
     const char *path = argv[optind];
 
     hv_volume *vol = NULL;

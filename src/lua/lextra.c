@@ -415,7 +415,9 @@ static int model_render(lua_State *L)
         double c[3] = {0.5 * (ilo[0] + ihi[0]), 0.5 * (ilo[1] + ihi[1]), 0.5 * (ilo[2] + ihi[2])};
         hv_volume_index_to_world(vol, c, o.camera.target);
     }
-    opt_vec(L, 2, "up", o.camera.up, 3, NULL);
+    int have_up = 0;
+    opt_vec(L, 2, "up", o.camera.up, 3, &have_up);
+    if (have_up && !o.camera.use_eye) return arg_error(L, 2, "up needs eye (preset views have their own)");
     lua_getfield(L, 2, "ortho");
     o.camera.ortho = lua_toboolean(L, -1);
     lua_pop(L, 1);

@@ -874,7 +874,7 @@ Test(render, bad_options_are_rejected)
         case 5: o.tf_low = 0.6; o.tf_high = 0.5; want = "transfer"; break;
         case 6: o.iso = 1; want = "iso"; break;
         case 7: o.camera.use_eye = 1; want = "equals the target"; break;
-        case 8: o.camera.use_eye = 1; o.camera.eye[2] = 5; o.camera.up[2] = 1; want = "parallel"; break;
+        case 8: o.camera.use_eye = 1; o.camera.eye[2] = 5; o.camera.up[2] = -1; want = "parallel"; break;
         case 9: o.camera.fov = 0; want = "field of view"; break;
         case 10: o.samples = 9; want = "samples"; break;
         case 11: o.clips = 17; want = "clips"; break;

@@ -60,10 +60,38 @@ void ex_eval_props(const ex_model *md, const double *p, float *const *out, size_
         switch (e->kind) {
         case EX_VOIGT: v = hv_property_voigt(p, e->x, md->m); break;
         case EX_REUSS: v = hv_property_reuss(p, e->x, md->m); break;
-        case EX_TABLE: v = hv_linearization_eval(e->lin, p[e->mat]); break;
+        case EX_TABLE: v = e->scale * hv_linearization_eval(e->lin, p[e->mat]); break;
         }
         out[q][idx] = (float)v;
     }
+}
+
+/* SI units for the arrays: a unit hovox knows is converted ("g/cm^3" -> "kg/m^3" times 1000,
+ * "GPa" -> "Pa" times 1e9); a property given without a unit takes the SI unit of its name
+ * when hovox knows the name (density kg/m^3; moduli Pa; poisson_ratio 1); any other unit is
+ * kept as given. Returns the unit to name the array with; *factor converts the values. */
+static const char *si_unit(const char *key, const char *unit, double *factor)
+{
+    static const struct { const char *unit, *si; double f; } units[] = {
+        {"kg/m^3", "kg/m^3", 1},   {"kg/m3", "kg/m^3", 1}, {"g/cm^3", "kg/m^3", 1e3},
+        {"g/cm3", "kg/m^3", 1e3},  {"g/cc", "kg/m^3", 1e3}, {"Pa", "Pa", 1},
+        {"kPa", "Pa", 1e3},        {"MPa", "Pa", 1e6},      {"GPa", "Pa", 1e9},
+        {"1", "1", 1},             {"-", "1", 1}};
+    static const struct { const char *key, *si; } keys[] = {
+        {"density", "kg/m^3"},      {"youngs_modulus", "Pa"}, {"shear_modulus", "Pa"},
+        {"bulk_modulus", "Pa"},     {"poisson_ratio", "1"}};
+    *factor = 1;
+    if (unit && *unit) {
+        for (size_t i = 0; i < HV_COUNT(units); ++i)
+            if (strcmp(unit, units[i].unit) == 0) {
+                *factor = units[i].f;
+                return units[i].si;
+            }
+        return unit;
+    }
+    for (size_t i = 0; i < HV_COUNT(keys); ++i)
+        if (strcmp(key, keys[i].key) == 0) return keys[i].si;
+    return "";
 }
 
 static void array_name(char *dst, size_t size, const char *key, const char *model,
@@ -107,16 +135,21 @@ static hv_status build_mix_props(ex_model *md, unsigned mix, size_t *cap)
             int ok = 1;
             for (int b = 0; b < md->m && ok; ++b) {
                 const char *unit = NULL;
+                double f = 1;
                 if (!hv_material_property(t, b, key, &p.x[b], &unit)) {
                     hv_buf_printf(&md->notes, "property '%s' left out: material '%s' has no "
                                   "value\n", key, hv_material_name(t, b));
                     ok = 0;
-                } else if (b == 0) {
-                    unit0 = unit ? unit : "";
-                } else if (strcmp(unit0, unit ? unit : "") != 0) {
+                    continue;
+                }
+                const char *si = si_unit(key, unit, &f);
+                p.x[b] *= f;
+                if (b == 0) {
+                    unit0 = si;
+                } else if (strcmp(unit0, si) != 0) {
                     hv_buf_printf(&md->notes, "property '%s' left out: units differ ('%s' for "
                                   "'%s', '%s' for '%s')\n", key, unit0, hv_material_name(t, 0),
-                                  unit ? unit : "", hv_material_name(t, b));
+                                  si, hv_material_name(t, b));
                     ok = 0;
                 }
             }
@@ -167,14 +200,10 @@ static hv_status build_table_props(ex_model *md, const hv_export_options *opt, s
             hv_buf_free(&names);
             return s;
         }
-        const char *unit = hv_linearization_unit(lin);
-        if (!*unit)
-            for (int q = 0; q < md->m && !*unit; ++q) {
-                const char *u = NULL;
-                if (hv_material_property(md->table, q, prop, NULL, &u) && u) unit = u;
-            }
         ex_prop p;
         memset(&p, 0, sizeof p);
+        /* the table's own unit, converted to SI as the material properties are */
+        const char *unit = si_unit(prop, hv_linearization_unit(lin), &p.scale);
         p.kind = EX_TABLE;
         p.lin = lin;
         p.mat = j;

@@ -14,6 +14,7 @@ typedef struct ex_prop {
     double x[HV_MAX_MATERIALS];  /* per-material values (mixing rules) */
     const hv_linearization *lin; /* table */
     int mat;                     /* table: the material whose fraction is the variable */
+    double scale;                /* table: factor to SI units */
     char name[200];
 } ex_prop;
 

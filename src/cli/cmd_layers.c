@@ -2,6 +2,7 @@
  * (Wu 2.4.2): contour-constrained material layers at printer resolution, halftoned or as
  * fractions or masks, PNG layers with manifest.json, optionally a GCVF zip. */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -117,6 +118,39 @@ static void print_plan(const hv_layers_report *r, const hv_layers_options *o)
            r->pixel_mm[0], -r->pixel_mm[1], r->origin_mm[0], r->origin_mm[1], r->bit_depth);
     printf("layers      %zu to %zu of %zu\n", r->first, r->last - 1, r->layers_total);
     printf("memory      about %.1f MiB (%d workers)\n", (double)r->memory_bytes / 1048576.0, r->threads);
+}
+
+/* The voxelizer records the mesh it was given (hovox.mesh.json): a --mesh whose box differs
+ * from that one by more than a voxel is probably not the model's mesh. A warning, not an
+ * error: a repaired or re-exported mesh of the same part is fine. */
+static void warn_other_mesh(const char *mesh_path, const hv_mesh *mesh, const char *model_path,
+                            const hv_volume *model)
+{
+    const char *text = hv_volume_meta_string(model, "hovox.mesh.json");
+    hv_json *j = text ? hv_json_parse(text, strlen(text)) : NULL;
+    const hv_json *bb = j ? hv_json_get(j, "bbox") : NULL;
+    const hv_json *mn = bb ? hv_json_get(bb, "min") : NULL, *mx = bb ? hv_json_get(bb, "max") : NULL;
+    const hv_mesh_report *r = hv_mesh_get_report(mesh);
+    hv_transform xf = hv_volume_get_transform(model);
+    double tol = HV_MAX(xf.voxel[0], HV_MAX(xf.voxel[1], xf.voxel[2])), was[6];
+    int ok = mn && mx, differs = 0;
+    for (int a = 0; a < 3 && ok; ++a) {
+        const hv_json *p = hv_json_at(mn, (size_t)a), *q = hv_json_at(mx, (size_t)a);
+        if (!p || !q || p->type != HV_JSON_NUMBER || q->type != HV_JSON_NUMBER) {
+            ok = 0;
+            break;
+        }
+        was[a] = p->number;
+        was[a + 3] = q->number;
+        differs |= fabs(was[a] - r->bbox_min[a]) > tol || fabs(was[a + 3] - r->bbox_max[a]) > tol;
+    }
+    if (ok && differs)
+        fprintf(stderr,
+                "hovox: warning: %s spans (%g, %g, %g)-(%g, %g, %g), but %s was voxelized from a mesh "
+                "spanning (%g, %g, %g)-(%g, %g, %g): is this its mesh?\n",
+                mesh_path, r->bbox_min[0], r->bbox_min[1], r->bbox_min[2], r->bbox_max[0], r->bbox_max[1],
+                r->bbox_max[2], model_path, was[0], was[1], was[2], was[3], was[4], was[5]);
+    hv_json_free(j);
 }
 
 int cmd_layers(int argc, char **argv)
@@ -296,6 +330,7 @@ int cmd_layers(int argc, char **argv)
             return cli_fail(s);
         }
     }
+    if (model) warn_other_mesh(mesh_path, mesh, model_path, model);
     hv_layers_report r;
     s = hv_layers_plan(mesh, model, &o, &r);
     if (s != HV_OK) {

@@ -45,6 +45,10 @@ int main(int argc, char **argv)
     }
     const char *cmd = argv[1];
     if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
+        if (argc > 2) {
+            fprintf(stderr, "hovox: %s takes no arguments (got '%s')\n", cmd, argv[2]);
+            return EXIT_USAGE;
+        }
         printf("hovox %s\n", hv_version());
         return EXIT_OK;
     }

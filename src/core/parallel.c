@@ -106,8 +106,8 @@ static void *try_open(const char *dir, const char *name, hv_buf *tried)
     if (!h) {
         const char *e = dlerror();
         /* keep the loader's reason when the file exists: that is the useful one */
-        if (access(path, F_OK) == 0) hv_buf_printf(tried, "\n  %s (%s)", path, e ? e : "?");
-        else hv_buf_printf(tried, "\n  %s (missing)", path);
+        if (access(path, F_OK) == 0) hv_buf_printf(tried, " %s (%s);", path, e ? e : "?");
+        else hv_buf_printf(tried, " %s (missing);", path);
     }
     return h;
 }

@@ -1,0 +1,1 @@
+$HOVOX --version extra; echo "rc=$?"

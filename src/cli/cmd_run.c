@@ -2,6 +2,7 @@
  * `hovox` module, `arg` as in standalone Lua, and an optional sandbox for scripts from others. */
 #include <getopt.h>
 #include <stdio.h>
+#include <sys/stat.h>
 #include <string.h>
 
 #include <lauxlib.h>
@@ -67,6 +68,11 @@ int cmd_run(int argc, char **argv)
     }
     if (optind >= argc) return cli_usage_error("run", "missing SCRIPT.lua");
     const char *script = argv[optind];
+    struct stat od;
+    if (sandbox && (stat(outdir, &od) != 0 || !S_ISDIR(od.st_mode))) {
+        fprintf(stderr, "hovox: %s: the sandbox's output directory does not exist (create it first)\n", outdir);
+        return EXIT_IO;
+    }
     lua_State *L = luaL_newstate();
     if (!L) {
         fprintf(stderr, "hovox: out of memory creating the Lua state\n");

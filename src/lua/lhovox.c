@@ -257,8 +257,51 @@ static void wrap(lua_State *L, const char *lib, const char *name, lua_CFunction 
     lua_pop(L, 1);
 }
 
+/* load/loadfile with the mode forced to text: Lua does not verify precompiled chunks, so
+ * crafted bytecode is a way out of any sandbox. Upvalue 1: the original; `mode_arg` is the
+ * position of the mode argument (3 for load, 2 for loadfile). */
+static int sb_text_only(lua_State *L)
+{
+    int mode_arg = (int)lua_tointeger(L, lua_upvalueindex(2));
+    int n = lua_gettop(L) < mode_arg + 1 ? mode_arg + 1 : lua_gettop(L);
+    lua_settop(L, n);
+    lua_pushstring(L, "t");
+    lua_replace(L, mode_arg);
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, n, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+/* dofile(name) as loadfile(name, "t") then call */
+static int sb_dofile(lua_State *L)
+{
+    const char *name = luaL_optstring(L, 1, NULL);
+    lua_settop(L, 1);
+    if (luaL_loadfilex(L, name, "t") != LUA_OK) return lua_error(L);
+    lua_call(L, 0, LUA_MULTRET);
+    return lua_gettop(L) - 1;
+}
+
 void hv_lua_sandbox(lua_State *L)
 {
+    /* debug reaches every upvalue (the real io.open inside its wrapper) and every local */
+    lua_pushnil(L);
+    lua_setglobal(L, "debug");
+    if (lua_getglobal(L, "package") == LUA_TTABLE && lua_getfield(L, -1, "loaded") == LUA_TTABLE) {
+        lua_pushnil(L);
+        lua_setfield(L, -2, "debug");
+    }
+    lua_settop(L, 0);
+    static const char *const loaders[] = {"load", "loadfile"};
+    for (int i = 0; i < 2; ++i) {
+        lua_getglobal(L, loaders[i]);
+        lua_pushinteger(L, i == 0 ? 3 : 2);
+        lua_pushcclosure(L, sb_text_only, 2);
+        lua_setglobal(L, loaders[i]);
+    }
+    lua_pushcfunction(L, sb_dofile);
+    lua_setglobal(L, "dofile");
     deny(L, "os", "execute");
     deny(L, "os", "tmpname");
     deny(L, "io", "popen");
@@ -268,17 +311,19 @@ void hv_lua_sandbox(lua_State *L)
     wrap(L, "io", "output", sb_io_output, -1);
     wrap(L, "os", "remove", sb_os_path, 1);
     wrap(L, "os", "rename", sb_os_path, 2);
-    /* no C modules: keep only the preload and Lua-file searchers */
+    /* require finds preloaded modules only: no C modules, and no Lua files either (the file
+     * searcher accepts precompiled chunks) */
     if (lua_getglobal(L, "package") == LUA_TTABLE) {
         lua_pushstring(L, "");
         lua_setfield(L, -2, "cpath");
+        lua_pushstring(L, "");
+        lua_setfield(L, -2, "path");
         lua_getfield(L, -1, "searchers");
-        if (lua_istable(L, -1)) {
-            lua_pushnil(L);
-            lua_rawseti(L, -2, 4);
-            lua_pushnil(L);
-            lua_rawseti(L, -2, 3);
-        }
+        if (lua_istable(L, -1))
+            for (int k = 4; k >= 2; --k) {
+                lua_pushnil(L);
+                lua_rawseti(L, -2, k);
+            }
         lua_pop(L, 1);
     }
     lua_pop(L, 1);

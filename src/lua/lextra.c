@@ -53,6 +53,8 @@ static const char *get_path(lua_State *L, int idx, const char *key)
  *               <material> = {...}, ...} */
 static int model_profile(lua_State *L)
 {
+    static const char *const keys[] = {"from", "to", "samples", "csv", "plot", "title", "width", "height", NULL};
+    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
     luaL_checktype(L, 2, LUA_TTABLE);
     double from[3], to[3];
@@ -189,6 +191,8 @@ static hv_status contour_sink(void *user, size_t index, const hv_layer *layer, h
  *        orientation, parent, area}, ... }}, ... } */
 static int l_contours(lua_State *L)
 {
+    static const char *const keys[] = {"layer_height", "first_layer", "adaptive", "output", "binary", "loops", NULL};
+    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_mesh *mesh = hv_lua_mesh(L, 1);
     luaL_checktype(L, 2, LUA_TTABLE);
     lua_getfield(L, 2, "layer_height");
@@ -260,6 +264,8 @@ static int l_contours(lua_State *L)
  *              max_memory = bytes} -> {points, cells, occupied, arrays = "a,b,...", bytes} */
 static int model_export(lua_State *L)
 {
+    static const char *const keys[] = {"path", "box", "coarsen", "keep", "properties", "linearize", "level", "max_memory", NULL};
+    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
     luaL_checktype(L, 2, LUA_TTABLE);
     const char *path = get_path(L, 2, "path");
@@ -378,6 +384,8 @@ static void opt_vec(lua_State *L, int idx, const char *key, double *out, int n, 
  *              aa = N} -- the options of `hovox render` */
 static int model_render(lua_State *L)
 {
+    static const char *const keys[] = {"path", "size", "surface", "flat", "view", "eye", "target", "up", "ortho", "fov", "step", "density", "cut_opacity", "clip", "clip_box", "background", "aa", NULL};
+    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
     luaL_checktype(L, 2, LUA_TTABLE);
     const char *path = get_path(L, 2, "path");
@@ -495,6 +503,8 @@ static int model_render(lua_State *L)
  *       achieved}}, diff_mean, diff_max} -- the options of `hovox layers` */
 static int model_layers(lua_State *L)
 {
+    static const char *const keys[] = {"mesh", "dir", "profile", "dpi", "layer_height", "mode", "method", "halftone", "seed", "layers", "threshold", "fill_rule", "background", "compare", "gcvf", "force", "max_memory", NULL};
+    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
     luaL_checktype(L, 2, LUA_TTABLE);
     lua_getfield(L, 2, "mesh");

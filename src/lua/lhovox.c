@@ -48,6 +48,32 @@ int hv_lua_arg_error(lua_State *L, int arg, const char *fmt, ...)
     return luaL_argerror(L, arg, msg);
 }
 
+void hv_lua_check_keys(lua_State *L, int idx, int arg, const char *const *keys, int allow_list)
+{
+    if (!lua_istable(L, idx)) return;
+    idx = lua_absindex(L, idx);
+    lua_pushnil(L);
+    while (lua_next(L, idx)) {
+        lua_pop(L, 1);
+        if (lua_type(L, -1) == LUA_TNUMBER && allow_list) continue;
+        if (lua_type(L, -1) != LUA_TSTRING) {
+            hv_lua_arg_error(L, arg, "options are named (key = value), got a %s key", luaL_typename(L, -1));
+            return;
+        }
+        const char *k = lua_tostring(L, -1);
+        int ok = 0;
+        for (const char *const *q = keys; *q && !ok; ++q) ok = strcmp(k, *q) == 0;
+        if (ok) continue;
+        char list[400];
+        size_t n = 0;
+        list[0] = '\0';
+        for (const char *const *q = keys; *q && n + strlen(*q) + 3 < sizeof list; ++q)
+            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", q == keys ? "" : ", ", *q);
+        hv_lua_arg_error(L, arg, "unknown option '%s' (options: %s)", k, list);
+        return;
+    }
+}
+
 /* Raise the library's message for a failed call (after the call has returned). */
 static int fail(lua_State *L, hv_status s)
 {
@@ -541,6 +567,8 @@ static int l_voxelize(lua_State *L)
     hv_transform lattice;
     if (!lua_isnoneornil(L, 2)) {
         luaL_checktype(L, 2, LUA_TTABLE);
+        static const char *const keys[] = {"dims", "voxel_size", "like", "adjacency", "fill", "max_memory", NULL};
+        hv_lua_check_keys(L, 2, 2, keys, 0);
         int adj = opt_int_range(L, 2, 2, "adjacency", 26, 6, 26);
         if (adj != 6 && adj != 26) return arg_error(L, 2, "adjacency must be 6 or 26, got %d", adj);
         o.adjacency = adj;
@@ -759,16 +787,36 @@ static int mats_add_one(lua_State *L, hv_material_table *t, int idx, int arg)
     /* every other numeric field is a property; units for the known ones */
     static const struct { const char *key, *unit; } known[] = {
         {"density", "kg/m^3"}, {"youngs_modulus", "Pa"}, {"poisson_ratio", "1"}};
+    /* every other field is a property: a number (SI unit for the known ones) or {value, "unit"} */
     lua_pushnil(L);
     while (lua_next(L, idx)) {
-        if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TNUMBER) {
-            const char *key = lua_tostring(L, -2), *unit = "";
+        if (lua_type(L, -2) != LUA_TSTRING) {
+            lua_pop(L, 1);
+            continue;
+        }
+        const char *key = lua_tostring(L, -2), *unit = "";
+        if (strcmp(key, "name") == 0 || strcmp(key, "color") == 0) {
+            lua_pop(L, 1);
+            continue;
+        }
+        double value = 0;
+        const char *tn = luaL_typename(L, -1);
+        if (lua_type(L, -1) == LUA_TNUMBER) {
+            value = lua_tonumber(L, -1);
             for (size_t i = 0; i < HV_COUNT(known); ++i)
                 if (strcmp(key, known[i].key) == 0) unit = known[i].unit;
-            if ((s = hv_material_set_property(t, mi, key, lua_tonumber(L, -1), unit)) != HV_OK) {
-                lua_pop(L, 2);
-                return fail(L, s);
-            }
+        } else if (lua_istable(L, -1) && lua_rawlen(L, -1) == 2 && lua_rawgeti(L, -1, 1) == LUA_TNUMBER &&
+                   lua_rawgeti(L, -2, 2) == LUA_TSTRING) {
+            value = lua_tonumber(L, -2);
+            unit = lua_tostring(L, -1);
+            lua_pop(L, 2);
+        } else {
+            return arg_error(L, arg, "material '%s': %s must be a number or {value, \"unit\"} (a property; "
+                             "the colour is 'color'), got %s", name, key, tn);
+        }
+        if ((s = hv_material_set_property(t, mi, key, value, unit)) != HV_OK) {
+            lua_pop(L, 2);
+            return fail(L, s);
         }
         lua_pop(L, 1);
     }
@@ -1111,6 +1159,8 @@ static int push_source(lua_State *L, hv_ags *a)
 static hv_ags *source_from_table(lua_State *L, int idx, int arg)
 {
     luaL_checktype(L, idx, LUA_TTABLE);
+    static const char *const keys[] = {"feature", "d_neg", "d_grad", "d_pos", "f", "ms", "me", "name", NULL};
+    hv_lua_check_keys(L, idx, arg, keys, 0);
     lua_getfield(L, idx, "feature");
     l_feature *feat = luaL_testudata(L, -1, MT_FEATURE);
     if (!feat || !feat->p) luaL_argerror(L, arg, "feature must be a hovox feature (hovox.axis{...}, model:contour(), ...)");

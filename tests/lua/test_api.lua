@@ -80,6 +80,15 @@ assert(v == 1000 and unit == "kg/m^3")
 assert(mats:property("B", "density") == nil)
 fails("defined twice", hovox.materials, {"A", "A"})
 fails("colour", hovox.materials, {{name = "X", color = "#12"}})
+-- a property with its unit; a misspelt colour or a property that is not a number is refused
+local pm = hovox.materials{{name = "P", density = {1.18, "g/cm^3"}}}
+local pv, pu = pm:property("P", "density")
+assert(pv == 1.18 and pu == "g/cm^3", pu)
+fails("colour is 'color'", hovox.materials, {{name = "X", colour = "#ff0000"}})
+fails("density must be a number or {value", hovox.materials, {{name = "X", density = "1180"}})
+-- a misspelt option is an error, never a silent default
+fails("unknown option 'dgrad'", hovox.ags, {feature = hovox.point{0, 0, 0}, dgrad = 5, ms = {1, 0}, me = {0, 1}})
+fails("unknown option 'dim'", hovox.voxelize, box, {dim = 10})
 
 -- features
 local axis = hovox.axis{origin = {0, 5, 5}, direction = {1, 0, 0}}
@@ -100,6 +109,10 @@ fails("direction must not be zero", hovox.axis, {direction = {0, 0, 0}})
 fails("voxel features need the model", contour.distance, contour, {1, 1, 1})
 fails("no bool grid 'nope'", m.mask, m, "nope")
 fails("picks no facet", hovox.facets, box, {normal = {1, 1, 1}, angle = 1})
+-- the harmonic field between the box's x faces is linear along the bar (within a voxel)
+local phi = m:harmonic(box, {normal = {-1, 0, 0}, angle = 5}, {normal = {1, 0, 0}, angle = 5})
+for _, x in ipairs{2, 5, 10, 15, 18} do near(phi:distance({x, 5, 5}, m), 1 - x / 20, 0.02, "harmonic at x = " .. x) end
+fails("picks no facet", m.harmonic, m, box, {normal = {1, 1, 1}, angle = 1}, {normal = {1, 0, 0}, angle = 5})
 
 -- sources
 local src = hovox.ags{feature = axis, d_neg = 1, d_grad = 4, d_pos = 0, f = "d/dg",
@@ -226,6 +239,8 @@ assert(io.open(tmp .. "/r.png", "rb"):read(4) == "\137PNG")
 fails("path is required", graded.render, graded, {})
 fails("clip", graded.render, graded, {path = tmp .. "/x.png", clip = "w>3"})
 fails("size must be", graded.render, graded, {path = tmp .. "/x.png", size = {0, 5}})
+fails("unknown option 'sise'", graded.render, graded, {path = tmp .. "/x.png", sise = {8, 8}})
+fails("unknown option 'coarse'", graded.export, graded, {path = tmp .. "/x.vtu", coarse = 2})
 fails("give either view or eye/target", graded.render, graded, {path = tmp .. "/x.png", view = "top", eye = {1, 2, 3}})
 fails("target needs eye", graded.render, graded, {path = tmp .. "/x.png", target = {1, 2, 3}})
 

@@ -1340,6 +1340,15 @@ static int object_set_base(lua_State *L)
 static int object_boolean(lua_State *L, hv_bool_op op)
 {
     l_object *a = CHECK(L, 1, l_object, MT_OBJECT), *b = CHECK(L, 2, l_object, MT_OBJECT);
+    /* compositions are vectors over the same named materials, in the same order: otherwise
+     * the operators would silently relabel one object's materials */
+    const hv_material_table *ta = object_mats(L, 1), *tb = object_mats(L, 2);
+    int na = hv_material_count(ta), nb = hv_material_count(tb);
+    for (int j = 0; j < na && j < nb; ++j)
+        if (strcmp(hv_material_name(ta, j), hv_material_name(tb, j)) != 0)
+            return arg_error(L, 1, "material %d is '%s' here and '%s' in the other object: combine "
+                             "objects made with the same materials", j + 1, hv_material_name(ta, j),
+                             hv_material_name(tb, j));
     hv_object *o;
     hv_status s = hv_object_boolean(a->p, b->p, op, &o);
     if (s != HV_OK) return fail(L, s);

@@ -189,6 +189,8 @@ fails("samples must be", graded.profile, graded, {from = {0, 0, 0}, to = {1, 1, 
 local b1 = hovox.voxelize(hovox.generate.box{min = {0, 0, 0}, max = {10, 10, 10}}, {voxel_size = 0.5})
 local b2 = hovox.voxelize(hovox.generate.box{min = {5, 0, 0}, max = {15, 10, 10}}, {voxel_size = 0.5})
 local h1, h2 = hovox.object(b1, mats), hovox.object(b2, mats)
+fails("material 1 is 'A' here and 'P'", h1.union, h1,
+      hovox.object(b2, hovox.materials{"P", "Q", "R"}))
 h1:add_ags{feature = hovox.point{0, 0, 0}, ms = {1, 0, 0}, me = {1, 0, 0}}
 h2:add_ags{feature = hovox.point{0, 0, 0}, ms = {0, 1, 0}, me = {0, 1, 0}}
 local n1, n2 = h1:voxels(), h2:voxels()

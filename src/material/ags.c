@@ -40,7 +40,7 @@ static hv_status tabulate(hv_ags *a, const hv_dfn *f, double lo, double hi)
     }
     if (worst > 1e-9)
         return hv_error_set(HV_ERR_INVALID,
-                            "f = %s leaves [%g, %g] on the gradient range [0, %g]: f(%.6g) = %.6g",
+                            "f = %s leaves [%g, %g] on the gradient range [0, %g]: f(%.6g) = %.9g",
                             hv_dfn_describe(f), lo, hi, dg, worst_d, worst_f);
     return HV_OK;
 }

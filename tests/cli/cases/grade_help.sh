@@ -1,0 +1,1 @@
+$HOVOX grade --help

@@ -5,8 +5,16 @@
 set -eu
 : "${HOVOX:=build/hovox}"
 out=${DEMO_OUT:-build/demo}
-rm -rf "$out"
+# clear an earlier demo's outputs only: the directory is ours when it holds the demo's marker
+if [ -d "$out" ] && [ -n "$(ls -A "$out")" ]; then
+    if [ ! -f "$out/.hovox-demo" ]; then
+        echo "demo: $out exists and is not an earlier demo's output; choose another DEMO_OUT" >&2
+        exit 1
+    fi
+    rm -rf "$out"
+fi
 mkdir -p "$out"
+: >"$out/.hovox-demo"
 echo "== mesh reports of the sample meshes"
 "$HOVOX" info samples/*.stl
 echo

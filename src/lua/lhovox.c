@@ -1203,6 +1203,37 @@ static int l_ags(lua_State *L)
     return push_source(L, a);
 }
 
+/* hovox.wu3{feature, d_neg, d_grad, d_pos, f, c}: Wu's 3-material distance-field paradigm
+ * (eq. 13), P = [f, 1 - f - c, c] over the gradient range, checking 0 <= f <= 1 - c. */
+static int l_wu3(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TTABLE);
+    static const char *const keys[] = {"feature", "d_neg", "d_grad", "d_pos", "f", "c", NULL};
+    hv_lua_check_keys(L, 1, 1, keys, 0);
+    lua_getfield(L, 1, "feature");
+    l_feature *feat = luaL_testudata(L, -1, MT_FEATURE);
+    if (!feat || !feat->p) return luaL_argerror(L, 1, "feature must be a hovox feature (hovox.axis{...}, ...)");
+    lua_pop(L, 1);
+    double dn = opt_number(L, 1, 1, "d_neg", 0), dg = opt_number(L, 1, 1, "d_grad", 0),
+           dp = opt_number(L, 1, 1, "d_pos", 0), c = opt_number(L, 1, 1, "c", 0);
+    if (dn < 0 || dg < 0 || dp < 0)
+        return arg_error(L, 1, "d_neg, d_grad and d_pos must be >= 0, got %g, %g, %g", dn, dg, dp);
+    if (!(c >= 0 && c <= 1)) return arg_error(L, 1, "c must be in [0, 1], got %g", c);
+    hv_dfn *f = NULL;
+    lua_fn_ctx ctx = {L, LUA_NOREF, 0, ""};
+    lua_getfield(L, 1, "f");
+    if (lua_isnil(L, -1)) return luaL_argerror(L, 1, "f is required (Wu eq. 13: P = [f, 1 - f - c, c])");
+    read_f(L, -1, 1, &ctx, &f);
+    lua_pop(L, 1);
+    hv_ags *a = NULL;
+    hv_status s = hv_ags_wu3(feat->p, dn, dg, dp, f, c, &a);
+    hv_dfn_destroy(f);
+    if (ctx.ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, ctx.ref);
+    if (ctx.failed) return arg_error(L, 1, "f failed: %s", ctx.msg);
+    if (s != HV_OK) return luaL_argerror(L, 1, hv_last_error());
+    return push_source(L, a);
+}
+
 static int source_eval(lua_State *L)
 {
     l_source *u = CHECK(L, 1, l_source, MT_SOURCE);
@@ -1534,7 +1565,7 @@ int luaopen_hovox(lua_State *L)
     static const luaL_Reg fns[] = {{"load_mesh", l_load_mesh}, {"voxelize", l_voxelize}, {"load", l_load},
                                    {"materials", l_materials}, {"axis", l_axis},         {"line", l_axis},
                                    {"plane", l_plane},         {"point", l_point},       {"segment", l_segment},
-                                   {"facets", l_facets},       {"ags", l_ags},           {"object", l_make_object},
+                                   {"facets", l_facets},       {"ags", l_ags},           {"wu3", l_wu3},           {"object", l_make_object},
                                    {"set_threads", l_set_threads}, {NULL, NULL}};
     luaL_newlib(L, fns);
     luaL_setfuncs(L, hv_lua_module_extra(), 0);

@@ -114,6 +114,14 @@ local phi = m:harmonic(box, {normal = {-1, 0, 0}, angle = 5}, {normal = {1, 0, 0
 for _, x in ipairs{2, 5, 10, 15, 18} do near(phi:distance({x, 5, 5}, m), 1 - x / 20, 0.02, "harmonic at x = " .. x) end
 fails("picks no facet", m.harmonic, m, box, {normal = {1, 1, 1}, angle = 1}, {normal = {1, 0, 0}, angle = 5})
 
+-- Wu's 3-material paradigm (eq. 13): P = [f, 1 - f - c, c], f within [0, 1 - c]
+local w3 = hovox.wu3{feature = hovox.point{0, 0, 0}, d_grad = 10, f = "0.5*d/dg", c = 0.2}
+local w3p = w3:eval(5)
+near(w3p[1], 0.25, 1e-6, "wu3 f")
+near(w3p[2], 0.55, 1e-6, "wu3 1 - f - c")
+near(w3p[3], 0.2, 1e-6, "wu3 c")
+fails("leaves [0, 0.8]", hovox.wu3, {feature = hovox.point{0, 0, 0}, d_grad = 10, f = "d/dg", c = 0.2})
+
 -- sources
 local src = hovox.ags{feature = axis, d_neg = 1, d_grad = 4, d_pos = 0, f = "d/dg",
                       ms = {1, 0, 0}, me = {0, 1, 0}, name = "radial"}

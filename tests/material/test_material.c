@@ -588,6 +588,28 @@ Test(operators, blends_keep_the_sum)
     free_two(&w);
 }
 
+/* Wu's AGS operators (eq. 24-26) keep the sum-to-one invariant in every voxel: add a second
+ * source to one object, move one, delete one, evaluating after each. */
+Test(operators, ags_add_move_delete_keep_the_sum, .timeout = 60)
+{
+    two w;
+    two_spheres(&w);
+    hv_volume *r;
+    cr_assert_eq(hv_object_add_ags(w.h1, w.g2), HV_OK); /* two sources: nearest wins */
+    cr_assert_eq(hv_object_evaluate(w.h1, w.t, 0, NULL, &r), HV_OK, "%s", hv_last_error());
+    check_sum_to_one(r, w.t, "after add");
+    hv_volume_destroy(r);
+    cr_assert_eq(hv_object_move_ags(w.h1, w.g1, 1.5), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_object_evaluate(w.h1, w.t, 0, NULL, &r), HV_OK, "%s", hv_last_error());
+    check_sum_to_one(r, w.t, "after move");
+    hv_volume_destroy(r);
+    cr_assert_eq(hv_object_delete_ags(w.h1, w.g2), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_object_evaluate(w.h1, w.t, 0, NULL, &r), HV_OK, "%s", hv_last_error());
+    check_sum_to_one(r, w.t, "after delete");
+    hv_volume_destroy(r);
+    free_two(&w);
+}
+
 Test(operators, lattices_and_counts_must_match)
 {
     two w;

@@ -192,12 +192,16 @@ int cmd_grade(int argc, char **argv)
                                        c == O_RANGES ? "--ranges" : c == O_F ? "--f" : c == O_MS ? "--ms" : "--me");
             if (c == O_RANGES) {
                 if (g->have_ranges) return cli_usage_error("grade", "source %d: --ranges given twice", ng);
-                if (parse_list("--ranges", optarg, g->ranges, 3) != 3)
-                    return cli_usage_error("grade", "--ranges '%s': expected D-,DG,D+", optarg);
+                int k = parse_list("--ranges", optarg, g->ranges, 3);
+                if (k < 0) return EXIT_USAGE; /* parse_list said why */
+                if (k != 3) return cli_usage_error("grade", "--ranges '%s': expected D-,DG,D+", optarg);
                 g->have_ranges = 1;
             } else if (c == O_F) {
+                if (g->f) return cli_usage_error("grade", "source %d: --f given twice", ng);
                 g->f = optarg;
             } else {
+                if (c == O_MS ? g->nms : g->nme)
+                    return cli_usage_error("grade", "source %d: %s given twice", ng, c == O_MS ? "--ms" : "--me");
                 int k = parse_list(c == O_MS ? "--ms" : "--me", optarg, c == O_MS ? g->ms : g->me, HV_MAX_MATERIALS);
                 if (k < 0) return EXIT_USAGE;
                 if (c == O_MS) g->nms = k;

@@ -10,3 +10,8 @@ $HOVOX grade "$TMP/b.vdb" -o "$TMP/g3.vdb" --materials A,B --frf point:0,0,0 --r
 echo "rc=$?"
 $HOVOX grade "$TMP/b.vdb" -o "$TMP/g4.vdb" --materials A,B --frf cone:0,0,0 --ranges 0,4,0 --f 'd/dg' --ms 1,0 --me 0,1
 echo "rc=$?"; ls "$TMP"
+# an option of a source given twice, or a list that does not parse, says so once (exit 2)
+$HOVOX grade "$TMP/b.vdb" -o "$TMP/g5.vdb" --materials A,B --frf point:0,0,0 --ranges nan,4,0 --ms 1,0 --me 0,1
+echo "rc=$?"
+$HOVOX grade "$TMP/b.vdb" -o "$TMP/g6.vdb" --materials A,B --frf point:0,0,0 --ranges 0,4,0 --ms 1,0 --ms 0,1 --me 0,1
+echo "rc=$?"

@@ -47,6 +47,10 @@ HV_API hv_status hv_color_parse(const char *s, float rgba[4]);
  * of [A-Za-z0-9_.-]. Errors: HV_ERR_INVALID (key, non-finite value). */
 HV_API hv_status hv_material_set_property(hv_material_table *t, int m, const char *key,
                                           double value, const char *unit);
+/* The SI unit of a property hovox knows by name ("density" -> "kg/m^3"; "youngs_modulus",
+ * "shear_modulus", "bulk_modulus" -> "Pa"; "poisson_ratio" -> "1"), "" for any other: the unit
+ * of a value given without one. */
+HV_API const char *hv_property_si_unit(const char *key);
 /* 1 and *value (and *unit, owned by the table, if unit != NULL) when material m has `key`. */
 HV_API int hv_material_property(const hv_material_table *t, int m, const char *key,
                                 double *value, const char **unit);

@@ -265,8 +265,12 @@ int cmd_grade(int argc, char **argv)
         }
         *colon = '\0';
         *eq = '\0';
-        char *unit = strchr(eq + 1, ':');
-        if (unit) *unit++ = '\0';
+        char *colon2 = strchr(eq + 1, ':');
+        const char *unit = NULL;
+        if (colon2) {
+            *colon2 = '\0';
+            unit = colon2 + 1;
+        }
         int mi = hv_material_find(t, buf);
         if (mi < 0) {
             hv_material_table_destroy(t);
@@ -277,7 +281,10 @@ int cmd_grade(int argc, char **argv)
             hv_material_table_destroy(t);
             return EXIT_USAGE;
         }
-        s = hv_material_set_property(t, mi, colon + 1, v, unit ? unit : "");
+        /* as in Lua: a known property without a unit is in its SI unit */
+        const char *key = colon + 1;
+        if (!unit) unit = hv_property_si_unit(key);
+        s = hv_material_set_property(t, mi, key, v, unit);
     }
     for (int i = 0; i < ng && s == HV_OK; ++i) {
         if (groups[i].nms != m || groups[i].nme != m) {

@@ -77,9 +77,6 @@ static const char *si_unit(const char *key, const char *unit, double *factor)
         {"g/cm3", "kg/m^3", 1e3},  {"g/cc", "kg/m^3", 1e3}, {"Pa", "Pa", 1},
         {"kPa", "Pa", 1e3},        {"MPa", "Pa", 1e6},      {"GPa", "Pa", 1e9},
         {"1", "1", 1},             {"-", "1", 1}};
-    static const struct { const char *key, *si; } keys[] = {
-        {"density", "kg/m^3"},      {"youngs_modulus", "Pa"}, {"shear_modulus", "Pa"},
-        {"bulk_modulus", "Pa"},     {"poisson_ratio", "1"}};
     *factor = 1;
     if (unit && *unit) {
         for (size_t i = 0; i < HV_COUNT(units); ++i)
@@ -89,9 +86,7 @@ static const char *si_unit(const char *key, const char *unit, double *factor)
             }
         return unit;
     }
-    for (size_t i = 0; i < HV_COUNT(keys); ++i)
-        if (strcmp(key, keys[i].key) == 0) return keys[i].si;
-    return "";
+    return hv_property_si_unit(key);
 }
 
 static void array_name(char *dst, size_t size, const char *key, const char *model,

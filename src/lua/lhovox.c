@@ -785,8 +785,6 @@ static int mats_add_one(lua_State *L, hv_material_table *t, int idx, int arg)
     hv_status s = hv_material_add(t, name, color, &mi);
     if (s != HV_OK) return fail(L, s);
     /* every other numeric field is a property; units for the known ones */
-    static const struct { const char *key, *unit; } known[] = {
-        {"density", "kg/m^3"}, {"youngs_modulus", "Pa"}, {"poisson_ratio", "1"}};
     /* every other field is a property: a number (SI unit for the known ones) or {value, "unit"} */
     lua_pushnil(L);
     while (lua_next(L, idx)) {
@@ -803,8 +801,7 @@ static int mats_add_one(lua_State *L, hv_material_table *t, int idx, int arg)
         const char *tn = luaL_typename(L, -1);
         if (lua_type(L, -1) == LUA_TNUMBER) {
             value = lua_tonumber(L, -1);
-            for (size_t i = 0; i < HV_COUNT(known); ++i)
-                if (strcmp(key, known[i].key) == 0) unit = known[i].unit;
+            unit = hv_property_si_unit(key);
         } else if (lua_istable(L, -1) && lua_rawlen(L, -1) == 2 && lua_rawgeti(L, -1, 1) == LUA_TNUMBER &&
                    lua_rawgeti(L, -2, 2) == LUA_TSTRING) {
             value = lua_tonumber(L, -2);

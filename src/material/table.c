@@ -173,6 +173,16 @@ hv_status hv_material_set_color(hv_material_table *t, int m, const float rgba[4]
     return HV_OK;
 }
 
+const char *hv_property_si_unit(const char *key)
+{
+    static const struct { const char *key, *si; } keys[] = {
+        {"density", "kg/m^3"},      {"youngs_modulus", "Pa"}, {"shear_modulus", "Pa"},
+        {"bulk_modulus", "Pa"},     {"poisson_ratio", "1"}};
+    for (size_t i = 0; key && i < HV_COUNT(keys); ++i)
+        if (strcmp(key, keys[i].key) == 0) return keys[i].si;
+    return "";
+}
+
 hv_status hv_material_set_property(hv_material_table *t, int m, const char *key, double value,
                                    const char *unit)
 {

@@ -39,7 +39,13 @@ local ok, err = pcall(hovox.ags, {feature = z_axis, d_neg = 9.54, d_grad = 9.54,
                                   f = "0.105*d", ms = ms, me = me})
 assert(not ok, "Wu's f(d) = 0.105 d must be refused")
 print("Wu's f(d) = 0.105*d: " .. err:gsub("^[^:]*:%d+: ", ""))
--- ... so we use its normalised form, f(d) = d / dg (0.1048 d here), which reaches exactly 1.
+-- Wu gives the plane source "the same f": over its dg = 22.26 that reaches 2.34, refused too.
+local ok2, err2 = pcall(hovox.ags, {feature = bottom, d_neg = 3.18, d_grad = 22.26, d_pos = 14.01,
+                                    f = "0.105*d", ms = ms, me = me})
+assert(not ok2, "0.105 d over the plane's range must be refused")
+print("the same f on the plane's range: " .. err2:gsub("^[^:]*:%d+: ", ""))
+-- ... so both sources use the normalised form, f(d) = d / dg (0.1048 d for the axis, 0.0449 d
+-- for the plane), which reaches exactly 1 at the end of each range.
 local radial = hovox.ags{name = "z axis", feature = z_axis, d_neg = 9.54, d_grad = 9.54,
                          d_pos = 20.37, f = "d/dg", ms = ms, me = me}
 local axial = hovox.ags{name = "bottom plane", feature = bottom, d_neg = 3.18, d_grad = 22.26,

@@ -19,36 +19,7 @@
 /* Activate the voxels [lo, hi] (inclusive) of a box. */
 static void add_box(hv_volume *v, const int lo[3], const int hi[3])
 {
-    size_t cap = 64, n = 0;
-    int32_t *o = malloc(cap * 3 * sizeof *o);
-    uint64_t *m = malloc(cap * 8 * sizeof *m);
-    for (int bx = lo[0] & ~7; bx <= hi[0]; bx += 8)
-        for (int by = lo[1] & ~7; by <= hi[1]; by += 8)
-            for (int bz = lo[2] & ~7; bz <= hi[2]; bz += 8) {
-                if (n == cap) {
-                    cap *= 2;
-                    o = realloc(o, cap * 3 * sizeof *o);
-                    m = realloc(m, cap * 8 * sizeof *m);
-                }
-                memset(m + 8 * n, 0, 8 * sizeof *m);
-                for (int x = 0; x < 8; ++x)
-                    for (int y = 0; y < 8; ++y)
-                        for (int z = 0; z < 8; ++z) {
-                            int p[3] = {bx + x, by + y, bz + z};
-                            if (p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1] ||
-                                p[2] < lo[2] || p[2] > hi[2])
-                                continue;
-                            unsigned off = HV_LEAF_OFFSET(x, y, z);
-                            m[8 * n + off / 64] |= 1ull << (off % 64);
-                        }
-                o[3 * n] = bx;
-                o[3 * n + 1] = by;
-                o[3 * n + 2] = bz;
-                ++n;
-            }
-    cr_assert_eq(hv_volume_topology_add(v, n, o, m), HV_OK, "%s", hv_last_error());
-    free(o);
-    free(m);
+    cr_assert_eq(t_add_box(v, lo, hi), HV_OK, "%s", hv_last_error());
 }
 
 typedef void (*frac_fn)(int i, int j, int k, double *f);

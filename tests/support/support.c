@@ -1,6 +1,7 @@
 /* tests/support/support.c - see support.h. */
 #include "support.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -78,4 +79,46 @@ int t_exists(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0;
+}
+
+hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3])
+{
+    size_t cap = 64, n = 0;
+    int32_t *o = malloc(cap * 3 * sizeof *o);
+    uint64_t *m = malloc(cap * 8 * sizeof *m);
+    for (int bx = lo[0] & ~7; o && m && bx <= hi[0]; bx += 8)
+        for (int by = lo[1] & ~7; o && m && by <= hi[1]; by += 8)
+            for (int bz = lo[2] & ~7; o && m && bz <= hi[2]; bz += 8) {
+                if (n == cap) {
+                    cap *= 2;
+                    int32_t *o2 = realloc(o, cap * 3 * sizeof *o);
+                    if (o2) o = o2;
+                    uint64_t *m2 = o2 ? realloc(m, cap * 8 * sizeof *m) : NULL;
+                    if (m2) m = m2;
+                    if (!o2 || !m2) {
+                        free(o);
+                        free(m);
+                        return HV_ERR_NOMEM;
+                    }
+                }
+                memset(m + 8 * n, 0, 8 * sizeof *m);
+                for (int x = 0; x < 8; ++x)
+                    for (int y = 0; y < 8; ++y)
+                        for (int z = 0; z < 8; ++z) {
+                            int p[3] = {bx + x, by + y, bz + z};
+                            if (p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1] ||
+                                p[2] < lo[2] || p[2] > hi[2])
+                                continue;
+                            unsigned off = HV_LEAF_OFFSET(x, y, z);
+                            m[8 * n + off / 64] |= 1ull << (off % 64);
+                        }
+                o[3 * n] = bx;
+                o[3 * n + 1] = by;
+                o[3 * n + 2] = bz;
+                ++n;
+            }
+    hv_status s = o && m ? hv_volume_topology_add(v, n, o, m) : HV_ERR_NOMEM;
+    free(o);
+    free(m);
+    return s;
 }

@@ -1,9 +1,11 @@
 /* tests/support/support.h - helpers shared by the unit tests: where the shared material is,
- * temporary directories, running a command and capturing its output. */
+ * temporary directories, running a command and capturing its output, box topologies. */
 #ifndef HOVOX_TEST_SUPPORT_H
 #define HOVOX_TEST_SUPPORT_H
 
 #include <stddef.h>
+
+#include "hovox/volume.h"
 
 /* Directory holding meshes/ ($HOVOX_SHARED, default "tests/data": copies of the shared meshes). */
 const char *t_shared(void);
@@ -17,5 +19,8 @@ const char *t_tmpfile(const char *name);
 int t_run(const char *cmd, char **out);
 /* Does a file exist? */
 int t_exists(const char *path);
+/* Activate the voxels [lo, hi] (inclusive index box) of v, leaf block by leaf block. Returns
+ * hv_volume_topology_add's status (HV_ERR_NOMEM when the blocks cannot be listed). */
+hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3]);
 
 #endif

@@ -1,6 +1,7 @@
 /* tests/data/models/make_models.c - writes the small graded models the CLI tests of probe and
  * profile read. Built by hand, not by the Makefile (see README in this directory):
- *   cc -std=c11 -Iinclude tests/data/models/make_models.c build/libhovox.a \
+ *   cc -std=c11 -D_GNU_SOURCE -Iinclude -Itests tests/data/models/make_models.c \
+ *      tests/support/support.c build/libhovox.a \
  *      $(pkg-config --libs libpng zlib lua5.4 cairo) -lm -ldl -lpthread -fopenmp -o /tmp/make_models
  *   /tmp/make_models tests/data/models
  * Every fraction is a linear function of the voxel index, so trilinear samples inside the
@@ -10,6 +11,7 @@
 #include <string.h>
 
 #include "hovox/material.h"
+#include "support/support.h"
 #include "hovox/volume.h"
 
 static void die(hv_status s, const char *what)
@@ -27,36 +29,7 @@ static void die(hv_status s, const char *what)
 /* Activate the voxels [lo, hi] (inclusive) of a box. */
 static void add_box(hv_volume *v, const int lo[3], const int hi[3])
 {
-    size_t cap = 64, n = 0;
-    int32_t *o = malloc(cap * 3 * sizeof *o);
-    uint64_t *m = malloc(cap * 8 * sizeof *m);
-    for (int bx = lo[0] & ~7; bx <= hi[0]; bx += 8)
-        for (int by = lo[1] & ~7; by <= hi[1]; by += 8)
-            for (int bz = lo[2] & ~7; bz <= hi[2]; bz += 8) {
-                if (n == cap) {
-                    cap *= 2;
-                    o = realloc(o, cap * 3 * sizeof *o);
-                    m = realloc(m, cap * 8 * sizeof *m);
-                }
-                memset(m + 8 * n, 0, 8 * sizeof *m);
-                for (int x = 0; x < 8; ++x)
-                    for (int y = 0; y < 8; ++y)
-                        for (int z = 0; z < 8; ++z) {
-                            int p[3] = {bx + x, by + y, bz + z};
-                            if (p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1] ||
-                                p[2] < lo[2] || p[2] > hi[2])
-                                continue;
-                            unsigned off = HV_LEAF_OFFSET(x, y, z);
-                            m[8 * n + off / 64] |= 1ull << (off % 64);
-                        }
-                o[3 * n] = bx;
-                o[3 * n + 1] = by;
-                o[3 * n + 2] = bz;
-                ++n;
-            }
-    CHECK(hv_volume_topology_add(v, n, o, m), "topology");
-    free(o);
-    free(m);
+    CHECK(t_add_box(v, lo, hi), "topology");
 }
 
 typedef void (*fraction_fn)(int i, int j, int k, double *f);

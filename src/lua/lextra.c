@@ -54,9 +54,8 @@ static const char *get_path(lua_State *L, int idx, const char *key)
 static int model_profile(lua_State *L)
 {
     static const char *const keys[] = {"from", "to", "samples", "csv", "plot", "title", "width", "height", NULL};
-    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
-    luaL_checktype(L, 2, LUA_TTABLE);
+    hv_lua_check_options(L, 2, 2, keys);
     double from[3], to[3];
     get_vec3(L, 2, "from", from);
     get_vec3(L, 2, "to", to);
@@ -192,9 +191,8 @@ static hv_status contour_sink(void *user, size_t index, const hv_layer *layer, h
 static int l_contours(lua_State *L)
 {
     static const char *const keys[] = {"layer_height", "first_layer", "adaptive", "output", "binary", "loops", NULL};
-    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_mesh *mesh = hv_lua_mesh(L, 1);
-    luaL_checktype(L, 2, LUA_TTABLE);
+    hv_lua_check_options(L, 2, 2, keys);
     lua_getfield(L, 2, "layer_height");
     double h = luaL_optnumber(L, -1, 0);
     lua_pop(L, 1);
@@ -265,9 +263,8 @@ static int l_contours(lua_State *L)
 static int model_export(lua_State *L)
 {
     static const char *const keys[] = {"path", "box", "coarsen", "keep", "properties", "linearize", "level", "max_memory", NULL};
-    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
-    luaL_checktype(L, 2, LUA_TTABLE);
+    hv_lua_check_options(L, 2, 2, keys);
     const char *path = get_path(L, 2, "path");
     if (!path) return arg_error(L, 2, "path is required (.vti or .vtu)");
     hv_export_options o;
@@ -385,9 +382,8 @@ static void opt_vec(lua_State *L, int idx, const char *key, double *out, int n, 
 static int model_render(lua_State *L)
 {
     static const char *const keys[] = {"path", "size", "surface", "flat", "view", "eye", "target", "up", "ortho", "fov", "step", "density", "cut_opacity", "clip", "clip_box", "background", "aa", NULL};
-    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
-    luaL_checktype(L, 2, LUA_TTABLE);
+    hv_lua_check_options(L, 2, 2, keys);
     const char *path = get_path(L, 2, "path");
     if (!path) return arg_error(L, 2, "path is required (.png, .exr or .tif)");
     hv_render_options o;
@@ -504,9 +500,8 @@ static int model_render(lua_State *L)
 static int model_layers(lua_State *L)
 {
     static const char *const keys[] = {"mesh", "dir", "profile", "dpi", "layer_height", "mode", "method", "halftone", "seed", "layers", "threshold", "fill_rule", "background", "compare", "gcvf", "force", "max_memory", NULL};
-    hv_lua_check_keys(L, 2, 2, keys, 0);
     hv_volume *vol = check_model(L, 1);
-    luaL_checktype(L, 2, LUA_TTABLE);
+    hv_lua_check_options(L, 2, 2, keys);
     lua_getfield(L, 2, "mesh");
     hv_mesh *mesh = hv_lua_mesh(L, -1);
     lua_pop(L, 1); /* the options table keeps the mesh alive */

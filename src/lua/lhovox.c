@@ -48,14 +48,13 @@ int hv_lua_arg_error(lua_State *L, int arg, const char *fmt, ...)
     return luaL_argerror(L, arg, msg);
 }
 
-void hv_lua_check_keys(lua_State *L, int idx, int arg, const char *const *keys, int allow_list)
+void hv_lua_check_options(lua_State *L, int idx, int arg, const char *const *keys)
 {
-    if (!lua_istable(L, idx)) return;
+    luaL_checktype(L, idx, LUA_TTABLE);
     idx = lua_absindex(L, idx);
     lua_pushnil(L);
     while (lua_next(L, idx)) {
         lua_pop(L, 1);
-        if (lua_type(L, -1) == LUA_TNUMBER && allow_list) continue;
         if (lua_type(L, -1) != LUA_TSTRING) {
             hv_lua_arg_error(L, arg, "options are named (key = value), got a %s key", luaL_typename(L, -1));
             return;
@@ -566,9 +565,8 @@ static int l_voxelize(lua_State *L)
     hv_voxelize_options_init(&o);
     hv_transform lattice;
     if (!lua_isnoneornil(L, 2)) {
-        luaL_checktype(L, 2, LUA_TTABLE);
         static const char *const keys[] = {"dims", "voxel_size", "like", "adjacency", "fill", "max_memory", NULL};
-        hv_lua_check_keys(L, 2, 2, keys, 0);
+        hv_lua_check_options(L, 2, 2, keys);
         int adj = opt_int_range(L, 2, 2, "adjacency", 26, 6, 26);
         if (adj != 6 && adj != 26) return arg_error(L, 2, "adjacency must be 6 or 26, got %d", adj);
         o.adjacency = adj;
@@ -1155,9 +1153,8 @@ static int push_source(lua_State *L, hv_ags *a)
 /* Make an AGS from the table at `idx` (argument number `arg`, function name for messages). */
 static hv_ags *source_from_table(lua_State *L, int idx, int arg)
 {
-    luaL_checktype(L, idx, LUA_TTABLE);
     static const char *const keys[] = {"feature", "d_neg", "d_grad", "d_pos", "f", "ms", "me", "name", NULL};
-    hv_lua_check_keys(L, idx, arg, keys, 0);
+    hv_lua_check_options(L, idx, arg, keys);
     lua_getfield(L, idx, "feature");
     l_feature *feat = luaL_testudata(L, -1, MT_FEATURE);
     if (!feat || !feat->p) luaL_argerror(L, arg, "feature must be a hovox feature (hovox.axis{...}, model:contour(), ...)");
@@ -1204,9 +1201,8 @@ static int l_ags(lua_State *L)
  * (eq. 13), P = [f, 1 - f - c, c] over the gradient range, checking 0 <= f <= 1 - c. */
 static int l_wu3(lua_State *L)
 {
-    luaL_checktype(L, 1, LUA_TTABLE);
     static const char *const keys[] = {"feature", "d_neg", "d_grad", "d_pos", "f", "c", NULL};
-    hv_lua_check_keys(L, 1, 1, keys, 0);
+    hv_lua_check_options(L, 1, 1, keys);
     lua_getfield(L, 1, "feature");
     l_feature *feat = luaL_testudata(L, -1, MT_FEATURE);
     if (!feat || !feat->p) return luaL_argerror(L, 1, "feature must be a hovox feature (hovox.axis{...}, ...)");

@@ -27,10 +27,10 @@ int hv_lua_fail(lua_State *L, hv_status status);
 int hv_lua_arg_error(lua_State *L, int arg, const char *fmt, ...) HV_PRINTF(3, 4);
 #define arg_error hv_lua_arg_error
 
-/* Raise "bad argument #arg (unknown option 'x' (options: a, b, ...))" for a string key of the
- * table at idx that is not in `keys` (NULL-terminated), so a mistyped option never falls back
- * to its default silently. Integer keys (a list part) are refused too unless allow_list. */
-void hv_lua_check_keys(lua_State *L, int idx, int arg, const char *const *keys, int allow_list);
+/* Check that the argument at idx is an options table: a table whose keys are all named in
+ * `keys` (NULL-terminated). Raises "bad argument #arg (unknown option 'x' (options: a, b,
+ * ...))" otherwise, so a mistyped option never falls back to its default silently. */
+void hv_lua_check_options(lua_State *L, int idx, int arg, const char *const *keys);
 
 /* Raise "bad argument" unless writing `path` is allowed (for module functions). Returns path. */
 const char *hv_lua_check_write(lua_State *L, int arg, const char *path);

@@ -190,15 +190,8 @@ static int up_edge(unsigned below)
 static inline double facet_vote(const hv_slicer *s, uint32_t f, const double a[2],
                                 const double b[2])
 {
-    const uint32_t *t = s->tri + 3 * (size_t)f;
-    const double *p = s->xyz + 3 * (size_t)t[0], *q = s->xyz + 3 * (size_t)t[1],
-                 *r = s->xyz + 3 * (size_t)t[2];
-    double ux = q[0] - p[0], uy = q[1] - p[1], uz = q[2] - p[2];
-    double vx = r[0] - p[0], vy = r[1] - p[1], vz = r[2] - p[2];
-    double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, len = sqrt(nx * nx + ny * ny);
-    if (!(len > 0)) return 0;
-    double dx = b[0] - a[0], dy = b[1] - a[1];
-    return (dy * nx - dx * ny) / len;
+    double nx = (double)s->nxy[2 * (size_t)f], ny = (double)s->nxy[2 * (size_t)f + 1];
+    return (b[1] - a[1]) * nx - (b[0] - a[0]) * ny;
 }
 
 /* Trace the chain through crossing slot i0. */

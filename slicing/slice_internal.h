@@ -22,6 +22,8 @@ struct hv_slicer {
     size_t class_start[HV_SLICE_CLASSES + 1];
     double class_ext[HV_SLICE_CLASSES];
     hv_slicer_info info;
+    float *nxy;   /* 2 per facet: the unit horizontal part of the outward normal (0, 0 when
+                   * the facet is horizontal or degenerate), for the orientation vote */
     int inverted; /* the mesh's signed volume is negative (inside out): loop votes flip */
 };
 

@@ -174,6 +174,7 @@ void hv_slicer_destroy(hv_slicer *s)
     free(s->tri);
     free(s->arc);
     free(s->back);
+    free(s->nxy);
     free(s->order);
     free(s->szmin);
     free(s->szmax);
@@ -296,8 +297,11 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
             if (q > in->bbox_max[a]) in->bbox_max[a] = q;
         }
     {
-        /* signed volume about the box centre (divergence theorem): an inside-out mesh has
-         * every loop's facet vote reversed */
+        /* per facet the unit horizontal normal (the orientation vote), and the signed volume
+         * about the box centre (divergence theorem): an inside-out mesh has every loop's vote
+         * reversed */
+        s->nxy = hv_malloc_array(2 * nf, sizeof *s->nxy);
+        if (!s->nxy) goto fail;
         double c[3], vol6 = 0;
         for (int a = 0; a < 3; ++a) c[a] = 0.5 * (in->bbox_min[a] + in->bbox_max[a]);
         for (size_t f = 0; f < nf; ++f) {
@@ -307,6 +311,10 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
             double bx = q[0] - c[0], by = q[1] - c[1], bz = q[2] - c[2];
             double cx = r[0] - c[0], cy = r[1] - c[1], cz = r[2] - c[2];
             vol6 += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+            double ux = bx - ax, uy = by - ay, uz = bz - az, vx = cx - ax, vy = cy - ay, vz = cz - az;
+            double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, len = sqrt(nx * nx + ny * ny);
+            s->nxy[2 * f] = len > 0 ? (float)(nx / len) : 0.0f;
+            s->nxy[2 * f + 1] = len > 0 ? (float)(ny / len) : 0.0f;
         }
         s->inverted = vol6 < 0;
     }

@@ -1,12 +1,10 @@
 /* src/cli/cmd_contours.c - `hovox contours MESH --layer-height H -o OUT.svg|OUT.cli`: the
  * geometric slicer (Wu 2.4.1 weighted directed graph), contours per layer as SVG or CLI. */
-#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
 
 #include "../core/internal.h"
 #include "cli.h"

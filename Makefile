@@ -30,7 +30,7 @@ endif
 
 ROOT    := $(abspath .)
 PLUGDIR := $(ROOT)/$(BUILD)/plugins
-CPPFLAGS_ALL := -Iinclude -D_GNU_SOURCE -DHV_PLUGIN_BUILD_DIR='"$(PLUGDIR)"' -MMD -MP
+CPPFLAGS_ALL := -Iinclude -Isrc -I. -D_GNU_SOURCE -DHV_PLUGIN_BUILD_DIR='"$(PLUGDIR)"' -MMD -MP
 CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-errno -fno-trapping-math $(WARN) $(SANFLAGS) $(EXTRA_CFLAGS)
 # Bridges keep default visibility: OpenVDB's template statics must unify with libopenvdb's
 # (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.

@@ -3,7 +3,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "render_internal.h"
 
 static const char *const VIEW_NAMES[] = {"iso", "front", "back", "left", "right", "top", "bottom"};

@@ -11,7 +11,7 @@
 #include <strings.h>
 #include <unistd.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "hovox/render.h"
 #include "oiio_bridge.h"
 

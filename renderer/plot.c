@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "hovox/plot.h"
 
 #define FONT "DejaVu Sans"

@@ -12,7 +12,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "render_internal.h"
 
 #define TILE 32

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "hovox/material.h"
 #include "render_internal.h"
 

@@ -11,7 +11,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "hovox/material.h"
 #include "layers_internal.h"
 

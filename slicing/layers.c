@@ -9,7 +9,7 @@
 #include <strings.h>
 #include <sys/stat.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "hovox/material.h"
 #include "hovox/render.h"
 #include "layers_internal.h"

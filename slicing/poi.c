@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "layers_internal.h"
 
 #define POI_MAX_SIDE (1 << 24)

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "hovox/layers.h"
 
 typedef struct crossing {

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <zlib.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "layers_internal.h"
 
 /* ---- directories -------------------------------------------------------------------------- */

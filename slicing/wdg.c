@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "slice_internal.h"
 
 #define GRAIN 8192

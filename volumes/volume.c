@@ -9,7 +9,7 @@
 #include <sys/stat.h>
 
 #include "hovox/volume.h"
-#include "../src/core/internal.h"
+#include "core/internal.h"
 #include "vdb_bridge.h"
 
 typedef struct grid_entry {

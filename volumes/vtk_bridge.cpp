@@ -3,7 +3,7 @@
 // exporter (src/export) built. Built as plugins/hovox-vtk.so and loaded only when exporting.
 // Every entry catches all exceptions (HV_CATCH) and turns them into a status plus what();
 // VTK's own error text is captured (never printed: the library does not print).
-#include "../src/export/vtk_bridge.h"
+#include "export/vtk_bridge.h"
 
 #include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>

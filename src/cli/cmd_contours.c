@@ -6,7 +6,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "cli.h"
 #include "hovox/slice.h"
 

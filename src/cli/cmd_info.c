@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/internal.h"
-#include "../mesh/mesh_internal.h"
+#include "core/internal.h"
+#include "mesh/mesh_internal.h"
 #include "cli.h"
 #include "hovox/mesh.h"
 

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "cli.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"

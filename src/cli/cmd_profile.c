@@ -8,7 +8,7 @@
 #include <strings.h>
 #include <unistd.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "cli.h"
 #include "hovox/profile.h"
 

@@ -8,7 +8,7 @@
 #include <lauxlib.h>
 #include <lualib.h>
 
-#include "../lua/lhovox.h"
+#include "lua/lhovox.h"
 #include "cli.h"
 
 static const char *RUN_HELP =

@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "cli.h"
 #include "hovox/voxelize.h"
 

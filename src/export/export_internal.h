@@ -3,7 +3,7 @@
 #ifndef HOVOX_EXPORT_INTERNAL_H
 #define HOVOX_EXPORT_INTERNAL_H
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "hovox/export.h"
 
 typedef enum ex_kind { EX_VOIGT, EX_REUSS, EX_TABLE } ex_kind;

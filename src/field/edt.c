@@ -11,7 +11,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "hovox/field.h"
 
 /* Columns transformed together in the strided (y and x) passes: a tile of TILE adjacent rows

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "hovox/field.h"
 
 /* The discrete problem. Unknowns are the "free" voxels: domain voxels without label 1 or 2

@@ -7,7 +7,7 @@
 
 #include <lauxlib.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "hovox/export.h"
 #include "hovox/layers.h"
 #include "hovox/profile.h"

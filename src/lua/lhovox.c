@@ -15,7 +15,7 @@
 #include <lauxlib.h>
 #include <lualib.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "hovox/generate.h"
 #include "hovox/material.h"
 #include "hovox/voxelize.h"

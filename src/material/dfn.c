@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "material_internal.h"
 
 enum { F_LINEAR, F_SINE, F_POWER, F_SMOOTH, F_TABLE, F_EXPR, F_CALL };

@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/internal.h"
-#include "../voxel/bitgrid.h"
-#include "../voxel/voxel_internal.h"
+#include "core/internal.h"
+#include "voxel/bitgrid.h"
+#include "voxel/voxel_internal.h"
 #include "hovox/field.h"
 #include "material_internal.h"
 

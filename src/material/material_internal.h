@@ -5,7 +5,7 @@
 
 #include <pthread.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "hovox/material.h"
 
 /* ---- expressions (expr.c) ---------------------------------------------------------------- */

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "hovox/material.h"
 
 #define META_KEY "hovox.materials.json"

@@ -4,7 +4,7 @@
 #define HOVOX_MESH_INTERNAL_H
 
 #include "hovox/mesh.h"
-#include "../core/internal.h"
+#include "core/internal.h"
 
 struct hv_mesh {
     char *name;

@@ -1,6 +1,6 @@
 /* src/mesh/report_json.c - the mesh report as JSON (for `hovox info --json` and the
  * "hovox.mesh.json" metadata of voxelized models). */
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "mesh_internal.h"
 
 static void vec3(hv_buf *b, const double *v)

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "../core/internal.h"
+#include "core/internal.h"
 #include "mesh_internal.h"
 
 #define STL_MAX_BYTES ((size_t)1 << 40)

@@ -10,8 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/internal.h"
-#include "../mesh/mesh_internal.h"
+#include "core/internal.h"
+#include "mesh/mesh_internal.h"
 #include "bitgrid.h"
 #include "hovox/voxelize.h"
 #include "voxel_internal.h"

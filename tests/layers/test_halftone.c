@@ -7,7 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "../slicing/layers_internal.h"
+#include "slicing/layers_internal.h"
 #include "hovox/layers.h"
 #include "support/support.h"
 

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../slicing/layers_internal.h"
+#include "slicing/layers_internal.h"
 #include "hovox/layers.h"
 
 static uint64_t g_rng = 88172645463325252ull;

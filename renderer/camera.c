@@ -6,24 +6,6 @@
 #include "core/internal.h"
 #include "render_internal.h"
 
-static const char *const VIEW_NAMES[] = {"iso", "front", "back", "left", "right", "top", "bottom"};
-
-hv_status hv_view_parse(const char *name, hv_view *out)
-{
-    for (size_t i = 0; i < HV_COUNT(VIEW_NAMES); ++i)
-        if (strcmp(name, VIEW_NAMES[i]) == 0) {
-            *out = (hv_view)i;
-            return HV_OK;
-        }
-    return hv_error_set(HV_ERR_INVALID,
-                        "view '%s': expected iso, front, back, left, right, top or bottom", name);
-}
-
-const char *hv_view_name(hv_view view)
-{
-    return (unsigned)view < HV_COUNT(VIEW_NAMES) ? VIEW_NAMES[view] : "?";
-}
-
 static double dot3(const double a[3], const double b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -91,9 +73,9 @@ hv_status r_camera_setup(const hv_render_scene *s, const hv_render_options *opt,
         if (!finite3(c->eye) || !finite3(c->target) || !finite3(c->up))
             return hv_error_set(HV_ERR_INVALID, "render: camera eye, target and up must be finite");
         for (int a = 0; a < 3; ++a) {
-            e[a] = c->eye[a] - c->target[a];
+            target[a] = c->target_auto && have_box ? 0.5 * (lo[a] + hi[a]) : c->target[a];
+            e[a] = c->eye[a] - target[a];
             up[a] = c->up[a];
-            target[a] = c->target[a];
         }
         dist = norm3(e);
         if (!(dist > 0))

@@ -54,49 +54,6 @@ void hv_render_options_init(hv_render_options *o)
     o->samples = 1;
 }
 
-static hv_status check_options(const hv_render_options *o)
-{
-#define BAD(...) return hv_error_set(HV_ERR_INVALID, "render: " __VA_ARGS__)
-    if (o->width < 1 || o->width > 65535 || o->height < 1 || o->height > 65535)
-        BAD("image size %d x %d is outside 1..65535", o->width, o->height);
-    if (o->mode != HV_RENDER_VOLUME && o->mode != HV_RENDER_SURFACE)
-        BAD("unknown mode %d", (int)o->mode);
-    if (!(o->step >= 0 && o->step <= 4))
-        BAD("step %g voxels is outside [0, 4] (0: the default)", o->step);
-    if (!(o->density >= 0 && isfinite(o->density))) BAD("density %g must be >= 0", o->density);
-    if (!(o->tf_low >= 0 && o->tf_low < o->tf_high && o->tf_high <= 1))
-        BAD("transfer ramp [%g, %g] must satisfy 0 <= low < high <= 1", o->tf_low, o->tf_high);
-    if (!(o->iso > 0 && o->iso < 1)) BAD("iso level %g is outside (0, 1)", o->iso);
-    if (!(o->ambient >= 0 && o->diffuse >= 0 && o->specular >= 0 && o->shininess >= 1 &&
-          isfinite(o->ambient) && isfinite(o->diffuse) && isfinite(o->specular) &&
-          isfinite(o->shininess)))
-        BAD("shading (ambient %g, diffuse %g, specular %g, shininess %g) must be finite, >= 0 "
-            "(shininess >= 1)", o->ambient, o->diffuse, o->specular, o->shininess);
-    double ll = o->light[0] * o->light[0] + o->light[1] * o->light[1] + o->light[2] * o->light[2];
-    if (!(ll > 0 && isfinite(ll))) BAD("light direction must be finite and non-zero");
-    for (int k = 0; k < 4; ++k)
-        if (!(o->background[k] >= 0 && o->background[k] <= 1))
-            BAD("background component %d (%g) is outside [0, 1]", k, (double)o->background[k]);
-    if (o->clips < 0 || o->clips > HV_RENDER_MAX_CLIPS)
-        BAD("%d clips (at most %d)", o->clips, HV_RENDER_MAX_CLIPS);
-    for (int i = 0; i < o->clips; ++i) {
-        const hv_clip *c = &o->clip[i];
-        if (c->planes < 1 || c->planes > HV_CLIP_MAX_PLANES)
-            BAD("clip %d has %d planes (1..%d)", i, c->planes, HV_CLIP_MAX_PLANES);
-        for (int p = 0; p < c->planes; ++p) {
-            const double *n = c->normal[p];
-            double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-            if (!(nn > 0 && isfinite(nn)) || !isfinite(c->offset[p]))
-                BAD("clip %d plane %d: normal must be finite and non-zero, offset finite", i, p);
-        }
-    }
-    if (!(o->cut_opacity >= 0 && o->cut_opacity <= 1))
-        BAD("cut opacity %g is outside [0, 1]", o->cut_opacity);
-    if (o->samples < 1 || o->samples > 8) BAD("%d samples per pixel axis (1..8)", o->samples);
-#undef BAD
-    return HV_OK;
-}
-
 /* ---- per-render context ----------------------------------------------------------------- */
 
 typedef struct cplane {
@@ -753,7 +710,7 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
                                 const hv_progress *progress, hv_image **out)
 {
     *out = NULL;
-    hv_status st = check_options(o);
+    hv_status st = hv_render_options_check(o);
     if (st != HV_OK) return st;
     rctx *c = hv_calloc(1, sizeof *c);
     if (!c) return HV_ERR_NOMEM;
@@ -782,9 +739,9 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
     for (int i = 0; i <= OPACITY_N + 1; ++i)
         c->opacity[i] = (float)(1.0 - exp(-(double)c->density * c->dt *
                                           (double)HV_MIN(i, OPACITY_N) / OPACITY_N));
-    c->ka = (float)o->ambient;
-    c->kd = (float)o->diffuse;
-    c->ks = (float)o->specular;
+    c->ka = o->flat ? 1.0f : (float)o->ambient;
+    c->kd = o->flat ? 0.0f : (float)o->diffuse;
+    c->ks = o->flat ? 0.0f : (float)o->specular;
     c->shin = (float)o->shininess;
     double L[3], ll = 0;
     for (int a = 0; a < 3; ++a) {
@@ -829,7 +786,7 @@ hv_status hv_render(const hv_volume *vol, const hv_render_options *opt, const hv
                     hv_image **out)
 {
     *out = NULL;
-    hv_status st = check_options(opt);
+    hv_status st = hv_render_options_check(opt);
     if (st != HV_OK) return st;
     hv_render_scene *s;
     st = hv_render_scene_create(vol, progress, &s);

@@ -120,38 +120,6 @@ static int needs_object(const hv_layers_options *o)
     return uses_model(o) && (o->method == HV_LAYERS_DIRECT || o->compare);
 }
 
-static hv_status check_options(const hv_layers_options *o)
-{
-    if (!o) return hv_error_set(HV_ERR_INVALID, "layers: options are NULL");
-    if ((unsigned)o->mode > HV_LAYERS_MASK) return hv_error_set(HV_ERR_INVALID, "layers: unknown mode %d", (int)o->mode);
-    if ((unsigned)o->method > HV_LAYERS_DIRECT)
-        return hv_error_set(HV_ERR_INVALID, "layers: unknown method %d", (int)o->method);
-    if ((unsigned)o->halftone > HV_HALFTONE_ERROR_DIFFUSION)
-        return hv_error_set(HV_ERR_INVALID, "layers: unknown halftone method %d", (int)o->halftone);
-    for (int a = 0; a < 2; ++a)
-        if (!(o->dpi[a] >= 1 && o->dpi[a] <= 1e6))
-            return hv_error_set(HV_ERR_INVALID, "layers: %g dpi along %c is out of range (1 to 1e6)", o->dpi[a], "xy"[a]);
-    if (!(o->layer_height >= 1e-6 && o->layer_height <= 1e3))
-        return hv_error_set(HV_ERR_INVALID, "layers: layer height %g mm is out of range (1e-6 to 1000)", o->layer_height);
-    if (!(o->threshold >= 0 && o->threshold <= 1e3))
-        return hv_error_set(HV_ERR_INVALID, "layers: threshold %g mm must be in [0, 1000]", o->threshold);
-    if (o->margin < 0 || o->margin > 100000)
-        return hv_error_set(HV_ERR_INVALID, "layers: margin %d pixels out of range (0 to 100000)", o->margin);
-    if (!(o->poi_step >= 0 && o->poi_step <= 1e6))
-        return hv_error_set(HV_ERR_INVALID, "layers: POI step ratio %g out of range", o->poi_step);
-    if (o->fill_rule != HV_FILL_NONZERO && o->fill_rule != HV_FILL_EVENODD)
-        return hv_error_set(HV_ERR_INVALID, "layers: unknown fill rule %d", (int)o->fill_rule);
-    if (o->compression < 0 || o->compression > 9)
-        return hv_error_set(HV_ERR_INVALID, "layers: compression level %d (0 to 9)", o->compression);
-    if (!(o->close_gap >= 0) || !isfinite(o->close_gap))
-        return hv_error_set(HV_ERR_INVALID, "layers: close gap %g must be finite and >= 0", o->close_gap);
-    if (o->gcvf_path && o->mode == HV_LAYERS_FRACTIONS)
-        return hv_error_set(HV_ERR_INVALID, "layers: a GCVF archive holds halftone or mask layers, not fractions");
-    if (o->last && o->first >= o->last)
-        return hv_error_set(HV_ERR_INVALID, "layers: empty layer range %zu:%zu", o->first, o->last);
-    return HV_OK;
-}
-
 static void job_free(job *J)
 {
     if (J->workers) {
@@ -224,7 +192,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     J->o = o;
     J->model = model;
     J->progress = progress;
-    hv_status st = check_options(o);
+    hv_status st = hv_layers_options_check(o);
     if (st != HV_OK) return st;
     if (!mesh) return hv_error_set(HV_ERR_INVALID, "layers: no mesh");
     if (uses_model(o) && !model)
@@ -243,8 +211,9 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     J->nlayers = hv_layer_plan_count(J->plan);
     J->layers = hv_layer_plan_layers(J->plan);
     if (J->nlayers == 0)
-        return hv_error_set(HV_ERR_INVALID, "layers: the mesh is %g mm high: no layer of %g mm has its middle inside it",
-                            info.bbox_max[2] - info.bbox_min[2], o->layer_height);
+        return hv_error_set(HV_ERR_INVALID, "%s: the mesh is %g mm high: no layer of %g mm has its middle inside it",
+                            o->mesh_name ? o->mesh_name : "layers", info.bbox_max[2] - info.bbox_min[2],
+                            o->layer_height);
     J->first = o->first;
     J->last = o->last ? o->last : J->nlayers;
     if (J->first >= J->nlayers || J->last > J->nlayers || J->first >= J->last)
@@ -273,8 +242,8 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     if (uses_model(o)) {
         st = hv_material_table_load(model, &J->table);
         if (st == HV_ERR_NOT_FOUND)
-            return hv_error_set(HV_ERR_BAD_INPUT, "the model has no materials (grade it first with 'hovox grade'; "
-                                                  "--mode mask needs none)");
+            return hv_error_option(HV_ERR_BAD_INPUT, "the model has no materials (grade it first with 'hovox grade'; "
+                                                  "{mode} mask needs none)");
         if (st != HV_OK) return st;
         J->m = hv_material_count(J->table);
         if (J->m < 1 || J->m > HV_MAX_MATERIALS)
@@ -370,9 +339,9 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     else snprintf(what, sizeof what, "mask");
     if (budget && J->memory > budget) {
         char nt[32], bt[32];
-        return hv_error_set(HV_ERR_LIMIT,
+        return hv_error_option(HV_ERR_LIMIT,
                             "layers: the job needs about %s (%d x %d pixels, %s, %d workers), more than the "
-                            "budget of %s (--max-memory, or max_memory in Lua)",
+                            "budget of %s ({max_memory})",
                             hv_size_text(nt, sizeof nt, (double)J->memory), J->W, J->H, what, J->threads,
                             hv_size_text(bt, sizeof bt, (double)budget));
     }
@@ -1066,9 +1035,9 @@ static hv_status job_prepare_output(job *J)
         for (int a = 0; a < J->palette_size; ++a)
             for (int b = a + 1; b < J->palette_size; ++b)
                 if (memcmp(J->palette + 3 * a, J->palette + 3 * b, 3) == 0)
-                    return hv_error_set(HV_ERR_INVALID,
+                    return hv_error_option(HV_ERR_INVALID,
                                         "layers: %s and %s have the same colour #%02x%02x%02x; GCVF tells materials apart "
-                                        "by colour (change the colours or --background)",
+                                        "by colour (change the colours or {background})",
                                         a ? hv_material_name(J->table, a - 1) : "the background",
                                         hv_material_name(J->table, b - 1), J->palette[3 * a], J->palette[3 * a + 1],
                                         J->palette[3 * a + 2]);
@@ -1077,8 +1046,8 @@ static hv_status job_prepare_output(job *J)
     if (needs_object(o)) {
         st = hv_object_from_model(J->model, &J->obj);
         if (st == HV_ERR_NOT_FOUND)
-            return hv_error_set(HV_ERR_BAD_INPUT, "the model carries no grading definition (hovox.object.json): "
-                                                  "--method direct and --compare need a model made by 'hovox grade'");
+            return hv_error_option(HV_ERR_BAD_INPUT, "the model carries no grading definition (hovox.object.json): "
+                                                  "{method} direct and {compare} need a model made by 'hovox grade'");
         if (st != HV_OK) return st;
         if (hv_object_materials(J->obj) != J->m)
             return hv_error_set(HV_ERR_BAD_INPUT, "the grading definition has %d materials, the model %d",
@@ -1110,7 +1079,7 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
         /* like the stack: an existing archive is replaced only when asked */
         struct stat sb;
         if (stat(o->gcvf_path, &sb) == 0)
-            st = hv_error_set(HV_ERR_IO, "%s: exists (--force, or force = true in Lua, replaces it)", o->gcvf_path);
+            st = hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);
     }
     if (st == HV_OK) st = hv_stack_begin(dir, o->force, &J.tmp);
     if (st == HV_OK && o->mode == HV_LAYERS_FRACTIONS) {

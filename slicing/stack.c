@@ -16,8 +16,7 @@
  * subdirectory of layer PNGs per material. */
 static const char *const k_stack_files[] = {"manifest.json", "layer-*.png", NULL};
 static const hv_outdir_rules k_stack = {
-    "stack", "manifest.json", "\"generator\": \"hovox", k_stack_files, 1, 1,
-    "(--force, or force = true in Lua, replaces it)"};
+    "stack", "manifest.json", "\"generator\": \"hovox", k_stack_files, 1, 1};
 
 hv_status hv_stack_begin(const char *dir, int force, char **tmp)
 {

@@ -6,6 +6,7 @@
 #define HOVOX_LAYERS_H
 
 #include "hovox/mesh.h"
+#include "hovox/options.h"
 #include "hovox/slice.h"
 #include "hovox/volume.h"
 
@@ -207,6 +208,18 @@ typedef struct hv_layers_options {
 
 /* Defaults as noted above; dpi and layer height from the j750 profile. */
 HV_API void hv_layers_options_init(hv_layers_options *o);
+
+/* The layers options as an option set (hovox/options.h): keys profile, dpi, layer_height,
+ * mode, method, compare, halftone, seed, layers, background, gcvf, force, fill_rule, threshold,
+ * margin, close_gap, poi_step, compression, max_memory; their domains and rules (a profile or
+ * dpi, seed and halftone only in halftone mode, ...). A profile sets dpi and layer height.
+ * Static data. */
+HV_API const hv_option_set *hv_layers_option_set(void);
+/* Every option's domain. Errors: HV_ERR_INVALID naming the option. */
+HV_API hv_status hv_layers_options_check(const hv_layers_options *o);
+/* Names of the enum values ("halftone", "bluenoise"). */
+HV_API const char *hv_layers_mode_name(hv_layers_mode mode);
+HV_API const char *hv_halftone_method_name(hv_halftone_method method);
 
 /* What a job does or did. Filled by hv_layers_plan (plan fields) and hv_layers_write (all). */
 typedef struct hv_layers_report {

@@ -8,6 +8,7 @@
 #define HOVOX_MATERIAL_H
 
 #include "hovox/mesh.h"
+#include "hovox/options.h"
 #include "hovox/volume.h"
 
 #ifdef __cplusplus
@@ -40,8 +41,7 @@ HV_API void hv_material_color(const hv_material_table *t, int m, float rgba[4]);
 HV_API hv_status hv_material_set_color(hv_material_table *t, int m, const float rgba[4]);
 /* The i-th colour of the default palette (tab10-like), for i >= 0. */
 HV_API void hv_material_palette(int i, float rgba[4]);
-/* Parse "#rrggbb", "#rrggbbaa" or "r,g,b[,a]" (0..1). Errors: HV_ERR_INVALID. */
-HV_API hv_status hv_color_parse(const char *s, float rgba[4]);
+/* Colours are parsed by hv_color_parse (hovox/options.h). */
 
 /* Properties: set (replacing) a value with its SI unit (may be "" or NULL). Keys: 1-64 bytes
  * of [A-Za-z0-9_.-]. Errors: HV_ERR_INVALID (key, non-finite value). */

@@ -6,6 +6,7 @@
 #define HOVOX_RENDER_H
 
 #include "hovox/core.h"
+#include "hovox/options.h"
 #include "hovox/volume.h"
 
 #ifdef __cplusplus
@@ -129,6 +130,8 @@ HV_API const char *hv_view_name(hv_view view);
 typedef struct hv_camera {
     hv_view view;        /* used when use_eye == 0 */
     int use_eye;         /* 1: eye, target and up below define the camera */
+    int target_auto;     /* with use_eye: aim at the centre of the occupied voxels' box
+                            instead of `target` (default 0) */
     double eye[3], target[3], up[3];
     int ortho;           /* orthographic instead of perspective */
     double fov;          /* perspective: vertical field of view in degrees (default 30) */
@@ -157,6 +160,7 @@ typedef struct hv_render_options {
      * homogeneous interiors keep their plain colour. Cut faces use the plane's normal.
      * ambient 1, diffuse 0, specular 0 gives the exact composition colours. */
     double ambient, diffuse, specular, shininess; /* default 0.3, 0.7, 0.15, 40 */
+    int flat;             /* 1: no lighting, as ambient 1, diffuse 0, specular 0 (default 0) */
     double light[3];      /* direction towards the key light in camera space (x right, y up,
                              z towards the viewer); default (-0.35, 0.5, 1) */
     float background[4];  /* straight RGBA in [0,1]; default opaque white; alpha 0: transparent */
@@ -168,6 +172,15 @@ typedef struct hv_render_options {
 
 /* Defaults as documented above. */
 HV_API void hv_render_options_init(hv_render_options *opt);
+
+/* The render options as an option set (hovox/options.h): keys size, background, aa, mode (and
+ * the shorthands surface, volume), flat, density, step, tf_low, tf_high, view, eye, target, up,
+ * ortho, fov, clip, clip_box, cut_opacity, with their domains; what the CLI and Lua read.
+ * Static data. */
+HV_API const hv_option_set *hv_render_option_set(void);
+/* Every option's domain and the checks between them. Errors: HV_ERR_INVALID naming the
+ * option. */
+HV_API hv_status hv_render_options_check(const hv_render_options *opt);
 
 /* A scene: the render-ready form of a model, built once and rendered any number of times
  * (views, clips, sizes); read-only once built, so several threads may render it at once. It

@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "hovox/core.h"
+#include "hovox/options.h"
 
 /* Exit codes (README "Exit codes"). */
 enum {
@@ -25,9 +26,51 @@ typedef struct cli_command {
     const char *summary;
 } cli_command;
 
+/* ---- a command's options (args.c) -----------------------------------------------------------
+ * A command is described by a cli_spec: its usage line and text, the library's option set of
+ * the operation (values parsed and checked by the library) and a set of its own (output file,
+ * --json, --dry-run: options with no meaning outside the command line). cli_parse builds the
+ * parser and the --help text from them; --threads, -q/--quiet and -h/--help are common. */
+enum {
+    CLI_THREADS = 1,     /* takes --threads N */
+    CLI_QUIET = 2,       /* takes -q/--quiet */
+    CLI_NUMERIC_POS = 4, /* "-1.5,0,2" is a positional argument, not an option */
+    CLI_STOP_AT_POS = 8  /* everything from the first positional argument on is positional */
+};
+typedef struct cli_spec {
+    const char *name;          /* "render" */
+    const char *usage;         /* after "usage: hovox <name> " (may hold "\n       hovox ...") */
+    const char *about;         /* paragraphs before the options, or NULL */
+    const hv_option_set *lib;  /* the operation's options, or NULL */
+    const hv_option_set *local; /* the command's own options, or NULL */
+    const char *notes;         /* text after the options, or NULL */
+    int min_pos, max_pos;      /* positional arguments (max -1: any number) */
+    const char *pos_name;      /* "MODEL argument": "missing MODEL argument" */
+    unsigned flags;            /* CLI_* */
+} cli_spec;
+
+typedef struct cli_args {
+    hv_optargs lib, local;     /* what was given (hv_optargs_given) */
+    char **pos;                /* positional arguments (argv pointers) */
+    int npos;
+    int quiet;
+} cli_args;
+
+/* Parse argv[1..] into lib_opts and local_opts (initialised here by their sets). Returns -1
+ * to go on, or the exit code to return now (help printed: 0; usage error printed: 2). Free
+ * with cli_args_free. */
+int cli_parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, void *local_opts, cli_args *out);
+void cli_args_free(cli_args *a);
+/* 1 when the option `key` (library or local) was given. */
+int cli_given(const cli_args *a, const char *key);
+/* An option's command-line spelling ("layer_height" -> "--layer-height", "output" -> "-o"). */
+const char *cli_spell(const char *key);
+/* The last library message with options spelled for the command line; into buf. */
+const char *cli_message(char *buf, size_t size);
+
 /* Print "hovox: <detail>" for a failed library call and return its exit code. */
 int cli_fail(hv_status status);
-/* Print "hovox <cmd>: <message>" and "Try 'hovox <cmd> --help'." and return EXIT_USAGE. */
+/* Print "hovox <cmd>: <message> (see 'hovox <cmd> --help')" on one line; returns EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, ...) HV_PRINTF(2, 3);
 /* Map a status to its exit code. */
 int cli_exit_code(hv_status status);

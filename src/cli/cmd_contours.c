@@ -211,7 +211,7 @@ int cmd_contours(int argc, char **argv)
     /* per-layer SVGs go to a temporary directory renamed into place when complete; an
      * existing DIR is replaced when it holds only layer SVGs (an earlier run's) */
     static const char *const svg_files[] = {"layer-*.svg", NULL};
-    static const hv_outdir_rules svg_dir = {"per-layer SVG directory", NULL, NULL, svg_files, 0, 0, NULL};
+    static const hv_outdir_rules svg_dir = {"per-layer SVG directory", NULL, NULL, svg_files, 0, 0};
     char *tmpdir = NULL;
     if (s == HV_OK && dir) s = hv_outdir_begin(dir, &svg_dir, 0, &tmpdir);
     run r = {writer, tmpdir, info.bbox_min, info.bbox_max, label, json, &js, 0, 0, 0, 0, 0};

@@ -27,25 +27,6 @@ int cli_exit_code(hv_status s)
     return EXIT_INTERNAL;
 }
 
-int cli_fail(hv_status s)
-{
-    const char *msg = hv_last_error();
-    if (s == HV_ERR_CANCELLED && cli_interrupted()) msg = "interrupted";
-    fprintf(stderr, "hovox: %s\n", *msg ? msg : hv_status_name(s));
-    return cli_exit_code(s);
-}
-
-int cli_usage_error(const char *cmd, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fprintf(stderr, "hovox %s: ", cmd);
-    vfprintf(stderr, fmt, ap);
-    fprintf(stderr, "\nTry 'hovox %s --help'.\n", cmd);
-    va_end(ap);
-    return EXIT_USAGE;
-}
-
 int cli_parse_double(const char *cmd, const char *opt, const char *s, double *out)
 {
     char *end;

@@ -8,6 +8,7 @@
 #include <stdio.h>
 
 #include "hovox/core.h"
+#include "hovox/options.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -122,8 +123,7 @@ typedef struct hv_outdir_rules {
     const char *marker_text;
     const char *const *files;       /* NULL-terminated fnmatch patterns of the files written */
     int subdirs;                    /* 1: one level of subdirectories of such files */
-    int need_force;                 /* replacing an existing one needs force */
-    const char *force_hint;         /* appended to "<dir>: a <what> exists there" */
+    int need_force;                 /* replacing an existing one needs the option {force} */
 } hv_outdir_rules;
 /* Check that dir is absent, an empty directory or (force, or !need_force) one of ours, clear
  * stale temporaries, and create the temporary (*tmp, malloc'd). Errors: HV_ERR_IO naming dir

@@ -200,7 +200,7 @@ hv_status hv_outdir_begin(const char *dir, const hv_outdir_rules *r, int force, 
     hv_status s = HV_OK;
     if (kind == NOT_DIR || kind == FOREIGN) s = refuse(dir, r, kind, &foreign);
     else if (kind == OURS && r->need_force && !force)
-        s = hv_error_set(HV_ERR_IO, "%s: a %s exists there %s", dir, r->what, r->force_hint ? r->force_hint : "");
+        s = hv_error_option(HV_ERR_IO, "%s: a %s exists there ({force} replaces it)", dir, r->what);
     hv_buf_free(&foreign);
     if (s != HV_OK) return s;
     char *t = sibling(dir, "tmp", (long)getpid());

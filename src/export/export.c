@@ -583,12 +583,12 @@ static hv_status check_budget(const hv_export_options *opt, const hv_export_repo
     hv_size_text(need, sizeof need, (double)r->memory_bytes);
     hv_size_text(have, sizeof have, (double)budget);
     if (r->format == HV_EXPORT_VTI)
-        return hv_error_set(HV_ERR_LIMIT, "export: the image of %lld x %lld x %lld points x %d "
-                            "arrays needs %s, more than the limit of %s (--max-memory, or max_memory in Lua); export "
+        return hv_error_option(HV_ERR_LIMIT, "export: the image of %lld x %lld x %lld points x %d "
+                            "arrays needs %s, more than the limit of %s ({max_memory}); export "
                             "a smaller box or a .vtu", (long long)r->dims[0],
                             (long long)r->dims[1], (long long)r->dims[2], r->arrays, need, have);
-    return hv_error_set(HV_ERR_LIMIT, "export: the mesh of %llu hexahedra and %llu points needs "
-                        "%s, more than the limit of %s (--max-memory, or max_memory in Lua); coarsen it or export a "
+    return hv_error_option(HV_ERR_LIMIT, "export: the mesh of %llu hexahedra and %llu points needs "
+                        "%s, more than the limit of %s ({max_memory}); coarsen it or export a "
                         "smaller box", (unsigned long long)r->cells,
                         (unsigned long long)r->points, need, have);
 }

@@ -710,9 +710,9 @@ hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t, uint64_t 
     uint64_t budget = max_memory ? max_memory : hv_physical_memory() / 2;
     if (budget && need > budget) {
         char nt[32], bt[32];
-        return hv_error_set(HV_ERR_LIMIT,
+        return hv_error_option(HV_ERR_LIMIT,
                             "evaluating %d materials on %llu voxels needs about %s, more than the "
-                            "limit of %s (--max-memory, or max_memory in Lua)",
+                            "limit of %s ({max_memory})",
                             o->m, (unsigned long long)hv_object_voxels(o), hv_size_text(nt, sizeof nt, (double)need),
                             hv_size_text(bt, sizeof bt, (double)budget));
     }

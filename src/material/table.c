@@ -45,46 +45,6 @@ void hv_material_palette(int i, float rgba[4])
     rgba[3] = 1.0f;
 }
 
-hv_status hv_color_parse(const char *s, float rgba[4])
-{
-    rgba[3] = 1.0f;
-    if (s[0] == '#') {
-        size_t n = strlen(s + 1);
-        if (n != 6 && n != 8) goto bad;
-        for (size_t i = 0; i < n; ++i)
-            if (!isxdigit((unsigned char)s[1 + i])) goto bad;
-        unsigned long v = strtoul(s + 1, NULL, 16);
-        if (n == 8) {
-            rgba[3] = (float)(v & 0xFF) / 255.0f;
-            v >>= 8;
-        }
-        rgba[0] = (float)((v >> 16) & 0xFF) / 255.0f;
-        rgba[1] = (float)((v >> 8) & 0xFF) / 255.0f;
-        rgba[2] = (float)(v & 0xFF) / 255.0f;
-        return HV_OK;
-    }
-    {
-        double v[4] = {0, 0, 0, 1};
-        const char *p = s;
-        int k = 0;
-        for (; k < 4; ++k) {
-            char *end;
-            v[k] = strtod(p, &end);
-            if (end == p || !(v[k] >= 0 && v[k] <= 1)) goto bad;
-            p = end;
-            if (*p == '\0') break;
-            if (*p != ',') goto bad;
-            ++p;
-        }
-        if (k < 2 || *p != '\0') goto bad;
-        for (int i = 0; i < 4; ++i) rgba[i] = (float)v[i];
-        return HV_OK;
-    }
-bad:
-    return hv_error_set(HV_ERR_INVALID,
-                        "colour '%s' is not #rrggbb, #rrggbbaa or r,g,b[,a] with values in [0,1]", s);
-}
-
 hv_status hv_material_table_create(hv_material_table **out)
 {
     *out = hv_calloc(1, sizeof **out);

@@ -130,9 +130,9 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
             if (opt->dims[a] > 2147483647)
                 return hv_error_set(HV_ERR_LIMIT, "dims %lld exceed 2^31", (long long)opt->dims[a]);
             if (!(ext[a] > 0))
-                return hv_error_set(HV_ERR_INVALID,
+                return hv_error_option(HV_ERR_INVALID,
                                     "%s: the mesh is flat along %c, so dims on that axis cannot "
-                                    "set a voxel size; give --voxel-size",
+                                    "set a voxel size; give {voxel_size}",
                                     name, "xyz"[a]);
             p->dims[a] = opt->dims[a];
             p->xf.voxel[a] = ext[a] / (double)opt->dims[a];
@@ -192,9 +192,9 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     uint64_t budget = opt->max_memory ? opt->max_memory : hv_physical_memory() / 2;
     if (budget && p->memory_bytes > budget) {
         char need[32], have[32];
-        return hv_error_set(HV_ERR_LIMIT,
+        return hv_error_option(HV_ERR_LIMIT,
                             "%s: voxelizing at %lld x %lld x %lld needs about %s, more than the "
-                            "limit of %s (--max-memory, or max_memory in Lua)",
+                            "limit of %s ({max_memory})",
                             name, (long long)p->dims[0], (long long)p->dims[1], (long long)p->dims[2],
                             hv_size_text(need, sizeof need, (double)p->memory_bytes),
                             hv_size_text(have, sizeof have, (double)budget));

@@ -1,0 +1,344 @@
+/* src/cli/args.c - the command line from option descriptors: each command names its library
+ * option set (hovox/options.h) and its own few options (output, --json, ...) in one cli_spec;
+ * this file turns that into argument parsing, the --help text and messages that spell options
+ * as the command line does (--layer-height). Values are parsed and checked by the library. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "core/internal.h"
+
+static const cli_spec *g_spec; /* for spelling option names in messages */
+
+/* Common options every command takes. */
+typedef struct common_opts {
+    int threads;
+    int quiet;
+    int help;
+} common_opts;
+
+static const hv_option k_common_opts[] = {
+    {.key = "threads", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = 1024,
+     .offset = offsetof(common_opts, threads), .meta = "N", .help = "worker threads (default: all cores)"},
+    {.key = "quiet", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, quiet), .help = "no progress bar"},
+    {.key = "help", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, help), .help = "this text"},
+};
+static const hv_option_set k_common = {"common", k_common_opts, (int)HV_COUNT(k_common_opts),
+                                       sizeof(common_opts), NULL, NULL, 0, NULL, NULL, NULL, 0};
+
+static char short_of(const char *key)
+{
+    if (strcmp(key, "output") == 0) return 'o';
+    if (strcmp(key, "quiet") == 0) return 'q';
+    if (strcmp(key, "help") == 0) return 'h';
+    return 0;
+}
+
+/* "layer_height" -> "layer-height" */
+static void cli_name(const char *key, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s", key);
+    for (char *p = buf; *p; ++p)
+        if (*p == '_') *p = '-';
+}
+
+static const char *spell(const char *key, void *user)
+{
+    static _Thread_local char buf[4][96];
+    static _Thread_local int next;
+    (void)user;
+    char *b = buf[next++ & 3];
+    if (short_of(key) == 'o') {
+        snprintf(b, 96, "-o");
+        return b;
+    }
+    char name[80];
+    cli_name(key, name, sizeof name);
+    snprintf(b, 96, "--%s", name);
+    return b;
+}
+
+const char *cli_spell(const char *key) { return spell(key, NULL); }
+
+const char *cli_message(char *buf, size_t size) { return hv_error_spell(spell, NULL, buf, size); }
+
+int cli_usage_error(const char *cmd, const char *fmt, ...)
+{
+    char msg[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "hovox %s: %s (see 'hovox %s --help')\n", cmd, msg, cmd);
+    return EXIT_USAGE;
+}
+
+/* The last library message, spelled for the command line, as a usage error. */
+static int usage_from_library(const char *cmd)
+{
+    char msg[2048];
+    return cli_usage_error(cmd, "%s", cli_message(msg, sizeof msg));
+}
+
+/* ---- help ------------------------------------------------------------------------------------ */
+
+/* Print `text` wrapped to 80 columns, the first line after `col` already-used columns. */
+static void print_wrapped(FILE *out, const char *text, int col, int indent)
+{
+    const int width = 80;
+    const char *p = text;
+    int first = 1;
+    while (*p) {
+        if (!first) fprintf(out, "%*s", indent, "");
+        int room = width - (first ? col : indent);
+        const char *nl = strchr(p, '\n');
+        int len = (int)(nl ? nl - p : (long)strlen(p));
+        int take = len;
+        if (take > room) {
+            take = room;
+            while (take > 0 && p[take] != ' ') --take;
+            if (take == 0) take = room;
+        }
+        fprintf(out, "%.*s\n", take, p);
+        p += take;
+        while (*p == ' ') ++p;
+        if (*p == '\n') ++p;
+        first = 0;
+    }
+    if (first) fputc('\n', out);
+}
+
+static void print_option(FILE *out, const hv_option *o, const void *defaults)
+{
+    char name[80], left[128];
+    cli_name(o->key, name, sizeof name);
+    char s = short_of(o->key);
+    int has_value = o->kind != HV_OPT_FLAG;
+    if (s)
+        snprintf(left, sizeof left, "  -%c, --%s%s%s", s, name, has_value ? " " : "", has_value ? (o->meta ? o->meta : "X") : "");
+    else
+        snprintf(left, sizeof left, "  --%s%s%s", name, has_value ? " " : "", has_value ? (o->meta ? o->meta : "X") : "");
+    char help[1024];
+    snprintf(help, sizeof help, "%s", o->help ? o->help : "");
+    if (defaults && has_value && o->help && !strstr(o->help, "default")) {
+        char v[128];
+        hv_option_format(o, defaults, v, sizeof v);
+        int zero = strcmp(v, "0") == 0 || v[0] == '\0' || strcmp(v, "0,0") == 0 || strcmp(v, "0,0,0") == 0;
+        if (!zero) snprintf(help + strlen(help), sizeof help - strlen(help), " (default %s)", v);
+    }
+    int col = (int)strlen(left);
+    if (col > 24) {
+        fprintf(out, "%s\n%*s", left, 25, "");
+        print_wrapped(out, help, 25, 25);
+    } else {
+        fprintf(out, "%-25s", left);
+        print_wrapped(out, help, 25, 25);
+    }
+}
+
+static void print_aliases(FILE *out, const hv_option_set *set, const char *key)
+{
+    for (int i = 0; i < set->alias_count; ++i) {
+        const hv_opt_alias *a = &set->aliases[i];
+        if (strcmp(a->key, key) != 0) continue;
+        char name[80], left[128], k[80], help[256];
+        cli_name(a->name, name, sizeof name);
+        cli_name(a->key, k, sizeof k);
+        snprintf(left, sizeof left, "  --%s", name);
+        snprintf(help, sizeof help, "the same as --%s %s", k, a->value);
+        fprintf(out, "%-25s%s\n", left, help);
+    }
+}
+
+static void print_set(FILE *out, const hv_option_set *set, const char *first_section)
+{
+    if (!set) return;
+    void *defaults = hv_calloc(1, set->size ? set->size : 1);
+    if (defaults && set->init) set->init(defaults);
+    for (int i = 0; i < set->count; ++i) {
+        const hv_option *o = &set->options[i];
+        const char *sec = o->section ? o->section : i == 0 ? first_section : NULL;
+        if (sec) fprintf(out, "%s:\n", sec);
+        print_option(out, o, defaults);
+        print_aliases(out, set, o->key);
+    }
+    free(defaults);
+}
+
+static void print_help(const cli_spec *spec)
+{
+    FILE *out = stdout;
+    fprintf(out, "usage: hovox %s %s\n", spec->name, spec->usage);
+    if (spec->about) fprintf(out, "\n%s", spec->about);
+    fputc('\n', out);
+    print_set(out, spec->local, "Options");
+    print_set(out, spec->lib, spec->local ? NULL : "Options");
+    fprintf(out, "Other:\n");
+    for (size_t i = 0; i < HV_COUNT(k_common_opts); ++i) {
+        const hv_option *o = &k_common_opts[i];
+        if (strcmp(o->key, "threads") == 0 && !(spec->flags & CLI_THREADS)) continue;
+        if (strcmp(o->key, "quiet") == 0 && !(spec->flags & CLI_QUIET)) continue;
+        print_option(out, o, NULL);
+    }
+    if (spec->notes) fprintf(out, "\n%s", spec->notes);
+}
+
+/* ---- parsing --------------------------------------------------------------------------------- */
+
+typedef struct target {
+    const hv_option_set *set;
+    hv_optargs *args;
+} target;
+
+/* Find the option "--name" in the targets (lib, local, common). */
+static int find_long(target *t, int nt, const char *name, int *ti, const hv_option **opt, const hv_opt_alias **alias)
+{
+    char key[96];
+    snprintf(key, sizeof key, "%s", name);
+    for (char *p = key; *p; ++p)
+        if (*p == '-') *p = '_';
+    for (int i = 0; i < nt; ++i) {
+        if (!t[i].set) continue;
+        const hv_option *o = hv_option_find(t[i].set, key);
+        if (o) {
+            *ti = i;
+            *opt = o;
+            *alias = NULL;
+            return 1;
+        }
+        for (int k = 0; k < t[i].set->alias_count; ++k)
+            if (strcmp(t[i].set->aliases[k].name, key) == 0) {
+                *ti = i;
+                *opt = NULL;
+                *alias = &t[i].set->aliases[k];
+                return 1;
+            }
+    }
+    return 0;
+}
+
+static int find_short(target *t, int nt, char c, int *ti, const hv_option **opt)
+{
+    for (int i = 0; i < nt; ++i)
+        for (int k = 0; t[i].set && k < t[i].set->count; ++k)
+            if (short_of(t[i].set->options[k].key) == c) {
+                *ti = i;
+                *opt = &t[i].set->options[k];
+                return 1;
+            }
+    return 0;
+}
+
+static int looks_numeric(const char *s)
+{
+    return s[0] == '-' && (s[1] == '.' || (s[1] >= '0' && s[1] <= '9'));
+}
+
+int cli_parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, void *local_opts, cli_args *out)
+{
+    g_spec = spec;
+    memset(out, 0, sizeof *out);
+    common_opts common;
+    hv_optargs cargs;
+    hv_optargs_begin(&cargs, &k_common, &common);
+    if (spec->lib) hv_optargs_begin(&out->lib, spec->lib, lib_opts);
+    if (spec->local) hv_optargs_begin(&out->local, spec->local, local_opts);
+    target t[3] = {{spec->local, &out->local}, {spec->lib, &out->lib}, {&k_common, &cargs}};
+    out->pos = hv_calloc((size_t)argc + 1, sizeof *out->pos);
+    if (!out->pos) return cli_fail(HV_ERR_NOMEM);
+    int only_pos = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        int positional = only_pos || a[0] != '-' || a[1] == '\0' || ((spec->flags & CLI_NUMERIC_POS) && looks_numeric(a));
+        if (positional) {
+            out->pos[out->npos++] = argv[i];
+            if (spec->flags & CLI_STOP_AT_POS) only_pos = 1;
+            continue;
+        }
+        if (strcmp(a, "--") == 0) {
+            only_pos = 1;
+            continue;
+        }
+        int ti = -1;
+        const hv_option *o = NULL;
+        const hv_opt_alias *alias = NULL;
+        const char *value = NULL;
+        char name[96];
+        if (a[1] == '-') {
+            const char *eq = strchr(a + 2, '=');
+            size_t n = eq ? (size_t)(eq - a - 2) : strlen(a + 2);
+            if (n >= sizeof name) n = sizeof name - 1;
+            memcpy(name, a + 2, n);
+            name[n] = '\0';
+            if (eq) value = eq + 1;
+            if (!find_long(t, 3, name, &ti, &o, &alias)) return cli_usage_error(spec->name, "unknown option '%s'", a);
+        } else {
+            if (!find_short(t, 3, a[1], &ti, &o)) return cli_usage_error(spec->name, "unknown option '%.2s'", a);
+            snprintf(name, sizeof name, "%c", a[1]);
+            if (a[2]) {
+                if (o->kind == HV_OPT_FLAG) return cli_usage_error(spec->name, "unknown option '%s'", a);
+                value = a + 2;
+            }
+        }
+        if ((o && o->kind == HV_OPT_FLAG) || alias) {
+            if (value) return cli_usage_error(spec->name, "%s takes no value", a);
+        } else if (!value) {
+            if (i + 1 >= argc) return cli_usage_error(spec->name, "option '%s' needs a value", a);
+            value = argv[++i];
+        }
+        if (t[ti].set == &k_common) {
+            if (strcmp(o->key, "threads") == 0 && !(spec->flags & CLI_THREADS))
+                return cli_usage_error(spec->name, "unknown option '%s'", a);
+            if (strcmp(o->key, "quiet") == 0 && !(spec->flags & CLI_QUIET))
+                return cli_usage_error(spec->name, "unknown option '%s'", a);
+        }
+        hv_status s;
+        if (alias) {
+            hv_opt_value v = {HV_VALUE_TEXT, alias->value, NULL, 0, 0};
+            s = hv_optargs_set(t[ti].args, alias->key, &v);
+        } else if (o->kind == HV_OPT_FLAG) {
+            hv_opt_value v = {HV_VALUE_BOOL, NULL, NULL, 0, 1};
+            s = hv_optargs_set(t[ti].args, o->key, &v);
+        } else {
+            hv_opt_value v = {HV_VALUE_TEXT, value, NULL, 0, 0};
+            s = hv_optargs_set(t[ti].args, o->key, &v);
+        }
+        if (s != HV_OK) return usage_from_library(spec->name);
+        if (common.help) {
+            print_help(spec);
+            return EXIT_OK;
+        }
+    }
+    if (out->npos < spec->min_pos) return cli_usage_error(spec->name, "missing %s", spec->pos_name);
+    if (spec->max_pos >= 0 && out->npos > spec->max_pos)
+        return cli_usage_error(spec->name, "unexpected argument '%s'", out->pos[spec->max_pos]);
+    if (spec->local && hv_optargs_finish(&out->local) != HV_OK) return usage_from_library(spec->name);
+    if (spec->lib && hv_optargs_finish(&out->lib) != HV_OK) return usage_from_library(spec->name);
+    if (common.threads) hv_set_threads(common.threads);
+    out->quiet = common.quiet;
+    return -1;
+}
+
+void cli_args_free(cli_args *a)
+{
+    free(a->pos);
+    a->pos = NULL;
+}
+
+int cli_fail(hv_status s)
+{
+    char msg[2048];
+    const char *m = cli_message(msg, sizeof msg);
+    if (s == HV_ERR_CANCELLED && cli_interrupted()) m = "interrupted";
+    fprintf(stderr, "hovox: %s\n", *m ? m : hv_status_name(s));
+    return cli_exit_code(s);
+}
+
+/* `key` was given on the command line (library or local option). */
+int cli_given(const cli_args *a, const char *key)
+{
+    return (a->lib.set && hv_optargs_given(&a->lib, key)) || (a->local.set && hv_optargs_given(&a->local, key));
+}
+
+const cli_spec *cli_current_spec(void) { return g_spec; }

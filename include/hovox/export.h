@@ -95,6 +95,8 @@ typedef enum hv_coarsen_rule {
     HV_COARSEN_ANY = 1       /* any voxel occupied: covers every feature, grows the volume */
 } hv_coarsen_rule;
 
+#define HV_EXPORT_MAX_TABLES 64
+
 typedef struct hv_export_options {
     hv_export_format format;
     /* Box in world units: only voxels whose centres lie inside [box_lo, box_hi] are
@@ -109,6 +111,11 @@ typedef struct hv_export_options {
     unsigned mix;                   /* HV_MIX_* bits; default HV_MIX_VOIGT | HV_MIX_REUSS */
     const hv_linearization *const *tables; /* ntables tables (borrowed for the call) */
     int ntables;
+    int nlinearize;                 /* tables loaded by the export itself from CSV files */
+    struct {
+        char property[64];
+        const char *path;           /* borrowed for the call */
+    } linearize[HV_EXPORT_MAX_TABLES];
     uint64_t max_memory;            /* budget for the export's buffers; 0: half of RAM */
     int zlib_level;                 /* 1 (fastest) - 9 (smallest); 0: 1 */
     const hv_progress *progress;    /* may be NULL */
@@ -116,6 +123,12 @@ typedef struct hv_export_options {
 
 /* Defaults as noted above. */
 HV_API void hv_export_options_init(hv_export_options *opt);
+
+/* The export options as an option set (hovox/options.h): keys box, coarsen, keep, properties,
+ * linearize (PROPERTY=FILE.csv, repeatable), level, max_memory. Static data. */
+HV_API const hv_option_set *hv_export_option_set(void);
+/* Every option's domain. Errors: HV_ERR_INVALID naming the option. */
+HV_API hv_status hv_export_options_check(const hv_export_options *opt);
 
 /* What an export wrote (or would write). */
 typedef struct hv_export_report {

@@ -6,6 +6,7 @@
 #define HOVOX_GENERATE_H
 
 #include "hovox/mesh.h"
+#include "hovox/options.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -45,6 +46,32 @@ HV_API hv_status hv_generate_torus_knot(int p, int q, double R, double r, double
 HV_API hv_status hv_generate_gear(int teeth, double root_radius, double tip_radius,
                                   double bore_radius, double height, double twist,
                                   int segments_per_tooth, int layers, hv_mesh **out);
+
+/* ==== shapes by name ========================================================================
+ *
+ * Every shape above by name, with its parameters as an option set (hovox/options.h), so the
+ * CLI (`hovox generate SHAPE key=value`), Lua (hovox.generate.SHAPE{...}) and job files read
+ * the same keys, defaults and ranges. Shapes: sphere (center or cx, cy, cz; radius, segments,
+ * rings), box (min; max, or size or sx, sy, sz from min; hole, segments), holed-box (a box
+ * with other defaults), torus (center, R, r, segments, rings), cylinder (base, axis, length,
+ * radius, segments), knot (facets, p, q, R, r, tube, segments_around), gear (teeth, root, tip,
+ * bore, height, twist, segments, layers). */
+typedef struct hv_shape_params {
+    double center[3], base[3], min[3], max[3], size[3]; /* size 0: use max */
+    double radius, hole, R, r, length, root, tip, bore, height, twist, tube, facets;
+    int segments, rings, axis, teeth, layers, p, q, segments_around;
+} hv_shape_params;
+
+/* Number of shapes; index of a shape by name (-1: none); name and a one-line description. */
+HV_API int hv_shape_count(void);
+HV_API int hv_shape_find(const char *name);
+HV_API const char *hv_shape_name(int shape);
+HV_API const char *hv_shape_about(int shape);
+/* The shape's parameters (init gives its defaults). Static data; NULL for a bad index. */
+HV_API const hv_option_set *hv_shape_option_set(int shape);
+/* Build shape `shape` from params. Errors: HV_ERR_INVALID (a parameter out of its domain,
+ * named; the shape's own constraints, e.g. r < R), HV_ERR_NOMEM. */
+HV_API hv_status hv_generate_shape(int shape, const hv_shape_params *params, hv_mesh **out);
 
 #ifdef __cplusplus
 }

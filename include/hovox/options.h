@@ -76,6 +76,8 @@ typedef enum hv_opt_elem {
                                  before "W,H" was the one syntax) */
 #define HV_OPT_ZERO_OK 0x100u /* NUMBER: 0 is accepted besides the domain ("automatic") */
 #define HV_OPT_OUT_PATH 0x200u /* STRING: a file the operation writes (a sandbox checks it) */
+#define HV_OPT_PAIRS 0x400u   /* CUSTOM text "KEY=VALUE" (repeatable): a Lua or JSON map
+                                 {KEY = VALUE, ...} gives one value per entry */
 
 /* A value as a front end delivers it. */
 typedef enum hv_opt_value_type { HV_VALUE_TEXT = 0, HV_VALUE_NUMBERS, HV_VALUE_BOOL } hv_opt_value_type;

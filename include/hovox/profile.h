@@ -21,6 +21,30 @@ extern "C" {
  * outside the boundary, 0 far from the object). Immutable once made. */
 typedef struct hv_profile hv_profile;
 
+/* What to sample and how to plot it. */
+#define HV_PROFILE_MAX_MARKS 64
+typedef struct hv_profile_mark {
+    double t;          /* distance along the line (mm) */
+    const char *label; /* may be NULL; borrowed */
+} hv_profile_mark;
+typedef struct hv_profile_options {
+    double from[3], to[3];   /* the segment (world units), distinct */
+    int samples;             /* 2 .. 10^7 (default 200) */
+    const char *title;       /* plot title; NULL: the default (borrowed) */
+    int size[2];             /* plot pixels (default 900, 560; 100 .. 8192 each) */
+    double y_range[2];       /* plot y range (default 0, 1); NAN, NAN: the data's */
+    int marks;               /* dashed vertical lines */
+    hv_profile_mark mark[HV_PROFILE_MAX_MARKS];
+} hv_profile_options;
+
+/* Defaults as noted. */
+HV_API void hv_profile_options_init(hv_profile_options *o);
+/* The profile options as an option set (hovox/options.h): keys from, to (required), samples,
+ * title, size, mark (repeatable, "T" or "T=LABEL"), y_range ("LO,HI" or "auto"). Static data. */
+HV_API const hv_option_set *hv_profile_option_set(void);
+/* Every option's domain; from != to. Errors: HV_ERR_INVALID naming the option. */
+HV_API hv_status hv_profile_options_check(const hv_profile_options *o);
+
 /* Sample the graded model vol at n >= 2 points from `from` to `to` (finite, distinct).
  * Multi-threaded, the result independent of the thread count. The material table is copied
  * from vol (hv_material_table_load), so vol may be freed afterwards.

@@ -5,6 +5,7 @@
 #define HOVOX_SLICE_H
 
 #include "hovox/mesh.h"
+#include "hovox/options.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -198,6 +199,25 @@ HV_API hv_status hv_slicer_plan_uniform(const hv_slicer *slicer, double first_he
 HV_API hv_status hv_slicer_plan_adaptive(const hv_slicer *slicer, double first_height,
                                          double min_height, double max_height, double cusp,
                                          hv_layer_plan **out);
+
+/* A contour job's layers and contours, as one set of options. */
+typedef struct hv_contours_options {
+    double layer_height; /* uniform layers (mm), or 0 with adaptive */
+    double adaptive[3];  /* adaptive layers: min, max, cusp (cusp 0: min); min 0: uniform */
+    double first_layer;  /* 0: as the others */
+    double close_gap;    /* the gap rule (default HV_SLICE_DEFAULT_CLOSE_GAP) */
+    int binary;          /* contour files in binary CLI */
+} hv_contours_options;
+
+HV_API void hv_contours_options_init(hv_contours_options *o);
+/* As an option set (hovox/options.h): keys layer_height, adaptive ("MIN,MAX[,CUSP]"),
+ * first_layer, close_gap, binary. Static data. */
+HV_API const hv_option_set *hv_contours_option_set(void);
+/* Domains; exactly one of layer_height and adaptive. Errors: HV_ERR_INVALID naming the option. */
+HV_API hv_status hv_contours_options_check(const hv_contours_options *o);
+/* hv_slicer_plan_uniform or hv_slicer_plan_adaptive as the options say; their errors. */
+HV_API hv_status hv_slicer_plan(const hv_slicer *slicer, const hv_contours_options *o,
+                                hv_layer_plan **out);
 
 /* A plan from explicit layers (copied): each needs finite bottom < top with
  * bottom <= z <= top, and z strictly increasing from layer to layer.

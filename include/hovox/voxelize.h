@@ -7,6 +7,7 @@
 #define HOVOX_VOXELIZE_H
 
 #include "hovox/mesh.h"
+#include "hovox/options.h"
 #include "hovox/volume.h"
 
 #ifdef __cplusplus
@@ -34,14 +35,27 @@ typedef struct hv_voxelize_options {
                                meshes voxelized with the same size share a lattice */
     int64_t dims[3];        /* else: dims[0] > 0 and dims[1] == dims[2] == 0: voxels along the
                                longest axis (cubic voxels); all three > 0: voxels per axis
-                               (Wu's (64,64,45)), voxels anisotropic when the ratios differ */
+                               (Wu's (64,64,45)), voxels anisotropic when the ratios differ;
+                               all 0 (default): HV_VOXELIZE_DEFAULT_DIMS on the longest axis */
     hv_fill_mode fill;
     uint64_t max_memory;    /* bytes the job may use; 0: half the physical memory */
     const hv_progress *progress;
 } hv_voxelize_options;
 
+#define HV_VOXELIZE_DEFAULT_DIMS 128
+
 /* Defaults: adjacency 26, 128 voxels on the longest axis, HV_FILL_AUTO, half of memory. */
 HV_API void hv_voxelize_options_init(hv_voxelize_options *opt);
+
+/* The voxelizer's options as an option set (hovox/options.h): keys dims, voxel_size,
+ * adjacency, fill, max_memory (a lattice is given in C as `lattice`; front ends call it
+ * "like"). Static data. */
+HV_API const hv_option_set *hv_voxelize_option_set(void);
+/* Domains and exclusions (dims or voxel_size or lattice). Errors: HV_ERR_INVALID naming the
+ * option. */
+HV_API hv_status hv_voxelize_options_check(const hv_voxelize_options *opt);
+/* Name <-> fill mode ("auto", "flood", "vote" (alias "winding"), "none"). */
+HV_API hv_status hv_fill_mode_parse(const char *name, hv_fill_mode *out);
 
 /* The lattice a job will use and what it will cost, computed before any voxel is touched.
  * Voxel (i,j,k) has its centre at origin + (i*voxel[0], ...); the mesh's box is covered by

@@ -519,26 +519,10 @@ static hv_status check_options(const char *path, const hv_export_options *opt,
     }
     if (*fmt != HV_EXPORT_VTI && *fmt != HV_EXPORT_VTU)
         return hv_error_set(HV_ERR_INVALID, "export: unknown format %d", (int)*fmt);
-    if (opt->coarsen < 1 || opt->coarsen > 4096)
-        return hv_error_set(HV_ERR_INVALID, "export: coarsen %d is out of range [1, 4096]",
-                            opt->coarsen);
+    hv_status s = hv_export_options_check(opt);
+    if (s != HV_OK) return s;
     if (opt->coarsen > 1 && *fmt != HV_EXPORT_VTU)
-        return hv_error_set(HV_ERR_INVALID, "export: coarsening applies to .vtu meshes only");
-    if (opt->coarsen_rule != HV_COARSEN_MAJORITY && opt->coarsen_rule != HV_COARSEN_ANY)
-        return hv_error_set(HV_ERR_INVALID, "export: unknown coarsen rule %d", (int)opt->coarsen_rule);
-    if (opt->mix & ~(unsigned)(HV_MIX_VOIGT | HV_MIX_REUSS))
-        return hv_error_set(HV_ERR_INVALID, "export: unknown mixing rule bits 0x%x", opt->mix);
-    if (opt->ntables < 0 || (opt->ntables > 0 && !opt->tables))
-        return hv_error_set(HV_ERR_INVALID, "export: %d tables but no table list", opt->ntables);
-    if (opt->zlib_level < 0 || opt->zlib_level > 9)
-        return hv_error_set(HV_ERR_INVALID, "export: zlib level %d is out of range [1, 9]",
-                            opt->zlib_level);
-    if (opt->use_box)
-        for (int a = 0; a < 3; ++a)
-            if (!isfinite(opt->box_lo[a]) || !isfinite(opt->box_hi[a]) ||
-                opt->box_lo[a] > opt->box_hi[a])
-                return hv_error_set(HV_ERR_INVALID, "export: box [%g, %g] on %c is empty or not "
-                                    "finite", opt->box_lo[a], opt->box_hi[a], "xyz"[a]);
+        return hv_error_option(HV_ERR_INVALID, "{coarsen} applies to .vtu output only");
     return HV_OK;
 }
 
@@ -556,8 +540,8 @@ static hv_status plan_all(const hv_volume *vol, const char *path, const hv_expor
     return fmt == HV_EXPORT_VTI ? vti_plan(md, r) : vtu_plan(md, opt, h, r);
 }
 
-hv_status hv_export_plan(const hv_volume *vol, const char *path, const hv_export_options *opt,
-                         hv_export_report *report)
+static hv_status plan_impl(const hv_volume *vol, const char *path, const hv_export_options *opt,
+                           hv_export_report *report)
 {
     hv_export_options defaults;
     if (!opt) {
@@ -593,8 +577,8 @@ static hv_status check_budget(const hv_export_options *opt, const hv_export_repo
                         (unsigned long long)r->points, need, have);
 }
 
-hv_status hv_export_write(const hv_volume *vol, const char *path, const hv_export_options *opt,
-                          hv_export_report *report)
+static hv_status write_impl(const hv_volume *vol, const char *path, const hv_export_options *opt,
+                            hv_export_report *report)
 {
     hv_export_options defaults;
     if (!opt) {
@@ -691,5 +675,69 @@ hv_status hv_export_write(const hv_volume *vol, const char *path, const hv_expor
     out_free(&out);
     ex_hexmesh_free(&h);
     model_free(&md);
+    return s;
+}
+
+/* ---- linearization files named in the options ------------------------------------------- */
+
+/* The options with the tables of opt->linearize[] loaded and appended to opt->tables. */
+typedef struct resolved {
+    hv_export_options o;
+    const hv_linearization *all[2 * HV_EXPORT_MAX_TABLES];
+    hv_linearization *own[HV_EXPORT_MAX_TABLES];
+    int nown;
+} resolved;
+
+static void resolved_free(resolved *r)
+{
+    for (int i = 0; i < r->nown; ++i) hv_linearization_destroy(r->own[i]);
+    r->nown = 0;
+}
+
+static hv_status resolve(const hv_export_options *opt, resolved *r)
+{
+    r->nown = 0;
+    if (!opt) hv_export_options_init(&r->o);
+    else r->o = *opt;
+    if (r->o.nlinearize <= 0) return HV_OK;
+    if (r->o.ntables < 0 || r->o.ntables > HV_EXPORT_MAX_TABLES || r->o.nlinearize > HV_EXPORT_MAX_TABLES)
+        return hv_export_options_check(&r->o);
+    for (int i = 0; i < r->o.ntables; ++i) r->all[i] = r->o.tables[i];
+    for (int i = 0; i < r->o.nlinearize; ++i) {
+        hv_status s = hv_linearization_load(r->o.linearize[i].path, r->o.linearize[i].property, &r->own[r->nown]);
+        if (s != HV_OK) {
+            resolved_free(r);
+            return s;
+        }
+        r->all[r->o.ntables + r->nown] = r->own[r->nown];
+        r->nown++;
+    }
+    r->o.tables = r->all;
+    r->o.ntables += r->nown;
+    r->o.nlinearize = 0;
+    return HV_OK;
+}
+
+hv_status hv_export_plan(const hv_volume *vol, const char *path, const hv_export_options *opt,
+                         hv_export_report *report)
+{
+    resolved *r = hv_malloc(sizeof *r);
+    if (!r) return HV_ERR_NOMEM;
+    hv_status s = resolve(opt, r);
+    if (s == HV_OK) s = plan_impl(vol, path, &r->o, report);
+    resolved_free(r);
+    free(r);
+    return s;
+}
+
+hv_status hv_export_write(const hv_volume *vol, const char *path, const hv_export_options *opt,
+                          hv_export_report *report)
+{
+    resolved *r = hv_malloc(sizeof *r);
+    if (!r) return HV_ERR_NOMEM;
+    hv_status s = resolve(opt, r);
+    if (s == HV_OK) s = write_impl(vol, path, &r->o, report);
+    resolved_free(r);
+    free(r);
     return s;
 }

@@ -374,112 +374,21 @@ static void opt_vec(lua_State *L, int idx, const char *key, double *out, int n, 
     lua_pop(L, 1);
 }
 
-/* model:render{path = "x.png"|".exr"|".tif", size = {w, h}, surface = bool, flat = bool,
- *              view = "iso"|..., eye = {x,y,z}, target = {...}, up = {...}, ortho = bool,
- *              fov = deg, step = voxels, density = per mm, clip = "x>0&y<0" or {list},
- *              clip_box = {x0,y0,z0,x1,y1,z1}, background = "#rrggbb"|"transparent",
- *              aa = N} -- the options of `hovox render` */
+/* model:render{path = "x.png"|".exr"|".tif", <the options of hv_render_option_set(): size,
+ *              background, aa, mode (surface = true, volume = true), flat, density, step,
+ *              tf_low, tf_high, view, eye, target, up, ortho, fov, clip, clip_box,
+ *              cut_opacity>} -- the options of `hovox render` */
 static int model_render(lua_State *L)
 {
-    static const char *const keys[] = {"path", "size", "surface", "flat", "view", "eye", "target", "up", "ortho", "fov", "step", "density", "cut_opacity", "clip", "clip_box", "background", "aa", NULL};
+    static const char *const extra[] = {"path", NULL};
     hv_volume *vol = check_model(L, 1);
-    hv_lua_check_options(L, 2, 2, keys);
-    const char *path = get_path(L, 2, "path");
-    if (!path) return arg_error(L, 2, "path is required (.png, .exr or .tif)");
+    int holder = hv_lua_holder(L);
     hv_render_options o;
-    hv_render_options_init(&o);
-    double size[2] = {o.width, o.height};
-    opt_vec(L, 2, "size", size, 2, NULL);
-    if (!(size[0] >= 1 && size[0] <= 65535 && size[1] >= 1 && size[1] <= 65535))
-        return arg_error(L, 2, "size must be {w, h} in 1..65535");
-    o.width = (int)size[0];
-    o.height = (int)size[1];
-    lua_getfield(L, 2, "surface");
-    if (lua_toboolean(L, -1)) o.mode = HV_RENDER_SURFACE;
-    lua_pop(L, 1);
-    lua_getfield(L, 2, "flat");
-    if (lua_toboolean(L, -1)) {
-        o.ambient = 1;
-        o.diffuse = 0;
-        o.specular = 0;
-    }
-    lua_pop(L, 1);
-    lua_getfield(L, 2, "view");
-    int have_view = !lua_isnil(L, -1), have_target = 0;
-    if (have_view && hv_view_parse(luaL_checkstring(L, -1), &o.camera.view) != HV_OK)
-        return arg_error(L, 2, "%s", hv_last_error());
-    lua_pop(L, 1);
-    opt_vec(L, 2, "eye", o.camera.eye, 3, &o.camera.use_eye);
-    opt_vec(L, 2, "target", o.camera.target, 3, &have_target);
-    /* as the CLI: view or eye/target; the target defaults to the model's centre */
-    if (have_view && (o.camera.use_eye || have_target)) return arg_error(L, 2, "give either view or eye/target, not both");
-    if (have_target && !o.camera.use_eye) return arg_error(L, 2, "target needs eye");
-    int32_t ilo[3], ihi[3];
-    if (o.camera.use_eye && !have_target && hv_volume_index_bbox(vol, ilo, ihi)) {
-        double c[3] = {0.5 * (ilo[0] + ihi[0]), 0.5 * (ilo[1] + ihi[1]), 0.5 * (ilo[2] + ihi[2])};
-        hv_volume_index_to_world(vol, c, o.camera.target);
-    }
-    int have_up = 0;
-    opt_vec(L, 2, "up", o.camera.up, 3, &have_up);
-    if (have_up && !o.camera.use_eye) return arg_error(L, 2, "up needs eye (preset views have their own)");
-    lua_getfield(L, 2, "ortho");
-    o.camera.ortho = lua_toboolean(L, -1);
-    lua_pop(L, 1);
-    struct { const char *key; double *v; double lo, hi; } nums[] = {
-        {"fov", &o.camera.fov, 1, 179}, {"step", &o.step, 0.01, 4}, {"density", &o.density, 0, 1e9},
-        {"cut_opacity", &o.cut_opacity, 0, 1}};
-    for (size_t i = 0; i < sizeof nums / sizeof nums[0]; ++i) {
-        lua_getfield(L, 2, nums[i].key);
-        if (!lua_isnil(L, -1)) {
-            double v = luaL_checknumber(L, -1);
-            if (!(v >= nums[i].lo && v <= nums[i].hi))
-                return arg_error(L, 2, "%s must be in [%g, %g], got %g", nums[i].key, nums[i].lo, nums[i].hi, v);
-            *nums[i].v = v;
-        }
-        lua_pop(L, 1);
-    }
-    lua_getfield(L, 2, "aa");
-    lua_Integer aa = luaL_optinteger(L, -1, o.samples);
-    lua_pop(L, 1);
-    if (aa < 1 || aa > 8) return arg_error(L, 2, "aa must be in [1, 8], got %lld", (long long)aa);
-    o.samples = (int)aa;
-    lua_getfield(L, 2, "background");
-    if (!lua_isnil(L, -1)) {
-        const char *bg = luaL_checkstring(L, -1);
-        if (strcmp(bg, "transparent") == 0) {
-            for (int k = 0; k < 4; ++k) o.background[k] = 0;
-        } else if (hv_color_parse(bg, o.background) != HV_OK) {
-            return arg_error(L, 2, "%s", hv_last_error());
-        }
-    }
-    lua_pop(L, 1);
-    lua_getfield(L, 2, "clip");
-    if (lua_type(L, -1) == LUA_TSTRING) {
-        if (hv_clip_parse(lua_tostring(L, -1), &o.clip[o.clips++]) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
-    } else if (lua_istable(L, -1)) {
-        int n = (int)lua_rawlen(L, -1);
-        if (n > HV_RENDER_MAX_CLIPS) return arg_error(L, 2, "at most %d clips", HV_RENDER_MAX_CLIPS);
-        for (int i = 1; i <= n; ++i) {
-            lua_rawgeti(L, -1, i);
-            if (hv_clip_parse(luaL_checkstring(L, -1), &o.clip[o.clips++]) != HV_OK)
-                return arg_error(L, 2, "%s", hv_last_error());
-            lua_pop(L, 1);
-        }
-    }
-    lua_pop(L, 1);
-    double box[6];
-    int have_box = 0;
-    opt_vec(L, 2, "clip_box", box, 6, &have_box);
-    if (have_box) {
-        for (int a = 0; a < 3; ++a) /* either corner first, as the CLI */
-            if (box[a] > box[a + 3]) {
-                double t = box[a];
-                box[a] = box[a + 3];
-                box[a + 3] = t;
-            }
-        if (o.clips == HV_RENDER_MAX_CLIPS) return arg_error(L, 2, "at most %d clips", HV_RENDER_MAX_CLIPS);
-        if (hv_clip_box(box, box + 3, &o.clip[o.clips++]) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
-    }
+    hv_optargs args;
+    hv_lua_read_options(L, 2, hv_render_option_set(), &o, &args, extra, holder);
+    const char *path = hv_lua_string_field(L, 2, "path", holder);
+    if (!path) return arg_error(L, 2, "path is required (.png, .exr or .tif)");
+    hv_lua_check_write(L, 2, path);
     hv_image *img = NULL;
     hv_status s = hv_render(vol, &o, NULL, &img);
     if (s == HV_OK) s = hv_image_write(img, path);

@@ -35,4 +35,25 @@ void hv_lua_check_options(lua_State *L, int idx, int arg, const char *const *key
 /* Raise "bad argument" unless writing `path` is allowed (for module functions). Returns path. */
 const char *hv_lua_check_write(lua_State *L, int arg, const char *path);
 
+/* ---- option tables (lopts.c) ------------------------------------------------------------------
+ * A binding reads its options table through the library's option set: hv_lua_holder pushes a
+ * holder (a table the script cannot reach) that owns private copies of every string read, alive
+ * until the C function returns; hv_lua_read_options checks that argument `arg` is a plain table
+ * (no metatable), refuses keys that are neither options of `set` nor in `extra` (the keys the
+ * binding reads itself: objects, paths), reads each value raw, and checks the rules; any
+ * refusal raises "bad argument #arg (<key> must be ...)". */
+int hv_lua_holder(lua_State *L);
+void hv_lua_check_plain_table(lua_State *L, int arg);
+const char *hv_lua_copy_string(lua_State *L, int holder, const char *s, size_t len);
+void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, hv_optargs *args,
+                         const char *const *extra, int holder);
+/* Push the raw value of field `key` of the table at `arg` (nil when arg is not a table);
+ * returns its type. */
+int hv_lua_field(lua_State *L, int arg, const char *key);
+/* A private copy (in holder) of string field `key`, NULL when absent; raises on another type. */
+const char *hv_lua_string_field(lua_State *L, int arg, const char *key, int holder);
+/* Check every output path option (HV_OPT_OUT_PATH) of opts against the sandbox; call right
+ * before the library call that writes them. */
+void hv_lua_check_paths(lua_State *L, int arg, const hv_option_set *set, const void *opts);
+
 #endif

@@ -22,19 +22,7 @@ void hv_voxelize_options_init(hv_voxelize_options *o)
 {
     memset(o, 0, sizeof *o);
     o->adjacency = 26;
-    o->dims[0] = 128;
     o->fill = HV_FILL_AUTO;
-}
-
-const char *hv_fill_mode_name(hv_fill_mode m)
-{
-    switch (m) {
-    case HV_FILL_AUTO: return "auto";
-    case HV_FILL_FLOOD: return "flood";
-    case HV_FILL_VOTE: return "vote";
-    case HV_FILL_NONE: return "none";
-    }
-    return "?";
 }
 
 /* ---- bit grids ------------------------------------------------------------------------- */
@@ -80,8 +68,9 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     memset(p, 0, sizeof *p);
     const hv_mesh_report *r = hv_mesh_get_report(mesh);
     const char *name = *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "mesh";
-    if (opt->adjacency != 6 && opt->adjacency != 26)
-        return hv_error_set(HV_ERR_INVALID, "adjacency must be 6 or 26 (got %d)", opt->adjacency);
+    hv_status st = hv_voxelize_options_check(opt);
+    if (st != HV_OK) return st;
+    int64_t dims0 = opt->dims[0] || opt->dims[1] || opt->dims[2] ? opt->dims[0] : HV_VOXELIZE_DEFAULT_DIMS;
     double ext[3], ctr[3];
     for (int a = 0; a < 3; ++a) {
         ext[a] = r->bbox_max[a] - r->bbox_min[a];
@@ -115,20 +104,16 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
             phase[a] = 0.5 * v;
         }
         snapped = 1;
-    } else if (opt->dims[0] > 0 && opt->dims[1] == 0 && opt->dims[2] == 0) {
+    } else if (dims0 > 0 && opt->dims[1] == 0 && opt->dims[2] == 0) {
         if (!(longest > 0))
             return hv_error_set(HV_ERR_INVALID, "%s: the mesh has no extent", name);
-        if (opt->dims[0] > 2147483647)
-            return hv_error_set(HV_ERR_LIMIT, "dims %lld exceed 2^31", (long long)opt->dims[0]);
-        double v = longest / (double)opt->dims[0];
+        double v = longest / (double)dims0;
         for (int a = 0; a < 3; ++a) {
             p->xf.voxel[a] = v;
             p->dims[a] = HV_MAX((int64_t)ceil(ext[a] / v - 1e-9), 1);
         }
     } else if (opt->dims[0] > 0 && opt->dims[1] > 0 && opt->dims[2] > 0) {
         for (int a = 0; a < 3; ++a) {
-            if (opt->dims[a] > 2147483647)
-                return hv_error_set(HV_ERR_LIMIT, "dims %lld exceed 2^31", (long long)opt->dims[a]);
             if (!(ext[a] > 0))
                 return hv_error_option(HV_ERR_INVALID,
                                     "%s: the mesh is flat along %c, so dims on that axis cannot "

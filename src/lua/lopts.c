@@ -1,0 +1,252 @@
+/* src/lua/lopts.c - option tables for the Lua binding: a table {key = value} read through the
+ * library's option set (hovox/options.h), so Lua checks exactly what the CLI checks and names
+ * the key in every refusal. Hostile tables are expected: only plain tables (no metatable) are
+ * read, always raw (no metamethod runs while C reads them), and every text value is copied into
+ * memory the script cannot reach or change, which stays alive until the C function returns. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <lauxlib.h>
+
+#include "core/internal.h"
+#include "lua/lhovox.h"
+
+#define MAX_VALUES 64 /* numbers in one list value */
+
+/* A private copy of a string, owned by the holder table at `holder`. */
+const char *hv_lua_copy_string(lua_State *L, int holder, const char *s, size_t len)
+{
+    char *copy = lua_newuserdatauv(L, len + 1, 0);
+    memcpy(copy, s, len);
+    copy[len] = '\0';
+    lua_rawseti(L, holder, (lua_Integer)lua_rawlen(L, holder) + 1);
+    return copy;
+}
+
+int hv_lua_holder(lua_State *L)
+{
+    lua_createtable(L, 8, 0);
+    return lua_gettop(L);
+}
+
+void hv_lua_check_plain_table(lua_State *L, int arg)
+{
+    luaL_checktype(L, arg, LUA_TTABLE);
+    if (lua_getmetatable(L, arg)) {
+        lua_pop(L, 1);
+        luaL_argerror(L, arg, "options must be a plain table (one with a metatable is refused)");
+    }
+}
+
+/* Raise the library's last message as an argument error (options spelled as Lua keys). */
+static int raise_option_error(lua_State *L, int arg)
+{
+    char msg[2048];
+    snprintf(msg, sizeof msg, "%s", hv_last_error());
+    return luaL_argerror(L, arg, msg);
+}
+
+/* Set `key` from the Lua value at the top of the stack (not popped). Returns the status. */
+static hv_status set_from_lua(lua_State *L, hv_optargs *args, const char *key, const hv_option *o, int holder)
+{
+    int t = lua_type(L, -1);
+    hv_opt_value v = {HV_VALUE_TEXT, NULL, NULL, 0, 0};
+    double nums[MAX_VALUES];
+    char intbuf[32];
+    switch (t) {
+    case LUA_TBOOLEAN:
+        v.type = HV_VALUE_BOOL;
+        v.boolean = lua_toboolean(L, -1);
+        return hv_optargs_set(args, key, &v);
+    case LUA_TNUMBER:
+        if (o && o->kind == HV_OPT_NUMBER && o->elem == HV_ELEM_UINT64 && lua_isinteger(L, -1)) {
+            /* integers keep all 64 bits through their text */
+            snprintf(intbuf, sizeof intbuf, "%lld", (long long)lua_tointeger(L, -1));
+            v.text = intbuf;
+            return hv_optargs_set(args, key, &v);
+        }
+        nums[0] = lua_tonumber(L, -1);
+        v.type = HV_VALUE_NUMBERS;
+        v.numbers = nums;
+        v.n = 1;
+        return hv_optargs_set(args, key, &v);
+    case LUA_TSTRING: {
+        size_t len;
+        const char *s = lua_tolstring(L, -1, &len);
+        if (strlen(s) != len) return hv_error_option(HV_ERR_INVALID, "{%s} must not contain NUL bytes", key);
+        v.text = hv_lua_copy_string(L, holder, s, len);
+        return hv_optargs_set(args, key, &v);
+    }
+    case LUA_TTABLE: {
+        if (lua_getmetatable(L, -1)) {
+            lua_pop(L, 1);
+            return hv_error_option(HV_ERR_INVALID, "{%s} must be a plain table (one with a metatable is refused)", key);
+        }
+        int tbl = lua_gettop(L);
+        lua_Integer n = (lua_Integer)lua_rawlen(L, tbl);
+        if (o && (o->flags & HV_OPT_PAIRS)) { /* {k = v, ...} -> "k=v" values, in key order */
+            lua_pushnil(L);
+            char pair[4096];
+            const char *keys[MAX_VALUES];
+            int nk = 0;
+            while (lua_next(L, tbl)) {
+                lua_pop(L, 1);
+                if (lua_type(L, -1) != LUA_TSTRING || nk == MAX_VALUES) {
+                    lua_pop(L, 1);
+                    return hv_error_option(HV_ERR_INVALID, "{%s} must map names to strings (at most %d)", key,
+                                           MAX_VALUES);
+                }
+                keys[nk++] = lua_tostring(L, -1); /* anchored by the table, read before anything runs */
+            }
+            for (int i = 1; i < nk; ++i) /* sorted: the order does not depend on hashing */
+                for (int j = i; j > 0 && strcmp(keys[j - 1], keys[j]) > 0; --j) {
+                    const char *x = keys[j];
+                    keys[j] = keys[j - 1];
+                    keys[j - 1] = x;
+                }
+            for (int i = 0; i < nk; ++i) {
+                lua_pushstring(L, keys[i]);
+                if (lua_rawget(L, tbl) != LUA_TSTRING) {
+                    lua_pop(L, 1);
+                    return hv_error_option(HV_ERR_INVALID, "{%s}.%s must be a string", key, keys[i]);
+                }
+                snprintf(pair, sizeof pair, "%s=%s", keys[i], lua_tostring(L, -1));
+                lua_pop(L, 1);
+                v.text = hv_lua_copy_string(L, holder, pair, strlen(pair));
+                hv_status s = hv_optargs_set(args, key, &v);
+                if (s != HV_OK) return s;
+            }
+            return HV_OK;
+        }
+        if (n > 0 && o && (o->flags & HV_OPT_REPEAT) && lua_rawgeti(L, tbl, 1) != LUA_TNUMBER) {
+            lua_pop(L, 1); /* a list of values: each one is given in turn */
+            for (lua_Integer i = 1; i <= n; ++i) {
+                lua_rawgeti(L, tbl, i);
+                hv_status s = set_from_lua(L, args, key, o, holder);
+                lua_pop(L, 1);
+                if (s != HV_OK) return s;
+            }
+            return HV_OK;
+        } else if (n > 0 && o && (o->flags & HV_OPT_REPEAT)) {
+            lua_pop(L, 1);
+        }
+        if (n > MAX_VALUES) return hv_error_option(HV_ERR_INVALID, "{%s} has %lld values (at most %d)", key, (long long)n, MAX_VALUES);
+        for (lua_Integer i = 1; i <= n; ++i) {
+            int et = lua_rawgeti(L, tbl, i);
+            nums[i - 1] = lua_tonumber(L, -1);
+            lua_pop(L, 1);
+            if (et != LUA_TNUMBER)
+                return hv_error_option(HV_ERR_INVALID, "{%s} must be a list of numbers; item %lld is a %s", key,
+                                       (long long)i, lua_typename(L, et));
+        }
+        v.type = HV_VALUE_NUMBERS;
+        v.numbers = nums;
+        v.n = (int)n;
+        return hv_optargs_set(args, key, &v);
+    }
+    default:
+        return hv_error_option(HV_ERR_INVALID, "{%s} cannot be a %s", key, lua_typename(L, t));
+    }
+}
+
+static int listed(const char *const *keys, const char *k)
+{
+    for (const char *const *q = keys; q && *q; ++q)
+        if (strcmp(*q, k) == 0) return 1;
+    return 0;
+}
+
+void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, hv_optargs *args,
+                         const char *const *extra, int holder)
+{
+    hv_optargs_begin(args, set, opts);
+    if (lua_isnoneornil(L, arg)) {
+        if (hv_optargs_finish(args) != HV_OK) raise_option_error(L, arg);
+        return;
+    }
+    arg = lua_absindex(L, arg);
+    hv_lua_check_plain_table(L, arg);
+    /* unknown keys first, so a misspelt option never falls back to its default */
+    lua_pushnil(L);
+    while (lua_next(L, arg)) {
+        lua_pop(L, 1);
+        if (lua_type(L, -1) != LUA_TSTRING) {
+            hv_lua_arg_error(L, arg, "options are named (key = value), got a %s key", luaL_typename(L, -1));
+            return;
+        }
+        const char *k = lua_tostring(L, -1);
+        int known = hv_option_find(set, k) != NULL || listed(extra, k);
+        for (int i = 0; !known && i < set->alias_count; ++i) known = strcmp(set->aliases[i].name, k) == 0;
+        if (known) continue;
+        char list[1024];
+        size_t n = 0;
+        list[0] = '\0';
+        for (int i = 0; i < set->count && n < sizeof list; ++i)
+            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", set->options[i].key);
+        for (int i = 0; i < set->alias_count && n < sizeof list; ++i)
+            n += (size_t)snprintf(list + n, sizeof list - n, ", %s", set->aliases[i].name);
+        for (const char *const *q = extra; q && *q && n < sizeof list; ++q)
+            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", *q);
+        hv_lua_arg_error(L, arg, "unknown option '%s' (options: %s)", k, list);
+        return;
+    }
+    /* then the values, in the set's order (deterministic messages) */
+    for (int i = 0; i < set->count; ++i) {
+        const hv_option *o = &set->options[i];
+        lua_pushstring(L, o->key);
+        if (lua_rawget(L, arg) != LUA_TNIL && set_from_lua(L, args, o->key, o, holder) != HV_OK) {
+            lua_pop(L, 1);
+            raise_option_error(L, arg);
+            return;
+        }
+        lua_pop(L, 1);
+    }
+    for (int i = 0; i < set->alias_count; ++i) {
+        lua_pushstring(L, set->aliases[i].name);
+        if (lua_rawget(L, arg) != LUA_TNIL && set_from_lua(L, args, set->aliases[i].name, NULL, holder) != HV_OK) {
+            lua_pop(L, 1);
+            raise_option_error(L, arg);
+            return;
+        }
+        lua_pop(L, 1);
+    }
+    if (hv_optargs_finish(args) != HV_OK) raise_option_error(L, arg);
+}
+
+int hv_lua_field(lua_State *L, int arg, const char *key)
+{
+    arg = lua_absindex(L, arg);
+    if (lua_type(L, arg) != LUA_TTABLE) {
+        lua_pushnil(L);
+        return LUA_TNIL;
+    }
+    lua_pushstring(L, key);
+    return lua_rawget(L, arg);
+}
+
+const char *hv_lua_string_field(lua_State *L, int arg, const char *key, int holder)
+{
+    int t = hv_lua_field(L, arg, key);
+    const char *copy = NULL;
+    if (t == LUA_TSTRING) {
+        size_t len;
+        const char *s = lua_tolstring(L, -1, &len);
+        if (strlen(s) != len) hv_lua_arg_error(L, arg, "%s must not contain NUL bytes", key);
+        copy = hv_lua_copy_string(L, holder, s, len);
+    } else if (t != LUA_TNIL) {
+        hv_lua_arg_error(L, arg, "%s must be a string, got %s", key, lua_typename(L, t));
+    }
+    lua_pop(L, 1);
+    return copy;
+}
+
+void hv_lua_check_paths(lua_State *L, int arg, const hv_option_set *set, const void *opts)
+{
+    for (int i = 0; i < set->count; ++i) {
+        const hv_option *o = &set->options[i];
+        if (o->kind != HV_OPT_STRING || !(o->flags & HV_OPT_OUT_PATH)) continue;
+        const char *path = *(const char *const *)((const char *)opts + o->offset);
+        if (path) hv_lua_check_write(L, arg, path);
+    }
+}

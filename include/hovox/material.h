@@ -154,6 +154,26 @@ HV_API hv_status hv_frf_harmonic(const hv_volume *vol, const char *domain, const
                                  const hv_facet_select *one, const hv_facet_select *zero,
                                  hv_frf **out);
 
+/* Features from options: the kinds point, axis (alias line), plane, segment, contour and mask,
+ * each with its keys (point: point; axis: origin, direction; plane: point, normal; segment:
+ * from, to; contour, mask: grid). */
+typedef struct hv_frf_options {
+    hv_frf_kind kind;
+    double point[3], origin[3], direction[3], normal[3], from[3], to[3];
+    const char *grid; /* borrowed */
+} hv_frf_options;
+/* Name <-> kind ("point", "axis" (or "line"), "plane", "segment", "contour", "mask", "facets",
+ * "harmonic", "field"). */
+HV_API hv_status hv_frf_kind_parse(const char *name, hv_frf_kind *out);
+HV_API const char *hv_frf_kind_name(hv_frf_kind kind);
+/* The option set of a kind made from options (init sets `kind`); NULL for the others. */
+HV_API const hv_option_set *hv_frf_option_set(hv_frf_kind kind);
+/* Make the feature (contour and mask need vol). Errors: those of the hv_frf_* makers and of
+ * the options' domains. */
+HV_API hv_status hv_frf_from_options(const hv_frf_options *o, const hv_volume *vol, hv_frf **out);
+/* Facet selections as options: normal, angle (default 10), box_min, box_max. */
+HV_API const hv_option_set *hv_facet_select_option_set(void);
+
 HV_API hv_frf *hv_frf_retain(hv_frf *f);
 HV_API void hv_frf_release(hv_frf *f); /* NULL allowed */
 HV_API hv_frf_kind hv_frf_get_kind(const hv_frf *f);
@@ -176,6 +196,21 @@ typedef struct hv_ags_desc {
     int m;
     const char *name;            /* may be NULL */
 } hv_ags_desc;
+
+/* A source as options: ranges (D-,DG,D+) or d_neg, d_grad, d_pos; f (an expression; default
+ * d/dg); ms, me (required, as many fractions as materials); name. */
+typedef struct hv_ags_options {
+    double d_neg, d_grad, d_pos;
+    const char *f;      /* borrowed; NULL: d/dg */
+    double ms[HV_MAX_MATERIALS], me[HV_MAX_MATERIALS];
+    int nms, nme;
+    const char *name;   /* borrowed; may be NULL */
+} hv_ags_options;
+HV_API void hv_ags_options_init(hv_ags_options *o);
+HV_API const hv_option_set *hv_ags_option_set(void);
+/* Make an AGS on frf from options; `f` (may be NULL) replaces the expression o->f (a callback
+ * from a script). Errors: those of the options and of hv_ags_create. */
+HV_API hv_status hv_ags_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn *f, hv_ags **out);
 
 /* Make an AGS: validates the ranges (finite, >= 0), Ms and Me (hv_composition_check), and
  * tabulates f over [0, dg], requiring 0 <= f <= 1 (within 1e-9) at every sample. Evaluation:
@@ -207,6 +242,10 @@ typedef enum hv_blend {
                              first added) */
     HV_BLEND_IDW = 1      /* inverse-distance weights 1 / (d_i + eps)^power, eps = voxel/2 */
 } hv_blend;
+
+/* Name <-> blend ("nearest", "idw"); an unknown name is HV_ERR_INVALID listing the names. */
+HV_API hv_status hv_blend_parse(const char *name, hv_blend *out);
+HV_API const char *hv_blend_name(hv_blend blend);
 
 /* An object: regions (geometry mask on a shared lattice, AGS set) over m materials, with a base
  * composition for voxels no source covers (regions without AGS). */

@@ -203,6 +203,10 @@ HV_API hv_status hv_optargs_finish(hv_optargs *args);
  * the names are marked, so braces in values are text). Returns status. */
 HV_API hv_status hv_error_option(hv_status status, const char *fmt, ...) HV_PRINTF(2, 3);
 
+/* 1 when the calling thread's last message was recorded by hv_error_option (it names an
+ * option: the failure is about a value someone gave). */
+HV_API int hv_last_error_names_option(void);
+
 /* The calling thread's last message with each option name passed through spell(key, user) (a
  * NULL result keeps the key); into buf of size bytes. Returns buf. */
 typedef const char *(*hv_spell_fn)(const char *key, void *user);

@@ -2,6 +2,7 @@
  * option set (hovox/options.h) and its own few options (output, --json, ...) in one cli_spec;
  * this file turns that into argument parsing, the --help text and messages that spell options
  * as the command line does (--layer-height). Values are parsed and checked by the library. */
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -124,7 +125,8 @@ static void print_option(FILE *out, const hv_option *o, const void *defaults)
     if (defaults && has_value && o->help && !strstr(o->help, "default")) {
         char v[128];
         hv_option_format(o, defaults, v, sizeof v);
-        int zero = strcmp(v, "0") == 0 || v[0] == '\0' || strcmp(v, "0,0") == 0 || strcmp(v, "0,0,0") == 0;
+        int zero = strcmp(v, "0") == 0 || v[0] == '\0' || strcmp(v, "0,0") == 0 || strcmp(v, "0,0,0") == 0 ||
+                   strcmp(v, "0:") == 0;
         if (!zero) snprintf(help + strlen(help), sizeof help - strlen(help), " (default %s)", v);
     }
     int col = (int)strlen(left);
@@ -151,29 +153,46 @@ static void print_aliases(FILE *out, const hv_option_set *set, const char *key)
     }
 }
 
-static void print_set(FILE *out, const hv_option_set *set, const char *first_section)
-{
-    if (!set) return;
-    void *defaults = hv_calloc(1, set->size ? set->size : 1);
-    if (defaults && set->init) set->init(defaults);
-    for (int i = 0; i < set->count; ++i) {
-        const hv_option *o = &set->options[i];
-        const char *sec = o->section ? o->section : i == 0 ? first_section : NULL;
-        if (sec) fprintf(out, "%s:\n", sec);
-        print_option(out, o, defaults);
-        print_aliases(out, set, o->key);
-    }
-    free(defaults);
-}
-
+/* The options of the local and library sets, grouped by help section in order of first
+ * appearance (an option without a section is in the one before it in its set). */
 static void print_help(const cli_spec *spec)
 {
     FILE *out = stdout;
     fprintf(out, "usage: hovox %s %s\n", spec->name, spec->usage);
     if (spec->about) fprintf(out, "\n%s", spec->about);
     fputc('\n', out);
-    print_set(out, spec->local, "Options");
-    print_set(out, spec->lib, spec->local ? NULL : "Options");
+    const hv_option_set *sets[2] = {spec->lib, spec->local};
+    void *defaults[2] = {NULL, NULL};
+    const char *sections[128];
+    int nsec = 0;
+    for (int k = 0; k < 2; ++k) {
+        if (!sets[k]) continue;
+        defaults[k] = hv_calloc(1, sets[k]->size ? sets[k]->size : 1);
+        if (defaults[k] && sets[k]->init) sets[k]->init(defaults[k]);
+        const char *sec = "Options";
+        for (int i = 0; i < sets[k]->count; ++i) {
+            if (sets[k]->options[i].section) sec = sets[k]->options[i].section;
+            int seen = 0;
+            for (int q = 0; q < nsec && !seen; ++q) seen = strcmp(sections[q], sec) == 0;
+            if (!seen && nsec < 128) sections[nsec++] = sec;
+        }
+    }
+    for (int q = 0; q < nsec; ++q) {
+        fprintf(out, "%s:\n", sections[q]);
+        for (int k = 0; k < 2; ++k) {
+            if (!sets[k]) continue;
+            const char *sec = "Options";
+            for (int i = 0; i < sets[k]->count; ++i) {
+                const hv_option *o = &sets[k]->options[i];
+                if (o->section) sec = o->section;
+                if (strcmp(sec, sections[q]) != 0) continue;
+                print_option(out, o, defaults[k]);
+                print_aliases(out, sets[k], o->key);
+            }
+        }
+    }
+    free(defaults[0]);
+    free(defaults[1]);
     fprintf(out, "Other:\n");
     for (size_t i = 0; i < HV_COUNT(k_common_opts); ++i) {
         const hv_option *o = &k_common_opts[i];
@@ -330,6 +349,7 @@ int cli_fail(hv_status s)
 {
     char msg[2048];
     const char *m = cli_message(msg, sizeof msg);
+    if (s == HV_ERR_INVALID && hv_last_error_names_option() && g_spec) return cli_usage_error(g_spec->name, "%s", m);
     if (s == HV_ERR_CANCELLED && cli_interrupted()) m = "interrupted";
     fprintf(stderr, "hovox: %s\n", *m ? m : hv_status_name(s));
     return cli_exit_code(s);
@@ -342,3 +362,94 @@ int cli_given(const cli_args *a, const char *key)
 }
 
 const cli_spec *cli_current_spec(void) { return g_spec; }
+
+void cli_warn(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "hovox: warning: ");
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+/* ---- JSON on stdout ------------------------------------------------------------------------ */
+
+static void json_key(cli_json *j, const char *key)
+{
+    fputs(j->n++ ? ", " : "{", stdout);
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_json_string(&b, key);
+    fputs(b.data ? b.data : "\"\"", stdout);
+    fputs(": ", stdout);
+    hv_buf_free(&b);
+}
+
+void cli_json_begin(cli_json *j) { j->n = 0; }
+
+void cli_json_str(cli_json *j, const char *key, const char *value)
+{
+    json_key(j, key);
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_json_string(&b, value ? value : "");
+    fputs(b.data ? b.data : "\"\"", stdout);
+    hv_buf_free(&b);
+}
+
+void cli_json_num(cli_json *j, const char *key, double value)
+{
+    json_key(j, key);
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_json_number(&b, value);
+    fputs(b.data ? b.data : "null", stdout);
+    hv_buf_free(&b);
+}
+
+void cli_json_int(cli_json *j, const char *key, long long value)
+{
+    json_key(j, key);
+    printf("%lld", value);
+}
+
+void cli_json_bool(cli_json *j, const char *key, int value)
+{
+    json_key(j, key);
+    fputs(value ? "true" : "false", stdout);
+}
+
+void cli_json_nums(cli_json *j, const char *key, const double *v, int n)
+{
+    json_key(j, key);
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_puts(&b, "[");
+    for (int i = 0; i < n; ++i) {
+        if (i) hv_buf_puts(&b, ", ");
+        hv_buf_json_number(&b, v[i]);
+    }
+    hv_buf_puts(&b, "]");
+    fputs(b.data ? b.data : "[]", stdout);
+    hv_buf_free(&b);
+}
+
+void cli_json_ints(cli_json *j, const char *key, const int64_t *v, int n)
+{
+    json_key(j, key);
+    fputs("[", stdout);
+    for (int i = 0; i < n; ++i) printf("%s%lld", i ? ", " : "", (long long)v[i]);
+    fputs("]", stdout);
+}
+
+void cli_json_raw(cli_json *j, const char *key, const char *json)
+{
+    json_key(j, key);
+    fputs(json, stdout);
+}
+
+void cli_json_end(cli_json *j)
+{
+    fputs(j->n ? "}\n" : "{}\n", stdout);
+}

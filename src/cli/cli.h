@@ -4,6 +4,8 @@
 #ifndef HOVOX_CLI_H
 #define HOVOX_CLI_H
 
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "hovox/core.h"
@@ -68,7 +70,36 @@ const char *cli_spell(const char *key);
 /* The last library message with options spelled for the command line; into buf. */
 const char *cli_message(char *buf, size_t size);
 
-/* Print "hovox: <detail>" for a failed library call and return its exit code. */
+/* The command's own options, declared like the library's: a local struct and a table. */
+#define CLI_LOCAL_SET(name, opts, type) \
+    {name, opts, (int)(sizeof(opts) / sizeof((opts)[0])), sizeof(type), NULL, NULL, 0, NULL, NULL, NULL, 0}
+#define CLI_OUTPUT(type, meta_, help_, flags_)                                                   \
+    {.key = "output", .kind = HV_OPT_STRING, .flags = (flags_) | HV_OPT_OUT_PATH,                  \
+     .offset = offsetof(type, output), .meta = meta_, .help = help_, .section = "Output"}
+#define CLI_DRY_RUN(type, help_) \
+    {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(type, dry_run), .help = help_}
+#define CLI_JSON(type, help_) {.key = "json", .kind = HV_OPT_FLAG, .offset = offsetof(type, json), .help = help_}
+
+/* Print "hovox: warning: <message>" on stderr. */
+void cli_warn(const char *fmt, ...) HV_PRINTF(1, 2);
+
+/* A JSON object printed on stdout as one line: {"key": value, ...}. */
+typedef struct cli_json {
+    int n;
+} cli_json;
+void cli_json_begin(cli_json *j);
+void cli_json_str(cli_json *j, const char *key, const char *value);
+void cli_json_num(cli_json *j, const char *key, double value);
+void cli_json_int(cli_json *j, const char *key, long long value);
+void cli_json_bool(cli_json *j, const char *key, int value);
+void cli_json_nums(cli_json *j, const char *key, const double *v, int n);
+void cli_json_ints(cli_json *j, const char *key, const int64_t *v, int n);
+/* A value already in JSON (an object or array made elsewhere). */
+void cli_json_raw(cli_json *j, const char *key, const char *json);
+void cli_json_end(cli_json *j);
+
+/* Print "hovox: <detail>" for a failed library call and return its exit code; a refusal of an
+ * option value (HV_ERR_INVALID naming an option) is a usage error instead (exit 2). */
 int cli_fail(hv_status status);
 /* Print "hovox <cmd>: <message> (see 'hovox <cmd> --help')" on one line; returns EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, ...) HV_PRINTF(2, 3);

@@ -167,7 +167,8 @@ static const char *domain_text(const hv_option *o, char *buf, size_t size)
     /* what: "an integer ", "" (a number), "2 integers ", "3 numbers " */
     char integer[48];
     int n = count_of(o);
-    if (n > 1) snprintf(integer, sizeof integer, "%d %s ", n, elem_integral(o->elem) ? "integers" : "numbers");
+    if (n > 1 && (o->flags & (HV_OPT_SCALAR | HV_OPT_FIRST))) snprintf(integer, sizeof integer, "%s", elem_integral(o->elem) ? "integers " : "");
+    else if (n > 1) snprintf(integer, sizeof integer, "%d %s ", n, elem_integral(o->elem) ? "integers" : "numbers");
     else snprintf(integer, sizeof integer, "%s", elem_integral(o->elem) ? "an integer " : "");
     int has_lo = lo > tlo || (lo == tlo && isfinite(lo) && (o->flags & HV_OPT_LO_OPEN));
     int has_hi = hi < thi && isfinite(hi);
@@ -485,6 +486,11 @@ hv_status hv_option_check(const hv_option *o, const void *opts)
         int n = o->kind == HV_OPT_BYTES ? 1 : count_of(o);
         double num[64];
         int skip_rest = (o->flags & HV_OPT_FIRST) && n > 1;
+        if (n > 1 && (o->flags & (HV_OPT_FIRST | HV_OPT_SCALAR))) { /* all zero: not set */
+            int zero = 1;
+            for (int i = 0; i < n; ++i) zero &= get_elem(o, opts, i) == 0;
+            if (zero) return o->check ? o->check(o, opts) : HV_OK;
+        }
         for (int i = 0; i < n && i < 64; ++i) {
             num[i] = o->kind == HV_OPT_BYTES ? (double)*(const uint64_t *)cfield(o, opts) : get_elem(o, opts, i);
             if (skip_rest && i > 0 && num[i] == 0) continue;

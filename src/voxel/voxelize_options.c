@@ -28,13 +28,13 @@ hv_status hv_fill_mode_parse(const char *name, hv_fill_mode *out)
 
 #define OFF(f) offsetof(hv_voxelize_options, f)
 static const hv_option k_opts[] = {
-    {.key = "dims", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT64, .count = 3, .flags = HV_OPT_FIRST | HV_OPT_ZERO_OK,
+    {.key = "dims", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT64, .count = 3, .flags = HV_OPT_FIRST,
      .lo = 1, .hi = 2147483647, .offset = OFF(dims), .meta = "N|X,Y,Z",
      .help = "N voxels along the longest axis (cubic voxels), or X,Y,Z voxels per axis (Wu's 64,64,45; "
              "anisotropic voxels when the ratios differ); the grid is centred on the mesh (default 128 on the "
              "longest axis)",
      .section = "Resolution (one of)"},
-    {.key = "voxel_size", .kind = HV_OPT_NUMBER, .count = 3, .flags = HV_OPT_SCALAR | HV_OPT_ZERO_OK, .lo = 1e-4,
+    {.key = "voxel_size", .kind = HV_OPT_NUMBER, .count = 3, .flags = HV_OPT_SCALAR, .lo = 1e-4,
      .hi = 1e6, .offset = OFF(voxel_size), .meta = "L|X,Y,Z", .unit = "mm",
      .help = "cubic voxels of size L, or a size per axis; the lattice is global (voxel centres at (n + 1/2) L), "
              "so meshes voxelized with the same size line up"},

@@ -26,12 +26,12 @@ static hv_status parse_adaptive(const hv_option *o, void *opts, const hv_opt_val
 
 #define OFF(f) offsetof(hv_contours_options, f)
 static const hv_option k_opts[] = {
-    {.key = "layer_height", .kind = HV_OPT_NUMBER, .lo = 1e-4, .hi = 100, .offset = OFF(layer_height), .meta = "H",
+    {.key = "layer_height", .kind = HV_OPT_NUMBER, .lo = 1e-4, .hi = 100, .flags = HV_OPT_UNSET0, .offset = OFF(layer_height), .meta = "H",
      .unit = "mm", .help = "uniform layers of H mm", .section = "Layers (one of)"},
     {.key = "adaptive", .kind = HV_OPT_CUSTOM, .meta = "MIN,MAX[,CUSP]", .parse = parse_adaptive,
      .help = "adaptive layers between MIN and MAX mm, thinner where the surface is nearly horizontal: a "
              "facet with normal n allows CUSP/|n_z| (cusp-height criterion; CUSP defaults to MIN)"},
-    {.key = "first_layer", .kind = HV_OPT_NUMBER, .lo = 1e-4, .hi = 100, .offset = OFF(first_layer), .meta = "H0",
+    {.key = "first_layer", .kind = HV_OPT_NUMBER, .lo = 1e-4, .hi = 100, .flags = HV_OPT_UNSET0, .offset = OFF(first_layer), .meta = "H0",
      .unit = "mm", .help = "height of the first layer (default: as the others)"},
     {.key = "close_gap", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = OFF(close_gap), .meta = "D",
      .unit = "mm", .help = "join open polyline ends at most D mm apart; chains of an open mesh that still do not "

@@ -87,7 +87,7 @@ static const hv_option k_opts[] = {
      .meta = "N", .unit = "pixels", .help = "background pixels around the mesh's xy box"},
     {.key = "close_gap", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = OFF(close_gap), .meta = "D",
      .unit = "mm", .help = "join open contour ends at most D mm apart"},
-    {.key = "poi_step", .kind = HV_OPT_NUMBER, .lo = 1, .hi = 1e6, .flags = HV_OPT_ZERO_OK, .offset = OFF(poi_step), .meta = "R",
+    {.key = "poi_step", .kind = HV_OPT_NUMBER, .lo = 1, .hi = 1e6, .flags = HV_OPT_UNSET0, .offset = OFF(poi_step), .meta = "R",
      .help = "largest up-sampling ratio of one POI step (1: one exact step)", .section = "Resources"},
     {.key = "compression", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 0, .hi = 9,
      .offset = OFF(compression), .meta = "L", .help = "PNG zlib level 0..9"},

@@ -75,6 +75,8 @@ typedef enum hv_opt_elem {
 #define HV_OPT_XSEP 0x80u     /* NUMBER with count 2: text "WxH" is accepted too (documented
                                  before "W,H" was the one syntax) */
 #define HV_OPT_ZERO_OK 0x100u /* NUMBER: 0 is accepted besides the domain ("automatic") */
+#define HV_OPT_UNSET0 0x800u  /* NUMBER: 0 in a struct means "not given" (a user's 0 is still
+                                 checked against the domain); implied for SCALAR and FIRST */
 #define HV_OPT_OUT_PATH 0x200u /* STRING: a file the operation writes (a sandbox checks it) */
 #define HV_OPT_PAIRS 0x400u   /* CUSTOM text "KEY=VALUE" (repeatable): a Lua or JSON map
                                  {KEY = VALUE, ...} gives one value per entry */

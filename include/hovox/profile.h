@@ -91,6 +91,8 @@ HV_API hv_status hv_profile_write_csv_stream(const hv_profile *p, FILE *fp);
  * grading source's d- and d- + dg) and then write it. Free with hv_plot_destroy.
  * Errors: HV_ERR_INVALID (size), HV_ERR_NOMEM. */
 HV_API hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out);
+/* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). */
+HV_API hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o, hv_plot **out);
 
 #ifdef __cplusplus
 }

@@ -377,7 +377,8 @@ void cli_warn(const char *fmt, ...)
 
 static void json_key(cli_json *j, const char *key)
 {
-    fputs(j->n++ ? ", " : "{", stdout);
+    fputs(j->n++ ? (j->newline ? ",\n " : ", ") : "{", stdout);
+    j->newline = 0;
     hv_buf b;
     hv_buf_init(&b);
     hv_buf_json_string(&b, key);
@@ -386,7 +387,11 @@ static void json_key(cli_json *j, const char *key)
     hv_buf_free(&b);
 }
 
-void cli_json_begin(cli_json *j) { j->n = 0; }
+void cli_json_begin(cli_json *j)
+{
+    j->n = 0;
+    j->newline = 0;
+}
 
 void cli_json_str(cli_json *j, const char *key, const char *value)
 {

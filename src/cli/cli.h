@@ -86,6 +86,7 @@ void cli_warn(const char *fmt, ...) HV_PRINTF(1, 2);
 /* A JSON object printed on stdout as one line: {"key": value, ...}. */
 typedef struct cli_json {
     int n;
+    int newline; /* the next member starts a new line */
 } cli_json;
 void cli_json_begin(cli_json *j);
 void cli_json_str(cli_json *j, const char *key, const char *value);

@@ -1,64 +1,95 @@
 /* src/cli/cmd_contours.c - `hovox contours MESH --layer-height H -o OUT.svg|OUT.cli`: the
- * geometric slicer (Wu 2.4.1 weighted directed graph), contours per layer as SVG or CLI. */
-#include <getopt.h>
+ * geometric slicer (Wu 2.4.1 weighted directed graph), contours per layer as SVG or CLI. The
+ * options are the library's (hv_contours_option_set). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
-#include "core/internal.h"
 #include "cli.h"
+#include "core/internal.h"
 #include "hovox/slice.h"
 
-static const char *CONTOURS_HELP =
-    "usage: hovox contours MESH.stl (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
-    "                      [-o OUT.svg|OUT.cli] [--per-layer DIR] [--json] [options]\n"
-    "\n"
+typedef struct contours_cli {
+    const char *output, *per_layer;
+    int json;
+} contours_cli;
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n >= k && strcasecmp(s + n - k, suffix) == 0;
+}
+
+static hv_status check_contour_path(const hv_option *o, const void *opts)
+{
+    const char *path = *(const char *const *)((const char *)opts + o->offset);
+    if (ends_with(path, ".svg") || ends_with(path, ".cli")) return HV_OK;
+    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .svg or .cli)", path);
+}
+
+static const hv_option k_local_opts[] = {
+    {.key = "output", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = offsetof(contours_cli, output),
+     .meta = "FILE", .check = check_contour_path, .section = "Output (at least one)",
+     .help = ".svg: one file, a <g> per layer (data-z = cut height), 1 user unit = 1 mm, y up; .cli: Common Layer "
+             "Interface 2.0, ASCII ($$LAYER/z is the top of the layer; a leading zero layer gives the first "
+             "layer's thickness; $$POLYLINE dir 1 outer, 0 hole, 2 open)"},
+    {.key = "per_layer", .kind = HV_OPT_STRING, .offset = offsetof(contours_cli, per_layer), .meta = "DIR",
+     .help = "also one SVG per layer: DIR/layer-00000.svg, ..."},
+    {.key = "json", .kind = HV_OPT_FLAG, .offset = offsetof(contours_cli, json),
+     .help = "per-layer statistics as JSON on stdout (z, bottom, top, loops, outers, holes, open, gaps_closed, area "
+             "in mm^2)"},
+};
+static const hv_option_set k_local = CLI_LOCAL_SET("contours", k_local_opts, contours_cli);
+
+static const cli_spec k_spec = {
+    "contours", "MESH.stl (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
+                "                      [-o OUT.svg|OUT.cli] [--per-layer DIR] [--json] [options]",
     "Slice a mesh into closed contour loops per layer with Wu's weighted directed graph:\n"
     "facets are nodes, shared edges arcs; each plane touches only the facets crossing it and\n"
     "the loops come out in order. Layers start at the mesh's lowest z and each layer\n"
     "[bottom, top] is cut at its mid-height; the last layer is the one whose mid-height is\n"
     "below the mesh top. A vertex exactly on a cutting plane counts as above it. Loops are\n"
-    "oriented (outer counter-clockwise, holes clockwise, seen from +z) and nested. Units: mm.\n"
-    "\n"
-    "Layers (one of):\n"
-    "  --layer-height H       uniform layers of H mm\n"
-    "  --adaptive MIN,MAX[,CUSP]\n"
-    "                         adaptive layers between MIN and MAX mm, thinner where the\n"
-    "                         surface is nearly horizontal: a facet with normal n allows\n"
-    "                         CUSP/|n_z| (cusp-height criterion; CUSP defaults to MIN)\n"
-    "  --first-layer H0       height of the first layer (default: as the others)\n"
-    "Output (at least one):\n"
-    "  -o, --output FILE      .svg: one file, a <g> per layer (data-z = cut height), paths\n"
-    "                         with fill-rule evenodd, 1 user unit = 1 mm, y up;\n"
-    "                         .cli: Common Layer Interface 2.0, ASCII ($$LAYER/z is the top of\n"
-    "                         the layer; a leading zero layer gives the first layer's\n"
-    "                         thickness; $$POLYLINE dir 1 outer, 0 hole, 2 open)\n"
-    "  --binary               binary CLI instead of ASCII (with a .cli output)\n"
-    "  --per-layer DIR        also one SVG per layer: DIR/layer-00000.svg, ... (DIR is created)\n"
-    "  --json                 per-layer statistics as JSON on stdout (z, bottom, top, loops,\n"
-    "                         outers, holes, open, gaps_closed, area in mm^2)\n"
-    "Options:\n"
-    "  --close-gap D          join open polyline ends at most D mm apart (default 2);\n"
-    "                         chains of an open mesh that still do not close are reported as\n"
-    "                         open polylines (CLI dir 2, SVG class \"open\")\n"
-    "  --threads N            worker threads (default: all cores)\n"
-    "  -q, --quiet            no progress bar\n"
-    "  -h, --help             this text\n"
-    "\n"
-    "Files are written atomically. Without --json a one-line summary goes to stdout.\n";
-
-#define CMD "contours"
+    "oriented (outer counter-clockwise, holes clockwise, seen from +z) and nested. Units: mm.\n",
+    NULL, &k_local, "Files are written atomically. Without --json a one-line summary goes to stdout.\n", 1, 1,
+    "MESH", CLI_THREADS | CLI_QUIET};
 
 typedef struct run {
     hv_contour_writer *writer;
     const char *dir;
     const double *lo, *hi;
     const char *label;
-    int json;
     hv_buf *js;
     size_t loops, holes, open, gaps, dropped;
 } run;
+
+static hv_status layer_json(hv_buf *b, size_t index, const hv_layer *layer, const hv_slice_stats *st)
+{
+    hv_buf_printf(b, "%s\n  {\"index\": %zu, \"z\": ", index ? "," : "", index);
+    hv_buf_json_number(b, layer->z);
+    hv_buf_puts(b, ", \"bottom\": ");
+    hv_buf_json_number(b, layer->bottom);
+    hv_buf_puts(b, ", \"top\": ");
+    hv_buf_json_number(b, layer->top);
+    hv_buf_printf(b, ", \"loops\": %zu, \"outers\": %zu, \"holes\": %zu, \"open\": %zu, \"gaps_closed\": %zu, \"area\": ",
+                  st->loops, st->outers, st->holes, st->open, st->gaps_closed);
+    hv_buf_json_number(b, st->area);
+    hv_buf_puts(b, "}");
+    return b->failed ? hv_error_set(HV_ERR_NOMEM, "out of memory") : HV_OK;
+}
+
+static hv_status one_svg(const run *r, size_t index, const hv_layer *layer, const hv_slice *slice)
+{
+    char path[4096];
+    int n = snprintf(path, sizeof path, "%s/layer-%05zu.svg", r->dir, index);
+    if (n < 0 || (size_t)n >= sizeof path) return hv_error_set(HV_ERR_IO, "%s: directory name too long", r->dir);
+    hv_contour_writer *w = NULL;
+    hv_status s = hv_contour_writer_open(path, HV_CONTOUR_SVG, 1, r->lo, r->hi, r->label, &w);
+    if (s == HV_OK) s = hv_contour_writer_add(w, layer, slice);
+    if (s == HV_OK) s = hv_contour_writer_close(w);
+    else hv_contour_writer_abort(w);
+    return s;
+}
 
 static hv_status sink(void *user, size_t index, const hv_layer *layer, hv_slice **slice)
 {
@@ -69,199 +100,115 @@ static hv_status sink(void *user, size_t index, const hv_layer *layer, hv_slice 
     r->open += st->open;
     r->gaps += st->gaps_closed;
     r->dropped += st->dropped;
-    if (r->json) {
-        hv_buf *b = r->js;
-        hv_buf_printf(b, "%s\n  {\"index\": %zu, \"z\": ", index ? "," : "", index);
-        hv_buf_json_number(b, layer->z);
-        hv_buf_puts(b, ", \"bottom\": ");
-        hv_buf_json_number(b, layer->bottom);
-        hv_buf_puts(b, ", \"top\": ");
-        hv_buf_json_number(b, layer->top);
-        hv_buf_printf(b, ", \"loops\": %zu, \"outers\": %zu, \"holes\": %zu, \"open\": %zu, "
-                         "\"gaps_closed\": %zu, \"area\": ",
-                      st->loops, st->outers, st->holes, st->open, st->gaps_closed);
-        hv_buf_json_number(b, st->area);
-        hv_buf_puts(b, "}");
-    }
-    hv_status s = HV_OK;
-    if (r->writer) s = hv_contour_writer_add(r->writer, layer, *slice);
-    if (s == HV_OK && r->dir) {
-        char path[4096];
-        int n = snprintf(path, sizeof path, "%s/layer-%05zu.svg", r->dir, index);
-        if (n < 0 || (size_t)n >= sizeof path)
-            return hv_error_set(HV_ERR_IO, "%s: directory name too long", r->dir);
-        hv_contour_writer *w = NULL;
-        s = hv_contour_writer_open(path, HV_CONTOUR_SVG, 1, r->lo, r->hi, r->label, &w);
-        if (s == HV_OK) s = hv_contour_writer_add(w, layer, *slice);
-        if (s == HV_OK) s = hv_contour_writer_close(w);
-        else hv_contour_writer_abort(w);
-    }
+    hv_status s = r->js ? layer_json(r->js, index, layer, st) : HV_OK;
+    if (s == HV_OK && r->writer) s = hv_contour_writer_add(r->writer, layer, *slice);
+    if (s == HV_OK && r->dir) s = one_svg(r, index, layer, *slice);
     return s;
 }
 
-static int ends_with(const char *s, const char *suffix)
+static void report(const char *mesh_path, const hv_contours_options *o, const contours_cli *c, const hv_layer_plan *plan,
+                   const run *r)
 {
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && strcasecmp(s + n - k, suffix) == 0;
+    if (!c->json) {
+        printf("%s: %zu layers, %zu loops (%zu holes), %zu open polylines, %zu gaps closed\n", mesh_path,
+               hv_layer_plan_count(plan), r->loops, r->holes, r->open, r->gaps);
+        return;
+    }
+    cli_json j;
+    cli_json_begin(&j);
+    cli_json_str(&j, "file", mesh_path);
+    if (o->adaptive[0] > 0) {
+        cli_json_str(&j, "mode", "adaptive");
+        cli_json_num(&j, "min", o->adaptive[0]);
+        cli_json_num(&j, "max", o->adaptive[1]);
+        cli_json_num(&j, "cusp", o->adaptive[2] > 0 ? o->adaptive[2] : o->adaptive[0]);
+    } else {
+        cli_json_str(&j, "mode", "uniform");
+        cli_json_num(&j, "layer_height", o->layer_height);
+    }
+    cli_json_num(&j, "first_layer", o->first_layer > 0 ? o->first_layer : o->adaptive[0] > 0 ? 0 : o->layer_height);
+    cli_json_num(&j, "close_gap", o->close_gap);
+    cli_json_int(&j, "count", (long long)hv_layer_plan_count(plan));
+    cli_json_int(&j, "loops", (long long)r->loops);
+    cli_json_int(&j, "holes", (long long)r->holes);
+    cli_json_int(&j, "open", (long long)r->open);
+    cli_json_int(&j, "gaps_closed", (long long)r->gaps);
+    cli_json_int(&j, "dropped", (long long)r->dropped);
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_printf(&b, "[%s\n ]", r->js->data ? r->js->data : "");
+    j.newline = 1; /* the layers on their own lines */
+    cli_json_raw(&j, "layers", b.data ? b.data : "[]");
+    cli_json_end(&j);
+    hv_buf_free(&b);
 }
 
-int cmd_contours(int argc, char **argv)
+static int slice_mesh(const char *mesh_path, const hv_contours_options *o, const contours_cli *c, int quiet)
 {
-    enum { O_LH = 256, O_FIRST, O_ADAPT, O_BIN, O_PER, O_JSON, O_GAP, O_THREADS };
-    static const struct option opts[] = {
-        {"layer-height", required_argument, NULL, O_LH}, {"first-layer", required_argument, NULL, O_FIRST},
-        {"adaptive", required_argument, NULL, O_ADAPT},  {"output", required_argument, NULL, 'o'},
-        {"binary", no_argument, NULL, O_BIN},            {"per-layer", required_argument, NULL, O_PER},
-        {"json", no_argument, NULL, O_JSON},             {"close-gap", required_argument, NULL, O_GAP},
-        {"threads", required_argument, NULL, O_THREADS}, {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},                {NULL, 0, NULL, 0}};
-    double lh = 0, first = 0, ad[3] = {0, 0, 0};
-    int have_lh = 0, have_ad = 0, binary = 0, json = 0, quiet = 0, c;
-    const char *output = NULL, *dir = NULL;
-    hv_slice_options sopt;
-    hv_slice_options_init(&sopt);
-    optind = 1;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:qh", opts, NULL)) != -1) {
-        long n;
-        switch (c) {
-        case 'o': output = optarg; break;
-        case 'q': quiet = 1; break;
-        case 'h': fputs(CONTOURS_HELP, stdout); return EXIT_OK;
-        case O_LH:
-            if (cli_parse_double(CMD, "--layer-height", optarg, &lh)) return EXIT_USAGE;
-            if (!(lh > 0)) return cli_usage_error(CMD, "--layer-height: %g must be > 0", lh);
-            have_lh = 1;
-            break;
-        case O_FIRST:
-            if (cli_parse_double(CMD, "--first-layer", optarg, &first)) return EXIT_USAGE;
-            if (!(first > 0)) return cli_usage_error(CMD, "--first-layer: %g must be > 0", first);
-            break;
-        case O_ADAPT: {
-            int k = 1;
-            for (const char *p = optarg; *p; ++p) k += *p == ',';
-            if (k != 2 && k != 3)
-                return cli_usage_error(CMD, "--adaptive: '%s' is not MIN,MAX or MIN,MAX,CUSP", optarg);
-            if (cli_parse_vec(CMD, "--adaptive", optarg, k, ad)) return EXIT_USAGE;
-            if (!(ad[0] > 0) || !(ad[0] <= ad[1]) || (k == 3 && !(ad[2] > 0)))
-                return cli_usage_error(CMD, "--adaptive: need 0 < MIN <= MAX and CUSP > 0 ('%s')",
-                                       optarg);
-            have_ad = 1;
-            break;
-        }
-        case O_BIN: binary = 1; break;
-        case O_PER: dir = optarg; break;
-        case O_JSON: json = 1; break;
-        case O_GAP:
-            if (cli_parse_double(CMD, "--close-gap", optarg, &sopt.close_gap)) return EXIT_USAGE;
-            if (sopt.close_gap < 0)
-                return cli_usage_error(CMD, "--close-gap: %g must be >= 0", sopt.close_gap);
-            break;
-        case O_THREADS:
-            if (cli_parse_int(CMD, "--threads", optarg, 1, 1024, &n)) return EXIT_USAGE;
-            hv_set_threads((int)n);
-            break;
-        case ':': return cli_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default: return cli_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
-        }
-    }
-    if (optind >= argc) return cli_usage_error(CMD, "missing MESH");
-    if (optind + 1 < argc) return cli_usage_error(CMD, "unexpected argument '%s'", argv[optind + 1]);
-    const char *mesh_path = argv[optind];
-    if (have_lh && have_ad) return cli_usage_error(CMD, "--layer-height and --adaptive exclude each other");
-    if (!have_lh && !have_ad) return cli_usage_error(CMD, "missing --layer-height H (or --adaptive MIN,MAX)");
-    hv_contour_format fmt = HV_CONTOUR_SVG;
-    if (output) {
-        if (ends_with(output, ".svg")) fmt = HV_CONTOUR_SVG;
-        else if (ends_with(output, ".cli")) fmt = binary ? HV_CONTOUR_CLI_BINARY : HV_CONTOUR_CLI_ASCII;
-        else return cli_usage_error(CMD, "-o: '%s': unknown extension (use .svg or .cli)", output);
-    }
-    if (binary && fmt != HV_CONTOUR_CLI_BINARY) return cli_usage_error(CMD, "--binary needs a .cli output");
-    if (!output && !dir && !json)
-        return cli_usage_error(CMD, "nothing to write: give -o OUT.svg|OUT.cli, --per-layer DIR or --json");
-
+    static const char *const svg_files[] = {"layer-*.svg", NULL};
+    static const hv_outdir_rules svg_dir = {"per-layer SVG directory", NULL, NULL, svg_files, 0, 0};
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};
     hv_mesh *mesh = NULL;
     hv_slicer *slicer = NULL;
     hv_layer_plan *plan = NULL;
-    hv_contour_writer *writer = NULL;
     hv_buf js;
     hv_buf_init(&js);
-    int rc = EXIT_OK;
+    run r = {NULL, NULL, NULL, NULL, hv_basename(mesh_path), c->json ? &js : NULL, 0, 0, 0, 0, 0};
+    char *tmpdir = NULL;
+    hv_slicer_info info;
     hv_status s = hv_mesh_load_stl(mesh_path, &mesh);
     if (s == HV_OK) s = hv_slicer_create(mesh, &prog, &slicer);
     hv_mesh_destroy(mesh);
-    if (s == HV_OK) {
-        s = have_ad ? hv_slicer_plan_adaptive(slicer, first, ad[0], ad[1], ad[2], &plan)
-                    : hv_slicer_plan_uniform(slicer, first, lh, &plan);
-        if (s != HV_OK) hv_error_prefix(s, "%s: ", mesh_path);
-    }
-    hv_slicer_info info;
-    memset(&info, 0, sizeof info);
+    if (s == HV_OK && (s = hv_slicer_plan(slicer, o, &plan)) != HV_OK) hv_error_prefix(s, "%s: ", mesh_path);
     if (s == HV_OK) hv_slicer_get_info(slicer, &info);
     if (s == HV_OK && hv_layer_plan_count(plan) == 0)
         s = hv_error_set(HV_ERR_INVALID, "%s: the mesh is %g mm high: no layer of %g mm has its middle inside it",
-                         mesh_path, info.bbox_max[2] - info.bbox_min[2], have_ad ? ad[0] : lh);
-    const char *label = hv_basename(mesh_path);
-    if (s == HV_OK && output)
-        s = hv_contour_writer_open(output, fmt, hv_layer_plan_count(plan), info.bbox_min,
-                                   info.bbox_max, label, &writer);
-    /* per-layer SVGs go to a temporary directory renamed into place when complete; an
-     * existing DIR is replaced when it holds only layer SVGs (an earlier run's) */
-    static const char *const svg_files[] = {"layer-*.svg", NULL};
-    static const hv_outdir_rules svg_dir = {"per-layer SVG directory", NULL, NULL, svg_files, 0, 0};
-    char *tmpdir = NULL;
-    if (s == HV_OK && dir) s = hv_outdir_begin(dir, &svg_dir, 0, &tmpdir);
-    run r = {writer, tmpdir, info.bbox_min, info.bbox_max, label, json, &js, 0, 0, 0, 0, 0};
-    if (s == HV_OK) s = hv_slicer_slice_plan(slicer, plan, &sopt, sink, &r, &prog);
-    cli_progress_done(&bar);
-    if (s == HV_OK) {
-        s = hv_contour_writer_close(writer);
-    } else {
-        hv_contour_writer_abort(writer);
+                         mesh_path, info.bbox_max[2] - info.bbox_min[2], o->adaptive[0] > 0 ? o->adaptive[0] : o->layer_height);
+    if (s == HV_OK && c->output) {
+        hv_contour_format fmt = ends_with(c->output, ".svg") ? HV_CONTOUR_SVG
+                                : o->binary                 ? HV_CONTOUR_CLI_BINARY
+                                                            : HV_CONTOUR_CLI_ASCII;
+        s = hv_contour_writer_open(c->output, fmt, hv_layer_plan_count(plan), info.bbox_min, info.bbox_max, r.label,
+                                   &r.writer);
     }
-    if (s == HV_OK && tmpdir) s = hv_outdir_commit(tmpdir, dir, &svg_dir, 0);
+    /* per-layer SVGs go to a temporary directory renamed into place when complete; an existing
+     * DIR is replaced when it holds only layer SVGs (an earlier run's) */
+    if (s == HV_OK && c->per_layer) s = hv_outdir_begin(c->per_layer, &svg_dir, 0, &tmpdir);
+    r.dir = tmpdir;
+    r.lo = info.bbox_min;
+    r.hi = info.bbox_max;
+    hv_slice_options so;
+    hv_slice_options_init(&so);
+    so.close_gap = o->close_gap;
+    if (s == HV_OK) s = hv_slicer_slice_plan(slicer, plan, &so, sink, &r, &prog);
+    cli_progress_done(&bar);
+    if (s == HV_OK) s = hv_contour_writer_close(r.writer);
+    else hv_contour_writer_abort(r.writer);
+    if (s == HV_OK && tmpdir) s = hv_outdir_commit(tmpdir, c->per_layer, &svg_dir, 0);
     if (s != HV_OK && tmpdir) hv_outdir_abort(tmpdir);
     free(tmpdir);
-    if (s != HV_OK) {
-        rc = cli_fail(s);
-    } else if (json) {
-        hv_buf b;
-        hv_buf_init(&b);
-        hv_buf_puts(&b, "{\"file\": ");
-        hv_buf_json_string(&b, mesh_path);
-        if (have_ad) {
-            hv_buf_puts(&b, ", \"mode\": \"adaptive\", \"min\": ");
-            hv_buf_json_number(&b, ad[0]);
-            hv_buf_puts(&b, ", \"max\": ");
-            hv_buf_json_number(&b, ad[1]);
-            hv_buf_puts(&b, ", \"cusp\": ");
-            hv_buf_json_number(&b, ad[2] > 0 ? ad[2] : ad[0]);
-        } else {
-            hv_buf_puts(&b, ", \"mode\": \"uniform\", \"layer_height\": ");
-            hv_buf_json_number(&b, lh);
-        }
-        hv_buf_puts(&b, ", \"first_layer\": ");
-        hv_buf_json_number(&b, first > 0 ? first : have_ad ? 0 : lh);
-        hv_buf_puts(&b, ", \"close_gap\": ");
-        hv_buf_json_number(&b, sopt.close_gap);
-        hv_buf_printf(&b,
-                      ", \"count\": %zu, \"loops\": %zu, \"holes\": %zu, \"open\": %zu, "
-                      "\"gaps_closed\": %zu, \"dropped\": %zu,\n \"layers\": [",
-                      hv_layer_plan_count(plan), r.loops, r.holes, r.open, r.gaps, r.dropped);
-        if (js.data) hv_buf_puts(&b, js.data);
-        hv_buf_puts(&b, "\n ]}\n");
-        if (b.failed || js.failed) rc = cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
-        else fputs(b.data, stdout);
-        hv_buf_free(&b);
-    } else {
-        printf("%s: %zu layers, %zu loops (%zu holes), %zu open polylines, %zu gaps closed\n",
-               mesh_path, hv_layer_plan_count(plan), r.loops, r.holes, r.open, r.gaps);
-    }
+    if (s == HV_OK) report(mesh_path, o, c, plan, &r);
     hv_buf_free(&js);
     hv_layer_plan_destroy(plan);
     hv_slicer_destroy(slicer);
+    return s == HV_OK ? EXIT_OK : cli_fail(s);
+}
+
+int cmd_contours(int argc, char **argv)
+{
+    cli_spec spec = k_spec;
+    spec.lib = hv_contours_option_set();
+    hv_contours_options o;
+    contours_cli c;
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, &o, &c, &args);
+    if (rc < 0 && o.binary && !(c.output && ends_with(c.output, ".cli")))
+        rc = cli_usage_error("contours", "--binary needs a .cli output");
+    if (rc < 0 && !c.output && !c.per_layer && !c.json)
+        rc = cli_usage_error("contours", "nothing to write: give -o OUT.svg|OUT.cli, --per-layer DIR or --json");
+    if (rc < 0) rc = slice_mesh(args.pos[0], &o, &c, args.quiet);
+    cli_args_free(&args);
     return rc;
 }

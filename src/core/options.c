@@ -486,7 +486,7 @@ hv_status hv_option_check(const hv_option *o, const void *opts)
         int n = o->kind == HV_OPT_BYTES ? 1 : count_of(o);
         double num[64];
         int skip_rest = (o->flags & HV_OPT_FIRST) && n > 1;
-        if (n > 1 && (o->flags & (HV_OPT_FIRST | HV_OPT_SCALAR))) { /* all zero: not set */
+        if ((n > 1 && (o->flags & (HV_OPT_FIRST | HV_OPT_SCALAR))) || (o->flags & HV_OPT_UNSET0)) { /* all zero: not set */
             int zero = 1;
             for (int i = 0; i < n; ++i) zero &= get_elem(o, opts, i) == 0;
             if (zero) return o->check ? o->check(o, opts) : HV_OK;
@@ -510,6 +510,8 @@ hv_status hv_option_check(const hv_option *o, const void *opts)
             return hv_error_option(HV_ERR_INVALID, "{%s} must be %s, got the value %d", o->key,
                                    hv_enum_list(o->enumdef, list, sizeof list), x);
         }
+    } else if (o->kind == HV_OPT_STRING) {
+        if (!*(const char *const *)cfield(o, opts)) return HV_OK; /* not given */
     } else if (o->kind == HV_OPT_RANGE) {
         const size_t *p = cfield(o, opts);
         if (p[1] && p[0] >= p[1])

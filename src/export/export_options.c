@@ -64,7 +64,7 @@ static const hv_option k_opts[] = {
      .parse = parse_linearize,
      .help = "a measured table PROPERTY(fraction of one material); CSV header 'fraction.<material>,"
              "<property>[<unit>]', then rows 'fraction,value'; repeatable"},
-    {.key = "level", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = 9, .flags = HV_OPT_ZERO_OK,
+    {.key = "level", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = 9, .flags = HV_OPT_UNSET0,
      .offset = OFF(zlib_level), .meta = "N", .help = "zlib level: 1 (fastest, default) to 9 (smallest)"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",
      .help = "refuse exports whose buffers need more (default: half of RAM), e.g. 2G"},

@@ -230,3 +230,21 @@ hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **
     *out = pl;
     return HV_OK;
 }
+
+hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o, hv_plot **out)
+{
+    hv_profile_options d;
+    if (!o) {
+        hv_profile_options_init(&d);
+        o = &d;
+    }
+    hv_status s = hv_profile_plot(p, o->size[0], o->size[1], out);
+    if (s == HV_OK && o->title && *o->title) s = hv_plot_set_title(*out, o->title, NULL); /* keeps the subtitle */
+    if (s == HV_OK) s = hv_plot_set_y_range(*out, o->y_range[0], o->y_range[1]);
+    for (int k = 0; k < o->marks && s == HV_OK; ++k) s = hv_plot_add_marker(*out, o->mark[k].t, o->mark[k].label);
+    if (s != HV_OK) {
+        hv_plot_destroy(*out);
+        *out = NULL;
+    }
+    return s;
+}

@@ -1,132 +1,95 @@
-/* src/cli/cmd_generate.c - `hovox generate SHAPE [key=value ...] -o OUT.stl`: parametric
- * closed meshes (test shapes, the bench input, Wu's shaft and gear). */
-#include <getopt.h>
-#include <math.h>
+/* src/cli/cmd_generate.c - `hovox generate SHAPE [key=value ...] -o OUT.stl`: parametric closed
+ * meshes (test shapes, the bench input, Wu's shaft and gear). Shapes and their parameters are
+ * the library's (hv_shape_option_set). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
+#include "core/internal.h"
 #include "hovox/generate.h"
 
-static const char *GEN_HELP =
-    "usage: hovox generate SHAPE [key=value ...] -o OUT.stl [--ascii]\n"
-    "\n"
-    "Write a closed, consistently oriented mesh (millimetres). Shapes and keys (defaults):\n"
-    "  sphere     radius=10 segments=64 rings=32 cx=0 cy=0 cz=0\n"
-    "  box        sx=20 sy=20 sz=20           (corner at the origin)\n"
-    "  holed-box  sx=40 sy=30 sz=20 hole=8 segments=64   (through hole along z)\n"
-    "  torus      R=20 r=6 segments=96 rings=48\n"
-    "  cylinder   radius=27.5 length=150 axis=0 segments=128   (Wu's 150x55x55 shaft)\n"
-    "  knot       facets=200000 p=2 q=3 R=30 r=12 tube=5   (tube around a torus knot)\n"
-    "  gear       teeth=24 root=34.5 tip=39.45 bore=9.54 height=39.45 twist=0\n"
-    "             segments=12 layers=1   (Wu's gear: bore 9.54, tip radius 39.45)\n"
-    "\n"
-    "Options:\n"
-    "  -o, --output FILE   where to write (written atomically)\n"
-    "  --ascii             ASCII STL instead of binary\n"
-    "  -h, --help          this text\n";
+typedef struct generate_cli {
+    const char *output;
+    int ascii;
+} generate_cli;
 
-typedef struct kv {
-    const char *key;
-    double value;
-    int used;
-} kv;
+static const hv_option k_local_opts[] = {
+    CLI_OUTPUT(generate_cli, "FILE", "where to write (written atomically)", HV_OPT_REQUIRED),
+    {.key = "ascii", .kind = HV_OPT_FLAG, .offset = offsetof(generate_cli, ascii), .help = "ASCII STL instead of binary"},
+};
+static const hv_option_set k_local = CLI_LOCAL_SET("generate", k_local_opts, generate_cli);
 
-static double get(kv *kvs, int n, const char *key, double def)
+static const cli_spec k_spec = {"generate", "SHAPE [key=value ...] -o OUT.stl [--ascii]", NULL, NULL, &k_local,
+                                "Vectors are X,Y,Z (center=0,0,5). A box takes max=X,Y,Z, or its size from min as\n"
+                                "size=X,Y,Z or sx=, sy=, sz=.\n",
+                                1, -1, "SHAPE", 0};
+
+/* "  sphere     center=0,0,0 radius=10 ..." for the help text */
+static char *shapes_text(void)
 {
-    for (int i = 0; i < n; ++i)
-        if (strcmp(kvs[i].key, key) == 0) {
-            kvs[i].used = 1;
-            return kvs[i].value;
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_puts(&b, "Write a closed, consistently oriented mesh (millimetres). Shapes and keys (defaults):\n");
+    for (int i = 0; i < hv_shape_count(); ++i) {
+        const hv_option_set *set = hv_shape_option_set(i);
+        hv_shape_params d;
+        set->init(&d);
+        hv_buf_printf(&b, "  %-10s %s:\n             ", hv_shape_name(i), hv_shape_about(i));
+        int col = 13;
+        for (int k = 0; k < set->count; ++k) {
+            char v[96], item[160];
+            const hv_option *o = &set->options[k];
+            hv_option_format(o, &d, v, sizeof v);
+            int unset = (o->flags & HV_OPT_UNSET0) && (strcmp(v, "0") == 0 || strcmp(v, "0,0,0") == 0);
+            int n = unset ? snprintf(item, sizeof item, " [%s]", o->key) : snprintf(item, sizeof item, " %s=%s", o->key, v);
+            if (col + n > 88) {
+                hv_buf_puts(&b, "\n             ");
+                col = 13;
+            }
+            hv_buf_puts(&b, item);
+            col += n;
         }
-    return def;
+        hv_buf_puts(&b, "\n");
+    }
+    return b.data;
 }
 
-static int as_int(double v) { return v > 2e9 ? 2000000000 : v < -2e9 ? -2000000000 : (int)lround(v); }
+static int build(const char *shape_name, char **kv, int nkv, const generate_cli *c)
+{
+    int shape = hv_shape_find(shape_name);
+    if (shape < 0) return cli_usage_error("generate", "unknown shape '%s'", shape_name);
+    hv_shape_params p;
+    hv_optargs args;
+    hv_optargs_begin(&args, hv_shape_option_set(shape), &p);
+    for (int i = 0; i < nkv; ++i) {
+        char *eq = strchr(kv[i], '=');
+        if (!eq) return cli_usage_error("generate", "parameter '%s' is not key=value", kv[i]);
+        *eq = '\0';
+        hv_opt_value v = {HV_VALUE_TEXT, eq + 1, NULL, 0, 0};
+        hv_status s = hv_optargs_set(&args, kv[i], &v);
+        if (s == HV_ERR_NOT_FOUND)
+            return cli_usage_error("generate", "shape '%s' has no parameter '%s'", shape_name, kv[i]);
+        if (s != HV_OK) return cli_usage_error("generate", "%s", hv_last_error());
+    }
+    if (hv_optargs_finish(&args) != HV_OK) return cli_usage_error("generate", "%s", hv_last_error());
+    hv_mesh *mesh = NULL;
+    hv_status s = hv_generate_shape(shape, &p, &mesh);
+    if (s == HV_OK) s = hv_mesh_write_stl(mesh, c->output, c->ascii);
+    hv_mesh_destroy(mesh);
+    return s == HV_OK ? EXIT_OK : cli_fail(s);
+}
 
 int cmd_generate(int argc, char **argv)
 {
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"ascii", no_argument, NULL, 'a'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    const char *output = NULL;
-    int ascii = 0, c;
-    optind = 1;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'o': output = optarg; break;
-        case 'a': ascii = 1; break;
-        case 'h': fputs(GEN_HELP, stdout); return EXIT_OK;
-        case ':': return cli_usage_error("generate", "option '%s' needs a value", argv[optind - 1]);
-        default: return cli_usage_error("generate", "unknown option '%s'", argv[optind - 1]);
-        }
-    }
-    if (optind >= argc) return cli_usage_error("generate", "missing SHAPE");
-    if (!output) return cli_usage_error("generate", "missing -o OUT.stl");
-    const char *shape = argv[optind];
-    int nkv = argc - optind - 1;
-    kv kvs[64];
-    if (nkv > 64) return cli_usage_error("generate", "too many parameters");
-    for (int i = 0; i < nkv; ++i) {
-        char *arg = argv[optind + 1 + i], *eq = strchr(arg, '=');
-        if (!eq) return cli_usage_error("generate", "parameter '%s' is not key=value", arg);
-        *eq = '\0';
-        kvs[i].key = arg;
-        kvs[i].used = 0;
-        if (cli_parse_double("generate", arg, eq + 1, &kvs[i].value)) return EXIT_USAGE;
-    }
-    hv_mesh *mesh = NULL;
-    hv_status s;
-    if (strcmp(shape, "sphere") == 0) {
-        double ctr[3] = {get(kvs, nkv, "cx", 0), get(kvs, nkv, "cy", 0), get(kvs, nkv, "cz", 0)};
-        s = hv_generate_sphere(ctr, get(kvs, nkv, "radius", 10), as_int(get(kvs, nkv, "segments", 64)),
-                               as_int(get(kvs, nkv, "rings", 32)), &mesh);
-    } else if (strcmp(shape, "box") == 0) {
-        double lo[3] = {0, 0, 0}, hi[3] = {get(kvs, nkv, "sx", 20), get(kvs, nkv, "sy", 20),
-                                            get(kvs, nkv, "sz", 20)};
-        s = hv_generate_box(lo, hi, &mesh);
-    } else if (strcmp(shape, "holed-box") == 0) {
-        double lo[3] = {0, 0, 0}, hi[3] = {get(kvs, nkv, "sx", 40), get(kvs, nkv, "sy", 30),
-                                            get(kvs, nkv, "sz", 20)};
-        s = hv_generate_box_with_hole(lo, hi, get(kvs, nkv, "hole", 8),
-                                      as_int(get(kvs, nkv, "segments", 64)), &mesh);
-    } else if (strcmp(shape, "torus") == 0) {
-        double ctr[3] = {0, 0, 0};
-        s = hv_generate_torus(ctr, get(kvs, nkv, "R", 20), get(kvs, nkv, "r", 6),
-                              as_int(get(kvs, nkv, "segments", 96)), as_int(get(kvs, nkv, "rings", 48)),
-                              &mesh);
-    } else if (strcmp(shape, "cylinder") == 0) {
-        double base[3] = {0, 0, 0};
-        s = hv_generate_cylinder(base, as_int(get(kvs, nkv, "axis", 0)), get(kvs, nkv, "length", 150),
-                                 get(kvs, nkv, "radius", 27.5), as_int(get(kvs, nkv, "segments", 128)),
-                                 &mesh);
-    } else if (strcmp(shape, "knot") == 0) {
-        double facets = get(kvs, nkv, "facets", 200000);
-        int nv = 64;
-        int nu = as_int(facets / (2.0 * nv));
-        s = hv_generate_torus_knot(as_int(get(kvs, nkv, "p", 2)), as_int(get(kvs, nkv, "q", 3)),
-                                   get(kvs, nkv, "R", 30), get(kvs, nkv, "r", 12),
-                                   get(kvs, nkv, "tube", 5), nu, nv, &mesh);
-    } else if (strcmp(shape, "gear") == 0) {
-        s = hv_generate_gear(as_int(get(kvs, nkv, "teeth", 24)), get(kvs, nkv, "root", 34.5),
-                             get(kvs, nkv, "tip", 39.45), get(kvs, nkv, "bore", 9.54),
-                             get(kvs, nkv, "height", 39.45), get(kvs, nkv, "twist", 0),
-                             as_int(get(kvs, nkv, "segments", 12)), as_int(get(kvs, nkv, "layers", 1)),
-                             &mesh);
-    } else {
-        return cli_usage_error("generate", "unknown shape '%s'", shape);
-    }
-    for (int i = 0; i < nkv; ++i)
-        if (!kvs[i].used) {
-            hv_mesh_destroy(mesh);
-            return cli_usage_error("generate", "shape '%s' has no parameter '%s'", shape, kvs[i].key);
-        }
-    if (s != HV_OK) return cli_fail(s);
-    s = hv_mesh_write_stl(mesh, output, ascii);
-    hv_mesh_destroy(mesh);
-    if (s != HV_OK) return cli_fail(s);
-    return EXIT_OK;
+    cli_spec spec = k_spec;
+    char *shapes = shapes_text();
+    spec.about = shapes;
+    generate_cli c;
+    cli_args args;
+    int rc = cli_parse(&spec, argc, argv, NULL, &c, &args);
+    if (rc < 0) rc = build(args.pos[0], args.pos + 1, args.npos - 1, &c);
+    cli_args_free(&args);
+    free(shapes);
+    return rc;
 }

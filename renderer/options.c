@@ -93,7 +93,7 @@ static const hv_option k_opts[] = {
     {.key = "density", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = OFF(density), .meta = "D",
      .unit = "per mm", .help = "volume extinction per mm of solid material (default 0: 16 / the model's "
                                "largest extent)"},
-    {.key = "step", .kind = HV_OPT_NUMBER, .lo = 0.01, .hi = 4, .flags = HV_OPT_ZERO_OK, .offset = OFF(step),
+    {.key = "step", .kind = HV_OPT_NUMBER, .lo = 0.01, .hi = 4, .flags = HV_OPT_UNSET0, .offset = OFF(step),
      .meta = "S", .unit = "voxels",
      .help = "sample spacing along rays in voxels (default 0: 1 in volume mode, 0.5 in surface mode)"},
     {.key = "tf_low", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1, .offset = OFF(tf_low), .meta = "C",

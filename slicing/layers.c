@@ -366,11 +366,18 @@ static void fill_plan_report(const job *J, hv_layers_report *r)
     r->threads = J->threads;
 }
 
+/* Failures about the model's content name its file. */
+static hv_status name_model(const hv_volume *model, const hv_layers_options *o, hv_status s)
+{
+    const char *name = model && *hv_volume_name(model) ? hv_volume_name(model) : o ? o->model_name : NULL;
+    return s == HV_ERR_BAD_INPUT && name ? hv_error_prefix(s, "%s: ", name) : s;
+}
+
 hv_status hv_layers_plan(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *opt,
                          hv_layers_report *report)
 {
     job J;
-    hv_status st = job_plan(&J, mesh, model, opt, NULL);
+    hv_status st = name_model(model, opt, job_plan(&J, mesh, model, opt, NULL));
     if (st == HV_OK && report) fill_plan_report(&J, report);
     job_free(&J);
     return st;
@@ -1141,5 +1148,5 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
     if (st != HV_OK && J.tmp) hv_stack_abort(J.tmp);
     if (report) *report = rep;
     job_free(&J);
-    return st;
+    return name_model(model, o, st);
 }

@@ -46,6 +46,7 @@ struct hv_volume {
     int nmeta;
     size_t mcap;
     meta_entry *meta;
+    char *name; /* the file it was loaded from, for messages (NULL: none) */
 };
 
 /* ---- the bridge ------------------------------------------------------------------------- */
@@ -232,9 +233,12 @@ void hv_volume_destroy(hv_volume *v)
     for (int g = 0; g < v->ngrids; ++g) free(v->grids[g].name);
     free(v->grids);
     free_meta(v);
+    free(v->name);
     if (v->impl && g_api) g_api->destroy(v->impl);
     free(v);
 }
+
+const char *hv_volume_name(const hv_volume *vol) { return vol && vol->name ? vol->name : ""; }
 
 static hv_status copy_meta(hv_volume *dst, const hv_volume *src)
 {
@@ -873,7 +877,8 @@ hv_status hv_volume_load(const char *path, hv_volume **out)
         return s;
     }
     v->xf = xf;
-    s = rebuild(v);
+    v->name = hv_strdup(path);
+    s = v->name ? rebuild(v) : HV_ERR_NOMEM;
     if (s != HV_OK) {
         hv_volume_destroy(v);
         return s;

@@ -246,6 +246,7 @@ typedef enum hv_blend {
 /* Name <-> blend ("nearest", "idw"); an unknown name is HV_ERR_INVALID listing the names. */
 HV_API hv_status hv_blend_parse(const char *name, hv_blend *out);
 HV_API const char *hv_blend_name(hv_blend blend);
+HV_API const hv_enum_def *hv_blend_enum(void);
 
 /* An object: regions (geometry mask on a shared lattice, AGS set) over m materials, with a base
  * composition for voxels no source covers (regions without AGS). */

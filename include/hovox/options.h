@@ -205,8 +205,9 @@ HV_API hv_status hv_optargs_finish(hv_optargs *args);
  * the names are marked, so braces in values are text). Returns status. */
 HV_API hv_status hv_error_option(hv_status status, const char *fmt, ...) HV_PRINTF(2, 3);
 
-/* 1 when the calling thread's last message was recorded by hv_error_option (it names an
- * option: the failure is about a value someone gave). */
+/* 1 when the calling thread's last message begins with an option's name (recorded by
+ * hv_error_option as "{key} ..."): a refusal of a value someone gave, not a failure that only
+ * mentions an option in passing. */
 HV_API int hv_last_error_names_option(void);
 
 /* The calling thread's last message with each option name passed through spell(key, user) (a

@@ -202,6 +202,9 @@ HV_API hv_status hv_volume_save(const hv_volume *vol, const char *path);
  * file, corrupt, no grids, mixed or rotated transforms, unsupported grid type),
  * HV_ERR_LIMIT, HV_ERR_NOMEM. */
 HV_API hv_status hv_volume_load(const char *path, hv_volume **out);
+/* The path a volume was loaded from ("" for one made in memory), for messages; owned by the
+ * volume. */
+HV_API const char *hv_volume_name(const hv_volume *vol);
 
 /* ---- memory ---------------------------------------------------------------------------- */
 

@@ -107,15 +107,6 @@ int cli_usage_error(const char *cmd, const char *fmt, ...) HV_PRINTF(2, 3);
 /* Map a status to its exit code. */
 int cli_exit_code(hv_status status);
 
-/* Parse helpers: return 0 and store, or print a usage error naming the option and return
- * EXIT_USAGE. */
-int cli_parse_double(const char *cmd, const char *opt, const char *s, double *out);
-int cli_parse_int(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out);
-/* Exactly n comma-separated numbers ("1,2,3"). */
-int cli_parse_vec(const char *cmd, const char *opt, const char *s, int n, double *out);
-/* A byte size with optional K/M/G/T suffix (powers of 1024). */
-int cli_parse_size(const char *cmd, const char *opt, const char *s, unsigned long long *out);
-
 /* A progress callback drawing a bar on stderr when it is a terminal (hv_progress.user =
  * the bar state); quiet otherwise. It also cancels after SIGINT/SIGTERM. */
 typedef struct cli_progress {

@@ -88,8 +88,17 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
 
 static int run(const char *model, hv_export_options *opt, const export_cli *c, int quiet)
 {
+    /* the format and the tables are checked before the model is read */
+    opt->format = hv_export_format_from_path(c->output);
+    hv_status s = hv_export_options_check(opt);
+    for (int i = 0; i < opt->nlinearize && s == HV_OK; ++i) {
+        hv_linearization *t = NULL;
+        s = hv_linearization_load(opt->linearize[i].path, opt->linearize[i].property, &t);
+        hv_linearization_destroy(t);
+    }
+    if (s != HV_OK) return cli_fail(s);
     hv_volume *vol = NULL;
-    hv_status s = hv_volume_load(model, &vol);
+    s = hv_volume_load(model, &vol);
     if (s != HV_OK) return cli_fail(s);
     hv_export_report rep;
     memset(&rep, 0, sizeof rep);

@@ -1,374 +1,253 @@
 /* src/cli/cmd_grade.c - `hovox grade MODEL.vdb -o OUT.vdb --materials A,B,C --frf FRF
- * --ranges D-,DG,D+ --f EXPR --ms ... --me ...`: materials from grading sources (Wu 2.2). */
-#include <ctype.h>
-#include <getopt.h>
-#include <math.h>
+ * --ranges D-,DG,D+ --f EXPR --ms ... --me ...`: materials from grading sources (Wu 2.2). A
+ * source's values are the library's (hv_ags_option_set, hv_frf_option_set); this file only
+ * groups them after each --frf and reads the FRF syntax KIND:A:B. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/internal.h"
 #include "cli.h"
+#include "core/internal.h"
 #include "hovox/material.h"
 
-static const char *GRADE_HELP =
-    "usage: hovox grade MODEL.vdb -o OUT.vdb --materials A,B[,C...] [options]\n"
-    "                   --frf FRF --ranges D-,DG,D+ [--f EXPR] --ms V,V,... --me V,V,...\n"
-    "                  [--frf ... --me ...]...\n"
-    "\n"
+#define MAX_SOURCES 32
+#define MAX_PROPS 64
+
+typedef struct source {
+    const char *frf;
+    hv_frf_options feature;
+    hv_ags_options a;
+    hv_optargs args;
+} source;
+
+typedef struct grade_cli {
+    const char *output, *materials, *colors, *grid;
+    const char *props[MAX_PROPS];
+    int nprops;
+    int blend;
+    uint64_t max_memory;
+    int ns;
+    source src[MAX_SOURCES];
+} grade_cli;
+
+/* "axis:0,0,0:0,0,1" -> the feature's keys in their order (checked as the options are read) */
+static hv_status parse_frf(const char *spec, hv_frf_options *o)
+{
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", spec);
+    char *kind = buf, *arg = strchr(buf, ':');
+    if (arg) *arg++ = '\0';
+    hv_frf_kind k;
+    const hv_option_set *set = NULL;
+    if (hv_frf_kind_parse(kind, &k) != HV_OK || !(set = hv_frf_option_set(k)))
+        return hv_error_option(HV_ERR_INVALID, "unknown feature '%s' (axis, plane, point, segment, contour, mask)", kind);
+    hv_optargs args;
+    hv_optargs_begin(&args, set, o);
+    for (int i = 0; arg; ++i) {
+        char *next = strchr(arg, ':');
+        if (next) *next++ = '\0';
+        if (i >= set->count)
+            return hv_error_option(HV_ERR_INVALID, "%s takes %d value%s (%s)", kind, set->count,
+                                   set->count == 1 ? "" : "s", spec);
+        hv_opt_value v = {HV_VALUE_TEXT, arg, NULL, 0, 0};
+        if (hv_optargs_set(&args, set->options[i].key, &v) != HV_OK) return HV_ERR_INVALID;
+        arg = next;
+    }
+    return hv_optargs_finish(&args);
+}
+
+/* --frf starts a source; --ranges, --f, --ms and --me set its keys through the library */
+static hv_status start_source(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    grade_cli *g = opts;
+    if (g->ns == MAX_SOURCES) return hv_error_option(HV_ERR_INVALID, "at most %d grading sources ({%s})", MAX_SOURCES, o->key);
+    source *s = &g->src[g->ns++];
+    s->frf = v->text;
+    hv_optargs_begin(&s->args, hv_ags_option_set(), &s->a);
+    hv_status st = parse_frf(v->text, &s->feature);
+    return st == HV_OK ? st : hv_error_prefix(st, "source %d (%s %s): ", g->ns, cli_spell("frf"), v->text);
+}
+
+static hv_status source_value(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    grade_cli *g = opts;
+    if (g->ns == 0) return hv_error_option(HV_ERR_INVALID, "{%s} must follow a {frf} (it belongs to that source)", o->key);
+    hv_status s = hv_optargs_set(&g->src[g->ns - 1].args, o->key, v);
+    return s == HV_OK ? s : hv_error_prefix(s, "source %d: ", g->ns);
+}
+
+static hv_status add_property(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    grade_cli *g = opts;
+    if (g->nprops == MAX_PROPS) return hv_error_option(HV_ERR_INVALID, "at most %d {%s} options", MAX_PROPS, o->key);
+    g->props[g->nprops++] = v->text;
+    return HV_OK;
+}
+
+#define OFF(f) offsetof(grade_cli, f)
+static const hv_option k_local_opts[] = {
+    CLI_OUTPUT(grade_cli, "OUT.vdb", "the graded model to write (atomically)", HV_OPT_REQUIRED),
+    {.key = "materials", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED, .offset = OFF(materials), .meta = "A,B,...",
+     .help = "material names (letters, digits, _ -)", .section = "Materials"},
+    {.key = "colors", .kind = HV_OPT_STRING, .offset = OFF(colors), .meta = "C1,C2,...",
+     .help = "display colours (#rrggbb); default: a distinguishable palette"},
+    {.key = "property", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "M:KEY=VALUE[:UNIT]",
+     .parse = add_property, .help = "a physical property (e.g. A:density=1180:kg/m^3); without a unit, the property's SI unit"},
+    {.key = "frf", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_REQUIRED, .meta = "FRF", .parse = start_source,
+     .section = "Grading sources (each --frf starts one; the options after it belong to it)",
+     .help = "the reference feature: axis:OX,OY,OZ:DX,DY,DZ, plane:PX,PY,PZ:NX,NY,NZ, point:X,Y,Z, "
+             "segment:AX,AY,AZ:BX,BY,BZ, contour (depth below the model's boundary), mask:GRID"},
+    {.key = "ranges", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "D-,DG,D+", .parse = source_value,
+     .help = "the negative constant, gradient and positive constant ranges (Wu eq. 11); DG = 0 is a step"},
+    {.key = "f", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "EXPR", .parse = source_value,
+     .help = "f on [0, DG]: arithmetic in d and dg (+ - * / ^, sin cos tan exp log sqrt pow min max abs, pi); "
+             "it must stay in [0, 1] (default d/dg)"},
+    {.key = "ms", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "V,V,...", .parse = source_value,
+     .help = "Ms: fractions >= 0 summing to 1, one per material"},
+    {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "V,V,...", .parse = source_value,
+     .help = "Me: likewise"},
+    {.key = "blend", .kind = HV_OPT_ENUM, .offset = OFF(blend), .meta = "RULE",
+     .help = "AGS union: the nearest source (nearest) or inverse-distance weights 1/(d + L/2)^2 (idw)",
+     .section = "The object"},
+    {.key = "grid", .kind = HV_OPT_STRING, .offset = OFF(grid), .meta = "NAME",
+     .help = "the bool grid holding the geometry (default occupancy)"},
+    {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",
+     .help = "refuse jobs that would need more (default: half of RAM)"},
+};
+#undef OFF
+
+static hv_option g_local_opts[HV_COUNT(k_local_opts)];
+static hv_option_set g_local = CLI_LOCAL_SET("grade", g_local_opts, grade_cli);
+
+static const cli_spec k_spec = {
+    "grade", "MODEL.vdb -o OUT.vdb --materials A,B[,C...] [options]\n"
+             "                   --frf FRF --ranges D-,DG,D+ [--f EXPR] --ms V,V,... --me V,V,...\n"
+             "                  [--frf ... --me ...]...",
     "Assign material fractions to a voxelized model with grading sources (AGS, Wu 2.2):\n"
     "each voxel at distance d from the reference feature gets\n"
     "  P = Ms + f(d - D-) (Me - Ms) for D- <= d <= D- + DG (the gradient range),\n"
     "  the boundary values of f below and above it (continuous), and for DG = 0 a step:\n"
     "  Ms below D-, Me from D- on (a multi-material object).\n"
-    "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n"
-    "\n"
-    "FRF (reference feature):\n"
-    "  axis:OX,OY,OZ:DX,DY,DZ     a line through O along D\n"
-    "  plane:PX,PY,PZ:NX,NY,NZ    a plane through P with normal N\n"
-    "  point:X,Y,Z                a point\n"
-    "  segment:AX,AY,AZ:BX,BY,BZ  a segment\n"
-    "  contour                    the model's boundary (depth below it)\n"
-    "  mask:GRID                  the true voxels of a bool grid of the model\n"
-    "EXPR: arithmetic in d (and dg): + - * / ^, parentheses, sin cos tan exp log sqrt\n"
-    "  pow min max abs, pi; f must stay in [0, 1] on [0, DG]. Default: d/dg.\n"
-    "Ms, Me: fractions >= 0 summing to 1, one per material.\n"
-    "\n"
-    "Options:\n"
-    "  --materials A,B,...     material names (letters, digits, _ -)\n"
-    "  --colors C1,C2,...      display colours (#rrggbb); default: a distinguishable palette\n"
-    "  --property M:KEY=VALUE[:UNIT]  a physical property (e.g. A:density=1180:kg/m^3)\n"
-    "  --blend nearest|idw     AGS union: the nearest source (default) or inverse-distance\n"
-    "                          weights 1/(d + L/2)^2\n"
-    "  --grid NAME             the bool grid holding the geometry (default occupancy)\n"
-    "  --max-memory SIZE       refuse jobs that would need more (default half of RAM)\n"
-    "  --threads N, -q/--quiet, -o/--output FILE, -h/--help\n";
-
-typedef struct group {
-    char *frf, *f;
-    double ranges[3], ms[HV_MAX_MATERIALS], me[HV_MAX_MATERIALS];
-    int have_ranges, nms, nme;
-} group;
-
-/* Comma-separated numbers; returns the count or -1 (message printed). */
-static int parse_list(const char *opt, const char *s, double *out, int max)
-{
-    int n = 0;
-    const char *p = s;
-    while (*p) {
-        if (n == max) {
-            cli_usage_error("grade", "%s: more than %d values in '%s'", opt, max, s);
-            return -1;
-        }
-        char *end;
-        double v = strtod(p, &end);
-        if (end == p || !isfinite(v)) {
-            cli_usage_error("grade", "%s: '%s' is not a list of numbers", opt, s);
-            return -1;
-        }
-        out[n++] = v;
-        p = end;
-        if (*p == ',') ++p;
-        else if (*p) {
-            cli_usage_error("grade", "%s: '%s' is not a list of numbers", opt, s);
-            return -1;
-        }
-    }
-    return n;
-}
-
-static int parse_vec3(const char *what, const char *s, double v[3], const char *frf)
-{
-    if (parse_list(what, s, v, 3) != 3) {
-        fprintf(stderr, "hovox grade: --frf '%s': %s needs three numbers\n", frf, what);
-        return -1;
-    }
-    return 0;
-}
-
-/* Build the FRF of a group. Returns a status (message set) or -1 for a usage error printed. */
-static int make_frf(const char *spec, const hv_volume *vol, const char *grid, hv_frf **out, hv_status *st)
-{
-    char buf[512];
-    *st = HV_OK;
-    snprintf(buf, sizeof buf, "%s", spec);
-    char *kind = buf, *a = strchr(buf, ':'), *b = NULL;
-    if (a) {
-        *a++ = '\0';
-        b = strchr(a, ':');
-        if (b) *b++ = '\0';
-    }
-    double p[3], q[3];
-    if (strcmp(kind, "axis") == 0 || strcmp(kind, "plane") == 0 || strcmp(kind, "segment") == 0) {
-        if (!a || !b) return cli_usage_error("grade", "--frf '%s': expected %s:X,Y,Z:X,Y,Z", spec, kind);
-        if (parse_vec3("the first point", a, p, spec) || parse_vec3("the second vector", b, q, spec)) return EXIT_USAGE;
-        if (kind[0] == 'a') *st = hv_frf_line(p, q, out);
-        else if (kind[0] == 'p') *st = hv_frf_plane(p, q, out);
-        else *st = hv_frf_segment(p, q, out);
-        return 0;
-    }
-    if (strcmp(kind, "point") == 0) {
-        if (!a || b) return cli_usage_error("grade", "--frf '%s': expected point:X,Y,Z", spec);
-        if (parse_vec3("the point", a, p, spec)) return EXIT_USAGE;
-        *st = hv_frf_point(p, out);
-        return 0;
-    }
-    if (strcmp(kind, "contour") == 0) {
-        if (a) return cli_usage_error("grade", "--frf '%s': contour takes no arguments", spec);
-        *st = hv_frf_contour(vol, grid, out);
-        return 0;
-    }
-    if (strcmp(kind, "mask") == 0) {
-        if (!a || b) return cli_usage_error("grade", "--frf '%s': expected mask:GRID", spec);
-        *st = hv_frf_mask(vol, a, out);
-        return 0;
-    }
-    return cli_usage_error("grade", "--frf '%s': unknown feature '%s' (axis, plane, point, segment, contour, mask)",
-                           spec, kind);
-}
+    "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n",
+    NULL, &g_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET};
 
 static int split_names(const char *s, char names[][65], int max)
 {
     int n = 0;
-    const char *p = s;
-    while (n < max) {
+    for (const char *p = s; n < max;) {
         const char *c = strchr(p, ',');
         size_t len = c ? (size_t)(c - p) : strlen(p);
         if (len == 0 || len > 64) return -1;
         memcpy(names[n], p, len);
-        names[n][len] = '\0';
-        ++n;
+        names[n++][len] = '\0';
         if (!c) return n;
         p = c + 1;
     }
     return -1;
 }
 
-int cmd_grade(int argc, char **argv)
+/* The material table from --materials, --colors and --property. */
+static hv_status make_table(const grade_cli *g, hv_material_table **out)
 {
-    enum { O_MAT = 256, O_COL, O_PROP, O_FRF, O_RANGES, O_F, O_MS, O_ME, O_BLEND, O_GRID, O_MEM, O_THREADS };
-    static const struct option opts[] = {
-        {"output", required_argument, NULL, 'o'},     {"materials", required_argument, NULL, O_MAT},
-        {"colors", required_argument, NULL, O_COL},   {"property", required_argument, NULL, O_PROP},
-        {"frf", required_argument, NULL, O_FRF},      {"ranges", required_argument, NULL, O_RANGES},
-        {"f", required_argument, NULL, O_F},          {"ms", required_argument, NULL, O_MS},
-        {"me", required_argument, NULL, O_ME},        {"blend", required_argument, NULL, O_BLEND},
-        {"grid", required_argument, NULL, O_GRID},    {"max-memory", required_argument, NULL, O_MEM},
-        {"threads", required_argument, NULL, O_THREADS}, {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},             {NULL, 0, NULL, 0}};
-    const char *output = NULL, *materials = NULL, *colors = NULL, *grid = "occupancy";
-    const char *props[64];
-    int nprops = 0, quiet = 0, c;
-    hv_blend blend = HV_BLEND_NEAREST;
-    unsigned long long max_memory = 0;
-    group groups[32];
-    int ng = 0;
-    memset(groups, 0, sizeof groups);
-    optind = 1;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:qh", opts, NULL)) != -1) {
-        group *g = ng ? &groups[ng - 1] : NULL;
-        long n;
-        switch (c) {
-        case 'o': output = optarg; break;
-        case 'q': quiet = 1; break;
-        case 'h': fputs(GRADE_HELP, stdout); return EXIT_OK;
-        case O_MAT: materials = optarg; break;
-        case O_COL: colors = optarg; break;
-        case O_PROP:
-            if (nprops == 64) return cli_usage_error("grade", "too many --property options");
-            props[nprops++] = optarg;
-            break;
-        case O_FRF:
-            if (ng == 32) return cli_usage_error("grade", "at most 32 grading sources");
-            groups[ng++].frf = optarg;
-            break;
-        case O_RANGES:
-        case O_F:
-        case O_MS:
-        case O_ME:
-            if (!g)
-                return cli_usage_error("grade", "%s must follow a --frf (it belongs to that source)",
-                                       c == O_RANGES ? "--ranges" : c == O_F ? "--f" : c == O_MS ? "--ms" : "--me");
-            if (c == O_RANGES) {
-                if (g->have_ranges) return cli_usage_error("grade", "source %d: --ranges given twice", ng);
-                int k = parse_list("--ranges", optarg, g->ranges, 3);
-                if (k < 0) return EXIT_USAGE; /* parse_list said why */
-                if (k != 3) return cli_usage_error("grade", "--ranges '%s': expected D-,DG,D+", optarg);
-                g->have_ranges = 1;
-            } else if (c == O_F) {
-                if (g->f) return cli_usage_error("grade", "source %d: --f given twice", ng);
-                g->f = optarg;
-            } else {
-                if (c == O_MS ? g->nms : g->nme)
-                    return cli_usage_error("grade", "source %d: %s given twice", ng, c == O_MS ? "--ms" : "--me");
-                int k = parse_list(c == O_MS ? "--ms" : "--me", optarg, c == O_MS ? g->ms : g->me, HV_MAX_MATERIALS);
-                if (k < 0) return EXIT_USAGE;
-                if (c == O_MS) g->nms = k;
-                else g->nme = k;
-            }
-            break;
-        case O_BLEND:
-            if (strcmp(optarg, "nearest") == 0) blend = HV_BLEND_NEAREST;
-            else if (strcmp(optarg, "idw") == 0) blend = HV_BLEND_IDW;
-            else return cli_usage_error("grade", "--blend must be nearest or idw (got '%s')", optarg);
-            break;
-        case O_GRID: grid = optarg; break;
-        case O_MEM:
-            if (cli_parse_size("grade", "--max-memory", optarg, &max_memory)) return EXIT_USAGE;
-            break;
-        case O_THREADS:
-            if (cli_parse_int("grade", "--threads", optarg, 1, 1024, &n)) return EXIT_USAGE;
-            hv_set_threads((int)n);
-            break;
-        case ':': return cli_usage_error("grade", "option '%s' needs a value", argv[optind - 1]);
-        default: return cli_usage_error("grade", "unknown option '%s'", argv[optind - 1]);
-        }
+    char names[HV_MAX_MATERIALS][65], cols[HV_MAX_MATERIALS][65];
+    int m = split_names(g->materials, names, HV_MAX_MATERIALS);
+    if (m < 1) return hv_error_option(HV_ERR_INVALID, "{materials} '%s': expected comma-separated names", g->materials);
+    hv_status s = hv_material_table_create(out);
+    for (int j = 0; j < m && s == HV_OK; ++j) s = hv_material_add(*out, names[j], NULL, NULL);
+    int nc = g->colors ? split_names(g->colors, cols, HV_MAX_MATERIALS) : m;
+    if (s == HV_OK && nc != m)
+        s = hv_error_option(HV_ERR_INVALID, "{colors}: %d colours for %d materials", nc < 0 ? 0 : nc, m);
+    for (int j = 0; g->colors && j < m && s == HV_OK; ++j) {
+        float rgba[4];
+        if ((s = hv_color_parse(cols[j], rgba)) == HV_OK) s = hv_material_set_color(*out, j, rgba);
     }
-    if (optind >= argc) return cli_usage_error("grade", "missing MODEL argument");
-    if (argc - optind > 1) return cli_usage_error("grade", "unexpected argument '%s'", argv[optind + 1]);
-    if (!output) return cli_usage_error("grade", "missing -o OUT.vdb");
-    if (!materials) return cli_usage_error("grade", "missing --materials A,B,...");
-    if (ng == 0) return cli_usage_error("grade", "missing --frf (at least one grading source)");
-    char names[HV_MAX_MATERIALS][65];
-    int m = split_names(materials, names, HV_MAX_MATERIALS);
-    if (m < 1) return cli_usage_error("grade", "--materials '%s': expected comma-separated names", materials);
-    for (int i = 0; i < ng; ++i) {
-        if (!groups[i].have_ranges) return cli_usage_error("grade", "source %d (--frf %s): missing --ranges", i + 1, groups[i].frf);
-        if (!groups[i].nms || !groups[i].nme)
-            return cli_usage_error("grade", "source %d (--frf %s): missing --ms or --me", i + 1, groups[i].frf);
-    }
-
-    /* everything the user typed is checked before the model is read */
-    hv_material_table *t = NULL;
-    hv_status s = hv_material_table_create(&t);
-    for (int j = 0; j < m && s == HV_OK; ++j) s = hv_material_add(t, names[j], NULL, NULL);
-    if (s == HV_OK && colors) {
-        char cols[HV_MAX_MATERIALS][65];
-        int nc = split_names(colors, cols, HV_MAX_MATERIALS);
-        if (nc != m) {
-            hv_material_table_destroy(t);
-            return cli_usage_error("grade", "--colors: %d colours for %d materials", nc < 0 ? 0 : nc, m);
-        }
-        for (int j = 0; j < m && s == HV_OK; ++j) {
-            float rgba[4];
-            if ((s = hv_color_parse(cols[j], rgba)) == HV_OK) s = hv_material_set_color(t, j, rgba);
-        }
-    }
-    for (int i = 0; i < nprops && s == HV_OK; ++i) {
+    for (int i = 0; i < g->nprops && s == HV_OK; ++i) {
         char buf[256];
-        snprintf(buf, sizeof buf, "%s", props[i]);
-        char *colon = strchr(buf, ':'), *eq = colon ? strchr(colon, '=') : NULL;
+        snprintf(buf, sizeof buf, "%s", g->props[i]);
+        char *colon = strchr(buf, ':'), *eq = colon ? strchr(colon, '=') : NULL, *unit = NULL;
         if (!colon || !eq) {
-            hv_material_table_destroy(t);
-            return cli_usage_error("grade", "--property '%s': expected MATERIAL:KEY=VALUE[:UNIT]", props[i]);
-        }
-        *colon = '\0';
-        *eq = '\0';
-        char *colon2 = strchr(eq + 1, ':');
-        const char *unit = NULL;
-        if (colon2) {
-            *colon2 = '\0';
-            unit = colon2 + 1;
-        }
-        int mi = hv_material_find(t, buf);
-        if (mi < 0) {
-            hv_material_table_destroy(t);
-            return cli_usage_error("grade", "--property '%s': no material '%s'", props[i], buf);
-        }
-        double v;
-        if (cli_parse_double("grade", "--property", eq + 1, &v)) {
-            hv_material_table_destroy(t);
-            return EXIT_USAGE;
-        }
-        /* as in Lua: a known property without a unit is in its SI unit */
-        const char *key = colon + 1;
-        if (!unit) unit = hv_property_si_unit(key);
-        s = hv_material_set_property(t, mi, key, v, unit);
-    }
-    for (int i = 0; i < ng && s == HV_OK; ++i) {
-        if (groups[i].nms != m || groups[i].nme != m) {
-            s = hv_error_set(HV_ERR_INVALID, "source %d: %s has %d values for %d materials", i + 1,
-                             groups[i].nms != m ? "Ms" : "Me", groups[i].nms != m ? groups[i].nms : groups[i].nme, m);
+            s = hv_error_option(HV_ERR_INVALID, "{property} '%s': expected MATERIAL:KEY=VALUE[:UNIT]", g->props[i]);
             break;
         }
-        if ((s = hv_composition_check(groups[i].ms, m, "Ms")) != HV_OK ||
-            (s = hv_composition_check(groups[i].me, m, "Me")) != HV_OK)
-            s = hv_error_prefix(s, "source %d: ", i + 1);
+        *colon = *eq = '\0';
+        if ((unit = strchr(eq + 1, ':'))) *unit++ = '\0';
+        int mi = hv_material_find(*out, buf);
+        double v;
+        static const hv_option num = {.key = "property", .kind = HV_OPT_NUMBER};
+        if (mi < 0) s = hv_error_option(HV_ERR_INVALID, "{property} '%s': no material '%s'", g->props[i], buf);
+        else if (hv_option_set_text(&num, &v, eq + 1) != HV_OK) s = HV_ERR_INVALID;
+        else s = hv_material_set_property(*out, mi, colon + 1, v, unit ? unit : hv_property_si_unit(colon + 1));
     }
-    if (s != HV_OK) {
-        hv_material_table_destroy(t);
-        return cli_fail(s);
-    }
+    return s;
+}
 
-    hv_volume *vol = NULL, *graded = NULL;
-    hv_object *obj = NULL;
-    s = hv_volume_load(argv[optind], &vol);
-    if (s == HV_OK) s = hv_object_create(vol, grid, m, &obj);
-    if (s == HV_OK) s = hv_object_set_blend(obj, blend, 2.0);
-    for (int i = 0; i < ng && s == HV_OK; ++i) {
+static hv_status add_sources(const grade_cli *g, const hv_volume *vol, hv_object *obj)
+{
+    hv_status s = HV_OK;
+    for (int i = 0; i < g->ns && s == HV_OK; ++i) {
+        const source *src = &g->src[i];
         hv_frf *frf = NULL;
-        int rc = make_frf(groups[i].frf, vol, grid, &frf, &s);
-        if (rc) {
-            hv_object_destroy(obj);
-            hv_volume_destroy(vol);
-            hv_material_table_destroy(t);
-            return rc;
-        }
-        if (s != HV_OK) break;
-        hv_dfn *f = NULL;
-        s = hv_dfn_expr(groups[i].f ? groups[i].f : "d/dg", &f);
-        if (s == HV_OK) {
-            hv_ags_desc d = {frf, groups[i].ranges[0], groups[i].ranges[1], groups[i].ranges[2], f,
-                             groups[i].ms, groups[i].me, m, NULL};
-            hv_ags *a = NULL;
-            s = hv_ags_create(&d, &a);
-            if (s == HV_OK) s = hv_object_add_ags(obj, a);
-            hv_ags_release(a);
-        }
-        if (s != HV_OK) hv_error_prefix(s, "source %d (--frf %s): ", i + 1, groups[i].frf);
-        hv_dfn_destroy(f);
+        hv_ags *a = NULL;
+        hv_frf_options fo = src->feature;
+        if (fo.kind == HV_FRF_CONTOUR && g->grid) fo.grid = g->grid;
+        s = hv_frf_from_options(&fo, vol, &frf);
+        if (s == HV_OK) s = hv_ags_from_options(frf, &src->a, NULL, &a);
+        if (s == HV_OK) s = hv_object_add_ags(obj, a);
+        if (s != HV_OK) hv_error_prefix(s, "source %d (%s %s): ", i + 1, cli_spell("frf"), src->frf);
+        hv_ags_release(a);
         hv_frf_release(frf);
     }
+    return s;
+}
+
+static int grade(const char *model, grade_cli *g, int quiet)
+{
+    hv_material_table *t = NULL;
+    hv_volume *vol = NULL, *graded = NULL;
+    hv_object *obj = NULL;
+    hv_status s = make_table(g, &t); /* everything the user typed is checked before the model is read */
+    int m = s == HV_OK ? hv_material_count(t) : 0;
+    for (int i = 0; i < g->ns && s == HV_OK; ++i)
+        if (g->src[i].a.nms != m)
+            s = hv_error_set(HV_ERR_INVALID, "source %d: Ms has %d values for %d materials", i + 1, g->src[i].a.nms, m);
+    if (s == HV_OK) s = hv_volume_load(model, &vol);
+    if (s == HV_OK) s = hv_object_create(vol, g->grid ? g->grid : "occupancy", m, &obj);
+    if (s == HV_OK) s = hv_object_set_blend(obj, (hv_blend)g->blend, 2.0);
+    if (s == HV_OK) s = add_sources(g, vol, obj);
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};
-    if (s == HV_OK) s = hv_object_evaluate(obj, t, max_memory, &prog, &graded);
+    if (s == HV_OK) s = hv_object_evaluate(obj, t, g->max_memory, &prog, &graded);
     cli_progress_done(&bar);
-    /* keep the model's own records (mesh report, voxelization) and its surface grid */
-    if (s == HV_OK) {
-        for (int i = 0; i < hv_volume_meta_count(vol) && s == HV_OK; ++i) {
-            const char *key = hv_volume_meta_key(vol, i);
-            if (strcmp(key, "hovox.materials.json") == 0 || strcmp(key, "hovox.object.json") == 0) continue;
-            double num;
-            if (hv_volume_meta_number(vol, key, &num)) s = hv_volume_meta_set_number(graded, key, num);
-            else s = hv_volume_meta_set_string(graded, key, hv_volume_meta_string(vol, key));
-        }
-        int gs = hv_volume_grid_find(vol, "surface");
-        if (s == HV_OK && gs >= 0 && hv_volume_grid_type(vol, gs) == HV_GRID_BOOL) {
-            /* the copy may only add voxels outside the graded object (a --grid narrower than the
-             * model): restrict back to the graded voxels */
-            s = hv_volume_grid_copy(graded, "surface", vol, gs);
-            if (s == HV_OK) s = hv_volume_topology_restrict(graded, hv_volume_grid_find(graded, "occupancy"));
-        }
-    }
-    if (s == HV_OK) s = hv_volume_save(graded, output);
-    if (s != HV_OK) {
-        int rc = cli_fail(s);
-        hv_volume_destroy(graded);
-        hv_object_destroy(obj);
-        hv_volume_destroy(vol);
-        hv_material_table_destroy(t);
-        return rc;
-    }
-    if (!quiet) {
-        printf("graded      %s: %llu voxels, %d materials, %d source%s\n", argv[optind],
-               (unsigned long long)hv_object_voxels(obj), m, ng, ng > 1 ? "s" : "");
-        printf("wrote       %s\n", output);
+    if (s == HV_OK) s = hv_volume_save(graded, g->output);
+    if (s == HV_OK && !quiet) {
+        printf("graded      %s: %llu voxels, %d materials, %d source%s\n", model,
+               (unsigned long long)hv_object_voxels(obj), m, g->ns, g->ns > 1 ? "s" : "");
+        printf("wrote       %s\n", g->output);
     }
     hv_volume_destroy(graded);
     hv_object_destroy(obj);
     hv_volume_destroy(vol);
     hv_material_table_destroy(t);
-    return EXIT_OK;
+    return s == HV_OK ? EXIT_OK : cli_fail(s);
+}
+
+int cmd_grade(int argc, char **argv)
+{
+    memcpy(g_local_opts, k_local_opts, sizeof k_local_opts);
+    for (size_t i = 0; i < HV_COUNT(g_local_opts); ++i)
+        if (strcmp(g_local_opts[i].key, "blend") == 0) g_local_opts[i].enumdef = hv_blend_enum();
+    grade_cli *g = hv_calloc(1, sizeof *g);
+    if (!g) return cli_fail(HV_ERR_NOMEM);
+    cli_args args;
+    int rc = cli_parse(&k_spec, argc, argv, NULL, g, &args);
+    for (int i = 0; rc < 0 && i < g->ns; ++i)
+        if (hv_optargs_finish(&g->src[i].args) != HV_OK) {
+            hv_error_prefix(HV_ERR_INVALID, "source %d (%s %s): ", i + 1, cli_spell("frf"), g->src[i].frf);
+            rc = cli_fail(HV_ERR_INVALID);
+        }
+    if (rc < 0) rc = grade(args.pos[0], g, args.quiet);
+    cli_args_free(&args);
+    free(g);
+    return rc;
 }

@@ -1,5 +1,4 @@
 /* src/cli/cmd_info.c - `hovox info MESH...`: the mesh report as text or JSON. */
-#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,18 +8,21 @@
 #include "cli.h"
 #include "hovox/mesh.h"
 
-static const char *INFO_HELP =
-    "usage: hovox info [--json] MESH.stl [MESH.stl ...]\n"
-    "\n"
+typedef struct info_cli {
+    int json;
+} info_cli;
+
+static const hv_option k_local_opts[] = {CLI_JSON(info_cli, "one JSON object per mesh (an array when several meshes are given)")};
+static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
+
+static const cli_spec k_spec = {
+    "info", "[--json] MESH.stl [MESH.stl ...]",
     "Load STL meshes (binary or ASCII, detected by content) and report: facets,\n"
     "vertices after exact welding, bounding box, signed volume, surface area, shells,\n"
     "open and non-manifold edges, degenerate facets, facets whose orientation disagrees\n"
     "with their neighbours, and stored normals that contradict the winding.\n"
-    "Defects are reported, not fatal; unreadable files are errors.\n"
-    "\n"
-    "Options:\n"
-    "  --json     one JSON object per mesh (an array when several meshes are given)\n"
-    "  -h, --help this text\n";
+    "Defects are reported, not fatal; unreadable files are errors.\n",
+    NULL, &k_local, NULL, 1, -1, "MESH argument", 0};
 
 static const char *format_name(hv_mesh_format f)
 {
@@ -49,27 +51,25 @@ static void print_text(const char *path, const hv_mesh_report *r)
     printf("closed              %s\n", closed ? "yes" : "no");
 }
 
+static int report(char **paths, int n, int json);
+
 int cmd_info(int argc, char **argv)
 {
-    static const struct option opts[] = {
-        {"json", no_argument, NULL, 'j'}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
-    int json = 0, c;
-    optind = 1;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'j': json = 1; break;
-        case 'h': fputs(INFO_HELP, stdout); return EXIT_OK;
-        default: return cli_usage_error("info", "unknown option '%s'", argv[optind - 1]);
-        }
-    }
-    int n = argc - optind;
-    if (n < 1) return cli_usage_error("info", "missing MESH argument");
+    info_cli c;
+    cli_args args;
+    int rc = cli_parse(&k_spec, argc, argv, NULL, &c, &args);
+    if (rc < 0) rc = report(args.pos, args.npos, c.json);
+    cli_args_free(&args);
+    return rc;
+}
+
+static int report(char **paths, int n, int json)
+{
     /* load everything first: no partial report on failure */
     hv_mesh **meshes = calloc((size_t)n, sizeof *meshes);
     if (!meshes) return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
     for (int i = 0; i < n; ++i) {
-        hv_status s = hv_mesh_load_stl(argv[optind + i], &meshes[i]);
+        hv_status s = hv_mesh_load_stl(paths[i], &meshes[i]);
         if (s != HV_OK) {
             for (int k = 0; k < i; ++k) hv_mesh_destroy(meshes[k]);
             free(meshes);
@@ -80,7 +80,7 @@ int cmd_info(int argc, char **argv)
     hv_buf_init(&out);
     if (json && n > 1) hv_buf_puts(&out, "[");
     for (int i = 0; i < n; ++i) {
-        const char *path = argv[optind + i];
+        const char *path = paths[i];
         const hv_mesh_report *r = hv_mesh_get_report(meshes[i]);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");

@@ -10,23 +10,40 @@
 #include "cli.h"
 #include "hovox/material.h"
 
-static const char *PROBE_HELP =
-    "usage: hovox probe MODEL.vdb X,Y,Z [X,Y,Z ...] [--points FILE.csv]\n"
-    "\n"
+typedef struct probe_cli {
+    const char *files[64];
+    int nfiles;
+} probe_cli;
+
+static hv_status add_points_file(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    probe_cli *c = opts;
+    if (c->nfiles == (int)HV_COUNT(c->files)) return hv_error_option(HV_ERR_INVALID, "at most %d {%s} files", (int)HV_COUNT(c->files), o->key);
+    c->files[c->nfiles++] = v->text;
+    return HV_OK;
+}
+
+static const hv_option k_local_opts[] = {
+    {.key = "points", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "FILE", .parse = add_points_file,
+     .help = "read points from a CSV file of x,y,z rows (repeatable); a header line (x,y,z) is allowed, blank "
+             "lines and lines starting with # are skipped"},
+};
+static const hv_option_set k_local = CLI_LOCAL_SET("probe", k_local_opts, probe_cli);
+
+/* A point argument: three numbers, in the library's vector syntax. */
+static const hv_option k_point = {.key = "point", .kind = HV_OPT_NUMBER, .count = 3, .meta = "X,Y,Z"};
+
+static const cli_spec k_spec = {
+    "probe", "MODEL.vdb X,Y,Z [X,Y,Z ...] [--points FILE.csv]",
     "Material fractions of a graded model at points (world coordinates, mm). Prints CSV on\n"
     "stdout: a header 'x,y,z,inside,<material names...>' and one row per point, the points\n"
     "given as arguments first, then those of the --points files, in order.\n"
     "  inside     1 when the trilinear occupancy at the point is at least 0.5, else 0\n"
     "  fractions  trilinear over the occupied voxels around the point, renormalised so they\n"
     "             sum to 1 up to the boundary; just outside the boundary they are those of\n"
-    "             the nearest occupied voxels, far from the object 0\n"
-    "\n"
-    "Options:\n"
-    "  --points FILE   read points from a CSV file of x,y,z rows (repeatable); a header line\n"
-    "                  (x,y,z) is allowed, blank lines and lines starting with # are skipped\n"
-    "  -h, --help      this text\n"
-    "\n"
-    "Negative coordinates need no quoting: 'hovox probe m.vdb -1.5,0,2' is a point.\n";
+    "             the nearest occupied voxels, far from the object 0\n",
+    NULL, &k_local, "Negative coordinates need no quoting: 'hovox probe m.vdb -1.5,0,2' is a point.\n",
+    1, -1, "MODEL argument", CLI_NUMERIC_POS};
 
 #define MAX_POINTS_FILE (256u << 20)
 
@@ -139,59 +156,40 @@ static int materials_error(const char *model, hv_status s)
     return cli_fail(hv_error_prefix(s, "%s: ", model));
 }
 
+static int probe(const char *model, points *pts);
+
 int cmd_probe(int argc, char **argv)
 {
-    const char *model = NULL;
-    const char *files[64];
-    int nfiles = 0, only_args = 0;
+    probe_cli c;
+    cli_args args;
     points pts = {NULL, 0, 0};
-    int rc = EXIT_OK;
-    /* hand-parsed: a point such as -1.5,0,2 looks like an option to getopt */
-    for (int i = 1; i < argc && rc == EXIT_OK; ++i) {
-        const char *a = argv[i];
+    int rc = cli_parse(&k_spec, argc, argv, NULL, &c, &args);
+    for (int i = 1; rc < 0 && i < args.npos; ++i) {
         double v[3];
-        if (!only_args && (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0)) {
-            fputs(PROBE_HELP, stdout);
-            free(pts.xyz);
-            return EXIT_OK;
-        }
-        if (!only_args && strcmp(a, "--") == 0) {
-            only_args = 1;
-        } else if (!only_args && (strcmp(a, "--points") == 0 || strncmp(a, "--points=", 9) == 0)) {
-            const char *f = a[8] == '=' ? a + 9 : (i + 1 < argc ? argv[++i] : NULL);
-            if (!f) rc = cli_usage_error("probe", "option '--points' needs a value");
-            else if (nfiles >= (int)HV_COUNT(files)) rc = cli_usage_error("probe", "at most %d --points files", (int)HV_COUNT(files));
-            else files[nfiles++] = f;
-        } else if (!only_args && a[0] == '-' && !(a[1] == '.' || (a[1] >= '0' && a[1] <= '9'))) {
-            rc = cli_usage_error("probe", "unknown option '%s'", a);
-        } else if (!model) {
-            model = a;
-        } else if (cli_parse_vec("probe", "point", a, 3, v) != 0) {
-            rc = EXIT_USAGE;
-        } else if (points_add(&pts, v) != 0) {
-            rc = cli_fail(HV_ERR_NOMEM);
-        }
+        if (hv_option_set_text(&k_point, v, args.pos[i]) != HV_OK) rc = cli_usage_error("probe", "%s", hv_last_error());
+        else if (points_add(&pts, v) != 0) rc = cli_fail(HV_ERR_NOMEM);
     }
-    if (rc == EXIT_OK && !model) rc = cli_usage_error("probe", "missing MODEL argument");
-    if (rc == EXIT_OK && pts.n == 0 && nfiles == 0)
+    if (rc < 0 && pts.n == 0 && c.nfiles == 0)
         rc = cli_usage_error("probe", "no points: give X,Y,Z arguments or --points FILE.csv");
-    for (int f = 0; f < nfiles && rc == EXIT_OK; ++f) rc = read_points(files[f], &pts);
-    if (rc != EXIT_OK) {
-        free(pts.xyz);
-        return rc;
+    for (int f = 0; f < c.nfiles && rc < 0; ++f) {
+        int r = read_points(c.files[f], &pts);
+        if (r != 0) rc = r;
     }
+    if (rc < 0) rc = probe(args.pos[0], &pts);
+    cli_args_free(&args);
+    free(pts.xyz);
+    return rc;
+}
 
+static int probe(const char *model, points *pts)
+{
     hv_volume *vol = NULL;
     hv_material_table *t = NULL;
     hv_status s = hv_volume_load(model, &vol);
-    if (s != HV_OK) {
-        free(pts.xyz);
-        return cli_fail(s);
-    }
+    if (s != HV_OK) return cli_fail(s);
     s = hv_material_table_load(vol, &t);
     if (s != HV_OK) {
         hv_volume_destroy(vol);
-        free(pts.xyz);
         return materials_error(model, s);
     }
     int m = hv_material_count(t), grids[HV_MAX_MATERIALS];
@@ -202,8 +200,8 @@ int cmd_probe(int argc, char **argv)
     hv_accessor acc;
     hv_accessor_init(&acc, vol);
     double frac[HV_MAX_MATERIALS];
-    for (size_t i = 0; i < pts.n; ++i) {
-        const double *x = pts.xyz + 3 * i;
+    for (size_t i = 0; i < pts->n; ++i) {
+        const double *x = pts->xyz + 3 * i;
         int inside;
         hv_model_probe(&acc, t, grids, x, &inside, frac);
         printf("%.9g,%.9g,%.9g,%d", x[0], x[1], x[2], inside);
@@ -212,7 +210,6 @@ int cmd_probe(int argc, char **argv)
     }
     hv_material_table_destroy(t);
     hv_volume_destroy(vol);
-    free(pts.xyz);
     if (fflush(stdout) != 0 || ferror(stdout)) {
         fprintf(stderr, "hovox: stdout: write failed: %s\n", strerror(errno));
         return EXIT_IO;

@@ -98,7 +98,7 @@ hv_status hv_error_option(hv_status status, const char *fmt, ...)
     return status;
 }
 
-int hv_last_error_names_option(void) { return g_marked[0] != '\0'; }
+int hv_last_error_names_option(void) { return g_marked[0] == MARK; }
 
 const char *hv_error_spell(hv_spell_fn spell, void *user, char *buf, size_t size)
 {

@@ -718,13 +718,22 @@ static hv_status resolve(const hv_export_options *opt, resolved *r)
     return HV_OK;
 }
 
+/* Failures about the model's content name its file. */
+static hv_status name_model(const hv_volume *vol, hv_status s)
+{
+    if (s == HV_OK || s == HV_ERR_IO || s == HV_ERR_CANCELLED || s == HV_ERR_UNSUPPORTED || s == HV_ERR_NOMEM ||
+        (s == HV_ERR_INVALID && hv_last_error_names_option()) || !*hv_volume_name(vol))
+        return s;
+    return hv_error_prefix(s, "%s: ", hv_volume_name(vol));
+}
+
 hv_status hv_export_plan(const hv_volume *vol, const char *path, const hv_export_options *opt,
                          hv_export_report *report)
 {
     resolved *r = hv_malloc(sizeof *r);
     if (!r) return HV_ERR_NOMEM;
     hv_status s = resolve(opt, r);
-    if (s == HV_OK) s = plan_impl(vol, path, &r->o, report);
+    if (s == HV_OK) s = name_model(vol, plan_impl(vol, path, &r->o, report));
     resolved_free(r);
     free(r);
     return s;
@@ -736,7 +745,7 @@ hv_status hv_export_write(const hv_volume *vol, const char *path, const hv_expor
     resolved *r = hv_malloc(sizeof *r);
     if (!r) return HV_ERR_NOMEM;
     hv_status s = resolve(opt, r);
-    if (s == HV_OK) s = write_impl(vol, path, &r->o, report);
+    if (s == HV_OK) s = name_model(vol, write_impl(vol, path, &r->o, report));
     resolved_free(r);
     free(r);
     return s;

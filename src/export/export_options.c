@@ -83,6 +83,8 @@ static hv_status validate(const void *opts)
     if (o->nlinearize < 0 || o->nlinearize > HV_EXPORT_MAX_TABLES)
         return hv_error_set(HV_ERR_INVALID, "export: %d linearization files (at most %d)", o->nlinearize,
                             HV_EXPORT_MAX_TABLES);
+    if (o->format == HV_EXPORT_VTI && o->coarsen > 1)
+        return hv_error_option(HV_ERR_INVALID, "{coarsen} applies to .vtu output only");
     if (o->use_box)
         for (int a = 0; a < 3; ++a)
             if (!isfinite(o->box_lo[a]) || !isfinite(o->box_hi[a]) || o->box_lo[a] > o->box_hi[a])

@@ -43,11 +43,17 @@ static const hv_option k_opts[] = {
 
 static const hv_opt_rule k_rules[] = {{HV_RULE_EXCLUDES, "layer_height", "adaptive", NULL, NULL}};
 
+static hv_status finish(const hv_optargs *args)
+{
+    const hv_contours_options *c = args->opts;
+    if (!(c->layer_height > 0) && !(c->adaptive[0] > 0))
+        return hv_error_option(HV_ERR_INVALID, "{layer_height} or {adaptive} is required");
+    return HV_OK;
+}
+
 static hv_status validate(const void *opts)
 {
     const hv_contours_options *c = opts;
-    if (!(c->layer_height > 0) && !(c->adaptive[0] > 0))
-        return hv_error_option(HV_ERR_INVALID, "{layer_height} or {adaptive} is required");
     if (c->layer_height > 0 && c->adaptive[0] > 0)
         return hv_error_option(HV_ERR_INVALID, "{layer_height} and {adaptive} exclude each other");
     return HV_OK;
@@ -62,7 +68,7 @@ void hv_contours_options_init(hv_contours_options *o)
 static void init(void *o) { hv_contours_options_init(o); }
 
 static const hv_option_set k_set = {"contours", k_opts, (int)HV_COUNT(k_opts), sizeof(hv_contours_options), init,
-                                    k_rules, (int)HV_COUNT(k_rules), NULL, validate, NULL, 0};
+                                    k_rules, (int)HV_COUNT(k_rules), finish, validate, NULL, 0};
 
 const hv_option_set *hv_contours_option_set(void) { return &k_set; }
 
@@ -73,6 +79,8 @@ hv_status hv_slicer_plan(const hv_slicer *slicer, const hv_contours_options *o, 
     *out = NULL;
     hv_status s = hv_contours_options_check(o);
     if (s != HV_OK) return s;
+    if (!(o->layer_height > 0) && !(o->adaptive[0] > 0))
+        return hv_error_option(HV_ERR_INVALID, "{layer_height} or {adaptive} is required");
     if (o->adaptive[0] > 0)
         return hv_slicer_plan_adaptive(slicer, o->first_layer, o->adaptive[0], o->adaptive[1], o->adaptive[2], out);
     return hv_slicer_plan_uniform(slicer, o->first_layer, o->layer_height, out);

@@ -160,8 +160,9 @@ static void print_help(const cli_spec *spec)
     FILE *out = stdout;
     fprintf(out, "usage: hovox %s %s\n", spec->name, spec->usage);
     if (spec->about) fprintf(out, "\n%s", spec->about);
+    if (spec->more_about) fprintf(out, "%s%s", spec->about ? "" : "\n", spec->more_about());
     fputc('\n', out);
-    const hv_option_set *sets[2] = {spec->lib, spec->local};
+    const hv_option_set *sets[2] = {spec->lib ? spec->lib() : NULL, spec->local};
     void *defaults[2] = {NULL, NULL};
     const char *sections[128];
     int nsec = 0;
@@ -254,16 +255,17 @@ static int looks_numeric(const char *s)
     return s[0] == '-' && (s[1] == '.' || (s[1] >= '0' && s[1] <= '9'));
 }
 
-int cli_parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, void *local_opts, cli_args *out)
+static int parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, void *local_opts, cli_args *out)
 {
     g_spec = spec;
     memset(out, 0, sizeof *out);
     common_opts common;
     hv_optargs cargs;
+    const hv_option_set *lib = spec->lib ? spec->lib() : NULL;
     hv_optargs_begin(&cargs, &k_common, &common);
-    if (spec->lib) hv_optargs_begin(&out->lib, spec->lib, lib_opts);
+    if (lib) hv_optargs_begin(&out->lib, lib, lib_opts);
     if (spec->local) hv_optargs_begin(&out->local, spec->local, local_opts);
-    target t[3] = {{spec->local, &out->local}, {spec->lib, &out->lib}, {&k_common, &cargs}};
+    target t[3] = {{spec->local, &out->local}, {lib, &out->lib}, {&k_common, &cargs}};
     out->pos = hv_calloc((size_t)argc + 1, sizeof *out->pos);
     if (!out->pos) return cli_fail(HV_ERR_NOMEM);
     int only_pos = 0;
@@ -333,16 +335,26 @@ int cli_parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, void 
     if (spec->max_pos >= 0 && out->npos > spec->max_pos)
         return cli_usage_error(spec->name, "unexpected argument '%s'", out->pos[spec->max_pos]);
     if (spec->local && hv_optargs_finish(&out->local) != HV_OK) return usage_from_library(spec->name);
-    if (spec->lib && hv_optargs_finish(&out->lib) != HV_OK) return usage_from_library(spec->name);
+    if (lib && hv_optargs_finish(&out->lib) != HV_OK) return usage_from_library(spec->name);
     if (common.threads) hv_set_threads(common.threads);
     out->quiet = common.quiet;
     return -1;
 }
 
-void cli_args_free(cli_args *a)
+int cli_main(const cli_spec *spec, int argc, char **argv)
 {
-    free(a->pos);
-    a->pos = NULL;
+    const hv_option_set *lib = spec->lib ? spec->lib() : NULL;
+    void *lib_opts = lib ? hv_calloc(1, lib->size) : NULL;
+    void *local_opts = spec->local ? hv_calloc(1, spec->local->size) : NULL;
+    cli_args args;
+    memset(&args, 0, sizeof args);
+    int rc = (lib && !lib_opts) || (spec->local && !local_opts) ? cli_fail(HV_ERR_NOMEM)
+                                                                : parse(spec, argc, argv, lib_opts, local_opts, &args);
+    if (rc < 0) rc = spec->run(&args, lib_opts, local_opts);
+    free(args.pos);
+    free(lib_opts);
+    free(local_opts);
+    return rc;
 }
 
 int cli_fail(hv_status s)

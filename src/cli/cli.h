@@ -22,11 +22,6 @@ enum {
     EXIT_INTERRUPTED = 130
 };
 
-typedef struct cli_command {
-    const char *name;
-    int (*run)(int argc, char **argv);
-    const char *summary;
-} cli_command;
 
 /* ---- a command's options (args.c) -----------------------------------------------------------
  * A command is described by a cli_spec: its usage line and text, the library's option set of
@@ -39,17 +34,7 @@ enum {
     CLI_NUMERIC_POS = 4, /* "-1.5,0,2" is a positional argument, not an option */
     CLI_STOP_AT_POS = 8  /* everything from the first positional argument on is positional */
 };
-typedef struct cli_spec {
-    const char *name;          /* "render" */
-    const char *usage;         /* after "usage: hovox <name> " (may hold "\n       hovox ...") */
-    const char *about;         /* paragraphs before the options, or NULL */
-    const hv_option_set *lib;  /* the operation's options, or NULL */
-    const hv_option_set *local; /* the command's own options, or NULL */
-    const char *notes;         /* text after the options, or NULL */
-    int min_pos, max_pos;      /* positional arguments (max -1: any number) */
-    const char *pos_name;      /* "MODEL argument": "missing MODEL argument" */
-    unsigned flags;            /* CLI_* */
-} cli_spec;
+
 
 typedef struct cli_args {
     hv_optargs lib, local;     /* what was given (hv_optargs_given) */
@@ -58,11 +43,26 @@ typedef struct cli_args {
     int quiet;
 } cli_args;
 
-/* Parse argv[1..] into lib_opts and local_opts (initialised here by their sets). Returns -1
- * to go on, or the exit code to return now (help printed: 0; usage error printed: 2). Free
- * with cli_args_free. */
-int cli_parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, void *local_opts, cli_args *out);
-void cli_args_free(cli_args *a);
+typedef struct cli_spec {
+    const char *name;          /* "render" */
+    const char *summary;       /* one line for 'hovox --help' */
+    const char *usage;         /* after "usage: hovox <name> " (may hold more lines) */
+    const char *about;         /* paragraphs before the options, or NULL */
+    const hv_option_set *(*lib)(void); /* the operation's options, or NULL */
+    const hv_option_set *local; /* the command's own options, or NULL */
+    const char *notes;         /* text after the options, or NULL */
+    int min_pos, max_pos;      /* positional arguments (max -1: any number) */
+    const char *pos_name;      /* "MODEL argument": "missing MODEL argument" */
+    unsigned flags;            /* CLI_* */
+    /* Run the command on parsed options; returns the exit code. */
+    int (*run)(const cli_args *args, void *lib_opts, void *local_opts);
+    const char *(*more_about)(void); /* appended to about, or NULL (text built at run time) */
+} cli_spec;
+
+/* Parse argv[1..] (argv[0] is the command name) and run the command: its option structs are
+ * allocated by their sets' sizes and initialised by them. Returns the exit code (help: 0; a
+ * usage error printed: 2). */
+int cli_main(const cli_spec *spec, int argc, char **argv);
 /* 1 when the option `key` (library or local) was given. */
 int cli_given(const cli_args *a, const char *key);
 /* An option's command-line spelling ("layer_height" -> "--layer-height", "output" -> "-o"). */
@@ -123,16 +123,7 @@ void cli_install_signals(void);
 int cli_interrupted(void);
 
 /* Commands */
-int cmd_info(int argc, char **argv);
-int cmd_generate(int argc, char **argv);
-int cmd_voxelize(int argc, char **argv);
-int cmd_grade(int argc, char **argv);
-int cmd_probe(int argc, char **argv);
-int cmd_profile(int argc, char **argv);
-int cmd_run(int argc, char **argv);
-int cmd_render(int argc, char **argv);
-int cmd_contours(int argc, char **argv);
-int cmd_layers(int argc, char **argv);
-int cmd_export(int argc, char **argv);
+extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
+    cmd_render, cmd_contours, cmd_layers, cmd_export;
 
 #endif

@@ -42,17 +42,6 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("contours", k_local_opts, contours_cli);
 
-static const cli_spec k_spec = {
-    "contours", "MESH.stl (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
-                "                      [-o OUT.svg|OUT.cli] [--per-layer DIR] [--json] [options]",
-    "Slice a mesh into closed contour loops per layer with Wu's weighted directed graph:\n"
-    "facets are nodes, shared edges arcs; each plane touches only the facets crossing it and\n"
-    "the loops come out in order. Layers start at the mesh's lowest z and each layer\n"
-    "[bottom, top] is cut at its mid-height; the last layer is the one whose mid-height is\n"
-    "below the mesh top. A vertex exactly on a cutting plane counts as above it. Loops are\n"
-    "oriented (outer counter-clockwise, holes clockwise, seen from +z) and nested. Units: mm.\n",
-    NULL, &k_local, "Files are written atomically. Without --json a one-line summary goes to stdout.\n", 1, 1,
-    "MESH", CLI_THREADS | CLI_QUIET};
 
 typedef struct run {
     hv_contour_writer *writer;
@@ -196,19 +185,26 @@ static int slice_mesh(const char *mesh_path, const hv_contours_options *o, const
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
-int cmd_contours(int argc, char **argv)
+static int run_cli(const cli_args *args, void *lib, void *local)
 {
-    cli_spec spec = k_spec;
-    spec.lib = hv_contours_option_set();
-    hv_contours_options o;
-    contours_cli c;
-    cli_args args;
-    int rc = cli_parse(&spec, argc, argv, &o, &c, &args);
-    if (rc < 0 && o.binary && !(c.output && ends_with(c.output, ".cli")))
-        rc = cli_usage_error("contours", "--binary needs a .cli output");
-    if (rc < 0 && !c.output && !c.per_layer && !c.json)
-        rc = cli_usage_error("contours", "nothing to write: give -o OUT.svg|OUT.cli, --per-layer DIR or --json");
-    if (rc < 0) rc = slice_mesh(args.pos[0], &o, &c, args.quiet);
-    cli_args_free(&args);
-    return rc;
+    const hv_contours_options *o = lib;
+    const contours_cli *c = local;
+    if (o->binary && !(c->output && ends_with(c->output, ".cli")))
+        return cli_usage_error("contours", "--binary needs a .cli output");
+    if (!c->output && !c->per_layer && !c->json)
+        return cli_usage_error("contours", "nothing to write: give -o OUT.svg|OUT.cli, --per-layer DIR or --json");
+    return slice_mesh(args->pos[0], o, c, args->quiet);
 }
+
+const cli_spec cmd_contours = {
+    "contours", "slice a mesh into contour loops (SVG, CLI)",
+    "MESH.stl (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
+    "                      [-o OUT.svg|OUT.cli] [--per-layer DIR] [--json] [options]",
+    "Slice a mesh into closed contour loops per layer with Wu's weighted directed graph:\n"
+    "facets are nodes, shared edges arcs; each plane touches only the facets crossing it and\n"
+    "the loops come out in order. Layers start at the mesh's lowest z and each layer\n"
+    "[bottom, top] is cut at its mid-height; the last layer is the one whose mid-height is\n"
+    "below the mesh top. A vertex exactly on a cutting plane counts as above it. Loops are\n"
+    "oriented (outer counter-clockwise, holes clockwise, seen from +z) and nested. Units: mm.\n",
+    hv_contours_option_set, &k_local, "Files are written atomically. Without --json a one-line summary goes to stdout.\n",
+    1, 1, "MESH", CLI_THREADS | CLI_QUIET, run_cli, NULL};

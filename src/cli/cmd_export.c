@@ -29,17 +29,6 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("export", k_local_opts, export_cli);
 
-static const cli_spec k_spec = {
-    "export", "MODEL.vdb -o OUT.vti|OUT.vtu [options]",
-    "Export a model to VTK XML (appended raw binary, zlib, 64-bit headers) for ParaView and\n"
-    "FEA codes. .vti: image data over the occupied voxels' bounding box (or --box), one point\n"
-    "per voxel centre. .vtu: one hexahedron per occupied voxel (or NxNxN block), corner points\n"
-    "shared. Arrays: occupancy, fraction.<material>, and per property the materials define\n"
-    "(density, youngs_modulus, poisson_ratio, ...) <property>.voigt[<unit>] (rule of\n"
-    "mixtures, sum p_j X_j) and <property>.reuss[<unit>] (inverse rule, 1 / sum p_j / X_j),\n"
-    "plus <property>.table[<unit>] per --linearize table. A model without materials is\n"
-    "exported as occupancy only.\n",
-    NULL, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET};
 
 static void print_list(const char *label, const char *csv)
 {
@@ -114,15 +103,16 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
-int cmd_export(int argc, char **argv)
-{
-    cli_spec spec = k_spec;
-    spec.lib = hv_export_option_set();
-    hv_export_options opt;
-    export_cli c;
-    cli_args args;
-    int rc = cli_parse(&spec, argc, argv, &opt, &c, &args);
-    if (rc < 0) rc = run(args.pos[0], &opt, &c, args.quiet);
-    cli_args_free(&args);
-    return rc;
-}
+static int run_cli(const cli_args *args, void *lib, void *local) { return run(args->pos[0], lib, local, args->quiet); }
+
+const cli_spec cmd_export = {
+    "export", "export a model to VTK (.vti image data, .vtu hexahedra)", "MODEL.vdb -o OUT.vti|OUT.vtu [options]",
+    "Export a model to VTK XML (appended raw binary, zlib, 64-bit headers) for ParaView and\n"
+    "FEA codes. .vti: image data over the occupied voxels' bounding box (or --box), one point\n"
+    "per voxel centre. .vtu: one hexahedron per occupied voxel (or NxNxN block), corner points\n"
+    "shared. Arrays: occupancy, fraction.<material>, and per property the materials define\n"
+    "(density, youngs_modulus, poisson_ratio, ...) <property>.voigt[<unit>] (rule of\n"
+    "mixtures, sum p_j X_j) and <property>.reuss[<unit>] (inverse rule, 1 / sum p_j / X_j),\n"
+    "plus <property>.table[<unit>] per --linearize table. A model without materials is\n"
+    "exported as occupancy only.\n",
+    hv_export_option_set, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET, run_cli, NULL};

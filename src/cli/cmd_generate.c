@@ -2,7 +2,6 @@
  * meshes (test shapes, the bench input, Wu's shaft and gear). Shapes and their parameters are
  * the library's (hv_shape_option_set). */
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -20,15 +19,12 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("generate", k_local_opts, generate_cli);
 
-static const cli_spec k_spec = {"generate", "SHAPE [key=value ...] -o OUT.stl [--ascii]", NULL, NULL, &k_local,
-                                "Vectors are X,Y,Z (center=0,0,5). A box takes max=X,Y,Z, or its size from min as\n"
-                                "size=X,Y,Z or sx=, sy=, sz=.\n",
-                                1, -1, "SHAPE", 0};
 
 /* "  sphere     center=0,0,0 radius=10 ..." for the help text */
-static char *shapes_text(void)
+static const char *shapes_text(void)
 {
-    hv_buf b;
+    static hv_buf b; /* built once, kept for the process */
+    if (b.data) return b.data;
     hv_buf_init(&b);
     hv_buf_puts(&b, "Write a closed, consistently oriented mesh (millimetres). Shapes and keys (defaults):\n");
     for (int i = 0; i < hv_shape_count(); ++i) {
@@ -80,16 +76,14 @@ static int build(const char *shape_name, char **kv, int nkv, const generate_cli 
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
-int cmd_generate(int argc, char **argv)
+static int run(const cli_args *args, void *lib, void *local)
 {
-    cli_spec spec = k_spec;
-    char *shapes = shapes_text();
-    spec.about = shapes;
-    generate_cli c;
-    cli_args args;
-    int rc = cli_parse(&spec, argc, argv, NULL, &c, &args);
-    if (rc < 0) rc = build(args.pos[0], args.pos + 1, args.npos - 1, &c);
-    cli_args_free(&args);
-    free(shapes);
-    return rc;
+    (void)lib;
+    return build(args->pos[0], args->pos + 1, args->npos - 1, local);
 }
+
+const cli_spec cmd_generate = {"generate", "write a parametric closed mesh (sphere, gear, knot, ...)",
+                               "SHAPE [key=value ...] -o OUT.stl [--ascii]", NULL, NULL, &k_local,
+                               "Vectors are X,Y,Z (center=0,0,5). A box takes max=X,Y,Z, or its size from min as\n"
+                               "size=X,Y,Z or sx=, sy=, sz=.\n",
+                               1, -1, "SHAPE", 0, run, shapes_text};

@@ -76,6 +76,17 @@ static hv_status source_value(const hv_option *o, void *opts, const hv_opt_value
     return s == HV_OK ? s : hv_error_prefix(s, "source %d: ", g->ns);
 }
 
+static hv_status parse_blend(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    grade_cli *g = opts;
+    hv_blend b;
+    if (v->type != HV_VALUE_TEXT || hv_blend_parse(v->text, &b) != HV_OK)
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be nearest or idw, got '%s'", o->key,
+                               v->type == HV_VALUE_TEXT ? v->text : "?");
+    g->blend = (int)b;
+    return HV_OK;
+}
+
 static hv_status add_property(const hv_option *o, void *opts, const hv_opt_value *v)
 {
     grade_cli *g = opts;
@@ -106,7 +117,7 @@ static const hv_option k_local_opts[] = {
      .help = "Ms: fractions >= 0 summing to 1, one per material"},
     {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "V,V,...", .parse = source_value,
      .help = "Me: likewise"},
-    {.key = "blend", .kind = HV_OPT_ENUM, .offset = OFF(blend), .meta = "RULE",
+    {.key = "blend", .kind = HV_OPT_CUSTOM, .parse = parse_blend, .meta = "RULE",
      .help = "AGS union: the nearest source (nearest) or inverse-distance weights 1/(d + L/2)^2 (idw)",
      .section = "The object"},
     {.key = "grid", .kind = HV_OPT_STRING, .offset = OFF(grid), .meta = "NAME",
@@ -116,20 +127,8 @@ static const hv_option k_local_opts[] = {
 };
 #undef OFF
 
-static hv_option g_local_opts[HV_COUNT(k_local_opts)];
-static hv_option_set g_local = CLI_LOCAL_SET("grade", g_local_opts, grade_cli);
+static const hv_option_set k_local = CLI_LOCAL_SET("grade", k_local_opts, grade_cli);
 
-static const cli_spec k_spec = {
-    "grade", "MODEL.vdb -o OUT.vdb --materials A,B[,C...] [options]\n"
-             "                   --frf FRF --ranges D-,DG,D+ [--f EXPR] --ms V,V,... --me V,V,...\n"
-             "                  [--frf ... --me ...]...",
-    "Assign material fractions to a voxelized model with grading sources (AGS, Wu 2.2):\n"
-    "each voxel at distance d from the reference feature gets\n"
-    "  P = Ms + f(d - D-) (Me - Ms) for D- <= d <= D- + DG (the gradient range),\n"
-    "  the boundary values of f below and above it (continuous), and for DG = 0 a step:\n"
-    "  Ms below D-, Me from D- on (a multi-material object).\n"
-    "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n",
-    NULL, &g_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET};
 
 static int split_names(const char *s, char names[][65], int max)
 {
@@ -232,22 +231,27 @@ static int grade(const char *model, grade_cli *g, int quiet)
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
-int cmd_grade(int argc, char **argv)
+static int run(const cli_args *args, void *lib, void *local)
 {
-    memcpy(g_local_opts, k_local_opts, sizeof k_local_opts);
-    for (size_t i = 0; i < HV_COUNT(g_local_opts); ++i)
-        if (strcmp(g_local_opts[i].key, "blend") == 0) g_local_opts[i].enumdef = hv_blend_enum();
-    grade_cli *g = hv_calloc(1, sizeof *g);
-    if (!g) return cli_fail(HV_ERR_NOMEM);
-    cli_args args;
-    int rc = cli_parse(&k_spec, argc, argv, NULL, g, &args);
-    for (int i = 0; rc < 0 && i < g->ns; ++i)
+    grade_cli *g = local;
+    (void)lib;
+    for (int i = 0; i < g->ns; ++i)
         if (hv_optargs_finish(&g->src[i].args) != HV_OK) {
             hv_error_prefix(HV_ERR_INVALID, "source %d (%s %s): ", i + 1, cli_spell("frf"), g->src[i].frf);
-            rc = cli_fail(HV_ERR_INVALID);
+            return cli_fail(HV_ERR_INVALID);
         }
-    if (rc < 0) rc = grade(args.pos[0], g, args.quiet);
-    cli_args_free(&args);
-    free(g);
-    return rc;
+    return grade(args->pos[0], g, args->quiet);
 }
+
+const cli_spec cmd_grade = {
+    "grade", "assign materials by grading sources (AGS) on reference features",
+    "MODEL.vdb -o OUT.vdb --materials A,B[,C...] [options]\n"
+    "                   --frf FRF --ranges D-,DG,D+ [--f EXPR] --ms V,V,... --me V,V,...\n"
+    "                  [--frf ... --me ...]...",
+    "Assign material fractions to a voxelized model with grading sources (AGS, Wu 2.2):\n"
+    "each voxel at distance d from the reference feature gets\n"
+    "  P = Ms + f(d - D-) (Me - Ms) for D- <= d <= D- + DG (the gradient range),\n"
+    "  the boundary values of f below and above it (continuous), and for DG = 0 a step:\n"
+    "  Ms below D-, Me from D- on (a multi-material object).\n"
+    "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n",
+    NULL, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET, run, NULL};

@@ -15,14 +15,6 @@ typedef struct info_cli {
 static const hv_option k_local_opts[] = {CLI_JSON(info_cli, "one JSON object per mesh (an array when several meshes are given)")};
 static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
 
-static const cli_spec k_spec = {
-    "info", "[--json] MESH.stl [MESH.stl ...]",
-    "Load STL meshes (binary or ASCII, detected by content) and report: facets,\n"
-    "vertices after exact welding, bounding box, signed volume, surface area, shells,\n"
-    "open and non-manifold edges, degenerate facets, facets whose orientation disagrees\n"
-    "with their neighbours, and stored normals that contradict the winding.\n"
-    "Defects are reported, not fatal; unreadable files are errors.\n",
-    NULL, &k_local, NULL, 1, -1, "MESH argument", 0};
 
 static const char *format_name(hv_mesh_format f)
 {
@@ -49,18 +41,6 @@ static void print_text(const char *path, const hv_mesh_report *r)
     printf("flipped facets      %llu\n", (unsigned long long)r->flipped_facets);
     printf("normal mismatches   %llu\n", (unsigned long long)r->normal_mismatch);
     printf("closed              %s\n", closed ? "yes" : "no");
-}
-
-static int report(char **paths, int n, int json);
-
-int cmd_info(int argc, char **argv)
-{
-    info_cli c;
-    cli_args args;
-    int rc = cli_parse(&k_spec, argc, argv, NULL, &c, &args);
-    if (rc < 0) rc = report(args.pos, args.npos, c.json);
-    cli_args_free(&args);
-    return rc;
 }
 
 static int report(char **paths, int n, int json)
@@ -100,3 +80,18 @@ static int report(char **paths, int n, int json)
     hv_buf_free(&out);
     return EXIT_OK;
 }
+
+static int run(const cli_args *args, void *lib, void *local)
+{
+    (void)lib;
+    return report(args->pos, args->npos, ((const info_cli *)local)->json);
+}
+
+const cli_spec cmd_info = {
+    "info", "report on an STL mesh: size, volume, shells, defects", "[--json] MESH.stl [MESH.stl ...]",
+    "Load STL meshes (binary or ASCII, detected by content) and report: facets,\n"
+    "vertices after exact welding, bounding box, signed volume, surface area, shells,\n"
+    "open and non-manifold edges, degenerate facets, facets whose orientation disagrees\n"
+    "with their neighbours, and stored normals that contradict the winding.\n"
+    "Defects are reported, not fatal; unreadable files are errors.\n",
+    NULL, &k_local, NULL, 1, -1, "MESH argument", 0, run, NULL};

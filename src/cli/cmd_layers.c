@@ -27,22 +27,6 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("layers", k_local_opts, layers_cli);
 
-static const cli_spec k_spec = {
-    "layers", "MODEL.vdb --mesh MESH.stl -o DIR [options]\n       hovox layers --mesh MESH.stl -o DIR --mode mask [options]",
-    "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the mesh's\n"
-    "lowest z; each is cut at its mid-height z. Per layer the mesh's contour (WDG slicer) is\n"
-    "rasterised at printer resolution by pixel centres: that decides object and background,\n"
-    "as sharp as the contour. Inside, the material comes from the graded model: the two voxel\n"
-    "layers around z interpolated in z over occupied voxels, extended outwards to pixels the\n"
-    "voxels miss, then resampled to printer pixels by pixel overlap interpolation (exact area\n"
-    "weights, in steps of at most --poi-step) -- or, with --method direct, the grading\n"
-    "definition evaluated at every pixel centre.\n",
-    NULL, &k_local,
-    "DIR/manifest.json: profile, dpi, layer height, materials with palette colours, pixel_mm\n"
-    "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"
-    "y0 + (r+0.5) sy; sy < 0: rows run down in y), and layers [{index, file, z_mm}] with z_mm\n"
-    "the height of the cutting plane.\n",
-    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET};
 
 static void print_plan(const hv_layers_report *r, const hv_layers_options *o)
 {
@@ -142,22 +126,32 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
-int cmd_layers(int argc, char **argv)
+static int run_cli(const cli_args *args, void *lib, void *local)
 {
-    cli_spec spec = k_spec;
-    spec.lib = hv_layers_option_set();
-    hv_layers_options o;
-    layers_cli c;
-    cli_args args;
-    int rc = cli_parse(&spec, argc, argv, &o, &c, &args);
-    if (rc < 0 && !c.output && !c.dry_run) rc = cli_usage_error("layers", "missing -o DIR");
-    if (rc < 0 && args.npos == 0 && o.mode != HV_LAYERS_MASK)
-        rc = cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
-    if (rc < 0) {
-        o.mesh_name = c.mesh;
-        o.model_name = args.npos ? args.pos[0] : NULL;
-        rc = run(&o, &c, args.quiet);
-    }
-    cli_args_free(&args);
-    return rc;
+    hv_layers_options *o = lib;
+    const layers_cli *c = local;
+    if (!c->output && !c->dry_run) return cli_usage_error("layers", "missing -o DIR");
+    if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
+        return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
+    o->mesh_name = c->mesh;
+    o->model_name = args->npos ? args->pos[0] : NULL;
+    return run(o, c, args->quiet);
 }
+
+const cli_spec cmd_layers = {
+    "layers", "printer slice stacks (PNG) from a model and its mesh",
+    "MODEL.vdb --mesh MESH.stl -o DIR [options]\n       hovox layers --mesh MESH.stl -o DIR --mode mask [options]",
+    "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the mesh's\n"
+    "lowest z; each is cut at its mid-height z. Per layer the mesh's contour (WDG slicer) is\n"
+    "rasterised at printer resolution by pixel centres: that decides object and background,\n"
+    "as sharp as the contour. Inside, the material comes from the graded model: the two voxel\n"
+    "layers around z interpolated in z over occupied voxels, extended outwards to pixels the\n"
+    "voxels miss, then resampled to printer pixels by pixel overlap interpolation (exact area\n"
+    "weights, in steps of at most --poi-step) -- or, with --method direct, the grading\n"
+    "definition evaluated at every pixel centre.\n",
+    hv_layers_option_set, &k_local,
+    "DIR/manifest.json: profile, dpi, layer height, materials with palette colours, pixel_mm\n"
+    "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"
+    "y0 + (r+0.5) sy; sy < 0: rows run down in y), and layers [{index, file, z_mm}] with z_mm\n"
+    "the height of the cutting plane.\n",
+    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET, run_cli, NULL};

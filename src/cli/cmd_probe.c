@@ -33,17 +33,6 @@ static const hv_option_set k_local = CLI_LOCAL_SET("probe", k_local_opts, probe_
 /* A point argument: three numbers, in the library's vector syntax. */
 static const hv_option k_point = {.key = "point", .kind = HV_OPT_NUMBER, .count = 3, .meta = "X,Y,Z"};
 
-static const cli_spec k_spec = {
-    "probe", "MODEL.vdb X,Y,Z [X,Y,Z ...] [--points FILE.csv]",
-    "Material fractions of a graded model at points (world coordinates, mm). Prints CSV on\n"
-    "stdout: a header 'x,y,z,inside,<material names...>' and one row per point, the points\n"
-    "given as arguments first, then those of the --points files, in order.\n"
-    "  inside     1 when the trilinear occupancy at the point is at least 0.5, else 0\n"
-    "  fractions  trilinear over the occupied voxels around the point, renormalised so they\n"
-    "             sum to 1 up to the boundary; just outside the boundary they are those of\n"
-    "             the nearest occupied voxels, far from the object 0\n",
-    NULL, &k_local, "Negative coordinates need no quoting: 'hovox probe m.vdb -1.5,0,2' is a point.\n",
-    1, -1, "MODEL argument", CLI_NUMERIC_POS};
 
 #define MAX_POINTS_FILE (256u << 20)
 
@@ -156,31 +145,6 @@ static int materials_error(const char *model, hv_status s)
     return cli_fail(hv_error_prefix(s, "%s: ", model));
 }
 
-static int probe(const char *model, points *pts);
-
-int cmd_probe(int argc, char **argv)
-{
-    probe_cli c;
-    cli_args args;
-    points pts = {NULL, 0, 0};
-    int rc = cli_parse(&k_spec, argc, argv, NULL, &c, &args);
-    for (int i = 1; rc < 0 && i < args.npos; ++i) {
-        double v[3];
-        if (hv_option_set_text(&k_point, v, args.pos[i]) != HV_OK) rc = cli_usage_error("probe", "%s", hv_last_error());
-        else if (points_add(&pts, v) != 0) rc = cli_fail(HV_ERR_NOMEM);
-    }
-    if (rc < 0 && pts.n == 0 && c.nfiles == 0)
-        rc = cli_usage_error("probe", "no points: give X,Y,Z arguments or --points FILE.csv");
-    for (int f = 0; f < c.nfiles && rc < 0; ++f) {
-        int r = read_points(c.files[f], &pts);
-        if (r != 0) rc = r;
-    }
-    if (rc < 0) rc = probe(args.pos[0], &pts);
-    cli_args_free(&args);
-    free(pts.xyz);
-    return rc;
-}
-
 static int probe(const char *model, points *pts)
 {
     hv_volume *vol = NULL;
@@ -216,3 +180,37 @@ static int probe(const char *model, points *pts)
     }
     return EXIT_OK;
 }
+
+static int run(const cli_args *args, void *lib, void *local)
+{
+    const probe_cli *c = local;
+    points pts = {NULL, 0, 0};
+    int rc = -1;
+    (void)lib;
+    for (int i = 1; rc < 0 && i < args->npos; ++i) {
+        double v[3];
+        if (hv_option_set_text(&k_point, v, args->pos[i]) != HV_OK) rc = cli_usage_error("probe", "%s", hv_last_error());
+        else if (points_add(&pts, v) != 0) rc = cli_fail(HV_ERR_NOMEM);
+    }
+    if (rc < 0 && pts.n == 0 && c->nfiles == 0)
+        rc = cli_usage_error("probe", "no points: give X,Y,Z arguments or --points FILE.csv");
+    for (int f = 0; f < c->nfiles && rc < 0; ++f) {
+        int r = read_points(c->files[f], &pts);
+        if (r != 0) rc = r;
+    }
+    if (rc < 0) rc = probe(args->pos[0], &pts);
+    free(pts.xyz);
+    return rc;
+}
+
+const cli_spec cmd_probe = {
+    "probe", "material fractions at points of a model", "MODEL.vdb X,Y,Z [X,Y,Z ...] [--points FILE.csv]",
+    "Material fractions of a graded model at points (world coordinates, mm). Prints CSV on\n"
+    "stdout: a header 'x,y,z,inside,<material names...>' and one row per point, the points\n"
+    "given as arguments first, then those of the --points files, in order.\n"
+    "  inside     1 when the trilinear occupancy at the point is at least 0.5, else 0\n"
+    "  fractions  trilinear over the occupied voxels around the point, renormalised so they\n"
+    "             sum to 1 up to the boundary; just outside the boundary they are those of\n"
+    "             the nearest occupied voxels, far from the object 0\n",
+    NULL, &k_local, "Negative coordinates need no quoting: 'hovox probe m.vdb -1.5,0,2' is a point.\n",
+    1, -1, "MODEL argument", CLI_NUMERIC_POS, run, NULL};

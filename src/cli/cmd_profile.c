@@ -28,18 +28,6 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("profile", k_local_opts, profile_cli);
 
-static const cli_spec k_spec = {
-    "profile", "MODEL.vdb --from X,Y,Z --to X,Y,Z [--samples N] -o PROFILE.csv\n"
-    "                     [--plot PROFILE.png] [options]",
-    "Material fractions of a graded model along the segment from --from to --to (Wu\n"
-    "Fig. 26): N evenly spaced samples, both ends included, each probed as 'hovox probe'\n"
-    "does. The CSV has a header 't,x,y,z,inside,<material names...>' and one row per\n"
-    "sample; t is the distance from --from (mm). The plot shows each material's fraction\n"
-    "against t in the material's colour, with the stretches outside the object shaded.\n",
-    NULL, &k_local,
-    "Outputs are written under temporary names and renamed together at the end, so a failed\n"
-    "run leaves neither file. With -q nothing is printed on success.\n",
-    1, 1, "MODEL argument", CLI_QUIET};
 
 static void report(const hv_profile *p, const char *csv, const char *plot)
 {
@@ -103,16 +91,23 @@ static int run(const char *model, const hv_profile_options *o, const profile_cli
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
-int cmd_profile(int argc, char **argv)
+static int run_cli(const cli_args *args, void *lib, void *local)
 {
-    cli_spec spec = k_spec;
-    spec.lib = hv_profile_option_set();
-    hv_profile_options o;
-    profile_cli c;
-    cli_args args;
-    int rc = cli_parse(&spec, argc, argv, &o, &c, &args);
-    if (rc < 0 && !c.output && !c.plot) rc = cli_usage_error("profile", "missing -o PROFILE.csv (or --plot PROFILE.png)");
-    if (rc < 0) rc = run(args.pos[0], &o, &c, args.quiet);
-    cli_args_free(&args);
-    return rc;
+    const profile_cli *c = local;
+    if (!c->output && !c->plot) return cli_usage_error("profile", "missing -o PROFILE.csv (or --plot PROFILE.png)");
+    return run(args->pos[0], lib, c, args->quiet);
 }
+
+const cli_spec cmd_profile = {
+    "profile", "material fractions along a line, as CSV and a plot",
+    "MODEL.vdb --from X,Y,Z --to X,Y,Z [--samples N] -o PROFILE.csv\n"
+    "                     [--plot PROFILE.png] [options]",
+    "Material fractions of a graded model along the segment from --from to --to (Wu\n"
+    "Fig. 26): N evenly spaced samples, both ends included, each probed as 'hovox probe'\n"
+    "does. The CSV has a header 't,x,y,z,inside,<material names...>' and one row per\n"
+    "sample; t is the distance from --from (mm). The plot shows each material's fraction\n"
+    "against t in the material's colour, with the stretches outside the object shaded.\n",
+    hv_profile_option_set, &k_local,
+    "Outputs are written under temporary names and renamed together at the end, so a failed\n"
+    "run leaves neither file. With -q nothing is printed on success.\n",
+    1, 1, "MODEL argument", CLI_QUIET, run_cli, NULL};

@@ -32,14 +32,6 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = {"render", k_local_opts, 1, sizeof(render_cli), NULL, NULL, 0, NULL, NULL, NULL, 0};
 
-static const cli_spec k_spec = {
-    "render", "MODEL.vdb -o IMAGE [options]",
-    "Ray-cast preview of a graded model (Wu 2.3). A sample's colour is its material\n"
-    "composition, sum p_j * colour_j of the materials' display colours; its opacity comes\n"
-    "from the trilinear occupancy. A model without a material table renders in grey.\n",
-    NULL, &k_local,
-    "Example: hovox render gear.vdb --surface --clip 'x>0&y<0' -o gear_cut.png\n",
-    1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET};
 
 static int report(const char *path, const char *output, const hv_render_options *o, int materials)
 {
@@ -52,47 +44,39 @@ static int report(const char *path, const char *output, const hv_render_options 
     return EXIT_OK;
 }
 
-int cmd_render(int argc, char **argv)
+static int run(const cli_args *args, void *lib, void *local)
 {
-    cli_spec spec = k_spec;
-    spec.lib = hv_render_option_set();
-    hv_render_options o;
-    render_cli local;
-    cli_args args;
-    int rc = cli_parse(&spec, argc, argv, &o, &local, &args);
-    if (rc >= 0) {
-        cli_args_free(&args);
-        return rc;
-    }
-    const char *path = args.pos[0];
-    cli_args_free(&args);
-
+    const hv_render_options *o = lib;
+    const render_cli *c = local;
+    const char *path = args->pos[0];
     hv_volume *vol = NULL;
     hv_status s = hv_volume_load(path, &vol);
     if (s != HV_OK) return cli_fail(s);
     cli_progress bar;
-    cli_progress_init(&bar, args.quiet);
+    cli_progress_init(&bar, args->quiet);
     hv_progress prog = {cli_progress_fn, &bar};
     hv_render_scene *scene = NULL;
     s = hv_render_scene_create(vol, &prog, &scene);
     hv_volume_destroy(vol); /* the scene holds what it needs */
-    if (s != HV_OK) {
-        cli_progress_done(&bar);
-        return cli_fail(hv_error_prefix(s, "%s: ", path));
-    }
     double lo[3], hi[3];
-    if (!hv_render_scene_bounds(scene, lo, hi)) {
-        cli_progress_done(&bar);
-        hv_render_scene_destroy(scene);
-        return cli_fail(hv_error_set(HV_ERR_BAD_INPUT, "%s: the model has no occupied voxels: nothing to render", path));
-    }
+    if (s == HV_OK && !hv_render_scene_bounds(scene, lo, hi))
+        s = hv_error_set(HV_ERR_BAD_INPUT, "the model has no occupied voxels: nothing to render");
+    if (s != HV_OK) hv_error_prefix(s, "%s: ", path);
     hv_image *img = NULL;
-    s = hv_render_scene_image(scene, &o, &prog, &img);
+    if (s == HV_OK) s = hv_render_scene_image(scene, o, &prog, &img);
     cli_progress_done(&bar);
-    int materials = hv_render_scene_materials(scene);
+    int materials = scene ? hv_render_scene_materials(scene) : 0;
     hv_render_scene_destroy(scene);
-    if (s == HV_OK) s = hv_image_write(img, local.output);
+    if (s == HV_OK) s = hv_image_write(img, c->output);
     hv_image_destroy(img);
     if (s != HV_OK) return cli_fail(s);
-    return report(path, local.output, &o, materials);
+    return report(path, c->output, o, materials);
 }
+
+const cli_spec cmd_render = {
+    "render", "ray-cast preview image of a model, with cut planes", "MODEL.vdb -o IMAGE [options]",
+    "Ray-cast preview of a graded model (Wu 2.3). A sample's colour is its material\n"
+    "composition, sum p_j * colour_j of the materials' display colours; its opacity comes\n"
+    "from the trilinear occupancy. A model without a material table renders in grey.\n",
+    hv_render_option_set, &k_local, "Example: hovox render gear.vdb --surface --clip 'x>0&y<0' -o gear_cut.png\n",
+    1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET, run, NULL};

@@ -24,12 +24,6 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("run", k_local_opts, run_cli);
 
-static const cli_spec k_spec = {
-    "run", "[options] SCRIPT.lua [args...]",
-    "Run a Lua 5.4 modeling script. The module is available as the global `hovox` and via\n"
-    "require('hovox'); the script's arguments are in `arg` (arg[0] is the script).\n"
-    "Errors print 'hovox: SCRIPT.lua:LINE: message' and exit 1. Options go before SCRIPT.\n",
-    NULL, &k_local, NULL, 1, -1, "SCRIPT.lua", CLI_THREADS | CLI_STOP_AT_POS};
 
 static int traceback(lua_State *L)
 {
@@ -44,18 +38,6 @@ static int open_hovox_global(lua_State *L)
     luaL_requiref(L, "hovox", luaopen_hovox, 1);
     lua_pop(L, 1);
     return 0;
-}
-
-static int run_script(const run_cli *c, char **argv, int argc);
-
-int cmd_run(int argc, char **argv)
-{
-    run_cli c;
-    cli_args args;
-    int rc = cli_parse(&k_spec, argc, argv, NULL, &c, &args);
-    if (rc < 0) rc = run_script(&c, args.pos, args.npos);
-    cli_args_free(&args);
-    return rc;
 }
 
 /* argv[0] is the script, argv[1..argc-1] its arguments */
@@ -108,3 +90,16 @@ static int run_script(const run_cli *c, char **argv, int argc)
     lua_close(L);
     return rc;
 }
+
+static int run(const cli_args *args, void *lib, void *local)
+{
+    (void)lib;
+    return run_script(local, args->pos, args->npos);
+}
+
+const cli_spec cmd_run = {
+    "run", "run a Lua modeling script", "[options] SCRIPT.lua [args...]",
+    "Run a Lua 5.4 modeling script. The module is available as the global `hovox` and via\n"
+    "require('hovox'); the script's arguments are in `arg` (arg[0] is the script).\n"
+    "Errors print 'hovox: SCRIPT.lua:LINE: message' and exit 1. Options go before SCRIPT.\n",
+    NULL, &k_local, NULL, 1, -1, "SCRIPT.lua", CLI_THREADS | CLI_STOP_AT_POS, run, NULL};

@@ -21,13 +21,6 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
-static const cli_spec k_spec = {
-    "voxelize", "MESH.stl -o MODEL.vdb [options]",
-    "Voxelize a mesh (Wu 2.1; Huang et al. 1998): triangles mark the voxels in their face\n"
-    "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
-    "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"
-    "origin + (i*Lx, j*Ly, k*Lz).\n",
-    NULL, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET};
 
 static void report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *plan, const hv_voxelize_options *opt,
                    const vox_cli *c, const hv_volume *vol)
@@ -117,16 +110,17 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     return EXIT_OK;
 }
 
-int cmd_voxelize(int argc, char **argv)
+static int run_cli(const cli_args *args, void *lib, void *local)
 {
-    cli_spec spec = k_spec;
-    spec.lib = hv_voxelize_option_set();
-    hv_voxelize_options opt;
-    vox_cli c;
-    cli_args args;
-    int rc = cli_parse(&spec, argc, argv, &opt, &c, &args);
-    if (rc < 0 && !c.output && !c.dry_run) rc = cli_usage_error("voxelize", "missing -o MODEL.vdb");
-    if (rc < 0) rc = run(args.pos[0], &opt, &c, args.quiet);
-    cli_args_free(&args);
-    return rc;
+    const vox_cli *c = local;
+    if (!c->output && !c->dry_run) return cli_usage_error("voxelize", "missing -o MODEL.vdb");
+    return run(args->pos[0], lib, c, args->quiet);
 }
+
+const cli_spec cmd_voxelize = {
+    "voxelize", "voxelize a mesh into a .vdb model (surface + interior)", "MESH.stl -o MODEL.vdb [options]",
+    "Voxelize a mesh (Wu 2.1; Huang et al. 1998): triangles mark the voxels in their face\n"
+    "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
+    "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"
+    "origin + (i*Lx, j*Ly, k*Lz).\n",
+    hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET, run_cli, NULL};

@@ -4,19 +4,9 @@
 
 #include "cli.h"
 
-static const cli_command g_commands[] = {
-    {"info", cmd_info, "report on an STL mesh: size, volume, shells, defects"},
-    {"voxelize", cmd_voxelize, "voxelize a mesh into a .vdb model (surface + interior)"},
-    {"grade", cmd_grade, "assign materials by grading sources (AGS) on reference features"},
-    {"probe", cmd_probe, "material fractions at points of a model"},
-    {"profile", cmd_profile, "material fractions along a line, as CSV and a plot"},
-    {"run", cmd_run, "run a Lua modeling script"},
-    {"render", cmd_render, "ray-cast preview image of a model, with cut planes"},
-    {"contours", cmd_contours, "slice a mesh into contour loops (SVG, CLI)"},
-    {"layers", cmd_layers, "printer slice stacks (PNG) from a model and its mesh"},
-    {"export", cmd_export, "export a model to VTK (.vti image data, .vtu hexahedra)"},
-    {"generate", cmd_generate, "write a parametric closed mesh (sphere, gear, knot, ...)"},
-};
+static const cli_spec *const g_commands[] = {&cmd_info,   &cmd_voxelize, &cmd_grade,  &cmd_probe,
+                                             &cmd_profile, &cmd_run,      &cmd_render, &cmd_contours,
+                                             &cmd_layers,  &cmd_export,   &cmd_generate};
 
 static void print_help(FILE *out)
 {
@@ -28,7 +18,7 @@ static void print_help(FILE *out)
             "\n"
             "Commands:\n");
     for (size_t i = 0; i < sizeof g_commands / sizeof g_commands[0]; ++i)
-        fprintf(out, "  %-10s %s\n", g_commands[i].name, g_commands[i].summary);
+        fprintf(out, "  %-10s %s\n", g_commands[i]->name, g_commands[i]->summary);
     fprintf(out,
             "\n"
             "Run 'hovox <command> --help' for a command's options.\n"
@@ -57,9 +47,9 @@ int main(int argc, char **argv)
         return EXIT_OK;
     }
     for (size_t i = 0; i < sizeof g_commands / sizeof g_commands[0]; ++i)
-        if (strcmp(cmd, g_commands[i].name) == 0) {
+        if (strcmp(cmd, g_commands[i]->name) == 0) {
             cli_install_signals();
-            return g_commands[i].run(argc - 1, argv + 1);
+            return cli_main(g_commands[i], argc - 1, argv + 1);
         }
     fprintf(stderr, "hovox: unknown command '%s'\nTry 'hovox --help'.\n", cmd);
     return EXIT_USAGE;

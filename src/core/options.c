@@ -103,7 +103,7 @@ static void elem_limits(hv_opt_elem e, double *lo, double *hi)
     switch (e) {
     case HV_ELEM_INT: *lo = -2147483648.0; *hi = 2147483647.0; break;
     case HV_ELEM_INT64: *lo = -9.2e18; *hi = 9.2e18; break;
-    case HV_ELEM_UINT64: *lo = 0; *hi = 1.8e19; break;
+    case HV_ELEM_UINT64: *lo = 0; *hi = 18446744073709551616.0; break;
     case HV_ELEM_UINT8: *lo = 0; *hi = 255; break;
     case HV_ELEM_FLOAT: *lo = -3.4e38; *hi = 3.4e38; break;
     default: *lo = -HUGE_VAL; *hi = HUGE_VAL; break;

@@ -73,9 +73,9 @@ static const hv_option k_opts[] = {
 };
 #undef OFF
 
-static hv_status validate(const void *opts)
+static hv_status finish(const hv_optargs *args)
 {
-    const hv_profile_options *p = opts;
+    const hv_profile_options *p = args->opts;
     if (p->from[0] == p->to[0] && p->from[1] == p->to[1] && p->from[2] == p->to[2])
         return hv_error_option(HV_ERR_INVALID, "{from} and {to} are the same point");
     return HV_OK;
@@ -94,7 +94,7 @@ void hv_profile_options_init(hv_profile_options *o)
 static void init(void *o) { hv_profile_options_init(o); }
 
 static const hv_option_set k_set = {"profile", k_opts, (int)HV_COUNT(k_opts), sizeof(hv_profile_options), init,
-                                    NULL, 0, NULL, validate, NULL, 0};
+                                    NULL, 0, finish, NULL, NULL, 0};
 
 const hv_option_set *hv_profile_option_set(void) { return &k_set; }
 

@@ -234,7 +234,7 @@ static hv_status ags_validate(const void *opts)
     const hv_ags_options *a = opts;
     if (a->nms != a->nme)
         return hv_error_option(HV_ERR_INVALID, "{ms} has %d values and {me} %d", a->nms, a->nme);
-    if (a->nms < 1 || a->nms > HV_MAX_MATERIALS) return hv_error_option(HV_ERR_INVALID, "{ms} and {me} are required");
+    if (a->nms == 0) return HV_OK; /* not given yet: required, checked when a source is made */
     /* a composition off the simplex is a bad definition (exit 1), named as Wu names it */
     hv_status s = hv_composition_check(a->ms, a->nms, "Ms");
     if (s == HV_OK) s = hv_composition_check(a->me, a->nme, "Me");
@@ -254,6 +254,7 @@ hv_status hv_ags_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn
     *out = NULL;
     hv_status s = hv_options_check(&k_ags_set, o);
     if (s != HV_OK) return s;
+    if (o->nms < 1) return hv_error_option(HV_ERR_INVALID, "{ms} and {me} are required");
     hv_dfn *own = NULL;
     if (!f && o->d_grad > 0) {
         s = hv_dfn_expr(o->f ? o->f : "d/dg", &own);

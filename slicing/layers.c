@@ -333,7 +333,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
                  (uint64_t)(J->ax.n_out + J->ay.n_out) * 16;
     }
     J->memory = (uint64_t)J->threads * worker_bytes(J) + fixed;
-    uint64_t budget = o->max_memory ? o->max_memory : hv_physical_memory() / 2;
+    uint64_t budget = hv_memory_budget(o->max_memory);
     char what[32];
     if (uses_model(o)) snprintf(what, sizeof what, "%d material%s", J->m, J->m > 1 ? "s" : "");
     else snprintf(what, sizeof what, "mask");

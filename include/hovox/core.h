@@ -64,6 +64,14 @@ typedef struct hv_progress {
     void *user;
 } hv_progress;
 
+/* A process-wide cancel check (Ctrl-C, a time limit): long operations call fn from the thread
+ * that called them, as often as they report progress (whether or not they were given a
+ * progress callback), and stop with HV_ERR_CANCELLED when it returns nonzero. NULL removes it.
+ * Set it before starting work; not thread-safe against running operations. */
+HV_API void hv_set_cancel_check(int (*fn)(void *user), void *user);
+/* 1 when the cancel check asks to stop. */
+HV_API int hv_cancel_requested(void);
+
 /* Worker threads used by the multi-threaded kernels. 0 (the default) means: the value of
  * the environment variable HOVOX_THREADS if set, else the number of online processors.
  * Results never depend on the thread count. */
@@ -72,6 +80,13 @@ HV_API int hv_threads(void);
 
 /* Physical memory of the machine in bytes (0 when unknown); used for default budgets. */
 HV_API uint64_t hv_physical_memory(void);
+
+/* The memory budget of one operation: `requested` bytes (an option's max_memory), or half of
+ * the physical memory when 0; never above the process-wide cap when one is set. */
+HV_API uint64_t hv_memory_budget(uint64_t requested);
+/* A process-wide cap on every operation's budget (0: none), e.g. a sandboxed script's limit.
+ * Set it before starting work. */
+HV_API void hv_set_memory_cap(uint64_t bytes);
 
 /* Library version string, e.g. "0.1.0". */
 HV_API const char *hv_version(void);

@@ -363,6 +363,10 @@ int cli_fail(hv_status s)
     const char *m = cli_message(msg, sizeof msg);
     if (s == HV_ERR_INVALID && hv_last_error_names_option() && g_spec) return cli_usage_error(g_spec->name, "%s", m);
     if (s == HV_ERR_CANCELLED && cli_interrupted()) m = "interrupted";
+    else if (s == HV_ERR_CANCELLED && cli_out_of_time()) {
+        m = "time limit exceeded";
+        s = HV_ERR_LIMIT;
+    }
     fprintf(stderr, "hovox: %s\n", *m ? m : hv_status_name(s));
     return cli_exit_code(s);
 }

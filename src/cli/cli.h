@@ -121,6 +121,10 @@ void cli_progress_done(cli_progress *p);
 /* Install SIGINT/SIGTERM handlers that set a flag the progress callback turns into a cancel. */
 void cli_install_signals(void);
 int cli_interrupted(void);
+/* A time limit for the whole command (seconds from now; 0: none): past it, long operations are
+ * cancelled as by Ctrl-C, and cli_out_of_time says so. */
+void cli_set_time_limit(double seconds);
+int cli_out_of_time(void);
 
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,

@@ -30,10 +30,25 @@ int cli_exit_code(hv_status s)
 /* ---- signals and progress -------------------------------------------------------------- */
 
 static volatile sig_atomic_t g_interrupted;
+static double g_deadline; /* monotonic seconds; 0: none */
 
 static void on_signal(int sig)
 {
     g_interrupted = sig;
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The library's cancel check: Ctrl-C, SIGTERM or the time limit. */
+static int should_stop(void *user)
+{
+    (void)user;
+    return g_interrupted != 0 || cli_out_of_time();
 }
 
 void cli_install_signals(void)
@@ -44,16 +59,14 @@ void cli_install_signals(void)
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
+    hv_set_cancel_check(should_stop, NULL);
 }
 
 int cli_interrupted(void) { return g_interrupted != 0; }
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+void cli_set_time_limit(double seconds) { g_deadline = seconds > 0 ? now_seconds() + seconds : 0; }
+
+int cli_out_of_time(void) { return g_deadline > 0 && now_seconds() > g_deadline; }
 
 void cli_progress_init(cli_progress *p, int quiet)
 {

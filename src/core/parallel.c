@@ -33,9 +33,31 @@ uint64_t hv_physical_memory(void)
     return (uint64_t)pages * (uint64_t)size;
 }
 
+static int (*g_cancel_fn)(void *);
+static void *g_cancel_user;
+
+void hv_set_cancel_check(int (*fn)(void *user), void *user)
+{
+    g_cancel_user = user;
+    g_cancel_fn = fn;
+}
+
+int hv_cancel_requested(void) { return g_cancel_fn && g_cancel_fn(g_cancel_user); }
+
+static uint64_t g_budget_cap;
+
+void hv_set_memory_cap(uint64_t bytes) { g_budget_cap = bytes; }
+
+uint64_t hv_memory_budget(uint64_t requested)
+{
+    uint64_t b = requested ? requested : hv_physical_memory() / 2;
+    if (g_budget_cap && (b == 0 || b > g_budget_cap)) b = g_budget_cap;
+    return b;
+}
+
 hv_status hv_progress_report(const hv_progress *p, const char *stage, double fraction)
 {
-    if (p && p->fn && p->fn(p->user, stage, HV_CLAMP(fraction, 0.0, 1.0)) != 0)
+    if ((p && p->fn && p->fn(p->user, stage, HV_CLAMP(fraction, 0.0, 1.0)) != 0) || hv_cancel_requested())
         return hv_error_set(HV_ERR_CANCELLED, "%s: cancelled", stage);
     return HV_OK;
 }
@@ -79,7 +101,7 @@ hv_status hv_parallel_for(size_t n, size_t grain, hv_range_fn fn, void *ctx,
                 break;
             }
             size_t d = atomic_fetch_add(&done, e - b) + (e - b);
-            if (t == 0 && progress && progress->fn) {
+            if (t == 0 && (progress && progress->fn ? 1 : g_cancel_fn != NULL)) {
                 if (hv_progress_report(progress, stage, (double)d / (double)n) != HV_OK) {
                     cancel = HV_ERR_CANCELLED;
                     atomic_store(&stop, 1);

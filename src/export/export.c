@@ -561,7 +561,7 @@ static hv_status plan_impl(const hv_volume *vol, const char *path, const hv_expo
 
 static hv_status check_budget(const hv_export_options *opt, const hv_export_report *r)
 {
-    uint64_t budget = opt->max_memory ? opt->max_memory : hv_physical_memory() / 2;
+    uint64_t budget = hv_memory_budget(opt->max_memory);
     if (!budget || r->memory_bytes <= budget) return HV_OK;
     char need[32], have[32];
     hv_size_text(need, sizeof need, (double)r->memory_bytes);

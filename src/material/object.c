@@ -707,7 +707,7 @@ hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t, uint64_t 
             return hv_error_set(HV_ERR_LIMIT, "region %d has %d grading sources (at most %d)", r,
                                 o->reg[r].nags, MAX_SOURCES);
     uint64_t need = hv_object_evaluate_estimate(o);
-    uint64_t budget = max_memory ? max_memory : hv_physical_memory() / 2;
+    uint64_t budget = hv_memory_budget(max_memory);
     if (budget && need > budget) {
         char nt[32], bt[32];
         return hv_error_option(HV_ERR_LIMIT,

@@ -174,7 +174,7 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     uint64_t leaves = (uint64_t)HV_MIN(blocks, all_blocks) + 1;
     p->memory_bytes = work + hv_volume_memory_estimate(leaves, 0, 2) + (uint64_t)mesh_bytes(mesh);
 
-    uint64_t budget = opt->max_memory ? opt->max_memory : hv_physical_memory() / 2;
+    uint64_t budget = hv_memory_budget(opt->max_memory);
     if (budget && p->memory_bytes > budget) {
         char need[32], have[32];
         return hv_error_option(HV_ERR_LIMIT,

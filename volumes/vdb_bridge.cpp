@@ -4,16 +4,23 @@
 // (HV_CATCH) and turns them into a status plus what(); nothing propagates into C.
 #include "vdb_bridge.h"
 
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/math/Maps.h>
 #include <openvdb/tools/Prune.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <mutex>
 #include <new>
 #include <string>
@@ -22,7 +29,7 @@
 namespace {
 
 // Status values of hovox/core.h (the plugin does not link the library).
-enum { OK = 0, E_INVALID = 1, E_BAD_INPUT = 2, E_IO = 3, E_NOMEM = 4, E_INTERNAL = 9 };
+enum { OK = 0, E_INVALID = 1, E_BAD_INPUT = 2, E_IO = 3, E_NOMEM = 4, E_LIMIT = 5, E_CANCELLED = 6, E_INTERNAL = 9 };
 enum { T_FLOAT = 1, T_BOOL = 2 };
 
 thread_local std::string g_error;
@@ -32,6 +39,94 @@ int fail(int status, const std::string &msg)
     g_error = msg;
     return status;
 }
+
+// A library's message on one line: printable characters only, runs of blanks folded, at most
+// 200 characters (OpenVDB may echo file bytes or pad with kilobytes of spaces).
+std::string one_line(const std::string &in)
+{
+    std::string out;
+    for (char c : in) {
+        unsigned char u = static_cast<unsigned char>(c);
+        char w = u >= 32 && u < 127 ? c : ' ';
+        if (w == ' ' && (out.empty() || out.back() == ' ')) continue;
+        out.push_back(w);
+        if (out.size() >= 200) {
+            out += "...";
+            break;
+        }
+    }
+    while (!out.empty() && out.back() == ' ') out.pop_back();
+    return out;
+}
+
+struct Cancelled {};
+
+// While OpenVDB parses a file, the address space may grow by at most `allowance` bytes: a
+// damaged length field (a metadata string of 2^31 bytes) then fails as bad_alloc instead of
+// taking gigabytes before the read notices the damage. Lifted again before any expansion.
+// Not under AddressSanitizer, which reserves terabytes of shadow memory.
+class AddressLimit {
+public:
+    explicit AddressLimit(uint64_t allowance)
+    {
+#if !defined(__SANITIZE_ADDRESS__)
+        long pages = 0, page = sysconf(_SC_PAGESIZE);
+        FILE *f = std::fopen("/proc/self/statm", "r");
+        if (!f) return;
+        int got = std::fscanf(f, "%ld", &pages);
+        std::fclose(f);
+        if (got != 1 || page <= 0 || getrlimit(RLIMIT_AS, &mOld) != 0) return;
+        rlimit lim = mOld;
+        rlim_t want = rlim_t(pages) * rlim_t(page) + rlim_t(allowance);
+        if (mOld.rlim_cur != RLIM_INFINITY && mOld.rlim_cur < want) return;
+        lim.rlim_cur = want;
+        mSet = setrlimit(RLIMIT_AS, &lim) == 0;
+#else
+        (void)allowance;
+#endif
+    }
+    ~AddressLimit() { lift(); }
+    void lift()
+    {
+        if (mSet) setrlimit(RLIMIT_AS, &mOld);
+        mSet = false;
+    }
+
+private:
+    rlimit mOld{};
+    bool mSet = false;
+};
+
+// A file buffer that polls `cancel` every 4 MiB read or written; C++ streams then see an
+// exception, which the entries below turn into status 6.
+class CheckedBuf : public std::filebuf {
+public:
+    explicit CheckedBuf(hv_vdb_cancel_fn cancel) : mCancel(cancel) {}
+
+protected:
+    std::streamsize xsputn(const char *s, std::streamsize n) override
+    {
+        poll(n);
+        return std::filebuf::xsputn(s, n);
+    }
+    std::streamsize xsgetn(char *s, std::streamsize n) override
+    {
+        poll(n);
+        return std::filebuf::xsgetn(s, n);
+    }
+
+private:
+    void poll(std::streamsize n)
+    {
+        mCount += n;
+        if (mCount >= (std::streamsize(4) << 20)) {
+            mCount = 0;
+            if (mCancel && mCancel()) throw Cancelled();
+        }
+    }
+    hv_vdb_cancel_fn mCancel;
+    std::streamsize mCount = 0;
+};
 
 #define HV_CATCH(code)                                                                 \
     catch (const std::bad_alloc &) { return fail(E_NOMEM, "out of memory"); }          \
@@ -286,7 +381,7 @@ void clear_inactive(TreeT &tree, typename TreeT::ValueType bg)
 
 int b_save(const void *impl, const char *path, int ngrids, const char *const *names, int nmeta,
            const char *const *keys, const int *kinds, const char *const *strings,
-           const double *numbers)
+           const double *numbers, hv_vdb_cancel_fn cancel)
 {
     try {
         const Volume *v = static_cast<const Volume *>(impl);
@@ -306,12 +401,22 @@ int b_save(const void *impl, const char *path, int ngrids, const char *const *na
             else
                 meta.insertMeta(keys[i], openvdb::StringMetadata(strings[i]));
         }
-        openvdb::io::File file(path);
-        file.write(out, meta);
-        file.close();
+        // our own stream, every write checked (io::File does not report a full disk)
+        CheckedBuf buf(cancel);
+        if (!buf.open(path, std::ios::out | std::ios::binary | std::ios::trunc))
+            return fail(E_IO, std::string("cannot open for writing: ") + std::strerror(errno));
+        std::ostream os(&buf);
+        os.exceptions(std::ios::failbit | std::ios::badbit);
+        openvdb::io::Stream(os).write(out, meta);
+        os.flush();
+        if (!buf.close()) return fail(E_IO, "closing the file failed (disk full?)");
         return OK;
     }
-    HV_CATCH(E_IO)
+    catch (const Cancelled &) { return fail(E_CANCELLED, "cancelled"); }
+    catch (const std::ios_base::failure &) { return fail(E_IO, std::string("write failed (disk full?)")); }
+    catch (const std::bad_alloc &) { return fail(E_NOMEM, "out of memory"); }
+    catch (const std::exception &e) { return fail(E_IO, one_line(e.what())); }
+    catch (...) { return fail(E_IO, "unknown exception writing the file"); }
 }
 
 // Convert any supported grid to FloatGrid or BoolGrid with tiles expanded.
@@ -378,17 +483,58 @@ bool axis_aligned(const openvdb::math::Transform &xf, double voxel[3], double or
     return true;
 }
 
+// Bytes hovox needs for grid g once its active tiles are expanded into leaves, estimated from
+// the tree's structure alone (nothing is expanded yet).
+uint64_t expanded_bytes(const GridBase &g, uint64_t *voxels)
+{
+    *voxels = g.activeVoxelCount();
+    const uint64_t leaves = (*voxels + 511) / 512 + g.baseTree().leafCount();
+    const uint64_t per_leaf = g.isType<BoolGrid>() || g.isType<MaskGrid>() ? 200 : 2200;
+    // the shared topology and hovox's leaf tables come on top of the grid itself
+    return leaves * (per_leaf + 200);
+}
+
 int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_vdb_meta_cb meta_cb,
-           hv_vdb_grid_cb grid_cb, void *ctx)
+           hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes, hv_vdb_cancel_fn cancel)
 {
     Volume *v = nullptr;
     try {
-        openvdb::io::File file(path);
-        file.open(false);
-        openvdb::GridPtrVecPtr grids = file.getGrids();
-        openvdb::MetaMap::Ptr meta = file.getMetadata();
-        file.close();
+        // our own stream with every read checked: a file that ends early throws at once,
+        // instead of OpenVDB reading on with garbage counts
+        CheckedBuf buf(cancel);
+        if (!buf.open(path, std::ios::in | std::ios::binary))
+            return fail(E_IO, std::string("cannot open: ") + std::strerror(errno));
+        std::istream is(&buf);
+        is.exceptions(std::ios::failbit | std::ios::badbit);
+        struct stat st;
+        uint64_t fsize = stat(path, &st) == 0 ? uint64_t(st.st_size) : 0;
+        openvdb::GridPtrVecPtr grids;
+        openvdb::MetaMap::Ptr meta;
+        try {
+            AddressLimit limit((uint64_t(1) << 30) + 64 * fsize); // trees in memory: about the file's size
+            openvdb::io::Stream stream(is, false);
+            grids = stream.getGrids();
+            meta = stream.getMetadata();
+        } catch (const std::bad_alloc &) {
+            return fail(E_BAD_INPUT, "the file is damaged: it asks for more memory than its " + std::to_string(fsize) +
+                                         " bytes can hold");
+        }
         if (!grids || grids->empty()) return fail(E_BAD_INPUT, "file holds no grids");
+        uint64_t total = 0;
+        for (const auto &g : *grids) {
+            uint64_t voxels = 0, bytes = expanded_bytes(*g, &voxels);
+            total += bytes;
+            if (max_bytes && total > max_bytes)
+                return fail(E_LIMIT, "grid '" + one_line(g->getName()) + "' holds " + std::to_string(voxels) +
+                                         " active voxels: about " + std::to_string(total >> 20) +
+                                         " MiB once expanded, more than the budget of " +
+                                         std::to_string(max_bytes >> 20) + " MiB");
+            const openvdb::CoordBBox bb = g->evalActiveVoxelBoundingBox();
+            const int lim = 1 << 30;
+            if (!bb.empty() && (bb.min().x() < -lim || bb.min().y() < -lim || bb.min().z() < -lim ||
+                                bb.max().x() > lim || bb.max().y() > lim || bb.max().z() > lim))
+                return fail(E_BAD_INPUT, "grid '" + one_line(g->getName()) + "' has voxels beyond index 2^30");
+        }
         // restore hovox's grid order (OpenVDB returns grids by name)
         std::stable_sort(grids->begin(), grids->end(), [](const GridBase::Ptr &a, const GridBase::Ptr &b) {
             auto ia = a->getMetadata<openvdb::Int32Metadata>("hovox.index");
@@ -472,8 +618,21 @@ int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_v
         *out = v;
         return OK;
     }
+    catch (const Cancelled &) { delete v; return fail(E_CANCELLED, "cancelled"); }
+    catch (const std::ios_base::failure &) {
+        delete v;
+        return fail(E_BAD_INPUT, "the file ends early or is damaged (a read failed)");
+    }
     catch (const std::bad_alloc &) { delete v; return fail(E_NOMEM, "out of memory"); }
-    catch (const std::exception &e) { delete v; return fail(E_BAD_INPUT, e.what()); }
+    catch (const openvdb::TypeError &e) { /* a grid hovox does not read (convert_grid) */
+        delete v;
+        std::string m = one_line(e.what());
+        return fail(E_BAD_INPUT, m.rfind("TypeError: ", 0) == 0 ? m.substr(11) : m);
+    }
+    catch (const std::exception &e) {
+        delete v;
+        return fail(E_BAD_INPUT, "damaged or not an OpenVDB file (" + one_line(e.what()) + ")");
+    }
     catch (...) { delete v; return fail(E_BAD_INPUT, "unknown exception reading VDB file"); }
 }
 

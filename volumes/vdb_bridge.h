@@ -12,13 +12,15 @@
 extern "C" {
 #endif
 
-#define HV_VDB_ABI 1
+#define HV_VDB_ABI 2
 
 enum { HV_META_STRING = 0, HV_META_NUMBER = 1 };
 
 /* Called by load for each file-level metadata entry and each grid (in file order). */
 typedef int (*hv_vdb_meta_cb)(void *ctx, const char *key, int kind, const char *s, double d);
 typedef int (*hv_vdb_grid_cb)(void *ctx, const char *name, int type);
+/* Polled while a file is read or written: nonzero stops it (status 6, cancelled). */
+typedef int (*hv_vdb_cancel_fn)(void);
 
 typedef struct hv_vdb_api {
     int abi;
@@ -37,11 +39,15 @@ typedef struct hv_vdb_api {
     int (*leaf_topology)(const void *impl, int32_t *origins, const uint64_t **masks);
     int (*leaf_buffers)(void *impl, int g, void **buffers);
     /* files */
+    /* save: every write, the flush and the close are checked (a full disk is status 3) */
     int (*save)(const void *impl, const char *path, int ngrids, const char *const *names,
                 int nmeta, const char *const *keys, const int *kinds,
-                const char *const *strings, const double *numbers);
+                const char *const *strings, const double *numbers, hv_vdb_cancel_fn cancel);
+    /* load: a file that ends early or is damaged is status 2; grids whose active voxels would
+     * take more than max_bytes once expanded are refused before expanding (status 5) */
     int (*load)(const char *path, void **out, double voxel[3], double origin[3],
-                hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx);
+                hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes,
+                hv_vdb_cancel_fn cancel);
     uint64_t (*memory)(const void *impl);
 } hv_vdb_api;
 

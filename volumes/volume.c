@@ -52,6 +52,8 @@ struct hv_volume {
 /* ---- the bridge ------------------------------------------------------------------------- */
 
 static const hv_vdb_api *g_api;
+
+static int cancel_poll(void) { return hv_cancel_requested(); }
 static hv_status g_api_status = HV_OK;
 static char g_api_error[2048];
 static pthread_once_t g_api_once = PTHREAD_ONCE_INIT;
@@ -800,9 +802,11 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
         strs[i] = v->meta[i].str ? v->meta[i].str : "";
         nums[i] = v->meta[i].num;
     }
-    int rc = g_api->save(v->impl, tmp, v->ngrids, names, v->nmeta, keys, kinds, strs, nums);
-    if (rc) {
-        s = hv_error_set((hv_status)rc, "%s: cannot write: %s", path, g_api->last_error());
+    int rc = g_api->save(v->impl, tmp, v->ngrids, names, v->nmeta, keys, kinds, strs, nums, cancel_poll);
+    if (rc == HV_ERR_CANCELLED) s = hv_error_set(HV_ERR_CANCELLED, "%s: writing cancelled", path);
+    else if (rc) s = hv_error_set((hv_status)rc, "%s: cannot write: %s", path, g_api->last_error());
+    else if (!special) s = hv_fsync_path(tmp);
+    if (s != HV_OK) {
         if (!special) remove(tmp);
         goto done;
     }
@@ -869,9 +873,11 @@ hv_status hv_volume_load(const char *path, hv_volume **out)
     hv_volume *v = hv_calloc(1, sizeof *v);
     if (!v) return HV_ERR_NOMEM;
     load_ctx ctx = {v};
-    int rc = g_api->load(path, &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx);
+    int rc = g_api->load(path, &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx, hv_memory_budget(0),
+                         cancel_poll);
     if (rc) {
-        s = hv_error_set((hv_status)rc, "%s: %s", path, g_api->last_error());
+        s = rc == HV_ERR_CANCELLED ? hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path)
+                                   : hv_error_set((hv_status)rc, "%s: %s", path, g_api->last_error());
         v->impl = NULL;
         hv_volume_destroy(v);
         return s;

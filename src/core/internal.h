@@ -96,12 +96,16 @@ typedef struct hv_atomic_file {
     char *tmp; /* NULL when writing straight to a special file (/dev/null, a FIFO, a tty) */
 } hv_atomic_file;
 hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode);
-hv_status hv_atomic_commit(hv_atomic_file *af); /* fflush, fsync-less close, rename */
+hv_status hv_atomic_commit(hv_atomic_file *af); /* fflush, fsync, close, rename; each checked */
+/* fsync a file written by another writer (a C++ library) before it is renamed into place.
+ * Errors: HV_ERR_IO. */
+hv_status hv_fsync_path(const char *path);
 void hv_atomic_abort(hv_atomic_file *af);
 /* "512 bytes", "8.8 KiB", "1.5 GiB" (binary units, one decimal) into buf; returns buf. */
 const char *hv_size_text(char *buf, size_t size, double bytes);
 /* A temporary path next to `path` (caller frees), for writers that take a path; for a
- * special `path` (see below) one in $TMPDIR (default /tmp). */
+ * special `path` (see below) one in $TMPDIR (default /tmp). Temporaries of the same name left
+ * by processes that died (".<name>.tmp-<pid>-<n>" of a gone pid) are removed first. */
 char *hv_temp_path(const char *path);
 /* Puts a finished temporary file in place: rename, or for a special `path` copy its bytes
  * there and remove `tmp`. Errors: HV_ERR_IO naming `path` (then `tmp` is left to the caller

@@ -1,6 +1,8 @@
 /* src/core/util.c - checked allocation, growable strings, whole-file reads, atomic writes. */
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -251,6 +253,46 @@ const char *hv_size_text(char *buf, size_t size, double bytes)
     return buf;
 }
 
+/* Remove our own temporaries of `base` in `dir` left by processes that are gone (killed in
+ * the middle of a write): ".<base>.tmp-<pid>-<n>", regular files of a dead pid only. */
+static void clean_stale(const char *dir, size_t dirlen, const char *base)
+{
+    char d[4096];
+    snprintf(d, sizeof d, "%.*s", (int)(dirlen ? dirlen : 1), dirlen ? dir : ".");
+    DIR *dp = opendir(d);
+    if (!dp) return;
+    char prefix[512];
+    int plen = snprintf(prefix, sizeof prefix, ".%s.tmp-", base);
+    if (plen <= 0 || (size_t)plen >= sizeof prefix) {
+        closedir(dp);
+        return;
+    }
+    struct dirent *e;
+    while ((e = readdir(dp))) {
+        if (strncmp(e->d_name, prefix, (size_t)plen) != 0) continue;
+        char *end;
+        long pid = strtol(e->d_name + plen, &end, 10);
+        if (pid <= 0 || *end != '-' || pid == (long)getpid()) continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue; /* alive, or not ours to judge */
+        char full[4600];
+        snprintf(full, sizeof full, "%s/%s", d, e->d_name);
+        struct stat st;
+        if (lstat(full, &st) == 0 && S_ISREG(st.st_mode)) unlink(full);
+    }
+    closedir(dp);
+}
+
+hv_status hv_fsync_path(const char *path)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return hv_error_set(HV_ERR_IO, "%s: cannot open to sync: %s", path, strerror(errno));
+    int rc = fsync(fd), e = errno;
+    close(fd);
+    if (rc != 0 && e != EINVAL && e != EROFS) /* special files cannot sync: nothing to lose */
+        return hv_error_set(HV_ERR_IO, "%s: writing to disk failed: %s", path, strerror(e));
+    return HV_OK;
+}
+
 char *hv_temp_path(const char *path)
 {
     const char *base = hv_basename(path);
@@ -261,6 +303,7 @@ char *hv_temp_path(const char *path)
         dir = t && *t ? t : "/tmp";
         dirlen = strlen(dir);
     }
+    if (dir == path) clean_stale(dir, dirlen, base);
     size_t n = dirlen + strlen(base) + 66;
     char *tmp = hv_malloc(n);
     if (!tmp) return NULL;
@@ -338,8 +381,18 @@ hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode)
 
 hv_status hv_atomic_commit(hv_atomic_file *af)
 {
+    /* every write, the flush, the sync and the close are checked: a full disk is an error,
+     * never a short file under the final name */
     int bad = ferror(af->fp);
     int e = errno;
+    if (!bad && fflush(af->fp) != 0) {
+        bad = 1;
+        e = errno;
+    }
+    if (!bad && af->tmp && fsync(fileno(af->fp)) != 0 && errno != EINVAL) {
+        bad = 1;
+        e = errno;
+    }
     if (fclose(af->fp) != 0) {
         bad = 1;
         e = errno;

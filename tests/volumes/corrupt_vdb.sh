@@ -1,0 +1,90 @@
+#!/bin/sh
+# tests/volumes/corrupt_vdb.sh - damaged and hostile .vdb files: truncations at every 1/64 of
+# a graded model, one-bit flips spread over it, and crafted files (a 4096^3 active tile, a grid
+# of an unsupported type, a rotated transform, a tiny and a huge voxel, no grids). Every case
+# must end in 5 s, under 1 GiB, with a documented exit code: 1-4 for truncations and crafted
+# files, 0-4 for a bit flip (a flip in a value or padding leaves a readable file). Never a
+# crash, never exit 70.
+set -u
+: "${HOVOX:?set HOVOX to the hovox binary}"
+PY=${PYTHON:-/usr/bin/python3}
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+model=tests/data/models/linear2.vdb
+pass=0
+fail=0
+
+check() { # check NAME FILE LOWEST_OK_EXIT
+    name=$1 file=$2 lo=$3
+    for cmd in probe render; do
+        if [ $cmd = probe ]; then set -- "$HOVOX" probe "$file" 1,1,1
+        else set -- "$HOVOX" render "$file" -o "$TMP/x.png" --size 8,8 -q; fi
+        /usr/bin/time -f "%M" -o "$TMP/rss" timeout 5 "$@" >/dev/null 2>"$TMP/err"
+        rc=$?
+        rss=$(tail -n 1 "$TMP/rss")
+        lines=$(wc -l <"$TMP/err")
+        ok=1
+        [ "$rc" -ge "$lo" ] && [ "$rc" -le 4 ] || ok=0
+        [ "${rss:-0}" -le 1048576 ] || ok=0
+        [ "$lines" -le 1 ] || ok=0
+        if [ $ok = 1 ]; then pass=$((pass + 1)); else
+            fail=$((fail + 1))
+            echo "--- $name ($cmd): exit $rc, ${rss} KiB, $lines lines of stderr"
+            head -c 400 "$TMP/err"
+        fi
+    done
+}
+
+size=$(wc -c <"$model")
+i=1
+while [ $i -lt 64 ]; do
+    n=$((size * i / 64))
+    head -c "$n" "$model" >"$TMP/t.vdb"
+    check "truncated at $n of $size bytes" "$TMP/t.vdb" 1
+    i=$((i + 1))
+done
+check "truncated by 100 bytes" "$model" 0 # the full file first: it must load
+head -c $((size - 100)) "$model" >"$TMP/t.vdb"
+check "truncated by 100 bytes" "$TMP/t.vdb" 1
+
+"$PY" - "$model" "$TMP" <<'PYEOF'
+import sys
+src, out = sys.argv[1], sys.argv[2]
+data = open(src, 'rb').read()
+for k in range(120):
+    pos = (k * 7919) % len(data)
+    b = bytearray(data)
+    b[pos] ^= 1 << (k % 8)
+    open('%s/flip%03d.vdb' % (out, k), 'wb').write(bytes(b))
+PYEOF
+for f in "$TMP"/flip*.vdb; do check "bit flip $(basename "$f")" "$f" 0; done
+
+"$PY" - "$TMP" <<'PYEOF'
+import sys
+import pyopenvdb as vdb
+out = sys.argv[1]
+g = vdb.BoolGrid(); g.name = 'occupancy'
+g.fill((0, 0, 0), (4095, 4095, 4095), True, True)
+vdb.write(out + '/huge_tile.vdb', grids=[g])
+v = vdb.Vec3SGrid(); v.name = 'occupancy'; v.fill((0, 0, 0), (7, 7, 7), (1, 2, 3), True)
+vdb.write(out + '/vector_grid.vdb', grids=[v])
+r = vdb.BoolGrid(); r.name = 'occupancy'; r.fill((0, 0, 0), (7, 7, 7), True, True)
+r.transform = vdb.createLinearTransform([[0.7071, 0.7071, 0, 0], [-0.7071, 0.7071, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+vdb.write(out + '/rotated.vdb', grids=[r])
+t = vdb.BoolGrid(); t.name = 'occupancy'; t.fill((0, 0, 0), (7, 7, 7), True, True)
+t.transform = vdb.createLinearTransform(voxelSize=1e-4)
+vdb.write(out + '/tiny_voxel.vdb', grids=[t])
+f = vdb.FloatGrid(); f.name = 'material.a'; f.fill((-2**30 - 104, 0, 0), (-2**30 - 97, 7, 7), 1.0, True)
+vdb.write(out + '/far_away.vdb', grids=[f])
+vdb.write(out + '/no_grids.vdb', grids=[])
+PYEOF
+[ $? = 0 ] || { echo "corrupt .vdb corpus: the crafted files could not be made"; exit 1; }
+for f in huge_tile vector_grid rotated far_away no_grids; do check "$f" "$TMP/$f.vdb" 1; done
+check "tiny voxel" "$TMP/tiny_voxel.vdb" 0
+printf 'not a vdb at all' >"$TMP/text.vdb"
+check "text" "$TMP/text.vdb" 1
+: >"$TMP/empty.vdb"
+check "empty" "$TMP/empty.vdb" 1
+
+echo "corrupt .vdb corpus: $pass passed, $fail failed"
+[ $fail = 0 ]

@@ -57,8 +57,12 @@ HV_API int hv_material_property(const hv_material_table *t, int m, const char *k
 HV_API int hv_material_property_count(const hv_material_table *t, int m);
 HV_API const char *hv_material_property_key(const hv_material_table *t, int m, int i);
 
-/* JSON form: {"materials": [{"name": ..., "color": [r,g,b,a], "properties": {key: {"value":
- * v, "unit": u}}}]}. to_json: *json is malloc'd (free()). from_json errors: HV_ERR_BAD_INPUT. */
+/* JSON form (the "hovox.materials.json" document): {"schema": 1, "materials": [{"name": ...,
+ * "color": [r,g,b,a], "properties": {key: {"value": v, "unit": u}}}]}. to_json: *json is
+ * malloc'd (free()); errors HV_ERR_NOMEM. from_json reads documents without "schema" (older
+ * hovox) as version 1. Errors: HV_ERR_BAD_INPUT (malformed JSON with line and column, a
+ * missing or mistyped member, an invalid name or colour, a schema version this hovox does not
+ * read; the message names the member), HV_ERR_NOMEM. */
 HV_API hv_status hv_material_table_to_json(const hv_material_table *t, char **json);
 HV_API hv_status hv_material_table_from_json(const char *json, hv_material_table **out);
 
@@ -208,6 +212,12 @@ typedef enum hv_blend {
     HV_BLEND_IDW = 1      /* inverse-distance weights 1 / (d_i + eps)^power, eps = voxel/2 */
 } hv_blend;
 
+/* Name of a blend rule ("nearest", "idw"; "?" for other values), as the grading definition
+ * stores it. */
+HV_API const char *hv_blend_name(hv_blend blend);
+/* The rule of a name. Errors: HV_ERR_INVALID 'blend rule "bogus" is not one of nearest, idw'. */
+HV_API hv_status hv_blend_parse(const char *name, hv_blend *out);
+
 /* An object: regions (geometry mask on a shared lattice, AGS set) over m materials, with a base
  * composition for voxels no source covers (regions without AGS). */
 typedef struct hv_object hv_object;
@@ -273,8 +283,11 @@ HV_API uint64_t hv_object_evaluate_estimate(const hv_object *o);
 
 /* Rebuild the object that graded `vol` (hv_object_evaluate's output, possibly saved and loaded)
  * from its metadata and grids: analytic features exactly, voxel features as their stored
- * fields, sources with their tabulated f, regions, base and blend. Errors: HV_ERR_NOT_FOUND
- * (not a graded model), HV_ERR_BAD_INPUT (incomplete or corrupt definition). */
+ * fields, sources with their tabulated f, regions, base and blend. Definitions written by older
+ * hovox (without "schema") read as version 1.
+ * Errors: HV_ERR_NOT_FOUND (not a graded model), HV_ERR_BAD_INPUT (incomplete or corrupt
+ * definition: malformed JSON, a missing member, an unknown feature kind or blend name, a schema
+ * version this hovox does not read; the message names the member and the value). */
 HV_API hv_status hv_object_from_model(const hv_volume *vol, hv_object **out);
 
 /* Compute the fields of the object's voxel features over its box (once; evaluation does it

@@ -7,6 +7,7 @@
 #include <strings.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "cli.h"
 #include "hovox/slice.h"
 
@@ -70,18 +71,16 @@ static hv_status sink(void *user, size_t index, const hv_layer *layer, hv_slice 
     r->gaps += st->gaps_closed;
     r->dropped += st->dropped;
     if (r->json) {
-        hv_buf *b = r->js;
-        hv_buf_printf(b, "%s\n  {\"index\": %zu, \"z\": ", index ? "," : "", index);
-        hv_buf_json_number(b, layer->z);
-        hv_buf_puts(b, ", \"bottom\": ");
-        hv_buf_json_number(b, layer->bottom);
-        hv_buf_puts(b, ", \"top\": ");
-        hv_buf_json_number(b, layer->top);
-        hv_buf_printf(b, ", \"loops\": %zu, \"outers\": %zu, \"holes\": %zu, \"open\": %zu, "
-                         "\"gaps_closed\": %zu, \"area\": ",
-                      st->loops, st->outers, st->holes, st->open, st->gaps_closed);
-        hv_buf_json_number(b, st->area);
-        hv_buf_puts(b, "}");
+        json_t *j = json_pack("{s:I, s:o, s:o, s:o, s:I, s:I, s:I, s:I, s:I, s:o}", "index", (json_int_t)index, "z",
+                              hv_json_number(layer->z), "bottom", hv_json_number(layer->bottom), "top",
+                              hv_json_number(layer->top), "loops", (json_int_t)st->loops, "outers",
+                              (json_int_t)st->outers, "holes", (json_int_t)st->holes, "open", (json_int_t)st->open,
+                              "gaps_closed", (json_int_t)st->gaps_closed, "area", hv_json_number(st->area));
+        char *text = j ? hv_json_dump(j) : NULL;
+        json_decref(j);
+        hv_buf_printf(r->js, "%s\n  %s", index ? "," : "", text ? text : "");
+        if (!text) r->js->failed = 1;
+        free(text);
     }
     hv_status s = HV_OK;
     if (r->writer) s = hv_contour_writer_add(r->writer, layer, *slice);
@@ -228,29 +227,29 @@ int cmd_contours(int argc, char **argv)
     if (s != HV_OK) {
         rc = cli_fail(s);
     } else if (json) {
+        json_t *j = json_pack("{s:o, s:s}", "file", hv_json_text(mesh_path), "mode", have_ad ? "adaptive" : "uniform");
+        int bad = !j;
+        if (have_ad)
+            bad |= json_object_update_new(j, json_pack("{s:o, s:o, s:o}", "min", hv_json_number(ad[0]), "max",
+                                                       hv_json_number(ad[1]), "cusp",
+                                                       hv_json_number(ad[2] > 0 ? ad[2] : ad[0])));
+        else
+            bad |= json_object_update_new(j, json_pack("{s:o}", "layer_height", hv_json_number(lh)));
+        bad |= json_object_update_new(j, json_pack("{s:o, s:o, s:I, s:I, s:I, s:I, s:I, s:I}", "first_layer",
+                                                   hv_json_number(first > 0 ? first : have_ad ? 0 : lh), "close_gap",
+                                                   hv_json_number(sopt.close_gap), "count",
+                                                   (json_int_t)hv_layer_plan_count(plan), "loops", (json_int_t)r.loops,
+                                                   "holes", (json_int_t)r.holes, "open", (json_int_t)r.open,
+                                                   "gaps_closed", (json_int_t)r.gaps, "dropped", (json_int_t)r.dropped));
+        char *head = bad ? NULL : hv_json_dump(j);
+        json_decref(j);
         hv_buf b;
         hv_buf_init(&b);
-        hv_buf_puts(&b, "{\"file\": ");
-        hv_buf_json_string(&b, mesh_path);
-        if (have_ad) {
-            hv_buf_puts(&b, ", \"mode\": \"adaptive\", \"min\": ");
-            hv_buf_json_number(&b, ad[0]);
-            hv_buf_puts(&b, ", \"max\": ");
-            hv_buf_json_number(&b, ad[1]);
-            hv_buf_puts(&b, ", \"cusp\": ");
-            hv_buf_json_number(&b, ad[2] > 0 ? ad[2] : ad[0]);
-        } else {
-            hv_buf_puts(&b, ", \"mode\": \"uniform\", \"layer_height\": ");
-            hv_buf_json_number(&b, lh);
-        }
-        hv_buf_puts(&b, ", \"first_layer\": ");
-        hv_buf_json_number(&b, first > 0 ? first : have_ad ? 0 : lh);
-        hv_buf_puts(&b, ", \"close_gap\": ");
-        hv_buf_json_number(&b, sopt.close_gap);
-        hv_buf_printf(&b,
-                      ", \"count\": %zu, \"loops\": %zu, \"holes\": %zu, \"open\": %zu, "
-                      "\"gaps_closed\": %zu, \"dropped\": %zu,\n \"layers\": [",
-                      hv_layer_plan_count(plan), r.loops, r.holes, r.open, r.gaps, r.dropped);
+        /* the summary's members, then the layers one per line (the closing brace moves) */
+        if (head) hv_buf_append(&b, head, strlen(head) - 1);
+        else b.failed = 1;
+        free(head);
+        hv_buf_puts(&b, ",\n \"layers\": [");
         if (js.data) hv_buf_puts(&b, js.data);
         hv_buf_puts(&b, "\n ]}\n");
         if (b.failed || js.failed) rc = cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));

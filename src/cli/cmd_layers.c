@@ -12,6 +12,7 @@
 #include "cli.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
+#include "hovox/voxelize.h"
 
 static const char *LAYERS_HELP =
     "usage: hovox layers MODEL.vdb --mesh MESH.stl -o DIR [options]\n"
@@ -126,31 +127,20 @@ static void print_plan(const hv_layers_report *r, const hv_layers_options *o)
 static void warn_other_mesh(const char *mesh_path, const hv_mesh *mesh, const char *model_path,
                             const hv_volume *model)
 {
-    const char *text = hv_volume_meta_string(model, "hovox.mesh.json");
-    hv_json *j = text ? hv_json_parse(text, strlen(text)) : NULL;
-    const hv_json *bb = j ? hv_json_get(j, "bbox") : NULL;
-    const hv_json *mn = bb ? hv_json_get(bb, "min") : NULL, *mx = bb ? hv_json_get(bb, "max") : NULL;
+    hv_voxelize_record rec;
+    if (hv_voxelize_record_read(model, &rec) != HV_OK) return;
     const hv_mesh_report *r = hv_mesh_get_report(mesh);
+    const double *lo = rec.mesh.bbox_min, *hi = rec.mesh.bbox_max;
     hv_transform xf = hv_volume_get_transform(model);
-    double tol = HV_MAX(xf.voxel[0], HV_MAX(xf.voxel[1], xf.voxel[2])), was[6];
-    int ok = mn && mx, differs = 0;
-    for (int a = 0; a < 3 && ok; ++a) {
-        const hv_json *p = hv_json_at(mn, (size_t)a), *q = hv_json_at(mx, (size_t)a);
-        if (!p || !q || p->type != HV_JSON_NUMBER || q->type != HV_JSON_NUMBER) {
-            ok = 0;
-            break;
-        }
-        was[a] = p->number;
-        was[a + 3] = q->number;
-        differs |= fabs(was[a] - r->bbox_min[a]) > tol || fabs(was[a + 3] - r->bbox_max[a]) > tol;
-    }
-    if (ok && differs)
+    double tol = HV_MAX(xf.voxel[0], HV_MAX(xf.voxel[1], xf.voxel[2]));
+    int differs = 0;
+    for (int a = 0; a < 3; ++a) differs |= fabs(lo[a] - r->bbox_min[a]) > tol || fabs(hi[a] - r->bbox_max[a]) > tol;
+    if (differs)
         fprintf(stderr,
                 "hovox: warning: %s spans (%g, %g, %g)-(%g, %g, %g), but %s was voxelized from a mesh "
                 "spanning (%g, %g, %g)-(%g, %g, %g): is this its mesh?\n",
                 mesh_path, r->bbox_min[0], r->bbox_min[1], r->bbox_min[2], r->bbox_max[0], r->bbox_max[1],
-                r->bbox_max[2], model_path, was[0], was[1], was[2], was[3], was[4], was[5]);
-    hv_json_free(j);
+                r->bbox_max[2], model_path, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
 }
 
 int cmd_layers(int argc, char **argv)

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "cli.h"
 #include "hovox/voxelize.h"
 
@@ -177,36 +178,27 @@ int cmd_voxelize(int argc, char **argv)
     const hv_mesh_report *r = hv_mesh_get_report(mesh);
     double vv = plan.xf.voxel[0] * plan.xf.voxel[1] * plan.xf.voxel[2];
     if (json) {
-        hv_buf b;
-        hv_buf_init(&b);
-        hv_buf_puts(&b, "{\"mesh\": ");
-        hv_buf_json_string(&b, path);
-        hv_buf_printf(&b, ", \"dims\": [%lld, %lld, %lld], \"voxel\": [", (long long)plan.dims[0],
-                      (long long)plan.dims[1], (long long)plan.dims[2]);
-        for (int a = 0; a < 3; ++a) {
-            if (a) hv_buf_puts(&b, ", ");
-            hv_buf_json_number(&b, plan.xf.voxel[a]);
+        json_t *j = json_pack("{s:o, s:[I, I, I], s:o, s:o, s:i, s:s, s:I}", "mesh", hv_json_text(path), "dims",
+                              (json_int_t)plan.dims[0], (json_int_t)plan.dims[1], (json_int_t)plan.dims[2], "voxel",
+                              hv_json_numbers(plan.xf.voxel, 3), "origin", hv_json_numbers(plan.xf.origin, 3),
+                              "adjacency", opt.adjacency, "fill", hv_fill_mode_name(plan.fill), "memory_estimate",
+                              (json_int_t)plan.memory_bytes);
+        if (!dry && json_object_update_new(j, json_pack("{s:I, s:I, s:o, s:o, s:o}", "occupied", (json_int_t)occupied,
+                                                        "surface", (json_int_t)surface, "voxel_volume",
+                                                        hv_json_number((double)occupied * vv), "mesh_volume",
+                                                        hv_json_number(r->volume), "output", hv_json_text(output))) != 0) {
+            json_decref(j);
+            j = NULL;
         }
-        hv_buf_puts(&b, "], \"origin\": [");
-        for (int a = 0; a < 3; ++a) {
-            if (a) hv_buf_puts(&b, ", ");
-            hv_buf_json_number(&b, plan.xf.origin[a]);
+        char *text = j ? hv_json_dump(j) : NULL;
+        json_decref(j);
+        if (text) printf("%s\n", text);
+        free(text);
+        if (!text) {
+            hv_volume_destroy(vol);
+            hv_mesh_destroy(mesh);
+            return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
         }
-        hv_buf_printf(&b, "], \"adjacency\": %d, \"fill\": \"%s\", \"memory_estimate\": %llu",
-                      opt.adjacency, hv_fill_mode_name(plan.fill),
-                      (unsigned long long)plan.memory_bytes);
-        if (!dry) {
-            hv_buf_printf(&b, ", \"occupied\": %llu, \"surface\": %llu, \"voxel_volume\": ",
-                          (unsigned long long)occupied, (unsigned long long)surface);
-            hv_buf_json_number(&b, (double)occupied * vv);
-            hv_buf_puts(&b, ", \"mesh_volume\": ");
-            hv_buf_json_number(&b, r->volume);
-            hv_buf_puts(&b, ", \"output\": ");
-            hv_buf_json_string(&b, output);
-        }
-        hv_buf_puts(&b, "}\n");
-        fputs(b.data, stdout);
-        hv_buf_free(&b);
     } else {
         printf("mesh        %s (%llu facets)\n", path, (unsigned long long)r->facets);
         printf("grid        %lld x %lld x %lld voxels of %.6g x %.6g x %.6g\n", (long long)plan.dims[0],

@@ -1,7 +1,6 @@
-/* src/core/util.c - checked allocation, growable strings, whole-file reads, atomic writes. */
+/* src/core/util.c - checked allocation, growable strings, enum names, whole-file reads, atomic writes. */
 #include <errno.h>
 #include <fcntl.h>
-#include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -135,52 +134,19 @@ void hv_buf_printf(hv_buf *b, const char *fmt, ...)
     va_end(ap);
 }
 
-void hv_buf_json_string(hv_buf *b, const char *s)
+hv_status hv_name_find(const char *const *names, int n, const char *name, const char *what, int *out)
 {
-    hv_buf_append(b, "\"", 1);
-    for (const unsigned char *p = (const unsigned char *)s; *p; ++p) {
-        switch (*p) {
-        case '"': hv_buf_append(b, "\\\"", 2); break;
-        case '\\': hv_buf_append(b, "\\\\", 2); break;
-        case '\n': hv_buf_append(b, "\\n", 2); break;
-        case '\r': hv_buf_append(b, "\\r", 2); break;
-        case '\t': hv_buf_append(b, "\\t", 2); break;
-        default:
-            if (*p < 0x20) hv_buf_printf(b, "\\u%04x", *p);
-            else hv_buf_append(b, (const char *)p, 1);
+    for (int i = 0; i < n; ++i)
+        if (strcmp(names[i], name) == 0) {
+            *out = i;
+            return HV_OK;
         }
-    }
-    hv_buf_append(b, "\"", 1);
-}
-
-void hv_buf_json_number(hv_buf *b, double v)
-{
-    if (!isfinite(v)) {
-        hv_buf_puts(b, "null");
-        return;
-    }
-    char s[64];
-    /* the shortest of %.6g..%.17g that reads back exactly */
-    for (int prec = 6; prec <= 17; ++prec) {
-        snprintf(s, sizeof s, "%.*g", prec, v);
-        if (strtod(s, NULL) == v) break;
-    }
-    hv_buf_puts(b, s);
-}
-
-void hv_buf_json_float(hv_buf *b, float v)
-{
-    if (!isfinite(v)) {
-        hv_buf_puts(b, "null");
-        return;
-    }
-    if (v == 0.0f || v == 1.0f) {
-        hv_buf_puts(b, v == 0.0f ? "0" : "1");
-        return;
-    }
-    char s[32];
-    snprintf(s, sizeof s, "%.9g", (double)v);
-    hv_buf_puts(b, s);
+    hv_buf b;
+    hv_buf_init(&b);
+    for (int i = 0; i < n; ++i) hv_buf_printf(&b, "%s%s", i ? ", " : "", names[i]);
+    hv_status s = hv_error_set(HV_ERR_INVALID, "%s \"%s\" is not one of %s", what, name, b.failed ? "?" : b.data);
+    hv_buf_free(&b);
+    return s;
 }
 
 /* ---- files ----------------------------------------------------------------------------- */

@@ -606,30 +606,52 @@ hv_status hv_frf_store_field(const hv_frf *f, hv_volume *vol, const char *grid)
     return HV_OK;
 }
 
-static void json_vec(hv_buf *b, const char *key, const double *v)
+/* Analytic kinds by hv_frf_kind (the line is an "axis"), then stored fields. */
+static const char *const k_doc_kinds[] = {"point", "axis", "plane", "segment", "field"};
+static const char *const k_doc_params[][2] = {{"point", NULL}, {"origin", "direction"}, {"point", "normal"}, {"from", "to"}};
+
+json_t *hv_frf_to_doc(const hv_frf *f, const char *grid)
 {
-    hv_buf_printf(b, ", \"%s\": [", key);
-    for (int k = 0; k < 3; ++k) {
-        if (k) hv_buf_puts(b, ", ");
-        hv_buf_json_number(b, v[k]);
+    json_t *j = json_object();
+    if (!j) return NULL;
+    int failed;
+    if (f->kind <= HV_FRF_SEGMENT) {
+        failed = hv_json_set(j, "kind", json_string(k_doc_kinds[f->kind]));
+        failed |= hv_json_set(j, k_doc_params[f->kind][0], hv_json_numbers(f->a, 3));
+        if (k_doc_params[f->kind][1]) failed |= hv_json_set(j, k_doc_params[f->kind][1], hv_json_numbers(f->b, 3));
+    } else {
+        failed = hv_json_set(j, "kind", json_string("field"));
+        failed |= hv_json_set(j, "grid", hv_json_text(grid ? grid : ""));
     }
-    hv_buf_puts(b, "]");
+    failed |= hv_json_set(j, "text", hv_json_text(f->desc));
+    if (failed) {
+        json_decref(j);
+        return NULL;
+    }
+    return j;
 }
 
-void hv_frf_json(hv_buf *b, const hv_frf *f, const char *grid)
+hv_status hv_frf_from_doc(const json_t *j, const hv_volume *vol, const char *what, hv_frf **out)
 {
-    static const char *kinds[] = {"point", "axis", "plane", "segment"};
-    if (f->kind <= HV_FRF_SEGMENT) {
-        hv_buf_printf(b, "{\"kind\": \"%s\"", kinds[f->kind]);
-        if (f->kind == HV_FRF_POINT) json_vec(b, "point", f->a);
-        else if (f->kind == HV_FRF_LINE) json_vec(b, "origin", f->a), json_vec(b, "direction", f->b);
-        else if (f->kind == HV_FRF_PLANE) json_vec(b, "point", f->a), json_vec(b, "normal", f->b);
-        else json_vec(b, "from", f->a), json_vec(b, "to", f->b);
-    } else {
-        hv_buf_puts(b, "{\"kind\": \"field\", \"grid\": ");
-        hv_buf_json_string(b, grid ? grid : "");
+    *out = NULL;
+    int kind;
+    hv_status s = hv_json_get_name(j, "kind", what, k_doc_kinds, (int)HV_COUNT(k_doc_kinds), &kind);
+    if (s != HV_OK) return s;
+    if (kind == (int)HV_COUNT(k_doc_kinds) - 1) {
+        const char *grid, *text = NULL;
+        if ((s = hv_json_get_string(j, "grid", what, &grid)) != HV_OK) return s;
+        if (json_object_get(j, "text") && (s = hv_json_get_string(j, "text", what, &text)) != HV_OK) return s;
+        s = hv_frf_field(vol, grid, text, out);
+        return s == HV_OK ? s : hv_error_prefix(s == HV_ERR_INVALID ? HV_ERR_BAD_INPUT : s, "%s: ", what);
     }
-    hv_buf_puts(b, ", \"text\": ");
-    hv_buf_json_string(b, f->desc);
-    hv_buf_puts(b, "}");
+    double a[3], b[3];
+    if ((s = hv_json_get_numbers(j, k_doc_params[kind][0], what, a, 3)) != HV_OK) return s;
+    if (k_doc_params[kind][1] && (s = hv_json_get_numbers(j, k_doc_params[kind][1], what, b, 3)) != HV_OK) return s;
+    switch ((hv_frf_kind)kind) {
+    case HV_FRF_POINT: s = hv_frf_point(a, out); break;
+    case HV_FRF_LINE: s = hv_frf_line(a, b, out); break;
+    case HV_FRF_PLANE: s = hv_frf_plane(a, b, out); break;
+    default: s = hv_frf_segment(a, b, out); break;
+    }
+    return s == HV_OK ? s : hv_error_prefix(s == HV_ERR_INVALID ? HV_ERR_BAD_INPUT : s, "%s: ", what);
 }

@@ -94,8 +94,10 @@ int hv_path_is_special(const char *path);
  * An existing directory is replaced only when everything in it is what such a job writes. */
 typedef struct hv_outdir_rules {
     const char *what;               /* "stack", "per-layer SVG directory": for messages */
-    const char *marker;             /* a file that must exist (with marker_text in it), or NULL */
-    const char *marker_text;
+    const char *marker;             /* a file that must exist and that marker_ok accepts, or NULL */
+    int (*marker_ok)(const char *text, size_t size); /* 1: the marker's content (NUL-terminated)
+                                       says the directory is ours (e.g. a parsed manifest); NULL:
+                                       any content */
     const char *const *files;       /* NULL-terminated fnmatch patterns of the files written */
     int subdirs;                    /* 1: one level of subdirectories of such files */
     int need_force;                 /* replacing an existing one needs force */

@@ -1,9 +1,10 @@
 /* tests/fuzz/fuzz_json.c - fuzz target: the JSON readers hovox has (jansson underneath): every
- * model metadata document (schema check and deserialiser) must reject or read any bytes without
- * crashing or leaking. */
+ * model metadata document (schema check and deserialiser) and the stack manifest must reject
+ * or read any bytes without crashing or leaking. */
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "slicing/layers_internal.h"
 #include "volumes/schema.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -64,5 +65,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         json_decref(doc);
     }
+    hv_stack_manifest_check(text, size);
     return 0;
 }

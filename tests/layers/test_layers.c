@@ -20,6 +20,7 @@
 #include "hovox/layers.h"
 #include "hovox/material.h"
 #include "hovox/voxelize.h"
+#include "slicing/layers_internal.h"
 #include "support/support.h"
 
 /* ---- reading what was written --------------------------------------------------------------- */
@@ -78,6 +79,7 @@ static json_t *manifest_load(const char *dir)
     cr_assert_eq(hv_read_file(path, 1 << 28, &text, &n), HV_OK, "%s", hv_last_error());
     json_t *j;
     cr_assert_eq(hv_json_parse(text, n, "manifest.json", &j), HV_OK, "manifest does not parse: %s", hv_last_error());
+    cr_assert_eq(hv_stack_manifest_check(text, n), HV_OK, "%s", hv_last_error());
     free(text);
     return j;
 }
@@ -709,6 +711,64 @@ Test(layers, refuses_to_overwrite)
     cr_expect_eq(hv_layers_write(m, NULL, other, &o, NULL, NULL), HV_ERR_IO, "never replace other directories");
     cr_expect(t_exists(t_tmpfile("other/keep.txt")));
     cr_expect_eq(hv_layers_write(m, NULL, "/nonexistent-dir/stack", &o, NULL, NULL), HV_ERR_IO);
+    hv_mesh_destroy(m);
+}
+
+/* A stack is recognised by its parsed manifest's generator, not by a substring of its text. */
+Test(layers, manifest_recognised_by_its_generator)
+{
+    static const char *const ours[] = {"{\"generator\": \"hovox 0.1.0\", \"mode\": \"mask\"}",
+                                       "{\"mode\":\"mask\",\"generator\":\"hovox 9\"}", /* any layout */
+                                       "{\n  \"generator\": \"hovox\"\n}\n"};
+    for (size_t i = 0; i < sizeof ours / sizeof ours[0]; ++i)
+        cr_expect_eq(hv_stack_manifest_check(ours[i], strlen(ours[i])), HV_OK, "%s: %s", ours[i], hv_last_error());
+    static const struct {
+        const char *text, *message;
+    } foreign[] = {
+        {"{\"generator\": \"slic3r\"}", "manifest.json: generator is \"slic3r\", not hovox"},
+        /* the old substring test accepted this one */
+        {"{\"note\": \"\\\"generator\\\": \\\"hovox\", \"generator\": \"PrusaSlicer\"}",
+         "manifest.json: generator is \"PrusaSlicer\", not hovox"},
+        {"{\"generator\": [\"hovox\"]}", "manifest.json: generator is an array, not a string"},
+        {"{\"mode\": \"mask\"}", "manifest.json: generator is missing"},
+        {"[\"generator\", \"hovox\"]", "manifest.json is an array, not an object"},
+        {"{\"generator\": \"hovox\",\n", "manifest.json: line 2, column 0: string or '}' expected near end of file"},
+    };
+    for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; ++i) {
+        cr_expect_eq(hv_stack_manifest_check(foreign[i].text, strlen(foreign[i].text)), HV_ERR_BAD_INPUT, "%s",
+                     foreign[i].text);
+        cr_expect_str_eq(hv_last_error(), foreign[i].message);
+    }
+}
+
+/* A directory of layer PNGs whose manifest another program wrote is never replaced, even with
+ * force; one whose manifest hovox wrote (whatever its layout) is. */
+Test(layers, replaces_only_stacks_with_a_hovox_manifest)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 2, 2};
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
+    hv_layers_options o = opts(HV_LAYERS_MASK, 50, 50, 1.0);
+    o.force = 1;
+    static const struct {
+        const char *name, *manifest;
+        int replaced;
+    } cases[] = {{"foreign", "{\"generator\": \"other\", \"note\": \"\\\"generator\\\": \\\"hovox\"}", 0},
+                 {"compact", "{\"generator\":\"hovox 0.0.1\"}", 1}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char dir[1024], path[1100];
+        snprintf(dir, sizeof dir, "%s", t_tmpfile(cases[i].name));
+        cr_assert_eq(mkdir(dir, 0777), 0);
+        snprintf(path, sizeof path, "%s/manifest.json", dir);
+        FILE *f = fopen(path, "w");
+        fputs(cases[i].manifest, f);
+        fclose(f);
+        snprintf(path, sizeof path, "%s/layer-00000.png", dir);
+        fclose(fopen(path, "w"));
+        hv_status s = hv_layers_write(m, NULL, dir, &o, NULL, NULL);
+        cr_expect_eq(s, cases[i].replaced ? HV_OK : HV_ERR_IO, "%s: %s", cases[i].name, hv_last_error());
+        cr_expect_eq(count_png(dir), cases[i].replaced ? 2 : 1, "%s", cases[i].name);
+    }
     hv_mesh_destroy(m);
 }
 

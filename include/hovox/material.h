@@ -222,8 +222,11 @@ HV_API hv_status hv_blend_parse(const char *name, hv_blend *out);
  * composition for voxels no source covers (regions without AGS). */
 typedef struct hv_object hv_object;
 
-/* A one-region object: bool grid `grid` of vol (copied) with no AGS; base = material 0.
- * Errors: HV_ERR_NOT_FOUND (no such bool grid), HV_ERR_INVALID (m out of range). */
+/* A one-region object: bool grid `grid` of vol (copied) with no AGS; base = material 0. The
+ * object also keeps vol's record (its metadata other than "hovox.materials.json" and
+ * "hovox.object.json": the mesh report and voxelization; and its bool grid "surface") for the
+ * volumes it evaluates to. Errors: HV_ERR_NOT_FOUND (no such bool grid), HV_ERR_INVALID (m out
+ * of range). */
 HV_API hv_status hv_object_create(const hv_volume *vol, const char *grid, int m,
                                   hv_object **out);
 HV_API void hv_object_destroy(hv_object *o);
@@ -251,7 +254,8 @@ HV_API hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg)
  *   difference H1 - H2 = {(O1 - O2, G1), (O1 n O2, G2)}   (Wu: H2's material in the overlap)
  *   merge      H1 + H2 = (O1 u O2, G1 u G2)
  *   subtract   (O1 - O2, G1)                             (CSG)
- * Empty regions are dropped. */
+ * Empty regions are dropped. The result keeps the model metadata both operands keep alike and
+ * the union of their surfaces (see hv_object_create). */
 typedef enum hv_bool_op {
     HV_OP_INTERSECT, HV_OP_UNITE, HV_OP_DIFFERENCE, HV_OP_MERGE, HV_OP_SUBTRACT
 } hv_bool_op;
@@ -263,7 +267,10 @@ HV_API hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bo
  * every occupied voxel, float grids "distance.K" holding the fields of voxel features (contour,
  * mask, facets, harmonic), bool grids "region.R" when there are several regions, and metadata
  * "hovox.materials.json" and "hovox.object.json": the complete grading definition (features,
- * sources with their tabulated f, regions), so hv_object_from_model can rebuild the object.
+ * sources with their tabulated f, regions), so hv_object_from_model can rebuild the object;
+ * plus the record of the object's model (hv_object_create): its other metadata and its bool
+ * grid "surface" restricted to the occupied voxels. So a model graded by `hovox grade` and one
+ * graded from Lua hold the same grids and metadata.
  * Multi-threaded over leaves, deterministic. Memory is planned first:
  * HV_ERR_LIMIT when it would exceed max_memory (0: half of RAM), saying how much it needs.
  * Errors: HV_ERR_INVALID (table has a different material count), HV_ERR_NOMEM,
@@ -283,8 +290,8 @@ HV_API uint64_t hv_object_evaluate_estimate(const hv_object *o);
 
 /* Rebuild the object that graded `vol` (hv_object_evaluate's output, possibly saved and loaded)
  * from its metadata and grids: analytic features exactly, voxel features as their stored
- * fields, sources with their tabulated f, regions, base and blend. Definitions written by older
- * hovox (without "schema") read as version 1.
+ * fields, sources with their tabulated f, regions, base and blend, and vol's record (as
+ * hv_object_create). Definitions written by older hovox (without "schema") read as version 1.
  * Errors: HV_ERR_NOT_FOUND (not a graded model), HV_ERR_BAD_INPUT (incomplete or corrupt
  * definition: malformed JSON, a missing member, an unknown feature kind or blend name, a schema
  * version this hovox does not read; the message names the member and the value). */

@@ -335,23 +335,6 @@ int cmd_grade(int argc, char **argv)
     hv_progress prog = {cli_progress_fn, &bar};
     if (s == HV_OK) s = hv_object_evaluate(obj, t, max_memory, &prog, &graded);
     cli_progress_done(&bar);
-    /* keep the model's own records (mesh report, voxelization) and its surface grid */
-    if (s == HV_OK) {
-        for (int i = 0; i < hv_volume_meta_count(vol) && s == HV_OK; ++i) {
-            const char *key = hv_volume_meta_key(vol, i);
-            if (strcmp(key, "hovox.materials.json") == 0 || strcmp(key, "hovox.object.json") == 0) continue;
-            double num;
-            if (hv_volume_meta_number(vol, key, &num)) s = hv_volume_meta_set_number(graded, key, num);
-            else s = hv_volume_meta_set_string(graded, key, hv_volume_meta_string(vol, key));
-        }
-        int gs = hv_volume_grid_find(vol, "surface");
-        if (s == HV_OK && gs >= 0 && hv_volume_grid_type(vol, gs) == HV_GRID_BOOL) {
-            /* the copy may only add voxels outside the graded object (a --grid narrower than the
-             * model): restrict back to the graded voxels */
-            s = hv_volume_grid_copy(graded, "surface", vol, gs);
-            if (s == HV_OK) s = hv_volume_topology_restrict(graded, hv_volume_grid_find(graded, "occupancy"));
-        }
-    }
     if (s == HV_OK) s = hv_volume_save(graded, output);
     if (s != HV_OK) {
         int rc = cli_fail(s);

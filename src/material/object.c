@@ -27,6 +27,9 @@ struct hv_object {
     double base[HV_MAX_MATERIALS];
     hv_blend blend;
     double power;
+    hv_volume *record; /* what the model recorded before grading, carried into evaluated volumes:
+                          its metadata but the grading documents (mesh report, voxelization) and
+                          its bool grid "surface" (topology: the surface voxels); NULL: none */
 };
 
 /* ---- regions ------------------------------------------------------------------------------ */
@@ -136,6 +139,86 @@ hv_status hv_blend_parse(const char *name, hv_blend *out)
     return s;
 }
 
+/* ---- the model's record ------------------------------------------------------------------------
+ * A model graded from the CLI or from Lua holds the same: the record of its model (see struct
+ * hv_object) goes into every evaluated volume. */
+
+static hv_status meta_copy(hv_volume *dst, const hv_volume *src, const char *key)
+{
+    double num;
+    if (hv_volume_meta_number(src, key, &num)) return hv_volume_meta_set_number(dst, key, num);
+    return hv_volume_meta_set_string(dst, key, hv_volume_meta_string(src, key));
+}
+
+static hv_status record_take(const hv_volume *vol, const hv_transform *xf, hv_volume **out)
+{
+    *out = NULL;
+    hv_volume *r;
+    hv_status s = hv_volume_create(xf, &r);
+    if (s != HV_OK) return s;
+    for (int i = 0; i < hv_volume_meta_count(vol) && s == HV_OK; ++i)
+        if (!hv_schema_is_grading_key(hv_volume_meta_key(vol, i))) s = meta_copy(r, vol, hv_volume_meta_key(vol, i));
+    int g = hv_volume_grid_find(vol, "surface");
+    if (s == HV_OK && g >= 0 && hv_volume_grid_type(vol, g) == HV_GRID_BOOL &&
+        (s = hv_volume_grid_copy(r, "surface", vol, g)) == HV_OK)
+        s = hv_volume_topology_restrict(r, 0);
+    if (s != HV_OK) {
+        hv_volume_destroy(r);
+        return s;
+    }
+    *out = r;
+    return HV_OK;
+}
+
+/* The record of a Boolean's result: the metadata both operands record alike, and the union of
+ * their surfaces; none when an operand has none. */
+static hv_status record_combine(const hv_volume *a, const hv_volume *b, hv_volume **out)
+{
+    *out = NULL;
+    if (!a || !b) return HV_OK;
+    hv_volume *r;
+    hv_status s = hv_volume_clone(a, &r);
+    if (s != HV_OK) return s;
+    for (int i = hv_volume_meta_count(r) - 1; i >= 0 && s == HV_OK; --i) {
+        const char *key = hv_volume_meta_key(r, i), *sa = hv_volume_meta_string(r, key), *sb = hv_volume_meta_string(b, key);
+        double na, nb;
+        int same = sa ? sb && strcmp(sa, sb) == 0
+                      : hv_volume_meta_number(r, key, &na) && hv_volume_meta_number(b, key, &nb) && na == nb;
+        if (!same) s = hv_volume_meta_set_string(r, key, NULL);
+    }
+    int gb = hv_volume_grid_find(b, "surface");
+    if (s == HV_OK && gb >= 0) {
+        int ga = hv_volume_grid_find(r, "surface");
+        if (ga < 0) {
+            s = hv_volume_grid_copy(r, "surface", b, gb);
+        } else if ((s = hv_volume_grid_copy(r, "other", b, gb)) == HV_OK) {
+            int go = hv_volume_grid_find(r, "other");
+            if ((s = hv_volume_mask_combine(r, ga, ga, go, HV_MASK_UNION)) == HV_OK) s = hv_volume_grid_remove(r, go);
+        }
+    }
+    if (s != HV_OK) {
+        hv_volume_destroy(r);
+        return s;
+    }
+    *out = r;
+    return HV_OK;
+}
+
+/* Put the record into v, an evaluated volume: its metadata, and its surface restricted to v's
+ * occupancy (the copy may add voxels outside the graded object, e.g. for a region narrower than
+ * the model: restricting drops them again). */
+static hv_status record_put(const hv_object *o, hv_volume *v)
+{
+    const hv_volume *r = o->record;
+    if (!r) return HV_OK;
+    hv_status s = HV_OK;
+    for (int i = 0; i < hv_volume_meta_count(r) && s == HV_OK; ++i) s = meta_copy(v, r, hv_volume_meta_key(r, i));
+    int g = hv_volume_grid_find(r, "surface");
+    if (s == HV_OK && g >= 0 && (s = hv_volume_grid_copy(v, "surface", r, g)) == HV_OK)
+        s = hv_volume_topology_restrict(v, hv_volume_grid_find(v, "occupancy"));
+    return s;
+}
+
 /* ---- life cycle ---------------------------------------------------------------------------- */
 
 hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_object **out)
@@ -164,6 +247,7 @@ hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_obj
             hv_volume_destroy(mask);
         }
     }
+    if (s == HV_OK) s = record_take(vol, &xf, &o->record);
     if (s != HV_OK) {
         hv_object_destroy(o);
         return s;
@@ -177,6 +261,7 @@ void hv_object_destroy(hv_object *o)
     if (!o) return;
     for (int r = 0; r < o->nreg; ++r) region_free(&o->reg[r]);
     free(o->reg);
+    hv_volume_destroy(o->record);
     free(o);
 }
 
@@ -189,6 +274,7 @@ hv_status hv_object_clone(const hv_object *o, hv_object **out)
     memcpy(c->base, o->base, sizeof c->base);
     c->blend = o->blend;
     c->power = o->power;
+    if (o->record) s = hv_volume_clone(o->record, &c->record);
     for (int r = 0; r < o->nreg && s == HV_OK; ++r) {
         hv_volume *mask;
         if ((s = hv_volume_clone(o->reg[r].mask, &mask)) == HV_OK) s = push_region(c, mask, &o->reg[r], NULL);
@@ -328,6 +414,7 @@ hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op o
     o->blend = a->blend;
     o->power = a->power;
     hv_volume *O1 = NULL, *O2 = NULL, *mask = NULL;
+    if ((s = record_combine(a->record, b->record, &o->record)) != HV_OK) goto done;
     if ((s = object_mask(a, &O1)) != HV_OK || (s = object_mask(b, &O2)) != HV_OK) goto done;
     switch (op) {
     case HV_OP_INTERSECT: /* (O1 n O2, G1 u G2), pairwise over the regions */
@@ -559,7 +646,8 @@ uint64_t hv_object_evaluate_estimate(const hv_object *o)
     }
     /* material grids, stored fields of voxel features, region masks */
     int stored = voxel_frfs > 0 ? (voxel_frfs + 8) / 9 : 0;
-    return hv_volume_memory_estimate(leaves, o->m + stored, 1 + (o->nreg > 1 ? o->nreg : 0)) + extra;
+    int surface = o->record && hv_volume_grid_find(o->record, "surface") >= 0;
+    return hv_volume_memory_estimate(leaves, o->m + stored, 1 + surface + (o->nreg > 1 ? o->nreg : 0)) + extra;
 }
 
 /* The distinct features and sources of an object, in first-use order. */
@@ -757,6 +845,7 @@ hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t, uint64_t 
     if (s == HV_OK) s = hv_parallel_for(hv_volume_leaf_count(v), 256, occupancy_leaves, v, NULL, "materials");
     if (s == HV_OK) s = fill_materials(o, v, grids, progress);
     if (s == HV_OK) s = store_definition_grids(o, v);
+    if (s == HV_OK) s = record_put(o, v);
     if (s == HV_OK) s = hv_material_table_store(v, t);
     if (s == HV_OK) s = object_doc_write(o, v);
     if (s != HV_OK) {
@@ -860,6 +949,10 @@ hv_status hv_object_from_model(const hv_volume *vol, hv_object **out)
         return hv_error_set(HV_ERR_NOT_FOUND, "the model carries no grading definition (grade it first)");
     if (s == HV_OK) s = hv_object_from_doc(doc, vol, out);
     json_decref(doc);
+    if (s == HV_OK && (s = record_take(vol, &(*out)->xf, &(*out)->record)) != HV_OK) {
+        hv_object_destroy(*out);
+        *out = NULL;
+    }
     return s;
 }
 

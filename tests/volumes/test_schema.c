@@ -26,8 +26,15 @@ static hv_volume *load(const char *path)
     return v;
 }
 
-/* A small voxelized and graded box: point source with an f table, contour step, idw. */
-static hv_volume *graded_box(hv_object **obj, hv_material_table **table)
+/* A small voxelized and graded box (point source with an f table, contour step, idw): the
+ * graded volume, the object and its table. */
+typedef struct graded {
+    hv_volume *g;
+    hv_object *ob;
+    hv_material_table *t;
+} graded;
+
+static graded graded_box(void)
 {
     double lo[3] = {0, 0, 0}, hi[3] = {6, 4, 3};
     hv_mesh *m = NULL;
@@ -67,18 +74,22 @@ static hv_volume *graded_box(hv_object **obj, hv_material_table **table)
     hv_frf_release(contour);
     hv_dfn_destroy(f);
     hv_volume_destroy(v);
-    *obj = ob;
-    *table = t;
-    return g;
+    return (graded){g, ob, t};
+}
+
+static void graded_free(graded *x)
+{
+    hv_volume_destroy(x->g);
+    hv_object_destroy(x->ob);
+    hv_material_table_destroy(x->t);
 }
 
 /* Each document written by the current code starts with "schema": its version, reads back, and
  * writes again to the same text. */
 Test(schema, documents_round_trip, .timeout = 60)
 {
-    hv_object *ob;
-    hv_material_table *t;
-    hv_volume *g = graded_box(&ob, &t);
+    graded x = graded_box();
+    hv_volume *g = x.g;
     for (int d = 0; d < HV_DOC_COUNT; ++d) {
         const char *key = hv_schema_key((hv_schema_doc)d);
         const char *text = hv_volume_meta_string(g, key);
@@ -122,7 +133,7 @@ Test(schema, documents_round_trip, .timeout = 60)
         } else {
             hv_object *r;
             cr_assert_eq(hv_object_from_doc(doc, g, &r), HV_OK, "%s", hv_last_error());
-            cr_assert_eq(hv_object_voxels(r), hv_object_voxels(ob));
+            cr_assert_eq(hv_object_voxels(r), hv_object_voxels(x.ob));
             cr_assert_eq(hv_object_to_doc(r, &again), HV_OK);
             hv_object_destroy(r);
         }
@@ -136,9 +147,7 @@ Test(schema, documents_round_trip, .timeout = 60)
     cr_assert_eq(hv_voxelize_record_read(g, &rec), HV_OK, "%s", hv_last_error());
     cr_assert_eq(rec.mesh.bbox_max[1], 4);
     cr_assert_eq(rec.dims[0], 12, "%lld", (long long)rec.dims[0]); /* 0..6 at 0.5: centres 0.25 .. 5.75 */
-    hv_volume_destroy(g);
-    hv_object_destroy(ob);
-    hv_material_table_destroy(t);
+    graded_free(&x);
 }
 
 /* Replace the document under `key` by `text` and expect every reader of it to refuse it. */
@@ -168,9 +177,8 @@ static void expect_refused(hv_volume *g, hv_schema_doc d, const char *text, cons
 
 Test(schema, unknown_and_newer_versions_are_refused, .timeout = 60)
 {
-    hv_object *ob;
-    hv_material_table *t;
-    hv_volume *g = graded_box(&ob, &t);
+    graded x = graded_box();
+    hv_volume *g = x.g;
     expect_refused(g, HV_DOC_OBJECT, "{\"schema\": 2, \"materials\": 2}",
                    "hovox.object.json: schema 2 is newer than this hovox reads (1): written by a newer hovox");
     expect_refused(g, HV_DOC_MATERIALS, "{\"schema\": 0, \"materials\": []}",
@@ -184,16 +192,13 @@ Test(schema, unknown_and_newer_versions_are_refused, .timeout = 60)
     expect_refused(g, HV_DOC_OBJECT, "{\"schema\": 99999999999999999999}",
                    "hovox.object.json: line 1, column 31: too big integer near '99999999999999999999'");
     expect_refused(g, HV_DOC_MATERIALS, "[1, 2]", "hovox.materials.json: the document is not a JSON object");
-    hv_volume_destroy(g);
-    hv_object_destroy(ob);
-    hv_material_table_destroy(t);
+    graded_free(&x);
 }
 
 Test(schema, malformed_documents_say_where, .timeout = 60)
 {
-    hv_object *ob;
-    hv_material_table *t;
-    hv_volume *g = graded_box(&ob, &t);
+    graded x = graded_box();
+    hv_volume *g = x.g;
     expect_refused(g, HV_DOC_OBJECT, "{\"schema\": 1,\n \"materials\" 2}",
                    "hovox.object.json: line 2, column 14: ':' expected near '2'");
     expect_refused(g, HV_DOC_MATERIALS, "{\"materials\": [{\"name\": \"A\", \"color\": [1, 0]}]}",
@@ -211,9 +216,7 @@ Test(schema, malformed_documents_say_where, .timeout = 60)
     hv_voxelize_record rec;
     cr_expect_eq(hv_voxelize_record_read(g, &rec), HV_ERR_NOT_FOUND);
     cr_expect_str_eq(hv_last_error(), "the model has no hovox.mesh.json");
-    hv_volume_destroy(g);
-    hv_object_destroy(ob);
-    hv_material_table_destroy(t);
+    graded_free(&x);
 }
 
 /* Enum names are refused on read: a definition whose blend is "bogus" does not rebuild (it

@@ -36,8 +36,8 @@ CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-
 # (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.
 CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
                 $(if $(filter 1,$(WERROR)),-Werror) $(SANFLAGS)
-PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo 2>/dev/null)
-PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo 2>/dev/null)
+PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson 2>/dev/null)
+PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson 2>/dev/null)
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
@@ -179,7 +179,7 @@ fuzz:
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
 	@mkdir -p build-fuzz/libfuzzer
 	@for t in $(FUZZ_C); do n=$$(basename $$t .c); c=tests/fuzz/corpus/$${n#fuzz_}; \
-	    clang -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -Itests $$t \
+	    clang -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -I. -Itests $$t \
 	        build-fuzz/libhovox.a $(LIBS) -o build-fuzz/libfuzzer/$$n || exit 1; \
 	    mkdir -p build-fuzz/corpus-$$n; \
 	    build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \

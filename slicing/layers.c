@@ -10,8 +10,10 @@
 #include <sys/stat.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/material.h"
 #include "hovox/render.h"
+#include "hovox/voxelize.h"
 #include "layers_internal.h"
 
 /* ---- profiles ------------------------------------------------------------------------------ */
@@ -85,6 +87,7 @@ typedef struct job {
     int W, H, m;
     size_t plane;
     double bbox_min[3], bbox_max[3];
+    char warnings[1024]; /* for the report, even when the plan fails */
     /* model */
     hv_material_table *table;
     int occ_grid, mat_grid[HV_MAX_MATERIALS];
@@ -184,6 +187,8 @@ static uint64_t worker_bytes(const job *J)
     return b;
 }
 
+static void mesh_warning(job *J);
+
 /* The grid, range, window and operators; everything except the output. */
 static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
                           const hv_layers_options *o, const hv_progress *progress)
@@ -204,6 +209,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     hv_slicer_get_info(J->slicer, &info);
     memcpy(J->bbox_min, info.bbox_min, sizeof J->bbox_min);
     memcpy(J->bbox_max, info.bbox_max, sizeof J->bbox_max);
+    mesh_warning(J);
     hv_slice_options_init(&J->sopt);
     J->sopt.close_gap = o->close_gap;
     st = hv_slicer_plan_uniform(J->slicer, 0, o->layer_height, &J->plan);
@@ -348,6 +354,28 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     return HV_OK;
 }
 
+/* The voxelizer records the mesh it was given: a mesh whose box differs from that one by more
+ * than a voxel is probably not the model's. A warning, not an error: a repaired or re-exported
+ * mesh of the same part is fine. */
+static void mesh_warning(job *J)
+{
+    hv_voxelize_record rec;
+    if (!J->model || hv_voxelize_record_read(J->model, &rec) != HV_OK) return;
+    const double *lo = rec.mesh.bbox_min, *hi = rec.mesh.bbox_max;
+    hv_transform xf = hv_volume_get_transform(J->model);
+    double tol = HV_MAX(xf.voxel[0], HV_MAX(xf.voxel[1], xf.voxel[2]));
+    int differs = 0;
+    for (int a = 0; a < 3; ++a) differs |= fabs(lo[a] - J->bbox_min[a]) > tol || fabs(hi[a] - J->bbox_max[a]) > tol;
+    const char *mesh = J->o->mesh_name ? J->o->mesh_name : "the mesh";
+    const char *model = *hv_volume_name(J->model) ? hv_volume_name(J->model) : J->o->model_name ? J->o->model_name : "the model";
+    if (differs)
+        snprintf(J->warnings, sizeof J->warnings,
+                 "%s spans (%g, %g, %g)-(%g, %g, %g), but %s was voxelized from a mesh spanning (%g, %g, %g)-(%g, %g, "
+                 "%g): is this its mesh?\n",
+                 mesh, J->bbox_min[0], J->bbox_min[1], J->bbox_min[2], J->bbox_max[0], J->bbox_max[1], J->bbox_max[2],
+                 model, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+}
+
 static void fill_plan_report(const job *J, hv_layers_report *r)
 {
     memset(r, 0, sizeof *r);
@@ -364,6 +392,7 @@ static void fill_plan_report(const job *J, hv_layers_report *r)
     r->bit_depth = J->bit_depth;
     r->memory_bytes = J->memory;
     r->threads = J->threads;
+    snprintf(r->warnings, sizeof r->warnings, "%s", J->warnings);
 }
 
 /* Failures about the model's content name its file. */
@@ -379,6 +408,10 @@ hv_status hv_layers_plan(const hv_mesh *mesh, const hv_volume *model, const hv_l
     job J;
     hv_status st = name_model(model, opt, job_plan(&J, mesh, model, opt, NULL));
     if (st == HV_OK && report) fill_plan_report(&J, report);
+    else if (report) {
+        memset(report, 0, sizeof *report);
+        snprintf(report->warnings, sizeof report->warnings, "%s", J.warnings);
+    }
     job_free(&J);
     return st;
 }
@@ -805,142 +838,126 @@ static const char *mode_name(hv_layers_mode m)
     return m == HV_LAYERS_HALFTONE ? "halftone" : m == HV_LAYERS_FRACTIONS ? "fractions" : "mask";
 }
 
-static void json_pair(hv_buf *b, double x, double y)
+static json_t *pair(double x, double y)
 {
-    hv_buf_puts(b, "[");
-    hv_buf_json_number(b, x);
-    hv_buf_puts(b, ", ");
-    hv_buf_json_number(b, y);
-    hv_buf_puts(b, "]");
+    double v[2] = {x, y};
+    return hv_json_numbers(v, 2);
 }
 
 static void color_hex(char out[8], const uint8_t *rgb) { snprintf(out, 8, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]); }
 
+/* A name, or null when the caller gave none (the Lua API). */
+static json_t *name_or_null(const char *s) { return s ? hv_json_text(s) : json_null(); }
+
 static hv_status write_manifest(job *J, const hv_layers_report *r)
 {
     const hv_layers_options *o = J->o;
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_printf(&b, "{\n  \"generator\": \"hovox %s\",\n  \"mode\": \"%s\",\n", hv_version(), mode_name(o->mode));
-    if (uses_model(o))
-        hv_buf_printf(&b, "  \"method\": \"%s\",\n", o->method == HV_LAYERS_DIRECT ? "direct" : "resample");
-    if (o->mode == HV_LAYERS_HALFTONE)
-        hv_buf_printf(&b, "  \"halftone\": \"%s\",\n  \"seed\": %llu,\n",
-                      o->halftone == HV_HALFTONE_ERROR_DIFFUSION ? "error-diffusion" : "blue-noise",
-                      (unsigned long long)o->seed);
-    hv_buf_puts(&b, "  \"profile\": ");
-    hv_buf_json_string(&b, o->profile ? o->profile : "custom");
-    hv_buf_puts(&b, ",\n  \"dpi\": ");
-    json_pair(&b, o->dpi[0], o->dpi[1]);
-    hv_buf_puts(&b, ",\n  \"layer_height_mm\": ");
-    hv_buf_json_number(&b, o->layer_height);
-    hv_buf_printf(&b, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"bit_depth\": %d,\n  \"pixel_mm\": ", J->W, J->H,
-                  J->bit_depth);
-    json_pair(&b, J->grid.pixel[0], J->grid.pixel[1]);
-    hv_buf_puts(&b, ",\n  \"origin_mm\": ");
-    json_pair(&b, J->grid.origin[0], J->grid.origin[1]);
-    hv_buf_printf(&b, ",\n  \"fill_rule\": \"%s\",\n  \"threshold_mm\": ", o->fill_rule == HV_FILL_EVENODD ? "evenodd" : "nonzero");
-    hv_buf_json_number(&b, o->threshold);
-    if (uses_model(o)) {
-        hv_buf_puts(&b, ",\n  \"poi_step\": ");
-        hv_buf_json_number(&b, o->poi_step);
+    json_t *doc = json_object();
+    if (!doc) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
+    char gen[64], hex[8];
+    snprintf(gen, sizeof gen, "hovox %s", hv_version());
+    int failed = hv_json_set(doc, "generator", json_string(gen));
+    failed |= hv_json_set(doc, "mode", json_string(mode_name(o->mode)));
+    if (uses_model(o)) failed |= hv_json_set(doc, "method", json_string(o->method == HV_LAYERS_DIRECT ? "direct" : "resample"));
+    if (o->mode == HV_LAYERS_HALFTONE) {
+        failed |= hv_json_set(doc, "halftone",
+                              json_string(o->halftone == HV_HALFTONE_ERROR_DIFFUSION ? "error-diffusion" : "blue-noise"));
+        /* JSON integers are 64-bit signed in jansson: larger seeds are written as reals */
+        failed |= hv_json_set(doc, "seed", o->seed <= INT64_MAX ? json_integer((json_int_t)o->seed)
+                                                                : json_real((double)o->seed));
     }
-    hv_buf_puts(&b, ",\n  \"mesh\": "); /* null when the caller gave no name (the Lua API) */
-    if (o->mesh_name) hv_buf_json_string(&b, o->mesh_name);
-    else hv_buf_puts(&b, "null");
-    if (J->model) {
-        hv_buf_puts(&b, ",\n  \"model\": ");
-        if (o->model_name) hv_buf_json_string(&b, o->model_name);
-        else hv_buf_puts(&b, "null");
-    }
-    hv_buf_puts(&b, ",\n  \"bbox_mm\": {\"min\": [");
-    for (int a = 0; a < 3; ++a) {
-        if (a) hv_buf_puts(&b, ", ");
-        hv_buf_json_number(&b, J->bbox_min[a]);
-    }
-    hv_buf_puts(&b, "], \"max\": [");
-    for (int a = 0; a < 3; ++a) {
-        if (a) hv_buf_puts(&b, ", ");
-        hv_buf_json_number(&b, J->bbox_max[a]);
-    }
-    hv_buf_puts(&b, "]}");
-    char hex[8];
+    failed |= hv_json_set(doc, "profile", hv_json_text(o->profile ? o->profile : "custom"));
+    failed |= hv_json_set(doc, "dpi", pair(o->dpi[0], o->dpi[1]));
+    failed |= hv_json_set(doc, "layer_height_mm", hv_json_number(o->layer_height));
+    failed |= hv_json_set(doc, "width", json_integer(J->W));
+    failed |= hv_json_set(doc, "height", json_integer(J->H));
+    failed |= hv_json_set(doc, "bit_depth", json_integer(J->bit_depth));
+    failed |= hv_json_set(doc, "pixel_mm", pair(J->grid.pixel[0], J->grid.pixel[1]));
+    failed |= hv_json_set(doc, "origin_mm", pair(J->grid.origin[0], J->grid.origin[1]));
+    failed |= hv_json_set(doc, "fill_rule", json_string(o->fill_rule == HV_FILL_EVENODD ? "evenodd" : "nonzero"));
+    failed |= hv_json_set(doc, "threshold_mm", hv_json_number(o->threshold));
+    if (uses_model(o)) failed |= hv_json_set(doc, "poi_step", hv_json_number(o->poi_step));
+    failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name));
+    if (J->model) failed |= hv_json_set(doc, "model", name_or_null(o->model_name));
+    failed |= hv_json_set(doc, "bbox_mm", json_pack("{s:o, s:o}", "min", hv_json_numbers(J->bbox_min, 3), "max",
+                                                    hv_json_numbers(J->bbox_max, 3)));
     if (o->mode == HV_LAYERS_HALFTONE) {
         color_hex(hex, o->background);
-        hv_buf_printf(&b, ",\n  \"background\": {\"palette_index\": 0, \"color\": \"%s\"}", hex);
+        failed |= hv_json_set(doc, "background", json_pack("{s:i, s:s}", "palette_index", 0, "color", hex));
     }
-    hv_buf_puts(&b, ",\n  \"materials\": [");
-    for (int g = 0; g < J->m; ++g) {
+    json_t *mats = json_array();
+    failed |= !mats;
+    for (int g = 0; g < J->m && !failed; ++g) {
         const char *name = hv_material_name(J->table, g);
         float rgba[4];
         hv_material_color(J->table, g, rgba);
         uint8_t rgb[3];
         for (int k = 0; k < 3; ++k) rgb[k] = (uint8_t)lround(HV_CLAMP(rgba[k], 0.0f, 1.0f) * 255.0f);
         color_hex(hex, rgb);
-        hv_buf_printf(&b, "%s\n    {\"name\": ", g ? "," : "");
-        hv_buf_json_string(&b, name);
-        if (o->mode == HV_LAYERS_HALFTONE) hv_buf_printf(&b, ", \"palette_index\": %d", g + 1);
-        if (o->mode == HV_LAYERS_FRACTIONS) {
-            hv_buf_puts(&b, ", \"dir\": ");
-            hv_buf_json_string(&b, name);
-        }
-        hv_buf_printf(&b, ", \"color\": \"%s\", \"target\": ", hex);
-        hv_buf_json_number(&b, r->target[g]);
-        if (o->mode == HV_LAYERS_HALFTONE) {
-            hv_buf_puts(&b, ", \"achieved\": ");
-            hv_buf_json_number(&b, r->achieved[g]);
-        }
-        hv_buf_puts(&b, "}");
+        json_t *m = json_pack("{s:o}", "name", hv_json_text(name));
+        failed |= !m;
+        if (o->mode == HV_LAYERS_HALFTONE) failed |= hv_json_set(m, "palette_index", json_integer(g + 1));
+        if (o->mode == HV_LAYERS_FRACTIONS) failed |= hv_json_set(m, "dir", hv_json_text(name));
+        failed |= hv_json_set(m, "color", json_string(hex));
+        failed |= hv_json_set(m, "target", hv_json_number(r->target[g]));
+        if (o->mode == HV_LAYERS_HALFTONE) failed |= hv_json_set(m, "achieved", hv_json_number(r->achieved[g]));
+        failed |= json_array_append_new(mats, m);
     }
-    hv_buf_puts(&b, J->m ? "\n  ]" : "]");
-    hv_buf_printf(&b, ",\n  \"object_pixels\": %llu", (unsigned long long)r->object_pixels);
-    if (r->compared) {
-        hv_buf_puts(&b, ",\n  \"compare\": {\"what\": \"max over materials of |resample - direct| per object pixel\", \"mean\": ");
-        hv_buf_json_number(&b, r->diff_mean);
-        hv_buf_puts(&b, ", \"max\": ");
-        hv_buf_json_number(&b, r->diff_max);
-        hv_buf_printf(&b, ", \"direct_fallback_pixels\": %llu}", (unsigned long long)r->direct_fallback);
-    }
-    hv_buf_printf(&b, ",\n  \"layers_total\": %zu,\n  \"range\": [%zu, %zu],\n  \"layers\": [", J->nlayers, J->first,
-                  J->last);
-    for (size_t i = J->first; i < J->last; ++i) {
-        hv_buf_printf(&b, "%s\n    {\"index\": %zu, ", i > J->first ? "," : "", i);
+    failed |= hv_json_set(doc, "materials", mats);
+    failed |= hv_json_set(doc, "object_pixels", json_integer((json_int_t)r->object_pixels));
+    if (r->compared)
+        failed |= hv_json_set(doc, "compare",
+                              json_pack("{s:s, s:o, s:o, s:I}", "what",
+                                        "max over materials of |resample - direct| per object pixel", "mean",
+                                        hv_json_number(r->diff_mean), "max", hv_json_number(r->diff_max),
+                                        "direct_fallback_pixels", (json_int_t)r->direct_fallback));
+    failed |= hv_json_set(doc, "layers_total", json_integer((json_int_t)J->nlayers));
+    failed |= hv_json_set(doc, "range", json_pack("[I, I]", (json_int_t)J->first, (json_int_t)J->last));
+    json_t *layers = json_array();
+    failed |= !layers;
+    for (size_t i = J->first; i < J->last && !failed; ++i) {
+        char file[300];
+        json_t *L = json_pack("{s:I}", "index", (json_int_t)i);
+        failed |= !L;
         if (o->mode == HV_LAYERS_FRACTIONS) {
             /* "file" as in every mode (the first material's layer), "files" all of them */
-            hv_buf_printf(&b, "\"file\": \"%s/layer-%05zu.png\", ", J->m ? hv_material_name(J->table, 0) : "", i);
-            hv_buf_puts(&b, "\"files\": {");
-            for (int g = 0; g < J->m; ++g) {
-                const char *name = hv_material_name(J->table, g);
-                hv_buf_printf(&b, "%s", g ? ", " : "");
-                hv_buf_json_string(&b, name);
-                hv_buf_printf(&b, ": \"%s/layer-%05zu.png\"", name, i);
+            snprintf(file, sizeof file, "%s/layer-%05zu.png", J->m ? hv_material_name(J->table, 0) : "", i);
+            failed |= hv_json_set(L, "file", hv_json_text(file));
+            json_t *files = json_object();
+            failed |= !files;
+            for (int g = 0; g < J->m && !failed; ++g) {
+                snprintf(file, sizeof file, "%s/layer-%05zu.png", hv_material_name(J->table, g), i);
+                failed |= hv_json_set(files, hv_material_name(J->table, g), hv_json_text(file));
             }
-            hv_buf_puts(&b, "}");
+            failed |= hv_json_set(L, "files", files);
         } else {
-            hv_buf_printf(&b, "\"file\": \"layer-%05zu.png\"", i);
+            snprintf(file, sizeof file, "layer-%05zu.png", i);
+            failed |= hv_json_set(L, "file", json_string(file));
         }
         /* ten significant digits: 5.4135, not the 5.413500000000001 of the summation */
-        hv_buf_printf(&b, ", \"z_mm\": %.10g", J->layers[i].z);
-        hv_buf_puts(&b, "}");
+        char z[32];
+        snprintf(z, sizeof z, "%.10g", J->layers[i].z);
+        failed |= hv_json_set(L, "z_mm", hv_json_number(strtod(z, NULL)));
+        failed |= json_array_append_new(layers, L);
     }
-    hv_buf_puts(&b, "\n  ]\n}\n");
-    if (b.failed) {
-        hv_buf_free(&b);
-        return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
-    }
+    failed |= hv_json_set(doc, "layers", layers);
+    char *text = failed ? NULL : hv_json_dump_lines(doc);
+    json_decref(doc);
+    if (!text) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
     char path[4200];
     snprintf(path, sizeof path, "%s/manifest.json", J->tmp);
     hv_atomic_file af;
     hv_status st = hv_atomic_open(&af, path, "wb");
     if (st == HV_OK) {
-        if (fwrite(b.data, 1, b.len, af.fp) != b.len) {
+        size_t len = strlen(text);
+        if (fwrite(text, 1, len, af.fp) != len) {
             hv_atomic_abort(&af);
             st = hv_error_set(HV_ERR_IO, "%s: write failed", path);
         } else {
             st = hv_atomic_commit(&af);
         }
     }
-    hv_buf_free(&b);
+    free(text);
     return st;
 }
 
@@ -1130,6 +1147,13 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
             rep.diff_mean = compared ? dsum / (double)compared : 0;
         }
         rep.bluenoise_cached = J.bn_cached;
+        if (rep.open_polylines) {
+            size_t n = strlen(rep.warnings);
+            snprintf(rep.warnings + n, sizeof rep.warnings - n,
+                     "%s is open: %zu contour polylines stayed open and were not filled (close_gap %g mm; a larger "
+                     "gap joins wider holes)\n",
+                     o->mesh_name ? o->mesh_name : "the mesh", rep.open_polylines, o->close_gap);
+        }
         st = hv_progress_report(progress, "layers", 1.0);
     }
     if (st == HV_OK) st = write_manifest(&J, &rep);

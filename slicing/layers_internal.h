@@ -88,6 +88,11 @@ hv_status hv_stack_begin(const char *dir, int force, char **tmp);
 hv_status hv_stack_commit(const char *tmp, const char *dir, int force);
 /* Remove the temporary directory and everything in it (best effort). */
 void hv_stack_abort(const char *tmp);
+/* Is `text` (size bytes) the manifest.json of a hovox stack: a JSON object whose "generator"
+ * is a string starting with "hovox"? HV_OK when it is; else HV_ERR_BAD_INPUT saying why
+ * ("manifest.json: line 3, column 1: ...", "manifest.json: generator is \"slic3r\", not
+ * hovox"), HV_ERR_NOMEM. */
+hv_status hv_stack_manifest_check(const char *text, size_t size);
 
 /* Minimal ZIP writer (PKWARE APPNOTE 6.3: local headers, data, central directory, end
  * record; deflate or stored, CRC-32 from zlib, fixed 1980-01-01 timestamps so the bytes

@@ -8,15 +8,30 @@
 #include <zlib.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "layers_internal.h"
 
 /* ---- directories -------------------------------------------------------------------------- */
+
+hv_status hv_stack_manifest_check(const char *text, size_t size)
+{
+    json_t *doc;
+    const char *gen;
+    hv_status s = hv_json_parse(text, size, "manifest.json", &doc);
+    if (s == HV_OK && (s = hv_json_get_string(doc, "generator", "manifest.json", &gen)) == HV_OK &&
+        strncmp(gen, "hovox", 5) != 0)
+        s = hv_error_set(HV_ERR_BAD_INPUT, "manifest.json: generator is \"%s\", not hovox", gen);
+    json_decref(doc);
+    return s;
+}
+
+static int stack_manifest_ok(const char *text, size_t size) { return hv_stack_manifest_check(text, size) == HV_OK; }
 
 /* What a stack holds: manifest.json (written by hovox), layer PNGs, and in fractions mode one
  * subdirectory of layer PNGs per material. */
 static const char *const k_stack_files[] = {"manifest.json", "layer-*.png", NULL};
 static const hv_outdir_rules k_stack = {
-    "stack", "manifest.json", "\"generator\": \"hovox", k_stack_files, 1, 1};
+    "stack", "manifest.json", stack_manifest_ok, k_stack_files, 1, 1};
 
 hv_status hv_stack_begin(const char *dir, int force, char **tmp)
 {

@@ -9,7 +9,7 @@
 #include <sys/stat.h>
 
 #include "hovox/volume.h"
-#include "core/internal.h"
+#include "core/json.h"
 #include "vdb_bridge.h"
 
 typedef struct grid_entry {
@@ -735,9 +735,12 @@ hv_status hv_volume_meta_set_string(hv_volume *v, const char *key, const char *v
 hv_status hv_volume_meta_set_json(hv_volume *v, const char *key, const char *json)
 {
     if (json) {
-        hv_json *j = hv_json_parse(json, strlen(json));
-        if (!j) return hv_error_prefix(HV_ERR_INVALID, "metadata '%s': bad JSON: ", key);
-        hv_json_free(j);
+        char what[300];
+        snprintf(what, sizeof what, "metadata '%s'", key);
+        json_t *j;
+        hv_status s = hv_json_parse(json, strlen(json), what, &j);
+        if (s != HV_OK) return s == HV_ERR_BAD_INPUT ? HV_ERR_INVALID : s;
+        json_decref(j);
     }
     return meta_put(v, key, json, NULL);
 }

@@ -242,6 +242,9 @@ typedef struct hv_layers_report {
                                      mean and max over the stack */
     uint64_t direct_fallback;     /* DIRECT: object pixels the definition did not cover */
     size_t open_polylines;        /* open chains the slicer left (not filled) */
+    char warnings[2048];          /* what a person should know, one line each ("" if none):
+                                     a mesh whose box differs from the one the model was
+                                     voxelized from, open contours */
     int bluenoise_cached;         /* the blue-noise tile came from the cache */
 } hv_layers_report;
 

@@ -57,8 +57,12 @@ HV_API int hv_material_property(const hv_material_table *t, int m, const char *k
 HV_API int hv_material_property_count(const hv_material_table *t, int m);
 HV_API const char *hv_material_property_key(const hv_material_table *t, int m, int i);
 
-/* JSON form: {"materials": [{"name": ..., "color": [r,g,b,a], "properties": {key: {"value":
- * v, "unit": u}}}]}. to_json: *json is malloc'd (free()). from_json errors: HV_ERR_BAD_INPUT. */
+/* JSON form (the "hovox.materials.json" document): {"schema": 1, "materials": [{"name": ...,
+ * "color": [r,g,b,a], "properties": {key: {"value": v, "unit": u}}}]}. to_json: *json is
+ * malloc'd (free()); errors HV_ERR_NOMEM. from_json reads documents without "schema" (older
+ * hovox) as version 1. Errors: HV_ERR_BAD_INPUT (malformed JSON with line and column, a
+ * missing or mistyped member, an invalid name or colour, a schema version this hovox does not
+ * read; the message names the member), HV_ERR_NOMEM. */
 HV_API hv_status hv_material_table_to_json(const hv_material_table *t, char **json);
 HV_API hv_status hv_material_table_from_json(const char *json, hv_material_table **out);
 
@@ -166,6 +170,7 @@ typedef struct hv_frf_options {
  * "harmonic", "field"). */
 HV_API hv_status hv_frf_kind_parse(const char *name, hv_frf_kind *out);
 HV_API const char *hv_frf_kind_name(hv_frf_kind kind);
+HV_API const hv_enum_def *hv_frf_kind_enum(void);
 /* The option set of a kind made from options (init sets `kind`); NULL for the others. */
 HV_API const hv_option_set *hv_frf_option_set(hv_frf_kind kind);
 /* Make the feature (contour and mask need vol). Errors: those of the hv_frf_* makers and of
@@ -252,8 +257,11 @@ HV_API const hv_enum_def *hv_blend_enum(void);
  * composition for voxels no source covers (regions without AGS). */
 typedef struct hv_object hv_object;
 
-/* A one-region object: bool grid `grid` of vol (copied) with no AGS; base = material 0.
- * Errors: HV_ERR_NOT_FOUND (no such bool grid), HV_ERR_INVALID (m out of range). */
+/* A one-region object: bool grid `grid` of vol (copied) with no AGS; base = material 0. The
+ * object also keeps vol's record (its metadata other than "hovox.materials.json" and
+ * "hovox.object.json": the mesh report and voxelization; and its bool grid "surface") for the
+ * volumes it evaluates to. Errors: HV_ERR_NOT_FOUND (no such bool grid), HV_ERR_INVALID (m out
+ * of range). */
 HV_API hv_status hv_object_create(const hv_volume *vol, const char *grid, int m,
                                   hv_object **out);
 HV_API void hv_object_destroy(hv_object *o);
@@ -281,7 +289,8 @@ HV_API hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg)
  *   difference H1 - H2 = {(O1 - O2, G1), (O1 n O2, G2)}   (Wu: H2's material in the overlap)
  *   merge      H1 + H2 = (O1 u O2, G1 u G2)
  *   subtract   (O1 - O2, G1)                             (CSG)
- * Empty regions are dropped. */
+ * Empty regions are dropped. The result keeps the model metadata both operands keep alike and
+ * the union of their surfaces (see hv_object_create). */
 typedef enum hv_bool_op {
     HV_OP_INTERSECT, HV_OP_UNITE, HV_OP_DIFFERENCE, HV_OP_MERGE, HV_OP_SUBTRACT
 } hv_bool_op;
@@ -293,7 +302,10 @@ HV_API hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bo
  * every occupied voxel, float grids "distance.K" holding the fields of voxel features (contour,
  * mask, facets, harmonic), bool grids "region.R" when there are several regions, and metadata
  * "hovox.materials.json" and "hovox.object.json": the complete grading definition (features,
- * sources with their tabulated f, regions), so hv_object_from_model can rebuild the object.
+ * sources with their tabulated f, regions), so hv_object_from_model can rebuild the object;
+ * plus the record of the object's model (hv_object_create): its other metadata and its bool
+ * grid "surface" restricted to the occupied voxels. So a model graded by `hovox grade` and one
+ * graded from Lua hold the same grids and metadata.
  * Multi-threaded over leaves, deterministic. Memory is planned first:
  * HV_ERR_LIMIT when it would exceed max_memory (0: half of RAM), saying how much it needs.
  * Errors: HV_ERR_INVALID (table has a different material count), HV_ERR_NOMEM,
@@ -313,8 +325,11 @@ HV_API uint64_t hv_object_evaluate_estimate(const hv_object *o);
 
 /* Rebuild the object that graded `vol` (hv_object_evaluate's output, possibly saved and loaded)
  * from its metadata and grids: analytic features exactly, voxel features as their stored
- * fields, sources with their tabulated f, regions, base and blend. Errors: HV_ERR_NOT_FOUND
- * (not a graded model), HV_ERR_BAD_INPUT (incomplete or corrupt definition). */
+ * fields, sources with their tabulated f, regions, base and blend, and vol's record (as
+ * hv_object_create). Definitions written by older hovox (without "schema") read as version 1.
+ * Errors: HV_ERR_NOT_FOUND (not a graded model), HV_ERR_BAD_INPUT (incomplete or corrupt
+ * definition: malformed JSON, a missing member, an unknown feature kind or blend name, a schema
+ * version this hovox does not read; the message names the member and the value). */
 HV_API hv_status hv_object_from_model(const hv_volume *vol, hv_object **out);
 
 /* Compute the fields of the object's voxel features over its box (once; evaluation does it

@@ -56,6 +56,7 @@ HV_API const hv_option_set *hv_voxelize_option_set(void);
 HV_API hv_status hv_voxelize_options_check(const hv_voxelize_options *opt);
 /* Name <-> fill mode ("auto", "flood", "vote" (alias "winding"), "none"). */
 HV_API hv_status hv_fill_mode_parse(const char *name, hv_fill_mode *out);
+HV_API const hv_enum_def *hv_fill_mode_enum(void);
 
 /* The lattice a job will use and what it will cost, computed before any voxel is touched.
  * Voxel (i,j,k) has its centre at origin + (i*voxel[0], ...); the mesh's box is covered by
@@ -86,8 +87,25 @@ HV_API hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options
 HV_API hv_status hv_voxelize(const hv_mesh *mesh, const hv_voxelize_options *opt,
                              hv_volume **out);
 
-/* Name of a fill mode ("auto", "flood", "vote", "none"). */
+/* Name of a fill mode ("auto", "flood", "vote", "none"; "?" for other values). */
 HV_API const char *hv_fill_mode_name(hv_fill_mode mode);
+
+/* What hv_voxelize records in a model, in metadata "hovox.mesh.json" and "hovox.voxelize.json"
+ * (hv_object_evaluate carries both over into graded models). */
+typedef struct hv_voxelize_record {
+    hv_mesh_report mesh;  /* the voxelized mesh's report (bounding box, volume, defects) */
+    int adjacency;        /* 6 or 26 */
+    hv_fill_mode fill;    /* as resolved: flood, vote or none */
+    int64_t first[3];     /* the plan's index box (hv_voxel_plan) */
+    int64_t dims[3];
+    double voxel[3];      /* voxel size */
+} hv_voxelize_record;
+
+/* Read the record of a model. Documents written by older hovox versions (without a schema
+ * version) are read as version 1. Errors: HV_ERR_NOT_FOUND (no record: the model was not made
+ * by hv_voxelize), HV_ERR_BAD_INPUT (a document is malformed, names an unknown value or has a
+ * schema version this hovox does not read; the message names the key and the member). */
+HV_API hv_status hv_voxelize_record_read(const hv_volume *model, hv_voxelize_record *out);
 
 #ifdef __cplusplus
 }

@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "core/json.h"
 
 static const cli_spec *g_spec; /* for spelling option names in messages */
 
@@ -391,86 +392,38 @@ void cli_warn(const char *fmt, ...)
 
 /* ---- JSON on stdout ------------------------------------------------------------------------ */
 
-static void json_key(cli_json *j, const char *key)
-{
-    fputs(j->n++ ? (j->newline ? ",\n " : ", ") : "{", stdout);
-    j->newline = 0;
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_json_string(&b, key);
-    fputs(b.data ? b.data : "\"\"", stdout);
-    fputs(": ", stdout);
-    hv_buf_free(&b);
-}
-
 void cli_json_begin(cli_json *j)
 {
-    j->n = 0;
-    j->newline = 0;
+    j->obj = json_object();
+    j->failed = !j->obj;
 }
 
-void cli_json_str(cli_json *j, const char *key, const char *value)
-{
-    json_key(j, key);
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_json_string(&b, value ? value : "");
-    fputs(b.data ? b.data : "\"\"", stdout);
-    hv_buf_free(&b);
-}
+static void add(cli_json *j, const char *key, json_t *v) { j->failed |= !j->obj || hv_json_set(j->obj, key, v) != 0; }
 
-void cli_json_num(cli_json *j, const char *key, double value)
-{
-    json_key(j, key);
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_json_number(&b, value);
-    fputs(b.data ? b.data : "null", stdout);
-    hv_buf_free(&b);
-}
-
-void cli_json_int(cli_json *j, const char *key, long long value)
-{
-    json_key(j, key);
-    printf("%lld", value);
-}
-
-void cli_json_bool(cli_json *j, const char *key, int value)
-{
-    json_key(j, key);
-    fputs(value ? "true" : "false", stdout);
-}
-
-void cli_json_nums(cli_json *j, const char *key, const double *v, int n)
-{
-    json_key(j, key);
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_puts(&b, "[");
-    for (int i = 0; i < n; ++i) {
-        if (i) hv_buf_puts(&b, ", ");
-        hv_buf_json_number(&b, v[i]);
-    }
-    hv_buf_puts(&b, "]");
-    fputs(b.data ? b.data : "[]", stdout);
-    hv_buf_free(&b);
-}
+void cli_json_str(cli_json *j, const char *key, const char *value) { add(j, key, hv_json_text(value ? value : "")); }
+void cli_json_num(cli_json *j, const char *key, double value) { add(j, key, hv_json_number(value)); }
+void cli_json_int(cli_json *j, const char *key, long long value) { add(j, key, json_integer((json_int_t)value)); }
+void cli_json_bool(cli_json *j, const char *key, int value) { add(j, key, json_boolean(value)); }
+void cli_json_nums(cli_json *j, const char *key, const double *v, int n) { add(j, key, hv_json_numbers(v, (size_t)n)); }
 
 void cli_json_ints(cli_json *j, const char *key, const int64_t *v, int n)
 {
-    json_key(j, key);
-    fputs("[", stdout);
-    for (int i = 0; i < n; ++i) printf("%s%lld", i ? ", " : "", (long long)v[i]);
-    fputs("]", stdout);
+    json_t *a = json_array();
+    for (int i = 0; a && i < n; ++i) j->failed |= json_array_append_new(a, json_integer((json_int_t)v[i])) != 0;
+    add(j, key, a);
 }
 
-void cli_json_raw(cli_json *j, const char *key, const char *json)
+int cli_json_end(cli_json *j, const char *lines_key, const char *lines)
 {
-    json_key(j, key);
-    fputs(json, stdout);
-}
-
-void cli_json_end(cli_json *j)
-{
-    fputs(j->n ? "}\n" : "{}\n", stdout);
+    char *text = j->failed ? NULL : hv_json_dump(j->obj);
+    json_decref(j->obj);
+    j->obj = NULL;
+    if (!text) return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
+    size_t n = strlen(text);
+    if (lines_key && n >= 2) /* the members, then the records one per line before the brace */
+        printf("%.*s,\n \"%s\": [%s\n ]}\n", (int)(n - 1), text, lines_key, lines ? lines : "");
+    else
+        printf("%s\n", text);
+    free(text);
+    return EXIT_OK;
 }

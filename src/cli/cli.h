@@ -83,10 +83,13 @@ const char *cli_message(char *buf, size_t size);
 /* Print "hovox: warning: <message>" on stderr. */
 void cli_warn(const char *fmt, ...) HV_PRINTF(1, 2);
 
-/* A JSON object printed on stdout as one line: {"key": value, ...}. */
+/* A JSON object printed on stdout as one line: {"key": value, ...} (jansson, round-trip
+ * numbers). cli_json_end prints it; with lines_key, `lines` (records already in JSON, each
+ * starting on a new line) follow as a member of that name. Returns 0, or the exit code of a
+ * failure it printed (out of memory). */
 typedef struct cli_json {
-    int n;
-    int newline; /* the next member starts a new line */
+    struct json_t *obj;
+    int failed;
 } cli_json;
 void cli_json_begin(cli_json *j);
 void cli_json_str(cli_json *j, const char *key, const char *value);
@@ -95,9 +98,7 @@ void cli_json_int(cli_json *j, const char *key, long long value);
 void cli_json_bool(cli_json *j, const char *key, int value);
 void cli_json_nums(cli_json *j, const char *key, const double *v, int n);
 void cli_json_ints(cli_json *j, const char *key, const int64_t *v, int n);
-/* A value already in JSON (an object or array made elsewhere). */
-void cli_json_raw(cli_json *j, const char *key, const char *json);
-void cli_json_end(cli_json *j);
+int cli_json_end(cli_json *j, const char *lines_key, const char *lines);
 
 /* Print "hovox: <detail>" for a failed library call and return its exit code; a refusal of an
  * option value (HV_ERR_INVALID naming an option) is a usage error instead (exit 2). */

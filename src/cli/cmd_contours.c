@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/slice.h"
 
 typedef struct contours_cli {
@@ -54,17 +55,16 @@ typedef struct run {
 
 static hv_status layer_json(hv_buf *b, size_t index, const hv_layer *layer, const hv_slice_stats *st)
 {
-    hv_buf_printf(b, "%s\n  {\"index\": %zu, \"z\": ", index ? "," : "", index);
-    hv_buf_json_number(b, layer->z);
-    hv_buf_puts(b, ", \"bottom\": ");
-    hv_buf_json_number(b, layer->bottom);
-    hv_buf_puts(b, ", \"top\": ");
-    hv_buf_json_number(b, layer->top);
-    hv_buf_printf(b, ", \"loops\": %zu, \"outers\": %zu, \"holes\": %zu, \"open\": %zu, \"gaps_closed\": %zu, \"area\": ",
-                  st->loops, st->outers, st->holes, st->open, st->gaps_closed);
-    hv_buf_json_number(b, st->area);
-    hv_buf_puts(b, "}");
-    return b->failed ? hv_error_set(HV_ERR_NOMEM, "out of memory") : HV_OK;
+    json_t *j = json_pack("{s:I, s:o, s:o, s:o, s:I, s:I, s:I, s:I, s:I, s:o}", "index", (json_int_t)index, "z",
+                          hv_json_number(layer->z), "bottom", hv_json_number(layer->bottom), "top",
+                          hv_json_number(layer->top), "loops", (json_int_t)st->loops, "outers", (json_int_t)st->outers,
+                          "holes", (json_int_t)st->holes, "open", (json_int_t)st->open, "gaps_closed",
+                          (json_int_t)st->gaps_closed, "area", hv_json_number(st->area));
+    char *text = j ? hv_json_dump(j) : NULL;
+    json_decref(j);
+    hv_buf_printf(b, "%s\n  %s", index ? "," : "", text ? text : "");
+    free(text);
+    return !text || b->failed ? hv_error_set(HV_ERR_NOMEM, "out of memory") : HV_OK;
 }
 
 static hv_status one_svg(const run *r, size_t index, const hv_layer *layer, const hv_slice *slice)
@@ -95,13 +95,13 @@ static hv_status sink(void *user, size_t index, const hv_layer *layer, hv_slice 
     return s;
 }
 
-static void report(const char *mesh_path, const hv_contours_options *o, const contours_cli *c, const hv_layer_plan *plan,
+static int report(const char *mesh_path, const hv_contours_options *o, const contours_cli *c, const hv_layer_plan *plan,
                    const run *r)
 {
     if (!c->json) {
         printf("%s: %zu layers, %zu loops (%zu holes), %zu open polylines, %zu gaps closed\n", mesh_path,
                hv_layer_plan_count(plan), r->loops, r->holes, r->open, r->gaps);
-        return;
+        return EXIT_OK;
     }
     cli_json j;
     cli_json_begin(&j);
@@ -123,13 +123,7 @@ static void report(const char *mesh_path, const hv_contours_options *o, const co
     cli_json_int(&j, "open", (long long)r->open);
     cli_json_int(&j, "gaps_closed", (long long)r->gaps);
     cli_json_int(&j, "dropped", (long long)r->dropped);
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_printf(&b, "[%s\n ]", r->js->data ? r->js->data : "");
-    j.newline = 1; /* the layers on their own lines */
-    cli_json_raw(&j, "layers", b.data ? b.data : "[]");
-    cli_json_end(&j);
-    hv_buf_free(&b);
+    return cli_json_end(&j, "layers", r->js->data); /* the layers one per line */
 }
 
 static int slice_mesh(const char *mesh_path, const hv_contours_options *o, const contours_cli *c, int quiet)
@@ -178,11 +172,11 @@ static int slice_mesh(const char *mesh_path, const hv_contours_options *o, const
     if (s == HV_OK && tmpdir) s = hv_outdir_commit(tmpdir, c->per_layer, &svg_dir, 0);
     if (s != HV_OK && tmpdir) hv_outdir_abort(tmpdir);
     free(tmpdir);
-    if (s == HV_OK) report(mesh_path, o, c, plan, &r);
+    int rc = s == HV_OK ? report(mesh_path, o, c, plan, &r) : cli_fail(s);
     hv_buf_free(&js);
     hv_layer_plan_destroy(plan);
     hv_slicer_destroy(slicer);
-    return s == HV_OK ? EXIT_OK : cli_fail(s);
+    return rc;
 }
 
 static int run_cli(const cli_args *args, void *lib, void *local)

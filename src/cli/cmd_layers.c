@@ -38,36 +38,15 @@ static void print_plan(const hv_layers_report *r, const hv_layers_options *o)
     printf("memory      about %.1f MiB (%d workers)\n", (double)r->memory_bytes / 1048576.0, r->threads);
 }
 
-/* The voxelizer records the mesh it was given (hovox.mesh.json): a --mesh whose box differs
- * from that one by more than a voxel is probably not the model's mesh. A warning, not an
- * error: a repaired or re-exported mesh of the same part is fine. */
-static void warn_other_mesh(const char *mesh_path, const hv_mesh *mesh, const char *model_path,
-                            const hv_volume *model)
+/* The library's warnings, one line each, from `from` on. */
+static void warn(const hv_layers_report *r, size_t from)
 {
-    const char *text = hv_volume_meta_string(model, "hovox.mesh.json");
-    hv_json *j = text ? hv_json_parse(text, strlen(text)) : NULL;
-    const hv_json *bb = j ? hv_json_get(j, "bbox") : NULL;
-    const hv_json *mn = bb ? hv_json_get(bb, "min") : NULL, *mx = bb ? hv_json_get(bb, "max") : NULL;
-    const hv_mesh_report *r = hv_mesh_get_report(mesh);
-    hv_transform xf = hv_volume_get_transform(model);
-    double tol = HV_MAX(xf.voxel[0], HV_MAX(xf.voxel[1], xf.voxel[2])), was[6];
-    int ok = mn && mx, differs = 0;
-    for (int a = 0; a < 3 && ok; ++a) {
-        const hv_json *p = hv_json_at(mn, (size_t)a), *q = hv_json_at(mx, (size_t)a);
-        if (!p || !q || p->type != HV_JSON_NUMBER || q->type != HV_JSON_NUMBER) {
-            ok = 0;
-            break;
-        }
-        was[a] = p->number;
-        was[a + 3] = q->number;
-        differs |= fabs(was[a] - r->bbox_min[a]) > tol || fabs(was[a + 3] - r->bbox_max[a]) > tol;
+    for (const char *p = r->warnings + from; *p;) {
+        const char *nl = strchr(p, '\n');
+        size_t n = nl ? (size_t)(nl - p) : strlen(p);
+        cli_warn("%.*s", (int)n, p);
+        p += n + (nl ? 1 : 0);
     }
-    if (ok && differs)
-        cli_warn("%s spans (%g, %g, %g)-(%g, %g, %g), but %s was voxelized from a mesh spanning (%g, %g, %g)-(%g, %g, "
-                 "%g): is this its mesh?",
-                 mesh_path, r->bbox_min[0], r->bbox_min[1], r->bbox_min[2], r->bbox_max[0], r->bbox_max[1],
-                 r->bbox_max[2], model_path, was[0], was[1], was[2], was[3], was[4], was[5]);
-    hv_json_free(j);
 }
 
 static void report(const hv_layers_report *r, const hv_layers_options *o, const layers_cli *c, const hv_mesh *mesh,
@@ -91,10 +70,6 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
         printf("compare     resample vs direct: mean %.6f, max %.6f (max over materials per pixel; %llu pixels "
                "outside the definition)\n",
                r->diff_mean, r->diff_max, (unsigned long long)r->direct_fallback);
-    if (r->open_polylines)
-        cli_warn("%s is open: %zu contour polylines stayed open and were not filled (%s %g; a larger gap joins wider "
-                 "holes)",
-                 c->mesh, r->open_polylines, cli_spell("close_gap"), o->close_gap);
     char how[64];
     if (o->mode == HV_LAYERS_HALFTONE) snprintf(how, sizeof how, "halftone %s", o->halftone == HV_HALFTONE_BLUE_NOISE ? "blue-noise" : "error-diffusion");
     else snprintf(how, sizeof how, "%s", hv_layers_mode_name(o->mode));
@@ -108,9 +83,13 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
     hv_volume *model = NULL;
     hv_status s = hv_mesh_load_stl(c->mesh, &mesh);
     if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_volume_load(o->model_name, &model);
-    if (s == HV_OK && model) warn_other_mesh(c->mesh, mesh, o->model_name, model);
     hv_layers_report r;
-    if (s == HV_OK) s = hv_layers_plan(mesh, model, o, &r);
+    memset(&r, 0, sizeof r);
+    if (s == HV_OK) {
+        s = hv_layers_plan(mesh, model, o, &r);
+        warn(&r, 0); /* also when the plan fails: a mismatching mesh explains why */
+    }
+    size_t seen = strlen(r.warnings);
     if (s == HV_OK && c->dry_run) {
         print_plan(&r, o);
     } else if (s == HV_OK) {
@@ -119,6 +98,7 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         hv_progress prog = {cli_progress_fn, &bar};
         s = hv_layers_write(mesh, model, c->output, o, &prog, &r);
         cli_progress_done(&bar);
+        if (s == HV_OK) warn(&r, HV_MIN(seen, strlen(r.warnings)));
         if (s == HV_OK) report(&r, o, c, mesh, model);
     }
     hv_volume_destroy(model);

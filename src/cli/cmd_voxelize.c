@@ -22,7 +22,7 @@ static const hv_option k_local_opts[] = {
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
 
-static void report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *plan, const hv_voxelize_options *opt,
+static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *plan, const hv_voxelize_options *opt,
                    const vox_cli *c, const hv_volume *vol)
 {
     const hv_mesh_report *r = hv_mesh_get_report(mesh);
@@ -46,8 +46,7 @@ static void report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *p
             cli_json_num(&j, "mesh_volume", r->volume);
             cli_json_str(&j, "output", c->output);
         }
-        cli_json_end(&j);
-        return;
+        return cli_json_end(&j, NULL, NULL);
     }
     printf("mesh        %s (%llu facets)\n", path, (unsigned long long)r->facets);
     printf("grid        %lld x %lld x %lld voxels of %.6g x %.6g x %.6g\n", (long long)plan->dims[0],
@@ -61,6 +60,7 @@ static void report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *p
                (unsigned long long)surface, (double)occupied * vv, r->volume);
         printf("wrote       %s\n", c->output);
     }
+    return EXIT_OK;
 }
 
 static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int quiet)
@@ -104,10 +104,10 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
             return cli_fail(s);
         }
     }
-    report(path, mesh, &plan, opt, c, vol);
+    int rc = report(path, mesh, &plan, opt, c, vol);
     hv_volume_destroy(vol);
     hv_mesh_destroy(mesh);
-    return EXIT_OK;
+    return rc;
 }
 
 static int run_cli(const cli_args *args, void *lib, void *local)

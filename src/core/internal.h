@@ -1,6 +1,6 @@
 /* src/core/internal.h - helpers shared by hovox modules (not part of the public API):
- * growable buffers, a JSON reader/writer, whole-file reads, atomic writes, plugins and a
- * parallel-for over OpenMP that reports progress from the calling thread. */
+ * growable buffers, enum names, whole-file reads, atomic writes, plugins and a parallel-for
+ * over OpenMP that reports progress from the calling thread (JSON: core/json.h). */
 #ifndef HOVOX_INTERNAL_H
 #define HOVOX_INTERNAL_H
 
@@ -53,35 +53,8 @@ void hv_buf_append(hv_buf *b, const char *s, size_t n);
 void hv_buf_puts(hv_buf *b, const char *s);
 void hv_buf_printf(hv_buf *b, const char *fmt, ...) HV_PRINTF(2, 3);
 void hv_buf_vprintf(hv_buf *b, const char *fmt, va_list ap);
-/* Append s as a JSON string literal (quotes and escapes). */
-void hv_buf_json_string(hv_buf *b, const char *s);
-/* Append a double in shortest round-trip-ish form (%.17g trimmed to %.9g when exact enough);
- * non-finite values become null. */
-void hv_buf_json_number(hv_buf *b, double v);
-/* A float as JSON: "%.9g" (always reads back exactly as a float; one conversion, for long
- * tables), or the shortest form for 0 and 1; non-finite values become null. */
-void hv_buf_json_float(hv_buf *b, float v);
 
-/* ---- JSON reader (DOM) -------------------------------------------------------------------- */
-typedef enum hv_json_type {
-    HV_JSON_NULL, HV_JSON_BOOL, HV_JSON_NUMBER, HV_JSON_STRING, HV_JSON_ARRAY, HV_JSON_OBJECT
-} hv_json_type;
-typedef struct hv_json hv_json;
-struct hv_json {
-    hv_json_type type;
-    double number;  /* NUMBER, BOOL (0/1) */
-    char *string;   /* STRING; key of object members */
-    char *key;      /* member name when inside an object */
-    hv_json *child; /* first element or member */
-    hv_json *next;  /* next sibling */
-    size_t count;   /* children */
-};
-/* Parse text (len bytes). On error records HV_ERR_BAD_INPUT "line L, column C: ..." and
- * returns NULL. Free with hv_json_free. */
-hv_json *hv_json_parse(const char *text, size_t len);
-void hv_json_free(hv_json *j);
-const hv_json *hv_json_get(const hv_json *obj, const char *key);
-const hv_json *hv_json_at(const hv_json *arr, size_t i);
+/* ---- names ------------------------------------------------------------------------------- */
 
 /* ---- files ------------------------------------------------------------------------------ */
 /* Read a whole file (NUL appended, not counted). Errors: HV_ERR_IO naming the path and errno
@@ -123,8 +96,10 @@ int hv_path_is_special(const char *path);
  * An existing directory is replaced only when everything in it is what such a job writes. */
 typedef struct hv_outdir_rules {
     const char *what;               /* "stack", "per-layer SVG directory": for messages */
-    const char *marker;             /* a file that must exist (with marker_text in it), or NULL */
-    const char *marker_text;
+    const char *marker;             /* a file that must exist and that marker_ok accepts, or NULL */
+    int (*marker_ok)(const char *text, size_t size); /* 1: the marker's content (NUL-terminated)
+                                       says the directory is ours (e.g. a parsed manifest); NULL:
+                                       any content */
     const char *const *files;       /* NULL-terminated fnmatch patterns of the files written */
     int subdirs;                    /* 1: one level of subdirectories of such files */
     int need_force;                 /* replacing an existing one needs the option {force} */

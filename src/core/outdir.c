@@ -172,7 +172,7 @@ static int classify(const char *dir, const hv_outdir_rules *r, hv_buf *foreign)
         char *text = NULL;
         size_t size = 0;
         int marked = !p.failed && hv_read_file(p.data, 1 << 30, &text, &size) == HV_OK &&
-                     (!r->marker_text || strstr(text, r->marker_text) != NULL);
+                     (!r->marker_ok || r->marker_ok(text, size));
         hv_error_clear();
         free(text);
         hv_buf_free(&p);

@@ -3,7 +3,6 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
-#include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -135,54 +134,6 @@ void hv_buf_printf(hv_buf *b, const char *fmt, ...)
     va_start(ap, fmt);
     hv_buf_vprintf(b, fmt, ap);
     va_end(ap);
-}
-
-void hv_buf_json_string(hv_buf *b, const char *s)
-{
-    hv_buf_append(b, "\"", 1);
-    for (const unsigned char *p = (const unsigned char *)s; *p; ++p) {
-        switch (*p) {
-        case '"': hv_buf_append(b, "\\\"", 2); break;
-        case '\\': hv_buf_append(b, "\\\\", 2); break;
-        case '\n': hv_buf_append(b, "\\n", 2); break;
-        case '\r': hv_buf_append(b, "\\r", 2); break;
-        case '\t': hv_buf_append(b, "\\t", 2); break;
-        default:
-            if (*p < 0x20) hv_buf_printf(b, "\\u%04x", *p);
-            else hv_buf_append(b, (const char *)p, 1);
-        }
-    }
-    hv_buf_append(b, "\"", 1);
-}
-
-void hv_buf_json_number(hv_buf *b, double v)
-{
-    if (!isfinite(v)) {
-        hv_buf_puts(b, "null");
-        return;
-    }
-    char s[64];
-    /* the shortest of %.6g..%.17g that reads back exactly */
-    for (int prec = 6; prec <= 17; ++prec) {
-        snprintf(s, sizeof s, "%.*g", prec, v);
-        if (strtod(s, NULL) == v) break;
-    }
-    hv_buf_puts(b, s);
-}
-
-void hv_buf_json_float(hv_buf *b, float v)
-{
-    if (!isfinite(v)) {
-        hv_buf_puts(b, "null");
-        return;
-    }
-    if (v == 0.0f || v == 1.0f) {
-        hv_buf_puts(b, v == 0.0f ? "0" : "1");
-        return;
-    }
-    char s[32];
-    snprintf(s, sizeof s, "%.9g", (double)v);
-    hv_buf_puts(b, s);
 }
 
 /* ---- files ----------------------------------------------------------------------------- */

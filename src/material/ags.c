@@ -168,38 +168,54 @@ hv_status hv_ags_wu3(hv_frf *frf, double d_neg, double d_grad, double d_pos, con
     return s;
 }
 
-void hv_ags_json(hv_buf *b, const hv_ags *a, int feature)
+json_t *hv_ags_to_doc(const hv_ags *a, int feature)
 {
-    hv_buf_puts(b, "{\"name\": ");
-    hv_buf_json_string(b, a->name);
-    hv_buf_printf(b, ", \"feature\": %d, \"feature_text\": ", feature);
-    hv_buf_json_string(b, hv_frf_describe(a->frf));
-    hv_buf_puts(b, ", \"d_neg\": ");
-    hv_buf_json_number(b, a->d_neg);
-    hv_buf_puts(b, ", \"d_grad\": ");
-    hv_buf_json_number(b, a->d_grad);
-    hv_buf_puts(b, ", \"d_pos\": ");
-    hv_buf_json_number(b, a->d_pos);
-    hv_buf_puts(b, ", \"f\": ");
-    hv_buf_json_string(b, a->fdesc);
-    const double *vec[2] = {a->ms, a->me};
-    for (int v = 0; v < 2; ++v) {
-        hv_buf_puts(b, v ? ", \"me\": [" : ", \"ms\": [");
-        for (int j = 0; j < a->m; ++j) {
-            if (j) hv_buf_puts(b, ", ");
-            hv_buf_json_number(b, vec[v][j]);
+    json_t *j = json_pack("{s:o, s:i, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "name", hv_json_text(a->name), "feature",
+                          feature, "feature_text", hv_json_text(hv_frf_describe(a->frf)), "d_neg",
+                          hv_json_number(a->d_neg), "d_grad", hv_json_number(a->d_grad), "d_pos",
+                          hv_json_number(a->d_pos), "f", hv_json_text(a->fdesc), "ms",
+                          hv_json_numbers(a->ms, (size_t)a->m), "me", hv_json_numbers(a->me, (size_t)a->m));
+    if (j && a->d_grad > 0) { /* the tabulated f: what evaluation uses, so a reload is exact */
+        json_t *t = json_array();
+        int failed = !t;
+        for (int i = 0; i <= HV_AGS_TABLE && !failed; ++i) failed = json_array_append_new(t, hv_json_float(a->table[i])) != 0;
+        if (failed) json_decref(t);
+        if (failed || hv_json_set(j, "table", t) != 0) {
+            json_decref(j);
+            return NULL;
         }
-        hv_buf_puts(b, "]");
     }
-    if (a->d_grad > 0) { /* the tabulated f: what evaluation uses, so a reload is exact */
-        hv_buf_puts(b, ", \"table\": [");
-        for (int i = 0; i <= HV_AGS_TABLE; ++i) {
-            if (i) hv_buf_puts(b, ",");
-            hv_buf_json_float(b, a->table[i]);
+    return j;
+}
+
+hv_status hv_ags_from_doc(const json_t *j, hv_frf *const *feats, size_t nf, int m, const char *what, hv_ags **out)
+{
+    *out = NULL;
+    long long fi;
+    double r[3], ms[HV_MAX_MATERIALS], me[HV_MAX_MATERIALS];
+    const char *fdesc = "", *name = NULL;
+    static const char *const ranges[3] = {"d_neg", "d_grad", "d_pos"};
+    hv_status s = hv_json_get_int(j, "feature", what, 0, (long long)nf - 1, &fi);
+    for (int q = 0; q < 3 && s == HV_OK; ++q) s = hv_json_get_number(j, ranges[q], what, &r[q]);
+    if (s == HV_OK) s = hv_json_get_numbers(j, "ms", what, ms, (size_t)m);
+    if (s == HV_OK) s = hv_json_get_numbers(j, "me", what, me, (size_t)m);
+    if (s == HV_OK && json_object_get(j, "f")) s = hv_json_get_string(j, "f", what, &fdesc);
+    if (s == HV_OK && json_object_get(j, "name")) s = hv_json_get_string(j, "name", what, &name);
+    if (s != HV_OK) return s;
+    float table[HV_AGS_TABLE + 1];
+    if (r[1] > 0) {
+        const json_t *t;
+        if ((s = hv_json_need(j, "table", JSON_ARRAY, what, &t)) != HV_OK) return s;
+        if (json_array_size(t) != HV_AGS_TABLE + 1)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: table has %zu values, not %d", what, json_array_size(t),
+                                HV_AGS_TABLE + 1);
+        for (size_t i = 0; i <= HV_AGS_TABLE; ++i) {
+            const json_t *x = json_array_get(t, i);
+            table[i] = json_is_number(x) ? (float)json_number_value(x) : NAN; /* refused below */
         }
-        hv_buf_puts(b, "]");
     }
-    hv_buf_puts(b, "}");
+    s = hv_ags_from_parts(feats[fi], r[0], r[1], r[2], table, fdesc, ms, me, m, name, out);
+    return s == HV_OK ? s : hv_error_prefix(s == HV_ERR_INVALID ? HV_ERR_BAD_INPUT : s, "%s: ", what);
 }
 
 hv_status hv_ags_from_parts(hv_frf *frf, double d_neg, double d_grad, double d_pos, const float *table,

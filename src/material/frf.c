@@ -606,30 +606,55 @@ hv_status hv_frf_store_field(const hv_frf *f, hv_volume *vol, const char *grid)
     return HV_OK;
 }
 
-static void json_vec(hv_buf *b, const char *key, const double *v)
+/* Analytic kinds are written with the keys of their option set (hv_frf_option_set: a point
+ * "point", an axis "origin" and "direction", ...), so a document reads like the options that
+ * make the feature; stored distance fields as kind "field" with their grid. */
+static double *param(hv_frf_options *o, const hv_option *opt) { return (double *)((char *)o + opt->offset); }
+
+json_t *hv_frf_to_doc(const hv_frf *f, const char *grid)
 {
-    hv_buf_printf(b, ", \"%s\": [", key);
-    for (int k = 0; k < 3; ++k) {
-        if (k) hv_buf_puts(b, ", ");
-        hv_buf_json_number(b, v[k]);
+    json_t *j = json_object();
+    if (!j) return NULL;
+    const hv_option_set *set = f->kind <= HV_FRF_SEGMENT ? hv_frf_option_set(f->kind) : NULL;
+    int failed = hv_json_set(j, "kind", json_string(set ? set->name : "field"));
+    if (set) {
+        hv_frf_options o;
+        set->init(&o);
+        const double *ab[2] = {f->a, f->b};
+        for (int i = 0; i < set->count && i < 2; ++i) {
+            memcpy(param(&o, &set->options[i]), ab[i], 3 * sizeof(double));
+            failed |= hv_json_set(j, set->options[i].key, hv_json_numbers(param(&o, &set->options[i]), 3));
+        }
+    } else {
+        failed |= hv_json_set(j, "grid", hv_json_text(grid ? grid : ""));
     }
-    hv_buf_puts(b, "]");
+    failed |= hv_json_set(j, "text", hv_json_text(f->desc));
+    if (failed) {
+        json_decref(j);
+        return NULL;
+    }
+    return j;
 }
 
-void hv_frf_json(hv_buf *b, const hv_frf *f, const char *grid)
+hv_status hv_frf_from_doc(const json_t *j, const hv_volume *vol, const char *what, hv_frf **out)
 {
-    static const char *kinds[] = {"point", "axis", "plane", "segment"};
-    if (f->kind <= HV_FRF_SEGMENT) {
-        hv_buf_printf(b, "{\"kind\": \"%s\"", kinds[f->kind]);
-        if (f->kind == HV_FRF_POINT) json_vec(b, "point", f->a);
-        else if (f->kind == HV_FRF_LINE) json_vec(b, "origin", f->a), json_vec(b, "direction", f->b);
-        else if (f->kind == HV_FRF_PLANE) json_vec(b, "point", f->a), json_vec(b, "normal", f->b);
-        else json_vec(b, "from", f->a), json_vec(b, "to", f->b);
-    } else {
-        hv_buf_puts(b, "{\"kind\": \"field\", \"grid\": ");
-        hv_buf_json_string(b, grid ? grid : "");
+    *out = NULL;
+    int kind;
+    hv_status s = hv_json_get_name(j, "kind", what, hv_frf_kind_enum(), &kind);
+    if (s != HV_OK) return s;
+    if (kind == HV_FRF_FIELD) {
+        const char *grid, *text = NULL;
+        if ((s = hv_json_get_string(j, "grid", what, &grid)) != HV_OK) return s;
+        if (json_object_get(j, "text") && (s = hv_json_get_string(j, "text", what, &text)) != HV_OK) return s;
+        s = hv_frf_field(vol, grid, text, out);
+        return s == HV_OK ? s : hv_error_prefix(s == HV_ERR_INVALID ? HV_ERR_BAD_INPUT : s, "%s: ", what);
     }
-    hv_buf_puts(b, ", \"text\": ");
-    hv_buf_json_string(b, f->desc);
-    hv_buf_puts(b, "}");
+    const hv_option_set *set = kind <= HV_FRF_SEGMENT ? hv_frf_option_set((hv_frf_kind)kind) : NULL;
+    if (!set) return hv_error_set(HV_ERR_BAD_INPUT, "%s: a %s feature is not stored in a model", what, hv_frf_kind_name((hv_frf_kind)kind));
+    hv_frf_options o;
+    set->init(&o);
+    for (int i = 0; i < set->count; ++i)
+        if ((s = hv_json_get_numbers(j, set->options[i].key, what, param(&o, &set->options[i]), 3)) != HV_OK) return s;
+    s = hv_frf_from_options(&o, NULL, out);
+    return s == HV_OK ? s : hv_error_prefix(s == HV_ERR_INVALID ? HV_ERR_BAD_INPUT : s, "%s: ", what);
 }

@@ -6,6 +6,7 @@
 #include <pthread.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/material.h"
 
 /* ---- expressions (expr.c) ---------------------------------------------------------------- */
@@ -56,8 +57,13 @@ int hv_frf_is_voxel(const hv_frf *f);
 double hv_frf_sample(const hv_frf *f, const double p[3]);
 /* Add float grid `grid` to vol holding the (prepared) field at vol's active voxels. */
 hv_status hv_frf_store_field(const hv_frf *f, hv_volume *vol, const char *grid);
-/* The feature as JSON: analytic parameters, or {"kind": "field", "grid": grid}. */
-void hv_frf_json(hv_buf *b, const hv_frf *f, const char *grid);
+/* A feature of the object document (hovox.object.json, volumes/schema.h): analytic ones by
+ * kind ("point", "axis", "plane", "segment") and parameters, voxel features as
+ * {"kind": "field", "grid": grid}; both with their "text". NULL when out of memory. */
+json_t *hv_frf_to_doc(const hv_frf *f, const char *grid);
+/* The feature back; "field" features take float grid "grid" of vol. Unknown kinds are refused.
+ * Errors: HV_ERR_BAD_INPUT naming `what` and the member, those of the hv_frf_* makers. */
+hv_status hv_frf_from_doc(const json_t *j, const hv_volume *vol, const char *what, hv_frf **out);
 
 /* Geometric mean voxel size of a lattice. */
 double hv_voxel_scale(const hv_transform *xf);
@@ -91,9 +97,13 @@ static inline float hv_ags_weight(const hv_ags *a, float d)
     return a->table[i] + t * (a->table[i + 1] - a->table[i]);
 }
 
-/* JSON description of a source (for metadata): ranges, f's text and table, Ms, Me, and the
- * index of its feature in the object's feature list. */
-void hv_ags_json(hv_buf *b, const hv_ags *a, int feature);
+/* A source of the object document: ranges, f's text and table (floats, hv_json_float), Ms, Me,
+ * and the index of its feature in the object's feature list. NULL when out of memory. */
+json_t *hv_ags_to_doc(const hv_ags *a, int feature);
+/* The source back, its feature taken from feats[0..nf-1], m materials. Errors:
+ * HV_ERR_BAD_INPUT naming `what` and the member (also an f table entry outside [0, 1]). */
+hv_status hv_ags_from_doc(const json_t *j, hv_frf *const *feats, size_t nf, int m, const char *what,
+                          hv_ags **out);
 /* A source from stored parts: the f table (HV_AGS_TABLE + 1 values in [0,1]) when dg > 0. */
 hv_status hv_ags_from_parts(hv_frf *frf, double d_neg, double d_grad, double d_pos, const float *table,
                             const char *fdesc, const double *ms, const double *me, int m,

@@ -9,6 +9,7 @@
 
 #include "core/internal.h"
 #include "material_internal.h"
+#include "volumes/schema.h"
 
 typedef struct region {
     hv_volume *mask; /* bool grid 0 "mask"; the topology is exactly the region's voxels */
@@ -26,6 +27,9 @@ struct hv_object {
     double base[HV_MAX_MATERIALS];
     hv_blend blend;
     double power;
+    hv_volume *record; /* what the model recorded before grading, carried into evaluated volumes:
+                          its metadata but the grading documents (mesh report, voxelization) and
+                          its bool grid "surface" (topology: the surface voxels); NULL: none */
 };
 
 /* ---- regions ------------------------------------------------------------------------------ */
@@ -118,6 +122,86 @@ static hv_status push_region(hv_object *o, hv_volume *mask, const region *set1, 
     return HV_OK;
 }
 
+/* ---- the model's record ------------------------------------------------------------------------
+ * A model graded from the CLI or from Lua holds the same: the record of its model (see struct
+ * hv_object) goes into every evaluated volume. */
+
+static hv_status meta_copy(hv_volume *dst, const hv_volume *src, const char *key)
+{
+    double num;
+    if (hv_volume_meta_number(src, key, &num)) return hv_volume_meta_set_number(dst, key, num);
+    return hv_volume_meta_set_string(dst, key, hv_volume_meta_string(src, key));
+}
+
+static hv_status record_take(const hv_volume *vol, const hv_transform *xf, hv_volume **out)
+{
+    *out = NULL;
+    hv_volume *r;
+    hv_status s = hv_volume_create(xf, &r);
+    if (s != HV_OK) return s;
+    for (int i = 0; i < hv_volume_meta_count(vol) && s == HV_OK; ++i)
+        if (!hv_schema_is_grading_key(hv_volume_meta_key(vol, i))) s = meta_copy(r, vol, hv_volume_meta_key(vol, i));
+    int g = hv_volume_grid_find(vol, "surface");
+    if (s == HV_OK && g >= 0 && hv_volume_grid_type(vol, g) == HV_GRID_BOOL &&
+        (s = hv_volume_grid_copy(r, "surface", vol, g)) == HV_OK)
+        s = hv_volume_topology_restrict(r, 0);
+    if (s != HV_OK) {
+        hv_volume_destroy(r);
+        return s;
+    }
+    *out = r;
+    return HV_OK;
+}
+
+/* The record of a Boolean's result: the metadata both operands record alike, and the union of
+ * their surfaces; none when an operand has none. */
+static hv_status record_combine(const hv_volume *a, const hv_volume *b, hv_volume **out)
+{
+    *out = NULL;
+    if (!a || !b) return HV_OK;
+    hv_volume *r;
+    hv_status s = hv_volume_clone(a, &r);
+    if (s != HV_OK) return s;
+    for (int i = hv_volume_meta_count(r) - 1; i >= 0 && s == HV_OK; --i) {
+        const char *key = hv_volume_meta_key(r, i), *sa = hv_volume_meta_string(r, key), *sb = hv_volume_meta_string(b, key);
+        double na, nb;
+        int same = sa ? sb && strcmp(sa, sb) == 0
+                      : hv_volume_meta_number(r, key, &na) && hv_volume_meta_number(b, key, &nb) && na == nb;
+        if (!same) s = hv_volume_meta_set_string(r, key, NULL);
+    }
+    int gb = hv_volume_grid_find(b, "surface");
+    if (s == HV_OK && gb >= 0) {
+        int ga = hv_volume_grid_find(r, "surface");
+        if (ga < 0) {
+            s = hv_volume_grid_copy(r, "surface", b, gb);
+        } else if ((s = hv_volume_grid_copy(r, "other", b, gb)) == HV_OK) {
+            int go = hv_volume_grid_find(r, "other");
+            if ((s = hv_volume_mask_combine(r, ga, ga, go, HV_MASK_UNION)) == HV_OK) s = hv_volume_grid_remove(r, go);
+        }
+    }
+    if (s != HV_OK) {
+        hv_volume_destroy(r);
+        return s;
+    }
+    *out = r;
+    return HV_OK;
+}
+
+/* Put the record into v, an evaluated volume: its metadata, and its surface restricted to v's
+ * occupancy (the copy may add voxels outside the graded object, e.g. for a region narrower than
+ * the model: restricting drops them again). */
+static hv_status record_put(const hv_object *o, hv_volume *v)
+{
+    const hv_volume *r = o->record;
+    if (!r) return HV_OK;
+    hv_status s = HV_OK;
+    for (int i = 0; i < hv_volume_meta_count(r) && s == HV_OK; ++i) s = meta_copy(v, r, hv_volume_meta_key(r, i));
+    int g = hv_volume_grid_find(r, "surface");
+    if (s == HV_OK && g >= 0 && (s = hv_volume_grid_copy(v, "surface", r, g)) == HV_OK)
+        s = hv_volume_topology_restrict(v, hv_volume_grid_find(v, "occupancy"));
+    return s;
+}
+
 /* ---- life cycle ---------------------------------------------------------------------------- */
 
 hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_object **out)
@@ -146,6 +230,7 @@ hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_obj
             hv_volume_destroy(mask);
         }
     }
+    if (s == HV_OK) s = record_take(vol, &xf, &o->record);
     if (s != HV_OK) {
         hv_object_destroy(o);
         return s;
@@ -159,6 +244,7 @@ void hv_object_destroy(hv_object *o)
     if (!o) return;
     for (int r = 0; r < o->nreg; ++r) region_free(&o->reg[r]);
     free(o->reg);
+    hv_volume_destroy(o->record);
     free(o);
 }
 
@@ -171,6 +257,7 @@ hv_status hv_object_clone(const hv_object *o, hv_object **out)
     memcpy(c->base, o->base, sizeof c->base);
     c->blend = o->blend;
     c->power = o->power;
+    if (o->record) s = hv_volume_clone(o->record, &c->record);
     for (int r = 0; r < o->nreg && s == HV_OK; ++r) {
         hv_volume *mask;
         if ((s = hv_volume_clone(o->reg[r].mask, &mask)) == HV_OK) s = push_region(c, mask, &o->reg[r], NULL);
@@ -212,7 +299,7 @@ hv_status hv_object_set_base(hv_object *o, const double *p)
 
 hv_status hv_object_set_blend(hv_object *o, hv_blend blend, double power)
 {
-    if (blend != HV_BLEND_NEAREST && blend != HV_BLEND_IDW)
+    if (!hv_enum_name(hv_blend_enum(), (int)blend))
         return hv_error_set(HV_ERR_INVALID, "unknown blend rule %d", (int)blend);
     if (!(power > 0) || !isfinite(power))
         return hv_error_set(HV_ERR_INVALID, "blend power must be > 0 (got %g)", power);
@@ -310,6 +397,7 @@ hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op o
     o->blend = a->blend;
     o->power = a->power;
     hv_volume *O1 = NULL, *O2 = NULL, *mask = NULL;
+    if ((s = record_combine(a->record, b->record, &o->record)) != HV_OK) goto done;
     if ((s = object_mask(a, &O1)) != HV_OK || (s = object_mask(b, &O2)) != HV_OK) goto done;
     switch (op) {
     case HV_OP_INTERSECT: /* (O1 n O2, G1 u G2), pairwise over the regions */
@@ -541,7 +629,8 @@ uint64_t hv_object_evaluate_estimate(const hv_object *o)
     }
     /* material grids, stored fields of voxel features, region masks */
     int stored = voxel_frfs > 0 ? (voxel_frfs + 8) / 9 : 0;
-    return hv_volume_memory_estimate(leaves, o->m + stored, 1 + (o->nreg > 1 ? o->nreg : 0)) + extra;
+    int surface = o->record && hv_volume_grid_find(o->record, "surface") >= 0;
+    return hv_volume_memory_estimate(leaves, o->m + stored, 1 + surface + (o->nreg > 1 ? o->nreg : 0)) + extra;
 }
 
 /* The distinct features and sources of an object, in first-use order. */
@@ -577,50 +666,59 @@ static int catalog_index(const void *const *list, int n, const void *p)
     return -1;
 }
 
-/* The grading definition as JSON: features (analytic parameters or the name of their stored
- * field grid), sources (with their f tables), regions (grid and source indices). */
-static hv_status object_json(const hv_object *o, hv_volume *out)
+/* The grading definition (hovox.object.json): features (analytic parameters or the name of their
+ * stored field grid), sources (with their f tables), regions (grid and source indices). */
+hv_status hv_object_to_doc(const hv_object *o, json_t **out)
 {
+    *out = NULL;
     catalog c;
     hv_status s = make_catalog(o, &c);
     if (s != HV_OK) return s;
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_printf(&b, "{\"version\": 1, \"materials\": %d, \"blend\": \"%s\", \"power\": ", o->m,
-                  o->blend == HV_BLEND_IDW ? "idw" : "nearest");
-    hv_buf_json_number(&b, o->power);
-    hv_buf_puts(&b, ", \"base\": [");
-    for (int j = 0; j < o->m; ++j) {
-        if (j) hv_buf_puts(&b, ", ");
-        hv_buf_json_number(&b, o->base[j]);
-    }
-    hv_buf_puts(&b, "], \"features\": [");
-    for (int k = 0; k < c.nf; ++k) {
+    json_t *feats = json_array(), *srcs = json_array(), *regs = json_array();
+    int failed = !feats || !srcs || !regs;
+    for (int k = 0; k < c.nf && !failed; ++k) {
         char grid[32];
         snprintf(grid, sizeof grid, "distance.%d", k);
-        if (k) hv_buf_puts(&b, ", ");
-        hv_frf_json(&b, c.f[k], grid);
+        failed = json_array_append_new(feats, hv_frf_to_doc(c.f[k], grid)) != 0;
     }
-    hv_buf_puts(&b, "], \"sources\": [");
-    for (int k = 0; k < c.na; ++k) {
-        if (k) hv_buf_puts(&b, ", ");
-        hv_ags_json(&b, c.a[k], catalog_index((const void *const *)c.f, c.nf, c.a[k]->frf));
-    }
-    hv_buf_puts(&b, "], \"regions\": [");
-    for (int r = 0; r < o->nreg; ++r) {
+    for (int k = 0; k < c.na && !failed; ++k)
+        failed = json_array_append_new(
+                     srcs, hv_ags_to_doc(c.a[k], catalog_index((const void *const *)c.f, c.nf, c.a[k]->frf))) != 0;
+    for (int r = 0; r < o->nreg && !failed; ++r) {
         char grid[32];
         if (o->nreg > 1) snprintf(grid, sizeof grid, "region.%d", r);
         else snprintf(grid, sizeof grid, "occupancy");
-        hv_buf_printf(&b, "%s{\"grid\": \"%s\", \"voxels\": %llu, \"sources\": [", r ? ", " : "", grid,
-                      (unsigned long long)hv_volume_active_count(o->reg[r].mask));
-        for (int i = 0; i < o->reg[r].nags; ++i)
-            hv_buf_printf(&b, "%s%d", i ? ", " : "", catalog_index((const void *const *)c.a, c.na, o->reg[r].ags[i]));
-        hv_buf_puts(&b, "]}");
+        json_t *list = json_array();
+        failed = !list;
+        for (int i = 0; i < o->reg[r].nags && !failed; ++i)
+            failed = json_array_append_new(
+                         list, json_integer(catalog_index((const void *const *)c.a, c.na, o->reg[r].ags[i]))) != 0;
+        if (failed) json_decref(list);
+        else
+            failed = json_array_append_new(regs, json_pack("{s:s, s:I, s:o}", "grid", grid, "voxels",
+                                                           (json_int_t)hv_volume_active_count(o->reg[r].mask),
+                                                           "sources", list)) != 0;
     }
-    hv_buf_puts(&b, "]}");
-    s = b.failed ? HV_ERR_NOMEM : hv_volume_meta_set_json(out, "hovox.object.json", b.data);
-    hv_buf_free(&b);
-    return s;
+    json_t *doc = NULL;
+    if (!failed)
+        doc = json_pack("{s:i, s:s, s:o, s:o, s:o, s:o, s:o}", "materials", o->m, "blend", hv_blend_name(o->blend),
+                        "power", hv_json_number(o->power), "base", hv_json_numbers(o->base, (size_t)o->m),
+                        "features", feats, "sources", srcs, "regions", regs);
+    else {
+        json_decref(feats);
+        json_decref(srcs);
+        json_decref(regs);
+    }
+    if (!doc) return hv_error_set(HV_ERR_NOMEM, "out of memory (writing %s)", hv_schema_key(HV_DOC_OBJECT));
+    *out = doc;
+    return HV_OK;
+}
+
+static hv_status object_doc_write(const hv_object *o, hv_volume *out)
+{
+    json_t *doc;
+    hv_status s = hv_object_to_doc(o, &doc);
+    return s == HV_OK ? hv_schema_doc_write(out, HV_DOC_OBJECT, doc) : s;
 }
 
 /* Store the voxel features' fields ("distance.K") and, for several regions, their masks
@@ -692,7 +790,7 @@ hv_status hv_object_reevaluate(hv_object *o, const hv_material_table *t, hv_volu
                                 hv_material_name(t, j));
     hv_status s = fill_materials(o, vol, grids, progress);
     if (s == HV_OK) s = store_definition_grids(o, vol);
-    return s == HV_OK ? object_json(o, vol) : s;
+    return s == HV_OK ? object_doc_write(o, vol) : s;
 }
 
 hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t, uint64_t max_memory,
@@ -730,8 +828,9 @@ hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t, uint64_t 
     if (s == HV_OK) s = hv_parallel_for(hv_volume_leaf_count(v), 256, occupancy_leaves, v, NULL, "materials");
     if (s == HV_OK) s = fill_materials(o, v, grids, progress);
     if (s == HV_OK) s = store_definition_grids(o, v);
+    if (s == HV_OK) s = record_put(o, v);
     if (s == HV_OK) s = hv_material_table_store(v, t);
-    if (s == HV_OK) s = object_json(o, v);
+    if (s == HV_OK) s = object_doc_write(o, v);
     if (s != HV_OK) {
         hv_volume_destroy(v);
         return s;
@@ -742,126 +841,44 @@ hv_status hv_object_evaluate(hv_object *o, const hv_material_table *t, uint64_t 
 
 /* ---- rebuilding and direct evaluation ---------------------------------------------------- */
 
-static hv_status bad(const char *what)
-{
-    return hv_error_set(HV_ERR_BAD_INPUT, "grading definition (hovox.object.json): %s", what);
-}
-
-static int json_vec3(const hv_json *obj, const char *key, double v[3])
-{
-    const hv_json *a = hv_json_get(obj, key);
-    if (!a || a->type != HV_JSON_ARRAY || a->count != 3) return 0;
-    for (int k = 0; k < 3; ++k) {
-        const hv_json *e = hv_json_at(a, (size_t)k);
-        if (e->type != HV_JSON_NUMBER) return 0;
-        v[k] = e->number;
-    }
-    return 1;
-}
-
-static int json_numbers(const hv_json *a, double *out, int max)
-{
-    if (!a || a->type != HV_JSON_ARRAY || (int)a->count > max) return -1;
-    int n = 0;
-    for (const hv_json *e = a->child; e; e = e->next) {
-        if (e->type != HV_JSON_NUMBER) return -1;
-        out[n++] = e->number;
-    }
-    return n;
-}
-
-static hv_status feature_from_json(const hv_volume *vol, const hv_json *j, hv_frf **out)
-{
-    const hv_json *kind = hv_json_get(j, "kind"), *text = hv_json_get(j, "text");
-    if (!kind || kind->type != HV_JSON_STRING) return bad("a feature has no kind");
-    double a[3], b[3];
-    const char *k = kind->string;
-    if (strcmp(k, "point") == 0 && json_vec3(j, "point", a)) return hv_frf_point(a, out);
-    if (strcmp(k, "axis") == 0 && json_vec3(j, "origin", a) && json_vec3(j, "direction", b)) return hv_frf_line(a, b, out);
-    if (strcmp(k, "plane") == 0 && json_vec3(j, "point", a) && json_vec3(j, "normal", b)) return hv_frf_plane(a, b, out);
-    if (strcmp(k, "segment") == 0 && json_vec3(j, "from", a) && json_vec3(j, "to", b)) return hv_frf_segment(a, b, out);
-    const hv_json *grid = hv_json_get(j, "grid");
-    if (strcmp(k, "field") == 0 && grid && grid->type == HV_JSON_STRING)
-        return hv_frf_field(vol, grid->string, text && text->type == HV_JSON_STRING ? text->string : NULL, out);
-    return hv_error_set(HV_ERR_BAD_INPUT, "grading definition: feature of kind '%s' is incomplete", k);
-}
-
-hv_status hv_object_from_model(const hv_volume *vol, hv_object **out)
+hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object **out)
 {
     *out = NULL;
-    const char *text = hv_volume_meta_string(vol, "hovox.object.json");
-    if (!text) return hv_error_set(HV_ERR_NOT_FOUND, "the model carries no grading definition (grade it first)");
-    hv_json *doc = hv_json_parse(text, strlen(text));
-    if (!doc) return hv_error_prefix(HV_ERR_BAD_INPUT, "grading definition (hovox.object.json): ");
-    hv_object *o = NULL;
-    hv_frf **feats = NULL;
-    hv_ags **srcs = NULL;
-    size_t nf = 0, na = 0;
-    hv_status s = HV_OK;
-    const hv_json *jm = hv_json_get(doc, "materials"), *jf = hv_json_get(doc, "features"),
-                  *ja = hv_json_get(doc, "sources"), *jr = hv_json_get(doc, "regions");
-    if (!jm || jm->type != HV_JSON_NUMBER || !jf || jf->type != HV_JSON_ARRAY || !ja || ja->type != HV_JSON_ARRAY ||
-        !jr || jr->type != HV_JSON_ARRAY || jr->count == 0) {
-        s = bad("missing materials, features, sources or regions (made by an older hovox?)");
-        goto done;
-    }
-    int m = (int)jm->number;
+    const char *what = hv_schema_key(HV_DOC_OBJECT);
+    const json_t *jf, *ja, *jr;
+    long long m;
+    hv_status s = hv_json_get_int(doc, "materials", what, 1, HV_MAX_MATERIALS, &m);
+    if (s == HV_OK) s = hv_json_need(doc, "features", JSON_ARRAY, what, &jf);
+    if (s == HV_OK) s = hv_json_need(doc, "sources", JSON_ARRAY, what, &ja);
+    if (s == HV_OK) s = hv_json_need(doc, "regions", JSON_ARRAY, what, &jr);
+    if (s == HV_OK && json_array_size(jr) == 0) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: regions is empty", what);
+    if (s != HV_OK) return s;
     hv_transform xf = hv_volume_get_transform(vol);
-    if ((s = object_new(m < 1 ? 1 : m, &xf, &o)) != HV_OK) goto done;
-    if (m < 1 || m > HV_MAX_MATERIALS) {
-        s = bad("material count out of range");
-        goto done;
+    hv_object *o = NULL;
+    size_t nf = json_array_size(jf), na = json_array_size(ja);
+    hv_frf **feats = hv_calloc(nf + 1, sizeof *feats);
+    hv_ags **srcs = hv_calloc(na + 1, sizeof *srcs);
+    char place[300];
+    if (!feats || !srcs) s = HV_ERR_NOMEM;
+    if (s == HV_OK) s = object_new((int)m, &xf, &o);
+    for (size_t i = 0; i < nf && s == HV_OK; ++i) {
+        snprintf(place, sizeof place, "%s: features[%zu]", what, i);
+        s = hv_frf_from_doc(json_array_get(jf, i), vol, place, &feats[i]);
     }
-    nf = jf->count;
-    na = ja->count;
-    feats = hv_calloc(nf + 1, sizeof *feats);
-    srcs = hv_calloc(na + 1, sizeof *srcs);
-    if (!feats || !srcs) {
-        s = HV_ERR_NOMEM;
-        goto done;
+    for (size_t i = 0; i < na && s == HV_OK; ++i) {
+        snprintf(place, sizeof place, "%s: sources[%zu]", what, i);
+        s = hv_ags_from_doc(json_array_get(ja, i), feats, nf, (int)m, place, &srcs[i]);
     }
-    size_t i = 0;
-    for (const hv_json *e = jf->child; e && s == HV_OK; e = e->next, ++i) s = feature_from_json(vol, e, &feats[i]);
-    i = 0;
-    for (const hv_json *e = ja->child; e && s == HV_OK; e = e->next, ++i) {
-        const hv_json *fi = hv_json_get(e, "feature"), *name = hv_json_get(e, "name"), *fd = hv_json_get(e, "f");
-        double ms[HV_MAX_MATERIALS], me[HV_MAX_MATERIALS], r[3];
-        const char *keys[3] = {"d_neg", "d_grad", "d_pos"};
-        int ok = fi && fi->type == HV_JSON_NUMBER && fi->number >= 0 && fi->number < (double)nf;
-        for (int q = 0; q < 3 && ok; ++q) {
-            const hv_json *v = hv_json_get(e, keys[q]);
-            ok = v && v->type == HV_JSON_NUMBER;
-            if (ok) r[q] = v->number;
-        }
-        if (!ok || json_numbers(hv_json_get(e, "ms"), ms, HV_MAX_MATERIALS) != m ||
-            json_numbers(hv_json_get(e, "me"), me, HV_MAX_MATERIALS) != m) {
-            s = bad("a source is incomplete");
+    for (size_t r = 0; r < json_array_size(jr) && s == HV_OK; ++r) {
+        const json_t *e = json_array_get(jr, r), *list;
+        const char *grid;
+        snprintf(place, sizeof place, "%s: regions[%zu]", what, r);
+        if ((s = hv_json_get_string(e, "grid", place, &grid)) != HV_OK ||
+            (s = hv_json_need(e, "sources", JSON_ARRAY, place, &list)) != HV_OK)
             break;
-        }
-        float table[HV_AGS_TABLE + 1];
-        if (r[1] > 0) {
-            const hv_json *t = hv_json_get(e, "table");
-            if (!t || t->type != HV_JSON_ARRAY || t->count != HV_AGS_TABLE + 1) {
-                s = bad("a source has no f table");
-                break;
-            }
-            size_t q = 0;
-            for (const hv_json *x = t->child; x; x = x->next) table[q++] = (float)(x->type == HV_JSON_NUMBER ? x->number : NAN);
-        }
-        s = hv_ags_from_parts(feats[(size_t)fi->number], r[0], r[1], r[2], table,
-                              fd && fd->type == HV_JSON_STRING ? fd->string : "",
-                              ms, me, m, name && name->type == HV_JSON_STRING ? name->string : NULL, &srcs[i]);
-        if (s != HV_OK) hv_error_prefix(s, "grading definition: source %zu: ", i + 1);
-    }
-    for (const hv_json *e = jr->child; e && s == HV_OK; e = e->next) {
-        const hv_json *grid = hv_json_get(e, "grid"), *list = hv_json_get(e, "sources");
-        if (!grid || grid->type != HV_JSON_STRING || !list || list->type != HV_JSON_ARRAY) {
-            s = bad("a region is incomplete");
-            break;
-        }
-        int g = hv_volume_grid_find(vol, grid->string);
+        int g = hv_volume_grid_find(vol, grid);
         if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "grading definition: region grid '%s' is missing", grid->string);
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: the model has no bool grid '%s'", place, grid);
             break;
         }
         hv_volume *mask;
@@ -872,34 +889,54 @@ hv_status hv_object_from_model(const hv_volume *vol, hv_object **out)
         }
         int before = o->nreg;
         if ((s = push_region(o, mask, NULL, NULL)) != HV_OK || o->nreg == before) continue;
-        for (const hv_json *x = list->child; x && s == HV_OK; x = x->next) {
-            if (x->type != HV_JSON_NUMBER || x->number < 0 || x->number >= (double)na) {
-                s = bad("a region names a source that does not exist");
-                break;
-            }
-            s = region_add_ags(&o->reg[o->nreg - 1], srcs[(size_t)x->number]);
+        for (size_t i = 0; i < json_array_size(list) && s == HV_OK; ++i) {
+            const json_t *x = json_array_get(list, i);
+            double k = json_is_number(x) ? json_number_value(x) : -1;
+            if (k != floor(k) || k < 0 || k >= (double)na)
+                s = hv_error_set(HV_ERR_BAD_INPUT, "%s: sources[%zu] names no source (there are %zu)", place, i, na);
+            else
+                s = region_add_ags(&o->reg[o->nreg - 1], srcs[(size_t)k]);
         }
     }
-    if (s == HV_OK) {
+    if (s == HV_OK && json_object_get(doc, "base")) {
         double base[HV_MAX_MATERIALS];
-        const hv_json *blend = hv_json_get(doc, "blend"), *power = hv_json_get(doc, "power");
-        if (json_numbers(hv_json_get(doc, "base"), base, HV_MAX_MATERIALS) == m) s = hv_object_set_base(o, base);
-        if (s == HV_OK && blend && blend->type == HV_JSON_STRING)
-            s = hv_object_set_blend(o, strcmp(blend->string, "idw") == 0 ? HV_BLEND_IDW : HV_BLEND_NEAREST,
-                                    power && power->type == HV_JSON_NUMBER ? power->number : 2.0);
+        if ((s = hv_json_get_numbers(doc, "base", what, base, (size_t)m)) == HV_OK && (s = hv_object_set_base(o, base)) != HV_OK)
+            s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: ", what);
     }
-done:
+    if (s == HV_OK && json_object_get(doc, "blend")) {
+        int blend;
+        double power = 2.0;
+        s = hv_json_get_name(doc, "blend", what, hv_blend_enum(), &blend);
+        if (s == HV_OK && json_object_get(doc, "power")) s = hv_json_get_number(doc, "power", what, &power);
+        if (s == HV_OK && (s = hv_object_set_blend(o, (hv_blend)blend, power)) != HV_OK)
+            s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: ", what);
+    }
     for (size_t k = 0; feats && k < nf; ++k) hv_frf_release(feats[k]);
     for (size_t k = 0; srcs && k < na; ++k) hv_ags_release(srcs[k]);
     free(feats);
     free(srcs);
-    hv_json_free(doc);
     if (s != HV_OK) {
         hv_object_destroy(o);
         return s;
     }
     *out = o;
     return HV_OK;
+}
+
+hv_status hv_object_from_model(const hv_volume *vol, hv_object **out)
+{
+    *out = NULL;
+    json_t *doc;
+    hv_status s = hv_schema_doc_read(vol, HV_DOC_OBJECT, &doc);
+    if (s == HV_ERR_NOT_FOUND)
+        return hv_error_set(HV_ERR_NOT_FOUND, "the model carries no grading definition (grade it first)");
+    if (s == HV_OK) s = hv_object_from_doc(doc, vol, out);
+    json_decref(doc);
+    if (s == HV_OK && (s = record_take(vol, &(*out)->xf, &(*out)->record)) != HV_OK) {
+        hv_object_destroy(*out);
+        *out = NULL;
+    }
+    return s;
 }
 
 hv_status hv_object_prepare(hv_object *o, const hv_progress *progress)

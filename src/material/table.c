@@ -8,8 +8,7 @@
 
 #include "core/internal.h"
 #include "hovox/material.h"
-
-#define META_KEY "hovox.materials.json"
+#include "volumes/schema.h"
 
 typedef struct property {
     char *key, *unit;
@@ -211,89 +210,80 @@ hv_status hv_material_table_clone(const hv_material_table *t, hv_material_table 
     return s;
 }
 
-hv_status hv_material_table_to_json(const hv_material_table *t, char **json)
+json_t *hv_material_table_to_doc(const hv_material_table *t)
 {
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_puts(&b, "{\"materials\": [");
-    for (int i = 0; i < t->n; ++i) {
+    json_t *mats = json_array();
+    int failed = !mats;
+    for (int i = 0; i < t->n && !failed; ++i) {
         const material *m = &t->mats[i];
-        hv_buf_puts(&b, i ? ", {\"name\": " : "{\"name\": ");
-        hv_buf_json_string(&b, m->name);
-        hv_buf_puts(&b, ", \"color\": [");
-        for (int k = 0; k < 4; ++k) {
-            if (k) hv_buf_puts(&b, ", ");
-            hv_buf_json_number(&b, (double)m->rgba[k]);
+        json_t *color = json_array(), *props = json_object();
+        failed = !color || !props;
+        for (int k = 0; k < 4 && !failed; ++k) failed = json_array_append_new(color, hv_json_float(m->rgba[k])) != 0;
+        for (int p = 0; p < m->nprops && !failed; ++p)
+            failed = hv_json_set(props, m->props[p].key,
+                                 json_pack("{s:o, s:o}", "value", hv_json_number(m->props[p].value), "unit",
+                                           hv_json_text(m->props[p].unit)));
+        if (failed) {
+            json_decref(color);
+            json_decref(props);
+        } else {
+            failed = json_array_append_new(mats, json_pack("{s:o, s:o, s:o}", "name", hv_json_text(m->name), "color",
+                                                           color, "properties", props)) != 0;
         }
-        hv_buf_puts(&b, "], \"properties\": {");
-        for (int p = 0; p < m->nprops; ++p) {
-            if (p) hv_buf_puts(&b, ", ");
-            hv_buf_json_string(&b, m->props[p].key);
-            hv_buf_puts(&b, ": {\"value\": ");
-            hv_buf_json_number(&b, m->props[p].value);
-            hv_buf_puts(&b, ", \"unit\": ");
-            hv_buf_json_string(&b, m->props[p].unit);
-            hv_buf_puts(&b, "}");
-        }
-        hv_buf_puts(&b, "}}");
     }
-    hv_buf_puts(&b, "]}");
-    if (b.failed) {
-        hv_buf_free(&b);
-        return HV_ERR_NOMEM;
+    if (failed) {
+        json_decref(mats);
+        return NULL;
     }
-    *json = b.data;
-    return HV_OK;
+    return json_pack("{s:o}", "materials", mats);
 }
 
-hv_status hv_material_table_from_json(const char *json, hv_material_table **out)
+hv_status hv_material_table_from_doc(const json_t *doc, const char *what, hv_material_table **out)
 {
     *out = NULL;
-    hv_json *doc = hv_json_parse(json, strlen(json));
-    if (!doc) return hv_error_prefix(HV_ERR_BAD_INPUT, "material table: ");
-    hv_material_table *t;
-    hv_status s = hv_material_table_create(&t);
-    if (s != HV_OK) {
-        hv_json_free(doc);
-        return s;
-    }
-    const hv_json *mats = hv_json_get(doc, "materials");
-    if (!mats || mats->type != HV_JSON_ARRAY) {
-        s = hv_error_set(HV_ERR_BAD_INPUT, "material table: no \"materials\" array");
-        goto done;
-    }
-    int idx = 0;
-    for (const hv_json *m = mats->child; m; m = m->next, ++idx) {
-        const hv_json *name = hv_json_get(m, "name"), *color = hv_json_get(m, "color");
+    const json_t *mats;
+    hv_status s = hv_json_need(doc, "materials", JSON_ARRAY, what, &mats);
+    hv_material_table *t = NULL;
+    if (s == HV_OK) s = hv_material_table_create(&t);
+    for (size_t i = 0; s == HV_OK && i < json_array_size(mats); ++i) {
+        const json_t *m = json_array_get(mats, i);
+        char place[300];
+        snprintf(place, sizeof place, "%s: materials[%zu]", what, i);
+        const char *name;
         float rgba[4] = {0.5f, 0.5f, 0.5f, 1.0f};
-        if (!name || name->type != HV_JSON_STRING) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "material table: material %d has no name", idx);
-            goto done;
-        }
-        if (color && color->type == HV_JSON_ARRAY && (color->count == 3 || color->count == 4)) {
-            int k = 0;
-            for (const hv_json *c = color->child; c; c = c->next, ++k)
-                rgba[k] = c->type == HV_JSON_NUMBER ? (float)c->number : -1.0f;
+        if ((s = hv_json_get_string(m, "name", place, &name)) != HV_OK) break;
+        const json_t *color = json_object_get(m, "color");
+        if (color) {
+            double c[4] = {0, 0, 0, 1};
+            size_t n = json_array_size(color) == 3 ? 3 : 4;
+            if ((s = hv_json_get_numbers(m, "color", place, c, n)) != HV_OK) break;
+            for (int k = 0; k < 4; ++k) rgba[k] = (float)c[k];
         }
         int mi;
-        if ((s = hv_material_add(t, name->string, rgba, &mi)) != HV_OK) {
-            s = hv_error_prefix(HV_ERR_BAD_INPUT, "material table: ");
-            goto done;
+        if ((s = hv_material_add(t, name, rgba, &mi)) != HV_OK) {
+            s = hv_error_prefix(s == HV_ERR_INVALID ? HV_ERR_BAD_INPUT : s, "%s: ", place);
+            break;
         }
-        const hv_json *props = hv_json_get(m, "properties");
-        if (props && props->type == HV_JSON_OBJECT)
-            for (const hv_json *p = props->child; p; p = p->next) {
-                const hv_json *v = hv_json_get(p, "value"), *u = hv_json_get(p, "unit");
-                if (!v || v->type != HV_JSON_NUMBER) continue;
-                if ((s = hv_material_set_property(t, mi, p->key, v->number,
-                                                  u && u->type == HV_JSON_STRING ? u->string : "")) != HV_OK) {
-                    s = hv_error_prefix(HV_ERR_BAD_INPUT, "material table: ");
-                    goto done;
-                }
+        const json_t *props = json_object_get(m, "properties");
+        if (props && !json_is_object(props)) {
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: properties is not an object", place);
+            break;
+        }
+        const char *key;
+        const json_t *p;
+        json_object_foreach((json_t *)props, key, p) {
+            char pp[400];
+            snprintf(pp, sizeof pp, "%s: properties: %s", place, key);
+            double value;
+            const char *unit = "";
+            if ((s = hv_json_get_number(p, "value", pp, &value)) != HV_OK) break;
+            if (json_object_get(p, "unit") && (s = hv_json_get_string(p, "unit", pp, &unit)) != HV_OK) break;
+            if ((s = hv_material_set_property(t, mi, key, value, unit)) != HV_OK) {
+                s = hv_error_prefix(s == HV_ERR_INVALID ? HV_ERR_BAD_INPUT : s, "%s: ", place);
+                break;
             }
+        }
     }
-done:
-    hv_json_free(doc);
     if (s != HV_OK) {
         hv_material_table_destroy(t);
         return s;
@@ -302,10 +292,28 @@ done:
     return HV_OK;
 }
 
+hv_status hv_material_table_to_json(const hv_material_table *t, char **json)
+{
+    json_t *doc = hv_material_table_to_doc(t);
+    *json = doc ? hv_schema_doc_dump(HV_DOC_MATERIALS, doc) : NULL;
+    json_decref(doc);
+    return *json ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory (writing the material table)");
+}
+
+hv_status hv_material_table_from_json(const char *json, hv_material_table **out)
+{
+    *out = NULL;
+    json_t *doc;
+    hv_status s = hv_schema_doc_parse(HV_DOC_MATERIALS, json, strlen(json), &doc);
+    if (s == HV_OK) s = hv_material_table_from_doc(doc, hv_schema_key(HV_DOC_MATERIALS), out);
+    json_decref(doc);
+    return s;
+}
+
 hv_status hv_material_table_load(const hv_volume *vol, hv_material_table **out)
 {
     *out = NULL;
-    const char *json = hv_volume_meta_string(vol, META_KEY);
+    const char *json = hv_volume_meta_string(vol, hv_schema_key(HV_DOC_MATERIALS));
     if (!json)
         return hv_error_set(HV_ERR_NOT_FOUND,
                             "the model has no material table (not graded yet: see hovox grade)");
@@ -328,7 +336,7 @@ hv_status hv_material_table_store(hv_volume *vol, const hv_material_table *t)
     char *json;
     hv_status s = hv_material_table_to_json(t, &json);
     if (s != HV_OK) return s;
-    s = hv_volume_meta_set_json(vol, META_KEY, json);
+    s = hv_volume_meta_set_string(vol, hv_schema_key(HV_DOC_MATERIALS), json);
     free(json);
     return s;
 }

@@ -22,8 +22,8 @@ struct hv_mesh {
 hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, const char *name,
                             hv_mesh_format format, hv_mesh **out);
 
-/* Append the report as a JSON object (keys of `hovox info --json`). Floats read from STL
- * print as the float they are ("0.1", not "0.10000000149"). */
+/* Append the report as a JSON object (keys of `hovox info --json`; hv_mesh_report_to_doc, see
+ * volumes/schema.h); sets b->failed when out of memory. */
 void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);
 
 #endif

@@ -1,43 +1,75 @@
-/* src/mesh/report_json.c - the mesh report as JSON (for `hovox info --json` and the
- * "hovox.mesh.json" metadata of voxelized models). */
-#include "core/internal.h"
-#include "mesh_internal.h"
+/* src/mesh/report_json.c - the mesh report as JSON: the object of `hovox info --json` and the
+ * "hovox.mesh.json" document of voxelized models (volumes/schema.h), and reading it back. */
+#include <stdlib.h>
+#include <string.h>
 
-static void vec3(hv_buf *b, const double *v)
+#include "mesh_internal.h"
+#include "volumes/schema.h"
+
+static const char *const k_format_names[] = {"generated", "binary", "ascii", NULL}; /* by hv_mesh_format */
+static const hv_enum_def k_formats = {"mesh format", k_format_names, NULL, NULL};
+
+static const char *const k_counts[] = {"facets", "vertices", "shells", "open_edges", "nonmanifold_edges",
+                                       "degenerate_facets", "flipped_facets", "normal_mismatch"};
+
+static uint64_t *count_field(hv_mesh_report *r, int i)
 {
-    hv_buf_puts(b, "[");
-    for (int a = 0; a < 3; ++a) {
-        if (a) hv_buf_puts(b, ", ");
-        hv_buf_json_number(b, (double)(float)v[a] == v[a] ? (double)(float)v[a] : v[a]);
+    uint64_t *f[] = {&r->facets, &r->vertices, &r->shells, &r->open_edges, &r->nonmanifold_edges,
+                     &r->degenerate_facets, &r->flipped_facets, &r->normal_mismatch};
+    return f[i];
+}
+
+json_t *hv_mesh_report_to_doc(const char *file, const hv_mesh_report *r)
+{
+    hv_mesh_report c = *r;
+    json_t *j = json_object();
+    if (!j) return NULL;
+    int failed = hv_json_set(j, "file", hv_json_text(file ? file : ""));
+    failed |= hv_json_set(j, "format", json_string(hv_enum_name(&k_formats, (int)r->format) ? hv_enum_name(&k_formats, (int)r->format) : "?"));
+    failed |= hv_json_set(j, "facets", json_integer((json_int_t)r->facets));
+    failed |= hv_json_set(j, "vertices", json_integer((json_int_t)r->vertices));
+    failed |= hv_json_set(j, "bbox", json_pack("{s:o, s:o}", "min", hv_json_numbers(r->bbox_min, 3), "max",
+                                                hv_json_numbers(r->bbox_max, 3)));
+    failed |= hv_json_set(j, "volume", hv_json_number(r->volume));
+    failed |= hv_json_set(j, "area", hv_json_number(r->area));
+    for (int i = 2; i < (int)HV_COUNT(k_counts); ++i)
+        failed |= hv_json_set(j, k_counts[i], json_integer((json_int_t)*count_field(&c, i)));
+    failed |= hv_json_set(j, "closed", json_boolean(r->open_edges == 0 && r->nonmanifold_edges == 0));
+    if (failed) {
+        json_decref(j);
+        return NULL;
     }
-    hv_buf_puts(b, "]");
+    return j;
+}
+
+hv_status hv_mesh_report_from_doc(const json_t *doc, const char *what, hv_mesh_report *r)
+{
+    memset(r, 0, sizeof *r);
+    int format;
+    hv_status s = hv_json_get_name(doc, "format", what, &k_formats, &format);
+    r->format = (hv_mesh_format)format;
+    for (int i = 0; i < (int)HV_COUNT(k_counts) && s == HV_OK; ++i) {
+        long long n;
+        s = hv_json_get_int(doc, k_counts[i], what, 0, INT64_MAX, &n);
+        *count_field(r, i) = (uint64_t)n;
+    }
+    const json_t *bbox;
+    char place[300];
+    snprintf(place, sizeof place, "%s: bbox", what);
+    if (s == HV_OK) s = hv_json_need(doc, "bbox", JSON_OBJECT, what, &bbox);
+    if (s == HV_OK) s = hv_json_get_numbers(bbox, "min", place, r->bbox_min, 3);
+    if (s == HV_OK) s = hv_json_get_numbers(bbox, "max", place, r->bbox_max, 3);
+    if (s == HV_OK) s = hv_json_get_number(doc, "volume", what, &r->volume);
+    if (s == HV_OK) s = hv_json_get_number(doc, "area", what, &r->area);
+    return s;
 }
 
 void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r)
 {
-    hv_buf_puts(b, "{\"file\": ");
-    hv_buf_json_string(b, file);
-    hv_buf_printf(b, ", \"format\": \"%s\"",
-                  r->format == HV_MESH_STL_BINARY  ? "binary"
-                  : r->format == HV_MESH_STL_ASCII ? "ascii"
-                                                   : "generated");
-    hv_buf_printf(b, ", \"facets\": %llu, \"vertices\": %llu", (unsigned long long)r->facets,
-                  (unsigned long long)r->vertices);
-    hv_buf_puts(b, ", \"bbox\": {\"min\": ");
-    vec3(b, r->bbox_min);
-    hv_buf_puts(b, ", \"max\": ");
-    vec3(b, r->bbox_max);
-    hv_buf_puts(b, "}, \"volume\": ");
-    hv_buf_json_number(b, r->volume);
-    hv_buf_puts(b, ", \"area\": ");
-    hv_buf_json_number(b, r->area);
-    hv_buf_printf(b,
-                  ", \"shells\": %llu, \"open_edges\": %llu, \"nonmanifold_edges\": %llu, "
-                  "\"degenerate_facets\": %llu, \"flipped_facets\": %llu, "
-                  "\"normal_mismatch\": %llu, \"closed\": %s}",
-                  (unsigned long long)r->shells, (unsigned long long)r->open_edges,
-                  (unsigned long long)r->nonmanifold_edges,
-                  (unsigned long long)r->degenerate_facets,
-                  (unsigned long long)r->flipped_facets, (unsigned long long)r->normal_mismatch,
-                  r->open_edges == 0 && r->nonmanifold_edges == 0 ? "true" : "false");
+    json_t *j = hv_mesh_report_to_doc(file, r);
+    char *text = j ? hv_json_dump(j) : NULL;
+    json_decref(j);
+    if (text) hv_buf_puts(b, text);
+    else b->failed = 1;
+    free(text);
 }

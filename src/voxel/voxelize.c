@@ -15,6 +15,7 @@
 #include "bitgrid.h"
 #include "hovox/voxelize.h"
 #include "voxel_internal.h"
+#include "volumes/schema.h"
 
 #define PAD 8 /* empty voxels around the mesh box, so the grid border is outside */
 
@@ -470,28 +471,70 @@ done:
 
 /* ---- entry ---------------------------------------------------------------------------------- */
 
+json_t *hv_voxelize_to_doc(const hv_voxel_plan *plan, int adjacency)
+{
+    return json_pack("{s:i, s:s, s:[I, I, I], s:[I, I, I], s:o}", "adjacency", adjacency, "fill",
+                     hv_fill_mode_name(plan->fill), "first", (json_int_t)plan->first[0],
+                     (json_int_t)plan->first[1], (json_int_t)plan->first[2], "dims", (json_int_t)plan->dims[0],
+                     (json_int_t)plan->dims[1], (json_int_t)plan->dims[2], "voxel",
+                     hv_json_numbers(plan->xf.voxel, 3));
+}
+
+/* Three integers in [lo, hi]. */
+static hv_status index_triple(const json_t *doc, const char *key, const char *what, double lo, double hi,
+                              int64_t *out)
+{
+    double v[3];
+    hv_status s = hv_json_get_numbers(doc, key, what, v, 3);
+    for (int a = 0; a < 3 && s == HV_OK; ++a) {
+        if (v[a] != floor(v[a]) || v[a] < lo || v[a] > hi)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s[%d] is %.17g, not an integer in [%.0f, %.0f]", what, key, a,
+                                v[a], lo, hi);
+        out[a] = (int64_t)v[a];
+    }
+    return s;
+}
+
+hv_status hv_voxelize_from_doc(const json_t *doc, const char *what, hv_voxelize_record *rec)
+{
+    long long adj;
+    int fill;
+    hv_status s = hv_json_get_int(doc, "adjacency", what, 6, 26, &adj);
+    if (s == HV_OK && adj != 6 && adj != 26)
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: adjacency is %lld, not 6 or 26", what, adj);
+    if (s == HV_OK) s = hv_json_get_name(doc, "fill", what, hv_fill_mode_enum(), &fill);
+    if (s == HV_OK) s = index_triple(doc, "first", what, -2147483648.0, 2147483647.0, rec->first);
+    if (s == HV_OK) s = index_triple(doc, "dims", what, 1, 2147483648.0, rec->dims);
+    if (s == HV_OK) s = hv_json_get_numbers(doc, "voxel", what, rec->voxel, 3);
+    for (int a = 0; a < 3 && s == HV_OK; ++a)
+        if (!(rec->voxel[a] > 0))
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: voxel[%d] is %.17g, not > 0", what, a, rec->voxel[a]);
+    if (s == HV_OK) {
+        rec->adjacency = (int)adj;
+        rec->fill = (hv_fill_mode)fill;
+    }
+    return s;
+}
+
+hv_status hv_voxelize_record_read(const hv_volume *model, hv_voxelize_record *out)
+{
+    memset(out, 0, sizeof *out);
+    json_t *mesh = NULL, *job = NULL;
+    hv_status s = hv_schema_doc_read(model, HV_DOC_MESH, &mesh);
+    if (s == HV_OK) s = hv_schema_doc_read(model, HV_DOC_VOXELIZE, &job);
+    if (s == HV_OK) s = hv_mesh_report_from_doc(mesh, hv_schema_key(HV_DOC_MESH), &out->mesh);
+    if (s == HV_OK) s = hv_voxelize_from_doc(job, hv_schema_key(HV_DOC_VOXELIZE), out);
+    json_decref(mesh);
+    json_decref(job);
+    return s;
+}
+
 static hv_status set_metadata(hv_volume *vol, const hv_mesh *mesh, const hv_voxel_plan *plan,
                               int adjacency)
 {
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_mesh_report_json(&b, hv_mesh_name(mesh), hv_mesh_get_report(mesh));
-    hv_status s = b.failed ? HV_ERR_NOMEM : hv_volume_meta_set_json(vol, "hovox.mesh.json", b.data);
-    hv_buf_free(&b);
-    if (s != HV_OK) return s;
-    hv_buf_init(&b);
-    hv_buf_printf(&b, "{\"adjacency\": %d, \"fill\": \"%s\", \"first\": [%lld, %lld, %lld], \"dims\": [%lld, %lld, %lld], \"voxel\": [",
-                  adjacency, hv_fill_mode_name(plan->fill), (long long)plan->first[0],
-                  (long long)plan->first[1], (long long)plan->first[2], (long long)plan->dims[0],
-                  (long long)plan->dims[1], (long long)plan->dims[2]);
-    for (int a = 0; a < 3; ++a) {
-        if (a) hv_buf_puts(&b, ", ");
-        hv_buf_json_number(&b, plan->xf.voxel[a]);
-    }
-    hv_buf_puts(&b, "]}");
-    s = b.failed ? HV_ERR_NOMEM : hv_volume_meta_set_json(vol, "hovox.voxelize.json", b.data);
-    hv_buf_free(&b);
-    if (s == HV_OK) s = hv_volume_meta_set_string(vol, "hovox.version", hv_version());
+    hv_status s = hv_schema_doc_write(vol, HV_DOC_MESH, hv_mesh_report_to_doc(hv_mesh_name(mesh), hv_mesh_get_report(mesh)));
+    if (s == HV_OK) s = hv_schema_doc_write(vol, HV_DOC_VOXELIZE, hv_voxelize_to_doc(plan, adjacency));
+    if (s == HV_OK) s = hv_volume_meta_set_string(vol, HV_META_HOVOX_VERSION, hv_version());
     return s;
 }
 

@@ -12,6 +12,8 @@ static const char *const k_adj_names[] = {"6", "26", NULL};
 static const int k_adj_values[] = {6, 26};
 static const hv_enum_def k_adj = {"adjacency", k_adj_names, k_adj_values, NULL};
 
+const hv_enum_def *hv_fill_mode_enum(void) { return &k_fill; }
+
 const char *hv_fill_mode_name(hv_fill_mode m)
 {
     const char *n = hv_enum_name(&k_fill, (int)m);

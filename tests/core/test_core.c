@@ -1,4 +1,4 @@
-/* tests/core/test_core.c - status names, detail messages, JSON, buffers, atomic files and
+/* tests/core/test_core.c - status names, detail messages, JSON (jansson helpers), enum names, atomic files and
  * the parallel loop (determinism, failure order, cancellation). */
 #include <criterion/criterion.h>
 #include <math.h>
@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/core.h"
 #include "support/support.h"
 
@@ -47,56 +48,160 @@ Test(status, long_messages_are_truncated_not_overflowed)
 Test(json, parses_documents)
 {
     const char *t = "{\"a\": [1, 2.5e3, -0.25], \"b\": {\"c\": \"x\\u00e9\\n\"}, \"d\": true, "
-                    "\"e\": null}";
-    hv_json *j = hv_json_parse(t, strlen(t));
-    cr_assert_not_null(j);
-    const hv_json *a = hv_json_get(j, "a");
-    cr_assert_eq(a->type, HV_JSON_ARRAY);
-    cr_assert_eq(a->count, 3);
-    cr_assert_float_eq(hv_json_at(a, 1)->number, 2500.0, 1e-12);
-    cr_assert_str_eq(hv_json_get(hv_json_get(j, "b"), "c")->string, "x\xc3\xa9\n");
-    cr_assert_eq(hv_json_get(j, "d")->type, HV_JSON_BOOL);
-    cr_assert_eq(hv_json_get(j, "e")->type, HV_JSON_NULL);
-    cr_assert_null(hv_json_get(j, "zz"));
-    hv_json_free(j);
+                    "\"e\": null, \"n\": 3}";
+    json_t *j;
+    cr_assert_eq(hv_json_parse(t, strlen(t), "doc.json", &j), HV_OK, "%s", hv_last_error());
+    double a[3];
+    cr_assert_eq(hv_json_get_numbers(j, "a", "doc.json", a, 3), HV_OK);
+    cr_assert_float_eq(a[1], 2500.0, 1e-12);
+    const json_t *b;
+    cr_assert_eq(hv_json_need(j, "b", JSON_OBJECT, "doc.json", &b), HV_OK);
+    const char *c;
+    cr_assert_eq(hv_json_get_string(b, "c", "doc.json: b", &c), HV_OK);
+    cr_assert_str_eq(c, "x\xc3\xa9\n");
+    long long n;
+    cr_assert_eq(hv_json_get_int(j, "n", "doc.json", 0, 10, &n), HV_OK);
+    cr_assert_eq(n, 3);
+    json_decref(j);
+}
+
+Test(json, typed_members_name_the_key)
+{
+    const char *t = "{\"a\": [1, \"x\"], \"s\": \"bogus\", \"n\": 2.5, \"big\": 70}";
+    json_t *j;
+    cr_assert_eq(hv_json_parse(t, strlen(t), "doc.json", &j), HV_OK);
+    double v[3];
+    const char *str;
+    long long n;
+    int k;
+    static const char *const names[] = {"nearest", "idw"};
+    cr_assert_eq(hv_json_get_numbers(j, "a", "doc.json", v, 3), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "doc.json: a has 2 values, not 3");
+    cr_assert_eq(hv_json_get_numbers(j, "a", "doc.json", v, 2), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "doc.json: a[1] is a string, not a number");
+    cr_assert_eq(hv_json_get_string(j, "zz", "doc.json", &str), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "doc.json: zz is missing");
+    cr_assert_eq(hv_json_get_number(j, "s", "doc.json", v), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "doc.json: s is a string, not a number");
+    cr_assert_eq(hv_json_get_int(j, "n", "doc.json", 0, 10, &n), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "doc.json: n is 2.5, not an integer in [0, 10]");
+    cr_assert_eq(hv_json_get_int(j, "big", "doc.json", 1, 64, &n), HV_ERR_BAD_INPUT);
+    cr_assert_eq(hv_json_get_name(j, "s", "doc.json", names, 2, &k), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "doc.json: s \"bogus\" is not one of nearest, idw");
+    json_decref(j);
 }
 
 Test(json, rejects_malformed_with_position)
 {
-    static const char *bad[] = {"", "{", "[1,]", "{\"a\" 1}", "\"abc", "tru", "[1] 2",
-                                "{\"a\": 01x}", "\"\\q\"", "[nan]"};
+    static const char *bad[] = {"", "{", "[1,]", "{\"a\" 1}", "\"abc", "tru", "[1] 2", "{\"a\": 01x}",
+                                "\"\\q\"", "[nan]", "{\"a\": 1, \"a\": 2}", "[\"\\u0000\"]", "[1e400]", "3"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        hv_json *j = hv_json_parse(bad[i], strlen(bad[i]));
-        cr_assert_null(j, "accepted '%s'", bad[i]);
-        cr_assert(strstr(hv_last_error(), "line 1, column") != NULL, "%s", hv_last_error());
+        json_t *j = NULL;
+        cr_assert_eq(hv_json_parse(bad[i], strlen(bad[i]), "doc.json", &j), HV_ERR_BAD_INPUT, "accepted '%s'", bad[i]);
+        cr_assert_null(j);
+        cr_assert(strncmp(hv_last_error(), "doc.json: line 1, column ", 25) == 0, "%s", hv_last_error());
     }
+    /* the line and column of jansson's message, on a later line */
+    const char *t = "{\"a\": 1,\n  \"b\" 2}";
+    json_t *j;
+    cr_assert_eq(hv_json_parse(t, strlen(t), "m.json", &j), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "m.json: line 2, column 7: ':' expected near '2'");
     /* deep nesting is refused, not a stack overflow */
-    char deep[2001];
-    memset(deep, '[', 2000);
-    deep[2000] = '\0';
-    cr_assert_null(hv_json_parse(deep, 2000));
-    cr_assert(strstr(hv_last_error(), "nesting too deep") != NULL);
+    char deep[5001];
+    memset(deep, '[', 5000);
+    deep[5000] = '\0';
+    cr_assert_eq(hv_json_parse(deep, 5000, "deep.json", &j), HV_ERR_BAD_INPUT);
+    cr_assert(strstr(hv_last_error(), "depth") != NULL, "%s", hv_last_error());
 }
 
-Test(buf, json_writer_round_trips)
+/* Serialise, parse back, and return the text (caller frees). */
+static char *dump_checked(json_t *doc)
 {
-    hv_buf b;
-    hv_buf_init(&b);
-    hv_buf_puts(&b, "[");
-    hv_buf_json_string(&b, "q\"\\\t\x01");
-    hv_buf_puts(&b, ", ");
-    hv_buf_json_number(&b, 0.1);
-    hv_buf_puts(&b, ", ");
-    hv_buf_json_number(&b, 1.0 / 3.0);
-    hv_buf_puts(&b, ", ");
-    hv_buf_json_number(&b, NAN);
-    hv_buf_puts(&b, "]");
-    cr_assert_str_eq(b.data, "[\"q\\\"\\\\\\t\\u0001\", 0.1, 0.3333333333333333, null]");
-    hv_json *j = hv_json_parse(b.data, b.len);
-    cr_assert_not_null(j);
-    cr_assert_eq(hv_json_at(j, 2)->number, 1.0 / 3.0);
-    hv_json_free(j);
-    hv_buf_free(&b);
+    char *text = hv_json_dump(doc);
+    cr_assert_not_null(text);
+    json_t *back;
+    cr_assert_eq(hv_json_parse(text, strlen(text), "dump", &back), HV_OK, "%s: %s", text, hv_last_error());
+    cr_assert(json_equal(doc, back), "%s does not read back", text);
+    json_decref(back);
+    return text;
+}
+
+Test(json, writer_layout_and_numbers)
+{
+    json_t *doc = json_pack("{s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "s", hv_json_text("q\"\\\t\x01/"), "i",
+                            hv_json_number(2.0), "tenth", hv_json_number(0.1), "third", hv_json_number(1.0 / 3.0),
+                            "nan", hv_json_number(NAN), "big", hv_json_number(1e21), "neg", hv_json_number(-2.5e-7),
+                            "f", hv_json_float(0.3f), "a", json_pack("[i, {s:b}]", 1, "t", 1));
+    char *text = dump_checked(doc);
+    cr_assert_str_eq(text, "{\"s\": \"q\\\"\\\\\\t\\u0001/\", \"i\": 2, \"tenth\": 0.1, \"third\": 0.3333333333333333, "
+                           "\"nan\": null, \"big\": 1e+21, \"neg\": -2.5e-07, \"f\": 0.3, \"a\": [1, {\"t\": true}]}");
+    free(text);
+    json_decref(doc);
+}
+
+/* Significant digits of the number at s (up to an exponent or the end of the token). */
+static int significant_digits(const char *s)
+{
+    int n = 0, started = 0;
+    for (; *s && *s != 'e' && *s != ']' && *s != ','; ++s) {
+        if (*s >= '1' && *s <= '9') started = 1;
+        if (started && *s >= '0' && *s <= '9') ++n;
+    }
+    return n;
+}
+
+Test(json, numbers_round_trip)
+{
+    /* doubles read back exactly; floats (hv_json_float) read back as the same float in at
+     * most 9 significant digits */
+    uint64_t x = 88172645463325252ull;
+    for (int i = 0; i < 20000; ++i) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        double d;
+        uint64_t bits = x;
+        memcpy(&d, &bits, sizeof d);
+        if (!isfinite(d)) continue;
+        float f = (float)((double)(x >> 11) / 9007199254740992.0 * (i % 2 ? 1e3 : 1e-3));
+        json_t *a = json_pack("[o, o]", hv_json_number(d), hv_json_float(f));
+        char *text = hv_json_dump(a);
+        json_t *b;
+        cr_assert_eq(hv_json_parse(text, strlen(text), "n", &b), HV_OK, "%s", text);
+        cr_assert_eq(json_number_value(json_array_get(b, 0)), d, "%s", text);
+        cr_assert_eq((float)json_number_value(json_array_get(b, 1)), f, "%s", text);
+        cr_assert_leq(significant_digits(strchr(text, ',') + 2), 9, "%s", text);
+        free(text);
+        json_decref(a);
+        json_decref(b);
+    }
+}
+
+Test(json, text_that_is_not_utf8)
+{
+    json_t *s = hv_json_text("a\xff" "b\xc3\xa9");
+    cr_assert_str_eq(json_string_value(s), "a\xef\xbf\xbd" "b\xc3\xa9");
+    json_decref(s);
+}
+
+Test(json, lines_layout)
+{
+    json_t *doc = json_pack("{s:s, s:[i, i], s:[], s:[{s:i}, {s:i}], s:{s:[f]}}", "generator", "hovox", "range", 0, 2,
+                            "materials", "layers", "index", 0, "index", 1, "bbox", "min", 0.5);
+    char *text = hv_json_dump_lines(doc);
+    cr_assert_str_eq(text, "{\n  \"generator\": \"hovox\",\n  \"range\": [0, 2],\n  \"materials\": [],\n"
+                           "  \"layers\": [\n    {\"index\": 0},\n    {\"index\": 1}\n  ],\n"
+                           "  \"bbox\": {\"min\": [0.5]}\n}\n");
+    free(text);
+    json_decref(doc);
+}
+
+Test(names, unknown_names_list_the_valid_ones)
+{
+    static const char *const names[] = {"auto", "flood"};
+    int i = -1;
+    cr_assert_eq(hv_name_find(names, 2, "flood", "fill mode", &i), HV_OK);
+    cr_assert_eq(i, 1);
+    cr_assert_eq(hv_name_find(names, 2, "wet", "fill mode", &i), HV_ERR_INVALID);
+    cr_assert_str_eq(hv_last_error(), "fill mode \"wet\" is not one of auto, flood");
 }
 
 Test(files, atomic_write_commits_or_leaves_nothing)

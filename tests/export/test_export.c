@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/export.h"
 #include "support/support.h"
 
@@ -119,7 +120,7 @@ static const char *READBACK_PY =
     "json.dump(out, sys.stdout)\n";
 
 typedef struct readback {
-    hv_json *doc;
+    json_t *doc;
     int narrays;
     const char *names[32];
     const char *types[32];
@@ -127,14 +128,14 @@ typedef struct readback {
     size_t sizes[32];
 } readback;
 
-static double *to_doubles(const hv_json *arr, size_t *n)
+static double *to_doubles(const json_t *arr, size_t *n)
 {
     cr_assert_not_null(arr);
-    cr_assert_eq(arr->type, HV_JSON_ARRAY);
-    double *v = malloc((arr->count ? arr->count : 1) * sizeof *v);
-    size_t i = 0;
-    for (const hv_json *c = arr->child; c; c = c->next) v[i++] = c->number;
-    *n = i;
+    cr_assert(json_is_array(arr));
+    size_t count = json_array_size(arr);
+    double *v = malloc((count ? count : 1) * sizeof *v);
+    for (size_t i = 0; i < count; ++i) v[i] = json_number_value(json_array_get(arr, i));
+    *n = count;
     return v;
 }
 
@@ -152,18 +153,16 @@ static void read_back(const char *path, readback *rb)
     snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s' '%s'", py, path);
     int rc = t_run(cmd, &out);
     cr_assert_eq(rc, 0, "VTK could not read %s back (rc %d)", path, rc);
-    rb->doc = hv_json_parse(out, strlen(out));
+    cr_assert_eq(hv_json_parse(out, strlen(out), "readback", &rb->doc), HV_OK, "%s", hv_last_error());
     free(out);
-    cr_assert_not_null(rb->doc, "%s", hv_last_error());
-    const hv_json *names = hv_json_get(rb->doc, "names"), *types = hv_json_get(rb->doc, "vtktypes");
-    const hv_json *arrays = hv_json_get(rb->doc, "arrays");
+    const json_t *names = json_object_get(rb->doc, "names"), *types = json_object_get(rb->doc, "vtktypes");
+    const json_t *arrays = json_object_get(rb->doc, "arrays");
     int i = 0;
-    const hv_json *t = types->child, *a = arrays->child;
-    for (const hv_json *c = names->child; c; c = c->next, t = t->next, a = a->next, ++i) {
+    for (; (size_t)i < json_array_size(names); ++i) {
         cr_assert_lt(i, 32);
-        rb->names[i] = c->string;
-        rb->types[i] = t->string;
-        rb->arrays[i] = to_doubles(a, &rb->sizes[i]);
+        rb->names[i] = json_string_value(json_array_get(names, (size_t)i));
+        rb->types[i] = json_string_value(json_array_get(types, (size_t)i));
+        rb->arrays[i] = to_doubles(json_array_get(arrays, (size_t)i), &rb->sizes[i]);
     }
     rb->narrays = i;
 }
@@ -171,7 +170,7 @@ static void read_back(const char *path, readback *rb)
 static void readback_free(readback *rb)
 {
     for (int i = 0; i < rb->narrays; ++i) free(rb->arrays[i]);
-    hv_json_free(rb->doc);
+    json_decref(rb->doc);
 }
 
 static const double *array(const readback *rb, const char *name)
@@ -342,9 +341,9 @@ Test(export, vti_matches_model)
     cr_assert_str_eq(rb.types[0], "unsigned char");
     cr_assert_str_eq(rb.types[1], "float");
     size_t n;
-    double *dims = to_doubles(hv_json_get(rb.doc, "dims"), &n);
-    double *origin = to_doubles(hv_json_get(rb.doc, "origin"), &n);
-    double *spacing = to_doubles(hv_json_get(rb.doc, "spacing"), &n);
+    double *dims = to_doubles(json_object_get(rb.doc, "dims"), &n);
+    double *origin = to_doubles(json_object_get(rb.doc, "origin"), &n);
+    double *spacing = to_doubles(json_object_get(rb.doc, "spacing"), &n);
     int nx = HI[0] - LO[0] + 1, ny = HI[1] - LO[1] + 1, nz = HI[2] - LO[2] + 1;
     cr_assert_eq((int)dims[0], nx);
     cr_assert_eq((int)dims[1], ny);
@@ -353,13 +352,17 @@ Test(export, vti_matches_model)
         cr_assert_float_eq(spacing[a], VOX[a], 1e-12); /* anisotropic voxels */
         cr_assert_float_eq(origin[a], ORG[a] + LO[a] * VOX[a], 1e-12);
     }
-    const hv_json *field = hv_json_get(rb.doc, "field");
-    double *ilo = to_doubles(hv_json_get(field, "hovox.index_lo"), &n);
+    const json_t *field = json_object_get(rb.doc, "field");
+    double *ilo = to_doubles(json_object_get(field, "hovox.index_lo"), &n);
     cr_assert_eq(n, 3u);
     for (int a = 0; a < 3; ++a) cr_assert_eq((int)ilo[a], LO[a]);
-    const hv_json *mj = hv_json_get(field, "hovox.materials.json");
-    cr_assert_not_null(mj);
-    cr_assert(strstr(mj->string, "\"youngs_modulus\""));
+    const json_t *mj = json_object_get(field, "hovox.materials.json");
+    cr_assert(json_is_string(mj));
+    cr_assert(strstr(json_string_value(mj), "\"youngs_modulus\""));
+    hv_material_table *back; /* the document itself, with its schema version */
+    cr_assert_eq(hv_material_table_from_json(json_string_value(mj), &back), HV_OK, "%s", hv_last_error());
+    cr_assert(strncmp(json_string_value(mj), "{\"schema\": 1, ", 14) == 0);
+    hv_material_table_destroy(back);
     for (int i = 0; i < 9; ++i) cr_assert_eq(rb.sizes[i], (size_t)nx * ny * nz);
 
     const double *occ = array(&rb, "occupancy"), *fs = array(&rb, "fraction.soft"),
@@ -537,13 +540,13 @@ static void check_vtu(const char *path, int N, int any, const int *blo, const in
     readback rb;
     read_back(path, &rb);
     size_t np, nc, no;
-    double *pts = to_doubles(hv_json_get(rb.doc, "points"), &np);
-    double *conn = to_doubles(hv_json_get(rb.doc, "conn"), &nc);
-    double *offs = to_doubles(hv_json_get(rb.doc, "offsets"), &no);
-    long ncells = (long)hv_json_get(rb.doc, "ncells")->number;
-    const hv_json *ct = hv_json_get(rb.doc, "celltypes");
-    cr_assert_eq(ct->count, 1u);
-    cr_assert_eq((int)ct->child->number, 12); /* VTK_HEXAHEDRON */
+    double *pts = to_doubles(json_object_get(rb.doc, "points"), &np);
+    double *conn = to_doubles(json_object_get(rb.doc, "conn"), &nc);
+    double *offs = to_doubles(json_object_get(rb.doc, "offsets"), &no);
+    long ncells = (long)json_number_value(json_object_get(rb.doc, "ncells"));
+    const json_t *ct = json_object_get(rb.doc, "celltypes");
+    cr_assert_eq(json_array_size(ct), 1u);
+    cr_assert_eq((int)json_number_value(json_array_get(ct, 0)), 12); /* VTK_HEXAHEDRON */
     cr_assert_eq(nc, (size_t)ncells * 8);
     cr_assert_eq(no, (size_t)ncells + 1);
     for (long c = 0; c <= ncells; ++c) cr_assert_eq((long)offs[c], 8 * c);

@@ -15,10 +15,12 @@
 #include <unistd.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/generate.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
 #include "hovox/voxelize.h"
+#include "slicing/layers_internal.h"
 #include "support/support.h"
 
 /* ---- reading what was written --------------------------------------------------------------- */
@@ -69,25 +71,42 @@ static void png_load(const char *path, png_img *im)
     fclose(fp);
 }
 
-static hv_json *manifest_load(const char *dir)
+static json_t *manifest_load(const char *dir)
 {
     char path[1024], *text = NULL;
     size_t n = 0;
     snprintf(path, sizeof path, "%s/manifest.json", dir);
     cr_assert_eq(hv_read_file(path, 1 << 28, &text, &n), HV_OK, "%s", hv_last_error());
-    hv_json *j = hv_json_parse(text, n);
-    cr_assert(j, "manifest does not parse: %s", hv_last_error());
+    json_t *j;
+    cr_assert_eq(hv_json_parse(text, n, "manifest.json", &j), HV_OK, "manifest does not parse: %s", hv_last_error());
+    cr_assert_eq(hv_stack_manifest_check(text, n), HV_OK, "%s", hv_last_error());
     free(text);
     return j;
 }
 
-static double jnum(const hv_json *o, const char *key, int i)
+/* Element i of an array, or the i-th member value of an object (in order). */
+static const json_t *jat(const json_t *v, size_t i)
 {
-    const hv_json *v = hv_json_get(o, key);
+    if (json_is_array(v)) return json_array_get(v, i);
+    void *it = json_object_iter((json_t *)v);
+    while (it && i--) it = json_object_iter_next((json_t *)v, it);
+    return it ? json_object_iter_value(it) : NULL;
+}
+
+static double jnum(const json_t *o, const char *key, int i)
+{
+    const json_t *v = json_object_get(o, key);
     cr_assert(v, "manifest: no %s", key);
-    if (i >= 0) v = hv_json_at(v, (size_t)i);
-    cr_assert(v && v->type == HV_JSON_NUMBER, "manifest: %s is not a number", key);
-    return v->number;
+    if (i >= 0) v = jat(v, (size_t)i);
+    cr_assert(json_is_number(v), "manifest: %s is not a number", key);
+    return json_number_value(v);
+}
+
+static const char *jstr(const json_t *o, const char *key)
+{
+    const json_t *v = json_object_get(o, key);
+    cr_assert(json_is_string(v), "manifest: %s is not a string", key);
+    return json_string_value(v);
 }
 
 static char *read_all(const char *path, size_t *n)
@@ -188,18 +207,18 @@ static int in_holed_box(double x, double y, double z)
 
 static void iou_check(const char *dir, inside_fn inside, double min_iou)
 {
-    hv_json *j = manifest_load(dir);
+    json_t *j = manifest_load(dir);
     double sx = jnum(j, "pixel_mm", 0), sy = jnum(j, "pixel_mm", 1), x0 = jnum(j, "origin_mm", 0),
            y0 = jnum(j, "origin_mm", 1);
     cr_expect(sy < 0, "rows run down in y");
-    const hv_json *layers = hv_json_get(j, "layers");
-    cr_assert(layers && layers->count > 10);
+    const json_t *layers = json_object_get(j, "layers");
+    cr_assert(json_array_size(layers) > 10);
     uint64_t inter = 0, uni = 0;
-    for (size_t l = 0; l < layers->count; ++l) {
-        const hv_json *L = hv_json_at(layers, l);
-        double z = hv_json_get(L, "z_mm")->number;
+    for (size_t l = 0; l < json_array_size(layers); ++l) {
+        const json_t *L = json_array_get(layers, l);
+        double z = jnum(L, "z_mm", -1);
         char path[1024];
-        snprintf(path, sizeof path, "%s/%s", dir, hv_json_get(L, "file")->string);
+        snprintf(path, sizeof path, "%s/%s", dir, jstr(L, "file"));
         png_img im;
         png_load(path, &im);
         cr_assert_eq(im.bit_depth, 1);
@@ -213,9 +232,9 @@ static void iou_check(const char *dir, inside_fn inside, double min_iou)
         free(im.px);
     }
     double iou = (double)inter / (double)uni;
-    cr_expect(iou >= min_iou, "%s: IoU %.6f over %zu layers", dir, iou, layers->count);
+    cr_expect(iou >= min_iou, "%s: IoU %.6f over %zu layers", dir, iou, json_array_size(layers));
     cr_log_info("%s: IoU %.6f (%llu object pixels)", dir, iou, (unsigned long long)uni);
-    hv_json_free(j);
+    json_decref(j);
 }
 
 Test(layers, sphere_boundary_iou, .timeout = 300)
@@ -265,20 +284,20 @@ static double axis_formula(double x, double y, double z, int j)
 
 static void fraction_error(const char *dir, formula_fn formula, int m, double *mean, double *max)
 {
-    hv_json *j = manifest_load(dir);
+    json_t *j = manifest_load(dir);
     double sx = jnum(j, "pixel_mm", 0), sy = jnum(j, "pixel_mm", 1), x0 = jnum(j, "origin_mm", 0),
            y0 = jnum(j, "origin_mm", 1);
-    const hv_json *layers = hv_json_get(j, "layers");
+    const json_t *layers = json_object_get(j, "layers");
     double sum = 0, mx = 0;
     uint64_t n = 0;
-    for (size_t l = 0; l < layers->count; ++l) {
-        const hv_json *L = hv_json_at(layers, l);
-        double z = hv_json_get(L, "z_mm")->number;
-        const hv_json *files = hv_json_get(L, "files");
+    for (size_t l = 0; l < json_array_size(layers); ++l) {
+        const json_t *L = json_array_get(layers, l);
+        double z = jnum(L, "z_mm", -1);
+        const json_t *files = json_object_get(L, "files");
         png_img im[3];
         for (int g = 0; g < m; ++g) {
             char path[1024];
-            snprintf(path, sizeof path, "%s/%s", dir, hv_json_at(files, (size_t)g)->string);
+            snprintf(path, sizeof path, "%s/%s", dir, json_string_value(jat(files, (size_t)g)));
             png_load(path, &im[g]);
             cr_assert_eq(im[g].bit_depth, 8);
         }
@@ -299,7 +318,7 @@ static void fraction_error(const char *dir, formula_fn formula, int m, double *m
             }
         for (int g = 0; g < m; ++g) free(im[g].px);
     }
-    hv_json_free(j);
+    json_decref(j);
     cr_assert(n > 10000);
     *mean = sum / (double)n;
     *max = mx;
@@ -441,33 +460,33 @@ Test(layers, halftone_png_format_and_manifest, .timeout = 300)
     cr_expect(counts[2] > 0 && counts[3] > counts[2]);
     free(im.px);
     /* manifest */
-    hv_json *j = manifest_load(dir);
-    cr_expect_str_eq(hv_json_get(j, "mode")->string, "halftone");
+    json_t *j = manifest_load(dir);
+    cr_expect_str_eq(jstr(j, "mode"), "halftone");
     cr_expect_eq(jnum(j, "dpi", 0), 600);
     cr_expect_eq(jnum(j, "dpi", 1), 300);
     cr_expect(fabs(jnum(j, "pixel_mm", 0) - 25.4 / 600) < 1e-12);
     cr_expect(fabs(jnum(j, "pixel_mm", 1) + 25.4 / 300) < 1e-12);
     cr_expect(fabs(jnum(j, "layer_height_mm", -1) - 0.027) < 1e-12);
-    const hv_json *L = hv_json_get(j, "layers");
-    cr_assert_eq(L->count, 3);
-    const hv_json *l1 = hv_json_at(L, 1);
-    cr_expect_eq(hv_json_get(l1, "index")->number, 1001);
-    cr_expect_str_eq(hv_json_get(l1, "file")->string, "layer-01001.png");
+    const json_t *L = json_object_get(j, "layers");
+    cr_assert_eq(json_array_size(L), 3);
+    const json_t *l1 = json_array_get(L, 1);
+    cr_expect_eq(jnum(l1, "index", -1), 1001);
+    cr_expect_str_eq(jstr(l1, "file"), "layer-01001.png");
     /* the cut of layer i is at zmin + (i + 1/2) h */
-    cr_expect(fabs(hv_json_get(l1, "z_mm")->number - (-27.5 + 1001.5 * 0.027)) < 1e-9);
-    const hv_json *mats = hv_json_get(j, "materials");
-    cr_assert_eq(mats->count, 3);
-    cr_expect_eq(hv_json_get(hv_json_at(mats, 2), "palette_index")->number, 3);
+    cr_expect(fabs(jnum(l1, "z_mm", -1) - (-27.5 + 1001.5 * 0.027)) < 1e-9);
+    const json_t *mats = json_object_get(j, "materials");
+    cr_assert_eq(json_array_size(mats), 3);
+    cr_expect_eq(jnum(json_array_get(mats, 2), "palette_index", -1), 3);
     double tsum = 0, asum = 0;
     for (int k = 0; k < 3; ++k) {
-        const hv_json *mk = hv_json_at(mats, (size_t)k);
-        double tg = hv_json_get(mk, "target")->number, ac = hv_json_get(mk, "achieved")->number;
+        const json_t *mk = json_array_get(mats, (size_t)k);
+        double tg = jnum(mk, "target", -1), ac = jnum(mk, "achieved", -1);
         cr_expect(fabs(tg - ac) < 0.01, "material %d: achieved %.4f, target %.4f", k, ac, tg);
         tsum += tg;
         asum += ac;
     }
     cr_expect(fabs(tsum - 1) < 1e-5 && fabs(asum - 1) < 1e-9);
-    hv_json_free(j);
+    json_decref(j);
     hv_volume_destroy(g);
     hv_mesh_destroy(m);
 }
@@ -692,6 +711,64 @@ Test(layers, refuses_to_overwrite)
     cr_expect_eq(hv_layers_write(m, NULL, other, &o, NULL, NULL), HV_ERR_IO, "never replace other directories");
     cr_expect(t_exists(t_tmpfile("other/keep.txt")));
     cr_expect_eq(hv_layers_write(m, NULL, "/nonexistent-dir/stack", &o, NULL, NULL), HV_ERR_IO);
+    hv_mesh_destroy(m);
+}
+
+/* A stack is recognised by its parsed manifest's generator, not by a substring of its text. */
+Test(layers, manifest_recognised_by_its_generator)
+{
+    static const char *const ours[] = {"{\"generator\": \"hovox 0.1.0\", \"mode\": \"mask\"}",
+                                       "{\"mode\":\"mask\",\"generator\":\"hovox 9\"}", /* any layout */
+                                       "{\n  \"generator\": \"hovox\"\n}\n"};
+    for (size_t i = 0; i < sizeof ours / sizeof ours[0]; ++i)
+        cr_expect_eq(hv_stack_manifest_check(ours[i], strlen(ours[i])), HV_OK, "%s: %s", ours[i], hv_last_error());
+    static const struct {
+        const char *text, *message;
+    } foreign[] = {
+        {"{\"generator\": \"slic3r\"}", "manifest.json: generator is \"slic3r\", not hovox"},
+        /* the old substring test accepted this one */
+        {"{\"note\": \"\\\"generator\\\": \\\"hovox\", \"generator\": \"PrusaSlicer\"}",
+         "manifest.json: generator is \"PrusaSlicer\", not hovox"},
+        {"{\"generator\": [\"hovox\"]}", "manifest.json: generator is an array, not a string"},
+        {"{\"mode\": \"mask\"}", "manifest.json: generator is missing"},
+        {"[\"generator\", \"hovox\"]", "manifest.json is an array, not an object"},
+        {"{\"generator\": \"hovox\",\n", "manifest.json: line 2, column 0: string or '}' expected near end of file"},
+    };
+    for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; ++i) {
+        cr_expect_eq(hv_stack_manifest_check(foreign[i].text, strlen(foreign[i].text)), HV_ERR_BAD_INPUT, "%s",
+                     foreign[i].text);
+        cr_expect_str_eq(hv_last_error(), foreign[i].message);
+    }
+}
+
+/* A directory of layer PNGs whose manifest another program wrote is never replaced, even with
+ * force; one whose manifest hovox wrote (whatever its layout) is. */
+Test(layers, replaces_only_stacks_with_a_hovox_manifest)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 2, 2};
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
+    hv_layers_options o = opts(HV_LAYERS_MASK, 50, 50, 1.0);
+    o.force = 1;
+    static const struct {
+        const char *name, *manifest;
+        int replaced;
+    } cases[] = {{"foreign", "{\"generator\": \"other\", \"note\": \"\\\"generator\\\": \\\"hovox\"}", 0},
+                 {"compact", "{\"generator\":\"hovox 0.0.1\"}", 1}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char dir[1024], path[1100];
+        snprintf(dir, sizeof dir, "%s", t_tmpfile(cases[i].name));
+        cr_assert_eq(mkdir(dir, 0777), 0);
+        snprintf(path, sizeof path, "%s/manifest.json", dir);
+        FILE *f = fopen(path, "w");
+        fputs(cases[i].manifest, f);
+        fclose(f);
+        snprintf(path, sizeof path, "%s/layer-00000.png", dir);
+        fclose(fopen(path, "w"));
+        hv_status s = hv_layers_write(m, NULL, dir, &o, NULL, NULL);
+        cr_expect_eq(s, cases[i].replaced ? HV_OK : HV_ERR_IO, "%s: %s", cases[i].name, hv_last_error());
+        cr_expect_eq(count_png(dir), cases[i].replaced ? 2 : 1, "%s", cases[i].name);
+    }
     hv_mesh_destroy(m);
 }
 

@@ -510,8 +510,16 @@ hv_status hv_option_check(const hv_option *o, const void *opts)
             return hv_error_option(HV_ERR_INVALID, "{%s} must be %s, got the value %d", o->key,
                                    hv_enum_list(o->enumdef, list, sizeof list), x);
         }
+    } else if (o->kind == HV_OPT_COLOR && o->elem == HV_ELEM_FLOAT) {
+        const float *c = cfield(o, opts);
+        for (int k = 0; k < 4; ++k)
+            if (!(c[k] >= 0 && c[k] <= 1))
+                return hv_error_option(HV_ERR_INVALID, "{%s} component %d must be in [0, 1], got %g", o->key, k,
+                                       (double)c[k]);
     } else if (o->kind == HV_OPT_STRING) {
-        if (!*(const char *const *)cfield(o, opts)) return HV_OK; /* not given */
+        return HV_OK; /* a text's own check (a known profile, an image extension) is about what
+                         a person typed: it runs when the value is set, not on structs filled
+                         in C, where a string may be any label */
     } else if (o->kind == HV_OPT_RANGE) {
         const size_t *p = cfield(o, opts);
         if (p[1] && p[0] >= p[1])

@@ -767,7 +767,7 @@ Test(export, memory_budget)
     cr_assert_eq(r.points, 16u * 8 * 12);
     cr_assert_eq(write(v, t_tmpfile("big.vti"), &o, NULL), HV_ERR_LIMIT);
     cr_assert_str_eq(hv_last_error(), "export: the image of 16 x 8 x 12 points x 9 arrays needs "
-                                      "49.5 KiB, more than the limit of 4.0 KiB (--max-memory, or max_memory in Lua); "
+                                      "49.5 KiB, more than the limit of 4.0 KiB (max_memory); "
                                       "export a smaller box or a .vtu");
     cr_assert_eq(write(v, t_tmpfile("big.vtu"), &o, NULL), HV_ERR_LIMIT);
     cr_assert(!t_exists(t_tmpfile("big.vti")));

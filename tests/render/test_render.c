@@ -866,22 +866,22 @@ Test(render, bad_options_are_rejected)
         o.width = o.height = 8;
         const char *want = "render:";
         switch (c) {
-        case 0: o.width = 0; want = "image size"; break;
-        case 1: o.height = 70000; want = "image size"; break;
+        case 0: o.width = 0; want = "size must be"; break;
+        case 1: o.height = 70000; want = "size must be"; break;
         case 2: o.step = -1; want = "step"; break;
         case 3: o.step = 5; want = "step"; break;
         case 4: o.density = NAN; want = "density"; break;
-        case 5: o.tf_low = 0.6; o.tf_high = 0.5; want = "transfer"; break;
+        case 5: o.tf_low = 0.6; o.tf_high = 0.5; want = "tf_low"; break;
         case 6: o.iso = 1; want = "iso"; break;
         case 7: o.camera.use_eye = 1; want = "equals the target"; break;
         case 8: o.camera.use_eye = 1; o.camera.eye[2] = 5; o.camera.up[2] = -1; want = "parallel"; break;
-        case 9: o.camera.fov = 0; want = "field of view"; break;
-        case 10: o.samples = 9; want = "samples"; break;
+        case 9: o.camera.fov = 0; want = "fov"; break;
+        case 10: o.samples = 9; want = "aa"; break;
         case 11: o.clips = 17; want = "clips"; break;
         case 12: o.clips = 1; o.clip[0].planes = 0; want = "planes"; break;
         case 13: o.clips = 1; o.clip[0].planes = 1; want = "non-zero"; break;
         case 14: o.background[1] = 2; want = "background"; break;
-        case 15: o.cut_opacity = -0.5; want = "cut opacity"; break;
+        case 15: o.cut_opacity = -0.5; want = "cut_opacity"; break;
         }
         hv_image *img = (hv_image *)1;
         cr_expect_eq(hv_render_scene_image(sc, &o, NULL, &img), HV_ERR_INVALID, "case %d accepted", c);

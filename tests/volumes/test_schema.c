@@ -207,10 +207,10 @@ Test(schema, malformed_documents_say_where, .timeout = 60)
                    "{\"materials\": [{\"name\": \"A\", \"properties\": {\"density\": {\"unit\": \"kg\"}}}]}",
                    "hovox.materials.json: materials[0]: properties: density: value is missing");
     expect_refused(g, HV_DOC_MESH, "{\"format\": \"ply\"}",
-                   "hovox.mesh.json: format \"ply\" is not one of generated, binary, ascii");
+                   "hovox.mesh.json: format \"ply\" is not one of generated, binary or ascii");
     expect_refused(g, HV_DOC_VOXELIZE,
                    "{\"adjacency\": 26, \"fill\": \"wet\", \"first\": [0, 0, 0], \"dims\": [1, 1, 1], \"voxel\": [1, 1, 1]}",
-                   "hovox.voxelize.json: fill \"wet\" is not one of auto, flood, vote, none");
+                   "hovox.voxelize.json: fill \"wet\" is not one of auto, flood, vote or none");
     /* a model without the documents: not found, not malformed */
     hv_volume_meta_set_string(g, "hovox.mesh.json", NULL);
     hv_voxelize_record rec;
@@ -232,14 +232,14 @@ Test(schema, unknown_names_are_refused_on_read, .timeout = 60)
     memcpy(bogus, text, (size_t)(at - text));
     strcpy(bogus + (at - text), "\"blend\": \"bogus\"");
     strcat(bogus, at + strlen("\"blend\": \"idw\""));
-    expect_refused(g, HV_DOC_OBJECT, bogus, "hovox.object.json: blend \"bogus\" is not one of nearest, idw");
+    expect_refused(g, HV_DOC_OBJECT, bogus, "hovox.object.json: blend \"bogus\" is not one of nearest or idw");
     at = strstr(text, "\"kind\": \"point\"");
     cr_assert_not_null(at);
     memcpy(bogus, text, (size_t)(at - text));
     strcpy(bogus + (at - text), "\"kind\": \"torus\"");
     strcat(bogus, at + strlen("\"kind\": \"point\""));
     expect_refused(g, HV_DOC_OBJECT, bogus,
-                   "hovox.object.json: features[0]: kind \"torus\" is not one of point, axis, plane, segment, field");
+                   "hovox.object.json: features[0]: kind \"torus\" is not one of point, axis, plane, segment, contour, mask, facets, harmonic or field");
     free(bogus);
     free(text);
     hv_blend b;
@@ -247,11 +247,13 @@ Test(schema, unknown_names_are_refused_on_read, .timeout = 60)
     cr_assert_eq(b, HV_BLEND_IDW);
     cr_assert_str_eq(hv_blend_name(HV_BLEND_NEAREST), "nearest");
     cr_assert_eq(hv_blend_parse("Nearest", &b), HV_ERR_INVALID);
-    cr_assert_str_eq(hv_last_error(), "blend rule \"Nearest\" is not one of nearest, idw");
+    cr_assert_str_eq(hv_last_error(), "blend must be nearest or idw, got 'Nearest'");
     hv_fill_mode f;
     cr_assert_eq(hv_fill_mode_parse("vote", &f), HV_OK);
     cr_assert_eq(f, HV_FILL_VOTE);
-    cr_assert_eq(hv_fill_mode_parse("winding", &f), HV_ERR_INVALID);
+    cr_assert_eq(hv_fill_mode_parse("winding", &f), HV_OK, "the documented alias of vote");
+    cr_assert_eq(f, HV_FILL_VOTE);
+    cr_assert_eq(hv_fill_mode_parse("wet", &f), HV_ERR_INVALID);
     hv_volume_destroy(g);
 }
 

@@ -379,7 +379,7 @@ Test(voxelize, plans_refuse_and_validate)
     o.voxel_size[1] = o.voxel_size[2] = 1;
     cr_assert_eq(hv_voxelize(m, &o, &v), HV_ERR_INVALID);
     hv_voxelize_options_init(&o);
-    o.dims[0] = 0;
+    o.dims[0] = -3; /* all zero is the default (128 on the longest axis); negative is refused */
     cr_assert_eq(hv_voxelize(m, &o, &v), HV_ERR_INVALID);
     /* voxel size: 2.5 on a 10 box -> 4 voxels, centres at 1.25, 3.75, ... */
     hv_voxelize_options_init(&o);

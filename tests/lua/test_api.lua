@@ -251,7 +251,7 @@ fails("clip", graded.render, graded, {path = tmp .. "/x.png", clip = "w>3"})
 fails("size must be", graded.render, graded, {path = tmp .. "/x.png", size = {0, 5}})
 fails("unknown option 'sise'", graded.render, graded, {path = tmp .. "/x.png", sise = {8, 8}})
 fails("unknown option 'coarse'", graded.export, graded, {path = tmp .. "/x.vtu", coarse = 2})
-fails("give either view or eye/target", graded.render, graded, {path = tmp .. "/x.png", view = "top", eye = {1, 2, 3}})
+fails("view and eye exclude each other", graded.render, graded, {path = tmp .. "/x.png", view = "top", eye = {1, 2, 3}})
 fails("target needs eye", graded.render, graded, {path = tmp .. "/x.png", target = {1, 2, 3}})
 
 -- an object renders, exports, probes, profiles, saves and slices through an evaluation, with

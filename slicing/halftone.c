@@ -352,8 +352,21 @@ static void tile_save(const char *dir, const uint32_t *ranks)
     free(buf);
 }
 
+static char g_cache_dir[4096];
+static int g_cache_set;
+
+void hv_set_cache_dir(const char *dir)
+{
+    g_cache_set = dir != NULL;
+    snprintf(g_cache_dir, sizeof g_cache_dir, "%s", dir ? dir : "");
+}
+
 static void default_cache_dir(char *out, size_t size)
 {
+    if (g_cache_set) {
+        snprintf(out, size, "%s", g_cache_dir);
+        return;
+    }
     const char *x = getenv("XDG_CACHE_HOME");
     if (x && *x == '/') {
         snprintf(out, size, "%s/hovox", x);

@@ -294,7 +294,8 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
         double d = (J->grid.origin[1] - xf->origin[1]) / xf->voxel[1];
         double j0 = floor(c + 0.5) - WINDOW_PAD, j1 = floor(d + 0.5) + WINDOW_PAD;
         if (i1 - i0 + 1 > (double)(1 << 24) || j1 - j0 + 1 > (double)(1 << 24) || fabs(i0) > 2e9 || fabs(j0) > 2e9)
-            return hv_error_set(HV_ERR_LIMIT, "layers: the voxel window is %.0f x %.0f voxels", i1 - i0 + 1, j1 - j0 + 1);
+            return hv_error_set(HV_ERR_LIMIT, "%s: the voxel window is %.0f x %.0f voxels (at most 2^24 a side)",
+                                o->model_name ? o->model_name : "layers", i1 - i0 + 1, j1 - j0 + 1);
         J->vi0 = (int)i0;
         J->vj0 = (int)j0;
         J->vw = (int)(i1 - i0 + 1);
@@ -304,7 +305,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
         if (st == HV_OK)
             st = hv_poi_axis_chain(xf->origin[1] + (j0 - 0.5) * xf->voxel[1], xf->voxel[1], J->vh, J->grid.origin[1],
                                    -py, J->H, o->poi_step, &J->ay);
-        if (st != HV_OK) return st;
+        if (st != HV_OK) return hv_error_prefix(st, "%s: ", o->model_name ? o->model_name : "layers");
         size_t nx = J->ax.off[J->ax.n_out - 1] + (size_t)J->ax.len[J->ax.n_out - 1];
         size_t ny = J->ay.off[J->ay.n_out - 1] + (size_t)J->ay.len[J->ay.n_out - 1];
         J->axw = hv_malloc_array(nx, sizeof *J->axw);

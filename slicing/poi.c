@@ -171,7 +171,9 @@ hv_status hv_poi_axis_chain(double in_lo, double in_pitch, int n_in, double out_
     for (int k = 1; k < steps; ++k) {
         double nk = round((double)n_in * pow(ratio, (double)k / steps));
         if (nk <= (double)n_prev) continue; /* too small a step to matter */
-        if (nk > (double)POI_MAX_SIDE) return hv_error_set(HV_ERR_LIMIT, "POI: intermediate image of %.0f cells", nk);
+        if (nk > (double)POI_MAX_SIDE) return hv_error_set(HV_ERR_LIMIT,
+                                 "resampling to the printer grid needs an intermediate image of %.0f pixels along "
+                                 "an axis (at most %d)", nk, POI_MAX_SIDE);
         int n = (int)nk;
         double pitch = extent / n;
         hv_poi_axis st1, comp;

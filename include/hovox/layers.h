@@ -118,6 +118,10 @@ HV_API hv_status hv_bluenoise_generate(int nx, int ny, int nz, double sigma, uin
  * it came from the cache file or memory. Errors: HV_ERR_NOMEM, HV_ERR_CANCELLED. */
 HV_API hv_status hv_bluenoise_tile(const char *cache_dir, const hv_progress *progress,
                                    const uint32_t **ranks, int *cached);
+/* The process-wide cache directory used when a call gives none: NULL restores the default,
+ * "" keeps caches in memory only (a sandboxed script writes nothing outside its directory).
+ * Set it before starting work. */
+HV_API void hv_set_cache_dir(const char *dir);
 
 /* ==== printer slice stacks ==================================================================
  *

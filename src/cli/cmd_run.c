@@ -13,6 +13,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/layers.h"
 #include "lua/lhovox.h"
 
 #define SANDBOX_MAX_TIME 600.0              /* seconds */
@@ -134,6 +135,7 @@ static int run_script(const run_cli *c, char **argv, int argc)
     g_heap = &h;
     cli_set_time_limit(max_time);
     hv_set_memory_cap(h.limit);
+    if (sandbox) hv_set_cache_dir(""); /* the blue-noise tile stays in memory */
     lua_State *L = lua_newstate(limited_alloc, &h);
     if (!L) {
         fprintf(stderr, "hovox: out of memory creating the Lua state\n");

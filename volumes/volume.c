@@ -777,6 +777,7 @@ const char *hv_volume_meta_key(const hv_volume *v, int i)
 
 hv_status hv_volume_save(const hv_volume *v, const char *path)
 {
+    if (hv_check_extension(path, ".vdb", "a model") != HV_OK) return HV_ERR_INVALID;
     const char **names = hv_calloc((size_t)v->ngrids + 1, sizeof *names);
     const char **keys = hv_calloc((size_t)v->nmeta + 1, sizeof *keys);
     const char **strs = hv_calloc((size_t)v->nmeta + 1, sizeof *strs);

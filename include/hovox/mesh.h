@@ -79,7 +79,8 @@ HV_API const hv_mesh_report *hv_mesh_get_report(const hv_mesh *mesh);
 HV_API const char *hv_mesh_name(const hv_mesh *mesh);
 
 /* Write binary STL (ascii = 0) or ASCII STL (ascii = 1) atomically (temporary file renamed
- * when complete). Errors: HV_ERR_IO. */
+ * when complete). Errors: HV_ERR_INVALID (a name not ending in .stl, other than a special
+ * file), HV_ERR_IO. */
 HV_API hv_status hv_mesh_write_stl(const hv_mesh *mesh, const char *path, int ascii);
 
 #ifdef __cplusplus

@@ -78,6 +78,7 @@ typedef enum hv_opt_elem {
 #define HV_OPT_UNSET0 0x800u  /* NUMBER: 0 in a struct means "not given" (a user's 0 is still
                                  checked against the domain); implied for SCALAR and FIRST */
 #define HV_OPT_OUT_PATH 0x200u /* STRING: a file the operation writes (a sandbox checks it) */
+#define HV_OPT_IN_PATH 0x1000u /* STRING: a file the operation reads */
 #define HV_OPT_PAIRS 0x400u   /* CUSTOM text "KEY=VALUE" (repeatable): a Lua or JSON map
                                  {KEY = VALUE, ...} gives one value per entry */
 

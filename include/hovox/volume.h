@@ -192,15 +192,21 @@ HV_API const char *hv_volume_meta_key(const hv_volume *vol, int i);
 
 /* Save as an OpenVDB file: one FloatGrid or BoolGrid per grid, in grid order, with the
  * transform and the metadata at file level. Written to a temporary name in the same
- * directory and renamed when complete. Errors: HV_ERR_IO, HV_ERR_NOMEM. */
+ * directory, every write, the flush and the close checked, synced to disk and renamed when
+ * complete: a full disk leaves no file (and an older one under the name stays). Ctrl-C (the
+ * cancel check) stops it. Errors: HV_ERR_INVALID (a name not ending in .vdb, other than a
+ * special file such as /dev/null), HV_ERR_IO, HV_ERR_NOMEM, HV_ERR_CANCELLED. */
 HV_API hv_status hv_volume_save(const hv_volume *vol, const char *path);
 
 /* Load an OpenVDB file. Float, double, int32 and bool grids are read (doubles and ints become
  * float grids, mask grids bool grids); every grid must use the same axis-aligned linear
  * transform; the topology is the union of the grids' active voxels (active tiles are
- * expanded to voxels). Errors: HV_ERR_IO (missing, unreadable), HV_ERR_BAD_INPUT (not a VDB
- * file, corrupt, no grids, mixed or rotated transforms, unsupported grid type),
- * HV_ERR_LIMIT, HV_ERR_NOMEM. */
+ * expanded to voxels). Every read is checked: a file that ends early or is damaged is refused
+ * at once. Active tiles are costed from the tree's structure before they are expanded: more
+ * than the memory budget (hv_memory_budget(0)) is refused, saying how much. Errors:
+ * HV_ERR_IO (missing, unreadable), HV_ERR_BAD_INPUT (not a VDB file, truncated, corrupt, no
+ * grids, mixed or rotated transforms, unsupported grid type), HV_ERR_LIMIT, HV_ERR_NOMEM,
+ * HV_ERR_CANCELLED, HV_ERR_UNSUPPORTED (no OpenVDB plugin). */
 HV_API hv_status hv_volume_load(const char *path, hv_volume **out);
 /* The path a volume was loaded from ("" for one made in memory), for messages; owned by the
  * volume. */

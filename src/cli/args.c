@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 #include "core/internal.h"
@@ -342,6 +344,57 @@ static int parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, vo
     return -1;
 }
 
+/* The files a command reads: its positional arguments (CLI_POS_FILES) and its input options. */
+static int inputs_of(const cli_spec *spec, const cli_args *a, const hv_option_set *const sets[2],
+                     void *const opts[2], const char **out, int max)
+{
+    int n = 0;
+    for (int i = 0; (spec->flags & CLI_POS_FILES) && i < a->npos && n < max; ++i) out[n++] = a->pos[i];
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; sets[k] && i < sets[k]->count && n < max; ++i) {
+            const hv_option *o = &sets[k]->options[i];
+            const char *v = o->kind == HV_OPT_STRING && (o->flags & HV_OPT_IN_PATH)
+                                ? *(const char *const *)((const char *)opts[k] + o->offset)
+                                : NULL;
+            if (v) out[n++] = v;
+        }
+    return n;
+}
+
+static int ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n >= k && strcasecmp(s + n - k, suffix) == 0;
+}
+
+/* Every output: an extension that fits what is written (an option whose placeholder names one,
+ * "MODEL.vdb"), and never the same file as an input (voxelize in.stl -o in.stl would replace
+ * the mesh). */
+static int check_outputs(const cli_spec *spec, const cli_args *a, const hv_option_set *const sets[2],
+                         void *const opts[2])
+{
+    const char *in[64];
+    int nin = inputs_of(spec, a, sets, opts, in, 64);
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; sets[k] && i < sets[k]->count; ++i) {
+            const hv_option *o = &sets[k]->options[i];
+            if (o->kind != HV_OPT_STRING || !(o->flags & HV_OPT_OUT_PATH)) continue;
+            const char *path = *(const char *const *)((const char *)opts[k] + o->offset);
+            if (!path || strcmp(path, "-") == 0 || hv_path_is_special(path)) continue;
+            const char *dot = o->meta ? strrchr(o->meta, '.') : NULL;
+            if (dot && !strchr(dot, '|') && !ends_with_ci(path, dot))
+                return cli_usage_error(spec->name, "%s '%s' must end in %s (it is written as that format)",
+                                       cli_spell(o->key), path, dot);
+            struct stat so, si;
+            if (stat(path, &so) != 0) continue;
+            for (int j = 0; j < nin; ++j)
+                if (stat(in[j], &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+                    return cli_usage_error(spec->name, "%s '%s' is the input '%s': refusing to write over it",
+                                           cli_spell(o->key), path, in[j]);
+        }
+    return -1;
+}
+
 int cli_main(const cli_spec *spec, int argc, char **argv)
 {
     const hv_option_set *lib = spec->lib ? spec->lib() : NULL;
@@ -351,6 +404,9 @@ int cli_main(const cli_spec *spec, int argc, char **argv)
     memset(&args, 0, sizeof args);
     int rc = (lib && !lib_opts) || (spec->local && !local_opts) ? cli_fail(HV_ERR_NOMEM)
                                                                 : parse(spec, argc, argv, lib_opts, local_opts, &args);
+    const hv_option_set *const sets[2] = {lib, spec->local};
+    void *const opts[2] = {lib_opts, local_opts};
+    if (rc < 0) rc = check_outputs(spec, &args, sets, opts);
     if (rc < 0) rc = spec->run(&args, lib_opts, local_opts);
     free(args.pos);
     free(lib_opts);

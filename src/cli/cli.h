@@ -32,8 +32,12 @@ enum {
     CLI_THREADS = 1,     /* takes --threads N */
     CLI_QUIET = 2,       /* takes -q/--quiet */
     CLI_NUMERIC_POS = 4, /* "-1.5,0,2" is a positional argument, not an option */
-    CLI_STOP_AT_POS = 8  /* everything from the first positional argument on is positional */
+    CLI_STOP_AT_POS = 8, /* everything from the first positional argument on is positional */
+    CLI_POS_FILES = 16   /* positional arguments are files the command reads */
 };
+/* Outputs (options flagged HV_OPT_OUT_PATH) are checked before the command runs: an extension
+ * named by the placeholder ("MODEL.vdb": .vdb) must end the path, and no output may be a file
+ * the command reads (positional files, options flagged HV_OPT_IN_PATH). */
 
 
 typedef struct cli_args {

@@ -14,7 +14,7 @@ typedef struct generate_cli {
 } generate_cli;
 
 static const hv_option k_local_opts[] = {
-    CLI_OUTPUT(generate_cli, "FILE", "where to write (written atomically)", HV_OPT_REQUIRED),
+    CLI_OUTPUT(generate_cli, "OUT.stl", "where to write (written atomically)", HV_OPT_REQUIRED),
     {.key = "ascii", .kind = HV_OPT_FLAG, .offset = offsetof(generate_cli, ascii), .help = "ASCII STL instead of binary"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("generate", k_local_opts, generate_cli);

@@ -254,4 +254,4 @@ const cli_spec cmd_grade = {
     "  the boundary values of f below and above it (continuous), and for DG = 0 a step:\n"
     "  Ms below D-, Me from D- on (a multi-material object).\n"
     "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n",
-    NULL, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET, run, NULL};
+    NULL, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL};

@@ -22,7 +22,7 @@ static const hv_option k_local_opts[] = {
                "or be empty)", 0),
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(layers_cli, dry_run),
      .help = "print the plan (image size, layers, memory) and stop"},
-    {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED, .offset = offsetof(layers_cli, mesh),
+    {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED | HV_OPT_IN_PATH, .offset = offsetof(layers_cli, mesh),
      .meta = "FILE", .help = "the mesh the model was made from (required)", .section = "Geometry"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("layers", k_local_opts, layers_cli);
@@ -134,4 +134,4 @@ const cli_spec cmd_layers = {
     "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"
     "y0 + (r+0.5) sy; sy < 0: rows run down in y), and layers [{index, file, z_mm}] with z_mm\n"
     "the height of the cutting plane.\n",
-    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET, run_cli, NULL};
+    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL};

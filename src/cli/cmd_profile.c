@@ -22,7 +22,7 @@ static hv_status check_plot_path(const hv_option *o, const void *opts)
 }
 
 static const hv_option k_local_opts[] = {
-    CLI_OUTPUT(profile_cli, "FILE", "the CSV to write; '-' writes it to stdout", 0),
+    CLI_OUTPUT(profile_cli, "PROFILE.csv", "the CSV to write; '-' writes it to stdout", 0),
     {.key = "plot", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = offsetof(profile_cli, plot),
      .meta = "FILE", .check = check_plot_path, .help = "the plot to write: .png or .svg (give -o, --plot or both)"},
 };
@@ -110,4 +110,4 @@ const cli_spec cmd_profile = {
     hv_profile_option_set, &k_local,
     "Outputs are written under temporary names and renamed together at the end, so a failed\n"
     "run leaves neither file. With -q nothing is printed on success.\n",
-    1, 1, "MODEL argument", CLI_QUIET, run_cli, NULL};
+    1, 1, "MODEL argument", CLI_QUIET | CLI_POS_FILES, run_cli, NULL};

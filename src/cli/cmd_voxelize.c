@@ -13,7 +13,7 @@ typedef struct vox_cli {
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(vox_cli, "MODEL.vdb", "the .vdb to write (atomically)", 0),
-    {.key = "like", .kind = HV_OPT_STRING, .offset = offsetof(vox_cli, like), .meta = "MODEL.vdb",
+    {.key = "like", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(vox_cli, like), .meta = "MODEL.vdb",
      .help = "the lattice of another model (to combine them by Booleans)", .section = "Resolution (one of)"},
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, dry_run),
      .help = "print the plan and its memory estimate, write nothing", .section = "Output"},
@@ -123,4 +123,4 @@ const cli_spec cmd_voxelize = {
     "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
     "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"
     "origin + (i*Lx, j*Ly, k*Lz).\n",
-    hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET, run_cli, NULL};
+    hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL};

@@ -6,6 +6,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -379,4 +380,12 @@ void hv_atomic_abort(hv_atomic_file *af)
     free(af->path);
     free(af->tmp);
     memset(af, 0, sizeof *af);
+}
+
+hv_status hv_check_extension(const char *path, const char *ext, const char *what)
+{
+    if (!path || hv_path_is_special(path)) return HV_OK;
+    size_t n = strlen(path), k = strlen(ext);
+    if (n >= k && strcasecmp(path + n - k, ext) == 0) return HV_OK;
+    return hv_error_set(HV_ERR_INVALID, "%s: %s is written as %s, which this name does not end in", path, what, ext);
 }

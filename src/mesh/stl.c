@@ -335,6 +335,7 @@ static void facet_normal(const hv_mesh *m, size_t f, float n[3])
 
 hv_status hv_mesh_write_stl(const hv_mesh *m, const char *path, int ascii)
 {
+    if (hv_check_extension(path, ".stl", "a mesh") != HV_OK) return HV_ERR_INVALID;
     hv_atomic_file af;
     hv_status s = hv_atomic_open(&af, path, "wb");
     if (s != HV_OK) return s;

@@ -122,6 +122,8 @@ static const hv_option k_opts[] = {
      .help = "remove the box between two corners", .parse = parse_clip_box},
     {.key = "cut_opacity", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1, .offset = OFF(cut_opacity), .meta = "A",
      .help = "opacity of cut faces"},
+    {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",
+     .help = "refuse images that would need more (default: half of RAM), e.g. 1G", .section = "Resources"},
 };
 #undef OFF
 

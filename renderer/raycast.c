@@ -712,6 +712,15 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
     *out = NULL;
     hv_status st = hv_render_options_check(o);
     if (st != HV_OK) return st;
+    /* the image (float RGBA) and its 8-bit copy for writing, planned before either exists */
+    double need = (double)o->width * (double)o->height * 20.0;
+    uint64_t budget = hv_memory_budget(o->max_memory);
+    if (budget && need > (double)budget) {
+        char a[32], b[32];
+        return hv_error_option(HV_ERR_LIMIT, "render: an image of %d x %d pixels needs about %s, more than the limit of "
+                                             "%s ({max_memory})",
+                               o->width, o->height, hv_size_text(a, sizeof a, need), hv_size_text(b, sizeof b, (double)budget));
+    }
     rctx *c = hv_calloc(1, sizeof *c);
     if (!c) return HV_ERR_NOMEM;
     c->s = s;

@@ -309,6 +309,18 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
     int g_occ = hv_volume_grid_find(vol, "occupancy");
     if (g_occ >= 0 && hv_volume_grid_type(vol, g_occ) != HV_GRID_BOOL) g_occ = -1;
     size_t nl = hv_volume_leaf_count(vol), nocc = 0;
+    {
+        /* planned before anything is built: bricks and tables of every block that holds or
+         * touches occupied voxels (at most 8 per leaf), the colours while building */
+        double need = (double)nl * (8.0 * 5.9e3 + 2.1e3);
+        uint64_t budget = hv_memory_budget(0);
+        if (budget && need > (double)budget) {
+            char a[32], b[32];
+            st = hv_error_set(HV_ERR_LIMIT, "render: the scene of %zu voxel blocks needs up to %s, more than the budget of %s",
+                              nl, hv_size_text(a, sizeof a, need), hv_size_text(b, sizeof b, (double)budget));
+            goto fail;
+        }
+    }
     const int32_t *org = hv_volume_leaf_origins(vol);
     occ = hv_malloc_array(nl ? nl : 1, sizeof *occ);
     if (!occ) {

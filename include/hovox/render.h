@@ -168,6 +168,7 @@ typedef struct hv_render_options {
     hv_clip clip[HV_RENDER_MAX_CLIPS];
     double cut_opacity;   /* opacity of cut faces in [0,1] (default 1, both modes) */
     int samples;          /* supersampling: samples x samples rays per pixel (1..8, default 1) */
+    uint64_t max_memory;  /* refuse images that need more (bytes; 0: hv_memory_budget's default) */
 } hv_render_options;
 
 /* Defaults as documented above. */

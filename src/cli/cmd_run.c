@@ -161,6 +161,10 @@ static int run_script(const run_cli *c, char **argv, int argc)
     lua_pushcfunction(L, message);
     /* a sandboxed script is text: Lua does not verify precompiled chunks */
     int st = luaL_loadfilex(L, script, sandbox ? "t" : "bt");
+    if (st != LUA_OK && !strstr(lua_tostring(L, -1) ? lua_tostring(L, -1) : "", script)) {
+        lua_pushfstring(L, "%s: %s", script, lua_tostring(L, -1)); /* name the script */
+        lua_remove(L, -2);
+    }
     if (st == LUA_OK) {
         for (int i = 1; i < argc; ++i) lua_pushstring(L, argv[i]);
         st = lua_pcall(L, argc - 1, 0, -argc - 1);

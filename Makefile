@@ -41,7 +41,7 @@ PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson 2>/de
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
-LIB_DIRS  := src/core src/mesh src/voxel src/field src/material src/export src/lua volumes slicing renderer
+LIB_DIRS  := src/core src/image src/mesh src/voxel src/field src/material src/export src/lua volumes slicing renderer
 LIB_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
 CLI_SRC   := $(wildcard src/cli/*.c)
 LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)

@@ -36,12 +36,12 @@ CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-
 # (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.
 CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
                 $(if $(filter 1,$(WERROR)),-Werror) $(SANFLAGS)
-PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson 2>/dev/null)
-PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson 2>/dev/null)
+PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip 2>/dev/null)
+PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip 2>/dev/null)
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
-LIB_DIRS  := src/core src/image src/mesh src/voxel src/field src/material src/export src/lua volumes slicing renderer
+LIB_DIRS  := src/core src/image src/plot src/mesh src/voxel src/field src/material src/export src/lua volumes slicing renderer
 LIB_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
 CLI_SRC   := $(wildcard src/cli/*.c)
 LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
@@ -56,10 +56,10 @@ VTK_INC   := -isystem /usr/include/vtk-9.1
 VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkCommonExecutionModel-9.1 \
              -lvtkCommonDataModel-9.1 -lvtkCommonCore-9.1
 PLUGINS   := $(PLUGDIR)/hovox-vdb.so
-ifneq ($(wildcard renderer/oiio_bridge.cpp),)
+ifneq ($(wildcard src/image/oiio_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-oiio.so
 endif
-ifneq ($(wildcard volumes/vtk_bridge.cpp),)
+ifneq ($(wildcard src/export/vtk_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-vtk.so
 endif
 
@@ -129,16 +129,16 @@ $(PLUGDIR)/hovox-vdb.so: $(BUILD)/obj/volumes/vdb_bridge.pic.o
 	$(CXX) -shared -o $@ $^ $(VDB_LIBS) $(SANFLAGS)
 
 $(PLUGDIR)/hovox-oiio.so: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
-$(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/renderer/oiio_bridge.pic.o
+$(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
 
-$(BUILD)/obj/volumes/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
-$(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/volumes/vtk_bridge.pic.o
+$(BUILD)/obj/src/export/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
+$(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/src/export/vtk_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(VTK_LIBS) $(SANFLAGS)
 
-$(BUILD)/obj/renderer/oiio_bridge.pic.o: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
+$(BUILD)/obj/src/image/oiio_bridge.pic.o: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
 
 # ---- tests --------------------------------------------------------------------------------
 $(BUILD)/obj/tests/%.o: tests/%.c $(BUILD)/.flags

@@ -12,7 +12,7 @@
 #include "core/internal.h"
 #include "core/json.h"
 #include "hovox/material.h"
-#include "hovox/render.h"
+#include "hovox/image.h"
 #include "hovox/voxelize.h"
 #include "layers_internal.h"
 
@@ -104,6 +104,7 @@ typedef struct job {
     int palette_size, bit_depth;
     /* output */
     char *tmp;
+    hv_zip *zip; /* the GCVF archive being made (gcvf_path), NULL otherwise */
     /* per-layer statistics, indexed by layer - first */
     uint64_t *st_pixels, *st_count, *st_fallback;
     double *st_target, *st_dsum, *st_dmax;
@@ -125,6 +126,8 @@ static int needs_object(const hv_layers_options *o)
 
 static void job_free(job *J)
 {
+    hv_zip_abort(J->zip);
+    J->zip = NULL;
     if (J->workers) {
         for (int t = 0; t < J->threads; ++t) {
             worker *w = &J->workers[t];
@@ -965,12 +968,10 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
 /* GCVF: ConfigFile.xml (the layout third-party GCVF writers use for GrabCAD Voxel Print:
  * resolution, slice size and range, materials with their RGBA and voxel counts) and the
  * layers as layer_<index>.png, stored (PNG data is deflated already). */
-static hv_status write_gcvf(job *J, const hv_layers_report *r, hv_atomic_file *af)
+static hv_status write_gcvf(job *J, const hv_layers_report *r, hv_zip *z)
 {
     const hv_layers_options *o = J->o;
-    hv_zip *z = NULL;
-    hv_status st = hv_zip_open(af->fp, o->gcvf_path, &z);
-    if (st != HV_OK) return st;
+    hv_status st = HV_OK;
     hv_buf x;
     hv_buf_init(&x);
     hv_buf_printf(&x,
@@ -1019,22 +1020,16 @@ static hv_status write_gcvf(job *J, const hv_layers_report *r, hv_atomic_file *a
     }
     hv_buf_puts(&x, "    </MaterialList>\n</GCVF>\n");
     if (x.failed) st = hv_error_set(HV_ERR_NOMEM, "out of memory");
-    if (st == HV_OK) st = hv_zip_add(z, "ConfigFile.xml", x.data, x.len, 6);
+    if (st == HV_OK) st = hv_zip_add_data(z, "ConfigFile.xml", x.data, x.len, 1);
     hv_buf_free(&x);
+    /* the layers are copied from the stack's files while the archive is written */
     for (size_t i = J->first; i < J->last && st == HV_OK; ++i) {
         char path[4200], name[64];
         layer_file(path, sizeof path, J->tmp, NULL, i);
         snprintf(name, sizeof name, "layer_%zu.png", i);
-        char *data = NULL;
-        size_t size = 0;
-        st = hv_read_file(path, (size_t)1 << 32, &data, &size);
-        if (st == HV_OK) st = hv_zip_add(z, name, data, size, 0);
-        free(data);
-        if (st == HV_OK && J->progress)
-            st = hv_progress_report(J->progress, "gcvf", (double)(i + 1 - J->first) / (double)(J->last - J->first));
+        st = hv_zip_add_file(z, name, path, 0);
     }
-    if (st == HV_OK) return hv_zip_finish(z);
-    hv_zip_free(z);
+    if (st == HV_OK) st = hv_zip_write(z, J->progress, "gcvf");
     return st;
 }
 
@@ -1106,6 +1101,8 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
         if (stat(o->gcvf_path, &sb) == 0)
             st = hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);
     }
+    /* the archive's temporary is created before the layers run: an unwritable place fails now */
+    if (st == HV_OK && o->gcvf_path) st = hv_zip_open(o->gcvf_path, &J.zip);
     if (st == HV_OK) st = hv_stack_begin(dir, o->force, &J.tmp);
     if (st == HV_OK && o->mode == HV_LAYERS_FRACTIONS) {
         for (int g = 0; g < J.m && st == HV_OK; ++g) {
@@ -1158,17 +1155,12 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
         st = hv_progress_report(progress, "layers", 1.0);
     }
     if (st == HV_OK) st = write_manifest(&J, &rep);
-    hv_atomic_file zaf;
-    int zopen = 0;
-    if (st == HV_OK && o->gcvf_path) {
-        st = hv_atomic_open(&zaf, o->gcvf_path, "wb");
-        zopen = st == HV_OK;
-        if (st == HV_OK) st = write_gcvf(&J, &rep, &zaf);
-    }
+    if (st == HV_OK && J.zip) st = write_gcvf(&J, &rep, J.zip);
     if (st == HV_OK) st = hv_stack_commit(J.tmp, dir, o->force);
-    if (zopen) {
-        if (st == HV_OK) st = hv_atomic_commit(&zaf);
-        else hv_atomic_abort(&zaf);
+    if (J.zip) {
+        if (st == HV_OK) st = hv_zip_commit(J.zip);
+        else hv_zip_abort(J.zip);
+        J.zip = NULL;
     }
     if (st != HV_OK && J.tmp) hv_stack_abort(J.tmp);
     if (report) *report = rep;

@@ -1,11 +1,13 @@
 /* slicing/stack.c - the slice stack on disk: a temporary directory renamed into place when
- * complete (nothing half-written under the final name; src/core/outdir.c), and a minimal ZIP writer (PKWARE
- * APPNOTE 6.3.x: local headers, central directory, end record; raw deflate and CRC-32 from
- * zlib) for the GrabCAD voxel-print (GCVF) archive. */
+ * complete (nothing half-written under the final name; src/core/outdir.c), and the ZIP writer of the
+ * GrabCAD voxel-print (GCVF) archive on libzip (PKWARE APPNOTE 6.3: ZIP64 records when an
+ * archive passes 65,535 entries or 4 GiB, which a full J750 tray does many times over). */
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
+#include <time.h>
+#include <unistd.h>
+#include <zip.h>
 
 #include "core/internal.h"
 #include "core/json.h"
@@ -48,181 +50,242 @@ hv_status hv_stack_commit(const char *tmp, const char *dir, int force)
 
 void hv_stack_abort(const char *tmp) { hv_outdir_abort(tmp); }
 
-/* ---- ZIP ------------------------------------------------------------------------------------ */
-
-typedef struct zip_entry {
-    char *name;
-    uint32_t crc, csize, usize, offset;
-    uint16_t method;
-} zip_entry;
+/* ---- ZIP (libzip) ---------------------------------------------------------------------------- */
 
 struct hv_zip {
-    FILE *fp;
-    const char *path;
-    uint64_t pos;
-    zip_entry *e;
-    size_t n, cap;
+    zip_t *za;
+    FILE *fp;           /* the temporary the archive is written to (zip needs to seek back) */
+    char *path, *tmp;
+    zip_error_t zerr;   /* errors of the write source */
+    time_t mtime;       /* local time that is 1980-01-01 00:00 in DOS time: fixed bytes */
+    const hv_progress *progress;
+    const char *stage;
+    hv_status cancel;   /* why the cancel callback stopped libzip */
+    char **files;       /* entry files, to name the one that could not be read */
+    size_t nfiles, cap;
 };
 
-#define ZIP_DOS_DATE 0x0021 /* 1980-01-01 */
-#define ZIP_DOS_TIME 0x0000
-
-static void le16(uint8_t *p, unsigned v)
+/* The archive's write side: libzip writes, seeks back to patch local headers, and commits
+ * through these commands into z->fp. Nothing is read back (a new archive), so stat says "no
+ * such file" and libzip starts empty. */
+static zip_int64_t zip_out(void *ud, void *data, zip_uint64_t len, zip_source_cmd_t cmd)
 {
-    p[0] = (uint8_t)v;
-    p[1] = (uint8_t)(v >> 8);
-}
-static void le32(uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; ++i) p[i] = (uint8_t)(v >> (8 * i));
+    hv_zip *z = ud;
+    switch (cmd) {
+    case ZIP_SOURCE_SUPPORTS:
+        return zip_source_make_command_bitmap(ZIP_SOURCE_OPEN, ZIP_SOURCE_READ, ZIP_SOURCE_CLOSE, ZIP_SOURCE_STAT,
+                                              ZIP_SOURCE_ERROR, ZIP_SOURCE_FREE, ZIP_SOURCE_SEEK, ZIP_SOURCE_TELL,
+                                              ZIP_SOURCE_SUPPORTS, ZIP_SOURCE_BEGIN_WRITE, ZIP_SOURCE_COMMIT_WRITE,
+                                              ZIP_SOURCE_ROLLBACK_WRITE, ZIP_SOURCE_WRITE, ZIP_SOURCE_SEEK_WRITE,
+                                              ZIP_SOURCE_TELL_WRITE, ZIP_SOURCE_REMOVE, -1);
+    case ZIP_SOURCE_STAT:
+        zip_error_set(&z->zerr, ZIP_ER_READ, ENOENT); /* what libzip takes for "no such file" */
+        return -1;
+    case ZIP_SOURCE_OPEN:
+    case ZIP_SOURCE_CLOSE:
+    case ZIP_SOURCE_FREE:
+    case ZIP_SOURCE_ROLLBACK_WRITE:
+    case ZIP_SOURCE_REMOVE:
+        return 0;
+    case ZIP_SOURCE_READ:
+    case ZIP_SOURCE_SEEK:
+    case ZIP_SOURCE_TELL:
+        zip_error_set(&z->zerr, ZIP_ER_OPNOTSUPP, 0);
+        return -1;
+    case ZIP_SOURCE_BEGIN_WRITE:
+        if (fseeko(z->fp, 0, SEEK_SET) != 0 || ftruncate(fileno(z->fp), 0) != 0) {
+            zip_error_set(&z->zerr, ZIP_ER_WRITE, errno);
+            return -1;
+        }
+        return 0;
+    case ZIP_SOURCE_WRITE:
+        if (len > 0 && fwrite(data, 1, (size_t)len, z->fp) != len) {
+            zip_error_set(&z->zerr, ZIP_ER_WRITE, errno);
+            return -1;
+        }
+        return (zip_int64_t)len;
+    case ZIP_SOURCE_SEEK_WRITE: {
+        zip_source_args_seek_t *a = ZIP_SOURCE_GET_ARGS(zip_source_args_seek_t, data, len, &z->zerr);
+        if (!a) return -1;
+        if (fseeko(z->fp, (off_t)a->offset, a->whence) != 0) {
+            zip_error_set(&z->zerr, ZIP_ER_SEEK, errno);
+            return -1;
+        }
+        return 0;
+    }
+    case ZIP_SOURCE_TELL_WRITE: {
+        off_t at = ftello(z->fp);
+        if (at < 0) zip_error_set(&z->zerr, ZIP_ER_TELL, errno);
+        return at < 0 ? -1 : (zip_int64_t)at;
+    }
+    case ZIP_SOURCE_COMMIT_WRITE:
+        if (fflush(z->fp) != 0 || fsync(fileno(z->fp)) != 0) {
+            zip_error_set(&z->zerr, ZIP_ER_WRITE, errno);
+            return -1;
+        }
+        return 0;
+    case ZIP_SOURCE_ERROR:
+        return zip_error_to_data(&z->zerr, data, len);
+    default:
+        zip_error_set(&z->zerr, ZIP_ER_OPNOTSUPP, 0);
+        return -1;
+    }
 }
 
-static hv_status zwrite(hv_zip *z, const void *d, size_t n)
+void hv_zip_abort(hv_zip *z)
 {
-    if (n && fwrite(d, 1, n, z->fp) != n)
-        return hv_error_set(HV_ERR_IO, "%s: write failed: %s", z->path, strerror(errno));
-    z->pos += n;
-    return HV_OK;
+    if (!z) return;
+    if (z->za) zip_discard(z->za); /* frees the sources, writes nothing */
+    if (z->fp) fclose(z->fp);
+    if (z->tmp) unlink(z->tmp);
+    zip_error_fini(&z->zerr);
+    for (size_t i = 0; i < z->nfiles; ++i) free(z->files[i]);
+    free(z->files);
+    free(z->path);
+    free(z->tmp);
+    free(z);
 }
 
-hv_status hv_zip_open(FILE *fp, const char *path, hv_zip **out)
+hv_status hv_zip_open(const char *path, hv_zip **out)
 {
     *out = NULL;
     hv_zip *z = hv_calloc(1, sizeof *z);
     if (!z) return HV_ERR_NOMEM;
-    z->fp = fp;
-    z->path = path;
+    zip_error_init(&z->zerr);
+    struct tm t = {.tm_year = 80, .tm_mon = 0, .tm_mday = 1, .tm_isdst = -1};
+    z->mtime = mktime(&t);
+    z->path = hv_strdup(path);
+    z->tmp = z->path ? hv_temp_path(path) : NULL;
+    if (!z->tmp) {
+        hv_zip_abort(z);
+        return HV_ERR_NOMEM;
+    }
+    /* created now, so that a place we cannot write fails before any work */
+    z->fp = fopen(z->tmp, "w+b");
+    if (!z->fp) {
+        hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+        free(z->tmp);
+        z->tmp = NULL;
+        hv_zip_abort(z);
+        return s;
+    }
+    zip_source_t *src = zip_source_function_create(zip_out, z, &z->zerr);
+    zip_error_t err;
+    zip_error_init(&err);
+    if (src) z->za = zip_open_from_source(src, ZIP_CREATE | ZIP_TRUNCATE, &err);
+    if (!z->za) {
+        hv_status s = hv_error_set(HV_ERR_IO, "%s: %s", path, zip_error_strerror(src ? &err : &z->zerr));
+        if (src) zip_source_free(src);
+        zip_error_fini(&err);
+        hv_zip_abort(z);
+        return s;
+    }
+    zip_error_fini(&err);
     *out = z;
     return HV_OK;
 }
 
-void hv_zip_free(hv_zip *z)
+static hv_status zip_fail(hv_zip *z, const char *what)
 {
-    if (!z) return;
-    for (size_t i = 0; i < z->n; ++i) free(z->e[i].name);
-    free(z->e);
-    free(z);
+    zip_error_t *e = zip_get_error(z->za);
+    if (zip_error_code_zip(e) == ZIP_ER_MEMORY) return HV_ERR_NOMEM;
+    return hv_error_set(HV_ERR_IO, "%s: %s%s%s", z->path, what ? what : "", what ? ": " : "", zip_error_strerror(e));
 }
 
-hv_status hv_zip_add(hv_zip *z, const char *name, const void *data, size_t size, int level)
+static hv_status zip_place(hv_zip *z, const char *name, zip_source_t *src, int deflate)
 {
-    size_t nlen = strlen(name);
-    if (nlen == 0 || nlen > 0xffff) return hv_error_set(HV_ERR_INVALID, "%s: bad entry name", z->path);
-    if (z->n >= 0xffff)
-        return hv_error_set(HV_ERR_LIMIT, "%s: more than 65535 entries need ZIP64, which is not written", z->path);
-    if (size > 0xfffffffful || z->pos > 0xfffffffful)
-        return hv_error_set(HV_ERR_LIMIT, "%s: archive beyond 4 GiB needs ZIP64, which is not written", z->path);
-    hv_status st = hv_grow((void **)&z->e, &z->cap, z->n + 1, sizeof *z->e);
-    if (st != HV_OK) return st;
-    uint32_t crc = (uint32_t)crc32(0L, Z_NULL, 0);
-    /* crc32 takes uInt lengths: feed large buffers in pieces */
-    for (size_t o = 0; o < size;) {
-        size_t k = HV_MIN(size - o, (size_t)1 << 30);
-        crc = (uint32_t)crc32(crc, (const Bytef *)data + o, (uInt)k);
-        o += k;
+    if (!src) return zip_fail(z, name);
+    zip_int64_t idx = zip_file_add(z->za, name, src, ZIP_FL_ENC_UTF_8);
+    if (idx < 0) {
+        zip_source_free(src);
+        return zip_fail(z, name);
     }
-    uint8_t *comp = NULL;
-    size_t csize = size;
-    uint16_t method = 0;
-    if (level > 0 && size > 0) {
-        z_stream s;
-        memset(&s, 0, sizeof s);
-        if (deflateInit2(&s, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-            return hv_error_set(HV_ERR_NOMEM, "%s: zlib initialisation failed", z->path);
-        uLong bound = deflateBound(&s, (uLong)size);
-        comp = hv_malloc(bound);
-        if (!comp) {
-            deflateEnd(&s);
-            return HV_ERR_NOMEM;
-        }
-        s.next_in = (Bytef *)(uintptr_t)data;
-        s.avail_in = (uInt)size;
-        s.next_out = comp;
-        s.avail_out = (uInt)bound;
-        int rc = deflate(&s, Z_FINISH);
-        size_t got = s.total_out;
-        deflateEnd(&s);
-        if (rc == Z_STREAM_END && got < size) {
-            csize = got;
-            method = 8;
-        }
-    }
-    uint8_t h[30];
-    le32(h, 0x04034b50);
-    le16(h + 4, 20);
-    le16(h + 6, 0);
-    le16(h + 8, method);
-    le16(h + 10, ZIP_DOS_TIME);
-    le16(h + 12, ZIP_DOS_DATE);
-    le32(h + 14, crc);
-    le32(h + 18, (uint32_t)csize);
-    le32(h + 22, (uint32_t)size);
-    le16(h + 26, (unsigned)nlen);
-    le16(h + 28, 0);
-    zip_entry *e = &z->e[z->n];
-    e->offset = (uint32_t)z->pos;
-    e->crc = crc;
-    e->csize = (uint32_t)csize;
-    e->usize = (uint32_t)size;
-    e->method = method;
-    e->name = hv_strdup(name);
-    if (!e->name) {
-        free(comp);
-        return HV_ERR_NOMEM;
-    }
-    z->n++;
-    st = zwrite(z, h, sizeof h);
-    if (st == HV_OK) st = zwrite(z, name, nlen);
-    if (st == HV_OK) st = zwrite(z, method ? comp : data, csize);
-    free(comp);
-    if (st == HV_OK && z->pos > 0xfffffffful)
-        st = hv_error_set(HV_ERR_LIMIT, "%s: archive beyond 4 GiB needs ZIP64, which is not written", z->path);
-    return st;
+    zip_uint64_t i = (zip_uint64_t)idx;
+    if (zip_set_file_compression(z->za, i, deflate ? ZIP_CM_DEFLATE : ZIP_CM_STORE, deflate ? 6 : 0) != 0 ||
+        zip_file_set_mtime(z->za, i, z->mtime, 0) != 0 ||
+        zip_file_set_external_attributes(z->za, i, 0, ZIP_OPSYS_UNIX, (zip_uint32_t)0100644 << 16) != 0)
+        return zip_fail(z, name);
+    return HV_OK;
 }
 
-hv_status hv_zip_finish(hv_zip *z)
+hv_status hv_zip_add_data(hv_zip *z, const char *name, const void *data, size_t size, int deflate)
 {
-    hv_status st = HV_OK;
-    uint64_t cd = z->pos;
-    for (size_t i = 0; i < z->n && st == HV_OK; ++i) {
-        zip_entry *e = &z->e[i];
-        size_t nlen = strlen(e->name);
-        uint8_t h[46];
-        le32(h, 0x02014b50);
-        le16(h + 4, 0x0314); /* made by: Unix, spec 2.0 */
-        le16(h + 6, 20);
-        le16(h + 8, 0);
-        le16(h + 10, e->method);
-        le16(h + 12, ZIP_DOS_TIME);
-        le16(h + 14, ZIP_DOS_DATE);
-        le32(h + 16, e->crc);
-        le32(h + 20, e->csize);
-        le32(h + 24, e->usize);
-        le16(h + 28, (unsigned)nlen);
-        le16(h + 30, 0);
-        le16(h + 32, 0);
-        le16(h + 34, 0);
-        le16(h + 36, 0);
-        le32(h + 38, (uint32_t)0100644 << 16); /* regular file, rw-r--r-- */
-        le32(h + 42, e->offset);
-        st = zwrite(z, h, sizeof h);
-        if (st == HV_OK) st = zwrite(z, e->name, nlen);
+    void *copy = hv_malloc(size ? size : 1);
+    if (!copy) return HV_ERR_NOMEM;
+    memcpy(copy, data, size);
+    zip_source_t *src = zip_source_buffer(z->za, copy, size, 1);
+    if (!src) free(copy);
+    return zip_place(z, name, src, deflate);
+}
+
+hv_status hv_zip_add_file(hv_zip *z, const char *name, const char *file, int deflate)
+{
+    /* libzip opens the file only while it copies it, in hv_zip_write */
+    hv_status s = hv_grow((void **)&z->files, &z->cap, z->nfiles + 1, sizeof *z->files);
+    if (s != HV_OK) return s;
+    if (!(z->files[z->nfiles] = hv_strdup(file))) return HV_ERR_NOMEM;
+    z->nfiles++;
+    zip_source_t *src = zip_source_file(z->za, file, 0, -1);
+    if (!src) {
+        zip_error_t *e = zip_get_error(z->za);
+        if (zip_error_code_zip(e) == ZIP_ER_MEMORY) return HV_ERR_NOMEM;
+        return hv_error_set(HV_ERR_IO, "%s: cannot read: %s", file, zip_error_strerror(e));
     }
-    uint64_t cdsize = z->pos - cd;
-    if (st == HV_OK && (z->pos > 0xfffffffful))
-        st = hv_error_set(HV_ERR_LIMIT, "%s: archive beyond 4 GiB needs ZIP64, which is not written", z->path);
-    if (st == HV_OK) {
-        uint8_t h[22];
-        le32(h, 0x06054b50);
-        le16(h + 4, 0);
-        le16(h + 6, 0);
-        le16(h + 8, (unsigned)z->n);
-        le16(h + 10, (unsigned)z->n);
-        le32(h + 12, (uint32_t)cdsize);
-        le32(h + 16, (uint32_t)cd);
-        le16(h + 20, 0);
-        st = zwrite(z, h, sizeof h);
+    return zip_place(z, name, src, deflate);
+}
+
+static void zip_progress(zip_t *za, double fraction, void *ud)
+{
+    (void)za;
+    hv_zip *z = ud;
+    if (z->cancel == HV_OK && z->progress)
+        z->cancel = hv_progress_report(z->progress, z->stage, fraction);
+}
+
+static int zip_cancel(zip_t *za, void *ud)
+{
+    (void)za;
+    hv_zip *z = ud;
+    if (z->cancel == HV_OK && hv_cancel_requested()) z->cancel = hv_error_set(HV_ERR_CANCELLED, "cancelled");
+    return z->cancel != HV_OK;
+}
+
+hv_status hv_zip_write(hv_zip *z, const hv_progress *progress, const char *stage)
+{
+    z->progress = progress;
+    z->stage = stage;
+    zip_register_progress_callback_with_state(z->za, 0.001, zip_progress, NULL, z);
+    zip_register_cancel_callback_with_state(z->za, zip_cancel, NULL, z);
+    if (zip_close(z->za) == 0) {
+        z->za = NULL;
+        return z->cancel;
     }
-    hv_zip_free(z);
-    return st;
+    if (z->cancel != HV_OK) return z->cancel;
+    /* libzip does not say which entry failed: name the first entry file that cannot be read */
+    for (size_t i = 0; i < z->nfiles; ++i) {
+        FILE *f = fopen(z->files[i], "rb");
+        if (!f) {
+            int e = errno;
+            return hv_error_set(HV_ERR_IO, "%s: cannot read %s: %s", z->path, z->files[i], strerror(e));
+        }
+        fclose(f);
+    }
+    return zip_fail(z, NULL);
+}
+
+hv_status hv_zip_commit(hv_zip *z)
+{
+    hv_status s = HV_OK;
+    if (z->za) s = hv_error_set(HV_ERR_INTERNAL, "%s: committed before it was written", z->path);
+    if (s == HV_OK && fclose(z->fp) != 0) s = hv_error_set(HV_ERR_IO, "%s: write failed: %s", z->path, strerror(errno));
+    z->fp = NULL;
+    if (s == HV_OK) {
+        s = hv_temp_commit(z->tmp, z->path);
+        if (s == HV_OK) {
+            free(z->tmp);
+            z->tmp = NULL;
+        }
+    }
+    hv_zip_abort(z);
+    return s;
 }

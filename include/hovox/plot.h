@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "hovox/core.h"
+#include "hovox/profile.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -101,6 +102,20 @@ HV_API hv_status hv_plot_write_svg(const hv_plot *p, const char *path);
  * failed: <reason>"), HV_ERR_NOMEM. */
 HV_API hv_status hv_plot_write_png_stream(const hv_plot *p, FILE *fp);
 HV_API hv_status hv_plot_write_svg_stream(const hv_plot *p, FILE *fp);
+
+/* ---- material profiles (hovox/profile.h) ---------------------------------------------- */
+
+/* A plot of the profile (width x height pixels, see hv_plot_create): distance along the line
+ * on x ("distance along the line (mm)"), one series per material in its table colour (alpha
+ * set to 1) on y ("material fraction", range [0, 1]), drawn only where the samples are inside;
+ * stretches outside the object are shaded and labelled "outside the object" (their ends
+ * halfway between an inside and an outside sample). Title "Material fractions along a line",
+ * subtitle the end points and the sample count; callers may change both, add markers (e.g. a
+ * grading source's d- and d- + dg) and then write it. Free with hv_plot_destroy.
+ * Errors: HV_ERR_INVALID (size), HV_ERR_NOMEM. */
+HV_API hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out);
+/* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). */
+HV_API hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o, hv_plot **out);
 
 #ifdef __cplusplus
 }

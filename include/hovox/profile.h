@@ -6,7 +6,6 @@
 #include <stdio.h>
 
 #include "hovox/material.h"
-#include "hovox/plot.h"
 #include "hovox/volume.h"
 
 #ifdef __cplusplus
@@ -81,18 +80,6 @@ HV_API const double *hv_profile_fractions(const hv_profile *p, int i);
  * Errors: HV_ERR_IO (cannot write or rename; no file is left under `path`), HV_ERR_NOMEM. */
 HV_API hv_status hv_profile_write_csv(const hv_profile *p, const char *path);
 HV_API hv_status hv_profile_write_csv_stream(const hv_profile *p, FILE *fp);
-
-/* A plot of the profile (width x height pixels, see hv_plot_create): distance along the line
- * on x ("distance along the line (mm)"), one series per material in its table colour (alpha
- * set to 1) on y ("material fraction", range [0, 1]), drawn only where the samples are inside;
- * stretches outside the object are shaded and labelled "outside the object" (their ends
- * halfway between an inside and an outside sample). Title "Material fractions along a line",
- * subtitle the end points and the sample count; callers may change both, add markers (e.g. a
- * grading source's d- and d- + dg) and then write it. Free with hv_plot_destroy.
- * Errors: HV_ERR_INVALID (size), HV_ERR_NOMEM. */
-HV_API hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out);
-/* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). */
-HV_API hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o, hv_plot **out);
 
 #ifdef __cplusplus
 }

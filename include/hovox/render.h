@@ -1,75 +1,18 @@
 /* hovox/render.h - ray-cast preview of heterogeneous objects (Wu 2.3): direct volume rendering
  * whose sample colour comes from the material composition (sum p_j * colour_j) rather than a
  * scalar transfer function, an opaque surface mode, cut planes and boxes that show the
- * interior, and image output (PNG through libpng; EXR/TIFF through OpenImageIO when present). */
+ * interior. Images and their files are the image module's (hovox/image.h). */
 #ifndef HOVOX_RENDER_H
 #define HOVOX_RENDER_H
 
 #include "hovox/core.h"
+#include "hovox/image.h"
 #include "hovox/options.h"
 #include "hovox/volume.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ==== images ============================================================================ */
-
-/* A float RGBA image: width*height pixels of 4 floats, rows top to bottom, PREMULTIPLIED
- * alpha (r,g,b <= a). Colours are display values (the materials' colours as given, no
- * colour-space conversion). Free with hv_image_destroy. */
-typedef struct hv_image {
-    int width, height;
-    float *rgba;
-} hv_image;
-
-/* A transparent black image. Errors: HV_ERR_INVALID (size outside 1..65535), HV_ERR_NOMEM. */
-HV_API hv_status hv_image_create(int width, int height, hv_image **out);
-/* Free an image; NULL is allowed. */
-HV_API void hv_image_destroy(hv_image *img);
-
-/* 8-bit RGBA with STRAIGHT (unpremultiplied) alpha, rounded: out holds width*height*4 bytes. */
-HV_API void hv_image_to_rgba8(const hv_image *img, uint8_t *out);
-
-/* Write an image; the format follows the file extension (case-insensitive):
- *   .png          8-bit RGBA, straight alpha (libpng, zlib level 3)
- *   .exr          half-float RGBA, premultiplied alpha (OpenImageIO plugin)
- *   .tif, .tiff   8-bit RGBA, straight (unassociated) alpha (OpenImageIO plugin)
- * The OpenImageIO plugin (plugins/hovox-oiio.so) is loaded only for EXR and TIFF. Written to a
- * temporary name next to `path` and renamed when complete: a failure leaves no file.
- * Errors: HV_ERR_UNSUPPORTED (unknown extension, or EXR/TIFF without the plugin), HV_ERR_IO,
- * HV_ERR_NOMEM. */
-HV_API hv_status hv_image_write(const hv_image *img, const char *path);
-
-/* ---- PNG: the project's 8-bit image output ---------------------------------------------- */
-
-typedef struct hv_png_options {
-    int compression;        /* zlib level 0..9, or -1 (default) for libpng's default (6) */
-    double dpi[2];          /* > 0: physical resolution (pHYs chunk, x and y); 0: none */
-    const uint8_t *palette; /* with channels == 1: indexed colour, palette_size RGB triples */
-    int palette_size;       /* 1..256 */
-    const char *text_key;   /* optional tEXt chunk (1-79 Latin-1 bytes) ... */
-    const char *text_value; /* ... and its value */
-    int bit_depth;          /* 1, 2, 4 or 8 (0 means 8); below 8 only with channels == 1 (grey
-                               or indexed): pixels stay one per byte, values < 2^bit_depth */
-} hv_png_options;
-
-/* Defaults: compression -1, no pHYs, no palette, no text, bit depth 8. */
-HV_API void hv_png_options_init(hv_png_options *opt);
-
-/* Encode 8-bit pixels as PNG. channels: 1 grey (indexed when opt->palette is set; values must
- * then be < palette_size), 2 grey+alpha, 3 RGB, 4 RGBA (straight alpha). `stride` is the byte
- * distance between rows (0: width*channels). opt may be NULL.
- * hv_png_write writes the file atomically (temporary name, rename). hv_png_encode returns a
- * malloc'd buffer in *data (free() it) of *size bytes.
- * Errors: HV_ERR_INVALID (size 0, channels, stride, compression level, palette, an index
- * beyond the palette, bit depth, a value beyond the bit depth, bad text key), HV_ERR_IO (path
- * not writable, disk full), HV_ERR_NOMEM, HV_ERR_INTERNAL (libpng refused, with its message). */
-HV_API hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int height,
-                              int channels, size_t stride, const hv_png_options *opt);
-HV_API hv_status hv_png_encode(const uint8_t *pixels, int width, int height, int channels,
-                               size_t stride, const hv_png_options *opt, uint8_t **data,
-                               size_t *size);
 
 /* ==== cut planes and boxes =============================================================== */
 

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/plot.h"
 #include "hovox/profile.h"
 
 typedef struct profile_cli {

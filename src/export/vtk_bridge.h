@@ -1,5 +1,5 @@
 /* src/export/vtk_bridge.h - the function table between the C exporter (src/export) and the
- * VTK bridge plugin (volumes/vtk_bridge.cpp, built as plugins/hovox-vtk.so). Internal. The
+ * VTK bridge plugin (src/export/vtk_bridge.cpp, built as plugins/hovox-vtk.so). Internal. The
  * plugin does not link libhovox: it gets plain arrays and returns hovox status values; on
  * failure its last_error() holds the message. No C++ exception crosses this table. */
 #ifndef HOVOX_VTK_BRIDGE_H

@@ -10,6 +10,7 @@
 #include "core/internal.h"
 #include "hovox/export.h"
 #include "hovox/layers.h"
+#include "hovox/plot.h"
 #include "hovox/profile.h"
 #include "hovox/render.h"
 #include "hovox/slice.h"

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hovox/plot.h"
 #include "hovox/profile.h"
 #include "support/support.h"
 

@@ -1,4 +1,4 @@
-// renderer/oiio_bridge.cpp - the only code that includes OpenImageIO: writes float RGBA images
+// src/image/oiio_bridge.cpp - the only code that includes OpenImageIO: writes float RGBA images
 // as EXR or TIFF. Built as plugins/hovox-oiio.so and loaded by image.c only when one of those
 // formats is requested. Every entry catches all exceptions (HV_CATCH) and turns them into a
 // status plus what(); nothing propagates into C.

@@ -1,4 +1,4 @@
-/* tests/render/test_image.c - image output: float images to 8-bit, the libpng writer (grey,
+/* tests/image/test_image.c - image output: float images to 8-bit, the libpng writer (grey,
  * grey+alpha, RGB, RGBA, indexed, pHYs, text; to files atomically and to memory), read back by
  * libpng itself; EXR and TIFF through the OpenImageIO plugin, checked with oiiotool. */
 #include <criterion/criterion.h>

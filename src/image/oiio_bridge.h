@@ -1,4 +1,4 @@
-/* renderer/oiio_bridge.h - the function table between the C image writer (image.c) and the
+/* src/image/oiio_bridge.h - the function table between the C image writer (image.c) and the
  * OpenImageIO bridge plugin (oiio_bridge.cpp, built as plugins/hovox-oiio.so and loaded only
  * when an EXR or TIFF is requested). Internal: callers use hovox/render.h. Every entry returns
  * an hv_status; on failure the plugin's last_error() holds the message. No C++ exception

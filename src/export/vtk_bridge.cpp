@@ -1,9 +1,9 @@
-// volumes/vtk_bridge.cpp - the only code that includes VTK: writes .vti image data and .vtu
+// src/export/vtk_bridge.cpp - the only code that includes VTK: writes .vti image data and .vtu
 // hexahedral meshes (XML, appended raw binary, zlib, 64-bit headers) from plain arrays the C
 // exporter (src/export) built. Built as plugins/hovox-vtk.so and loaded only when exporting.
 // Every entry catches all exceptions (HV_CATCH) and turns them into a status plus what();
 // VTK's own error text is captured (never printed: the library does not print).
-#include "export/vtk_bridge.h"
+#include "vtk_bridge.h"
 
 #include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>

@@ -1,4 +1,4 @@
-/* renderer/plot.c - line plots on cairo (see hovox/plot.h): layout with measured text, 1-2-5
+/* src/plot/plot.c - line plots on cairo (see hovox/plot.h): layout with measured text, 1-2-5
  * ticks, a legend placed where it covers no data, PNG/SVG output through atomic files. Used
  * for material profiles along a line (Wu Fig. 26). */
 #include <cairo-svg.h>

@@ -1,4 +1,4 @@
-/* tests/render/test_plot.c - the cairo line plots: image size, series drawn in their colours
+/* tests/plot/test_plot.c - the cairo line plots: image size, series drawn in their colours
  * where the data mapping says, gaps, spans, markers, 1-2-5 grid lines, frame, text, legend
  * placement (never over data), determinism, SVG, argument checks and atomic output. Images
  * are read back with cairo and checked pixel by pixel; never compared byte for byte. */

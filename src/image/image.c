@@ -1,4 +1,4 @@
-/* renderer/image.c - the project's image output: float RGBA images, 8-bit PNG through libpng
+/* src/image/image.c - the image module (hovox/image.h): float RGBA images, 8-bit PNG through libpng
  * (grey, grey+alpha, RGB, RGBA, indexed; pHYs resolution; to a file atomically or to memory),
  * and EXR/TIFF through the OpenImageIO bridge plugin, loaded only when asked for. */
 #include <errno.h>
@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "core/internal.h"
-#include "hovox/render.h"
+#include "hovox/image.h"
 #include "oiio_bridge.h"
 
 /* ---- float images ----------------------------------------------------------------------- */

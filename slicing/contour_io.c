@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/internal.h"
 #include "slice_internal.h"
@@ -132,6 +133,17 @@ static void put_f32(hv_contour_writer *w, double v)
 }
 
 /* ---- open / add / close ------------------------------------------------------------------ */
+
+hv_status hv_contour_format_for_path(const char *path, int binary, hv_contour_format *out)
+{
+    size_t n = strlen(path);
+    int svg = n >= 4 && strcasecmp(path + n - 4, ".svg") == 0, cli = n >= 4 && strcasecmp(path + n - 4, ".cli") == 0;
+    if (!svg && !cli)
+        return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .svg or .cli)", path);
+    if (svg && binary) return hv_error_option(HV_ERR_INVALID, "{binary} needs a .cli output, not '%s'", path);
+    *out = svg ? HV_CONTOUR_SVG : binary ? HV_CONTOUR_CLI_BINARY : HV_CONTOUR_CLI_ASCII;
+    return HV_OK;
+}
 
 hv_status hv_contour_writer_open(const char *path, hv_contour_format format, size_t layers,
                                  const double lo[3], const double hi[3], const char *label,

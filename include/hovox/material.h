@@ -210,12 +210,17 @@ typedef struct hv_ags_options {
     double ms[HV_MAX_MATERIALS], me[HV_MAX_MATERIALS];
     int nms, nme;
     const char *name;   /* borrowed; may be NULL */
+    double c;           /* Wu's 3-material sources only: the third material's fraction C */
 } hv_ags_options;
 HV_API void hv_ags_options_init(hv_ags_options *o);
 HV_API const hv_option_set *hv_ags_option_set(void);
 /* Make an AGS on frf from options; `f` (may be NULL) replaces the expression o->f (a callback
  * from a script). Errors: those of the options and of hv_ags_create. */
 HV_API hv_status hv_ags_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn *f, hv_ags **out);
+/* Wu's 3-material source (hv_ags_wu3) as options: ranges or d_neg, d_grad, d_pos; f (required
+ * here, unless given as `f`); c in [0, 1]. */
+HV_API const hv_option_set *hv_wu3_option_set(void);
+HV_API hv_status hv_ags_wu3_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn *f, hv_ags **out);
 
 /* Make an AGS: validates the ranges (finite, >= 0), Ms and Me (hv_composition_check), and
  * tabulates f over [0, dg], requiring 0 <= f <= 1 (within 1e-9) at every sample. Evaluation:
@@ -352,6 +357,16 @@ HV_API void hv_object_sample(const hv_object *o, const double p[3], int *inside,
  * least 0.5. fractions: hv_material_count(t) values (all 0 far outside). */
 HV_API void hv_model_probe(hv_accessor *acc, const hv_material_table *t, const int *grids,
                            const double p[3], int *inside, double *fractions);
+
+/* Points from CSV text of x,y,z rows (`path` names it in messages): a header line (three
+ * non-numeric fields before any row) allowed, blank lines and lines starting with '#' skipped,
+ * CRLF accepted. Appends to *xyz (3 doubles per point, grown with realloc; the caller frees)
+ * and counts them in *n. Errors: HV_ERR_BAD_INPUT ("p.csv: line 4: expected 3 values x,y,z,
+ * found 2", "p.csv: line 5: y = 'abc' is not a finite number"), HV_ERR_NOMEM; the points read
+ * before an error stay appended. read_csv reads the file first (at most 256 MiB; HV_ERR_IO,
+ * HV_ERR_LIMIT). */
+HV_API hv_status hv_points_parse_csv(const char *data, size_t size, const char *path, double **xyz, size_t *n);
+HV_API hv_status hv_points_read_csv(const char *path, double **xyz, size_t *n);
 
 #ifdef __cplusplus
 }

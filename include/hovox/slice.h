@@ -281,6 +281,11 @@ typedef enum hv_contour_format {
     HV_CONTOUR_CLI_BINARY = 2
 } hv_contour_format;
 
+/* The format a contour file's name asks for: .svg, or .cli (binary CLI when `binary`), case
+ * aside. Errors: HV_ERR_INVALID ("output 'x.txt' has an unknown extension (use .svg or .cli)",
+ * "binary needs a .cli output, not 'x.svg'"). */
+HV_API hv_status hv_contour_format_for_path(const char *path, int binary, hv_contour_format *out);
+
 typedef struct hv_contour_writer hv_contour_writer;
 
 /* Open a contour file for `layers` layers (the CLI header states the count; the SVG needs

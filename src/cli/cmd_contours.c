@@ -16,17 +16,10 @@ typedef struct contours_cli {
     int json;
 } contours_cli;
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && strcasecmp(s + n - k, suffix) == 0;
-}
-
 static hv_status check_contour_path(const hv_option *o, const void *opts)
 {
-    const char *path = *(const char *const *)((const char *)opts + o->offset);
-    if (ends_with(path, ".svg") || ends_with(path, ".cli")) return HV_OK;
-    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .svg or .cli)", path);
+    hv_contour_format f;
+    return hv_contour_format_for_path(*(const char *const *)((const char *)opts + o->offset), 0, &f);
 }
 
 static const hv_option k_local_opts[] = {
@@ -150,10 +143,10 @@ static int slice_mesh(const char *mesh_path, const hv_contours_options *o, const
         s = hv_error_set(HV_ERR_INVALID, "%s: the mesh is %g mm high: no layer of %g mm has its middle inside it",
                          mesh_path, info.bbox_max[2] - info.bbox_min[2], o->adaptive[0] > 0 ? o->adaptive[0] : o->layer_height);
     if (s == HV_OK && c->output) {
-        hv_contour_format fmt = ends_with(c->output, ".svg") ? HV_CONTOUR_SVG
-                                : o->binary                 ? HV_CONTOUR_CLI_BINARY
-                                                            : HV_CONTOUR_CLI_ASCII;
-        s = hv_contour_writer_open(c->output, fmt, hv_layer_plan_count(plan), info.bbox_min, info.bbox_max, r.label,
+        hv_contour_format fmt;
+        s = hv_contour_format_for_path(c->output, o->binary, &fmt);
+        if (s == HV_OK)
+            s = hv_contour_writer_open(c->output, fmt, hv_layer_plan_count(plan), info.bbox_min, info.bbox_max, r.label,
                                    &r.writer);
     }
     /* per-layer SVGs go to a temporary directory renamed into place when complete; an existing
@@ -183,7 +176,8 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 {
     const hv_contours_options *o = lib;
     const contours_cli *c = local;
-    if (o->binary && !(c->output && ends_with(c->output, ".cli")))
+    hv_contour_format fmt;
+    if (o->binary && (!c->output || hv_contour_format_for_path(c->output, 1, &fmt) != HV_OK))
         return cli_usage_error("contours", "--binary needs a .cli output");
     if (!c->output && !c->per_layer && !c->json)
         return cli_usage_error("contours", "nothing to write: give -o OUT.svg|OUT.cli, --per-layer DIR or --json");

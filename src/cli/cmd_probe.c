@@ -34,7 +34,6 @@ static const hv_option_set k_local = CLI_LOCAL_SET("probe", k_local_opts, probe_
 static const hv_option k_point = {.key = "point", .kind = HV_OPT_NUMBER, .count = 3, .meta = "X,Y,Z"};
 
 
-#define MAX_POINTS_FILE (256u << 20)
 
 typedef struct points {
     double *xyz;
@@ -47,92 +46,6 @@ static int points_add(points *p, const double v[3])
     memcpy(p->xyz + 3 * p->n, v, 3 * sizeof *v);
     ++p->n;
     return 0;
-}
-
-/* A field with blanks trimmed, as a finite number; 0 when it is not one. */
-static int field_number(const char *s, size_t len, double *out)
-{
-    while (len && (*s == ' ' || *s == '\t')) ++s, --len;
-    while (len && (s[len - 1] == ' ' || s[len - 1] == '\t')) --len;
-    if (len == 0 || len > 63) return 0;
-    char buf[64];
-    memcpy(buf, s, len);
-    buf[len] = '\0';
-    char *end;
-    errno = 0;
-    double v = strtod(buf, &end);
-    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return 0;
-    *out = v;
-    return 1;
-}
-
-/* "'text'" of a field, blanks trimmed, long ones cut, for messages. */
-static void field_shown(const char *s, size_t len, char *out, size_t size)
-{
-    while (len && (*s == ' ' || *s == '\t')) ++s, --len;
-    while (len && (s[len - 1] == ' ' || s[len - 1] == '\t')) --len;
-    snprintf(out, size, "'%.*s%s'", (int)HV_MIN(len, 40), s, len > 40 ? "..." : "");
-}
-
-/* Read x,y,z rows. Returns 0, or an exit code after printing the error. */
-static int read_points(const char *path, points *pts)
-{
-    char *data;
-    size_t size;
-    hv_status s = hv_read_file(path, MAX_POINTS_FILE, &data, &size);
-    if (s != HV_OK) return cli_fail(s);
-    int line = 0, rows = 0, rc = 0;
-    char *p = data, *end = data + size;
-    while (p < end && rc == 0) {
-        char *nl = memchr(p, '\n', (size_t)(end - p));
-        char *le = nl ? nl : end;
-        ++line;
-        size_t len = (size_t)(le - p);
-        if (len && p[len - 1] == '\r') --len;
-        size_t k = 0;
-        while (k < len && (p[k] == ' ' || p[k] == '\t')) ++k;
-        if (k < len && p[k] != '#') {
-            /* split into fields */
-            const char *f[4];
-            size_t fl[4];
-            int nf = 0;
-            const char *q = p, *qe = p + len;
-            for (;;) {
-                const char *c = memchr(q, ',', (size_t)(qe - q));
-                const char *fe = c ? c : qe;
-                if (nf < 4) {
-                    f[nf] = q;
-                    fl[nf] = (size_t)(fe - q);
-                }
-                ++nf;
-                if (!c) break;
-                q = c + 1;
-            }
-            double v[3];
-            int numeric = 0;
-            for (int i = 0; i < nf && i < 3; ++i) numeric += field_number(f[i], fl[i], &v[i]);
-            if (rows == 0 && numeric == 0 && nf == 3) {
-                /* a header line */
-            } else if (nf != 3) {
-                fprintf(stderr, "hovox: %s: line %d: expected 3 values x,y,z, found %d\n", path, line, nf);
-                rc = EXIT_BAD_INPUT;
-            } else {
-                for (int i = 0; i < 3 && rc == 0; ++i)
-                    if (!field_number(f[i], fl[i], &v[i])) {
-                        char shown[64];
-                        field_shown(f[i], fl[i], shown, sizeof shown);
-                        fprintf(stderr, "hovox: %s: line %d: %c = %s is not a finite number\n", path, line,
-                                "xyz"[i], shown);
-                        rc = EXIT_BAD_INPUT;
-                    }
-                if (rc == 0 && points_add(pts, v) != 0) rc = cli_fail(HV_ERR_NOMEM);
-            }
-            ++rows;
-        }
-        p = nl ? nl + 1 : end;
-    }
-    free(data);
-    return rc;
 }
 
 /* A failed material table load; a missing table gets the plain message. */
@@ -195,8 +108,9 @@ static int run(const cli_args *args, void *lib, void *local)
     if (rc < 0 && pts.n == 0 && c->nfiles == 0)
         rc = cli_usage_error("probe", "no points: give X,Y,Z arguments or --points FILE.csv");
     for (int f = 0; f < c->nfiles && rc < 0; ++f) {
-        int r = read_points(c->files[f], &pts);
-        if (r != 0) rc = r;
+        hv_status s = hv_points_read_csv(c->files[f], &pts.xyz, &pts.n);
+        pts.cap = 3 * pts.n; /* the library grew the array past what pts knew */
+        if (s != HV_OK) rc = cli_fail(s);
     }
     if (rc < 0) rc = probe(args->pos[0], &pts);
     free(pts.xyz);

@@ -1,47 +1,95 @@
-/* src/lua/lhovox.h - the `hovox` Lua 5.4 module: modeling scripts over the C library. */
+/* src/lua/lhovox.h - the `hovox` Lua 5.4 module: modeling scripts over the C library.
+ *
+ * The binding is split by class: lhovox.c (module, shared helpers), lsandbox.c (the sandbox),
+ * lmesh.c (meshes, generators, contours), lmodel.c (models, voxelizing, probing), lsource.c
+ * (material tables, reference features, grading sources), lobject.c (heterogeneous objects),
+ * loutput.c (a model's outputs: render, export, layers, profile) and lopts.c (option tables
+ * read through the library's option sets).
+ *
+ * Rules every binding follows: check arguments first, call C, raise only after C returned (no
+ * longjmp crosses library or C++ frames); options are read by key through the library's option
+ * set, so every refusal names its key and says what the CLI says; every text the C call uses is
+ * a private copy; class metatables are locked (__metatable), so a script reaches an object's
+ * C side only through its methods. */
 #ifndef HOVOX_LHOVOX_H
 #define HOVOX_LHOVOX_H
 
 #include <lua.h>
 
+#include "hovox/material.h"
+#include "hovox/options.h"
+
 /* Open the module (pushes the `hovox` table). */
 int luaopen_hovox(lua_State *L);
 
-/* Sandbox: file writes by the module (and by io.open/io.output/os.remove/os.rename when
- * hv_lua_sandbox has been applied) are allowed only below `dir` (NULL: no restriction). */
+/* ---- sandbox (lsandbox.c) ---------------------------------------------------------------------
+ * File writes by the module (and by io.open/io.output/os.remove/os.rename when hv_lua_sandbox
+ * has been applied) are allowed only below `dir` (NULL: no restriction). */
 void hv_lua_set_write_root(lua_State *L, const char *dir);
-
-/* Remove os.execute, io.popen, package.loadlib and C searchers; wrap io.open, io.output,
- * os.remove, os.rename, os.tmpname to honour the write root. Call after the standard
- * libraries are open and the write root is set. */
+/* Remove debug, os.execute, os.tmpname, io.popen, io.tmpfile, package.loadlib and the file
+ * searchers; force text-only load/loadfile/dofile; wrap io.open, io.output, os.remove and
+ * os.rename to honour the write root. Call after the standard libraries are open and the
+ * write root is set. */
 void hv_lua_sandbox(lua_State *L);
+/* Raise "bad argument" unless writing `path` is allowed: its directory resolves below the write
+ * root, and when `path` itself is a symbolic link, its target does too. Call on a private copy
+ * right before the C call that writes. Returns path. */
+const char *hv_lua_check_write(lua_State *L, int arg, const char *path);
 
-/* Shared by the binding files: the live object behind argument `arg` (raising "bad argument"
- * when it is of another type or freed), pushing new objects, raising a library failure. */
-#include "hovox/material.h"
+/* ---- classes and shared helpers (lhovox.c) ---------------------------------------------------- */
+#define MT_MESH "hovox.Mesh"
+#define MT_MODEL "hovox.Model"
+#define MT_MATS "hovox.Materials"
+#define MT_FEATURE "hovox.Feature"
+#define MT_SOURCE "hovox.Source"
+#define MT_OBJECT "hovox.Object"
+
+typedef struct { hv_mesh *p; } l_mesh;
+typedef struct { hv_volume *p; hv_material_table *mats; } l_model;
+typedef struct { hv_material_table *p; } l_mats;
+typedef struct { hv_frf *p; } l_feature;
+typedef struct { hv_ags *p; } l_source;
+typedef struct { hv_object *p; } l_object;
+
+/* A new zeroed userdata of class `mt` (one user value) on the stack. */
+void *hv_lua_new_ud(lua_State *L, size_t size, const char *mt);
+/* The userdata of class `mt` at `arg`, raising "bad argument" when it is of another type or
+ * was freed. */
+void *hv_lua_check_live(lua_State *L, int arg, const char *mt);
+#define CHECK(L, arg, type, mt) ((type *)hv_lua_check_live(L, arg, mt))
+/* Register class `name`: methods as __index, gc as __gc and __close, tostring (may be NULL),
+ * __name, and a locked __metatable. */
+void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,
+                      lua_CFunction tostring);
+/* Add methods to an existing class. */
+void hv_lua_add_methods(lua_State *L, const char *name, const luaL_Reg *methods);
 hv_volume *hv_lua_model(lua_State *L, int arg);
 hv_mesh *hv_lua_mesh(lua_State *L, int arg);
 void hv_lua_push_model(lua_State *L, hv_volume *vol);
+void hv_lua_push_mesh(lua_State *L, hv_mesh *mesh);
+int hv_lua_model_free(lua_State *L);
+/* A grading source from the options table at `arg` (hovox.ags's keys); the caller owns it. */
+hv_ags *hv_lua_source_arg(lua_State *L, int arg);
+void hv_lua_push_source(lua_State *L, hv_ags *a);
+/* Raise the library's message for a failed call (after the call has returned). */
 int hv_lua_fail(lua_State *L, hv_status status);
 /* luaL_argerror with a printf-style message (C formats: %g for numbers). */
 int hv_lua_arg_error(lua_State *L, int arg, const char *fmt, ...) HV_PRINTF(3, 4);
 #define arg_error hv_lua_arg_error
-
-/* Check that the argument at idx is an options table: a table whose keys are all named in
- * `keys` (NULL-terminated). Raises "bad argument #arg (unknown option 'x' (options: a, b,
- * ...))" otherwise, so a mistyped option never falls back to its default silently. */
-void hv_lua_check_options(lua_State *L, int idx, int arg, const char *const *keys);
-
-/* Raise "bad argument" unless writing `path` is allowed (for module functions). Returns path. */
-const char *hv_lua_check_write(lua_State *L, int arg, const char *path);
+#define fail hv_lua_fail
+/* A list of at most `max` finite numbers at stack index idx (a positional argument, not an
+ * option). Returns the count. */
+int hv_lua_numbers(lua_State *L, int idx, int arg, const char *what, double *out, int max);
+void hv_lua_push_vec(lua_State *L, const double *v, int n);
 
 /* ---- option tables (lopts.c) ------------------------------------------------------------------
- * A binding reads its options table through the library's option set: hv_lua_holder pushes a
- * holder (a table the script cannot reach) that owns private copies of every string read, alive
- * until the C function returns; hv_lua_read_options checks that argument `arg` is a plain table
- * (no metatable), refuses keys that are neither options of `set` nor in `extra` (the keys the
- * binding reads itself: objects, paths), reads each value raw, and checks the rules; any
- * refusal raises "bad argument #arg (<key> must be ...)". */
+ * A binding reads its options table through the library's option set: hv_lua_options pads the
+ * stack to `arg` and pushes a holder (a table the script cannot reach) that owns private copies
+ * of every string read, alive until the C function returns; hv_lua_read_options checks that
+ * argument `arg` is a plain table (no metatable) or nil, refuses keys that are neither options
+ * of `set` nor in `extra` (the keys the binding reads itself: objects, paths), reads each value
+ * raw, and checks the rules; any refusal raises "bad argument #arg (<key> must be ...)". */
+int hv_lua_options(lua_State *L, int arg);
 int hv_lua_holder(lua_State *L);
 void hv_lua_check_plain_table(lua_State *L, int arg);
 const char *hv_lua_copy_string(lua_State *L, int holder, const char *s, size_t len);
@@ -52,8 +100,19 @@ void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *
 int hv_lua_field(lua_State *L, int arg, const char *key);
 /* A private copy (in holder) of string field `key`, NULL when absent; raises on another type. */
 const char *hv_lua_string_field(lua_State *L, int arg, const char *key, int holder);
+/* The same for an output path: required when `what` is not NULL ("path is required (<what>)"),
+ * checked against the sandbox. */
+const char *hv_lua_out_path(lua_State *L, int arg, const char *key, int holder, const char *what);
 /* Check every output path option (HV_OPT_OUT_PATH) of opts against the sandbox; call right
  * before the library call that writes them. */
 void hv_lua_check_paths(lua_State *L, int arg, const hv_option_set *set, const void *opts);
+
+/* ---- registration (one per binding file) ------------------------------------------------------
+ * Each creates its classes and sets its functions into the module table at `module`. */
+void hv_lua_open_mesh(lua_State *L, int module);
+void hv_lua_open_model(lua_State *L, int module);
+void hv_lua_open_sources(lua_State *L, int module);
+void hv_lua_open_output(lua_State *L, int module);
+void hv_lua_open_object(lua_State *L, int module);
 
 #endif

@@ -24,6 +24,12 @@ const char *hv_lua_copy_string(lua_State *L, int holder, const char *s, size_t l
     return copy;
 }
 
+int hv_lua_options(lua_State *L, int arg)
+{
+    if (lua_gettop(L) < arg) lua_settop(L, arg); /* absent options read as nil, not as the holder */
+    return hv_lua_holder(L);
+}
+
 int hv_lua_holder(lua_State *L)
 {
     lua_createtable(L, 8, 0);
@@ -60,6 +66,11 @@ static hv_status set_from_lua(lua_State *L, hv_optargs *args, const char *key, c
         v.boolean = lua_toboolean(L, -1);
         return hv_optargs_set(args, key, &v);
     case LUA_TNUMBER:
+        if (o && o->kind == HV_OPT_ENUM) { /* adjacency = 6: enum names may be numbers */
+            snprintf(intbuf, sizeof intbuf, "%.17g", lua_tonumber(L, -1));
+            v.text = intbuf;
+            return hv_optargs_set(args, key, &v);
+        }
         if (o && o->kind == HV_OPT_NUMBER && o->elem == HV_ELEM_UINT64 && lua_isinteger(L, -1)) {
             /* integers keep all 64 bits through their text */
             snprintf(intbuf, sizeof intbuf, "%lld", (long long)lua_tointeger(L, -1));
@@ -194,6 +205,7 @@ void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *
     /* then the values, in the set's order (deterministic messages) */
     for (int i = 0; i < set->count; ++i) {
         const hv_option *o = &set->options[i];
+        if (listed(extra, o->key)) continue; /* the binding reads it itself (a function, an object) */
         lua_pushstring(L, o->key);
         if (lua_rawget(L, arg) != LUA_TNIL && set_from_lua(L, args, o->key, o, holder) != HV_OK) {
             lua_pop(L, 1);
@@ -239,6 +251,13 @@ const char *hv_lua_string_field(lua_State *L, int arg, const char *key, int hold
     }
     lua_pop(L, 1);
     return copy;
+}
+
+const char *hv_lua_out_path(lua_State *L, int arg, const char *key, int holder, const char *what)
+{
+    const char *path = hv_lua_string_field(L, arg, key, holder);
+    if (!path && what) hv_lua_arg_error(L, arg, "%s is required (%s)", key, what);
+    return path ? hv_lua_check_write(L, arg, path) : NULL;
 }
 
 void hv_lua_check_paths(lua_State *L, int arg, const hv_option_set *set, const void *opts)

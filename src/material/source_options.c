@@ -206,24 +206,26 @@ static hv_status parse_composition(const hv_option *o, void *opts, const hv_opt_
 }
 
 #define AOFF(f) offsetof(hv_ags_options, f)
-static const hv_option k_ags[] = {
-    {.key = "ranges", .kind = HV_OPT_CUSTOM, .meta = "D-,DG,D+", .parse = parse_ranges,
-     .help = "the negative constant range, the gradient range and the positive constant range (Wu eq. 11)"},
-    {.key = "d_neg", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_neg), .meta = "D",
-     .help = "d-: the negative constant range"},
-    {.key = "d_grad", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_grad), .meta = "D",
-     .help = "dg: the gradient range (0: a step, a multi-material object)"},
-    {.key = "d_pos", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_pos), .meta = "D",
-     .help = "d+: the positive constant range"},
-    {.key = "f", .kind = HV_OPT_STRING, .offset = AOFF(f), .meta = "EXPR",
+/* the ranges and f, shared by AGS and Wu's 3-material sources */
+#define AGS_RANGES_AND_F \
+    {.key = "ranges", .kind = HV_OPT_CUSTOM, .meta = "D-,DG,D+", .parse = parse_ranges, \
+     .help = "the negative constant range, the gradient range and the positive constant range (Wu eq. 11)"}, \
+    {.key = "d_neg", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_neg), .meta = "D", \
+     .help = "d-: the negative constant range"}, \
+    {.key = "d_grad", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_grad), .meta = "D", \
+     .help = "dg: the gradient range (0: a step, a multi-material object)"}, \
+    {.key = "d_pos", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_pos), .meta = "D", \
+     .help = "d+: the positive constant range"}, \
+    {.key = "f", .kind = HV_OPT_STRING, .offset = AOFF(f), .meta = "EXPR", \
      .help = "the distribution function on [0, dg], arithmetic in d and dg; f must stay in [0, 1] (default d/dg)"},
+static const hv_option k_ags[] = {
+    AGS_RANGES_AND_F
     {.key = "ms", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REQUIRED, .meta = "V,V,...", .parse = parse_composition,
      .help = "Ms: the start composition, fractions >= 0 summing to 1"},
     {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REQUIRED, .meta = "V,V,...", .parse = parse_composition,
      .help = "Me: the end composition"},
     {.key = "name", .kind = HV_OPT_STRING, .offset = AOFF(name), .meta = "NAME", .help = "a name for the source"},
 };
-#undef AOFF
 
 static const hv_opt_rule k_ags_rules[] = {{HV_RULE_EXCLUDES, "ranges", "d_neg", NULL, NULL},
                                           {HV_RULE_EXCLUDES, "ranges", "d_grad", NULL, NULL},
@@ -248,6 +250,28 @@ static const hv_option_set k_ags_set = {"source", k_ags, (int)HV_COUNT(k_ags), s
                                         k_ags_rules, (int)HV_COUNT(k_ags_rules), NULL, ags_validate, NULL, 0};
 
 const hv_option_set *hv_ags_option_set(void) { return &k_ags_set; }
+
+static const hv_option k_wu3[] = {
+    AGS_RANGES_AND_F
+    {.key = "c", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1, .offset = offsetof(hv_ags_options, c), .meta = "C",
+     .help = "C: the constant fraction of the third material (Wu eq. 13: P = [f, 1 - f - C, C])"},
+};
+static const hv_option_set k_wu3_set = {"wu3 source", k_wu3, (int)HV_COUNT(k_wu3), sizeof(hv_ags_options), ags_init,
+                                        k_ags_rules, (int)HV_COUNT(k_ags_rules), NULL, NULL, NULL, 0};
+const hv_option_set *hv_wu3_option_set(void) { return &k_wu3_set; }
+
+hv_status hv_ags_wu3_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn *f, hv_ags **out)
+{
+    *out = NULL;
+    hv_status s = hv_options_check(&k_wu3_set, o);
+    if (s != HV_OK) return s;
+    if (!f && !o->f) return hv_error_option(HV_ERR_INVALID, "{f} is required (Wu eq. 13: P = [f, 1 - f - c, c])");
+    hv_dfn *own = NULL;
+    if (!f && (s = hv_dfn_expr(o->f, &own)) != HV_OK) return s;
+    s = hv_ags_wu3(frf, o->d_neg, o->d_grad, o->d_pos, f ? f : own, o->c, out);
+    hv_dfn_destroy(own);
+    return s;
+}
 
 hv_status hv_ags_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn *f, hv_ags **out)
 {

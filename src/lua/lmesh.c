@@ -1,0 +1,244 @@
+/* src/lua/lmesh.c - Lua: the Mesh class (STL in and out, the mesh report), the parametric
+ * generators (hovox.generate.SHAPE{...}, the keys of hv_shape_option_set, as `hovox generate
+ * SHAPE key=value`) and contour slicing (hovox.contours, the options of `hovox contours`). */
+#include <string.h>
+
+#include <lauxlib.h>
+
+#include "core/internal.h"
+#include "hovox/generate.h"
+#include "hovox/slice.h"
+#include "lhovox.h"
+
+void hv_lua_push_mesh(lua_State *L, hv_mesh *m)
+{
+    l_mesh *u = hv_lua_new_ud(L, sizeof *u, MT_MESH);
+    u->p = m;
+}
+
+hv_mesh *hv_lua_mesh(lua_State *L, int arg) { return CHECK(L, arg, l_mesh, MT_MESH)->p; }
+
+static int l_load_mesh(lua_State *L)
+{
+    const char *path = luaL_checkstring(L, 1);
+    hv_mesh *m;
+    hv_status s = hv_mesh_load_stl(path, &m);
+    if (s != HV_OK) return fail(L, s);
+    hv_lua_push_mesh(L, m);
+    return 1;
+}
+
+static void push_report(lua_State *L, const hv_mesh_report *r)
+{
+    lua_createtable(L, 0, 14);
+    lua_pushstring(L, r->format == HV_MESH_STL_BINARY ? "binary" : r->format == HV_MESH_STL_ASCII ? "ascii" : "generated");
+    lua_setfield(L, -2, "format");
+#define SETI(k, v) (lua_pushinteger(L, (lua_Integer)(v)), lua_setfield(L, -2, k))
+    SETI("facets", r->facets);
+    SETI("vertices", r->vertices);
+    SETI("shells", r->shells);
+    SETI("open_edges", r->open_edges);
+    SETI("nonmanifold_edges", r->nonmanifold_edges);
+    SETI("degenerate_facets", r->degenerate_facets);
+    SETI("flipped_facets", r->flipped_facets);
+    SETI("normal_mismatch", r->normal_mismatch);
+#undef SETI
+    lua_pushnumber(L, r->volume);
+    lua_setfield(L, -2, "volume");
+    lua_pushnumber(L, r->area);
+    lua_setfield(L, -2, "area");
+    lua_createtable(L, 0, 2);
+    hv_lua_push_vec(L, r->bbox_min, 3);
+    lua_setfield(L, -2, "min");
+    hv_lua_push_vec(L, r->bbox_max, 3);
+    lua_setfield(L, -2, "max");
+    lua_setfield(L, -2, "bbox");
+    lua_pushboolean(L, r->open_edges == 0 && r->nonmanifold_edges == 0);
+    lua_setfield(L, -2, "closed");
+}
+
+static int mesh_report(lua_State *L)
+{
+    l_mesh *u = CHECK(L, 1, l_mesh, MT_MESH);
+    push_report(L, hv_mesh_get_report(u->p));
+    return 1;
+}
+
+static int mesh_save(lua_State *L)
+{
+    l_mesh *u = CHECK(L, 1, l_mesh, MT_MESH);
+    const char *path = hv_lua_check_write(L, 2, luaL_checkstring(L, 2));
+    int ascii = 0;
+    if (!lua_isnoneornil(L, 3)) {
+        hv_lua_check_plain_table(L, 3);
+        if (hv_lua_field(L, 3, "ascii") != LUA_TNIL) ascii = lua_toboolean(L, -1);
+        lua_pop(L, 1);
+        lua_pushnil(L);
+        if (lua_next(L, 3) && (lua_type(L, -2) != LUA_TSTRING || strcmp(lua_tostring(L, -2), "ascii") != 0))
+            return arg_error(L, 3, "unknown option '%s' (options: ascii)", luaL_tolstring(L, -2, NULL));
+    }
+    hv_status s = hv_mesh_write_stl(u->p, path, ascii);
+    return s != HV_OK ? fail(L, s) : 0;
+}
+
+static int mesh_count(lua_State *L)
+{
+    l_mesh *u = CHECK(L, 1, l_mesh, MT_MESH);
+    lua_pushinteger(L, (lua_Integer)hv_mesh_facet_count(u->p));
+    lua_pushinteger(L, (lua_Integer)hv_mesh_vertex_count(u->p));
+    return 2;
+}
+
+static int mesh_gc(lua_State *L)
+{
+    l_mesh *u = luaL_checkudata(L, 1, MT_MESH);
+    hv_mesh_destroy(u->p);
+    u->p = NULL;
+    return 0;
+}
+
+static int mesh_tostring(lua_State *L)
+{
+    l_mesh *u = luaL_checkudata(L, 1, MT_MESH);
+    if (!u->p) lua_pushliteral(L, "hovox.Mesh (freed)");
+    else lua_pushfstring(L, "hovox.Mesh (%d facets)", (int)hv_mesh_facet_count(u->p));
+    return 1;
+}
+
+/* ---- generators ---------------------------------------------------------------------------- */
+
+/* hovox.generate.SHAPE{key = value, ...}; upvalue 1: the shape's index */
+static int l_generate(lua_State *L)
+{
+    int shape = (int)lua_tointeger(L, lua_upvalueindex(1));
+    int holder = hv_lua_options(L, 1);
+    hv_shape_params p;
+    hv_optargs args;
+    hv_lua_read_options(L, 1, hv_shape_option_set(shape), &p, &args, NULL, holder);
+    hv_mesh *m;
+    hv_status s = hv_generate_shape(shape, &p, &m);
+    if (s != HV_OK) return fail(L, s);
+    hv_lua_push_mesh(L, m);
+    return 1;
+}
+
+/* ---- contours ------------------------------------------------------------------------------ */
+
+typedef struct contour_run {
+    lua_State *L;
+    hv_contour_writer *writer;
+    int keep_loops;
+    int table; /* stack index of the result list */
+} contour_run;
+
+static void push_loops(lua_State *L, const hv_slice *slice)
+{
+    size_t n = hv_slice_loop_count(slice);
+    const hv_slice_loop *loops = hv_slice_loops(slice);
+    lua_createtable(L, (int)n, 0);
+    for (size_t i = 0; i < n; ++i) {
+        const hv_slice_loop *lp = &loops[i];
+        lua_createtable(L, 0, 6);
+        lua_createtable(L, (int)lp->count, 0);
+        for (size_t k = 0; k < lp->count; ++k) {
+            hv_lua_push_vec(L, lp->xy + 2 * k, 2);
+            lua_rawseti(L, -2, (lua_Integer)k + 1);
+        }
+        lua_setfield(L, -2, "points");
+        lua_pushboolean(L, lp->closed);
+        lua_setfield(L, -2, "closed");
+        lua_pushinteger(L, lp->orientation);
+        lua_setfield(L, -2, "orientation");
+        lua_pushinteger(L, lp->parent >= 0 ? lp->parent + 1 : 0);
+        lua_setfield(L, -2, "parent");
+        lua_pushnumber(L, lp->area);
+        lua_setfield(L, -2, "area");
+        lua_rawseti(L, -2, (lua_Integer)i + 1);
+    }
+}
+
+/* Runs on the calling thread, in layer order (hv_slicer_slice_plan's sink contract). */
+static hv_status contour_sink(void *user, size_t index, const hv_layer *layer, hv_slice **slice)
+{
+    contour_run *r = user;
+    lua_State *L = r->L;
+    const hv_slice_stats *st = hv_slice_get_stats(*slice);
+    if (!lua_checkstack(L, 8)) return hv_error_set(HV_ERR_NOMEM, "Lua stack exhausted");
+    lua_createtable(L, 0, 9);
+    const struct { const char *k; double v; } f[] = {{"z", layer->z}, {"bottom", layer->bottom}, {"top", layer->top},
+                                                     {"area", st->area}, {"loops", (double)st->loops},
+                                                     {"holes", (double)st->holes}, {"open", (double)st->open}};
+    for (size_t i = 0; i < HV_COUNT(f); ++i) {
+        if (i >= 4) lua_pushinteger(L, (lua_Integer)f[i].v);
+        else lua_pushnumber(L, f[i].v);
+        lua_setfield(L, -2, f[i].k);
+    }
+    if (r->keep_loops) {
+        push_loops(L, *slice);
+        lua_setfield(L, -2, "contours");
+    }
+    lua_rawseti(L, r->table, (lua_Integer)index + 1);
+    return r->writer ? hv_contour_writer_add(r->writer, layer, *slice) : HV_OK;
+}
+
+/* hovox.contours(mesh, {<the options of hv_contours_option_set: layer_height, adaptive = {min,
+ *   max[, cusp]}, first_layer, close_gap, binary>, output = "x.svg" | "x.cli", loops = true})
+ *   -> { {z, bottom, top, area, loops, holes, open, contours = { {points, closed,
+ *        orientation, parent, area}, ... }}, ... } */
+static int l_contours(lua_State *L)
+{
+    static const char *const extra[] = {"output", "loops", NULL};
+    hv_mesh *mesh = hv_lua_mesh(L, 1);
+    int holder = hv_lua_options(L, 2);
+    hv_contours_options o;
+    hv_optargs args;
+    hv_lua_read_options(L, 2, hv_contours_option_set(), &o, &args, extra, holder);
+    const char *output = hv_lua_out_path(L, 2, "output", holder, NULL);
+    int keep = hv_lua_field(L, 2, "loops") == LUA_TNIL || lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    hv_contour_format fmt = HV_CONTOUR_SVG;
+    if (output && hv_contour_format_for_path(output, o.binary, &fmt) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
+    if (!output && o.binary) return arg_error(L, 2, "binary needs a .cli output");
+    hv_slicer *slicer = NULL;
+    hv_layer_plan *plan = NULL;
+    hv_status s = hv_slicer_create(mesh, NULL, &slicer);
+    if (s == HV_OK) s = hv_slicer_plan(slicer, &o, &plan);
+    lua_createtable(L, plan ? (int)HV_MIN(hv_layer_plan_count(plan), (size_t)1 << 20) : 0, 0);
+    contour_run run = {L, NULL, keep, lua_gettop(L)};
+    if (s == HV_OK && output) {
+        hv_slicer_info info;
+        hv_slicer_get_info(slicer, &info);
+        s = hv_contour_writer_open(output, fmt, hv_layer_plan_count(plan), info.bbox_min, info.bbox_max, "hovox",
+                                   &run.writer);
+    }
+    hv_slice_options so;
+    hv_slice_options_init(&so);
+    so.close_gap = o.close_gap;
+    if (s == HV_OK) s = hv_slicer_slice_plan(slicer, plan, &so, contour_sink, &run, NULL);
+    if (run.writer) {
+        if (s == HV_OK) s = hv_contour_writer_close(run.writer);
+        else hv_contour_writer_abort(run.writer);
+    }
+    hv_layer_plan_destroy(plan);
+    hv_slicer_destroy(slicer);
+    if (s != HV_OK) return fail(L, s);
+    return 1;
+}
+
+void hv_lua_open_mesh(lua_State *L, int module)
+{
+    static const luaL_Reg methods[] = {{"report", mesh_report}, {"save", mesh_save}, {"count", mesh_count},
+                                       {"free", mesh_gc}, {NULL, NULL}};
+    hv_lua_new_class(L, MT_MESH, methods, mesh_gc, mesh_tostring);
+    lua_pushcfunction(L, l_load_mesh);
+    lua_setfield(L, module, "load_mesh");
+    lua_pushcfunction(L, l_contours);
+    lua_setfield(L, module, "contours");
+    lua_createtable(L, 0, hv_shape_count());
+    for (int i = 0; i < hv_shape_count(); ++i) {
+        lua_pushinteger(L, i);
+        lua_pushcclosure(L, l_generate, 1);
+        lua_setfield(L, -2, hv_shape_name(i));
+    }
+    lua_setfield(L, module, "generate");
+}

@@ -1,0 +1,191 @@
+/* src/lua/lmodel.c - Lua: the Model class (a volume with its grids, metadata and material
+ * table): hovox.voxelize (the options of `hovox voxelize`, hv_voxelize_option_set), hovox.load,
+ * saving, inspection and probing. Outputs are in loutput.c, features made from a model in
+ * lsource.c. */
+#include <string.h>
+
+#include <lauxlib.h>
+
+#include "core/internal.h"
+#include "hovox/voxelize.h"
+#include "lhovox.h"
+
+int hv_lua_model_free(lua_State *L);
+
+void hv_lua_push_model(lua_State *L, hv_volume *v)
+{
+    l_model *u = hv_lua_new_ud(L, sizeof *u, MT_MODEL);
+    u->p = v;
+}
+
+hv_volume *hv_lua_model(lua_State *L, int arg) { return CHECK(L, arg, l_model, MT_MODEL)->p; }
+
+/* hovox.voxelize(mesh, {<the options of `hovox voxelize`: dims = N | {X, Y, Z}, voxel_size = L |
+ *   {X, Y, Z}, adjacency = 6 | 26, fill, max_memory>, like = model}) -> model */
+static int l_voxelize(lua_State *L)
+{
+    static const char *const extra[] = {"like", NULL};
+    hv_mesh *mesh = hv_lua_mesh(L, 1);
+    int holder = hv_lua_options(L, 2);
+    hv_voxelize_options o;
+    hv_optargs args;
+    hv_lua_read_options(L, 2, hv_voxelize_option_set(), &o, &args, extra, holder);
+    hv_transform lattice;
+    if (hv_lua_field(L, 2, "like") != LUA_TNIL) {
+        lattice = hv_volume_get_transform(CHECK(L, -1, l_model, MT_MODEL)->p);
+        o.lattice = &lattice;
+    }
+    lua_pop(L, 1);
+    hv_volume *v;
+    hv_status s = hv_voxelize(mesh, &o, &v);
+    if (s != HV_OK) return fail(L, s);
+    hv_lua_push_model(L, v);
+    return 1;
+}
+
+static int l_load(lua_State *L)
+{
+    const char *path = luaL_checkstring(L, 1);
+    hv_volume *v;
+    hv_status s = hv_volume_load(path, &v);
+    if (s != HV_OK) return fail(L, s);
+    hv_lua_push_model(L, v);
+    return 1;
+}
+
+static int model_save(lua_State *L)
+{
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    const char *path = hv_lua_check_write(L, 2, luaL_checkstring(L, 2));
+    hv_status s = hv_volume_save(u->p, path);
+    return s != HV_OK ? fail(L, s) : 0;
+}
+
+static int model_grids(lua_State *L)
+{
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    int n = hv_volume_grid_count(u->p);
+    lua_createtable(L, n, 0);
+    for (int g = 0; g < n; ++g) {
+        lua_createtable(L, 0, 2);
+        lua_pushstring(L, hv_volume_grid_name(u->p, g));
+        lua_setfield(L, -2, "name");
+        lua_pushstring(L, hv_volume_grid_type(u->p, g) == HV_GRID_BOOL ? "bool" : "float");
+        lua_setfield(L, -2, "type");
+        lua_rawseti(L, -2, g + 1);
+    }
+    return 1;
+}
+
+static int model_voxels(lua_State *L)
+{
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    const char *grid = luaL_optstring(L, 2, NULL);
+    if (!grid) {
+        lua_pushinteger(L, (lua_Integer)hv_volume_active_count(u->p));
+        return 1;
+    }
+    int g = hv_volume_grid_find(u->p, grid);
+    if (g < 0 || hv_volume_grid_type(u->p, g) != HV_GRID_BOOL)
+        return arg_error(L, 2, "no bool grid '%s'", grid);
+    lua_pushinteger(L, (lua_Integer)hv_volume_mask_count(u->p, g));
+    return 1;
+}
+
+static int model_transform(lua_State *L)
+{
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    hv_transform xf = hv_volume_get_transform(u->p);
+    lua_createtable(L, 0, 2);
+    hv_lua_push_vec(L, xf.voxel, 3);
+    lua_setfield(L, -2, "voxel");
+    hv_lua_push_vec(L, xf.origin, 3);
+    lua_setfield(L, -2, "origin");
+    int32_t lo[3], hi[3];
+    if (hv_volume_index_bbox(u->p, lo, hi)) {
+        double a[3] = {lo[0], lo[1], lo[2]}, b[3] = {hi[0], hi[1], hi[2]};
+        hv_lua_push_vec(L, a, 3);
+        lua_setfield(L, -2, "index_min");
+        hv_lua_push_vec(L, b, 3);
+        lua_setfield(L, -2, "index_max");
+    }
+    return 1;
+}
+
+static int model_meta(lua_State *L)
+{
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    const char *key = luaL_checkstring(L, 2);
+    double d;
+    const char *s = hv_volume_meta_string(u->p, key);
+    if (s) lua_pushstring(L, s);
+    else if (hv_volume_meta_number(u->p, key, &d)) lua_pushnumber(L, d);
+    else lua_pushnil(L);
+    return 1;
+}
+
+/* The model's material table (loaded from its metadata once). */
+static hv_material_table *model_mats(lua_State *L, l_model *u)
+{
+    if (!u->mats) {
+        hv_status s = hv_material_table_load(u->p, &u->mats);
+        if (s != HV_OK) fail(L, s);
+    }
+    return u->mats;
+}
+
+static int model_probe(lua_State *L)
+{
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    double p[3];
+    if (hv_lua_numbers(L, 2, 2, "point", p, 3) != 3) return luaL_argerror(L, 2, "point must be {x, y, z}");
+    hv_material_table *t = model_mats(L, u);
+    int m = hv_material_count(t), grids[HV_MAX_MATERIALS], inside;
+    for (int j = 0; j < m; ++j) grids[j] = hv_material_grid(u->p, t, j);
+    double f[HV_MAX_MATERIALS];
+    hv_accessor acc;
+    hv_accessor_init(&acc, u->p);
+    hv_model_probe(&acc, t, grids, p, &inside, f);
+    lua_pushboolean(L, inside);
+    lua_createtable(L, m, m);
+    for (int j = 0; j < m; ++j) {
+        lua_pushnumber(L, f[j]);
+        lua_pushvalue(L, -1);
+        lua_rawseti(L, -3, j + 1);
+        lua_setfield(L, -2, hv_material_name(t, j));
+    }
+    return 2;
+}
+
+int hv_lua_model_free(lua_State *L)
+{
+    l_model *u = luaL_checkudata(L, 1, MT_MODEL);
+    hv_volume_destroy(u->p);
+    hv_material_table_destroy(u->mats);
+    u->p = NULL;
+    u->mats = NULL;
+    return 0;
+}
+
+static int model_tostring(lua_State *L)
+{
+    l_model *u = luaL_checkudata(L, 1, MT_MODEL);
+    if (!u->p) lua_pushliteral(L, "hovox.Model (freed)");
+    else lua_pushfstring(L, "hovox.Model (%d grids, %I active voxels)", hv_volume_grid_count(u->p),
+                         (lua_Integer)hv_volume_active_count(u->p));
+    return 1;
+}
+
+/* ---- Materials ---------------------------------------------------------------------------- */
+
+void hv_lua_open_model(lua_State *L, int module)
+{
+    static const luaL_Reg methods[] = {{"save", model_save},     {"grids", model_grids}, {"voxels", model_voxels},
+                                       {"transform", model_transform}, {"meta", model_meta},   {"probe", model_probe},
+                                       {"free", hv_lua_model_free}, {NULL, NULL}};
+    hv_lua_new_class(L, MT_MODEL, methods, hv_lua_model_free, model_tostring);
+    lua_pushcfunction(L, l_voxelize);
+    lua_setfield(L, module, "voxelize");
+    lua_pushcfunction(L, l_load);
+    lua_setfield(L, module, "load");
+}

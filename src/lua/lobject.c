@@ -1,0 +1,257 @@
+/* src/lua/lobject.c - Lua: heterogeneous objects (Wu 2.2): hovox.object(model, materials),
+ * grading sources added, moved and deleted, blending, the base composition, the Boolean
+ * operators, evaluation into a model, and the model's outputs through an evaluation. */
+#include <stdio.h>
+#include <string.h>
+
+#include <lauxlib.h>
+
+#include "core/internal.h"
+#include "lhovox.h"
+
+static l_object *push_object(lua_State *L, hv_object *o, int mats_index)
+{
+    l_object *u = hv_lua_new_ud(L, sizeof *u, MT_OBJECT);
+    u->p = o;
+    lua_pushvalue(L, mats_index); /* keep the material table alive with the object */
+    lua_setiuservalue(L, -2, 1);
+    return u;
+}
+
+static int l_make_object(lua_State *L)
+{
+    l_model *m = CHECK(L, 1, l_model, MT_MODEL);
+    l_mats *t = CHECK(L, 2, l_mats, MT_MATS);
+    const char *grid = "occupancy";
+    if (!lua_isnoneornil(L, 3)) {
+        int holder = hv_lua_options(L, 3);
+        hv_lua_check_plain_table(L, 3);
+        lua_pushnil(L);
+        if (lua_next(L, 3) && (lua_type(L, -2) != LUA_TSTRING || strcmp(lua_tostring(L, -2), "grid") != 0))
+            return arg_error(L, 3, "unknown option '%s' (options: grid)", luaL_tolstring(L, -2, NULL));
+        lua_settop(L, holder);
+        grid = hv_lua_string_field(L, 3, "grid", holder);
+        if (!grid) grid = "occupancy";
+    }
+    hv_object *o;
+    hv_status s = hv_object_create(m->p, grid, hv_material_count(t->p), &o);
+    if (s != HV_OK) return fail(L, s);
+    push_object(L, o, 2);
+    return 1;
+}
+
+static hv_material_table *object_mats(lua_State *L, int idx)
+{
+    lua_getiuservalue(L, idx, 1);
+    l_mats *t = luaL_checkudata(L, -1, MT_MATS);
+    lua_pop(L, 1);
+    return t->p;
+}
+
+static int object_add_ags(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    hv_ags *a;
+    if (luaL_testudata(L, 2, MT_SOURCE)) {
+        a = hv_ags_retain(CHECK(L, 2, l_source, MT_SOURCE)->p);
+        lua_pushvalue(L, 2);
+    } else {
+        a = hv_lua_source_arg(L, 2);
+        hv_lua_push_source(L, hv_ags_retain(a));
+    }
+    if (hv_ags_materials(a) != hv_object_materials(u->p)) {
+        hv_ags_release(a);
+        return arg_error(L, 2, "the source has %d materials, the object %d",
+                                                   hv_ags_materials(a), hv_object_materials(u->p));
+    }
+    hv_status s = hv_object_add_ags(u->p, a);
+    hv_ags_release(a);
+    if (s != HV_OK) return fail(L, s);
+    return 1; /* the source */
+}
+
+static int object_delete_ags(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    l_source *a = CHECK(L, 2, l_source, MT_SOURCE);
+    hv_status s = hv_object_delete_ags(u->p, a->p);
+    return s != HV_OK ? fail(L, s) : 0;
+}
+
+static int object_move_ags(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    l_source *a = CHECK(L, 2, l_source, MT_SOURCE);
+    double dn = luaL_checknumber(L, 3);
+    if (!(dn >= 0)) return arg_error(L, 3, "d_neg must be >= 0, got %g", dn);
+    hv_status s = hv_object_move_ags(u->p, a->p, dn);
+    return s != HV_OK ? fail(L, s) : 0;
+}
+
+static int object_set_blend(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    hv_blend b;
+    if (hv_blend_parse(luaL_checkstring(L, 2), &b) != HV_OK) return luaL_argerror(L, 2, hv_last_error());
+    hv_status s = hv_object_set_blend(u->p, b, luaL_optnumber(L, 3, 2));
+    return s != HV_OK ? fail(L, s) : 0;
+}
+
+static int object_set_base(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    double p[HV_MAX_MATERIALS];
+    int n = hv_lua_numbers(L, 2, 2, "base", p, HV_MAX_MATERIALS);
+    if (n != hv_object_materials(u->p))
+        return arg_error(L, 2, "base has %d values for %d materials", n, hv_object_materials(u->p));
+    if (hv_composition_check(p, n, "base") != HV_OK) return luaL_argerror(L, 2, hv_last_error());
+    hv_status s = hv_object_set_base(u->p, p);
+    return s != HV_OK ? fail(L, s) : 0;
+}
+
+static int object_boolean(lua_State *L, hv_bool_op op)
+{
+    l_object *a = CHECK(L, 1, l_object, MT_OBJECT), *b = CHECK(L, 2, l_object, MT_OBJECT);
+    /* compositions are vectors over the same named materials, in the same order: otherwise
+     * the operators would silently relabel one object's materials */
+    const hv_material_table *ta = object_mats(L, 1), *tb = object_mats(L, 2);
+    int na = hv_material_count(ta), nb = hv_material_count(tb);
+    for (int j = 0; j < na && j < nb; ++j)
+        if (strcmp(hv_material_name(ta, j), hv_material_name(tb, j)) != 0)
+            return arg_error(L, 1, "material %d is '%s' here and '%s' in the other object: combine "
+                             "objects made with the same materials", j + 1, hv_material_name(ta, j),
+                             hv_material_name(tb, j));
+    hv_object *o;
+    hv_status s = hv_object_boolean(a->p, b->p, op, &o);
+    if (s != HV_OK) return fail(L, s);
+    lua_getiuservalue(L, 1, 1);
+    push_object(L, o, lua_gettop(L));
+    return 1;
+}
+
+static int object_intersect(lua_State *L) { return object_boolean(L, HV_OP_INTERSECT); }
+static int object_union(lua_State *L) { return object_boolean(L, HV_OP_UNITE); }
+static int object_difference(lua_State *L) { return object_boolean(L, HV_OP_DIFFERENCE); }
+static int object_merge(lua_State *L) { return object_boolean(L, HV_OP_MERGE); }
+static int object_subtract(lua_State *L) { return object_boolean(L, HV_OP_SUBTRACT); }
+
+static int object_evaluate(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    uint64_t maxmem = 0;
+    if (lua_istable(L, 2) && hv_lua_field(L, 2, "max_memory") != LUA_TNIL) {
+        /* the output's own options table: only max_memory is the evaluation's, read by its option */
+        hv_lua_check_plain_table(L, 2);
+        static const hv_option mm = {.key = "max_memory", .kind = HV_OPT_BYTES};
+        hv_opt_value v = {HV_VALUE_NUMBERS, NULL, NULL, 0, 0};
+        double num = lua_tonumber(L, -1);
+        v.numbers = &num;
+        v.n = 1;
+        if (lua_type(L, -1) == LUA_TSTRING) {
+            v.type = HV_VALUE_TEXT;
+            v.text = lua_tostring(L, -1);
+        }
+        if (hv_option_set_value(&mm, &maxmem, &v) != HV_OK) return luaL_argerror(L, 2, hv_last_error());
+        lua_pop(L, 1);
+    }
+    hv_material_table *t = object_mats(L, 1);
+    hv_volume *v;
+    hv_status s = hv_object_evaluate(u->p, t, maxmem, NULL, &v);
+    if (s != HV_OK) return fail(L, s);
+    hv_lua_push_model(L, v);
+    return 1;
+}
+
+/* obj:render{...}, obj:export{...}, obj:layers{...}, obj:profile{...}, obj:probe(...),
+ * obj:save(path): evaluate the object into a model (max_memory from the options table), call
+ * the model's method of that name (upvalue 1) with the same arguments, and free the model. */
+static int object_as_model(lua_State *L)
+{
+    CHECK(L, 1, l_object, MT_OBJECT);
+    int base = lua_gettop(L);
+    lua_pushcfunction(L, object_evaluate);
+    lua_pushvalue(L, 1);
+    if (base >= 2 && lua_istable(L, 2)) lua_pushvalue(L, 2);
+    else lua_pushnil(L);
+    lua_call(L, 2, 1); /* the model, at base + 1 */
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_pushvalue(L, base + 1);
+    for (int i = 2; i <= base; ++i) lua_pushvalue(L, i);
+    int rc = lua_pcall(L, base, LUA_MULTRET, 0);
+    lua_pushcfunction(L, hv_lua_model_free);
+    lua_pushvalue(L, base + 1);
+    lua_call(L, 1, 0);
+    if (rc == LUA_OK) return lua_gettop(L) - (base + 1);
+    /* the method ran without a name or a script line of its own: give the error both, as
+     * if the user had called it on the model ("#2" of the model call is "#1" of obj:name) */
+    const char *msg = lua_tostring(L, -1), *name = lua_tostring(L, lua_upvalueindex(2));
+    luaL_where(L, 1);
+    const char *where = lua_tostring(L, -1);
+    int n = 0, used = 0;
+    if (msg && sscanf(msg, "bad argument #%d to '?'%n", &n, &used) == 1 && used > 0)
+        lua_pushfstring(L, "%sbad argument #%d to '%s'%s", where, n - 1, name, msg + used);
+    else if (msg && strncmp(msg, where, strlen(where)) != 0)
+        lua_pushfstring(L, "%s%s", where, msg);
+    else
+        lua_pushvalue(L, -2);
+    return lua_error(L);
+}
+
+static int object_regions(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    int n = hv_object_region_count(u->p);
+    lua_createtable(L, n, 0);
+    for (int r = 0; r < n; ++r) {
+        lua_createtable(L, 0, 2);
+        lua_pushinteger(L, (lua_Integer)hv_object_region_voxels(u->p, r));
+        lua_setfield(L, -2, "voxels");
+        lua_pushinteger(L, hv_object_region_ags_count(u->p, r));
+        lua_setfield(L, -2, "sources");
+        lua_rawseti(L, -2, r + 1);
+    }
+    return 1;
+}
+
+static int object_voxels(lua_State *L)
+{
+    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    lua_pushinteger(L, (lua_Integer)hv_object_voxels(u->p));
+    return 1;
+}
+
+static int object_gc(lua_State *L)
+{
+    l_object *u = luaL_checkudata(L, 1, MT_OBJECT);
+    hv_object_destroy(u->p);
+    u->p = NULL;
+    return 0;
+}
+
+void hv_lua_open_object(lua_State *L, int module)
+{
+    static const luaL_Reg methods[] = {{"add_ags", object_add_ags},     {"delete_ags", object_delete_ags},
+                                       {"move_ags", object_move_ags},   {"set_blend", object_set_blend},
+                                       {"set_base", object_set_base},   {"intersect", object_intersect},
+                                       {"union", object_union},         {"difference", object_difference},
+                                       {"merge", object_merge},         {"subtract", object_subtract},
+                                       {"evaluate", object_evaluate},   {"regions", object_regions},
+                                       {"voxels", object_voxels},       {"free", object_gc},
+                                       {NULL, NULL}};
+    hv_lua_new_class(L, MT_OBJECT, methods, object_gc, NULL);
+    /* the object gets the model's output methods, through an evaluation */
+    static const char *const via_model[] = {"render", "export", "layers", "profile", "probe", "save"};
+    luaL_getmetatable(L, MT_MODEL);
+    lua_getfield(L, -1, "__index");
+    luaL_getmetatable(L, MT_OBJECT);
+    lua_getfield(L, -1, "__index");
+    for (size_t i = 0; i < HV_COUNT(via_model); ++i) {
+        lua_getfield(L, -3, via_model[i]);
+        lua_pushstring(L, via_model[i]);
+        lua_pushcclosure(L, object_as_model, 2);
+        lua_setfield(L, -2, via_model[i]);
+    }
+    lua_pop(L, 4);
+    lua_pushcfunction(L, l_make_object);
+    lua_setfield(L, module, "object");
+}

@@ -1,0 +1,168 @@
+/* src/lua/loutput.c - Lua: a model's outputs, each reading the options of its CLI command through
+ * the library's option set: model:render (hv_render_option_set), model:export
+ * (hv_export_option_set), model:layers (hv_layers_option_set), model:profile
+ * (hv_profile_option_set). Output paths are private copies checked against the sandbox right
+ * before the call that writes them. */
+#include <string.h>
+
+#include <lauxlib.h>
+
+#include "core/internal.h"
+#include "hovox/export.h"
+#include "hovox/layers.h"
+#include "hovox/plot.h"
+#include "hovox/profile.h"
+#include "hovox/render.h"
+#include "lhovox.h"
+
+#define SET_INT(k, v) (lua_pushinteger(L, (lua_Integer)(v)), lua_setfield(L, -2, k))
+#define SET_NUM(k, v) (lua_pushnumber(L, (v)), lua_setfield(L, -2, k))
+
+/* model:profile{<from, to, samples, title, size = {w, h}, mark, y_range>, csv = "p.csv",
+ *   plot = "p.png"} -> {t = {...}, inside = {...}, <material> = {...}, ...} */
+static int model_profile(lua_State *L)
+{
+    static const char *const extra[] = {"csv", "plot", NULL};
+    hv_volume *vol = hv_lua_model(L, 1);
+    int holder = hv_lua_options(L, 2);
+    hv_profile_options o;
+    hv_optargs args;
+    hv_lua_read_options(L, 2, hv_profile_option_set(), &o, &args, extra, holder);
+    const char *csv = hv_lua_out_path(L, 2, "csv", holder, NULL), *plot = hv_lua_out_path(L, 2, "plot", holder, NULL);
+    hv_profile *p;
+    hv_status s = hv_profile_sample(vol, o.from, o.to, o.samples, &p);
+    if (s != HV_OK) return fail(L, s);
+    if (csv) s = hv_profile_write_csv(p, csv);
+    if (s == HV_OK && plot) {
+        hv_plot *pl = NULL;
+        s = hv_profile_plot_with(p, &o, &pl);
+        if (s == HV_OK) s = hv_plot_write_png(pl, plot);
+        hv_plot_destroy(pl);
+    }
+    if (s != HV_OK) {
+        hv_profile_destroy(p);
+        return fail(L, s);
+    }
+    int ns = hv_profile_samples(p), m = hv_profile_materials(p);
+    lua_createtable(L, 0, 2 + m);
+    lua_createtable(L, ns, 0);
+    lua_createtable(L, ns, 0);
+    for (int i = 0; i < ns; ++i) {
+        lua_pushnumber(L, hv_profile_t(p, i));
+        lua_rawseti(L, -3, i + 1);
+        lua_pushboolean(L, hv_profile_inside(p, i));
+        lua_rawseti(L, -2, i + 1);
+    }
+    lua_setfield(L, -3, "inside");
+    lua_setfield(L, -2, "t");
+    for (int j = 0; j < m; ++j) {
+        lua_createtable(L, ns, 0);
+        for (int i = 0; i < ns; ++i) {
+            lua_pushnumber(L, hv_profile_fractions(p, i)[j]);
+            lua_rawseti(L, -2, i + 1);
+        }
+        lua_setfield(L, -2, hv_material_name(hv_profile_table(p), j));
+    }
+    hv_profile_destroy(p);
+    return 1;
+}
+
+/* model:export{path = "x.vti" | "x.vtu", <box, coarsen, keep, properties, linearize = {property
+ *   = "table.csv", ...}, level, max_memory>} -> {points, cells, occupied, arrays, notes, bytes} */
+static int model_export(lua_State *L)
+{
+    static const char *const extra[] = {"path", NULL};
+    hv_volume *vol = hv_lua_model(L, 1);
+    int holder = hv_lua_options(L, 2);
+    hv_export_options o;
+    hv_optargs args;
+    hv_lua_read_options(L, 2, hv_export_option_set(), &o, &args, extra, holder);
+    const char *path = hv_lua_out_path(L, 2, "path", holder, ".vti or .vtu");
+    o.format = hv_export_format_from_path(path);
+    hv_export_report rep;
+    hv_status s = hv_export_write(vol, path, &o, &rep);
+    if (s != HV_OK) return fail(L, s);
+    lua_createtable(L, 0, 6);
+    SET_INT("points", rep.points);
+    SET_INT("cells", rep.cells);
+    SET_INT("occupied", rep.occupied);
+    lua_pushstring(L, rep.names);
+    lua_setfield(L, -2, "arrays");
+    lua_pushstring(L, rep.notes);
+    lua_setfield(L, -2, "notes");
+    SET_INT("bytes", rep.file_bytes);
+    return 1;
+}
+
+/* model:render{path = "x.png" | ".exr" | ".tif", <the options of `hovox render`>} */
+static int model_render(lua_State *L)
+{
+    static const char *const extra[] = {"path", NULL};
+    hv_volume *vol = hv_lua_model(L, 1);
+    int holder = hv_lua_options(L, 2);
+    hv_render_options o;
+    hv_optargs args;
+    hv_lua_read_options(L, 2, hv_render_option_set(), &o, &args, extra, holder);
+    const char *path = hv_lua_out_path(L, 2, "path", holder, ".png, .exr or .tif");
+    hv_image *img = NULL;
+    hv_status s = hv_render(vol, &o, NULL, &img);
+    if (s == HV_OK) s = hv_image_write(img, path);
+    hv_image_destroy(img);
+    return s != HV_OK ? fail(L, s) : 0;
+}
+
+/* model:layers{mesh = Mesh, dir = "stack", <the options of `hovox layers`: profile, dpi,
+ *   layer_height, mode, method, halftone, seed, layers = {first, last}, threshold, fill_rule,
+ *   background, compare, gcvf, force, max_memory, ...>}
+ *   -> {width, height, layers, first, last, object_pixels, materials = {name = {target,
+ *       achieved}}, diff_mean, diff_max, warnings} */
+static int model_layers(lua_State *L)
+{
+    static const char *const extra[] = {"mesh", "dir", NULL};
+    hv_volume *vol = hv_lua_model(L, 1);
+    int holder = hv_lua_options(L, 2);
+    hv_layers_options o;
+    hv_optargs args;
+    hv_lua_read_options(L, 2, hv_layers_option_set(), &o, &args, extra, holder);
+    hv_lua_field(L, 2, "mesh"); /* stays on the stack while C uses it */
+    hv_mesh *mesh = hv_lua_mesh(L, -1);
+    const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");
+    hv_lua_check_paths(L, 2, hv_layers_option_set(), &o);
+    hv_layers_report rep;
+    hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, NULL, &rep);
+    if (s != HV_OK) return fail(L, s);
+    lua_createtable(L, 0, 10);
+    SET_INT("width", rep.width);
+    SET_INT("height", rep.height);
+    SET_INT("layers", rep.layers_total);
+    SET_INT("first", rep.first);
+    SET_INT("last", rep.last);
+    SET_INT("object_pixels", rep.object_pixels);
+    if (rep.compared) {
+        SET_NUM("diff_mean", rep.diff_mean);
+        SET_NUM("diff_max", rep.diff_max);
+    }
+    lua_pushstring(L, rep.warnings);
+    lua_setfield(L, -2, "warnings");
+    lua_createtable(L, 0, rep.materials);
+    hv_material_table *t = NULL;
+    if (rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
+        for (int j = 0; j < rep.materials && j < hv_material_count(t); ++j) {
+            lua_createtable(L, 0, 2);
+            SET_NUM("target", rep.target[j]);
+            SET_NUM("achieved", rep.achieved[j]);
+            lua_setfield(L, -2, hv_material_name(t, j));
+        }
+    }
+    hv_material_table_destroy(t);
+    lua_setfield(L, -2, "materials");
+    return 1;
+}
+
+void hv_lua_open_output(lua_State *L, int module)
+{
+    (void)module;
+    static const luaL_Reg m[] = {{"profile", model_profile}, {"export", model_export},
+                                 {"render", model_render}, {"layers", model_layers}, {NULL, NULL}};
+    hv_lua_add_methods(L, MT_MODEL, m);
+}

@@ -93,8 +93,11 @@ int hv_lua_options(lua_State *L, int arg);
 int hv_lua_holder(lua_State *L);
 void hv_lua_check_plain_table(lua_State *L, int arg);
 const char *hv_lua_copy_string(lua_State *L, int holder, const char *s, size_t len);
-void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, hv_optargs *args,
-                         const char *const *extra, int holder);
+void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra,
+                         int holder);
+/* The usual start of a binding: hv_lua_options(L, arg), then hv_lua_read_options. Returns the
+ * holder. */
+int hv_lua_read(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra);
 /* Push the raw value of field `key` of the table at `arg` (nil when arg is not a table);
  * returns its type. */
 int hv_lua_field(lua_State *L, int arg, const char *key);

@@ -111,10 +111,8 @@ static int mesh_tostring(lua_State *L)
 static int l_generate(lua_State *L)
 {
     int shape = (int)lua_tointeger(L, lua_upvalueindex(1));
-    int holder = hv_lua_options(L, 1);
     hv_shape_params p;
-    hv_optargs args;
-    hv_lua_read_options(L, 1, hv_shape_option_set(shape), &p, &args, NULL, holder);
+    hv_lua_read(L, 1, hv_shape_option_set(shape), &p, NULL);
     hv_mesh *m;
     hv_status s = hv_generate_shape(shape, &p, &m);
     if (s != HV_OK) return fail(L, s);
@@ -189,10 +187,8 @@ static int l_contours(lua_State *L)
 {
     static const char *const extra[] = {"output", "loops", NULL};
     hv_mesh *mesh = hv_lua_mesh(L, 1);
-    int holder = hv_lua_options(L, 2);
     hv_contours_options o;
-    hv_optargs args;
-    hv_lua_read_options(L, 2, hv_contours_option_set(), &o, &args, extra, holder);
+    int holder = hv_lua_read(L, 2, hv_contours_option_set(), &o, extra);
     const char *output = hv_lua_out_path(L, 2, "output", holder, NULL);
     int keep = hv_lua_field(L, 2, "loops") == LUA_TNIL || lua_toboolean(L, -1);
     lua_pop(L, 1);

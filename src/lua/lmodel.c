@@ -26,10 +26,8 @@ static int l_voxelize(lua_State *L)
 {
     static const char *const extra[] = {"like", NULL};
     hv_mesh *mesh = hv_lua_mesh(L, 1);
-    int holder = hv_lua_options(L, 2);
     hv_voxelize_options o;
-    hv_optargs args;
-    hv_lua_read_options(L, 2, hv_voxelize_option_set(), &o, &args, extra, holder);
+    hv_lua_read(L, 2, hv_voxelize_option_set(), &o, extra);
     hv_transform lattice;
     if (hv_lua_field(L, 2, "like") != LUA_TNIL) {
         lattice = hv_volume_get_transform(CHECK(L, -1, l_model, MT_MODEL)->p);

@@ -168,9 +168,17 @@ static int listed(const char *const *keys, const char *k)
     return 0;
 }
 
-void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, hv_optargs *args,
-                         const char *const *extra, int holder)
+int hv_lua_read(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra)
 {
+    int holder = hv_lua_options(L, arg);
+    hv_lua_read_options(L, arg, set, opts, extra, holder);
+    return holder;
+}
+
+void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra,
+                         int holder)
+{
+    hv_optargs a, *args = &a;
     hv_optargs_begin(args, set, opts);
     if (lua_isnoneornil(L, arg)) {
         if (hv_optargs_finish(args) != HV_OK) raise_option_error(L, arg);

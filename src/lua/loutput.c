@@ -24,10 +24,8 @@ static int model_profile(lua_State *L)
 {
     static const char *const extra[] = {"csv", "plot", NULL};
     hv_volume *vol = hv_lua_model(L, 1);
-    int holder = hv_lua_options(L, 2);
     hv_profile_options o;
-    hv_optargs args;
-    hv_lua_read_options(L, 2, hv_profile_option_set(), &o, &args, extra, holder);
+    int holder = hv_lua_read(L, 2, hv_profile_option_set(), &o, extra);
     const char *csv = hv_lua_out_path(L, 2, "csv", holder, NULL), *plot = hv_lua_out_path(L, 2, "plot", holder, NULL);
     hv_profile *p;
     hv_status s = hv_profile_sample(vol, o.from, o.to, o.samples, &p);
@@ -73,10 +71,8 @@ static int model_export(lua_State *L)
 {
     static const char *const extra[] = {"path", NULL};
     hv_volume *vol = hv_lua_model(L, 1);
-    int holder = hv_lua_options(L, 2);
     hv_export_options o;
-    hv_optargs args;
-    hv_lua_read_options(L, 2, hv_export_option_set(), &o, &args, extra, holder);
+    int holder = hv_lua_read(L, 2, hv_export_option_set(), &o, extra);
     const char *path = hv_lua_out_path(L, 2, "path", holder, ".vti or .vtu");
     o.format = hv_export_format_from_path(path);
     hv_export_report rep;
@@ -99,10 +95,8 @@ static int model_render(lua_State *L)
 {
     static const char *const extra[] = {"path", NULL};
     hv_volume *vol = hv_lua_model(L, 1);
-    int holder = hv_lua_options(L, 2);
     hv_render_options o;
-    hv_optargs args;
-    hv_lua_read_options(L, 2, hv_render_option_set(), &o, &args, extra, holder);
+    int holder = hv_lua_read(L, 2, hv_render_option_set(), &o, extra);
     const char *path = hv_lua_out_path(L, 2, "path", holder, ".png, .exr or .tif");
     hv_image *img = NULL;
     hv_status s = hv_render(vol, &o, NULL, &img);
@@ -120,10 +114,8 @@ static int model_layers(lua_State *L)
 {
     static const char *const extra[] = {"mesh", "dir", NULL};
     hv_volume *vol = hv_lua_model(L, 1);
-    int holder = hv_lua_options(L, 2);
     hv_layers_options o;
-    hv_optargs args;
-    hv_lua_read_options(L, 2, hv_layers_option_set(), &o, &args, extra, holder);
+    int holder = hv_lua_read(L, 2, hv_layers_option_set(), &o, extra);
     hv_lua_field(L, 2, "mesh"); /* stays on the stack while C uses it */
     hv_mesh *mesh = hv_lua_mesh(L, -1);
     const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");

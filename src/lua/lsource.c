@@ -172,12 +172,10 @@ static int l_feature_make(lua_State *L)
         double p[3];
         hv_lua_numbers(L, 1, 1, "point", p, 3);
         hv_status s = hv_frf_point(p, &f);
-    return push_feature(L, s, f);
+        return push_feature(L, s, f);
     }
     luaL_checktype(L, 1, LUA_TTABLE);
-    int holder = hv_lua_options(L, 1);
-    hv_optargs args;
-    hv_lua_read_options(L, 1, hv_frf_option_set(kind), &o, &args, NULL, holder);
+    hv_lua_read(L, 1, hv_frf_option_set(kind), &o, NULL);
     hv_status s = hv_frf_from_options(&o, NULL, &f);
     return push_feature(L, s, f);
 }
@@ -185,8 +183,7 @@ static int l_feature_make(lua_State *L)
 static void read_select(lua_State *L, int arg, hv_facet_select *sel, int holder)
 {
     luaL_checktype(L, arg, LUA_TTABLE);
-    hv_optargs args;
-    hv_lua_read_options(L, arg, hv_facet_select_option_set(), sel, &args, NULL, holder);
+    hv_lua_read_options(L, arg, hv_facet_select_option_set(), sel, NULL, holder);
 }
 
 static int l_facets(lua_State *L)
@@ -381,8 +378,7 @@ static hv_ags *source_from_table(lua_State *L, int arg, int wu3)
     luaL_checktype(L, arg, LUA_TTABLE);
     int holder = hv_lua_holder(L);
     hv_ags_options o;
-    hv_optargs args;
-    hv_lua_read_options(L, arg, wu3 ? hv_wu3_option_set() : hv_ags_option_set(), &o, &args, extra, holder);
+    hv_lua_read_options(L, arg, wu3 ? hv_wu3_option_set() : hv_ags_option_set(), &o, extra, holder);
     hv_lua_field(L, arg, "feature");
     l_feature *feat = luaL_testudata(L, -1, MT_FEATURE);
     if (!feat || !feat->p) luaL_argerror(L, arg, "feature must be a hovox feature (hovox.axis{...}, model:contour(), ...)");

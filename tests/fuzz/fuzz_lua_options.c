@@ -98,10 +98,9 @@ static int read_all(lua_State *L)
         hv_facet_select f;
         hv_shape_params s;
     } opts;
-    hv_optargs args;
     static const char *const extra[] = {"path", "mesh", NULL};
     int holder = hv_lua_holder(L);
-    hv_lua_read_options(L, 2, set, &opts, &args, extra, holder);
+    hv_lua_read_options(L, 2, set, &opts, extra, holder);
     return 0;
 }
 

@@ -67,6 +67,15 @@ void hv_lua_push_vec(lua_State *L, const double *v, int n)
     }
 }
 
+void *hv_lua_option_object(lua_State *L, int arg, const char *key, const char *mt, const char *what)
+{
+    hv_lua_field(L, arg, key);
+    void **p = luaL_testudata(L, -1, mt);
+    if (!p) arg_error(L, arg, "%s must be a %s", key, what);
+    if (!*p) arg_error(L, arg, "%s was freed", key);
+    return p;
+}
+
 void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,
                       lua_CFunction tostring)
 {

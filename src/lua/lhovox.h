@@ -57,6 +57,10 @@ void *hv_lua_new_ud(lua_State *L, size_t size, const char *mt);
  * was freed. */
 void *hv_lua_check_live(lua_State *L, int arg, const char *mt);
 #define CHECK(L, arg, type, mt) ((type *)hv_lua_check_live(L, arg, mt))
+/* Option `key` of the table at `arg` as a live userdata of class `mt`, pushed (it stays on the
+ * stack, anchored, while C uses it); raises "bad argument #arg (<key> must be a <what>)" or
+ * "(<key> was freed)". */
+void *hv_lua_option_object(lua_State *L, int arg, const char *key, const char *mt, const char *what);
 /* Register class `name`: methods as __index, gc as __gc and __close, tostring (may be NULL),
  * __name, and a locked __metatable. */
 void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,

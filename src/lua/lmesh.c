@@ -77,6 +77,7 @@ static int mesh_save(lua_State *L)
         if (lua_next(L, 3) && (lua_type(L, -2) != LUA_TSTRING || strcmp(lua_tostring(L, -2), "ascii") != 0))
             return arg_error(L, 3, "unknown option '%s' (options: ascii)", luaL_tolstring(L, -2, NULL));
     }
+    u = CHECK(L, 1, l_mesh, MT_MESH); /* again: reading the options may have run a finalizer */
     hv_status s = hv_mesh_write_stl(u->p, path, ascii);
     return s != HV_OK ? fail(L, s) : 0;
 }
@@ -197,6 +198,7 @@ static int l_contours(lua_State *L)
     if (!output && o.binary) return arg_error(L, 2, "binary needs a .cli output");
     hv_slicer *slicer = NULL;
     hv_layer_plan *plan = NULL;
+    mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     hv_status s = hv_slicer_create(mesh, NULL, &slicer);
     if (s == HV_OK) s = hv_slicer_plan(slicer, &o, &plan);
     lua_createtable(L, plan ? (int)HV_MIN(hv_layer_plan_count(plan), (size_t)1 << 20) : 0, 0);

@@ -30,11 +30,13 @@ static int l_voxelize(lua_State *L)
     hv_lua_read(L, 2, hv_voxelize_option_set(), &o, extra);
     hv_transform lattice;
     if (hv_lua_field(L, 2, "like") != LUA_TNIL) {
-        lattice = hv_volume_get_transform(CHECK(L, -1, l_model, MT_MODEL)->p);
+        lattice = hv_volume_get_transform(((l_model *)hv_lua_option_object(L, 2, "like", MT_MODEL, "hovox model"))->p);
         o.lattice = &lattice;
+        lua_pop(L, 1);
     }
     lua_pop(L, 1);
     hv_volume *v;
+    mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     hv_status s = hv_voxelize(mesh, &o, &v);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);

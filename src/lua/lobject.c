@@ -33,6 +33,8 @@ static int l_make_object(lua_State *L)
         grid = hv_lua_string_field(L, 3, "grid", holder);
         if (!grid) grid = "occupancy";
     }
+    m = CHECK(L, 1, l_model, MT_MODEL); /* again: reading the options may have run a finalizer */
+    t = CHECK(L, 2, l_mats, MT_MATS);
     hv_object *o;
     hv_status s = hv_object_create(m->p, grid, hv_material_count(t->p), &o);
     if (s != HV_OK) return fail(L, s);
@@ -58,6 +60,12 @@ static int object_add_ags(lua_State *L)
     } else {
         a = hv_lua_source_arg(L, 2);
         hv_lua_push_source(L, hv_ags_retain(a));
+    }
+    /* again: f ran script code, which may have freed the object (obj:free() in f) */
+    u = luaL_checkudata(L, 1, MT_OBJECT);
+    if (!u->p) {
+        hv_ags_release(a);
+        return luaL_argerror(L, 1, "object was freed");
     }
     if (hv_ags_materials(a) != hv_object_materials(u->p)) {
         hv_ags_release(a);
@@ -93,7 +101,9 @@ static int object_set_blend(lua_State *L)
     l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
     hv_blend b;
     if (hv_blend_parse(luaL_checkstring(L, 2), &b) != HV_OK) return luaL_argerror(L, 2, hv_last_error());
-    hv_status s = hv_object_set_blend(u->p, b, luaL_optnumber(L, 3, 2));
+    double power = luaL_optnumber(L, 3, 2);
+    u = CHECK(L, 1, l_object, MT_OBJECT); /* again, after the conversions */
+    hv_status s = hv_object_set_blend(u->p, b, power);
     return s != HV_OK ? fail(L, s) : 0;
 }
 

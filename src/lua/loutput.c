@@ -27,6 +27,7 @@ static int model_profile(lua_State *L)
     hv_profile_options o;
     int holder = hv_lua_read(L, 2, hv_profile_option_set(), &o, extra);
     const char *csv = hv_lua_out_path(L, 2, "csv", holder, NULL), *plot = hv_lua_out_path(L, 2, "plot", holder, NULL);
+    vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_profile *p;
     hv_status s = hv_profile_sample(vol, o.from, o.to, o.samples, &p);
     if (s != HV_OK) return fail(L, s);
@@ -75,6 +76,7 @@ static int model_export(lua_State *L)
     int holder = hv_lua_read(L, 2, hv_export_option_set(), &o, extra);
     const char *path = hv_lua_out_path(L, 2, "path", holder, ".vti or .vtu");
     o.format = hv_export_format_from_path(path);
+    vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_export_report rep;
     hv_status s = hv_export_write(vol, path, &o, &rep);
     if (s != HV_OK) return fail(L, s);
@@ -98,6 +100,7 @@ static int model_render(lua_State *L)
     hv_render_options o;
     int holder = hv_lua_read(L, 2, hv_render_option_set(), &o, extra);
     const char *path = hv_lua_out_path(L, 2, "path", holder, ".png, .exr or .tif");
+    vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_image *img = NULL;
     hv_status s = hv_render(vol, &o, NULL, &img);
     if (s == HV_OK) s = hv_image_write(img, path);
@@ -116,10 +119,10 @@ static int model_layers(lua_State *L)
     hv_volume *vol = hv_lua_model(L, 1);
     hv_layers_options o;
     int holder = hv_lua_read(L, 2, hv_layers_option_set(), &o, extra);
-    hv_lua_field(L, 2, "mesh"); /* stays on the stack while C uses it */
-    hv_mesh *mesh = hv_lua_mesh(L, -1);
     const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");
     hv_lua_check_paths(L, 2, hv_layers_option_set(), &o);
+    hv_mesh *mesh = ((l_mesh *)hv_lua_option_object(L, 2, "mesh", MT_MESH, "hovox mesh"))->p; /* anchored */
+    vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
     hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, NULL, &rep);
     if (s != HV_OK) return fail(L, s);

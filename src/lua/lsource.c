@@ -192,6 +192,7 @@ static int l_facets(lua_State *L)
     int holder = hv_lua_options(L, 2);
     hv_facet_select sel;
     read_select(L, 2, &sel, holder);
+    m = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     hv_frf *f = NULL;
     hv_status s = hv_frf_facets(m, &sel, &f);
     return push_feature(L, s, f);
@@ -223,6 +224,8 @@ static int model_harmonic(lua_State *L)
     read_select(L, 3, &one, holder);
     read_select(L, 4, &zero, holder);
     const char *domain = luaL_optstring(L, 5, "occupancy");
+    v = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
+    m = hv_lua_mesh(L, 2);
     hv_frf *f = NULL;
     hv_status s = hv_frf_harmonic(v, domain, m, &one, &zero, &f);
     return push_feature(L, s, f);
@@ -379,9 +382,8 @@ static hv_ags *source_from_table(lua_State *L, int arg, int wu3)
     int holder = hv_lua_holder(L);
     hv_ags_options o;
     hv_lua_read_options(L, arg, wu3 ? hv_wu3_option_set() : hv_ags_option_set(), &o, extra, holder);
-    hv_lua_field(L, arg, "feature");
-    l_feature *feat = luaL_testudata(L, -1, MT_FEATURE);
-    if (!feat || !feat->p) luaL_argerror(L, arg, "feature must be a hovox feature (hovox.axis{...}, model:contour(), ...)");
+    l_feature *feat = hv_lua_option_object(L, arg, "feature", MT_FEATURE,
+                                           "hovox feature (hovox.axis{...}, model:contour(), ...)");
     lua_fn_ctx ctx = {L, LUA_NOREF, 0, ""};
     hv_dfn *f = read_f(L, arg, &ctx, holder);
     hv_ags *a = NULL;

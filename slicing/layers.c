@@ -19,9 +19,10 @@
 /* ---- profiles ------------------------------------------------------------------------------ */
 
 static const hv_printer_profile g_profiles[] = {
-    {"j750", "Stratasys J750 voxel printing: 600 x 300 dpi, 0.027 mm layers", {600, 300}, 0.027},
+    /* build volumes and material slots from Stratasys' public J750/J850 spec sheets */
+    {"j750", "Stratasys J750 voxel printing: 600 x 300 dpi, 0.027 mm layers", {600, 300}, 0.027, {490, 390, 200}, 6},
     {"j850", "Stratasys J850 voxel printing (High Mix mode): 600 x 300 dpi, 0.027 mm layers",
-     {600, 300}, 0.027},
+     {600, 300}, 0.027, {490, 390, 200}, 7},
 };
 
 int hv_printer_profile_count(void) { return (int)HV_COUNT(g_profiles); }
@@ -104,6 +105,9 @@ typedef struct job {
     int palette_size, bit_depth;
     /* output */
     char *tmp;
+    int no_files;       /* a tray's part: layers are rendered into the worker, not written */
+    int placed, c0, r0; /* on a plate: the image's first column and row on the plate's grid */
+    size_t lift;        /* on a plate: tray layers below the part's first layer */
     hv_zip *zip; /* the GCVF archive being made (gcvf_path), NULL otherwise */
     /* per-layer statistics, indexed by layer - first */
     uint64_t *st_pixels, *st_count, *st_fallback;
@@ -194,7 +198,7 @@ static void mesh_warning(job *J);
 
 /* The grid, range, window and operators; everything except the output. */
 static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
-                          const hv_layers_options *o, const hv_progress *progress)
+                          const hv_layers_options *o, const hv_progress *progress, const hv_layers_place *pl)
 {
     memset(J, 0, sizeof *J);
     J->o = o;
@@ -234,6 +238,25 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     double mx = (double)o->margin + ceil(o->threshold / sx), my = (double)o->margin + ceil(o->threshold / py);
     double wd = ceil((info.bbox_max[0] - info.bbox_min[0]) / sx - 1e-9) + 2 * mx;
     double hd = ceil((info.bbox_max[1] - info.bbox_min[1]) / py - 1e-9) + 2 * my;
+    double gx = info.bbox_min[0] - mx * sx, gy = info.bbox_max[1] + my * py;
+    if (pl) {
+        /* the part's box on the plate's pixel grid: pixel (c, r) of the plate covers x in
+         * [c sx, (c+1) sx) and y in (plate_y - (r+1) py, plate_y - r py] */
+        double tx = pl->x - 0.5 * (info.bbox_min[0] + info.bbox_max[0]);
+        double ty = pl->y - 0.5 * (info.bbox_min[1] + info.bbox_max[1]);
+        double c0 = floor((info.bbox_min[0] + tx) / sx + 1e-9) - mx, c1 = ceil((info.bbox_max[0] + tx) / sx - 1e-9) + mx;
+        double r0 = floor((pl->plate_y - (info.bbox_max[1] + ty)) / py + 1e-9) - my;
+        double r1 = ceil((pl->plate_y - (info.bbox_min[1] + ty)) / py - 1e-9) + my;
+        if (fabs(c0) > 1e9 || fabs(r0) > 1e9) return hv_error_set(HV_ERR_INVALID, "layers: the placement is off any plate");
+        wd = HV_MAX(c1 - c0, 1.0);
+        hd = HV_MAX(r1 - r0, 1.0);
+        gx = c0 * sx - tx;
+        gy = pl->plate_y - r0 * py - ty;
+        J->placed = 1;
+        J->c0 = (int)c0;
+        J->r0 = (int)r0;
+        J->lift = pl->lift;
+    }
     wd = HV_MAX(wd, 1.0);
     hd = HV_MAX(hd, 1.0);
     if (wd > (double)(1 << 30) || hd > (double)(1 << 30) || wd * hd > 4e12)
@@ -245,8 +268,8 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     J->grid.height = J->H;
     J->grid.pixel[0] = sx;
     J->grid.pixel[1] = -py;
-    J->grid.origin[0] = info.bbox_min[0] - mx * sx;
-    J->grid.origin[1] = info.bbox_max[1] + my * py;
+    J->grid.origin[0] = gx;
+    J->grid.origin[1] = gy;
 
     if (uses_model(o)) {
         st = hv_material_table_load(model, &J->table);
@@ -406,11 +429,24 @@ static hv_status name_model(const hv_volume *model, const hv_layers_options *o, 
     return s == HV_ERR_BAD_INPUT && name ? hv_error_prefix(s, "%s: ", name) : s;
 }
 
+/* The placement a single stack asks for (o->placed), on its profile's plate. */
+static const hv_layers_place *options_place(const hv_layers_options *o, hv_layers_place *pl)
+{
+    if (!o->placed) return NULL;
+    const hv_printer_profile *p = hv_printer_profile_find(o->profile);
+    pl->x = o->place[0];
+    pl->y = o->place[1];
+    pl->plate_y = (p ? p : &g_profiles[0])->build[1];
+    pl->lift = 0;
+    return pl;
+}
+
 hv_status hv_layers_plan(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *opt,
                          hv_layers_report *report)
 {
     job J;
-    hv_status st = name_model(model, opt, job_plan(&J, mesh, model, opt, NULL));
+    hv_layers_place pl;
+    hv_status st = name_model(model, opt, job_plan(&J, mesh, model, opt, NULL, options_place(opt, &pl)));
     if (st == HV_OK && report) fill_plan_report(&J, report);
     else if (report) {
         memset(report, 0, sizeof *report);
@@ -744,7 +780,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
     if (write) J->st_pixels[li] = pixels;
     char path[4200];
     if (J->o->mode == HV_LAYERS_MASK) {
-        if (!write) return HV_OK;
+        if (!write || J->no_files) return HV_OK;
         layer_file(path, sizeof path, J->tmp, NULL, index);
         return write_png(J, path, w->mask, 0);
     }
@@ -755,7 +791,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
         if (J->obj) direct_layer(J, w, li, L->z, r0, r1, c0, c1);
     }
     if (J->o->mode == HV_LAYERS_FRACTIONS) {
-        if (!write) return HV_OK;
+        if (!write || J->no_files) return HV_OK;
         double *tg = J->st_target + li * (size_t)J->m;
         for (int g = 0; g < J->m && st == HV_OK; ++g) {
             const float *f = w->frac + (size_t)g * J->plane;
@@ -792,6 +828,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
     if (!write) return HV_OK;
     memcpy(J->st_count + li * (size_t)J->m, counts, (size_t)J->m * sizeof *counts);
     memcpy(J->st_target + li * (size_t)J->m, tsum, (size_t)J->m * sizeof *tsum);
+    if (J->no_files) return HV_OK;
     layer_file(path, sizeof path, J->tmp, NULL, index);
     return write_png(J, path, w->out, 1);
 }
@@ -878,6 +915,12 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
     failed |= hv_json_set(doc, "bit_depth", json_integer(J->bit_depth));
     failed |= hv_json_set(doc, "pixel_mm", pair(J->grid.pixel[0], J->grid.pixel[1]));
     failed |= hv_json_set(doc, "origin_mm", pair(J->grid.origin[0], J->grid.origin[1]));
+    if (J->placed) { /* the image's first column and row on the plate's pixel grid */
+        json_t *pl = json_object();
+        failed |= hv_json_set(pl, "column", json_integer(J->c0));
+        failed |= hv_json_set(pl, "row", json_integer(J->r0));
+        failed |= hv_json_set(doc, "plate", pl);
+    }
     failed |= hv_json_set(doc, "fill_rule", json_string(o->fill_rule == HV_FILL_EVENODD ? "evenodd" : "nonzero"));
     failed |= hv_json_set(doc, "threshold_mm", hv_json_number(o->threshold));
     if (uses_model(o)) failed |= hv_json_set(doc, "poi_step", hv_json_number(o->poi_step));
@@ -974,48 +1017,16 @@ static hv_status write_gcvf(job *J, const hv_layers_report *r, hv_zip *z)
     hv_status st = HV_OK;
     hv_buf x;
     hv_buf_init(&x);
-    hv_buf_printf(&x,
-                  "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-                  "<!-- GCVF - GrabCAD Voxel Print File, written by hovox %s -->\n"
-                  "<GCVF>\n"
-                  "    <Version>2</Version>\n"
-                  "    <Resolution>\n"
-                  "        <XDpi>%.0f</XDpi>\n"
-                  "        <YDpi>%.0f</YDpi>\n"
-                  "        <SliceThicknessNanoMeter>%.0f</SliceThicknessNanoMeter>\n"
-                  "    </Resolution>\n"
-                  "    <SliceDimensions>\n"
-                  "        <SliceWidth>%d</SliceWidth>\n"
-                  "        <SliceHeight>%d</SliceHeight>\n"
-                  "    </SliceDimensions>\n"
-                  "    <SliceRange>\n"
-                  "        <StartIndex>%zu</StartIndex>\n"
-                  "        <NumberOfSlices>%zu</NumberOfSlices>\n"
-                  "    </SliceRange>\n"
-                  "    <BitDepth>%d</BitDepth>\n"
-                  "    <MaxNumberOfColors>%d</MaxNumberOfColors>\n"
-                  "    <DataSemantics>Materials</DataSemantics>\n"
-                  "    <CreationMode>MODEL_ONLY</CreationMode>\n"
-                  "    <ImageFilePrefix>layer_</ImageFilePrefix>\n"
-                  "    <MaterialList>\n",
-                  hv_version(), o->dpi[0], o->dpi[1], o->layer_height * 1e6, J->W, J->H, J->first, J->last - J->first,
-                  J->bit_depth, o->mode == HV_LAYERS_MASK ? 2 : J->palette_size);
     const uint8_t *bg = o->mode == HV_LAYERS_HALFTONE ? o->background : (const uint8_t *)"\0\0\0";
-    hv_buf_printf(&x, "        <BackGroundMaterialRGBA>%d %d %d 255</BackGroundMaterialRGBA>\n", bg[0], bg[1], bg[2]);
+    hv_gcvf_config_begin(&x, o->dpi, o->layer_height, J->W, J->H, J->first, J->last - J->first, J->bit_depth,
+                         o->mode == HV_LAYERS_MASK ? 2 : J->palette_size, bg);
     if (o->mode == HV_LAYERS_MASK) {
-        hv_buf_printf(&x,
-                      "        <Material>\n            <Name>model</Name>\n            <RGBA>255 255 255 255</RGBA>\n"
-                      "            <VoxelCount>%llu</VoxelCount>\n        </Material>\n",
-                      (unsigned long long)r->object_pixels);
+        hv_gcvf_config_material(&x, "model", (const uint8_t *)"\xff\xff\xff", r->object_pixels);
     } else {
         for (int g = 0; g < J->m; ++g) {
             uint64_t cnt = 0;
             for (size_t li = 0; li < J->last - J->first; ++li) cnt += J->st_count[li * (size_t)J->m + (size_t)g];
-            const uint8_t *c = J->palette + 3 * (g + 1);
-            hv_buf_printf(&x,
-                          "        <Material>\n            <Name>%s</Name>\n            <RGBA>%d %d %d 255</RGBA>\n"
-                          "            <VoxelCount>%llu</VoxelCount>\n        </Material>\n",
-                          hv_material_name(J->table, g), c[0], c[1], c[2], (unsigned long long)cnt);
+            hv_gcvf_config_material(&x, hv_material_name(J->table, g), J->palette + 3 * (g + 1), cnt);
         }
     }
     hv_buf_puts(&x, "    </MaterialList>\n</GCVF>\n");
@@ -1079,6 +1090,11 @@ static hv_status job_prepare_output(job *J)
         st = hv_bluenoise_tile(o->cache_dir, J->progress, &J->ranks, &J->bn_cached);
         if (st != HV_OK) return st;
         hv_bluenoise_offsets(o->seed, J->bn_off);
+        if (J->placed) { /* the pattern is the plate's: a part shows the pixels a tray gives it */
+            J->bn_off[0] = (int)(((J->bn_off[0] + J->c0) % HV_BLUENOISE_NX + HV_BLUENOISE_NX) % HV_BLUENOISE_NX);
+            J->bn_off[1] = (int)(((J->bn_off[1] + J->r0) % HV_BLUENOISE_NY + HV_BLUENOISE_NY) % HV_BLUENOISE_NY);
+            J->bn_off[2] = (int)((J->bn_off[2] + J->lift) % HV_BLUENOISE_NZ);
+        }
     }
     return st;
 }
@@ -1088,7 +1104,8 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
 {
     if (!dir || !*dir) return hv_error_set(HV_ERR_INVALID, "layers: no output directory");
     job J;
-    hv_status st = job_plan(&J, mesh, model, o, progress);
+    hv_layers_place pl;
+    hv_status st = job_plan(&J, mesh, model, o, progress, options_place(o, &pl));
     hv_layers_report rep;
     memset(&rep, 0, sizeof rep);
     if (st == HV_OK) {
@@ -1166,4 +1183,83 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
     if (report) *report = rep;
     job_free(&J);
     return name_model(model, o, st);
+}
+
+/* ---- parts of a tray ---------------------------------------------------------------------------- */
+
+struct hv_layers_part {
+    job J;
+    hv_layers_options o; /* the job's options (J.o points here) */
+};
+
+hv_status hv_layers_part_open(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o,
+                              const hv_layers_place *pl, const hv_progress *progress, hv_layers_part **out)
+{
+    *out = NULL;
+    if (o->mode == HV_LAYERS_FRACTIONS || (o->mode == HV_LAYERS_HALFTONE && o->halftone == HV_HALFTONE_ERROR_DIFFUSION))
+        return hv_error_set(HV_ERR_INVALID, "a tray's parts are halftoned with blue noise or printed as masks "
+                                            "(error diffusion and fractions are per part)");
+    hv_layers_part *p = hv_calloc(1, sizeof *p);
+    if (!p) return HV_ERR_NOMEM;
+    p->o = *o;
+    hv_status st = job_plan(&p->J, mesh, model, &p->o, progress, pl);
+    if (st == HV_OK) {
+        p->J.no_files = 1;
+        st = job_prepare_output(&p->J);
+    }
+    if (st != HV_OK) {
+        hv_layers_part_close(p);
+        return name_model(model, o, st);
+    }
+    *out = p;
+    return HV_OK;
+}
+
+void hv_layers_part_close(hv_layers_part *p)
+{
+    if (!p) return;
+    job_free(&p->J);
+    free(p);
+}
+
+void hv_layers_part_geometry(const hv_layers_part *p, int *c0, int *r0, int *w, int *h, size_t *layers)
+{
+    *c0 = p->J.c0;
+    *r0 = p->J.r0;
+    *w = p->J.W;
+    *h = p->J.H;
+    *layers = p->J.nlayers;
+}
+
+int hv_layers_part_materials(const hv_layers_part *p) { return p->J.m; }
+const hv_material_table *hv_layers_part_table(const hv_layers_part *p) { return p->J.table; }
+uint64_t hv_layers_part_memory(const hv_layers_part *p) { return p->J.memory; }
+
+hv_status hv_layers_part_render(hv_layers_part *p, int t, size_t index, const uint8_t **pixels)
+{
+    job *J = &p->J;
+    worker *w = &J->workers[t];
+    hv_status st = worker_ready(J, w);
+    if (st == HV_OK) st = do_layer(J, w, index, 1);
+    *pixels = J->o->mode == HV_LAYERS_MASK ? w->mask : w->out;
+    return st;
+}
+
+void hv_layers_part_report(const hv_layers_part *p, hv_layers_report *r)
+{
+    const job *J = &p->J;
+    memset(r, 0, sizeof *r);
+    fill_plan_report(J, r);
+    for (size_t li = 0; li < J->nlayers; ++li) {
+        r->object_pixels += J->st_pixels[li];
+        for (int g = 0; g < J->m; ++g) {
+            r->target[g] += J->st_target[li * (size_t)J->m + (size_t)g];
+            r->achieved[g] += (double)J->st_count[li * (size_t)J->m + (size_t)g];
+        }
+    }
+    double np = (double)r->object_pixels;
+    for (int g = 0; g < J->m; ++g) {
+        r->target[g] = np > 0 ? r->target[g] / np : 0;
+        r->achieved[g] = np > 0 ? r->achieved[g] / np : 0;
+    }
 }

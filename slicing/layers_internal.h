@@ -8,6 +8,7 @@
 #include <stdio.h>
 
 #include "hovox/layers.h"
+#include "hovox/material.h"
 
 /* ---- POI (poi.c) ---------------------------------------------------------------------------
  * One axis of a separable area-weighted operator: output cell o averages input cells
@@ -93,6 +94,45 @@ void hv_stack_abort(const char *tmp);
  * ("manifest.json: line 3, column 1: ...", "manifest.json: generator is \"slic3r\", not
  * hovox"), HV_ERR_NOMEM. */
 hv_status hv_stack_manifest_check(const char *text, size_t size);
+
+/* ---- parts on a plate (trays) ---------------------------------------------------------------- */
+
+/* Where a part's image sits: the centre of its mesh's xy box at (x, y) mm on a plate whose far
+ * edge is y = plate_y (row 0), and `lift` tray layers below its first layer. */
+typedef struct hv_layers_place {
+    double x, y, plate_y;
+    size_t lift;
+} hv_layers_place;
+
+/* One part of a tray: the single-part job planned on the plate, rendering layers into its
+ * workers instead of files. Thread t of the caller uses worker t (t < hv_threads()). */
+typedef struct hv_layers_part hv_layers_part;
+hv_status hv_layers_part_open(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o,
+                              const hv_layers_place *pl, const hv_progress *progress, hv_layers_part **out);
+void hv_layers_part_close(hv_layers_part *p);
+/* The image's place and size on the plate's grid, its layer count, materials and palette
+ * (palette entry 0 is the background; halftone: 1 + material index; mask: 1). */
+void hv_layers_part_geometry(const hv_layers_part *p, int *c0, int *r0, int *w, int *h, size_t *layers);
+int hv_layers_part_materials(const hv_layers_part *p);
+const hv_material_table *hv_layers_part_table(const hv_layers_part *p);
+/* Render the part's own layer `index` on thread `t`: *pixels (w*h bytes, row 0 at the top) holds
+ * palette indices (0: background). Statistics are kept per layer, as hv_layers_write keeps them. */
+hv_status hv_layers_part_render(hv_layers_part *p, int t, size_t index, const uint8_t **pixels);
+/* The part's totals over the layers rendered (object pixels, target and achieved fractions). */
+void hv_layers_part_report(const hv_layers_part *p, hv_layers_report *r);
+/* Memory the part's workers will need (bytes), from its plan. */
+uint64_t hv_layers_part_memory(const hv_layers_part *p);
+
+/* A copy of s kept as long as tray t (job files' strings); NULL when out of memory. */
+struct hv_tray;
+const char *hv_tray_keep(struct hv_tray *t, const char *s);
+
+/* GCVF ConfigFile.xml (slicing/stack.c): the header up to <MaterialList> and the background,
+ * then one call per material; the caller closes with "    </MaterialList>\n</GCVF>\n". */
+#include "core/internal.h"
+void hv_gcvf_config_begin(hv_buf *x, const double dpi[2], double layer_height, int W, int H, size_t start,
+                          size_t count, int bit_depth, int colors, const uint8_t bg[3]);
+void hv_gcvf_config_material(hv_buf *x, const char *name, const uint8_t rgb[3], uint64_t voxels);
 
 /* ZIP archives on libzip (ZIP64 when needed), written for reproducible bytes: every entry
  * dated 1980-01-01 00:00 with mode 0644, stored or deflated as asked.

@@ -83,6 +83,9 @@ static const hv_option k_opts[] = {
      .help = "nonzero or evenodd", .section = "Geometry"},
     {.key = "threshold", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1000, .offset = OFF(threshold), .meta = "D",
      .unit = "mm", .help = "Wu's threshold: pixels outside the contour but within D mm of it stay object"},
+    {.key = "place", .kind = HV_OPT_NUMBER, .count = 2, .lo = -1e6, .hi = 1e6, .offset = OFF(place), .meta = "X,Y",
+     .unit = "mm", .help = "place the part on the profile's plate, the centre of its box at X,Y: the image is its "
+                           "box on the plate's pixel grid, with the pixels a tray gives it"},
     {.key = "margin", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 0, .hi = 100000, .offset = OFF(margin),
      .meta = "N", .unit = "pixels", .help = "background pixels around the mesh's xy box"},
     {.key = "close_gap", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = OFF(close_gap), .meta = "D",
@@ -115,6 +118,7 @@ static const hv_opt_rule k_rules[] = {
 static hv_status finish(const hv_optargs *args)
 {
     hv_layers_options *o = args->opts;
+    o->placed = hv_optargs_given(args, "place");
     if (hv_optargs_given(args, "dpi")) {
         o->profile = "custom";
         return HV_OK;

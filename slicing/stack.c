@@ -50,6 +50,49 @@ hv_status hv_stack_commit(const char *tmp, const char *dir, int force)
 
 void hv_stack_abort(const char *tmp) { hv_outdir_abort(tmp); }
 
+/* ---- GCVF ConfigFile.xml ------------------------------------------------------------------------- */
+
+/* The layout third-party GCVF writers use for GrabCAD Voxel Print: resolution, slice size and
+ * range, bit depth, colours, then the materials with their RGBA and voxel counts. */
+void hv_gcvf_config_begin(hv_buf *x, const double dpi[2], double layer_height, int W, int H, size_t start,
+                          size_t count, int bit_depth, int colors, const uint8_t bg[3])
+{
+    hv_buf_printf(x,
+                  "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                  "<!-- GCVF - GrabCAD Voxel Print File, written by hovox %s -->\n"
+                  "<GCVF>\n"
+                  "    <Version>2</Version>\n"
+                  "    <Resolution>\n"
+                  "        <XDpi>%.0f</XDpi>\n"
+                  "        <YDpi>%.0f</YDpi>\n"
+                  "        <SliceThicknessNanoMeter>%.0f</SliceThicknessNanoMeter>\n"
+                  "    </Resolution>\n"
+                  "    <SliceDimensions>\n"
+                  "        <SliceWidth>%d</SliceWidth>\n"
+                  "        <SliceHeight>%d</SliceHeight>\n"
+                  "    </SliceDimensions>\n"
+                  "    <SliceRange>\n"
+                  "        <StartIndex>%zu</StartIndex>\n"
+                  "        <NumberOfSlices>%zu</NumberOfSlices>\n"
+                  "    </SliceRange>\n"
+                  "    <BitDepth>%d</BitDepth>\n"
+                  "    <MaxNumberOfColors>%d</MaxNumberOfColors>\n"
+                  "    <DataSemantics>Materials</DataSemantics>\n"
+                  "    <CreationMode>MODEL_ONLY</CreationMode>\n"
+                  "    <ImageFilePrefix>layer_</ImageFilePrefix>\n"
+                  "    <MaterialList>\n",
+                  hv_version(), dpi[0], dpi[1], layer_height * 1e6, W, H, start, count, bit_depth, colors);
+    hv_buf_printf(x, "        <BackGroundMaterialRGBA>%d %d %d 255</BackGroundMaterialRGBA>\n", bg[0], bg[1], bg[2]);
+}
+
+void hv_gcvf_config_material(hv_buf *x, const char *name, const uint8_t rgb[3], uint64_t voxels)
+{
+    hv_buf_printf(x,
+                  "        <Material>\n            <Name>%s</Name>\n            <RGBA>%d %d %d 255</RGBA>\n"
+                  "            <VoxelCount>%llu</VoxelCount>\n        </Material>\n",
+                  name, rgb[0], rgb[1], rgb[2], (unsigned long long)voxels);
+}
+
 /* ---- ZIP (libzip) ---------------------------------------------------------------------------- */
 
 struct hv_zip {

@@ -26,6 +26,8 @@ typedef struct hv_printer_profile {
     const char *description; /* one line for --help and the manifest */
     double dpi[2];           /* x, y */
     double layer_height;     /* mm */
+    double build[3];         /* build volume x, y, z (mm; public spec sheets) */
+    int material_slots;      /* model materials loaded at once */
 } hv_printer_profile;
 
 /* Number of built-in profiles, and profile i (0 <= i < count; NULL otherwise). Static data. */
@@ -208,6 +210,10 @@ typedef struct hv_layers_options {
     const char *gcvf_path;         /* also write a GCVF zip there (HALFTONE or MASK); NULL: no */
     const char *mesh_name;         /* for the manifest (may be NULL) */
     const char *model_name;        /* for the manifest (may be NULL) */
+    int placed;                    /* place the part on the profile's plate (see place) */
+    double place[2];               /* plate position (mm) of the centre of the mesh's xy box: the
+                                      image is then the part's box on the plate's pixel grid
+                                      (row 0 at the plate's far edge y = build[1]), as in a tray */
 } hv_layers_options;
 
 /* Defaults as noted above; dpi and layer height from the j750 profile. */

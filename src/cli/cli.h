@@ -133,6 +133,6 @@ int cli_out_of_time(void);
 
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
-    cmd_render, cmd_contours, cmd_layers, cmd_export;
+    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_export;
 
 #endif

@@ -1,0 +1,130 @@
+/* hovox/tray.h - print jobs: a build tray of parts (graded models with their meshes, or plain
+ * meshes in one material), placed on a printer's plate and sliced in one streamed stack
+ * (DESIGN.md "Printer conventions"; Wu 2.4.2 for each part's layers).
+ *
+ * Plate frame: x from 0 to build[0], y from 0 to build[1] (mm); pixel (c, r) covers x in
+ * [c sx, (c+1) sx) and y in (build[1] - (r+1) py, build[1] - r py], row 0 at the far edge. Tray
+ * layer t covers z in [t h, (t+1) h). A part is placed by the centre of its mesh's xy box and
+ * the lift of its bottom (rounded to whole layers); its pixels are exactly those
+ * `hovox layers --place X,Y` gives it alone (blue noise anchored to the plate).
+ *
+ * Resins: each material name maps to a resin of the profile's resin table (a material named
+ * like a resin maps to it); the stack's palette is entry 0 (no material) and one entry per resin
+ * used, in the table's order. The built-in table is public data (vendor colour names, display
+ * colours chosen here), not confirmed by the vendor; a job may add or override resins.
+ *
+ * Thread safety: a tray is not thread-safe; hv_tray_write uses hv_threads() workers. */
+#ifndef HOVOX_TRAY_H
+#define HOVOX_TRAY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hovox/layers.h"
+#include "hovox/options.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HV_TRAY_MAX_RESINS 64
+
+/* A resin: its name and display colour (palette entry). */
+typedef struct hv_resin {
+    const char *name;
+    uint8_t rgb[3];
+} hv_resin;
+
+/* The built-in resin table of a profile (count in *n; static data, not vendor-confirmed). */
+HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
+
+/* A part as options (hv_tray_part_option_set): model (a graded .vdb; absent for a plain mesh),
+ * mesh (.stl, required), material (a plain mesh's material, required without a model), name,
+ * at = X,Y (plate position of the centre of its xy box; absent: arranged), z (lift, mm, >= 0),
+ * rotation (0, 90, 180, 270 degrees about z), copies (>= 1, placed in a row along +x). Paths are
+ * borrowed. */
+typedef struct hv_tray_part {
+    const char *model, *mesh, *material, *name;
+    double at[2];
+    double z;
+    int rotation;
+    int copies;
+    int placed; /* `at` given */
+} hv_tray_part;
+HV_API void hv_tray_part_init(hv_tray_part *p);
+HV_API const hv_option_set *hv_tray_part_option_set(void);
+
+/* The job's options (hv_tray_option_set): profile (j750, j850), mode (halftone: blue noise;
+ * mask), seed, spacing (mm between footprints, default 5), arrange (place the parts without
+ * `at`; with arrange = all, every part), layers (A:B of the tray's layers), gcvf (also a GCVF
+ * zip), force, max_memory, dry_run, resin (repeatable MATERIAL=RESIN), resin_color (repeatable
+ * RESIN=#rrggbb: add or override a resin). */
+typedef struct hv_tray_options {
+    const char *profile;
+    hv_layers_mode mode;
+    uint64_t seed;
+    double spacing;
+    int arrange; /* 0: no, 1: the parts without `at`, 2: all */
+    size_t first, last;
+    const char *gcvf_path;
+    int force, dry_run;
+    uint64_t max_memory;
+    int nresin, ncolor;
+    const char *resin[HV_TRAY_MAX_RESINS];       /* "MATERIAL=RESIN" (borrowed) */
+    const char *resin_color[HV_TRAY_MAX_RESINS]; /* "RESIN=#rrggbb" (borrowed) */
+    const char *cache_dir;                       /* blue-noise cache (see hv_layers_options) */
+} hv_tray_options;
+HV_API void hv_tray_options_init(hv_tray_options *o);
+HV_API const hv_option_set *hv_tray_option_set(void);
+
+typedef struct hv_tray hv_tray;
+
+/* A new empty tray. Errors: HV_ERR_NOMEM. */
+HV_API hv_status hv_tray_create(hv_tray **out);
+HV_API void hv_tray_destroy(hv_tray *t);
+/* Add a part (its options are copied; files are read by hv_tray_plan). `where` (may be NULL)
+ * names the part in messages ("job.json: line 7, column 5", "--part 2"). Errors:
+ * HV_ERR_INVALID (options), HV_ERR_NOMEM. */
+HV_API hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where);
+HV_API int hv_tray_part_count(const hv_tray *t);
+
+/* Read a JSON job file: {"schema": 1, "profile": ..., <the keys of hv_tray_option_set>,
+ * "parts": [{<the keys of hv_tray_part_option_set>}, ...]}. Relative paths resolve against the
+ * file's directory. Unknown keys and wrong types are refused; every message gives the file,
+ * line and column. The options' strings live as long as the tray. Errors: HV_ERR_IO,
+ * HV_ERR_BAD_INPUT, HV_ERR_INVALID, HV_ERR_NOMEM. */
+HV_API hv_status hv_tray_load_job(const char *path, hv_tray **out, hv_tray_options *o);
+/* The same from text (`name` in messages, `base` the directory for relative paths). */
+HV_API hv_status hv_tray_parse_job(const char *text, size_t size, const char *name, const char *base,
+                                   hv_tray **out, hv_tray_options *o);
+
+/* What a tray job will do (filled by hv_tray_plan and hv_tray_write). */
+typedef struct hv_tray_report {
+    int width, height;          /* plate image (pixels) */
+    size_t layers, first, last; /* tray layers, the range written */
+    int parts;                  /* placed instances (copies counted) */
+    int resins, bit_depth;
+    double utilisation;         /* footprint area / plate area */
+    uint64_t memory;            /* bytes the workers and parts need */
+    uint64_t object_pixels;     /* over the layers written */
+    uint64_t bytes;             /* the stack's PNG bytes (after writing) */
+    double est_seconds;         /* a rough estimate (plan) */
+} hv_tray_report;
+
+/* Load every part's files, place them (arranging when asked), and check the tray: every part
+ * inside the build volume, footprints at least `spacing` apart, materials within the profile's
+ * slots, each mapped to a known resin, models matching their meshes, memory within the budget.
+ * Nothing is written. Errors name the part: HV_ERR_INVALID, HV_ERR_BAD_INPUT, HV_ERR_IO,
+ * HV_ERR_LIMIT, HV_ERR_NOMEM. */
+HV_API hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *progress,
+                              hv_tray_report *report);
+/* Plan (if not yet), then write the stack into `dir` (a temporary directory renamed when
+ * complete; PNG layers layer-NNNNN.png indexed by the resin palette, manifest.json with the
+ * parts) and the GCVF zip when asked. Layer ranges and thread counts give the same bytes. */
+HV_API hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o,
+                               const hv_progress *progress, hv_tray_report *report);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

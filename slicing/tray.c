@@ -1,0 +1,1254 @@
+/* slicing/tray.c - print jobs (hovox/tray.h): parts placed on a printer's plate and sliced into
+ * one stack in a single streamed pass over the tray's layers. Each part is a single-part layers
+ * job planned on the plate (layers.c, hv_layers_part_*): it is evaluated only inside its own box
+ * and its pixels are the ones `hovox layers --place` gives it. Footprints (the xy shadow of a
+ * part's facets, on a 0.5 mm grid, as row spans) decide spacing and arrangement. */
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "core/internal.h"
+#include "core/json.h"
+#include "hovox/tray.h"
+#include "hovox/volume.h"
+#include "image/png_fast.h"
+#include "layers_internal.h"
+
+#define CELL 0.5        /* footprint grid (mm) */
+#define RUN 8           /* consecutive tray layers per work unit */
+#define MAX_PARTS 4096  /* placed instances */
+
+/* ---- resins -------------------------------------------------------------------------------- */
+
+/* Public colour names of PolyJet resins for the J750/J850 (Stratasys material data sheets);
+ * the display colours are ours. Not vendor-confirmed: a job may override them. */
+static const hv_resin k_resins[] = {
+    {"VeroCyan-V", {0x00, 0x9f, 0xe3}},      {"VeroMagenta-V", {0xd4, 0x0f, 0x7d}},
+    {"VeroYellow-V", {0xf5, 0xd5, 0x00}},    {"VeroBlackPlus", {0x20, 0x20, 0x20}},
+    {"VeroPureWhite", {0xf4, 0xf4, 0xf0}},   {"VeroClear", {0xb8, 0xd8, 0xe0}},
+    {"VeroUltraClear", {0xe0, 0xee, 0xf2}},  {"Agilus30Clear", {0xd8, 0xd4, 0xb8}},
+    {"Agilus30Black", {0x38, 0x38, 0x38}},   {"Agilus30White", {0xe8, 0xe8, 0xe0}},
+};
+
+const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n)
+{
+    (void)p; /* the J750 and J850 take the same resins */
+    *n = (int)HV_COUNT(k_resins);
+    return k_resins;
+}
+
+/* ---- options ---------------------------------------------------------------------------------- */
+
+#define POFF(f) offsetof(hv_tray_part, f)
+static const hv_option k_part[] = {
+    {.key = "model", .kind = HV_OPT_STRING, .offset = POFF(model), .meta = "MODEL.vdb",
+     .help = "a graded model (absent: a plain mesh in `material`)"},
+    {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED, .offset = POFF(mesh), .meta = "MESH.stl",
+     .help = "the part's mesh (the model's, when there is a model)"},
+    {.key = "material", .kind = HV_OPT_STRING, .offset = POFF(material), .meta = "NAME",
+     .help = "a plain mesh's material"},
+    {.key = "name", .kind = HV_OPT_STRING, .offset = POFF(name), .meta = "NAME", .help = "for messages and the manifest"},
+    {.key = "at", .kind = HV_OPT_NUMBER, .count = 2, .lo = -1e5, .hi = 1e5, .offset = POFF(at), .meta = "X,Y",
+     .unit = "mm", .help = "plate position of the centre of the part's xy box (absent: arranged)"},
+    {.key = "z", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e4, .offset = POFF(z), .meta = "Z", .unit = "mm",
+     .help = "lift of the part's bottom above the plate (rounded to layers)"},
+    {.key = "rotation", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 0, .hi = 270, .offset = POFF(rotation),
+     .meta = "DEG", .unit = "degrees", .help = "about z: 0, 90, 180 or 270"},
+    {.key = "copies", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = MAX_PARTS, .offset = POFF(copies),
+     .meta = "N", .help = "copies in a row along +x"},
+};
+#undef POFF
+
+static hv_status part_finish(const hv_optargs *args)
+{
+    hv_tray_part *p = args->opts;
+    p->placed = hv_optargs_given(args, "at");
+    if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
+    if (!p->model && !p->material)
+        return hv_error_option(HV_ERR_INVALID, "a part needs a {model} or, for a plain mesh, a {material}");
+    if (p->model && p->material)
+        return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
+    return HV_OK;
+}
+
+void hv_tray_part_init(hv_tray_part *p)
+{
+    memset(p, 0, sizeof *p);
+    p->copies = 1;
+}
+static void part_init(void *p) { hv_tray_part_init(p); }
+static const hv_option_set k_part_set = {"part", k_part, (int)HV_COUNT(k_part), sizeof(hv_tray_part), part_init,
+                                         NULL, 0, part_finish, NULL, NULL, 0};
+const hv_option_set *hv_tray_part_option_set(void) { return &k_part_set; }
+
+static const char *const k_mode_names[] = {"halftone", "mask", NULL};
+static const int k_mode_values[] = {HV_LAYERS_HALFTONE, HV_LAYERS_MASK};
+static const hv_enum_def k_mode = {"tray mode", k_mode_names, k_mode_values, NULL};
+static const char *const k_arrange_names[] = {"no", "yes", "all", NULL};
+static const hv_enum_def k_arrange = {"arrange", k_arrange_names, NULL, NULL};
+
+static hv_status add_text(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    hv_tray_options *t = opts;
+    int is_resin = strcmp(o->key, "resin") == 0;
+    int *n = is_resin ? &t->nresin : &t->ncolor;
+    const char **list = is_resin ? t->resin : t->resin_color;
+    if (v->type != HV_VALUE_TEXT || !strchr(v->text, '='))
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be %s, got %s", o->key,
+                               is_resin ? "MATERIAL=RESIN" : "RESIN=#rrggbb", v->type == HV_VALUE_TEXT ? v->text : "?");
+    if (*n == HV_TRAY_MAX_RESINS) return hv_error_option(HV_ERR_INVALID, "at most %d {%s} values", HV_TRAY_MAX_RESINS, o->key);
+    list[(*n)++] = v->text;
+    return HV_OK;
+}
+
+#define TOFF(f) offsetof(hv_tray_options, f)
+static const hv_option k_tray[] = {
+    {.key = "profile", .kind = HV_OPT_STRING, .offset = TOFF(profile), .meta = "NAME",
+     .help = "the printer: j750 or j850 (build volume, dpi, layer height, material slots, resins)"},
+    {.key = "mode", .kind = HV_OPT_ENUM, .enumdef = &k_mode, .offset = TOFF(mode), .meta = "MODE",
+     .help = "halftone (graded parts by blue noise, plain meshes in their resin) or mask (1-bit)"},
+    {.key = "seed", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_UINT64, .offset = TOFF(seed), .meta = "N",
+     .help = "halftone seed"},
+    {.key = "spacing", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1000, .offset = TOFF(spacing), .meta = "MM", .unit = "mm",
+     .help = "least gap between parts' footprints"},
+    {.key = "arrange", .kind = HV_OPT_ENUM, .enumdef = &k_arrange, .offset = TOFF(arrange), .meta = "no|yes|all",
+     .help = "place the parts given without a position (yes) or all parts (all) on the plate"},
+    {.key = "layers", .kind = HV_OPT_RANGE, .offset = TOFF(first), .meta = "A:B",
+     .help = "the tray layers to write (B excluded)"},
+    {.key = "gcvf", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = TOFF(gcvf_path), .meta = "FILE.zip",
+     .help = "also a GrabCAD voxel-print style zip (ZIP64 past 4 GiB)"},
+    {.key = "force", .kind = HV_OPT_FLAG, .offset = TOFF(force), .help = "replace an existing stack or zip"},
+    {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = TOFF(dry_run), .help = "check and print the plan, write nothing"},
+    {.key = "resin", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "MATERIAL=RESIN", .parse = add_text,
+     .help = "the resin a material prints in (a material named like a resin needs none)"},
+    {.key = "resin_color", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "RESIN=#rrggbb", .parse = add_text,
+     .help = "add a resin to the profile's table, or change its display colour"},
+    {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = TOFF(max_memory), .meta = "SIZE",
+     .help = "refuse jobs that would need more (default: half of RAM)"},
+};
+#undef TOFF
+
+static hv_status tray_validate(const void *opts)
+{
+    const hv_tray_options *o = opts;
+    if (o->profile && !hv_printer_profile_find(o->profile))
+        return hv_error_option(HV_ERR_INVALID, "{profile} must be j750 or j850, got '%s'", o->profile);
+    if (o->gcvf_path && o->mode != HV_LAYERS_HALFTONE && o->mode != HV_LAYERS_MASK)
+        return hv_error_option(HV_ERR_INVALID, "{gcvf} needs {mode} halftone or mask");
+    return HV_OK;
+}
+
+void hv_tray_options_init(hv_tray_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->profile = "j750";
+    o->mode = HV_LAYERS_HALFTONE;
+    o->spacing = 5;
+}
+static void tray_init(void *o) { hv_tray_options_init(o); }
+static const hv_option_set k_tray_set = {"tray", k_tray, (int)HV_COUNT(k_tray), sizeof(hv_tray_options), tray_init,
+                                         NULL, 0, NULL, tray_validate, NULL, 0};
+const hv_option_set *hv_tray_option_set(void) { return &k_tray_set; }
+
+/* ---- the tray -------------------------------------------------------------------------------- */
+
+/* A footprint: the xy shadow of a mesh on the CELL grid, as one span per row (a row's first and
+ * last covered cell; concavities within a row count as covered). */
+typedef struct footprint {
+    int w, h;        /* cells */
+    int *lo, *hi;    /* per row; lo > hi: empty row */
+    double x0, y0;   /* the mesh's box corner the cells start at (mm) */
+    double area;     /* mm^2 */
+} footprint;
+
+typedef struct source {   /* one part as given (copies share it) */
+    hv_tray_part p;       /* strings owned (strdup) */
+    char *where;
+    hv_mesh *mesh;        /* rotated */
+    hv_volume *model;     /* rotated; NULL for plain meshes */
+    double bmin[3], bmax[3];
+    footprint fp, dil;    /* dil: dilated by the spacing */
+    int resin[HV_MAX_MATERIALS]; /* palette entry of each material (plain meshes: [0]) */
+    int m;
+} source;
+
+typedef struct instance {
+    int src, copy;
+    double x, y;     /* centre of the box on the plate */
+    size_t lift;
+    hv_layers_part *part;
+    int c0, r0, w, h;
+    size_t layers;
+} instance;
+
+struct hv_tray {
+    source *src;
+    int nsrc, cap;
+    instance *inst;
+    int ninst;
+    int planned;
+    const hv_printer_profile *profile;
+    double sx, py;
+    int W, H, bit_depth;
+    size_t nlayers;
+    /* palette */
+    hv_resin resins[HV_TRAY_MAX_RESINS];
+    char resin_names[HV_TRAY_MAX_RESINS][64];
+    int nresins;
+    int used[HV_TRAY_MAX_RESINS]; /* palette entry of resin r, or 0 */
+    int pal_resin[HV_TRAY_MAX_RESINS + 1];
+    uint8_t palette[3 * (HV_TRAY_MAX_RESINS + 1)];
+    int palette_size;
+    double utilisation;
+    uint64_t memory;
+    char **pool; /* strings kept for the tray's life (job files) */
+    size_t npool, cap_pool;
+};
+
+const char *hv_tray_keep(hv_tray *t, const char *s)
+{
+    if (hv_grow((void **)&t->pool, &t->cap_pool, t->npool + 1, sizeof *t->pool) != HV_OK) return NULL;
+    char *d = hv_strdup(s);
+    if (d) t->pool[t->npool++] = d;
+    return d;
+}
+
+hv_status hv_tray_create(hv_tray **out)
+{
+    *out = hv_calloc(1, sizeof **out);
+    return *out ? HV_OK : HV_ERR_NOMEM;
+}
+
+static void fp_free(footprint *f)
+{
+    free(f->lo);
+    free(f->hi);
+    memset(f, 0, sizeof *f);
+}
+
+static void unplan(hv_tray *t)
+{
+    for (int i = 0; i < t->ninst; ++i) hv_layers_part_close(t->inst[i].part);
+    free(t->inst);
+    t->inst = NULL;
+    t->ninst = 0;
+    for (int i = 0; i < t->nsrc; ++i) {
+        source *s = &t->src[i];
+        hv_mesh_destroy(s->mesh);
+        hv_volume_destroy(s->model);
+        s->mesh = NULL;
+        s->model = NULL;
+        fp_free(&s->fp);
+        fp_free(&s->dil);
+    }
+    t->planned = 0;
+}
+
+void hv_tray_destroy(hv_tray *t)
+{
+    if (!t) return;
+    unplan(t);
+    for (int i = 0; i < t->nsrc; ++i) {
+        source *s = &t->src[i];
+        free((char *)s->p.model);
+        free((char *)s->p.mesh);
+        free((char *)s->p.material);
+        free((char *)s->p.name);
+        free(s->where);
+    }
+    free(t->src);
+    for (size_t i = 0; i < t->npool; ++i) free(t->pool[i]);
+    free(t->pool);
+    free(t);
+}
+
+int hv_tray_part_count(const hv_tray *t) { return t->nsrc; }
+
+static char *dup_or_null(const char *s, int *bad)
+{
+    if (!s) return NULL;
+    char *d = hv_strdup(s);
+    if (!d) *bad = 1;
+    return d;
+}
+
+hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
+{
+    hv_status st = hv_options_check(&k_part_set, part);
+    if (st == HV_OK && part->rotation % 90)
+        st = hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", part->rotation);
+    if (st == HV_OK && !part->mesh) st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh}");
+    if (st == HV_OK && !part->model && !part->material)
+        st = hv_error_option(HV_ERR_INVALID, "a part needs a {model} or, for a plain mesh, a {material}");
+    if (st != HV_OK) return where ? hv_error_prefix(st, "%s: ", where) : st;
+    size_t cap = (size_t)t->cap;
+    if ((st = hv_grow((void **)&t->src, &cap, (size_t)t->nsrc + 1, sizeof *t->src)) != HV_OK) return st;
+    t->cap = (int)cap;
+    source *s = &t->src[t->nsrc];
+    memset(s, 0, sizeof *s);
+    s->p = *part;
+    int bad = 0;
+    s->p.model = dup_or_null(part->model, &bad);
+    s->p.mesh = dup_or_null(part->mesh, &bad);
+    s->p.material = dup_or_null(part->material, &bad);
+    s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh), &bad);
+    char w[64];
+    snprintf(w, sizeof w, "part %d", t->nsrc + 1);
+    s->where = dup_or_null(where ? where : w, &bad);
+    t->nsrc++;
+    unplan(t);
+    return bad ? HV_ERR_NOMEM : HV_OK;
+}
+
+/* ---- rotation about z by quarter turns ------------------------------------------------------ */
+
+/* (x, y) -> (-y, x), q times */
+static void rot_xy(double *x, double *y, int q)
+{
+    for (int i = 0; i < q; ++i) {
+        double t = *x;
+        *x = -*y;
+        *y = t;
+    }
+}
+
+static hv_status mesh_rotated(const hv_mesh *m, int q, hv_mesh **out)
+{
+    size_t nv = hv_mesh_vertex_count(m), nf = hv_mesh_facet_count(m);
+    float *xyz = hv_malloc_array(nv * 3, sizeof *xyz);
+    if (!xyz) return HV_ERR_NOMEM;
+    const float *v = hv_mesh_vertices(m);
+    for (size_t i = 0; i < nv; ++i) {
+        double x = v[3 * i], y = v[3 * i + 1];
+        rot_xy(&x, &y, q);
+        xyz[3 * i] = (float)x;
+        xyz[3 * i + 1] = (float)y;
+        xyz[3 * i + 2] = v[3 * i + 2];
+    }
+    hv_status s = hv_mesh_create(xyz, nv, hv_mesh_facets(m), nf, out);
+    free(xyz);
+    return s;
+}
+
+/* One quarter turn of a volume: voxel (i, j, k) -> (-j - 1, i, k), which maps leaves onto
+ * leaves; voxel sizes x and y swap. Grids and the material table come along; the voxelizer's
+ * record and the grading definition (in the unrotated frame) do not. */
+static hv_status volume_quarter(const hv_volume *v, hv_volume **out)
+{
+    *out = NULL;
+    hv_transform xf = hv_volume_get_transform(v), r = xf;
+    r.voxel[0] = xf.voxel[1];
+    r.voxel[1] = xf.voxel[0];
+    r.origin[0] = -xf.origin[1] + xf.voxel[1];
+    r.origin[1] = xf.origin[0];
+    hv_volume *d = NULL;
+    hv_status s = hv_volume_create(&r, &d);
+    int ng = hv_volume_grid_count(v);
+    for (int g = 0; g < ng && s == HV_OK; ++g) {
+        int idx;
+        s = hv_volume_grid_add(d, hv_volume_grid_name(v, g), hv_volume_grid_type(v, g), &idx);
+    }
+    size_t nl = hv_volume_leaf_count(v);
+    const int32_t *org = hv_volume_leaf_origins(v);
+    int32_t *norg = s == HV_OK ? hv_malloc_array(nl * 3, sizeof *norg) : NULL;
+    uint64_t *masks = norg ? hv_calloc(nl * HV_LEAF_WORDS, sizeof *masks) : NULL;
+    if (s == HV_OK && (!norg || !masks)) s = HV_ERR_NOMEM;
+    for (size_t l = 0; l < nl && s == HV_OK; ++l) {
+        norg[3 * l] = -org[3 * l + 1] - 8;
+        norg[3 * l + 1] = org[3 * l];
+        norg[3 * l + 2] = org[3 * l + 2];
+        const uint64_t *am = hv_volume_leaf_mask(v, l);
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            if (!HV_BIT_GET(am, n)) continue;
+            unsigned x = n >> 6, y = (n >> 3) & 7, z = n & 7;
+            unsigned m = HV_LEAF_OFFSET(7 - y, x, z);
+            masks[l * HV_LEAF_WORDS + (m >> 6)] |= 1ull << (m & 63);
+        }
+    }
+    if (s == HV_OK) s = hv_volume_topology_add(d, nl, norg, masks);
+    hv_accessor acc;
+    if (s == HV_OK) hv_accessor_init(&acc, d);
+    for (size_t l = 0; l < nl && s == HV_OK; ++l) {
+        int64_t dl = hv_accessor_leaf(&acc, norg[3 * l], norg[3 * l + 1], norg[3 * l + 2]);
+        if (dl < 0) {
+            s = hv_error_set(HV_ERR_INTERNAL, "tray: rotated leaf missing");
+            break;
+        }
+        for (int g = 0; g < ng; ++g) {
+            if (hv_volume_grid_type(v, g) == HV_GRID_BOOL) {
+                const uint64_t *a = hv_volume_leaf_bool_c(v, g, l);
+                uint64_t *b = hv_volume_leaf_bool(d, g, (size_t)dl);
+                for (unsigned n = 0; n < HV_LEAF_SIZE; ++n)
+                    if (HV_BIT_GET(a, n)) {
+                        unsigned x = n >> 6, y = (n >> 3) & 7, z = n & 7, m = HV_LEAF_OFFSET(7 - y, x, z);
+                        b[m >> 6] |= 1ull << (m & 63);
+                    }
+            } else {
+                const float *a = hv_volume_leaf_float_c(v, g, l);
+                float *b = hv_volume_leaf_float(d, g, (size_t)dl);
+                for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+                    unsigned x = n >> 6, y = (n >> 3) & 7, z = n & 7;
+                    b[HV_LEAF_OFFSET(7 - y, x, z)] = a[n];
+                }
+            }
+        }
+    }
+    free(norg);
+    free(masks);
+    for (int i = 0; i < hv_volume_meta_count(v) && s == HV_OK; ++i) {
+        const char *key = hv_volume_meta_key(v, i);
+        if (strcmp(key, "hovox.voxelize.json") == 0 || strcmp(key, "hovox.mesh.json") == 0 ||
+            strcmp(key, "hovox.object.json") == 0)
+            continue;
+        const char *str = hv_volume_meta_string(v, key);
+        double num;
+        if (str) {
+            size_t n = strlen(key);
+            s = n > 5 && strcmp(key + n - 5, ".json") == 0 ? hv_volume_meta_set_json(d, key, str)
+                                                            : hv_volume_meta_set_string(d, key, str);
+        } else if (hv_volume_meta_number(v, key, &num)) {
+            s = hv_volume_meta_set_number(d, key, num);
+        }
+    }
+    if (s != HV_OK) {
+        hv_volume_destroy(d);
+        return s;
+    }
+    *out = d;
+    return HV_OK;
+}
+
+/* ---- footprints ------------------------------------------------------------------------------ */
+
+static hv_status fp_alloc(footprint *f, int w, int h)
+{
+    f->w = w;
+    f->h = h;
+    f->lo = hv_malloc_array((size_t)h, sizeof *f->lo);
+    f->hi = hv_malloc_array((size_t)h, sizeof *f->hi);
+    if (!f->lo || !f->hi) return HV_ERR_NOMEM;
+    for (int r = 0; r < h; ++r) {
+        f->lo[r] = w;
+        f->hi[r] = -1;
+    }
+    return HV_OK;
+}
+
+/* The shadow of every facet on the CELL grid over the mesh's box (row 0 at the box's min y). */
+static hv_status fp_from_mesh(const hv_mesh *m, const double bmin[3], const double bmax[3], footprint *f)
+{
+    int w = (int)ceil((bmax[0] - bmin[0]) / CELL) + 1, h = (int)ceil((bmax[1] - bmin[1]) / CELL) + 1;
+    hv_status s = fp_alloc(f, w, h);
+    if (s != HV_OK) return s;
+    f->x0 = bmin[0];
+    f->y0 = bmin[1];
+    const float *v = hv_mesh_vertices(m);
+    const uint32_t *fc = hv_mesh_facets(m);
+    size_t nf = hv_mesh_facet_count(m);
+    for (size_t i = 0; i < nf; ++i) {
+        double x[3], y[3];
+        for (int k = 0; k < 3; ++k) {
+            x[k] = (v[3 * fc[3 * i + k]] - bmin[0]) / CELL;
+            y[k] = (v[3 * fc[3 * i + k] + 1] - bmin[1]) / CELL;
+        }
+        /* each covered cell row gets the triangle's x extent over that row (conservative) */
+        double ylo = fmin(y[0], fmin(y[1], y[2])), yhi = fmax(y[0], fmax(y[1], y[2]));
+        for (int r = HV_MAX((int)floor(ylo), 0); r <= HV_MIN((int)floor(yhi), h - 1); ++r) {
+            double a = fmax(ylo, r), b = fmin(yhi, r + 1.0), xl = 1e300, xr = -1e300;
+            for (int e = 0; e < 3; ++e) {
+                double x1 = x[e], y1 = y[e], x2 = x[(e + 1) % 3], y2 = y[(e + 1) % 3];
+                double e0 = fmin(y1, y2), e1 = fmax(y1, y2);
+                double c0 = fmax(a, e0), c1 = fmin(b, e1);
+                if (c0 > c1) continue;
+                for (int k = 0; k < 2; ++k) {
+                    double yy = k ? c1 : c0;
+                    double xx = y2 != y1 ? x1 + (x2 - x1) * (yy - y1) / (y2 - y1) : fmin(x1, x2);
+                    double xx2 = y2 != y1 ? xx : fmax(x1, x2);
+                    xl = fmin(xl, fmin(xx, xx2));
+                    xr = fmax(xr, fmax(xx, xx2));
+                }
+            }
+            if (xl > xr) continue;
+            int cl = HV_MAX((int)floor(xl), 0), cr = HV_MIN((int)floor(xr), w - 1);
+            if (cl < f->lo[r]) f->lo[r] = cl;
+            if (cr > f->hi[r]) f->hi[r] = cr;
+        }
+    }
+    f->area = 0;
+    for (int r = 0; r < h; ++r)
+        if (f->lo[r] <= f->hi[r]) f->area += (f->hi[r] - f->lo[r] + 1) * CELL * CELL;
+    return HV_OK;
+}
+
+/* f grown by d mm (a disc), as spans; the result's cell (0,0) is f's (-k,-k), k = ceil(d / CELL). */
+static hv_status fp_dilate(const footprint *f, double d, footprint *out)
+{
+    int k = (int)ceil(d / CELL - 1e-9);
+    hv_status s = fp_alloc(out, f->w + 2 * k, f->h + 2 * k);
+    if (s != HV_OK) return s;
+    out->x0 = f->x0 - k * CELL;
+    out->y0 = f->y0 - k * CELL;
+    for (int r = 0; r < f->h; ++r) {
+        if (f->lo[r] > f->hi[r]) continue;
+        for (int dy = -k; dy <= k; ++dy) {
+            double rem = d * d - (double)dy * dy * CELL * CELL;
+            if (rem < 0) continue;
+            int dx = (int)floor(sqrt(rem) / CELL + 1e-9);
+            int rr = r + dy + k;
+            int lo = f->lo[r] + k - dx, hi = f->hi[r] + k + dx;
+            if (lo < out->lo[rr]) out->lo[rr] = lo;
+            if (hi > out->hi[rr]) out->hi[rr] = hi;
+        }
+    }
+    return HV_OK;
+}
+
+/* The plate's cells taken by placed footprints, with per-row prefix counts to test spans. */
+typedef struct occupancy {
+    int w, h;
+    uint8_t *cell;
+    int32_t *pre; /* (w + 1) per row */
+} occupancy;
+
+static void occ_row_update(occupancy *o, int r)
+{
+    int32_t *p = o->pre + (size_t)r * (size_t)(o->w + 1);
+    const uint8_t *c = o->cell + (size_t)r * (size_t)o->w;
+    p[0] = 0;
+    for (int i = 0; i < o->w; ++i) p[i + 1] = p[i] + c[i];
+}
+
+/* Does footprint f with its cell (0,0) at plate cell (cx, cy) touch an occupied cell? Cells
+ * off the plate count as free here (inside-the-plate is checked on the undilated box). */
+static int occ_hits(const occupancy *o, const footprint *f, int cx, int cy)
+{
+    for (int r = 0; r < f->h; ++r) {
+        int y = cy + r;
+        if (y < 0 || y >= o->h || f->lo[r] > f->hi[r]) continue;
+        int a = HV_MAX(cx + f->lo[r], 0), b = HV_MIN(cx + f->hi[r], o->w - 1);
+        if (a > b) continue;
+        const int32_t *p = o->pre + (size_t)y * (size_t)(o->w + 1);
+        if (p[b + 1] - p[a]) return 1;
+    }
+    return 0;
+}
+
+static void occ_add(occupancy *o, const footprint *f, int cx, int cy)
+{
+    for (int r = 0; r < f->h; ++r) {
+        int y = cy + r;
+        if (y < 0 || y >= o->h || f->lo[r] > f->hi[r]) continue;
+        int a = HV_MAX(cx + f->lo[r], 0), b = HV_MIN(cx + f->hi[r], o->w - 1);
+        if (a <= b) memset(o->cell + (size_t)y * (size_t)o->w + a, 1, (size_t)(b - a + 1));
+        occ_row_update(o, y);
+    }
+}
+
+/* ---- planning ---------------------------------------------------------------------------------- */
+
+static const char *inst_name(const hv_tray *t, const instance *in, char *buf, size_t n)
+{
+    const source *s = &t->src[in->src];
+    if (s->p.copies > 1) snprintf(buf, n, "%s (%s, copy %d)", s->where, s->p.name, in->copy + 1);
+    else snprintf(buf, n, "%s (%s)", s->where, s->p.name);
+    return buf;
+}
+
+static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
+{
+    hv_mesh *mesh = NULL;
+    hv_volume *model = NULL;
+    hv_status st = hv_mesh_load_stl(s->p.mesh, &mesh);
+    if (st == HV_OK && s->p.model) st = hv_volume_load(s->p.model, &model);
+    int q = (s->p.rotation / 90) % 4;
+    for (int i = 0; i < q && st == HV_OK && model; ++i) {
+        hv_volume *r = NULL;
+        st = volume_quarter(model, &r);
+        hv_volume_destroy(model);
+        model = r;
+    }
+    if (st == HV_OK && q) {
+        hv_mesh *r = NULL;
+        st = mesh_rotated(mesh, q, &r);
+        hv_mesh_destroy(mesh);
+        mesh = r;
+    }
+    if (st != HV_OK) {
+        hv_mesh_destroy(mesh);
+        hv_volume_destroy(model);
+        return hv_error_prefix(st, "%s: ", s->where);
+    }
+    s->mesh = mesh;
+    s->model = model;
+    const hv_mesh_report *mr = hv_mesh_get_report(mesh);
+    memcpy(s->bmin, mr->bbox_min, sizeof s->bmin);
+    memcpy(s->bmax, mr->bbox_max, sizeof s->bmax);
+    st = fp_from_mesh(mesh, s->bmin, s->bmax, &s->fp);
+    if (st == HV_OK) st = fp_dilate(&s->fp, o->spacing, &s->dil);
+    (void)t;
+    return st;
+}
+
+/* The resin of material `name`: the job's map, else a resin of that name. Returns its index in
+ * t->resins or raises. */
+static hv_status resin_of(hv_tray *t, const hv_tray_options *o, const char *name, const char *where, int *out)
+{
+    const char *resin = name;
+    for (int i = 0; i < o->nresin; ++i) {
+        const char *eq = strchr(o->resin[i], '=');
+        if ((size_t)(eq - o->resin[i]) == strlen(name) && strncmp(o->resin[i], name, strlen(name)) == 0) resin = eq + 1;
+    }
+    for (int r = 0; r < t->nresins; ++r)
+        if (strcasecmp(t->resins[r].name, resin) == 0) {
+            *out = r;
+            return HV_OK;
+        }
+    char list[1024];
+    size_t n = 0;
+    list[0] = '\0';
+    for (int r = 0; r < t->nresins && n < sizeof list; ++r)
+        n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", r ? ", " : "", t->resins[r].name);
+    if (resin == name)
+        return hv_error_option(HV_ERR_INVALID, "%s: material '%s' has no resin: map it with {resin} %s=RESIN (resins: %s)",
+                               where, name, name, list);
+    return hv_error_option(HV_ERR_INVALID, "%s: material '%s' maps to the unknown resin '%s' (resins: %s)", where, name,
+                           resin, list);
+}
+
+static hv_status setup_resins(hv_tray *t, const hv_tray_options *o)
+{
+    int n;
+    const hv_resin *base = hv_tray_resins(t->profile, &n);
+    t->nresins = 0;
+    for (int i = 0; i < n; ++i) t->resins[t->nresins++] = base[i];
+    for (int i = 0; i < o->ncolor; ++i) {
+        const char *eq = strchr(o->resin_color[i], '=');
+        size_t len = (size_t)(eq - o->resin_color[i]);
+        float c[4];
+        if (len == 0 || len >= 64 || hv_color_parse(eq + 1, c) != HV_OK)
+            return hv_error_option(HV_ERR_INVALID, "{resin_color} must be RESIN=#rrggbb, got '%s'", o->resin_color[i]);
+        int r = 0;
+        while (r < t->nresins && !(strlen(t->resins[r].name) == len && strncasecmp(t->resins[r].name, o->resin_color[i], len) == 0))
+            ++r;
+        if (r == t->nresins) {
+            if (r == HV_TRAY_MAX_RESINS) return hv_error_option(HV_ERR_LIMIT, "at most %d resins", HV_TRAY_MAX_RESINS);
+            memcpy(t->resin_names[r], o->resin_color[i], len);
+            t->resin_names[r][len] = '\0';
+            t->resins[r].name = t->resin_names[r];
+            t->nresins++;
+        }
+        for (int k = 0; k < 3; ++k) t->resins[r].rgb[k] = (uint8_t)lroundf(HV_CLAMP(c[k], 0.0f, 1.0f) * 255.0f);
+    }
+    return HV_OK;
+}
+
+/* Materials of every source to palette entries (resins in the table's order). */
+static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
+{
+    memset(t->used, 0, sizeof t->used);
+    for (int i = 0; i < t->nsrc; ++i) {
+        source *s = &t->src[i];
+        hv_status st;
+        if (!s->model) {
+            s->m = 1;
+            if ((st = resin_of(t, o, s->p.material, s->where, &s->resin[0])) != HV_OK) return st;
+        } else {
+            hv_material_table *tab = NULL;
+            st = hv_material_table_load(s->model, &tab);
+            if (st == HV_ERR_NOT_FOUND)
+                return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s has no materials (grade it first, or print the mesh "
+                                                      "alone with a material)", s->where, s->p.model);
+            if (st != HV_OK) return hv_error_prefix(st, "%s: ", s->where);
+            s->m = hv_material_count(tab);
+            for (int j = 0; j < s->m && st == HV_OK; ++j) st = resin_of(t, o, hv_material_name(tab, j), s->where, &s->resin[j]);
+            hv_material_table_destroy(tab);
+            if (st != HV_OK) return st;
+        }
+        for (int j = 0; j < s->m; ++j) t->used[s->resin[j]] = 1;
+    }
+    int slots = 0;
+    for (int r = 0; r < t->nresins; ++r) slots += t->used[r] != 0;
+    if (slots > t->profile->material_slots) {
+        char list[1024];
+        size_t n = 0;
+        for (int r = 0; r < t->nresins && n < sizeof list; ++r)
+            if (t->used[r]) n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", t->resins[r].name);
+        return hv_error_set(HV_ERR_INVALID, "tray: %d resins (%s) exceed the %s's %d material slots", slots, list,
+                            t->profile->name, t->profile->material_slots);
+    }
+    /* palette: 0 is no material (black), then the resins used, in the table's order */
+    memset(t->palette, 0, 3);
+    t->palette_size = 1;
+    for (int r = 0; r < t->nresins; ++r)
+        if (t->used[r]) {
+            t->pal_resin[t->palette_size] = r;
+            memcpy(t->palette + 3 * t->palette_size, t->resins[r].rgb, 3);
+            t->used[r] = t->palette_size++;
+        }
+    for (int i = 0; i < t->nsrc; ++i)
+        for (int j = 0; j < t->src[i].m; ++j) t->src[i].resin[j] = t->used[t->src[i].resin[j]];
+    if (o->mode == HV_LAYERS_MASK) t->bit_depth = 1;
+    else t->bit_depth = t->palette_size <= 2 ? 1 : t->palette_size <= 4 ? 2 : t->palette_size <= 16 ? 4 : 8;
+    return HV_OK;
+}
+
+/* Place every instance without a position: largest footprint first, the first free spot
+ * scanning rows from the plate's far edge and columns from x = 0 in 1 mm steps. */
+static hv_status arrange(hv_tray *t, occupancy *occ, const int *order, int n)
+{
+    for (int k = 0; k < n; ++k) {
+        instance *in = &t->inst[order[k]];
+        const source *s = &t->src[in->src];
+        const footprint *f = &s->fp, *d = &s->dil;
+        int found = 0, kk = (f->x0 - d->x0) > 0 ? (int)lround((f->x0 - d->x0) / CELL) : 0;
+        for (int cy = occ->h - f->h; cy >= 0 && !found; cy -= 2)
+            for (int cx = 0; cx + f->w <= occ->w && !found; cx += 2) {
+                if (occ_hits(occ, d, cx - kk, cy - kk)) continue;
+                occ_add(occ, f, cx, cy);
+                in->x = cx * CELL + 0.5 * (s->bmax[0] - s->bmin[0]);
+                in->y = cy * CELL + 0.5 * (s->bmax[1] - s->bmin[1]);
+                found = 1;
+            }
+        if (!found) {
+            char list[2048], nb[256];
+            size_t m = 0;
+            for (int j = k; j < n && m < sizeof list; ++j)
+                m += (size_t)snprintf(list + m, sizeof list - m, "%s%s", j > k ? ", " : "",
+                                      inst_name(t, &t->inst[order[j]], nb, sizeof nb));
+            return hv_error_set(HV_ERR_LIMIT, "tray: no room left on the %s plate for %s", t->profile->name, list);
+        }
+    }
+    return HV_OK;
+}
+
+static int cmp_area_desc(const void *a, const void *b, void *ctx)
+{
+    const hv_tray *t = ctx;
+    const instance *x = &t->inst[*(const int *)a], *y = &t->inst[*(const int *)b];
+    double ax = t->src[x->src].fp.area, ay = t->src[y->src].fp.area;
+    if (ax != ay) return ax > ay ? -1 : 1;
+    return *(const int *)a - *(const int *)b;
+}
+
+/* a deterministic insertion sort (qsort_r is not portable C11) */
+static void sort_order(int *order, int n, hv_tray *t)
+{
+    for (int i = 1; i < n; ++i)
+        for (int j = i; j > 0 && cmp_area_desc(&order[j - 1], &order[j], t) > 0; --j) {
+            int x = order[j];
+            order[j] = order[j - 1];
+            order[j - 1] = x;
+        }
+}
+
+/* Positions, plate bounds and spacing. */
+static hv_status place_all(hv_tray *t, const hv_tray_options *o)
+{
+    const double *B = t->profile->build;
+    occupancy occ = {(int)floor(B[0] / CELL), (int)floor(B[1] / CELL), NULL, NULL};
+    occ.cell = hv_calloc((size_t)occ.w * (size_t)occ.h, 1);
+    occ.pre = hv_calloc((size_t)(occ.w + 1) * (size_t)occ.h, sizeof *occ.pre);
+    int *order = hv_malloc_array((size_t)t->ninst + 1, sizeof *order);
+    hv_status st = occ.cell && occ.pre && order ? HV_OK : HV_ERR_NOMEM;
+    int n_arr = 0;
+    char nb[256], nb2[256];
+    /* given positions first, each checked against the ones before it */
+    for (int i = 0; i < t->ninst && st == HV_OK; ++i) {
+        instance *in = &t->inst[i];
+        const source *s = &t->src[in->src];
+        if (o->arrange == 2 || (!s->p.placed && o->arrange == 1)) {
+            order[n_arr++] = i;
+            continue;
+        }
+        if (!s->p.placed) {
+            st = hv_error_set(HV_ERR_INVALID, "%s has no position: give it one (at = X,Y) or arrange the tray",
+                              inst_name(t, in, nb, sizeof nb));
+            break;
+        }
+        double wx = s->bmax[0] - s->bmin[0], wy = s->bmax[1] - s->bmin[1];
+        in->x = s->p.at[0] + in->copy * (wx + o->spacing);
+        in->y = s->p.at[1];
+        double x0 = in->x - 0.5 * wx, y0 = in->y - 0.5 * wy;
+        if (x0 < -1e-9 || y0 < -1e-9 || x0 + wx > B[0] + 1e-9 || y0 + wy > B[1] + 1e-9) {
+            st = hv_error_set(HV_ERR_INVALID, "%s is off the %s plate: its box spans x %.4g..%.4g, y %.4g..%.4g mm "
+                              "(the plate is %g x %g mm)", inst_name(t, in, nb, sizeof nb), t->profile->name, x0,
+                              x0 + wx, y0, y0 + wy, B[0], B[1]);
+            break;
+        }
+        int cx = (int)lround(x0 / CELL), cy = (int)lround(y0 / CELL);
+        int kk = (int)lround((s->fp.x0 - s->dil.x0) / CELL);
+        if (occ_hits(&occ, &s->dil, cx - kk, cy - kk)) {
+            /* name the part it comes too close to */
+            int other = -1;
+            for (int j = 0; j < i && other < 0; ++j) {
+                const instance *oj = &t->inst[j];
+                const source *sj = &t->src[oj->src];
+                occupancy one = occ;
+                (void)one;
+                double ox0 = oj->x - 0.5 * (sj->bmax[0] - sj->bmin[0]), oy0 = oj->y - 0.5 * (sj->bmax[1] - sj->bmin[1]);
+                if (fabs(ox0 - x0) < wx + (sj->bmax[0] - sj->bmin[0]) + 2 * o->spacing &&
+                    fabs(oy0 - y0) < wy + (sj->bmax[1] - sj->bmin[1]) + 2 * o->spacing)
+                    other = j;
+            }
+            st = hv_error_set(HV_ERR_INVALID, "%s comes closer than %g mm to %s (footprints overlap or nearly)",
+                              inst_name(t, in, nb, sizeof nb), o->spacing,
+                              other >= 0 ? inst_name(t, &t->inst[other], nb2, sizeof nb2) : "another part");
+            break;
+        }
+        occ_add(&occ, &s->fp, cx, cy);
+    }
+    if (st == HV_OK && n_arr) {
+        sort_order(order, n_arr, t);
+        st = arrange(t, &occ, order, n_arr);
+    }
+    /* height and utilisation */
+    double area = 0;
+    for (int i = 0; i < t->ninst && st == HV_OK; ++i) {
+        instance *in = &t->inst[i];
+        const source *s = &t->src[in->src];
+        area += s->fp.area;
+        double lift = s->p.z, top = lift + s->bmax[2] - s->bmin[2];
+        if (top > B[2] + 1e-9)
+            st = hv_error_set(HV_ERR_INVALID, "%s is %g mm tall at a lift of %g mm: above the %s's %g mm build height",
+                              inst_name(t, in, nb, sizeof nb), s->bmax[2] - s->bmin[2], lift, t->profile->name, B[2]);
+        in->lift = (size_t)llround(lift / t->profile->layer_height);
+    }
+    t->utilisation = area / (B[0] * B[1]);
+    free(occ.cell);
+    free(occ.pre);
+    free(order);
+    return st;
+}
+
+static void part_options(const hv_tray *t, const hv_tray_options *o, const source *s, hv_layers_options *lo)
+{
+    hv_layers_options_init(lo);
+    lo->profile = t->profile->name;
+    lo->dpi[0] = t->profile->dpi[0];
+    lo->dpi[1] = t->profile->dpi[1];
+    lo->layer_height = t->profile->layer_height;
+    lo->mode = o->mode == HV_LAYERS_MASK || !s->model ? HV_LAYERS_MASK : HV_LAYERS_HALFTONE;
+    lo->seed = o->seed;
+    lo->margin = 0;
+    lo->cache_dir = o->cache_dir;
+    lo->mesh_name = s->p.mesh;
+    lo->model_name = s->p.model;
+    lo->max_memory = o->max_memory;
+}
+
+hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *progress, hv_tray_report *rep)
+{
+    hv_status st = hv_options_check(&k_tray_set, o);
+    if (st != HV_OK) return st;
+    unplan(t);
+    if (t->nsrc == 0) return hv_error_set(HV_ERR_INVALID, "tray: no parts");
+    t->profile = hv_printer_profile_find(o->profile ? o->profile : "j750");
+    t->sx = 25.4 / t->profile->dpi[0];
+    t->py = 25.4 / t->profile->dpi[1];
+    t->W = (int)lround(t->profile->build[0] / t->sx); /* 490 mm at 600 dpi: 11,575 pixels */
+    t->H = (int)lround(t->profile->build[1] / t->py);
+    st = setup_resins(t, o);
+    int total = 0;
+    for (int i = 0; i < t->nsrc && st == HV_OK; ++i) {
+        total += t->src[i].p.copies;
+        if (total > MAX_PARTS) st = hv_error_set(HV_ERR_LIMIT, "tray: more than %d parts", MAX_PARTS);
+    }
+    for (int i = 0; i < t->nsrc && st == HV_OK; ++i) st = load_source(t, &t->src[i], o);
+    if (st == HV_OK) st = setup_palette(t, o);
+    if (st == HV_OK && !(t->inst = hv_calloc((size_t)total, sizeof *t->inst))) st = HV_ERR_NOMEM;
+    for (int i = 0; i < t->nsrc && st == HV_OK; ++i)
+        for (int c = 0; c < t->src[i].p.copies; ++c) {
+            instance *in = &t->inst[t->ninst++];
+            in->src = i;
+            in->copy = c;
+        }
+    if (st == HV_OK) st = place_all(t, o);
+    /* each instance as a part job on the plate: its box, its layers, its memory */
+    t->nlayers = 0;
+    t->memory = 0;
+    for (int i = 0; i < t->ninst && st == HV_OK; ++i) {
+        instance *in = &t->inst[i];
+        const source *s = &t->src[in->src];
+        hv_layers_options lo;
+        part_options(t, o, s, &lo);
+        hv_layers_place pl = {in->x, in->y, t->profile->build[1], in->lift};
+        st = hv_layers_part_open(s->mesh, s->model, &lo, &pl, progress, &in->part);
+        if (st != HV_OK) {
+            char nb[256];
+            st = hv_error_prefix(st, "%s: ", inst_name(t, in, nb, sizeof nb));
+            break;
+        }
+        hv_layers_part_geometry(in->part, &in->c0, &in->r0, &in->w, &in->h, &in->layers);
+        t->nlayers = HV_MAX(t->nlayers, in->lift + in->layers);
+        t->memory += hv_layers_part_memory(in->part);
+    }
+    size_t stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
+    t->memory += (uint64_t)HV_MAX(hv_threads(), 1) * ((uint64_t)stride * (uint64_t)t->H + (uint64_t)t->H * 8);
+    uint64_t budget = hv_memory_budget(o->max_memory);
+    if (st == HV_OK && budget && t->memory > budget) {
+        char a[32], b[32];
+        st = hv_error_option(HV_ERR_LIMIT, "tray: the job needs about %s (%d parts, %d x %d plate pixels), more than "
+                             "the budget of %s ({max_memory})", hv_size_text(a, sizeof a, (double)t->memory), t->ninst,
+                             t->W, t->H, hv_size_text(b, sizeof b, (double)budget));
+    }
+    if (st == HV_OK && (o->first >= t->nlayers || (o->last && o->last > t->nlayers)))
+        st = hv_error_option(HV_ERR_INVALID, "tray: {layers} %zu:%zu is outside the tray's %zu layers", o->first,
+                             o->last, t->nlayers);
+    if (st != HV_OK) {
+        unplan(t);
+        return st;
+    }
+    t->planned = 1;
+    if (rep) {
+        memset(rep, 0, sizeof *rep);
+        rep->width = t->W;
+        rep->height = t->H;
+        rep->layers = t->nlayers;
+        rep->first = o->first;
+        rep->last = o->last ? o->last : t->nlayers;
+        rep->parts = t->ninst;
+        rep->resins = t->palette_size - 1;
+        rep->bit_depth = t->bit_depth;
+        rep->utilisation = t->utilisation;
+        rep->memory = t->memory;
+        double obj = 0;
+        for (int i = 0; i < t->ninst; ++i) obj += (double)t->inst[i].w * t->inst[i].h * (double)t->inst[i].layers;
+        double all = (double)t->W * t->H * (double)(rep->last - rep->first);
+        rep->est_seconds = obj / 2e8 + all / 2e9;
+    }
+    return HV_OK;
+}
+
+/* ---- writing ------------------------------------------------------------------------------------ */
+
+typedef struct tworker {
+    uint8_t *rows;     /* packed plate image */
+    int32_t *span;     /* 2 per row, in bytes */
+} tworker;
+
+typedef struct wjob {
+    hv_tray *t;
+    const hv_tray_options *o;
+    const char *tmp;
+    size_t first, last;
+    size_t stride;
+    tworker *w;
+    uint64_t *st_bytes;
+    const hv_progress *progress;
+    atomic_size_t done;
+    atomic_int cancel;
+} wjob;
+
+static inline void put_px(uint8_t *row, int c, int bits, unsigned v)
+{
+    switch (bits) {
+    case 8: row[c] = (uint8_t)v; break;
+    case 4: row[c >> 1] |= (uint8_t)(v << (4 * (1 - (c & 1)))); break;
+    case 2: row[c >> 2] |= (uint8_t)(v << (2 * (3 - (c & 3)))); break;
+    default: row[c >> 3] |= (uint8_t)(v << (7 - (c & 7))); break;
+    }
+}
+
+static hv_status tray_layer(wjob *J, tworker *w, int thread, size_t li)
+{
+    hv_tray *t = J->t;
+    int bits = t->bit_depth;
+    for (int r = 0; r < t->H; ++r) {
+        w->span[2 * r] = 0;
+        w->span[2 * r + 1] = 0;
+    }
+    for (int i = 0; i < t->ninst; ++i) {
+        instance *in = &t->inst[i];
+        if (li < in->lift || li >= in->lift + in->layers) continue;
+        const uint8_t *px;
+        hv_status st = hv_layers_part_render(in->part, thread, li - in->lift, &px);
+        if (st != HV_OK) return st;
+        const source *s = &t->src[in->src];
+        uint8_t lut[HV_MAX_MATERIALS + 2];
+        lut[0] = 0;
+        for (int j = 0; j < s->m; ++j) lut[j + 1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[j]);
+        if (!s->model) lut[1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[0]);
+        for (int r = 0; r < in->h; ++r) {
+            int y = in->r0 + r;
+            if (y < 0 || y >= t->H) continue;
+            const uint8_t *src = px + (size_t)r * (size_t)in->w;
+            uint8_t *row = w->rows + (size_t)y * J->stride;
+            int any = 0, cmin = t->W, cmax = -1;
+            for (int c = 0; c < in->w; ++c) {
+                if (!src[c]) continue;
+                int x = in->c0 + c;
+                if (x < 0 || x >= t->W) continue;
+                if (!any) {
+                    /* clear the bytes this part covers in the row the first time it is touched */
+                    any = 1;
+                }
+                put_px(row, x, bits, lut[src[c]]);
+                cmin = HV_MIN(cmin, x);
+                cmax = HV_MAX(cmax, x);
+            }
+            if (any) {
+                int32_t b0 = (int32_t)((size_t)cmin * (size_t)bits / 8), b1 = (int32_t)((size_t)cmax * (size_t)bits / 8 + 1);
+                int32_t *sp = w->span + 2 * y;
+                if (sp[0] >= sp[1]) {
+                    sp[0] = b0;
+                    sp[1] = b1;
+                } else {
+                    sp[0] = HV_MIN(sp[0], b0);
+                    sp[1] = HV_MAX(sp[1], b1);
+                }
+            }
+        }
+    }
+    hv_png_fast_image img = {t->W, t->H, bits, w->rows, J->stride, w->span,
+                             J->o->mode == HV_LAYERS_MASK ? NULL : t->palette,
+                             J->o->mode == HV_LAYERS_MASK ? 0 : t->palette_size,
+                             {t->profile->dpi[0], t->profile->dpi[1]}};
+    char path[4200];
+    snprintf(path, sizeof path, "%s/layer-%05zu.png", J->tmp, li);
+    uint8_t *png = NULL;
+    size_t size = 0;
+    hv_status st = hv_png_fast_encode(&img, &png, &size);
+    if (st == HV_OK) {
+        hv_atomic_file af;
+        st = hv_atomic_open(&af, path, "wb");
+        if (st == HV_OK) {
+            if (fwrite(png, 1, size, af.fp) != size) {
+                hv_atomic_abort(&af);
+                st = hv_error_set(HV_ERR_IO, "%s: write failed", path);
+            } else {
+                st = hv_atomic_commit(&af);
+            }
+        }
+    }
+    free(png);
+    J->st_bytes[li - J->first] = size;
+    /* clear what was drawn */
+    for (int r = 0; r < t->H; ++r)
+        if (w->span[2 * r] < w->span[2 * r + 1])
+            memset(w->rows + (size_t)r * J->stride + w->span[2 * r], 0, (size_t)(w->span[2 * r + 1] - w->span[2 * r]));
+    return st;
+}
+
+static hv_status tray_units(void *ctx, size_t b, size_t e, int thread)
+{
+    wjob *J = ctx;
+    tworker *w = &J->w[thread];
+    if (!w->rows) {
+        w->rows = hv_calloc((size_t)J->t->H, J->stride);
+        w->span = hv_calloc((size_t)J->t->H * 2, sizeof *w->span);
+        if (!w->rows || !w->span) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory for a plate image");
+    }
+    hv_status st = HV_OK;
+    for (size_t u = b; u < e && st == HV_OK; ++u)
+        for (size_t li = J->first + u * RUN; li < HV_MIN(J->first + (u + 1) * RUN, J->last) && st == HV_OK; ++li) {
+            if (atomic_load(&J->cancel) || hv_cancel_requested()) return hv_error_set(HV_ERR_CANCELLED, "tray: cancelled");
+            st = tray_layer(J, w, thread, li);
+            size_t d = atomic_fetch_add(&J->done, 1) + 1;
+            if (st == HV_OK && thread == 0 && J->progress)
+                st = hv_progress_report(J->progress, "tray", (double)d / (double)(J->last - J->first));
+        }
+    if (st != HV_OK) atomic_store(&J->cancel, 1);
+    return st;
+}
+
+static json_t *num2(double a, double b)
+{
+    json_t *x = json_array();
+    json_array_append_new(x, hv_json_number(a));
+    json_array_append_new(x, hv_json_number(b));
+    return x;
+}
+
+static hv_status write_manifest(hv_tray *t, const hv_tray_options *o, const char *tmp, const hv_tray_report *rep,
+                                const uint64_t *obj_px)
+{
+    json_t *doc = json_object();
+    int failed = 0;
+    char gen[64];
+    snprintf(gen, sizeof gen, "hovox %s", hv_version());
+    failed |= hv_json_set(doc, "generator", hv_json_text(gen));
+    failed |= hv_json_set(doc, "kind", hv_json_text("tray"));
+    failed |= hv_json_set(doc, "profile", hv_json_text(t->profile->name));
+    failed |= hv_json_set(doc, "dpi", num2(t->profile->dpi[0], t->profile->dpi[1]));
+    failed |= hv_json_set(doc, "layer_height_mm", hv_json_number(t->profile->layer_height));
+    failed |= hv_json_set(doc, "plate_mm", num2(t->profile->build[0], t->profile->build[1]));
+    failed |= hv_json_set(doc, "width", json_integer(t->W));
+    failed |= hv_json_set(doc, "height", json_integer(t->H));
+    failed |= hv_json_set(doc, "bit_depth", json_integer(t->bit_depth));
+    failed |= hv_json_set(doc, "mode", hv_json_text(o->mode == HV_LAYERS_MASK ? "mask" : "halftone"));
+    failed |= hv_json_set(doc, "layers_total", json_integer((json_int_t)t->nlayers));
+    failed |= hv_json_set(doc, "first", json_integer((json_int_t)rep->first));
+    failed |= hv_json_set(doc, "last", json_integer((json_int_t)rep->last));
+    failed |= hv_json_set(doc, "utilisation", hv_json_number(t->utilisation));
+    json_t *pal = json_array();
+    for (int k = 0; k < t->palette_size && o->mode != HV_LAYERS_MASK; ++k) {
+        json_t *e = json_object();
+        char hex[8];
+        snprintf(hex, sizeof hex, "#%02x%02x%02x", t->palette[3 * k], t->palette[3 * k + 1], t->palette[3 * k + 2]);
+        failed |= hv_json_set(e, "index", json_integer(k));
+        failed |= hv_json_set(e, "resin", k ? hv_json_text(t->resins[t->pal_resin[k]].name) : json_null());
+        failed |= hv_json_set(e, "color", hv_json_text(hex));
+        failed |= json_array_append_new(pal, e);
+    }
+    failed |= hv_json_set(doc, "palette", pal);
+    failed |= hv_json_set(doc, "resin_colors_note",
+                          hv_json_text("public resin names; display colours chosen by hovox, not vendor-confirmed"));
+    json_t *parts = json_array();
+    for (int i = 0; i < t->ninst; ++i) {
+        const instance *in = &t->inst[i];
+        const source *s = &t->src[in->src];
+        json_t *p = json_object();
+        failed |= hv_json_set(p, "name", hv_json_text(s->p.name));
+        failed |= hv_json_set(p, "copy", json_integer(in->copy + 1));
+        failed |= hv_json_set(p, "mesh", hv_json_text(s->p.mesh));
+        failed |= hv_json_set(p, "model", s->p.model ? hv_json_text(s->p.model) : json_null());
+        failed |= hv_json_set(p, "at_mm", num2(in->x, in->y));
+        failed |= hv_json_set(p, "lift_layers", json_integer((json_int_t)in->lift));
+        failed |= hv_json_set(p, "rotation", json_integer(s->p.rotation));
+        double wx = s->bmax[0] - s->bmin[0], wy = s->bmax[1] - s->bmin[1];
+        json_t *box = json_array();
+        json_array_append_new(box, hv_json_number(in->x - 0.5 * wx));
+        json_array_append_new(box, hv_json_number(in->y - 0.5 * wy));
+        json_array_append_new(box, hv_json_number(in->x + 0.5 * wx));
+        json_array_append_new(box, hv_json_number(in->y + 0.5 * wy));
+        failed |= hv_json_set(p, "box_mm", box);
+        json_t *px = json_array();
+        json_array_append_new(px, json_integer(in->c0));
+        json_array_append_new(px, json_integer(in->r0));
+        json_array_append_new(px, json_integer(in->w));
+        json_array_append_new(px, json_integer(in->h));
+        failed |= hv_json_set(p, "image_px", px);
+        failed |= hv_json_set(p, "layers", num2((double)in->lift, (double)(in->lift + in->layers)));
+        failed |= hv_json_set(p, "object_pixels", json_integer((json_int_t)obj_px[i]));
+        hv_layers_report pr;
+        hv_layers_part_report(in->part, &pr);
+        json_t *mats = json_object();
+        const hv_material_table *tab = hv_layers_part_table(in->part);
+        for (int j = 0; j < s->m; ++j) {
+            json_t *mj = json_object();
+            failed |= hv_json_set(mj, "resin", hv_json_text(t->resins[t->pal_resin[s->resin[j]]].name));
+            if (s->model && o->mode == HV_LAYERS_HALFTONE) {
+                failed |= hv_json_set(mj, "target", hv_json_number(pr.target[j]));
+                failed |= hv_json_set(mj, "achieved", hv_json_number(pr.achieved[j]));
+            }
+            failed |= hv_json_set(mats, s->model && tab ? hv_material_name(tab, j) : s->p.material, mj);
+        }
+        failed |= hv_json_set(p, "materials", mats);
+        failed |= json_array_append_new(parts, p);
+    }
+    failed |= hv_json_set(doc, "parts", parts);
+    char *text = failed ? NULL : hv_json_dump_lines(doc);
+    json_decref(doc);
+    if (!text) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory for the manifest");
+    char path[4200];
+    snprintf(path, sizeof path, "%s/manifest.json", tmp);
+    hv_atomic_file af;
+    hv_status st = hv_atomic_open(&af, path, "wb");
+    if (st == HV_OK) {
+        size_t len = strlen(text);
+        if (fwrite(text, 1, len, af.fp) != len) {
+            hv_atomic_abort(&af);
+            st = hv_error_set(HV_ERR_IO, "%s: write failed", path);
+        } else {
+            st = hv_atomic_commit(&af);
+        }
+    }
+    free(text);
+    return st;
+}
+
+static hv_status write_gcvf(hv_tray *t, const hv_tray_options *o, const char *tmp, const hv_tray_report *rep,
+                            hv_zip *z, const hv_progress *progress)
+{
+    hv_buf x;
+    hv_buf_init(&x);
+    hv_gcvf_config_begin(&x, t->profile->dpi, t->profile->layer_height, t->W, t->H, rep->first,
+                         rep->last - rep->first, t->bit_depth, o->mode == HV_LAYERS_MASK ? 2 : t->palette_size,
+                         (const uint8_t *)"\0\0\0");
+    if (o->mode == HV_LAYERS_MASK) {
+        hv_gcvf_config_material(&x, "model", (const uint8_t *)"\xff\xff\xff", rep->object_pixels);
+    } else {
+        for (int k = 1; k < t->palette_size; ++k)
+            hv_gcvf_config_material(&x, t->resins[t->pal_resin[k]].name, t->palette + 3 * k, 0);
+    }
+    hv_buf_puts(&x, "    </MaterialList>\n</GCVF>\n");
+    hv_status st = x.failed ? HV_ERR_NOMEM : hv_zip_add_data(z, "ConfigFile.xml", x.data, x.len, 1);
+    hv_buf_free(&x);
+    for (size_t i = rep->first; i < rep->last && st == HV_OK; ++i) {
+        char path[4200], name[64];
+        snprintf(path, sizeof path, "%s/layer-%05zu.png", tmp, i);
+        snprintf(name, sizeof name, "layer_%zu.png", i);
+        st = hv_zip_add_file(z, name, path, 0);
+    }
+    if (st == HV_OK) st = hv_zip_write(z, progress, "gcvf");
+    return st;
+}
+
+hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, const hv_progress *progress,
+                        hv_tray_report *report)
+{
+    hv_tray_report rep;
+    hv_status st = hv_tray_plan(t, o, progress, &rep);
+    if (st != HV_OK) return st;
+    if (o->dry_run) {
+        if (report) *report = rep;
+        return HV_OK;
+    }
+    if (!dir || !*dir) return hv_error_set(HV_ERR_INVALID, "tray: no output directory");
+    if (o->gcvf_path && !o->force && !hv_path_is_special(o->gcvf_path)) {
+        struct stat sb;
+        if (stat(o->gcvf_path, &sb) == 0) return hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);
+    }
+    hv_zip *zip = NULL;
+    char *tmp = NULL;
+    if (o->gcvf_path) st = hv_zip_open(o->gcvf_path, &zip);
+    if (st == HV_OK) st = hv_stack_begin(dir, o->force, &tmp);
+    wjob J;
+    memset(&J, 0, sizeof J);
+    J.t = t;
+    J.o = o;
+    J.tmp = tmp;
+    J.first = rep.first;
+    J.last = rep.last;
+    J.stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
+    J.progress = progress;
+    int threads = HV_MAX(hv_threads(), 1);
+    J.w = hv_calloc((size_t)threads, sizeof *J.w);
+    J.st_bytes = hv_calloc(rep.last - rep.first, sizeof *J.st_bytes);
+    if (st == HV_OK && (!J.w || !J.st_bytes)) st = HV_ERR_NOMEM;
+    if (st == HV_OK) st = hv_progress_report(progress, "tray", 0.0);
+    if (st == HV_OK) st = hv_parallel_for((rep.last - rep.first + RUN - 1) / RUN, 1, tray_units, &J, NULL, "tray");
+    uint64_t *obj_px = hv_calloc((size_t)t->ninst + 1, sizeof *obj_px);
+    if (st == HV_OK && !obj_px) st = HV_ERR_NOMEM;
+    if (st == HV_OK) {
+        for (size_t i = 0; i < rep.last - rep.first; ++i) rep.bytes += J.st_bytes[i];
+        for (int i = 0; i < t->ninst; ++i) {
+            hv_layers_report pr;
+            hv_layers_part_report(t->inst[i].part, &pr);
+            obj_px[i] = pr.object_pixels;
+            rep.object_pixels += pr.object_pixels;
+        }
+        st = write_manifest(t, o, tmp, &rep, obj_px);
+    }
+    if (st == HV_OK && zip) st = write_gcvf(t, o, tmp, &rep, zip, progress);
+    if (st == HV_OK) st = hv_stack_commit(tmp, dir, o->force);
+    if (zip) {
+        if (st == HV_OK) st = hv_zip_commit(zip);
+        else hv_zip_abort(zip);
+    }
+    if (st != HV_OK && tmp) hv_stack_abort(tmp);
+    for (int i = 0; i < threads && J.w; ++i) {
+        free(J.w[i].rows);
+        free(J.w[i].span);
+    }
+    free(J.w);
+    free(J.st_bytes);
+    free(obj_px);
+    free(tmp);
+    if (report) *report = rep;
+    return st;
+}

@@ -1,0 +1,344 @@
+/* slicing/tray_job.c - tray job files (hovox/tray.h, README "Tray jobs"): JSON read by jansson,
+ * every key through the tray's and the parts' option sets, so a job file takes what the CLI
+ * and Lua take. jansson keeps no positions for values, so a small scanner over the (already
+ * valid) text records where each key and value starts: every refusal names file, line and
+ * column. A parser of files from others: fuzzed (tests/fuzz/fuzz_tray_job.c). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/internal.h"
+#include "core/json.h"
+#include "hovox/tray.h"
+#include "layers_internal.h"
+
+#define MAX_JOB (16u << 20)
+
+/* ---- positions ------------------------------------------------------------------------------ */
+
+typedef struct pos {
+    char path[160]; /* "parts[2].rotation", "" for the document */
+    int line, col;
+} pos;
+
+typedef struct scanner {
+    const char *s, *end;
+    int line;
+    const char *line_start;
+    pos *v;
+    size_t n, cap;
+    int failed;
+} scanner;
+
+static void skip_ws(scanner *sc)
+{
+    while (sc->s < sc->end && (*sc->s == ' ' || *sc->s == '\t' || *sc->s == '\n' || *sc->s == '\r')) {
+        if (*sc->s == '\n') {
+            sc->line++;
+            sc->line_start = sc->s + 1;
+        }
+        sc->s++;
+    }
+}
+
+static void record(scanner *sc, const char *path)
+{
+    if (hv_grow((void **)&sc->v, &sc->cap, sc->n + 1, sizeof *sc->v) != HV_OK) {
+        sc->failed = 1;
+        return;
+    }
+    pos *p = &sc->v[sc->n++];
+    snprintf(p->path, sizeof p->path, "%s", path);
+    p->line = sc->line;
+    p->col = (int)(sc->s - sc->line_start) + 1;
+}
+
+/* a string token starting at sc->s (the quote); its raw bytes into buf (escapes kept) */
+static void scan_string(scanner *sc, char *buf, size_t size)
+{
+    size_t k = 0;
+    sc->s++;
+    while (sc->s < sc->end && *sc->s != '"') {
+        if (*sc->s == '\\' && sc->s + 1 < sc->end) {
+            if (k + 1 < size) buf[k++] = *sc->s;
+            sc->s++;
+        }
+        if (k + 1 < size) buf[k++] = *sc->s;
+        sc->s++;
+    }
+    if (sc->s < sc->end) sc->s++;
+    if (size) buf[HV_MIN(k, size - 1)] = '\0';
+}
+
+static void scan_value(scanner *sc, const char *path, int depth)
+{
+    skip_ws(sc);
+    record(sc, path);
+    if (sc->s >= sc->end || depth > 64) return;
+    char sub[160], key[128];
+    if (*sc->s == '{') {
+        sc->s++;
+        for (;;) {
+            skip_ws(sc);
+            if (sc->s >= sc->end || *sc->s == '}') break;
+            if (*sc->s == ',') {
+                sc->s++;
+                continue;
+            }
+            scan_string(sc, key, sizeof key);
+            snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
+            skip_ws(sc);
+            if (sc->s < sc->end && *sc->s == ':') sc->s++;
+            scan_value(sc, sub, depth + 1);
+        }
+        if (sc->s < sc->end) sc->s++;
+    } else if (*sc->s == '[') {
+        sc->s++;
+        for (int i = 0;; ++i) {
+            skip_ws(sc);
+            if (sc->s >= sc->end || *sc->s == ']') break;
+            if (*sc->s == ',') {
+                sc->s++;
+                --i;
+                continue;
+            }
+            snprintf(sub, sizeof sub, "%s[%d]", path, i);
+            scan_value(sc, sub, depth + 1);
+        }
+        if (sc->s < sc->end) sc->s++;
+    } else if (*sc->s == '"') {
+        scan_string(sc, key, sizeof key);
+    } else {
+        while (sc->s < sc->end && !strchr(",]} \t\r\n", *sc->s)) sc->s++;
+    }
+}
+
+static const pos *find_pos(const scanner *sc, const char *path)
+{
+    for (size_t i = 0; i < sc->n; ++i)
+        if (strcmp(sc->v[i].path, path) == 0) return &sc->v[i];
+    return NULL;
+}
+
+/* ---- reading ------------------------------------------------------------------------------- */
+
+typedef struct reader {
+    const char *name, *base;
+    scanner sc;
+    hv_tray *tray;
+} reader;
+
+/* "name: line L, column C: <path>: " + the message already set */
+static hv_status at(const reader *r, const char *path, hv_status s)
+{
+    const pos *p = find_pos(&r->sc, path);
+    if (!p) return hv_error_prefix(s, "%s: %s: ", r->name, path);
+    return hv_error_prefix(s, "%s: line %d, column %d: ", r->name, p->line, p->col);
+}
+
+static const char *type_name(const json_t *v)
+{
+    switch (json_typeof(v)) {
+    case JSON_OBJECT: return "an object";
+    case JSON_ARRAY: return "an array";
+    case JSON_STRING: return "a string";
+    case JSON_INTEGER:
+    case JSON_REAL: return "a number";
+    case JSON_TRUE:
+    case JSON_FALSE: return "a boolean";
+    default: return "null";
+    }
+}
+
+/* A string that stays alive as long as the tray (paths resolved against the job's directory). */
+static const char *keep(reader *r, const char *s, int is_path)
+{
+    char buf[4400];
+    if (is_path && s[0] != '/' && r->base && *r->base) snprintf(buf, sizeof buf, "%s/%s", r->base, s);
+    else snprintf(buf, sizeof buf, "%s", s);
+    return hv_tray_keep(r->tray, buf);
+}
+
+/* One JSON value into option `key` of `args` (set through the option set). */
+static hv_status set_value(reader *r, hv_optargs *args, const char *key, const json_t *v, const char *path)
+{
+    const hv_option *o = hv_option_find(args->set, key);
+    hv_opt_value ov = {HV_VALUE_TEXT, NULL, NULL, 0, 0};
+    double nums[64];
+    hv_status s;
+    if (!o) {
+        char list[1024];
+        size_t n = 0;
+        list[0] = '\0';
+        for (int i = 0; i < args->set->count && n < sizeof list; ++i)
+            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", args->set->options[i].key);
+        s = hv_error_set(HV_ERR_INVALID, "unknown key '%s' (keys: %s%s)", key, list,
+                         args->set == hv_tray_option_set() ? ", parts, schema" : "");
+        return at(r, path, s);
+    }
+    int is_path = o->kind == HV_OPT_STRING && (strcmp(key, "model") == 0 || strcmp(key, "mesh") == 0 ||
+                                               (o->flags & HV_OPT_OUT_PATH));
+    switch (json_typeof(v)) {
+    case JSON_STRING:
+        ov.text = keep(r, json_string_value(v), is_path);
+        if (!ov.text) return HV_ERR_NOMEM;
+        break;
+    case JSON_INTEGER:
+    case JSON_REAL:
+        if (o->kind == HV_OPT_ENUM) {
+            char t[64];
+            snprintf(t, sizeof t, "%.17g", json_number_value(v));
+            ov.text = keep(r, t, 0);
+        } else {
+            ov.type = HV_VALUE_NUMBERS;
+            nums[0] = json_number_value(v);
+            ov.numbers = nums;
+            ov.n = 1;
+        }
+        break;
+    case JSON_TRUE:
+    case JSON_FALSE:
+        ov.type = HV_VALUE_BOOL;
+        ov.boolean = json_is_true(v);
+        break;
+    case JSON_ARRAY: {
+        size_t n = json_array_size(v);
+        if (n > 0 && json_is_string(json_array_get(v, 0)) && (o->flags & HV_OPT_REPEAT)) {
+            for (size_t i = 0; i < n; ++i) {
+                char sub[200];
+                snprintf(sub, sizeof sub, "%s[%zu]", path, i);
+                if ((s = set_value(r, args, key, json_array_get(v, i), sub)) != HV_OK) return s;
+            }
+            return HV_OK;
+        }
+        if (n > 64) return at(r, path, hv_error_set(HV_ERR_INVALID, "%s has %zu values (at most 64)", key, n));
+        for (size_t i = 0; i < n; ++i) {
+            const json_t *e = json_array_get(v, i);
+            if (!json_is_number(e)) {
+                char sub[200];
+                snprintf(sub, sizeof sub, "%s[%zu]", path, i);
+                return at(r, sub, hv_error_set(HV_ERR_INVALID, "%s must be a list of numbers; item %zu is %s", key,
+                                               i + 1, type_name(e)));
+            }
+            nums[i] = json_number_value(e);
+        }
+        ov.type = HV_VALUE_NUMBERS;
+        ov.numbers = nums;
+        ov.n = (int)n;
+        break;
+    }
+    case JSON_OBJECT:
+        if (o->flags & HV_OPT_REPEAT) { /* {"A": "VeroCyan-V"}: A=VeroCyan-V per member */
+            const char *k;
+            json_t *e;
+            json_object_foreach((json_t *)v, k, e) {
+                char sub[200], pair[512];
+                snprintf(sub, sizeof sub, "%s.%s", path, k);
+                if (!json_is_string(e))
+                    return at(r, sub, hv_error_set(HV_ERR_INVALID, "%s.%s must be a string, got %s", key, k, type_name(e)));
+                snprintf(pair, sizeof pair, "%s=%s", k, json_string_value(e));
+                hv_opt_value pv = {HV_VALUE_TEXT, keep(r, pair, 0), NULL, 0, 0};
+                if (!pv.text) return HV_ERR_NOMEM;
+                if ((s = hv_optargs_set(args, key, &pv)) != HV_OK) return at(r, sub, s);
+            }
+            return HV_OK;
+        }
+        /* fall through */
+    default:
+        return at(r, path, hv_error_set(HV_ERR_INVALID, "%s cannot be %s", key, type_name(v)));
+    }
+    s = hv_optargs_set(args, key, &ov);
+    return s == HV_OK ? s : at(r, path, s);
+}
+
+static hv_status read_part(reader *r, const json_t *v, int index)
+{
+    char path[64];
+    snprintf(path, sizeof path, "parts[%d]", index);
+    if (!json_is_object(v))
+        return at(r, path, hv_error_set(HV_ERR_INVALID, "a part must be an object, got %s", type_name(v)));
+    hv_tray_part p;
+    hv_optargs args;
+    hv_optargs_begin(&args, hv_tray_part_option_set(), &p);
+    const char *k;
+    json_t *e;
+    hv_status s = HV_OK;
+    json_object_foreach((json_t *)v, k, e) {
+        char sub[200];
+        snprintf(sub, sizeof sub, "%s.%s", path, k);
+        if ((s = set_value(r, &args, k, e, sub)) != HV_OK) return s;
+    }
+    if ((s = hv_optargs_finish(&args)) != HV_OK) return at(r, path, s);
+    const pos *ps = find_pos(&r->sc, path);
+    char where[300];
+    if (ps) snprintf(where, sizeof where, "%s: line %d, column %d: part %d", r->name, ps->line, ps->col, index + 1);
+    else snprintf(where, sizeof where, "%s: part %d", r->name, index + 1);
+    return hv_tray_add(r->tray, &p, where);
+}
+
+hv_status hv_tray_parse_job(const char *text, size_t size, const char *name, const char *base, hv_tray **out,
+                            hv_tray_options *o)
+{
+    *out = NULL;
+    json_t *doc = NULL;
+    hv_status s = hv_json_parse(text, size, name, &doc);
+    if (s != HV_OK) return s;
+    reader r;
+    memset(&r, 0, sizeof r);
+    r.name = name;
+    r.base = base;
+    r.sc.s = text;
+    r.sc.end = text + size;
+    r.sc.line = 1;
+    r.sc.line_start = text;
+    scan_value(&r.sc, "", 0);
+    if (r.sc.failed) s = HV_ERR_NOMEM;
+    if (s == HV_OK && !json_is_object(doc))
+        s = at(&r, "", hv_error_set(HV_ERR_INVALID, "a tray job is a JSON object, got %s", type_name(doc)));
+    if (s == HV_OK) s = hv_tray_create(&r.tray);
+    hv_optargs args;
+    hv_optargs_begin(&args, hv_tray_option_set(), o);
+    const json_t *parts = s == HV_OK ? json_object_get(doc, "parts") : NULL;
+    const json_t *schema = s == HV_OK ? json_object_get(doc, "schema") : NULL;
+    if (s == HV_OK && schema && !(json_is_integer(schema) && json_integer_value(schema) == 1))
+        s = at(&r, "schema", hv_error_set(HV_ERR_BAD_INPUT, "schema must be 1 (this hovox reads tray jobs of schema 1)"));
+    const char *k;
+    json_t *e;
+    if (s == HV_OK) {
+        json_object_foreach(doc, k, e) {
+            if (strcmp(k, "parts") == 0 || strcmp(k, "schema") == 0) continue;
+            if ((s = set_value(&r, &args, k, e, k)) != HV_OK) break;
+        }
+    }
+    if (s == HV_OK && (s = hv_optargs_finish(&args)) != HV_OK) s = at(&r, "", s);
+    if (s == HV_OK && !parts) s = at(&r, "", hv_error_set(HV_ERR_INVALID, "a tray job needs \"parts\": [...]"));
+    if (s == HV_OK && !json_is_array(parts))
+        s = at(&r, "parts", hv_error_set(HV_ERR_INVALID, "parts must be an array, got %s", type_name(parts)));
+    if (s == HV_OK && json_array_size(parts) == 0) s = at(&r, "parts", hv_error_set(HV_ERR_INVALID, "parts is empty"));
+    for (size_t i = 0; s == HV_OK && i < json_array_size(parts); ++i) s = read_part(&r, json_array_get(parts, i), (int)i);
+    json_decref(doc);
+    free(r.sc.v);
+    if (s != HV_OK) {
+        hv_tray_destroy(r.tray);
+        return s;
+    }
+    *out = r.tray;
+    return HV_OK;
+}
+
+hv_status hv_tray_load_job(const char *path, hv_tray **out, hv_tray_options *o)
+{
+    *out = NULL;
+    char *text = NULL;
+    size_t size = 0;
+    hv_status s = hv_read_file(path, MAX_JOB, &text, &size);
+    if (s != HV_OK) return s;
+    char base[4096];
+    snprintf(base, sizeof base, "%s", path);
+    char *slash = strrchr(base, '/');
+    if (slash) *slash = '\0';
+    else base[0] = '\0';
+    s = hv_tray_parse_job(text, size, path, base, out, o);
+    free(text);
+    return s;
+}

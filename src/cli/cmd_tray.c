@@ -1,0 +1,164 @@
+/* src/cli/cmd_tray.c - `hovox tray [JOB.json] -o DIR [--part SPEC ...]`: a build tray of parts in
+ * one stack (hovox/tray.h). The options are the library's (hv_tray_option_set); this file
+ * reads the --part shorthand MODEL.vdb,MESH.stl[@X,Y[,ROT]][xN] or MESH.stl:MATERIAL[@...]. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "core/internal.h"
+#include "hovox/tray.h"
+
+#define MAX_CLI_PARTS 256
+
+typedef struct tray_cli {
+    const char *output;
+    const char *part[MAX_CLI_PARTS];
+    int nparts;
+} tray_cli;
+
+static hv_status add_part(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    tray_cli *c = opts;
+    if (c->nparts == MAX_CLI_PARTS) return hv_error_option(HV_ERR_INVALID, "at most %d {%s} options", MAX_CLI_PARTS, o->key);
+    c->part[c->nparts++] = v->text;
+    return HV_OK;
+}
+
+static const hv_option k_local_opts[] = {
+    CLI_OUTPUT(tray_cli, "DIR", "the stack directory (written under a temporary name and renamed when complete)", 0),
+    {.key = "part", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "SPEC", .parse = add_part,
+     .section = "Parts (besides those of JOB.json)",
+     .help = "MODEL.vdb,MESH.stl or MESH.stl:MATERIAL, then @X,Y[,ROT] (plate position of the part's box centre, "
+             "rotation 0/90/180/270; absent: arranged) and xN for N copies"},
+};
+static const hv_option_set k_local = CLI_LOCAL_SET("tray", k_local_opts, tray_cli);
+
+/* The shorthand into a part; `buf` holds the pieces the part points into. */
+static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_part *p)
+{
+    hv_tray_part_init(p);
+    snprintf(buf, size, "%s", spec);
+    char *x = strrchr(buf, 'x');
+    char *atp = strrchr(buf, '@');
+    if (x && x > buf && (!atp || x > atp) && x[1] >= '0' && x[1] <= '9' && !strchr(x, '.') && !strchr(x, '/')) {
+        char *end;
+        long n = strtol(x + 1, &end, 10);
+        if (*end || n < 1) return hv_error_option(HV_ERR_INVALID, "{part} '%s': copies xN need N >= 1", spec);
+        p->copies = (int)n;
+        *x = '\0';
+    }
+    if (atp) {
+        *atp = '\0';
+        double v[3];
+        int n = 0;
+        for (char *q = atp + 1; n < 3;) {
+            char *end;
+            v[n++] = strtod(q, &end);
+            if (end == q || (*end && *end != ',')) return hv_error_option(HV_ERR_INVALID, "{part} '%s': expected @X,Y[,ROT]", spec);
+            if (!*end) break;
+            q = end + 1;
+        }
+        if (n < 2) return hv_error_option(HV_ERR_INVALID, "{part} '%s': expected @X,Y[,ROT]", spec);
+        p->at[0] = v[0];
+        p->at[1] = v[1];
+        p->placed = 1;
+        p->rotation = n == 3 ? (int)v[2] : 0;
+    }
+    char *comma = strchr(buf, ',');
+    if (comma) {
+        *comma = '\0';
+        p->model = buf;
+        p->mesh = comma + 1;
+    } else {
+        char *colon = strrchr(buf, ':');
+        if (!colon) return hv_error_option(HV_ERR_INVALID, "{part} '%s': give MODEL.vdb,MESH.stl or MESH.stl:MATERIAL", spec);
+        *colon = '\0';
+        p->mesh = buf;
+        p->material = colon + 1;
+    }
+    return HV_OK;
+}
+
+static void print_plan(const hv_tray_report *r, const hv_tray_options *o)
+{
+    char mem[32];
+    printf("printer     %s, %s\n", o->profile ? o->profile : "j750", o->mode == HV_LAYERS_MASK ? "mask" : "halftone");
+    printf("plate       %d x %d pixels, %d-bit, %d resin%s\n", r->width, r->height, r->bit_depth, r->resins,
+           r->resins == 1 ? "" : "s");
+    printf("parts       %d, %.1f%% of the plate\n", r->parts, 100.0 * r->utilisation);
+    printf("layers      %zu to %zu of %zu\n", r->first, r->last - 1, r->layers);
+    printf("memory      about %s\n", hv_size_text(mem, sizeof mem, (double)r->memory));
+}
+
+static int run(const cli_args *args, void *lib, void *local)
+{
+    hv_tray_options *o = lib;
+    const tray_cli *c = local;
+    hv_tray_options job;
+    hv_tray *t = NULL;
+    hv_status s = HV_OK;
+    if (args->npos) { /* the job file's options; the command line may add or change a few */
+        hv_tray_options_init(&job);
+        s = hv_tray_load_job(args->pos[0], &t, &job);
+        if (s == HV_OK) {
+            if (cli_given(args, "force")) job.force = o->force;
+            if (cli_given(args, "dry_run")) job.dry_run = o->dry_run;
+            if (cli_given(args, "gcvf")) job.gcvf_path = o->gcvf_path;
+            if (cli_given(args, "layers")) job.first = o->first, job.last = o->last;
+            if (cli_given(args, "max_memory")) job.max_memory = o->max_memory;
+            if (cli_given(args, "arrange")) job.arrange = o->arrange;
+            if (cli_given(args, "seed")) job.seed = o->seed;
+            o = &job;
+        }
+    } else {
+        s = hv_tray_create(&t);
+    }
+    if (s == HV_OK && !c->output && !o->dry_run) s = hv_error_set(HV_ERR_INVALID, "--output: missing -o DIR");
+    char bufs[MAX_CLI_PARTS][1024];
+    for (int i = 0; i < c->nparts && s == HV_OK; ++i) {
+        hv_tray_part p;
+        char where[32];
+        snprintf(where, sizeof where, "--part %d", i + 1);
+        s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
+        if (s == HV_OK) s = hv_tray_add(t, &p, where);
+    }
+    if (s == HV_OK && hv_tray_part_count(t) == 0) {
+        hv_tray_destroy(t);
+        return cli_usage_error("tray", "no parts: give JOB.json or --part SPEC");
+    }
+    hv_tray_report r;
+    memset(&r, 0, sizeof r);
+    if (s == HV_OK) {
+        cli_progress bar;
+        cli_progress_init(&bar, args->quiet);
+        hv_progress prog = {cli_progress_fn, &bar};
+        s = hv_tray_write(t, c->output, o, &prog, &r);
+        cli_progress_done(&bar);
+    }
+    if (s == HV_OK) {
+        print_plan(&r, o);
+        if (o->dry_run) printf("estimate    about %.0f s\n", r.est_seconds);
+        else
+            printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
+                   (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",
+                   o->gcvf_path ? o->gcvf_path : "");
+    }
+    hv_tray_destroy(t);
+    return s == HV_OK ? EXIT_OK : cli_fail(s);
+}
+
+const cli_spec cmd_tray = {
+    "tray", "a build tray of parts in one printer stack",
+    "[JOB.json] -o DIR [--part SPEC ...] [options]",
+    "Slice a tray: graded models with their meshes, or plain meshes in one material, placed on\n"
+    "the printer's plate (positions in mm of each part's box centre, rotations in quarter\n"
+    "turns, copies in a row), checked (inside the build volume, --spacing apart, materials\n"
+    "within the printer's slots and mapped to resins), then written as one stack: indexed PNG\n"
+    "layers whose palette is the tray's resins, and manifest.json with the parts. Each part's\n"
+    "pixels are those 'hovox layers --place X,Y' gives it alone.\n",
+    hv_tray_option_set, &k_local,
+    "JOB.json: {\"schema\": 1, <the options above as keys, e.g. \"profile\": \"j750\", \"resin\":\n"
+    "{\"A\": \"VeroCyan-V\"}>, \"parts\": [{\"model\": ..., \"mesh\": ..., \"at\": [X, Y], \"rotation\": 90,\n"
+    "\"copies\": 2}, ...]}; paths relative to the job file.\n",
+    0, 1, "JOB argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL};

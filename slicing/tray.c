@@ -167,7 +167,8 @@ typedef struct footprint {
 
 typedef struct source {   /* one part as given (copies share it) */
     hv_tray_part p;       /* strings owned (strdup) */
-    char *where;
+    char *where;          /* "job.json: line 7, column 5", or NULL */
+    int number;           /* part N, in the order added */
     hv_mesh *mesh;        /* rotated */
     hv_volume *model;     /* rotated; NULL for plain meshes */
     double bmin[3], bmax[3];
@@ -267,6 +268,18 @@ void hv_tray_destroy(hv_tray *t)
 }
 
 int hv_tray_part_count(const hv_tray *t) { return t->nsrc; }
+int hv_tray_instance_count(const hv_tray *t) { return t->ninst; }
+
+void hv_tray_instance_box(const hv_tray *t, int i, double box[4])
+{
+    const instance *in = &t->inst[i];
+    const source *s = &t->src[in->src];
+    double wx = s->bmax[0] - s->bmin[0], wy = s->bmax[1] - s->bmin[1];
+    box[0] = in->x - 0.5 * wx;
+    box[1] = in->y - 0.5 * wy;
+    box[2] = in->x + 0.5 * wx;
+    box[3] = in->y + 0.5 * wy;
+}
 
 static char *dup_or_null(const char *s, int *bad)
 {
@@ -284,7 +297,7 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     if (st == HV_OK && !part->mesh) st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh}");
     if (st == HV_OK && !part->model && !part->material)
         st = hv_error_option(HV_ERR_INVALID, "a part needs a {model} or, for a plain mesh, a {material}");
-    if (st != HV_OK) return where ? hv_error_prefix(st, "%s: ", where) : st;
+    if (st != HV_OK) return where ? hv_error_prefix(st, "%s: part %d: ", where, t->nsrc + 1) : st;
     size_t cap = (size_t)t->cap;
     if ((st = hv_grow((void **)&t->src, &cap, (size_t)t->nsrc + 1, sizeof *t->src)) != HV_OK) return st;
     t->cap = (int)cap;
@@ -296,9 +309,8 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     s->p.mesh = dup_or_null(part->mesh, &bad);
     s->p.material = dup_or_null(part->material, &bad);
     s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh), &bad);
-    char w[64];
-    snprintf(w, sizeof w, "part %d", t->nsrc + 1);
-    s->where = dup_or_null(where ? where : w, &bad);
+    s->where = dup_or_null(where, &bad);
+    s->number = t->nsrc + 1;
     t->nsrc++;
     unplan(t);
     return bad ? HV_ERR_NOMEM : HV_OK;
@@ -553,10 +565,17 @@ static void occ_add(occupancy *o, const footprint *f, int cx, int cy)
 static const char *inst_name(const hv_tray *t, const instance *in, char *buf, size_t n)
 {
     const source *s = &t->src[in->src];
-    if (s->p.copies > 1) snprintf(buf, n, "%s (%s, copy %d)", s->where, s->p.name, in->copy + 1);
-    else snprintf(buf, n, "%s (%s)", s->where, s->p.name);
+    if (s->p.copies > 1) snprintf(buf, n, "part %d (%s, copy %d)", s->number, s->p.name, in->copy + 1);
+    else snprintf(buf, n, "part %d (%s)", s->number, s->p.name);
     return buf;
 }
+
+/* "job.json: line 7, column 5: " or "" */
+static const char *where_of(const hv_tray *t, const instance *in)
+{
+    return t->src[in->src].where ? t->src[in->src].where : "";
+}
+#define WHERE_SEP(t, in) (t->src[(in)->src].where ? ": " : "")
 
 static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
 {
@@ -580,7 +599,8 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     if (st != HV_OK) {
         hv_mesh_destroy(mesh);
         hv_volume_destroy(model);
-        return hv_error_prefix(st, "%s: ", s->where);
+        return s->where ? hv_error_prefix(st, "%s: part %d (%s): ", s->where, s->number, s->p.name)
+                        : hv_error_prefix(st, "part %d (%s): ", s->number, s->p.name);
     }
     s->mesh = mesh;
     s->model = model;
@@ -647,24 +667,32 @@ static hv_status setup_resins(hv_tray *t, const hv_tray_options *o)
 }
 
 /* Materials of every source to palette entries (resins in the table's order). */
+static const char *src_label(const source *s, char *buf, size_t n)
+{
+    if (s->where) snprintf(buf, n, "%s: part %d (%s)", s->where, s->number, s->p.name);
+    else snprintf(buf, n, "part %d (%s)", s->number, s->p.name);
+    return buf;
+}
+
 static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
 {
+    char lb[512];
     memset(t->used, 0, sizeof t->used);
     for (int i = 0; i < t->nsrc; ++i) {
         source *s = &t->src[i];
         hv_status st;
         if (!s->model) {
             s->m = 1;
-            if ((st = resin_of(t, o, s->p.material, s->where, &s->resin[0])) != HV_OK) return st;
+            if ((st = resin_of(t, o, s->p.material, src_label(s, lb, sizeof lb), &s->resin[0])) != HV_OK) return st;
         } else {
             hv_material_table *tab = NULL;
             st = hv_material_table_load(s->model, &tab);
             if (st == HV_ERR_NOT_FOUND)
                 return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s has no materials (grade it first, or print the mesh "
-                                                      "alone with a material)", s->where, s->p.model);
-            if (st != HV_OK) return hv_error_prefix(st, "%s: ", s->where);
+                                                      "alone with a material)", src_label(s, lb, sizeof lb), s->p.model);
+            if (st != HV_OK) return hv_error_prefix(st, "%s: ", src_label(s, lb, sizeof lb));
             s->m = hv_material_count(tab);
-            for (int j = 0; j < s->m && st == HV_OK; ++j) st = resin_of(t, o, hv_material_name(tab, j), s->where, &s->resin[j]);
+            for (int j = 0; j < s->m && st == HV_OK; ++j) st = resin_of(t, o, hv_material_name(tab, j), src_label(s, lb, sizeof lb), &s->resin[j]);
             hv_material_table_destroy(tab);
             if (st != HV_OK) return st;
         }
@@ -765,8 +793,8 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
             continue;
         }
         if (!s->p.placed) {
-            st = hv_error_set(HV_ERR_INVALID, "%s has no position: give it one (at = X,Y) or arrange the tray",
-                              inst_name(t, in, nb, sizeof nb));
+            st = hv_error_set(HV_ERR_INVALID, "%s%s%s has no position: give it one (at = X,Y) or arrange the tray",
+                              where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb));
             break;
         }
         double wx = s->bmax[0] - s->bmin[0], wy = s->bmax[1] - s->bmin[1];
@@ -774,8 +802,9 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
         in->y = s->p.at[1];
         double x0 = in->x - 0.5 * wx, y0 = in->y - 0.5 * wy;
         if (x0 < -1e-9 || y0 < -1e-9 || x0 + wx > B[0] + 1e-9 || y0 + wy > B[1] + 1e-9) {
-            st = hv_error_set(HV_ERR_INVALID, "%s is off the %s plate: its box spans x %.4g..%.4g, y %.4g..%.4g mm "
-                              "(the plate is %g x %g mm)", inst_name(t, in, nb, sizeof nb), t->profile->name, x0,
+            st = hv_error_set(HV_ERR_INVALID, "%s%s%s is off the %s plate: its box spans x %.4g..%.4g, y %.4g..%.4g mm "
+                              "(the plate is %g x %g mm)", where_of(t, in), WHERE_SEP(t, in),
+                              inst_name(t, in, nb, sizeof nb), t->profile->name, x0,
                               x0 + wx, y0, y0 + wy, B[0], B[1]);
             break;
         }
@@ -794,8 +823,8 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
                     fabs(oy0 - y0) < wy + (sj->bmax[1] - sj->bmin[1]) + 2 * o->spacing)
                     other = j;
             }
-            st = hv_error_set(HV_ERR_INVALID, "%s comes closer than %g mm to %s (footprints overlap or nearly)",
-                              inst_name(t, in, nb, sizeof nb), o->spacing,
+            st = hv_error_set(HV_ERR_INVALID, "%s%s%s comes closer than %g mm to %s (footprints overlap or nearly)",
+                              where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb), o->spacing,
                               other >= 0 ? inst_name(t, &t->inst[other], nb2, sizeof nb2) : "another part");
             break;
         }
@@ -813,8 +842,8 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
         area += s->fp.area;
         double lift = s->p.z, top = lift + s->bmax[2] - s->bmin[2];
         if (top > B[2] + 1e-9)
-            st = hv_error_set(HV_ERR_INVALID, "%s is %g mm tall at a lift of %g mm: above the %s's %g mm build height",
-                              inst_name(t, in, nb, sizeof nb), s->bmax[2] - s->bmin[2], lift, t->profile->name, B[2]);
+            st = hv_error_set(HV_ERR_INVALID, "%s%s%s is %g mm tall at a lift of %g mm: above the %s's %g mm build height",
+                              where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb), s->bmax[2] - s->bmin[2], lift, t->profile->name, B[2]);
         in->lift = (size_t)llround(lift / t->profile->layer_height);
     }
     t->utilisation = area / (B[0] * B[1]);
@@ -879,7 +908,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         st = hv_layers_part_open(s->mesh, s->model, &lo, &pl, progress, &in->part);
         if (st != HV_OK) {
             char nb[256];
-            st = hv_error_prefix(st, "%s: ", inst_name(t, in, nb, sizeof nb));
+            st = hv_error_prefix(st, "%s%s%s: ", where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb));
             break;
         }
         hv_layers_part_geometry(in->part, &in->c0, &in->r0, &in->w, &in->h, &in->layers);

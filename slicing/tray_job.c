@@ -85,8 +85,15 @@ static void scan_value(scanner *sc, const char *path, int depth)
                 sc->s++;
                 continue;
             }
+            char kpath[170];
+            const char *kstart = sc->s;
             scan_string(sc, key, sizeof key);
             snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
+            snprintf(kpath, sizeof kpath, "%s#key", sub);
+            const char *save = sc->s;
+            sc->s = kstart;
+            record(sc, kpath);
+            sc->s = save;
             skip_ws(sc);
             if (sc->s < sc->end && *sc->s == ':') sc->s++;
             scan_value(sc, sub, depth + 1);
@@ -131,9 +138,12 @@ typedef struct reader {
 /* "name: line L, column C: <path>: " + the message already set */
 static hv_status at(const reader *r, const char *path, hv_status s)
 {
+    if (s == HV_ERR_NOMEM) return s;
+    char msg[1024];
+    snprintf(msg, sizeof msg, "%s", hv_last_error()); /* plain: options spelt as the file's keys */
     const pos *p = find_pos(&r->sc, path);
-    if (!p) return hv_error_prefix(s, "%s: %s: ", r->name, path);
-    return hv_error_prefix(s, "%s: line %d, column %d: ", r->name, p->line, p->col);
+    if (!p) return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s", r->name, path, msg);
+    return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d, column %d: %s", r->name, p->line, p->col, msg);
 }
 
 static const char *type_name(const json_t *v)
@@ -174,7 +184,9 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
             n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", args->set->options[i].key);
         s = hv_error_set(HV_ERR_INVALID, "unknown key '%s' (keys: %s%s)", key, list,
                          args->set == hv_tray_option_set() ? ", parts, schema" : "");
-        return at(r, path, s);
+        char kp[220];
+        snprintf(kp, sizeof kp, "%s#key", path);
+        return at(r, kp, s);
     }
     int is_path = o->kind == HV_OPT_STRING && (strcmp(key, "model") == 0 || strcmp(key, "mesh") == 0 ||
                                                (o->flags & HV_OPT_OUT_PATH));
@@ -271,8 +283,8 @@ static hv_status read_part(reader *r, const json_t *v, int index)
     if ((s = hv_optargs_finish(&args)) != HV_OK) return at(r, path, s);
     const pos *ps = find_pos(&r->sc, path);
     char where[300];
-    if (ps) snprintf(where, sizeof where, "%s: line %d, column %d: part %d", r->name, ps->line, ps->col, index + 1);
-    else snprintf(where, sizeof where, "%s: part %d", r->name, index + 1);
+    if (ps) snprintf(where, sizeof where, "%s: line %d, column %d", r->name, ps->line, ps->col);
+    else snprintf(where, sizeof where, "%s", r->name);
     return hv_tray_add(r->tray, &p, where);
 }
 

@@ -82,8 +82,9 @@ typedef struct hv_tray hv_tray;
 /* A new empty tray. Errors: HV_ERR_NOMEM. */
 HV_API hv_status hv_tray_create(hv_tray **out);
 HV_API void hv_tray_destroy(hv_tray *t);
-/* Add a part (its options are copied; files are read by hv_tray_plan). `where` (may be NULL)
- * names the part in messages ("job.json: line 7, column 5", "--part 2"). Errors:
+/* Add a part (its options are copied; files are read by hv_tray_plan). Parts are named "part N"
+ * (in the order added) with their name; `where` (may be NULL) is where the part was given
+ * ("job.json: line 7, column 5") and starts every message about it. Errors:
  * HV_ERR_INVALID (options), HV_ERR_NOMEM. */
 HV_API hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where);
 HV_API int hv_tray_part_count(const hv_tray *t);
@@ -118,6 +119,11 @@ typedef struct hv_tray_report {
  * HV_ERR_LIMIT, HV_ERR_NOMEM. */
 HV_API hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *progress,
                               hv_tray_report *report);
+/* After planning: the placed instances (copies counted) and the xy box of instance i on the
+ * plate (x0, y0, x1, y1 mm). */
+HV_API int hv_tray_instance_count(const hv_tray *t);
+HV_API void hv_tray_instance_box(const hv_tray *t, int i, double box[4]);
+
 /* Plan (if not yet), then write the stack into `dir` (a temporary directory renamed when
  * complete; PNG layers layer-NNNNN.png indexed by the resin palette, manifest.json with the
  * parts) and the GCVF zip when asked. Layer ranges and thread counts give the same bytes. */

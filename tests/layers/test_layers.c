@@ -25,52 +25,6 @@
 
 /* ---- reading what was written --------------------------------------------------------------- */
 
-typedef struct png_img {
-    int w, h, bit_depth, color_type;
-    uint8_t *px; /* one byte per pixel: grey value or palette index */
-    int npal;
-    uint8_t pal[3 * 256];
-    unsigned long ppm_x, ppm_y;
-} png_img;
-
-static void png_load(const char *path, png_img *im)
-{
-    memset(im, 0, sizeof *im);
-    FILE *fp = fopen(path, "rb");
-    cr_assert(fp, "cannot open %s", path);
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
-    png_infop info = png_create_info_struct(png);
-    cr_assert(!setjmp(png_jmpbuf(png)), "libpng failed on %s", path);
-    png_init_io(png, fp);
-    png_read_info(png, info);
-    im->w = (int)png_get_image_width(png, info);
-    im->h = (int)png_get_image_height(png, info);
-    im->bit_depth = png_get_bit_depth(png, info);
-    im->color_type = png_get_color_type(png, info);
-    cr_assert(im->color_type == PNG_COLOR_TYPE_GRAY || im->color_type == PNG_COLOR_TYPE_PALETTE, "%s: colour type %d",
-              path, im->color_type);
-    png_colorp pal;
-    if (png_get_PLTE(png, info, &pal, &im->npal))
-        for (int i = 0; i < im->npal; ++i) {
-            im->pal[3 * i] = pal[i].red;
-            im->pal[3 * i + 1] = pal[i].green;
-            im->pal[3 * i + 2] = pal[i].blue;
-        }
-    png_uint_32 rx, ry;
-    int unit;
-    if (png_get_pHYs(png, info, &rx, &ry, &unit) && unit == PNG_RESOLUTION_METER) {
-        im->ppm_x = rx;
-        im->ppm_y = ry;
-    }
-    if (im->bit_depth < 8) png_set_packing(png);
-    png_read_update_info(png, info);
-    im->px = malloc((size_t)im->w * im->h);
-    for (int y = 0; y < im->h; ++y) png_read_row(png, im->px + (size_t)y * im->w, NULL);
-    png_read_end(png, NULL);
-    png_destroy_read_struct(&png, &info, NULL);
-    fclose(fp);
-}
-
 static json_t *manifest_load(const char *dir)
 {
     char path[1024], *text = NULL;
@@ -219,8 +173,8 @@ static void iou_check(const char *dir, inside_fn inside, double min_iou)
         double z = jnum(L, "z_mm", -1);
         char path[1024];
         snprintf(path, sizeof path, "%s/%s", dir, jstr(L, "file"));
-        png_img im;
-        png_load(path, &im);
+        t_png im;
+        t_png_load(path, &im);
         cr_assert_eq(im.bit_depth, 1);
         for (int r = 0; r < im.h; ++r)
             for (int c = 0; c < im.w; ++c) {
@@ -294,11 +248,11 @@ static void fraction_error(const char *dir, formula_fn formula, int m, double *m
         const json_t *L = json_array_get(layers, l);
         double z = jnum(L, "z_mm", -1);
         const json_t *files = json_object_get(L, "files");
-        png_img im[3];
+        t_png im[3];
         for (int g = 0; g < m; ++g) {
             char path[1024];
             snprintf(path, sizeof path, "%s/%s", dir, json_string_value(jat(files, (size_t)g)));
-            png_load(path, &im[g]);
+            t_png_load(path, &im[g]);
             cr_assert_eq(im[g].bit_depth, 8);
         }
         for (int r = 0; r < im[0].h; ++r)
@@ -434,8 +388,8 @@ Test(layers, halftone_png_format_and_manifest, .timeout = 300)
     cr_expect_eq(count_png(dir), 3);
     char path[1024];
     snprintf(path, sizeof path, "%s/layer-01001.png", dir);
-    png_img im;
-    png_load(path, &im);
+    t_png im;
+    t_png_load(path, &im);
     cr_expect_eq(im.color_type, PNG_COLOR_TYPE_PALETTE);
     cr_expect_eq(im.bit_depth, 2, "4 palette entries fit in 2 bits");
     cr_expect_eq(im.npal, 4);
@@ -571,10 +525,10 @@ Test(layers, fractions_and_mask_bit_depths)
     hv_layers_options o = opts(HV_LAYERS_MASK, 100, 100, 0.5);
     const char *dm = t_tmpfile("mask"), *df = t_tmpfile("frac"), *dh = t_tmpfile("ht1");
     run(m, NULL, dm, &o, NULL);
-    png_img im;
+    t_png im;
     char path[1024];
     snprintf(path, sizeof path, "%s/layer-00002.png", dm);
-    png_load(path, &im);
+    t_png_load(path, &im);
     cr_expect(im.color_type == PNG_COLOR_TYPE_GRAY && im.bit_depth == 1);
     int obj = 0;
     for (size_t p = 0; p < (size_t)im.w * im.h; ++p) obj += im.px[p];
@@ -584,14 +538,14 @@ Test(layers, fractions_and_mask_bit_depths)
     o.mode = HV_LAYERS_FRACTIONS;
     run(m, g, df, &o, NULL);
     snprintf(path, sizeof path, "%s/M2/layer-00002.png", df);
-    png_load(path, &im);
+    t_png_load(path, &im);
     cr_expect(im.color_type == PNG_COLOR_TYPE_GRAY && im.bit_depth == 8);
     free(im.px);
     /* two materials: a palette of 3 entries takes 2 bits */
     o.mode = HV_LAYERS_HALFTONE;
     run(m, g, dh, &o, NULL);
     snprintf(path, sizeof path, "%s/layer-00002.png", dh);
-    png_load(path, &im);
+    t_png_load(path, &im);
     cr_expect(im.color_type == PNG_COLOR_TYPE_PALETTE && im.bit_depth == 2 && im.npal == 3);
     free(im.px);
     /* one material: a palette of 2 entries fits in 1 bit */
@@ -600,7 +554,7 @@ Test(layers, fractions_and_mask_bit_depths)
     const char *d1 = t_tmpfile("ht_one");
     run(m, g1, d1, &o, NULL);
     snprintf(path, sizeof path, "%s/layer-00002.png", d1);
-    png_load(path, &im);
+    t_png_load(path, &im);
     cr_expect(im.color_type == PNG_COLOR_TYPE_PALETTE && im.bit_depth == 1 && im.npal == 2);
     int ones = 0;
     for (size_t p = 0; p < (size_t)im.w * im.h; ++p) ones += im.px[p] == 1;

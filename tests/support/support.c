@@ -1,4 +1,7 @@
 /* tests/support/support.c - see support.h. */
+#include <png.h>
+#include <criterion/criterion.h>
+
 #include "support.h"
 
 #include <stdint.h>
@@ -122,3 +125,42 @@ hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3])
     free(m);
     return s;
 }
+
+void t_png_load(const char *path, t_png *im)
+{
+    memset(im, 0, sizeof *im);
+    FILE *fp = fopen(path, "rb");
+    cr_assert(fp, "cannot open %s", path);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    cr_assert(!setjmp(png_jmpbuf(png)), "libpng failed on %s", path);
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    im->w = (int)png_get_image_width(png, info);
+    im->h = (int)png_get_image_height(png, info);
+    im->bit_depth = png_get_bit_depth(png, info);
+    im->color_type = png_get_color_type(png, info);
+    cr_assert(im->color_type == PNG_COLOR_TYPE_GRAY || im->color_type == PNG_COLOR_TYPE_PALETTE, "%s: colour type %d",
+              path, im->color_type);
+    png_colorp pal;
+    if (png_get_PLTE(png, info, &pal, &im->npal))
+        for (int i = 0; i < im->npal; ++i) {
+            im->pal[3 * i] = pal[i].red;
+            im->pal[3 * i + 1] = pal[i].green;
+            im->pal[3 * i + 2] = pal[i].blue;
+        }
+    png_uint_32 rx, ry;
+    int unit;
+    if (png_get_pHYs(png, info, &rx, &ry, &unit) && unit == PNG_RESOLUTION_METER) {
+        im->ppm_x = rx;
+        im->ppm_y = ry;
+    }
+    if (im->bit_depth < 8) png_set_packing(png);
+    png_read_update_info(png, info);
+    im->px = malloc((size_t)im->w * im->h);
+    for (int y = 0; y < im->h; ++y) png_read_row(png, im->px + (size_t)y * im->w, NULL);
+    png_read_end(png, NULL);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+}
+

@@ -4,6 +4,7 @@
 #define HOVOX_TEST_SUPPORT_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "hovox/volume.h"
 
@@ -22,5 +23,15 @@ int t_exists(const char *path);
 /* Activate the voxels [lo, hi] (inclusive index box) of v, leaf block by leaf block. Returns
  * hv_volume_topology_add's status (HV_ERR_NOMEM when the blocks cannot be listed). */
 hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3]);
+
+/* A grey or indexed PNG read by libpng (an independent reader), one byte per pixel; free px. */
+typedef struct t_png {
+    int w, h, bit_depth, color_type;
+    uint8_t *px; /* one byte per pixel: grey value or palette index */
+    int npal;
+    uint8_t pal[3 * 256];
+    unsigned long ppm_x, ppm_y;
+} t_png;
+void t_png_load(const char *path, t_png *im);
 
 #endif

@@ -168,6 +168,11 @@ HV_API hv_status hv_option_set_text(const hv_option *opt, void *opts, const char
 
 /* Check the value an option holds in opts against its domain (used on structs filled in C). */
 HV_API hv_status hv_option_check(const hv_option *opt, const void *opts);
+/* Copy option `key`'s value from struct src to struct dst (both of `set`): a later source of
+ * options overriding an earlier one only where it gave a value (a job file, then the command
+ * line). Strings are copied as pointers. Errors: HV_ERR_NOT_FOUND (no such key), HV_ERR_INVALID
+ * (a custom option, whose storage the set does not describe). */
+HV_API hv_status hv_option_copy(const hv_option_set *set, const char *key, void *dst, const void *src);
 /* Every option's domain, then set->validate. */
 HV_API hv_status hv_options_check(const hv_option_set *set, const void *opts);
 

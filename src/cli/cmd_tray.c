@@ -98,19 +98,19 @@ static int run(const cli_args *args, void *lib, void *local)
     hv_tray_options job;
     hv_tray *t = NULL;
     hv_status s = HV_OK;
-    if (args->npos) { /* the job file's options; the command line may add or change a few */
+    if (args->npos) { /* the job file's options; the command line's override them (resins are added) */
         hv_tray_options_init(&job);
         s = hv_tray_load_job(args->pos[0], &t, &job);
-        if (s == HV_OK) {
-            if (cli_given(args, "force")) job.force = o->force;
-            if (cli_given(args, "dry_run")) job.dry_run = o->dry_run;
-            if (cli_given(args, "gcvf")) job.gcvf_path = o->gcvf_path;
-            if (cli_given(args, "layers")) job.first = o->first, job.last = o->last;
-            if (cli_given(args, "max_memory")) job.max_memory = o->max_memory;
-            if (cli_given(args, "arrange")) job.arrange = o->arrange;
-            if (cli_given(args, "seed")) job.seed = o->seed;
-            o = &job;
+        const hv_option_set *set = hv_tray_option_set();
+        for (int i = 0; i < set->count && s == HV_OK; ++i) {
+            const char *key = set->options[i].key;
+            if (!cli_given(args, key)) continue;
+            if (set->options[i].kind != HV_OPT_CUSTOM) s = hv_option_copy(set, key, &job, o);
         }
+        for (int i = 0; i < o->nresin && s == HV_OK && job.nresin < HV_TRAY_MAX_RESINS; ++i) job.resin[job.nresin++] = o->resin[i];
+        for (int i = 0; i < o->ncolor && s == HV_OK && job.ncolor < HV_TRAY_MAX_RESINS; ++i)
+            job.resin_color[job.ncolor++] = o->resin_color[i];
+        if (s == HV_OK) o = &job;
     } else {
         s = hv_tray_create(&t);
     }

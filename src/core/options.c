@@ -480,6 +480,26 @@ hv_status hv_option_set_text(const hv_option *opt, void *opts, const char *text)
 
 /* ---- checks of filled structs ---------------------------------------------------------------- */
 
+hv_status hv_option_copy(const hv_option_set *set, const char *key, void *dst, const void *src)
+{
+    const hv_option *o = hv_option_find(set, key);
+    if (!o) return hv_error_set(HV_ERR_NOT_FOUND, "%s: no option %s", set->name, key);
+    size_t n;
+    switch (o->kind) {
+    case HV_OPT_NUMBER:
+        for (int i = 0; i < count_of(o); ++i) put_elem(o, dst, i, get_elem(o, src, i));
+        return HV_OK;
+    case HV_OPT_FLAG:
+    case HV_OPT_ENUM: n = sizeof(int); break;
+    case HV_OPT_BYTES: n = sizeof(uint64_t); break;
+    case HV_OPT_STRING: n = sizeof(const char *); break;
+    case HV_OPT_RANGE: n = 2 * sizeof(size_t); break;
+    default: return hv_error_set(HV_ERR_INVALID, "%s: option %s cannot be copied", set->name, key);
+    }
+    memcpy(field(o, dst), cfield(o, src), n);
+    return HV_OK;
+}
+
 hv_status hv_option_check(const hv_option *o, const void *opts)
 {
     if (o->kind == HV_OPT_NUMBER || o->kind == HV_OPT_BYTES) {

@@ -121,5 +121,6 @@ void hv_lua_open_model(lua_State *L, int module);
 void hv_lua_open_sources(lua_State *L, int module);
 void hv_lua_open_output(lua_State *L, int module);
 void hv_lua_open_object(lua_State *L, int module);
+void hv_lua_open_tray(lua_State *L, int module);
 
 #endif

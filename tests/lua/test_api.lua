@@ -301,4 +301,20 @@ fails("profile and dpi exclude each other", graded.layers, graded,
 gd:free()
 fails("object was freed", gd.voxels, gd)
 collectgarbage()
+-- trays: the graded box (materials A, B, C) twice and a plain box, arranged; a layer range
+box:save(tmp .. "/tray_box.stl")
+graded:save(tmp .. "/tray_graded.vdb")
+local tray = hovox.tray{resin = {A = "VeroCyan-V", B = "VeroMagenta-V", C = "VeroYellow-V"}, mode = "halftone"}
+assert(tray:add{model = tmp .. "/tray_graded.vdb", mesh = tmp .. "/tray_box.stl", copies = 2} == 1)
+assert(tray:add{mesh = tmp .. "/tray_box.stl", material = "VeroPureWhite", rotation = 90} == 2)
+local plan = tray:arrange{spacing = 4}
+assert(plan.parts == 3 and plan.width == 11575 and plan.height == 4606 and plan.resins == 4, plan.resins)
+assert(plan.layers == 370 and plan.utilisation > 0.003 and plan.utilisation < 0.01, plan.layers)
+local wrote = tray:layers{dir = tmp .. "/tray", layers = {100, 102}}
+assert(wrote.first == 100 and wrote.last == 102 and wrote.object_pixels > 0 and wrote.bytes > 0)
+assert(io.open(tmp .. "/tray/layer-00101.png") and io.open(tmp .. "/tray/manifest.json"))
+fails("rotation must be 0, 90, 180 or 270, got 45", tray.add, tray, {mesh = tmp .. "/tray_box.stl", material = "X",
+                                                                       rotation = 45})
+fails("unknown option 'rot'", tray.add, tray, {mesh = tmp .. "/tray_box.stl", rot = 90})
+fails("mode must be halftone or mask, got 'gray'", tray.layers, tray, {dir = tmp .. "/t2", mode = "gray"})
 print("test_api.lua: all checks passed")

@@ -121,6 +121,8 @@ static const hv_option k_tray[] = {
      .help = "the tray layers to write (B excluded)"},
     {.key = "gcvf", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = TOFF(gcvf_path), .meta = "FILE.zip",
      .help = "also a GrabCAD voxel-print style zip (ZIP64 past 4 GiB)"},
+    {.key = "stl", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = TOFF(stl_path), .meta = "FILE.stl",
+     .help = "also the placed parts as one STL in plate coordinates (to check the tray in other slicers)"},
     {.key = "force", .kind = HV_OPT_FLAG, .offset = TOFF(force), .help = "replace an existing stack or zip"},
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = TOFF(dry_run), .help = "check and print the plan, write nothing"},
     {.key = "resin", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "MATERIAL=RESIN", .parse = add_text,
@@ -184,6 +186,7 @@ typedef struct instance {
     hv_layers_part *part;
     int c0, r0, w, h;
     size_t layers;
+    int cx, cy;      /* the footprint's cell (0,0) on the plate's CELL grid */
 } instance;
 
 struct hv_tray {
@@ -549,6 +552,17 @@ static int occ_hits(const occupancy *o, const footprint *f, int cx, int cy)
     return 0;
 }
 
+/* Do footprints a (cell (0,0) at plate cell (ax, ay)) and b (at (bx, by)) share a cell? */
+static int fp_meet(const footprint *a, int ax, int ay, const footprint *b, int bx, int by)
+{
+    for (int r = 0; r < a->h; ++r) {
+        int rb = ay + r - by;
+        if (rb < 0 || rb >= b->h || a->lo[r] > a->hi[r] || b->lo[rb] > b->hi[rb]) continue;
+        if (ax + a->lo[r] <= bx + b->hi[rb] && bx + b->lo[rb] <= ax + a->hi[r]) return 1;
+    }
+    return 0;
+}
+
 static void occ_add(occupancy *o, const footprint *f, int cx, int cy)
 {
     for (int r = 0; r < f->h; ++r) {
@@ -737,6 +751,8 @@ static hv_status arrange(hv_tray *t, occupancy *occ, const int *order, int n)
             for (int cx = 0; cx + f->w <= occ->w && !found; cx += 2) {
                 if (occ_hits(occ, d, cx - kk, cy - kk)) continue;
                 occ_add(occ, f, cx, cy);
+                in->cx = cx;
+                in->cy = cy;
                 in->x = cx * CELL + 0.5 * (s->bmax[0] - s->bmin[0]);
                 in->y = cy * CELL + 0.5 * (s->bmax[1] - s->bmin[1]);
                 found = 1;
@@ -808,27 +824,25 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
                               x0 + wx, y0, y0 + wy, B[0], B[1]);
             break;
         }
-        int cx = (int)lround(x0 / CELL), cy = (int)lround(y0 / CELL);
+        in->cx = (int)lround(x0 / CELL);
+        in->cy = (int)lround(y0 / CELL);
+        /* against every part placed before it whose heights come within the spacing: parts may
+         * stand above one another (the printer builds support under them) */
+        double z0 = s->p.z, z1 = z0 + s->bmax[2] - s->bmin[2];
         int kk = (int)lround((s->fp.x0 - s->dil.x0) / CELL);
-        if (occ_hits(&occ, &s->dil, cx - kk, cy - kk)) {
-            /* name the part it comes too close to */
-            int other = -1;
-            for (int j = 0; j < i && other < 0; ++j) {
-                const instance *oj = &t->inst[j];
-                const source *sj = &t->src[oj->src];
-                occupancy one = occ;
-                (void)one;
-                double ox0 = oj->x - 0.5 * (sj->bmax[0] - sj->bmin[0]), oy0 = oj->y - 0.5 * (sj->bmax[1] - sj->bmin[1]);
-                if (fabs(ox0 - x0) < wx + (sj->bmax[0] - sj->bmin[0]) + 2 * o->spacing &&
-                    fabs(oy0 - y0) < wy + (sj->bmax[1] - sj->bmin[1]) + 2 * o->spacing)
-                    other = j;
-            }
-            st = hv_error_set(HV_ERR_INVALID, "%s%s%s comes closer than %g mm to %s (footprints overlap or nearly)",
-                              where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb), o->spacing,
-                              other >= 0 ? inst_name(t, &t->inst[other], nb2, sizeof nb2) : "another part");
-            break;
+        for (int j = 0; j < i && st == HV_OK; ++j) {
+            const instance *oj = &t->inst[j];
+            const source *sj = &t->src[oj->src];
+            if (o->arrange == 2 || (!sj->p.placed && o->arrange == 1)) continue; /* arranged later */
+            double w0 = sj->p.z, w1 = w0 + sj->bmax[2] - sj->bmin[2];
+            if (z0 >= w1 + o->spacing || w0 >= z1 + o->spacing) continue;
+            if (fp_meet(&s->dil, in->cx - kk, in->cy - kk, &sj->fp, oj->cx, oj->cy))
+                st = hv_error_set(HV_ERR_INVALID, "%s%s%s comes closer than %g mm to %s (their footprints, at heights "
+                                  "that overlap)", where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb),
+                                  o->spacing, inst_name(t, oj, nb2, sizeof nb2));
         }
-        occ_add(&occ, &s->fp, cx, cy);
+        if (st != HV_OK) break;
+        occ_add(&occ, &s->fp, in->cx, in->cy);
     }
     if (st == HV_OK && n_arr) {
         sort_order(order, n_arr, t);
@@ -1217,6 +1231,40 @@ static hv_status write_gcvf(hv_tray *t, const hv_tray_options *o, const char *tm
     return st;
 }
 
+/* Every instance's (turned) mesh moved to its place: one STL in plate coordinates. */
+static hv_status write_stl(const hv_tray *t, const char *path)
+{
+    size_t nv = 0, nf = 0;
+    for (int i = 0; i < t->ninst; ++i) {
+        nv += hv_mesh_vertex_count(t->src[t->inst[i].src].mesh);
+        nf += hv_mesh_facet_count(t->src[t->inst[i].src].mesh);
+    }
+    float *xyz = hv_malloc_array(nv * 3, sizeof *xyz);
+    uint32_t *f = hv_malloc_array(nf * 3, sizeof *f);
+    hv_status st = xyz && f && nv < UINT32_MAX ? HV_OK : HV_ERR_NOMEM;
+    size_t v0 = 0, f0 = 0;
+    for (int i = 0; i < t->ninst && st == HV_OK; ++i) {
+        const instance *in = &t->inst[i];
+        const source *s = &t->src[in->src];
+        double d[3] = {in->x - 0.5 * (s->bmin[0] + s->bmax[0]), in->y - 0.5 * (s->bmin[1] + s->bmax[1]),
+                       (double)in->lift * t->profile->layer_height - s->bmin[2]};
+        size_t n = hv_mesh_vertex_count(s->mesh), m = hv_mesh_facet_count(s->mesh);
+        const float *v = hv_mesh_vertices(s->mesh);
+        const uint32_t *fc = hv_mesh_facets(s->mesh);
+        for (size_t k = 0; k < 3 * n; ++k) xyz[3 * v0 + k] = (float)(v[k] + d[k % 3]);
+        for (size_t k = 0; k < 3 * m; ++k) f[3 * f0 + k] = (uint32_t)(fc[k] + v0);
+        v0 += n;
+        f0 += m;
+    }
+    hv_mesh *all = NULL;
+    if (st == HV_OK) st = hv_mesh_create(xyz, nv, f, nf, &all);
+    if (st == HV_OK) st = hv_mesh_write_stl(all, path, 0);
+    hv_mesh_destroy(all);
+    free(xyz);
+    free(f);
+    return st;
+}
+
 hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, const hv_progress *progress,
                         hv_tray_report *report)
 {
@@ -1264,6 +1312,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         st = write_manifest(t, o, tmp, &rep, obj_px);
     }
     if (st == HV_OK && zip) st = write_gcvf(t, o, tmp, &rep, zip, progress);
+    if (st == HV_OK && o->stl_path) st = write_stl(t, o->stl_path);
     if (st == HV_OK) st = hv_stack_commit(tmp, dir, o->force);
     if (zip) {
         if (st == HV_OK) st = hv_zip_commit(zip);

@@ -67,6 +67,7 @@ typedef struct hv_tray_options {
     int arrange; /* 0: no, 1: the parts without `at`, 2: all */
     size_t first, last;
     const char *gcvf_path;
+    const char *stl_path; /* also the placed parts as one STL, plate coordinates (other slicers) */
     int force, dry_run;
     uint64_t max_memory;
     int nresin, ncolor;

@@ -301,6 +301,38 @@ Test(tray, refusals_name_the_part)
     cr_expect(strstr(hv_last_error(), "unknown resin 'NoSuchResin'"), "%s", hv_last_error());
 }
 
+/* parts may stand above one another: the spacing applies where their heights come close */
+Test(tray, stacked_parts_keep_the_spacing_in_z)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {20, 20, 2};
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
+    const char *mesh = t_tmpfile("s20.stl");
+    cr_assert_eq(hv_mesh_write_stl(m, mesh, 0), HV_OK);
+    hv_mesh_destroy(m);
+    for (int k = 0; k < 2; ++k) {
+        hv_tray *t = NULL;
+        cr_assert_eq(hv_tray_create(&t), HV_OK);
+        for (int i = 0; i < 2; ++i) {
+            hv_tray_part p;
+            hv_tray_part_init(&p);
+            p.mesh = mesh;
+            p.material = "VeroPureWhite";
+            p.at[0] = 50;
+            p.at[1] = 50;
+            p.placed = 1;
+            p.z = i ? (k ? 10 : 6) : 0; /* 8 mm above the first one's top, or 4 */
+            cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK);
+        }
+        hv_tray_options o;
+        hv_tray_options_init(&o);
+        hv_status s = hv_tray_plan(t, &o, NULL, NULL);
+        if (k) cr_expect_eq(s, HV_OK, "%s", hv_last_error());
+        else cr_expect(s == HV_ERR_INVALID && strstr(hv_last_error(), "heights that overlap"), "%s", hv_last_error());
+        hv_tray_destroy(t);
+    }
+}
+
 Test(tray, too_many_resins_for_the_slots)
 {
     double lo[3] = {0, 0, 0}, hi[3] = {10, 10, 1};

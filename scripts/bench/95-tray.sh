@@ -1,0 +1,93 @@
+# scripts/bench/95-tray.sh - issue 14: a whole J750 tray.
+# 1. The bench tray: 6 Wu gears, 3 Wu shafts lying along x, 3 torus knots, graded, auto-arranged
+#    on the J750 plate; layers up to the tallest part (55 mm, 2,037 layers, ~1.1e11 tray voxels).
+#    Goals on 2 cores: <= 3 min wall, <= 2 GiB peak RSS, >= 2e8 object voxels/s, >= 2e9 empty
+#    plate voxels/s (a plate holding one 1 mm pin, 2,037 layers).
+# 2. The full-height tray: the bench tray's arrangement in three storeys up to 199 mm (~7,370
+#    layers), once, with --gcvf: time, RSS, zip size (past 4 GiB: ZIP64).
+# 3. The same arrangement in mask mode against prusa-slicer --export-sla on the placed parts as
+#    one STL (hovox tray --stl), the same pixels (490 x 390 mm display of 11,575 x 4,606) and
+#    layers (0.027 mm). Goal: <= 0.3x its wall time.
+echo
+echo "== tray: 6 gears, 3 shafts, 3 knots, graded, arranged on the J750 plate (goals: <= 180 s, <= 2 GiB, >= 2e8 object vox/s, >= 2e9 empty vox/s)"
+tw="$work/tray"
+mkdir -p "$tw"
+if [ ! -f "$tw/knot.vdb" ]; then
+    "$HOVOX" generate gear -o "$tw/gear.stl" >/dev/null
+    "$HOVOX" voxelize "$tw/gear.stl" --dims 128 -o "$tw/gear_occ.vdb" -q >/dev/null
+    "$HOVOX" grade "$tw/gear_occ.vdb" -o "$tw/gear.vdb" --materials A,B,C --frf axis:0,0,0:0,0,1 \
+        --ranges 9.54,9.54,20.37 --ms 0,0.9,0.1 --me 0.9,0,0.1 -q
+    "$HOVOX" generate cylinder -o "$tw/shaft.stl" >/dev/null
+    "$HOVOX" voxelize "$tw/shaft.stl" --dims 256,97,97 -o "$tw/shaft_occ.vdb" -q >/dev/null
+    "$HOVOX" grade "$tw/shaft_occ.vdb" -o "$tw/shaft.vdb" --materials A,B,C --frf contour --ranges 0,20.416,0 \
+        --f 'sin(0.1538*d)' --ms 0,0,1 --me 0,0.2,0.8 -q
+    "$HOVOX" generate knot -o "$tw/knot.stl" >/dev/null
+    "$HOVOX" voxelize "$tw/knot.stl" --dims 160 -o "$tw/knot_occ.vdb" -q >/dev/null
+    "$HOVOX" grade "$tw/knot_occ.vdb" -o "$tw/knot.vdb" --materials A,B,C --frf contour --ranges 0,4,0 \
+        --ms 1,0,0 --me 0,0.5,0.5 -q
+    "$HOVOX" generate box max=1,1,55 -o "$tw/pin.stl" >/dev/null
+fi
+cat >"$tw/tray.json" <<'EOF'
+{"schema": 1, "profile": "j750", "arrange": "all",
+ "resin": {"A": "VeroCyan-V", "B": "VeroMagenta-V", "C": "VeroYellow-V"},
+ "parts": [{"model": "gear.vdb", "mesh": "gear.stl", "copies": 6},
+           {"model": "shaft.vdb", "mesh": "shaft.stl", "copies": 3},
+           {"model": "knot.vdb", "mesh": "knot.stl", "copies": 3}]}
+EOF
+"$HOVOX" tray "$tw/tray.json" -o "$tw/stack" --dry-run | sed 's/^/  /'
+# one run each (a run takes minutes); the blue-noise tile is cached by the earlier sections
+t_tray=$( { /usr/bin/time -f "%e %M" "$HOVOX" tray "$tw/tray.json" -o "$tw/stack" --force --stl "$tw/placed.stl" -q \
+    >/dev/null; } 2>&1 | tail -n 1)
+secs=${t_tray% *}
+rss=${t_tray#* }
+/usr/bin/python3 - "$tw/stack/manifest.json" "$secs" "$rss" "$(du -sb "$tw/stack" | cut -f1)" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+secs, rss, size = float(sys.argv[2]), float(sys.argv[3]) / 1024, int(sys.argv[4])
+obj = sum(p["object_pixels"] for p in m["parts"])
+tray = m["width"] * m["height"] * (m["last"] - m["first"])
+print("  hovox tray                     %8.1f s  %7.1f MiB peak RSS  %d layers of %d x %d, %.3g tray voxels"
+      % (secs, rss, m["last"] - m["first"], m["width"], m["height"], tray))
+print("  object voxels/s                %10.3g  (%.3g object voxels)" % (obj / secs, obj))
+print("  tray voxels/s                  %10.3g" % (tray / secs))
+print("  output                         %8.1f MiB (%d parts, %.1f%% of the plate)" % (size / 1048576, len(m["parts"]), 100 * m["utilisation"]))
+PY
+t_pin=$(median tray_empty "$HOVOX" tray -o "$tw/pin_stack" --part "$tw/pin.stl:VeroPureWhite@245,195" --force -q)
+echo "  empty plate (one 1 mm pin)     $t_pin s  $(awk -v t="$t_pin" 'BEGIN { printf "%.3g", 11575 * 4606 * 2037 / t }') voxels/s"
+
+echo
+echo "== tray in mask mode vs prusa-slicer --export-sla, same placed parts, pixels and layers (goal: <= 0.3x)"
+saved_runs=$runs
+runs=$((runs < 2 ? runs : 2))
+t_tm=$(median tray_mask "$HOVOX" tray "$tw/tray.json" -o "$tw/mask" --mode mask --force -q)
+t_pt=$(median tray_prusa prusa-slicer --export-sla --printer-technology SLA --layer-height 0.027 \
+    --initial-layer-height 0.027 --no-supports-enable --no-pad-enable --display-orientation landscape \
+    --display-width 490 --display-height 390 --display-pixels-x 11575 --display-pixels-y 4606 \
+    --bed-shape 0x0,490x0,490x390,0x390 --dont-arrange --loglevel 0 -o "$tw/tray.sl1" "$tw/placed.stl")
+runs=$saved_runs
+echo "  hovox tray --mode mask         $t_tm s  $(ls "$tw/mask" | grep -c png) layers"
+echo "  prusa-slicer --export-sla      $t_pt s  $(unzip -l "$tw/tray.sl1" | grep -c 'png$') PNG layers in a zip"
+echo "  ratio hovox / prusa            $(ratio "$t_tm" "$t_pt")x"
+
+if [ "${BENCH_FULL_TRAY:-1}" = 1 ]; then
+    echo
+    echo "== full-height tray: the bench tray's arrangement in three storeys (lifts 0, 72, 144 mm; up to 199 mm, ~7,370 layers), with --gcvf"
+    /usr/bin/python3 - "$tw/stack/manifest.json" "$tw/full.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+files = {"gear.stl": "gear", "shaft.stl": "shaft", "knot.stl": "knot"}
+parts = []
+for z in (0, 72, 144):
+    for p in m["parts"]:
+        n = files[p["name"]]
+        parts.append({"model": n + ".vdb", "mesh": n + ".stl", "at": p["at_mm"], "z": z})
+json.dump({"schema": 1, "profile": "j750",
+           "resin": {"A": "VeroCyan-V", "B": "VeroMagenta-V", "C": "VeroYellow-V"}, "parts": parts},
+          open(sys.argv[2], "w"))
+PY
+    r=$( { /usr/bin/time -f "%e %M" "$HOVOX" tray "$tw/full.json" -o "$tw/full" --gcvf "$tw/full.zip" --force -q \
+        >/dev/null; } 2>&1 | tail -n 1)
+    echo "  hovox tray --gcvf              ${r% *} s  $(awk -v k="${r#* }" 'BEGIN { printf "%.1f", k / 1024 }') MiB peak RSS  $(ls "$tw/full" | grep -c png) layers"
+    echo "  zip                            $(du -b "$tw/full.zip" | awk '{ printf "%.2f GiB", $1 / 1073741824 }'), $(unzip -l "$tw/full.zip" | tail -n 1 | awk '{print $2}') entries"
+    rm -rf "$tw/full" "$tw/full.zip"
+fi

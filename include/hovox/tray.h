@@ -110,7 +110,8 @@ typedef struct hv_tray_report {
     uint64_t memory;            /* bytes the workers and parts need */
     uint64_t object_pixels;     /* over the layers written */
     uint64_t bytes;             /* the stack's PNG bytes (after writing) */
-    double est_seconds;         /* a rough estimate (plan) */
+    double est_seconds;         /* rough estimates (plan): 2e8 part-box voxels/s and 2e9 plate */
+    double est_bytes;           /* voxels/s on 2 cores; about a bit per part pixel of halftone */
 } hv_tray_report;
 
 /* Load every part's files, place them (arranging when asked), and check the tray: every part

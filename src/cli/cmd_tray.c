@@ -138,7 +138,11 @@ static int run(const cli_args *args, void *lib, void *local)
     }
     if (s == HV_OK) {
         print_plan(&r, o);
-        if (o->dry_run) printf("estimate    about %.0f s\n", r.est_seconds);
+        if (o->dry_run) {
+            char sz[32];
+            printf("estimate    about %.0f s on 2 cores, about %s of PNG\n", r.est_seconds,
+                   hv_size_text(sz, sizeof sz, r.est_bytes));
+        }
         else
             printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
                    (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",

@@ -118,10 +118,8 @@ static int run(const cli_args *args, void *lib, void *local)
     char bufs[MAX_CLI_PARTS][1024];
     for (int i = 0; i < c->nparts && s == HV_OK; ++i) {
         hv_tray_part p;
-        char where[32];
-        snprintf(where, sizeof where, "--part %d", i + 1);
         s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
-        if (s == HV_OK) s = hv_tray_add(t, &p, where);
+        if (s == HV_OK) s = hv_tray_add(t, &p, NULL); /* "part N", counted after the job file's */
     }
     if (s == HV_OK && hv_tray_part_count(t) == 0) {
         hv_tray_destroy(t);

@@ -374,3 +374,35 @@ Test(tray, arrangement_keeps_parts_apart_and_on_the_plate)
     cr_expect_eq(plan_boxes(NULL, 400, "VeroPureWhite", &o), HV_ERR_LIMIT);
     cr_expect(strstr(hv_last_error(), "no room left on the j750 plate for part "), "%s", hv_last_error());
 }
+
+static int cancel_soon(void *user, const char *stage, double f)
+{
+    (void)stage;
+    int *n = user;
+    return f > 0 && ++*n > 1; /* after the first layers */
+}
+
+/* An interrupted tray leaves no final directory, no temporary and no zip. */
+Test(tray, cancelled_leaves_nothing, .timeout = 60)
+{
+    char model[4200], mesh[4200];
+    make_part(t_tmpdir(), model, mesh, sizeof model);
+    hv_tray *t = one_part_tray(model, mesh, 60, 60, 0);
+    hv_tray_options o;
+    tray_opts(&o);
+    o.gcvf_path = t_tmpfile("cancelled.zip");
+    int n = 0;
+    hv_progress p = {cancel_soon, &n};
+    hv_set_threads(1);
+    hv_status s = hv_tray_write(t, t_tmpfile("cancelled"), &o, &p, NULL);
+    hv_set_threads(0);
+    cr_expect_eq(s, HV_ERR_CANCELLED, "%s", hv_last_error());
+    cr_expect_not(t_exists(t_tmpfile("cancelled")));
+    cr_expect_not(t_exists(t_tmpfile("cancelled.zip")));
+    char cmd[4400], *out = NULL;
+    snprintf(cmd, sizeof cmd, "ls -A '%s' | grep -c 'tmp' ", t_tmpdir());
+    t_run(cmd, &out);
+    cr_expect_str_eq(out, "0\n", "a temporary was left behind");
+    free(out);
+    hv_tray_destroy(t);
+}

@@ -26,6 +26,8 @@ mkdir jobs && cat >jobs/job.json <<'JSON'
            {"model": "../g.vdb", "mesh": "../g.stl", "at": [70, 30], "rotation": 90},
            {"mesh": "../p.stl", "material": "VeroPureWhite", "copies": 2}]}
 JSON
-"$HOVOX" tray jobs/job.json -o stack2 --layers 10:14 -q
+"$HOVOX" tray jobs/job.json -o stack2 --layers 10:14 --gcvf stack2.zip -q
 echo "rc=$?"
+unzip -tq stack2.zip | sed "s|$TMP/||"
+unzip -l stack2.zip | awk 'NR > 3 && $4 != "" { print $4 }' | head -6
 for i in 10 11 12 13; do cmp -s stack/layer-000$i.png stack2/layer-000$i.png && echo "layer $i same"; done

@@ -120,6 +120,21 @@ $(BUILD)/libhovox.so: $(LIB_OBJ)
 $(BUILD)/hovox: $(CLI_OBJ) $(BUILD)/libhovox.a | $(PLUGINS)
 	$(CC) -o $@ $(CLI_OBJ) $(BUILD)/libhovox.a $(LIBS)
 
+# hovox-mpi: the stack commands across MPI ranks, built only when Open MPI's mpicc is there
+# (the plain hovox never links MPI)
+MPICC     := $(shell command -v mpicc 2>/dev/null)
+ifneq ($(MPICC),)
+MPI_BIN   := $(BUILD)/hovox-mpi
+MPI_CFLAGS := $(shell mpicc --showme:compile 2>/dev/null)
+MPI_LIBS  := $(shell mpicc --showme:link 2>/dev/null)
+$(BUILD)/obj/src/mpi/hovox_mpi.o: src/mpi/hovox_mpi.c $(BUILD)/.flags
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS_ALL) $(PKG_CFLAGS) $(MPI_CFLAGS) $(CFLAGS_ALL) -c $< -o $@
+all: $(MPI_BIN)
+$(MPI_BIN): $(BUILD)/obj/src/mpi/hovox_mpi.o $(filter-out %/main.o,$(CLI_OBJ)) $(BUILD)/libhovox.a | $(PLUGINS)
+	$(CC) -o $@ $^ $(LIBS) $(MPI_LIBS)
+endif
+
 $(BUILD)/obj/%.pic.o: %.cpp $(BUILD)/.flags
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS_ALL) $(CXXFLAGS_ALL) $(EXTRA_CXXFLAGS) -c $< -o $@

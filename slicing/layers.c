@@ -106,6 +106,7 @@ typedef struct job {
     /* output */
     char *tmp;
     int no_files;       /* a tray's part: layers are rendered into the worker, not written */
+    size_t run_lo, run_hi; /* the layers this process renders (all of [first, last) alone) */
     int placed, c0, r0; /* on a plate: the image's first column and row on the plate's grid */
     size_t lift;        /* on a plate: tray layers below the part's first layer */
     hv_zip *zip; /* the GCVF archive being made (gcvf_path), NULL otherwise */
@@ -837,7 +838,7 @@ static hv_status layer_done(job *J, int t)
 {
     size_t d = atomic_fetch_add(&J->done, 1) + 1;
     if (t == 0 && J->progress && J->progress->fn) {
-        if (hv_progress_report(J->progress, "layers", (double)d / (double)(J->last - J->first)) != HV_OK) {
+        if (hv_progress_report(J->progress, "layers", (double)d / (double)(J->run_hi - J->run_lo)) != HV_OK) {
             atomic_store(&J->cancel, 1);
             return HV_ERR_CANCELLED;
         }
@@ -853,13 +854,13 @@ static hv_status unit_range(void *ctx, size_t b, size_t e, int t)
     for (size_t u = b; u < e && st == HV_OK; ++u) {
         size_t lo, hi, from;
         if (ed_mode(J)) {
-            size_t block = J->first / HV_HALFTONE_BLOCK + u;
+            size_t block = J->run_lo / HV_HALFTONE_BLOCK + u;
             lo = block * HV_HALFTONE_BLOCK;
-            hi = HV_MIN(lo + HV_HALFTONE_BLOCK, J->last);
-            from = HV_MAX(lo, J->first); /* layers before `from` are recomputed, not written */
+            hi = HV_MIN(lo + HV_HALFTONE_BLOCK, J->run_hi);
+            from = HV_MAX(lo, J->run_lo); /* layers before `from` are recomputed, not written */
         } else {
-            lo = J->first + u * RUN_LAYERS;
-            hi = HV_MIN(lo + RUN_LAYERS, J->last);
+            lo = J->run_lo + u * RUN_LAYERS;
+            hi = HV_MIN(lo + RUN_LAYERS, J->run_hi);
             from = lo;
         }
         for (size_t i = lo; i < hi && st == HV_OK; ++i) {
@@ -1099,6 +1100,86 @@ static hv_status job_prepare_output(job *J)
     return st;
 }
 
+/* ---- several processes -------------------------------------------------------------------------- */
+
+/* Layer costs from the contours: each layer's object pixels (its contour area over the pixel
+ * area) plus a fiftieth of the image for the empty pixels. */
+typedef struct cost_job {
+    job *J;
+    double *cost;
+} cost_job;
+
+static hv_status cost_range(void *ctx, size_t b, size_t e, int t)
+{
+    (void)t;
+    cost_job *c = ctx;
+    job *J = c->J;
+    double px = J->grid.pixel[0] * -J->grid.pixel[1];
+    for (size_t i = b; i < e; ++i) {
+        hv_slice *slice = NULL;
+        hv_status st = hv_slicer_slice(J->slicer, J->layers[J->first + i].z, &J->sopt, &slice);
+        if (st != HV_OK) return st;
+        c->cost[i] = hv_slice_get_stats(slice)->area / px + 0.02 * (double)J->plane;
+        hv_slice_destroy(slice);
+    }
+    return HV_OK;
+}
+
+static hv_status dist_share(job *J, const hv_dist *D)
+{
+    size_t n = J->last - J->first;
+    double *cost = hv_malloc_array(n, sizeof *cost);
+    size_t *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
+    hv_status st = cost && ranges ? HV_OK : HV_ERR_NOMEM;
+    cost_job c = {J, cost};
+    if (st == HV_OK) st = hv_parallel_for(n, 16, cost_range, &c, NULL, "layers");
+    if (st == HV_OK) {
+        hv_dist_partition(cost, J->first, J->last, ed_mode(J) ? HV_HALFTONE_BLOCK : RUN_LAYERS, D->size, ranges);
+        J->run_lo = ranges[2 * D->rank];
+        J->run_hi = ranges[2 * D->rank + 1];
+    }
+    free(cost);
+    free(ranges);
+    return st;
+}
+
+/* Every process's per-layer statistics into rank 0's: each layer is one process's, the others
+ * hold zeros there, so the sums are exact (counts below 2^53). */
+static hv_status dist_gather(job *J, const hv_dist *D)
+{
+    size_t n = J->last - J->first, m = (size_t)HV_MAX(J->m, 1), per = 6 + 2 * m;
+    double *v = hv_calloc(n * per, sizeof *v);
+    if (!v) return HV_ERR_NOMEM;
+    for (size_t li = 0; li < n; ++li) {
+        double *p = v + li * per;
+        p[0] = (double)J->st_pixels[li];
+        p[1] = (double)J->st_fallback[li];
+        p[2] = J->st_dsum[li];
+        p[3] = J->st_dmax[li];
+        p[4] = (double)J->st_open[li];
+        for (size_t g = 0; g < m && J->m; ++g) {
+            p[6 + g] = (double)J->st_count[li * m + g];
+            p[6 + m + g] = J->st_target[li * m + g];
+        }
+    }
+    D->sum_to_root(D->ctx, v, n * per);
+    if (D->rank == 0)
+        for (size_t li = 0; li < n; ++li) {
+            const double *p = v + li * per;
+            J->st_pixels[li] = (uint64_t)p[0];
+            J->st_fallback[li] = (uint64_t)p[1];
+            J->st_dsum[li] = p[2];
+            J->st_dmax[li] = p[3];
+            J->st_open[li] = (size_t)p[4];
+            for (size_t g = 0; g < m && J->m; ++g) {
+                J->st_count[li * m + g] = (uint64_t)p[6 + g];
+                J->st_target[li * m + g] = p[6 + m + g];
+            }
+        }
+    free(v);
+    return HV_OK;
+}
+
 hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const char *dir,
                           const hv_layers_options *o, const hv_progress *progress, hv_layers_report *report)
 {
@@ -1119,22 +1200,46 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
             st = hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);
     }
     /* the archive's temporary is created before the layers run: an unwritable place fails now */
-    if (st == HV_OK && o->gcvf_path) st = hv_zip_open(o->gcvf_path, &J.zip);
-    if (st == HV_OK) st = hv_stack_begin(dir, o->force, &J.tmp);
-    if (st == HV_OK && o->mode == HV_LAYERS_FRACTIONS) {
+    if (st == HV_OK && o->gcvf_path && (!o->dist || o->dist->rank == 0)) st = hv_zip_open(o->gcvf_path, &J.zip);
+    const hv_dist *D = o->dist;
+    int root = !D || D->rank == 0;
+    if (st == HV_OK && root) st = hv_stack_begin(dir, o->force, &J.tmp);
+    if (st == HV_OK && root && o->mode == HV_LAYERS_FRACTIONS) {
         for (int g = 0; g < J.m && st == HV_OK; ++g) {
             char path[4200];
             snprintf(path, sizeof path, "%s/%s", J.tmp, hv_material_name(J.table, g));
             if (mkdir(path, 0777) != 0) st = hv_error_set(HV_ERR_IO, "%s: cannot create directory", path);
         }
     }
+    J.run_lo = J.first;
+    J.run_hi = J.last;
+    if (D) { /* every process has planned; rank 0 made the directory; each takes its share */
+        st = hv_dist_agree(D, st);
+        char tmp[4200] = "";
+        if (root && J.tmp) snprintf(tmp, sizeof tmp, "%s", J.tmp);
+        if (st == HV_OK) hv_dist_bcast_string(D, tmp, sizeof tmp);
+        if (st == HV_OK && !root && !(J.tmp = hv_strdup(tmp))) st = HV_ERR_NOMEM;
+        if (st == HV_OK) st = dist_share(&J, D);
+    }
     if (st == HV_OK) st = hv_progress_report(progress, "layers", 0.0);
-    if (st == HV_OK) {
-        size_t units = ed_mode(&J) ? (J.last - 1) / HV_HALFTONE_BLOCK - J.first / HV_HALFTONE_BLOCK + 1
-                                   : (J.last - J.first + RUN_LAYERS - 1) / RUN_LAYERS;
+    if (st == HV_OK && J.run_hi > J.run_lo) {
+        size_t units = ed_mode(&J) ? (J.run_hi - 1) / HV_HALFTONE_BLOCK - J.run_lo / HV_HALFTONE_BLOCK + 1
+                                   : (J.run_hi - J.run_lo + RUN_LAYERS - 1) / RUN_LAYERS;
         atomic_store(&J.done, 0);
         atomic_store(&J.cancel, 0);
         st = hv_parallel_for(units, 1, unit_range, &J, NULL, "layers");
+    }
+    if (D) { /* all layers written, or every process stops; rank 0 gets the statistics */
+        st = hv_dist_agree(D, st);
+        if (st == HV_OK) st = dist_gather(&J, D);
+    }
+    if (!root) { /* rank 0 writes the manifest and the zip and commits; the others wait for it */
+        st = hv_dist_agree(D, st);
+        if (report) *report = rep;
+        free(J.tmp);
+        J.tmp = NULL;
+        job_free(&J);
+        return st;
     }
     if (st == HV_OK) {
         /* statistics, summed in layer order so they do not depend on the threads */
@@ -1180,6 +1285,7 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
         J.zip = NULL;
     }
     if (st != HV_OK && J.tmp) hv_stack_abort(J.tmp);
+    if (D) st = hv_dist_agree(D, st);
     if (report) *report = rep;
     job_free(&J);
     return name_model(model, o, st);
@@ -1234,6 +1340,7 @@ void hv_layers_part_geometry(const hv_layers_part *p, int *c0, int *r0, int *w, 
 int hv_layers_part_materials(const hv_layers_part *p) { return p->J.m; }
 const hv_material_table *hv_layers_part_table(const hv_layers_part *p) { return p->J.table; }
 uint64_t hv_layers_part_memory(const hv_layers_part *p) { return p->J.memory; }
+hv_status hv_layers_part_gather(hv_layers_part *p, const hv_dist *d) { return dist_gather(&p->J, d); }
 
 hv_status hv_layers_part_render(hv_layers_part *p, int t, size_t index, const uint8_t **pixels)
 {

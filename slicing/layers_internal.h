@@ -8,6 +8,7 @@
 #include <stdio.h>
 
 #include "hovox/layers.h"
+#include "hovox/dist.h"
 #include "hovox/material.h"
 
 /* ---- POI (poi.c) ---------------------------------------------------------------------------
@@ -120,8 +121,22 @@ const hv_material_table *hv_layers_part_table(const hv_layers_part *p);
 hv_status hv_layers_part_render(hv_layers_part *p, int t, size_t index, const uint8_t **pixels);
 /* The part's totals over the layers rendered (object pixels, target and achieved fractions). */
 void hv_layers_part_report(const hv_layers_part *p, hv_layers_report *r);
+/* Several processes: every part's per-layer statistics into rank 0's (a collective). */
+hv_status hv_layers_part_gather(hv_layers_part *p, const hv_dist *d);
 /* Memory the part's workers will need (bytes), from its plan. */
 uint64_t hv_layers_part_memory(const hv_layers_part *p);
+
+/* ---- several processes (hovox/dist.h) ----------------------------------------------------------- */
+#include "hovox/dist.h"
+/* Split layers [first, last) into d->size contiguous ranges whose bounds are multiples of
+ * `block` (or first, last), balanced by cost[i - first]; rank r's range is
+ * [out[2r], out[2r+1]) (possibly empty). Deterministic: every process gets the same ranges. */
+void hv_dist_partition(const double *cost, size_t first, size_t last, size_t block, int size, size_t *out);
+/* Agree on a status: the largest over the processes; a process that did not fail gets the
+ * message "another process of the job failed". */
+hv_status hv_dist_agree(const hv_dist *d, hv_status local);
+/* Rank 0's string (at most size - 1 bytes) on every process. */
+void hv_dist_bcast_string(const hv_dist *d, char *buf, size_t size);
 
 /* A copy of s kept as long as tray t (job files' strings); NULL when out of memory. */
 struct hv_tray;

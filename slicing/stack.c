@@ -3,6 +3,7 @@
  * GrabCAD voxel-print (GCVF) archive on libzip (PKWARE APPNOTE 6.3: ZIP64 records when an
  * archive passes 65,535 entries or 4 GiB, which a full J750 tray does many times over). */
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -331,4 +332,53 @@ hv_status hv_zip_commit(hv_zip *z)
     }
     hv_zip_abort(z);
     return s;
+}
+
+/* ---- several processes ---------------------------------------------------------------------- */
+
+void hv_dist_partition(const double *cost, size_t first, size_t last, size_t block, int size, size_t *out)
+{
+    double total = 0;
+    for (size_t i = first; i < last; ++i) total += cost[i - first];
+    size_t at = first;
+    double done = 0;
+    for (int r = 0; r < size; ++r) {
+        out[2 * r] = at;
+        if (r == size - 1) {
+            at = last;
+        } else {
+            /* the block boundary whose prefix cost comes closest to (r + 1) / size of the total */
+            double target = total * (double)(r + 1) / (double)size;
+            size_t best = at;
+            double best_d = fabs(done - target), acc = done;
+            for (size_t i = at; i < last; ++i) {
+                acc += cost[i - first];
+                size_t b = i + 1;
+                if (b % block && b != last) continue;
+                double d = fabs(acc - target);
+                if (d < best_d) {
+                    best_d = d;
+                    best = b;
+                }
+                if (acc > target) break;
+            }
+            for (size_t i = at; i < best; ++i) done += cost[i - first];
+            at = best;
+        }
+        out[2 * r + 1] = at;
+    }
+}
+
+hv_status hv_dist_agree(const hv_dist *d, hv_status local)
+{
+    int worst = d->max_all(d->ctx, (int)local);
+    if (worst != HV_OK && local == HV_OK)
+        hv_error_set((hv_status)worst, "another process of the job failed (it reported why)");
+    return (hv_status)worst;
+}
+
+void hv_dist_bcast_string(const hv_dist *d, char *buf, size_t size)
+{
+    d->bcast(d->ctx, buf, size, 0);
+    buf[size - 1] = '\0';
 }

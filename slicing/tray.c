@@ -982,6 +982,7 @@ typedef struct wjob {
     const hv_tray_options *o;
     const char *tmp;
     size_t first, last;
+    size_t run_lo, run_hi; /* the layers this process writes */
     size_t stride;
     tworker *w;
     uint64_t *st_bytes;
@@ -1100,12 +1101,12 @@ static hv_status tray_units(void *ctx, size_t b, size_t e, int thread)
     }
     hv_status st = HV_OK;
     for (size_t u = b; u < e && st == HV_OK; ++u)
-        for (size_t li = J->first + u * RUN; li < HV_MIN(J->first + (u + 1) * RUN, J->last) && st == HV_OK; ++li) {
+        for (size_t li = J->run_lo + u * RUN; li < HV_MIN(J->run_lo + (u + 1) * RUN, J->run_hi) && st == HV_OK; ++li) {
             if (atomic_load(&J->cancel) || hv_cancel_requested()) return hv_error_set(HV_ERR_CANCELLED, "tray: cancelled");
             st = tray_layer(J, w, thread, li);
             size_t d = atomic_fetch_add(&J->done, 1) + 1;
             if (st == HV_OK && thread == 0 && J->progress)
-                st = hv_progress_report(J->progress, "tray", (double)d / (double)(J->last - J->first));
+                st = hv_progress_report(J->progress, "tray", (double)d / (double)(J->run_hi - J->run_lo));
         }
     if (st != HV_OK) atomic_store(&J->cancel, 1);
     return st;
@@ -1293,25 +1294,75 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         struct stat sb;
         if (stat(o->gcvf_path, &sb) == 0) return hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);
     }
+    const hv_dist *D = o->dist;
+    int root = !D || D->rank == 0;
     hv_zip *zip = NULL;
     char *tmp = NULL;
-    if (o->gcvf_path) st = hv_zip_open(o->gcvf_path, &zip);
-    if (st == HV_OK) st = hv_stack_begin(dir, o->force, &tmp);
+    if (o->gcvf_path && root) st = hv_zip_open(o->gcvf_path, &zip);
+    if (st == HV_OK && root) st = hv_stack_begin(dir, o->force, &tmp);
     wjob J;
     memset(&J, 0, sizeof J);
     J.t = t;
     J.o = o;
-    J.tmp = tmp;
-    J.first = rep.first;
-    J.last = rep.last;
+    J.first = J.run_lo = rep.first;
+    J.last = J.run_hi = rep.last;
     J.stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
     J.progress = progress;
     int threads = HV_MAX(hv_threads(), 1);
     J.w = hv_calloc((size_t)threads, sizeof *J.w);
     J.st_bytes = hv_calloc(rep.last - rep.first, sizeof *J.st_bytes);
     if (st == HV_OK && (!J.w || !J.st_bytes)) st = HV_ERR_NOMEM;
+    if (D) { /* rank 0 made the directory; each process takes a share of the layers by cost */
+        st = hv_dist_agree(D, st);
+        char name[4200] = "";
+        if (root && tmp) snprintf(name, sizeof name, "%s", tmp);
+        if (st == HV_OK) hv_dist_bcast_string(D, name, sizeof name);
+        if (st == HV_OK && !root && !(tmp = hv_strdup(name))) st = HV_ERR_NOMEM;
+        size_t n = rep.last - rep.first, *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
+        double *cost = hv_calloc(n, sizeof *cost);
+        if (st == HV_OK && (!ranges || !cost)) st = HV_ERR_NOMEM;
+        for (size_t i = 0; st == HV_OK && i < n; ++i) { /* the parts' boxes, and a fiftieth of the plate */
+            size_t li = rep.first + i;
+            cost[i] = 0.02 * (double)t->W * t->H;
+            for (int k = 0; k < t->ninst; ++k)
+                if (li >= t->inst[k].lift && li < t->inst[k].lift + t->inst[k].layers)
+                    cost[i] += (double)t->inst[k].w * t->inst[k].h;
+        }
+        if (st == HV_OK) {
+            hv_dist_partition(cost, rep.first, rep.last, RUN, D->size, ranges);
+            J.run_lo = ranges[2 * D->rank];
+            J.run_hi = ranges[2 * D->rank + 1];
+        }
+        free(ranges);
+        free(cost);
+    }
+    J.tmp = tmp;
     if (st == HV_OK) st = hv_progress_report(progress, "tray", 0.0);
-    if (st == HV_OK) st = hv_parallel_for((rep.last - rep.first + RUN - 1) / RUN, 1, tray_units, &J, NULL, "tray");
+    if (st == HV_OK && J.run_hi > J.run_lo)
+        st = hv_parallel_for((J.run_hi - J.run_lo + RUN - 1) / RUN, 1, tray_units, &J, NULL, "tray");
+    if (D) { /* rank 0 gets every part's statistics and the layers' sizes */
+        st = hv_dist_agree(D, st);
+        for (int i = 0; i < t->ninst && st == HV_OK; ++i) st = hv_layers_part_gather(t->inst[i].part, D);
+        size_t n = rep.last - rep.first;
+        double *b = st == HV_OK ? hv_malloc_array(n, sizeof *b) : NULL;
+        if (st == HV_OK && !b) st = HV_ERR_NOMEM; /* NOTE: agreed below */
+        for (size_t i = 0; b && i < n; ++i) b[i] = (double)J.st_bytes[i];
+        if (b) D->sum_to_root(D->ctx, b, n);
+        for (size_t i = 0; b && root && i < n; ++i) J.st_bytes[i] = (uint64_t)b[i];
+        free(b);
+        if (!root) {
+            st = hv_dist_agree(D, st);
+            for (int i = 0; i < threads && J.w; ++i) {
+                free(J.w[i].rows);
+                free(J.w[i].span);
+            }
+            free(J.w);
+            free(J.st_bytes);
+            free(tmp);
+            if (report) *report = rep;
+            return st;
+        }
+    }
     uint64_t *obj_px = hv_calloc((size_t)t->ninst + 1, sizeof *obj_px);
     if (st == HV_OK && !obj_px) st = HV_ERR_NOMEM;
     if (st == HV_OK) {
@@ -1332,6 +1383,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         else hv_zip_abort(zip);
     }
     if (st != HV_OK && tmp) hv_stack_abort(tmp);
+    if (D) st = hv_dist_agree(D, st);
     for (int i = 0; i < threads && J.w; ++i) {
         free(J.w[i].rows);
         free(J.w[i].span);

@@ -210,6 +210,7 @@ typedef struct hv_layers_options {
     const char *gcvf_path;         /* also write a GCVF zip there (HALFTONE or MASK); NULL: no */
     const char *mesh_name;         /* for the manifest (may be NULL) */
     const char *model_name;        /* for the manifest (may be NULL) */
+    const struct hv_dist *dist;    /* several processes write one stack (hovox/dist.h); NULL: one */
     int placed;                    /* place the part on the profile's plate (see place) */
     double place[2];               /* plate position (mm) of the centre of the mesh's xy box: the
                                       image is then the part's box on the plate's pixel grid

@@ -414,8 +414,12 @@ int cli_main(const cli_spec *spec, int argc, char **argv)
     return rc;
 }
 
+const struct hv_dist *cli_dist;
+int (*cli_failed_here)(void);
+
 int cli_fail(hv_status s)
 {
+    if (cli_failed_here && !cli_failed_here()) return cli_exit_code(s); /* another process said why */
     char msg[2048];
     const char *m = cli_message(msg, sizeof msg);
     if (s == HV_ERR_INVALID && hv_last_error_names_option() && g_spec) return cli_usage_error(g_spec->name, "%s", m);

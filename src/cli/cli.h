@@ -109,6 +109,10 @@ int cli_json_end(cli_json *j, const char *lines_key, const char *lines);
 int cli_fail(hv_status status);
 /* Print "hovox <cmd>: <message> (see 'hovox <cmd> --help')" on one line; returns EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, ...) HV_PRINTF(2, 3);
+/* Several processes (hovox-mpi): the collectives the stack commands pass to the library, and
+ * whether a failure happened in this process (cli_fail prints only then). NULL in hovox. */
+extern const struct hv_dist *cli_dist;
+extern int (*cli_failed_here)(void);
 /* Map a status to its exit code. */
 int cli_exit_code(hv_status status);
 

@@ -115,6 +115,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
     o->mesh_name = c->mesh;
     o->model_name = args->npos ? args->pos[0] : NULL;
+    o->dist = cli_dist;
     return run(o, c, args->quiet);
 }
 

@@ -131,6 +131,7 @@ static int run(const cli_args *args, void *lib, void *local)
         cli_progress bar;
         cli_progress_init(&bar, args->quiet);
         hv_progress prog = {cli_progress_fn, &bar};
+        o->dist = cli_dist;
         s = hv_tray_write(t, c->output, o, &prog, &r);
         cli_progress_done(&bar);
     }

@@ -75,7 +75,7 @@ TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
 CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
-.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests sanitize bench \
+.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests mpi-tests sanitize bench \
         demo deps clean check-deps-build check-deps-test
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
@@ -131,8 +131,13 @@ $(BUILD)/obj/src/mpi/hovox_mpi.o: src/mpi/hovox_mpi.c $(BUILD)/.flags
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS_ALL) $(PKG_CFLAGS) $(MPI_CFLAGS) $(CFLAGS_ALL) -c $< -o $@
 all: $(MPI_BIN)
+mpi-tests: $(MPI_BIN) $(BUILD)/hovox
+	@HOVOX=$(ROOT)/$(BUILD)/hovox HOVOX_MPI=$(ROOT)/$(MPI_BIN) sh tests/mpi/run.sh
 $(MPI_BIN): $(BUILD)/obj/src/mpi/hovox_mpi.o $(filter-out %/main.o,$(CLI_OBJ)) $(BUILD)/libhovox.a | $(PLUGINS)
 	$(CC) -o $@ $^ $(LIBS) $(MPI_LIBS)
+else
+mpi-tests:
+	@echo "mpi: skipped (no mpicc; scripts/install-deps.sh test installs Open MPI)"
 endif
 
 $(BUILD)/obj/%.pic.o: %.cpp $(BUILD)/.flags
@@ -235,7 +240,7 @@ sample-tests: $(BUILD)/hovox $(PLUGINS)
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests
+	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests
 
 sanitize: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory BUILD=build-san SAN=1 all

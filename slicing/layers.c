@@ -1125,21 +1125,49 @@ static hv_status cost_range(void *ctx, size_t b, size_t e, int t)
     return HV_OK;
 }
 
-static hv_status dist_share(job *J, const hv_dist *D)
+/* The ranges of `size` processes and their shares of the cost. */
+static hv_status job_partition(job *J, int size, size_t *ranges, double *share)
 {
     size_t n = J->last - J->first;
     double *cost = hv_malloc_array(n, sizeof *cost);
-    size_t *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
-    hv_status st = cost && ranges ? HV_OK : HV_ERR_NOMEM;
+    hv_status st = cost ? HV_OK : HV_ERR_NOMEM;
     cost_job c = {J, cost};
     if (st == HV_OK) st = hv_parallel_for(n, 16, cost_range, &c, NULL, "layers");
     if (st == HV_OK) {
-        hv_dist_partition(cost, J->first, J->last, ed_mode(J) ? HV_HALFTONE_BLOCK : RUN_LAYERS, D->size, ranges);
+        hv_dist_partition(cost, J->first, J->last, ed_mode(J) ? HV_HALFTONE_BLOCK : RUN_LAYERS, size, ranges);
+        double total = 0;
+        for (size_t i = 0; i < n; ++i) total += cost[i];
+        for (int r = 0; share && r < size; ++r) {
+            double part = 0;
+            for (size_t i = ranges[2 * r]; i < ranges[2 * r + 1]; ++i) part += cost[i - J->first];
+            share[r] = total > 0 ? part / total : 0;
+        }
+    }
+    free(cost);
+    return st;
+}
+
+static hv_status dist_share(job *J, const hv_dist *D)
+{
+    size_t *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
+    hv_status st = ranges ? job_partition(J, D->size, ranges, NULL) : HV_ERR_NOMEM;
+    if (st == HV_OK) {
         J->run_lo = ranges[2 * D->rank];
         J->run_hi = ranges[2 * D->rank + 1];
     }
-    free(cost);
     free(ranges);
+    return st;
+}
+
+hv_status hv_layers_partition(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o, int ranks,
+                              size_t *ranges, double *share)
+{
+    job J;
+    hv_layers_place pl;
+    if (ranks < 1) return hv_error_set(HV_ERR_INVALID, "layers: %d processes", ranks);
+    hv_status st = name_model(model, o, job_plan(&J, mesh, model, o, NULL, options_place(o, &pl)));
+    if (st == HV_OK) st = job_partition(&J, ranks, ranges, share);
+    job_free(&J);
     return st;
 }
 

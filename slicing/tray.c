@@ -1245,6 +1245,39 @@ static hv_status write_gcvf(hv_tray *t, const hv_tray_options *o, const char *tm
     return st;
 }
 
+/* Layer costs: the boxes of the parts a layer holds, and a fiftieth of the plate (its empty
+ * pixels); then the ranges of `size` processes and their shares. */
+static hv_status tray_partition(const hv_tray *t, size_t first, size_t last, int size, size_t *ranges, double *share)
+{
+    size_t n = last - first;
+    double *cost = hv_calloc(n ? n : 1, sizeof *cost), total = 0;
+    if (!cost) return HV_ERR_NOMEM;
+    for (size_t i = 0; i < n; ++i) {
+        size_t li = first + i;
+        cost[i] = 0.02 * (double)t->W * t->H;
+        for (int k = 0; k < t->ninst; ++k)
+            if (li >= t->inst[k].lift && li < t->inst[k].lift + t->inst[k].layers)
+                cost[i] += (double)t->inst[k].w * t->inst[k].h;
+        total += cost[i];
+    }
+    hv_dist_partition(cost, first, last, RUN, size, ranges);
+    for (int r = 0; share && r < size; ++r) {
+        double part = 0;
+        for (size_t i = ranges[2 * r]; i < ranges[2 * r + 1]; ++i) part += cost[i - first];
+        share[r] = total > 0 ? part / total : 0;
+    }
+    free(cost);
+    return HV_OK;
+}
+
+hv_status hv_tray_partition(hv_tray *t, const hv_tray_options *o, int ranks, size_t *ranges, double *share)
+{
+    hv_tray_report rep;
+    if (ranks < 1) return hv_error_set(HV_ERR_INVALID, "tray: %d processes", ranks);
+    hv_status st = hv_tray_plan(t, o, NULL, &rep);
+    return st == HV_OK ? tray_partition(t, rep.first, rep.last, ranks, ranges, share) : st;
+}
+
 /* Every instance's (turned) mesh moved to its place: one STL in plate coordinates. */
 static hv_status write_stl(const hv_tray *t, const char *path)
 {
@@ -1318,23 +1351,14 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         if (root && tmp) snprintf(name, sizeof name, "%s", tmp);
         if (st == HV_OK) hv_dist_bcast_string(D, name, sizeof name);
         if (st == HV_OK && !root && !(tmp = hv_strdup(name))) st = HV_ERR_NOMEM;
-        size_t n = rep.last - rep.first, *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
-        double *cost = hv_calloc(n, sizeof *cost);
-        if (st == HV_OK && (!ranges || !cost)) st = HV_ERR_NOMEM;
-        for (size_t i = 0; st == HV_OK && i < n; ++i) { /* the parts' boxes, and a fiftieth of the plate */
-            size_t li = rep.first + i;
-            cost[i] = 0.02 * (double)t->W * t->H;
-            for (int k = 0; k < t->ninst; ++k)
-                if (li >= t->inst[k].lift && li < t->inst[k].lift + t->inst[k].layers)
-                    cost[i] += (double)t->inst[k].w * t->inst[k].h;
-        }
+        size_t *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
+        if (st == HV_OK && !ranges) st = HV_ERR_NOMEM;
+        if (st == HV_OK) st = tray_partition(t, rep.first, rep.last, D->size, ranges, NULL);
         if (st == HV_OK) {
-            hv_dist_partition(cost, rep.first, rep.last, RUN, D->size, ranges);
             J.run_lo = ranges[2 * D->rank];
             J.run_hi = ranges[2 * D->rank + 1];
         }
         free(ranges);
-        free(cost);
     }
     J.tmp = tmp;
     if (st == HV_OK) st = hv_progress_report(progress, "tray", 0.0);

@@ -281,6 +281,12 @@ HV_API hv_status hv_layers_plan(const hv_mesh *mesh, const hv_volume *model,
  * Errors: those of hv_layers_plan, HV_ERR_IO (dir exists and is not empty and not a
  * replaceable stack, parent not writable, write failed; naming the path), HV_ERR_NOMEM,
  * HV_ERR_CANCELLED. */
+/* How `ranks` processes would share the stack (hovox/dist.h): ranges[2r], ranges[2r+1] are
+ * rank r's layers [a, b); share[r] its fraction of the estimated cost (may be NULL). Errors:
+ * those of hv_layers_plan, HV_ERR_NOMEM. */
+HV_API hv_status hv_layers_partition(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o,
+                                     int ranks, size_t *ranges, double *share);
+
 HV_API hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const char *dir,
                                  const hv_layers_options *opt, const hv_progress *progress,
                                  hv_layers_report *report);

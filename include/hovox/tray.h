@@ -127,6 +127,10 @@ HV_API hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_pro
 HV_API int hv_tray_instance_count(const hv_tray *t);
 HV_API void hv_tray_instance_box(const hv_tray *t, int i, double box[4]);
 
+/* How `ranks` processes would share the tray's layers (hovox/dist.h): rank r writes layers
+ * [ranges[2r], ranges[2r+1]), share[r] of the estimated cost (may be NULL). Plans the tray. */
+HV_API hv_status hv_tray_partition(hv_tray *t, const hv_tray_options *o, int ranks, size_t *ranges, double *share);
+
 /* Plan (if not yet), then write the stack into `dir` (a temporary directory renamed when
  * complete; PNG layers layer-NNNNN.png indexed by the resin palette, manifest.json with the
  * parts) and the GCVF zip when asked. Layer ranges and thread counts give the same bytes. */

@@ -4,10 +4,12 @@
  * library's (hv_layers_option_set). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/dist.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
 
@@ -92,6 +94,17 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
     size_t seen = strlen(r.warnings);
     if (s == HV_OK && c->dry_run) {
         print_plan(&r, o);
+        if (cli_dist) { /* hovox-mpi: how the ranks share the layers */
+            int n = cli_dist->size;
+            size_t *ranges = malloc((size_t)n * 2 * sizeof *ranges);
+            double *share = malloc((size_t)n * sizeof *share);
+            s = ranges && share ? hv_layers_partition(mesh, model, o, n, ranges, share) : HV_ERR_NOMEM;
+            for (int k = 0; k < n && s == HV_OK; ++k)
+                printf("rank %-6d layers %zu to %zu (%zu), %.1f%% of the estimated cost\n", k, ranges[2 * k],
+                       ranges[2 * k + 1] ? ranges[2 * k + 1] - 1 : 0, ranges[2 * k + 1] - ranges[2 * k], 100.0 * share[k]);
+            free(ranges);
+            free(share);
+        }
     } else if (s == HV_OK) {
         cli_progress bar;
         cli_progress_init(&bar, quiet);

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/dist.h"
 #include "hovox/tray.h"
 
 #define MAX_CLI_PARTS 256
@@ -141,6 +142,17 @@ static int run(const cli_args *args, void *lib, void *local)
             char sz[32];
             printf("estimate    about %.0f s on 2 cores, about %s of PNG\n", r.est_seconds,
                    hv_size_text(sz, sizeof sz, r.est_bytes));
+        }
+        if (o->dry_run && cli_dist) { /* hovox-mpi: how the ranks share the layers */
+            int n = cli_dist->size;
+            size_t *ranges = malloc((size_t)n * 2 * sizeof *ranges);
+            double *share = malloc((size_t)n * sizeof *share);
+            s = ranges && share ? hv_tray_partition(t, o, n, ranges, share) : HV_ERR_NOMEM;
+            for (int k = 0; k < n && s == HV_OK; ++k)
+                printf("rank %-6d layers %zu to %zu (%zu), %.1f%% of the estimated cost\n", k, ranges[2 * k],
+                       ranges[2 * k + 1] ? ranges[2 * k + 1] - 1 : 0, ranges[2 * k + 1] - ranges[2 * k], 100.0 * share[k]);
+            free(ranges);
+            free(share);
         }
         else
             printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,

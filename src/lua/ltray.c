@@ -120,7 +120,7 @@ static int tray_layers(lua_State *L)
     read_over(L, u, 2, extra);
     int holder = keeper(L, 1);
     const char *dir = hv_lua_out_path(L, 2, "dir", holder, u->o.dry_run ? NULL : "the stack's directory");
-    if (u->o.gcvf_path) hv_lua_check_write(L, 2, u->o.gcvf_path);
+    hv_lua_check_paths(L, 2, hv_tray_option_set(), &u->o); /* gcvf, stl: where they are used */
     u = CHECK(L, 1, l_tray, MT_TRAY);
     hv_tray_report r;
     hv_status s = hv_tray_write(u->p, dir, &u->o, NULL, &r);

@@ -994,17 +994,7 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
     if (!text) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
     char path[4200];
     snprintf(path, sizeof path, "%s/manifest.json", J->tmp);
-    hv_atomic_file af;
-    hv_status st = hv_atomic_open(&af, path, "wb");
-    if (st == HV_OK) {
-        size_t len = strlen(text);
-        if (fwrite(text, 1, len, af.fp) != len) {
-            hv_atomic_abort(&af);
-            st = hv_error_set(HV_ERR_IO, "%s: write failed", path);
-        } else {
-            st = hv_atomic_commit(&af);
-        }
-    }
+    hv_status st = hv_atomic_write(path, text, strlen(text));
     free(text);
     return st;
 }

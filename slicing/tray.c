@@ -1069,18 +1069,7 @@ static hv_status tray_layer(wjob *J, tworker *w, int thread, size_t li)
     uint8_t *png = NULL;
     size_t size = 0;
     hv_status st = hv_png_fast_encode(&img, &png, &size);
-    if (st == HV_OK) {
-        hv_atomic_file af;
-        st = hv_atomic_open(&af, path, "wb");
-        if (st == HV_OK) {
-            if (fwrite(png, 1, size, af.fp) != size) {
-                hv_atomic_abort(&af);
-                st = hv_error_set(HV_ERR_IO, "%s: write failed", path);
-            } else {
-                st = hv_atomic_commit(&af);
-            }
-        }
-    }
+    if (st == HV_OK) st = hv_atomic_write(path, png, size);
     free(png);
     J->st_bytes[li - J->first] = size;
     /* clear what was drawn */
@@ -1203,17 +1192,7 @@ static hv_status write_manifest(hv_tray *t, const hv_tray_options *o, const char
     if (!text) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory for the manifest");
     char path[4200];
     snprintf(path, sizeof path, "%s/manifest.json", tmp);
-    hv_atomic_file af;
-    hv_status st = hv_atomic_open(&af, path, "wb");
-    if (st == HV_OK) {
-        size_t len = strlen(text);
-        if (fwrite(text, 1, len, af.fp) != len) {
-            hv_atomic_abort(&af);
-            st = hv_error_set(HV_ERR_IO, "%s: write failed", path);
-        } else {
-            st = hv_atomic_commit(&af);
-        }
-    }
+    hv_status st = hv_atomic_write(path, text, strlen(text));
     free(text);
     return st;
 }

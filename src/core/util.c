@@ -389,3 +389,16 @@ hv_status hv_check_extension(const char *path, const char *ext, const char *what
     if (n >= k && strcasecmp(path + n - k, ext) == 0) return HV_OK;
     return hv_error_set(HV_ERR_INVALID, "%s: %s is written as %s, which this name does not end in", path, what, ext);
 }
+
+hv_status hv_atomic_write(const char *path, const void *data, size_t size)
+{
+    hv_atomic_file af;
+    hv_status st = hv_atomic_open(&af, path, "wb");
+    if (st != HV_OK) return st;
+    if (size && fwrite(data, 1, size, af.fp) != size) {
+        int e = errno;
+        hv_atomic_abort(&af);
+        return hv_error_set(HV_ERR_IO, "%s: write failed: %s", path, strerror(e));
+    }
+    return hv_atomic_commit(&af);
+}

@@ -61,6 +61,18 @@ static void make_part(const char *dir, char *model, char *mesh, size_t n)
     hv_mesh_destroy(m);
 }
 
+/* A box from the origin to (x, y, z) written as t_tmpfile(name). */
+static const char *box_stl(const char *name, double x, double y, double z)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {x, y, z};
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
+    const char *path = t_tmpfile(name);
+    cr_assert_eq(hv_mesh_write_stl(m, path, 0), HV_OK);
+    hv_mesh_destroy(m);
+    return path;
+}
+
 static json_t *manifest(const char *dir)
 {
     char p[4200];
@@ -193,12 +205,7 @@ Test(tray, ranges_and_threads_give_the_same_bytes, .timeout = 120)
 /* A plain box rotated by 90: its mask is the analytic box turned a quarter, pixel by pixel. */
 Test(tray, quarter_turns_are_exact, .timeout = 60)
 {
-    double lo[3] = {0, 0, 0}, hi[3] = {10, 4, 0.5};
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
-    const char *mesh = t_tmpfile("bar.stl");
-    cr_assert_eq(hv_mesh_write_stl(m, mesh, 0), HV_OK);
-    hv_mesh_destroy(m);
+    const char *mesh = box_stl("bar.stl", 10, 4, 0.5);
     hv_tray *t = NULL;
     cr_assert_eq(hv_tray_create(&t), HV_OK);
     hv_tray_part p;
@@ -238,12 +245,7 @@ Test(tray, quarter_turns_are_exact, .timeout = 60)
 
 static hv_status plan_boxes(const double (*at)[2], int n, const char *material, hv_tray_options *o)
 {
-    double lo[3] = {0, 0, 0}, hi[3] = {20, 20, 2};
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
-    const char *mesh = t_tmpfile("b20.stl");
-    cr_assert_eq(hv_mesh_write_stl(m, mesh, 0), HV_OK);
-    hv_mesh_destroy(m);
+    const char *mesh = box_stl("b20.stl", 20, 20, 2);
     hv_tray *t = NULL;
     cr_assert_eq(hv_tray_create(&t), HV_OK);
     for (int i = 0; i < n; ++i) {
@@ -304,12 +306,7 @@ Test(tray, refusals_name_the_part)
 /* parts may stand above one another: the spacing applies where their heights come close */
 Test(tray, stacked_parts_keep_the_spacing_in_z)
 {
-    double lo[3] = {0, 0, 0}, hi[3] = {20, 20, 2};
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
-    const char *mesh = t_tmpfile("s20.stl");
-    cr_assert_eq(hv_mesh_write_stl(m, mesh, 0), HV_OK);
-    hv_mesh_destroy(m);
+    const char *mesh = box_stl("s20.stl", 20, 20, 2);
     for (int k = 0; k < 2; ++k) {
         hv_tray *t = NULL;
         cr_assert_eq(hv_tray_create(&t), HV_OK);
@@ -335,12 +332,7 @@ Test(tray, stacked_parts_keep_the_spacing_in_z)
 
 Test(tray, too_many_resins_for_the_slots)
 {
-    double lo[3] = {0, 0, 0}, hi[3] = {10, 10, 1};
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
-    const char *mesh = t_tmpfile("b10.stl");
-    cr_assert_eq(hv_mesh_write_stl(m, mesh, 0), HV_OK);
-    hv_mesh_destroy(m);
+    const char *mesh = box_stl("b10.stl", 10, 10, 1);
     static const char *resins[] = {"VeroCyan-V", "VeroMagenta-V", "VeroYellow-V", "VeroBlackPlus",
                                    "VeroPureWhite", "VeroClear", "Agilus30Clear"};
     hv_tray *t = NULL;

@@ -154,7 +154,7 @@ static int run(const cli_args *args, void *lib, void *local)
             free(ranges);
             free(share);
         }
-        else
+        if (!o->dry_run)
             printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
                    (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",
                    o->gcvf_path ? o->gcvf_path : "");

@@ -186,6 +186,7 @@ bench-tools: $(BENCH_BIN)
 FUZZ_C   := $(wildcard tests/fuzz/fuzz_*.c)
 FUZZ_BIN := $(patsubst tests/fuzz/%.c,$(BUILD)/fuzz/%,$(FUZZ_C))
 FUZZ_SECONDS ?= 60
+FUZZ_ONLY ?=
 $(BUILD)/fuzz/%: $(BUILD)/obj/tests/fuzz/%.o $(BUILD)/obj/tests/fuzz/replay.o $(BUILD)/libhovox.a
 	@mkdir -p $(dir $@)
 	$(CC) -o $@ $< $(BUILD)/obj/tests/fuzz/replay.o $(BUILD)/libhovox.a $(LIBS)
@@ -198,8 +199,8 @@ fuzz:
 	@sh scripts/install-deps.sh build fuzz
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
 	@mkdir -p build-fuzz/libfuzzer
-	@for t in $(FUZZ_C); do n=$$(basename $$t .c); c=tests/fuzz/corpus/$${n#fuzz_}; \
-	    clang -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -I. -Itests $$t \
+	@for t in $(filter %$(FUZZ_ONLY).c,$(FUZZ_C)); do n=$$(basename $$t .c); c=tests/fuzz/corpus/$${n#fuzz_}; \
+	    clang -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -I. -Itests $(PKG_CFLAGS) $$t \
 	        build-fuzz/libhovox.a $(LIBS) -o build-fuzz/libfuzzer/$$n || exit 1; \
 	    mkdir -p build-fuzz/corpus-$$n; \
 	    build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \

@@ -116,7 +116,11 @@ static void scan_value(scanner *sc, const char *path, int depth)
     } else if (*sc->s == '"') {
         scan_string(sc, key, sizeof key);
     } else {
-        while (sc->s < sc->end && !strchr(",]} \t\r\n", *sc->s)) sc->s++;
+        /* a number or a literal; always at least one byte, so every loop above advances
+         * (found by fuzzing: a NUL byte once stopped this scanner, which recorded forever) */
+        do
+            sc->s++;
+        while (sc->s < sc->end && *sc->s && !strchr(",]} \t\r\n", *sc->s));
     }
 }
 
@@ -292,6 +296,15 @@ hv_status hv_tray_parse_job(const char *text, size_t size, const char *name, con
                             hv_tray_options *o)
 {
     *out = NULL;
+    const char *nul = memchr(text, '\0', size);
+    if (nul) { /* a job file is text; jansson would read a NUL byte as the end */
+        int line = 1;
+        const char *ls = text;
+        for (const char *p = text; p < nul; ++p)
+            if (*p == '\n') line++, ls = p + 1;
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d, column %d: a NUL byte (a job file is text)", name, line,
+                            (int)(nul - ls) + 1);
+    }
     json_t *doc = NULL;
     hv_status s = hv_json_parse(text, size, name, &doc);
     if (s != HV_OK) return s;

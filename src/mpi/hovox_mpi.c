@@ -50,7 +50,11 @@ static int max_all(void *ctx, int value)
     return out;
 }
 
-static int failed_here(void) { return !g_ctx.failed_elsewhere; }
+static int g_rank;
+
+/* Print here? Not when another rank had the failure, nor for Ctrl-C (mpirun forwards it to every
+ * rank) except on rank 0: one message, as in a plain run. */
+static int failed_here(void) { return !g_ctx.failed_elsewhere && !(g_rank != 0 && cli_interrupted()); }
 
 /* The test hook's failure: this rank stops with an error while the layers are written, as a
  * process that cannot write would (the others must stop too and leave nothing). */
@@ -66,6 +70,7 @@ int main(int argc, char **argv)
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
+    g_rank = rank;
     hv_dist d = {rank, size, &g_ctx, bcast, sum_to_root, max_all};
     const cli_spec *spec = NULL;
     if (argc >= 2 && strcmp(argv[1], "layers") == 0) spec = &cmd_layers;

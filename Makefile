@@ -198,6 +198,10 @@ fuzz-tests: $(FUZZ_BIN)
 fuzz:
 	@sh scripts/install-deps.sh build fuzz
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
+	@# the OpenVDB bridge too, instrumented, so fuzz_vdb sees inside it (the fuzz build looks for
+	@# its plugins in build-fuzz/plugins)
+	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link \
+	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so
 	@mkdir -p build-fuzz/libfuzzer
 	@for t in $(filter %$(FUZZ_ONLY).c,$(FUZZ_C)); do n=$$(basename $$t .c); c=tests/fuzz/corpus/$${n#fuzz_}; \
 	    clang -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -I. -Itests $(PKG_CFLAGS) $$t \

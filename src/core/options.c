@@ -425,8 +425,9 @@ static hv_status set_range(const hv_option *o, void *opts, const hv_opt_value *v
             if (ok && b == 0) ok = 0;
         }
     } else if (v->type == HV_VALUE_NUMBERS && v->n == 2) {
+        /* both ends below 2^64 before they become size_t (fuzzing found 1e111 for A) */
         ok = v->numbers[0] >= 0 && v->numbers[1] >= 0 && v->numbers[0] == floor(v->numbers[0]) &&
-             v->numbers[1] == floor(v->numbers[1]) && v->numbers[1] < 1.8e19;
+             v->numbers[1] == floor(v->numbers[1]) && v->numbers[0] < 1.8e19 && v->numbers[1] < 1.8e19;
         a = ok ? (size_t)v->numbers[0] : 0;
         b = ok ? (size_t)v->numbers[1] : 0;
     }

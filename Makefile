@@ -204,7 +204,7 @@ fuzz:
 	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so
 	@mkdir -p build-fuzz/libfuzzer
 	@for t in $(filter %$(FUZZ_ONLY).c,$(FUZZ_C)); do n=$$(basename $$t .c); c=tests/fuzz/corpus/$${n#fuzz_}; \
-	    clang -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Isrc -I. -Itests $(PKG_CFLAGS) $$t \
+	    clang++ -g -O1 -fsanitize=fuzzer,address,undefined -rdynamic -Iinclude -Isrc -I. -Itests $(PKG_CFLAGS) -x c $$t -x none \
 	        build-fuzz/libhovox.a $(LIBS) -o build-fuzz/libfuzzer/$$n || exit 1; \
 	    mkdir -p build-fuzz/corpus-$$n; \
 	    build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \

@@ -197,7 +197,7 @@ fuzz-tests: $(FUZZ_BIN)
 
 fuzz:
 	@sh scripts/install-deps.sh build fuzz
-	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
+	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
 	@# the OpenVDB bridge too, instrumented, so fuzz_vdb sees inside it (the fuzz build looks for
 	@# its plugins in build-fuzz/plugins)
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link \

@@ -207,7 +207,8 @@ fuzz:
 	    clang++ -g -O1 -fsanitize=fuzzer,address,undefined -rdynamic -Iinclude -Isrc -I. -Itests $(PKG_CFLAGS) -x c $$t -x none \
 	        build-fuzz/libhovox.a $(LIBS) -o build-fuzz/libfuzzer/$$n || exit 1; \
 	    mkdir -p build-fuzz/corpus-$$n; \
-	    build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \
+	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 \
+	        build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \
 	done
 
 # Every public header compiles alone as C11 and as C++17.

@@ -207,7 +207,7 @@ fuzz:
 	    clang++ -g -O1 -fsanitize=fuzzer,address,undefined -rdynamic -Iinclude -Isrc -I. -Itests $(PKG_CFLAGS) -x c $$t -x none \
 	        build-fuzz/libhovox.a $(LIBS) -o build-fuzz/libfuzzer/$$n || exit 1; \
 	    mkdir -p build-fuzz/corpus-$$n; \
-	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 \
+	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 ASAN_OPTIONS=allocator_may_return_null=1 \
 	        build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \
 	done
 
@@ -250,7 +250,7 @@ test: $(BUILD)/.deps-test
 
 sanitize: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory BUILD=build-san SAN=1 all
-	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 \
 	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests fuzz-tests cli-tests sample-tests
 

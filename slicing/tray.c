@@ -176,6 +176,7 @@ typedef struct source {   /* one part as given (copies share it) */
     double bmin[3], bmax[3];
     footprint fp, dil;    /* dil: dilated by the spacing */
     int resin[HV_MAX_MATERIALS]; /* palette entry of each material (plain meshes: [0]) */
+    const char *mat_name[HV_MAX_MATERIALS]; /* kept by the tray */
     int m;
 } source;
 
@@ -697,6 +698,7 @@ static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
         hv_status st;
         if (!s->model) {
             s->m = 1;
+            s->mat_name[0] = s->p.material;
             if ((st = resin_of(t, o, s->p.material, src_label(s, lb, sizeof lb), &s->resin[0])) != HV_OK) return st;
         } else {
             hv_material_table *tab = NULL;
@@ -706,7 +708,10 @@ static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
                                                       "alone with a material)", src_label(s, lb, sizeof lb), s->p.model);
             if (st != HV_OK) return hv_error_prefix(st, "%s: ", src_label(s, lb, sizeof lb));
             s->m = hv_material_count(tab);
-            for (int j = 0; j < s->m && st == HV_OK; ++j) st = resin_of(t, o, hv_material_name(tab, j), src_label(s, lb, sizeof lb), &s->resin[j]);
+            for (int j = 0; j < s->m && st == HV_OK; ++j) {
+                st = resin_of(t, o, hv_material_name(tab, j), src_label(s, lb, sizeof lb), &s->resin[j]);
+                if (st == HV_OK && !(s->mat_name[j] = hv_tray_keep(t, hv_material_name(tab, j)))) st = HV_ERR_NOMEM;
+            }
             hv_material_table_destroy(tab);
             if (st != HV_OK) return st;
         }
@@ -1173,7 +1178,6 @@ static hv_status write_manifest(hv_tray *t, const hv_tray_options *o, const char
         hv_layers_report pr;
         hv_layers_part_report(in->part, &pr);
         json_t *mats = json_object();
-        const hv_material_table *tab = hv_layers_part_table(in->part);
         for (int j = 0; j < s->m; ++j) {
             json_t *mj = json_object();
             failed |= hv_json_set(mj, "resin", hv_json_text(t->resins[t->pal_resin[s->resin[j]]].name));
@@ -1181,7 +1185,7 @@ static hv_status write_manifest(hv_tray *t, const hv_tray_options *o, const char
                 failed |= hv_json_set(mj, "target", hv_json_number(pr.target[j]));
                 failed |= hv_json_set(mj, "achieved", hv_json_number(pr.achieved[j]));
             }
-            failed |= hv_json_set(mats, s->model && tab ? hv_material_name(tab, j) : s->p.material, mj);
+            failed |= hv_json_set(mats, s->mat_name[j], mj);
         }
         failed |= hv_json_set(p, "materials", mats);
         failed |= json_array_append_new(parts, p);

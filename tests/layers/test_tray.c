@@ -398,3 +398,34 @@ Test(tray, cancelled_leaves_nothing, .timeout = 60)
     free(out);
     hv_tray_destroy(t);
 }
+
+/* Mask mode: graded and plain parts in one 1-bit stack, the manifest naming their materials. */
+Test(tray, mask_mode_manifest_names_materials, .timeout = 60)
+{
+    char model[4200], mesh[4200];
+    make_part(t_tmpdir(), model, mesh, sizeof model);
+    hv_tray *t = one_part_tray(model, mesh, 40, 40, 0);
+    hv_tray_part p;
+    hv_tray_part_init(&p);
+    p.mesh = mesh;
+    p.material = "VeroPureWhite";
+    p.at[0] = 80;
+    p.at[1] = 40;
+    p.placed = 1;
+    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK);
+    hv_tray_options o;
+    tray_opts(&o);
+    o.mode = HV_LAYERS_MASK;
+    o.first = 0;
+    o.last = 4;
+    const char *dir = t_tmpfile("maskmode");
+    cr_assert_eq(hv_tray_write(t, dir, &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    json_t *m = manifest(dir);
+    json_t *parts = json_object_get(m, "parts");
+    cr_assert_eq(json_array_size(parts), 2);
+    cr_expect(json_object_get(json_object_get(json_array_get(parts, 0), "materials"), "A"));
+    cr_expect(json_object_get(json_object_get(json_array_get(parts, 1), "materials"), "VeroPureWhite"));
+    cr_expect_eq(json_integer_value(json_object_get(m, "bit_depth")), 1);
+    json_decref(m);
+    hv_tray_destroy(t);
+}

@@ -127,13 +127,13 @@ ifneq ($(MPICC),)
 MPI_BIN   := $(BUILD)/hovox-mpi
 MPI_CFLAGS := $(shell mpicc --showme:compile 2>/dev/null)
 MPI_LIBS  := $(shell mpicc --showme:link 2>/dev/null)
-$(BUILD)/obj/src/mpi/hovox_mpi.o: src/mpi/hovox_mpi.c $(BUILD)/.flags
+$(BUILD)/obj/src/cli/mpi/hovox_mpi.o: src/cli/mpi/hovox_mpi.c $(BUILD)/.flags
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS_ALL) $(PKG_CFLAGS) $(MPI_CFLAGS) $(CFLAGS_ALL) -c $< -o $@
 all: $(MPI_BIN)
 mpi-tests: $(MPI_BIN) $(BUILD)/hovox
 	@HOVOX=$(ROOT)/$(BUILD)/hovox HOVOX_MPI=$(ROOT)/$(MPI_BIN) sh tests/mpi/run.sh
-$(MPI_BIN): $(BUILD)/obj/src/mpi/hovox_mpi.o $(filter-out %/main.o,$(CLI_OBJ)) $(BUILD)/libhovox.a | $(PLUGINS)
+$(MPI_BIN): $(BUILD)/obj/src/cli/mpi/hovox_mpi.o $(filter-out %/main.o,$(CLI_OBJ)) $(BUILD)/libhovox.a | $(PLUGINS)
 	$(CC) -o $@ $^ $(LIBS) $(MPI_LIBS)
 else
 mpi-tests:

@@ -1,4 +1,4 @@
-/* src/mpi/hovox_mpi.c - `mpirun -np N hovox-mpi layers|tray ...`: the stack commands of hovox
+/* src/cli/mpi/hovox_mpi.c - `mpirun -np N hovox-mpi layers|tray ...`: the stack commands of hovox
  * across MPI ranks (hovox/dist.h), with the same options. Built only when Open MPI is installed
  * (Makefile: mpicc); the plain hovox never links MPI. Rank 0 prints the plan and the summary;
  * an error is printed by the rank that had it. Works under mpirun and under Slurm's srun (MPI

@@ -24,6 +24,12 @@ static hv_status parse_adaptive(const hv_option *o, void *opts, const hv_opt_val
     return HV_OK;
 }
 
+static hv_status check_output(const hv_option *o, const void *opts)
+{
+    hv_contour_format f;
+    return hv_contour_format_for_path(*(const char *const *)((const char *)opts + o->offset), 0, &f);
+}
+
 #define OFF(f) offsetof(hv_contours_options, f)
 static const hv_option k_opts[] = {
     {.key = "layer_height", .kind = HV_OPT_NUMBER, .lo = 1e-4, .hi = 100, .flags = HV_OPT_UNSET0, .offset = OFF(layer_height), .meta = "H",
@@ -38,6 +44,13 @@ static const hv_option k_opts[] = {
                            "close are reported as open polylines (CLI dir 2, SVG class \"open\")",
      .section = "Contours"},
     {.key = "binary", .kind = HV_OPT_FLAG, .offset = OFF(binary), .help = "binary CLI instead of ASCII (a .cli output)"},
+    {.key = "output", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = OFF(output), .meta = "FILE",
+     .check = check_output, .section = "Output",
+     .help = ".svg: one file, a <g> per layer (data-z = cut height), 1 user unit = 1 mm, y up; .cli: Common Layer "
+             "Interface 2.0, ASCII ($$LAYER/z is the top of the layer; a leading zero layer gives the first "
+             "layer's thickness; $$POLYLINE dir 1 outer, 0 hole, 2 open)"},
+    {.key = "per_layer", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = OFF(per_layer), .meta = "DIR",
+     .help = "also one SVG per layer: DIR/layer-00000.svg, ..."},
 };
 #undef OFF
 
@@ -54,8 +67,11 @@ static hv_status finish(const hv_optargs *args)
 static hv_status validate(const void *opts)
 {
     const hv_contours_options *c = opts;
+    hv_contour_format f;
     if (c->layer_height > 0 && c->adaptive[0] > 0)
         return hv_error_option(HV_ERR_INVALID, "{layer_height} and {adaptive} exclude each other");
+    if (c->binary && (!c->output || hv_contour_format_for_path(c->output, 1, &f) != HV_OK))
+        return hv_error_option(HV_ERR_INVALID, "{binary} needs a .cli output");
     return HV_OK;
 }
 

@@ -206,12 +206,16 @@ typedef struct hv_contours_options {
     double adaptive[3];  /* adaptive layers: min, max, cusp (cusp 0: min); min 0: uniform */
     double first_layer;  /* 0: as the others */
     double close_gap;    /* the gap rule (default HV_SLICE_DEFAULT_CLOSE_GAP) */
-    int binary;          /* contour files in binary CLI */
+    int binary;          /* contour files in binary CLI (needs a .cli output) */
+    const char *output;  /* hv_contours_write: the contour file (.svg or .cli), or NULL */
+    const char *per_layer; /* hv_contours_write: a directory of one SVG per layer
+                            * (layer-00000.svg, ...), or NULL */
 } hv_contours_options;
 
 HV_API void hv_contours_options_init(hv_contours_options *o);
 /* As an option set (hovox/options.h): keys layer_height, adaptive ("MIN,MAX[,CUSP]"),
- * first_layer, close_gap, binary. Static data. */
+ * first_layer, close_gap, binary, output, per_layer (output paths: the front end keeps the
+ * strings alive). Static data. */
 HV_API const hv_option_set *hv_contours_option_set(void);
 /* Domains; exactly one of layer_height and adaptive. Errors: HV_ERR_INVALID naming the option. */
 HV_API hv_status hv_contours_options_check(const hv_contours_options *o);
@@ -312,6 +316,33 @@ HV_API hv_status hv_contour_writer_close(hv_contour_writer *writer);
 
 /* Drop the file being written (nothing is left on disk) and free the writer; NULL allowed. */
 HV_API void hv_contour_writer_abort(hv_contour_writer *writer);
+
+/* ==== A contour job: a mesh sliced into files =============================================== */
+
+typedef struct hv_contours_summary {
+    size_t layers;                 /* in the plan */
+    size_t loops, holes, open, gaps_closed, dropped; /* over all layers (hv_slice_stats) */
+    double bbox_min[3], bbox_max[3]; /* the mesh's bounding box (mm) */
+} hv_contours_summary;
+
+/* Called for every layer in order, after it was written to the files; `slice` is borrowed for
+ * the call. A status other than HV_OK stops the job (set the message with hv_error_set). */
+typedef hv_status (*hv_contours_layer_fn)(void *user, size_t index, const hv_layer *layer,
+                                          const hv_slice *slice);
+
+/* Plan the layers of `mesh` as `o` says and slice every one (hv_slicer_slice_plan): into
+ * o->output (the format from its name, hv_contour_format_for_path), into o->per_layer (one SVG
+ * per layer, the directory written whole: hv_outdir rules, an existing directory replaced only
+ * when it holds nothing but layer SVGs), and to `layer` (may be NULL). Nothing is left under a
+ * final name when the job fails. `name` (may be NULL) is the mesh's file: it prefixes errors
+ * about the mesh, and its base name labels the files ("hovox" when NULL). `summary` (may be
+ * NULL) receives the counts. Progress stage "contours".
+ * Errors: HV_ERR_INVALID (options; a mesh with no layer: "the mesh is H mm high: no layer of
+ * T mm has its middle inside it"), HV_ERR_LIMIT (too many layers), HV_ERR_IO (naming the
+ * file), HV_ERR_NOMEM, HV_ERR_CANCELLED, or what `layer` returned. */
+HV_API hv_status hv_contours_write(const hv_mesh *mesh, const hv_contours_options *o, const char *name,
+                                   hv_contours_layer_fn layer, void *user,
+                                   const hv_progress *progress, hv_contours_summary *summary);
 
 #ifdef __cplusplus
 }

@@ -125,7 +125,6 @@ static int l_generate(lua_State *L)
 
 typedef struct contour_run {
     lua_State *L;
-    hv_contour_writer *writer;
     int keep_loops;
     int table; /* stack index of the result list */
 } contour_run;
@@ -156,12 +155,12 @@ static void push_loops(lua_State *L, const hv_slice *slice)
     }
 }
 
-/* Runs on the calling thread, in layer order (hv_slicer_slice_plan's sink contract). */
-static hv_status contour_sink(void *user, size_t index, const hv_layer *layer, hv_slice **slice)
+/* Runs on the calling thread, in layer order (hv_contours_write's contract). */
+static hv_status contour_layer(void *user, size_t index, const hv_layer *layer, const hv_slice *slice)
 {
     contour_run *r = user;
     lua_State *L = r->L;
-    const hv_slice_stats *st = hv_slice_get_stats(*slice);
+    const hv_slice_stats *st = hv_slice_get_stats(slice);
     if (!lua_checkstack(L, 8)) return hv_error_set(HV_ERR_NOMEM, "Lua stack exhausted");
     lua_createtable(L, 0, 9);
     const struct { const char *k; double v; } f[] = {{"z", layer->z}, {"bottom", layer->bottom}, {"top", layer->top},
@@ -173,54 +172,32 @@ static hv_status contour_sink(void *user, size_t index, const hv_layer *layer, h
         lua_setfield(L, -2, f[i].k);
     }
     if (r->keep_loops) {
-        push_loops(L, *slice);
+        push_loops(L, slice);
         lua_setfield(L, -2, "contours");
     }
     lua_rawseti(L, r->table, (lua_Integer)index + 1);
-    return r->writer ? hv_contour_writer_add(r->writer, layer, *slice) : HV_OK;
+    return HV_OK;
 }
 
 /* hovox.contours(mesh, {<the options of hv_contours_option_set: layer_height, adaptive = {min,
- *   max[, cusp]}, first_layer, close_gap, binary>, output = "x.svg" | "x.cli", loops = true})
+ *   max[, cusp]}, first_layer, close_gap, binary, output = "x.svg" | "x.cli", per_layer = DIR>,
+ *   loops = true})
  *   -> { {z, bottom, top, area, loops, holes, open, contours = { {points, closed,
  *        orientation, parent, area}, ... }}, ... } */
 static int l_contours(lua_State *L)
 {
-    static const char *const extra[] = {"output", "loops", NULL};
+    static const char *const extra[] = {"loops", NULL};
     hv_mesh *mesh = hv_lua_mesh(L, 1);
     hv_contours_options o;
-    int holder = hv_lua_read(L, 2, hv_contours_option_set(), &o, extra);
-    const char *output = hv_lua_out_path(L, 2, "output", holder, NULL);
+    hv_lua_read(L, 2, hv_contours_option_set(), &o, extra);
     int keep = hv_lua_field(L, 2, "loops") == LUA_TNIL || lua_toboolean(L, -1);
     lua_pop(L, 1);
-    hv_contour_format fmt = HV_CONTOUR_SVG;
-    if (output && hv_contour_format_for_path(output, o.binary, &fmt) != HV_OK) return arg_error(L, 2, "%s", hv_last_error());
-    if (!output && o.binary) return arg_error(L, 2, "binary needs a .cli output");
-    hv_slicer *slicer = NULL;
-    hv_layer_plan *plan = NULL;
+    hv_lua_check_paths(L, 2, hv_contours_option_set(), &o);
     mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
-    hv_status s = hv_slicer_create(mesh, NULL, &slicer);
-    if (s == HV_OK) s = hv_slicer_plan(slicer, &o, &plan);
-    lua_createtable(L, plan ? (int)HV_MIN(hv_layer_plan_count(plan), (size_t)1 << 20) : 0, 0);
-    contour_run run = {L, NULL, keep, lua_gettop(L)};
-    if (s == HV_OK && output) {
-        hv_slicer_info info;
-        hv_slicer_get_info(slicer, &info);
-        s = hv_contour_writer_open(output, fmt, hv_layer_plan_count(plan), info.bbox_min, info.bbox_max, "hovox",
-                                   &run.writer);
-    }
-    hv_slice_options so;
-    hv_slice_options_init(&so);
-    so.close_gap = o.close_gap;
-    if (s == HV_OK) s = hv_slicer_slice_plan(slicer, plan, &so, contour_sink, &run, NULL);
-    if (run.writer) {
-        if (s == HV_OK) s = hv_contour_writer_close(run.writer);
-        else hv_contour_writer_abort(run.writer);
-    }
-    hv_layer_plan_destroy(plan);
-    hv_slicer_destroy(slicer);
-    if (s != HV_OK) return fail(L, s);
-    return 1;
+    lua_newtable(L);
+    contour_run run = {L, keep, lua_gettop(L)};
+    hv_status s = hv_contours_write(mesh, &o, NULL, contour_layer, &run, NULL, NULL);
+    return s != HV_OK ? fail(L, s) : 1;
 }
 
 void hv_lua_open_mesh(lua_State *L, int module)

@@ -231,6 +231,16 @@ assert(cl[1].contours == nil and io.open(tmp .. "/holed.cli"):read("l"):find("$$
 assert(#hovox.contours(holed, {adaptive = {1, 5}}) >= 4)
 fails("layer_height must be in [0.0001, 100] mm, got 0", hovox.contours, holed, {layer_height = 0})
 fails("has an unknown extension (use .svg or .cli)", hovox.contours, holed, {layer_height = 1, output = tmp .. "/x.txt"})
+fails("binary needs a .cli output", hovox.contours, holed, {layer_height = 5, binary = true, output = tmp .. "/b.svg"})
+fails("the mesh is 20 mm high: no layer of 50 mm has its middle inside it", hovox.contours, holed, {layer_height = 50})
+-- one SVG per layer, the same job as `hovox contours --per-layer`
+hovox.contours(holed, {layer_height = 5, per_layer = tmp .. "/holed_layers", loops = false})
+for i = 0, 3 do
+  local f = assert(io.open(string.format("%s/holed_layers/layer-%05d.svg", tmp, i)))
+  assert(f:read("a"):find('data-index="0"', 1, true), "a per-layer SVG holds its one layer")
+  f:close()
+end
+assert(not io.open(tmp .. "/holed_layers/layer-00004.svg"), "4 layers, 4 files")
 
 -- export (VTK)
 local ex = graded:export{path = tmp .. "/g.vti"}

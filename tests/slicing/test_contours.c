@@ -1068,3 +1068,85 @@ Test(files, unwritable_path_and_layer_count_mismatch)
     cr_assert_eq(hv_contour_writer_close(w), HV_ERR_INVALID);
     cr_assert_not(t_exists(path)); /* no partial file under the final name */
 }
+
+/* ---- the contour job (hv_contours_write) ---- */
+
+typedef struct job_count {
+    size_t layers, loops;
+} job_count;
+
+static hv_status count_layer(void *user, size_t index, const hv_layer *layer, const hv_slice *slice)
+{
+    job_count *c = user;
+    (void)layer;
+    cr_assert_eq(index, c->layers);
+    ++c->layers;
+    c->loops += hv_slice_get_stats(slice)->loops;
+    return HV_OK;
+}
+
+static int exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f) fclose(f);
+    return f != NULL;
+}
+
+Test(job, file_per_layer_svgs_and_summary_agree_with_single_slices)
+{
+    hv_mesh *m = gen_holed_box();
+    hv_contours_options o;
+    hv_contours_options_init(&o);
+    o.layer_height = 5;
+    o.output = t_tmpfile("job.cli");
+    o.per_layer = t_tmpfile("job_layers");
+    job_count c = {0, 0};
+    hv_contours_summary sum;
+    cr_assert_eq(hv_contours_write(m, &o, "dir/holed.stl", count_layer, &c, NULL, &sum), HV_OK, "%s", hv_last_error());
+    hv_slicer *s = slicer_of(m);
+    hv_layer_plan *p = NULL;
+    cr_assert_eq(hv_slicer_plan_uniform(s, 0, 5, &p), HV_OK);
+    size_t loops = 0;
+    for (size_t i = 0; i < hv_layer_plan_count(p); ++i) {
+        hv_slice *one = slice_at(s, hv_layer_plan_layers(p)[i].z, HV_SLICE_DEFAULT_CLOSE_GAP);
+        loops += hv_slice_get_stats(one)->loops;
+        hv_slice_destroy(one);
+        char path[4096];
+        snprintf(path, sizeof path, "%s/layer-%05zu.svg", o.per_layer, i);
+        cr_assert(exists(path), "%s", path);
+    }
+    cr_assert_eq(sum.layers, hv_layer_plan_count(p));
+    cr_assert_eq(c.layers, sum.layers);
+    cr_assert_eq(sum.loops, loops);
+    cr_assert_eq(c.loops, loops);
+    FILE *f = fopen(o.output, "r");
+    char line[256] = "";
+    int labelled = 0;
+    while (f && fgets(line, sizeof line, f)) labelled |= strstr(line, "$$LABEL/1,holed.stl") != NULL;
+    if (f) fclose(f);
+    cr_assert(labelled, "the file is labelled with the mesh's base name");
+    hv_layer_plan_destroy(p);
+    hv_slicer_destroy(s);
+    hv_mesh_destroy(m);
+}
+
+Test(job, refusals_leave_nothing)
+{
+    hv_mesh *m = gen_holed_box();
+    hv_contours_options o;
+    hv_contours_options_init(&o);
+    o.layer_height = 50; /* the box is 20 mm high: no layer has its middle inside */
+    o.output = t_tmpfile("none.svg");
+    cr_assert_eq(hv_contours_write(m, &o, "holed.stl", NULL, NULL, NULL, NULL), HV_ERR_INVALID);
+    cr_assert(strstr(hv_last_error(), "holed.stl: the mesh is 20 mm high"), "%s", hv_last_error());
+    o.layer_height = 5;
+    o.binary = 1;
+    cr_assert_eq(hv_contours_write(m, &o, NULL, NULL, NULL, NULL, NULL), HV_ERR_INVALID);
+    cr_assert(strstr(hv_last_error(), "needs a .cli output"), "%s", hv_last_error());
+    /* the per-layer directory cannot be made: the contour file is not left either */
+    o.binary = 0;
+    o.per_layer = "/proc/hovox-no/such-dir";
+    cr_assert_neq(hv_contours_write(m, &o, NULL, NULL, NULL, NULL, NULL), HV_OK);
+    cr_assert(!exists(o.output));
+    hv_mesh_destroy(m);
+}

@@ -42,6 +42,12 @@ HV_API hv_status hv_material_set_color(hv_material_table *t, int m, const float 
 /* The i-th colour of the default palette (tab10-like), for i >= 0. */
 HV_API void hv_material_palette(int i, float rgba[4]);
 /* Colours are parsed by hv_color_parse (hovox/options.h). */
+/* A table from its text form (the CLI's --materials, --colors, --property): `names` "A,B,C",
+ * `colors` "#rrggbb,..." one per material (NULL: the palette), and `props[0..nprops)` each
+ * "MATERIAL:KEY=VALUE[:UNIT]" (no unit: hv_property_si_unit). Errors: HV_ERR_INVALID naming the
+ * option ({materials}, {colors}, {property}) and the text; HV_ERR_NOMEM. */
+HV_API hv_status hv_material_table_parse(const char *names, const char *colors, const char *const *props,
+                                         int nprops, hv_material_table **out);
 
 /* Properties: set (replacing) a value with its SI unit (may be "" or NULL). Keys: 1-64 bytes
  * of [A-Za-z0-9_.-]. Errors: HV_ERR_INVALID (key, non-finite value). */

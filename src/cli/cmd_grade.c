@@ -130,56 +130,6 @@ static const hv_option k_local_opts[] = {
 static const hv_option_set k_local = CLI_LOCAL_SET("grade", k_local_opts, grade_cli);
 
 
-static int split_names(const char *s, char names[][65], int max)
-{
-    int n = 0;
-    for (const char *p = s; n < max;) {
-        const char *c = strchr(p, ',');
-        size_t len = c ? (size_t)(c - p) : strlen(p);
-        if (len == 0 || len > 64) return -1;
-        memcpy(names[n], p, len);
-        names[n++][len] = '\0';
-        if (!c) return n;
-        p = c + 1;
-    }
-    return -1;
-}
-
-/* The material table from --materials, --colors and --property. */
-static hv_status make_table(const grade_cli *g, hv_material_table **out)
-{
-    char names[HV_MAX_MATERIALS][65], cols[HV_MAX_MATERIALS][65];
-    int m = split_names(g->materials, names, HV_MAX_MATERIALS);
-    if (m < 1) return hv_error_option(HV_ERR_INVALID, "{materials} '%s': expected comma-separated names", g->materials);
-    hv_status s = hv_material_table_create(out);
-    for (int j = 0; j < m && s == HV_OK; ++j) s = hv_material_add(*out, names[j], NULL, NULL);
-    int nc = g->colors ? split_names(g->colors, cols, HV_MAX_MATERIALS) : m;
-    if (s == HV_OK && nc != m)
-        s = hv_error_option(HV_ERR_INVALID, "{colors}: %d colours for %d materials", nc < 0 ? 0 : nc, m);
-    for (int j = 0; g->colors && j < m && s == HV_OK; ++j) {
-        float rgba[4];
-        if ((s = hv_color_parse(cols[j], rgba)) == HV_OK) s = hv_material_set_color(*out, j, rgba);
-    }
-    for (int i = 0; i < g->nprops && s == HV_OK; ++i) {
-        char buf[256];
-        snprintf(buf, sizeof buf, "%s", g->props[i]);
-        char *colon = strchr(buf, ':'), *eq = colon ? strchr(colon, '=') : NULL, *unit = NULL;
-        if (!colon || !eq) {
-            s = hv_error_option(HV_ERR_INVALID, "{property} '%s': expected MATERIAL:KEY=VALUE[:UNIT]", g->props[i]);
-            break;
-        }
-        *colon = *eq = '\0';
-        if ((unit = strchr(eq + 1, ':'))) *unit++ = '\0';
-        int mi = hv_material_find(*out, buf);
-        double v;
-        static const hv_option num = {.key = "property", .kind = HV_OPT_NUMBER};
-        if (mi < 0) s = hv_error_option(HV_ERR_INVALID, "{property} '%s': no material '%s'", g->props[i], buf);
-        else if (hv_option_set_text(&num, &v, eq + 1) != HV_OK) s = HV_ERR_INVALID;
-        else s = hv_material_set_property(*out, mi, colon + 1, v, unit ? unit : hv_property_si_unit(colon + 1));
-    }
-    return s;
-}
-
 static hv_status add_sources(const grade_cli *g, const hv_volume *vol, hv_object *obj)
 {
     hv_status s = HV_OK;
@@ -204,7 +154,7 @@ static int grade(const char *model, grade_cli *g, int quiet)
     hv_material_table *t = NULL;
     hv_volume *vol = NULL, *graded = NULL;
     hv_object *obj = NULL;
-    hv_status s = make_table(g, &t); /* everything the user typed is checked before the model is read */
+    hv_status s = hv_material_table_parse(g->materials, g->colors, g->props, g->nprops, &t); /* everything the user typed is checked before the model is read */
     int m = s == HV_OK ? hv_material_count(t) : 0;
     for (int i = 0; i < g->ns && s == HV_OK; ++i)
         if (g->src[i].a.nms != m)

@@ -3,6 +3,7 @@
  * composition check of Wu eq. 12 (fractions >= 0 summing to 1; errors, never clamps). */
 #include <ctype.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,6 +102,63 @@ hv_status hv_material_add(hv_material_table *t, const char *name, const float rg
     if (index) *index = t->n;
     ++t->n;
     return HV_OK;
+}
+
+/* "A,B,C" -> names; -1 on an empty or over-long name or more than max */
+static int split_names(const char *s, char names[][65], int max)
+{
+    int n = 0;
+    for (const char *p = s; n < max;) {
+        const char *c = strchr(p, ',');
+        size_t len = c ? (size_t)(c - p) : strlen(p);
+        if (len == 0 || len > 64) return -1;
+        memcpy(names[n], p, len);
+        names[n++][len] = '\0';
+        if (!c) return n;
+        p = c + 1;
+    }
+    return -1;
+}
+
+/* "MATERIAL:KEY=VALUE[:UNIT]" */
+static hv_status parse_property(hv_material_table *t, const char *spec)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", spec);
+    char *colon = strchr(buf, ':'), *eq = colon ? strchr(colon, '=') : NULL, *unit = NULL;
+    if (!colon || !eq) return hv_error_option(HV_ERR_INVALID, "{property} '%s': expected MATERIAL:KEY=VALUE[:UNIT]", spec);
+    *colon = *eq = '\0';
+    if ((unit = strchr(eq + 1, ':'))) *unit++ = '\0';
+    int mi = hv_material_find(t, buf);
+    double v;
+    static const hv_option num = {.key = "property", .kind = HV_OPT_NUMBER};
+    if (mi < 0) return hv_error_option(HV_ERR_INVALID, "{property} '%s': no material '%s'", spec, buf);
+    if (hv_option_set_text(&num, &v, eq + 1) != HV_OK) return HV_ERR_INVALID;
+    return hv_material_set_property(t, mi, colon + 1, v, unit ? unit : hv_property_si_unit(colon + 1));
+}
+
+hv_status hv_material_table_parse(const char *names, const char *colors, const char *const *props, int nprops,
+                                  hv_material_table **out)
+{
+    char nm[HV_MAX_MATERIALS][65], cols[HV_MAX_MATERIALS][65];
+    *out = NULL;
+    int m = names ? split_names(names, nm, HV_MAX_MATERIALS) : -1;
+    if (m < 1) return hv_error_option(HV_ERR_INVALID, "{materials} '%s': expected comma-separated names", names ? names : "");
+    hv_material_table *t;
+    hv_status s = hv_material_table_create(&t);
+    if (s != HV_OK) return s;
+    for (int j = 0; j < m && s == HV_OK; ++j) s = hv_material_add(t, nm[j], NULL, NULL);
+    int nc = colors ? split_names(colors, cols, HV_MAX_MATERIALS) : m;
+    if (s == HV_OK && nc != m)
+        s = hv_error_option(HV_ERR_INVALID, "{colors}: %d colours for %d materials", nc < 0 ? 0 : nc, m);
+    for (int j = 0; colors && j < m && s == HV_OK; ++j) {
+        float rgba[4];
+        if ((s = hv_color_parse(cols[j], rgba)) == HV_OK) s = hv_material_set_color(t, j, rgba);
+    }
+    for (int i = 0; i < nprops && s == HV_OK; ++i) s = parse_property(t, props[i]);
+    if (s == HV_OK) *out = t;
+    else hv_material_table_destroy(t);
+    return s;
 }
 
 int hv_material_count(const hv_material_table *t) { return t->n; }

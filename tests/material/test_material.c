@@ -120,6 +120,39 @@ Test(material, compositions_are_checked_not_clamped)
     cr_assert(strstr(hv_last_error(), "entry 1 is negative (-0.1)"), "%s", hv_last_error());
 }
 
+Test(material, table_from_text)
+{
+    const char *props[] = {"B:density=1180", "A:youngs_modulus=2.5:GPa"};
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_parse("A,B,rubber_1", "#ff0000,#00ff00,#0000ff", props, 2, &t), HV_OK, "%s",
+                 hv_last_error());
+    cr_assert_eq(hv_material_count(t), 3);
+    cr_assert_str_eq(hv_material_name(t, 2), "rubber_1");
+    float c[4];
+    hv_material_color(t, 1, c);
+    cr_assert(c[0] == 0 && c[1] == 1 && c[2] == 0 && c[3] == 1);
+    double v;
+    const char *unit;
+    cr_assert(hv_material_property(t, 1, "density", &v, &unit) && v == 1180 && strcmp(unit, "kg/m^3") == 0);
+    cr_assert(hv_material_property(t, 0, "youngs_modulus", &v, &unit) && v == 2.5 && strcmp(unit, "GPa") == 0);
+    hv_material_table_destroy(t);
+    static const struct { const char *names, *colors, *prop, *msg; } bad[] = {
+        {"A,,B", NULL, NULL, "materials 'A,,B': expected comma-separated names"},
+        {"A,B", "#ff0000", NULL, "colors: 1 colours for 2 materials"},
+        {"A,A", NULL, NULL, "material 'A' is defined twice"},
+        {"A,B", NULL, "C:density=1", "property 'C:density=1': no material 'C'"},
+        {"A,B", NULL, "A=density", "property 'A=density': expected MATERIAL:KEY=VALUE[:UNIT]"},
+        {"A,B", NULL, "A:density=heavy", "property"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; ++i) {
+        t = (hv_material_table *)1;
+        cr_assert_eq(hv_material_table_parse(bad[i].names, bad[i].colors, &bad[i].prop, bad[i].prop ? 1 : 0, &t),
+                     HV_ERR_INVALID, "case %zu", i);
+        cr_assert_null(t);
+        cr_assert(strstr(hv_last_error(), bad[i].msg), "case %zu: %s", i, hv_last_error());
+    }
+}
+
 Test(material, table_round_trips_through_a_volume)
 {
     hv_material_table *t = table3(), *r;

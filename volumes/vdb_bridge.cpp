@@ -511,7 +511,7 @@ int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_v
         openvdb::GridPtrVecPtr grids;
         openvdb::MetaMap::Ptr meta;
         try {
-            AddressLimit limit((uint64_t(1) << 30) + 64 * fsize); // trees in memory: about the file's size
+            AddressLimit limit((uint64_t(256) << 20) + 64 * fsize); // trees in memory: about the file's size; a damaged length asking for more fails at once instead of being filled
             openvdb::io::Stream stream(is, false);
             grids = stream.getGrids();
             meta = stream.getMetadata();

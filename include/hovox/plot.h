@@ -116,6 +116,15 @@ HV_API hv_status hv_plot_write_svg_stream(const hv_plot *p, FILE *fp);
 HV_API hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out);
 /* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). */
 HV_API hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o, hv_plot **out);
+/* HV_OK when `path` names a plot format: .png or .svg, case aside. Errors: HV_ERR_INVALID
+ * ("{plot} 'x.gif' has an unknown extension (use .png or .svg)"). */
+HV_API hv_status hv_plot_path_check(const char *path);
+/* Write the profile's CSV to `csv` and its plot (hv_profile_plot_with(p, o), format from the
+ * name) to `plot`, either may be NULL; both under temporary names renamed at the end, so a
+ * failed call leaves neither. Errors: HV_ERR_INVALID (plot name), HV_ERR_IO naming the file,
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_profile_write_files(const hv_profile *p, const hv_profile_options *o, const char *csv,
+                                        const char *plot);
 
 #ifdef __cplusplus
 }

@@ -16,10 +16,7 @@ typedef struct profile_cli {
 
 static hv_status check_plot_path(const hv_option *o, const void *opts)
 {
-    const char *path = *(const char *const *)((const char *)opts + o->offset);
-    size_t n = strlen(path);
-    if (n > 4 && (!strcasecmp(path + n - 4, ".png") || !strcasecmp(path + n - 4, ".svg"))) return HV_OK;
-    return hv_error_option(HV_ERR_INVALID, "{%s} '%s' has an unknown extension (use .png or .svg)", o->key, path);
+    return hv_plot_path_check(*(const char *const *)((const char *)opts + o->offset));
 }
 
 static const hv_option k_local_opts[] = {
@@ -47,29 +44,6 @@ static void report(const hv_profile *p, const char *csv, const char *plot)
     if (plot) printf("wrote       %s\n", plot);
 }
 
-/* Both files under temporary names, renamed at the end: a failed run leaves neither. */
-static hv_status write_outputs(const hv_profile *prof, const hv_plot *pl, const char *csv, const char *plot)
-{
-    hv_atomic_file fcsv = {NULL, NULL, NULL}, fplot = {NULL, NULL, NULL};
-    hv_status s = HV_OK;
-    if (csv) s = hv_atomic_open(&fcsv, csv, "w");
-    if (s == HV_OK && plot) s = hv_atomic_open(&fplot, plot, "wb");
-    if (s == HV_OK && fcsv.fp && (s = hv_profile_write_csv_stream(prof, fcsv.fp)) != HV_OK)
-        s = hv_error_prefix(s, "%s: ", csv);
-    if (s == HV_OK && fplot.fp) {
-        size_t n = strlen(plot);
-        s = !strcasecmp(plot + n - 4, ".svg") ? hv_plot_write_svg_stream(pl, fplot.fp) : hv_plot_write_png_stream(pl, fplot.fp);
-        if (s != HV_OK) s = hv_error_prefix(s, "%s: ", plot);
-    }
-    if (s == HV_OK && fcsv.fp) s = hv_atomic_commit(&fcsv);
-    if (s == HV_OK && fplot.fp) s = hv_atomic_commit(&fplot);
-    if (s != HV_OK) {
-        if (fcsv.fp) hv_atomic_abort(&fcsv);
-        if (fplot.fp) hv_atomic_abort(&fplot);
-    }
-    return s;
-}
-
 static int run(const char *model, const hv_profile_options *o, const profile_cli *c, int quiet)
 {
     int to_stdout = c->output && strcmp(c->output, "-") == 0;
@@ -82,12 +56,9 @@ static int run(const char *model, const hv_profile_options *o, const profile_cli
     if (s == HV_ERR_NOT_FOUND)
         return cli_fail(hv_error_set(HV_ERR_BAD_INPUT, "%s: model has no materials: grade it first (hovox grade)", model));
     if (s != HV_OK) return cli_fail(s == HV_ERR_INVALID ? s : hv_error_prefix(s, "%s: ", model));
-    hv_plot *pl = NULL; /* everything that can fail on content is done before anything is written */
-    if (c->plot) s = hv_profile_plot_with(prof, o, &pl);
-    if (s == HV_OK) s = write_outputs(prof, pl, to_stdout ? NULL : c->output, c->plot);
+    if (s == HV_OK) s = hv_profile_write_files(prof, o, to_stdout ? NULL : c->output, c->plot);
     if (s == HV_OK && to_stdout) s = hv_profile_write_csv_stream(prof, stdout);
     if (s == HV_OK && !quiet && !to_stdout) report(prof, c->output, c->plot);
-    hv_plot_destroy(pl);
     hv_profile_destroy(prof);
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }

@@ -76,6 +76,14 @@ void *hv_lua_option_object(lua_State *L, int arg, const char *key, const char *m
     return p;
 }
 
+void *hv_lua_take(lua_State *L, const char *mt)
+{
+    void **u = luaL_checkudata(L, 1, mt);
+    void *p = *u;
+    *u = NULL;
+    return p;
+}
+
 void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,
                       lua_CFunction tostring)
 {

@@ -61,6 +61,9 @@ void *hv_lua_check_live(lua_State *L, int arg, const char *mt);
  * stack, anchored, while C uses it); raises "bad argument #arg (<key> must be a <what>)" or
  * "(<key> was freed)". */
 void *hv_lua_option_object(lua_State *L, int arg, const char *key, const char *mt, const char *what);
+/* For a class's __gc: the C object of the userdata of class `mt` at 1, which is left freed (NULL);
+ * the caller destroys what it returns (NULL allowed). */
+void *hv_lua_take(lua_State *L, const char *mt);
 /* Register class `name`: methods as __index, gc as __gc and __close, tostring (may be NULL),
  * __name, and a locked __metatable. */
 void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,

@@ -90,13 +90,7 @@ static int mesh_count(lua_State *L)
     return 2;
 }
 
-static int mesh_gc(lua_State *L)
-{
-    l_mesh *u = luaL_checkudata(L, 1, MT_MESH);
-    hv_mesh_destroy(u->p);
-    u->p = NULL;
-    return 0;
-}
+static int mesh_gc(lua_State *L) { return hv_mesh_destroy(hv_lua_take(L, MT_MESH)), 0; }
 
 static int mesh_tostring(lua_State *L)
 {

@@ -230,13 +230,7 @@ static int object_voxels(lua_State *L)
     return 1;
 }
 
-static int object_gc(lua_State *L)
-{
-    l_object *u = luaL_checkudata(L, 1, MT_OBJECT);
-    hv_object_destroy(u->p);
-    u->p = NULL;
-    return 0;
-}
+static int object_gc(lua_State *L) { return hv_object_destroy(hv_lua_take(L, MT_OBJECT)), 0; }
 
 void hv_lua_open_object(lua_State *L, int module)
 {

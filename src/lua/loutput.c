@@ -19,7 +19,7 @@
 #define SET_NUM(k, v) (lua_pushnumber(L, (v)), lua_setfield(L, -2, k))
 
 /* model:profile{<from, to, samples, title, size = {w, h}, mark, y_range>, csv = "p.csv",
- *   plot = "p.png"} -> {t = {...}, inside = {...}, <material> = {...}, ...} */
+ *   plot = "p.png" | "p.svg"} -> {t = {...}, inside = {...}, <material> = {...}, ...} */
 static int model_profile(lua_State *L)
 {
     static const char *const extra[] = {"csv", "plot", NULL};
@@ -31,13 +31,7 @@ static int model_profile(lua_State *L)
     hv_profile *p;
     hv_status s = hv_profile_sample(vol, o.from, o.to, o.samples, &p);
     if (s != HV_OK) return fail(L, s);
-    if (csv) s = hv_profile_write_csv(p, csv);
-    if (s == HV_OK && plot) {
-        hv_plot *pl = NULL;
-        s = hv_profile_plot_with(p, &o, &pl);
-        if (s == HV_OK) s = hv_plot_write_png(pl, plot);
-        hv_plot_destroy(pl);
-    }
+    s = hv_profile_write_files(p, &o, csv, plot);
     if (s != HV_OK) {
         hv_profile_destroy(p);
         return fail(L, s);

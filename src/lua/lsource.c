@@ -144,13 +144,7 @@ static int mats_property(lua_State *L)
     return 2;
 }
 
-static int mats_gc(lua_State *L)
-{
-    l_mats *u = luaL_checkudata(L, 1, MT_MATS);
-    hv_material_table_destroy(u->p);
-    u->p = NULL;
-    return 0;
-}
+static int mats_gc(lua_State *L) { return hv_material_table_destroy(hv_lua_take(L, MT_MATS)), 0; }
 
 /* ---- features ------------------------------------------------------------------------------- */
 
@@ -246,13 +240,7 @@ static int feature_distance(lua_State *L)
     return 1;
 }
 
-static int feature_gc(lua_State *L)
-{
-    l_feature *u = luaL_checkudata(L, 1, MT_FEATURE);
-    hv_frf_release(u->p);
-    u->p = NULL;
-    return 0;
-}
+static int feature_gc(lua_State *L) { return hv_frf_release(hv_lua_take(L, MT_FEATURE)), 0; }
 
 static int feature_tostring(lua_State *L)
 {
@@ -433,13 +421,7 @@ static int source_moved(lua_State *L)
     return push_source(L, b);
 }
 
-static int source_gc(lua_State *L)
-{
-    l_source *u = luaL_checkudata(L, 1, MT_SOURCE);
-    hv_ags_release(u->p);
-    u->p = NULL;
-    return 0;
-}
+static int source_gc(lua_State *L) { return hv_ags_release(hv_lua_take(L, MT_SOURCE)), 0; }
 
 void hv_lua_open_sources(lua_State *L, int module)
 {

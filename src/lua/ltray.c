@@ -129,13 +129,7 @@ static int tray_layers(lua_State *L)
     return 1;
 }
 
-static int tray_gc(lua_State *L)
-{
-    l_tray *u = luaL_checkudata(L, 1, MT_TRAY);
-    hv_tray_destroy(u->p);
-    u->p = NULL;
-    return 0;
-}
+static int tray_gc(lua_State *L) { return hv_tray_destroy(hv_lua_take(L, MT_TRAY)), 0; }
 
 void hv_lua_open_tray(lua_State *L, int module)
 {

@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <strings.h>
 
 #include "core/internal.h"
 #include "hovox/plot.h"
@@ -79,5 +81,42 @@ hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o,
         hv_plot_destroy(*out);
         *out = NULL;
     }
+    return s;
+}
+
+static int is_svg(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && strcasecmp(path + n - 4, ".svg") == 0;
+}
+
+hv_status hv_plot_path_check(const char *path)
+{
+    size_t n = path ? strlen(path) : 0;
+    if (n > 4 && (is_svg(path) || strcasecmp(path + n - 4, ".png") == 0)) return HV_OK;
+    return hv_error_option(HV_ERR_INVALID, "{plot} '%s' has an unknown extension (use .png or .svg)", path ? path : "");
+}
+
+hv_status hv_profile_write_files(const hv_profile *p, const hv_profile_options *o, const char *csv, const char *plot)
+{
+    hv_atomic_file fcsv = {NULL, NULL, NULL}, fplot = {NULL, NULL, NULL};
+    hv_plot *pl = NULL; /* everything that can fail on content is done before anything is written */
+    hv_status s = plot ? hv_plot_path_check(plot) : HV_OK;
+    if (s == HV_OK && plot) s = hv_profile_plot_with(p, o, &pl);
+    if (s == HV_OK && csv) s = hv_atomic_open(&fcsv, csv, "w");
+    if (s == HV_OK && plot) s = hv_atomic_open(&fplot, plot, "wb");
+    if (s == HV_OK && fcsv.fp && (s = hv_profile_write_csv_stream(p, fcsv.fp)) != HV_OK)
+        s = hv_error_prefix(s, "%s: ", csv);
+    if (s == HV_OK && fplot.fp) {
+        s = is_svg(plot) ? hv_plot_write_svg_stream(pl, fplot.fp) : hv_plot_write_png_stream(pl, fplot.fp);
+        if (s != HV_OK) s = hv_error_prefix(s, "%s: ", plot);
+    }
+    if (s == HV_OK && fcsv.fp) s = hv_atomic_commit(&fcsv);
+    if (s == HV_OK && fplot.fp) s = hv_atomic_commit(&fplot);
+    if (s != HV_OK) {
+        if (fcsv.fp) hv_atomic_abort(&fcsv);
+        if (fplot.fp) hv_atomic_abort(&fplot);
+    }
+    hv_plot_destroy(pl);
     return s;
 }

@@ -192,6 +192,11 @@ assert(#prof.t == 21 and #prof.A == 21 and prof.inside[11])
 near(prof.t[21], 20, 1e-9, "profile length")
 assert(io.open(tmp .. "/p.csv"):read("l") == "t,x,y,z,inside,A,B,C")
 fails("samples must be", graded.profile, graded, {from = {0, 0, 0}, to = {1, 1, 1}, samples = 1})
+graded:profile{from = {0, 5, 5}, to = {20, 5, 5}, plot = tmp .. "/p.svg"}
+assert(io.open(tmp .. "/p.svg"):read("a"):find("<svg", 1, true), "an SVG plot, as hovox profile --plot writes")
+fails("p.gif' has an unknown extension (use .png or .svg)", graded.profile, graded,
+      {from = {0, 5, 5}, to = {20, 5, 5}, csv = tmp .. "/q.csv", plot = tmp .. "/p.gif"})
+assert(not io.open(tmp .. "/q.csv"), "a refused plot leaves no CSV either")
 
 -- Booleans on one lattice: two boxes overlapping
 local b1 = hovox.voxelize(hovox.generate.box{min = {0, 0, 0}, max = {10, 10, 10}}, {voxel_size = 0.5})

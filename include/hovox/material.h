@@ -7,6 +7,8 @@
 #ifndef HOVOX_MATERIAL_H
 #define HOVOX_MATERIAL_H
 
+#include <stdio.h>
+
 #include "hovox/mesh.h"
 #include "hovox/options.h"
 #include "hovox/volume.h"
@@ -363,6 +365,11 @@ HV_API void hv_object_sample(const hv_object *o, const double p[3], int *inside,
  * least 0.5. fractions: hv_material_count(t) values (all 0 far outside). */
 HV_API void hv_model_probe(hv_accessor *acc, const hv_material_table *t, const int *grids,
                            const double p[3], int *inside, double *fractions);
+/* hv_model_probe at n points (xyz: 3n doubles, mm) as CSV on fp: a header
+ * "x,y,z,inside,<material names>" and one row per point (coordinates %.9g, fractions %.6g).
+ * Errors: those of hv_material_table_load (HV_ERR_NOT_FOUND: "model has no materials: grade it
+ * first"), HV_ERR_IO (a write failed), HV_ERR_NOMEM. */
+HV_API hv_status hv_model_probe_csv(const hv_volume *vol, const double *xyz, size_t n, FILE *fp);
 
 /* Points from CSV text of x,y,z rows (`path` names it in messages): a header line (three
  * non-numeric fields before any row) allowed, blank lines and lines starting with '#' skipped,

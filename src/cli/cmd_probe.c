@@ -48,50 +48,14 @@ static int points_add(points *p, const double v[3])
     return 0;
 }
 
-/* A failed material table load; a missing table gets the plain message. */
-static int materials_error(const char *model, hv_status s)
-{
-    if (s == HV_ERR_NOT_FOUND) {
-        fprintf(stderr, "hovox: %s: model has no materials: grade it first (hovox grade)\n", model);
-        return EXIT_BAD_INPUT;
-    }
-    return cli_fail(hv_error_prefix(s, "%s: ", model));
-}
-
-static int probe(const char *model, points *pts)
+static int probe(const char *model, const points *pts)
 {
     hv_volume *vol = NULL;
-    hv_material_table *t = NULL;
     hv_status s = hv_volume_load(model, &vol);
-    if (s != HV_OK) return cli_fail(s);
-    s = hv_material_table_load(vol, &t);
-    if (s != HV_OK) {
-        hv_volume_destroy(vol);
-        return materials_error(model, s);
-    }
-    int m = hv_material_count(t), grids[HV_MAX_MATERIALS];
-    for (int k = 0; k < m; ++k) grids[k] = hv_material_grid(vol, t, k);
-    fputs("x,y,z,inside", stdout);
-    for (int k = 0; k < m; ++k) printf(",%s", hv_material_name(t, k));
-    putchar('\n');
-    hv_accessor acc;
-    hv_accessor_init(&acc, vol);
-    double frac[HV_MAX_MATERIALS];
-    for (size_t i = 0; i < pts->n; ++i) {
-        const double *x = pts->xyz + 3 * i;
-        int inside;
-        hv_model_probe(&acc, t, grids, x, &inside, frac);
-        printf("%.9g,%.9g,%.9g,%d", x[0], x[1], x[2], inside);
-        for (int k = 0; k < m; ++k) printf(",%.6g", frac[k]);
-        putchar('\n');
-    }
-    hv_material_table_destroy(t);
+    if (s == HV_OK && (s = hv_model_probe_csv(vol, pts->xyz, pts->n, stdout)) != HV_OK)
+        hv_error_prefix(s, "%s: ", s == HV_ERR_IO ? "stdout" : model);
     hv_volume_destroy(vol);
-    if (fflush(stdout) != 0 || ferror(stdout)) {
-        fprintf(stderr, "hovox: stdout: write failed: %s\n", strerror(errno));
-        return EXIT_IO;
-    }
-    return EXIT_OK;
+    return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
 static int run(const cli_args *args, void *lib, void *local)

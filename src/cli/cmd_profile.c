@@ -53,8 +53,6 @@ static int run(const char *model, const hv_profile_options *o, const profile_cli
     hv_profile *prof;
     s = hv_profile_sample(vol, o->from, o->to, o->samples, &prof);
     hv_volume_destroy(vol);
-    if (s == HV_ERR_NOT_FOUND)
-        return cli_fail(hv_error_set(HV_ERR_BAD_INPUT, "%s: model has no materials: grade it first (hovox grade)", model));
     if (s != HV_OK) return cli_fail(s == HV_ERR_INVALID ? s : hv_error_prefix(s, "%s: ", model));
     if (s == HV_OK) s = hv_profile_write_files(prof, o, to_stdout ? NULL : c->output, c->plot);
     if (s == HV_OK && to_stdout) s = hv_profile_write_csv_stream(prof, stdout);

@@ -67,11 +67,6 @@ static int object_add_ags(lua_State *L)
         hv_ags_release(a);
         return luaL_argerror(L, 1, "object was freed");
     }
-    if (hv_ags_materials(a) != hv_object_materials(u->p)) {
-        hv_ags_release(a);
-        return arg_error(L, 2, "the source has %d materials, the object %d",
-                                                   hv_ags_materials(a), hv_object_materials(u->p));
-    }
     hv_status s = hv_object_add_ags(u->p, a);
     hv_ags_release(a);
     if (s != HV_OK) return fail(L, s);
@@ -90,9 +85,7 @@ static int object_move_ags(lua_State *L)
 {
     l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
     l_source *a = CHECK(L, 2, l_source, MT_SOURCE);
-    double dn = luaL_checknumber(L, 3);
-    if (!(dn >= 0)) return arg_error(L, 3, "d_neg must be >= 0, got %g", dn);
-    hv_status s = hv_object_move_ags(u->p, a->p, dn);
+    hv_status s = hv_object_move_ags(u->p, a->p, luaL_checknumber(L, 3));
     return s != HV_OK ? fail(L, s) : 0;
 }
 

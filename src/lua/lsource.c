@@ -413,10 +413,8 @@ static int source_ranges(lua_State *L)
 static int source_moved(lua_State *L)
 {
     l_source *u = CHECK(L, 1, l_source, MT_SOURCE);
-    double dn = luaL_checknumber(L, 2);
-    if (!(dn >= 0)) return arg_error(L, 2, "d_neg must be >= 0, got %g", dn);
     hv_ags *b;
-    hv_status s = hv_ags_moved(u->p, dn, &b);
+    hv_status s = hv_ags_moved(u->p, luaL_checknumber(L, 2), &b);
     if (s != HV_OK) return fail(L, s);
     return push_source(L, b);
 }

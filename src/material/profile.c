@@ -181,3 +181,29 @@ hv_status hv_profile_write_csv(const hv_profile *p, const char *path)
     }
     return hv_atomic_commit(&af);
 }
+
+hv_status hv_model_probe_csv(const hv_volume *vol, const double *xyz, size_t n, FILE *fp)
+{
+    hv_material_table *t = NULL;
+    hv_status s = hv_material_table_load(vol, &t);
+    if (s != HV_OK) return s;
+    int m = hv_material_count(t), grids[HV_MAX_MATERIALS];
+    for (int k = 0; k < m; ++k) grids[k] = hv_material_grid(vol, t, k);
+    fputs("x,y,z,inside", fp);
+    for (int k = 0; k < m; ++k) fprintf(fp, ",%s", hv_material_name(t, k));
+    fputc('\n', fp);
+    hv_accessor acc;
+    hv_accessor_init(&acc, vol);
+    double frac[HV_MAX_MATERIALS];
+    for (size_t i = 0; i < n; ++i) {
+        const double *x = xyz + 3 * i;
+        int inside;
+        hv_model_probe(&acc, t, grids, x, &inside, frac);
+        fprintf(fp, "%.9g,%.9g,%.9g,%d", x[0], x[1], x[2], inside);
+        for (int k = 0; k < m; ++k) fprintf(fp, ",%.6g", frac[k]);
+        fputc('\n', fp);
+    }
+    hv_material_table_destroy(t);
+    if (fflush(fp) != 0 || ferror(fp)) return hv_error_set(HV_ERR_IO, "write failed: %s", strerror(errno));
+    return HV_OK;
+}

@@ -374,7 +374,7 @@ hv_status hv_material_table_load(const hv_volume *vol, hv_material_table **out)
     const char *json = hv_volume_meta_string(vol, hv_schema_key(HV_DOC_MATERIALS));
     if (!json)
         return hv_error_set(HV_ERR_NOT_FOUND,
-                            "the model has no material table (not graded yet: see hovox grade)");
+                            "model has no materials: grade it first (hovox grade)");
     hv_material_table *t;
     hv_status s = hv_material_table_from_json(json, &t);
     if (s != HV_OK) return s;

@@ -81,6 +81,10 @@ struct hv_ags {
     float table[HV_AGS_TABLE + 1]; /* f at dg * i / HV_AGS_TABLE */
     char fdesc[256];
     char name[64];
+    hv_calibration *calib; /* may be NULL */
+    int has_target;        /* property targets (the table above is then t(d), composed) */
+    double ps, pe;
+    int log;
 };
 
 /* f at distance d (world units) through the table: 0 .. 1 weight of Me. For dg == 0: the

@@ -216,13 +216,15 @@ HV_API hv_status hv_frf_harmonic(const hv_volume *vol, const char *domain, const
                                  const hv_facet_select *one, const hv_facet_select *zero,
                                  hv_frf **out);
 
-/* Features from options: the kinds point, axis (alias line), plane, segment, contour and mask,
- * each with its keys (point: point; axis: origin, direction; plane: point, normal; segment:
- * from, to; contour, mask: grid). */
+/* Features from options: the kinds point, axis (alias line), plane, segment, contour, mask and
+ * field, each with its keys (point: point; axis: origin, direction; plane: point, normal;
+ * segment: from, to; contour, mask: grid; field: file, array, outside). */
 typedef struct hv_frf_options {
     hv_frf_kind kind;
     double point[3], origin[3], direction[3], normal[3], from[3], to[3];
     const char *grid; /* borrowed */
+    const char *file, *array; /* field: the data file and its array (or .vdb grid); borrowed */
+    int outside;              /* field: hv_field_outside */
 } hv_frf_options;
 /* Name <-> kind ("point", "axis" (or "line"), "plane", "segment", "contour", "mask", "facets",
  * "harmonic", "field"). */
@@ -231,11 +233,41 @@ HV_API const char *hv_frf_kind_name(hv_frf_kind kind);
 HV_API const hv_enum_def *hv_frf_kind_enum(void);
 /* The option set of a kind made from options (init sets `kind`); NULL for the others. */
 HV_API const hv_option_set *hv_frf_option_set(hv_frf_kind kind);
-/* Make the feature (contour and mask need vol). Errors: those of the hv_frf_* makers and of
+/* Make the feature (contour, mask and field need vol). Errors: those of the hv_frf_* makers and of
  * the options' domains. */
 HV_API hv_status hv_frf_from_options(const hv_frf_options *o, const hv_volume *vol, hv_frf **out);
 /* Facet selections as options: normal, angle (default 10), box_min, box_max. */
 HV_API const hv_option_set *hv_facet_select_option_set(void);
+
+/* ---- field features: a scalar field read from data (FEA results, scans) --------------------
+ * The field's value at each voxel centre of the model plays the role of d (so a source's ranges
+ * are in the field's units). Files: .vti (VTK image data: point data sampled trilinearly, cell
+ * data by the cell holding the point), .vtu (unstructured grid, probed at the voxel centres
+ * with its cells' interpolation; cell data takes the cell's value), both through the VTK
+ * bridge plugin; .vdb (a float grid, trilinear over its active voxels). Voxels the field does
+ * not cover: refused with their count (HV_FIELD_REFUSE), or given the value of the nearest
+ * covered voxel (HV_FIELD_NEAREST: nearest in 26-connected steps over the model's box). The
+ * feature is a stored field ("field" kind) on the model's lattice: it is saved as the model's
+ * "distance.K" grid, so the model can be rebuilt without the file. */
+typedef enum hv_field_outside { HV_FIELD_REFUSE = 0, HV_FIELD_NEAREST = 1 } hv_field_outside;
+HV_API const hv_enum_def *hv_field_outside_enum(void); /* "refuse", "nearest" */
+typedef struct hv_field_report {
+    double lo, hi;        /* the field's range over the model's voxels (after filling) */
+    double file_lo, file_hi; /* the array's range in the file */
+    uint64_t voxels;      /* model voxels */
+    uint64_t filled;      /* of which not covered by the field, filled by the rule */
+} hv_field_report;
+/* Read `array` (a grid name for .vdb) of `path` at the voxel centres of bool grid `grid` of vol
+ * (NULL: "occupancy"). Errors: HV_ERR_IO (cannot open), HV_ERR_BAD_INPUT (unreadable file, no
+ * such array or grid: the message lists those there are, an array of more than 1 component, a
+ * field that covers no model voxel, voxels outside the field under HV_FIELD_REFUSE: "s.vti:
+ * sigma covers 900 of 1000 model voxels; 100 lie outside it"), HV_ERR_NOT_FOUND (no bool grid
+ * `grid`), HV_ERR_UNSUPPORTED (an extension other than .vti, .vtu, .vdb; or the VTK plugin
+ * missing), HV_ERR_NOMEM. */
+HV_API hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *path,
+                                   const char *array, hv_field_outside outside, hv_frf **out);
+/* 1 and *r for a feature made by hv_frf_field_file; 0 for others. */
+HV_API int hv_frf_field_report(const hv_frf *f, hv_field_report *r);
 
 HV_API hv_frf *hv_frf_retain(hv_frf *f);
 HV_API void hv_frf_release(hv_frf *f); /* NULL allowed */

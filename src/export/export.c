@@ -334,6 +334,13 @@ static hv_status vtk_api(void)
     return HV_OK;
 }
 
+hv_status hv_vtk_bridge(const hv_vtk_api **api)
+{
+    hv_status s = vtk_api();
+    *api = s == HV_OK ? g_vtk : NULL;
+    return s;
+}
+
 static int vtk_progress(void *user, double fraction)
 {
     const hv_progress *p = user;

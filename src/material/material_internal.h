@@ -37,6 +37,8 @@ struct hv_frf {
     size_t ntris0;
     pthread_mutex_t lock;
     hv_field_cache cache;
+    int has_report;        /* a field read from a file (hv_frf_field_file) */
+    hv_field_report report;
 };
 
 /* Make sure the field of a voxel feature covers index box [lo, lo + n) of lattice xf

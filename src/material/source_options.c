@@ -47,6 +47,18 @@ static const hv_option k_contour[] = {{.key = "grid", .kind = HV_OPT_STRING, .of
                                        .help = "the bool grid whose boundary it is (default occupancy)"}};
 static const hv_option k_mask[] = {{.key = "grid", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED,
                                     .offset = FOFF(grid), .meta = "GRID", .help = "the bool grid of the feature voxels"}};
+static const char *const k_outside_names[] = {"refuse", "nearest", NULL};
+static const hv_enum_def k_outside = {"outside rule", k_outside_names, NULL, NULL};
+const hv_enum_def *hv_field_outside_enum(void) { return &k_outside; }
+static const hv_option k_field[] = {
+    {.key = "file", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED | HV_OPT_IN_PATH, .offset = FOFF(file),
+     .meta = "FILE", .help = "the data: .vti, .vtu (VTK XML) or .vdb"},
+    {.key = "array", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED, .offset = FOFF(array), .meta = "ARRAY",
+     .help = "the scalar array (point or cell data), or the .vdb float grid"},
+    {.key = "outside", .kind = HV_OPT_ENUM, .offset = FOFF(outside), .enumdef = &k_outside, .meta = "RULE",
+     .help = "model voxels the field does not cover: refuse (default, with their count) or nearest (the nearest "
+             "covered voxel's value)"},
+};
 #undef V3
 
 static hv_status frf_validate(const void *opts)
@@ -71,12 +83,14 @@ static void frf_init_contour(void *o)
     ((hv_frf_options *)o)->grid = "occupancy";
 }
 static void frf_init_mask(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_MASK; }
+static void frf_init_field(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_FIELD; }
 
 #define FSET(name, opts, init) {name, opts, (int)HV_COUNT(opts), sizeof(hv_frf_options), init, NULL, 0, NULL, frf_validate, NULL, 0}
 static const hv_option_set k_frf_sets[] = {
     FSET("point", k_point, frf_init_point),       FSET("axis", k_axis, frf_init_axis),
     FSET("plane", k_plane, frf_init_plane),       FSET("segment", k_segment, frf_init_segment),
     FSET("contour", k_contour, frf_init_contour), FSET("mask", k_mask, frf_init_mask),
+    FSET("field", k_field, frf_init_field),
 };
 #undef FSET
 
@@ -104,6 +118,9 @@ hv_status hv_frf_from_options(const hv_frf_options *o, const hv_volume *vol, hv_
     case HV_FRF_MASK:
         if (!vol) return hv_error_set(HV_ERR_INVALID, "a %s feature needs a model", hv_frf_kind_name(o->kind));
         return o->kind == HV_FRF_CONTOUR ? hv_frf_contour(vol, o->grid, out) : hv_frf_mask(vol, o->grid, out);
+    case HV_FRF_FIELD:
+        if (!vol) return hv_error_set(HV_ERR_INVALID, "a field feature needs the model whose voxels it samples");
+        return hv_frf_field_file(vol, NULL, o->file, o->array, (hv_field_outside)o->outside, out);
     default: return hv_error_set(HV_ERR_INVALID, "a %s feature is not made from options", hv_frf_kind_name(o->kind));
     }
 }

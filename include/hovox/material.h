@@ -246,7 +246,8 @@ HV_API const hv_option_set *hv_facet_select_option_set(void);
  * with its cells' interpolation; cell data takes the cell's value), both through the VTK
  * bridge plugin; .vdb (a float grid, trilinear over its active voxels). Voxels the field does
  * not cover: refused with their count (HV_FIELD_REFUSE), or given the value of the nearest
- * covered voxel (HV_FIELD_NEAREST: nearest in 26-connected steps over the model's box). The
+ * covered voxel (HV_FIELD_NEAREST: Euclidean, by a vector-propagation wave over the model's
+ * box, exact up to the rare ties and corners such waves miss). The
  * feature is a stored field ("field" kind) on the model's lattice: it is saved as the model's
  * "distance.K" grid, so the model can be rebuilt without the file. */
 typedef enum hv_field_outside { HV_FIELD_REFUSE = 0, HV_FIELD_NEAREST = 1 } hv_field_outside;

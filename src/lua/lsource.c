@@ -214,6 +214,33 @@ static int model_mask(lua_State *L)
     return push_feature(L, s, f);
 }
 
+/* model:field{file = "s.vti", array = "sigma", outside = "refuse"|"nearest"}: a field feature
+ * (hv_frf_option_set(HV_FRF_FIELD)) sampled at the model's voxels; returns the feature and
+ * {lo, hi, file_lo, file_hi, voxels, filled} */
+static int model_field(lua_State *L)
+{
+    hv_volume *v = hv_lua_model(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    hv_frf_options o;
+    int holder = hv_lua_read(L, 2, hv_frf_option_set(HV_FRF_FIELD), &o, NULL);
+    (void)holder;
+    v = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
+    hv_frf *f = NULL;
+    hv_status s = hv_frf_from_options(&o, v, &f);
+    if (s != HV_OK) return fail(L, s);
+    push_feature(L, s, f);
+    hv_field_report r;
+    hv_frf_field_report(f, &r);
+    lua_createtable(L, 0, 6);
+    lua_pushnumber(L, r.lo), lua_setfield(L, -2, "lo");
+    lua_pushnumber(L, r.hi), lua_setfield(L, -2, "hi");
+    lua_pushnumber(L, r.file_lo), lua_setfield(L, -2, "file_lo");
+    lua_pushnumber(L, r.file_hi), lua_setfield(L, -2, "file_hi");
+    lua_pushinteger(L, (lua_Integer)r.voxels), lua_setfield(L, -2, "voxels");
+    lua_pushinteger(L, (lua_Integer)r.filled), lua_setfield(L, -2, "filled");
+    return 2;
+}
+
 /* model:harmonic(mesh, one, zero[, domain]): one and zero are facet selections */
 static int model_harmonic(lua_State *L)
 {
@@ -507,7 +534,7 @@ void hv_lua_open_sources(lua_State *L, int module)
     static const luaL_Reg feat_m[] = {{"distance", feature_distance}, {NULL, NULL}};
     static const luaL_Reg src_m[] = {{"eval", source_eval}, {"ranges", source_ranges}, {"moved", source_moved},
                                      {NULL, NULL}};
-    static const luaL_Reg model_m[] = {{"contour", model_contour}, {"mask", model_mask},
+    static const luaL_Reg model_m[] = {{"contour", model_contour}, {"mask", model_mask}, {"field", model_field},
                                        {"harmonic", model_harmonic}, {NULL, NULL}};
     static const luaL_Reg fns[] = {{"materials", l_materials}, {"facets", l_facets}, {"ags", l_ags},
                                    {"wu3", l_wu3}, {NULL, NULL}};

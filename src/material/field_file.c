@@ -102,27 +102,30 @@ static hv_status probe_vtk(const char *path, const char *array, size_t n, const 
     return HV_OK;
 }
 
-/* Fill the voxels not covered from the nearest covered voxel: a breadth-first growth over the
- * model's index box, 26-connected (so "nearest" is in chessboard steps; ties go to the first
- * reached in index order, deterministic). `box` maps the model voxels (index order of
- * centres()) into the box. */
+/* Fill the voxels not covered from the nearest covered voxel (Euclidean, anisotropic spacing):
+ * each voxel of the model's index box keeps its nearest source found so far, and a breadth-first
+ * wave over 26-neighbours passes sources on while they are nearer (a voxel is queued again when
+ * its source improves), as in vector distance transforms (Danielsson 1980); ties go to the
+ * source reached first, deterministic. */
 static hv_status fill_nearest(const hv_volume *m, float *val, const uint8_t *valid, size_t n)
 {
     int32_t lo[3], hi[3];
     if (!hv_volume_index_bbox(m, lo, hi)) return HV_OK;
+    hv_transform xf = hv_volume_get_transform(m);
     int64_t dim[3] = {hi[0] - lo[0] + 1, hi[1] - lo[1] + 1, hi[2] - lo[2] + 1};
-    size_t total = (size_t)(dim[0] * dim[1] * dim[2]);
-    float *bv = hv_malloc_array(total, sizeof(float));
-    uint8_t *st = hv_calloc(total, 1); /* 0: not reached; 1: has a value */
-    int64_t *queue = hv_malloc_array(total, sizeof(int64_t));
+    size_t total = (size_t)(dim[0] * dim[1] * dim[2]), qcap = total, qh = 0, qt = 0;
+    int64_t *src = hv_malloc_array(total, sizeof(int64_t));
+    int64_t *queue = hv_malloc_array(qcap, sizeof(int64_t));
     int64_t *at = hv_malloc_array(n ? n : 1, sizeof(int64_t));
+    float *bv = hv_malloc_array(total, sizeof(float));
     hv_status s = HV_OK;
-    if (!bv || !st || !queue || !at) {
+    if (!src || !queue || !at || !bv) {
         s = HV_ERR_NOMEM;
         goto done;
     }
+    for (size_t v = 0; v < total; ++v) src[v] = -1;
     const int32_t *org = hv_volume_leaf_origins(m);
-    size_t k = 0, qh = 0, qt = 0;
+    size_t k = 0;
     for (size_t l = 0; l < hv_volume_leaf_count(m); ++l) {
         const uint64_t *mask = hv_volume_leaf_mask(m, l);
         for (unsigned q = 0; q < HV_LEAF_SIZE; ++q) {
@@ -131,36 +134,72 @@ static hv_status fill_nearest(const hv_volume *m, float *val, const uint8_t *val
                     kk = org[3 * l + 2] + (int64_t)(q & 7) - lo[2];
             at[k] = (i * dim[1] + j) * dim[2] + kk;
             if (valid[k]) {
+                src[at[k]] = at[k];
                 bv[at[k]] = val[k];
-                st[at[k]] = 1;
             }
             ++k;
         }
     }
     for (size_t v = 0; v < total; ++v)
-        if (st[v]) queue[qt++] = (int64_t)v;
-    while (qh < qt) {
-        int64_t v = queue[qh++];
-        int64_t i = v / (dim[1] * dim[2]), j = (v / dim[2]) % dim[1], kk = v % dim[2];
+        if (src[v] == (int64_t)v) queue[qt++] = (int64_t)v;
+#define COORDS(v, c) \
+    do { \
+        c[0] = (v) / (dim[1] * dim[2]); \
+        c[1] = ((v) / dim[2]) % dim[1]; \
+        c[2] = (v) % dim[2]; \
+    } while (0)
+    while (qh != qt) {
+        int64_t v = queue[qh];
+        qh = (qh + 1) % qcap;
+        int64_t c[3], sc[3];
+        COORDS(v, c);
+        COORDS(src[v], sc);
         for (int di = -1; di <= 1; ++di)
             for (int dj = -1; dj <= 1; ++dj)
                 for (int dk = -1; dk <= 1; ++dk) {
-                    int64_t a = i + di, b = j + dj, c = kk + dk;
-                    if (a < 0 || b < 0 || c < 0 || a >= dim[0] || b >= dim[1] || c >= dim[2]) continue;
-                    int64_t w = (a * dim[1] + b) * dim[2] + c;
-                    if (st[w]) continue;
-                    st[w] = 1;
-                    bv[w] = bv[v];
-                    queue[qt++] = w;
+                    int64_t a[3] = {c[0] + di, c[1] + dj, c[2] + dk};
+                    if (a[0] < 0 || a[1] < 0 || a[2] < 0 || a[0] >= dim[0] || a[1] >= dim[1] || a[2] >= dim[2]) continue;
+                    int64_t w = (a[0] * dim[1] + a[1]) * dim[2] + a[2];
+                    double dn = 0, dold = 0;
+                    int64_t oc[3];
+                    if (src[w] >= 0) COORDS(src[w], oc);
+                    for (int e = 0; e < 3; ++e) {
+                        double u = (double)(a[e] - sc[e]) * xf.voxel[e];
+                        dn += u * u;
+                        if (src[w] >= 0) {
+                            double o = (double)(a[e] - oc[e]) * xf.voxel[e];
+                            dold += o * o;
+                        }
+                    }
+                    if (src[w] >= 0 && !(dn < dold - 1e-12)) continue;
+                    src[w] = src[v];
+                    bv[w] = bv[src[v]];
+                    if ((qt + 1) % qcap == qh) { /* full: grow the ring */
+                        int64_t *nq = hv_malloc_array(2 * qcap, sizeof(int64_t));
+                        if (!nq) {
+                            s = HV_ERR_NOMEM;
+                            goto done;
+                        }
+                        size_t len = 0;
+                        for (size_t r = qh; r != qt; r = (r + 1) % qcap) nq[len++] = queue[r];
+                        free(queue);
+                        queue = nq;
+                        qcap *= 2;
+                        qh = 0;
+                        qt = len;
+                    }
+                    queue[qt] = w;
+                    qt = (qt + 1) % qcap;
                 }
     }
+#undef COORDS
     for (size_t q = 0; q < n; ++q)
         if (!valid[q]) val[q] = bv[at[q]];
 done:
-    free(bv);
-    free(st);
+    free(src);
     free(queue);
     free(at);
+    free(bv);
     return s;
 }
 

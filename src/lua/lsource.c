@@ -450,8 +450,11 @@ static hv_ags *source_from_table(lua_State *L, int arg, int wu3)
     luaL_checktype(L, arg, LUA_TTABLE);
     int holder = hv_lua_holder(L);
     hv_ags_options o;
-    int cal_table = !wu3 && hv_lua_field(L, arg, "calibration") == LUA_TTABLE;
-    lua_pop(L, 1);
+    int cal_table = 0;
+    if (!wu3) {
+        cal_table = hv_lua_field(L, arg, "calibration") == LUA_TTABLE;
+        lua_pop(L, 1);
+    }
     hv_lua_read_options(L, arg, wu3 ? hv_wu3_option_set() : hv_ags_option_set(), &o, cal_table ? extra_cal : extra,
                         holder);
     if (cal_table) {

@@ -53,7 +53,7 @@ VDB_LIBS  := -lopenvdb -ltbb -lImath-3_1
 OIIO_LIBS  = $(shell pkg-config --libs OpenImageIO 2>/dev/null)
 OIIO_CFLAGS = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 VTK_INC   := -isystem /usr/include/vtk-9.1
-VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkCommonExecutionModel-9.1 \
+VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkFiltersCore-9.1 -lvtkCommonExecutionModel-9.1 \
              -lvtkCommonDataModel-9.1 -lvtkCommonCore-9.1
 PLUGINS   := $(PLUGDIR)/hovox-vdb.so
 ifneq ($(wildcard src/image/oiio_bridge.cpp),)

@@ -88,6 +88,64 @@ HV_API int hv_material_grid(const hv_volume *vol, const hv_material_table *t, in
  * 1.1, not 1"). Never clamps. */
 HV_API hv_status hv_composition_check(const double *p, int m, const char *what);
 
+/* ==== units and calibration tables ======================================================== */
+
+/* Units hovox converts: pressure Pa, kPa, MPa, GPa, N/mm^2 (SI Pa); density kg/m^3 (also
+ * kg/m3), g/cm^3 (g/cm3, g/cc) (SI kg/m^3); dimensionless 1 (also -). Any other unit
+ * ("ShoreA", "ShoreD", "W/mK") is kept as written and matches only itself (case-sensitive).
+ * hv_unit_si: 1 and *si, *factor (value in unit = factor x value in si) for a unit of that list,
+ * else 0 (*si = unit, *factor = 1). */
+HV_API int hv_unit_si(const char *unit, const char **si, double *factor);
+/* 1 and *factor (x in `from` = factor * x in `to`) when a value in `from` converts to `to`:
+ * the same text, or two units of one family above; "" converts only to "". */
+HV_API int hv_unit_convert(const char *from, const char *to, double *factor);
+/* A quantity: a finite number, optionally followed (spaces allowed) by a unit ("2GPa",
+ * "5 MPa", "85ShoreA", "1e9"); *value is converted to `unit` (a number without a unit is taken
+ * in `unit`). `what` names the value in messages ("Ps"). Errors: HV_ERR_INVALID ("Ps = '2 XPa':
+ * unit XPa does not convert to MPa", "Ps = 'abc' is not a number with an optional unit"). */
+HV_API hv_status hv_quantity_parse(const char *text, const char *unit, const char *what, double *value);
+
+/* A calibration table: measured values of one property along the composition path of a grading
+ * source, property(t) where t in [0, 1] is the position along the segment Ms -> Me (the
+ * composition Ms + t (Me - Ms)), so one table serves any number of materials. Rows (t_i, v_i):
+ * at least 2, t strictly increasing in [0, 1], values finite and strictly monotone (increasing
+ * or decreasing), so the table is invertible. Piecewise linear between rows; the property is
+ * unknown (NAN) outside [t_0, t_n-1]. Reference-counted and immutable. */
+typedef struct hv_calibration hv_calibration;
+
+/* Make a table. property: 1-64 bytes of [A-Za-z0-9_-]; unit: at most 32 bytes without
+ * "[],", may be NULL or "". Copies everything. Errors: HV_ERR_INVALID naming the first bad row
+ * ("calibration of youngs_modulus: row 3: value 150 is not greater than row 2's (200): the
+ * values must be strictly monotone"), HV_ERR_NOMEM. Release with hv_calibration_release. */
+HV_API hv_status hv_calibration_create(const char *property, const char *unit, const double *t,
+                                       const double *value, int n, hv_calibration **out);
+/* Parse the CSV form (README "Calibration tables"): '#' comment lines and blank lines are
+ * skipped; the header "t,<property>" or "t,<property>[<unit>]"; then rows "t,value".
+ * `name` names the text in messages (a file name). Errors: HV_ERR_BAD_INPUT naming the file and
+ * line ("cal.csv: line 5: youngs_modulus 150 is not greater than line 4's (200): the values
+ * must be strictly monotone"; "cal.csv: line 1: header 'x,E' is not 't,<property>[<unit>]'";
+ * "cal.csv: line 3: youngs_modulus 'nan' is not a finite number"; "cal.csv: no rows"),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_calibration_parse(const char *text, size_t len, const char *name,
+                                      hv_calibration **out);
+/* Read and parse a file (at most 16 MiB). Errors: those of hv_calibration_parse, HV_ERR_IO. */
+HV_API hv_status hv_calibration_load(const char *path, hv_calibration **out);
+HV_API hv_calibration *hv_calibration_retain(hv_calibration *c);
+HV_API void hv_calibration_release(hv_calibration *c); /* NULL allowed */
+/* The property at t (NAN outside [t_0, t_n-1] or for NAN). */
+HV_API double hv_calibration_eval(const hv_calibration *c, double t);
+/* The exact inverse of the piecewise-linear table: the t whose value is `value`. Errors:
+ * HV_ERR_INVALID ("youngs_modulus 3000 MPa is outside the calibration's range [0.6, 2000]
+ * MPa"). */
+HV_API hv_status hv_calibration_invert(const hv_calibration *c, double value, double *t);
+/* The smallest and largest value. */
+HV_API void hv_calibration_range(const hv_calibration *c, double *lo, double *hi);
+HV_API const char *hv_calibration_property(const hv_calibration *c);
+HV_API const char *hv_calibration_unit(const hv_calibration *c); /* "" when none */
+HV_API int hv_calibration_rows(const hv_calibration *c);
+/* Row i (0 <= i < rows). */
+HV_API void hv_calibration_row(const hv_calibration *c, int i, double *t, double *value);
+
 /* ==== distribution functions ============================================================ */
 
 /* f on [0, dg]: evaluated once into a table (4097 samples, linear interpolation) when an AGS
@@ -166,13 +224,15 @@ HV_API hv_status hv_frf_harmonic(const hv_volume *vol, const char *domain, const
                                  const hv_facet_select *one, const hv_facet_select *zero,
                                  hv_frf **out);
 
-/* Features from options: the kinds point, axis (alias line), plane, segment, contour and mask,
- * each with its keys (point: point; axis: origin, direction; plane: point, normal; segment:
- * from, to; contour, mask: grid). */
+/* Features from options: the kinds point, axis (alias line), plane, segment, contour, mask and
+ * field, each with its keys (point: point; axis: origin, direction; plane: point, normal;
+ * segment: from, to; contour, mask: grid; field: file, array, outside). */
 typedef struct hv_frf_options {
     hv_frf_kind kind;
     double point[3], origin[3], direction[3], normal[3], from[3], to[3];
     const char *grid; /* borrowed */
+    const char *file, *array; /* field: the data file and its array (or .vdb grid); borrowed */
+    int outside;              /* field: hv_field_outside */
 } hv_frf_options;
 /* Name <-> kind ("point", "axis" (or "line"), "plane", "segment", "contour", "mask", "facets",
  * "harmonic", "field"). */
@@ -181,11 +241,42 @@ HV_API const char *hv_frf_kind_name(hv_frf_kind kind);
 HV_API const hv_enum_def *hv_frf_kind_enum(void);
 /* The option set of a kind made from options (init sets `kind`); NULL for the others. */
 HV_API const hv_option_set *hv_frf_option_set(hv_frf_kind kind);
-/* Make the feature (contour and mask need vol). Errors: those of the hv_frf_* makers and of
+/* Make the feature (contour, mask and field need vol). Errors: those of the hv_frf_* makers and of
  * the options' domains. */
 HV_API hv_status hv_frf_from_options(const hv_frf_options *o, const hv_volume *vol, hv_frf **out);
 /* Facet selections as options: normal, angle (default 10), box_min, box_max. */
 HV_API const hv_option_set *hv_facet_select_option_set(void);
+
+/* ---- field features: a scalar field read from data (FEA results, scans) --------------------
+ * The field's value at each voxel centre of the model plays the role of d (so a source's ranges
+ * are in the field's units). Files: .vti (VTK image data: point data sampled trilinearly, cell
+ * data by the cell holding the point), .vtu (unstructured grid, probed at the voxel centres
+ * with its cells' interpolation; cell data takes the cell's value), both through the VTK
+ * bridge plugin; .vdb (a float grid, trilinear over its active voxels). Voxels the field does
+ * not cover: refused with their count (HV_FIELD_REFUSE), or given the value of the nearest
+ * covered voxel (HV_FIELD_NEAREST: Euclidean, by a vector-propagation wave over the model's
+ * box, exact up to the rare ties and corners such waves miss). The
+ * feature is a stored field ("field" kind) on the model's lattice: it is saved as the model's
+ * "distance.K" grid, so the model can be rebuilt without the file. */
+typedef enum hv_field_outside { HV_FIELD_REFUSE = 0, HV_FIELD_NEAREST = 1 } hv_field_outside;
+HV_API const hv_enum_def *hv_field_outside_enum(void); /* "refuse", "nearest" */
+typedef struct hv_field_report {
+    double lo, hi;        /* the field's range over the model's voxels (after filling) */
+    double file_lo, file_hi; /* the array's range in the file */
+    uint64_t voxels;      /* model voxels */
+    uint64_t filled;      /* of which not covered by the field, filled by the rule */
+} hv_field_report;
+/* Read `array` (a grid name for .vdb) of `path` at the voxel centres of bool grid `grid` of vol
+ * (NULL: "occupancy"). Errors: HV_ERR_IO (cannot open), HV_ERR_BAD_INPUT (unreadable file, no
+ * such array or grid: the message lists those there are, an array of more than 1 component, a
+ * field that covers no model voxel, voxels outside the field under HV_FIELD_REFUSE: "s.vti:
+ * sigma covers 900 of 1000 model voxels; 100 lie outside it"), HV_ERR_NOT_FOUND (no bool grid
+ * `grid`), HV_ERR_UNSUPPORTED (an extension other than .vti, .vtu, .vdb; or the VTK plugin
+ * missing), HV_ERR_NOMEM. */
+HV_API hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *path,
+                                   const char *array, hv_field_outside outside, hv_frf **out);
+/* 1 and *r for a feature made by hv_frf_field_file; 0 for others. */
+HV_API int hv_frf_field_report(const hv_frf *f, hv_field_report *r);
 
 HV_API hv_frf *hv_frf_retain(hv_frf *f);
 HV_API void hv_frf_release(hv_frf *f); /* NULL allowed */
@@ -201,6 +292,13 @@ HV_API hv_status hv_frf_distance(hv_frf *f, const hv_volume *lattice, const doub
 
 typedef struct hv_ags hv_ags;
 
+/* Property targets of a source, in the calibration table's unit. */
+typedef struct hv_property_target {
+    const char *property; /* must be the table's property */
+    double ps, pe;        /* Ps, Pe: inside the table's range */
+    int log;              /* logarithmic interpolation between Ps and Pe */
+} hv_property_target;
+
 typedef struct hv_ags_desc {
     hv_frf *frf;
     double d_neg, d_grad, d_pos; /* d-, dg, d+ >= 0 */
@@ -210,8 +308,11 @@ typedef struct hv_ags_desc {
     const char *name;            /* may be NULL */
 } hv_ags_desc;
 
+
 /* A source as options: ranges (D-,DG,D+) or d_neg, d_grad, d_pos; f (an expression; default
- * d/dg); ms, me (required, as many fractions as materials); name. */
+ * d/dg); ms, me (required, as many fractions as materials); name; calibration (a CSV file);
+ * property_grading (a property name), ps, pe (quantities in the table's unit or one that
+ * converts to it), log. */
 typedef struct hv_ags_options {
     double d_neg, d_grad, d_pos;
     const char *f;      /* borrowed; NULL: d/dg */
@@ -219,6 +320,12 @@ typedef struct hv_ags_options {
     int nms, nme;
     const char *name;   /* borrowed; may be NULL */
     double c;           /* Wu's 3-material sources only: the third material's fraction C */
+    const char *calibration;         /* a calibration table's CSV file (borrowed; may be NULL) */
+    hv_calibration *calibration_table; /* or the table itself, made by a front end from its own
+                                          syntax (borrowed; wins over `calibration`) */
+    const char *property_grading;    /* grade to property targets: the property's name */
+    const char *ps, *pe;             /* Ps, Pe: quantities, "2GPa" (hv_quantity_parse) */
+    int log;                         /* logarithmic interpolation between Ps and Pe */
 } hv_ags_options;
 HV_API void hv_ags_options_init(hv_ags_options *o);
 HV_API const hv_option_set *hv_ags_option_set(void);
@@ -237,6 +344,16 @@ HV_API hv_status hv_ags_wu3_from_options(hv_frf *frf, const hv_ags_options *o, c
  * d+ is the extent of the positive constant range (Wu eq. 11), kept and reported.
  * Errors: HV_ERR_INVALID, e.g. "f leaves [0, 1]: f(9.54) = 1.0017 (max over [0, 9.54])". */
 HV_API hv_status hv_ags_create(const hv_ags_desc *desc, hv_ags **out);
+/* hv_ags_create with a calibration table along Ms -> Me (may be NULL; the source keeps a
+ * reference) and property targets (may be NULL; need the calibration, dg > 0 and f): the
+ * property at distance d is Ps + f(clamp(d - d-, 0, dg)) (Pe - Ps), or Ps (Pe/Ps)^f with log
+ * (Ps, Pe > 0), and the source gives the composition Ms + t (Me - Ms) whose table value that is
+ * (t from the exact inverse of the piecewise-linear table, tabulated with f). Errors: those of
+ * hv_ags_create, and HV_ERR_INVALID for targets for another property, outside the table's range
+ * ("Ps = 3000 MPa is outside the calibration table's youngs_modulus range [0.6, 2000] MPa"), or
+ * without a table or a gradient range. */
+HV_API hv_status hv_ags_create_calibrated(const hv_ags_desc *desc, hv_calibration *calibration,
+                                          const hv_property_target *target, hv_ags **out);
 /* Wu's move operator: the same source with d- replaced. */
 HV_API hv_status hv_ags_moved(const hv_ags *a, double d_neg, hv_ags **out);
 HV_API hv_ags *hv_ags_retain(hv_ags *a);
@@ -247,6 +364,15 @@ HV_API int hv_ags_materials(const hv_ags *a);
 HV_API const hv_frf *hv_ags_frf(const hv_ags *a);
 HV_API void hv_ags_ranges(const hv_ags *a, double *d_neg, double *d_grad, double *d_pos);
 HV_API const char *hv_ags_name(const hv_ags *a);
+/* The source's calibration table (NULL: none; owned by the source) and its property targets
+ * (0: none; else *t filled, t->property owned by the source). */
+HV_API const hv_calibration *hv_ags_calibration(const hv_ags *a);
+HV_API int hv_ags_target(const hv_ags *a, hv_property_target *t);
+/* Where composition p (m fractions) lies on the source's segment Ms -> Me: t = (p - Ms).(Me - Ms)
+ * / |Me - Ms|^2. Returns 1 when p is on the segment (every fraction within 1e-3 of
+ * Ms + t (Me - Ms), -1e-3 <= t <= 1 + 1e-3; t is then clamped to [0, 1]), 0 otherwise (Ms == Me
+ * included). */
+HV_API int hv_ags_segment_t(const hv_ags *a, const double *p, double *t);
 /* Wu's 3-material distance-field paradigm (eq. 13): P = [f, 1 - f - C, C] over the gradient
  * range, as an AGS with Ms = [f(0), 1 - f(0) - C, C], Me = [f(dg), 1 - f(dg) - C, C] and
  * the same f. Checks 0 <= f <= 1 - C on [0, dg]. */

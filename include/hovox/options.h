@@ -45,7 +45,8 @@ HV_API hv_status hv_color_parse(const char *s, float rgba[4]);
 /* ==== option descriptors ===================================================================== */
 
 typedef enum hv_opt_kind {
-    HV_OPT_FLAG = 0, /* int: 1 when given; CLI --name (no value), Lua/JSON true or false */
+    HV_OPT_FLAG = 0, /* int: 1 when given; CLI --name (no value), Lua/JSON true or false; with
+                        `parse` set, parse receives the (BOOL) value instead */
     HV_OPT_NUMBER,   /* `count` numbers of type `elem`: text "1,2,3", a list of numbers, or
                         one number (count 1, or HV_OPT_SCALAR) */
     HV_OPT_BYTES,    /* uint64_t: text "512M", "8G" (K/M/G/T = powers of 1024), or a number */

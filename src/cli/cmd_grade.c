@@ -15,6 +15,7 @@
 
 typedef struct source {
     const char *frf;
+    char spec[1024]; /* the split copy of the --frf text: the feature's strings point into it */
     hv_frf_options feature;
     hv_ags_options a;
     hv_optargs args;
@@ -31,16 +32,16 @@ typedef struct grade_cli {
 } grade_cli;
 
 /* "axis:0,0,0:0,0,1" -> the feature's keys in their order (checked as the options are read) */
-static hv_status parse_frf(const char *spec, hv_frf_options *o)
+static hv_status parse_frf(const char *spec, char *buf, size_t size, hv_frf_options *o)
 {
-    char buf[512];
-    snprintf(buf, sizeof buf, "%s", spec);
+    if (strlen(spec) >= size) return hv_error_option(HV_ERR_INVALID, "{frf} is longer than %zu bytes", size - 1);
+    snprintf(buf, size, "%s", spec);
     char *kind = buf, *arg = strchr(buf, ':');
     if (arg) *arg++ = '\0';
     hv_frf_kind k;
     const hv_option_set *set = NULL;
     if (hv_frf_kind_parse(kind, &k) != HV_OK || !(set = hv_frf_option_set(k)))
-        return hv_error_option(HV_ERR_INVALID, "unknown feature '%s' (axis, plane, point, segment, contour, mask)", kind);
+        return hv_error_option(HV_ERR_INVALID, "unknown feature '%s' (axis, plane, point, segment, contour, mask, field)", kind);
     hv_optargs args;
     hv_optargs_begin(&args, set, o);
     for (int i = 0; arg; ++i) {
@@ -64,7 +65,7 @@ static hv_status start_source(const hv_option *o, void *opts, const hv_opt_value
     source *s = &g->src[g->ns++];
     s->frf = v->text;
     hv_optargs_begin(&s->args, hv_ags_option_set(), &s->a);
-    hv_status st = parse_frf(v->text, &s->feature);
+    hv_status st = parse_frf(v->text, s->spec, sizeof s->spec, &s->feature);
     return st == HV_OK ? st : hv_error_prefix(st, "source %d (%s %s): ", g->ns, cli_spell("frf"), v->text);
 }
 
@@ -107,7 +108,9 @@ static const hv_option k_local_opts[] = {
     {.key = "frf", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_REQUIRED, .meta = "FRF", .parse = start_source,
      .section = "Grading sources (each --frf starts one; the options after it belong to it)",
      .help = "the reference feature: axis:OX,OY,OZ:DX,DY,DZ, plane:PX,PY,PZ:NX,NY,NZ, point:X,Y,Z, "
-             "segment:AX,AY,AZ:BX,BY,BZ, contour (depth below the model's boundary), mask:GRID"},
+             "segment:AX,AY,AZ:BX,BY,BZ, contour (depth below the model's boundary), mask:GRID, "
+             "field:FILE:ARRAY[:refuse|nearest] (a scalar field from .vti/.vtu point or cell data or a .vdb float "
+             "grid, sampled at the voxel centres; its value is d)"},
     {.key = "ranges", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "D-,DG,D+", .parse = source_value,
      .help = "the negative constant, gradient and positive constant ranges (Wu eq. 11); DG = 0 is a step"},
     {.key = "f", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "EXPR", .parse = source_value,
@@ -117,6 +120,19 @@ static const hv_option k_local_opts[] = {
      .help = "Ms: fractions >= 0 summing to 1, one per material"},
     {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "V,V,...", .parse = source_value,
      .help = "Me: likewise"},
+    {.key = "calibration", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "FILE.csv", .parse = source_value,
+     .help = "a calibration table of the source: CSV rows t,value of a property measured along Ms -> Me, "
+             "header t,<property>[<unit>]"},
+    {.key = "property_grading", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "PROPERTY",
+     .parse = source_value,
+     .help = "grade to property targets: the property at distance d is Ps + f (Pe - Ps); each voxel gets the "
+             "composition whose table value that is (needs --calibration)"},
+    {.key = "ps", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "VALUE[UNIT]", .parse = source_value,
+     .help = "Ps: the property at the start (2GPa, 85ShoreA; without a unit, the table's)"},
+    {.key = "pe", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "VALUE[UNIT]", .parse = source_value,
+     .help = "Pe: the property at the end"},
+    {.key = "log", .kind = HV_OPT_FLAG, .flags = HV_OPT_REPEAT, .parse = source_value,
+     .help = "interpolate the property logarithmically: Ps (Pe/Ps)^f"},
     {.key = "blend", .kind = HV_OPT_CUSTOM, .parse = parse_blend, .meta = "RULE",
      .help = "AGS union: the nearest source (nearest) or inverse-distance weights 1/(d + L/2)^2 (idw)",
      .section = "The object"},
@@ -130,7 +146,7 @@ static const hv_option k_local_opts[] = {
 static const hv_option_set k_local = CLI_LOCAL_SET("grade", k_local_opts, grade_cli);
 
 
-static hv_status add_sources(const grade_cli *g, const hv_volume *vol, hv_object *obj)
+static hv_status add_sources(const grade_cli *g, const hv_volume *vol, hv_object *obj, int quiet)
 {
     hv_status s = HV_OK;
     for (int i = 0; i < g->ns && s == HV_OK; ++i) {
@@ -140,6 +156,11 @@ static hv_status add_sources(const grade_cli *g, const hv_volume *vol, hv_object
         hv_frf_options fo = src->feature;
         if (fo.kind == HV_FRF_CONTOUR && g->grid) fo.grid = g->grid;
         s = hv_frf_from_options(&fo, vol, &frf);
+        hv_field_report rep;
+        if (s == HV_OK && !quiet && hv_frf_field_report(frf, &rep)) /* to choose d-, dg, d+ by */
+            printf("field       %s:%s: %.6g to %.6g over %llu voxels (in the file %.6g to %.6g; %llu voxels outside "
+                   "it%s)\n", fo.file, fo.array, rep.lo, rep.hi, (unsigned long long)rep.voxels, rep.file_lo,
+                   rep.file_hi, (unsigned long long)rep.filled, rep.filled ? ", given the nearest covered value" : "");
         if (s == HV_OK) s = hv_ags_from_options(frf, &src->a, NULL, &a);
         if (s == HV_OK) s = hv_object_add_ags(obj, a);
         if (s != HV_OK) hv_error_prefix(s, "source %d (%s %s): ", i + 1, cli_spell("frf"), src->frf);
@@ -162,7 +183,7 @@ static int grade(const char *model, grade_cli *g, int quiet)
     if (s == HV_OK) s = hv_volume_load(model, &vol);
     if (s == HV_OK) s = hv_object_create(vol, g->grid ? g->grid : "occupancy", m, &obj);
     if (s == HV_OK) s = hv_object_set_blend(obj, (hv_blend)g->blend, 2.0);
-    if (s == HV_OK) s = add_sources(g, vol, obj);
+    if (s == HV_OK) s = add_sources(g, vol, obj, quiet);
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};

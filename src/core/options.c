@@ -449,10 +449,14 @@ hv_status hv_option_set_value(const hv_option *o, void *opts, const hv_opt_value
     char t[256];
     switch (o->kind) {
     case HV_OPT_FLAG:
-        if (v->type == HV_VALUE_BOOL) *(int *)field(o, opts) = v->boolean != 0;
-        else return hv_error_option(HV_ERR_INVALID, "{%s} must be true or false, got %s", o->key,
-                                    value_text(v, t, sizeof t));
-        s = HV_OK;
+        if (v->type != HV_VALUE_BOOL)
+            return hv_error_option(HV_ERR_INVALID, "{%s} must be true or false, got %s", o->key,
+                                   value_text(v, t, sizeof t));
+        if (o->parse) s = o->parse(o, opts, v); /* a flag routed elsewhere (a CLI group's member) */
+        else {
+            *(int *)field(o, opts) = v->boolean != 0;
+            s = HV_OK;
+        }
         break;
     case HV_OPT_NUMBER: s = set_numbers(o, opts, v); break;
     case HV_OPT_BYTES: s = set_bytes(o, opts, v); break;

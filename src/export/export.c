@@ -72,19 +72,11 @@ void ex_eval_props(const ex_model *md, const double *p, float *const *out, size_
  * kept as given. Returns the unit to name the array with; *factor converts the values. */
 static const char *si_unit(const char *key, const char *unit, double *factor)
 {
-    static const struct { const char *unit, *si; double f; } units[] = {
-        {"kg/m^3", "kg/m^3", 1},   {"kg/m3", "kg/m^3", 1}, {"g/cm^3", "kg/m^3", 1e3},
-        {"g/cm3", "kg/m^3", 1e3},  {"g/cc", "kg/m^3", 1e3}, {"Pa", "Pa", 1},
-        {"kPa", "Pa", 1e3},        {"MPa", "Pa", 1e6},      {"GPa", "Pa", 1e9},
-        {"1", "1", 1},             {"-", "1", 1}};
     *factor = 1;
     if (unit && *unit) {
-        for (size_t i = 0; i < HV_COUNT(units); ++i)
-            if (strcmp(unit, units[i].unit) == 0) {
-                *factor = units[i].f;
-                return units[i].si;
-            }
-        return unit;
+        const char *si;
+        hv_unit_si(unit, &si, factor); /* the unit table lives with the material table */
+        return si;
     }
     return hv_property_si_unit(key);
 }
@@ -340,6 +332,13 @@ static hv_status vtk_api(void)
     pthread_once(&g_vtk_once, load_vtk);
     if (g_vtk_status != HV_OK) return hv_error_set(g_vtk_status, "%s", g_vtk_error);
     return HV_OK;
+}
+
+hv_status hv_vtk_bridge(const hv_vtk_api **api)
+{
+    hv_status s = vtk_api();
+    *api = s == HV_OK ? g_vtk : NULL;
+    return s;
 }
 
 static int vtk_progress(void *user, double fraction)

@@ -28,6 +28,15 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+#include <vtkDataArray.h>
+#include <vtkPolyData.h>
+#include <vtkProbeFilter.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
 
 #include <climits>
 #include <mutex>
@@ -38,7 +47,7 @@
 namespace {
 
 // Status values of hovox/core.h (the plugin does not link the library).
-enum { OK = 0, E_INVALID = 1, E_IO = 3, E_NOMEM = 4, E_LIMIT = 5, E_CANCELLED = 6,
+enum { OK = 0, E_INVALID = 1, E_BAD_INPUT = 2, E_IO = 3, E_NOMEM = 4, E_LIMIT = 5, E_CANCELLED = 6,
        E_INTERNAL = 9 };
 
 thread_local std::string g_error;
@@ -274,7 +283,100 @@ int b_write_hexes(const char *path, int64_t npoints, const float *points, int64_
     HV_CATCH(E_INTERNAL)
 }
 
-const hv_vtk_api g_api = {HV_VTK_ABI, b_last_error, b_write_image, b_write_hexes};
+// --- reading fields ---------------------------------------------------------------------
+
+std::string array_names(vtkDataSet *ds)
+{
+    std::string s;
+    vtkFieldData *fd[2] = {ds->GetPointData(), ds->GetCellData()};
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < fd[k]->GetNumberOfArrays(); ++i) {
+            const char *n = fd[k]->GetArrayName(i);
+            if (!n) continue;
+            if (!s.empty()) s += ", ";
+            s += n;
+            s += k ? " (cell)" : " (point)";
+        }
+    return s.empty() ? "none" : s;
+}
+
+template <typename Reader>
+vtkSmartPointer<vtkDataSet> read_xml(const char *path, std::string &err)
+{
+    vtkNew<Reader> r;
+    if (!r->CanReadFile(path)) {
+        err = "not a readable VTK XML file of this type";
+        return nullptr;
+    }
+    r->SetFileName(path);
+    r->Update();
+    std::string captured = CaptureWindow::take();
+    if (r->GetErrorCode() != 0 || !r->GetOutput() || !captured.empty()) {
+        err = captured.empty() ? "VTK could not read it" : captured;
+        return nullptr;
+    }
+    return vtkSmartPointer<vtkDataSet>(r->GetOutput());
+}
+
+int b_probe(const char *path, const char *array, int64_t n, const double *points, float *out, uint8_t *valid,
+            hv_vtk_probe_info *info)
+{
+    try {
+        std::string p(path), ext;
+        size_t dot = p.rfind('.');
+        if (dot != std::string::npos) ext = p.substr(dot);
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
+        if (FILE *f = std::fopen(path, "rb")) std::fclose(f);
+        else return fail(E_IO, p + ": cannot open");
+        std::string err;
+        CaptureWindow::take();
+        vtkSmartPointer<vtkDataSet> ds;
+        if (ext == ".vti") ds = read_xml<vtkXMLImageDataReader>(path, err);
+        else if (ext == ".vtu") ds = read_xml<vtkXMLUnstructuredGridReader>(path, err);
+        else return fail(E_BAD_INPUT, p + ": not a .vti or .vtu file");
+        if (!ds) return fail(E_BAD_INPUT, p + ": " + err);
+        vtkDataArray *a = ds->GetPointData()->GetArray(array);
+        info->cell_data = 0;
+        if (!a) {
+            a = ds->GetCellData()->GetArray(array);
+            info->cell_data = 1;
+        }
+        if (!a) return fail(E_BAD_INPUT, p + ": no array '" + array + "' (arrays: " + array_names(ds) + ")");
+        info->components = a->GetNumberOfComponents();
+        info->points = ds->GetNumberOfPoints();
+        info->cells = ds->GetNumberOfCells();
+        if (info->components != 1)
+            return fail(E_BAD_INPUT, p + ": array '" + array + "' has " + std::to_string(info->components) +
+                                         " components; a field feature needs a scalar (1)");
+        if (a->GetNumberOfTuples() == 0) return fail(E_BAD_INPUT, p + ": array '" + array + "' is empty");
+        a->GetRange(info->range, 0);
+        vtkNew<vtkPoints> pts;
+        pts->SetDataTypeToDouble();
+        pts->SetNumberOfPoints(vtkIdType(n));
+        for (int64_t i = 0; i < n; ++i) pts->SetPoint(vtkIdType(i), points + 3 * i);
+        vtkNew<vtkPolyData> where;
+        where->SetPoints(pts);
+        vtkNew<vtkProbeFilter> probe;
+        probe->SetInputData(where);
+        probe->SetSourceData(ds);
+        probe->Update();
+        vtkDataSet *o = probe->GetOutput();
+        vtkDataArray *v = o ? o->GetPointData()->GetArray(array) : nullptr;
+        vtkDataArray *m = o ? o->GetPointData()->GetArray(probe->GetValidPointMaskArrayName()) : nullptr;
+        if (!v || !m || v->GetNumberOfTuples() != vtkIdType(n)) {
+            std::string c = CaptureWindow::take();
+            return fail(E_INTERNAL, p + ": probing failed" + (c.empty() ? "" : ": " + c));
+        }
+        for (int64_t i = 0; i < n; ++i) {
+            valid[i] = m->GetTuple1(vtkIdType(i)) != 0;
+            out[i] = valid[i] ? float(v->GetTuple1(vtkIdType(i))) : 0.0f;
+        }
+        return OK;
+    }
+    HV_CATCH(E_INTERNAL)
+}
+
+const hv_vtk_api g_api = {HV_VTK_ABI, b_last_error, b_write_image, b_write_hexes, b_probe};
 
 } // namespace
 

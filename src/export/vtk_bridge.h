@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-#define HV_VTK_ABI 2
+#define HV_VTK_ABI 3
 
 /* Array element types. HV_VTK_STRING: `data` is one NUL-terminated string (count 1). */
 enum { HV_VTK_UINT8 = 1, HV_VTK_INT32 = 2, HV_VTK_FLOAT32 = 3, HV_VTK_STRING = 4 };
@@ -36,6 +36,14 @@ typedef struct hv_vtk_write_opts {
     const hv_vtk_array *field; /* field data */
 } hv_vtk_write_opts;
 
+/* What hv_vtk_api.probe found in the file. */
+typedef struct hv_vtk_probe_info {
+    int components;     /* of the array */
+    int cell_data;      /* 1: the array is cell data */
+    double range[2];    /* min and max of the array in the file */
+    int64_t points, cells;
+} hv_vtk_probe_info;
+
 typedef struct hv_vtk_api {
     int abi;
     const char *(*last_error)(void);
@@ -50,11 +58,29 @@ typedef struct hv_vtk_api {
     int (*write_hexes)(const char *path, int64_t npoints, const float *points, int64_t ncells,
                        const void *connectivity, int conn64, int narrays,
                        const hv_vtk_array *arrays, const hv_vtk_write_opts *opts);
+    /* Read a .vti (vtkImageData) or .vtu (vtkUnstructuredGrid) file, told apart by the
+     * extension, and probe its array `array` (point data, else cell data) at n points (3
+     * doubles each, world coordinates): out[i] the value and valid[i] = 1 where a cell of the
+     * data set holds point i (vtkProbeFilter: image data interpolated trilinearly, an
+     * unstructured grid by its cells' interpolation functions; cell data takes the cell's value),
+     * else 0. info (see hv_vtk_probe_info) is filled before the probe. Errors: E_IO (cannot
+     * open), E_BAD_INPUT (not readable as that format, no such array: the message lists the
+     * arrays, not 1 component), E_NOMEM. */
+    int (*probe)(const char *path, const char *array, int64_t n, const double *points, float *out,
+                 uint8_t *valid, hv_vtk_probe_info *info);
 } hv_vtk_api;
+
 
 /* The plugin's one exported symbol. */
 typedef const hv_vtk_api *(*hv_vtk_entry_fn)(void);
 #define HV_VTK_ENTRY "hv_vtk_plugin_v1"
+
+#ifndef __cplusplus
+#include "hovox/core.h"
+/* The C side: the plugin's function table, loaded on first use (once per process). Errors:
+ * HV_ERR_UNSUPPORTED (plugin missing or of another ABI). Defined in src/export/export.c. */
+hv_status hv_vtk_bridge(const hv_vtk_api **api);
+#endif
 
 #ifdef __cplusplus
 }

@@ -208,6 +208,33 @@ static int model_mask(lua_State *L)
     return push_feature(L, s, f);
 }
 
+/* model:field{file = "s.vti", array = "sigma", outside = "refuse"|"nearest"}: a field feature
+ * (hv_frf_option_set(HV_FRF_FIELD)) sampled at the model's voxels; returns the feature and
+ * {lo, hi, file_lo, file_hi, voxels, filled} */
+static int model_field(lua_State *L)
+{
+    hv_volume *v = hv_lua_model(L, 1);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    hv_frf_options o;
+    int holder = hv_lua_read(L, 2, hv_frf_option_set(HV_FRF_FIELD), &o, NULL);
+    (void)holder;
+    v = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
+    hv_frf *f = NULL;
+    hv_status s = hv_frf_from_options(&o, v, &f);
+    if (s != HV_OK) return fail(L, s);
+    push_feature(L, s, f);
+    hv_field_report r;
+    hv_frf_field_report(f, &r);
+    lua_createtable(L, 0, 6);
+    lua_pushnumber(L, r.lo), lua_setfield(L, -2, "lo");
+    lua_pushnumber(L, r.hi), lua_setfield(L, -2, "hi");
+    lua_pushnumber(L, r.file_lo), lua_setfield(L, -2, "file_lo");
+    lua_pushnumber(L, r.file_hi), lua_setfield(L, -2, "file_hi");
+    lua_pushinteger(L, (lua_Integer)r.voxels), lua_setfield(L, -2, "voxels");
+    lua_pushinteger(L, (lua_Integer)r.filled), lua_setfield(L, -2, "filled");
+    return 2;
+}
+
 /* model:harmonic(mesh, one, zero[, domain]): one and zero are facet selections */
 static int model_harmonic(lua_State *L)
 {
@@ -361,15 +388,77 @@ static int push_source(lua_State *L, hv_ags *a)
     return 1;
 }
 
+static int calibration_box_gc(lua_State *L)
+{
+    hv_calibration **box = lua_touserdata(L, 1);
+    if (box) {
+        hv_calibration_release(*box);
+        *box = NULL;
+    }
+    return 0;
+}
+
+/* calibration = {property = "youngs_modulus", unit = "MPa", points = {{t, value}, ...}} (a file
+ * name is read by the option set). Release with hv_calibration_release. */
+static hv_calibration *calibration_table(lua_State *L, int idx, int arg, int holder)
+{
+    idx = lua_absindex(L, idx);
+    hv_lua_check_plain_table(L, idx);
+    const char *prop = hv_lua_string_field(L, idx, "property", holder);
+    const char *unit = hv_lua_string_field(L, idx, "unit", holder);
+    if (!prop) luaL_argerror(L, arg, "calibration table needs property = \"<name>\"");
+    if (hv_lua_field(L, idx, "points") != LUA_TTABLE)
+        luaL_argerror(L, arg, "calibration table needs points = {{t, value}, ...}");
+    int n = (int)lua_rawlen(L, -1);
+    if (n < 2 || n > 100000) arg_error(L, arg, "calibration: %s needs 2 to 100000 points, got %d", prop, n);
+    double *tv = lua_newuserdatauv(L, (size_t)n * 2 * sizeof(double), 0); /* freed by Lua, even on errors */
+    for (int i = 0; i < n; ++i) {
+        lua_rawgeti(L, -2, i + 1);
+        double pt[2];
+        if (!lua_istable(L, -1) || hv_lua_numbers(L, -1, arg, "point", pt, 2) != 2)
+            arg_error(L, arg, "calibration points[%d] must be {t, value}", i + 1);
+        tv[i] = pt[0];
+        tv[n + i] = pt[1];
+        lua_pop(L, 1);
+    }
+    hv_calibration *c = NULL;
+    hv_status s = hv_calibration_create(prop, unit, tv, tv + n, n, &c);
+    lua_pop(L, 2);
+    if (s != HV_OK) luaL_argerror(L, arg, hv_last_error());
+    return c;
+}
+
 /* A source from the table at `arg`: the keys of the set (wu3: hv_wu3_option_set, else
- * hv_ags_option_set), feature = a hovox feature, and f read here. */
+ * hv_ags_option_set), feature = a hovox feature, f and a calibration given as a table read
+ * here. */
 static hv_ags *source_from_table(lua_State *L, int arg, int wu3)
 {
     static const char *const extra[] = {"feature", "f", NULL};
+    static const char *const extra_cal[] = {"feature", "f", "calibration", NULL};
     luaL_checktype(L, arg, LUA_TTABLE);
     int holder = hv_lua_holder(L);
     hv_ags_options o;
-    hv_lua_read_options(L, arg, wu3 ? hv_wu3_option_set() : hv_ags_option_set(), &o, extra, holder);
+    int cal_table = 0;
+    if (!wu3) {
+        cal_table = hv_lua_field(L, arg, "calibration") == LUA_TTABLE;
+        lua_pop(L, 1);
+    }
+    hv_lua_read_options(L, arg, wu3 ? hv_wu3_option_set() : hv_ags_option_set(), &o, cal_table ? extra_cal : extra,
+                        holder);
+    if (cal_table) {
+        /* the table is owned by a userdata on the stack (released by its __gc), so an error
+         * below does not leak it; the source keeps its own reference */
+        hv_calibration **box = lua_newuserdatauv(L, sizeof *box, 0);
+        *box = NULL;
+        lua_createtable(L, 0, 1);
+        lua_pushcfunction(L, calibration_box_gc);
+        lua_setfield(L, -2, "__gc");
+        lua_setmetatable(L, -2);
+        hv_lua_field(L, arg, "calibration");
+        *box = calibration_table(L, -1, arg, holder);
+        lua_pop(L, 1);
+        o.calibration_table = *box;
+    }
     l_feature *feat = hv_lua_option_object(L, arg, "feature", MT_FEATURE,
                                            "hovox feature (hovox.axis{...}, model:contour(), ...)");
     lua_fn_ctx ctx = {L, LUA_NOREF, 0, ""};
@@ -378,7 +467,7 @@ static hv_ags *source_from_table(lua_State *L, int arg, int wu3)
     hv_status s = wu3 ? hv_ags_wu3_from_options(feat->p, &o, f, &a) : hv_ags_from_options(feat->p, &o, f, &a);
     hv_dfn_destroy(f);
     if (ctx.ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, ctx.ref);
-    lua_pop(L, 2); /* the feature, the holder */
+    lua_pop(L, cal_table ? 3 : 2); /* the feature, the calibration's box, the holder */
     if (ctx.failed) arg_error(L, arg, "f failed: %s", ctx.msg);
     if (s != HV_OK) luaL_argerror(L, arg, hv_last_error());
     return a;
@@ -428,7 +517,7 @@ void hv_lua_open_sources(lua_State *L, int module)
     static const luaL_Reg feat_m[] = {{"distance", feature_distance}, {NULL, NULL}};
     static const luaL_Reg src_m[] = {{"eval", source_eval}, {"ranges", source_ranges}, {"moved", source_moved},
                                      {NULL, NULL}};
-    static const luaL_Reg model_m[] = {{"contour", model_contour}, {"mask", model_mask},
+    static const luaL_Reg model_m[] = {{"contour", model_contour}, {"mask", model_mask}, {"field", model_field},
                                        {"harmonic", model_harmonic}, {NULL, NULL}};
     static const luaL_Reg fns[] = {{"materials", l_materials}, {"facets", l_facets}, {"ags", l_ags},
                                    {"wu3", l_wu3}, {NULL, NULL}};

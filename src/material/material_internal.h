@@ -37,6 +37,8 @@ struct hv_frf {
     size_t ntris0;
     pthread_mutex_t lock;
     hv_field_cache cache;
+    int has_report;        /* a field read from a file (hv_frf_field_file) */
+    hv_field_report report;
 };
 
 /* Make sure the field of a voxel feature covers index box [lo, lo + n) of lattice xf
@@ -81,6 +83,10 @@ struct hv_ags {
     float table[HV_AGS_TABLE + 1]; /* f at dg * i / HV_AGS_TABLE */
     char fdesc[256];
     char name[64];
+    hv_calibration *calib; /* may be NULL */
+    int has_target;        /* property targets (the table above is then t(d), composed) */
+    double ps, pe;
+    int log;
 };
 
 /* f at distance d (world units) through the table: 0 .. 1 weight of Me. For dg == 0: the

@@ -47,6 +47,18 @@ static const hv_option k_contour[] = {{.key = "grid", .kind = HV_OPT_STRING, .of
                                        .help = "the bool grid whose boundary it is (default occupancy)"}};
 static const hv_option k_mask[] = {{.key = "grid", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED,
                                     .offset = FOFF(grid), .meta = "GRID", .help = "the bool grid of the feature voxels"}};
+static const char *const k_outside_names[] = {"refuse", "nearest", NULL};
+static const hv_enum_def k_outside = {"outside rule", k_outside_names, NULL, NULL};
+const hv_enum_def *hv_field_outside_enum(void) { return &k_outside; }
+static const hv_option k_field[] = {
+    {.key = "file", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED | HV_OPT_IN_PATH, .offset = FOFF(file),
+     .meta = "FILE", .help = "the data: .vti, .vtu (VTK XML) or .vdb"},
+    {.key = "array", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED, .offset = FOFF(array), .meta = "ARRAY",
+     .help = "the scalar array (point or cell data), or the .vdb float grid"},
+    {.key = "outside", .kind = HV_OPT_ENUM, .offset = FOFF(outside), .enumdef = &k_outside, .meta = "RULE",
+     .help = "model voxels the field does not cover: refuse (default, with their count) or nearest (the nearest "
+             "covered voxel's value)"},
+};
 #undef V3
 
 static hv_status frf_validate(const void *opts)
@@ -71,12 +83,14 @@ static void frf_init_contour(void *o)
     ((hv_frf_options *)o)->grid = "occupancy";
 }
 static void frf_init_mask(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_MASK; }
+static void frf_init_field(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_FIELD; }
 
 #define FSET(name, opts, init) {name, opts, (int)HV_COUNT(opts), sizeof(hv_frf_options), init, NULL, 0, NULL, frf_validate, NULL, 0}
 static const hv_option_set k_frf_sets[] = {
     FSET("point", k_point, frf_init_point),       FSET("axis", k_axis, frf_init_axis),
     FSET("plane", k_plane, frf_init_plane),       FSET("segment", k_segment, frf_init_segment),
     FSET("contour", k_contour, frf_init_contour), FSET("mask", k_mask, frf_init_mask),
+    FSET("field", k_field, frf_init_field),
 };
 #undef FSET
 
@@ -104,6 +118,9 @@ hv_status hv_frf_from_options(const hv_frf_options *o, const hv_volume *vol, hv_
     case HV_FRF_MASK:
         if (!vol) return hv_error_set(HV_ERR_INVALID, "a %s feature needs a model", hv_frf_kind_name(o->kind));
         return o->kind == HV_FRF_CONTOUR ? hv_frf_contour(vol, o->grid, out) : hv_frf_mask(vol, o->grid, out);
+    case HV_FRF_FIELD:
+        if (!vol) return hv_error_set(HV_ERR_INVALID, "a field feature needs the model whose voxels it samples");
+        return hv_frf_field_file(vol, NULL, o->file, o->array, (hv_field_outside)o->outside, out);
     default: return hv_error_set(HV_ERR_INVALID, "a %s feature is not made from options", hv_frf_kind_name(o->kind));
     }
 }
@@ -225,9 +242,28 @@ static const hv_option k_ags[] = {
     {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REQUIRED, .meta = "V,V,...", .parse = parse_composition,
      .help = "Me: the end composition"},
     {.key = "name", .kind = HV_OPT_STRING, .offset = AOFF(name), .meta = "NAME", .help = "a name for the source"},
+    {.key = "calibration", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = AOFF(calibration),
+     .meta = "FILE.csv", .help = "a calibration table: rows t,value of a property measured along Ms -> Me "
+                                 "(header t,<property>[<unit>]); kept with the source"},
+    {.key = "property_grading", .kind = HV_OPT_STRING, .offset = AOFF(property_grading), .meta = "PROPERTY",
+     .help = "grade to property targets: the property Ps + f (Pe - Ps) at distance d, through the exact inverse of "
+             "the calibration table"},
+    {.key = "ps", .kind = HV_OPT_STRING, .offset = AOFF(ps), .meta = "VALUE[UNIT]",
+     .help = "Ps: the property at the start (e.g. 2GPa; without a unit, the table's)"},
+    {.key = "pe", .kind = HV_OPT_STRING, .offset = AOFF(pe), .meta = "VALUE[UNIT]", .help = "Pe: at the end"},
+    {.key = "log", .kind = HV_OPT_FLAG, .offset = AOFF(log),
+     .help = "interpolate the property logarithmically, Ps (Pe/Ps)^f (common for moduli)"},
 };
 
 static const hv_opt_rule k_ags_rules[] = {{HV_RULE_EXCLUDES, "ranges", "d_neg", NULL, NULL},
+                                          {HV_RULE_EXCLUDES, "ranges", "d_grad", NULL, NULL},
+                                          {HV_RULE_EXCLUDES, "ranges", "d_pos", NULL, NULL},
+                                          {HV_RULE_NEEDS, "property_grading", "ps", NULL, NULL},
+                                          {HV_RULE_NEEDS, "property_grading", "pe", NULL, NULL},
+                                          {HV_RULE_NEEDS, "ps", "property_grading", NULL, NULL},
+                                          {HV_RULE_NEEDS, "pe", "property_grading", NULL, NULL},
+                                          {HV_RULE_NEEDS, "log", "property_grading", NULL, NULL}};
+static const hv_opt_rule k_wu3_rules[] = {{HV_RULE_EXCLUDES, "ranges", "d_neg", NULL, NULL},
                                           {HV_RULE_EXCLUDES, "ranges", "d_grad", NULL, NULL},
                                           {HV_RULE_EXCLUDES, "ranges", "d_pos", NULL, NULL}};
 
@@ -257,7 +293,7 @@ static const hv_option k_wu3[] = {
      .help = "C: the constant fraction of the third material (Wu eq. 13: P = [f, 1 - f - C, C])"},
 };
 static const hv_option_set k_wu3_set = {"wu3 source", k_wu3, (int)HV_COUNT(k_wu3), sizeof(hv_ags_options), ags_init,
-                                        k_ags_rules, (int)HV_COUNT(k_ags_rules), NULL, NULL, NULL, 0};
+                                        k_wu3_rules, (int)HV_COUNT(k_wu3_rules), NULL, NULL, NULL, 0};
 const hv_option_set *hv_wu3_option_set(void) { return &k_wu3_set; }
 
 hv_status hv_ags_wu3_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn *f, hv_ags **out)
@@ -285,8 +321,20 @@ hv_status hv_ags_from_options(hv_frf *frf, const hv_ags_options *o, const hv_dfn
         if (s != HV_OK) return hv_error_option(s, "{f}: %s", hv_last_error());
         f = own;
     }
-    hv_ags_desc d = {frf, o->d_neg, o->d_grad, o->d_pos, f, o->ms, o->me, o->nms, o->name};
-    s = hv_ags_create(&d, out);
+    hv_calibration *calib = NULL;
+    hv_property_target target = {o->property_grading, 0, 0, o->log};
+    if (o->calibration_table) calib = hv_calibration_retain(o->calibration_table);
+    else if (o->calibration) s = hv_calibration_load(o->calibration, &calib);
+    if (s == HV_OK && o->property_grading && !calib)
+        s = hv_error_set(HV_ERR_INVALID, "grading to %s targets needs a calibration table", o->property_grading);
+    const char *unit = calib ? hv_calibration_unit(calib) : "";
+    if (s == HV_OK && o->property_grading) s = hv_quantity_parse(o->ps, unit, "Ps", &target.ps);
+    if (s == HV_OK && o->property_grading) s = hv_quantity_parse(o->pe, unit, "Pe", &target.pe);
+    if (s == HV_OK) {
+        hv_ags_desc d = {frf, o->d_neg, o->d_grad, o->d_pos, f, o->ms, o->me, o->nms, o->name};
+        s = hv_ags_create_calibrated(&d, calib, o->property_grading ? &target : NULL, out);
+    }
+    hv_calibration_release(calib);
     hv_dfn_destroy(own);
     return s;
 }

@@ -332,4 +332,28 @@ fails("rotation must be 0, 90, 180 or 270, got 45", tray.add, tray, {mesh = tmp 
                                                                        rotation = 45})
 fails("unknown option 'rot'", tray.add, tray, {mesh = tmp .. "/tray_box.stl", rot = 90})
 fails("mode must be halftone or mask, got 'gray'", tray.layers, tray, {dir = tmp .. "/t2", mode = "gray"})
+-- issue 18: a calibration table given as a table, property targets (log), and a field feature
+-- read back from a .vti this script exports (the rigid fraction, so d = f of the first grading)
+local cal = {property = "youngs_modulus", unit = "MPa", points = {{0, 0.6}, {0.5, 9.5}, {0.8, 250}, {1, 2000}}}
+local psrc = hovox.ags{feature = hovox.plane{point = {0, 0, 0}, normal = {1, 0, 0}}, ranges = {0, 10, 0},
+                       ms = {0, 1}, me = {1, 0}, calibration = cal, property_grading = "youngs_modulus",
+                       ps = "1MPa", pe = "1GPa", log = true}
+local t_mid = psrc:eval(5)[1] -- P = sqrt(1 * 1000) MPa = 31.62 MPa: t = 0.5 + (31.62 - 9.5) / 240.5 * 0.3
+assert(math.abs(t_mid - (0.5 + (math.sqrt(1000) - 9.5) / 240.5 * 0.3)) < 1e-5, t_mid)
+fails("Pe = 3000 MPa is outside the calibration table's youngs_modulus range [0.6, 2000] MPa", hovox.ags,
+      {feature = hovox.plane{point = {0, 0, 0}, normal = {1, 0, 0}}, ranges = {0, 10, 0}, ms = {0, 1}, me = {1, 0},
+       calibration = cal, property_grading = "youngs_modulus", ps = "1MPa", pe = "3GPa"})
+fails("row 3: youngs_modulus 5 is not greater than row 2's (9.5)", hovox.ags,
+      {feature = hovox.plane{point = {0, 0, 0}, normal = {1, 0, 0}}, ranges = {0, 10, 0}, ms = {0, 1}, me = {1, 0},
+       calibration = {property = "youngs_modulus", points = {{0, 1}, {0.5, 9.5}, {1, 5}}}})
+local bar = hovox.voxelize(hovox.generate.box{sx = 20, sy = 4, sz = 4}, {voxel_size = 0.5})
+local bobj = hovox.object(bar, hovox.materials{"rigid", "rubber"})
+bobj:add_ags{feature = hovox.plane{point = {-10, 0, 0}, normal = {1, 0, 0}}, ranges = {0, 20, 0},
+             ms = {0, 1}, me = {1, 0}}
+local bg = bobj:evaluate()
+bg:export{path = tmp .. "/bar.vti"}
+local ffeat, frep = bar:field{file = tmp .. "/bar.vti", array = "fraction.rigid"}
+assert(frep.filled == 0 and frep.lo >= 0 and frep.hi <= 1 and frep.voxels == bar:voxels(), frep.filled)
+assert(math.abs(ffeat:distance({0.25, 0.25, 0.25}, bar) - 10.25 / 20) < 1e-4)
+fails("no array 'sigma'", bar.field, bar, {file = tmp .. "/bar.vti", array = "sigma"})
 print("test_api.lua: all checks passed")

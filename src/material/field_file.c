@@ -1,0 +1,293 @@
+/* src/material/field_file.c - field features: a scalar field from data (an FEA result, a scan)
+ * sampled at the model's voxel centres, where its value plays the role of Wu's distance d. VTK
+ * files go through the VTK bridge plugin (src/export/vtk_bridge.h: vtkProbeFilter), .vdb float
+ * grids through the volume store; voxels the field misses are refused or filled from the
+ * nearest covered voxel. The result is an ordinary stored field (HV_FRF_FIELD). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "export/vtk_bridge.h"
+#include "material_internal.h"
+
+/* The voxel centres of the true voxels of bool grid 0 of m (n of them, 3 doubles each). */
+static hv_status centres(const hv_volume *m, double **xyz, size_t *n)
+{
+    hv_transform xf = hv_volume_get_transform(m);
+    size_t count = 0, nl = hv_volume_leaf_count(m);
+    for (size_t l = 0; l < nl; ++l) {
+        const uint64_t *mask = hv_volume_leaf_mask(m, l);
+        for (int w = 0; w < 8; ++w) count += (size_t)__builtin_popcountll(mask[w]);
+    }
+    double *p = hv_malloc_array(count ? count : 1, 3 * sizeof(double));
+    if (!p) return HV_ERR_NOMEM;
+    const int32_t *org = hv_volume_leaf_origins(m);
+    size_t k = 0;
+    for (size_t l = 0; l < nl; ++l) {
+        const uint64_t *mask = hv_volume_leaf_mask(m, l);
+        for (unsigned q = 0; q < HV_LEAF_SIZE; ++q) {
+            if (!HV_BIT_GET(mask, q)) continue;
+            int32_t idx[3] = {org[3 * l] + (int32_t)(q >> 6), org[3 * l + 1] + (int32_t)((q >> 3) & 7),
+                              org[3 * l + 2] + (int32_t)(q & 7)};
+            for (int a = 0; a < 3; ++a) p[3 * k + (size_t)a] = xf.origin[a] + idx[a] * xf.voxel[a];
+            ++k;
+        }
+    }
+    *xyz = p;
+    *n = count;
+    return HV_OK;
+}
+
+static const char *ext_of(const char *path)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    return dot && (!slash || dot > slash) ? dot : "";
+}
+
+/* A .vdb float grid sampled trilinearly over its active voxels. */
+static hv_status probe_vdb(const char *path, const char *grid, size_t n, const double *xyz, float *out,
+                           uint8_t *valid, double range[2])
+{
+    hv_volume *v;
+    hv_status s = hv_volume_load(path, &v);
+    if (s != HV_OK) return s;
+    int g = hv_volume_grid_find(v, grid);
+    if (g < 0 || hv_volume_grid_type(v, g) != HV_GRID_FLOAT) {
+        hv_buf b;
+        hv_buf_init(&b);
+        for (int i = 0; i < hv_volume_grid_count(v); ++i)
+            if (hv_volume_grid_type(v, i) == HV_GRID_FLOAT) hv_buf_printf(&b, "%s%s", b.len ? ", " : "", hv_volume_grid_name(v, i));
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: no float grid '%s' (float grids: %s)", path, grid,
+                         b.len && !b.failed ? b.data : "none");
+        hv_buf_free(&b);
+        hv_volume_destroy(v);
+        return s;
+    }
+    range[0] = INFINITY;
+    range[1] = -INFINITY;
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) {
+        const uint64_t *mask = hv_volume_leaf_mask(v, l);
+        const float *d = hv_volume_leaf_float_c(v, g, l);
+        for (unsigned q = 0; q < HV_LEAF_SIZE; ++q)
+            if (HV_BIT_GET(mask, q)) {
+                range[0] = fmin(range[0], d[q]);
+                range[1] = fmax(range[1], d[q]);
+            }
+    }
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    for (size_t i = 0; i < n; ++i) {
+        float d = 0, cov = 0;
+        hv_volume_sample(&acc, &g, 1, xyz + 3 * i, &d, &cov);
+        valid[i] = cov > 0 && isfinite(d);
+        out[i] = valid[i] ? d : 0.0f;
+    }
+    hv_volume_destroy(v);
+    return HV_OK;
+}
+
+static hv_status probe_vtk(const char *path, const char *array, size_t n, const double *xyz, float *out,
+                           uint8_t *valid, double range[2])
+{
+    const hv_vtk_api *api;
+    hv_status s = hv_vtk_bridge(&api);
+    if (s != HV_OK) return s;
+    hv_vtk_probe_info info;
+    memset(&info, 0, sizeof info);
+    int rc = api->probe(path, array, (int64_t)n, xyz, out, valid, &info);
+    if (rc != HV_OK) return hv_error_set((hv_status)rc, "%s", api->last_error());
+    range[0] = info.range[0];
+    range[1] = info.range[1];
+    return HV_OK;
+}
+
+/* Fill the voxels not covered from the nearest covered voxel (Euclidean, anisotropic spacing):
+ * each voxel of the model's index box keeps its nearest source found so far, and a breadth-first
+ * wave over 26-neighbours passes sources on while they are nearer (a voxel is queued again when
+ * its source improves), as in vector distance transforms (Danielsson 1980); ties go to the
+ * source reached first, deterministic. */
+static hv_status fill_nearest(const hv_volume *m, float *val, const uint8_t *valid, size_t n)
+{
+    int32_t lo[3], hi[3];
+    if (!hv_volume_index_bbox(m, lo, hi)) return HV_OK;
+    hv_transform xf = hv_volume_get_transform(m);
+    int64_t dim[3] = {hi[0] - lo[0] + 1, hi[1] - lo[1] + 1, hi[2] - lo[2] + 1};
+    size_t total = (size_t)(dim[0] * dim[1] * dim[2]), qcap = total, qh = 0, qt = 0;
+    int64_t *src = hv_malloc_array(total, sizeof(int64_t));
+    int64_t *queue = hv_malloc_array(qcap, sizeof(int64_t));
+    int64_t *at = hv_malloc_array(n ? n : 1, sizeof(int64_t));
+    float *bv = hv_malloc_array(total, sizeof(float));
+    hv_status s = HV_OK;
+    if (!src || !queue || !at || !bv) {
+        s = HV_ERR_NOMEM;
+        goto done;
+    }
+    for (size_t v = 0; v < total; ++v) src[v] = -1;
+    const int32_t *org = hv_volume_leaf_origins(m);
+    size_t k = 0;
+    for (size_t l = 0; l < hv_volume_leaf_count(m); ++l) {
+        const uint64_t *mask = hv_volume_leaf_mask(m, l);
+        for (unsigned q = 0; q < HV_LEAF_SIZE; ++q) {
+            if (!HV_BIT_GET(mask, q)) continue;
+            int64_t i = org[3 * l] + (int64_t)(q >> 6) - lo[0], j = org[3 * l + 1] + (int64_t)((q >> 3) & 7) - lo[1],
+                    kk = org[3 * l + 2] + (int64_t)(q & 7) - lo[2];
+            at[k] = (i * dim[1] + j) * dim[2] + kk;
+            if (valid[k]) {
+                src[at[k]] = at[k];
+                bv[at[k]] = val[k];
+            }
+            ++k;
+        }
+    }
+    for (size_t v = 0; v < total; ++v)
+        if (src[v] == (int64_t)v) queue[qt++] = (int64_t)v;
+#define COORDS(v, c) \
+    do { \
+        c[0] = (v) / (dim[1] * dim[2]); \
+        c[1] = ((v) / dim[2]) % dim[1]; \
+        c[2] = (v) % dim[2]; \
+    } while (0)
+    while (qh != qt) {
+        int64_t v = queue[qh];
+        qh = (qh + 1) % qcap;
+        int64_t c[3], sc[3];
+        COORDS(v, c);
+        COORDS(src[v], sc);
+        for (int di = -1; di <= 1; ++di)
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int dk = -1; dk <= 1; ++dk) {
+                    int64_t a[3] = {c[0] + di, c[1] + dj, c[2] + dk};
+                    if (a[0] < 0 || a[1] < 0 || a[2] < 0 || a[0] >= dim[0] || a[1] >= dim[1] || a[2] >= dim[2]) continue;
+                    int64_t w = (a[0] * dim[1] + a[1]) * dim[2] + a[2];
+                    double dn = 0, dold = 0;
+                    int64_t oc[3];
+                    if (src[w] >= 0) COORDS(src[w], oc);
+                    for (int e = 0; e < 3; ++e) {
+                        double u = (double)(a[e] - sc[e]) * xf.voxel[e];
+                        dn += u * u;
+                        if (src[w] >= 0) {
+                            double o = (double)(a[e] - oc[e]) * xf.voxel[e];
+                            dold += o * o;
+                        }
+                    }
+                    if (src[w] >= 0 && !(dn < dold - 1e-12)) continue;
+                    src[w] = src[v];
+                    bv[w] = bv[src[v]];
+                    if ((qt + 1) % qcap == qh) { /* full: grow the ring */
+                        int64_t *nq = hv_malloc_array(2 * qcap, sizeof(int64_t));
+                        if (!nq) {
+                            s = HV_ERR_NOMEM;
+                            goto done;
+                        }
+                        size_t len = 0;
+                        for (size_t r = qh; r != qt; r = (r + 1) % qcap) nq[len++] = queue[r];
+                        free(queue);
+                        queue = nq;
+                        qcap *= 2;
+                        qh = 0;
+                        qt = len;
+                    }
+                    queue[qt] = w;
+                    qt = (qt + 1) % qcap;
+                }
+    }
+#undef COORDS
+    for (size_t q = 0; q < n; ++q)
+        if (!valid[q]) val[q] = bv[at[q]];
+done:
+    free(src);
+    free(queue);
+    free(at);
+    free(bv);
+    return s;
+}
+
+hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *path, const char *array,
+                            hv_field_outside outside, hv_frf **out)
+{
+    *out = NULL;
+    grid = grid ? grid : "occupancy";
+    if (!path || !*path || !array || !*array)
+        return hv_error_set(HV_ERR_INVALID, "a field feature needs a file and an array");
+    const char *ext = ext_of(path);
+    int vdb = !strcasecmp(ext, ".vdb");
+    if (!vdb && strcasecmp(ext, ".vti") != 0 && strcasecmp(ext, ".vtu") != 0)
+        return hv_error_set(HV_ERR_UNSUPPORTED, "%s: a field is read from .vti, .vtu or .vdb, not '%s'", path, ext);
+    int g = hv_volume_grid_find(vol, grid);
+    if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL)
+        return hv_error_set(HV_ERR_NOT_FOUND, "the model has no bool grid '%s'", grid);
+    hv_transform xf = hv_volume_get_transform(vol);
+    hv_volume *m = NULL;
+    double *xyz = NULL;
+    float *val = NULL;
+    uint8_t *valid = NULL;
+    size_t n = 0;
+    hv_status s = hv_volume_create(&xf, &m);
+    if (s == HV_OK) s = hv_volume_grid_copy(m, "mask", vol, g);
+    if (s == HV_OK) s = hv_volume_topology_restrict(m, 0);
+    if (s == HV_OK) s = centres(m, &xyz, &n);
+    if (s == HV_OK && n == 0) s = hv_error_set(HV_ERR_INVALID, "bool grid '%s' is empty", grid);
+    if (s == HV_OK) {
+        val = hv_malloc_array(n, sizeof(float));
+        valid = hv_malloc(n);
+        if (!val || !valid) s = HV_ERR_NOMEM;
+    }
+    hv_field_report rep;
+    memset(&rep, 0, sizeof rep);
+    double range[2] = {0, 0};
+    if (s == HV_OK)
+        s = vdb ? probe_vdb(path, array, n, xyz, val, valid, range) : probe_vtk(path, array, n, xyz, val, valid, range);
+    uint64_t covered = 0;
+    for (size_t i = 0; s == HV_OK && i < n; ++i) covered += valid[i];
+    if (s == HV_OK && covered == 0)
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s covers none of the model's %zu voxels (no overlap: are they in the "
+                         "same coordinates?)", path, array, n);
+    if (s == HV_OK && covered < n && outside == HV_FIELD_REFUSE)
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s covers %llu of the model's %zu voxels; %llu lie outside it (the rule "
+                         "'nearest' gives them the nearest covered value)", path, array, (unsigned long long)covered, n,
+                         (unsigned long long)(n - covered));
+    if (s == HV_OK && covered < n) s = fill_nearest(m, val, valid, n);
+    /* the field as a float grid on the model's voxels, then an ordinary stored-field feature */
+    int gd = -1;
+    if (s == HV_OK) s = hv_volume_grid_add(m, "d", HV_GRID_FLOAT, &gd);
+    if (s == HV_OK) {
+        rep.lo = INFINITY;
+        rep.hi = -INFINITY;
+        size_t k = 0;
+        for (size_t l = 0; l < hv_volume_leaf_count(m); ++l) {
+            const uint64_t *mask = hv_volume_leaf_mask(m, l);
+            float *d = hv_volume_leaf_float(m, gd, l);
+            for (unsigned q = 0; q < HV_LEAF_SIZE; ++q) {
+                if (!HV_BIT_GET(mask, q)) continue;
+                d[q] = val[k];
+                rep.lo = fmin(rep.lo, val[k]);
+                rep.hi = fmax(rep.hi, val[k]);
+                ++k;
+            }
+        }
+        char desc[256];
+        snprintf(desc, sizeof desc, "field(%s:%s)", path, array);
+        s = hv_frf_field(m, "d", desc, out);
+    }
+    if (s == HV_OK) {
+        rep.file_lo = range[0];
+        rep.file_hi = range[1];
+        rep.voxels = n;
+        rep.filled = n - covered;
+        (*out)->has_report = 1;
+        (*out)->report = rep;
+    }
+    free(xyz);
+    free(val);
+    free(valid);
+    hv_volume_destroy(m);
+    return s;
+}
+
+int hv_frf_field_report(const hv_frf *f, hv_field_report *r)
+{
+    if (!f->has_report) return 0;
+    *r = f->report;
+    return 1;
+}

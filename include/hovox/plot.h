@@ -73,6 +73,18 @@ HV_API hv_status hv_plot_set_labels(hv_plot *p, const char *xlabel, const char *
  * the enclosing tick multiples when both are NAN. Errors: HV_ERR_INVALID. */
 HV_API hv_status hv_plot_set_y_range(hv_plot *p, double lo, double hi);
 
+/* A second y axis on the right of the plot area, for series in other units than the left axis
+ * (e.g. a property next to fractions): ticks and tick labels on the right edge of the frame (no
+ * grid lines: the grid follows the left axis), `label` (UTF-8, may be NULL) along it, read
+ * bottom to top. Its range is [lo, hi] (finite, lo < hi), or with both NAN the data range of
+ * the series put on it (hv_plot_set_series_right) widened to the enclosing 1-2-5 tick
+ * multiples, as hv_plot_set_y_range does for the left axis. Calling it again replaces the label
+ * and range. Errors: HV_ERR_INVALID (range, label not UTF-8), HV_ERR_NOMEM. */
+HV_API hv_status hv_plot_set_right_axis(hv_plot *p, const char *label, double lo, double hi);
+/* Draw series `index` against the right-hand axis (right != 0) or the left one (the default).
+ * Errors: HV_ERR_INVALID (no such series; right without hv_plot_set_right_axis first). */
+HV_API hv_status hv_plot_set_series_right(hv_plot *p, int index, int right);
+
 /* A vertical dashed marker at x (finite) with an optional label (UTF-8, may be NULL) written
  * at the top of the plot area; markers outside the x range are not drawn. At most 64.
  * Errors: HV_ERR_INVALID, HV_ERR_NOMEM. */
@@ -84,7 +96,7 @@ HV_API hv_status hv_plot_add_marker(hv_plot *p, double x, const char *label);
  * Errors: HV_ERR_INVALID, HV_ERR_NOMEM. */
 HV_API hv_status hv_plot_add_span(hv_plot *p, double x0, double x1, const char *label);
 
-/* Pixel position of data point (x, y) in the written image (0,0 = top left pixel corner),
+/* Pixel position of data point (x, y) (y on the left axis) in the written image (0,0 = top left pixel corner),
  * and the plot area box[4] = {left, top, right, bottom} (may be NULL), for callers that
  * check or annotate images. Errors: HV_ERR_INVALID (no x values), HV_ERR_NOMEM. */
 HV_API hv_status hv_plot_data_to_pixel(const hv_plot *p, double x, double y, double px[2],
@@ -114,7 +126,11 @@ HV_API hv_status hv_plot_write_svg_stream(const hv_plot *p, FILE *fp);
  * grading source's d- and d- + dg) and then write it. Free with hv_plot_destroy.
  * Errors: HV_ERR_INVALID (size), HV_ERR_NOMEM. */
 HV_API hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out);
-/* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). */
+/* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). A profile
+ * with a property (hv_profile_sample_with) also shows it: a near-black series named after the
+ * property on a right-hand axis labelled "<property> (<unit>)" over the data range (gaps where
+ * it is undefined), and the default title becomes "Material fractions and <property> along a
+ * line". */
 HV_API hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o, hv_plot **out);
 /* HV_OK when `path` names a plot format: .png or .svg, case aside. Errors: HV_ERR_INVALID
  * ("{plot} 'x.gif' has an unknown extension (use .png or .svg)"). */

@@ -1,6 +1,7 @@
 /* src/cli/cmd_profile.c - `hovox profile MODEL.vdb --from X,Y,Z --to X,Y,Z -o PROFILE.csv
  * [--plot PROFILE.png]`: material fractions along a line (Wu Fig. 26) as CSV and a plot. The
  * options are the library's (hv_profile_option_set). */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -40,6 +41,20 @@ static void report(const hv_profile *p, const char *csv, const char *plot)
     printf("materials   ");
     for (int k = 0; k < hv_profile_materials(p); ++k) printf(k ? ", %s" : "%s", hv_material_name(t, k));
     printf("\n");
+    const char *unit, *prop = hv_profile_property(p, &unit);
+    if (prop) {
+        double lo = INFINITY, hi = -INFINITY;
+        int k = 0;
+        for (int i = 0; i < n; ++i) {
+            double v = hv_profile_property_value(p, i);
+            if (isnan(v)) continue;
+            lo = fmin(lo, v);
+            hi = fmax(hi, v);
+            ++k;
+        }
+        if (k) printf("property    %s: %.6g to %.6g%s%s at %d samples\n", prop, lo, hi, *unit ? " " : "", unit, k);
+        else printf("property    %s: defined at no sample (no sample lies on the table's source's Ms -> Me)\n", prop);
+    }
     if (csv) printf("wrote       %s\n", csv);
     if (plot) printf("wrote       %s\n", plot);
 }
@@ -51,7 +66,7 @@ static int run(const char *model, const hv_profile_options *o, const profile_cli
     hv_status s = hv_volume_load(model, &vol);
     if (s != HV_OK) return cli_fail(s);
     hv_profile *prof;
-    s = hv_profile_sample(vol, o->from, o->to, o->samples, &prof);
+    s = hv_profile_sample_with(vol, o, &prof);
     hv_volume_destroy(vol);
     if (s != HV_OK) return cli_fail(s == HV_ERR_INVALID ? s : hv_error_prefix(s, "%s: ", model));
     if (s == HV_OK) s = hv_profile_write_files(prof, o, to_stdout ? NULL : c->output, c->plot);
@@ -71,12 +86,16 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 const cli_spec cmd_profile = {
     "profile", "material fractions along a line, as CSV and a plot",
     "MODEL.vdb --from X,Y,Z --to X,Y,Z [--samples N] -o PROFILE.csv\n"
-    "                     [--plot PROFILE.png] [options]",
+    "                     [--plot PROFILE.png] [--property NAME] [options]",
     "Material fractions of a graded model along the segment from --from to --to (Wu\n"
     "Fig. 26): N evenly spaced samples, both ends included, each probed as 'hovox probe'\n"
     "does. The CSV has a header 't,x,y,z,inside,<material names...>' and one row per\n"
     "sample; t is the distance from --from (mm). The plot shows each material's fraction\n"
-    "against t in the material's colour, with the stretches outside the object shaded.\n",
+    "against t in the material's colour, with the stretches outside the object shaded.\n"
+    "--property NAME adds the property from the calibration table stored with the model's\n"
+    "grading source: a column NAME[UNIT] (nan where the composition is not on that source's\n"
+    "Ms -> Me) and a curve on a right-hand axis. A model without such a table, or with\n"
+    "several different ones, is refused (exit 1).\n",
     hv_profile_option_set, &k_local,
     "Outputs are written under temporary names and renamed together at the end, so a failed\n"
     "run leaves neither file. With -q nothing is printed on success.\n",

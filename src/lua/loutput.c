@@ -18,8 +18,9 @@
 #define SET_INT(k, v) (lua_pushinteger(L, (lua_Integer)(v)), lua_setfield(L, -2, k))
 #define SET_NUM(k, v) (lua_pushnumber(L, (v)), lua_setfield(L, -2, k))
 
-/* model:profile{<from, to, samples, title, size = {w, h}, mark, y_range>, csv = "p.csv",
- *   plot = "p.png" | "p.svg"} -> {t = {...}, inside = {...}, <material> = {...}, ...} */
+/* model:profile{<from, to, samples, property, title, size = {w, h}, mark, y_range>, csv = "p.csv",
+ *   plot = "p.png" | "p.svg"} -> {t = {...}, inside = {...}, <material> = {...}, property =
+ *   {name, unit, values = {...}} (with a property)} */
 static int model_profile(lua_State *L)
 {
     static const char *const extra[] = {"csv", "plot", NULL};
@@ -29,7 +30,7 @@ static int model_profile(lua_State *L)
     const char *csv = hv_lua_out_path(L, 2, "csv", holder, NULL), *plot = hv_lua_out_path(L, 2, "plot", holder, NULL);
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_profile *p;
-    hv_status s = hv_profile_sample(vol, o.from, o.to, o.samples, &p);
+    hv_status s = hv_profile_sample_with(vol, &o, &p);
     if (s != HV_OK) return fail(L, s);
     s = hv_profile_write_files(p, &o, csv, plot);
     if (s != HV_OK) {
@@ -55,6 +56,21 @@ static int model_profile(lua_State *L)
             lua_rawseti(L, -2, i + 1);
         }
         lua_setfield(L, -2, hv_material_name(hv_profile_table(p), j));
+    }
+    const char *unit, *prop = hv_profile_property(p, &unit);
+    if (prop) { /* property = {name, unit, values = {...}}: NaN where undefined */
+        lua_createtable(L, 0, 3);
+        lua_pushstring(L, prop);
+        lua_setfield(L, -2, "name");
+        lua_pushstring(L, unit);
+        lua_setfield(L, -2, "unit");
+        lua_createtable(L, ns, 0);
+        for (int i = 0; i < ns; ++i) {
+            lua_pushnumber(L, hv_profile_property_value(p, i));
+            lua_rawseti(L, -2, i + 1);
+        }
+        lua_setfield(L, -2, "values");
+        lua_setfield(L, -2, "property");
     }
     hv_profile_destroy(p);
     return 1;

@@ -206,22 +206,24 @@ int hv_ags_target(const hv_ags *a, hv_property_target *t)
     return 1;
 }
 
-int hv_ags_segment_t(const hv_ags *a, const double *p, double *t)
+int hv_segment_t(const double *ms, const double *me, int m, const double *p, double *t)
 {
     double num = 0, den = 0;
-    for (int j = 0; j < a->m; ++j) {
-        double e = a->me[j] - a->ms[j];
-        num += (p[j] - a->ms[j]) * e;
+    for (int j = 0; j < m; ++j) {
+        double e = me[j] - ms[j];
+        num += (p[j] - ms[j]) * e;
         den += e * e;
     }
     if (!(den > 0)) return 0;
     double u = num / den;
     if (!(u >= -1e-3 && u <= 1 + 1e-3)) return 0;
-    for (int j = 0; j < a->m; ++j)
-        if (fabs(p[j] - (a->ms[j] + u * (a->me[j] - a->ms[j]))) > 1e-3) return 0;
+    for (int j = 0; j < m; ++j)
+        if (fabs(p[j] - (ms[j] + u * (me[j] - ms[j]))) > 1e-3) return 0;
     *t = HV_CLAMP(u, 0.0, 1.0);
     return 1;
 }
+
+int hv_ags_segment_t(const hv_ags *a, const double *p, double *t) { return hv_segment_t(a->ms, a->me, a->m, p, t); }
 
 void hv_ags_ranges(const hv_ags *a, double *dn, double *dg, double *dp)
 {
@@ -336,6 +338,18 @@ static hv_status calibration_from_doc(const json_t *cj, const char *what, hv_cal
     if (s == HV_OK && (s = hv_calibration_create(prop, unit, tv, tv + n, (int)n, out)) != HV_OK)
         s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: ", w);
     free(tv);
+    return s;
+}
+
+hv_status hv_ags_doc_calibration(const json_t *j, int m, const char *what, hv_calibration **calib, double *ms,
+                                 double *me)
+{
+    *calib = NULL;
+    const json_t *cj = json_object_get(j, "calibration");
+    if (!cj) return HV_OK;
+    hv_status s = hv_json_get_numbers(j, "ms", what, ms, (size_t)m);
+    if (s == HV_OK) s = hv_json_get_numbers(j, "me", what, me, (size_t)m);
+    if (s == HV_OK) s = calibration_from_doc(cj, what, calib);
     return s;
 }
 

@@ -110,6 +110,13 @@ json_t *hv_ags_to_doc(const hv_ags *a, int feature);
  * HV_ERR_BAD_INPUT naming `what` and the member (also an f table entry outside [0, 1]). */
 hv_status hv_ags_from_doc(const json_t *j, hv_frf *const *feats, size_t nf, int m, const char *what,
                           hv_ags **out);
+/* The calibration table of source document j (*calib = NULL when it has none; release it) and the
+ * source's Ms and Me (m fractions each, filled when it has one). Errors: HV_ERR_BAD_INPUT naming
+ * `what` and the member. */
+hv_status hv_ags_doc_calibration(const json_t *j, int m, const char *what, hv_calibration **calib, double *ms,
+                                 double *me);
+/* Where composition p lies on the segment ms -> me (m fractions each): hv_ags_segment_t's rule. */
+int hv_segment_t(const double *ms, const double *me, int m, const double *p, double *t);
 /* A source from stored parts: the f table (HV_AGS_TABLE + 1 values in [0,1]) when dg > 0. */
 hv_status hv_ags_from_parts(hv_frf *frf, double d_neg, double d_grad, double d_pos, const float *table,
                             const char *fdesc, const double *ms, const double *me, int m,

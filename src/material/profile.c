@@ -7,6 +7,8 @@
 
 #include "core/internal.h"
 #include "hovox/profile.h"
+#include "material_internal.h"
+#include "volumes/schema.h"
 
 struct hv_profile {
     int n, m;
@@ -16,6 +18,9 @@ struct hv_profile {
     double *pos;         /* 3n */
     unsigned char *in;   /* n */
     double *frac;        /* n*m, row i at frac + i*m */
+    char *property;      /* NULL: no property */
+    char *unit;
+    double *prop;        /* n, NAN where undefined */
 };
 
 typedef struct sample_job {
@@ -105,8 +110,146 @@ void hv_profile_destroy(hv_profile *p)
     free(p->pos);
     free(p->in);
     free(p->frac);
+    free(p->property);
+    free(p->unit);
+    free(p->prop);
     free(p);
 }
+
+/* ---- a property along the line ------------------------------------------------------------ */
+
+/* "name[unit]" or "name" */
+static void table_label(char *buf, size_t size, const hv_calibration *c)
+{
+    const char *u = hv_calibration_unit(c);
+    snprintf(buf, size, *u ? "%s[%s]" : "%s", hv_calibration_property(c), u);
+}
+
+/* Append `label` to the ", "-separated list b unless it is there already. */
+static void list_add(hv_buf *b, const char *label)
+{
+    size_t n = strlen(label);
+    for (const char *q = b->len ? b->data : NULL; q; q = strstr(q, ", ")) {
+        q += *q == ',' ? 2 : 0;
+        if (strncmp(q, label, n) == 0 && (q[n] == '\0' || q[n] == ',')) return;
+    }
+    hv_buf_printf(b, "%s%s", b->len ? ", " : "", label);
+}
+
+static int same_table(const hv_calibration *a, const double *ams, const double *ame, const hv_calibration *b,
+                      const double *bms, const double *bme, int m)
+{
+    if (strcmp(hv_calibration_unit(a), hv_calibration_unit(b)) != 0 || hv_calibration_rows(a) != hv_calibration_rows(b))
+        return 0;
+    for (int j = 0; j < m; ++j)
+        if (ams[j] != bms[j] || ame[j] != bme[j]) return 0;
+    for (int i = 0; i < hv_calibration_rows(a); ++i) {
+        double ta, va, tb, vb;
+        hv_calibration_row(a, i, &ta, &va);
+        hv_calibration_row(b, i, &tb, &vb);
+        if (ta != tb || va != vb) return 0;
+    }
+    return 1;
+}
+
+/* The one calibration table for `property` among the sources of vol's grading definition, with
+ * its source's Ms and Me (m fractions); see hv_profile_sample_with for the rule. */
+static hv_status property_table(const hv_volume *vol, const char *property, int m, hv_calibration **out,
+                                double *ms, double *me)
+{
+    *out = NULL;
+    json_t *doc = NULL;
+    const json_t *srcs = NULL;
+    const char *what = hv_schema_key(HV_DOC_OBJECT);
+    hv_status s = hv_schema_doc_read(vol, HV_DOC_OBJECT, &doc);
+    if (s == HV_ERR_NOT_FOUND) s = HV_OK; /* no definition: no tables */
+    if (s == HV_OK && doc) s = hv_json_need(doc, "sources", JSON_ARRAY, what, &srcs);
+    hv_buf others, found; /* labels of the other tables; sources holding tables for the property */
+    hv_buf_init(&others);
+    hv_buf_init(&found);
+    int nfound = 0, differ = 0;
+    for (size_t i = 0; s == HV_OK && srcs && i < json_array_size(srcs); ++i) {
+        const json_t *j = json_array_get(srcs, i);
+        char place[300];
+        snprintf(place, sizeof place, "%s: sources[%zu]", what, i);
+        hv_calibration *c;
+        double cms[HV_MAX_MATERIALS], cme[HV_MAX_MATERIALS];
+        if ((s = hv_ags_doc_calibration(j, m, place, &c, cms, cme)) != HV_OK || !c) continue;
+        const json_t *nj = json_object_get(j, "name");
+        const char *name = json_is_string(nj) ? json_string_value(nj) : "";
+        if (strcmp(hv_calibration_property(c), property) != 0) {
+            char label[300];
+            table_label(label, sizeof label, c);
+            list_add(&others, label);
+            hv_calibration_release(c);
+            continue;
+        }
+        hv_buf_printf(&found, *name ? "%s%zu '%s'" : "%s%zu", nfound ? ", " : "", i + 1, name);
+        if (!*out) {
+            *out = c;
+            memcpy(ms, cms, (size_t)m * sizeof *ms);
+            memcpy(me, cme, (size_t)m * sizeof *me);
+        } else {
+            differ |= !same_table(*out, ms, me, c, cms, cme, m);
+            hv_calibration_release(c);
+        }
+        ++nfound;
+    }
+    json_decref(doc);
+    if (others.failed || found.failed) s = HV_ERR_NOMEM;
+    if (s == HV_OK && !*out)
+        s = hv_error_set(HV_ERR_NOT_FOUND, "no calibration table for %s in the model's grading definition (%s%s)",
+                         property, others.len ? "it has tables for " : "it has no calibration tables",
+                         others.len ? others.data : "");
+    else if (s == HV_OK && differ)
+        s = hv_error_set(HV_ERR_BAD_INPUT,
+                         "the model's grading definition has different calibration tables for %s (sources %s): "
+                         "its profile needs exactly one",
+                         property, found.data);
+    hv_buf_free(&others);
+    hv_buf_free(&found);
+    if (s != HV_OK) {
+        hv_calibration_release(*out);
+        *out = NULL;
+    }
+    return s;
+}
+
+hv_status hv_profile_sample_with(const hv_volume *vol, const hv_profile_options *o, hv_profile **out)
+{
+    *out = NULL;
+    hv_status s = hv_profile_sample(vol, o->from, o->to, o->samples, out);
+    if (s != HV_OK || !o->property) return s;
+    hv_profile *p = *out;
+    hv_calibration *c = NULL;
+    double ms[HV_MAX_MATERIALS], me[HV_MAX_MATERIALS];
+    s = property_table(vol, o->property, p->m, &c, ms, me);
+    if (s == HV_OK) {
+        p->property = hv_strdup(hv_calibration_property(c));
+        p->unit = hv_strdup(hv_calibration_unit(c));
+        p->prop = hv_malloc_array((size_t)p->n, sizeof *p->prop);
+        if (!p->property || !p->unit || !p->prop) s = HV_ERR_NOMEM;
+    }
+    for (int i = 0; s == HV_OK && i < p->n; ++i) {
+        double t;
+        p->prop[i] = p->in[i] && hv_segment_t(ms, me, p->m, p->frac + (size_t)i * p->m, &t) ? hv_calibration_eval(c, t)
+                                                                                             : NAN;
+    }
+    hv_calibration_release(c);
+    if (s != HV_OK) {
+        hv_profile_destroy(p);
+        *out = NULL;
+    }
+    return s;
+}
+
+const char *hv_profile_property(const hv_profile *p, const char **unit)
+{
+    if (unit) *unit = p->unit ? p->unit : "";
+    return p->property;
+}
+
+double hv_profile_property_value(const hv_profile *p, int i) { return p->prop ? p->prop[i] : NAN; }
 
 int hv_profile_samples(const hv_profile *p) { return p->n; }
 int hv_profile_materials(const hv_profile *p) { return p->m; }
@@ -143,12 +286,17 @@ static hv_status csv_emit(const hv_profile *p, FILE *fp, const char *what)
         hv_buf_puts(&b, ",");
         hv_buf_puts(&b, hv_material_name(p->table, k));
     }
+    if (p->property) hv_buf_printf(&b, *p->unit ? ",%s[%s]" : ",%s", p->property, p->unit);
     hv_buf_puts(&b, "\n");
     hv_status s = HV_OK;
     for (int i = 0; i < p->n && s == HV_OK; ++i) {
         const double *x = p->pos + 3 * (size_t)i, *f = p->frac + (size_t)i * p->m;
         hv_buf_printf(&b, "%.9g,%.9g,%.9g,%.9g,%d", p->t[i], x[0], x[1], x[2], p->in[i]);
         for (int k = 0; k < p->m; ++k) hv_buf_printf(&b, ",%.6g", f[k]);
+        if (p->prop) {
+            if (isnan(p->prop[i])) hv_buf_puts(&b, ",nan");
+            else hv_buf_printf(&b, ",%.6g", p->prop[i]);
+        }
         hv_buf_puts(&b, "\n");
         if (b.failed) {
             s = hv_error_set(HV_ERR_NOMEM, "%s: out of memory formatting the CSV", what);

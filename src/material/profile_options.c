@@ -61,6 +61,9 @@ static const hv_option k_opts[] = {
      .unit = "mm", .help = "end of the line"},
     {.key = "samples", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 2, .hi = 10000000, .offset = OFF(samples),
      .meta = "N", .help = "samples along the line, both ends included"},
+    {.key = "property", .kind = HV_OPT_STRING, .offset = OFF(property), .meta = "NAME",
+     .help = "also this property along the line, from the calibration table stored with the model's grading "
+             "source (a column NAME[UNIT] in the CSV, a curve on a right-hand axis of the plot)"},
     {.key = "title", .kind = HV_OPT_STRING, .offset = OFF(title), .meta = "TEXT",
      .help = "plot title (default 'Material fractions along a line')", .section = "The plot"},
     {.key = "size", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .count = 2, .flags = HV_OPT_XSEP, .lo = 100,
@@ -78,6 +81,7 @@ static hv_status finish(const hv_optargs *args)
     const hv_profile_options *p = args->opts;
     if (p->from[0] == p->to[0] && p->from[1] == p->to[1] && p->from[2] == p->to[2])
         return hv_error_option(HV_ERR_INVALID, "{from} and {to} are the same point");
+    if (p->property && !*p->property) return hv_error_option(HV_ERR_INVALID, "{property} is empty");
     return HV_OK;
 }
 

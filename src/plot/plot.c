@@ -31,6 +31,7 @@ typedef struct series {
     double *y;
     float rgba[4];
     int dashed;
+    int right; /* drawn against the right-hand axis */
 } series;
 
 typedef struct marker {
@@ -59,6 +60,10 @@ struct hv_plot {
     char *title, *subtitle, *xlabel, *ylabel;
     double ylo, yhi;
     int yauto;
+    int y2;            /* a right-hand axis */
+    char *y2label;
+    double y2lo, y2hi;
+    int y2auto;
 };
 
 /* ---- construction ------------------------------------------------------------------------ */
@@ -102,6 +107,7 @@ void hv_plot_destroy(hv_plot *p)
     free(p->subtitle);
     free(p->xlabel);
     free(p->ylabel);
+    free(p->y2label);
     free(p);
 }
 
@@ -234,6 +240,29 @@ hv_status hv_plot_set_y_range(hv_plot *p, double lo, double hi)
     p->yauto = 0;
     p->ylo = lo;
     p->yhi = hi;
+    return HV_OK;
+}
+
+hv_status hv_plot_set_right_axis(hv_plot *p, const char *label, double lo, double hi)
+{
+    int autor = isnan(lo) && isnan(hi);
+    if (!autor && (!isfinite(hi - lo) || !(lo < hi)))
+        return hv_error_set(HV_ERR_INVALID, "plot: right-hand y range [%g, %g] must be finite with lo < hi", lo, hi);
+    hv_status st = text_replace(&p->y2label, label, "right-hand y label");
+    if (st != HV_OK) return st;
+    p->y2 = 1;
+    p->y2auto = autor;
+    p->y2lo = autor ? 0.0 : lo;
+    p->y2hi = autor ? 1.0 : hi;
+    return HV_OK;
+}
+
+hv_status hv_plot_set_series_right(hv_plot *p, int index, int right)
+{
+    if (index < 0 || index >= p->nseries)
+        return hv_error_set(HV_ERR_INVALID, "plot: no series %d (have %d)", index, p->nseries);
+    if (right && !p->y2) return hv_error_set(HV_ERR_INVALID, "plot: series %d put on a right-hand axis the plot does not have", index);
+    p->series[index].right = right != 0;
     return HV_OK;
 }
 
@@ -398,7 +427,7 @@ typedef struct legend_entry {
 typedef struct layout {
     double s;                     /* scale of fonts and lines */
     double left, top, right, bottom;
-    axis xa, ya;
+    axis xa, ya, y2a;             /* y2a: the right-hand axis (nticks 0 when none) */
     legend_entry entries[MAX_SERIES + 16];
     int nentries;
     box legend;                   /* w == 0: no legend */
@@ -412,10 +441,15 @@ static double map_x(const layout *L, double x)
     return L->left + (x - L->xa.view[0]) / (L->xa.view[1] - L->xa.view[0]) * (L->right - L->left);
 }
 
-static double map_y(const layout *L, double y)
+static double map_y_on(const layout *L, const axis *a, double y)
 {
-    return L->bottom - (y - L->ya.view[0]) / (L->ya.view[1] - L->ya.view[0]) * (L->bottom - L->top);
+    return L->bottom - (y - a->view[0]) / (a->view[1] - a->view[0]) * (L->bottom - L->top);
 }
+
+static double map_y(const layout *L, double y) { return map_y_on(L, &L->ya, y); }
+
+/* The y axis series sr is drawn against. */
+static const axis *series_axis(const layout *L, const series *sr) { return sr->right ? &L->y2a : &L->ya; }
 
 static void x_range(const hv_plot *p, double r[2])
 {
@@ -431,16 +465,17 @@ static void x_range(const hv_plot *p, double r[2])
     }
 }
 
-/* y ticks and view for a plot area of height h. */
-static void y_axis(const hv_plot *p, layout *L, double h)
+/* y ticks and view for a plot area of height h: the left axis (right = 0) over [lo, hi] or, with
+ * autor, the data of its series; the same for the right-hand axis. */
+static void y_axis(const hv_plot *p, layout *L, double h, int right)
 {
-    axis *a = &L->ya;
+    axis *a = right ? &L->y2a : &L->ya;
     int target = (int)HV_MAX(2.0, floor(h / (45.0 * L->s)));
-    double lo = p->ylo, hi = p->yhi;
-    if (p->yauto) {
+    double lo = right ? p->y2lo : p->ylo, hi = right ? p->y2hi : p->yhi;
+    if (right ? p->y2auto : p->yauto) {
         double mn = INFINITY, mx = -INFINITY;
         for (int s = 0; s < p->nseries; ++s)
-            for (size_t i = 0; i < p->n; ++i) {
+            for (size_t i = 0; i < p->n && p->series[s].right == right; ++i) {
                 double v = p->series[s].y[i];
                 if (isnan(v)) continue;
                 mn = HV_MIN(mn, v);
@@ -522,14 +557,15 @@ static int legend_collides(const hv_plot *p, const layout *L, const box *b)
     box g = {b->x - m, b->y - m, b->w + 2 * m, b->h + 2 * m};
     for (int s = 0; s < p->nseries; ++s) {
         const double *y = p->series[s].y;
+        const axis *a = series_axis(L, &p->series[s]);
         for (size_t i = 0; i < p->n; ++i) {
             if (isnan(y[i])) continue;
-            double x0 = map_x(L, p->x[i]), y0 = map_y(L, HV_CLAMP(y[i], L->ya.view[0], L->ya.view[1]));
+            double x0 = map_x(L, p->x[i]), y0 = map_y_on(L, a, HV_CLAMP(y[i], a->view[0], a->view[1]));
             int next = i + 1 < p->n && !isnan(y[i + 1]);
             double x1 = x0, y1 = y0;
             if (next) {
                 x1 = map_x(L, p->x[i + 1]);
-                y1 = map_y(L, HV_CLAMP(y[i + 1], L->ya.view[0], L->ya.view[1]));
+                y1 = map_y_on(L, a, HV_CLAMP(y[i + 1], a->view[0], a->view[1]));
             }
             if (segment_hits(&g, x0, y0, x1, y1)) return 1;
         }
@@ -601,21 +637,25 @@ static int layout_pass(const hv_plot *p, cairo_t *cr, layout *L, int marker_rows
     double tick_h = line_h(cr);
     double bottom = pad + tick_len + 4.0 * s + tick_h;
     double label_h = 0;
-    if (p->xlabel || p->ylabel) {
+    if (p->xlabel || p->ylabel || p->y2label) {
         use_font(cr, F_LABEL, s, 1.0);
         label_h = line_h(cr);
     }
     if (p->xlabel) bottom += label_h + 6.0 * s;
     L->top = round(top);
     L->bottom = round(H - bottom);
-    y_axis(p, L, L->bottom - L->top);
+    y_axis(p, L, L->bottom - L->top, 0);
+    if (p->y2) y_axis(p, L, L->bottom - L->top, 1);
     use_font(cr, F_TICK, s, 1.0);
     axis_measure(&L->ya, cr);
+    if (p->y2) axis_measure(&L->y2a, cr);
+    /* the right-hand axis: ticks, tick labels and its label, like the left one mirrored */
+    double right_axis = p->y2 ? tick_len + 4.0 * s + L->y2a.label_w_max + (p->y2label ? 8.0 * s + label_h : 0.0) : 0.0;
 
     /* horizontal: y label, tick labels, plot area, room for the last x label (or legend) */
     double left = pad + (p->ylabel ? label_h + 8.0 * s : 0.0) + L->ya.label_w_max + 4.0 * s + tick_len;
     L->left = round(left);
-    double right = pad + 20.0 * s;
+    double right = pad + 20.0 * s + right_axis;
     for (int pass = 0; pass < 2; ++pass) {
         L->right = round(W - right);
         x_axis(p, L, cr, L->right - L->left);
@@ -627,7 +667,7 @@ static int layout_pass(const hv_plot *p, cairo_t *cr, layout *L, int marker_rows
             double last = map_x(L, tick_value(&L->xa, L->xa.nticks - 1));
             over = last + 0.5 * text_w(cr, buf) - L->right;
         }
-        right = pad + HV_MAX(0.0, over);
+        right = pad + HV_MAX(right_axis, over);
     }
 
     /* legend entries: named series, then one per distinct span label */
@@ -666,7 +706,7 @@ static int layout_pass(const hv_plot *p, cairo_t *cr, layout *L, int marker_rows
                 return rows;
             }
     /* every inside place covers data: the legend goes to the right of the plot area */
-    double gap = 14.0 * s;
+    double gap = 14.0 * s + right_axis;
     L->right = round(W - pad - lw - gap);
     x_axis(p, L, cr, L->right - L->left);
     rows = place_marker_labels(p, L, cr);
@@ -706,15 +746,17 @@ static int light_colour(const float c[4])
 
 /* The polyline of y with breaks at NAN; an isolated sample becomes a zero-length segment, which
  * the round cap draws as a dot. */
-static void series_path(const hv_plot *p, const layout *L, cairo_t *cr, const double *y)
+static void series_path(const hv_plot *p, const layout *L, cairo_t *cr, const series *sr)
 {
+    const double *y = sr->y;
+    const axis *a = series_axis(L, sr);
     for (size_t i = 0; i < p->n; ++i) {
         if (isnan(y[i])) continue;
         /* far off-chart values are pulled in to keep cairo's fixed-point coordinates sane; the
          * clip hides them either way */
-        double yr = L->ya.view[1] - L->ya.view[0];
-        double yc = HV_CLAMP(y[i], L->ya.view[0] - 100 * yr, L->ya.view[1] + 100 * yr);
-        double px = map_x(L, p->x[i]), py = map_y(L, yc);
+        double yr = a->view[1] - a->view[0];
+        double yc = HV_CLAMP(y[i], a->view[0] - 100 * yr, a->view[1] + 100 * yr);
+        double px = map_x(L, p->x[i]), py = map_y_on(L, a, yc);
         int prev = i > 0 && !isnan(y[i - 1]), next = i + 1 < p->n && !isnan(y[i + 1]);
         if (!prev) {
             cairo_move_to(cr, px, py);
@@ -798,7 +840,7 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     double width = HV_MAX(1.5, 2.0 * s);
     for (int i = 0; i < p->nseries; ++i) {
-        series_path(p, L, cr, p->series[i].y);
+        series_path(p, L, cr, &p->series[i]);
         stroke_series(cr, &p->series[i], width, s, light_colour(p->series[i].rgba));
     }
     cairo_restore(cr);
@@ -820,6 +862,11 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
         cairo_move_to(cr, x, b);
         cairo_line_to(cr, x, b + tick);
     }
+    for (int k = 0; k < L->y2a.nticks; ++k) {
+        double y = round(map_y_on(L, &L->y2a, tick_value(&L->y2a, k))) + off;
+        cairo_move_to(cr, r, y);
+        cairo_line_to(cr, r + tick, y);
+    }
     cairo_stroke(cr);
 
     /* tick labels */
@@ -834,6 +881,10 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
         tick_label(&L->xa, k, buf, sizeof buf);
         text_at(cr, buf, map_x(L, tick_value(&L->xa, k)), b + tick + 4.0 * s, 0.5, 0.0);
     }
+    for (int k = 0; k < L->y2a.nticks; ++k) {
+        tick_label(&L->y2a, k, buf, sizeof buf);
+        text_at(cr, buf, r + tick + 4.0 * s, map_y_on(L, &L->y2a, tick_value(&L->y2a, k)), 0.0, 0.5);
+    }
 
     /* axis labels */
     use_font(cr, F_LABEL, s, 1.0);
@@ -843,6 +894,16 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
         cairo_translate(cr, 12.0 * s, (t + b) / 2);
         cairo_rotate(cr, -M_PI / 2);
         text_at(cr, p->ylabel, 0, 0, 0.5, 0.0);
+        cairo_restore(cr);
+    }
+    if (p->y2 && p->y2label) { /* read bottom to top as well, to the right of the tick labels */
+        use_font(cr, F_TICK, s, 1.0);
+        double x = r + tick + 4.0 * s + L->y2a.label_w_max + 8.0 * s;
+        use_font(cr, F_LABEL, s, 1.0);
+        cairo_save(cr);
+        cairo_translate(cr, x, (t + b) / 2);
+        cairo_rotate(cr, -M_PI / 2);
+        text_at(cr, p->y2label, 0, 0, 0.5, 0.0);
         cairo_restore(cr);
     }
 

@@ -42,6 +42,19 @@ hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **
         c[3] = 1.0f;
         s = hv_plot_add_series(pl, hv_material_name(table, k), y, c, NULL);
     }
+    const char *unit, *prop = hv_profile_property(p, &unit);
+    if (prop && s == HV_OK) { /* the property on its own axis, next to the fractions */
+        char label[300], title[300];
+        snprintf(label, sizeof label, *unit ? "%s (%s)" : "%s", prop, unit);
+        snprintf(title, sizeof title, "Material fractions and %s along a line", prop);
+        for (int i = 0; i < n; ++i) y[i] = hv_profile_property_value(p, i);
+        static const float k_ink[4] = {0.1f, 0.1f, 0.1f, 1.0f};
+        int idx;
+        s = hv_plot_set_right_axis(pl, label, NAN, NAN);
+        if (s == HV_OK) s = hv_plot_add_series(pl, prop, y, k_ink, &idx);
+        if (s == HV_OK) s = hv_plot_set_series_right(pl, idx, 1);
+        if (s == HV_OK) s = hv_plot_set_title(pl, title, NULL);
+    }
     /* outside stretches: each run of outside samples, widened to the midpoints with its
      * inside neighbours (the boundary lies somewhere between them) */
     for (int i = 0; i < n && s == HV_OK;) {

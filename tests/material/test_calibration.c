@@ -10,6 +10,7 @@
 
 #include "hovox/generate.h"
 #include "hovox/material.h"
+#include "hovox/profile.h"
 #include "hovox/voxelize.h"
 #include "support/support.h"
 
@@ -159,7 +160,7 @@ static void grade_bar(graded *g, const char *ps, const char *pe, int log, double
     o.ms[0] = 0, o.ms[1] = 1, o.me[0] = 1, o.me[1] = 0;
     o.nms = o.nme = 2;
     o.calibration = path;
-    o.property_grading = "youngs_modulus";
+    o.property_grading = ps ? "youngs_modulus" : NULL; /* no targets: fractions by f = d/dg */
     o.ps = ps;
     o.pe = pe;
     o.log = log;
@@ -296,4 +297,123 @@ Test(calibration, targets_outside_the_table_are_refused_with_the_range)
     cr_assert_null(a);
     hv_calibration_release(c);
     hv_frf_release(plane);
+}
+
+/* ---- the property along a profile ------------------------------------------------------------ */
+
+/* k_csv's rows, interpolated here: the reference does not use hovox's table code */
+static double k_table(double t)
+{
+    static const double ts[11] = {0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1};
+    static const double vs[11] = {0.6, 0.9, 1.5, 2.6, 4.8, 9.5, 20, 60, 250, 900, 2000};
+    int i = 0;
+    while (i < 9 && t > ts[i + 1]) ++i;
+    return vs[i] + (t - ts[i]) / (ts[i + 1] - ts[i]) * (vs[i + 1] - vs[i]);
+}
+
+/* A fraction ramp (f = d/dg, no targets) with the table attached: at the voxel centres of a line
+ * along x the profile's modulus is the table at the t the grading gives there, t = clamp((x - 5)
+ * / 30, 0, 1), within the 32-bit storage of the fractions; NAN outside the object; the CSV has the
+ * column with its unit. */
+Test(calibration, profile_shows_the_property_from_the_table)
+{
+    graded g;
+    grade_bar(&g, NULL, NULL, 0, 5, 30);
+    hv_profile_options o;
+    hv_profile_options_init(&o);
+    o.from[0] = -0.75, o.from[1] = 5.25, o.from[2] = 5.25; /* 2 samples at the boundary, 80 voxel centres */
+    o.to[0] = 39.75, o.to[1] = 5.25, o.to[2] = 5.25;
+    o.samples = 82;
+    o.property = "youngs_modulus";
+    hv_profile *p;
+    cr_assert_eq(hv_profile_sample_with(g.out, &o, &p), HV_OK, "%s", hv_last_error());
+    const char *unit;
+    cr_assert_str_eq(hv_profile_property(p, &unit), "youngs_modulus");
+    cr_assert_str_eq(unit, "MPa");
+    double worst = 0, lin_worst = 0;
+    for (int i = 0; i < 82; ++i) {
+        double xyz[3];
+        hv_profile_position(p, i, xyz);
+        double v = hv_profile_property_value(p, i);
+        if (i == 0) cr_assert(!hv_profile_inside(p, i) && isnan(v), "sample %d at x = %g: %g", i, xyz[0], v);
+        if (i < 2) continue; /* x = -0.25: the surface voxels reach there */
+        cr_assert(hv_profile_inside(p, i), "x = %g", xyz[0]);
+        double t = fmin(fmax((xyz[0] - 5) / 30, 0.0), 1.0), want = k_table(t);
+        worst = fmax(worst, fabs(v - want) / want);
+        /* the modulus a linear blend of the end values would give: far off, so the check can fail */
+        lin_worst = fmax(lin_worst, fabs(0.6 + t * (2000 - 0.6) - want) / want);
+    }
+    cr_assert(worst < 1e-5, "worst relative error %.3g", worst);
+    cr_assert_gt(lin_worst, 1.0);
+    const char *csv = t_tmpfile("prop_profile.csv");
+    cr_assert_eq(hv_profile_write_csv(p, csv), HV_OK, "%s", hv_last_error());
+    FILE *fp = fopen(csv, "r");
+    char line[256];
+    cr_assert(fgets(line, sizeof line, fp));
+    cr_assert_str_eq(line, "t,x,y,z,inside,rigid,rubber,youngs_modulus[MPa]\n");
+    cr_assert(fgets(line, sizeof line, fp));
+    cr_assert_str_eq(line, "0,-0.75,5.25,5.25,0,0,0,nan\n");
+    fclose(fp);
+    hv_profile_destroy(p);
+    graded_free(&g);
+}
+
+/* No table for the property, another property's table, two different tables: one message each. */
+Test(calibration, profile_property_refusals)
+{
+    graded g;
+    grade_bar(&g, NULL, NULL, 0, 5, 30);
+    hv_profile_options o;
+    hv_profile_options_init(&o);
+    o.from[0] = 1, o.to[0] = 30;
+    o.from[1] = o.to[1] = o.from[2] = o.to[2] = 5;
+    o.property = "shore_hardness";
+    hv_profile *p = (hv_profile *)&o;
+    cr_assert_eq(hv_profile_sample_with(g.out, &o, &p), HV_ERR_NOT_FOUND);
+    cr_assert_null(p);
+    cr_assert_str_eq(hv_last_error(), "no calibration table for shore_hardness in the model's grading definition "
+                                      "(it has tables for youngs_modulus[MPa])");
+    /* a model graded without tables */
+    hv_object *obj;
+    cr_assert_eq(hv_object_create(g.model, "occupancy", 2, &obj), HV_OK);
+    double p0[3] = {0, 0, 0}, nx[3] = {1, 0, 0}, ms[2] = {0, 1}, me[2] = {1, 0};
+    hv_frf *plane;
+    cr_assert_eq(hv_frf_plane(p0, nx, &plane), HV_OK);
+    hv_ags_desc d = {plane, 5, 30, 5, NULL, ms, me, 2, "plain"};
+    hv_dfn *lin;
+    cr_assert_eq(hv_dfn_linear(1.0 / 30, 0, &lin), HV_OK);
+    d.f = lin;
+    hv_ags *plain;
+    cr_assert_eq(hv_ags_create(&d, &plain), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_object_add_ags(obj, plain), HV_OK);
+    hv_volume *v;
+    cr_assert_eq(hv_object_evaluate(obj, g.mats, 0, NULL, &v), HV_OK, "%s", hv_last_error());
+    o.property = "youngs_modulus";
+    cr_assert_eq(hv_profile_sample_with(v, &o, &p), HV_ERR_NOT_FOUND);
+    cr_assert_str_eq(hv_last_error(), "no calibration table for youngs_modulus in the model's grading definition "
+                                      "(it has no calibration tables)");
+    hv_volume_destroy(v);
+    /* two sources with different tables for the same property */
+    double t2[2] = {0, 1}, v2[2] = {1, 1000};
+    hv_calibration *c2;
+    cr_assert_eq(hv_calibration_create("youngs_modulus", "MPa", t2, v2, 2, &c2), HV_OK);
+    hv_ags *other;
+    d.name = "other";
+    d.d_neg = 20;
+    cr_assert_eq(hv_ags_create_calibrated(&d, c2, NULL, &other), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_object_delete_ags(obj, plain), HV_OK);
+    cr_assert_eq(hv_object_add_ags(obj, g.src), HV_OK);
+    cr_assert_eq(hv_object_add_ags(obj, other), HV_OK);
+    cr_assert_eq(hv_object_evaluate(obj, g.mats, 0, NULL, &v), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_profile_sample_with(v, &o, &p), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "the model's grading definition has different calibration tables for "
+                                      "youngs_modulus (sources 1, 2 'other'): its profile needs exactly one");
+    hv_volume_destroy(v);
+    hv_calibration_release(c2);
+    hv_ags_release(other);
+    hv_ags_release(plain);
+    hv_dfn_destroy(lin);
+    hv_frf_release(plane);
+    hv_object_destroy(obj);
+    graded_free(&g);
 }

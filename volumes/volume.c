@@ -915,3 +915,79 @@ uint64_t hv_volume_memory_estimate(uint64_t leaves, int float_grids, int bool_gr
                         64u + 8u * (uint64_t)(float_grids + bool_grids);
     return leaves * per_leaf + leaves * per_leaf / 32u + (1u << 20);
 }
+
+/* ---- fields a caller computes ------------------------------------------------------------ */
+
+static hv_status mask_grid(const hv_volume *vol, const char *mask, int *g)
+{
+    *g = hv_volume_grid_find(vol, mask ? mask : "");
+    if (*g < 0 || hv_volume_grid_type(vol, *g) != HV_GRID_BOOL)
+        return hv_error_set(HV_ERR_NOT_FOUND, "the model has no bool grid '%s'", mask ? mask : "");
+    return HV_OK;
+}
+
+static void centre(const hv_transform *xf, const int32_t *o, unsigned n, double p[3])
+{
+    int32_t v[3] = {o[0] + (int32_t)(n >> 6), o[1] + (int32_t)((n >> 3) & 7), o[2] + (int32_t)(n & 7)};
+    for (int a = 0; a < 3; ++a) p[a] = xf->origin[a] + v[a] * xf->voxel[a];
+}
+
+hv_status hv_volume_centres(const hv_volume *vol, const char *mask, double **xyz, size_t *n)
+{
+    *xyz = NULL;
+    *n = 0;
+    int g;
+    hv_status s = mask_grid(vol, mask, &g);
+    if (s != HV_OK) return s;
+    uint64_t count = hv_volume_mask_count(vol, g);
+    if (count == 0) return HV_OK;
+    double *p = hv_malloc_array((size_t)count, 3 * sizeof *p);
+    if (!p) return HV_ERR_NOMEM;
+    hv_transform xf = hv_volume_get_transform(vol);
+    const int32_t *org = hv_volume_leaf_origins(vol);
+    size_t i = 0;
+    for (size_t l = 0; l < hv_volume_leaf_count(vol); ++l) {
+        const uint64_t *a = hv_volume_leaf_mask(vol, l), *b = hv_volume_leaf_bool_c(vol, g, l);
+        for (unsigned q = 0; q < 8; ++q)
+            for (uint64_t w = a[q] & b[q]; w; w &= w - 1) centre(&xf, org + 3 * l, q * 64 + (unsigned)__builtin_ctzll(w), p + 3 * i++);
+    }
+    *xyz = p;
+    *n = (size_t)count;
+    return HV_OK;
+}
+
+hv_status hv_volume_grid_set(hv_volume *vol, const char *name, const char *mask, const float *values, size_t n)
+{
+    int g;
+    hv_status s = mask_grid(vol, mask, &g);
+    if (s != HV_OK) return s;
+    uint64_t count = hv_volume_mask_count(vol, g);
+    if ((uint64_t)n != count)
+        return hv_error_set(HV_ERR_INVALID, "grid '%s': %zu values for the %llu voxels of '%s'", name ? name : "", n,
+                            (unsigned long long)count, mask);
+    hv_transform xf = hv_volume_get_transform(vol);
+    const int32_t *org = hv_volume_leaf_origins(vol);
+    size_t i = 0; /* every value finite before anything is added */
+    for (size_t l = 0; l < hv_volume_leaf_count(vol); ++l) {
+        const uint64_t *a = hv_volume_leaf_mask(vol, l), *b = hv_volume_leaf_bool_c(vol, g, l);
+        for (unsigned q = 0; q < 8; ++q)
+            for (uint64_t w = a[q] & b[q]; w; w &= w - 1, ++i)
+                if (!isfinite(values[i])) {
+                    double p[3];
+                    centre(&xf, org + 3 * l, q * 64 + (unsigned)__builtin_ctzll(w), p);
+                    return hv_error_set(HV_ERR_INVALID, "grid '%s': the value at (%g, %g, %g) is not finite (%g)", name, p[0],
+                                        p[1], p[2], (double)values[i]);
+                }
+    }
+    int fg;
+    if ((s = hv_volume_grid_add(vol, name, HV_GRID_FLOAT, &fg)) != HV_OK) return s;
+    g = hv_volume_grid_find(vol, mask); /* indices are stable on add, but look again */
+    i = 0;
+    for (size_t l = 0; l < hv_volume_leaf_count(vol); ++l) {
+        const uint64_t *a = hv_volume_leaf_mask(vol, l), *b = hv_volume_leaf_bool_c(vol, g, l);
+        float *f = hv_volume_leaf_float(vol, fg, l);
+        for (unsigned q = 0; q < 8; ++q)
+            for (uint64_t w = a[q] & b[q]; w; w &= w - 1) f[q * 64 + (unsigned)__builtin_ctzll(w)] = values[i++];
+    }
+    return HV_OK;
+}

@@ -116,6 +116,9 @@ typedef struct hv_export_options {
         char property[64];
         const char *path;           /* borrowed for the call */
     } linearize[HV_EXPORT_MAX_TABLES];
+    const char *grids;              /* float grids of the model exported as arrays of their own
+                                       names: "NAME[,NAME...]" (borrowed; NULL: none), e.g. a
+                                       field a script computed (hv_volume_grid_set) */
     uint64_t max_memory;            /* budget for the export's buffers; 0: half of RAM */
     int zlib_level;                 /* 1 (fastest) - 9 (smallest); 0: 1 */
     const hv_progress *progress;    /* may be NULL */
@@ -125,7 +128,7 @@ typedef struct hv_export_options {
 HV_API void hv_export_options_init(hv_export_options *opt);
 
 /* The export options as an option set (hovox/options.h): keys box, coarsen, keep, properties,
- * linearize (PROPERTY=FILE.csv, repeatable), level, max_memory. Static data. */
+ * linearize (PROPERTY=FILE.csv, repeatable), grids, level, max_memory. Static data. */
 HV_API const hv_option_set *hv_export_option_set(void);
 /* Every option's domain. Errors: HV_ERR_INVALID naming the option. */
 HV_API hv_status hv_export_options_check(const hv_export_options *opt);
@@ -160,6 +163,9 @@ typedef struct hv_export_report {
  *                               fractions; 0 outside the model; [<unit>] left out when the
  *                               unit is ""
  *   "<property>.table[<unit>]"  one per linearization table
+ *   "<grid>"                    float, one per name in opt->grids: the float grid's value at
+ *                               the voxel (.vtu: averaged over the cell's occupied voxels),
+ *                               0 outside the model
  * Field data: "hovox.materials.json" (the material table) when graded; .vti also
  * "hovox.index_lo" (int32 x3: the voxel index of point 0).
  * .vti: point (x,y,z) is voxel lo + (x,y,z), origin = its centre, spacing = voxel size.
@@ -174,8 +180,10 @@ typedef struct hv_export_report {
  * NULL) is filled. Multi-threaded; the file does not depend on the thread count. Progress
  * stages: "export cells", "export points" (.vtu), "export fill", "export write".
  * Errors: HV_ERR_INVALID (unknown extension, bad options, box without voxel centres,
- * nothing occupied to export as .vtu), HV_ERR_BAD_INPUT (fractions that do not sum to 1,
- * corrupt material table), HV_ERR_NOT_FOUND (a table's material is not in the model),
+ * nothing occupied to export as .vtu, a grid named twice or clashing with another
+ * array), HV_ERR_BAD_INPUT (fractions that do not sum to 1,
+ * corrupt material table), HV_ERR_NOT_FOUND (a table's material is not in the model, no float grid of a name in
+ * grids: the message lists the model's float grids),
  * HV_ERR_LIMIT (buffers over max_memory; the message says how much is needed),
  * HV_ERR_IO (cannot write or rename), HV_ERR_UNSUPPORTED (VTK plugin missing),
  * HV_ERR_NOMEM, HV_ERR_CANCELLED, HV_ERR_INTERNAL. */

@@ -99,6 +99,21 @@ HV_API const uint64_t *hv_volume_leaf_bool_c(const hv_volume *vol, int g, size_t
 /* Number of active voxels. */
 HV_API uint64_t hv_volume_active_count(const hv_volume *vol);
 
+/* ---- fields a caller computes ------------------------------------------------------------ */
+
+/* World coordinates of the centres of the voxels where bool grid `mask` is on (3 doubles per
+ * voxel, in leaf order then in-leaf offset order: the order hv_volume_grid_set reads values in),
+ * into *xyz (allocated; the caller frees it; NULL when there are none) and their count *n.
+ * Errors: HV_ERR_NOT_FOUND (no bool grid `mask`), HV_ERR_NOMEM. */
+HV_API hv_status hv_volume_centres(const hv_volume *vol, const char *mask, double **xyz, size_t *n);
+/* Add float grid `name` holding values[i] at the i-th voxel of hv_volume_centres(vol, mask) and
+ * 0 on every other active voxel: a scalar field computed by the caller (a script), e.g. for
+ * export (hv_export_options grids). Nothing is added on error. Errors: HV_ERR_INVALID (name
+ * empty, too long or used; n not the mask's voxel count; a value not finite, naming the voxel's
+ * centre), HV_ERR_NOT_FOUND (no bool grid `mask`), HV_ERR_NOMEM. */
+HV_API hv_status hv_volume_grid_set(hv_volume *vol, const char *name, const char *mask, const float *values,
+                                    size_t n);
+
 /* Inclusive index bounding box of the active voxels; returns 0 (and leaves lo/hi alone) when
  * the volume is empty, 1 otherwise. */
 HV_API int hv_volume_index_bbox(const hv_volume *vol, int32_t lo[3], int32_t hi[3]);

@@ -61,9 +61,22 @@ void ex_eval_props(const ex_model *md, const double *p, float *const *out, size_
         case EX_VOIGT: v = hv_property_voigt(p, e->x, md->m); break;
         case EX_REUSS: v = hv_property_reuss(p, e->x, md->m); break;
         case EX_TABLE: v = e->scale * hv_linearization_eval(e->lin, p[e->mat]); break;
+        case EX_GRID: continue;
         }
         out[q][idx] = (float)v;
     }
+}
+
+void ex_grid_values(const ex_model *md, const double *g, float *const *out, size_t idx)
+{
+    for (int q = 0; q < md->nprops; ++q)
+        if (md->props[q].kind == EX_GRID) out[q][idx] = (float)g[q];
+}
+
+void ex_grid_add(const ex_model *md, size_t l, unsigned off, double *g)
+{
+    for (int q = 0; q < md->nprops; ++q)
+        if (md->props[q].kind == EX_GRID) g[q] += hv_volume_leaf_float_c(md->vol, md->props[q].grid, l)[off];
 }
 
 /* SI units for the arrays: a unit hovox knows is converted ("g/cm^3" -> "kg/m^3" times 1000,
@@ -201,6 +214,42 @@ static hv_status build_table_props(ex_model *md, const hv_export_options *opt, s
     return HV_OK;
 }
 
+/* Float grids exported as arrays of their names: "NAME[,NAME...]". */
+static hv_status build_grid_props(ex_model *md, const char *grids, size_t *cap)
+{
+    for (const char *s = grids; s && *s;) {
+        const char *e = strchr(s, ',');
+        size_t n = e ? (size_t)(e - s) : strlen(s);
+        ex_prop p;
+        memset(&p, 0, sizeof p);
+        if (n == 0 || n >= sizeof p.name)
+            return hv_error_set(HV_ERR_INVALID, "export: grids '%s': a name is empty or too long", grids);
+        memcpy(p.name, s, n);
+        p.name[n] = '\0';
+        p.kind = EX_GRID;
+        p.grid = hv_volume_grid_find(md->vol, p.name);
+        if (p.grid < 0 || hv_volume_grid_type(md->vol, p.grid) != HV_GRID_FLOAT) {
+            hv_buf names;
+            hv_buf_init(&names);
+            for (int g = 0; g < hv_volume_grid_count(md->vol); ++g)
+                if (hv_volume_grid_type(md->vol, g) == HV_GRID_FLOAT)
+                    hv_buf_printf(&names, "%s%s", names.len ? ", " : "", hv_volume_grid_name(md->vol, g));
+            hv_status st = hv_error_set(HV_ERR_NOT_FOUND, "export: the model has no float grid '%s' (float grids: %s)",
+                                        p.name, names.len ? names.data : "none");
+            hv_buf_free(&names);
+            return st;
+        }
+        int clash = strcmp(p.name, "occupancy") == 0 || strncmp(p.name, "fraction.", 9) == 0;
+        for (int q = 0; q < md->nprops && !clash; ++q) clash = strcmp(md->props[q].name, p.name) == 0;
+        if (clash) return hv_error_set(HV_ERR_INVALID, "export: grids: array '%s' is named twice", p.name);
+        hv_status st = add_prop(md, cap, &p);
+        if (st != HV_OK) return st;
+        md->ngrids++;
+        s = e ? e + 1 : s + n;
+    }
+    return HV_OK;
+}
+
 /* ---- the model: materials, occupancy, box ----------------------------------------------- */
 
 static void model_free(ex_model *md)
@@ -243,6 +292,7 @@ static hv_status model_init(ex_model *md, const hv_volume *vol, const hv_export_
     size_t cap = 0;
     if (md->table && opt->mix) s = build_mix_props(md, opt->mix, &cap);
     if (s == HV_OK) s = build_table_props(md, opt, &cap);
+    if (s == HV_OK) s = build_grid_props(md, opt->grids, &cap);
     if (s != HV_OK) return s;
 
     /* occupied voxels per leaf */
@@ -351,9 +401,9 @@ static int vtk_progress(void *user, double fraction)
 
 typedef struct ex_out {
     int narrays;
-    hv_vtk_array arrays[1 + 2 * HV_MAX_MATERIALS + 64];
+    hv_vtk_array arrays[EX_MAX_ARRAYS];
     char names[1 + HV_MAX_MATERIALS][80];
-    void *buffers[1 + 2 * HV_MAX_MATERIALS + 64];
+    void *buffers[EX_MAX_ARRAYS];
     float *frac[HV_MAX_MATERIALS];
     float **props;
 } ex_out;
@@ -449,6 +499,11 @@ static hv_status vti_range(void *ctx, size_t b, size_t e, int thread)
                 size_t idx = (size_t)((i - md->lo[0]) +
                                       c->nx * ((j - md->lo[1]) + c->ny * (k - md->lo[2])));
                 c->occ[idx] = 1;
+                if (md->ngrids) {
+                    double g[EX_MAX_ARRAYS] = {0};
+                    ex_grid_add(md, l, n, g);
+                    ex_grid_values(md, g, c->props, idx);
+                }
                 if (!md->m) continue;
                 for (int m = 0; m < md->m; ++m) p[m] = fr[m][n];
                 hv_status s = ex_check_fractions(md, p, i, j, k);

@@ -6,7 +6,7 @@
 #include "core/internal.h"
 #include "hovox/export.h"
 
-typedef enum ex_kind { EX_VOIGT, EX_REUSS, EX_TABLE } ex_kind;
+typedef enum ex_kind { EX_VOIGT, EX_REUSS, EX_TABLE, EX_GRID } ex_kind;
 
 /* One derived property array. */
 typedef struct ex_prop {
@@ -15,6 +15,7 @@ typedef struct ex_prop {
     const hv_linearization *lin; /* table */
     int mat;                     /* table: the material whose fraction is the variable */
     double scale;                /* table: factor to SI units */
+    int grid;                    /* grid: the model's float grid */
     char name[200];
 } ex_prop;
 
@@ -26,6 +27,7 @@ typedef struct ex_model {
     int grids[HV_MAX_MATERIALS];
     int nprops;
     ex_prop *props;
+    int ngrids;               /* props of kind EX_GRID */
     int64_t lo[3], hi[3];     /* exported voxel index range (inclusive) */
     int64_t olo[3], ohi[3];   /* bounding box of the exported occupied voxels */
     size_t nleaves;
@@ -40,8 +42,14 @@ typedef struct ex_model {
 
 hv_status ex_check_fractions(const ex_model *md, const double *p, int32_t i, int32_t j,
                              int32_t k);
-/* out[q][idx] = property q of composition p. */
+/* out[q][idx] = property q of composition p (EX_GRID arrays are left to ex_grid_values). */
 void ex_eval_props(const ex_model *md, const double *p, float *const *out, size_t idx);
+/* Most arrays an export writes. */
+#define EX_MAX_ARRAYS (1 + 2 * HV_MAX_MATERIALS + 64)
+/* out[q][idx] = the EX_GRID arrays' values g[q] (a voxel's, or a cell's average). */
+void ex_grid_values(const ex_model *md, const double *g, float *const *out, size_t idx);
+/* g[q] += the EX_GRID arrays' values at voxel `off` of leaf l. */
+void ex_grid_add(const ex_model *md, size_t l, unsigned off, double *g);
 
 /* The .vtu mesh: coarse cells on the lattice floor(voxel / N), kept by the rule; points are
  * the cells' corners, each once. Numbering follows sorted leaf origins, then the in-leaf

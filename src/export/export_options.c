@@ -64,6 +64,9 @@ static const hv_option k_opts[] = {
      .parse = parse_linearize,
      .help = "a measured table PROPERTY(fraction of one material); CSV header 'fraction.<material>,"
              "<property>[<unit>]', then rows 'fraction,value'; repeatable"},
+    {.key = "grids", .kind = HV_OPT_STRING, .offset = OFF(grids), .meta = "NAME[,NAME...]",
+     .help = "also export these float grids of the model (e.g. a field a script computed) as arrays of "
+             "their names"},
     {.key = "level", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = 9, .flags = HV_OPT_UNSET0,
      .offset = OFF(zlib_level), .meta = "N", .help = "zlib level: 1 (fastest, default) to 9 (smallest)"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",

@@ -371,6 +371,8 @@ static hv_status cells_fill_range(void *ctx, size_t b, size_t e, int thread)
                 /* average the fractions of the cell's occupied voxels */
                 int count = 0;
                 for (int j = 0; j < m; ++j) sum[j] = 0;
+                double gsum[EX_MAX_ARRAYS];
+                for (int g = 0; md->ngrids && g < md->nprops; ++g) gsum[g] = 0;
                 int32_t x0 = (o[0] + x) * n, y0 = (o[1] + y) * n, z0 = (o[2] + z) * n;
                 /* by voxel leaves: an absent or empty leaf is skipped whole */
                 for (int32_t bx = x0 & ~7; bx < x0 + n; bx += 8)
@@ -387,6 +389,7 @@ static hv_status cells_fill_range(void *ctx, size_t b, size_t e, int thread)
                                     if (i < x0 || i >= x0 + n || jj < y0 || jj >= y0 + n || k < z0 || k >= z0 + n)
                                         continue;
                                     ++count;
+                                    if (md->ngrids) ex_grid_add(md, (size_t)l, off, gsum);
                                     if (!m) continue;
                                     for (int j = 0; j < m; ++j)
                                         p[j] = hv_volume_leaf_float_c(md->vol, md->grids[j], (size_t)l)[off];
@@ -396,6 +399,10 @@ static hv_status cells_fill_range(void *ctx, size_t b, size_t e, int thread)
                                 }
                         }
                 c->occupancy[id] = (float)(count * inv_cell);
+                if (count > 0 && md->ngrids) {
+                    for (int g = 0; g < md->nprops; ++g) gsum[g] /= count;
+                    ex_grid_values(md, gsum, c->props, (size_t)id);
+                }
                 if (m && count > 0) {
                     for (int j = 0; j < m; ++j) {
                         p[j] = sum[j] / count;

@@ -2,6 +2,7 @@
  * table): hovox.voxelize (the options of `hovox voxelize`, hv_voxelize_option_set), hovox.load,
  * saving, inspection and probing. Outputs are in loutput.c, features made from a model in
  * lsource.c. */
+#include <stdlib.h>
 #include <string.h>
 
 #include <lauxlib.h>
@@ -89,6 +90,42 @@ static int model_voxels(lua_State *L)
     if (g < 0 || hv_volume_grid_type(u->p, g) != HV_GRID_BOOL)
         return arg_error(L, 2, "no bool grid '%s'", grid);
     lua_pushinteger(L, (lua_Integer)hv_volume_mask_count(u->p, g));
+    return 1;
+}
+
+/* model:add_grid(name, function(x, y, z) return value end[, mask = "occupancy"]) -> voxels: float
+ * grid `name` holding the function's value at the centre of every voxel of bool grid `mask` (world
+ * coordinates, mm), e.g. a stress field to export. The function runs for every voxel first; the
+ * grid is added at the end (hv_volume_grid_set), so an error leaves the model as it was. */
+static int model_add_grid(lua_State *L)
+{
+    const char *name = luaL_checkstring(L, 2);
+    luaL_checktype(L, 3, LUA_TFUNCTION);
+    const char *mask = luaL_optstring(L, 4, "occupancy");
+    double *xyz;
+    size_t n;
+    hv_status s = hv_volume_centres(hv_lua_model(L, 1), mask, &xyz, &n);
+    if (s != HV_OK) return fail(L, s);
+    /* buffers the garbage collector owns: an error in the function leaks nothing */
+    double *p = n ? lua_newuserdatauv(L, n * 3 * sizeof *p, 0) : NULL;
+    float *v = n ? lua_newuserdatauv(L, n * sizeof *v, 0) : NULL;
+    if (n) memcpy(p, xyz, n * 3 * sizeof *p);
+    free(xyz);
+    for (size_t i = 0; i < n; ++i) {
+        lua_pushvalue(L, 3);
+        for (int a = 0; a < 3; ++a) lua_pushnumber(L, p[3 * i + (size_t)a]);
+        lua_call(L, 3, 1);
+        int ok;
+        lua_Number x = lua_tonumberx(L, -1, &ok);
+        if (!ok)
+            return luaL_error(L, "add_grid: the function returned %s at (%f, %f, %f), not a number",
+                              luaL_typename(L, -1), p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+        v[i] = (float)x;
+        lua_pop(L, 1);
+    }
+    s = hv_volume_grid_set(hv_lua_model(L, 1), name, mask, v, n); /* again: the function may have freed it */
+    if (s != HV_OK) return fail(L, s);
+    lua_pushinteger(L, (lua_Integer)n);
     return 1;
 }
 
@@ -182,7 +219,7 @@ void hv_lua_open_model(lua_State *L, int module)
 {
     static const luaL_Reg methods[] = {{"save", model_save},     {"grids", model_grids}, {"voxels", model_voxels},
                                        {"transform", model_transform}, {"meta", model_meta},   {"probe", model_probe},
-                                       {"free", hv_lua_model_free}, {NULL, NULL}};
+                                       {"add_grid", model_add_grid}, {"free", hv_lua_model_free}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MODEL, methods, hv_lua_model_free, model_tostring);
     lua_pushcfunction(L, l_voxelize);
     lua_setfield(L, module, "voxelize");

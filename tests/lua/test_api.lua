@@ -356,4 +356,28 @@ local ffeat, frep = bar:field{file = tmp .. "/bar.vti", array = "fraction.rigid"
 assert(frep.filled == 0 and frep.lo >= 0 and frep.hi <= 1 and frep.voxels == bar:voxels(), frep.filled)
 assert(math.abs(ffeat:distance({0.25, 0.25, 0.25}, bar) - 10.25 / 20) < 1e-4)
 fails("no array 'sigma'", bar.field, bar, {file = tmp .. "/bar.vti", array = "sigma"})
+-- the property along a profile: the table at the t the grading gives (t = (x + 10) / 20 on this bar)
+local pobj = hovox.object(bar, hovox.materials{"rigid", "rubber"})
+pobj:add_ags{feature = hovox.plane{point = {-10, 0, 0}, normal = {1, 0, 0}}, ranges = {0, 20, 0},
+             ms = {0, 1}, me = {1, 0}, calibration = cal}
+local pg = pobj:evaluate()
+local pp = pg:profile{from = {0.25, 1.25, 1.25}, to = {9.75, 1.25, 1.25}, samples = 20, property = "youngs_modulus"}
+assert(pp.property.name == "youngs_modulus" and pp.property.unit == "MPa" and #pp.property.values == 20)
+for i = 1, 20 do
+    local t = (0.25 + (i - 1) * 0.5 + 10) / 20 -- 0.5125 .. 0.9875: rows (0.5, 9.5), (0.8, 250), (1, 2000)
+    local want = t <= 0.8 and 9.5 + (t - 0.5) / 0.3 * 240.5 or 250 + (t - 0.8) / 0.2 * 1750
+    assert(math.abs(pp.property.values[i] - want) < 1e-4 * want,
+           string.format("sample %d: %g, want %g", i, pp.property.values[i], want))
+end
+fails("no calibration table for youngs_modulus in the model's grading definition (it has no calibration tables)",
+      bg.profile, bg, {from = {-5, 0, 0}, to = {5, 0, 0}, property = "youngs_modulus"})
+-- a field the script computes goes out through the export path and comes back as a feature
+assert(bar:add_grid("x2y", function(x, y, z) return x + 2 * y end) == bar:voxels("occupancy"))
+bar:export{path = tmp .. "/x2y.vti", grids = "x2y", properties = "none"}
+local xf = bar:field{file = tmp .. "/x2y.vti", array = "x2y"}
+assert(math.abs(xf:distance({1.25, 0.75, 0.25}, bar) - (1.25 + 1.5)) < 1e-5)
+fails("grid 'bad': the value at", bar.add_grid, bar, "bad", function() return 0 / 0 end)
+fails("add_grid: the function returned string", bar.add_grid, bar, "s", function() return "x" end)
+fails("export: the model has no float grid 'nope' (float grids: x2y)", bar.export, bar,
+      {path = tmp .. "/nope.vti", grids = "nope"})
 print("test_api.lua: all checks passed")

@@ -376,6 +376,12 @@ assert(bar:add_grid("x2y", function(x, y, z) return x + 2 * y end) == bar:voxels
 bar:export{path = tmp .. "/x2y.vti", grids = "x2y", properties = "none"}
 local xf = bar:field{file = tmp .. "/x2y.vti", array = "x2y"}
 assert(math.abs(xf:distance({1.25, 0.75, 0.25}, bar) - (1.25 + 1.5)) < 1e-5)
+-- .vtu: cell data averaged over a 2 x 2 x 2 block: the linear field's value at the block's centre
+bar:export{path = tmp .. "/x2y.vtu", grids = "x2y", properties = "none", coarsen = 2}
+local xu = bar:field{file = tmp .. "/x2y.vtu", array = "x2y", outside = "nearest"}
+-- voxel (1.25, 0.75, 0.25) is index (2, 1, 0) (centres at 0.25 + 0.5 i); its block spans indices 2..3, 0..1, 0..1,
+-- centres x 1.25, 1.75 and y 0.25, 0.75: the average is 1.5 + 2 * 0.5
+assert(math.abs(xu:distance({1.25, 0.75, 0.25}, bar) - 2.5) < 1e-5, xu:distance({1.25, 0.75, 0.25}, bar))
 fails("grid 'bad': the value at", bar.add_grid, bar, "bad", function() return 0 / 0 end)
 fails("add_grid: the function returned string", bar.add_grid, bar, "s", function() return "x" end)
 fails("export: the model has no float grid 'nope' (float grids: x2y)", bar.export, bar,

@@ -531,3 +531,53 @@ Test(plot, extreme_values_do_not_break_drawing)
     unload(&m);
     hv_plot_destroy(p);
 }
+
+/* A right-hand axis over [0, 1000] next to the left one over [0, 1]: a series of 1000 * a, put
+ * on it, lies exactly on the left mapping of a, drawn where that mapping says; tick labels appear
+ * right of the frame; the axis and series calls check their arguments. */
+Test(plot, right_axis_series_follow_their_own_range)
+{
+    double x[101], a[101], big[101];
+    for (int i = 0; i <= 100; ++i) {
+        x[i] = i * 0.1;
+        a[i] = 0.2 + 0.006 * i;
+        big[i] = 1000 * (0.8 - 0.006 * i); /* falls from 800 to 200: crosses a at x = 5 */
+    }
+    hv_plot *p;
+    cr_assert_eq(hv_plot_create(900, 560, &p), HV_OK);
+    cr_assert_eq(hv_plot_set_x(p, x, 101), HV_OK);
+    int ia, ib;
+    cr_assert_eq(hv_plot_add_series(p, "left", a, RED, &ia), HV_OK);
+    cr_assert_eq(hv_plot_add_series(p, "right", big, BLUE, &ib), HV_OK);
+    cr_assert_eq(hv_plot_set_series_right(p, ib, 1), HV_ERR_INVALID); /* no right axis yet */
+    cr_assert_eq(hv_plot_set_right_axis(p, "modulus (MPa)", 5, 5), HV_ERR_INVALID);
+    cr_assert_eq(hv_plot_set_right_axis(p, "modulus (MPa)", 0, 1000), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_plot_set_series_right(p, 7, 1), HV_ERR_INVALID);
+    cr_assert_eq(hv_plot_set_series_right(p, ib, 1), HV_OK);
+    const char *path = t_tmpfile("right.png");
+    cr_assert_eq(hv_plot_write_png(p, path), HV_OK, "%s", hv_last_error());
+    img m = load(path);
+    double box[4], q[2];
+    cr_assert_eq(hv_plot_data_to_pixel(p, 1, 0.8 - 0.06, q, box), HV_OK);
+    /* the blue series at x = 1, 2, 7, 8 sits where the left mapping puts its value / 1000 */
+    for (int k = 0; k < 4; ++k) {
+        double xs = k < 2 ? 1 + k : 5 + k; /* 1, 2, 7, 8 */
+        int ix, iy;
+        map(p, xs, 0.8 - 0.06 * xs, &ix, &iy);
+        cr_assert(colour_near(&m, ix, iy, 2, 0, 0, 255, 40), "no blue at x = %g (pixel %d, %d)", xs, ix, iy);
+        map(p, xs, 0.2 + 0.06 * xs, &ix, &iy);
+        cr_assert(colour_near(&m, ix, iy, 2, 255, 0, 0, 40), "no red at x = %g (pixel %d, %d)", xs, ix, iy);
+    }
+    /* tick labels right of the frame: dark text in the strip beyond the right edge */
+    cr_assert_gt(count_dark(&m, (int)box[2] + 8, (int)box[1], m.w - 1, (int)box[3]), 50);
+    unload(&m);
+    /* without the right axis the blue series leaves the [0, 1] view: nothing blue at x = 8 */
+    cr_assert_eq(hv_plot_set_series_right(p, ib, 0), HV_OK);
+    cr_assert_eq(hv_plot_write_png(p, path), HV_OK);
+    m = load(path);
+    int ix, iy;
+    map(p, 8, 0.8 - 0.48, &ix, &iy);
+    cr_assert(!colour_near(&m, ix, iy, 2, 0, 0, 255, 40), "blue drawn at the left mapping of its value / 1000");
+    unload(&m);
+    hv_plot_destroy(p);
+}

@@ -123,14 +123,13 @@ HV_API hv_status hv_plot_write_svg_stream(const hv_plot *p, FILE *fp);
  * stretches outside the object are shaded and labelled "outside the object" (their ends
  * halfway between an inside and an outside sample). Title "Material fractions along a line",
  * subtitle the end points and the sample count; callers may change both, add markers (e.g. a
- * grading source's d- and d- + dg) and then write it. Free with hv_plot_destroy.
+ * grading source's d- and d- + dg) and then write it. A profile with a property
+ * (hv_profile_sample_with) also shows it: a near-black series named after the property on a
+ * right-hand axis labelled "<property> (<unit>)" over the data range (gaps where it is
+ * undefined), titled "Material fractions and <property> along a line". Free with hv_plot_destroy.
  * Errors: HV_ERR_INVALID (size), HV_ERR_NOMEM. */
 HV_API hv_status hv_profile_plot(const hv_profile *p, int width, int height, hv_plot **out);
-/* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). A profile
- * with a property (hv_profile_sample_with) also shows it: a near-black series named after the
- * property on a right-hand axis labelled "<property> (<unit>)" over the data range (gaps where
- * it is undefined), and the default title becomes "Material fractions and <property> along a
- * line". */
+/* hv_profile_plot with the size, title, y range and markers of `o` (NULL: defaults). */
 HV_API hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o, hv_plot **out);
 /* HV_OK when `path` names a plot format: .png or .svg, case aside. Errors: HV_ERR_INVALID
  * ("{plot} 'x.gif' has an unknown extension (use .png or .svg)"). */

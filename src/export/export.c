@@ -223,7 +223,7 @@ static hv_status build_grid_props(ex_model *md, const char *grids, size_t *cap)
         ex_prop p;
         memset(&p, 0, sizeof p);
         if (n == 0 || n >= sizeof p.name)
-            return hv_error_set(HV_ERR_INVALID, "export: grids '%s': a name is empty or too long", grids);
+            return hv_error_option(HV_ERR_INVALID, "{grids} '%s': a name is empty or too long", grids);
         memcpy(p.name, s, n);
         p.name[n] = '\0';
         p.kind = EX_GRID;
@@ -241,7 +241,7 @@ static hv_status build_grid_props(ex_model *md, const char *grids, size_t *cap)
         }
         int clash = strcmp(p.name, "occupancy") == 0 || strncmp(p.name, "fraction.", 9) == 0;
         for (int q = 0; q < md->nprops && !clash; ++q) clash = strcmp(md->props[q].name, p.name) == 0;
-        if (clash) return hv_error_set(HV_ERR_INVALID, "export: grids: array '%s' is named twice", p.name);
+        if (clash) return hv_error_option(HV_ERR_INVALID, "{grids}: array '%s' is named twice", p.name);
         hv_status st = add_prop(md, cap, &p);
         if (st != HV_OK) return st;
         md->ngrids++;

@@ -66,9 +66,11 @@ static hv_status set_from_lua(lua_State *L, hv_optargs *args, const char *key, c
         v.boolean = lua_toboolean(L, -1);
         return hv_optargs_set(args, key, &v);
     case LUA_TNUMBER:
-        if (o && o->kind == HV_OPT_ENUM) { /* adjacency = 6: enum names may be numbers */
+        if (o && (o->kind == HV_OPT_ENUM || o->kind == HV_OPT_STRING)) {
+            /* adjacency = 6: enum names may be numbers; ps = 2000: a value as the CLI reads "2000" */
             snprintf(intbuf, sizeof intbuf, "%.17g", lua_tonumber(L, -1));
-            v.text = intbuf;
+            /* a string option keeps its text: the copy lives in the holder, like any string's */
+            v.text = o->kind == HV_OPT_STRING ? hv_lua_copy_string(L, holder, intbuf, strlen(intbuf)) : intbuf;
             return hv_optargs_set(args, key, &v);
         }
         if (o && o->kind == HV_OPT_NUMBER && o->elem == HV_ELEM_UINT64 && lua_isinteger(L, -1)) {

@@ -340,6 +340,12 @@ local psrc = hovox.ags{feature = hovox.plane{point = {0, 0, 0}, normal = {1, 0, 
                        ps = "1MPa", pe = "1GPa", log = true}
 local t_mid = psrc:eval(5)[1] -- P = sqrt(1 * 1000) MPa = 31.62 MPa: t = 0.5 + (31.62 - 9.5) / 240.5 * 0.3
 assert(math.abs(t_mid - (0.5 + (math.sqrt(1000) - 9.5) / 240.5 * 0.3)) < 1e-5, t_mid)
+-- plain numbers are values in the table's unit, as the CLI reads --ps 1 --pe 1000
+local nsrc = hovox.ags{feature = hovox.plane{point = {0, 0, 0}, normal = {1, 0, 0}}, ranges = {0, 10, 0},
+                       ms = {0, 1}, me = {1, 0}, calibration = cal, property_grading = "youngs_modulus",
+                       ps = 1, pe = 1000, log = true}
+collectgarbage() -- the texts made from the numbers must outlive the call that read them
+assert(nsrc:eval(5)[1] == t_mid, "ps = 1, pe = 1000 (MPa) grade as '1MPa', '1GPa'")
 fails("Pe = 3000 MPa is outside the calibration table's youngs_modulus range [0.6, 2000] MPa", hovox.ags,
       {feature = hovox.plane{point = {0, 0, 0}, normal = {1, 0, 0}}, ranges = {0, 10, 0}, ms = {0, 1}, me = {1, 0},
        calibration = cal, property_grading = "youngs_modulus", ps = "1MPa", pe = "3GPa"})

@@ -438,8 +438,6 @@ int cli_given(const cli_args *a, const char *key)
     return (a->lib.set && hv_optargs_given(&a->lib, key)) || (a->local.set && hv_optargs_given(&a->local, key));
 }
 
-const cli_spec *cli_current_spec(void) { return g_spec; }
-
 void cli_warn(const char *fmt, ...)
 {
     va_list ap;
@@ -463,7 +461,6 @@ static void add(cli_json *j, const char *key, json_t *v) { j->failed |= !j->obj 
 void cli_json_str(cli_json *j, const char *key, const char *value) { add(j, key, hv_json_text(value ? value : "")); }
 void cli_json_num(cli_json *j, const char *key, double value) { add(j, key, hv_json_number(value)); }
 void cli_json_int(cli_json *j, const char *key, long long value) { add(j, key, json_integer((json_int_t)value)); }
-void cli_json_bool(cli_json *j, const char *key, int value) { add(j, key, json_boolean(value)); }
 void cli_json_nums(cli_json *j, const char *key, const double *v, int n) { add(j, key, hv_json_numbers(v, (size_t)n)); }
 
 void cli_json_ints(cli_json *j, const char *key, const int64_t *v, int n)

@@ -80,8 +80,6 @@ const char *cli_message(char *buf, size_t size);
 #define CLI_OUTPUT(type, meta_, help_, flags_)                                                   \
     {.key = "output", .kind = HV_OPT_STRING, .flags = (flags_) | HV_OPT_OUT_PATH,                  \
      .offset = offsetof(type, output), .meta = meta_, .help = help_, .section = "Output"}
-#define CLI_DRY_RUN(type, help_) \
-    {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(type, dry_run), .help = help_}
 #define CLI_JSON(type, help_) {.key = "json", .kind = HV_OPT_FLAG, .offset = offsetof(type, json), .help = help_}
 
 /* Print "hovox: warning: <message>" on stderr. */
@@ -99,7 +97,6 @@ void cli_json_begin(cli_json *j);
 void cli_json_str(cli_json *j, const char *key, const char *value);
 void cli_json_num(cli_json *j, const char *key, double value);
 void cli_json_int(cli_json *j, const char *key, long long value);
-void cli_json_bool(cli_json *j, const char *key, int value);
 void cli_json_nums(cli_json *j, const char *key, const double *v, int n);
 void cli_json_ints(cli_json *j, const char *key, const int64_t *v, int n);
 int cli_json_end(cli_json *j, const char *lines_key, const char *lines);

@@ -92,6 +92,11 @@ hv_status hv_check_extension(const char *path, const char *ext, const char *what
 /* 1 when `path` exists and is not a regular file (a device, FIFO, socket): such targets are
  * written in place, never replaced by a rename. */
 int hv_path_is_special(const char *path);
+/* 1 when writing `path` stays below the directory `root` (an absolute, resolved path, as
+ * realpath gives): the directory of `path` resolves below root, and when `path` itself is a
+ * symbolic link its target does too (writers follow links: a link inside root must not lead
+ * out of it). A sandbox's rule; checked on the text the writer then uses. */
+int hv_path_below(const char *root, const char *path);
 
 /* ---- output directories written whole (outdir.c) ----------------------------------------
  * A job that writes a directory of files (a slice stack, per-layer SVGs) writes them into

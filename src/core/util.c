@@ -1,6 +1,7 @@
 /* src/core/util.c - checked allocation, growable strings, whole-file reads, atomic writes. */
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <stdatomic.h>
@@ -297,6 +298,30 @@ int hv_path_is_special(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+}
+
+static int resolved_below(const char *real, const char *root)
+{
+    size_t n = strlen(root);
+    return strncmp(real, root, n) == 0 && (real[n] == '\0' || real[n] == '/' || (n == 1 && root[0] == '/'));
+}
+
+int hv_path_below(const char *root, const char *path)
+{
+    char dir[PATH_MAX], real[PATH_MAX];
+    if (strlen(path) >= sizeof dir) return 0;
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash) {
+        if (slash == dir) slash[1] = '\0';
+        else *slash = '\0';
+    } else {
+        snprintf(dir, sizeof dir, ".");
+    }
+    if (!realpath(dir, real) || !resolved_below(real, root)) return 0;
+    struct stat st;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) return realpath(path, real) && resolved_below(real, root);
+    return 1;
 }
 
 hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode)

@@ -27,35 +27,14 @@ void hv_lua_set_write_root(lua_State *L, const char *dir)
     lua_setfield(L, LUA_REGISTRYINDEX, REG_ROOT);
 }
 
-static int below_root(const char *real, const char *root)
-{
-    size_t n = strlen(root);
-    return strncmp(real, root, n) == 0 && (real[n] == '\0' || real[n] == '/' || (n == 1 && root[0] == '/'));
-}
-
-/* 1 when writing `path` is allowed under the write root: its directory resolves below the
- * root, and a symbolic link at `path` points below it too (writers follow the link: a link
- * inside the output directory must not lead out of it). */
+/* 1 when writing `path` is allowed under the write root (hv_path_below), or there is none. */
 static int write_allowed(lua_State *L, const char *path)
 {
     lua_getfield(L, LUA_REGISTRYINDEX, REG_ROOT);
     const char *root = lua_tostring(L, -1);
+    int ok = !root || hv_path_below(root, path); /* root is anchored in the registry */
     lua_pop(L, 1);
-    if (!root) return 1;
-    char dir[PATH_MAX], real[PATH_MAX];
-    if (strlen(path) >= sizeof dir) return 0;
-    snprintf(dir, sizeof dir, "%s", path);
-    char *slash = strrchr(dir, '/');
-    if (slash) {
-        if (slash == dir) slash[1] = '\0';
-        else *slash = '\0';
-    } else {
-        snprintf(dir, sizeof dir, ".");
-    }
-    if (!realpath(dir, real) || !below_root(real, root)) return 0;
-    struct stat st;
-    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) return realpath(path, real) && below_root(real, root);
-    return 1;
+    return ok;
 }
 
 const char *hv_lua_check_write(lua_State *L, int arg, const char *path)

@@ -1,7 +1,9 @@
 /* tests/core/test_core.c - status names, detail messages, JSON (jansson helpers), enum names, atomic files and
  * the parallel loop (determinism, failure order, cancellation). */
 #include <criterion/criterion.h>
+#include <limits.h>
 #include <math.h>
+#include <stdlib.h>
 #include <stdatomic.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -253,6 +255,44 @@ Test(files, temp_commit_renames_files_and_streams_into_special_ones)
     /* a missing temporary is an I/O error naming the target */
     cr_assert_eq(hv_temp_commit(t_tmpfile("no-such.tmp"), path), HV_ERR_IO);
     cr_assert(strstr(hv_last_error(), "commit.bin") != NULL, "%s", hv_last_error());
+}
+
+Test(files, paths_below_a_root_follow_directories_and_links)
+{
+    char real[PATH_MAX], root[1024], out[2048], in[2048], link_out[4096], link_in[4096], outside[4096], dotdot[4096];
+    cr_assert_not_null(realpath(t_tmpdir(), real));
+    cr_assert_lt(strlen(real), sizeof root);
+    snprintf(root, sizeof root, "%s", real);
+    snprintf(out, sizeof out, "%s/below_root", root);
+    snprintf(in, sizeof in, "%s/below_root/sub", root);
+    mkdir(out, 0755);
+    mkdir(in, 0755);
+    snprintf(link_out, sizeof link_out, "%s/up", in);
+    snprintf(link_in, sizeof link_in, "%s/side", in);
+    snprintf(outside, sizeof outside, "%s/x.png", root);
+    snprintf(dotdot, sizeof dotdot, "%s/../x.png", in);
+    unlink(link_out);
+    unlink(link_in);
+    cr_assert_eq(symlink(outside, link_out), 0);
+    cr_assert_eq(symlink("x.png", link_in), 0);
+    cr_assert(hv_path_below(out, in));
+    cr_assert(!hv_path_below(out, link_in), "a dangling link is refused: where it leads cannot be resolved");
+    char beside[4096];
+    snprintf(beside, sizeof beside, "%s/x.png", in);
+    FILE *f = fopen(beside, "w");
+    cr_assert_not_null(f);
+    fclose(f);
+    cr_assert(hv_path_below(out, link_in), "a link to a file beside it stays below");
+    cr_assert(!hv_path_below(out, link_out), "a link leading out is refused");
+    cr_assert(!hv_path_below(out, outside));
+    cr_assert(hv_path_below(out, dotdot), "sub/../x.png is below");
+    char up2[4096];
+    snprintf(up2, sizeof up2, "%s/../../x.png", in);
+    cr_assert(!hv_path_below(out, up2));
+    char prefix[4096];
+    snprintf(prefix, sizeof prefix, "%s/below_root2/x", root); /* a name that merely starts like root */
+    cr_assert(!hv_path_below(out, prefix));
+    cr_assert(!hv_path_below(out, "/nonexistent-dir/x"));
 }
 
 Test(files, read_errors_name_the_path)

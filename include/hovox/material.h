@@ -164,6 +164,19 @@ HV_API hv_status hv_dfn_smoothstep(hv_dfn **out);
 /* Piecewise linear through (d_i, f_i), d strictly increasing, n >= 2; constant beyond the
  * ends. Errors: HV_ERR_INVALID naming the offending point. */
 HV_API hv_status hv_dfn_table(const double *d, const double *f, int n, hv_dfn **out);
+/* f as a named kind with its parameters (a script's f = {kind = "sine", k = 0.15}): kind
+ * linear (a = 1, b = 0), sine (k required, amplitude = 1, phase = 0, offset = 0), power (p
+ * required), smoothstep, or table (its points are given to hv_dfn_table by the caller). */
+typedef enum hv_dfn_kind { HV_DFN_LINEAR, HV_DFN_SINE, HV_DFN_POWER, HV_DFN_SMOOTHSTEP, HV_DFN_TABLE } hv_dfn_kind;
+typedef struct hv_dfn_options {
+    int kind; /* hv_dfn_kind */
+    double a, b, k, amplitude, phase, offset, p;
+} hv_dfn_options;
+/* Keys kind (required), a, b, k, amplitude, phase, offset, p; a parameter another kind does not
+ * take is refused, and so is a missing required one. Static data. */
+HV_API const hv_option_set *hv_dfn_option_set(void);
+/* The function the options name (not for HV_DFN_TABLE: HV_ERR_INVALID). */
+HV_API hv_status hv_dfn_from_options(const hv_dfn_options *o, hv_dfn **out);
 /* An arithmetic expression in d (and dg): numbers, + - * / ^, parentheses, unary minus,
  * sin cos tan exp log sqrt abs min max pow, pi. Errors: HV_ERR_INVALID "f: column 7:
  * unknown name 'sn'". */

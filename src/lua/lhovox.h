@@ -102,6 +102,9 @@ void hv_lua_check_plain_table(lua_State *L, int arg);
 const char *hv_lua_copy_string(lua_State *L, int holder, const char *s, size_t len);
 void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra,
                          int holder);
+/* The same for a table at stack index idx nested in argument `arg` (refusals name arg). */
+void hv_lua_read_nested(lua_State *L, int idx, int arg, const hv_option_set *set, void *opts, const char *const *extra,
+                        int holder);
 /* The usual start of a binding: hv_lua_options(L, arg), then hv_lua_read_options. Returns the
  * holder. */
 int hv_lua_read(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra);

@@ -177,20 +177,21 @@ int hv_lua_read(lua_State *L, int arg, const hv_option_set *set, void *opts, con
     return holder;
 }
 
-void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra,
-                         int holder)
+void hv_lua_read_nested(lua_State *L, int idx, int arg, const hv_option_set *set, void *opts, const char *const *extra,
+                        int holder)
 {
     hv_optargs a, *args = &a;
     hv_optargs_begin(args, set, opts);
-    if (lua_isnoneornil(L, arg)) {
+    if (lua_isnoneornil(L, idx)) {
         if (hv_optargs_finish(args) != HV_OK) raise_option_error(L, arg);
         return;
     }
-    arg = lua_absindex(L, arg);
-    hv_lua_check_plain_table(L, arg);
+    idx = lua_absindex(L, idx);
+    if (lua_type(L, idx) != LUA_TTABLE) luaL_typeerror(L, arg, "table");
+    if (lua_getmetatable(L, idx)) luaL_argerror(L, arg, "options must be a plain table (one with a metatable is refused)");
     /* unknown keys first, so a misspelt option never falls back to its default */
     lua_pushnil(L);
-    while (lua_next(L, arg)) {
+    while (lua_next(L, idx)) {
         lua_pop(L, 1);
         if (lua_type(L, -1) != LUA_TSTRING) {
             hv_lua_arg_error(L, arg, "options are named (key = value), got a %s key", luaL_typename(L, -1));
@@ -217,7 +218,7 @@ void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *
         const hv_option *o = &set->options[i];
         if (listed(extra, o->key)) continue; /* the binding reads it itself (a function, an object) */
         lua_pushstring(L, o->key);
-        if (lua_rawget(L, arg) != LUA_TNIL && set_from_lua(L, args, o->key, o, holder) != HV_OK) {
+        if (lua_rawget(L, idx) != LUA_TNIL && set_from_lua(L, args, o->key, o, holder) != HV_OK) {
             lua_pop(L, 1);
             raise_option_error(L, arg);
             return;
@@ -226,7 +227,7 @@ void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *
     }
     for (int i = 0; i < set->alias_count; ++i) {
         lua_pushstring(L, set->aliases[i].name);
-        if (lua_rawget(L, arg) != LUA_TNIL && set_from_lua(L, args, set->aliases[i].name, NULL, holder) != HV_OK) {
+        if (lua_rawget(L, idx) != LUA_TNIL && set_from_lua(L, args, set->aliases[i].name, NULL, holder) != HV_OK) {
             lua_pop(L, 1);
             raise_option_error(L, arg);
             return;
@@ -234,6 +235,12 @@ void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *
         lua_pop(L, 1);
     }
     if (hv_optargs_finish(args) != HV_OK) raise_option_error(L, arg);
+}
+
+void hv_lua_read_options(lua_State *L, int arg, const hv_option_set *set, void *opts, const char *const *extra,
+                         int holder)
+{
+    hv_lua_read_nested(L, arg, arg, set, opts, extra, holder);
 }
 
 int hv_lua_field(lua_State *L, int arg, const char *key)

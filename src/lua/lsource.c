@@ -308,40 +308,26 @@ static double lua_f(void *user, double d)
     return ok ? v : NAN;
 }
 
-/* A number field of a {kind = ...} table, read raw; NAN def: required. */
-static double f_number(lua_State *L, int idx, int arg, const char *key, double def)
-{
-    int t = hv_lua_field(L, idx, key);
-    double v = t == LUA_TNIL ? def : lua_tonumber(L, -1);
-    lua_pop(L, 1);
-    if (t == LUA_TNIL && isnan(def)) arg_error(L, arg, "f: %s is required", key);
-    if ((t != LUA_TNIL && t != LUA_TNUMBER) || !isfinite(v)) arg_error(L, arg, "f: %s must be a finite number", key);
-    return v;
-}
-
+/* f = {kind = ..., <its parameters> | points = {{d, f}, ...}} through hv_dfn_option_set */
 static hv_status f_table(lua_State *L, int idx, int arg, int holder, hv_dfn **out)
 {
-    hv_lua_check_plain_table(L, idx);
-    const char *kind = hv_lua_string_field(L, idx, "kind", holder);
-    if (!kind) luaL_argerror(L, arg, "f table needs kind = linear|sine|power|smoothstep|table");
-    if (strcmp(kind, "linear") == 0) return hv_dfn_linear(f_number(L, idx, arg, "a", 1), f_number(L, idx, arg, "b", 0), out);
-    if (strcmp(kind, "sine") == 0)
-        return hv_dfn_sine(f_number(L, idx, arg, "k", NAN), f_number(L, idx, arg, "amplitude", 1),
-                           f_number(L, idx, arg, "phase", 0), f_number(L, idx, arg, "offset", 0), out);
-    if (strcmp(kind, "power") == 0) return hv_dfn_power(f_number(L, idx, arg, "p", NAN), out);
-    if (strcmp(kind, "smoothstep") == 0) return hv_dfn_smoothstep(out);
-    if (strcmp(kind, "table") != 0) arg_error(L, arg, "unknown f kind '%s'", kind);
-    if (hv_lua_field(L, idx, "points") != LUA_TTABLE) luaL_argerror(L, arg, "table f needs points = {{d, f}, ...}");
+    static const char *const extra[] = {"points", NULL};
+    hv_dfn_options o;
+    hv_lua_read_nested(L, idx, arg, hv_dfn_option_set(), &o, extra, holder);
+    int pt = hv_lua_field(L, idx, "points");
+    if ((pt != LUA_TNIL) != (o.kind == HV_DFN_TABLE))
+        arg_error(L, arg, o.kind == HV_DFN_TABLE ? "f of kind table needs points = {{d, f}, ...}" : "only f of kind table takes points");
+    if (pt == LUA_TNIL) return lua_pop(L, 1), hv_dfn_from_options(&o, out);
     int n = (int)lua_rawlen(L, -1);
-    if (n < 2 || n > 100000) luaL_argerror(L, arg, "table f needs 2 to 100000 points");
+    if (pt != LUA_TTABLE || n < 2 || n > 100000) luaL_argerror(L, arg, "f: points must be 2 to 100000 {d, f} pairs");
     double *d = lua_newuserdatauv(L, (size_t)n * 2 * sizeof(double), 0); /* freed by Lua, even on errors */
     for (int i = 0; i < n; ++i) {
         lua_rawgeti(L, -2, i + 1);
-        double pt[2];
-        if (!lua_istable(L, -1) || hv_lua_numbers(L, -1, arg, "point", pt, 2) != 2)
+        double pt2[2];
+        if (!lua_istable(L, -1) || hv_lua_numbers(L, -1, arg, "point", pt2, 2) != 2)
             arg_error(L, arg, "points[%d] must be {d, f}", i + 1);
-        d[i] = pt[0];
-        d[n + i] = pt[1];
+        d[i] = pt2[0];
+        d[n + i] = pt2[1];
         lua_pop(L, 1);
     }
     hv_status s = hv_dfn_table(d, d + n, n, out);

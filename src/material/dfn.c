@@ -2,6 +2,7 @@
  * segmental, linear or nonlinear functions"): linear, sine, power, smoothstep, piecewise-linear
  * tables, expressions and callbacks. They are only ever sampled into an AGS's table. */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -172,3 +173,66 @@ double hv_dfn_eval(const hv_dfn *f, double d, double dg)
 }
 
 const char *hv_dfn_describe(const hv_dfn *f) { return f->desc; }
+
+/* ---- f as a kind with parameters (hv_dfn_option_set) ------------------------------------------ */
+
+static const char *const k_kind_names[] = {"linear", "sine", "power", "smoothstep", "table", NULL};
+static const hv_enum_def k_kind = {"f kind", k_kind_names, NULL, NULL};
+
+#define DOFF(f) offsetof(hv_dfn_options, f)
+static const hv_option k_dfn_opts[] = {
+    {.key = "kind", .kind = HV_OPT_ENUM, .flags = HV_OPT_REQUIRED, .offset = DOFF(kind), .enumdef = &k_kind,
+     .meta = "KIND", .help = "linear, sine, power, smoothstep or table"},
+    {.key = "a", .kind = HV_OPT_NUMBER, .lo = -1e300, .hi = 1e300, .offset = DOFF(a), .help = "linear: f = a d + b"},
+    {.key = "b", .kind = HV_OPT_NUMBER, .lo = -1e300, .hi = 1e300, .offset = DOFF(b), .help = "linear"},
+    {.key = "k", .kind = HV_OPT_NUMBER, .lo = -1e300, .hi = 1e300, .offset = DOFF(k),
+     .help = "sine: f = amplitude sin(k d + phase) + offset (required)"},
+    {.key = "amplitude", .kind = HV_OPT_NUMBER, .lo = -1e300, .hi = 1e300, .offset = DOFF(amplitude), .help = "sine"},
+    {.key = "phase", .kind = HV_OPT_NUMBER, .lo = -1e300, .hi = 1e300, .offset = DOFF(phase), .help = "sine"},
+    {.key = "offset", .kind = HV_OPT_NUMBER, .lo = -1e300, .hi = 1e300, .offset = DOFF(offset), .help = "sine"},
+    {.key = "p", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e300, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0, .offset = DOFF(p),
+     .help = "power: f = (d/dg)^p (required)"},
+};
+#undef DOFF
+
+static void dfn_init(void *opts)
+{
+    hv_dfn_options *o = opts;
+    memset(o, 0, sizeof *o);
+    o->a = o->amplitude = 1;
+}
+
+/* Which parameters each kind takes ('r': required, 'o': optional), in the order of k_dfn_opts[1..] */
+static const char *const k_takes[] = {"oo.....", "..rooo.", "......r", ".......", "......."};
+
+static hv_status dfn_finish(const hv_optargs *args)
+{
+    const hv_dfn_options *o = args->opts;
+    const char *takes = k_takes[o->kind];
+    for (int i = 1; i < (int)HV_COUNT(k_dfn_opts); ++i) {
+        const char *key = k_dfn_opts[i].key;
+        char t = takes[i - 1];
+        if (t == '.' && hv_optargs_given(args, key))
+            return hv_error_option(HV_ERR_INVALID, "f of kind %s takes no {%s}", k_kind_names[o->kind], key);
+        if (t == 'r' && !hv_optargs_given(args, key))
+            return hv_error_option(HV_ERR_INVALID, "f of kind %s needs {%s}", k_kind_names[o->kind], key);
+    }
+    return HV_OK;
+}
+
+static const hv_option_set k_dfn_set = {"f", k_dfn_opts, (int)HV_COUNT(k_dfn_opts), sizeof(hv_dfn_options), dfn_init,
+                                        NULL, 0, dfn_finish, NULL, NULL, 0};
+
+const hv_option_set *hv_dfn_option_set(void) { return &k_dfn_set; }
+
+hv_status hv_dfn_from_options(const hv_dfn_options *o, hv_dfn **out)
+{
+    switch (o->kind) {
+    case HV_DFN_LINEAR: return hv_dfn_linear(o->a, o->b, out);
+    case HV_DFN_SINE: return hv_dfn_sine(o->k, o->amplitude, o->phase, o->offset, out);
+    case HV_DFN_POWER: return hv_dfn_power(o->p, out);
+    case HV_DFN_SMOOTHSTEP: return hv_dfn_smoothstep(out);
+    default: return hv_error_set(HV_ERR_INVALID, "f of kind %s is made from its points (hv_dfn_table)",
+                                 o->kind == HV_DFN_TABLE ? "table" : "?");
+    }
+}

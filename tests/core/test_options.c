@@ -240,6 +240,7 @@ Test(options, library_sets_are_consistent)
     check_set(hv_contours_option_set());
     check_set(hv_ags_option_set());
     check_set(hv_facet_select_option_set());
+    check_set(hv_dfn_option_set());
     for (int i = 0; i < hv_shape_count(); ++i) check_set(hv_shape_option_set(i));
 }
 

@@ -144,6 +144,15 @@ near(hovox.ags{feature = axis, d_grad = 10, ms = {1, 0, 0}, me = {0, 1, 0},
                f = {kind = "sine", k = 0.1}}:eval(5)[2], math.sin(0.5), 1e-5, "sine f")
 near(hovox.ags{feature = axis, d_grad = 2, ms = {1, 0, 0}, me = {0, 1, 0}, f = {kind = "power", p = 3}}:eval(1)[2],
      0.125, 1e-5, "power f")
+local function bad_f(pattern, ftab)
+    fails(pattern, hovox.ags, {feature = axis, d_grad = 2, ms = {1, 0, 0}, me = {0, 1, 0}, f = ftab})
+end
+bad_f("bad argument #1 to 'hovox.ags' (f of kind sine needs k)", {kind = "sine"})
+bad_f("f of kind linear takes no p", {kind = "linear", p = 2})
+bad_f("kind must be linear, sine, power, smoothstep or table, got 'cubic'", {kind = "cubic"})
+bad_f("f of kind table needs points", {kind = "table"})
+bad_f("unknown option 'amplitud'", {kind = "sine", k = 1, amplitud = 2})
+bad_f("p must be in (0,", {kind = "power", p = 0})
 local step = hovox.ags{feature = axis, d_neg = 2, ms = {1, 0, 0}, me = {0, 1, 0}}
 assert(step:eval(1.9)[1] == 1 and step:eval(2)[2] == 1)
 fails("d_grad must be in [0, 1000000000], got -1", hovox.ags, {feature = axis, d_grad = -1, ms = {1}, me = {1}})

@@ -113,8 +113,16 @@ static void print_wrapped(FILE *out, const char *text, int col, int indent)
     if (first) fputc('\n', out);
 }
 
-static void print_option(FILE *out, const hv_option *o, const void *defaults)
+static void print_option(FILE *out, const hv_option *o, const void *defaults, const hv_option_set *help_from)
 {
+    const hv_option *lib = !o->help && help_from ? hv_option_find(help_from, o->key) : NULL;
+    hv_option borrowed;
+    if (lib) { /* a command's stand-in for a library option: the library's words */
+        borrowed = *o;
+        borrowed.help = lib->help;
+        borrowed.meta = o->meta ? o->meta : lib->meta;
+        o = &borrowed;
+    }
     char name[80], left[128];
     cli_name(o->key, name, sizeof name);
     char s = short_of(o->key);
@@ -190,7 +198,7 @@ static void print_help(const cli_spec *spec)
                 const hv_option *o = &sets[k]->options[i];
                 if (o->section) sec = o->section;
                 if (strcmp(sec, sections[q]) != 0) continue;
-                print_option(out, o, defaults[k]);
+                print_option(out, o, defaults[k], spec->help_from ? spec->help_from() : NULL);
                 print_aliases(out, sets[k], o->key);
             }
         }
@@ -202,7 +210,7 @@ static void print_help(const cli_spec *spec)
         const hv_option *o = &k_common_opts[i];
         if (strcmp(o->key, "threads") == 0 && !(spec->flags & CLI_THREADS)) continue;
         if (strcmp(o->key, "quiet") == 0 && !(spec->flags & CLI_QUIET)) continue;
-        print_option(out, o, NULL);
+        print_option(out, o, NULL, NULL);
     }
     if (spec->notes) fprintf(out, "\n%s", spec->notes);
 }

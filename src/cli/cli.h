@@ -61,6 +61,9 @@ typedef struct cli_spec {
     /* Run the command on parsed options; returns the exit code. */
     int (*run)(const cli_args *args, void *lib_opts, void *local_opts);
     const char *(*more_about)(void); /* appended to about, or NULL (text built at run time) */
+    /* Where a local option without help text takes its help (and placeholder) from: the
+     * library's set of the same key (grade's source options stand in for hv_ags_option_set's). */
+    const hv_option_set *(*help_from)(void);
 } cli_spec;
 
 /* Parse argv[1..] (argv[0] is the command name) and run the command: its option structs are

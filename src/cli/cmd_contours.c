@@ -103,4 +103,4 @@ const cli_spec cmd_contours = {
     "below the mesh top. A vertex exactly on a cutting plane counts as above it. Loops are\n"
     "oriented (outer counter-clockwise, holes clockwise, seen from +z) and nested. Units: mm.\n",
     hv_contours_option_set, &k_local, "Files are written atomically. Without --json a one-line summary goes to stdout.\n",
-    1, 1, "MESH", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL};
+    1, 1, "MESH", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

@@ -115,4 +115,4 @@ const cli_spec cmd_export = {
     "mixtures, sum p_j X_j) and <property>.reuss[<unit>] (inverse rule, 1 / sum p_j / X_j),\n"
     "plus <property>.table[<unit>] per --linearize table. A model without materials is\n"
     "exported as occupancy only.\n",
-    hv_export_option_set, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL};
+    hv_export_option_set, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

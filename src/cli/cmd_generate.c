@@ -86,4 +86,4 @@ const cli_spec cmd_generate = {"generate", "write a parametric closed mesh (sphe
                                "SHAPE [key=value ...] -o OUT.stl [--ascii]", NULL, NULL, &k_local,
                                "Vectors are X,Y,Z (center=0,0,5). A box takes max=X,Y,Z, or its size from min as\n"
                                "size=X,Y,Z or sx=, sy=, sz=.\n",
-                               1, -1, "SHAPE", 0, run, shapes_text};
+                               1, -1, "SHAPE", 0, run, shapes_text, NULL};

@@ -111,28 +111,16 @@ static const hv_option k_local_opts[] = {
              "segment:AX,AY,AZ:BX,BY,BZ, contour (depth below the model's boundary), mask:GRID, "
              "field:FILE:ARRAY[:refuse|nearest] (a scalar field from .vti/.vtu point or cell data or a .vdb float "
              "grid, sampled at the voxel centres; its value is d)"},
-    {.key = "ranges", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "D-,DG,D+", .parse = source_value,
-     .help = "the negative constant, gradient and positive constant ranges (Wu eq. 11); DG = 0 is a step"},
-    {.key = "f", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "EXPR", .parse = source_value,
-     .help = "f on [0, DG]: arithmetic in d and dg (+ - * / ^, sin cos tan exp log sqrt pow min max abs, pi); "
-             "it must stay in [0, 1] (default d/dg)"},
-    {.key = "ms", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "V,V,...", .parse = source_value,
-     .help = "Ms: fractions >= 0 summing to 1, one per material"},
-    {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "V,V,...", .parse = source_value,
-     .help = "Me: likewise"},
-    {.key = "calibration", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "FILE.csv", .parse = source_value,
-     .help = "a calibration table of the source: CSV rows t,value of a property measured along Ms -> Me, "
-             "header t,<property>[<unit>]"},
-    {.key = "property_grading", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "PROPERTY",
-     .parse = source_value,
-     .help = "grade to property targets: the property at distance d is Ps + f (Pe - Ps); each voxel gets the "
-             "composition whose table value that is (needs --calibration)"},
-    {.key = "ps", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "VALUE[UNIT]", .parse = source_value,
-     .help = "Ps: the property at the start (2GPa, 85ShoreA; without a unit, the table's)"},
-    {.key = "pe", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "VALUE[UNIT]", .parse = source_value,
-     .help = "Pe: the property at the end"},
-    {.key = "log", .kind = HV_OPT_FLAG, .flags = HV_OPT_REPEAT, .parse = source_value,
-     .help = "interpolate the property logarithmically: Ps (Pe/Ps)^f"},
+    /* the source's own options: the library's (help text too), routed to the last --frf */
+    {.key = "ranges", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "f", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "ms", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "calibration", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "property_grading", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "ps", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "pe", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .parse = source_value},
+    {.key = "log", .kind = HV_OPT_FLAG, .flags = HV_OPT_REPEAT, .parse = source_value},
     {.key = "blend", .kind = HV_OPT_CUSTOM, .parse = parse_blend, .meta = "RULE",
      .help = "AGS union: the nearest source (nearest) or inverse-distance weights 1/(d + L/2)^2 (idw)",
      .section = "The object"},
@@ -225,4 +213,5 @@ const cli_spec cmd_grade = {
     "  the boundary values of f below and above it (continuous), and for DG = 0 a step:\n"
     "  Ms below D-, Me from D- on (a multi-material object).\n"
     "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n",
-    NULL, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL};
+    NULL, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL,
+    hv_ags_option_set};

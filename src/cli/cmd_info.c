@@ -94,4 +94,4 @@ const cli_spec cmd_info = {
     "open and non-manifold edges, degenerate facets, facets whose orientation disagrees\n"
     "with their neighbours, and stored normals that contradict the winding.\n"
     "Defects are reported, not fatal; unreadable files are errors.\n",
-    NULL, &k_local, NULL, 1, -1, "MESH argument", 0, run, NULL};
+    NULL, &k_local, NULL, 1, -1, "MESH argument", 0, run, NULL, NULL};

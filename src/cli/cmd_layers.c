@@ -148,4 +148,4 @@ const cli_spec cmd_layers = {
     "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"
     "y0 + (r+0.5) sy; sy < 0: rows run down in y), and layers [{index, file, z_mm}] with z_mm\n"
     "the height of the cutting plane.\n",
-    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL};
+    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

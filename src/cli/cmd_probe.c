@@ -91,4 +91,4 @@ const cli_spec cmd_probe = {
     "             sum to 1 up to the boundary; just outside the boundary they are those of\n"
     "             the nearest occupied voxels, far from the object 0\n",
     NULL, &k_local, "Negative coordinates need no quoting: 'hovox probe m.vdb -1.5,0,2' is a point.\n",
-    1, -1, "MODEL argument", CLI_NUMERIC_POS, run, NULL};
+    1, -1, "MODEL argument", CLI_NUMERIC_POS, run, NULL, NULL};

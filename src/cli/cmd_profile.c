@@ -99,4 +99,4 @@ const cli_spec cmd_profile = {
     hv_profile_option_set, &k_local,
     "Outputs are written under temporary names and renamed together at the end, so a failed\n"
     "run leaves neither file. With -q nothing is printed on success.\n",
-    1, 1, "MODEL argument", CLI_QUIET | CLI_POS_FILES, run_cli, NULL};
+    1, 1, "MODEL argument", CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

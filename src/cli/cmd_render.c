@@ -79,4 +79,4 @@ const cli_spec cmd_render = {
     "composition, sum p_j * colour_j of the materials' display colours; its opacity comes\n"
     "from the trilinear occupancy. A model without a material table renders in grey.\n",
     hv_render_option_set, &k_local, "Example: hovox render gear.vdb --surface --clip 'x>0&y<0' -o gear_cut.png\n",
-    1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL};
+    1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL, NULL};

@@ -192,4 +192,4 @@ const cli_spec cmd_run = {
     "require('hovox'); the script's arguments are in `arg` (arg[0] is the script).\n"
     "Errors print 'hovox: SCRIPT.lua:LINE: message' and exit 1 (3 over a limit, 130 on\n"
     "Ctrl-C). Options go before SCRIPT.\n",
-    NULL, &k_local, NULL, 1, -1, "SCRIPT.lua", CLI_THREADS | CLI_STOP_AT_POS, run, NULL};
+    NULL, &k_local, NULL, 1, -1, "SCRIPT.lua", CLI_THREADS | CLI_STOP_AT_POS, run, NULL, NULL};

@@ -176,4 +176,4 @@ const cli_spec cmd_tray = {
     "JOB.json: {\"schema\": 1, <the options above as keys, e.g. \"profile\": \"j750\", \"resin\":\n"
     "{\"A\": \"VeroCyan-V\"}>, \"parts\": [{\"model\": ..., \"mesh\": ..., \"at\": [X, Y], \"rotation\": 90,\n"
     "\"copies\": 2}, ...]}; paths relative to the job file.\n",
-    0, 1, "JOB argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL};
+    0, 1, "JOB argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL, NULL};

@@ -226,7 +226,7 @@ static hv_status parse_composition(const hv_option *o, void *opts, const hv_opt_
 /* the ranges and f, shared by AGS and Wu's 3-material sources */
 #define AGS_RANGES_AND_F \
     {.key = "ranges", .kind = HV_OPT_CUSTOM, .meta = "D-,DG,D+", .parse = parse_ranges, \
-     .help = "the negative constant range, the gradient range and the positive constant range (Wu eq. 11)"}, \
+     .help = "the negative constant, gradient and positive constant ranges (Wu eq. 11); DG = 0 is a step"}, \
     {.key = "d_neg", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_neg), .meta = "D", \
      .help = "d-: the negative constant range"}, \
     {.key = "d_grad", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_grad), .meta = "D", \
@@ -234,11 +234,12 @@ static hv_status parse_composition(const hv_option *o, void *opts, const hv_opt_
     {.key = "d_pos", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_pos), .meta = "D", \
      .help = "d+: the positive constant range"}, \
     {.key = "f", .kind = HV_OPT_STRING, .offset = AOFF(f), .meta = "EXPR", \
-     .help = "the distribution function on [0, dg], arithmetic in d and dg; f must stay in [0, 1] (default d/dg)"},
+     .help = "the distribution function on [0, dg]: arithmetic in d and dg (+ - * / ^, sin cos tan exp log sqrt " \
+             "pow min max abs, pi); it must stay in [0, 1] (default d/dg)"},
 static const hv_option k_ags[] = {
     AGS_RANGES_AND_F
     {.key = "ms", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REQUIRED, .meta = "V,V,...", .parse = parse_composition,
-     .help = "Ms: the start composition, fractions >= 0 summing to 1"},
+     .help = "Ms: the start composition, one fraction >= 0 per material, summing to 1"},
     {.key = "me", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REQUIRED, .meta = "V,V,...", .parse = parse_composition,
      .help = "Me: the end composition"},
     {.key = "name", .kind = HV_OPT_STRING, .offset = AOFF(name), .meta = "NAME", .help = "a name for the source"},

@@ -308,6 +308,26 @@ static double lua_f(void *user, double d)
     return ok ? v : NAN;
 }
 
+/* Field "points" of the table at idx: n {x, y} pairs, returned as x[0..n) then y[0..n) in a
+ * userdata left on the stack (freed by Lua, even on errors); `what` names them in refusals. */
+static double *read_pairs(lua_State *L, int idx, int arg, const char *what, int *n)
+{
+    int t = hv_lua_field(L, idx, "points");
+    *n = (int)lua_rawlen(L, -1);
+    if (t != LUA_TTABLE || *n < 2 || *n > 100000) arg_error(L, arg, "%s: points must be 2 to 100000 pairs", what);
+    double *xy = lua_newuserdatauv(L, (size_t)*n * 2 * sizeof(double), 0);
+    for (int i = 0; i < *n; ++i) {
+        lua_rawgeti(L, -2, i + 1);
+        double pt[2];
+        if (!lua_istable(L, -1) || hv_lua_numbers(L, -1, arg, "point", pt, 2) != 2)
+            arg_error(L, arg, "%s: points[%d] must be a pair of numbers", what, i + 1);
+        xy[i] = pt[0];
+        xy[*n + i] = pt[1];
+        lua_pop(L, 1);
+    }
+    return xy;
+}
+
 /* f = {kind = ..., <its parameters> | points = {{d, f}, ...}} through hv_dfn_option_set */
 static hv_status f_table(lua_State *L, int idx, int arg, int holder, hv_dfn **out)
 {
@@ -317,19 +337,10 @@ static hv_status f_table(lua_State *L, int idx, int arg, int holder, hv_dfn **ou
     int pt = hv_lua_field(L, idx, "points");
     if ((pt != LUA_TNIL) != (o.kind == HV_DFN_TABLE))
         arg_error(L, arg, o.kind == HV_DFN_TABLE ? "f of kind table needs points = {{d, f}, ...}" : "only f of kind table takes points");
-    if (pt == LUA_TNIL) return lua_pop(L, 1), hv_dfn_from_options(&o, out);
-    int n = (int)lua_rawlen(L, -1);
-    if (pt != LUA_TTABLE || n < 2 || n > 100000) luaL_argerror(L, arg, "f: points must be 2 to 100000 {d, f} pairs");
-    double *d = lua_newuserdatauv(L, (size_t)n * 2 * sizeof(double), 0); /* freed by Lua, even on errors */
-    for (int i = 0; i < n; ++i) {
-        lua_rawgeti(L, -2, i + 1);
-        double pt2[2];
-        if (!lua_istable(L, -1) || hv_lua_numbers(L, -1, arg, "point", pt2, 2) != 2)
-            arg_error(L, arg, "points[%d] must be {d, f}", i + 1);
-        d[i] = pt2[0];
-        d[n + i] = pt2[1];
-        lua_pop(L, 1);
-    }
+    lua_pop(L, 1);
+    if (pt == LUA_TNIL) return hv_dfn_from_options(&o, out);
+    int n;
+    double *d = read_pairs(L, idx, arg, "f", &n);
     hv_status s = hv_dfn_table(d, d + n, n, out);
     lua_pop(L, 2);
     return s;
@@ -393,20 +404,8 @@ static hv_calibration *calibration_table(lua_State *L, int idx, int arg, int hol
     const char *prop = hv_lua_string_field(L, idx, "property", holder);
     const char *unit = hv_lua_string_field(L, idx, "unit", holder);
     if (!prop) luaL_argerror(L, arg, "calibration table needs property = \"<name>\"");
-    if (hv_lua_field(L, idx, "points") != LUA_TTABLE)
-        luaL_argerror(L, arg, "calibration table needs points = {{t, value}, ...}");
-    int n = (int)lua_rawlen(L, -1);
-    if (n < 2 || n > 100000) arg_error(L, arg, "calibration: %s needs 2 to 100000 points, got %d", prop, n);
-    double *tv = lua_newuserdatauv(L, (size_t)n * 2 * sizeof(double), 0); /* freed by Lua, even on errors */
-    for (int i = 0; i < n; ++i) {
-        lua_rawgeti(L, -2, i + 1);
-        double pt[2];
-        if (!lua_istable(L, -1) || hv_lua_numbers(L, -1, arg, "point", pt, 2) != 2)
-            arg_error(L, arg, "calibration points[%d] must be {t, value}", i + 1);
-        tv[i] = pt[0];
-        tv[n + i] = pt[1];
-        lua_pop(L, 1);
-    }
+    int n;
+    double *tv = read_pairs(L, idx, arg, "calibration", &n);
     hv_calibration *c = NULL;
     hv_status s = hv_calibration_create(prop, unit, tv, tv + n, n, &c);
     lua_pop(L, 2);

@@ -151,6 +151,8 @@ bad_f("bad argument #1 to 'hovox.ags' (f of kind sine needs k)", {kind = "sine"}
 bad_f("f of kind linear takes no p", {kind = "linear", p = 2})
 bad_f("kind must be linear, sine, power, smoothstep or table, got 'cubic'", {kind = "cubic"})
 bad_f("f of kind table needs points", {kind = "table"})
+bad_f("f: points[2] must be a pair of numbers", {kind = "table", points = {{0, 0}, {1}}})
+bad_f("f: points must be 2 to 100000 pairs", {kind = "table", points = {{0, 0}}})
 bad_f("unknown option 'amplitud'", {kind = "sine", k = 1, amplitud = 2})
 bad_f("p must be in (0,", {kind = "power", p = 0})
 local step = hovox.ags{feature = axis, d_neg = 2, ms = {1, 0, 0}, me = {0, 1, 0}}

@@ -98,6 +98,30 @@ int hv_path_is_special(const char *path);
  * out of it). A sandbox's rule; checked on the text the writer then uses. */
 int hv_path_below(const char *root, const char *path);
 
+/* ---- two-column CSV tables (csv_table.c) -----------------------------------------------------
+ * A header line "<first>,<property>[<unit>]" then rows "x,value": blank lines and lines starting
+ * with '#' skipped, spaces trimmed, CRLF accepted, a NUL byte refused, numbers finite. The
+ * property is 1-64 characters of [A-Za-z0-9_-], the unit (optional) at most 32 bytes. */
+typedef struct hv_csv_table_form {
+    const char *name;                 /* prefixes every message: the file */
+    int (*first_ok)(const char *a);   /* 1 when the first header field is right ("t") */
+    const char *header;               /* the header's form, for messages: "'t,<property>[<unit>]'" */
+    const char *xname;                /* column 1 in messages: "t", "fraction" */
+    int max_rows;
+} hv_csv_table_form;
+typedef struct hv_csv_table {
+    char first[80], property[65], unit[33];
+    int header_line;
+    size_t n;
+    double *x, *v; /* n each */
+    int *lines;    /* each row's line */
+} hv_csv_table;
+/* Errors: HV_ERR_BAD_INPUT ("f.csv: line 3: E 'nan' is not a finite number", "f.csv: line 1:
+ * header 'a,b' is not <header>", "f.csv: empty: no header line <header>", "a header and no
+ * rows"), HV_ERR_NOMEM; on error *t holds nothing. Free with hv_csv_table_free. */
+hv_status hv_csv_table_parse(const char *text, size_t len, const hv_csv_table_form *form, hv_csv_table *t);
+void hv_csv_table_free(hv_csv_table *t);
+
 /* ---- output directories written whole (outdir.c) ----------------------------------------
  * A job that writes a directory of files (a slice stack, per-layer SVGs) writes them into
  * "<parent>/.<name>.tmp-<pid>" and renames that into place when complete, so nothing

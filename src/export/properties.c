@@ -129,144 +129,27 @@ hv_status hv_linearization_create(const char *property, const char *unit, const 
     return make(property, unit, material, x, value, n, out);
 }
 
-/* Trim spaces and tabs in place; returns the start. */
-static char *trim(char *s)
-{
-    while (*s == ' ' || *s == '\t') ++s;
-    size_t n = strlen(s);
-    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r')) s[--n] = '\0';
-    return s;
-}
-
-static int parse_number(const char *s, double *v)
-{
-    char *end;
-    errno = 0;
-    *v = strtod(s, &end);
-    return end != s && *end == '\0' && errno != ERANGE && isfinite(*v);
-}
-
-typedef struct csv_state {
-    const char *name;
-    int line;
-    char property[80], unit[48], material[80];
-    int have_header, header_line;
-    double *x, *v;
-    int *lines;
-    size_t n, cap;
-} csv_state;
-
-static hv_status csv_header(csv_state *c, char *a, char *b)
-{
-    if (strncmp(a, "fraction.", 9) != 0 || !valid_name(a + 9, 64, 0))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: first column header '%s' is not "
-                            "'fraction.<material>'", c->name, c->line, a);
-    snprintf(c->material, sizeof c->material, "%s", a + 9);
-    char *br = strchr(b, '[');
-    c->unit[0] = '\0';
-    if (br) {
-        size_t n = strlen(br);
-        if (n < 2 || br[n - 1] != ']' || n - 2 > 32 || memchr(br + 1, '[', n - 2) ||
-            memchr(br + 1, ']', n - 2))
-            return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: second column header '%s' is not "
-                                "'<property>' or '<property>[<unit>]'", c->name, c->line, b);
-        snprintf(c->unit, sizeof c->unit, "%.*s", (int)(n - 2), br + 1);
-        *br = '\0';
-        b = trim(b);
-    }
-    if (!valid_name(b, 64, 0))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: property '%s' is not 1-64 characters "
-                            "of [A-Za-z0-9_-]", c->name, c->line, b);
-    snprintf(c->property, sizeof c->property, "%s", b);
-    c->have_header = 1;
-    c->header_line = c->line;
-    return HV_OK;
-}
-
-static hv_status csv_line(csv_state *c, char *line)
-{
-    line = trim(line);
-    if (*line == '\0' || *line == '#') return HV_OK;
-    char *comma = strchr(line, ',');
-    if (!comma || strchr(comma + 1, ','))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: expected 2 comma-separated fields",
-                            c->name, c->line);
-    *comma = '\0';
-    char *a = trim(line), *b = trim(comma + 1);
-    if (!c->have_header) return csv_header(c, a, b);
-    double x, v;
-    if (!parse_number(a, &x))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: fraction '%s' is not a finite number",
-                            c->name, c->line, a);
-    if (!parse_number(b, &v))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: %s '%s' is not a finite number",
-                            c->name, c->line, c->property, b);
-    if (c->n >= MAX_SAMPLES)
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: more than %d samples", c->name,
-                            c->line, MAX_SAMPLES);
-    if (c->n == c->cap) {
-        size_t cap = c->cap ? 2 * c->cap : 64;
-        double *nx = hv_realloc(c->x, cap * sizeof *nx);
-        if (!nx) return HV_ERR_NOMEM;
-        c->x = nx;
-        double *nv = hv_realloc(c->v, cap * sizeof *nv);
-        if (!nv) return HV_ERR_NOMEM;
-        c->v = nv;
-        int *nl = hv_realloc(c->lines, cap * sizeof *nl);
-        if (!nl) return HV_ERR_NOMEM;
-        c->lines = nl;
-        c->cap = cap;
-    }
-    c->x[c->n] = x;
-    c->v[c->n] = v;
-    c->lines[c->n] = c->line;
-    c->n++;
-    return HV_OK;
-}
+static int first_is_fraction(const char *a) { return strncmp(a, "fraction.", 9) == 0 && valid_name(a + 9, 64, 0); }
 
 hv_status hv_linearization_parse(const char *text, size_t len, const char *name,
                                  const char *property, hv_linearization **out)
 {
     *out = NULL;
-    csv_state c;
-    memset(&c, 0, sizeof c);
-    c.name = name ? name : "linearization";
-    hv_status s = HV_OK;
-    char *buf = hv_malloc(len + 1);
-    if (!buf) return HV_ERR_NOMEM;
-    memcpy(buf, text, len);
-    buf[len] = '\0';
-    if (strlen(buf) != len) {
-        size_t at = strlen(buf);
-        int line = 1;
-        for (size_t i = 0; i < at; ++i) line += buf[i] == '\n';
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: NUL byte in text", c.name, line);
-    }
-    char *p = buf;
-    while (s == HV_OK && *p) {
-        char *nl = strchr(p, '\n');
-        if (nl) *nl = '\0';
-        ++c.line;
-        s = csv_line(&c, p);
-        if (!nl) break;
-        p = nl + 1;
-    }
-    if (s == HV_OK && !c.have_header)
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: no header line 'fraction.<material>,<property>'",
-                         c.name);
-    if (s == HV_OK && property && strcmp(property, c.property) != 0)
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: the table is for '%s', not '%s'", c.name,
+    const hv_csv_table_form form = {name ? name : "linearization", first_is_fraction,
+                                    "'fraction.<material>,<property>[<unit>]'", "fraction", MAX_SAMPLES};
+    hv_csv_table c;
+    hv_status s = hv_csv_table_parse(text, len, &form, &c);
+    if (s != HV_OK) return s;
+    if (property && strcmp(property, c.property) != 0)
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: the table is for '%s', not '%s'", form.name,
                          c.header_line, c.property, property);
     if (s == HV_OK) {
         char where[600];
-        snprintf(where, sizeof where, "%s: ", c.name);
+        snprintf(where, sizeof where, "%s: ", form.name);
         s = check_samples(c.x, c.v, (int)c.n, c.lines, where, HV_ERR_BAD_INPUT);
     }
-    if (s == HV_OK) s = make(c.property, c.unit, c.material, c.x, c.v, (int)c.n, out);
-    free(buf);
-    free(c.x);
-    free(c.v);
-    free(c.lines);
+    if (s == HV_OK) s = make(c.property, c.unit, c.first + 9, c.x, c.v, (int)c.n, out);
+    hv_csv_table_free(&c);
     return s;
 }
 

@@ -181,131 +181,21 @@ void hv_calibration_release(hv_calibration *c)
 
 /* ---- CSV ---------------------------------------------------------------------------------- */
 
-static char *trim(char *s)
-{
-    while (*s == ' ' || *s == '\t') ++s;
-    size_t n = strlen(s);
-    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r')) s[--n] = '\0';
-    return s;
-}
-
-static int parse_number(const char *s, double *v)
-{
-    char *end;
-    errno = 0;
-    *v = strtod(s, &end);
-    return end != s && *end == '\0' && errno != ERANGE;
-}
-
-typedef struct csv {
-    const char *name;
-    int line, header_line;
-    char property[65], unit[33];
-    double *t, *v;
-    int *lines;
-    size_t n, cap;
-} csv;
-
-static hv_status header(csv *c, char *a, char *b, const char *raw)
-{
-    char *br = strchr(b, '[');
-    if (strcmp(a, "t") != 0) goto bad;
-    if (br) {
-        size_t n = strlen(br);
-        if (n < 2 || br[n - 1] != ']' || n - 2 > 32 || memchr(br + 1, '[', n - 2) || memchr(br + 1, ']', n - 2))
-            goto bad;
-        snprintf(c->unit, sizeof c->unit, "%.*s", (int)(n - 2), br + 1);
-        *br = '\0';
-        b = trim(b);
-    }
-    if (!valid_property(b)) goto bad;
-    snprintf(c->property, sizeof c->property, "%s", b);
-    c->header_line = c->line;
-    return HV_OK;
-bad:
-    return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: header '%s' is not 't,<property>' or 't,<property>[<unit>]' "
-                        "(property: 1-64 characters of [A-Za-z0-9_-]; unit: at most 32 bytes)", c->name, c->line, raw);
-}
-
-static hv_status row(csv *c, char *line)
-{
-    line = trim(line);
-    if (*line == '\0' || *line == '#') return HV_OK;
-    char raw[160];
-    snprintf(raw, sizeof raw, "%s", line);
-    char *comma = strchr(line, ',');
-    if (!comma || strchr(comma + 1, ','))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: expected 2 comma-separated fields, got '%s'", c->name,
-                            c->line, raw);
-    *comma = '\0';
-    char *a = trim(line), *b = trim(comma + 1);
-    if (!c->header_line) return header(c, a, b, raw);
-    double t, v;
-    if (!parse_number(a, &t) || !isfinite(t))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: t '%s' is not a finite number", c->name, c->line, a);
-    if (!parse_number(b, &v) || !isfinite(v))
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: %s '%s' is not a finite number", c->name, c->line,
-                            c->property, b);
-    if (c->n >= MAX_ROWS)
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: more than %d rows", c->name, c->line, MAX_ROWS);
-    if (c->n == c->cap) {
-        size_t cap = c->cap ? 2 * c->cap : 64;
-        double *nt = hv_realloc(c->t, cap * sizeof *nt);
-        if (!nt) return HV_ERR_NOMEM;
-        c->t = nt;
-        double *nv = hv_realloc(c->v, cap * sizeof *nv);
-        if (!nv) return HV_ERR_NOMEM;
-        c->v = nv;
-        int *nl = hv_realloc(c->lines, cap * sizeof *nl);
-        if (!nl) return HV_ERR_NOMEM;
-        c->lines = nl;
-        c->cap = cap;
-    }
-    c->t[c->n] = t;
-    c->v[c->n] = v;
-    c->lines[c->n++] = c->line;
-    return HV_OK;
-}
+static int first_is_t(const char *a) { return strcmp(a, "t") == 0; }
 
 hv_status hv_calibration_parse(const char *text, size_t len, const char *name, hv_calibration **out)
 {
     *out = NULL;
-    csv c;
-    memset(&c, 0, sizeof c);
-    c.name = name ? name : "calibration";
-    char *buf = hv_malloc(len + 1);
-    if (!buf) return HV_ERR_NOMEM;
-    memcpy(buf, text, len);
-    buf[len] = '\0';
-    hv_status s = HV_OK;
-    if (strlen(buf) != len) {
-        int line = 1;
-        for (size_t i = 0; i < strlen(buf); ++i) line += buf[i] == '\n';
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: NUL byte in text", c.name, line);
-    }
-    for (char *p = buf; s == HV_OK && *p;) {
-        char *nl = strchr(p, '\n');
-        if (nl) *nl = '\0';
-        ++c.line;
-        s = row(&c, p);
-        if (!nl) break;
-        p = nl + 1;
-    }
-    if (s == HV_OK && !c.header_line)
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: empty: no header line 't,<property>[<unit>]'", c.name);
-    if (s == HV_OK && c.n == 0)
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: a header and no rows (at least 2 are needed)", c.name,
-                         c.header_line);
-    if (s == HV_OK) {
-        char where[600];
-        snprintf(where, sizeof where, "%s: ", c.name);
-        s = check_rows(c.property, c.t, c.v, (int)c.n, c.lines, where, HV_ERR_BAD_INPUT);
-    }
-    if (s == HV_OK) s = make(c.property, c.unit, c.t, c.v, (int)c.n, out);
-    free(buf);
-    free(c.t);
-    free(c.v);
-    free(c.lines);
+    const hv_csv_table_form form = {name ? name : "calibration", first_is_t,
+"'t,<property>[<unit>]'", "t", MAX_ROWS};
+    hv_csv_table c;
+    hv_status s = hv_csv_table_parse(text, len, &form, &c);
+    if (s != HV_OK) return s;
+    char where[600];
+    snprintf(where, sizeof where, "%s: ", form.name);
+    s = check_rows(c.property, c.x, c.v, (int)c.n, c.lines, where, HV_ERR_BAD_INPUT);
+    if (s == HV_OK) s = make(c.property, c.unit, c.x, c.v, (int)c.n, out);
+    hv_csv_table_free(&c);
     return s;
 }
 

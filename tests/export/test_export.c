@@ -290,13 +290,13 @@ Test(export, linearization_csv)
     struct {
         const char *text, *property, *message;
     } bad[] = {
-        {"", NULL, "s.csv: no header line 'fraction.<material>,<property>'"},
+        {"", NULL, "s.csv: empty: no header line 'fraction.<material>,<property>[<unit>]'"},
         {"stiff,e\n0,1\n1,2\n", NULL,
-         "s.csv: line 1: first column header 'stiff' is not 'fraction.<material>'"},
+         "s.csv: line 1: header 'stiff,e' is not 'fraction.<material>,<property>[<unit>]' (property: 1-64 characters of [A-Za-z0-9_-]; unit: at most 32 bytes)"},
         {"fraction.a,e[Pa\n0,1\n1,2\n", NULL,
-         "s.csv: line 1: second column header 'e[Pa' is not '<property>' or '<property>[<unit>]'"},
+         "s.csv: line 1: header 'fraction.a,e[Pa' is not 'fraction.<material>,<property>[<unit>]' (property: 1-64 characters of [A-Za-z0-9_-]; unit: at most 32 bytes)"},
         {"fraction.a,e\n0,1\n0.5,x\n", NULL, "s.csv: line 3: e 'x' is not a finite number"},
-        {"fraction.a,e\n0,1\n1,2,3\n", NULL, "s.csv: line 3: expected 2 comma-separated fields"},
+        {"fraction.a,e\n0,1\n1,2,3\n", NULL, "s.csv: line 3: expected 2 comma-separated fields, got '1,2,3'"},
         {"fraction.a,e\n0,1\n# c\n0,2\n", NULL,
          "s.csv: line 4: fraction 0 is not greater than the previous (0)"},
         {"fraction.a,e\n0,1\n1.5,2\n", NULL, "s.csv: line 3: fraction 1.5 is outside [0, 1]"},

@@ -21,6 +21,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iostream>
+#include <sstream>
 #include <mutex>
 #include <new>
 #include <string>
@@ -60,6 +62,19 @@ std::string one_line(const std::string &in)
 }
 
 struct Cancelled {};
+
+// OpenVDB's warnings go straight to std::cerr (OPENVDB_LOG_WARN without log4cplus: "WARNING:
+// multi-buffer trees are no longer supported" for a damaged file): while it reads, they are
+// caught here, so hovox's one-line message stays the only one.
+class QuietCerr {
+public:
+    QuietCerr() : mOld(std::cerr.rdbuf(mSink.rdbuf())) {}
+    ~QuietCerr() { std::cerr.rdbuf(mOld); }
+
+private:
+    std::ostringstream mSink;
+    std::streambuf *mOld;
+};
 
 // While OpenVDB parses a file, the address space may grow by at most `allowance` bytes: a
 // damaged length field (a metadata string of 2^31 bytes) then fails as bad_alloc instead of
@@ -501,6 +516,7 @@ int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_v
     try {
         // our own stream with every read checked: a file that ends early throws at once,
         // instead of OpenVDB reading on with garbage counts
+        QuietCerr quiet;
         CheckedBuf buf(cancel);
         if (!buf.open(path, std::ios::in | std::ios::binary))
             return fail(E_IO, std::string("cannot open: ") + std::strerror(errno));

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -47,6 +48,26 @@ void *hv_malloc_array(size_t count, size_t size)
         return NULL;
     }
     return hv_malloc(count * size);
+}
+
+void *hv_malloc_big(size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size) {
+        hv_error_set(HV_ERR_LIMIT, "array of %zu x %zu bytes exceeds the address space", count,
+                     size);
+        return NULL;
+    }
+    size_t bytes = count * size, huge = (size_t)2 << 20;
+    if (bytes < 4 * huge) return hv_malloc(bytes);
+    void *p = NULL;
+    if (posix_memalign(&p, huge, bytes) != 0) {
+        hv_error_set(HV_ERR_NOMEM, "out of memory (allocating %zu bytes)", bytes);
+        return NULL;
+    }
+#ifdef MADV_HUGEPAGE
+    (void)madvise(p, bytes, MADV_HUGEPAGE); /* advice only: without it, 4 KiB pages */
+#endif
+    return p;
 }
 
 char *hv_strdup(const char *s)

@@ -333,22 +333,67 @@ static hv_status rasterize(const float *t, size_t n, const hv_transform *xf, con
     return HV_OK;
 }
 
-/* feature[v] = value where the mask is true (mask in box coordinates). */
-static void stamp_mask(const hv_volume *m, const int64_t lo[3], const int64_t n[3], uint8_t *feature,
-                       uint8_t value)
+typedef struct stamp_ctx {
+    const hv_volume *m;
+    const int64_t *lo, *n;
+    uint8_t *feature, value, fill;
+} stamp_ctx;
+
+/* fill x slabs [b, e) of the box (first touch of the pages on the threads that stamp them) */
+static hv_status fill_slabs(void *vctx, size_t b, size_t e, int thread)
 {
-    const int32_t *org = hv_volume_leaf_origins(m);
-    for (size_t l = 0; l < hv_volume_leaf_count(m); ++l) {
-        const uint64_t *mask = hv_volume_leaf_mask(m, l);
-        const uint64_t *val = hv_volume_leaf_bool_c(m, 0, l);
-        for (unsigned q = 0; q < HV_LEAF_SIZE; ++q) {
-            if (!(HV_BIT_GET(mask, q) & HV_BIT_GET(val, q))) continue;
-            int64_t i = org[3 * l] + (int64_t)(q >> 6) - lo[0], j = org[3 * l + 1] + (int64_t)((q >> 3) & 7) - lo[1],
-                    k = org[3 * l + 2] + (int64_t)(q & 7) - lo[2];
-            if (i < 0 || j < 0 || k < 0 || i >= n[0] || j >= n[1] || k >= n[2]) continue;
-            feature[(i * n[1] + j) * n[2] + k] = value;
-        }
+    (void)thread;
+    const stamp_ctx *c = vctx;
+    size_t slab = (size_t)(c->n[1] * c->n[2]);
+    memset(c->feature + b * slab, c->fill, (e - b) * slab);
+    return HV_OK;
+}
+
+/* leaves [b, e): set their true voxels; leaves are disjoint, so threads never share a byte */
+static hv_status stamp_leaves(void *vctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    const stamp_ctx *c = vctx;
+    const int32_t *org = hv_volume_leaf_origins(c->m);
+    const int64_t *lo = c->lo, *n = c->n;
+    for (size_t l = b; l < e; ++l) {
+        const uint64_t *mask = hv_volume_leaf_mask(c->m, l);
+        const uint64_t *val = hv_volume_leaf_bool_c(c->m, 0, l);
+        for (unsigned w = 0; w < HV_LEAF_WORDS; ++w)
+            for (uint64_t bits = mask[w] & val[w]; bits; bits &= bits - 1) {
+                unsigned q = 64 * w + (unsigned)__builtin_ctzll(bits);
+                int64_t i = org[3 * l] + (int64_t)(q >> 6) - lo[0], j = org[3 * l + 1] + (int64_t)((q >> 3) & 7) - lo[1],
+                        k = org[3 * l + 2] + (int64_t)(q & 7) - lo[2];
+                if (i < 0 || j < 0 || k < 0 || i >= n[0] || j >= n[1] || k >= n[2]) continue;
+                c->feature[(i * n[1] + j) * n[2] + k] = c->value;
+            }
     }
+    return HV_OK;
+}
+
+/* feature[] = fill over the box, then value where the mask (if any) is true (mask in box
+ * coordinates). */
+static hv_status stamp_mask(const hv_volume *m, const int64_t lo[3], const int64_t n[3], uint8_t *feature,
+                            uint8_t fill, uint8_t value)
+{
+    stamp_ctx c = {m, lo, n, feature, value, fill};
+    hv_status s = hv_parallel_for((size_t)n[0], 4, fill_slabs, &c, NULL, "field");
+    return s == HV_OK && m ? hv_parallel_for(hv_volume_leaf_count(m), 256, stamp_leaves, &c, NULL, "field") : s;
+}
+
+typedef struct skin_ctx {
+    const uint8_t *feature;
+    float *d;
+    float off;
+} skin_ctx;
+
+/* the contour's depth: d - off inside, 0 outside */
+static hv_status depth_range(void *vctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    const skin_ctx *c = vctx;
+    for (size_t v = b; v < e; ++v) c->d[v] = c->feature[v] ? 0.0f : HV_MAX(c->d[v] - c->off, 0.0f);
+    return HV_OK;
 }
 
 static hv_status compute_field(hv_frf *f, const hv_transform *xf, const int64_t want_lo[3],
@@ -372,8 +417,8 @@ static hv_status compute_field(hv_frf *f, const hv_transform *xf, const int64_t 
     if (total > ((uint64_t)1 << 36))
         return hv_error_set(HV_ERR_LIMIT, "%s: distance field of %lld x %lld x %lld voxels is too large",
                             f->desc, (long long)n[0], (long long)n[1], (long long)n[2]);
-    uint8_t *feature = hv_calloc((size_t)total, 1);
-    float *d = hv_malloc_array((size_t)total, sizeof(float));
+    uint8_t *feature = hv_malloc_big((size_t)total, 1); /* every byte set by stamp_mask */
+    float *d = hv_malloc_big((size_t)total, sizeof(float));
     hv_status s = HV_OK;
     if (!feature || !d) {
         s = HV_ERR_NOMEM;
@@ -385,20 +430,19 @@ static hv_status compute_field(hv_frf *f, const hv_transform *xf, const int64_t 
         /* distance to the nearest voxel outside the mask, less one voxel: the occupied skin
          * reaches about t + L/2 beyond the true surface (t the slab half-thickness), so the
          * depth below the surface is EDT - ~L (accurate to about +-0.4 voxel) */
-        memset(feature, 1, (size_t)total);
-        stamp_mask(f->mask, lo, n, feature, 0);
-        s = hv_edt(feature, n, spacing, d, progress);
-        if (s != HV_OK) break;
-        float off = (float)hv_voxel_scale(xf);
-        for (uint64_t v = 0; v < total; ++v) d[v] = feature[v] ? 0.0f : HV_MAX(d[v] - off, 0.0f);
+        if ((s = stamp_mask(f->mask, lo, n, feature, 1, 0)) != HV_OK ||
+            (s = hv_edt(feature, n, spacing, d, progress)) != HV_OK)
+            break;
+        skin_ctx sc = {feature, d, (float)hv_voxel_scale(xf)};
+        s = hv_parallel_for((size_t)total, 1 << 16, depth_range, &sc, NULL, "field");
         break;
     }
     case HV_FRF_MASK:
-        stamp_mask(f->mask, lo, n, feature, 1);
-        s = hv_edt(feature, n, spacing, d, progress);
+        if ((s = stamp_mask(f->mask, lo, n, feature, 0, 1)) == HV_OK) s = hv_edt(feature, n, spacing, d, progress);
         break;
     case HV_FRF_FACETS:
-        if ((s = rasterize(f->tris, f->ntris, xf, lo, n, feature, 1)) == HV_OK)
+        if ((s = stamp_mask(NULL, lo, n, feature, 0, 0)) == HV_OK &&
+            (s = rasterize(f->tris, f->ntris, xf, lo, n, feature, 1)) == HV_OK)
             s = hv_edt(feature, n, spacing, d, progress);
         break;
     case HV_FRF_HARMONIC: {
@@ -407,8 +451,8 @@ static hv_status compute_field(hv_frf *f, const hv_transform *xf, const int64_t 
             s = HV_ERR_NOMEM;
             break;
         }
-        stamp_mask(f->mask, lo, n, feature, 1);
-        if ((s = rasterize(f->tris0, f->ntris0, xf, lo, n, label, 2)) == HV_OK &&
+        if ((s = stamp_mask(f->mask, lo, n, feature, 0, 1)) == HV_OK &&
+            (s = rasterize(f->tris0, f->ntris0, xf, lo, n, label, 2)) == HV_OK &&
             (s = rasterize(f->tris, f->ntris, xf, lo, n, label, 1)) == HV_OK)
             s = hv_harmonic(feature, label, n, spacing, 1e-7, 2000, d, NULL, NULL, progress);
         free(label);

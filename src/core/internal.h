@@ -42,6 +42,8 @@ void *hv_malloc_array(size_t count, size_t size);
  * per 2 MiB instead of one per 4 KiB (on this project's VMs the faults were a fifth of a
  * contour grading's time). Freed with free(). Not zeroed. */
 void *hv_malloc_big(size_t count, size_t size);
+/* hv_malloc_big, zeroed (for buffers written sparsely, such as images). */
+void *hv_calloc_big(size_t count, size_t size);
 char *hv_strdup(const char *s);
 /* Grow *p (holding *cap elements of `size`) to hold at least `need`. */
 hv_status hv_grow(void **p, size_t *cap, size_t need, size_t size);

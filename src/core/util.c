@@ -70,6 +70,13 @@ void *hv_malloc_big(size_t count, size_t size)
     return p;
 }
 
+void *hv_calloc_big(size_t count, size_t size)
+{
+    void *p = hv_malloc_big(count, size);
+    if (p) memset(p, 0, count * size);
+    return p;
+}
+
 char *hv_strdup(const char *s)
 {
     size_t n = strlen(s) + 1;

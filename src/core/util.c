@@ -40,23 +40,25 @@ void *hv_realloc(void *p, size_t size)
     return q;
 }
 
-void *hv_malloc_array(size_t count, size_t size)
+/* 1 when count*size fits in size_t, else 0 with HV_ERR_LIMIT recorded */
+static int array_fits(size_t count, size_t size)
 {
     if (size && count > SIZE_MAX / size) {
         hv_error_set(HV_ERR_LIMIT, "array of %zu x %zu bytes exceeds the address space", count,
                      size);
-        return NULL;
+        return 0;
     }
-    return hv_malloc(count * size);
+    return 1;
+}
+
+void *hv_malloc_array(size_t count, size_t size)
+{
+    return array_fits(count, size) ? hv_malloc(count * size) : NULL;
 }
 
 void *hv_malloc_big(size_t count, size_t size)
 {
-    if (size && count > SIZE_MAX / size) {
-        hv_error_set(HV_ERR_LIMIT, "array of %zu x %zu bytes exceeds the address space", count,
-                     size);
-        return NULL;
-    }
+    if (!array_fits(count, size)) return NULL;
     size_t bytes = count * size, huge = (size_t)2 << 20;
     if (bytes < 4 * huge) return hv_malloc(bytes);
     void *p = NULL;

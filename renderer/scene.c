@@ -433,7 +433,7 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
             memcpy(s->brick_block + 3 * s->nbricks, b, sizeof b);
             *slot = (int32_t)s->nbricks++;
         }
-    s->bricks = hv_malloc_array(s->nbricks, RB_VOX * sizeof(rvox));
+    s->bricks = hv_malloc_big(s->nbricks, RB_VOX * sizeof(rvox));
     s->brick_kind = hv_malloc(s->nbricks);
     if (!s->bricks || !s->brick_kind) {
         st = hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)",
@@ -441,7 +441,7 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
         goto fail;
     }
     c.occ = occ;
-    c.colour_of_leaf = hv_malloc_array(nocc, HV_LEAF_SIZE * 4);
+    c.colour_of_leaf = hv_malloc_big(nocc, HV_LEAF_SIZE * 4);
     if (!c.colour_of_leaf) {
         st = HV_ERR_NOMEM;
         goto fail;

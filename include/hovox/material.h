@@ -451,8 +451,11 @@ HV_API hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bo
 
 /* Evaluate into a new volume on the object's lattice: bool grid "occupancy" (union of the
  * regions), one float grid "material.<name>" per material holding fractions that sum to 1 in
- * every occupied voxel, float grids "distance.K" holding the fields of voxel features (contour,
- * mask, facets, harmonic), bool grids "region.R" when there are several regions, and metadata
+ * every occupied voxel, float grids "distance.K" holding the fields of voxel features (facets,
+ * harmonic, fields from files; contour and mask features too unless their mask is exactly one
+ * of the result's bool grids, such as its occupancy or a region: those fields are recomputed
+ * from that grid by hv_object_from_model instead, bit for bit), bool grids "region.R" when
+ * there are several regions, and metadata
  * "hovox.materials.json" and "hovox.object.json": the complete grading definition (features,
  * sources with their tabulated f, regions), so hv_object_from_model can rebuild the object;
  * plus the record of the object's model (hv_object_create): its other metadata and its bool
@@ -477,7 +480,7 @@ HV_API uint64_t hv_object_evaluate_estimate(const hv_object *o);
 
 /* Rebuild the object that graded `vol` (hv_object_evaluate's output, possibly saved and loaded)
  * from its metadata and grids: analytic features exactly, voxel features as their stored
- * fields, sources with their tabulated f, regions, base and blend, and vol's record (as
+ * fields or recomputed from the bool grid they name (the exact EDT, as grading computed it), sources with their tabulated f, regions, base and blend, and vol's record (as
  * hv_object_create). Definitions written by older hovox (without "schema") read as version 1.
  * Errors: HV_ERR_NOT_FOUND (not a graded model), HV_ERR_BAD_INPUT (incomplete or corrupt
  * definition: malformed JSON, a missing member, an unknown feature kind or blend name, a schema

@@ -47,3 +47,43 @@ else
     printf "vdb_render -step 1 (density grid)           %7.3f s (%6.1f MiB)\n" "$t_vdb" "$m_vdb"
     echo "(images in $work/render_*.png)"
 fi
+
+# issue 17: Wu's shaft (hovox generate cylinder, --dims 256, graded from its contour) on one
+# camera for both: hovox --eye 75,200,200 --target 75,0,0 --up 0,0,1 --fov 44.8 and vdb_render
+# -translate 75,200,200 -lookat 75,0,0 -up 0,0,1 (44.8 degrees is its default 41.2 mm aperture
+# at 50 mm), -step 1, on the occupancy as a fog volume ("density", in the same file), at 16^2
+# (the fixed cost: load and scene set-up), 1024^2 and 2048^2. hovox and vdb_render runs
+# alternate; medians of $runs. Goals: <= 0.7x at 1024^2 and 2048^2; fixed cost <= 50 ms.
+echo
+echo "== render: Wu's shaft at 256, same camera and size as vdb_render (goals: <= 0.7x at 1024^2 and 2048^2, 16^2 <= 50 ms)"
+if [ ! -x "$drv" ] || ! command -v vdb_render >/dev/null 2>&1; then
+    echo "skipped: needs $drv (make bench-tools) and vdb_render (libopenvdb-tools)"
+else
+    shaft=$work/shaft.stl
+    [ -f "$shaft" ] || "$HOVOX" generate cylinder -o "$shaft" >/dev/null
+    model=$work/shaft256_render.vdb
+    if [ ! -f "$model" ]; then
+        "$HOVOX" voxelize "$shaft" --dims 256 -o "$work/shaft256.vdb" -q >/dev/null
+        "$HOVOX" grade "$work/shaft256.vdb" -o "$work/shaft256_graded.vdb" --materials A,B,C --frf contour \
+            --ranges 0,20.416,0 --f 'sin(0.1538*d)' --ms 0,0,1 --me 0,0.2,0.8 -q
+        "$drv" --density-only "$work/shaft256_graded.vdb" "$model"
+    fi
+    for size in 16 1024 2048; do
+        hv() { wall "$HOVOX" render "$model" --eye 75,200,200 --target 75,0,0 --up 0,0,1 --fov 44.8 \
+            --size ${size}x$size -o "$work/shaft_hovox_$size.png" -q; }
+        vr() { wall vdb_render "$model" "$work/shaft_vdb_$size.png" -res ${size}x$size -translate 75,200,200 \
+            -lookat 75,0,0 -up 0,0,1 -step 1 -name density; }
+        hv >/dev/null
+        vr >/dev/null
+        th="" tv=""
+        i=0
+        while [ $i -lt "$runs" ]; do
+            th="$th $(hv)" tv="$tv $(vr)"
+            i=$((i + 1))
+        done
+        # shellcheck disable=SC2086
+        printf "%5s^2  hovox %7.3f s (%s)   vdb_render %7.3f s (%s)   ratio %sx\n" "$size" "$(median_of $th)" \
+            "$(spread_of $th)" "$(median_of $tv)" "$(spread_of $tv)" "$(ratio "$(median_of $th)" "$(median_of $tv)")"
+    done
+    echo "(whole commands: load, render, PNG; runs alternate; images in $work/shaft_*.png)"
+fi

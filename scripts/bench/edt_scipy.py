@@ -4,7 +4,7 @@ which has numpy and scipy).
 
   edt_scipy.py make sphere N OUT.raw     solid ball of radius 0.45 N centred in an N^3 grid,
                                          uint8 (1 inside), z fastest
-  edt_scipy.py time MASK.raw N [--runs R] [--compare OURS.f32]
+  edt_scipy.py time MASK.raw N|NX,NY,NZ [--runs R] [--compare OURS.f32]
       times scipy.ndimage.distance_transform_edt(mask) alone (median of R runs), prints
       "scipy median S s min S max S runs R peak MiB M"; with --compare also prints the
       largest absolute difference from our float32 distances ("max_abs_diff D").
@@ -30,10 +30,12 @@ def make_sphere(n, out):
 
 
 def time_scipy(path, n, runs, compare):
+    dims = tuple(int(x) for x in n.split(",")) if "," in n else (int(n),) * 3
+    count = dims[0] * dims[1] * dims[2]
     mask = np.fromfile(path, dtype=np.uint8)
-    if mask.size != n ** 3:
-        sys.exit("edt_scipy.py: %s holds %d bytes, expected %d" % (path, mask.size, n ** 3))
-    mask = mask.reshape(n, n, n)
+    if mask.size != count:
+        sys.exit("edt_scipy.py: %s holds %d bytes, expected %d" % (path, mask.size, count))
+    mask = mask.reshape(dims)
     times = []
     dist = None
     for _ in range(runs):
@@ -46,9 +48,9 @@ def time_scipy(path, n, runs, compare):
           % (float(np.median(times)), min(times), max(times), runs, peak))
     if compare:
         ours = np.fromfile(compare, dtype=np.float32)
-        if ours.size != n ** 3:
-            sys.exit("edt_scipy.py: %s holds %d floats, expected %d" % (compare, ours.size, n ** 3))
-        diff = np.abs(ours.reshape(n, n, n).astype(np.float64) - dist)
+        if ours.size != count:
+            sys.exit("edt_scipy.py: %s holds %d floats, expected %d" % (compare, ours.size, count))
+        diff = np.abs(ours.reshape(dims).astype(np.float64) - dist)
         print("max_abs_diff %.3g max_distance %.6g" % (float(diff.max()), float(dist.max())))
 
 
@@ -67,7 +69,7 @@ def main(argv):
                 rest = rest[2:]
             else:
                 sys.exit("edt_scipy.py: unknown argument %s" % rest[0])
-        time_scipy(argv[2], int(argv[3]), max(1, runs), compare)
+        time_scipy(argv[2], argv[3], max(1, runs), compare)
     else:
         sys.exit(__doc__)
 

@@ -13,3 +13,15 @@ peak_rss() {
 }
 # ratio A B  A/B with 3 decimals
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", a / b }'; }
+# wall CMD...  wall time (s) of one run of CMD, its output discarded (for interleaving runs of
+# two commands by hand, so both see the same machine load)
+wall() {
+    /usr/bin/python3 -c 'import subprocess, sys, time
+t = time.perf_counter()
+r = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL)
+print("%.4f" % (time.perf_counter() - t))
+sys.exit(r.returncode)' "$@"
+}
+# median_of X...  median of the numbers given; spread_of X...  "min-max"
+median_of() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {printf "%.4f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+spread_of() { printf '%s\n' "$@" | sort -g | awk 'NR == 1 {lo = $1} {hi = $1} END {printf "%.3f-%.3f", lo, hi}'; }

@@ -37,6 +37,13 @@ void *hv_calloc(size_t count, size_t size);
 void *hv_realloc(void *p, size_t size);
 /* count*size with overflow check; on overflow records HV_ERR_LIMIT and returns NULL. */
 void *hv_malloc_array(size_t count, size_t size);
+/* As hv_malloc_array, for arrays of many MiB filled once and then swept (dense fields): backed
+ * by transparent huge pages where the system allows them, so first touch costs one page fault
+ * per 2 MiB instead of one per 4 KiB (on this project's VMs the faults were a fifth of a
+ * contour grading's time). Freed with free(). Not zeroed. */
+void *hv_malloc_big(size_t count, size_t size);
+/* hv_malloc_big, zeroed (for buffers written sparsely, such as images). */
+void *hv_calloc_big(size_t count, size_t size);
 char *hv_strdup(const char *s);
 /* Grow *p (holding *cap elements of `size`) to hold at least `need`. */
 hv_status hv_grow(void **p, size_t *cap, size_t need, size_t size);

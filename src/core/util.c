@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -40,14 +41,43 @@ void *hv_realloc(void *p, size_t size)
     return q;
 }
 
-void *hv_malloc_array(size_t count, size_t size)
+/* 1 when count*size fits in size_t, else 0 with HV_ERR_LIMIT recorded */
+static int array_fits(size_t count, size_t size)
 {
     if (size && count > SIZE_MAX / size) {
         hv_error_set(HV_ERR_LIMIT, "array of %zu x %zu bytes exceeds the address space", count,
                      size);
+        return 0;
+    }
+    return 1;
+}
+
+void *hv_malloc_array(size_t count, size_t size)
+{
+    return array_fits(count, size) ? hv_malloc(count * size) : NULL;
+}
+
+void *hv_malloc_big(size_t count, size_t size)
+{
+    if (!array_fits(count, size)) return NULL;
+    size_t bytes = count * size, huge = (size_t)2 << 20;
+    if (bytes < 4 * huge) return hv_malloc(bytes);
+    void *p = NULL;
+    if (posix_memalign(&p, huge, bytes) != 0) {
+        hv_error_set(HV_ERR_NOMEM, "out of memory (allocating %zu bytes)", bytes);
         return NULL;
     }
-    return hv_malloc(count * size);
+#ifdef MADV_HUGEPAGE
+    (void)madvise(p, bytes, MADV_HUGEPAGE); /* advice only: without it, 4 KiB pages */
+#endif
+    return p;
+}
+
+void *hv_calloc_big(size_t count, size_t size)
+{
+    void *p = hv_malloc_big(count, size);
+    if (p) memset(p, 0, count * size);
+    return p;
 }
 
 char *hv_strdup(const char *s)

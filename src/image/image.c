@@ -27,7 +27,7 @@ hv_status hv_image_create(int width, int height, hv_image **out)
     if (!img) return HV_ERR_NOMEM;
     img->width = width;
     img->height = height;
-    img->rgba = hv_calloc((size_t)width * (size_t)height, 4 * sizeof(float));
+    img->rgba = hv_calloc_big((size_t)width * (size_t)height, 4 * sizeof(float));
     if (!img->rgba) {
         free(img);
         return hv_error_set(HV_ERR_NOMEM, "out of memory for a %d x %d image", width, height);

@@ -38,6 +38,10 @@ struct hv_frf {
     pthread_mutex_t lock;
     hv_field_cache cache;
     int has_report;        /* a field read from a file (hv_frf_field_file) */
+    hv_frf_kind derived;   /* a stored field (HV_FRF_FIELD) recomputed on load from `src`:
+                            * HV_FRF_CONTOUR or HV_FRF_MASK; else 0 */
+    hv_volume *src;        /* its mask (bool grid 0, active = true), for writing it again */
+    char src_grid[64];     /* the name of the grid it was read from */
     hv_field_report report;
 };
 
@@ -59,11 +63,20 @@ int hv_frf_is_voxel(const hv_frf *f);
 double hv_frf_sample(const hv_frf *f, const double p[3]);
 /* Add float grid `grid` to vol holding the (prepared) field at vol's active voxels. */
 hv_status hv_frf_store_field(const hv_frf *f, hv_volume *vol, const char *grid);
+/* The name of a bool grid of vol from which f's field is recomputed exactly (f is a contour or
+ * mask feature, or a field recomputed so, and its mask holds just that grid's true voxels), or
+ * NULL: then the field must be stored. The name points into vol. vol NULL: the grid a
+ * recomputed field was read from (pointing into f), else NULL. */
+const char *hv_frf_derived_grid(const hv_frf *f, const hv_volume *vol);
 /* A feature of the object document (hovox.object.json, volumes/schema.h): analytic ones by
- * kind ("point", "axis", "plane", "segment") and parameters, voxel features as
- * {"kind": "field", "grid": grid}; both with their "text". NULL when out of memory. */
-json_t *hv_frf_to_doc(const hv_frf *f, const char *grid);
-/* The feature back; "field" features take float grid "grid" of vol. Unknown kinds are refused.
+ * kind ("point", "axis", "plane", "segment") and parameters; a contour or mask feature whose
+ * field is recomputed on load as {"kind": "contour"|"mask", "grid": derived} (derived from
+ * hv_frf_derived_grid); other voxel features as {"kind": "field", "grid": grid}; all with
+ * their "text". NULL when out of memory. */
+json_t *hv_frf_to_doc(const hv_frf *f, const char *grid, const char *derived);
+/* The feature back; "field" features take float grid "grid" of vol; "contour" and "mask"
+ * features recompute their field from bool grid "grid" of vol (the exact EDT, as when graded)
+ * into a stored field on vol's active voxels. Unknown kinds are refused.
  * Errors: HV_ERR_BAD_INPUT naming `what` and the member, those of the hv_frf_* makers. */
 hv_status hv_frf_from_doc(const json_t *j, const hv_volume *vol, const char *what, hv_frf **out);
 

@@ -666,9 +666,11 @@ static int catalog_index(const void *const *list, int n, const void *p)
     return -1;
 }
 
-/* The grading definition (hovox.object.json): features (analytic parameters or the name of their
- * stored field grid), sources (with their f tables), regions (grid and source indices). */
-hv_status hv_object_to_doc(const hv_object *o, json_t **out)
+/* The grading definition (hovox.object.json): features (analytic parameters, the bool grid of v
+ * their field is recomputed from, or the name of their stored field grid), sources (with their
+ * f tables), regions (grid and source indices). v NULL: recomputed fields as they were read,
+ * other voxel features as stored fields. */
+static hv_status object_doc(const hv_object *o, const hv_volume *v, json_t **out)
 {
     *out = NULL;
     catalog c;
@@ -679,7 +681,7 @@ hv_status hv_object_to_doc(const hv_object *o, json_t **out)
     for (int k = 0; k < c.nf && !failed; ++k) {
         char grid[32];
         snprintf(grid, sizeof grid, "distance.%d", k);
-        failed = json_array_append_new(feats, hv_frf_to_doc(c.f[k], grid)) != 0;
+        failed = json_array_append_new(feats, hv_frf_to_doc(c.f[k], grid, hv_frf_derived_grid(c.f[k], v))) != 0;
     }
     for (int k = 0; k < c.na && !failed; ++k)
         failed = json_array_append_new(
@@ -714,27 +716,23 @@ hv_status hv_object_to_doc(const hv_object *o, json_t **out)
     return HV_OK;
 }
 
+hv_status hv_object_to_doc(const hv_object *o, json_t **out) { return object_doc(o, NULL, out); }
+
 static hv_status object_doc_write(const hv_object *o, hv_volume *out)
 {
     json_t *doc;
-    hv_status s = hv_object_to_doc(o, &doc);
+    hv_status s = object_doc(o, out, &doc);
     return s == HV_OK ? hv_schema_doc_write(out, HV_DOC_OBJECT, doc) : s;
 }
 
-/* Store the voxel features' fields ("distance.K") and, for several regions, their masks
- * ("region.R") in the evaluated volume, so the definition can be rebuilt from the file. */
+/* Store, for several regions, their masks ("region.R"), and the fields of the voxel features
+ * that are not recomputed from one of the model's bool grids on load ("distance.K": features
+ * from files, facets, harmonic; hv_frf_derived_grid) in the evaluated volume, so the
+ * definition can be rebuilt from the file. The regions go first: a mask feature may be one. */
 static hv_status store_definition_grids(const hv_object *o, hv_volume *v)
 {
     catalog c;
     hv_status s = make_catalog(o, &c);
-    for (int k = 0; k < c.nf && s == HV_OK; ++k) {
-        if (!hv_frf_is_voxel(c.f[k]) && hv_frf_get_kind(c.f[k]) != HV_FRF_FIELD) continue;
-        char grid[32];
-        snprintf(grid, sizeof grid, "distance.%d", k);
-        int old = hv_volume_grid_find(v, grid);
-        if (old >= 0 && (s = hv_volume_grid_remove(v, old)) != HV_OK) break;
-        s = hv_frf_store_field(c.f[k], v, grid);
-    }
     if (o->nreg > 1)
         for (int r = 0; r < o->nreg && s == HV_OK; ++r) {
             char grid[32];
@@ -743,6 +741,14 @@ static hv_status store_definition_grids(const hv_object *o, hv_volume *v)
             if (old >= 0 && (s = hv_volume_grid_remove(v, old)) != HV_OK) break;
             s = hv_volume_grid_copy(v, grid, o->reg[r].mask, 0);
         }
+    for (int k = 0; k < c.nf && s == HV_OK; ++k) {
+        if (!hv_frf_is_voxel(c.f[k]) && hv_frf_get_kind(c.f[k]) != HV_FRF_FIELD) continue;
+        char grid[32];
+        snprintf(grid, sizeof grid, "distance.%d", k);
+        int old = hv_volume_grid_find(v, grid);
+        if (old >= 0 && (s = hv_volume_grid_remove(v, old)) != HV_OK) break;
+        if (!hv_frf_derived_grid(c.f[k], v)) s = hv_frf_store_field(c.f[k], v, grid);
+    }
     return s;
 }
 

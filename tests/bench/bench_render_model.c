@@ -1,10 +1,13 @@
 /* tests/bench/bench_render_model.c - makes the render benchmark's model: reads a voxelized
  * .vdb, grades it with Wu's gear formula (three materials by distance d to the z axis: d- =
  * 9.54, dg = 9.54, linear f, Ms = [0, 0.9, 0.1], Me = [0.9, 0, 0.1]) and adds a float grid
- * "density" = occupancy as 0/1 for vdb_render; writes the graded model. */
+ * "density" = occupancy as 0/1 for vdb_render; writes the graded model. With --density-only the
+ * input is already graded (e.g. Wu's shaft by `hovox grade --frf contour`) and only "density"
+ * is added. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "hovox/material.h"
 #include "hovox/volume.h"
@@ -17,16 +20,30 @@ static int fail(const char *what)
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fputs("usage: bench_render_model VOXELIZED.vdb GRADED.vdb\n", stderr);
+    int only = argc == 4 && strcmp(argv[1], "--density-only") == 0;
+    if (argc != 3 && !only) {
+        fputs("usage: bench_render_model [--density-only] VOXELIZED.vdb GRADED.vdb\n", stderr);
         return 2;
     }
+    argv += only;
     hv_volume *v;
     if (hv_volume_load(argv[1], &v) != HV_OK) return fail(argv[1]);
     int occ = hv_volume_grid_find(v, "occupancy");
     if (occ < 0 || hv_volume_grid_type(v, occ) != HV_GRID_BOOL) {
         fprintf(stderr, "bench_render_model: %s has no bool grid 'occupancy'\n", argv[1]);
         return 1;
+    }
+    if (only) {
+        int dens;
+        if (hv_volume_grid_add(v, "density", HV_GRID_FLOAT, &dens) != HV_OK) return fail("grid");
+        for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) {
+            const uint64_t *ob = hv_volume_leaf_bool_c(v, occ, l);
+            float *fd = hv_volume_leaf_float(v, dens, l);
+            for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) fd[n] = HV_BIT_GET(ob, n) ? 1.0f : 0.0f;
+        }
+        if (hv_volume_save(v, argv[2]) != HV_OK) return fail(argv[2]);
+        hv_volume_destroy(v);
+        return 0;
     }
     static const char *names[3] = {"A", "B", "C"};
     static const double ms[3] = {0, 0.9, 0.1}, me[3] = {0.9, 0, 0.1};

@@ -13,6 +13,8 @@
 #include "hovox/material.h"
 #include "hovox/voxelize.h"
 #include "support/support.h"
+#include "material/material_internal.h"
+#include "volumes/schema.h"
 
 /* ---- helpers ------------------------------------------------------------------------------ */
 
@@ -822,6 +824,85 @@ Test(model, definition_round_trips_through_a_file, .timeout = 120)
     hv_volume_destroy(v);
     hv_object_destroy(u);
     hv_ags_release(g3);
+    hv_frf_release(contour);
+    free_two(&w);
+}
+
+/* issue 17: a contour feature of the model's own occupancy stores no float grid: its field is
+ * recomputed from the occupancy on load, and gives the fractions a model that stored the field
+ * (as hovox wrote them before) gives, exactly, at voxel centres and between them. */
+Test(model, contour_field_is_recomputed_not_stored, .timeout = 120)
+{
+    two w;
+    two_spheres(&w);
+    hv_frf *contour;
+    cr_assert_eq(hv_frf_contour(w.v2, "occupancy", &contour), HV_OK);
+    double ms[3] = {0, 0, 1}, me[3] = {1, 0, 0};
+    hv_ags *g = make_ags(contour, 0.5, 3, 0, "sin(d/dg*pi/2)", ms, me);
+    hv_object *o;
+    cr_assert_eq(hv_object_create(w.v2, "occupancy", 3, &o), HV_OK);
+    cr_assert_eq(hv_object_add_ags(o, g), HV_OK);
+    hv_volume *v;
+    cr_assert_eq(hv_object_evaluate(o, w.t, 0, NULL, &v), HV_OK, "%s", hv_last_error());
+    cr_assert_lt(hv_volume_grid_find(v, "distance.0"), 0, "the contour's field is stored");
+    json_t *doc;
+    cr_assert_eq(hv_schema_doc_read(v, HV_DOC_OBJECT, &doc), HV_OK);
+    json_t *f0 = json_array_get(json_object_get(doc, "features"), 0);
+    cr_assert_str_eq(json_string_value(json_object_get(f0, "kind")), "contour");
+    cr_assert_str_eq(json_string_value(json_object_get(f0, "grid")), "occupancy");
+    json_decref(doc);
+    /* the model as the previous version wrote it: the float field and a "field" feature */
+    hv_volume *old;
+    cr_assert_eq(hv_volume_clone(v, &old), HV_OK);
+    cr_assert_eq(hv_frf_store_field(contour, old, "distance.0"), HV_OK);
+    cr_assert_eq(hv_object_to_doc(o, &doc), HV_OK);
+    cr_assert_str_eq(json_string_value(json_object_get(json_array_get(json_object_get(doc, "features"), 0), "kind")), "field");
+    cr_assert_eq(hv_schema_doc_write(old, HV_DOC_OBJECT, doc), HV_OK);
+    const char *pn = t_tmpfile("contour_new.vdb"), *po = t_tmpfile("contour_old.vdb");
+    cr_assert_eq(hv_volume_save(v, pn), HV_OK);
+    cr_assert_eq(hv_volume_save(old, po), HV_OK);
+    FILE *fn = fopen(pn, "rb"), *fo = fopen(po, "rb");
+    fseek(fn, 0, SEEK_END);
+    fseek(fo, 0, SEEK_END);
+    cr_assert_lt(ftell(fn), ftell(fo), "the new file is not smaller");
+    fclose(fn);
+    fclose(fo);
+    hv_volume *bn, *bo;
+    hv_object *rn, *ro;
+    cr_assert_eq(hv_volume_load(pn, &bn), HV_OK);
+    cr_assert_eq(hv_volume_load(po, &bo), HV_OK);
+    cr_assert_eq(hv_object_from_model(bn, &rn), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_object_from_model(bo, &ro), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_object_prepare(rn, NULL), HV_OK);
+    cr_assert_eq(hv_object_prepare(ro, NULL), HV_OK);
+    /* points on a lattice offset from the voxels, across the boundary and outside */
+    long n = 0, inside_n = 0, bad = 0;
+    for (double x = -0.3; x <= 12.7; x += 0.37)
+        for (double y = -8.6; y <= 8.6; y += 0.41)
+            for (double z = -8.6; z <= 8.6; z += 0.43) {
+                double p[3] = {x, y, z}, a[3], b[3];
+                int ia, ib;
+                hv_object_sample(rn, p, &ia, a);
+                hv_object_sample(ro, p, &ib, b);
+                ++n;
+                inside_n += ia;
+                if (ia != ib || a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) ++bad;
+            }
+    cr_assert_gt(inside_n, 5000);
+    cr_assert_eq(bad, 0, "%ld of %ld samples differ", bad, n);
+    /* grading the loaded model again keeps it recomputed, not stored */
+    hv_volume *again;
+    cr_assert_eq(hv_object_evaluate(rn, w.t, 0, NULL, &again), HV_OK, "%s", hv_last_error());
+    cr_assert_lt(hv_volume_grid_find(again, "distance.0"), 0);
+    hv_volume_destroy(again);
+    hv_object_destroy(rn);
+    hv_object_destroy(ro);
+    hv_volume_destroy(bn);
+    hv_volume_destroy(bo);
+    hv_volume_destroy(old);
+    hv_volume_destroy(v);
+    hv_object_destroy(o);
+    hv_ags_release(g);
     hv_frf_release(contour);
     free_two(&w);
 }

@@ -63,18 +63,37 @@ std::string one_line(const std::string &in)
 
 struct Cancelled {};
 
-// OpenVDB's warnings go straight to std::cerr (OPENVDB_LOG_WARN without log4cplus: "WARNING:
-// multi-buffer trees are no longer supported" for a damaged file): while it reads, they are
-// caught here, so hovox's one-line message stays the only one.
-class QuietCerr {
+// OpenVDB's warnings go to std::cerr from its headers ("WARNING: multi-buffer trees are no
+// longer supported" for a damaged file) and, through log4cplus's console appender, to std::cout
+// from the library ("WARN: unsupported VDB file format"): on stdout they would corrupt what a
+// command prints there. While OpenVDB reads, both are caught here, so hovox's one-line message
+// stays the only one.
+class QuietStreams {
 public:
-    QuietCerr() : mOld(std::cerr.rdbuf(mSink.rdbuf())) {}
-    ~QuietCerr() { std::cerr.rdbuf(mOld); }
+    QuietStreams() : mErr(std::cerr.rdbuf(mSink.rdbuf())), mOut(std::cout.rdbuf(mSink.rdbuf())) {}
+    ~QuietStreams()
+    {
+        std::cerr.rdbuf(mErr);
+        std::cout.rdbuf(mOut);
+    }
 
 private:
     std::ostringstream mSink;
-    std::streambuf *mOld;
+    std::streambuf *mErr, *mOut;
 };
+
+// The file version in the header (after the 8-byte magic): a version newer than this OpenVDB's
+// is refused (a damaged header, or a file this build cannot read) rather than parsed on with a
+// warning. 0 when the header cannot be read (OpenVDB then says why).
+uint32_t file_version(const char *path)
+{
+    unsigned char h[12];
+    FILE *f = std::fopen(path, "rb");
+    size_t got = f ? std::fread(h, 1, sizeof h, f) : 0;
+    if (f) std::fclose(f);
+    if (got != sizeof h) return 0;
+    return uint32_t(h[8]) | uint32_t(h[9]) << 8 | uint32_t(h[10]) << 16 | uint32_t(h[11]) << 24;
+}
 
 // While OpenVDB parses a file, the address space may grow by at most `allowance` bytes: a
 // damaged length field (a metadata string of 2^31 bytes) then fails as bad_alloc instead of
@@ -516,10 +535,15 @@ int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_v
     try {
         // our own stream with every read checked: a file that ends early throws at once,
         // instead of OpenVDB reading on with garbage counts
-        QuietCerr quiet;
+        QuietStreams quiet;
         CheckedBuf buf(cancel);
         if (!buf.open(path, std::ios::in | std::ios::binary))
             return fail(E_IO, std::string("cannot open: ") + std::strerror(errno));
+        const uint32_t version = file_version(path);
+        if (version > openvdb::OPENVDB_FILE_VERSION)
+            return fail(E_BAD_INPUT, "file format version " + std::to_string(version) + " is newer than this " +
+                                         "OpenVDB reads (" + std::to_string(openvdb::OPENVDB_FILE_VERSION) +
+                                         "): the file is damaged or from a later OpenVDB");
         std::istream is(&buf);
         is.exceptions(std::ios::failbit | std::ios::badbit);
         struct stat st;

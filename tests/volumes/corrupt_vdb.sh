@@ -1,10 +1,10 @@
 #!/bin/sh
 # tests/volumes/corrupt_vdb.sh - damaged and hostile .vdb files: truncations at every 1/64 of
 # a graded model, one-bit flips spread over it, and crafted files (a 4096^3 active tile, a grid
-# of an unsupported type, a rotated transform, a tiny and a huge voxel, no grids). Every case
-# must end in 5 s, under 1 GiB, with a documented exit code: 1-4 for truncations and crafted
-# files, 0-4 for a bit flip (a flip in a value or padding leaves a readable file). Never a
-# crash, never exit 70.
+# of an unsupported type, a rotated transform, a tiny and a huge voxel, no grids, a future
+# version). Every case must end in 5 s, under 1 GiB, with one line on stderr, no OpenVDB text
+# on stdout and a documented exit code: 1-4 for truncations and crafted files, 0-4 for a bit
+# flip (a flip in a value or padding leaves a readable file). Never a crash, never exit 70.
 set -u
 : "${HOVOX:?set HOVOX to the hovox binary}"
 PY=${PYTHON:-/usr/bin/python3}
@@ -19,7 +19,7 @@ check() { # check NAME FILE LOWEST_OK_EXIT
     for cmd in probe render; do
         if [ $cmd = probe ]; then set -- "$HOVOX" probe "$file" 1,1,1
         else set -- "$HOVOX" render "$file" -o "$TMP/x.png" --size 8,8 -q; fi
-        /usr/bin/time -f "%M" -o "$TMP/rss" timeout 5 "$@" >/dev/null 2>"$TMP/err"
+        /usr/bin/time -f "%M" -o "$TMP/rss" timeout 5 "$@" >"$TMP/out" 2>"$TMP/err"
         rc=$?
         rss=$(tail -n 1 "$TMP/rss")
         lines=$(wc -l <"$TMP/err")
@@ -27,6 +27,7 @@ check() { # check NAME FILE LOWEST_OK_EXIT
         [ "$rc" -ge "$lo" ] && [ "$rc" -le 4 ] || ok=0
         [ "${rss:-0}" -le 1048576 ] || ok=0
         [ "$lines" -le 1 ] || ok=0
+        ! grep -q "WARN" "$TMP/out" || ok=0 # OpenVDB's logging must not reach stdout
         if [ $ok = 1 ]; then pass=$((pass + 1)); else
             fail=$((fail + 1))
             echo "--- $name ($cmd): exit $rc, ${rss} KiB, $lines lines of stderr"
@@ -81,6 +82,10 @@ PYEOF
 [ $? = 0 ] || { echo "corrupt .vdb corpus: the crafted files could not be made"; exit 1; }
 for f in huge_tile vector_grid rotated far_away no_grids; do check "$f" "$TMP/$f.vdb" 1; done
 check "tiny voxel" "$TMP/tiny_voxel.vdb" 0
+# a header version newer than OpenVDB's: refused, not parsed on with a warning on stdout
+"$PY" -c "import sys; d = bytearray(open(sys.argv[1], 'rb').read()); d[8:12] = (19936).to_bytes(4, 'little'); \
+open(sys.argv[2], 'wb').write(d)" "$model" "$TMP/future.vdb"
+check "future version" "$TMP/future.vdb" 1
 printf 'not a vdb at all' >"$TMP/text.vdb"
 check "text" "$TMP/text.vdb" 1
 : >"$TMP/empty.vdb"

@@ -8,6 +8,66 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <openvdb/io/Compression.h>
+#include <openvdb/math/Vec3.h>
+
+// OpenVDB 10.0's bloscFromStream/unzipFromStream read a chunk stored uncompressed (a length
+// n <= 0 before it) as -n bytes into a buffer of the size the tree expects, without comparing
+// the two: a damaged length writes past the buffer (found by fuzz_vdb under ASan: a heap
+// overflow, then glibc aborts). hovox's copy of readData checks the length first, for the
+// value types whose reading this plugin compiles; the rest is OpenVDB's readData unchanged.
+namespace openvdb {
+OPENVDB_USE_VERSION_NAMESPACE
+namespace OPENVDB_VERSION_NAME {
+namespace io {
+namespace hovox_checked {
+template<typename T>
+inline void readData(std::istream &is, T *data, Index count, uint32_t compression, DelayedLoadMetadata *metadata,
+                     size_t metadataOffset)
+{
+    const bool seek = data == nullptr;
+    const bool compressed = compression & (COMPRESS_BLOSC | COMPRESS_ZIP);
+    if (metadata && seek && compressed) {
+        is.seekg(std::streamoff(metadata->getCompressedSize(metadataOffset)), std::ios_base::cur);
+        return;
+    }
+    if (compressed && !seek) {
+        const std::streampos at = is.tellg();
+        Int64 n = 0;
+        is.read(reinterpret_cast<char *>(&n), sizeof n);
+        is.seekg(at);
+        if (n <= 0 && uint64_t(0) - uint64_t(n) != uint64_t(sizeof(T)) * count)
+            OPENVDB_THROW(IoError, "a stored chunk of " + std::to_string(uint64_t(0) - uint64_t(n)) +
+                                       " bytes where " + std::to_string(uint64_t(sizeof(T)) * count) +
+                                       " belong: the file is damaged");
+    }
+    if (compression & COMPRESS_BLOSC) bloscFromStream(is, reinterpret_cast<char *>(data), sizeof(T) * count);
+    else if (compression & COMPRESS_ZIP) unzipFromStream(is, reinterpret_cast<char *>(data), sizeof(T) * count);
+    else if (seek) is.seekg(std::streamoff(sizeof(T) * count), std::ios_base::cur);
+    else is.read(reinterpret_cast<char *>(data), std::streamsize(sizeof(T) * count));
+}
+} // namespace hovox_checked
+#define HV_CHECKED_READ(T)                                                                                    \
+    template<>                                                                                                \
+    inline void readData<T>(std::istream & is, T * data, Index count, uint32_t compression,                    \
+                            DelayedLoadMetadata * metadata, size_t metadataOffset)                             \
+    {                                                                                                         \
+        hovox_checked::readData(is, data, count, compression, metadata, metadataOffset);                      \
+    }
+HV_CHECKED_READ(bool)
+HV_CHECKED_READ(float)
+HV_CHECKED_READ(double)
+HV_CHECKED_READ(int32_t)
+HV_CHECKED_READ(int64_t)
+HV_CHECKED_READ(math::half)
+HV_CHECKED_READ(math::Vec3<float>)
+HV_CHECKED_READ(math::Vec3<double>)
+HV_CHECKED_READ(math::Vec3<int32_t>)
+#undef HV_CHECKED_READ
+} // namespace io
+} // namespace OPENVDB_VERSION_NAME
+} // namespace openvdb
+
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>

@@ -738,6 +738,7 @@ static hv_status write_png(job *J, const char *path, const uint8_t *px, int pale
     po.dpi[0] = J->o->dpi[0];
     po.dpi[1] = J->o->dpi[1];
     po.bit_depth = palette ? J->bit_depth : J->o->mode == HV_LAYERS_MASK ? 1 : 8;
+    po.in_place = 1; /* the stack's temporary directory is synced once and renamed whole */
     if (palette) {
         po.palette = J->palette;
         po.palette_size = J->palette_size;

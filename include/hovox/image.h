@@ -52,6 +52,9 @@ typedef struct hv_png_options {
     const char *text_value; /* ... and its value */
     int bit_depth;          /* 1, 2, 4 or 8 (0 means 8); below 8 only with channels == 1 (grey
                                or indexed): pixels stay one per byte, values < 2^bit_depth */
+    int in_place;           /* 1: hv_png_write writes the file under its name, unsynced, and
+                               removes it on failure: for files inside a directory that is
+                               itself written whole and renamed (a slice stack) */
 } hv_png_options;
 
 /* Defaults: compression -1, no pHYs, no palette, no text, bit depth 8. */
@@ -60,7 +63,8 @@ HV_API void hv_png_options_init(hv_png_options *opt);
 /* Encode 8-bit pixels as PNG. channels: 1 grey (indexed when opt->palette is set; values must
  * then be < palette_size), 2 grey+alpha, 3 RGB, 4 RGBA (straight alpha). `stride` is the byte
  * distance between rows (0: width*channels). opt may be NULL.
- * hv_png_write writes the file atomically (temporary name, rename). hv_png_encode returns a
+ * hv_png_write writes the file atomically (temporary name, sync, rename; opt->in_place: see
+ * there). hv_png_encode returns a
  * malloc'd buffer in *data (free() it) of *size bytes.
  * Errors: HV_ERR_INVALID (size 0, channels, stride, compression level, palette, an index
  * beyond the palette, bit depth, a value beyond the bit depth, bad text key), HV_ERR_IO (path

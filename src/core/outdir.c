@@ -3,6 +3,7 @@
  * replaced only when everything in it is what such a job writes. */
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <fnmatch.h>
 #include <ftw.h>
 #include <signal.h>
@@ -217,6 +218,15 @@ hv_status hv_outdir_begin(const char *dir, const hv_outdir_rules *r, int force, 
 
 hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rules *r, int force)
 {
+    /* the files were written without a sync each: one sync of the file system makes them all
+     * durable before the rename publishes them */
+    int fd = open(tmp, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0 || syncfs(fd) != 0) {
+        hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot sync %s before renaming it: %s", dir, tmp, strerror(errno));
+        if (fd >= 0) close(fd);
+        return s;
+    }
+    close(fd);
     hv_buf foreign;
     hv_buf_init(&foreign);
     int kind = classify(dir, r, &foreign);

@@ -266,11 +266,21 @@ hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int h
 {
     hv_status st = check_png_args(pixels, width, height, channels, stride, opt);
     if (st != HV_OK) return st;
+    png_sink s;
+    memset(&s, 0, sizeof s);
+    if (opt && opt->in_place) { /* inside a directory renamed whole: no temporary, no sync */
+        if (!(s.fp = fopen(path, "wb"))) return hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+        st = encode(&s, pixels, width, height, channels, stride, opt);
+        int e = errno, bad = st == HV_OK && (ferror(s.fp) || fflush(s.fp) != 0);
+        bad |= fclose(s.fp) != 0 && st == HV_OK;
+        if (st == HV_OK && bad) st = hv_error_set(HV_ERR_IO, "%s: write failed: %s", path, strerror(e ? e : errno));
+        else if (st != HV_OK) hv_error_prefix(st, "%s: ", path);
+        if (st != HV_OK) remove(path);
+        return st;
+    }
     hv_atomic_file af;
     st = hv_atomic_open(&af, path, "wb");
     if (st != HV_OK) return st;
-    png_sink s;
-    memset(&s, 0, sizeof s);
     s.fp = af.fp;
     st = encode(&s, pixels, width, height, channels, stride, opt);
     if (st != HV_OK) {

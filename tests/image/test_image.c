@@ -394,3 +394,32 @@ Test(image, exr_and_tiff_through_openimageio)
     cr_expect(!t_exists(bad));
     hv_image_destroy(img);
 }
+
+Test(image, png_in_place_writes_the_same_bytes_and_leaves_nothing_on_failure)
+{
+    uint8_t px[6 * 4];
+    for (int i = 0; i < 24; ++i) px[i] = (uint8_t)(i * 10);
+    hv_png_options o;
+    hv_png_options_init(&o);
+    uint8_t *want = NULL;
+    size_t n = 0;
+    cr_assert_eq(hv_png_encode(px, 6, 4, 1, 0, &o, &want, &n), HV_OK);
+    o.in_place = 1;
+    const char *path = t_tmpfile("in_place.png");
+    cr_assert_eq(hv_png_write(path, px, 6, 4, 1, 0, &o), HV_OK, "%s", hv_last_error());
+    FILE *f = fopen(path, "rb");
+    cr_assert_not_null(f);
+    uint8_t got[4096];
+    size_t m = fread(got, 1, sizeof got, f);
+    fclose(f);
+    cr_assert_eq(m, n);
+    cr_assert_eq(memcmp(got, want, n), 0, "in place or not, the same PNG");
+    free(want);
+    cr_assert_eq(hv_png_write("/nonexistent-dir/x.png", px, 6, 4, 1, 0, &o), HV_ERR_IO);
+    uint8_t pal[3] = {1, 2, 3};
+    o.palette = pal;
+    o.palette_size = 1; /* values up to 230 exceed the one-colour palette */
+    const char *bad = t_tmpfile("in_place_bad.png");
+    cr_assert_eq(hv_png_write(bad, px, 6, 4, 1, 0, &o), HV_ERR_INVALID);
+    cr_assert_null(fopen(bad, "rb"), "a refused image leaves no file");
+}

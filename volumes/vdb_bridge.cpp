@@ -457,8 +457,12 @@ int b_leaf_buffers(void *impl, int g, void **buffers)
         BoolGrid *b = dynamic_cast<BoolGrid *>(gp);
         size_t i = 0;
         for (auto it = v->topo->tree().cbeginLeaf(); it; ++it, ++i) {
-            if (f) buffers[i] = leaf_at(f->tree(), it->origin())->buffer().data();
-            else buffers[i] = leaf_at(b->tree(), it->origin())->buffer().data();
+            auto *fl = f ? f->tree().probeLeaf(it->origin()) : nullptr;
+            auto *bl = b ? b->tree().probeLeaf(it->origin()) : nullptr;
+            if (!fl && !bl) // only a damaged file gets here: loading unions every grid with the topology
+                return fail(E_BAD_INPUT, "grid '" + one_line(gp->getName()) +
+                                             "' does not fit the model's voxel topology: the file is damaged");
+            buffers[i] = fl ? static_cast<void *>(fl->buffer().data()) : static_cast<void *>(bl->buffer().data());
         }
         return OK;
     }

@@ -890,6 +890,7 @@ hv_status hv_volume_load(const char *path, hv_volume **out)
     v->name = hv_strdup(path);
     s = v->name ? rebuild(v) : HV_ERR_NOMEM;
     if (s != HV_OK) {
+        if (s == HV_ERR_BAD_INPUT) hv_error_prefix(s, "%s: ", path); /* a damaged file found late */
         hv_volume_destroy(v);
         return s;
     }

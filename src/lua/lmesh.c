@@ -149,28 +149,50 @@ static void push_loops(lua_State *L, const hv_slice *slice)
     }
 }
 
-/* Runs on the calling thread, in layer order (hv_contours_write's contract). */
-static hv_status contour_layer(void *user, size_t index, const hv_layer *layer, const hv_slice *slice)
+typedef struct layer_args {
+    contour_run *run;
+    size_t index;
+    const hv_layer *layer;
+    const hv_slice *slice;
+} layer_args;
+
+/* Builds one layer's table; runs under lua_pcall, so a failed allocation (the script's memory
+ * limit) returns to contour_layer instead of unwinding through the library's frames. */
+static int push_layer(lua_State *L)
 {
-    contour_run *r = user;
-    lua_State *L = r->L;
-    const hv_slice_stats *st = hv_slice_get_stats(slice);
-    if (!lua_checkstack(L, 8)) return hv_error_set(HV_ERR_NOMEM, "Lua stack exhausted");
+    const layer_args *a = lua_touserdata(L, 1);
+    const hv_slice_stats *st = hv_slice_get_stats(a->slice);
     lua_createtable(L, 0, 9);
-    const struct { const char *k; double v; } f[] = {{"z", layer->z}, {"bottom", layer->bottom}, {"top", layer->top},
-                                                     {"area", st->area}, {"loops", (double)st->loops},
-                                                     {"holes", (double)st->holes}, {"open", (double)st->open}};
+    const struct { const char *k; double v; } f[] = {{"z", a->layer->z}, {"bottom", a->layer->bottom},
+                                                     {"top", a->layer->top}, {"area", st->area},
+                                                     {"loops", (double)st->loops}, {"holes", (double)st->holes},
+                                                     {"open", (double)st->open}};
     for (size_t i = 0; i < HV_COUNT(f); ++i) {
         if (i >= 4) lua_pushinteger(L, (lua_Integer)f[i].v);
         else lua_pushnumber(L, f[i].v);
         lua_setfield(L, -2, f[i].k);
     }
-    if (r->keep_loops) {
-        push_loops(L, slice);
+    if (a->run->keep_loops) {
+        push_loops(L, a->slice);
         lua_setfield(L, -2, "contours");
     }
-    lua_rawseti(L, r->table, (lua_Integer)index + 1);
-    return HV_OK;
+    lua_rawseti(L, 2, (lua_Integer)a->index + 1); /* the result list, argument 2 */
+    return 0;
+}
+
+/* Runs on the calling thread, in layer order (hv_contours_write's contract). */
+static hv_status contour_layer(void *user, size_t index, const hv_layer *layer, const hv_slice *slice)
+{
+    contour_run *r = user;
+    lua_State *L = r->L;
+    layer_args a = {r, index, layer, slice};
+    if (!lua_checkstack(L, 8)) return hv_error_set(HV_ERR_NOMEM, "Lua stack exhausted");
+    lua_pushcfunction(L, push_layer); /* a light C function and a light userdata: no allocation */
+    lua_pushlightuserdata(L, &a);
+    lua_pushvalue(L, r->table);
+    if (lua_pcall(L, 2, 0, 0) == LUA_OK) return HV_OK;
+    lua_pop(L, 1);
+    return hv_error_set(HV_ERR_NOMEM, "out of memory for the layers' tables (the script's memory limit)");
 }
 
 /* hovox.contours(mesh, {<the options of hv_contours_option_set: layer_height, adaptive = {min,

@@ -400,7 +400,7 @@ static int calibration_box_gc(lua_State *L)
 static hv_calibration *calibration_table(lua_State *L, int idx, int arg, int holder)
 {
     idx = lua_absindex(L, idx);
-    hv_lua_check_plain_table(L, idx);
+    if (lua_getmetatable(L, idx)) arg_error(L, arg, "calibration must be a plain table (one with a metatable is refused)");
     const char *prop = hv_lua_string_field(L, idx, "property", holder);
     const char *unit = hv_lua_string_field(L, idx, "unit", holder);
     if (!prop) luaL_argerror(L, arg, "calibration table needs property = \"<name>\"");

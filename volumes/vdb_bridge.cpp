@@ -128,9 +128,16 @@ struct Cancelled {};
 // from the library ("WARN: unsupported VDB file format"): on stdout they would corrupt what a
 // command prints there. While OpenVDB reads, both are caught here, so hovox's one-line message
 // stays the only one.
+// The streams are process-wide: loads on several threads take turns here, so each restores
+// exactly what it replaced.
+std::mutex g_quiet_mutex;
+
 class QuietStreams {
 public:
-    QuietStreams() : mErr(std::cerr.rdbuf(mSink.rdbuf())), mOut(std::cout.rdbuf(mSink.rdbuf())) {}
+    QuietStreams()
+        : mLock(g_quiet_mutex), mErr(std::cerr.rdbuf(mSink.rdbuf())), mOut(std::cout.rdbuf(mSink.rdbuf()))
+    {
+    }
     ~QuietStreams()
     {
         std::cerr.rdbuf(mErr);
@@ -138,6 +145,7 @@ public:
     }
 
 private:
+    std::lock_guard<std::mutex> mLock;
     std::ostringstream mSink;
     std::streambuf *mErr, *mOut;
 };

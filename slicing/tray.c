@@ -596,7 +596,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
 {
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
-    hv_status st = hv_mesh_load_stl(s->p.mesh, &mesh);
+    hv_status st = hv_mesh_load(s->p.mesh, &mesh);
     if (st == HV_OK && s->p.model) st = hv_volume_load(s->p.model, &model);
     int q = (s->p.rotation / 90) % 4;
     for (int i = 0; i < q && st == HV_OK && model; ++i) {

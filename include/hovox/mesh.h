@@ -1,5 +1,7 @@
-/* hovox/mesh.h - triangle meshes: STL input (binary and ASCII), exact vertex welding,
- * edge adjacency and the mesh report (closedness, orientation, volume, shells). */
+/* hovox/mesh.h - triangle meshes: file input, exact vertex welding, edge adjacency, the mesh
+ * report (closedness, orientation, volume, shells), and bodies: the named, separately
+ * materialled parts of an assembly (3MF objects, OBJ groups), each a consecutive range of
+ * facets. */
 #ifndef HOVOX_MESH_H
 #define HOVOX_MESH_H
 
@@ -14,8 +16,17 @@ typedef struct hv_mesh hv_mesh;
 typedef enum hv_mesh_format {
     HV_MESH_GENERATED = 0, /* built in memory */
     HV_MESH_STL_BINARY = 1,
-    HV_MESH_STL_ASCII = 2
+    HV_MESH_STL_ASCII = 2,
+    HV_MESH_3MF = 3,
+    HV_MESH_OBJ = 4,
+    HV_MESH_PLY_ASCII = 5,
+    HV_MESH_PLY_BINARY_LE = 6,
+    HV_MESH_PLY_BINARY_BE = 7
 } hv_mesh_format;
+
+/* "binary STL", "ASCII STL", "3MF", "OBJ", "ASCII PLY", "binary PLY (little-endian)", ...,
+ * "generated". Static. */
+HV_API const char *hv_mesh_format_name(hv_mesh_format format);
 
 /* What the mesh report says. Defects (open edges, flips, degenerate facets) are facts, not
  * errors: a mesh that has them still loads. */
@@ -51,6 +62,68 @@ HV_API hv_status hv_mesh_parse_stl(const void *data, size_t size, const char *na
  * coordinate, no facets), HV_ERR_NOMEM. Copies the arrays. */
 HV_API hv_status hv_mesh_create(const float *xyz, size_t vertex_count, const uint32_t *facets,
                                 size_t facet_count, hv_mesh **out);
+
+/* Load a mesh from any supported file, chosen by extension (case-insensitive): .stl, .3mf,
+ * .obj, .ply. Errors: those of the format's reader (HV_ERR_IO, HV_ERR_BAD_INPUT naming the
+ * file, the place and the value, HV_ERR_LIMIT, HV_ERR_NOMEM); HV_ERR_BAD_INPUT for another
+ * extension, listing the supported ones. */
+HV_API hv_status hv_mesh_load(const char *path, hv_mesh **out);
+
+/* The extensions hv_mesh_load reads, "stl, 3mf, obj, ply". Static. */
+HV_API const char *hv_mesh_load_extensions(void);
+
+/* ---- bodies and materials ------------------------------------------------------------------
+ * Every mesh has at least one body. A body is a consecutive range of facets, in file order:
+ * a 3MF build item's object (with its components), an OBJ `o` or `g` group, a whole STL or
+ * PLY file. Names are unique within a mesh and never empty (a file that gives none or a
+ * repeated one gets "body N", N counted from 1, or "NAME (2)"). The report of the whole mesh
+ * (hv_mesh_get_report) treats all facets as one mesh; hv_mesh_body_extract gives a body's own.
+ *
+ * Materials are the ones the file names (3MF base materials, 3MF colours as "#RRGGBB" when
+ * they carry no name, OBJ `usemtl` names), in first-use order. A facet's material is an index
+ * into them or HV_MESH_NO_MATERIAL; a body's material is the one most of its facets use
+ * (ties: the lowest index), or the object's default in 3MF. */
+#define HV_MESH_NO_MATERIAL (-1)
+
+typedef struct hv_mesh_material {
+    const char *name;  /* owned by the mesh */
+    uint32_t rgba;     /* display colour 0xRRGGBBAA when has_color */
+    int has_color;
+} hv_mesh_material;
+
+typedef struct hv_mesh_body {
+    const char *name;      /* owned by the mesh */
+    int32_t material;      /* index into the mesh's materials, or HV_MESH_NO_MATERIAL */
+    size_t first_facet;    /* facets [first_facet, first_facet + facet_count) */
+    size_t facet_count;    /* >= 1 */
+} hv_mesh_body;
+
+HV_API size_t hv_mesh_body_count(const hv_mesh *mesh);
+/* Body i < hv_mesh_body_count; owned by the mesh. */
+HV_API const hv_mesh_body *hv_mesh_body_at(const hv_mesh *mesh, size_t i);
+/* The body with this exact name, or -1. */
+HV_API int64_t hv_mesh_body_find(const hv_mesh *mesh, const char *name);
+HV_API size_t hv_mesh_material_count(const hv_mesh *mesh);
+HV_API const hv_mesh_material *hv_mesh_material_at(const hv_mesh *mesh, size_t i);
+/* Per facet: material index or HV_MESH_NO_MATERIAL; NULL when the file names no material. */
+HV_API const int32_t *hv_mesh_facet_materials(const hv_mesh *mesh);
+
+/* A new mesh holding body i alone: its facets welded again, its own adjacency and report,
+ * one body of the same name and material, the materials of the whole mesh, name
+ * "MESH#BODY" (just MESH when there is one body). Errors: HV_ERR_INVALID (i out of range),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_body_extract(const hv_mesh *mesh, size_t i, hv_mesh **out);
+
+/* Join meshes into one multi-body mesh, one body per part in order: all of the part's facets
+ * (whatever bodies it has) become one body. Materials are the distinct `material` names, in
+ * order. The result is named "" (generated). Errors: HV_ERR_INVALID (n == 0, a NULL mesh),
+ * HV_ERR_NOMEM. */
+typedef struct hv_mesh_part {
+    const hv_mesh *mesh;
+    const char *name;     /* NULL: "body N" */
+    const char *material; /* NULL: none */
+} hv_mesh_part;
+HV_API hv_status hv_mesh_join(const hv_mesh_part *parts, size_t n, hv_mesh **out);
 
 /* Free a mesh; NULL is allowed. */
 HV_API void hv_mesh_destroy(hv_mesh *mesh);

@@ -83,7 +83,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     hv_buf_init(&js);
     hv_contours_summary sum;
     hv_mesh *mesh = NULL;
-    hv_status s = hv_mesh_load_stl(mesh_path, &mesh);
+    hv_status s = hv_mesh_load(mesh_path, &mesh);
     if (s == HV_OK) s = hv_contours_write(mesh, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
     cli_progress_done(&bar);
     hv_mesh_destroy(mesh);

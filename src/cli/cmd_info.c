@@ -16,16 +16,11 @@ static const hv_option k_local_opts[] = {CLI_JSON(info_cli, "one JSON object per
 static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
 
 
-static const char *format_name(hv_mesh_format f)
-{
-    return f == HV_MESH_STL_BINARY ? "binary STL" : f == HV_MESH_STL_ASCII ? "ASCII STL" : "generated";
-}
-
 static void print_text(const char *path, const hv_mesh_report *r)
 {
     int closed = r->open_edges == 0 && r->nonmanifold_edges == 0;
     printf("file                %s\n", path);
-    printf("format              %s\n", format_name(r->format));
+    printf("format              %s\n", hv_mesh_format_name(r->format));
     printf("facets              %llu\n", (unsigned long long)r->facets);
     printf("vertices            %llu\n", (unsigned long long)r->vertices);
     printf("bbox min            %.6g %.6g %.6g\n", r->bbox_min[0], r->bbox_min[1], r->bbox_min[2]);
@@ -49,7 +44,7 @@ static int report(char **paths, int n, int json)
     hv_mesh **meshes = calloc((size_t)n, sizeof *meshes);
     if (!meshes) return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
     for (int i = 0; i < n; ++i) {
-        hv_status s = hv_mesh_load_stl(paths[i], &meshes[i]);
+        hv_status s = hv_mesh_load(paths[i], &meshes[i]);
         if (s != HV_OK) {
             for (int k = 0; k < i; ++k) hv_mesh_destroy(meshes[k]);
             free(meshes);

@@ -83,7 +83,7 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
 {
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
-    hv_status s = hv_mesh_load_stl(c->mesh, &mesh);
+    hv_status s = hv_mesh_load(c->mesh, &mesh);
     if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_volume_load(o->model_name, &model);
     hv_layers_report r;
     memset(&r, 0, sizeof r);

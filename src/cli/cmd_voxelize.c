@@ -75,7 +75,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         opt->lattice = &lattice;
     }
     hv_mesh *mesh;
-    hv_status s = hv_mesh_load_stl(path, &mesh);
+    hv_status s = hv_mesh_load(path, &mesh);
     if (s != HV_OK) return cli_fail(s);
     hv_voxel_plan plan;
     s = hv_voxelize_plan(mesh, opt, &plan);

@@ -22,7 +22,7 @@ static int l_load_mesh(lua_State *L)
 {
     const char *path = luaL_checkstring(L, 1);
     hv_mesh *m;
-    hv_status s = hv_mesh_load_stl(path, &m);
+    hv_status s = hv_mesh_load(path, &m);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_mesh(L, m);
     return 1;

@@ -488,6 +488,7 @@ hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, 
     w.hash = NULL;
     w.rep = NULL;
     s = build_topology(m, normals);
+    if (s == HV_OK) s = hv_mesh_default_body(m);
     if (s != HV_OK) goto fail;
     *out = m;
     return HV_OK;
@@ -533,6 +534,7 @@ void hv_mesh_destroy(hv_mesh *m)
     free(m->tri);
     free(m->nbr);
     free(m->eflags);
+    hv_mesh_bodies_free(m);
     free(m);
 }
 

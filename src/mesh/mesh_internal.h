@@ -14,7 +14,20 @@ struct hv_mesh {
     int32_t *nbr;     /* 3 per facet */
     uint8_t *eflags;  /* per facet, bit e: edge e non-manifold */
     hv_mesh_report report;
+    hv_mesh_body *bodies;     /* nbodies >= 1 once built */
+    size_t nbodies;
+    hv_mesh_material *mats;
+    size_t nmats;
+    int32_t *facet_mat;       /* nf entries, or NULL */
 };
+
+/* Give a mesh just built by hv_mesh_from_soup its bodies and materials (readers). Body names
+ * may be NULL, empty or repeated (made unique: "body N", "NAME (2)"); first_facet is ignored
+ * (bodies are consecutive, in order) and the facet counts must sum to the mesh's facets. A
+ * body whose material is HV_MESH_NO_MATERIAL takes its facets' majority material when
+ * facet_mat is given. Copies everything. Errors: HV_ERR_INVALID (counts), HV_ERR_NOMEM. */
+hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
+                             const hv_mesh_material *mats, size_t nmats, const int32_t *facet_mat);
 
 /* Build a mesh from a triangle soup (9 floats per facet, finite, checked by the caller).
  * `normals` (3 per facet) may be NULL; it only feeds report.normal_mismatch. Takes no
@@ -25,5 +38,10 @@ hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, 
 /* Append the report as a JSON object (keys of `hovox info --json`; hv_mesh_report_to_doc, see
  * volumes/schema.h); sets b->failed when out of memory. */
 void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);
+
+/* The one body of a mesh built from a soup: named after the file (base name without the
+ * extension) or "body 1". Called by hv_mesh_from_soup. */
+hv_status hv_mesh_default_body(hv_mesh *m);
+void hv_mesh_bodies_free(hv_mesh *m);
 
 #endif

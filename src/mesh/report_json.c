@@ -6,7 +6,7 @@
 #include "mesh_internal.h"
 #include "volumes/schema.h"
 
-static const char *const k_format_names[] = {"generated", "binary", "ascii", NULL}; /* by hv_mesh_format */
+static const char *const k_format_names[] = {"generated", "binary", "ascii", "3mf", "obj", "ply_ascii", "ply_binary_le", "ply_binary_be", NULL}; /* by hv_mesh_format */
 static const hv_enum_def k_formats = {"mesh format", k_format_names, NULL, NULL};
 
 static const char *const k_counts[] = {"facets", "vertices", "shells", "open_edges", "nonmanifold_edges",

@@ -1,0 +1,282 @@
+/* src/mesh/bodies.c - bodies and materials of a mesh (hovox/mesh.h): the named parts of an
+ * assembly as consecutive facet ranges, the materials a file names, extraction of one body as
+ * its own mesh, joining meshes into an assembly, and hv_mesh_load's choice of reader. */
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/internal.h"
+#include "mesh_internal.h"
+
+const char *hv_mesh_format_name(hv_mesh_format f)
+{
+    switch (f) {
+    case HV_MESH_STL_BINARY: return "binary STL";
+    case HV_MESH_STL_ASCII: return "ASCII STL";
+    case HV_MESH_3MF: return "3MF";
+    case HV_MESH_OBJ: return "OBJ";
+    case HV_MESH_PLY_ASCII: return "ASCII PLY";
+    case HV_MESH_PLY_BINARY_LE: return "binary PLY (little-endian)";
+    case HV_MESH_PLY_BINARY_BE: return "binary PLY (big-endian)";
+    case HV_MESH_GENERATED: break;
+    }
+    return "generated";
+}
+
+static int name_taken(const hv_mesh_body *b, size_t n, const char *name)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (strcmp(b[i].name, name) == 0) return 1;
+    return 0;
+}
+
+/* A unique copy of `want` among b[0..n): "body N" when empty, "NAME (k)" when taken. */
+static char *unique_name(const hv_mesh_body *b, size_t n, const char *want, size_t index)
+{
+    char buf[64];
+    if (!want || !*want) {
+        snprintf(buf, sizeof buf, "body %zu", index + 1);
+        want = buf;
+    }
+    if (!name_taken(b, n, want)) return hv_strdup(want);
+    size_t len = strlen(want) + 32;
+    char *s = malloc(len);
+    if (!s) return NULL;
+    for (size_t k = 2;; ++k) {
+        snprintf(s, len, "%s (%zu)", want, k);
+        if (!name_taken(b, n, s)) return s;
+    }
+}
+
+static void bodies_free(hv_mesh *m)
+{
+    for (size_t i = 0; i < m->nbodies; ++i) free((char *)m->bodies[i].name);
+    for (size_t i = 0; i < m->nmats; ++i) free((char *)m->mats[i].name);
+    free(m->bodies);
+    free(m->mats);
+    free(m->facet_mat);
+    m->bodies = NULL;
+    m->mats = NULL;
+    m->facet_mat = NULL;
+    m->nbodies = m->nmats = 0;
+}
+
+void hv_mesh_bodies_free(hv_mesh *m) { bodies_free(m); }
+
+hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
+                             const hv_mesh_material *mats, size_t nmats, const int32_t *facet_mat)
+{
+    size_t total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (bodies[i].facet_count == 0 || bodies[i].facet_count > m->nf - total)
+            return hv_error_set(HV_ERR_INVALID, "%s: body %zu: %zu facets do not fit the mesh's %zu",
+                                hv_mesh_name(m), i + 1, bodies[i].facet_count, m->nf);
+        if (bodies[i].material != HV_MESH_NO_MATERIAL &&
+            (bodies[i].material < 0 || (size_t)bodies[i].material >= nmats))
+            return hv_error_set(HV_ERR_INVALID, "%s: body %zu: material %d out of range (%zu)",
+                                hv_mesh_name(m), i + 1, (int)bodies[i].material, nmats);
+        total += bodies[i].facet_count;
+    }
+    if (n == 0 || total != m->nf)
+        return hv_error_set(HV_ERR_INVALID, "%s: bodies hold %zu facets, the mesh %zu",
+                            hv_mesh_name(m), total, m->nf);
+    if (facet_mat)
+        for (size_t f = 0; f < m->nf; ++f)
+            if (facet_mat[f] != HV_MESH_NO_MATERIAL &&
+                (facet_mat[f] < 0 || (size_t)facet_mat[f] >= nmats))
+                return hv_error_set(HV_ERR_INVALID, "%s: facet %zu: material %d out of range (%zu)",
+                                    hv_mesh_name(m), f, (int)facet_mat[f], nmats);
+    hv_mesh tmp = {0};
+    tmp.bodies = hv_calloc(n, sizeof *tmp.bodies);
+    tmp.mats = nmats ? hv_calloc(nmats, sizeof *tmp.mats) : NULL;
+    tmp.facet_mat = facet_mat ? hv_malloc_array(m->nf, sizeof *tmp.facet_mat) : NULL;
+    if (!tmp.bodies || (nmats && !tmp.mats) || (facet_mat && !tmp.facet_mat)) goto nomem;
+    for (size_t i = 0; i < nmats; ++i) {
+        tmp.mats[i] = mats[i];
+        tmp.mats[i].name = hv_strdup(mats[i].name ? mats[i].name : "");
+        tmp.nmats = i + 1;
+        if (!tmp.mats[i].name) goto nomem;
+    }
+    if (facet_mat) memcpy(tmp.facet_mat, facet_mat, m->nf * sizeof *facet_mat);
+    size_t first = 0;
+    for (size_t i = 0; i < n; ++i) {
+        hv_mesh_body *b = &tmp.bodies[i];
+        *b = bodies[i];
+        b->first_facet = first;
+        first += b->facet_count;
+        b->name = unique_name(tmp.bodies, i, bodies[i].name, i);
+        tmp.nbodies = i + 1;
+        if (!b->name) goto nomem;
+        if (b->material == HV_MESH_NO_MATERIAL && facet_mat && nmats) {
+            size_t *cnt = hv_calloc(nmats, sizeof *cnt);
+            if (!cnt) goto nomem;
+            for (size_t f = b->first_facet; f < b->first_facet + b->facet_count; ++f)
+                if (facet_mat[f] >= 0) cnt[facet_mat[f]]++;
+            size_t best = 0;
+            for (size_t k = 0; k < nmats; ++k)
+                if (cnt[k] > best) {
+                    best = cnt[k];
+                    b->material = (int32_t)k;
+                }
+            free(cnt);
+        }
+    }
+    bodies_free(m);
+    m->bodies = tmp.bodies;
+    m->nbodies = tmp.nbodies;
+    m->mats = tmp.mats;
+    m->nmats = tmp.nmats;
+    m->facet_mat = tmp.facet_mat;
+    return HV_OK;
+nomem:
+    bodies_free(&tmp);
+    return HV_ERR_NOMEM;
+}
+
+/* The single body of a mesh built without bodies: named after the file (its base name without
+ * the extension), or "body 1". */
+hv_status hv_mesh_default_body(hv_mesh *m)
+{
+    const char *base = m->name && *m->name ? hv_basename(m->name) : "";
+    char *stem = hv_strdup(base);
+    if (!stem) return HV_ERR_NOMEM;
+    char *dot = strrchr(stem, '.');
+    if (dot && dot != stem) *dot = '\0';
+    hv_mesh_body b = {stem, HV_MESH_NO_MATERIAL, 0, m->nf};
+    hv_status s = hv_mesh_set_bodies(m, &b, 1, NULL, 0, NULL);
+    free(stem);
+    return s;
+}
+
+size_t hv_mesh_body_count(const hv_mesh *m) { return m->nbodies; }
+const hv_mesh_body *hv_mesh_body_at(const hv_mesh *m, size_t i)
+{
+    return i < m->nbodies ? &m->bodies[i] : NULL;
+}
+int64_t hv_mesh_body_find(const hv_mesh *m, const char *name)
+{
+    for (size_t i = 0; i < m->nbodies; ++i)
+        if (strcmp(m->bodies[i].name, name) == 0) return (int64_t)i;
+    return -1;
+}
+size_t hv_mesh_material_count(const hv_mesh *m) { return m->nmats; }
+const hv_mesh_material *hv_mesh_material_at(const hv_mesh *m, size_t i)
+{
+    return i < m->nmats ? &m->mats[i] : NULL;
+}
+const int32_t *hv_mesh_facet_materials(const hv_mesh *m) { return m->facet_mat; }
+
+/* The facets [first, first + n) of m as a soup (9 floats per facet). */
+static float *soup_of(const hv_mesh *m, size_t first, size_t n)
+{
+    float *soup = hv_malloc_array(n, 9 * sizeof(float));
+    if (!soup) return NULL;
+    for (size_t f = 0; f < n; ++f)
+        for (int k = 0; k < 3; ++k)
+            memcpy(soup + 9 * f + 3 * (size_t)k, m->xyz + 3 * (size_t)m->tri[3 * (first + f) + (size_t)k],
+                   3 * sizeof(float));
+    return soup;
+}
+
+hv_status hv_mesh_body_extract(const hv_mesh *m, size_t i, hv_mesh **out)
+{
+    *out = NULL;
+    if (i >= m->nbodies)
+        return hv_error_set(HV_ERR_INVALID, "%s: no body %zu (%zu bodies)", hv_mesh_name(m), i,
+                            m->nbodies);
+    const hv_mesh_body *b = &m->bodies[i];
+    float *soup = soup_of(m, b->first_facet, b->facet_count);
+    if (!soup) return HV_ERR_NOMEM;
+    hv_buf name;
+    hv_buf_init(&name);
+    hv_buf_puts(&name, hv_mesh_name(m));
+    if (m->nbodies > 1) hv_buf_printf(&name, "%s%s", *hv_mesh_name(m) ? "#" : "", b->name);
+    hv_status s = name.failed ? HV_ERR_NOMEM
+                              : hv_mesh_from_soup(soup, NULL, b->facet_count, name.data,
+                                                  m->report.format, out);
+    free(soup);
+    hv_buf_free(&name);
+    if (s != HV_OK) return s;
+    hv_mesh_body one = *b;
+    s = hv_mesh_set_bodies(*out, &one, 1, m->mats, m->nmats,
+                           m->facet_mat ? m->facet_mat + b->first_facet : NULL);
+    if (s != HV_OK) {
+        hv_mesh_destroy(*out);
+        *out = NULL;
+    }
+    return s;
+}
+
+hv_status hv_mesh_join(const hv_mesh_part *parts, size_t n, hv_mesh **out)
+{
+    *out = NULL;
+    if (n == 0) return hv_error_set(HV_ERR_INVALID, "joining meshes: no parts");
+    size_t nf = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!parts[i].mesh) return hv_error_set(HV_ERR_INVALID, "joining meshes: part %zu has no mesh", i + 1);
+        nf += parts[i].mesh->nf;
+    }
+    float *soup = hv_malloc_array(nf, 9 * sizeof(float));
+    hv_mesh_body *bodies = hv_calloc(n, sizeof *bodies);
+    hv_mesh_material *mats = hv_calloc(n, sizeof *mats);
+    hv_status s = HV_OK;
+    if (!soup || !bodies || !mats) {
+        s = HV_ERR_NOMEM;
+        goto done;
+    }
+    size_t at = 0, nmats = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const hv_mesh *p = parts[i].mesh;
+        float *part = soup_of(p, 0, p->nf);
+        if (!part) {
+            s = HV_ERR_NOMEM;
+            goto done;
+        }
+        memcpy(soup + 9 * at, part, p->nf * 9 * sizeof(float));
+        free(part);
+        at += p->nf;
+        bodies[i].name = parts[i].name;
+        bodies[i].facet_count = p->nf;
+        bodies[i].material = HV_MESH_NO_MATERIAL;
+        if (parts[i].material) {
+            size_t k = 0;
+            while (k < nmats && strcmp(mats[k].name, parts[i].material) != 0) ++k;
+            if (k == nmats) mats[nmats++].name = parts[i].material;
+            bodies[i].material = (int32_t)k;
+        }
+    }
+    s = hv_mesh_from_soup(soup, NULL, nf, "", HV_MESH_GENERATED, out);
+    if (s == HV_OK) s = hv_mesh_set_bodies(*out, bodies, n, mats, nmats, NULL);
+    if (s != HV_OK) {
+        hv_mesh_destroy(*out);
+        *out = NULL;
+    }
+done:
+    free(soup);
+    free(bodies);
+    free(mats);
+    return s;
+}
+
+/* ---- reader choice ---------------------------------------------------------------------- */
+
+static int ext_is(const char *path, const char *ext)
+{
+    size_t n = strlen(path), e = strlen(ext);
+    if (n <= e || path[n - e - 1] != '.') return 0;
+    for (size_t i = 0; i < e; ++i)
+        if (tolower((unsigned char)path[n - e + i]) != ext[i]) return 0;
+    return 1;
+}
+
+const char *hv_mesh_load_extensions(void) { return "stl"; }
+
+hv_status hv_mesh_load(const char *path, hv_mesh **out)
+{
+    *out = NULL;
+    if (ext_is(path, "stl")) return hv_mesh_load_stl(path, out);
+    const char *dot = strrchr(hv_basename(path), '.');
+    return hv_error_set(HV_ERR_BAD_INPUT, "%s: unsupported mesh format '%s' (supported: %s)", path,
+                        dot ? dot + 1 : "", hv_mesh_load_extensions());
+}

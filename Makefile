@@ -255,7 +255,7 @@ cli-tests: $(BUILD)/hovox $(PLUGINS)
 
 # Damaged and hostile .vdb files end cleanly, in time and memory (not under ASan: its shadow
 # memory is not the program's).
-vdb-tests: $(BUILD)/hovox $(PLUGINS)
+vdb-tests: $(BUILD)/hovox $(PLUGINS) $(BUILD)/fuzz/fuzz_vdb
 	@HOVOX=$(ROOT)/$(BUILD)/hovox sh tests/volumes/corrupt_vdb.sh
 
 sample-tests: $(BUILD)/hovox $(PLUGINS)

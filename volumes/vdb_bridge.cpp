@@ -71,10 +71,15 @@ HV_CHECKED_READ(math::Vec3<int32_t>)
 // OpenVDB 10.0's RootNode::readTopology allocates each child with a plain new and reads its
 // topology before the root owns it: when the read throws (a damaged or truncated file) the
 // child's whole subtree leaks, 270 KB per failed load of a small model (found by fuzz_vdb:
-// the fuzzer grew to its 4 GiB limit in three minutes). hovox's copy, for the trees this plugin
-// compiles, hands the child to a unique_ptr until the root table holds it. Files in the format
-// before OpenVDB 1.0 (file version < 213) are refused instead of read: their root table size is
-// 2^(sum of three log2 extents) taken from the file, with no bound.
+// the fuzzer grew to its 4 GiB limit in three minutes). Freeing it is not enough: an internal
+// node whose read stopped part way has child-mask bits on for slots that still hold values, and
+// its destructor would delete those values as pointers (found by fuzz_vdb once the leak was
+// fixed). hovox's copies, for the trees this plugin compiles: the root hands the child to a
+// unique_ptr until its table holds it; an internal node whose read throws turns off the child
+// bits of the slots it had not filled (they become background tiles) before passing the error
+// on, so the partial subtree is a valid tree to destroy. Files in the format before OpenVDB 1.0
+// (file version < 213) are refused instead of read: their root table size is 2^(sum of three
+// log2 extents) taken from the file, with no bound.
 #include <openvdb/tree/InternalNode.h>
 #include <openvdb/tree/LeafNode.h>
 #include <openvdb/tree/LeafNodeBool.h>
@@ -84,7 +89,62 @@ namespace openvdb {
 OPENVDB_USE_VERSION_NAMESPACE
 namespace OPENVDB_VERSION_NAME {
 namespace tree {
+#define HV_CHECKED_INTERNAL(NODE)                                                                             \
+    template<>                                                                                                \
+    inline void NODE::readTopology(std::istream & is, bool fromHalf)                                          \
+    {                                                                                                         \
+        const ValueType background = !io::getGridBackgroundValuePtr(is)                                       \
+                                         ? zeroVal<ValueType>()                                               \
+                                         : *static_cast<const ValueType *>(io::getGridBackgroundValuePtr(is)); \
+        NodeMaskType filled; /* child slots that hold a child */                                             \
+        try {                                                                                                 \
+            mChildMask.load(is); /* inside: a mask read part way is repaired too */                          \
+            mValueMask.load(is);                                                                              \
+            if (io::getFormatVersion(is) < OPENVDB_FILE_VERSION_INTERNALNODE_COMPRESSION) {                   \
+                for (Index i = 0; i < NUM_VALUES; ++i) {                                                      \
+                    if (this->isChildMaskOn(i)) {                                                             \
+                        ChildNodeType *child =                                                                \
+                            new ChildNodeType(PartialCreate(), offsetToGlobalCoord(i), background);           \
+                        mNodes[i].setChild(child);                                                            \
+                        filled.setOn(i);                                                                      \
+                        child->readTopology(is);                                                              \
+                    } else {                                                                                  \
+                        ValueType value;                                                                      \
+                        is.read(reinterpret_cast<char *>(&value), sizeof(ValueType));                         \
+                        mNodes[i].setValue(value);                                                            \
+                    }                                                                                         \
+                }                                                                                             \
+                return;                                                                                       \
+            }                                                                                                 \
+            const bool oldVersion = io::getFormatVersion(is) < OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION;    \
+            const Index numValues = oldVersion ? mChildMask.countOff() : NUM_VALUES;                          \
+            {                                                                                                 \
+                std::unique_ptr<ValueType[]> values(new ValueType[numValues]);                                \
+                io::readCompressedValues(is, values.get(), numValues, mValueMask, fromHalf);                  \
+                Index n = 0;                                                                                  \
+                for (ValueAllIter it = this->beginValueAll(); it; ++it)                                       \
+                    mNodes[it.pos()].setValue(values[oldVersion ? n++ : it.pos()]);                           \
+            }                                                                                                 \
+            for (ChildOnIter it = this->beginChildOn(); it; ++it) {                                           \
+                ChildNodeType *child = new ChildNodeType(PartialCreate(), it.getCoord(), background);         \
+                mNodes[it.pos()].setChild(child);                                                             \
+                filled.setOn(it.pos());                                                                       \
+                child->readTopology(is, fromHalf);                                                            \
+            }                                                                                                 \
+        } catch (...) {                                                                                       \
+            for (Index i = 0; i < NUM_VALUES; ++i)                                                            \
+                if (mChildMask.isOn(i) && !filled.isOn(i)) {                                                  \
+                    mChildMask.setOff(i);                                                                     \
+                    mNodes[i].setValue(background);                                                           \
+                }                                                                                             \
+            throw;                                                                                            \
+        }                                                                                                     \
+    }
+#define HV_NODE4(T) InternalNode<LeafNode<T, 3>, 4>
+#define HV_NODE5(T) InternalNode<InternalNode<LeafNode<T, 3>, 4>, 5>
 #define HV_CHECKED_ROOT(T)                                                                                    \
+    HV_CHECKED_INTERNAL(HV_NODE4(T))                                                                          \
+    HV_CHECKED_INTERNAL(HV_NODE5(T))                                                                          \
     template<>                                                                                                \
     inline bool RootNode<InternalNode<InternalNode<LeafNode<T, 3>, 4>, 5>>::readTopology(std::istream & is,    \
                                                                                          bool fromHalf)       \
@@ -131,6 +191,9 @@ HV_CHECKED_ROOT(hv_vec3f)
 HV_CHECKED_ROOT(hv_vec3d)
 HV_CHECKED_ROOT(hv_vec3i)
 #undef HV_CHECKED_ROOT
+#undef HV_CHECKED_INTERNAL
+#undef HV_NODE4
+#undef HV_NODE5
 } // namespace tree
 } // namespace OPENVDB_VERSION_NAME
 } // namespace openvdb

@@ -55,7 +55,9 @@ OIIO_CFLAGS = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 VTK_INC   := -isystem /usr/include/vtk-9.1
 VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkFiltersCore-9.1 -lvtkCommonExecutionModel-9.1 \
              -lvtkCommonDataModel-9.1 -lvtkCommonCore-9.1
-PLUGINS   := $(PLUGDIR)/hovox-vdb.so
+LIB3MF_CFLAGS := -isystem /usr/include/lib3mf
+LIB3MF_LIBS   := -l3MF
+PLUGINS   := $(PLUGDIR)/hovox-vdb.so $(PLUGDIR)/hovox-3mf.so
 ifneq ($(wildcard src/image/oiio_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-oiio.so
 endif
@@ -142,7 +144,7 @@ endif
 
 $(BUILD)/obj/%.pic.o: %.cpp $(BUILD)/.flags
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS_ALL) $(CXXFLAGS_ALL) $(EXTRA_CXXFLAGS) -c $< -o $@
+	$(CXX) $(CPPFLAGS_ALL) $(CXXFLAGS_ALL) $(BRIDGE_CXXFLAGS) $(EXTRA_CXXFLAGS) -c $< -o $@
 
 $(PLUGDIR)/hovox-vdb.so: $(BUILD)/obj/volumes/vdb_bridge.pic.o
 	@mkdir -p $(dir $@)
@@ -152,6 +154,12 @@ $(PLUGDIR)/hovox-oiio.so: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
 $(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
+
+# (BRIDGE_CXXFLAGS, not EXTRA_CXXFLAGS: the fuzz build sets that one on the command line)
+$(BUILD)/obj/src/mesh/threemf_bridge.pic.o: BRIDGE_CXXFLAGS = $(LIB3MF_CFLAGS)
+$(PLUGDIR)/hovox-3mf.so: $(BUILD)/obj/src/mesh/threemf_bridge.pic.o
+	@mkdir -p $(dir $@)
+	$(CXX) -shared -o $@ $^ $(LIB3MF_LIBS) $(SANFLAGS)
 
 $(BUILD)/obj/src/export/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
 $(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/src/export/vtk_bridge.pic.o

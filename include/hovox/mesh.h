@@ -72,6 +72,45 @@ HV_API hv_status hv_mesh_load(const char *path, hv_mesh **out);
 /* The extensions hv_mesh_load reads, "stl, 3mf, obj, ply". Static. */
 HV_API const char *hv_mesh_load_extensions(void);
 
+/* The readers behind hv_mesh_load, from memory (fuzzing, tests, files already read). `name`
+ * names the file in messages and, without its directories and extension, the body of facets
+ * no group names. All three refuse input they cannot read whole: HV_ERR_BAD_INPUT with one
+ * line naming `name`, the place (line, element, object, triangle) and the value;
+ * HV_ERR_LIMIT (more than 2^31 facets or 2^32 vertices, a 3MF package larger than the memory
+ * budget allows), HV_ERR_NOMEM. On failure *out is NULL. Polygons are fan-triangulated around
+ * their first corner (right for the convex polygons exporters write).
+ *
+ * OBJ: `v` (x y z, an optional w or a trailing colour read and not used), `f` with v, v/vt,
+ * v//vn or v/vt/vn corners; indices count from 1, or back from -1 for the last vertex defined,
+ * and must name a vertex (texture coordinate, normal) defined above the face. `o` and `g`
+ * start a body of that name (one that holds no face is dropped, a name that comes back
+ * continues its body); faces before any `o`/`g` form a body named after the file. `usemtl`
+ * names the material of the faces that follow. `vt`, `vn` (counted), `s`, `mtllib` and the
+ * other display statements are skipped; lines (`l`) and points (`p`) are not read; free-form
+ * geometry and unknown statements are refused. `\` continues a statement on the next line;
+ * `#` starts a comment. */
+HV_API hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_mesh **out);
+
+/* PLY 1.0, ASCII or binary of either byte order: the element vertex's x, y, z (any scalar
+ * type) and the element face's list vertex_indices or vertex_index (integer count and item
+ * types); other properties and elements, lists included, are skipped. Element counts are
+ * checked against the bytes after the header before anything is allocated. One body, named
+ * after the file; colours are not read (no materials). */
+HV_API hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_mesh **out);
+
+/* 3MF (core specification 1.x, with the materials extension's colour groups), read by lib3mf
+ * in a plugin (plugins/hovox-3mf.so, loaded on first use; HV_ERR_UNSUPPORTED when it is
+ * missing). Each build item is a body: its object's mesh, or its components flattened, placed
+ * by the item's and the components' transforms, named by the object's name attribute ("body N"
+ * without one). Coordinates are converted from the model's unit to millimetres. Materials:
+ * base materials by name (with their display colour) and colours ("#RRGGBB", "#RRGGBBAA" when
+ * not opaque), per object (pid/pindex) and per triangle (pid/p1; a gradient's first corner); a
+ * body's material is its object's default, else its facets' majority. Items of objects of
+ * type "support" or "other" are not bodies. Besides lib3mf's own checks, hovox checks every
+ * material reference (a pid naming no property group, an index past its group's end) and
+ * every vertex index and coordinate it is given. */
+HV_API hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out);
+
 /* ---- bodies and materials ------------------------------------------------------------------
  * Every mesh has at least one body. A body is a consecutive range of facets, in file order:
  * a 3MF build item's object (with its components), an OBJ `o` or `g` group, a whole STL or

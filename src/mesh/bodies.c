@@ -138,11 +138,8 @@ nomem:
  * the extension), or "body 1". */
 hv_status hv_mesh_default_body(hv_mesh *m)
 {
-    const char *base = m->name && *m->name ? hv_basename(m->name) : "";
-    char *stem = hv_strdup(base);
+    char *stem = hv_mesh_file_stem(m->name);
     if (!stem) return HV_ERR_NOMEM;
-    char *dot = strrchr(stem, '.');
-    if (dot && dot != stem) *dot = '\0';
     hv_mesh_body b = {stem, HV_MESH_NO_MATERIAL, 0, m->nf};
     hv_status s = hv_mesh_set_bodies(m, &b, 1, NULL, 0, NULL);
     free(stem);
@@ -270,12 +267,15 @@ static int ext_is(const char *path, const char *ext)
     return 1;
 }
 
-const char *hv_mesh_load_extensions(void) { return "stl"; }
+const char *hv_mesh_load_extensions(void) { return "stl, 3mf, obj, ply"; }
 
 hv_status hv_mesh_load(const char *path, hv_mesh **out)
 {
     *out = NULL;
     if (ext_is(path, "stl")) return hv_mesh_load_stl(path, out);
+    if (ext_is(path, "3mf")) return hv_mesh_load_3mf(path, out);
+    if (ext_is(path, "obj")) return hv_mesh_load_obj(path, out);
+    if (ext_is(path, "ply")) return hv_mesh_load_ply(path, out);
     const char *dot = strrchr(hv_basename(path), '.');
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: unsupported mesh format '%s' (supported: %s)", path,
                         dot ? dot + 1 : "", hv_mesh_load_extensions());

@@ -44,4 +44,39 @@ void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);
 hv_status hv_mesh_default_body(hv_mesh *m);
 void hv_mesh_bodies_free(hv_mesh *m);
 
+/* The file readers behind hv_mesh_load (same errors as their parse_ functions, plus HV_ERR_IO). */
+hv_status hv_mesh_load_obj(const char *path, hv_mesh **out);
+hv_status hv_mesh_load_ply(const char *path, hv_mesh **out);
+hv_status hv_mesh_load_3mf(const char *path, hv_mesh **out);
+
+/* ---- what the file readers share (readers.c) -------------------------------------------- */
+
+/* A set of names, each with the index of its first insertion (bodies, materials). */
+typedef struct hv_names {
+    char **names; /* n, in insertion order; owned */
+    size_t n, cap;
+    int64_t *slots; /* open addressing: index + 1, 0 empty */
+    size_t nslots;
+} hv_names;
+void hv_names_init(hv_names *t);
+void hv_names_free(hv_names *t);
+/* The index of the name s[0..n), or -1. */
+int64_t hv_names_find(const hv_names *t, const char *s, size_t n);
+/* The index of the name s[0..n), inserted when new. Errors: NOMEM, LIMIT. */
+hv_status hv_names_intern(hv_names *t, const char *s, size_t n, int32_t *index);
+
+/* A printable copy of s[0..n) for messages (control and non-ASCII bytes as '?', "..." when
+ * cut to fit cap); returns buf. */
+const char *hv_quote(char *buf, size_t cap, const char *s, size_t n);
+
+/* The base name of a file without its extension ("part" for "dir/part.obj"); malloc'd. */
+char *hv_mesh_file_stem(const char *name);
+
+/* A reader's last step: the soup (9 floats per facet, finite) becomes a mesh named `name`,
+ * with the bodies given (consecutive facet ranges in order; none: one body named after the
+ * file) and the materials (facet_mat may be NULL). */
+hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_format format,
+                        const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
+                        size_t nmats, const int32_t *facet_mat, hv_mesh **out);
+
 #endif

@@ -153,6 +153,11 @@ HV_API const int32_t *hv_mesh_facet_materials(const hv_mesh *mesh);
  * HV_ERR_NOMEM. */
 HV_API hv_status hv_mesh_body_extract(const hv_mesh *mesh, size_t i, hv_mesh **out);
 
+/* Body i's own report: its facets as a mesh of their own (hv_mesh_body_extract), or the
+ * whole mesh's report when it has one body. Errors: HV_ERR_INVALID (i out of range),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_body_report(const hv_mesh *mesh, size_t i, hv_mesh_report *out);
+
 /* Join meshes into one multi-body mesh, one body per part in order: all of the part's facets
  * (whatever bodies it has) become one body. Materials are the distinct `material` names, in
  * order. The result is named "" (generated). Errors: HV_ERR_INVALID (n == 0, a NULL mesh),

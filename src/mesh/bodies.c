@@ -205,6 +205,20 @@ hv_status hv_mesh_body_extract(const hv_mesh *m, size_t i, hv_mesh **out)
     return s;
 }
 
+hv_status hv_mesh_body_report(const hv_mesh *m, size_t i, hv_mesh_report *out)
+{
+    if (m->nbodies == 1 && i == 0) {
+        *out = m->report;
+        return HV_OK;
+    }
+    hv_mesh *b;
+    hv_status s = hv_mesh_body_extract(m, i, &b);
+    if (s != HV_OK) return s;
+    *out = b->report;
+    hv_mesh_destroy(b);
+    return HV_OK;
+}
+
 hv_status hv_mesh_join(const hv_mesh_part *parts, size_t n, hv_mesh **out)
 {
     *out = NULL;

@@ -39,6 +39,18 @@ hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, 
  * volumes/schema.h); sets b->failed when out of memory. */
 void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);
 
+/* The document of `hovox info --json` for one mesh: the keys of hv_mesh_report_json, then
+ * "materials" ([{"name", "color": "#rrggbb[aa]" or null}]) and "bodies" ([{"name", "material"
+ * (a name or null), "first_facet", and the report keys of body_reports[i]}]). Sets b->failed
+ * when out of memory. */
+void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_mesh_report *body_reports);
+
+/* The name of a format in JSON and Lua ("binary", "ascii", "3mf", "obj", "ply_ascii", ...). */
+const char *hv_mesh_format_key(hv_mesh_format format);
+
+/* The display colour of a material as text: "#rrggbb", "#rrggbbaa" when not opaque; buf. */
+const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10]);
+
 /* The one body of a mesh built from a soup: named after the file (base name without the
  * extension) or "body 1". Called by hv_mesh_from_soup. */
 hv_status hv_mesh_default_body(hv_mesh *m);

@@ -144,8 +144,8 @@ struct Reader {
     static std::string colour_name(uint32_t rgba)
     {
         char buf[16];
-        if ((rgba & 0xFF) == 0xFF) std::snprintf(buf, sizeof buf, "#%06X", unsigned(rgba >> 8));
-        else std::snprintf(buf, sizeof buf, "#%08X", unsigned(rgba));
+        if ((rgba & 0xFF) == 0xFF) std::snprintf(buf, sizeof buf, "#%06x", unsigned(rgba >> 8));
+        else std::snprintf(buf, sizeof buf, "#%08x", unsigned(rgba));
         return buf;
     }
 

@@ -75,7 +75,7 @@ static hv_status parse_coord(const obj_reader *r, const char *s, const char *e, 
     buf[n] = '\0';
     char *endp;
     float v = strtof(buf, &endp);
-    if (endp == buf || *endp != '\0') return bad_coord(r, what, "number", s, n);
+    if (endp != buf + n) return bad_coord(r, what, "number", s, n);
     if (!isfinite(v)) return bad_coord(r, what, "finite float", s, n);
     *out = v;
     return HV_OK;

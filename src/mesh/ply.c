@@ -293,14 +293,26 @@ typedef union ply_value {
 
 static const char *elem_word(const ply_elem *el) { return el->role == 1 ? "vertex" : el->role == 2 ? "face" : el->name; }
 
+/* Where a value is, for messages: "line 12: vertex 3" (ASCII), "vertex 3 (byte 180)" (binary). */
+static const char *place(const ply_reader *r, const ply_elem *el, uint64_t index, size_t at, char *buf, size_t cap)
+{
+    if (r->format == F_ASCII)
+        snprintf(buf, cap, "line %zu: %s %llu", r->line, elem_word(el), (unsigned long long)index);
+    else
+        snprintf(buf, cap, "%s %llu (byte %zu)", elem_word(el), (unsigned long long)index, at);
+    return buf;
+}
+
 /* Binary: one value of type t at the cursor. */
 static hv_status read_binary(ply_reader *r, int t, const ply_elem *el, uint64_t index, const char *what,
                              ply_value *v)
 {
     size_t n = (size_t)k_type_size[t];
-    if ((size_t)(r->end - r->p) < n)
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: truncated: %s %llu (byte %zu): %s ends past the end of the file",
-                            r->name, elem_word(el), (unsigned long long)index, (size_t)(r->p - r->d), what);
+    if ((size_t)(r->end - r->p) < n) {
+        char pl[160];
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s ends past the end of the file (truncated)", r->name,
+                            place(r, el, index, (size_t)(r->p - r->d), pl, sizeof pl), what);
+    }
     unsigned char b[8];
     if (r->format == F_LE) memcpy(b, r->p, n);
     else
@@ -324,14 +336,15 @@ static hv_status read_ascii(ply_reader *r, int t, const ply_elem *el, uint64_t i
                             ply_value *v)
 {
     const char *p = (const char *)r->p, *end = (const char *)r->end;
+    char pl[160], q[72];
     while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
     if (p == end || *p == '\n')
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: %s %llu: %s is missing (the line ends)", r->name,
-                            r->line, elem_word(el), (unsigned long long)index, what);
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s is missing (the line ends)", r->name,
+                            place(r, el, index, 0, pl, sizeof pl), what);
     const char *s = p;
     while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
     r->p = (const unsigned char *)p;
-    char buf[80], q[72];
+    char buf[80];
     size_t n = (size_t)(p - s);
     if (n >= sizeof buf) goto bad_number;
     memcpy(buf, s, n);
@@ -342,21 +355,20 @@ static hv_status read_ascii(ply_reader *r, int t, const ply_elem *el, uint64_t i
         long long x = strtoll(buf, &endp, 10);
         static const long long lo[] = {INT8_MIN, 0, INT16_MIN, 0, INT32_MIN, 0};
         static const long long hi[] = {INT8_MAX, UINT8_MAX, INT16_MAX, UINT16_MAX, INT32_MAX, UINT32_MAX};
-        if (endp == buf || *endp != '\0') goto bad_number;
+        if (n == 0 || endp != buf + n) goto bad_number;
         if (errno == ERANGE || x < lo[t] || x > hi[t])
-            return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: %s %llu: %s %s is out of range for %s", r->name,
-                                r->line, elem_word(el), (unsigned long long)index, what, buf, k_type_names[t][0]);
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s is %s, out of range for %s", r->name,
+                                place(r, el, index, 0, pl, sizeof pl), what, buf, k_type_names[t][0]);
         v->i = x;
     } else {
         double x = strtod(buf, &endp);
-        if (endp == buf || *endp != '\0') goto bad_number;
-        v->f = t == T_FLOAT32 ? (double)(float)x : x;
+        if (n == 0 || endp != buf + n) goto bad_number;
+        v->f = x; /* a float32 out of range is refused where it is used, with its text's value */
     }
     return HV_OK;
 bad_number:
-    return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: %s %llu: %s is not a%s number: '%s'", r->name, r->line,
-                        elem_word(el), (unsigned long long)index, what, is_integer(t) ? "n integer" : "",
-                        hv_quote(q, sizeof q, s, n));
+    return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s is not %s: '%s'", r->name, place(r, el, index, 0, pl, sizeof pl),
+                        what, is_integer(t) ? "an integer" : "a number", hv_quote(q, sizeof q, s, n));
 }
 
 static hv_status read_value(ply_reader *r, int t, const ply_elem *el, uint64_t index, const char *what,
@@ -374,10 +386,9 @@ static hv_status end_line(ply_reader *r, const ply_elem *el, uint64_t index)
     if (p < end && *p != '\n') {
         const char *s = p;
         while (p < end && *p != '\n' && p - s < 40) ++p;
-        char q[72];
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: %s %llu has more values than its %zu properties: '%s'",
-                            r->name, r->line, elem_word(el), (unsigned long long)index, el->nprops,
-                            hv_quote(q, sizeof q, s, (size_t)(p - s)));
+        char q[72], pl[160];
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: more values than its %zu properties: '%s'", r->name,
+                            place(r, el, index, 0, pl, sizeof pl), el->nprops, hv_quote(q, sizeof q, s, (size_t)(p - s)));
     }
     if (p < end) ++p;
     r->line++;
@@ -389,34 +400,31 @@ static double as_double(int t, ply_value v) { return is_integer(t) ? (double)v.i
 
 /* ---- elements ---------------------------------------------------------------------------- */
 
-static hv_status read_face(ply_reader *r, const ply_elem *el, uint64_t f, uint64_t count, int item)
+/* A face's vertex list (its count read, at byte `at`), fan-triangulated around its first corner. */
+static hv_status read_face(ply_reader *r, const ply_elem *el, uint64_t f, uint64_t count, int item, size_t at)
 {
+    char pl[160];
     if (count < 3)
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: face %llu has %llu vertices, at least 3 needed", r->name,
-                            (unsigned long long)f, (unsigned long long)count);
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %llu vertices, at least 3 needed", r->name,
+                            place(r, el, f, at, pl, sizeof pl), (unsigned long long)count);
     uint64_t min = r->format == F_ASCII ? 2 : (uint64_t)k_type_size[item];
     uint64_t left = (uint64_t)(r->end - r->p) + (r->format == F_ASCII);
     if (count > left / min)
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: face %llu declares %llu vertices but the %zu bytes left hold at most %llu",
-                            r->name, (unsigned long long)f, (unsigned long long)count, (size_t)(r->end - r->p),
-                            (unsigned long long)(left / min));
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: declares %llu vertices but the %zu bytes left hold at most %llu",
+                            r->name, place(r, el, f, at, pl, sizeof pl), (unsigned long long)count,
+                            (size_t)(r->end - r->p), (unsigned long long)(left / min));
     hv_status s = hv_grow((void **)&r->tri, &r->tcap, 3 * (r->nt + count - 2), sizeof *r->tri);
     if (s != HV_OK) return s;
     uint32_t first = 0, prev = 0;
     for (uint64_t k = 0; k < count; ++k) {
-        size_t at = (size_t)(r->p - r->d);
+        size_t vat = (size_t)(r->p - r->d);
         ply_value v;
         char what[48];
-        snprintf(what, sizeof what, "vertex index %llu", (unsigned long long)k);
+        snprintf(what, sizeof what, "corner %llu", (unsigned long long)k + 1);
         if ((s = read_value(r, item, el, f, what, &v)) != HV_OK) return s;
-        if (v.i < 0 || (uint64_t)v.i >= r->vertex->count) {
-            if (r->format == F_ASCII)
-                return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: face %llu: vertex index %lld out of range (%llu vertices)",
-                                    r->name, r->line, (unsigned long long)f, (long long)v.i,
-                                    (unsigned long long)r->vertex->count);
-            return hv_error_set(HV_ERR_BAD_INPUT, "%s: face %llu (byte %zu): vertex index %lld out of range (%llu vertices)",
-                                r->name, (unsigned long long)f, at, (long long)v.i, (unsigned long long)r->vertex->count);
-        }
+        if (v.i < 0 || (uint64_t)v.i >= r->vertex->count)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: vertex index %lld out of range (%llu vertices)", r->name,
+                                place(r, el, f, vat, pl, sizeof pl), (long long)v.i, (unsigned long long)r->vertex->count);
         uint32_t idx = (uint32_t)v.i;
         if (k == 0) first = idx;
         else if (k >= 2) { /* a fan around the first corner */
@@ -434,6 +442,7 @@ static hv_status read_element(ply_reader *r, const ply_elem *el)
 {
     static const char *const axis[] = {"x", "y", "z"};
     if (el->nprops == 0) return HV_OK; /* no data, whatever its count */
+    char pl[160];
     for (uint64_t i = 0; i < el->count; ++i) {
         for (size_t k = 0; k < el->nprops; ++k) {
             const ply_prop *pr = &el->props[k];
@@ -447,13 +456,9 @@ static hv_status read_element(ply_reader *r, const ply_elem *el)
                     if (el->xyz[a] != (int)k) continue;
                     double x = as_double(pr->type, v);
                     float fx = (float)x;
-                    if (!isfinite(fx)) {
-                        if (r->format == F_ASCII)
-                            return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: vertex %llu: %s is not a finite float (%g)",
-                                                r->name, r->line, (unsigned long long)i, axis[a], x);
-                        return hv_error_set(HV_ERR_BAD_INPUT, "%s: vertex %llu (byte %zu): %s is not a finite float (%g)",
-                                            r->name, (unsigned long long)i, at, axis[a], x);
-                    }
+                    if (!isfinite(fx))
+                        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s is not a finite float (%g)", r->name,
+                                            place(r, el, i, at, pl, sizeof pl), axis[a], x);
                     r->xyz[3 * i + (uint64_t)a] = fx;
                 }
                 continue;
@@ -462,20 +467,19 @@ static hv_status read_element(ply_reader *r, const ply_elem *el)
             snprintf(what, sizeof what, "the count of list %s", pr->name);
             if ((s = read_value(r, pr->count_type, el, i, what, &v)) != HV_OK) return s;
             if (v.i < 0)
-                return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s %llu: list %s has a negative count (%lld)", r->name,
-                                    elem_word(el), (unsigned long long)i, pr->name, (long long)v.i);
+                return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: list %s has a negative count (%lld)", r->name,
+                                    place(r, el, i, at, pl, sizeof pl), pr->name, (long long)v.i);
             uint64_t count = (uint64_t)v.i;
             if (el->role == 2 && el->indices == (int)k) {
-                if ((s = read_face(r, el, i, count, pr->type)) != HV_OK) return s;
+                if ((s = read_face(r, el, i, count, pr->type, at)) != HV_OK) return s;
                 continue;
             }
             if (r->format != F_ASCII) { /* skipped by its size */
                 uint64_t bytes = count * (uint64_t)k_type_size[pr->type];
                 if (bytes > (uint64_t)(r->end - r->p))
                     return hv_error_set(HV_ERR_BAD_INPUT,
-                                        "%s: truncated: %s %llu (byte %zu): list %s of %llu items ends past the end of the file",
-                                        r->name, elem_word(el), (unsigned long long)i, at, pr->name,
-                                        (unsigned long long)count);
+                                        "%s: %s: list %s of %llu items ends past the end of the file (truncated)",
+                                        r->name, place(r, el, i, at, pl, sizeof pl), pr->name, (unsigned long long)count);
                 r->p += bytes;
                 continue;
             }

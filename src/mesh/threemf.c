@@ -422,7 +422,7 @@ static hv_status scan_vertex(model_scan *m, const xml_tag *t)
             buf[n] = '\0';
             x = strtof(buf, &endp);
         }
-        if (n >= sizeof buf || endp == buf || *endp != '\0' || !isfinite(x))
+        if (n >= sizeof buf || n == 0 || endp != buf + n || !isfinite(x))
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: vertex %llu: %s is not a finite number ('%s')", m->name,
                                 m->obj_label, (unsigned long long)m->nv, axis[a], hv_quote(q, sizeof q, v, n));
     }

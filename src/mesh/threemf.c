@@ -270,22 +270,23 @@ static hv_status package_open(package *pk, const void *data, size_t size, const 
     return s;
 }
 
-/* Every part expanded once, counting its real size (a ZIP's declared sizes may lie): the
- * whole must fit the memory budget. The model part is kept when `model` is given. */
+/* Every part expanded once, counting its real size (a ZIP's declared sizes may lie): lib3mf
+ * holds about one byte per byte of model text and hovox a mesh of the same order, so the
+ * expanded package may take half of the memory budget. The model part is kept when `model` is
+ * given. */
 static hv_status package_expand(package *pk, uint64_t budget, hv_buf *model)
 {
     zip_int64_t ne = zip_get_num_entries(pk->zip, 0);
-    uint64_t total = 0;
+    uint64_t total = 0, limit = budget / 2;
     for (zip_int64_t i = 0; i < ne; ++i) {
         uint64_t bytes = 0;
         int keep = model && i == pk->model;
-        hv_status s = read_entry(pk, (zip_uint64_t)i, budget - total, keep ? model : NULL, &bytes);
+        hv_status s = read_entry(pk, (zip_uint64_t)i, limit - total, keep ? model : NULL, &bytes);
         if (s == HV_ERR_LIMIT) {
-            char b1[32];
-            return hv_error_set(HV_ERR_LIMIT,
-                                "%s: the package expands to more than %s, more than reading it may take "
-                                "(the memory budget allows %s)",
-                                pk->name, hv_size_text(b1, sizeof b1, (double)budget), b1);
+            char b1[32], b2[32];
+            return hv_error_set(HV_ERR_LIMIT, "%s: the package expands to more than %s, half of the memory budget (%s)",
+                                pk->name, hv_size_text(b1, sizeof b1, (double)limit),
+                                hv_size_text(b2, sizeof b2, (double)budget));
         }
         if (s != HV_OK) return s;
         total += bytes;
@@ -293,7 +294,13 @@ static hv_status package_expand(package *pk, uint64_t budget, hv_buf *model)
     return HV_OK;
 }
 
-/* ---- checks of the model part ------------------------------------------------------------- */
+/* ---- the model part: references checked, materials read ---------------------------------
+ * lib3mf 1.8 reads the materials extension leniently: a pid that names nothing drops the
+ * property, an index past a group's end reads as another entry, and a triangle's p1 without its
+ * own pid is ignored (the object's pindex applies). hovox reads the property groups and every
+ * object's and triangle's references itself, in one pass over the model part, and matches
+ * objects to lib3mf's by their position. The same pass, with geometry on, names the place of
+ * what lib3mf refuses without one. */
 
 enum { R_OBJECT = 1, R_BASE, R_COLOR, R_TEXTURE, R_COMPOSITE, R_MULTI, R_OTHER };
 static const char *const k_group_tags[] = {"", "object", "basematerials", "colorgroup", "texture2dgroup",
@@ -303,7 +310,19 @@ static const char *const k_child_tags[] = {"", "", "base", "color", "tex2coord",
 typedef struct resource {
     int kind;
     uint64_t count; /* entries of a property group */
+    size_t first;   /* base materials and colours: their first entry */
 } resource;
+
+typedef struct entry {
+    char *name;    /* a base material's (NULL: a colour, named by its value) */
+    uint32_t rgba;
+    int32_t mat;   /* the mesh material, once used; -2 before */
+} entry;
+
+typedef struct object_props {
+    int32_t dres, dentry; /* default property: resource and entry (dres -1: none) */
+    size_t first_ref, nt; /* its triangles' references */
+} object_props;
 
 typedef struct model_scan {
     const char *name;
@@ -311,24 +330,38 @@ typedef struct model_scan {
     hv_names ids;  /* resource ids, as decimal text */
     resource *res;
     size_t rcap;
+    entry *entries;
+    size_t nent, ecap;
+    object_props *objs;
+    size_t nobj, ocap;
+    int32_t *refs; /* 2 per triangle: resource (-1: none) and entry */
+    size_t nref, fcap;
     /* the object being read */
-    uint64_t obj_id;
     int in_object;
     char obj_label[160];
     int has_pid;
-    uint64_t pid;
+    uint64_t pid, pindex;
     uint64_t nv, nt, ncomp;
-    int axis_tag;  /* vertices: 1, triangles: 2 */
     int group;     /* the property group being read: index into res, or -1 */
     size_t nitems;
 } model_scan;
 
-static const resource *lookup(const model_scan *m, uint64_t id)
+static void scan_free(model_scan *m)
+{
+    for (size_t i = 0; i < m->nent; ++i) free(m->entries[i].name);
+    free(m->entries);
+    free(m->objs);
+    free(m->refs);
+    free(m->res);
+    hv_names_free(&m->ids);
+    memset(m, 0, sizeof *m);
+}
+
+static int64_t lookup(const model_scan *m, uint64_t id)
 {
     char key[24];
     int n = snprintf(key, sizeof key, "%llu", (unsigned long long)id);
-    int64_t k = hv_names_find(&m->ids, key, (size_t)n);
-    return k < 0 ? NULL : &m->res[k];
+    return hv_names_find(&m->ids, key, (size_t)n);
 }
 
 static hv_status define(model_scan *m, uint64_t id, int kind)
@@ -344,6 +377,7 @@ static hv_status define(model_scan *m, uint64_t id, int kind)
     if ((s = hv_grow((void **)&m->res, &m->rcap, m->ids.n, sizeof *m->res)) != HV_OK) return s;
     m->res[k].kind = kind;
     m->res[k].count = 0;
+    m->res[k].first = m->nent;
     return HV_OK;
 }
 
@@ -360,21 +394,112 @@ static hv_status attr_error(const model_scan *m, const char *place, const char *
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s '%s' is not an index", m->name, place, key, hv_quote(q, sizeof q, v, n));
 }
 
-/* A property reference: pid names a property group defined before, index within it. */
-static hv_status check_ref(const model_scan *m, const char *place, uint64_t pid, const char *key, int has_index, uint64_t index)
+/* An attribute value with XML's character references decoded (malloc'd). */
+static char *xml_text(const char *s, size_t n)
 {
-    const resource *r = lookup(m, pid);
-    if (!r)
+    char *out = hv_malloc(4 * n + 1), *o = out;
+    if (!out) return NULL;
+    for (size_t i = 0; i < n;) {
+        if (s[i] == '&') {
+            static const char *const named[][2] = {{"lt;", "<"}, {"gt;", ">"}, {"amp;", "&"}, {"quot;", "\""}, {"apos;", "'"}};
+            size_t k;
+            for (k = 0; k < 5; ++k) {
+                size_t l = strlen(named[k][0]);
+                if (n - i - 1 >= l && memcmp(s + i + 1, named[k][0], l) == 0) {
+                    *o++ = named[k][1][0];
+                    i += 1 + l;
+                    break;
+                }
+            }
+            if (k < 5) continue;
+            if (i + 2 < n && s[i + 1] == '#') { /* &#N; or &#xH; as UTF-8 */
+                int hex = s[i + 2] == 'x';
+                size_t j = i + 2 + (size_t)hex;
+                unsigned long c = 0;
+                while (j < n && j - i < 12 && s[j] != ';') {
+                    int d = s[j] >= '0' && s[j] <= '9' ? s[j] - '0' : hex && (s[j] | 32) >= 'a' && (s[j] | 32) <= 'f' ? (s[j] | 32) - 'a' + 10 : -1;
+                    if (d < 0) break;
+                    c = c * (hex ? 16u : 10u) + (unsigned long)d;
+                    ++j;
+                }
+                if (j < n && s[j] == ';' && c > 0 && c < 0x110000) {
+                    if (c < 0x80) *o++ = (char)c;
+                    else if (c < 0x800) *o++ = (char)(0xC0 | c >> 6), *o++ = (char)(0x80 | (c & 0x3F));
+                    else if (c < 0x10000)
+                        *o++ = (char)(0xE0 | c >> 12), *o++ = (char)(0x80 | ((c >> 6) & 0x3F)), *o++ = (char)(0x80 | (c & 0x3F));
+                    else
+                        *o++ = (char)(0xF0 | c >> 18), *o++ = (char)(0x80 | ((c >> 12) & 0x3F)),
+                        *o++ = (char)(0x80 | ((c >> 6) & 0x3F)), *o++ = (char)(0x80 | (c & 0x3F));
+                    i = j + 1;
+                    continue;
+                }
+            }
+        }
+        *o++ = s[i++];
+    }
+    *o = '\0';
+    return out;
+}
+
+/* "#RRGGBB" or "#RRGGBBAA" (sRGB): 1 and *rgba, else 0. */
+static int parse_color(const char *s, size_t n, uint32_t *rgba)
+{
+    if ((n != 7 && n != 9) || s[0] != '#') return 0;
+    uint32_t c = 0;
+    for (size_t i = 1; i < n; ++i) {
+        char h = (char)(s[i] | 32);
+        int d = h >= '0' && h <= '9' ? h - '0' : h >= 'a' && h <= 'f' ? h - 'a' + 10 : -1;
+        if (d < 0 || s[i] == ' ') return 0;
+        c = c << 4 | (uint32_t)d;
+    }
+    *rgba = n == 7 ? c << 8 | 0xFF : c;
+    return 1;
+}
+
+/* An entry of a base material group or colour group. */
+static hv_status scan_entry(model_scan *m, const xml_tag *t)
+{
+    resource *r = &m->res[m->group];
+    const char *key = r->kind == R_BASE ? "displaycolor" : "color", *v = "";
+    size_t n = 0;
+    uint32_t rgba = 0;
+    if (!xml_attr(t, key, &v, &n) || !parse_color(v, n, &rgba)) {
+        char q[72];
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s %s: %s %llu: %s '%s' is not #RRGGBB or #RRGGBBAA", m->name,
+                            k_group_tags[r->kind], m->ids.names[m->group], k_child_tags[r->kind],
+                            (unsigned long long)r->count, key, hv_quote(q, sizeof q, v, n));
+    }
+    hv_status s = hv_grow((void **)&m->entries, &m->ecap, m->nent + 1, sizeof *m->entries);
+    if (s != HV_OK) return s;
+    entry *e = &m->entries[m->nent];
+    e->name = NULL;
+    e->rgba = rgba;
+    e->mat = -2;
+    if (r->kind == R_BASE && xml_attr(t, "name", &v, &n) && n && !(e->name = xml_text(v, n))) return HV_ERR_NOMEM;
+    m->nent++;
+    r->count++;
+    return HV_OK;
+}
+
+/* A property reference: pid names a property group defined before, index within it; the
+ * resolved (resource, entry) in *res, *ent. */
+static hv_status check_ref(const model_scan *m, const char *place, uint64_t pid, const char *key, uint64_t index,
+                           int32_t *res, int32_t *ent)
+{
+    int64_t k = lookup(m, pid);
+    if (k < 0)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: pid %llu names no property group (none has that id above it)",
                             m->name, place, (unsigned long long)pid);
+    const resource *r = &m->res[k];
     if (r->kind == R_OBJECT)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: pid %llu names an object, not a property group", m->name, place,
                             (unsigned long long)pid);
-    if (r->kind == R_OTHER || !has_index) return HV_OK;
-    if (index >= r->count)
+    if (r->kind != R_OTHER && index >= r->count)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s %llu is past the end of %s %llu (%llu entries)", m->name, place,
                             key, (unsigned long long)index, k_group_tags[r->kind], (unsigned long long)pid,
                             (unsigned long long)r->count);
+    *res = (int32_t)k;
+    *ent = (int32_t)index;
     return HV_OK;
 }
 
@@ -384,8 +509,7 @@ static hv_status scan_object(model_scan *m, const xml_tag *t)
     size_t n;
     uint64_t id = 0;
     if (xml_uint(t, "id", &id, &v, &n) <= 0)
-        return hv_error_set(HV_ERR_BAD_INPUT, "%s: an object has no valid id", m->name);
-    m->obj_id = id;
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: object %zu has no valid id", m->name, m->nobj + 1);
     m->in_object = 1;
     m->nv = m->nt = m->ncomp = 0;
     int len = snprintf(m->obj_label, sizeof m->obj_label, "object %llu", (unsigned long long)id);
@@ -394,14 +518,19 @@ static hv_status scan_object(model_scan *m, const xml_tag *t)
         snprintf(m->obj_label + len, sizeof m->obj_label - (size_t)len, " '%s'", hv_quote(q, sizeof q, v, n));
     }
     hv_status s = define(m, id, R_OBJECT);
+    if (s == HV_OK) s = hv_grow((void **)&m->objs, &m->ocap, m->nobj + 1, sizeof *m->objs);
     if (s != HV_OK) return s;
-    uint64_t pindex = 0;
+    object_props *o = &m->objs[m->nobj++];
+    o->dres = o->dentry = -1;
+    o->first_ref = m->nref;
+    o->nt = 0;
+    m->pindex = 0;
     int r = xml_uint(t, "pid", &m->pid, &v, &n);
     if (r < 0) return attr_error(m, m->obj_label, "pid", v, n);
     m->has_pid = r;
-    r = xml_uint(t, "pindex", &pindex, &v, &n);
+    r = xml_uint(t, "pindex", &m->pindex, &v, &n);
     if (r < 0) return attr_error(m, m->obj_label, "pindex", v, n);
-    if (m->has_pid) return check_ref(m, m->obj_label, m->pid, "pindex", r, pindex);
+    if (m->has_pid) return check_ref(m, m->obj_label, m->pid, "pindex", m->pindex, &o->dres, &o->dentry);
     return HV_OK;
 }
 
@@ -442,33 +571,47 @@ static hv_status scan_triangle(model_scan *m, const xml_tag *t)
         for (int c = 0; c < 3; ++c) {
             int r = xml_uint(t, corner[c], &x, &v, &n);
             if (r < 0) return attr_error(m, place, corner[c], v, n);
-            if (r == 0)
-                return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s has no %s", m->name, place, corner[c]);
+            if (r == 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s has no %s", m->name, place, corner[c]);
             if (x >= m->nv)
                 return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: vertex index %llu out of range (%llu vertices)", m->name,
                                     place, (unsigned long long)x, (unsigned long long)m->nv);
         }
+    object_props *o = &m->objs[m->nobj - 1];
+    int32_t res = o->dres, ent = o->dentry; /* no property of its own: the object's */
     uint64_t pid = m->pid;
-    int r = xml_uint(t, "pid", &pid, &v, &n), has_pid = m->has_pid || r > 0;
+    int r = xml_uint(t, "pid", &pid, &v, &n);
     if (r < 0) return attr_error(m, place, "pid", v, n);
     if (r > 0 && !m->has_pid)
         return hv_error_set(HV_ERR_BAD_INPUT,
                             "%s: %s sets pid %llu but its object sets none (3MF: an object whose triangles "
                             "carry properties names a default pid)",
                             m->name, place, (unsigned long long)pid);
+    int has_p1 = 0;
     for (int c = 0; c < 3; ++c) {
         int rp = xml_uint(t, prop[c], &x, &v, &n);
         if (rp < 0) return attr_error(m, place, prop[c], v, n);
         if (rp == 0) continue;
-        if (!has_pid)
+        if (!m->has_pid)
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s gives %s but neither it nor its object names a property group (pid)",
                                 m->name, place, prop[c]);
-        hv_status s = check_ref(m, place, pid, prop[c], 1, x);
+        int32_t rc, ec;
+        hv_status s = check_ref(m, place, pid, prop[c], x, &rc, &ec);
         if (s != HV_OK) return s;
+        if (c == 0) { /* a gradient's material: its first corner's */
+            res = rc;
+            ent = ec;
+            has_p1 = 1;
+        }
     }
-    if (r > 0) {
-        hv_status s = check_ref(m, place, pid, "p1", 0, 0);
+    if (r > 0 && !has_p1)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s sets pid %llu without p1", m->name, place, (unsigned long long)pid);
+    if (!m->geometry) {
+        hv_status s = hv_grow((void **)&m->refs, &m->fcap, 2 * (m->nref + 1), sizeof *m->refs);
         if (s != HV_OK) return s;
+        m->refs[2 * m->nref] = res;
+        m->refs[2 * m->nref + 1] = ent;
+        m->nref++;
+        o->nt++;
     }
     m->nt++;
     return HV_OK;
@@ -484,23 +627,23 @@ static hv_status scan_reference(model_scan *m, const xml_tag *t, const char *wha
     else snprintf(place, sizeof place, "build item %zu", ++m->nitems);
     int r = xml_uint(t, "objectid", &id, &v, &n);
     if (r <= 0) return r < 0 ? attr_error(m, place, "objectid", v, n) : hv_error_set(HV_ERR_BAD_INPUT, "%s: %s has no objectid", m->name, place);
-    const resource *res = lookup(m, id);
-    if (!res || res->kind != R_OBJECT)
+    int64_t k = lookup(m, id);
+    if (k < 0 || m->res[k].kind != R_OBJECT)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s names object %llu, which is not %s", m->name, place,
                             (unsigned long long)id, what);
     return HV_OK;
 }
 
-/* Walk the model part: property groups with their sizes, objects, and (geometry) vertices,
- * triangles, components and build items, each checked; the first defect is the error. */
-static hv_status scan_model(const char *name, const char *xml, size_t len, int geometry)
+/* Walk the model part: property groups with their entries, objects with their references,
+ * and (geometry) vertices, triangle indices, components and build items, each checked; the
+ * first defect is the error. Without geometry, *m keeps the materials (scan_free). */
+static hv_status scan_model(model_scan *m, const char *name, const char *xml, size_t len, int geometry)
 {
-    model_scan m;
-    memset(&m, 0, sizeof m);
-    m.name = name;
-    m.geometry = geometry;
-    m.group = -1;
-    hv_names_init(&m.ids);
+    memset(m, 0, sizeof *m);
+    m->name = name;
+    m->geometry = geometry;
+    m->group = -1;
+    hv_names_init(&m->ids);
     xml_scan x = {xml, xml + len};
     xml_tag t;
     hv_status s = HV_OK;
@@ -511,46 +654,48 @@ static hv_status scan_model(const char *name, const char *xml, size_t len, int g
             continue;
         }
         if (t.close) {
-            if (tag_is(&t, "object")) m.in_object = 0;
-            else if (m.group >= 0 && group_kind(&t)) m.group = -1;
-            else if (depth_other && --depth_other == 0) m.group = -1;
+            if (tag_is(&t, "object")) m->in_object = 0;
+            else if (m->group >= 0 && group_kind(&t)) m->group = -1;
+            else if (depth_other && --depth_other == 0) m->group = -1;
             continue;
         }
-        if (m.group >= 0) { /* inside a property group: count its entries */
+        if (m->group >= 0) { /* inside a property group: its entries */
             if (depth_other) {
                 if (!t.empty) ++depth_other;
                 continue;
             }
-            if (tag_is(&t, k_child_tags[m.res[m.group].kind])) m.res[m.group].count++;
+            int kind = m->res[m->group].kind;
+            if (!tag_is(&t, k_child_tags[kind])) continue;
+            if (kind == R_BASE || kind == R_COLOR) s = scan_entry(m, &t);
+            else m->res[m->group].count++;
             continue;
         }
         if (tag_is(&t, "object")) {
-            s = scan_object(&m, &t);
-            if (t.empty) m.in_object = 0;
-        } else if (m.in_object && tag_is(&t, "vertex")) {
-            if (geometry) s = scan_vertex(&m, &t);
-            else m.nv++;
-        } else if (m.in_object && tag_is(&t, "triangle")) {
-            s = scan_triangle(&m, &t);
-        } else if (m.in_object && tag_is(&t, "component")) {
-            if (geometry) s = scan_reference(&m, &t, "an object defined above it");
-        } else if (!m.in_object && tag_is(&t, "item")) {
-            if (geometry) s = scan_reference(&m, &t, "an object of the resources");
-        } else if (in_resources && !m.in_object) {
+            s = scan_object(m, &t);
+            if (t.empty) m->in_object = 0;
+        } else if (m->in_object && tag_is(&t, "vertex")) {
+            if (geometry) s = scan_vertex(m, &t);
+            else m->nv++;
+        } else if (m->in_object && tag_is(&t, "triangle")) {
+            s = scan_triangle(m, &t);
+        } else if (m->in_object && tag_is(&t, "component")) {
+            if (geometry) s = scan_reference(m, &t, "an object defined above it");
+        } else if (!m->in_object && tag_is(&t, "item")) {
+            if (geometry) s = scan_reference(m, &t, "an object of the resources");
+        } else if (in_resources && !m->in_object) {
             const char *v;
             size_t n;
             uint64_t id;
             int kind = group_kind(&t);
             if (xml_uint(&t, "id", &id, &v, &n) <= 0) continue;
-            if ((s = define(&m, id, kind ? kind : R_OTHER)) != HV_OK) break;
+            if ((s = define(m, id, kind ? kind : R_OTHER)) != HV_OK) break;
             if (!t.empty) {
-                m.group = (int)(m.ids.n - 1);
+                m->group = (int)(m->ids.n - 1);
                 depth_other = kind ? 0 : 1;
             }
         }
     }
-    hv_names_free(&m.ids);
-    free(m.res);
+    if (s != HV_OK || geometry) scan_free(m);
     return s;
 }
 
@@ -558,14 +703,14 @@ static hv_status scan_model(const char *name, const char *xml, size_t len, int g
 
 typedef struct tmf_build {
     const char *name;
-    double scale; /* model unit to mm */
+    model_scan *props; /* the materials read from the model part, or NULL: none */
+    double scale;      /* model unit to mm */
     float *soup;
     int32_t *fmat;
     size_t nf, scap, mcap;
     int any_material;
     hv_mesh_body *bodies;
     size_t nb, bcap;
-    size_t item;
     hv_names mats;
     uint32_t *rgba;
     size_t rcap;
@@ -574,48 +719,69 @@ typedef struct tmf_build {
     hv_status failed;
 } tmf_build;
 
+/* The mesh material of a property reference (-1: none, or one that is not a material). */
+static int32_t material_of(tmf_build *b, int32_t res, int32_t ent, hv_status *s)
+{
+    *s = HV_OK;
+    if (res < 0) return -1;
+    const resource *r = &b->props->res[res];
+    if (r->kind != R_BASE && r->kind != R_COLOR) return -1; /* textures, composites, ...: no material */
+    entry *e = &b->props->entries[r->first + (size_t)ent];
+    if (e->mat >= 0) return e->mat;
+    char col[10];
+    const char *name = e->name;
+    if (!name) { /* a colour is named by its value */
+        if ((e->rgba & 0xFF) == 0xFF) snprintf(col, sizeof col, "#%06x", (unsigned)(e->rgba >> 8));
+        else snprintf(col, sizeof col, "#%08x", (unsigned)e->rgba);
+        name = col;
+    }
+    size_t before = b->mats.n;
+    *s = hv_names_intern(&b->mats, name, strlen(name), &e->mat);
+    if (*s == HV_OK && b->mats.n != before && (*s = hv_grow((void **)&b->rgba, &b->rcap, b->mats.n, sizeof *b->rgba)) == HV_OK)
+        b->rgba[e->mat] = e->rgba; /* base materials of the same name are one material: the first colour */
+    return *s == HV_OK ? e->mat : -1;
+}
+
 /* Drop the current body when it holds no facet (an object with an empty mesh). */
 static void close_body(tmf_build *b)
 {
     if (b->nb && b->bodies[b->nb - 1].facet_count == 0) free((char *)b->bodies[--b->nb].name);
 }
 
-static int sink_begin(void *ctx, int unit)
+static int sink_begin(void *ctx, int unit, size_t objects)
 {
     static const double k_mm[] = {0.001, 1.0, 10.0, 25.4, 304.8, 1000.0}; /* lib3mf's units */
     tmf_build *b = ctx;
     if (unit < 0 || unit > 5)
         return b->failed = hv_error_set(HV_ERR_BAD_INPUT, "%s: unknown unit (lib3mf unit %d)", b->name, unit);
     b->scale = k_mm[unit];
+    if (b->props && b->props->nobj != objects)
+        return b->failed = hv_error_set(HV_ERR_BAD_INPUT,
+                                        "%s: lib3mf reads %zu objects where the model part holds %zu: their "
+                                        "materials cannot be matched",
+                                        b->name, objects, b->props->nobj);
     return HV_OK;
 }
 
-static int sink_item(void *ctx, size_t item, const char *name, int32_t material)
+static int sink_item(void *ctx, size_t item, size_t object, const char *name)
 {
     tmf_build *b = ctx;
+    (void)item;
     close_body(b);
     hv_status s = hv_grow((void **)&b->bodies, &b->bcap, b->nb + 1, sizeof *b->bodies);
     char *copy = s == HV_OK ? hv_strdup(name) : NULL;
     if (!copy) return b->failed = HV_ERR_NOMEM;
     hv_mesh_body *body = &b->bodies[b->nb++];
     body->name = copy;
-    body->material = material;
+    body->material = HV_MESH_NO_MATERIAL; /* its object's default, else its facets' majority */
     body->first_facet = b->nf;
     body->facet_count = 0;
-    b->item = item;
+    if (b->props) {
+        const object_props *o = &b->props->objs[object];
+        body->material = material_of(b, o->dres, o->dentry, &s);
+        if (s != HV_OK) return b->failed = s;
+    }
     return HV_OK;
-}
-
-static int32_t sink_material(void *ctx, const char *name, uint32_t rgba)
-{
-    tmf_build *b = ctx;
-    int32_t k;
-    size_t before = b->mats.n;
-    hv_status s = hv_names_intern(&b->mats, name, strlen(name), &k);
-    if (s == HV_OK && b->mats.n != before && (s = hv_grow((void **)&b->rgba, &b->rcap, b->mats.n, sizeof *b->rgba)) == HV_OK)
-        b->rgba[k] = rgba; /* base materials of the same name are one material: the first colour */
-    if (s != HV_OK) return -(int32_t)(b->failed = s);
-    return k;
 }
 
 static int sink_instance(void *ctx, const hv_3mf_instance *in)
@@ -624,6 +790,10 @@ static int sink_instance(void *ctx, const hv_3mf_instance *in)
     char where[256];
     if (in->object_name[0]) snprintf(where, sizeof where, "object '%.160s' (build item %zu)", in->object_name, in->item + 1);
     else snprintf(where, sizeof where, "the object of build item %zu", in->item + 1);
+    const object_props *so = b->props ? &b->props->objs[in->object] : NULL;
+    if (so && so->nt != in->nt)
+        return b->failed = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: lib3mf reads %zu triangles where the model part holds %zu",
+                                        b->name, where, in->nt, so->nt);
     for (int k = 0; k < 12; ++k)
         if (!isfinite(in->transform[k]))
             return b->failed = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: its transform has a non-finite entry", b->name, where);
@@ -655,8 +825,13 @@ static int sink_instance(void *ctx, const hv_3mf_instance *in)
                                                 b->name, where, t, i, in->nv);
             memcpy(dst + 3 * c, b->placed + 3 * (size_t)i, 3 * sizeof(float));
         }
-        b->fmat[b->nf + t] = in->mat[t];
-        if (in->mat[t] >= 0) b->any_material = 1;
+        int32_t mat = -1;
+        if (so) {
+            const int32_t *ref = b->props->refs + 2 * (so->first_ref + t);
+            if ((mat = material_of(b, ref[0], ref[1], &s)) < 0 && s != HV_OK) return b->failed = s;
+        }
+        b->fmat[b->nf + t] = mat;
+        if (mat >= 0) b->any_material = 1;
     }
     b->nf += in->nt;
     b->bodies[b->nb - 1].facet_count += in->nt;
@@ -709,7 +884,8 @@ static hv_status diagnose(const void *data, size_t size, const char *name, const
     hv_buf_init(&xml);
     s = package_expand(&pk, budget, &xml);
     package_close(&pk);
-    if (s == HV_OK) s = scan_model(name, xml.data ? xml.data : "", xml.len, 1);
+    model_scan m;
+    if (s == HV_OK) s = scan_model(&m, name, xml.data ? xml.data : "", xml.len, 1);
     hv_buf_free(&xml);
     if (s != HV_OK) return s;
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: lib3mf: %s", name, msg);
@@ -719,9 +895,7 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
 {
     *out = NULL;
     if (size == 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: empty file (0 bytes)", name);
-    /* lib3mf holds about one byte per byte of model text and hovox a mesh of the same order:
-     * the expanded package may take half of the budget */
-    uint64_t budget = hv_memory_budget(0) / 2;
+    uint64_t budget = hv_memory_budget(0);
     package pk;
     hv_status s = package_open(&pk, data, size, name);
     if (s != HV_OK) return s;
@@ -729,28 +903,37 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     hv_buf_init(&xml);
     s = package_expand(&pk, budget, &xml);
     package_close(&pk);
-    /* lib3mf reads material references leniently (a pid naming nothing drops the property, an
-     * index past a group's end reads as another entry): every one is checked first */
-    if (s == HV_OK && (text_has(&xml, "pid") || text_has(&xml, "p1")))
-        s = scan_model(name, xml.data, xml.len, 0);
+    model_scan props;
+    int have_props = 0;
+    if (s == HV_OK && (text_has(&xml, "pid") || text_has(&xml, "p1"))) { /* no material otherwise */
+        s = scan_model(&props, name, xml.data, xml.len, 0);
+        have_props = s == HV_OK;
+    }
     hv_buf_free(&xml);
-    if (s != HV_OK) return s;
-    pthread_once(&g_api_once, load_api);
-    if (g_api_status != HV_OK)
-        return hv_error_set(HV_ERR_UNSUPPORTED, "%s: reading 3MF needs the lib3mf bridge: %s", name, g_api_error);
+    if (s == HV_OK) {
+        pthread_once(&g_api_once, load_api);
+        if (g_api_status != HV_OK)
+            s = hv_error_set(HV_ERR_UNSUPPORTED, "%s: reading 3MF needs the lib3mf bridge: %s", name, g_api_error);
+    }
+    if (s != HV_OK) {
+        if (have_props) scan_free(&props);
+        return s;
+    }
     tmf_build b;
     memset(&b, 0, sizeof b);
     b.name = name;
+    b.props = have_props ? &props : NULL;
     hv_names_init(&b.mats);
-    hv_3mf_sink sink = {&b, sink_begin, sink_item, sink_material, sink_instance};
+    hv_3mf_sink sink = {&b, sink_begin, sink_item, sink_instance};
     hv_3mf_info info;
-    uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, hv_memory_budget(0) / 128);
+    uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, budget / 128);
     int rc = g_api->read(data, size, max_tri, &sink, &info);
     if (b.failed != HV_OK) s = b.failed; /* a sink's own message */
     else if (rc == HV_ERR_BAD_INPUT && info.error_code) s = diagnose(data, size, name, g_api->last_error(), budget);
     else if (rc != HV_OK) s = hv_error_set((hv_status)rc, "%s: %s", name, g_api->last_error());
     if (s == HV_OK) s = finish(&b, &info, out);
     build_free(&b);
+    if (have_props) scan_free(&props);
     return s;
 }
 

@@ -1,7 +1,7 @@
 // src/mesh/threemf_bridge.cpp - the one file that includes lib3mf (1.8, its C interface): reads
-// a 3MF package from memory and hands the build items, their flattened mesh objects and the
-// materials they name to the C side (threemf_bridge.h). Built as plugins/hovox-3mf.so. Every
-// entry catches exceptions and turns them into a status and a message.
+// a 3MF package from memory and hands the build items and their flattened mesh objects to the
+// C side (threemf_bridge.h). Built as plugins/hovox-3mf.so. Every entry catches exceptions and
+// turns them into a status and a message.
 #include "threemf_bridge.h"
 
 #include "hovox/core.h"
@@ -98,94 +98,21 @@ struct Reader {
     hv_3mf_info *info;
     uint64_t max_triangles;
     std::map<DWORD, uint64_t> triangles; // per object resource: flattened triangle count
-    std::map<std::pair<DWORD, DWORD>, int32_t> base;
-    std::map<uint32_t, int32_t> colours;
-    int status = HV_OK; // the sink's, when it stopped the read
-
-    int32_t material(const std::string &name, uint32_t rgba)
-    {
-        int32_t m = sink->material(sink->ctx, name.c_str(), rgba);
-        if (m < 0) { // the sink set its message
-            status = -m;
-            throw Lib3mfError{""};
-        }
-        return m;
-    }
-
-    int32_t base_material(DWORD group, DWORD index, const std::string &where)
-    {
-        auto it = base.find({group, index});
-        if (it != base.end()) return it->second;
-        Handle g;
-        if (lib3mf_model_getbasematerialbyid(model, group, &g.p) != LIB3MF_OK)
-            throw Lib3mfError{where + ": names a base material group lib3mf does not have"};
-        DWORD count = 0;
-        check(lib3mf_basematerial_getcount(g.p, &count), g.p, "base material count");
-        if (index >= count)
-            throw Lib3mfError{where + ": base material index " + std::to_string(index) +
-                              " past the end of its group (" + std::to_string(count) + " materials)"};
-        ULONG need = 0;
-        std::string name;
-        if (lib3mf_basematerial_getnameutf8(g.p, index, nullptr, 0, &need) == LIB3MF_OK && need > 0) {
-            std::vector<char> buf(size_t(need) + 1, '\0');
-            check(lib3mf_basematerial_getnameutf8(g.p, index, buf.data(), ULONG(buf.size()), &need), g.p,
-                  "base material name");
-            name = buf.data();
-        }
-        BYTE r = 0, gr = 0, b = 0, a = 0;
-        check(lib3mf_basematerial_getdisplaycolor(g.p, index, &r, &gr, &b, &a), g.p, "display colour");
-        uint32_t rgba = uint32_t(r) << 24 | uint32_t(gr) << 16 | uint32_t(b) << 8 | a;
-        if (name.empty()) name = colour_name(rgba);
-        int32_t m = material(name, rgba);
-        base[{group, index}] = m;
-        return m;
-    }
-
-    static std::string colour_name(uint32_t rgba)
-    {
-        char buf[16];
-        if ((rgba & 0xFF) == 0xFF) std::snprintf(buf, sizeof buf, "#%06x", unsigned(rgba >> 8));
-        else std::snprintf(buf, sizeof buf, "#%08x", unsigned(rgba));
-        return buf;
-    }
-
-    int32_t colour(const MODELMESHCOLOR_SRGB &c)
-    {
-        uint32_t rgba = uint32_t(c.m_Red) << 24 | uint32_t(c.m_Green) << 16 | uint32_t(c.m_Blue) << 8 | c.m_Alpha;
-        auto it = colours.find(rgba);
-        if (it != colours.end()) return it->second;
-        int32_t m = material(colour_name(rgba), rgba);
-        colours[rgba] = m;
-        return m;
-    }
-
-    // The default material of an object, or -1.
-    int32_t default_material(PLib3MFModelObjectResource *o, const std::string &where)
-    {
-        Handle h;
-        if (lib3mf_object_createdefaultpropertyhandler(o, &h.p) != LIB3MF_OK) return -1;
-        eModelPropertyType type = MODELPROPERTYTYPE_NONE;
-        check(lib3mf_defaultpropertyhandler_getpropertytype(h.p, &type), h.p, "default property");
-        if (type == MODELPROPERTYTYPE_BASEMATERIALS) {
-            DWORD g = 0, i = 0;
-            check(lib3mf_defaultpropertyhandler_getbasematerial(h.p, &g, &i), h.p, "default material");
-            info->properties = 1;
-            return base_material(g, i, where);
-        }
-        if (type == MODELPROPERTYTYPE_COLOR) {
-            MODELMESHCOLOR_SRGB c{};
-            check(lib3mf_defaultpropertyhandler_getcolor(h.p, 0, &c), h.p, "default colour");
-            info->properties = 1;
-            return colour(c);
-        }
-        return -1;
-    }
+    std::map<DWORD, size_t> ordinal;     // per object resource: its position among the objects
+    int status = HV_OK;                  // the sink's, when it stopped the read
 
     static DWORD id_of(PLib3MFModelObjectResource *o)
     {
         DWORD id = 0;
         check(lib3mf_resource_getresourceid(o, &id), o, "resource id");
         return id;
+    }
+
+    size_t ordinal_of(PLib3MFModelObjectResource *o)
+    {
+        auto it = ordinal.find(id_of(o));
+        if (it == ordinal.end()) throw Lib3mfError{"an object lib3mf does not list among the model's objects"};
+        return it->second;
     }
 
     // Triangles of an object with its components flattened (saturating above max_triangles).
@@ -221,47 +148,25 @@ struct Reader {
 
     void deliver_mesh(PLib3MFModelMeshObject *o, size_t item, const double *t)
     {
-        std::string name = object_name(o), where = "object '" + name + "'";
-        if (name.empty()) where = "object of build item " + std::to_string(item + 1);
+        std::string name = object_name(o);
         DWORD nv = 0, nt = 0;
         check(lib3mf_meshobject_getvertexcount(o, &nv), o, "vertex count");
         check(lib3mf_meshobject_gettrianglecount(o, &nt), o, "triangle count");
         std::vector<MODELMESHVERTEX> v(nv);
         std::vector<MODELMESHTRIANGLE> tri(nt);
-        std::vector<int32_t> mat(nt, -1);
         DWORD got = 0;
         if (nv) check(lib3mf_meshobject_getvertices(o, v.data(), nv, &got), o, "vertices");
         if (nt) check(lib3mf_meshobject_gettriangleindices(o, tri.data(), nt, &got), o, "triangles");
-        Handle ph;
-        if (nt && lib3mf_meshobject_createpropertyhandler(o, &ph.p) == LIB3MF_OK) {
-            for (DWORD i = 0; i < nt; ++i) {
-                eModelPropertyType type = MODELPROPERTYTYPE_NONE;
-                check(lib3mf_propertyhandler_getpropertytype(ph.p, i, &type), ph.p, "triangle property");
-                if (type == MODELPROPERTYTYPE_BASEMATERIALS) {
-                    DWORD g = 0, k = 0;
-                    check(lib3mf_propertyhandler_getbasematerial(ph.p, i, &g, &k), ph.p, "triangle material");
-                    mat[i] = base_material(g, k, where + ": triangle " + std::to_string(i));
-                    info->properties = 1;
-                } else if (type == MODELPROPERTYTYPE_COLOR) {
-                    MODELMESH_TRIANGLECOLOR_SRGB c{};
-                    check(lib3mf_propertyhandler_getcolor(ph.p, i, &c), ph.p, "triangle colour");
-                    mat[i] = colour(c.m_Colors[0]);
-                    info->properties = 1;
-                } else if (type != MODELPROPERTYTYPE_NONE) {
-                    info->properties = 1; // texture coordinates: no material
-                }
-            }
-        }
         static_assert(sizeof(MODELMESHVERTEX) == 3 * sizeof(float), "vertex layout");
         static_assert(sizeof(MODELMESHTRIANGLE) == 3 * sizeof(uint32_t), "triangle layout");
         hv_3mf_instance in{};
         in.item = item;
+        in.object = ordinal_of(o);
         in.object_name = name.c_str();
         in.nv = nv;
         in.nt = nt;
         in.xyz = nv ? &v[0].m_fPosition[0] : nullptr;
         in.tri = nt ? reinterpret_cast<const uint32_t *>(&tri[0].m_nIndices[0]) : nullptr;
-        in.mat = mat.data();
         std::memcpy(in.transform, t, sizeof in.transform);
         int s = sink->instance(sink->ctx, &in);
         if (s != HV_OK) {
@@ -303,20 +208,21 @@ struct Reader {
         if (lib3mf_reader_readfrombuffer(reader.p, static_cast<BYTE *>(const_cast<void *>(data)), ULONG64(size)) !=
             LIB3MF_OK)
             return fail(HV_ERR_BAD_INPUT, last_error(reader.p, &info->error_code));
-        DWORD nw = 0;
-        check(lib3mf_reader_getwarningcount(reader.p, &nw), reader.p, "warnings");
-        info->warnings = nw;
-        if (nw) {
-            DWORD code = 0;
-            ULONG need = 0;
-            lib3mf_reader_getwarningutf8(reader.p, 0, &code, info->warning, sizeof info->warning, &need);
-            info->warning[sizeof info->warning - 1] = '\0';
-            info->warning_code = code;
-        }
         DWORD unit = 1;
         check(lib3mf_model_getunit(model, &unit), model, "unit");
         info->unit = int(unit);
-        if (int s = sink->begin(sink->ctx, info->unit)) return status = s;
+        Handle objects;
+        check(lib3mf_model_getobjects(model, &objects.p), model, "objects");
+        for (;;) {
+            BOOL has = 0;
+            check(lib3mf_resourceiterator_movenext(objects.p, &has), objects.p, "objects");
+            if (!has) break;
+            Handle o;
+            check(lib3mf_resourceiterator_getcurrent(objects.p, &o.p), objects.p, "object");
+            size_t n = ordinal.size();
+            ordinal[id_of(o.p)] = n;
+        }
+        if (int s = sink->begin(sink->ctx, info->unit, ordinal.size())) return status = s;
 
         // the build items, with their triangle counts checked before anything is delivered
         struct Item {
@@ -362,9 +268,7 @@ struct Reader {
         for (size_t k = 0; k < items.size(); ++k) {
             if (items[k].skip) continue;
             std::string name = object_name(items[k].object.p);
-            std::string where = name.empty() ? "build item " + std::to_string(k + 1) : "object '" + name + "'";
-            int32_t m = default_material(items[k].object.p, where);
-            int s = sink->item(sink->ctx, k, name.c_str(), m);
+            int s = sink->item(sink->ctx, k, ordinal_of(items[k].object.p), name.c_str());
             if (s != HV_OK) return status = s;
             deliver(items[k].object.p, k, items[k].t, 0);
         }
@@ -377,7 +281,7 @@ int read_3mf(const void *data, size_t size, uint64_t max_triangles, const hv_3mf
     std::memset(info, 0, sizeof *info);
     info->unit = 1;
     Handle model;
-    Reader r{nullptr, sink, info, max_triangles, {}, {}, {}, HV_OK};
+    Reader r{nullptr, sink, info, max_triangles, {}, {}, HV_OK};
     try {
         if (lib3mf_createmodel(&model.p) != LIB3MF_OK) return fail(HV_ERR_INTERNAL, "lib3mf cannot create a model");
         r.model = model.p;

@@ -409,7 +409,7 @@ static hv_status read_face(ply_reader *r, const ply_elem *el, uint64_t f, uint64
                             place(r, el, f, at, pl, sizeof pl), (unsigned long long)count);
     uint64_t min = r->format == F_ASCII ? 2 : (uint64_t)k_type_size[item];
     uint64_t left = (uint64_t)(r->end - r->p) + (r->format == F_ASCII);
-    if (count > left / min)
+    if (count > left / min) /* a count that lies, or a truncated file */
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: declares %llu vertices but the %zu bytes left hold at most %llu",
                             r->name, place(r, el, f, at, pl, sizeof pl), (unsigned long long)count,
                             (size_t)(r->end - r->p), (unsigned long long)(left / min));

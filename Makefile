@@ -209,10 +209,10 @@ fuzz-tests: $(FUZZ_BIN)
 fuzz:
 	@sh scripts/install-deps.sh build fuzz
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
-	@# the OpenVDB bridge too, instrumented, so fuzz_vdb sees inside it (the fuzz build looks for
-	@# its plugins in build-fuzz/plugins)
+	@# the OpenVDB and lib3mf bridges too, instrumented, so fuzz_vdb and fuzz_3mf see inside them
+	@# (the fuzz build looks for its plugins in build-fuzz/plugins; lib3mf itself is not instrumented)
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link \
-	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so
+	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so $(ROOT)/build-fuzz/plugins/hovox-3mf.so
 	@mkdir -p build-fuzz/libfuzzer
 	@for t in $(filter-out tests/fuzz/fuzz_vdb.c,$(filter %$(FUZZ_ONLY).c,$(FUZZ_C))); do n=$$(basename $$t .c); \
 	    c=tests/fuzz/corpus/$${n#fuzz_}; \

@@ -182,8 +182,10 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 	$(CXX) $(CPPFLAGS_ALL) -Isrc -Itests $(CXXFLAGS_ALL) $(CRIT_CFLAGS) -o $@ $< $(TEST_SUPPORT_OBJ) \
 	    $(BUILD)/libhovox.a $(CRIT_LIBS) $(VDB_LIBS) $(LIBS)
 
-# The 3MF tests write their packages with lib3mf itself (tests/support/lib3mf_c.h)
+# The 3MF tests and the mesh-format bench write their packages with lib3mf itself
+# (tests/support/lib3mf_c.h)
 $(BUILD)/tests/mesh/test_3mf: private LIBS += $(LIB3MF_LIBS)
+$(BUILD)/bench-tools/bench_mesh_formats: private LIBS += $(LIB3MF_LIBS)
 
 # Benchmark drivers (tests/bench/*.c): small programs that call one kernel on a file.
 $(BUILD)/bench-tools/%: $(BUILD)/obj/tests/bench/%.o $(BUILD)/libhovox.a

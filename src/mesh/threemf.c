@@ -172,8 +172,9 @@ static void package_close(package *pk)
     pk->src = NULL;
 }
 
-/* Read entry i whole (keep != NULL) or only count its bytes, stopping past `limit`. */
-static hv_status read_entry(package *pk, zip_uint64_t i, uint64_t limit, hv_buf *keep, uint64_t *bytes)
+/* Read entry i whole (keep != NULL) or only count its bytes, stopping past `limit` (HV_ERR_LIMIT).
+ * With `props`, *props is set when the text holds "pid" or "p1" (material references). */
+static hv_status read_entry(package *pk, zip_uint64_t i, uint64_t limit, hv_buf *keep, int *props, uint64_t *bytes)
 {
     const char *en = zip_get_name(pk->zip, i, 0);
     char q[96];
@@ -182,23 +183,28 @@ static hv_status read_entry(package *pk, zip_uint64_t i, uint64_t limit, hv_buf 
     if (!f)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '%s' cannot be read (libzip: %s)", pk->name, q,
                             zip_strerror(pk->zip));
-    char buf[65536];
+    char buf[65536 + 2];
     zip_int64_t n;
     *bytes = 0;
+    size_t carry = 0; /* the last 2 bytes of the previous chunk, for a word cut in two */
     hv_status s = HV_OK;
-    while ((n = zip_fread(f, buf, sizeof buf)) > 0) {
+    while ((n = zip_fread(f, buf + carry, sizeof buf - 2)) > 0) {
         *bytes += (uint64_t)n;
         if (*bytes > limit) {
             s = HV_ERR_LIMIT;
             break;
         }
         if (keep) {
-            hv_buf_append(keep, buf, (size_t)n);
+            hv_buf_append(keep, buf + carry, (size_t)n);
             if (keep->failed) {
                 s = HV_ERR_NOMEM;
                 break;
             }
         }
+        size_t len = carry + (size_t)n;
+        if (props && !*props && (find(buf, buf + len, "pid") || find(buf, buf + len, "p1"))) *props = 1;
+        carry = HV_MIN(len, (size_t)2);
+        memmove(buf, buf + len - carry, carry);
     }
     if (n < 0)
         s = hv_error_set(HV_ERR_BAD_INPUT, "%s: part '%s' is damaged (libzip: %s)", pk->name, q, zip_file_strerror(f));
@@ -235,7 +241,7 @@ static hv_status package_open(package *pk, const void *data, size_t size, const 
     hv_buf text;
     hv_buf_init(&text);
     uint64_t bytes;
-    hv_status s = read_entry(pk, (zip_uint64_t)rels, TMF_MAX_RELS, &text, &bytes);
+    hv_status s = read_entry(pk, (zip_uint64_t)rels, TMF_MAX_RELS, &text, NULL, &bytes);
     if (s == HV_ERR_LIMIT)
         s = hv_error_set(HV_ERR_BAD_INPUT, "%s: _rels/.rels is larger than %llu bytes", name, (unsigned long long)TMF_MAX_RELS);
     xml_scan x = {text.data ? text.data : "", text.data ? text.data + text.len : ""};
@@ -272,16 +278,16 @@ static hv_status package_open(package *pk, const void *data, size_t size, const 
 
 /* Every part expanded once, counting its real size (a ZIP's declared sizes may lie): lib3mf
  * holds about one byte per byte of model text and hovox a mesh of the same order, so the
- * expanded package may take half of the memory budget. The model part is kept when `model` is
- * given. */
-static hv_status package_expand(package *pk, uint64_t budget, hv_buf *model)
+ * expanded package may take half of the memory budget. *props: the model part holds material
+ * references. */
+static hv_status package_expand(package *pk, uint64_t budget, int *props)
 {
     zip_int64_t ne = zip_get_num_entries(pk->zip, 0);
     uint64_t total = 0, limit = budget / 2;
+    *props = 0;
     for (zip_int64_t i = 0; i < ne; ++i) {
         uint64_t bytes = 0;
-        int keep = model && i == pk->model;
-        hv_status s = read_entry(pk, (zip_uint64_t)i, limit - total, keep ? model : NULL, &bytes);
+        hv_status s = read_entry(pk, (zip_uint64_t)i, limit - total, NULL, i == pk->model ? props : NULL, &bytes);
         if (s == HV_ERR_LIMIT) {
             char b1[32], b2[32];
             return hv_error_set(HV_ERR_LIMIT, "%s: the package expands to more than %s, half of the memory budget (%s)",
@@ -292,6 +298,14 @@ static hv_status package_expand(package *pk, uint64_t budget, hv_buf *model)
         total += bytes;
     }
     return HV_OK;
+}
+
+/* The model part's text, once package_expand has counted it. */
+static hv_status package_model(package *pk, uint64_t budget, hv_buf *xml)
+{
+    uint64_t bytes;
+    hv_status s = read_entry(pk, (zip_uint64_t)pk->model, budget / 2, xml, NULL, &bytes);
+    return s == HV_ERR_LIMIT ? hv_error_set(HV_ERR_LIMIT, "%s: the model part expands past the memory budget", pk->name) : s;
 }
 
 /* ---- the model part: references checked, materials read ---------------------------------
@@ -870,8 +884,6 @@ static hv_status finish(tmf_build *b, const hv_3mf_info *info, hv_mesh **out)
 
 /* ---- reading ----------------------------------------------------------------------------- */
 
-static int text_has(const hv_buf *b, const char *what) { return b->data && find(b->data, b->data + b->len, what) != NULL; }
-
 /* lib3mf refused the package: name the place when a scan of the model part finds it. */
 static hv_status diagnose(const void *data, size_t size, const char *name, const char *lib_message, uint64_t budget)
 {
@@ -882,7 +894,9 @@ static hv_status diagnose(const void *data, size_t size, const char *name, const
     if (s != HV_OK) return s;
     hv_buf xml;
     hv_buf_init(&xml);
-    s = package_expand(&pk, budget, &xml);
+    int props;
+    s = package_expand(&pk, budget, &props);
+    if (s == HV_OK) s = package_model(&pk, budget, &xml);
     package_close(&pk);
     model_scan m;
     if (s == HV_OK) s = scan_model(&m, name, xml.data ? xml.data : "", xml.len, 1);
@@ -899,17 +913,19 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     package pk;
     hv_status s = package_open(&pk, data, size, name);
     if (s != HV_OK) return s;
-    hv_buf xml;
-    hv_buf_init(&xml);
-    s = package_expand(&pk, budget, &xml);
-    package_close(&pk);
+    int refs = 0;
+    s = package_expand(&pk, budget, &refs);
     model_scan props;
     int have_props = 0;
-    if (s == HV_OK && (text_has(&xml, "pid") || text_has(&xml, "p1"))) { /* no material otherwise */
-        s = scan_model(&props, name, xml.data, xml.len, 0);
+    if (s == HV_OK && refs) { /* without a pid or p1 the file names no material */
+        hv_buf xml;
+        hv_buf_init(&xml);
+        s = package_model(&pk, budget, &xml);
+        if (s == HV_OK) s = scan_model(&props, name, xml.data ? xml.data : "", xml.len, 0);
         have_props = s == HV_OK;
+        hv_buf_free(&xml);
     }
-    hv_buf_free(&xml);
+    package_close(&pk);
     if (s == HV_OK) {
         pthread_once(&g_api_once, load_api);
         if (g_api_status != HV_OK)

@@ -293,6 +293,22 @@ typedef union ply_value {
 
 static const char *elem_word(const ply_elem *el) { return el->role == 1 ? "vertex" : el->role == 2 ? "face" : el->name; }
 
+/* What a value is, for messages, put in words only when one is needed: a property, the count of
+ * a list, a face's corner. */
+typedef struct ply_what {
+    int kind; /* 0 property `name`, 1 the count of list `name`, 2 corner `n` */
+    const char *name;
+    uint64_t n;
+} ply_what;
+
+static const char *what_text(const ply_what *w, char *buf, size_t cap)
+{
+    if (w->kind == 0) snprintf(buf, cap, "%s", w->name);
+    else if (w->kind == 1) snprintf(buf, cap, "the count of list %s", w->name);
+    else snprintf(buf, cap, "corner %llu", (unsigned long long)w->n);
+    return buf;
+}
+
 /* Where a value is, for messages: "line 12: vertex 3" (ASCII), "vertex 3 (byte 180)" (binary). */
 static const char *place(const ply_reader *r, const ply_elem *el, uint64_t index, size_t at, char *buf, size_t cap)
 {
@@ -304,14 +320,14 @@ static const char *place(const ply_reader *r, const ply_elem *el, uint64_t index
 }
 
 /* Binary: one value of type t at the cursor. */
-static hv_status read_binary(ply_reader *r, int t, const ply_elem *el, uint64_t index, const char *what,
+static hv_status read_binary(ply_reader *r, int t, const ply_elem *el, uint64_t index, const ply_what *what,
                              ply_value *v)
 {
     size_t n = (size_t)k_type_size[t];
     if ((size_t)(r->end - r->p) < n) {
-        char pl[160];
+        char pl[160], wt[96];
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s ends past the end of the file (truncated)", r->name,
-                            place(r, el, index, (size_t)(r->p - r->d), pl, sizeof pl), what);
+                            place(r, el, index, (size_t)(r->p - r->d), pl, sizeof pl), what_text(what, wt, sizeof wt));
     }
     unsigned char b[8];
     if (r->format == F_LE) memcpy(b, r->p, n);
@@ -332,15 +348,15 @@ static hv_status read_binary(ply_reader *r, int t, const ply_elem *el, uint64_t 
 }
 
 /* ASCII: one value of type t, on the current line. */
-static hv_status read_ascii(ply_reader *r, int t, const ply_elem *el, uint64_t index, const char *what,
+static hv_status read_ascii(ply_reader *r, int t, const ply_elem *el, uint64_t index, const ply_what *w,
                             ply_value *v)
 {
     const char *p = (const char *)r->p, *end = (const char *)r->end;
-    char pl[160], q[72];
+    char pl[160], q[72], wt[96];
     while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
     if (p == end || *p == '\n')
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s is missing (the line ends)", r->name,
-                            place(r, el, index, 0, pl, sizeof pl), what);
+                            place(r, el, index, 0, pl, sizeof pl), what_text(w, wt, sizeof wt));
     const char *s = p;
     while (p < end && *p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') ++p;
     r->p = (const unsigned char *)p;
@@ -358,7 +374,7 @@ static hv_status read_ascii(ply_reader *r, int t, const ply_elem *el, uint64_t i
         if (n == 0 || endp != buf + n) goto bad_number;
         if (errno == ERANGE || x < lo[t] || x > hi[t])
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s is %s, out of range for %s", r->name,
-                                place(r, el, index, 0, pl, sizeof pl), what, buf, k_type_names[t][0]);
+                                place(r, el, index, 0, pl, sizeof pl), what_text(w, wt, sizeof wt), buf, k_type_names[t][0]);
         v->i = x;
     } else {
         double x = strtod(buf, &endp);
@@ -368,10 +384,10 @@ static hv_status read_ascii(ply_reader *r, int t, const ply_elem *el, uint64_t i
     return HV_OK;
 bad_number:
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s is not %s: '%s'", r->name, place(r, el, index, 0, pl, sizeof pl),
-                        what, is_integer(t) ? "an integer" : "a number", hv_quote(q, sizeof q, s, n));
+                        what_text(w, wt, sizeof wt), is_integer(t) ? "an integer" : "a number", hv_quote(q, sizeof q, s, n));
 }
 
-static hv_status read_value(ply_reader *r, int t, const ply_elem *el, uint64_t index, const char *what,
+static hv_status read_value(ply_reader *r, int t, const ply_elem *el, uint64_t index, const ply_what *what,
                             ply_value *v)
 {
     return r->format == F_ASCII ? read_ascii(r, t, el, index, what, v) : read_binary(r, t, el, index, what, v);
@@ -419,9 +435,8 @@ static hv_status read_face(ply_reader *r, const ply_elem *el, uint64_t f, uint64
     for (uint64_t k = 0; k < count; ++k) {
         size_t vat = (size_t)(r->p - r->d);
         ply_value v;
-        char what[48];
-        snprintf(what, sizeof what, "corner %llu", (unsigned long long)k + 1);
-        if ((s = read_value(r, item, el, f, what, &v)) != HV_OK) return s;
+        ply_what what = {2, NULL, k + 1};
+        if ((s = read_value(r, item, el, f, &what, &v)) != HV_OK) return s;
         if (v.i < 0 || (uint64_t)v.i >= r->vertex->count)
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: vertex index %lld out of range (%llu vertices)", r->name,
                                 place(r, el, f, vat, pl, sizeof pl), (long long)v.i, (unsigned long long)r->vertex->count);
@@ -450,7 +465,8 @@ static hv_status read_element(ply_reader *r, const ply_elem *el)
             size_t at = (size_t)(r->p - r->d);
             hv_status s;
             if (pr->count_type == T_NONE) {
-                if ((s = read_value(r, pr->type, el, i, pr->name, &v)) != HV_OK) return s;
+                ply_what what = {0, pr->name, 0};
+                if ((s = read_value(r, pr->type, el, i, &what, &v)) != HV_OK) return s;
                 if (el->role != 1) continue;
                 for (int a = 0; a < 3; ++a) {
                     if (el->xyz[a] != (int)k) continue;
@@ -463,9 +479,8 @@ static hv_status read_element(ply_reader *r, const ply_elem *el)
                 }
                 continue;
             }
-            char what[96];
-            snprintf(what, sizeof what, "the count of list %s", pr->name);
-            if ((s = read_value(r, pr->count_type, el, i, what, &v)) != HV_OK) return s;
+            ply_what what = {1, pr->name, 0};
+            if ((s = read_value(r, pr->count_type, el, i, &what, &v)) != HV_OK) return s;
             if (v.i < 0)
                 return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: list %s has a negative count (%lld)", r->name,
                                     place(r, el, i, at, pl, sizeof pl), pr->name, (long long)v.i);
@@ -483,8 +498,9 @@ static hv_status read_element(ply_reader *r, const ply_elem *el)
                 r->p += bytes;
                 continue;
             }
+            ply_what item = {0, pr->name, 0};
             for (uint64_t k2 = 0; k2 < count; ++k2)
-                if ((s = read_value(r, pr->type, el, i, pr->name, &v)) != HV_OK) return s;
+                if ((s = read_value(r, pr->type, el, i, &item, &v)) != HV_OK) return s;
         }
         hv_status s = end_line(r, el, i);
         if (s != HV_OK) return s;

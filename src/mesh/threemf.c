@@ -173,7 +173,8 @@ static void package_close(package *pk)
 }
 
 /* Read entry i whole (keep != NULL) or only count its bytes, stopping past `limit` (HV_ERR_LIMIT).
- * With `props`, *props is set when the text holds "pid" or "p1" (material references). */
+ * With `props`, *props is set when the text holds "pid" or "p1" (material references) or
+ * "component" (components, whose expansion hovox bounds itself). */
 static hv_status read_entry(package *pk, zip_uint64_t i, uint64_t limit, hv_buf *keep, int *props, uint64_t *bytes)
 {
     const char *en = zip_get_name(pk->zip, i, 0);
@@ -183,12 +184,12 @@ static hv_status read_entry(package *pk, zip_uint64_t i, uint64_t limit, hv_buf 
     if (!f)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '%s' cannot be read (libzip: %s)", pk->name, q,
                             zip_strerror(pk->zip));
-    char buf[65536 + 2];
+    char buf[65536 + 8];
     zip_int64_t n;
     *bytes = 0;
-    size_t carry = 0; /* the last 2 bytes of the previous chunk, for a word cut in two */
+    size_t carry = 0; /* the last bytes of the previous chunk, for a word cut in two */
     hv_status s = HV_OK;
-    while ((n = zip_fread(f, buf + carry, sizeof buf - 2)) > 0) {
+    while ((n = zip_fread(f, buf + carry, sizeof buf - 8)) > 0) {
         *bytes += (uint64_t)n;
         if (*bytes > limit) {
             s = HV_ERR_LIMIT;
@@ -202,8 +203,10 @@ static hv_status read_entry(package *pk, zip_uint64_t i, uint64_t limit, hv_buf 
             }
         }
         size_t len = carry + (size_t)n;
-        if (props && !*props && (find(buf, buf + len, "pid") || find(buf, buf + len, "p1"))) *props = 1;
-        carry = HV_MIN(len, (size_t)2);
+        if (props && !*props &&
+            (find(buf, buf + len, "pid") || find(buf, buf + len, "p1") || find(buf, buf + len, "component")))
+            *props = 1;
+        carry = HV_MIN(len, (size_t)8);
         memmove(buf, buf + len - carry, carry);
     }
     if (n < 0)
@@ -324,7 +327,7 @@ static const char *const k_child_tags[] = {"", "", "base", "color", "tex2coord",
 typedef struct resource {
     int kind;
     uint64_t count; /* entries of a property group */
-    size_t first;   /* base materials and colours: their first entry */
+    size_t first;   /* base materials and colours: their first entry; objects: their position */
 } resource;
 
 typedef struct entry {
@@ -336,6 +339,8 @@ typedef struct entry {
 typedef struct object_props {
     int32_t dres, dentry; /* default property: resource and entry (dres -1: none) */
     size_t first_ref, nt; /* its triangles' references */
+    size_t first_child, nchild; /* components: the objects they place (positions in children) */
+    uint64_t id;
 } object_props;
 
 typedef struct model_scan {
@@ -350,6 +355,8 @@ typedef struct model_scan {
     size_t nobj, ocap;
     int32_t *refs; /* 2 per triangle: resource (-1: none) and entry */
     size_t nref, fcap;
+    size_t *children, nchildren, ccap; /* objects placed by components */
+    size_t *items, nitem_objs, icap;   /* objects of the build items */
     /* the object being read */
     int in_object;
     char obj_label[160];
@@ -366,6 +373,8 @@ static void scan_free(model_scan *m)
     free(m->entries);
     free(m->objs);
     free(m->refs);
+    free(m->children);
+    free(m->items);
     free(m->res);
     hv_names_free(&m->ids);
     memset(m, 0, sizeof *m);
@@ -534,10 +543,14 @@ static hv_status scan_object(model_scan *m, const xml_tag *t)
     hv_status s = define(m, id, R_OBJECT);
     if (s == HV_OK) s = hv_grow((void **)&m->objs, &m->ocap, m->nobj + 1, sizeof *m->objs);
     if (s != HV_OK) return s;
+    m->res[m->ids.n - 1].first = m->nobj;
     object_props *o = &m->objs[m->nobj++];
     o->dres = o->dentry = -1;
     o->first_ref = m->nref;
     o->nt = 0;
+    o->first_child = m->nchildren;
+    o->nchild = 0;
+    o->id = id;
     m->pindex = 0;
     int r = xml_uint(t, "pid", &m->pid, &v, &n);
     if (r < 0) return attr_error(m, m->obj_label, "pid", v, n);
@@ -625,8 +638,8 @@ static hv_status scan_triangle(model_scan *m, const xml_tag *t)
         m->refs[2 * m->nref] = res;
         m->refs[2 * m->nref + 1] = ent;
         m->nref++;
-        o->nt++;
     }
+    o->nt++;
     m->nt++;
     return HV_OK;
 }
@@ -645,7 +658,61 @@ static hv_status scan_reference(model_scan *m, const xml_tag *t, const char *wha
     if (k < 0 || m->res[k].kind != R_OBJECT)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s names object %llu, which is not %s", m->name, place,
                             (unsigned long long)id, what);
+    size_t obj = m->res[k].first;
+    hv_status s;
+    if (m->in_object) {
+        if ((s = hv_grow((void **)&m->children, &m->ccap, m->nchildren + 1, sizeof *m->children)) != HV_OK) return s;
+        m->children[m->nchildren++] = obj;
+        m->objs[m->nobj - 1].nchild++;
+    } else {
+        if ((s = hv_grow((void **)&m->items, &m->icap, m->nitem_objs + 1, sizeof *m->items)) != HV_OK) return s;
+        m->items[m->nitem_objs++] = obj;
+    }
     return HV_OK;
+}
+
+#define TMF_MAX_DEPTH 256               /* components within components */
+#define TMF_MAX_PLACEMENTS 1000000      /* objects placed once components are expanded */
+
+/* What the build items expand to, from the model part alone, before lib3mf reads it: lib3mf
+ * 1.8 walks component trees in time proportional to the objects they place (a package of a
+ * few kB placing one object 2^30 times takes it minutes) and recursively (a chain of 100,000
+ * components overflows its stack). */
+static hv_status check_expansion(const model_scan *m, uint64_t max_triangles)
+{
+    uint64_t *tri = hv_calloc(m->nobj + 1, sizeof *tri), *nodes = hv_calloc(m->nobj + 1, sizeof *nodes);
+    int *depth = hv_calloc(m->nobj + 1, sizeof *depth);
+    hv_status s = tri && nodes && depth ? HV_OK : HV_ERR_NOMEM;
+    const uint64_t cap = UINT64_MAX / 4;
+    for (size_t i = 0; i < m->nobj && s == HV_OK; ++i) { /* components name objects above them */
+        const object_props *o = &m->objs[i];
+        tri[i] = o->nt;
+        nodes[i] = 1;
+        for (size_t c = 0; c < o->nchild; ++c) {
+            size_t k = m->children[o->first_child + c];
+            tri[i] = HV_MIN(cap, tri[i] + tri[k]);
+            nodes[i] = HV_MIN(cap, nodes[i] + nodes[k]);
+            depth[i] = HV_MAX(depth[i], depth[k] + 1);
+        }
+        if (depth[i] > TMF_MAX_DEPTH)
+            s = hv_error_set(HV_ERR_LIMIT, "%s: object %llu nests components deeper than %d levels", m->name,
+                             (unsigned long long)o->id, TMF_MAX_DEPTH);
+    }
+    uint64_t t = 0, n = 0;
+    for (size_t i = 0; i < m->nitem_objs && s == HV_OK; ++i) {
+        t = HV_MIN(cap, t + tri[m->items[i]]);
+        n = HV_MIN(cap, n + nodes[m->items[i]]);
+    }
+    if (s == HV_OK && n > TMF_MAX_PLACEMENTS)
+        s = hv_error_set(HV_ERR_LIMIT, "%s: the build items place objects more than %d times once their components are expanded",
+                         m->name, TMF_MAX_PLACEMENTS);
+    if (s == HV_OK && t > max_triangles)
+        s = hv_error_set(HV_ERR_LIMIT, "%s: the build items hold more than %llu triangles once their components are placed",
+                         m->name, (unsigned long long)max_triangles);
+    free(tri);
+    free(nodes);
+    free(depth);
+    return s;
 }
 
 /* Walk the model part: property groups with their entries, objects with their references,
@@ -693,9 +760,9 @@ static hv_status scan_model(model_scan *m, const char *name, const char *xml, si
         } else if (m->in_object && tag_is(&t, "triangle")) {
             s = scan_triangle(m, &t);
         } else if (m->in_object && tag_is(&t, "component")) {
-            if (geometry) s = scan_reference(m, &t, "an object defined above it");
+            s = scan_reference(m, &t, "an object defined above it");
         } else if (!m->in_object && tag_is(&t, "item")) {
-            if (geometry) s = scan_reference(m, &t, "an object of the resources");
+            s = scan_reference(m, &t, "an object of the resources");
         } else if (in_resources && !m->in_object) {
             const char *v;
             size_t n;
@@ -917,13 +984,15 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     s = package_expand(&pk, budget, &refs);
     model_scan props;
     int have_props = 0;
-    if (s == HV_OK && refs) { /* without a pid or p1 the file names no material */
+    uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, budget / 128);
+    if (s == HV_OK && refs) { /* without pid, p1 or components: no material, one object per item */
         hv_buf xml;
         hv_buf_init(&xml);
         s = package_model(&pk, budget, &xml);
         if (s == HV_OK) s = scan_model(&props, name, xml.data ? xml.data : "", xml.len, 0);
         have_props = s == HV_OK;
         hv_buf_free(&xml);
+        if (s == HV_OK) s = check_expansion(&props, max_tri);
     }
     package_close(&pk);
     if (s == HV_OK) {
@@ -942,7 +1011,6 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     hv_names_init(&b.mats);
     hv_3mf_sink sink = {&b, sink_begin, sink_item, sink_instance};
     hv_3mf_info info;
-    uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, budget / 128);
     int rc = g_api->read(data, size, max_tri, &sink, &info);
     if (b.failed != HV_OK) s = b.failed; /* a sink's own message */
     else if (rc == HV_ERR_BAD_INPUT && info.error_code) s = diagnose(data, size, name, g_api->last_error(), budget);

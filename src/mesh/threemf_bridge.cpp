@@ -115,7 +115,8 @@ struct Reader {
         return it->second;
     }
 
-    // Triangles of an object with its components flattened (saturating above max_triangles).
+    // Triangles of an object with its components flattened, plus one per object placed (so
+    // that a tree of empty objects costs its size too), saturating above max_triangles.
     uint64_t count(PLib3MFModelObjectResource *o, int depth)
     {
         if (depth > kMaxDepth)
@@ -123,14 +124,14 @@ struct Reader {
         DWORD id = id_of(o);
         auto it = triangles.find(id);
         if (it != triangles.end()) return it->second;
-        uint64_t n = 0;
+        uint64_t n = 1;
         BOOL mesh = 0, comps = 0;
         check(lib3mf_object_ismeshobject(o, &mesh), o, "object type");
         check(lib3mf_object_iscomponentsobject(o, &comps), o, "object type");
         if (mesh) {
             DWORD nt = 0;
             check(lib3mf_meshobject_gettrianglecount(o, &nt), o, "triangle count");
-            n = nt;
+            n += nt;
         } else if (comps) {
             DWORD nc = 0;
             check(lib3mf_componentsobject_getcomponentcount(o, &nc), o, "component count");

@@ -435,14 +435,14 @@ Test(threemf, packages_beyond_the_memory_budget_are_refused_before_lib3mf_reads_
     hv_mesh_destroy(m);
     free(data);
     free(xml);
-    /* components that double at each level: 12 * 2^24 triangles from a few kB */
+    /* components that double at each level: 12 * 2^16 triangles from a few kB */
     hv_mesh *unit = box(0, 1);
     l3mf model = new_model(L3MF_MM), prev = add_mesh(model, unit, "cube"), c = NULL;
     float apart[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-    for (int level = 0; level < 24; ++level) {
+    for (int level = 0; level < 16; ++level) {
         l3mf comps = NULL;
         cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0);
-        apart[3] = (float)(1 << (level % 20));
+        apart[3] = (float)(1 << level);
         cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
         cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, apart, &c), 0);
         prev = comps;
@@ -453,6 +453,38 @@ Test(threemf, packages_beyond_the_memory_budget_are_refused_before_lib3mf_reads_
     refused(hv_mesh_parse_3mf, "bomb.3mf", data, len, HV_ERR_LIMIT,
             "bomb.3mf: the build items hold more than 524288 triangles once their components are placed");
     hv_set_memory_cap(0);
+    free(data);
+    /* the same tree over an object without triangles, 30 levels: lib3mf would walk its 2^31
+     * nodes for minutes; refused from the model part before lib3mf reads it */
+    model = new_model(L3MF_MM);
+    l3mf empty = NULL;
+    cr_assert_eq(lib3mf_model_addmeshobject(model, &empty), 0);
+    prev = empty;
+    for (int level = 0; level < 30; ++level) {
+        l3mf comps = NULL;
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
+        prev = comps;
+    }
+    add_item(model, prev, NULL);
+    data = package(model, &len);
+    refused(hv_mesh_parse_3mf, "bomb.3mf", data, len, HV_ERR_LIMIT,
+            "bomb.3mf: the build items place objects more than 1000000 times once their components are expanded");
+    free(data);
+    /* a chain of 300 components, one within the next */
+    model = new_model(L3MF_MM);
+    prev = add_mesh(model, unit, "cube");
+    for (int level = 0; level < 300; ++level) {
+        l3mf comps = NULL;
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
+        prev = comps;
+    }
+    add_item(model, prev, NULL);
+    data = package(model, &len);
+    refused(hv_mesh_parse_3mf, "bomb.3mf", data, len, HV_ERR_LIMIT,
+            "bomb.3mf: object 258 nests components deeper than 256 levels");
     free(data);
     hv_mesh_destroy(unit);
 }

@@ -283,13 +283,26 @@ static int ext_is(const char *path, const char *ext)
 
 const char *hv_mesh_load_extensions(void) { return "stl, 3mf, obj, ply"; }
 
+/* A whole file through one of the parse_ functions. */
+static hv_status load_with(const char *path, hv_status (*parse)(const void *, size_t, const char *, hv_mesh **),
+                           hv_mesh **out)
+{
+    char *data;
+    size_t size;
+    hv_status s = hv_read_file(path, (size_t)1 << 40, &data, &size);
+    if (s != HV_OK) return s;
+    s = parse(data, size, path, out);
+    free(data);
+    return s;
+}
+
 hv_status hv_mesh_load(const char *path, hv_mesh **out)
 {
     *out = NULL;
     if (ext_is(path, "stl")) return hv_mesh_load_stl(path, out);
-    if (ext_is(path, "3mf")) return hv_mesh_load_3mf(path, out);
-    if (ext_is(path, "obj")) return hv_mesh_load_obj(path, out);
-    if (ext_is(path, "ply")) return hv_mesh_load_ply(path, out);
+    if (ext_is(path, "3mf")) return load_with(path, hv_mesh_parse_3mf, out);
+    if (ext_is(path, "obj")) return load_with(path, hv_mesh_parse_obj, out);
+    if (ext_is(path, "ply")) return load_with(path, hv_mesh_parse_ply, out);
     const char *dot = strrchr(hv_basename(path), '.');
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: unsupported mesh format '%s' (supported: %s)", path,
                         dot ? dot + 1 : "", hv_mesh_load_extensions());

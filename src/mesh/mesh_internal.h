@@ -56,11 +56,6 @@ const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10
 hv_status hv_mesh_default_body(hv_mesh *m);
 void hv_mesh_bodies_free(hv_mesh *m);
 
-/* The file readers behind hv_mesh_load (same errors as their parse_ functions, plus HV_ERR_IO). */
-hv_status hv_mesh_load_obj(const char *path, hv_mesh **out);
-hv_status hv_mesh_load_ply(const char *path, hv_mesh **out);
-hv_status hv_mesh_load_3mf(const char *path, hv_mesh **out);
-
 /* ---- what the file readers share (readers.c) -------------------------------------------- */
 
 /* A set of names, each with the index of its first insertion (bodies, materials). */

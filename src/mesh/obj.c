@@ -9,7 +9,6 @@
 #include "core/internal.h"
 #include "mesh_internal.h"
 
-#define OBJ_MAX_BYTES ((size_t)1 << 40)
 
 typedef struct obj_reader {
     const char *name;
@@ -376,17 +375,5 @@ hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_
     hv_buf_free(&r.body_name);
     hv_buf_free(&r.mat_name);
     hv_buf_free(&joined);
-    return s;
-}
-
-hv_status hv_mesh_load_obj(const char *path, hv_mesh **out)
-{
-    *out = NULL;
-    char *data;
-    size_t size;
-    hv_status s = hv_read_file(path, OBJ_MAX_BYTES, &data, &size);
-    if (s != HV_OK) return s;
-    s = hv_mesh_parse_obj(data, size, path, out);
-    free(data);
     return s;
 }

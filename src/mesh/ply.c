@@ -11,7 +11,6 @@
 #include "core/internal.h"
 #include "mesh_internal.h"
 
-#define PLY_MAX_BYTES ((size_t)1 << 40)
 #define PLY_MAX_HEADER ((size_t)1 << 20)
 #define PLY_MAX_PROPS 1024
 #define PLY_MAX_ELEMENTS 256
@@ -553,17 +552,5 @@ hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_
     free(r.xyz);
     free(r.tri);
     free(soup);
-    return s;
-}
-
-hv_status hv_mesh_load_ply(const char *path, hv_mesh **out)
-{
-    *out = NULL;
-    char *data;
-    size_t size;
-    hv_status s = hv_read_file(path, PLY_MAX_BYTES, &data, &size);
-    if (s != HV_OK) return s;
-    s = hv_mesh_parse_ply(data, size, path, out);
-    free(data);
     return s;
 }

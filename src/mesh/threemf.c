@@ -14,7 +14,6 @@
 #include "mesh_internal.h"
 #include "threemf_bridge.h"
 
-#define TMF_MAX_BYTES ((size_t)1 << 40)
 #define TMF_MAX_RELS ((zip_uint64_t)1 << 20)
 #define TMF_MODEL_REL "http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"
 
@@ -1018,17 +1017,5 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     if (s == HV_OK) s = finish(&b, &info, out);
     build_free(&b);
     if (have_props) scan_free(&props);
-    return s;
-}
-
-hv_status hv_mesh_load_3mf(const char *path, hv_mesh **out)
-{
-    *out = NULL;
-    char *data;
-    size_t size;
-    hv_status s = hv_read_file(path, TMF_MAX_BYTES, &data, &size);
-    if (s != HV_OK) return s;
-    s = hv_mesh_parse_3mf(data, size, path, out);
-    free(data);
     return s;
 }

@@ -98,17 +98,21 @@ HV_API hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *na
  * after the file; colours are not read (no materials). */
 HV_API hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_mesh **out);
 
-/* 3MF (core specification 1.x, with the materials extension's colour groups), read by lib3mf
- * in a plugin (plugins/hovox-3mf.so, loaded on first use; HV_ERR_UNSUPPORTED when it is
- * missing). Each build item is a body: its object's mesh, or its components flattened, placed
- * by the item's and the components' transforms, named by the object's name attribute ("body N"
- * without one). Coordinates are converted from the model's unit to millimetres. Materials:
- * base materials by name (with their display colour) and colours ("#RRGGBB", "#RRGGBBAA" when
- * not opaque), per object (pid/pindex) and per triangle (pid/p1; a gradient's first corner); a
- * body's material is its object's default, else its facets' majority. Items of objects of
- * type "support" or "other" are not bodies. Besides lib3mf's own checks, hovox checks every
- * material reference (a pid naming no property group, an index past its group's end) and
- * every vertex index and coordinate it is given. */
+/* 3MF (core specification 1.x, with the materials extension's base materials and colour
+ * groups), read by lib3mf in a plugin (plugins/hovox-3mf.so, loaded on first use;
+ * HV_ERR_UNSUPPORTED when it is missing). Each build item is a body: its object's mesh, or its
+ * components flattened, placed by the item's and the components' transforms, named by the
+ * object's name attribute ("body N" without one); items of objects of type "support" or
+ * "other" are not bodies. Coordinates are converted from the model's unit to millimetres.
+ * Materials are read by hovox from the model part (lib3mf 1.8 mishandles them): base
+ * materials by name (with their display colour) and colours ("#rrggbb", "#rrggbbaa" when not
+ * opaque), per object (pid/pindex) and per triangle (pid/p1; a gradient's first corner); a
+ * body's material is its object's default, else its facets' majority. Every material reference
+ * is checked (a pid naming no property group defined above it, an index past its group's end:
+ * HV_ERR_BAD_INPUT), and so is every vertex index and coordinate lib3mf hands over. Before
+ * lib3mf reads anything the package's real expanded size must fit half the memory budget and
+ * its component trees at most 256 levels, 1,000,000 placements and the triangles the budget
+ * holds (HV_ERR_LIMIT). */
 HV_API hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out);
 
 /* ---- bodies and materials ------------------------------------------------------------------

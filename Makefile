@@ -55,7 +55,9 @@ OIIO_CFLAGS = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 VTK_INC   := -isystem /usr/include/vtk-9.1
 VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkFiltersCore-9.1 -lvtkCommonExecutionModel-9.1 \
              -lvtkCommonDataModel-9.1 -lvtkCommonCore-9.1
-PLUGINS   := $(PLUGDIR)/hovox-vdb.so
+LIB3MF_CFLAGS := -isystem /usr/include/lib3mf
+LIB3MF_LIBS   := -l3MF
+PLUGINS   := $(PLUGDIR)/hovox-vdb.so $(PLUGDIR)/hovox-3mf.so
 ifneq ($(wildcard src/image/oiio_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-oiio.so
 endif
@@ -142,7 +144,7 @@ endif
 
 $(BUILD)/obj/%.pic.o: %.cpp $(BUILD)/.flags
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS_ALL) $(CXXFLAGS_ALL) $(EXTRA_CXXFLAGS) -c $< -o $@
+	$(CXX) $(CPPFLAGS_ALL) $(CXXFLAGS_ALL) $(BRIDGE_CXXFLAGS) $(EXTRA_CXXFLAGS) -c $< -o $@
 
 $(PLUGDIR)/hovox-vdb.so: $(BUILD)/obj/volumes/vdb_bridge.pic.o
 	@mkdir -p $(dir $@)
@@ -152,6 +154,12 @@ $(PLUGDIR)/hovox-oiio.so: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
 $(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
+
+# (BRIDGE_CXXFLAGS, not EXTRA_CXXFLAGS: the fuzz build sets that one on the command line)
+$(BUILD)/obj/src/mesh/threemf_bridge.pic.o: BRIDGE_CXXFLAGS = $(LIB3MF_CFLAGS)
+$(PLUGDIR)/hovox-3mf.so: $(BUILD)/obj/src/mesh/threemf_bridge.pic.o
+	@mkdir -p $(dir $@)
+	$(CXX) -shared -o $@ $^ $(LIB3MF_LIBS) $(SANFLAGS)
 
 $(BUILD)/obj/src/export/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
 $(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/src/export/vtk_bridge.pic.o
@@ -173,6 +181,11 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS_ALL) -Isrc -Itests $(CXXFLAGS_ALL) $(CRIT_CFLAGS) -o $@ $< $(TEST_SUPPORT_OBJ) \
 	    $(BUILD)/libhovox.a $(CRIT_LIBS) $(VDB_LIBS) $(LIBS)
+
+# The 3MF tests and the mesh-format bench write their packages with lib3mf itself
+# (tests/support/lib3mf_c.h)
+$(BUILD)/tests/mesh/test_3mf: private LIBS += $(LIB3MF_LIBS)
+$(BUILD)/bench-tools/bench_mesh_formats: private LIBS += $(LIB3MF_LIBS)
 
 # Benchmark drivers (tests/bench/*.c): small programs that call one kernel on a file.
 $(BUILD)/bench-tools/%: $(BUILD)/obj/tests/bench/%.o $(BUILD)/libhovox.a
@@ -198,10 +211,10 @@ fuzz-tests: $(FUZZ_BIN)
 fuzz:
 	@sh scripts/install-deps.sh build fuzz
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
-	@# the OpenVDB bridge too, instrumented, so fuzz_vdb sees inside it (the fuzz build looks for
-	@# its plugins in build-fuzz/plugins)
+	@# the OpenVDB and lib3mf bridges too, instrumented, so fuzz_vdb and fuzz_3mf see inside them
+	@# (the fuzz build looks for its plugins in build-fuzz/plugins; lib3mf itself is not instrumented)
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link \
-	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so
+	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so $(ROOT)/build-fuzz/plugins/hovox-3mf.so
 	@mkdir -p build-fuzz/libfuzzer
 	@for t in $(filter-out tests/fuzz/fuzz_vdb.c,$(filter %$(FUZZ_ONLY).c,$(FUZZ_C))); do n=$$(basename $$t .c); \
 	    c=tests/fuzz/corpus/$${n#fuzz_}; \

@@ -72,6 +72,49 @@ HV_API hv_status hv_mesh_load(const char *path, hv_mesh **out);
 /* The extensions hv_mesh_load reads, "stl, 3mf, obj, ply". Static. */
 HV_API const char *hv_mesh_load_extensions(void);
 
+/* The readers behind hv_mesh_load, from memory (fuzzing, tests, files already read). `name`
+ * names the file in messages and, without its directories and extension, the body of facets
+ * no group names. All three refuse input they cannot read whole: HV_ERR_BAD_INPUT with one
+ * line naming `name`, the place (line, element, object, triangle) and the value;
+ * HV_ERR_LIMIT (more than 2^31 facets or 2^32 vertices, a 3MF package larger than the memory
+ * budget allows), HV_ERR_NOMEM. On failure *out is NULL. Polygons are fan-triangulated around
+ * their first corner (right for the convex polygons exporters write).
+ *
+ * OBJ: `v` (x y z, an optional w or a trailing colour read and not used), `f` with v, v/vt,
+ * v//vn or v/vt/vn corners; indices count from 1, or back from -1 for the last vertex defined,
+ * and must name a vertex (texture coordinate, normal) defined above the face. `o` and `g`
+ * start a body of that name (one that holds no face is dropped, a name that comes back
+ * continues its body); faces before any `o`/`g` form a body named after the file. `usemtl`
+ * names the material of the faces that follow. `vt`, `vn` (counted), `s`, `mtllib` and the
+ * other display statements are skipped; lines (`l`) and points (`p`) are not read; free-form
+ * geometry and unknown statements are refused. `\` continues a statement on the next line;
+ * `#` starts a comment. */
+HV_API hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_mesh **out);
+
+/* PLY 1.0, ASCII or binary of either byte order: the element vertex's x, y, z (any scalar
+ * type) and the element face's list vertex_indices or vertex_index (integer count and item
+ * types); other properties and elements, lists included, are skipped. Element counts are
+ * checked against the bytes after the header before anything is allocated. One body, named
+ * after the file; colours are not read (no materials). */
+HV_API hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_mesh **out);
+
+/* 3MF (core specification 1.x, with the materials extension's base materials and colour
+ * groups), read by lib3mf in a plugin (plugins/hovox-3mf.so, loaded on first use;
+ * HV_ERR_UNSUPPORTED when it is missing). Each build item is a body: its object's mesh, or its
+ * components flattened, placed by the item's and the components' transforms, named by the
+ * object's name attribute ("body N" without one); items of objects of type "support" or
+ * "other" are not bodies. Coordinates are converted from the model's unit to millimetres.
+ * Materials are read by hovox from the model part (lib3mf 1.8 mishandles them): base
+ * materials by name (with their display colour) and colours ("#rrggbb", "#rrggbbaa" when not
+ * opaque), per object (pid/pindex) and per triangle (pid/p1; a gradient's first corner); a
+ * body's material is its object's default, else its facets' majority. Every material reference
+ * is checked (a pid naming no property group defined above it, an index past its group's end:
+ * HV_ERR_BAD_INPUT), and so is every vertex index and coordinate lib3mf hands over. Before
+ * lib3mf reads anything the package's real expanded size must fit half the memory budget and
+ * its component trees at most 256 levels, 1,000,000 placements and the triangles the budget
+ * holds (HV_ERR_LIMIT). */
+HV_API hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out);
+
 /* ---- bodies and materials ------------------------------------------------------------------
  * Every mesh has at least one body. A body is a consecutive range of facets, in file order:
  * a 3MF build item's object (with its components), an OBJ `o` or `g` group, a whole STL or
@@ -113,6 +156,11 @@ HV_API const int32_t *hv_mesh_facet_materials(const hv_mesh *mesh);
  * "MESH#BODY" (just MESH when there is one body). Errors: HV_ERR_INVALID (i out of range),
  * HV_ERR_NOMEM. */
 HV_API hv_status hv_mesh_body_extract(const hv_mesh *mesh, size_t i, hv_mesh **out);
+
+/* Body i's own report: its facets as a mesh of their own (hv_mesh_body_extract), or the
+ * whole mesh's report when it has one body. Errors: HV_ERR_INVALID (i out of range),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_body_report(const hv_mesh *mesh, size_t i, hv_mesh_report *out);
 
 /* Join meshes into one multi-body mesh, one body per part in order: all of the part's facets
  * (whatever bodies it has) become one body. Materials are the distinct `material` names, in

@@ -12,12 +12,13 @@ typedef struct info_cli {
     int json;
 } info_cli;
 
-static const hv_option k_local_opts[] = {CLI_JSON(info_cli, "one JSON object per mesh (an array when several meshes are given)")};
+static const hv_option k_local_opts[] = {CLI_JSON(info_cli, "one JSON object per mesh (an array when several meshes are given), with its materials and bodies")};
 static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
 
 
-static void print_text(const char *path, const hv_mesh_report *r)
+static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report *bodies)
 {
+    const hv_mesh_report *r = hv_mesh_get_report(m);
     int closed = r->open_edges == 0 && r->nonmanifold_edges == 0;
     printf("file                %s\n", path);
     printf("format              %s\n", hv_mesh_format_name(r->format));
@@ -36,40 +37,96 @@ static void print_text(const char *path, const hv_mesh_report *r)
     printf("flipped facets      %llu\n", (unsigned long long)r->flipped_facets);
     printf("normal mismatches   %llu\n", (unsigned long long)r->normal_mismatch);
     printf("closed              %s\n", closed ? "yes" : "no");
+    size_t nm = hv_mesh_material_count(m), nb = hv_mesh_body_count(m);
+    if (nm) {
+        int w = 8;
+        for (size_t k = 0; k < nm; ++k) w = HV_MAX(w, (int)strlen(hv_mesh_material_at(m, k)->name));
+        printf("materials           %zu\n", nm);
+        for (size_t k = 0; k < nm; ++k) {
+            const hv_mesh_material *mt = hv_mesh_material_at(m, k);
+            char col[10];
+            printf("  %-*s  %s\n", w, mt->name, mt->has_color ? hv_mesh_material_color_text(mt, col) : "-");
+        }
+    }
+    if (nb < 2 && nm == 0) return; /* one body and no material: the report above says it all */
+    int wn = 4, wm = 8;
+    for (size_t i = 0; i < nb; ++i) {
+        const hv_mesh_body *b = hv_mesh_body_at(m, i);
+        wn = HV_MAX(wn, (int)strlen(b->name));
+        if (b->material >= 0) wm = HV_MAX(wm, (int)strlen(hv_mesh_material_at(m, (size_t)b->material)->name));
+    }
+    printf("bodies              %zu\n", nb);
+    printf("  %-*s  %-*s  %10s  %12s  %6s  %s\n", wn, "body", wm, "material", "facets", "volume", "shells", "closed");
+    for (size_t i = 0; i < nb; ++i) {
+        const hv_mesh_body *b = hv_mesh_body_at(m, i);
+        const hv_mesh_report *br = &bodies[i];
+        printf("  %-*s  %-*s  %10llu  %12.6g  %6llu  %s\n", wn, b->name, wm,
+               b->material >= 0 ? hv_mesh_material_at(m, (size_t)b->material)->name : "-",
+               (unsigned long long)br->facets, br->volume, (unsigned long long)br->shells,
+               br->open_edges == 0 && br->nonmanifold_edges == 0 ? "yes" : "no");
+    }
+}
+
+/* Each body's own report (one body: the mesh's). */
+static hv_status body_reports(const hv_mesh *m, hv_mesh_report **out)
+{
+    size_t nb = hv_mesh_body_count(m);
+    *out = calloc(nb, sizeof **out);
+    if (!*out) return hv_error_set(HV_ERR_NOMEM, "out of memory");
+    for (size_t i = 0; i < nb; ++i) {
+        hv_status s = hv_mesh_body_report(m, i, &(*out)[i]);
+        if (s != HV_OK) {
+            free(*out);
+            *out = NULL;
+            return s;
+        }
+    }
+    return HV_OK;
 }
 
 static int report(char **paths, int n, int json)
 {
     /* load everything first: no partial report on failure */
     hv_mesh **meshes = calloc((size_t)n, sizeof *meshes);
-    if (!meshes) return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
-    for (int i = 0; i < n; ++i) {
-        hv_status s = hv_mesh_load(paths[i], &meshes[i]);
-        if (s != HV_OK) {
-            for (int k = 0; k < i; ++k) hv_mesh_destroy(meshes[k]);
-            free(meshes);
-            return cli_fail(s);
+    hv_mesh_report **bodies = calloc((size_t)n, sizeof *bodies);
+    hv_status s = meshes && bodies ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory");
+    for (int i = 0; i < n && s == HV_OK; ++i) {
+        s = hv_mesh_load(paths[i], &meshes[i]);
+        if (s == HV_OK) s = body_reports(meshes[i], &bodies[i]);
+    }
+    if (s != HV_OK) {
+        for (int k = 0; k < n && meshes && bodies; ++k) {
+            hv_mesh_destroy(meshes[k]);
+            free(bodies[k]);
         }
+        free(meshes);
+        free(bodies);
+        return cli_fail(s);
     }
     hv_buf out;
     hv_buf_init(&out);
     if (json && n > 1) hv_buf_puts(&out, "[");
     for (int i = 0; i < n; ++i) {
         const char *path = paths[i];
-        const hv_mesh_report *r = hv_mesh_get_report(meshes[i]);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");
-            hv_mesh_report_json(&out, path, r);
+            hv_mesh_info_json(&out, path, meshes[i], bodies[i]);
         } else {
             if (i) putchar('\n');
-            print_text(path, r);
+            print_text(path, meshes[i], bodies[i]);
         }
         hv_mesh_destroy(meshes[i]);
+        free(bodies[i]);
     }
     free(meshes);
+    free(bodies);
     if (json) {
         if (n > 1) hv_buf_puts(&out, "]");
         hv_buf_puts(&out, "\n");
+        if (out.failed) {
+            hv_buf_free(&out);
+            return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
+        }
         fputs(out.data, stdout);
     }
     hv_buf_free(&out);
@@ -83,10 +140,13 @@ static int run(const cli_args *args, void *lib, void *local)
 }
 
 const cli_spec cmd_info = {
-    "info", "report on an STL mesh: size, volume, shells, defects", "[--json] MESH.stl [MESH.stl ...]",
-    "Load STL meshes (binary or ASCII, detected by content) and report: facets,\n"
-    "vertices after exact welding, bounding box, signed volume, surface area, shells,\n"
-    "open and non-manifold edges, degenerate facets, facets whose orientation disagrees\n"
-    "with their neighbours, and stored normals that contradict the winding.\n"
+    "info", "report on meshes: size, volume, shells, defects, bodies, materials",
+    "[--json] MESH.stl|.3mf|.obj|.ply [MESH ...]",
+    "Load meshes (STL binary or ASCII, detected by content; 3MF; OBJ; PLY) and report:\n"
+    "facets, vertices after exact welding, bounding box, signed volume, surface area,\n"
+    "shells, open and non-manifold edges, degenerate facets, facets whose orientation\n"
+    "disagrees with their neighbours, and stored normals that contradict the winding;\n"
+    "then the materials the file names, and for a file of several bodies (3MF build\n"
+    "items, OBJ groups) each body's material, facets, volume, shells and closedness.\n"
     "Defects are reported, not fatal; unreadable files are errors.\n",
     NULL, &k_local, NULL, 1, -1, "MESH argument", 0, run, NULL, NULL};

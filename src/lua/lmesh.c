@@ -9,6 +9,7 @@
 #include "hovox/generate.h"
 #include "hovox/slice.h"
 #include "lhovox.h"
+#include "mesh/mesh_internal.h"
 
 void hv_lua_push_mesh(lua_State *L, hv_mesh *m)
 {
@@ -31,7 +32,7 @@ static int l_load_mesh(lua_State *L)
 static void push_report(lua_State *L, const hv_mesh_report *r)
 {
     lua_createtable(L, 0, 14);
-    lua_pushstring(L, r->format == HV_MESH_STL_BINARY ? "binary" : r->format == HV_MESH_STL_ASCII ? "ascii" : "generated");
+    lua_pushstring(L, hv_mesh_format_key(r->format)); /* as in `hovox info --json` */
     lua_setfield(L, -2, "format");
 #define SETI(k, v) (lua_pushinteger(L, (lua_Integer)(v)), lua_setfield(L, -2, k))
     SETI("facets", r->facets);
@@ -61,6 +62,52 @@ static int mesh_report(lua_State *L)
 {
     l_mesh *u = CHECK(L, 1, l_mesh, MT_MESH);
     push_report(L, hv_mesh_get_report(u->p));
+    return 1;
+}
+
+/* mesh:bodies(): { {name, material (a name, or nil), facets, first (counting from 1)}, ... } */
+static int mesh_bodies(lua_State *L)
+{
+    const hv_mesh *m = CHECK(L, 1, l_mesh, MT_MESH)->p;
+    size_t n = hv_mesh_body_count(m);
+    lua_createtable(L, (int)n, 0);
+    for (size_t i = 0; i < n; ++i) {
+        const hv_mesh_body *b = hv_mesh_body_at(m, i);
+        lua_createtable(L, 0, 4);
+        lua_pushstring(L, b->name);
+        lua_setfield(L, -2, "name");
+        if (b->material >= 0) {
+            lua_pushstring(L, hv_mesh_material_at(m, (size_t)b->material)->name);
+            lua_setfield(L, -2, "material");
+        }
+        lua_pushinteger(L, (lua_Integer)b->facet_count);
+        lua_setfield(L, -2, "facets");
+        lua_pushinteger(L, (lua_Integer)b->first_facet + 1);
+        lua_setfield(L, -2, "first");
+        lua_rawseti(L, -2, (lua_Integer)i + 1);
+    }
+    return 1;
+}
+
+/* mesh:materials(): { {name, color = {r, g, b, a} (0 to 1) or nil}, ... } */
+static int mesh_materials(lua_State *L)
+{
+    const hv_mesh *m = CHECK(L, 1, l_mesh, MT_MESH)->p;
+    size_t n = hv_mesh_material_count(m);
+    lua_createtable(L, (int)n, 0);
+    for (size_t i = 0; i < n; ++i) {
+        const hv_mesh_material *mt = hv_mesh_material_at(m, i);
+        lua_createtable(L, 0, 2);
+        lua_pushstring(L, mt->name);
+        lua_setfield(L, -2, "name");
+        if (mt->has_color) {
+            double c[4];
+            for (int k = 0; k < 4; ++k) c[k] = (double)((mt->rgba >> (24 - 8 * k)) & 0xFF) / 255.0;
+            hv_lua_push_vec(L, c, 4);
+            lua_setfield(L, -2, "color");
+        }
+        lua_rawseti(L, -2, (lua_Integer)i + 1);
+    }
     return 1;
 }
 
@@ -218,8 +265,9 @@ static int l_contours(lua_State *L)
 
 void hv_lua_open_mesh(lua_State *L, int module)
 {
-    static const luaL_Reg methods[] = {{"report", mesh_report}, {"save", mesh_save}, {"count", mesh_count},
-                                       {"free", mesh_gc}, {NULL, NULL}};
+    static const luaL_Reg methods[] = {{"report", mesh_report},       {"save", mesh_save},     {"count", mesh_count},
+                                       {"bodies", mesh_bodies},       {"materials", mesh_materials},
+                                       {"free", mesh_gc},             {NULL, NULL}};
     hv_lua_new_class(L, MT_MESH, methods, mesh_gc, mesh_tostring);
     lua_pushcfunction(L, l_load_mesh);
     lua_setfield(L, module, "load_mesh");

@@ -138,11 +138,8 @@ nomem:
  * the extension), or "body 1". */
 hv_status hv_mesh_default_body(hv_mesh *m)
 {
-    const char *base = m->name && *m->name ? hv_basename(m->name) : "";
-    char *stem = hv_strdup(base);
+    char *stem = hv_mesh_file_stem(m->name);
     if (!stem) return HV_ERR_NOMEM;
-    char *dot = strrchr(stem, '.');
-    if (dot && dot != stem) *dot = '\0';
     hv_mesh_body b = {stem, HV_MESH_NO_MATERIAL, 0, m->nf};
     hv_status s = hv_mesh_set_bodies(m, &b, 1, NULL, 0, NULL);
     free(stem);
@@ -208,6 +205,20 @@ hv_status hv_mesh_body_extract(const hv_mesh *m, size_t i, hv_mesh **out)
     return s;
 }
 
+hv_status hv_mesh_body_report(const hv_mesh *m, size_t i, hv_mesh_report *out)
+{
+    if (m->nbodies == 1 && i == 0) {
+        *out = m->report;
+        return HV_OK;
+    }
+    hv_mesh *b;
+    hv_status s = hv_mesh_body_extract(m, i, &b);
+    if (s != HV_OK) return s;
+    *out = b->report;
+    hv_mesh_destroy(b);
+    return HV_OK;
+}
+
 hv_status hv_mesh_join(const hv_mesh_part *parts, size_t n, hv_mesh **out)
 {
     *out = NULL;
@@ -270,12 +281,28 @@ static int ext_is(const char *path, const char *ext)
     return 1;
 }
 
-const char *hv_mesh_load_extensions(void) { return "stl"; }
+const char *hv_mesh_load_extensions(void) { return "stl, 3mf, obj, ply"; }
+
+/* A whole file through one of the parse_ functions. */
+static hv_status load_with(const char *path, hv_status (*parse)(const void *, size_t, const char *, hv_mesh **),
+                           hv_mesh **out)
+{
+    char *data;
+    size_t size;
+    hv_status s = hv_read_file(path, (size_t)1 << 40, &data, &size);
+    if (s != HV_OK) return s;
+    s = parse(data, size, path, out);
+    free(data);
+    return s;
+}
 
 hv_status hv_mesh_load(const char *path, hv_mesh **out)
 {
     *out = NULL;
     if (ext_is(path, "stl")) return hv_mesh_load_stl(path, out);
+    if (ext_is(path, "3mf")) return load_with(path, hv_mesh_parse_3mf, out);
+    if (ext_is(path, "obj")) return load_with(path, hv_mesh_parse_obj, out);
+    if (ext_is(path, "ply")) return load_with(path, hv_mesh_parse_ply, out);
     const char *dot = strrchr(hv_basename(path), '.');
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: unsupported mesh format '%s' (supported: %s)", path,
                         dot ? dot + 1 : "", hv_mesh_load_extensions());

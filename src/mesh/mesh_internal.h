@@ -39,9 +39,51 @@ hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, 
  * volumes/schema.h); sets b->failed when out of memory. */
 void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);
 
+/* The document of `hovox info --json` for one mesh: the keys of hv_mesh_report_json, then
+ * "materials" ([{"name", "color": "#rrggbb[aa]" or null}]) and "bodies" ([{"name", "material"
+ * (a name or null), "first_facet", and the report keys of body_reports[i]}]). Sets b->failed
+ * when out of memory. */
+void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_mesh_report *body_reports);
+
+/* The name of a format in JSON and Lua ("binary", "ascii", "3mf", "obj", "ply_ascii", ...). */
+const char *hv_mesh_format_key(hv_mesh_format format);
+
+/* The display colour of a material as text: "#rrggbb", "#rrggbbaa" when not opaque; buf. */
+const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10]);
+
 /* The one body of a mesh built from a soup: named after the file (base name without the
  * extension) or "body 1". Called by hv_mesh_from_soup. */
 hv_status hv_mesh_default_body(hv_mesh *m);
 void hv_mesh_bodies_free(hv_mesh *m);
+
+/* ---- what the file readers share (readers.c) -------------------------------------------- */
+
+/* A set of names, each with the index of its first insertion (bodies, materials). */
+typedef struct hv_names {
+    char **names; /* n, in insertion order; owned */
+    size_t n, cap;
+    int64_t *slots; /* open addressing: index + 1, 0 empty */
+    size_t nslots;
+} hv_names;
+void hv_names_init(hv_names *t);
+void hv_names_free(hv_names *t);
+/* The index of the name s[0..n), or -1. */
+int64_t hv_names_find(const hv_names *t, const char *s, size_t n);
+/* The index of the name s[0..n), inserted when new. Errors: NOMEM, LIMIT. */
+hv_status hv_names_intern(hv_names *t, const char *s, size_t n, int32_t *index);
+
+/* A printable copy of s[0..n) for messages (control and non-ASCII bytes as '?', "..." when
+ * cut to fit cap); returns buf. */
+const char *hv_quote(char *buf, size_t cap, const char *s, size_t n);
+
+/* The base name of a file without its extension ("part" for "dir/part.obj"); malloc'd. */
+char *hv_mesh_file_stem(const char *name);
+
+/* A reader's last step: the soup (9 floats per facet, finite) becomes a mesh named `name`,
+ * with the bodies given (consecutive facet ranges in order; none: one body named after the
+ * file) and the materials (facet_mat may be NULL). */
+hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_format format,
+                        const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
+                        size_t nmats, const int32_t *facet_mat, hv_mesh **out);
 
 #endif

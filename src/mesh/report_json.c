@@ -1,5 +1,6 @@
 /* src/mesh/report_json.c - the mesh report as JSON: the object of `hovox info --json` and the
  * "hovox.mesh.json" document of voxelized models (volumes/schema.h), and reading it back. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -62,6 +63,67 @@ hv_status hv_mesh_report_from_doc(const json_t *doc, const char *what, hv_mesh_r
     if (s == HV_OK) s = hv_json_get_number(doc, "volume", what, &r->volume);
     if (s == HV_OK) s = hv_json_get_number(doc, "area", what, &r->area);
     return s;
+}
+
+const char *hv_mesh_format_key(hv_mesh_format format)
+{
+    const char *n = hv_enum_name(&k_formats, (int)format);
+    return n ? n : "?";
+}
+
+const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10])
+{
+    uint32_t c = mat->rgba;
+    if ((c & 0xFF) == 0xFF) snprintf(buf, 10, "#%06x", (unsigned)(c >> 8));
+    else snprintf(buf, 10, "#%08x", (unsigned)c);
+    return buf;
+}
+
+void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_mesh_report *body_reports)
+{
+    json_t *j = hv_mesh_report_to_doc(file, hv_mesh_get_report(m));
+    json_t *mats = json_array(), *bodies = json_array();
+    int failed = !j || !mats || !bodies;
+    for (size_t k = 0; !failed && k < hv_mesh_material_count(m); ++k) {
+        const hv_mesh_material *mt = hv_mesh_material_at(m, k);
+        char col[10];
+        json_t *o = json_object();
+        failed |= !o || json_array_append_new(mats, o) != 0;
+        if (failed) break;
+        failed |= hv_json_set(o, "name", hv_json_text(mt->name));
+        failed |= hv_json_set(o, "color", mt->has_color ? json_string(hv_mesh_material_color_text(mt, col)) : json_null());
+    }
+    for (size_t i = 0; !failed && i < hv_mesh_body_count(m); ++i) {
+        const hv_mesh_body *bd = hv_mesh_body_at(m, i);
+        json_t *o = json_object(), *r = hv_mesh_report_to_doc("", &body_reports[i]);
+        failed |= !o || !r || json_array_append_new(bodies, o) != 0;
+        if (failed) {
+            json_decref(r);
+            break;
+        }
+        failed |= hv_json_set(o, "name", hv_json_text(bd->name));
+        failed |= hv_json_set(o, "material", bd->material >= 0 ? hv_json_text(hv_mesh_material_at(m, (size_t)bd->material)->name)
+                                                                : json_null());
+        failed |= hv_json_set(o, "first_facet", json_integer((json_int_t)bd->first_facet));
+        const char *key;
+        json_t *v;
+        json_object_foreach(r, key, v) {
+            if (strcmp(key, "file") != 0) failed |= hv_json_set(o, key, json_incref(v));
+        }
+        json_decref(r);
+    }
+    if (!failed) {
+        failed |= hv_json_set(j, "materials", mats);
+        failed |= hv_json_set(j, "bodies", bodies);
+        mats = bodies = NULL;
+    }
+    char *text = failed ? NULL : hv_json_dump(j);
+    json_decref(j);
+    json_decref(mats);
+    json_decref(bodies);
+    if (text) hv_buf_puts(b, text);
+    else b->failed = 1;
+    free(text);
 }
 
 void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r)

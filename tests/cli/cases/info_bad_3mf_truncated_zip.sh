@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/3mf_truncated_zip.3mf

@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/obj_zero_index.obj

@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/ply_nan_vertex.ply

@@ -1,0 +1,1 @@
+$HOVOX info tests/data/bad/ply_no_faces.ply

@@ -1,0 +1,1 @@
+$HOVOX info tests/data/good/two_boxes.3mf

@@ -1,0 +1,1 @@
+$HOVOX info --json tests/data/good/two_boxes.3mf

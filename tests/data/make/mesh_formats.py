@@ -1,0 +1,136 @@
+#!/usr/bin/env python3
+"""tests/data/make/mesh_formats.py - writes the 3MF, OBJ and PLY files of tests/data/good and
+tests/data/bad (run from the repository root; the output is deterministic: fixed ZIP dates).
+The 3MF packages are written by hand here, not by lib3mf, so that they can be wrong in exactly
+one way each; the unit tests (tests/mesh/test_3mf.c) also read packages lib3mf writes."""
+import struct
+import zipfile
+
+CT = ('<?xml version="1.0" encoding="UTF-8"?>\n<Types xmlns="http://schemas.openxmlformats.org/package/2006/'
+      'content-types"><Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships'
+      '+xml"/><Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+      '</Types>')
+RELS = ('<?xml version="1.0" encoding="UTF-8"?>\n<Relationships xmlns="http://schemas.openxmlformats.org/package/'
+        '2006/relationships"><Relationship Target="/3D/3dmodel.model" Id="rel0" Type="http://schemas.microsoft.com/'
+        '3dmanufacturing/2013/01/3dmodel"/></Relationships>')
+HEAD = ('<?xml version="1.0" encoding="UTF-8"?>\n<model unit="%s" xml:lang="en-US" xmlns="http://schemas.microsoft'
+        '.com/3dmanufacturing/core/2015/02" xmlns:m="http://schemas.microsoft.com/3dmanufacturing/material/2015/02">\n')
+MATS = ('<basematerials id="5"><base name="VeroWhite" displaycolor="#F0F0F0"/>'
+        '<base name="Agilus30" displaycolor="#202020"/></basematerials>\n')
+
+
+def box(lo, hi):
+    v = [(x, y, z) for z in (lo, hi) for y in (lo, hi) for x in (lo, hi)]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (1, 3, 7, 5), (3, 2, 6, 7), (2, 0, 4, 6)]
+    t = []
+    for a, b, c, d in quads:
+        t += [(a, b, c), (a, c, d)]
+    return v, t
+
+
+def mesh_xml(v, t, tri_attrs=None):
+    s = '<mesh><vertices>' + ''.join('<vertex x="%s" y="%s" z="%s"/>' % p for p in v) + '</vertices><triangles>'
+    for i, (a, b, c) in enumerate(t):
+        extra = (tri_attrs or {}).get(i, '')
+        s += '<triangle v1="%d" v2="%d" v3="%d"%s/>' % (a, b, c, extra)
+    return s + '</triangles></mesh>'
+
+
+def package(path, model, parts=('ct', 'rels', 'model')):
+    with zipfile.ZipFile(path, 'w', zipfile.ZIP_DEFLATED) as z:
+        for name, text, key in (('[Content_Types].xml', CT, 'ct'), ('_rels/.rels', RELS, 'rels'),
+                                ('3D/3dmodel.model', model, 'model')):
+            if key in parts:
+                z.writestr(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), text, zipfile.ZIP_DEFLATED)
+
+
+def tet(v3='0 0 1', tris=((0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)), attrs='', tri_attrs=None, oid=1, name='tet'):
+    v = [('0', '0', '0'), ('1', '0', '0'), ('0', '1', '0'), tuple(v3.split())]
+    return '<object id="%d" name="%s" type="model"%s>%s</object>' % (oid, name, attrs, mesh_xml(v, tris, tri_attrs))
+
+
+def model(resources, items='<item objectid="1"/>', unit='millimeter'):
+    return HEAD % unit + '<resources>' + resources + '</resources><build>' + items + '</build></model>\n'
+
+
+# ---- good -------------------------------------------------------------------------------------
+ov, ot = box(0, 10)
+iv, it = box(3, 7)
+package('tests/data/good/two_boxes.3mf', model(
+    MATS + '<object id="2" name="outer" type="model" pid="5" pindex="0">' + mesh_xml(ov, ot) + '</object>'
+    '<object id="3" name="inner" type="model" pid="5" pindex="1">' + mesh_xml(iv, it) + '</object>',
+    '<item objectid="2"/><item objectid="3" transform="1 0 0 0 1 0 0 0 1 0 0 0"/>'))
+with open('tests/data/good/groups.obj', 'w') as f:
+    f.write('# two cubes: an outer shell and an inner core, as a CAD exporter writes them\nmtllib parts.mtl\n')
+    for p in ov + iv:
+        f.write('v %s %s %s\n' % p)
+    for name, mat, base in (('shell', 'VeroWhite', 1), ('core', 'Agilus30', 9)):
+        f.write('o %s\nusemtl %s\ns off\n' % (name, mat))
+        for a, b, c in ot:
+            f.write('f %d %d %d\n' % (a + base, b + base, c + base))
+with open('tests/data/good/tet_binary_be.ply', 'wb') as f:
+    f.write(b'ply\nformat binary_big_endian 1.0\ncomment a tetrahedron\nelement vertex 4\nproperty double x\n'
+            b'property float y\nproperty short z\nelement face 4\nproperty list uchar uint vertex_indices\nend_header\n')
+    for x, y, z in ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)):
+        f.write(struct.pack('>dfh', x, y, z))
+    for t in ((0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)):
+        f.write(struct.pack('>BIII', 3, *t))
+
+# ---- bad --------------------------------------------------------------------------------------
+package('tests/data/bad/3mf_missing_model.3mf', model(tet()), parts=('ct', 'rels'))
+package('tests/data/bad/3mf_index_out_of_range.3mf', model(tet(tris=((0, 2, 1), (0, 1, 3), (1, 2, 7), (0, 3, 2)))))
+package('tests/data/bad/3mf_missing_material.3mf', model(MATS + tet(attrs=' pid="5" pindex="0"',
+                                                                     tri_attrs={2: ' pid="9" p1="0"'})))
+package('tests/data/bad/3mf_material_past_end.3mf', model(MATS + tet(attrs=' pid="5" pindex="0"',
+                                                                      tri_attrs={3: ' p1="2"'})))
+package('tests/data/bad/3mf_nan_vertex.3mf', model(tet(v3='0 NaN 1')))
+package('tests/data/bad/3mf_unknown_component.3mf', model(
+    tet() + '<object id="2" name="assembly" type="model"><components><component objectid="1"/>'
+    '<component objectid="5"/></components></object>', '<item objectid="2"/>'))
+package('/tmp/hovox_good.3mf', model(tet()))
+with open('/tmp/hovox_good.3mf', 'rb') as f:
+    good = f.read()
+with open('tests/data/bad/3mf_truncated_zip.3mf', 'wb') as f:
+    f.write(good[:len(good) * 2 // 3])
+with open('tests/data/bad/3mf_not_zip.3mf', 'w') as f:
+    f.write('solid not a 3mf\n')
+
+TET_OBJ = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n'
+bad_obj = {
+    'obj_bad_index': TET_OBJ + 'f 1 3 2\nf 1 2 4\nf 2 3 5\nf 1 4 3\n',
+    'obj_forward_reference': 'v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n',
+    'obj_zero_index': TET_OBJ + 'f 0 1 2\n',
+    'obj_nan_vertex': 'v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n',
+    'obj_bad_number': 'v 0 0 0\nv 1 0 0\nv 0 1 0.5.5\nf 1 2 3\n',
+    'obj_short_face': TET_OBJ + 'f 1 2\n',
+    'obj_no_faces': TET_OBJ + 'l 1 2 3 4\n',
+}
+for name, text in bad_obj.items():
+    with open('tests/data/bad/%s.obj' % name, 'w') as f:
+        f.write(text)
+
+PLY_HEAD = ('ply\nformat %s 1.0\nelement vertex %s\nproperty float x\nproperty float y\nproperty float z\n'
+            'element face %s\nproperty list uchar int vertex_indices\nend_header\n')
+TET_V = ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1))
+TET_F = ((0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2))
+
+
+def ply_binary(path, nv, nf, verts, faces, cut=0):
+    data = (PLY_HEAD % ('binary_little_endian', nv, nf)).encode()
+    for p in verts:
+        data += struct.pack('<fff', *p)
+    for t in faces:
+        data += struct.pack('<Biii', 3, *t)
+    with open(path, 'wb') as f:
+        f.write(data[:len(data) - cut])
+
+
+ply_binary('tests/data/bad/ply_count_lies.ply', 1000000000000, 4, TET_V, TET_F)
+ply_binary('tests/data/bad/ply_bad_index.ply', 4, 4, TET_V, ((0, 2, 1), (0, 1, 3), (1, 2, 4), (0, 3, 2)))
+ply_binary('tests/data/bad/ply_truncated.ply', 4, 4, TET_V, TET_F, cut=6)
+ply_binary('tests/data/bad/ply_nan_vertex.ply', 4, 4, ((0, 0, 0), (1, 0, 0), (0, float('nan'), 0), (0, 0, 1)), TET_F)
+with open('tests/data/bad/ply_ascii_bad_value.ply', 'w') as f:
+    f.write(PLY_HEAD % ('ascii', 4, 4) + '0 0 0\n1 0 0\n0 1 0\n0 0 one\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n')
+with open('tests/data/bad/ply_no_faces.ply', 'w') as f:
+    f.write('ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n'
+            'end_header\n0 0 0\n')

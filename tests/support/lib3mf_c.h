@@ -1,0 +1,43 @@
+/* tests/support/lib3mf_c.h - the few functions of lib3mf 1.8's C interface the tests and the
+ * bench use to WRITE 3MF files (an independent writer for the reader under test). lib3mf's
+ * own header (NMR_DLLInterfaces.h) is C++ only, so the C declarations are repeated here with
+ * the same ABI: every handle is a pointer, results are int (0: success), DWORD is unsigned,
+ * a vertex is 3 floats, a triangle 3 unsigned, a transform 3 rows of 4 floats (x' = row . (x,
+ * y, z, 1)). Link with -l3MF. */
+#ifndef HOVOX_TEST_LIB3MF_C_H
+#define HOVOX_TEST_LIB3MF_C_H
+
+typedef void *l3mf;
+
+enum { L3MF_MICRON = 0, L3MF_MM = 1, L3MF_CM = 2, L3MF_INCH = 3, L3MF_FOOT = 4, L3MF_METER = 5 };
+
+int lib3mf_createmodel(l3mf *model);
+int lib3mf_release(l3mf obj);
+int lib3mf_getlasterror(l3mf obj, unsigned *code, const char **message);
+int lib3mf_model_setunit(l3mf model, unsigned unit);
+int lib3mf_model_addmeshobject(l3mf model, l3mf *mesh);
+int lib3mf_model_addcomponentsobject(l3mf model, l3mf *components);
+int lib3mf_object_setnameutf8(l3mf object, const char *name);
+int lib3mf_object_settype(l3mf object, unsigned type); /* 1 model, 2 support, 3 solid support, 0 other */
+int lib3mf_meshobject_setgeometry(l3mf mesh, const float *xyz, unsigned nv, const unsigned *tri, unsigned nt);
+int lib3mf_componentsobject_addcomponent(l3mf components, l3mf object, const float *transform, l3mf *component);
+int lib3mf_model_addbuilditem(l3mf model, l3mf object, const float *transform, l3mf *item);
+int lib3mf_model_addbasematerialgroup(l3mf model, l3mf *group);
+int lib3mf_basematerial_addmaterialutf8(l3mf group, const char *name, unsigned char r, unsigned char g, unsigned char b,
+                                        unsigned *index);
+int lib3mf_basematerial_setdisplaycolorrgba(l3mf group, unsigned index, unsigned char r, unsigned char g,
+                                            unsigned char b, unsigned char a);
+int lib3mf_basematerial_getresourceid(l3mf group, unsigned *id);
+int lib3mf_object_createdefaultpropertyhandler(l3mf object, l3mf *handler);
+int lib3mf_defaultpropertyhandler_setbasematerial(l3mf handler, unsigned group, unsigned index);
+int lib3mf_defaultpropertyhandler_setcolorrgb(l3mf handler, unsigned char r, unsigned char g, unsigned char b);
+int lib3mf_meshobject_createpropertyhandler(l3mf mesh, l3mf *handler);
+int lib3mf_propertyhandler_setbasematerial(l3mf handler, unsigned triangle, unsigned group, unsigned index);
+int lib3mf_propertyhandler_setsinglecolorrgb(l3mf handler, unsigned triangle, unsigned char r, unsigned char g,
+                                             unsigned char b);
+int lib3mf_model_querywriter(l3mf model, const char *kind, l3mf *writer);
+int lib3mf_writer_writetofileutf8(l3mf writer, const char *path);
+int lib3mf_writer_getstreamsize(l3mf writer, unsigned long long *size);
+int lib3mf_writer_writetobuffer(l3mf writer, unsigned char *buffer, unsigned long long size);
+
+#endif

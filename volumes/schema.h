@@ -26,6 +26,7 @@ typedef enum hv_schema_doc {
     HV_DOC_VOXELIZE,  /* "hovox.voxelize.json": adjacency, fill, index box, voxel size */
     HV_DOC_MATERIALS, /* "hovox.materials.json": the material table (graded models) */
     HV_DOC_OBJECT,    /* "hovox.object.json": the grading definition (graded models) */
+    HV_DOC_REGIONS,   /* "hovox.regions.json": the regions of an assembly (hv_voxelize) */
     HV_DOC_COUNT
 } hv_schema_doc;
 
@@ -63,6 +64,10 @@ hv_status hv_mesh_report_from_doc(const json_t *doc, const char *what, hv_mesh_r
 /* hovox.voxelize.json (src/voxel/voxelize.c): fills the job part of rec (not rec->mesh). */
 json_t *hv_voxelize_to_doc(const hv_voxel_plan *plan, int adjacency);
 hv_status hv_voxelize_from_doc(const json_t *doc, const char *what, hv_voxelize_record *rec);
+
+/* hovox.regions.json (src/voxel/regions.c) */
+json_t *hv_regions_to_doc(const hv_regions *r, double voxel_volume);
+hv_status hv_regions_from_doc(const json_t *doc, const char *what, hv_regions **out);
 
 /* hovox.materials.json (src/material/table.c) */
 json_t *hv_material_table_to_doc(const hv_material_table *t);

@@ -50,8 +50,14 @@ hv_status hv_schema_doc_read(const hv_volume *vol, hv_schema_doc d, json_t **out
 /* Serialise doc (its members after "schema": version; hv_json_dump). Returns malloc'd text, or
  * NULL with HV_ERR_NOMEM recorded. */
 char *hv_schema_doc_dump(hv_schema_doc d, const json_t *doc);
+/* The same under an older version (see hv_schema_doc_write_version). */
+char *hv_schema_doc_dump_version(hv_schema_doc d, const json_t *doc, int version);
 /* Store doc (reference stolen, NULL allowed: then HV_ERR_NOMEM) in vol's metadata. */
 hv_status hv_schema_doc_write(hv_volume *vol, hv_schema_doc d, json_t *doc);
+/* The same under an older version, 1 <= version <= hv_schema_version(d): a writer whose document
+ * needs no newer member writes the version older hovox reads (the object document is version 1
+ * unless its regions carry names or bases of their own). */
+hv_status hv_schema_doc_write_version(hv_volume *vol, hv_schema_doc d, json_t *doc, int version);
 
 /* ---- the documents' (de)serialisers, in the modules that own them ---------------------------
  * to_doc: a new object without "schema" (NULL when out of memory). from_doc: `what` names the

@@ -164,6 +164,10 @@ HV_API hv_status hv_mesh_write_stl(const hv_mesh *mesh, const char *path, int as
  * .obj, other than a special file), HV_ERR_IO. */
 HV_API hv_status hv_mesh_write_obj(const hv_mesh *mesh, const char *path);
 
+/* hv_mesh_write_obj for a name ending in .obj (any case), else hv_mesh_write_stl (ascii as
+ * there). Errors: theirs. */
+HV_API hv_status hv_mesh_save(const hv_mesh *mesh, const char *path, int ascii);
+
 /* A new mesh with every vertex moved by the affine map x' = A x + t, `matrix` row-major 3x4
  * ({A00, A01, A02, t0, A10, ...}); welded again, with the same bodies, materials and name. A
  * mirror (det A < 0) swaps two vertices of every facet, so facets stay outward. Errors:

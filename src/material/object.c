@@ -472,6 +472,12 @@ hv_status hv_object_add_ags_region(hv_object *o, const char *name, hv_ags *a)
     if (a->m != o->m)
         return hv_error_set(HV_ERR_INVALID, "grading source has %d materials, the object %d", a->m, o->m);
     int r = hv_object_region_find(o, name);
+    int named = 0;
+    for (int k = 0; k < o->nreg; ++k) named |= o->reg[k].name != NULL;
+    if (r < 0 && !named)
+        return hv_error_set(HV_ERR_NOT_FOUND, "the object has no region '%s' (its regions have no names: regions are "
+                                              "named after the bodies of a model voxelized from an assembly)",
+                            name ? name : "");
     if (r < 0) {
         char list[1024];
         return hv_error_set(HV_ERR_NOT_FOUND, "the object has no region '%s' (regions: %s)", name ? name : "",

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/internal.h"
 #include "mesh_internal.h"
@@ -45,6 +46,13 @@ hv_status hv_mesh_write_obj(const hv_mesh *m, const char *path)
                     (unsigned long)m->tri[3 * f + 2] + 1);
     }
     return hv_atomic_commit(&af);
+}
+
+hv_status hv_mesh_save(const hv_mesh *m, const char *path, int ascii)
+{
+    size_t n = strlen(path);
+    if (n > 4 && strcasecmp(path + n - 4, ".obj") == 0) return hv_mesh_write_obj(m, path);
+    return hv_mesh_write_stl(m, path, ascii);
 }
 
 hv_status hv_mesh_transform(const hv_mesh *m, const double a[12], hv_mesh **out)

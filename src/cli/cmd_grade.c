@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "hovox/material.h"
+#include "hovox/voxelize.h"
 
 #define MAX_SOURCES 32
 #define MAX_PROPS 64
@@ -173,6 +174,19 @@ static hv_status add_sources(const grade_cli *g, const hv_volume *vol, hv_object
                    rep.file_hi, (unsigned long long)rep.filled, rep.filled ? ", given the nearest covered value" : "");
         if (s == HV_OK) s = hv_ags_from_options(frf, &src->a, NULL, &a);
         if (s == HV_OK) s = src->region ? hv_object_add_ags_region(obj, src->region, a) : hv_object_add_ags(obj, a);
+        if (s == HV_ERR_NOT_FOUND && src->region) { /* a body whose voxels earlier bodies took: say so */
+            char why[2048];
+            snprintf(why, sizeof why, "%s", hv_last_error());
+            hv_regions *rg = NULL;
+            int64_t k = hv_voxelize_regions_read(vol, &rg) == HV_OK ? hv_regions_find(rg, src->region) : -1;
+            const hv_region_info *ri = k >= 0 ? hv_regions_at(rg, (size_t)k) : NULL;
+            if (ri && ri->voxels == 0)
+                hv_error_set(s, "region '%s' is empty: the bodies before it in the file kept all its %llu voxels",
+                             src->region, (unsigned long long)ri->lost);
+            else
+                hv_error_set(s, "%s", why);
+            hv_regions_destroy(rg);
+        }
         if (s != HV_OK && src->region)
             hv_error_prefix(s, "source %d (%s %s %s %s): ", i + 1, cli_spell("region"), src->region, cli_spell("frf"),
                             src->frf);

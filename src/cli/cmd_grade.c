@@ -284,12 +284,16 @@ const cli_spec cmd_grade = {
     "grade", "assign materials by grading sources (AGS) on reference features",
     "MODEL.vdb -o OUT.vdb --materials A,B[,C...] [options]\n"
     "                   --frf FRF --ranges D-,DG,D+ [--f EXPR] --ms V,V,... --me V,V,...\n"
-    "                  [--frf ... --me ...]...",
+    "                  [--frf ... --me ...]...\n"
+    "       hovox grade ASSEMBLY.vdb -o OUT.vdb [--materials A,B,...] [[--region NAME] --frf ... --me ...]...",
     "Assign material fractions to a voxelized model with grading sources (AGS, Wu 2.2):\n"
     "each voxel at distance d from the reference feature gets\n"
     "  P = Ms + f(d - D-) (Me - Ms) for D- <= d <= D- + DG (the gradient range),\n"
     "  the boundary values of f below and above it (continuous), and for DG = 0 a step:\n"
     "  Ms below D-, Me from D- on (a multi-material object).\n"
-    "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n",
+    "Repeating the group --frf ... --me adds sources (AGS union, see --blend).\n"
+    "A model voxelized from an assembly has a region per body, each 100% its body's\n"
+    "material where no source applies; --region NAME before a --frf grades that region\n"
+    "alone.\n",
     NULL, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run, NULL,
     hv_ags_option_set};

@@ -198,5 +198,7 @@ const cli_spec cmd_voxelize = {
     "Voxelize a mesh (Wu 2.1; Huang et al. 1998): triangles mark the voxels in their face\n"
     "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
     "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"
-    "origin + (i*Lx, j*Ly, k*Lz).\n",
+    "origin + (i*Lx, j*Ly, k*Lz). A mesh of several bodies (an assembly) gives a bool grid\n"
+    "'region.<body name>' per body; where bodies overlap, the first in file order keeps\n"
+    "the voxels, and the summary reports what the others lost.\n",
     hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

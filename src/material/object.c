@@ -93,6 +93,21 @@ static hv_status mask_op(const hv_volume *a, const hv_volume *b, hv_mask_op op, 
     return HV_OK;
 }
 
+/* A region's mask: the true voxels of bool grid g of vol, on lattice xf. */
+static hv_status mask_of(const hv_volume *vol, int g, const hv_transform *xf, hv_volume **out)
+{
+    *out = NULL;
+    hv_volume *mask;
+    hv_status s = hv_volume_create(xf, &mask);
+    if (s != HV_OK) return s;
+    if ((s = hv_volume_grid_copy(mask, "mask", vol, g)) != HV_OK || (s = hv_volume_topology_restrict(mask, 0)) != HV_OK) {
+        hv_volume_destroy(mask);
+        return s;
+    }
+    *out = mask;
+    return HV_OK;
+}
+
 static hv_status object_new(int m, const hv_transform *xf, hv_object **out)
 {
     hv_object *o = hv_calloc(1, sizeof *o);
@@ -234,17 +249,12 @@ hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_obj
     hv_status s = object_new(m, &xf, &o);
     if (s != HV_OK) return s;
     hv_volume *mask;
-    if ((s = hv_volume_create(&xf, &mask)) == HV_OK) {
-        if ((s = hv_volume_grid_copy(mask, "mask", vol, g)) == HV_OK &&
-            (s = hv_volume_topology_restrict(mask, 0)) == HV_OK) {
-            if (hv_volume_active_count(mask) == 0) {
-                hv_volume_destroy(mask);
-                s = hv_error_set(HV_ERR_INVALID, "bool grid '%s' is empty", grid);
-            } else {
-                s = push_region(o, mask, NULL, NULL, NULL);
-            }
-        } else {
+    if ((s = mask_of(vol, g, &xf, &mask)) == HV_OK) {
+        if (hv_volume_active_count(mask) == 0) {
             hv_volume_destroy(mask);
+            s = hv_error_set(HV_ERR_INVALID, "bool grid '%s' is empty", grid);
+        } else {
+            s = push_region(o, mask, NULL, NULL, NULL);
         }
     }
     if (s == HV_OK) s = record_take(vol, &xf, &o->record);
@@ -319,11 +329,7 @@ hv_status hv_object_from_regions(const hv_volume *vol, const hv_material_table *
             break;
         }
         hv_volume *mask;
-        if ((s = hv_volume_create(&xf, &mask)) != HV_OK) break;
-        if ((s = hv_volume_grid_copy(mask, "mask", vol, gi)) != HV_OK || (s = hv_volume_topology_restrict(mask, 0)) != HV_OK) {
-            hv_volume_destroy(mask);
-            break;
-        }
+        if ((s = mask_of(vol, gi, &xf, &mask)) != HV_OK) break;
         region like;
         memset(&like, 0, sizeof like);
         like.name = (char *)g->name;
@@ -1101,11 +1107,7 @@ hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object 
             break;
         }
         hv_volume *mask;
-        if ((s = hv_volume_create(&xf, &mask)) != HV_OK) break;
-        if ((s = hv_volume_grid_copy(mask, "mask", vol, g)) != HV_OK || (s = hv_volume_topology_restrict(mask, 0)) != HV_OK) {
-            hv_volume_destroy(mask);
-            break;
-        }
+        if ((s = mask_of(vol, g, &xf, &mask)) != HV_OK) break;
         /* version 2: a region's own name and base (the object's base when absent) */
         region like;
         memset(&like, 0, sizeof like);

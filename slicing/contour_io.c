@@ -16,6 +16,8 @@ struct hv_contour_writer {
     char *buf; /* text of the layer being written */
     size_t len, cap;
     int failed;
+    size_t nbodies; /* > 1: an assembly, its loops labelled by body */
+    char **bodies;
 };
 
 /* ---- text buffer with fast fixed-point numbers -------------------------------------------- */
@@ -134,6 +136,8 @@ static void put_f32(hv_contour_writer *w, double v)
 
 /* ---- open / add / close ------------------------------------------------------------------ */
 
+static void writer_free(hv_contour_writer *w);
+
 hv_status hv_contour_format_for_path(const char *path, int binary, hv_contour_format *out)
 {
     size_t n = strlen(path);
@@ -149,6 +153,23 @@ hv_status hv_contour_writer_open(const char *path, hv_contour_format format, siz
                                  const double lo[3], const double hi[3], const char *label,
                                  hv_contour_writer **out)
 {
+    return hv_contour_writer_open_bodies(path, format, layers, lo, hi, label, NULL, 0, out);
+}
+
+/* A label on one CLI header line (control characters become '_'), or `fallback` when empty. */
+static void cli_label(hv_contour_writer *w, const char *s, const char *fallback)
+{
+    char lab[256];
+    size_t k = 0;
+    for (; *s && k + 1 < sizeof lab; ++s) lab[k++] = (unsigned char)*s < 0x20 ? '_' : *s;
+    lab[k] = '\0';
+    puts_(w, lab[0] ? lab : fallback);
+}
+
+hv_status hv_contour_writer_open_bodies(const char *path, hv_contour_format format, size_t layers,
+                                        const double lo[3], const double hi[3], const char *label,
+                                        const char *const *bodies, size_t nbodies, hv_contour_writer **out)
+{
     if (!out) return hv_error_set(HV_ERR_INVALID, "hv_contour_writer_open: out is NULL");
     *out = NULL;
     if (!path || !lo || !hi)
@@ -160,13 +181,27 @@ hv_status hv_contour_writer_open(const char *path, hv_contour_format format, siz
             return hv_error_set(HV_ERR_INVALID, "%s: bounding box is not finite", path);
     if (format != HV_CONTOUR_SVG && layers >= (size_t)INT32_MAX)
         return hv_error_set(HV_ERR_LIMIT, "%s: %zu layers do not fit a CLI file", path, layers);
+    if (nbodies > 1 && !bodies) return hv_error_set(HV_ERR_INVALID, "%s: %zu bodies without names", path, nbodies);
+    if (nbodies > (size_t)INT32_MAX - 1) return hv_error_set(HV_ERR_LIMIT, "%s: %zu bodies", path, nbodies);
     hv_contour_writer *w = hv_calloc(1, sizeof *w);
     if (!w) return HV_ERR_NOMEM;
     w->format = format;
     w->layers = layers;
+    if (nbodies > 1) {
+        if (!(w->bodies = hv_calloc(nbodies, sizeof *w->bodies))) {
+            free(w);
+            return HV_ERR_NOMEM;
+        }
+        w->nbodies = nbodies;
+        for (size_t b = 0; b < nbodies; ++b)
+            if (!(w->bodies[b] = hv_strdup(bodies[b] ? bodies[b] : ""))) {
+                writer_free(w);
+                return HV_ERR_NOMEM;
+            }
+    }
     hv_status st = hv_atomic_open(&w->af, path, "wb");
     if (st != HV_OK) {
-        free(w);
+        writer_free(w);
         return st;
     }
     if (!label) label = "";
@@ -195,15 +230,20 @@ hv_status hv_contour_writer_open(const char *path, hv_contour_format format, siz
                  ".open{fill:none;stroke:#d62728;stroke-width:0.1}</style>\n"
                  "<g transform=\"scale(1,-1)\">\n");
     } else {
-        char lab[256];
-        size_t k = 0;
-        for (const char *s = label; *s && k + 1 < sizeof lab; ++s)
-            lab[k++] = (unsigned char)*s < 0x20 ? '_' : *s;
-        lab[k] = '\0';
         puts_(w, "$$HEADERSTART\n");
         puts_(w, format == HV_CONTOUR_CLI_BINARY ? "$$BINARY\n" : "$$ASCII\n");
         puts_(w, "$$UNITS/00000001.000000\n$$VERSION/200\n");
-        printf_(w, "$$LABEL/1,%s\n", lab[0] ? lab : "part");
+        if (w->nbodies > 1) /* one part per body: polylines carry their body's id */
+            for (size_t b = 0; b < w->nbodies; ++b) {
+                printf_(w, "$$LABEL/%zu,", b + 1);
+                cli_label(w, w->bodies[b], "body");
+                put(w, "\n", 1);
+            }
+        else {
+            puts_(w, "$$LABEL/1,");
+            cli_label(w, label, "part");
+            put(w, "\n", 1);
+        }
         printf_(w, "$$DIMENSION/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", lo[0], lo[1], lo[2], hi[0], hi[1],
                 hi[2]);
         printf_(w, "$$LAYERS/%06zu\n", layers ? layers + 1 : 0); /* + the zero layer */
@@ -230,23 +270,33 @@ static void svg_layer(hv_contour_writer *w, const hv_layer *L, const hv_slice *s
     puts_(w, "\">\n");
     size_t n = hv_slice_loop_count(sl);
     const hv_slice_loop *loops = hv_slice_loops(sl);
-    for (int pass = 0; pass < 2; ++pass) {
-        int any = 0;
-        for (size_t i = 0; i < n; ++i) {
-            const hv_slice_loop *lp = &loops[i];
-            if (lp->closed != (pass == 0)) continue;
-            puts_(w, any ? " M" : pass == 0 ? "<path class=\"loops\" fill-rule=\"nonzero\" d=\"M"
-                                            : "<path class=\"open\" d=\"M");
-            any = 1;
-            for (size_t k = 0; k < lp->count; ++k) {
-                put(w, " ", 1);
-                num(w, lp->xy[2 * k]);
-                put(w, " ", 1);
-                num(w, lp->xy[2 * k + 1]);
+    /* an assembly: one path per body (data-body), each body's loops filled by themselves */
+    for (size_t b = 0; b < HV_MAX(w->nbodies, (size_t)1); ++b) {
+        for (int pass = 0; pass < 2; ++pass) {
+            int any = 0;
+            for (size_t i = 0; i < n; ++i) {
+                const hv_slice_loop *lp = &loops[i];
+                if (lp->closed != (pass == 0) || (w->nbodies > 1 && (size_t)lp->body != b)) continue;
+                if (!any && w->nbodies > 1) {
+                    puts_(w, pass == 0 ? "<path class=\"loops\" fill-rule=\"nonzero\" data-body=\""
+                                       : "<path class=\"open\" data-body=\"");
+                    xml_escaped(w, w->bodies[b]);
+                    puts_(w, "\" d=\"M");
+                } else {
+                    puts_(w, any ? " M" : pass == 0 ? "<path class=\"loops\" fill-rule=\"nonzero\" d=\"M"
+                                                    : "<path class=\"open\" d=\"M");
+                }
+                any = 1;
+                for (size_t k = 0; k < lp->count; ++k) {
+                    put(w, " ", 1);
+                    num(w, lp->xy[2 * k]);
+                    put(w, " ", 1);
+                    num(w, lp->xy[2 * k + 1]);
+                }
+                if (lp->closed) puts_(w, " Z");
             }
-            if (lp->closed) puts_(w, " Z");
+            if (any) puts_(w, "\"/>\n");
         }
-        if (any) puts_(w, "\"/>\n");
     }
     puts_(w, "</g>\n");
 }
@@ -267,7 +317,7 @@ static void cli_ascii_layer(hv_contour_writer *w, const hv_layer *L, const hv_sl
         const hv_slice_loop *lp = &loops[i];
         int dir = !lp->closed ? 2 : lp->orientation > 0 ? 1 : 0;
         size_t np = lp->count + (lp->closed ? 1 : 0);
-        printf_(w, "$$POLYLINE/1,%d,%zu", dir, np);
+        printf_(w, "$$POLYLINE/%d,%d,%zu", w->nbodies > 1 ? lp->body + 1 : 1, dir, np);
         for (size_t k = 0; k < np; ++k) {
             size_t q = k % lp->count;
             put(w, ",", 1);
@@ -294,7 +344,7 @@ static void cli_binary_layer(hv_contour_writer *w, const hv_layer *L, const hv_s
         int dir = !lp->closed ? 2 : lp->orientation > 0 ? 1 : 0;
         size_t np = lp->count + (lp->closed ? 1 : 0);
         put_u16(w, 130);
-        put_i32(w, 1);
+        put_i32(w, w->nbodies > 1 ? lp->body + 1 : 1);
         put_i32(w, dir);
         put_i32(w, (int32_t)HV_MIN(np, (size_t)INT32_MAX));
         for (size_t k = 0; k < np; ++k) {
@@ -321,6 +371,8 @@ hv_status hv_contour_writer_add(hv_contour_writer *w, const hv_layer *L, const h
 
 static void writer_free(hv_contour_writer *w)
 {
+    for (size_t b = 0; b < w->nbodies; ++b) free(w->bodies[b]);
+    free(w->bodies);
     free(w->buf);
     free(w);
 }

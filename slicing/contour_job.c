@@ -11,6 +11,8 @@
 typedef struct job {
     hv_contour_writer *writer;
     const char *dir, *label;
+    const char *const *bodies; /* names of an assembly's bodies (nbodies > 1) */
+    size_t nbodies;
     const double *lo, *hi;
     hv_contours_layer_fn layer;
     void *user;
@@ -23,7 +25,7 @@ static hv_status one_svg(const job *j, size_t index, const hv_layer *layer, cons
     int n = snprintf(path, sizeof path, "%s/layer-%05zu.svg", j->dir, index);
     if (n < 0 || (size_t)n >= sizeof path) return hv_error_set(HV_ERR_IO, "%s: directory name too long", j->dir);
     hv_contour_writer *w = NULL;
-    hv_status s = hv_contour_writer_open(path, HV_CONTOUR_SVG, 1, j->lo, j->hi, j->label, &w);
+    hv_status s = hv_contour_writer_open_bodies(path, HV_CONTOUR_SVG, 1, j->lo, j->hi, j->label, j->bodies, j->nbodies, &w);
     if (s == HV_OK) s = hv_contour_writer_add(w, layer, slice);
     if (s == HV_OK) s = hv_contour_writer_close(w);
     else hv_contour_writer_abort(w);
@@ -54,7 +56,13 @@ hv_status hv_contours_write(const hv_mesh *mesh, const hv_contours_options *o, c
     if (!mesh || !o) return hv_error_set(HV_ERR_INVALID, "hv_contours_write: mesh and options are required");
     hv_status s = hv_contours_options_check(o);
     if (s != HV_OK) return s;
-    job j = {NULL, NULL, name ? hv_basename(name) : "hovox", NULL, NULL, layer, user, {0}};
+    job j = {NULL, NULL, name ? hv_basename(name) : "hovox", NULL, 0, NULL, NULL, layer, user, {0}};
+    size_t nb = hv_mesh_body_count(mesh);
+    const char **bodies = nb > 1 ? hv_calloc(nb, sizeof *bodies) : NULL;
+    if (nb > 1 && !bodies) return HV_ERR_NOMEM;
+    for (size_t b = 0; bodies && b < nb; ++b) bodies[b] = hv_mesh_body_at(mesh, b)->name;
+    j.bodies = bodies;
+    j.nbodies = nb;
     hv_slicer *slicer = NULL;
     hv_layer_plan *plan = NULL;
     char *tmpdir = NULL;
@@ -77,7 +85,8 @@ hv_status hv_contours_write(const hv_mesh *mesh, const hv_contours_options *o, c
                          o->adaptive[0] > 0 ? o->adaptive[0] : o->layer_height);
     hv_contour_format fmt;
     if (s == HV_OK && o->output && (s = hv_contour_format_for_path(o->output, o->binary, &fmt)) == HV_OK)
-        s = hv_contour_writer_open(o->output, fmt, j.sum.layers, info.bbox_min, info.bbox_max, j.label, &j.writer);
+        s = hv_contour_writer_open_bodies(o->output, fmt, j.sum.layers, info.bbox_min, info.bbox_max, j.label, j.bodies,
+                                          j.nbodies, &j.writer);
     if (s == HV_OK && o->per_layer) s = hv_outdir_begin(o->per_layer, &svg_dir, 0, &tmpdir);
     j.dir = tmpdir;
     hv_slice_options so;
@@ -92,6 +101,7 @@ hv_status hv_contours_write(const hv_mesh *mesh, const hv_contours_options *o, c
     free(tmpdir);
     hv_layer_plan_destroy(plan);
     hv_slicer_destroy(slicer);
+    free(bodies);
     if (s == HV_OK && summary) *summary = j.sum;
     return s;
 }

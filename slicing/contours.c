@@ -44,6 +44,7 @@ typedef struct chain {
     int tail;    /* head chains: last chain of the list */
     int absorbed; /* joined after another chain */
     int gaps;
+    int body;    /* the mesh body of its facets */
     double vote; /* see facet_vote: > 0 when the facets put the material left of the chain */
 } chain;
 
@@ -210,6 +211,7 @@ static hv_status trace(work *w, size_t i0)
     memset(c, 0, sizeof *c);
     c->next = -1;
     c->tail = (int)w->nchains;
+    c->body = s->nbodies > 1 ? hv_slicer_body_of(s, f0) : 0;
     c->off = w->nfw;
     c->boff = w->nbw;
     ++w->nchains;
@@ -360,7 +362,7 @@ static hv_status close_gaps(work *w, double gap)
                 }
                 for (size_t k = lo; k < m && keys[k].cx == ex + dx && keys[k].cy <= ey + 1; ++k) {
                     const chain *cj = &w->chains[keys[k].chain];
-                    if (cj->closed || cj->absorbed) continue;
+                    if (cj->closed || cj->absorbed || cj->body != ci->body) continue; /* bodies apart */
                     double sp[2];
                     chain_start(w, cj, sp);
                     double ux = sp[0] - e[0], uy = sp[1] - e[1], d = ux * ux + uy * uy;
@@ -455,10 +457,11 @@ static int cmp_nest(const void *a, const void *b)
     return x->idx < y->idx ? -1 : x->idx > y->idx;
 }
 
-/* Parent = smallest loop containing the loop (by vote of up to 5 of its vertices). The facets
- * decide outer (CCW) or hole (CW): votes[i] > 0 keeps loop i's direction, < 0 reverses it
- * (negated when the whole mesh is inside out); depth parity decides a loop without a vote. */
-static hv_status nest(hv_slice *sl, size_t nclosed, const double *votes, int inverted)
+/* Parent = smallest loop of the same body containing the loop (by vote of up to 5 of its
+ * vertices). The facets decide outer (CCW) or hole (CW): votes[i] > 0 keeps loop i's direction,
+ * < 0 reverses it (negated when the loop's body is inside out); depth parity decides a loop
+ * without a vote. */
+static hv_status nest(hv_slice *sl, size_t nclosed, const double *votes, const hv_slicer *s)
 {
     if (nclosed == 0) return HV_OK;
     nest_item *it = hv_malloc_array(nclosed, sizeof *it);
@@ -491,6 +494,7 @@ static hv_status nest(hv_slice *sl, size_t nclosed, const double *votes, int inv
                 pb[2] < bb[2] || pb[3] < bb[3])
                 continue;
             const hv_slice_loop *P = &sl->loops[it[q].idx];
+            if (P->body != L->body) continue;
             size_t samples = HV_MIN(L->count, (size_t)5), ins = 0;
             for (size_t k = 0; k < samples; ++k) {
                 size_t v = k * L->count / samples;
@@ -506,7 +510,7 @@ static hv_status nest(hv_slice *sl, size_t nclosed, const double *votes, int inv
     free(it);
     for (size_t i = 0; i < nclosed; ++i) {
         hv_slice_loop *L = &sl->loops[i];
-        double v = inverted ? -votes[i] : votes[i];
+        double v = s->body_inverted[L->body] ? -votes[i] : votes[i];
         int traced = L->area > 0 ? 1 : -1;
         int want = v > 0 ? traced : v < 0 ? -traced : L->depth % 2 == 0 ? 1 : -1;
         if ((L->area > 0 ? 1 : -1) != want) {
@@ -569,6 +573,7 @@ static hv_status build_slice(work *w, double gap, hv_slice **out)
             L->depth = pass == 0 ? 0 : -1;
             L->gaps = c->gaps;
             L->area = area;
+            L->body = c->body;
             used += n;
             sl->stats.points += n;
             if (pass == 0) {
@@ -580,7 +585,7 @@ static hv_status build_slice(work *w, double gap, hv_slice **out)
         }
     }
     sl->nloops = nl;
-    hv_status st = nest(sl, sl->stats.loops, votes, w->s->inverted);
+    hv_status st = nest(sl, sl->stats.loops, votes, w->s);
     free(votes);
     if (st != HV_OK) {
         hv_slice_destroy(sl);

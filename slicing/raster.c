@@ -11,6 +11,7 @@
 typedef struct crossing {
     double x;
     int dir;
+    int body; /* the loop's body: even-odd fills are united body by body */
 } crossing;
 
 static int cmp_crossing(const void *a, const void *b)
@@ -62,6 +63,7 @@ static void edge_pass(const hv_slice *slice, const hv_raster_grid *g, size_t *at
                 crossing *c = &cx[at[r]++];
                 c->x = p[0] + (row_y(g, r) - p[1]) * slope;
                 c->dir = dir;
+                c->body = L->body;
             }
         }
     }
@@ -130,9 +132,19 @@ hv_status hv_slice_rasterize(const hv_slice *slice, const hv_raster_grid *g, hv_
 
     size_t nl = hv_slice_loop_count(slice);
     const hv_slice_loop *loops = hv_slice_loops(slice);
+    /* an even-odd fill of several bodies is the union of each body's own even-odd fill (a core
+     * inside a shell is not a hole in it): parity per body, inside where any body is odd */
+    int bodies = 0;
+    for (size_t l = 0; l < nl; ++l)
+        if (loops[l].closed) bodies = HV_MAX(bodies, loops[l].body + 1);
+    uint8_t *parity = rule == HV_FILL_EVENODD && bodies > 1 ? hv_calloc((size_t)bodies, 1) : NULL;
+    if (rule == HV_FILL_EVENODD && bodies > 1 && !parity) return HV_ERR_NOMEM;
     /* pass 1: crossings per row; pass 2: the crossings themselves */
     size_t *count = hv_calloc((size_t)g->height + 1, sizeof *count);
-    if (!count) return HV_ERR_NOMEM;
+    if (!count) {
+        free(parity);
+        return HV_ERR_NOMEM;
+    }
     edge_pass(slice, g, count, NULL);
     for (int r = 0; r < g->height; ++r) count[r + 1] += count[r];
     size_t total = count[g->height];
@@ -142,6 +154,7 @@ hv_status hv_slice_rasterize(const hv_slice *slice, const hv_raster_grid *g, hv_
         free(count);
         free(cx);
         free(fillp);
+        free(parity);
         return HV_ERR_NOMEM;
     }
     memcpy(fillp, count, ((size_t)g->height + 1) * sizeof *fillp);
@@ -162,6 +175,16 @@ hv_status hv_slice_rasterize(const hv_slice *slice, const hv_raster_grid *g, hv_
         }
         uint8_t *row = mask + (size_t)r * stride;
         int wind = 0;
+        if (parity) {
+            for (size_t k = 0; k + 1 < n; ++k) {
+                uint8_t *p = &parity[c[k].body];
+                *p ^= 1;
+                wind += *p ? 1 : -1; /* bodies inside an odd number of their loops */
+                if (wind > 0 && c[k + 1].x > c[k].x) fill_span(g, row, c[k].x, c[k + 1].x);
+            }
+            for (size_t k = 0; k < n; ++k) parity[c[k].body] = 0;
+            continue;
+        }
         for (size_t k = 0; k + 1 < n; ++k) {
             wind += rule == HV_FILL_NONZERO ? c[k].dir : 1;
             int in = rule == HV_FILL_NONZERO ? wind != 0 : (wind & 1);
@@ -170,6 +193,7 @@ hv_status hv_slice_rasterize(const hv_slice *slice, const hv_raster_grid *g, hv_
     }
     free(cx);
     free(count);
+    free(parity);
     if (threshold > 0) {
         for (size_t l = 0; l < nl; ++l) {
             const hv_slice_loop *L = &loops[l];

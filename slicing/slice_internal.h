@@ -25,7 +25,24 @@ struct hv_slicer {
     float *nxy;   /* 2 per facet: the unit horizontal part of the outward normal (0, 0 when
                    * the facet is horizontal or degenerate), for the orientation vote */
     int inverted; /* the mesh's signed volume is negative (inside out): loop votes flip */
+    /* bodies (hv_mesh_body_*): facets [body_first[b], body_first[b + 1]) are body b, sliced
+     * from its own facets (arcs never leave a body: each body is welded alone) */
+    size_t nbodies;         /* >= 1 */
+    size_t *body_first;     /* nbodies + 1 */
+    uint8_t *body_inverted; /* per body: its signed volume is negative */
 };
+
+/* The body of facet f. */
+static inline int hv_slicer_body_of(const struct hv_slicer *s, uint32_t f)
+{
+    size_t lo = 0, hi = s->nbodies; /* body_first[lo] <= f < body_first[hi] */
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (s->body_first[mid] <= f) lo = mid;
+        else hi = mid;
+    }
+    return (int)lo;
+}
 
 /* Wu weight of the edge between local vertices a and b (a != b) is a + b, so the edge of
  * weight w joins the two vertices other than 3 - w. The neighbour's weight of arc (f, w): */

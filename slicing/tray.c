@@ -322,32 +322,14 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
 
 /* ---- rotation about z by quarter turns ------------------------------------------------------ */
 
-/* (x, y) -> (-y, x), q times */
-static void rot_xy(double *x, double *y, int q)
-{
-    for (int i = 0; i < q; ++i) {
-        double t = *x;
-        *x = -*y;
-        *y = t;
-    }
-}
 
+/* The mesh turned q quarter turns about z, (x, y) -> (-y, x) each; an assembly keeps its bodies
+ * (hv_mesh_transform). */
 static hv_status mesh_rotated(const hv_mesh *m, int q, hv_mesh **out)
 {
-    size_t nv = hv_mesh_vertex_count(m), nf = hv_mesh_facet_count(m);
-    float *xyz = hv_malloc_array(nv * 3, sizeof *xyz);
-    if (!xyz) return HV_ERR_NOMEM;
-    const float *v = hv_mesh_vertices(m);
-    for (size_t i = 0; i < nv; ++i) {
-        double x = v[3 * i], y = v[3 * i + 1];
-        rot_xy(&x, &y, q);
-        xyz[3 * i] = (float)x;
-        xyz[3 * i + 1] = (float)y;
-        xyz[3 * i + 2] = v[3 * i + 2];
-    }
-    hv_status s = hv_mesh_create(xyz, nv, hv_mesh_facets(m), nf, out);
-    free(xyz);
-    return s;
+    static const double c[4] = {1, 0, -1, 0}, sn[4] = {0, 1, 0, -1};
+    const double a[12] = {c[q & 3], -sn[q & 3], 0, 0, sn[q & 3], c[q & 3], 0, 0, 0, 0, 1, 0};
+    return hv_mesh_transform(m, a, out);
 }
 
 /* One quarter turn of a volume: voxel (i, j, k) -> (-j - 1, i, k), which maps leaves onto

@@ -178,7 +178,59 @@ void hv_slicer_destroy(hv_slicer *s)
     free(s->order);
     free(s->szmin);
     free(s->szmax);
+    free(s->body_first);
+    free(s->body_inverted);
     free(s);
+}
+
+/* The facets of a multi-body mesh with each body welded alone (hv_mesh_body_extract): vertices
+ * (as doubles) and facets concatenated body by body, the neighbours and edge flags of each body's
+ * own adjacency, so no arc joins two bodies even where they share vertices or edges. Facet f is
+ * the mesh's facet f. The arrays are malloc'd (*nv vertices). */
+static hv_status split_bodies(const hv_mesh *mesh, hv_slicer *s, size_t *nv_out, uint32_t **tri_out, int32_t **nbr_out,
+                              uint8_t **ef_out)
+{
+    size_t nb = hv_mesh_body_count(mesh), nf = hv_mesh_facet_count(mesh), nv = 0;
+    uint32_t *tri = hv_malloc_array(3 * nf, sizeof *tri);
+    int32_t *nbr = hv_malloc_array(3 * nf, sizeof *nbr);
+    uint8_t *ef = hv_malloc(nf);
+    double *xyz = NULL;
+    size_t cap = 0;
+    hv_status st = tri && nbr && ef ? HV_OK : HV_ERR_NOMEM;
+    for (size_t b = 0; b < nb && st == HV_OK; ++b) {
+        hv_mesh *bm = NULL;
+        if ((st = hv_mesh_body_extract(mesh, b, &bm)) != HV_OK) break;
+        size_t bv = hv_mesh_vertex_count(bm), bf = hv_mesh_facet_count(bm), f0 = s->body_first[b];
+        if ((st = hv_grow((void **)&xyz, &cap, 3 * (nv + bv), sizeof *xyz)) == HV_OK) {
+            const float *v = hv_mesh_vertices(bm);
+            for (size_t i = 0; i < 3 * bv; ++i) xyz[3 * nv + i] = (double)v[i];
+            const uint32_t *t = hv_mesh_facets(bm);
+            const int32_t *n = hv_mesh_neighbors(bm);
+            const uint8_t *e = hv_mesh_edge_flags(bm);
+            for (size_t i = 0; i < 3 * bf; ++i) {
+                tri[3 * f0 + i] = t[i] + (uint32_t)nv;
+                nbr[3 * f0 + i] = n[i] < 0 ? n[i] : n[i] + (int32_t)f0;
+            }
+            for (size_t i = 0; i < bf; ++i) ef[f0 + i] = e ? e[i] : 0;
+            nv += bv;
+        }
+        hv_mesh_destroy(bm);
+    }
+    if (st == HV_OK && nv > (size_t)UINT32_MAX) st = hv_error_set(HV_ERR_LIMIT, "slicer: %zu vertices", nv);
+    if (st != HV_OK) {
+        free(tri);
+        free(nbr);
+        free(ef);
+        free(xyz);
+        return st;
+    }
+    free(s->xyz);
+    s->xyz = xyz;
+    *nv_out = nv;
+    *tri_out = tri;
+    *nbr_out = nbr;
+    *ef_out = ef;
+    return HV_OK;
 }
 
 typedef struct z_ctx {
@@ -270,19 +322,36 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
     if (!s) return HV_ERR_NOMEM;
     s->nf = nf;
     s->nv = nv;
+    s->nbodies = hv_mesh_body_count(mesh);
     s->xyz = hv_malloc_array(3 * nv, sizeof *s->xyz);
     s->tri = hv_malloc_array(3 * nf, sizeof *s->tri);
     s->arc = hv_malloc_array(3 * nf, sizeof *s->arc);
     s->back = hv_malloc(nf);
+    s->body_first = hv_malloc_array(s->nbodies + 1, sizeof *s->body_first);
+    s->body_inverted = hv_calloc(s->nbodies, 1);
     uint8_t *amb = hv_calloc(nf, 1);
+    uint32_t *own_tri = NULL;
+    int32_t *own_nbr = NULL;
+    uint8_t *own_ef = NULL;
     hv_status st = HV_ERR_NOMEM;
-    if (!s->xyz || !s->tri || !s->arc || !s->back || !amb) goto fail;
+    if (!s->xyz || !s->tri || !s->arc || !s->back || !s->body_first || !s->body_inverted || !amb) goto fail;
+    for (size_t b = 0; b < s->nbodies; ++b) s->body_first[b] = hv_mesh_body_at(mesh, b)->first_facet;
+    s->body_first[s->nbodies] = nf;
 
-    const float *xyz = hv_mesh_vertices(mesh);
     const uint32_t *tri = hv_mesh_facets(mesh);
     const int32_t *nbr = hv_mesh_neighbors(mesh);
     const uint8_t *eflags = hv_mesh_edge_flags(mesh);
-    for (size_t i = 0; i < 3 * nv; ++i) s->xyz[i] = (double)xyz[i];
+    if (s->nbodies > 1) {
+        /* each body sliced from its own facets: welded alone, its own arcs */
+        if ((st = split_bodies(mesh, s, &nv, &own_tri, &own_nbr, &own_ef)) != HV_OK) goto fail;
+        s->nv = nv;
+        tri = own_tri;
+        nbr = own_nbr;
+        eflags = own_ef;
+    } else {
+        const float *xyz = hv_mesh_vertices(mesh);
+        for (size_t i = 0; i < 3 * nv; ++i) s->xyz[i] = (double)xyz[i];
+    }
     memcpy(s->tri, tri, 3 * nf * sizeof *tri);
     hv_slicer_info *in = &s->info;
     in->facets = nf;
@@ -298,13 +367,21 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
         }
     {
         /* per facet the unit horizontal normal (the orientation vote), and the signed volume
-         * about the box centre (divergence theorem): an inside-out mesh has every loop's vote
-         * reversed */
+         * of each body about the box centre (divergence theorem): an inside-out body has every
+         * loop's vote reversed */
         s->nxy = hv_malloc_array(2 * nf, sizeof *s->nxy);
-        if (!s->nxy) goto fail;
+        if (!s->nxy) {
+            st = HV_ERR_NOMEM;
+            goto fail;
+        }
         double c[3], vol6 = 0;
+        size_t body = 0;
         for (int a = 0; a < 3; ++a) c[a] = 0.5 * (in->bbox_min[a] + in->bbox_max[a]);
         for (size_t f = 0; f < nf; ++f) {
+            if (f == s->body_first[body + 1]) {
+                s->body_inverted[body++] = vol6 < 0;
+                vol6 = 0;
+            }
             const double *p = s->xyz + 3 * (size_t)tri[3 * f], *q = s->xyz + 3 * (size_t)tri[3 * f + 1],
                          *r = s->xyz + 3 * (size_t)tri[3 * f + 2];
             double ax = p[0] - c[0], ay = p[1] - c[1], az = p[2] - c[2];
@@ -316,7 +393,8 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
             s->nxy[2 * f] = len > 0 ? (float)(nx / len) : 0.0f;
             s->nxy[2 * f + 1] = len > 0 ? (float)(ny / len) : 0.0f;
         }
-        s->inverted = vol6 < 0;
+        s->body_inverted[body] = vol6 < 0;
+        s->inverted = s->body_inverted[0];
     }
 
     st = hv_progress_report(progress, "slicer", 0.0);
@@ -351,10 +429,16 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
     st = build_index(s, progress);
     if (st != HV_OK) goto fail;
     free(amb);
+    free(own_tri);
+    free(own_nbr);
+    free(own_ef);
     *out = s;
     return HV_OK;
 fail:
     free(amb);
+    free(own_tri);
+    free(own_nbr);
+    free(own_ef);
     hv_slicer_destroy(s);
     return st;
 }

@@ -12,7 +12,8 @@ static const struct {
     [HV_DOC_MESH] = {"hovox.mesh.json", 1},
     [HV_DOC_VOXELIZE] = {"hovox.voxelize.json", 1},
     [HV_DOC_MATERIALS] = {"hovox.materials.json", 1},
-    [HV_DOC_OBJECT] = {"hovox.object.json", 1},
+    [HV_DOC_OBJECT] = {"hovox.object.json", 2}, /* 2: regions with "name" and "base" */
+    [HV_DOC_REGIONS] = {"hovox.regions.json", 1},
 };
 
 const char *hv_schema_key(hv_schema_doc d) { return k_docs[d].key; }
@@ -63,9 +64,9 @@ hv_status hv_schema_doc_read(const hv_volume *vol, hv_schema_doc d, json_t **out
     return hv_schema_doc_parse(d, text, strlen(text), out);
 }
 
-char *hv_schema_doc_dump(hv_schema_doc d, const json_t *doc)
+static char *doc_dump(hv_schema_doc d, const json_t *doc, int version)
 {
-    json_t *full = json_pack("{s:i}", "schema", k_docs[d].version);
+    json_t *full = json_pack("{s:i}", "schema", version);
     char *text = NULL;
     /* update copies the members in doc's order, after "schema" */
     if (full && json_object_update(full, (json_t *)doc) == 0) text = hv_json_dump(full);
@@ -74,9 +75,22 @@ char *hv_schema_doc_dump(hv_schema_doc d, const json_t *doc)
     return text;
 }
 
+char *hv_schema_doc_dump(hv_schema_doc d, const json_t *doc) { return doc_dump(d, doc, k_docs[d].version); }
+
+char *hv_schema_doc_dump_version(hv_schema_doc d, const json_t *doc, int version)
+{
+    if (version < 1 || version > k_docs[d].version) version = k_docs[d].version;
+    return doc_dump(d, doc, version);
+}
+
 hv_status hv_schema_doc_write(hv_volume *vol, hv_schema_doc d, json_t *doc)
 {
-    char *text = doc ? hv_schema_doc_dump(d, doc) : NULL;
+    return hv_schema_doc_write_version(vol, d, doc, k_docs[d].version);
+}
+
+hv_status hv_schema_doc_write_version(hv_volume *vol, hv_schema_doc d, json_t *doc, int version)
+{
+    char *text = doc ? hv_schema_doc_dump_version(d, doc, version) : NULL;
     json_decref(doc);
     if (!text) return hv_error_set(HV_ERR_NOMEM, "out of memory (writing %s)", k_docs[d].key);
     hv_status s = hv_volume_meta_set_string(vol, k_docs[d].key, text);

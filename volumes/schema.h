@@ -26,6 +26,7 @@ typedef enum hv_schema_doc {
     HV_DOC_VOXELIZE,  /* "hovox.voxelize.json": adjacency, fill, index box, voxel size */
     HV_DOC_MATERIALS, /* "hovox.materials.json": the material table (graded models) */
     HV_DOC_OBJECT,    /* "hovox.object.json": the grading definition (graded models) */
+    HV_DOC_REGIONS,   /* "hovox.regions.json": the regions of an assembly (hv_voxelize) */
     HV_DOC_COUNT
 } hv_schema_doc;
 
@@ -49,8 +50,14 @@ hv_status hv_schema_doc_read(const hv_volume *vol, hv_schema_doc d, json_t **out
 /* Serialise doc (its members after "schema": version; hv_json_dump). Returns malloc'd text, or
  * NULL with HV_ERR_NOMEM recorded. */
 char *hv_schema_doc_dump(hv_schema_doc d, const json_t *doc);
+/* The same under an older version (see hv_schema_doc_write_version). */
+char *hv_schema_doc_dump_version(hv_schema_doc d, const json_t *doc, int version);
 /* Store doc (reference stolen, NULL allowed: then HV_ERR_NOMEM) in vol's metadata. */
 hv_status hv_schema_doc_write(hv_volume *vol, hv_schema_doc d, json_t *doc);
+/* The same under an older version, 1 <= version <= hv_schema_version(d): a writer whose document
+ * needs no newer member writes the version older hovox reads (the object document is version 1
+ * unless its regions carry names or bases of their own). */
+hv_status hv_schema_doc_write_version(hv_volume *vol, hv_schema_doc d, json_t *doc, int version);
 
 /* ---- the documents' (de)serialisers, in the modules that own them ---------------------------
  * to_doc: a new object without "schema" (NULL when out of memory). from_doc: `what` names the
@@ -63,6 +70,10 @@ hv_status hv_mesh_report_from_doc(const json_t *doc, const char *what, hv_mesh_r
 /* hovox.voxelize.json (src/voxel/voxelize.c): fills the job part of rec (not rec->mesh). */
 json_t *hv_voxelize_to_doc(const hv_voxel_plan *plan, int adjacency);
 hv_status hv_voxelize_from_doc(const json_t *doc, const char *what, hv_voxelize_record *rec);
+
+/* hovox.regions.json (src/voxel/regions.c) */
+json_t *hv_regions_to_doc(const hv_regions *r, double voxel_volume);
+hv_status hv_regions_from_doc(const json_t *doc, const char *what, hv_regions **out);
 
 /* hovox.materials.json (src/material/table.c) */
 json_t *hv_material_table_to_doc(const hv_material_table *t);

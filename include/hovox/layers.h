@@ -84,8 +84,9 @@ typedef enum hv_fill_rule {
  * the half-open convention (an edge covers y in [ymin, ymax) and a span x in [xa, xb)), so
  * two loops sharing an edge never both claim a centre. The slicer orients loops by the facet
  * normals (bodies CCW, cavities CW), so both rules agree on well-nested loops; they differ
- * where bodies overlap or one lies inside another (nonzero: union, even-odd: exclusive or).
- * Open polylines are not filled.
+ * where shells of one body overlap or one lies inside another (nonzero: union, even-odd:
+ * exclusive or). Loops of different bodies of an assembly (hv_slice_loop.body) are united under
+ * either rule: even-odd is applied to each body's loops alone. Open polylines are not filled.
  * Wu's distance threshold: with threshold > 0 (mm), pixels outside whose centre lies within
  * `threshold` of a closed loop also become object. mask holds height rows of `stride` bytes
  * (stride >= width; 0 means width). Errors: HV_ERR_INVALID (NULL arguments, bad grid,

@@ -50,6 +50,14 @@ HV_API void hv_material_palette(int i, float rgba[4]);
  * option ({materials}, {colors}, {property}) and the text; HV_ERR_NOMEM. */
 HV_API hv_status hv_material_table_parse(const char *names, const char *colors, const char *const *props,
                                          int nprops, hv_material_table **out);
+/* The colours and properties of the same text form applied to an existing table (one colour per
+ * material, in order; NULL: keep them). Errors: as hv_material_table_parse. */
+HV_API hv_status hv_material_table_amend(hv_material_table *t, const char *colors, const char *const *props,
+                                         int nprops);
+/* The material name a file's material text becomes: each byte outside [A-Za-z0-9_-] replaced by
+ * '_', cut to 64 bytes, "material" when empty ("Agilus30 Clear" -> "Agilus30_Clear",
+ * "#FF8000" -> "_FF8000"). */
+HV_API void hv_material_name_from(const char *text, char out[65]);
 
 /* Properties: set (replacing) a value with its SI unit (may be "" or NULL). Keys: 1-64 bytes
  * of [A-Za-z0-9_.-]. Errors: HV_ERR_INVALID (key, non-finite value). */
@@ -405,8 +413,9 @@ HV_API hv_status hv_blend_parse(const char *name, hv_blend *out);
 HV_API const char *hv_blend_name(hv_blend blend);
 HV_API const hv_enum_def *hv_blend_enum(void);
 
-/* An object: regions (geometry mask on a shared lattice, AGS set) over m materials, with a base
- * composition for voxels no source covers (regions without AGS). */
+/* An object: regions (geometry mask on a shared lattice, AGS set, base composition for voxels
+ * where the region has no source) over m materials. Regions may be named (the regions of an
+ * assembly are named after its bodies); a name is unique within the object. */
 typedef struct hv_object hv_object;
 
 /* A one-region object: bool grid `grid` of vol (copied) with no AGS; base = material 0. The
@@ -416,6 +425,20 @@ typedef struct hv_object hv_object;
  * of range). */
 HV_API hv_status hv_object_create(const hv_volume *vol, const char *grid, int m,
                                   hv_object **out);
+/* An object with one region per region of a model voxelized from an assembly (hv_voxelize of a
+ * multi-body mesh, hv_voxelize_regions_read; regions that lost every voxel to earlier bodies are
+ * left out), named after the bodies, without sources, each region's base 100% its body's
+ * material. The materials: `given` (may be NULL), which must name every region's material, its
+ * text made a material name by hv_material_name_from (a region without one then takes material
+ * 0); without `given`, the regions' materials in first-use order, in the file's colours (else the
+ * palette). *table receives the object's material table (a copy of `given`, or the one built;
+ * free with hv_material_table_destroy). The object keeps vol's record (see hv_object_create).
+ * Errors: HV_ERR_NOT_FOUND (not an assembly), HV_ERR_BAD_INPUT (a region grid missing, every
+ * region empty, a damaged regions document), HV_ERR_INVALID ("region 'core' is material
+ * Agilus, which the materials given (A, B) do not name"; a region without a material and no
+ * `given`: naming the option {materials}; more than HV_MAX_MATERIALS), HV_ERR_NOMEM. */
+HV_API hv_status hv_object_from_regions(const hv_volume *vol, const hv_material_table *given,
+                                        hv_material_table **table, hv_object **out);
 HV_API void hv_object_destroy(hv_object *o);
 HV_API hv_status hv_object_clone(const hv_object *o, hv_object **out);
 HV_API int hv_object_materials(const hv_object *o);
@@ -424,13 +447,27 @@ HV_API int hv_object_region_count(const hv_object *o);
 HV_API uint64_t hv_object_region_voxels(const hv_object *o, int r);
 HV_API uint64_t hv_object_voxels(const hv_object *o);
 HV_API int hv_object_region_ags_count(const hv_object *o, int r);
+/* Name of region r (owned by the object), NULL when unnamed or out of range. */
+HV_API const char *hv_object_region_name(const hv_object *o, int r);
+/* The region of this exact name, or -1. */
+HV_API int hv_object_region_find(const hv_object *o, const char *name);
+/* Region r's base composition (m values). */
+HV_API void hv_object_region_base(const hv_object *o, int r, double *p);
 
-HV_API hv_status hv_object_set_base(hv_object *o, const double *p); /* checked */
+/* The base of every region (and of regions Booleans make from none), checked. */
+HV_API hv_status hv_object_set_base(hv_object *o, const double *p);
+/* The base of region r alone, checked. Errors: HV_ERR_INVALID (r out of range, p not a
+ * composition). */
+HV_API hv_status hv_object_set_region_base(hv_object *o, int r, const double *p);
 HV_API hv_status hv_object_set_blend(hv_object *o, hv_blend blend, double power);
 
 /* AGS operators (Wu 2.2.3) on every region: add (eq. 24), delete (25: HV_ERR_NOT_FOUND when
  * absent), move (26: replaces the source by one with d- changed). The object keeps a reference. */
 HV_API hv_status hv_object_add_ags(hv_object *o, hv_ags *a);
+/* Add a source to the region of this name alone (the other regions keep their sources or
+ * base). Errors: HV_ERR_INVALID (material count), HV_ERR_NOT_FOUND ("the object has no region
+ * 'x' (regions: core, shell)"). */
+HV_API hv_status hv_object_add_ags_region(hv_object *o, const char *region, hv_ags *a);
 HV_API hv_status hv_object_delete_ags(hv_object *o, const hv_ags *a);
 HV_API hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg);
 
@@ -441,7 +478,11 @@ HV_API hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg)
  *   difference H1 - H2 = {(O1 - O2, G1), (O1 n O2, G2)}   (Wu: H2's material in the overlap)
  *   merge      H1 + H2 = (O1 u O2, G1 u G2)
  *   subtract   (O1 - O2, G1)                             (CSG)
- * Empty regions are dropped. The result keeps the model metadata both operands keep alike and
+ * Empty regions are dropped. A result region keeps the name and base of the operand region it
+ * comes from (a's region for the pieces of O1, also O1 n O2 of intersect and unite; b's for the
+ * pieces of O2 only and for difference's O1 n O2, whose sources are H2's); a name already taken
+ * by an earlier result region is dropped (the region is then unnamed); merge's one region is
+ * unnamed with a's default base. The result keeps the model metadata both operands keep alike and
  * the union of their surfaces (see hv_object_create). */
 typedef enum hv_bool_op {
     HV_OP_INTERSECT, HV_OP_UNITE, HV_OP_DIFFERENCE, HV_OP_MERGE, HV_OP_SUBTRACT
@@ -454,10 +495,12 @@ HV_API hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bo
  * every occupied voxel, float grids "distance.K" holding the fields of voxel features (facets,
  * harmonic, fields from files; contour and mask features too unless their mask is exactly one
  * of the result's bool grids, such as its occupancy or a region: those fields are recomputed
- * from that grid by hv_object_from_model instead, bit for bit), bool grids "region.R" when
- * there are several regions, and metadata
+ * from that grid by hv_object_from_model instead, bit for bit), bool grids "region.<name>" for
+ * named regions and "region.R" for unnamed ones when there are several, and metadata
  * "hovox.materials.json" and "hovox.object.json": the complete grading definition (features,
- * sources with their tabulated f, regions), so hv_object_from_model can rebuild the object;
+ * sources with their tabulated f, regions with their names and bases), so hv_object_from_model
+ * can rebuild the object (schema version 1 when no region has a name or a base of its own, as
+ * older hovox wrote; else 2);
  * plus the record of the object's model (hv_object_create): its other metadata and its bool
  * grid "surface" restricted to the occupied voxels. So a model graded by `hovox grade` and one
  * graded from Lua hold the same grids and metadata.

@@ -204,6 +204,25 @@ HV_API const char *hv_mesh_name(const hv_mesh *mesh);
  * file), HV_ERR_IO. */
 HV_API hv_status hv_mesh_write_stl(const hv_mesh *mesh, const char *path, int ascii);
 
+/* Write Wavefront OBJ atomically: every vertex (`v`, %.9g), then per body in order an `o NAME`
+ * line, a `usemtl MATERIAL` line when the body has a material (a bare `usemtl` ends the one in
+ * effect before a body without one) and its facets (`f`, 1-based). Control characters in names
+ * are written as '_'. No .mtl file is written: materials are names only. So an assembly keeps
+ * its bodies, their order and their materials. Errors: HV_ERR_INVALID (a name not ending in
+ * .obj, other than a special file), HV_ERR_IO. */
+HV_API hv_status hv_mesh_write_obj(const hv_mesh *mesh, const char *path);
+
+/* hv_mesh_write_obj for a name ending in .obj (any case), else hv_mesh_write_stl (ascii as
+ * there). Errors: theirs. */
+HV_API hv_status hv_mesh_save(const hv_mesh *mesh, const char *path, int ascii);
+
+/* A new mesh with every vertex moved by the affine map x' = A x + t, `matrix` row-major 3x4
+ * ({A00, A01, A02, t0, A10, ...}); welded again, with the same bodies, materials and name. A
+ * mirror (det A < 0) swaps two vertices of every facet, so facets stay outward. Errors:
+ * HV_ERR_INVALID (an entry not finite, A singular, a vertex beyond the float range),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_transform(const hv_mesh *mesh, const double matrix[12], hv_mesh **out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -64,6 +64,14 @@ extern "C" {
  * are outers and odd depths holes, and a loop without a vote (all its facets degenerate)
  * takes its orientation from that parity.
  *
+ * Bodies (hv_mesh_body_*): a mesh of several bodies (an assembly) is sliced body by body: each
+ * body is welded alone, so no arc joins two bodies even where they share vertices or faces;
+ * the gap rule joins ends of one body only; a body's loops are oriented by its own facets (an
+ * inside-out body is turned alone) and nested among themselves (a loop's parent is a loop of
+ * its body). Every loop records its body. Filled with the nonzero rule the loops of all bodies
+ * give their union (a body nested in another adds nothing; hv_slice_rasterize also unites
+ * even-odd fills body by body).
+ *
  * Thread safety: a slicer is immutable after hv_slicer_create; any number of threads may
  * slice it at the same time. Results depend only on (mesh, h, options), never on the thread
  * count or on the order in which layers are sliced. */
@@ -123,6 +131,8 @@ typedef struct hv_slice_loop {
     int gaps;          /* gaps bridged by the gap rule to close this loop (0 for a loop that
                         * closed by itself) */
     double area;       /* signed area in mm^2: > 0 outer, < 0 hole, 0 open */
+    int body;          /* the mesh body whose facets made it (hv_mesh_body_at; 0 for a mesh
+                        * of one body) */
 } hv_slice_loop;
 
 typedef struct hv_slice_stats {
@@ -302,6 +312,18 @@ HV_API hv_status hv_contour_writer_open(const char *path, hv_contour_format form
                                         size_t layers, const double bbox_min[3],
                                         const double bbox_max[3], const char *label,
                                         hv_contour_writer **out);
+
+/* hv_contour_writer_open for the loops of an assembly: `bodies` names its n bodies (copied; the
+ * loops' hv_slice_loop.body indexes them). CLI: one part per body, "$$LABEL/k,<name>" for body
+ * k - 1, each polyline with its body's id k; SVG: per layer one <path class="loops"
+ * data-body="<name>"> (and one "open" path) per body that has loops there. n <= 1: exactly
+ * hv_contour_writer_open. Errors: those of hv_contour_writer_open; HV_ERR_INVALID (n > 1
+ * without names). */
+HV_API hv_status hv_contour_writer_open_bodies(const char *path, hv_contour_format format,
+                                               size_t layers, const double bbox_min[3],
+                                               const double bbox_max[3], const char *label,
+                                               const char *const *bodies, size_t n,
+                                               hv_contour_writer **out);
 
 /* Append one layer (in increasing order). The slice's loops are written as they are
  * (open polylines included). Errors: HV_ERR_INVALID (more layers than announced),

@@ -107,6 +107,57 @@ typedef struct hv_voxelize_record {
  * schema version this hovox does not read; the message names the key and the member). */
 HV_API hv_status hv_voxelize_record_read(const hv_volume *model, hv_voxelize_record *out);
 
+/* ---- assemblies --------------------------------------------------------------------------
+ * A mesh with more than one body (hv_mesh_body_count > 1: an assembly) voxelizes on one
+ * lattice, planned from the whole mesh's box as for one body. Each body is voxelized alone on
+ * that lattice (HV_FILL_AUTO decided from the body's own report, hv_mesh_body_extract) and its
+ * voxels become bool grid "region.<body name>". Where bodies overlap, the first body in mesh
+ * order keeps the voxels: a body's region is its voxels minus those of every body before it;
+ * the voxels it gives up are its "lost" voxels, counted per earlier body. "occupancy" is the
+ * union of the bodies; "surface" holds the bodies' surface voxels that lie in no body's
+ * interior (the surface of the union: a body nested in another adds none). The metadata
+ * "hovox.voxelize.json" records the fill as resolved when every body resolved alike, else
+ * "auto"; "hovox.regions.json" records the regions (hv_voxelize_regions_read). A mesh with one
+ * body voxelizes as it always did: no region grid, no regions document (a material it names is
+ * not recorded). The plan (hv_voxelize_plan) keeps HV_FILL_AUTO for an assembly (each body
+ * decides when it is voxelized) and estimates the memory of the whole job: a body's working
+ * grids, the union's three, the regions' leaves and one bool grid per region in the volume. */
+
+/* What an earlier region kept of a body's voxels. */
+typedef struct hv_region_loss {
+    size_t region;   /* index of the earlier region */
+    uint64_t voxels;
+} hv_region_loss;
+
+typedef struct hv_region_info {
+    const char *name;      /* the body's name */
+    const char *grid;      /* "region.<name>" */
+    const char *material;  /* the body's material as the file names it; NULL: none */
+    int has_color;
+    float rgba[4];         /* the material's display colour in [0,1] when has_color */
+    hv_fill_mode fill;     /* as resolved for this body (flood, vote or none) */
+    uint64_t voxels;       /* voxels of the region */
+    uint64_t lost;         /* the body's voxels that earlier bodies kept */
+    size_t nlost_to;
+    const hv_region_loss *lost_to; /* per earlier region that kept some, in region order */
+} hv_region_info;
+
+typedef struct hv_regions hv_regions;
+
+/* The regions of a model voxelized from an assembly (its "hovox.regions.json", carried into
+ * graded models). Errors: HV_ERR_NOT_FOUND (not an assembly), HV_ERR_BAD_INPUT (a malformed
+ * document naming the member, a schema version this hovox does not read), HV_ERR_NOMEM. Free
+ * with hv_regions_destroy; everything it points to is owned by it. */
+HV_API hv_status hv_voxelize_regions_read(const hv_volume *model, hv_regions **out);
+HV_API size_t hv_regions_count(const hv_regions *regions);
+/* Region i < count, in mesh order; owned by `regions`. */
+HV_API const hv_region_info *hv_regions_at(const hv_regions *regions, size_t i);
+/* The region of this exact name, or -1. */
+HV_API int64_t hv_regions_find(const hv_regions *regions, const char *name);
+/* Voxels where bodies overlap (the sum of every region's lost voxels). */
+HV_API uint64_t hv_regions_overlap(const hv_regions *regions);
+HV_API void hv_regions_destroy(hv_regions *regions); /* NULL allowed */
+
 #ifdef __cplusplus
 }
 #endif

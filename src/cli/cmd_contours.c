@@ -22,16 +22,38 @@ static const hv_option k_local_opts[] = {
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("contours", k_local_opts, contours_cli);
 
+typedef struct json_run {
+    hv_buf b;
+    size_t nbodies; /* > 1: an assembly, loops counted per body */
+} json_run;
+
 /* The layer records of --json, one per line. */
 static hv_status layer_json(void *user, size_t index, const hv_layer *layer, const hv_slice *slice)
 {
-    hv_buf *b = user;
+    json_run *run = user;
+    hv_buf *b = &run->b;
     const hv_slice_stats *st = hv_slice_get_stats(slice);
     json_t *j = json_pack("{s:I, s:o, s:o, s:o, s:I, s:I, s:I, s:I, s:I, s:o}", "index", (json_int_t)index, "z",
                           hv_json_number(layer->z), "bottom", hv_json_number(layer->bottom), "top",
                           hv_json_number(layer->top), "loops", (json_int_t)st->loops, "outers", (json_int_t)st->outers,
                           "holes", (json_int_t)st->holes, "open", (json_int_t)st->open, "gaps_closed",
                           (json_int_t)st->gaps_closed, "area", hv_json_number(st->area));
+    if (j && run->nbodies > 1) { /* the closed loops of each body, in body order */
+        json_t *per = json_array();
+        for (size_t k = 0; per && k < run->nbodies; ++k) {
+            json_int_t n = 0;
+            for (size_t l = 0; l < hv_slice_loop_count(slice); ++l)
+                n += hv_slice_loops(slice)[l].closed && (size_t)hv_slice_loops(slice)[l].body == k;
+            if (json_array_append_new(per, json_integer(n))) {
+                json_decref(per);
+                per = NULL;
+            }
+        }
+        if (hv_json_set(j, "body_loops", per)) {
+            json_decref(j);
+            j = NULL;
+        }
+    }
     char *text = j ? hv_json_dump(j) : NULL;
     json_decref(j);
     hv_buf_printf(b, "%s\n  %s", index ? "," : "", text ? text : "");
@@ -39,16 +61,32 @@ static hv_status layer_json(void *user, size_t index, const hv_layer *layer, con
     return !text || b->failed ? hv_error_set(HV_ERR_NOMEM, "out of memory") : HV_OK;
 }
 
-static int report(const char *mesh_path, const hv_contours_options *o, const hv_contours_summary *r, const hv_buf *js)
+static int report(const char *mesh_path, const hv_mesh *mesh, const hv_contours_options *o, const hv_contours_summary *r,
+                  const hv_buf *js)
 {
+    size_t nb = hv_mesh_body_count(mesh);
     if (!js) {
-        printf("%s: %zu layers, %zu loops (%zu holes), %zu open polylines, %zu gaps closed\n", mesh_path, r->layers,
+        printf("%s: %zu layers, %zu loops (%zu holes), %zu open polylines, %zu gaps closed", mesh_path, r->layers,
                r->loops, r->holes, r->open, r->gaps_closed);
+        if (nb > 1) { /* an assembly: contours per body, each a part of its own in the files */
+            printf(", %zu bodies:", nb);
+            for (size_t b = 0; b < nb; ++b) printf("%s %s", b ? "," : "", hv_mesh_body_at(mesh, b)->name);
+        }
+        printf("\n");
         return EXIT_OK;
     }
     cli_json j;
     cli_json_begin(&j);
     cli_json_str(&j, "file", mesh_path);
+    if (nb > 1) {
+        json_t *names = json_array();
+        for (size_t b = 0; names && b < nb; ++b)
+            if (json_array_append_new(names, hv_json_text(hv_mesh_body_at(mesh, b)->name))) {
+                json_decref(names);
+                names = NULL;
+            }
+        j.failed |= hv_json_set(j.obj, "bodies", names);
+    }
     if (o->adaptive[0] > 0) {
         cli_json_str(&j, "mode", "adaptive");
         cli_json_num(&j, "min", o->adaptive[0]);
@@ -79,16 +117,17 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     cli_progress bar;
     cli_progress_init(&bar, args->quiet);
     hv_progress prog = {cli_progress_fn, &bar};
-    hv_buf js;
-    hv_buf_init(&js);
+    json_run js;
+    hv_buf_init(&js.b);
     hv_contours_summary sum;
     hv_mesh *mesh = NULL;
     hv_status s = hv_mesh_load(mesh_path, &mesh);
+    js.nbodies = mesh ? hv_mesh_body_count(mesh) : 0;
     if (s == HV_OK) s = hv_contours_write(mesh, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
     cli_progress_done(&bar);
+    int rc = s == HV_OK ? report(mesh_path, mesh, o, &sum, c->json ? &js.b : NULL) : cli_fail(s);
     hv_mesh_destroy(mesh);
-    int rc = s == HV_OK ? report(mesh_path, o, &sum, c->json ? &js : NULL) : cli_fail(s);
-    hv_buf_free(&js);
+    hv_buf_free(&js.b);
     return rc;
 }
 

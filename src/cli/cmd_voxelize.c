@@ -4,6 +4,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/voxelize.h"
 
 typedef struct vox_cli {
@@ -22,6 +23,58 @@ static const hv_option k_local_opts[] = {
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
 
+/* An assembly's regions as JSON records, one per line (for cli_json_end). */
+static char *region_lines(const hv_regions *rg)
+{
+    hv_buf b;
+    hv_buf_init(&b);
+    for (size_t i = 0; i < hv_regions_count(rg); ++i) {
+        const hv_region_info *g = hv_regions_at(rg, i);
+        json_t *e = json_object(), *to = json_object();
+        int failed = !e || !to;
+        for (size_t k = 0; k < g->nlost_to && !failed; ++k)
+            failed = hv_json_set(to, hv_regions_at(rg, g->lost_to[k].region)->name,
+                                 json_integer((json_int_t)g->lost_to[k].voxels));
+        failed = failed || hv_json_set(e, "name", hv_json_text(g->name)) ||
+                 hv_json_set(e, "material", g->material ? hv_json_text(g->material) : json_null()) ||
+                 hv_json_set(e, "fill", json_string(hv_fill_mode_name(g->fill))) ||
+                 hv_json_set(e, "voxels", json_integer((json_int_t)g->voxels)) ||
+                 hv_json_set(e, "lost", json_integer((json_int_t)g->lost)) || hv_json_set(e, "lost_to", json_incref(to));
+        char *text = failed ? NULL : hv_json_dump(e);
+        json_decref(e);
+        json_decref(to);
+        if (!text) {
+            hv_buf_free(&b);
+            return NULL;
+        }
+        hv_buf_printf(&b, "%s\n  %s", i ? "," : "", text);
+        free(text);
+    }
+    if (b.failed) hv_buf_free(&b);
+    return b.data ? b.data : hv_strdup("");
+}
+
+/* The bodies of an assembly (planned) or its regions (voxelized), as summary lines. */
+static void print_regions(const hv_mesh *mesh, const hv_regions *rg, double vv)
+{
+    for (size_t i = 0; i < hv_mesh_body_count(mesh); ++i) {
+        const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
+        const char *mat = b->material == HV_MESH_NO_MATERIAL ? NULL : hv_mesh_material_at(mesh, (size_t)b->material)->name;
+        printf("region      %s (%s)", b->name, mat ? mat : "no material");
+        const hv_region_info *g = hv_regions_at(rg, i);
+        if (g) {
+            printf(": %llu voxels, fill %s", (unsigned long long)g->voxels, hv_fill_mode_name(g->fill));
+            for (size_t k = 0; k < g->nlost_to; ++k)
+                printf("%s %llu to %s", k ? "," : ", lost", (unsigned long long)g->lost_to[k].voxels,
+                       hv_regions_at(rg, g->lost_to[k].region)->name);
+        }
+        printf("\n");
+    }
+    if (rg)
+        printf("overlap     %llu voxels, volume %.6g (where bodies overlap, the first in file order keeps them)\n",
+               (unsigned long long)hv_regions_overlap(rg), (double)hv_regions_overlap(rg) * vv);
+}
+
 static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *plan, const hv_voxelize_options *opt,
                    const vox_cli *c, const hv_volume *vol)
 {
@@ -29,7 +82,18 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
     double vv = plan->xf.voxel[0] * plan->xf.voxel[1] * plan->xf.voxel[2];
     uint64_t occupied = vol ? hv_volume_mask_count(vol, hv_volume_grid_find(vol, "occupancy")) : 0;
     uint64_t surface = vol ? hv_volume_mask_count(vol, hv_volume_grid_find(vol, "surface")) : 0;
+    size_t nbodies = hv_mesh_body_count(mesh);
+    hv_regions *rg = NULL;
+    if (vol && nbodies > 1) {
+        hv_status s = hv_voxelize_regions_read(vol, &rg);
+        if (s != HV_OK) return cli_fail(s);
+    }
     if (c->json) {
+        char *lines = NULL;
+        if (rg && !(lines = region_lines(rg))) {
+            hv_regions_destroy(rg);
+            return cli_fail(hv_error_set(HV_ERR_NOMEM, "out of memory"));
+        }
         cli_json j;
         cli_json_begin(&j);
         cli_json_str(&j, "mesh", path);
@@ -46,20 +110,32 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
             cli_json_num(&j, "mesh_volume", r->volume);
             cli_json_str(&j, "output", c->output);
         }
-        return cli_json_end(&j, NULL, NULL);
+        if (rg) {
+            cli_json_int(&j, "overlap", (long long)hv_regions_overlap(rg));
+            cli_json_num(&j, "overlap_volume", (double)hv_regions_overlap(rg) * vv);
+        }
+        int rc = cli_json_end(&j, rg ? "regions" : NULL, lines);
+        free(lines);
+        hv_regions_destroy(rg);
+        return rc;
     }
-    printf("mesh        %s (%llu facets)\n", path, (unsigned long long)r->facets);
+    if (nbodies > 1)
+        printf("mesh        %s (%llu facets, %zu bodies)\n", path, (unsigned long long)r->facets, nbodies);
+    else
+        printf("mesh        %s (%llu facets)\n", path, (unsigned long long)r->facets);
     printf("grid        %lld x %lld x %lld voxels of %.6g x %.6g x %.6g\n", (long long)plan->dims[0],
            (long long)plan->dims[1], (long long)plan->dims[2], plan->xf.voxel[0], plan->xf.voxel[1], plan->xf.voxel[2]);
     printf("origin      %.6g %.6g %.6g (centre of voxel 0,0,0)\n", plan->xf.origin[0], plan->xf.origin[1],
            plan->xf.origin[2]);
-    printf("surface     adjacency %d, fill %s\n", opt->adjacency, hv_fill_mode_name(plan->fill));
+    printf("surface     adjacency %d, fill %s%s\n", opt->adjacency, hv_fill_mode_name(plan->fill),
+           plan->fill == HV_FILL_AUTO ? " (decided per body)" : "");
     printf("memory      about %.1f MiB\n", (double)plan->memory_bytes / 1048576.0);
-    if (vol) {
+    if (vol)
         printf("occupied    %llu voxels (%llu surface), volume %.6g (mesh %.6g)\n", (unsigned long long)occupied,
                (unsigned long long)surface, (double)occupied * vv, r->volume);
-        printf("wrote       %s\n", c->output);
-    }
+    if (nbodies > 1) print_regions(mesh, rg, vv);
+    if (vol) printf("wrote       %s\n", c->output);
+    hv_regions_destroy(rg);
     return EXIT_OK;
 }
 
@@ -122,5 +198,7 @@ const cli_spec cmd_voxelize = {
     "Voxelize a mesh (Wu 2.1; Huang et al. 1998): triangles mark the voxels in their face\n"
     "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
     "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"
-    "origin + (i*Lx, j*Ly, k*Lz).\n",
+    "origin + (i*Lx, j*Ly, k*Lz). A mesh of several bodies (an assembly) gives a bool grid\n"
+    "'region.<body name>' per body; where bodies overlap, the first in file order keeps\n"
+    "the voxels, and the summary reports what the others lost.\n",
     hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

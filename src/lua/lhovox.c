@@ -131,6 +131,7 @@ int luaopen_hovox(lua_State *L)
     hv_lua_open_output(L, module); /* before objects: they borrow the model's output methods */
     hv_lua_open_object(L, module);
     hv_lua_open_tray(L, module);
+    hv_lua_open_assembly(L, module);
     lua_pushcfunction(L, l_set_threads);
     lua_setfield(L, module, "set_threads");
     lua_pushstring(L, hv_version());

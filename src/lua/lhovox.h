@@ -1,7 +1,8 @@
 /* src/lua/lhovox.h - the `hovox` Lua 5.4 module: modeling scripts over the C library.
  *
  * The binding is split by class: lhovox.c (module, shared helpers), lsandbox.c (the sandbox),
- * lmesh.c (meshes, generators, contours), lmodel.c (models, voxelizing, probing), lsource.c
+ * lmesh.c (meshes, generators, contours), lassembly.c (joining meshes into assemblies, a model's
+ * regions), lmodel.c (models, voxelizing, probing), lsource.c
  * (material tables, reference features, grading sources), lobject.c (heterogeneous objects),
  * loutput.c (a model's outputs: render, export, layers, profile) and lopts.c (option tables
  * read through the library's option sets).
@@ -128,5 +129,6 @@ void hv_lua_open_sources(lua_State *L, int module);
 void hv_lua_open_output(lua_State *L, int module);
 void hv_lua_open_object(lua_State *L, int module);
 void hv_lua_open_tray(lua_State *L, int module);
+void hv_lua_open_assembly(lua_State *L, int module); /* after the model's class */
 
 #endif

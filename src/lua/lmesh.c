@@ -125,7 +125,7 @@ static int mesh_save(lua_State *L)
             return arg_error(L, 3, "unknown option '%s' (options: ascii)", luaL_tolstring(L, -2, NULL));
     }
     u = CHECK(L, 1, l_mesh, MT_MESH); /* again: reading the options may have run a finalizer */
-    hv_status s = hv_mesh_write_stl(u->p, path, ascii);
+    hv_status s = hv_mesh_save(u->p, path, ascii); /* .obj keeps the bodies */
     return s != HV_OK ? fail(L, s) : 0;
 }
 
@@ -168,9 +168,10 @@ typedef struct contour_run {
     lua_State *L;
     int keep_loops;
     int table; /* stack index of the result list */
+    const hv_mesh *mesh;
 } contour_run;
 
-static void push_loops(lua_State *L, const hv_slice *slice)
+static void push_loops(lua_State *L, const hv_slice *slice, const hv_mesh *mesh)
 {
     size_t n = hv_slice_loop_count(slice);
     const hv_slice_loop *loops = hv_slice_loops(slice);
@@ -192,6 +193,9 @@ static void push_loops(lua_State *L, const hv_slice *slice)
         lua_setfield(L, -2, "parent");
         lua_pushnumber(L, lp->area);
         lua_setfield(L, -2, "area");
+        const hv_mesh_body *b = hv_mesh_body_at(mesh, (size_t)lp->body);
+        lua_pushstring(L, b ? b->name : "");
+        lua_setfield(L, -2, "body");
         lua_rawseti(L, -2, (lua_Integer)i + 1);
     }
 }
@@ -220,7 +224,7 @@ static int push_layer(lua_State *L)
         lua_setfield(L, -2, f[i].k);
     }
     if (a->run->keep_loops) {
-        push_loops(L, a->slice);
+        push_loops(L, a->slice, a->run->mesh);
         lua_setfield(L, -2, "contours");
     }
     lua_rawseti(L, 2, (lua_Integer)a->index + 1); /* the result list, argument 2 */
@@ -246,7 +250,8 @@ static hv_status contour_layer(void *user, size_t index, const hv_layer *layer, 
  *   max[, cusp]}, first_layer, close_gap, binary, output = "x.svg" | "x.cli", per_layer = DIR>,
  *   loops = true})
  *   -> { {z, bottom, top, area, loops, holes, open, contours = { {points, closed,
- *        orientation, parent, area}, ... }}, ... } */
+ *        orientation, parent, area, body}, ... }}, ... }; body: the name of the mesh body the loop
+ *        belongs to */
 static int l_contours(lua_State *L)
 {
     static const char *const extra[] = {"loops", NULL};
@@ -258,7 +263,7 @@ static int l_contours(lua_State *L)
     hv_lua_check_paths(L, 2, hv_contours_option_set(), &o);
     mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     lua_newtable(L);
-    contour_run run = {L, keep, lua_gettop(L)};
+    contour_run run = {L, keep, lua_gettop(L), mesh};
     hv_status s = hv_contours_write(mesh, &o, NULL, contour_layer, &run, NULL, NULL);
     return s != HV_OK ? fail(L, s) : 1;
 }

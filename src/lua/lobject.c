@@ -18,27 +18,45 @@ static l_object *push_object(lua_State *L, hv_object *o, int mats_index)
     return u;
 }
 
+/* hovox.object(model[, mats][, {grid = "occupancy"}]): a model voxelized from an assembly gives one
+ * region per body (hv_object_from_regions; mats, when given, must name the bodies' materials,
+ * else the table is built from them); any other model, or a grid named, one region (mats
+ * required). */
 static int l_make_object(lua_State *L)
 {
-    l_model *m = CHECK(L, 1, l_model, MT_MODEL);
-    l_mats *t = CHECK(L, 2, l_mats, MT_MATS);
-    const char *grid = "occupancy";
-    if (!lua_isnoneornil(L, 3)) {
-        int holder = hv_lua_options(L, 3);
-        hv_lua_check_plain_table(L, 3);
+    CHECK(L, 1, l_model, MT_MODEL);
+    int have_mats = luaL_testudata(L, 2, MT_MATS) != NULL, opt = have_mats ? 3 : 2;
+    if (!have_mats && !lua_isnoneornil(L, 2) && !lua_istable(L, 2))
+        return luaL_typeerror(L, 2, "hovox materials or an options table");
+    if (have_mats) CHECK(L, 2, l_mats, MT_MATS);
+    const char *grid = NULL;
+    if (!lua_isnoneornil(L, opt)) {
+        int holder = hv_lua_options(L, opt);
+        hv_lua_check_plain_table(L, opt);
         lua_pushnil(L);
-        if (lua_next(L, 3) && (lua_type(L, -2) != LUA_TSTRING || strcmp(lua_tostring(L, -2), "grid") != 0))
-            return arg_error(L, 3, "unknown option '%s' (options: grid)", luaL_tolstring(L, -2, NULL));
+        if (lua_next(L, opt) && (lua_type(L, -2) != LUA_TSTRING || strcmp(lua_tostring(L, -2), "grid") != 0))
+            return arg_error(L, opt, "unknown option '%s' (options: grid)", luaL_tolstring(L, -2, NULL));
         lua_settop(L, holder);
-        grid = hv_lua_string_field(L, 3, "grid", holder);
-        if (!grid) grid = "occupancy";
+        grid = hv_lua_string_field(L, opt, "grid", holder);
     }
-    m = CHECK(L, 1, l_model, MT_MODEL); /* again: reading the options may have run a finalizer */
-    t = CHECK(L, 2, l_mats, MT_MATS);
-    hv_object *o;
-    hv_status s = hv_object_create(m->p, grid, hv_material_count(t->p), &o);
+    /* the userdata first, so an allocation failure leaks nothing the library made */
+    l_object *u = hv_lua_new_ud(L, sizeof *u, MT_OBJECT);
+    int ou = lua_gettop(L);
+    l_mats *t = hv_lua_new_ud(L, sizeof *t, MT_MATS);
+    l_model *m = CHECK(L, 1, l_model, MT_MODEL); /* again: reading the options may have run a finalizer */
+    const hv_material_table *given = have_mats ? CHECK(L, 2, l_mats, MT_MATS)->p : NULL;
+    hv_status s = HV_ERR_NOT_FOUND;
+    if (!grid) s = hv_object_from_regions(m->p, given, &t->p, &u->p);
+    if (s == HV_ERR_NOT_FOUND) {
+        if (!given)
+            return luaL_argerror(L, 2, "materials are required (the model has no regions with materials: it was not "
+                                       "voxelized from an assembly)");
+        s = hv_object_create(m->p, grid ? grid : "occupancy", hv_material_count(given), &u->p);
+    }
     if (s != HV_OK) return fail(L, s);
-    push_object(L, o, 2);
+    if (!t->p) lua_pushvalue(L, 2); /* the materials given (from_regions copied them when it ran) */
+    lua_setiuservalue(L, ou, 1);    /* keep the material table alive with the object */
+    lua_settop(L, ou);
     return 1;
 }
 
@@ -50,9 +68,11 @@ static hv_material_table *object_mats(lua_State *L, int idx)
     return t->p;
 }
 
+/* obj:add_ags(src or {...}[, region]): to every region, or to the region of that name alone */
 static int object_add_ags(lua_State *L)
 {
     l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    const char *region = luaL_optstring(L, 3, NULL); /* anchored at 3 while C uses it */
     hv_ags *a;
     if (luaL_testudata(L, 2, MT_SOURCE)) {
         a = hv_ags_retain(CHECK(L, 2, l_source, MT_SOURCE)->p);
@@ -67,7 +87,7 @@ static int object_add_ags(lua_State *L)
         hv_ags_release(a);
         return luaL_argerror(L, 1, "object was freed");
     }
-    hv_status s = hv_object_add_ags(u->p, a);
+    hv_status s = region ? hv_object_add_ags_region(u->p, region, a) : hv_object_add_ags(u->p, a);
     hv_ags_release(a);
     if (s != HV_OK) return fail(L, s);
     return 1; /* the source */
@@ -100,15 +120,20 @@ static int object_set_blend(lua_State *L)
     return s != HV_OK ? fail(L, s) : 0;
 }
 
+/* obj:set_base(p[, region]): the base of every region, or of the region of that name */
 static int object_set_base(lua_State *L)
 {
     l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
     double p[HV_MAX_MATERIALS];
     int n = hv_lua_numbers(L, 2, 2, "base", p, HV_MAX_MATERIALS);
+    const char *region = luaL_optstring(L, 3, NULL);
+    u = CHECK(L, 1, l_object, MT_OBJECT); /* again, after the conversions */
     if (n != hv_object_materials(u->p))
         return arg_error(L, 2, "base has %d values for %d materials", n, hv_object_materials(u->p));
     if (hv_composition_check(p, n, "base") != HV_OK) return luaL_argerror(L, 2, hv_last_error());
-    hv_status s = hv_object_set_base(u->p, p);
+    int r = region ? hv_object_region_find(u->p, region) : -1;
+    if (region && r < 0) return arg_error(L, 3, "the object has no region '%s'", region);
+    hv_status s = region ? hv_object_set_region_base(u->p, r, p) : hv_object_set_base(u->p, p);
     return s != HV_OK ? fail(L, s) : 0;
 }
 
@@ -205,14 +230,30 @@ static int object_regions(lua_State *L)
     l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
     int n = hv_object_region_count(u->p);
     lua_createtable(L, n, 0);
+    double base[HV_MAX_MATERIALS];
     for (int r = 0; r < n; ++r) {
-        lua_createtable(L, 0, 2);
+        lua_createtable(L, 0, 4);
         lua_pushinteger(L, (lua_Integer)hv_object_region_voxels(u->p, r));
         lua_setfield(L, -2, "voxels");
         lua_pushinteger(L, hv_object_region_ags_count(u->p, r));
         lua_setfield(L, -2, "sources");
+        if (hv_object_region_name(u->p, r)) {
+            lua_pushstring(L, hv_object_region_name(u->p, r));
+            lua_setfield(L, -2, "name");
+        }
+        hv_object_region_base(u->p, r, base);
+        hv_lua_push_vec(L, base, hv_object_materials(u->p));
+        lua_setfield(L, -2, "base");
         lua_rawseti(L, -2, r + 1);
     }
+    return 1;
+}
+
+/* obj:materials() -> the object's Materials (given to hovox.object or built from the bodies) */
+static int object_materials(lua_State *L)
+{
+    CHECK(L, 1, l_object, MT_OBJECT);
+    lua_getiuservalue(L, 1, 1);
     return 1;
 }
 
@@ -233,7 +274,8 @@ void hv_lua_open_object(lua_State *L, int module)
                                        {"union", object_union},         {"difference", object_difference},
                                        {"merge", object_merge},         {"subtract", object_subtract},
                                        {"evaluate", object_evaluate},   {"regions", object_regions},
-                                       {"voxels", object_voxels},       {"free", object_gc},
+                                       {"voxels", object_voxels},       {"materials", object_materials},
+                                       {"free", object_gc},
                                        {NULL, NULL}};
     hv_lua_new_class(L, MT_OBJECT, methods, object_gc, NULL);
     /* the object gets the model's output methods, through an evaluation */

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "hovox/voxelize.h"
 #include "material_internal.h"
 #include "volumes/schema.h"
 
@@ -16,6 +17,8 @@ typedef struct region {
     int nags;
     size_t cap;
     hv_ags **ags;
+    char *name;      /* NULL: unnamed (stored as "region.<index>") */
+    double base[HV_MAX_MATERIALS]; /* composition where none of its sources applies */
 } region;
 
 struct hv_object {
@@ -24,7 +27,7 @@ struct hv_object {
     int nreg;
     size_t rcap;
     region *reg;
-    double base[HV_MAX_MATERIALS];
+    double base[HV_MAX_MATERIALS]; /* the default base: of new regions, set on all by set_base */
     hv_blend blend;
     double power;
     hv_volume *record; /* what the model recorded before grading, carried into evaluated volumes:
@@ -39,6 +42,7 @@ static void region_free(region *r)
     hv_volume_destroy(r->mask);
     for (int i = 0; i < r->nags; ++i) hv_ags_release(r->ags[i]);
     free(r->ags);
+    free(r->name);
     memset(r, 0, sizeof *r);
 }
 
@@ -89,6 +93,21 @@ static hv_status mask_op(const hv_volume *a, const hv_volume *b, hv_mask_op op, 
     return HV_OK;
 }
 
+/* A region's mask: the true voxels of bool grid g of vol, on lattice xf. */
+static hv_status mask_of(const hv_volume *vol, int g, const hv_transform *xf, hv_volume **out)
+{
+    *out = NULL;
+    hv_volume *mask;
+    hv_status s = hv_volume_create(xf, &mask);
+    if (s != HV_OK) return s;
+    if ((s = hv_volume_grid_copy(mask, "mask", vol, g)) != HV_OK || (s = hv_volume_topology_restrict(mask, 0)) != HV_OK) {
+        hv_volume_destroy(mask);
+        return s;
+    }
+    *out = mask;
+    return HV_OK;
+}
+
 static hv_status object_new(int m, const hv_transform *xf, hv_object **out)
 {
     hv_object *o = hv_calloc(1, sizeof *o);
@@ -102,8 +121,18 @@ static hv_status object_new(int m, const hv_transform *xf, hv_object **out)
     return HV_OK;
 }
 
-/* Append a region (taking the mask); empty masks are dropped. */
-static hv_status push_region(hv_object *o, hv_volume *mask, const region *set1, const region *set2)
+int hv_object_region_find(const hv_object *o, const char *name)
+{
+    for (int r = 0; name && r < o->nreg; ++r)
+        if (o->reg[r].name && strcmp(o->reg[r].name, name) == 0) return r;
+    return -1;
+}
+
+/* Append a region (taking the mask) with the sources of set1 and set2, the name of `like` (when
+ * no region has it yet; else unnamed) and its base (o's default without `like`); empty masks are
+ * dropped. */
+static hv_status push_region(hv_object *o, hv_volume *mask, const region *set1, const region *set2,
+                             const region *like)
 {
     if (hv_volume_active_count(mask) == 0) {
         hv_volume_destroy(mask);
@@ -117,6 +146,9 @@ static hv_status push_region(hv_object *o, hv_volume *mask, const region *set1, 
     region *r = &o->reg[o->nreg++];
     memset(r, 0, sizeof *r);
     r->mask = mask;
+    memcpy(r->base, like ? like->base : o->base, sizeof r->base);
+    if (like && like->name && hv_object_region_find(o, like->name) < 0 && !(r->name = hv_strdup(like->name)))
+        return HV_ERR_NOMEM;
     if (set1 && (s = region_add_set(r, set1)) != HV_OK) return s;
     if (set2 && (s = region_add_set(r, set2)) != HV_OK) return s;
     return HV_OK;
@@ -217,17 +249,12 @@ hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_obj
     hv_status s = object_new(m, &xf, &o);
     if (s != HV_OK) return s;
     hv_volume *mask;
-    if ((s = hv_volume_create(&xf, &mask)) == HV_OK) {
-        if ((s = hv_volume_grid_copy(mask, "mask", vol, g)) == HV_OK &&
-            (s = hv_volume_topology_restrict(mask, 0)) == HV_OK) {
-            if (hv_volume_active_count(mask) == 0) {
-                hv_volume_destroy(mask);
-                s = hv_error_set(HV_ERR_INVALID, "bool grid '%s' is empty", grid);
-            } else {
-                s = push_region(o, mask, NULL, NULL);
-            }
-        } else {
+    if ((s = mask_of(vol, g, &xf, &mask)) == HV_OK) {
+        if (hv_volume_active_count(mask) == 0) {
             hv_volume_destroy(mask);
+            s = hv_error_set(HV_ERR_INVALID, "bool grid '%s' is empty", grid);
+        } else {
+            s = push_region(o, mask, NULL, NULL, NULL);
         }
     }
     if (s == HV_OK) s = record_take(vol, &xf, &o->record);
@@ -236,6 +263,96 @@ hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_obj
         return s;
     }
     *out = o;
+    return HV_OK;
+}
+
+/* "A, B" into buf: the table's names, for messages. */
+static const char *table_list(const hv_material_table *t, char *buf, size_t n)
+{
+    size_t at = 0;
+    buf[0] = '\0';
+    for (int j = 0; j < hv_material_count(t) && at + 1 < n; ++j) {
+        int k = snprintf(buf + at, n - at, "%s%s", j ? ", " : "", hv_material_name(t, j));
+        if (k < 0) break;
+        at += (size_t)k;
+    }
+    return buf;
+}
+
+hv_status hv_object_from_regions(const hv_volume *vol, const hv_material_table *given, hv_material_table **table,
+                                 hv_object **out)
+{
+    *out = NULL;
+    *table = NULL;
+    hv_regions *rg = NULL;
+    hv_status s = hv_voxelize_regions_read(vol, &rg);
+    if (s != HV_OK) return s;
+    size_t n = hv_regions_count(rg);
+    hv_material_table *t = NULL;
+    hv_object *o = NULL;
+    int *mat = hv_calloc(n, sizeof *mat);
+    if (!mat) s = HV_ERR_NOMEM;
+    else s = given ? hv_material_table_clone(given, &t) : hv_material_table_create(&t);
+    /* each region's material in the table */
+    for (size_t i = 0; i < n && s == HV_OK; ++i) {
+        const hv_region_info *g = hv_regions_at(rg, i);
+        if (!g->material) {
+            if (given) mat[i] = 0;
+            else
+                s = hv_error_option(HV_ERR_INVALID, "region '%s' has no material (the mesh names none): give the {materials}",
+                                    g->name);
+            continue;
+        }
+        char name[65];
+        hv_material_name_from(g->material, name);
+        int k = hv_material_find(t, name);
+        if (k < 0 && given) {
+            char list[1024], as[400];
+            if (strcmp(name, g->material) == 0) snprintf(as, sizeof as, "%s", name);
+            else snprintf(as, sizeof as, "%s (in the file: %s)", name, g->material);
+            s = hv_error_set(HV_ERR_INVALID, "region '%s' is material %s, which the materials given (%s) do not name",
+                             g->name, as, table_list(t, list, sizeof list));
+        } else if (k < 0) {
+            s = hv_material_add(t, name, g->has_color ? g->rgba : NULL, &k);
+        }
+        mat[i] = k;
+    }
+    hv_transform xf = hv_volume_get_transform(vol);
+    int m = t ? hv_material_count(t) : 0;
+    if (s == HV_OK) s = object_new(m, &xf, &o);
+    for (size_t i = 0; i < n && s == HV_OK; ++i) {
+        const hv_region_info *g = hv_regions_at(rg, i);
+        int gi = hv_volume_grid_find(vol, g->grid);
+        if (gi < 0 || hv_volume_grid_type(vol, gi) != HV_GRID_BOOL) {
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: region '%s': the model has no bool grid '%s'",
+                             hv_schema_key(HV_DOC_REGIONS), g->name, g->grid);
+            break;
+        }
+        hv_volume *mask;
+        if ((s = mask_of(vol, gi, &xf, &mask)) != HV_OK) break;
+        region like;
+        memset(&like, 0, sizeof like);
+        like.name = (char *)g->name;
+        like.base[mat[i]] = 1.0;
+        if (hv_object_region_find(o, g->name) >= 0) {
+            hv_volume_destroy(mask);
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: region '%s' is named twice", hv_schema_key(HV_DOC_REGIONS), g->name);
+            break;
+        }
+        s = push_region(o, mask, NULL, NULL, &like);
+    }
+    if (s == HV_OK && o->nreg == 0)
+        s = hv_error_set(HV_ERR_BAD_INPUT, "every region of the model is empty");
+    if (s == HV_OK) s = record_take(vol, &xf, &o->record);
+    free(mat);
+    hv_regions_destroy(rg);
+    if (s != HV_OK) {
+        hv_object_destroy(o);
+        hv_material_table_destroy(t);
+        return s;
+    }
+    *out = o;
+    *table = t;
     return HV_OK;
 }
 
@@ -260,7 +377,7 @@ hv_status hv_object_clone(const hv_object *o, hv_object **out)
     if (o->record) s = hv_volume_clone(o->record, &c->record);
     for (int r = 0; r < o->nreg && s == HV_OK; ++r) {
         hv_volume *mask;
-        if ((s = hv_volume_clone(o->reg[r].mask, &mask)) == HV_OK) s = push_region(c, mask, &o->reg[r], NULL);
+        if ((s = hv_volume_clone(o->reg[r].mask, &mask)) == HV_OK) s = push_region(c, mask, &o->reg[r], NULL, &o->reg[r]);
     }
     if (s != HV_OK) {
         hv_object_destroy(c);
@@ -293,8 +410,43 @@ int hv_object_region_ags_count(const hv_object *o, int r)
 hv_status hv_object_set_base(hv_object *o, const double *p)
 {
     hv_status s = hv_composition_check(p, o->m, "base composition");
-    if (s == HV_OK) memcpy(o->base, p, (size_t)o->m * sizeof(double));
+    if (s != HV_OK) return s;
+    memcpy(o->base, p, (size_t)o->m * sizeof(double));
+    for (int r = 0; r < o->nreg; ++r) memcpy(o->reg[r].base, p, (size_t)o->m * sizeof(double));
+    return HV_OK;
+}
+
+const char *hv_object_region_name(const hv_object *o, int r) { return r >= 0 && r < o->nreg ? o->reg[r].name : NULL; }
+
+hv_status hv_object_set_region_base(hv_object *o, int r, const double *p)
+{
+    if (r < 0 || r >= o->nreg)
+        return hv_error_set(HV_ERR_INVALID, "region %d out of range (the object has %d)", r, o->nreg);
+    char what[300];
+    if (o->reg[r].name) snprintf(what, sizeof what, "base composition of region '%s'", o->reg[r].name);
+    else snprintf(what, sizeof what, "base composition of region %d", r);
+    hv_status s = hv_composition_check(p, o->m, what);
+    if (s == HV_OK) memcpy(o->reg[r].base, p, (size_t)o->m * sizeof(double));
     return s;
+}
+
+void hv_object_region_base(const hv_object *o, int r, double *p)
+{
+    if (r >= 0 && r < o->nreg) memcpy(p, o->reg[r].base, (size_t)o->m * sizeof(double));
+}
+
+/* "core, shell, region 2" into buf: the regions, for messages. */
+static const char *region_list(const hv_object *o, char *buf, size_t n)
+{
+    size_t at = 0;
+    buf[0] = '\0';
+    for (int r = 0; r < o->nreg && at + 1 < n; ++r) {
+        int k = o->reg[r].name ? snprintf(buf + at, n - at, "%s%s", r ? ", " : "", o->reg[r].name)
+                               : snprintf(buf + at, n - at, "%sregion %d (unnamed)", r ? ", " : "", r);
+        if (k < 0) break;
+        at += (size_t)k;
+    }
+    return buf;
 }
 
 hv_status hv_object_set_blend(hv_object *o, hv_blend blend, double power)
@@ -319,6 +471,25 @@ hv_status hv_object_add_ags(hv_object *o, hv_ags *a)
         if (s != HV_OK) return s;
     }
     return HV_OK;
+}
+
+hv_status hv_object_add_ags_region(hv_object *o, const char *name, hv_ags *a)
+{
+    if (a->m != o->m)
+        return hv_error_set(HV_ERR_INVALID, "grading source has %d materials, the object %d", a->m, o->m);
+    int r = hv_object_region_find(o, name);
+    int named = 0;
+    for (int k = 0; k < o->nreg; ++k) named |= o->reg[k].name != NULL;
+    if (r < 0 && !named)
+        return hv_error_set(HV_ERR_NOT_FOUND, "the object has no region '%s' (its regions have no names: regions are "
+                                              "named after the bodies of a model voxelized from an assembly)",
+                            name ? name : "");
+    if (r < 0) {
+        char list[1024];
+        return hv_error_set(HV_ERR_NOT_FOUND, "the object has no region '%s' (regions: %s)", name ? name : "",
+                            region_list(o, list, sizeof list));
+    }
+    return region_add_ags(&o->reg[r], a);
 }
 
 hv_status hv_object_delete_ags(hv_object *o, const hv_ags *a)
@@ -404,34 +575,34 @@ hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op o
         for (int i = 0; i < a->nreg && s == HV_OK; ++i)
             for (int j = 0; j < b->nreg && s == HV_OK; ++j)
                 if ((s = mask_op(a->reg[i].mask, b->reg[j].mask, HV_MASK_INTERSECT, &mask)) == HV_OK)
-                    s = push_region(o, mask, &a->reg[i], &b->reg[j]);
+                    s = push_region(o, mask, &a->reg[i], &b->reg[j], &a->reg[i]);
         break;
     case HV_OP_UNITE: /* (O1 - O2, G1), (O1 n O2, G1 u G2), (O2 - O1, G2) */
         for (int i = 0; i < a->nreg && s == HV_OK; ++i)
             if ((s = mask_op(a->reg[i].mask, O2, HV_MASK_DIFFERENCE, &mask)) == HV_OK)
-                s = push_region(o, mask, &a->reg[i], NULL);
+                s = push_region(o, mask, &a->reg[i], NULL, &a->reg[i]);
         for (int i = 0; i < a->nreg && s == HV_OK; ++i)
             for (int j = 0; j < b->nreg && s == HV_OK; ++j)
                 if ((s = mask_op(a->reg[i].mask, b->reg[j].mask, HV_MASK_INTERSECT, &mask)) == HV_OK)
-                    s = push_region(o, mask, &a->reg[i], &b->reg[j]);
+                    s = push_region(o, mask, &a->reg[i], &b->reg[j], &a->reg[i]);
         for (int j = 0; j < b->nreg && s == HV_OK; ++j)
             if ((s = mask_op(b->reg[j].mask, O1, HV_MASK_DIFFERENCE, &mask)) == HV_OK)
-                s = push_region(o, mask, &b->reg[j], NULL);
+                s = push_region(o, mask, &b->reg[j], NULL, &b->reg[j]);
         break;
     case HV_OP_DIFFERENCE: /* (O1 - O2, G1), (O2 n O1, G2) */
         for (int i = 0; i < a->nreg && s == HV_OK; ++i)
             if ((s = mask_op(a->reg[i].mask, O2, HV_MASK_DIFFERENCE, &mask)) == HV_OK)
-                s = push_region(o, mask, &a->reg[i], NULL);
+                s = push_region(o, mask, &a->reg[i], NULL, &a->reg[i]);
         for (int j = 0; j < b->nreg && s == HV_OK; ++j)
             if ((s = mask_op(b->reg[j].mask, O1, HV_MASK_INTERSECT, &mask)) == HV_OK)
-                s = push_region(o, mask, &b->reg[j], NULL);
+                s = push_region(o, mask, &b->reg[j], NULL, &b->reg[j]);
         break;
     case HV_OP_MERGE: { /* (O1 u O2, G1 u G2) */
         region all;
         memset(&all, 0, sizeof all);
         if ((s = merged_set(a, &all)) == HV_OK && (s = merged_set(b, &all)) == HV_OK &&
             (s = mask_op(O1, O2, HV_MASK_UNION, &mask)) == HV_OK)
-            s = push_region(o, mask, &all, NULL);
+            s = push_region(o, mask, &all, NULL, NULL);
         for (int i = 0; i < all.nags; ++i) hv_ags_release(all.ags[i]);
         free(all.ags);
         break;
@@ -439,7 +610,7 @@ hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op o
     case HV_OP_SUBTRACT: /* (O1 - O2, G1) */
         for (int i = 0; i < a->nreg && s == HV_OK; ++i)
             if ((s = mask_op(a->reg[i].mask, O2, HV_MASK_DIFFERENCE, &mask)) == HV_OK)
-                s = push_region(o, mask, &a->reg[i], NULL);
+                s = push_region(o, mask, &a->reg[i], NULL, &a->reg[i]);
         break;
     default: s = hv_error_set(HV_ERR_INVALID, "unknown Boolean operation %d", (int)op);
     }
@@ -527,7 +698,7 @@ HV_HOT_CLONES static hv_status eval_leaves(void *vctx, size_t b, size_t e, int t
             for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) sel[n] = (uint8_t)(HV_BIT_GET(mask, n) & HV_BIT_GET(bits, n));
         if (k == 0) {
             for (int j = 0; j < m; ++j)
-                for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) val[j][n] = (float)o->base[j];
+                for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) val[j][n] = (float)r->base[j];
         } else {
             for (int s = 0; s < k; ++s) hv_frf_leaf_distances(r->ags[s]->frf, &o->xf, lo, dist[s]);
             if (k == 1) {
@@ -630,7 +801,9 @@ uint64_t hv_object_evaluate_estimate(const hv_object *o)
     /* material grids, stored fields of voxel features, region masks */
     int stored = voxel_frfs > 0 ? (voxel_frfs + 8) / 9 : 0;
     int surface = o->record && hv_volume_grid_find(o->record, "surface") >= 0;
-    return hv_volume_memory_estimate(leaves, o->m + stored, 1 + surface + (o->nreg > 1 ? o->nreg : 0)) + extra;
+    int region_grids = 0;
+    for (int r = 0; r < o->nreg; ++r) region_grids += o->nreg > 1 || o->reg[r].name;
+    return hv_volume_memory_estimate(leaves, o->m + stored, 1 + surface + region_grids) + extra;
 }
 
 /* The distinct features and sources of an object, in first-use order. */
@@ -659,6 +832,37 @@ static hv_status make_catalog(const hv_object *o, catalog *c)
     return HV_OK;
 }
 
+/* Bool grid of region r in an evaluated volume: "occupancy" for a lone unnamed region,
+ * "region.<name>" for a named one, "region.<r>" for an unnamed one among several (with a suffix in
+ * the unlikely case a named region took that name). */
+static void region_grid(const hv_object *o, int r, char *buf, size_t n)
+{
+    const region *g = &o->reg[r];
+    if (g->name) {
+        snprintf(buf, n, "region.%s", g->name);
+        return;
+    }
+    if (o->nreg == 1) {
+        snprintf(buf, n, "occupancy");
+        return;
+    }
+    char want[32];
+    snprintf(want, sizeof want, "%d", r);
+    snprintf(buf, n, "region.%s", want);
+    for (int k = 1; hv_object_region_find(o, want) >= 0; ++k) {
+        snprintf(want, sizeof want, "%d.%d", r, k);
+        snprintf(buf, n, "region.%s", want);
+    }
+}
+
+/* The object document needs version 2 when regions carry names or bases of their own. */
+static int regions_versioned(const hv_object *o)
+{
+    for (int r = 0; r < o->nreg; ++r)
+        if (o->reg[r].name || memcmp(o->reg[r].base, o->base, (size_t)o->m * sizeof(double)) != 0) return 1;
+    return 0;
+}
+
 static int catalog_index(const void *const *list, int n, const void *p)
 {
     for (int i = 0; i < n; ++i)
@@ -672,6 +876,7 @@ static int catalog_index(const void *const *list, int n, const void *p)
  * other voxel features as stored fields. */
 static hv_status object_doc(const hv_object *o, const hv_volume *v, json_t **out)
 {
+    int v2 = regions_versioned(o);
     *out = NULL;
     catalog c;
     hv_status s = make_catalog(o, &c);
@@ -687,19 +892,26 @@ static hv_status object_doc(const hv_object *o, const hv_volume *v, json_t **out
         failed = json_array_append_new(
                      srcs, hv_ags_to_doc(c.a[k], catalog_index((const void *const *)c.f, c.nf, c.a[k]->frf))) != 0;
     for (int r = 0; r < o->nreg && !failed; ++r) {
-        char grid[32];
-        if (o->nreg > 1) snprintf(grid, sizeof grid, "region.%d", r);
-        else snprintf(grid, sizeof grid, "occupancy");
+        char grid[300];
+        region_grid(o, r, grid, sizeof grid);
         json_t *list = json_array();
         failed = !list;
         for (int i = 0; i < o->reg[r].nags && !failed; ++i)
             failed = json_array_append_new(
                          list, json_integer(catalog_index((const void *const *)c.a, c.na, o->reg[r].ags[i]))) != 0;
-        if (failed) json_decref(list);
-        else
-            failed = json_array_append_new(regs, json_pack("{s:s, s:I, s:o}", "grid", grid, "voxels",
-                                                           (json_int_t)hv_volume_active_count(o->reg[r].mask),
-                                                           "sources", list)) != 0;
+        json_t *e = failed ? NULL : json_object();
+        if (!e) {
+            json_decref(list);
+            failed = 1;
+            break;
+        }
+        /* version 1 layout unless regions carry names or bases of their own */
+        if (v2 && o->reg[r].name) failed |= hv_json_set(e, "name", hv_json_text(o->reg[r].name));
+        failed |= hv_json_set(e, "grid", hv_json_text(grid));
+        failed |= hv_json_set(e, "voxels", json_integer((json_int_t)hv_volume_active_count(o->reg[r].mask)));
+        if (v2) failed |= hv_json_set(e, "base", hv_json_numbers(o->reg[r].base, (size_t)o->m));
+        failed |= hv_json_set(e, "sources", list);
+        failed |= json_array_append_new(regs, e) != 0;
     }
     json_t *doc = NULL;
     if (!failed)
@@ -722,10 +934,11 @@ static hv_status object_doc_write(const hv_object *o, hv_volume *out)
 {
     json_t *doc;
     hv_status s = object_doc(o, out, &doc);
-    return s == HV_OK ? hv_schema_doc_write(out, HV_DOC_OBJECT, doc) : s;
+    /* the oldest version that holds the definition, so older hovox reads what it can */
+    return s == HV_OK ? hv_schema_doc_write_version(out, HV_DOC_OBJECT, doc, regions_versioned(o) ? 2 : 1) : s;
 }
 
-/* Store, for several regions, their masks ("region.R"), and the fields of the voxel features
+/* Store the masks of several regions or named ones ("region.<name>", "region.R"), and the fields of the voxel features
  * that are not recomputed from one of the model's bool grids on load ("distance.K": features
  * from files, facets, harmonic; hv_frf_derived_grid) in the evaluated volume, so the
  * definition can be rebuilt from the file. The regions go first: a mask feature may be one. */
@@ -733,14 +946,14 @@ static hv_status store_definition_grids(const hv_object *o, hv_volume *v)
 {
     catalog c;
     hv_status s = make_catalog(o, &c);
-    if (o->nreg > 1)
-        for (int r = 0; r < o->nreg && s == HV_OK; ++r) {
-            char grid[32];
-            snprintf(grid, sizeof grid, "region.%d", r);
-            int old = hv_volume_grid_find(v, grid);
-            if (old >= 0 && (s = hv_volume_grid_remove(v, old)) != HV_OK) break;
-            s = hv_volume_grid_copy(v, grid, o->reg[r].mask, 0);
-        }
+    for (int r = 0; r < o->nreg && s == HV_OK; ++r) {
+        char grid[300];
+        region_grid(o, r, grid, sizeof grid);
+        if (strcmp(grid, "occupancy") == 0) continue; /* a lone unnamed region is the occupancy */
+        int old = hv_volume_grid_find(v, grid);
+        if (old >= 0 && (s = hv_volume_grid_remove(v, old)) != HV_OK) break;
+        s = hv_volume_grid_copy(v, grid, o->reg[r].mask, 0);
+    }
     for (int k = 0; k < c.nf && s == HV_OK; ++k) {
         if (!hv_frf_is_voxel(c.f[k]) && hv_frf_get_kind(c.f[k]) != HV_FRF_FIELD) continue;
         char grid[32];
@@ -875,6 +1088,12 @@ hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object 
         snprintf(place, sizeof place, "%s: sources[%zu]", what, i);
         s = hv_ags_from_doc(json_array_get(ja, i), feats, nf, (int)m, place, &srcs[i]);
     }
+    /* the object's base first: the base of every region that gives none of its own */
+    if (s == HV_OK && json_object_get(doc, "base")) {
+        double base[HV_MAX_MATERIALS];
+        if ((s = hv_json_get_numbers(doc, "base", what, base, (size_t)m)) == HV_OK && (s = hv_object_set_base(o, base)) != HV_OK)
+            s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: ", what);
+    }
     for (size_t r = 0; r < json_array_size(jr) && s == HV_OK; ++r) {
         const json_t *e = json_array_get(jr, r), *list;
         const char *grid;
@@ -888,13 +1107,33 @@ hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object 
             break;
         }
         hv_volume *mask;
-        if ((s = hv_volume_create(&xf, &mask)) != HV_OK) break;
-        if ((s = hv_volume_grid_copy(mask, "mask", vol, g)) != HV_OK || (s = hv_volume_topology_restrict(mask, 0)) != HV_OK) {
-            hv_volume_destroy(mask);
-            break;
+        if ((s = mask_of(vol, g, &xf, &mask)) != HV_OK) break;
+        /* version 2: a region's own name and base (the object's base when absent) */
+        region like;
+        memset(&like, 0, sizeof like);
+        memcpy(like.base, o->base, sizeof like.base);
+        const json_t *jn = json_object_get(e, "name");
+        if (jn) {
+            if ((s = hv_json_get_string(e, "name", place, (const char **)&like.name)) != HV_OK) {
+                hv_volume_destroy(mask);
+                break;
+            }
+            if (hv_object_region_find(o, like.name) >= 0) {
+                hv_volume_destroy(mask);
+                s = hv_error_set(HV_ERR_BAD_INPUT, "%s: name '%s' is used by an earlier region", place, like.name);
+                break;
+            }
+        }
+        if (json_object_get(e, "base")) {
+            if ((s = hv_json_get_numbers(e, "base", place, like.base, (size_t)m)) != HV_OK ||
+                (s = hv_composition_check(like.base, (int)m, "base")) != HV_OK) {
+                hv_volume_destroy(mask);
+                s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: ", place);
+                break;
+            }
         }
         int before = o->nreg;
-        if ((s = push_region(o, mask, NULL, NULL)) != HV_OK || o->nreg == before) continue;
+        if ((s = push_region(o, mask, NULL, NULL, &like)) != HV_OK || o->nreg == before) continue;
         for (size_t i = 0; i < json_array_size(list) && s == HV_OK; ++i) {
             const json_t *x = json_array_get(list, i);
             double k = json_is_number(x) ? json_number_value(x) : -1;
@@ -903,11 +1142,6 @@ hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object 
             else
                 s = region_add_ags(&o->reg[o->nreg - 1], srcs[(size_t)k]);
         }
-    }
-    if (s == HV_OK && json_object_get(doc, "base")) {
-        double base[HV_MAX_MATERIALS];
-        if ((s = hv_json_get_numbers(doc, "base", what, base, (size_t)m)) == HV_OK && (s = hv_object_set_base(o, base)) != HV_OK)
-            s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: ", what);
     }
     if (s == HV_OK && json_object_get(doc, "blend")) {
         int blend;
@@ -1000,7 +1234,7 @@ void hv_object_sample(const hv_object *o, const double p[3], int *inside, double
     if (r < 0) return;
     const region *g = &o->reg[r];
     if (g->nags == 0) {
-        memcpy(frac, o->base, (size_t)m * sizeof(double));
+        memcpy(frac, g->base, (size_t)m * sizeof(double));
         return;
     }
     if (g->nags == 1 || o->blend == HV_BLEND_NEAREST) {

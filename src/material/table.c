@@ -137,10 +137,25 @@ static hv_status parse_property(hv_material_table *t, const char *spec)
     return hv_material_set_property(t, mi, colon + 1, v, unit ? unit : hv_property_si_unit(colon + 1));
 }
 
+hv_status hv_material_table_amend(hv_material_table *t, const char *colors, const char *const *props, int nprops)
+{
+    char cols[HV_MAX_MATERIALS][65];
+    int m = t->n;
+    int nc = colors ? split_names(colors, cols, HV_MAX_MATERIALS) : m;
+    hv_status s = HV_OK;
+    if (nc != m) s = hv_error_option(HV_ERR_INVALID, "{colors}: %d colours for %d materials", nc < 0 ? 0 : nc, m);
+    for (int j = 0; colors && j < m && s == HV_OK; ++j) {
+        float rgba[4];
+        if ((s = hv_color_parse(cols[j], rgba)) == HV_OK) s = hv_material_set_color(t, j, rgba);
+    }
+    for (int i = 0; i < nprops && s == HV_OK; ++i) s = parse_property(t, props[i]);
+    return s;
+}
+
 hv_status hv_material_table_parse(const char *names, const char *colors, const char *const *props, int nprops,
                                   hv_material_table **out)
 {
-    char nm[HV_MAX_MATERIALS][65], cols[HV_MAX_MATERIALS][65];
+    char nm[HV_MAX_MATERIALS][65];
     *out = NULL;
     int m = names ? split_names(names, nm, HV_MAX_MATERIALS) : -1;
     if (m < 1) return hv_error_option(HV_ERR_INVALID, "{materials} '%s': expected comma-separated names", names ? names : "");
@@ -148,17 +163,23 @@ hv_status hv_material_table_parse(const char *names, const char *colors, const c
     hv_status s = hv_material_table_create(&t);
     if (s != HV_OK) return s;
     for (int j = 0; j < m && s == HV_OK; ++j) s = hv_material_add(t, nm[j], NULL, NULL);
-    int nc = colors ? split_names(colors, cols, HV_MAX_MATERIALS) : m;
-    if (s == HV_OK && nc != m)
-        s = hv_error_option(HV_ERR_INVALID, "{colors}: %d colours for %d materials", nc < 0 ? 0 : nc, m);
-    for (int j = 0; colors && j < m && s == HV_OK; ++j) {
-        float rgba[4];
-        if ((s = hv_color_parse(cols[j], rgba)) == HV_OK) s = hv_material_set_color(t, j, rgba);
-    }
-    for (int i = 0; i < nprops && s == HV_OK; ++i) s = parse_property(t, props[i]);
+    if (s == HV_OK) s = hv_material_table_amend(t, colors, props, nprops);
     if (s == HV_OK) *out = t;
     else hv_material_table_destroy(t);
     return s;
+}
+
+void hv_material_name_from(const char *text, char out[65])
+{
+    size_t k = 0;
+    for (const char *p = text ? text : ""; *p && k < 64; ++p) {
+        unsigned char c = (unsigned char)*p;
+        out[k++] = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-'
+                       ? (char)c
+                       : '_';
+    }
+    out[k] = '\0';
+    if (k == 0) snprintf(out, 65, "material");
 }
 
 int hv_material_count(const hv_material_table *t) { return t->n; }

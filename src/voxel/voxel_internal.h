@@ -4,6 +4,7 @@
 
 #include "bitgrid.h"
 #include "hovox/mesh.h"
+#include "hovox/voxelize.h"
 
 /* occ = everything not reachable from the grid border through non-surface voxels
  * (6-connected moves for adjacency 6, 26-connected for 26). occ must be zeroed. */
@@ -21,5 +22,18 @@ void hv_voxel_mark_triangle(const double *p[3], int adj26, hv_bitgrid *S);
 
 /* Approximate bytes of a mesh in memory (for planning). */
 size_t mesh_bytes(const hv_mesh *m);
+
+/* ---- regions of an assembly (regions.c) ---------------------------------------------------- */
+
+struct hv_regions {
+    size_t n;
+    hv_region_info *info; /* strings and lost_to malloc'd, owned */
+};
+
+/* Longest body name a region takes ("region." + name within a grid name's 255 bytes). */
+#define HV_REGION_NAME_MAX 248
+
+/* "region.<body>" (malloc'd). Errors: HV_ERR_BAD_INPUT (name too long), HV_ERR_NOMEM. */
+hv_status hv_regions_grid_name(const char *body, char **out);
 
 #endif

@@ -64,6 +64,31 @@ static void grid_box(const hv_voxel_plan *p, int64_t lo[3], int64_t n[3])
     }
 }
 
+/* Area and signed volume of a body's facets (no welding: for planning). */
+static void body_measure(const hv_mesh *m, const hv_mesh_body *b, double *area, double *vol)
+{
+    const float *xyz = hv_mesh_vertices(m);
+    const uint32_t *tri = hv_mesh_facets(m);
+    double a = 0, v = 0;
+    for (size_t f = b->first_facet; f < b->first_facet + b->facet_count; ++f) {
+        const float *p = xyz + 3 * (size_t)tri[3 * f], *q = xyz + 3 * (size_t)tri[3 * f + 1],
+                    *r = xyz + 3 * (size_t)tri[3 * f + 2];
+        double u[3], w[3], c[3];
+        for (int k = 0; k < 3; ++k) {
+            u[k] = (double)q[k] - p[k];
+            w[k] = (double)r[k] - p[k];
+        }
+        c[0] = u[1] * w[2] - u[2] * w[1];
+        c[1] = u[2] * w[0] - u[0] * w[2];
+        c[2] = u[0] * w[1] - u[1] * w[0];
+        a += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        v += (p[0] * ((double)q[1] * r[2] - (double)q[2] * r[1]) - p[1] * ((double)q[0] * r[2] - (double)q[2] * r[0]) +
+              p[2] * ((double)q[0] * r[1] - (double)q[1] * r[0])) / 6.0;
+    }
+    *area = a;
+    *vol = v;
+}
+
 hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_voxel_plan *p)
 {
     memset(p, 0, sizeof *p);
@@ -174,6 +199,31 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     double all_blocks = (double)(n[0] / 8) * (double)(n[1] / 8) * (double)(n[2] / 8);
     uint64_t leaves = (uint64_t)HV_MIN(blocks, all_blocks) + 1;
     p->memory_bytes = work + hv_volume_memory_estimate(leaves, 0, 2) + (uint64_t)mesh_bytes(mesh);
+    size_t nbodies = hv_mesh_body_count(mesh);
+    if (nbodies > 1) {
+        /* an assembly: AUTO is decided per body when it is voxelized; one body's working set at a
+         * time (at most the whole grid's), the union's three grids, the regions' leaf blocks
+         * (from each body's own area and volume) and one bool grid per region */
+        p->fill = opt->fill;
+        uint64_t region_leaves = 0;
+        size_t biggest = 0;
+        for (size_t b = 0; b < nbodies; ++b) {
+            const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
+            size_t len = strlen(body->name);
+            if (len > HV_REGION_NAME_MAX)
+                return hv_error_set(HV_ERR_BAD_INPUT, "%s: body %zu ('%.40s...'): its name is %zu bytes long, more "
+                                                      "than the %d a region's grid name allows",
+                                    name, b + 1, body->name, len, HV_REGION_NAME_MAX);
+            double area, vol;
+            body_measure(mesh, body, &area, &vol);
+            double bb = fabs(vol) / (cell * cell * cell) + 3.0 * area / (cell * cell);
+            region_leaves += (uint64_t)HV_MIN(bb, all_blocks) + 1;
+            biggest = HV_MAX(biggest, body->facet_count);
+        }
+        p->memory_bytes = work + 3 * grid + region_leaves * (8 * sizeof(uint64_t) + 3 * sizeof(int32_t)) +
+                          hv_volume_memory_estimate(leaves, 0, 2 + (int)HV_MIN(nbodies, (size_t)INT32_MAX - 2)) +
+                          (uint64_t)mesh_bytes(mesh) + (uint64_t)biggest * 100u;
+    }
 
     uint64_t budget = hv_memory_budget(opt->max_memory);
     if (budget && p->memory_bytes > budget) {
@@ -402,16 +452,19 @@ static hv_status fill_leaves(void *vctx, size_t b, size_t e, int thread)
     return HV_OK;
 }
 
-static hv_status store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_transform *xf,
-                       const hv_progress *progress, hv_volume **out)
+/* The non-empty 8^3 blocks of g: *total blocks, their origins (3 per block, volume index space)
+ * and masks (8 words per block, leaf layout), malloc'd, in ascending (x, y, z) order. */
+static hv_status collect_blocks(const hv_bitgrid *g, const hv_progress *progress, size_t *total,
+                                int32_t **origins_out, uint64_t **masks_out)
 {
-    *out = NULL;
-    store_ctx s = {occ, surf, {occ->n[0] / 8, occ->n[1] / 8, occ->n[2] / 8}, NULL, NULL, NULL};
+    *total = 0;
+    *origins_out = NULL;
+    *masks_out = NULL;
+    store_ctx s = {g, NULL, {g->n[0] / 8, g->n[1] / 8, g->n[2] / 8}, NULL, NULL, NULL};
     size_t nbx = (size_t)s.nb[0];
     s.count = hv_calloc(nbx, sizeof *s.count);
     s.origins = hv_calloc(nbx, sizeof *s.origins);
     s.masks = hv_calloc(nbx, sizeof *s.masks);
-    hv_volume *vol = NULL;
     int32_t *origins = NULL;
     uint64_t *masks = NULL;
     hv_status st = HV_OK;
@@ -421,10 +474,10 @@ static hv_status store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_t
     }
     st = hv_parallel_for(nbx, 1, store_slab, &s, progress, "store");
     if (st != HV_OK) goto done;
-    size_t total = 0;
-    for (size_t i = 0; i < nbx; ++i) total += s.count[i];
-    origins = hv_malloc_array(total ? total : 1, 3 * sizeof *origins);
-    masks = hv_malloc_array(total ? total : 1, 8 * sizeof *masks);
+    size_t n = 0;
+    for (size_t i = 0; i < nbx; ++i) n += s.count[i];
+    origins = hv_malloc_array(n ? n : 1, 3 * sizeof *origins);
+    masks = hv_malloc_array(n ? n : 1, 8 * sizeof *masks);
     if (!origins || !masks) {
         st = HV_ERR_NOMEM;
         goto done;
@@ -434,11 +487,36 @@ static hv_status store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_t
         memcpy(origins + 3 * at, s.origins[i], s.count[i] * 3 * sizeof *origins);
         memcpy(masks + 8 * at, s.masks[i], s.count[i] * 8 * sizeof *masks);
         at += s.count[i];
-        free(s.origins[i]);
-        free(s.masks[i]);
-        s.origins[i] = NULL;
-        s.masks[i] = NULL;
     }
+    *total = n;
+    *origins_out = origins;
+    *masks_out = masks;
+    origins = NULL;
+    masks = NULL;
+done:
+    if (s.origins)
+        for (size_t i = 0; i < nbx; ++i) {
+            free(s.origins[i]);
+            free(s.masks[i]);
+        }
+    free(s.count);
+    free(s.origins);
+    free(s.masks);
+    free(origins);
+    free(masks);
+    return st;
+}
+
+static hv_status store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_transform *xf,
+                       const hv_progress *progress, hv_volume **out)
+{
+    *out = NULL;
+    hv_volume *vol = NULL;
+    int32_t *origins = NULL;
+    uint64_t *masks = NULL;
+    size_t total;
+    hv_status st = collect_blocks(occ, progress, &total, &origins, &masks);
+    if (st != HV_OK) goto done;
     if ((st = hv_volume_create(xf, &vol)) != HV_OK) goto done;
     int g_occ, g_surf;
     if ((st = hv_volume_grid_add(vol, "occupancy", HV_GRID_BOOL, &g_occ)) != HV_OK ||
@@ -455,14 +533,6 @@ static hv_status store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_t
     *out = vol;
     vol = NULL;
 done:
-    if (s.origins)
-        for (size_t i = 0; i < nbx; ++i) {
-            free(s.origins[i]);
-            free(s.masks[i]);
-        }
-    free(s.count);
-    free(s.origins);
-    free(s.masks);
     free(origins);
     free(masks);
     hv_volume_destroy(vol);
@@ -543,12 +613,232 @@ size_t mesh_bytes(const hv_mesh *m)
     return hv_mesh_vertex_count(m) * 12 + hv_mesh_facet_count(m) * 25;
 }
 
+/* ---- assemblies ------------------------------------------------------------------------------ */
+
+typedef struct region_work {
+    size_t n;          /* the region's voxels as leaf blocks */
+    int32_t *origins;
+    uint64_t *masks;
+} region_work;
+
+/* The part of the job's grid (lo, n) a body needs: its vertices' index box plus PAD, aligned to 8
+ * in x and y (so blocks are leaves) and to 64 in z relative to the grid (so rows map word to
+ * word). */
+static void body_box(const hv_mesh *bm, const hv_voxel_plan *p, const int64_t lo[3], const int64_t n[3],
+                     int64_t blo[3], int64_t bn[3])
+{
+    const float *xyz = hv_mesh_vertices(bm);
+    size_t nv = hv_mesh_vertex_count(bm);
+    for (int a = 0; a < 3; ++a) {
+        double mn = INFINITY, mx = -INFINITY;
+        for (size_t i = 0; i < nv; ++i) {
+            double q = ((double)xyz[3 * i + (size_t)a] - p->xf.origin[a]) / p->xf.voxel[a];
+            mn = HV_MIN(mn, q);
+            mx = HV_MAX(mx, q);
+        }
+        int64_t l = (int64_t)floor(mn) - PAD, h = (int64_t)ceil(mx) + PAD;
+        l = HV_MAX(l, lo[a]);
+        h = HV_MIN(h, lo[a] + n[a] - 1);
+        int64_t align = a == 2 ? 64 : 8;
+        blo[a] = lo[a] + (l - lo[a]) / align * align;
+        bn[a] = HV_MIN(round_up8(h + 1 - blo[a]), lo[a] + n[a] - blo[a]);
+    }
+}
+
+/* One body alone on the body's part of the grid: its surface S and occupancy O. */
+static hv_status body_voxels(const hv_mesh *bm, const hv_voxel_plan *p, const hv_voxelize_options *opt,
+                             hv_fill_mode fill, const int64_t blo[3], const int64_t bn[3], hv_bitgrid *S, hv_bitgrid *O)
+{
+    size_t nv = hv_mesh_vertex_count(bm);
+    double *P = hv_malloc_array(nv, 3 * sizeof *P);
+    hv_status s = P ? hv_bitgrid_init(S, bn, blo) : HV_ERR_NOMEM;
+    if (s == HV_OK) {
+        const float *xyz = hv_mesh_vertices(bm);
+        for (size_t i = 0; i < nv; ++i)
+            for (int a = 0; a < 3; ++a)
+                P[3 * i + (size_t)a] = ((double)xyz[3 * i + (size_t)a] - p->xf.origin[a]) / p->xf.voxel[a] - (double)blo[a];
+        surf_ctx sc = {bm, P, S, opt->adjacency == 26};
+        s = hv_parallel_for(hv_mesh_facet_count(bm), 512, surf_range, &sc, opt->progress, "surface");
+    }
+    if (s == HV_OK) s = hv_bitgrid_init(O, bn, blo);
+    if (s == HV_OK) {
+        switch (fill) {
+        case HV_FILL_FLOOD: s = hv_fill_flood(S, O, opt->adjacency, opt->progress); break;
+        case HV_FILL_VOTE: s = hv_fill_vote(bm, P, S, O, opt->progress); break;
+        default: memcpy(O->bits, S->bits, (size_t)(bn[0] * bn[1] * S->words) * sizeof(uint64_t)); break;
+        }
+    }
+    free(P);
+    return s;
+}
+
+/* Voxels of body occupancy O that earlier region j kept (its blocks inside O's box). */
+static uint64_t overlap_with(const hv_bitgrid *O, const region_work *rj)
+{
+    uint64_t n = 0;
+    for (size_t b = 0; b < rj->n; ++b) {
+        const int32_t *o = rj->origins + 3 * b;
+        int64_t d[3];
+        int inside = 1;
+        for (int a = 0; a < 3; ++a) {
+            d[a] = (int64_t)o[a] - O->lo[a];
+            if (d[a] < 0 || d[a] >= O->n[a]) inside = 0;
+        }
+        if (!inside) continue;
+        uint64_t w[8];
+        block_words(O, d[0] / 8, d[1] / 8, d[2] / 8, w);
+        for (int k = 0; k < 8; ++k) n += (uint64_t)__builtin_popcountll(w[k] & rj->masks[8 * b + (size_t)k]);
+    }
+    return n;
+}
+
+/* Fold body i's voxels into the union U (occupancy), SU (surfaces) and IU (interiors); O is left
+ * holding the body's region: its voxels no earlier body has. Returns the voxels it lost. */
+static uint64_t fold_body(hv_bitgrid *O, const hv_bitgrid *S, hv_bitgrid *U, hv_bitgrid *SU, hv_bitgrid *IU)
+{
+    uint64_t lost = 0;
+    int64_t di = O->lo[0] - U->lo[0], dj = O->lo[1] - U->lo[1], dw = (O->lo[2] - U->lo[2]) / 64;
+    for (int64_t i = 0; i < O->n[0]; ++i)
+        for (int64_t j = 0; j < O->n[1]; ++j) {
+            uint64_t *o = hv_bitgrid_row(O, i, j);
+            const uint64_t *sb = hv_bitgrid_row(S, i, j);
+            uint64_t *u = hv_bitgrid_row(U, i + di, j + dj) + dw, *su = hv_bitgrid_row(SU, i + di, j + dj) + dw,
+                     *iu = hv_bitgrid_row(IU, i + di, j + dj) + dw;
+            for (int64_t w = 0; w < O->words; ++w) {
+                uint64_t valid = hv_bitgrid_valid(O, w), occ = o[w] & valid, srf = sb[w] & valid;
+                lost += (uint64_t)__builtin_popcountll(occ & u[w]);
+                o[w] = occ & ~u[w];
+                u[w] |= occ;
+                su[w] |= srf;
+                iu[w] |= occ & ~srf;
+            }
+        }
+    return lost;
+}
+
+static hv_fill_mode auto_fill(const hv_mesh_report *r)
+{
+    return r->open_edges == 0 && r->nonmanifold_edges == 0 && r->flipped_facets == 0 ? HV_FILL_FLOOD : HV_FILL_VOTE;
+}
+
+static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options *opt, const hv_voxel_plan *plan,
+                                 hv_volume **out)
+{
+    size_t nb = hv_mesh_body_count(mesh);
+    int64_t n[3], lo[3];
+    grid_box(plan, lo, n);
+    hv_bitgrid U = {0}, SU = {0}, IU = {0};
+    region_work *rw = hv_calloc(nb, sizeof *rw);
+    hv_regions *regs = hv_calloc(1, sizeof *regs);
+    hv_volume *vol = NULL;
+    hv_status s = rw && regs && (regs->info = hv_calloc(nb, sizeof *regs->info)) ? HV_OK : HV_ERR_NOMEM;
+    if (s == HV_OK) s = hv_bitgrid_init(&U, n, lo);
+    if (s == HV_OK) s = hv_bitgrid_init(&SU, n, lo);
+    if (s == HV_OK) s = hv_bitgrid_init(&IU, n, lo);
+    int fills = 0; /* bit per resolved fill mode */
+    for (size_t b = 0; b < nb && s == HV_OK; ++b) {
+        const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
+        hv_region_info *g = &regs->info[b];
+        regs->n = b + 1;
+        hv_mesh *bm = NULL;
+        hv_bitgrid S = {0}, O = {0};
+        s = hv_mesh_body_extract(mesh, b, &bm);
+        if (s == HV_OK && (!(g->name = hv_strdup(body->name)) ||
+                           (body->material != HV_MESH_NO_MATERIAL &&
+                            !(g->material = hv_strdup(hv_mesh_material_at(mesh, (size_t)body->material)->name)))))
+            s = HV_ERR_NOMEM;
+        if (s == HV_OK) s = hv_regions_grid_name(body->name, (char **)&g->grid);
+        if (s == HV_OK) {
+            if (body->material != HV_MESH_NO_MATERIAL) {
+                const hv_mesh_material *mm = hv_mesh_material_at(mesh, (size_t)body->material);
+                if ((g->has_color = mm->has_color))
+                    for (int k = 0; k < 4; ++k) g->rgba[k] = (float)((mm->rgba >> (24 - 8 * k)) & 0xFFu) / 255.0f;
+            }
+            g->fill = opt->fill == HV_FILL_AUTO ? auto_fill(hv_mesh_get_report(bm)) : opt->fill;
+            fills |= 1 << g->fill;
+            int64_t blo[3], bn[3];
+            body_box(bm, plan, lo, n, blo, bn);
+            s = body_voxels(bm, plan, opt, g->fill, blo, bn, &S, &O);
+        }
+        hv_mesh_destroy(bm);
+        /* what earlier regions kept of this body, then the body folded into the union */
+        hv_region_loss *to = NULL;
+        for (size_t j = 0; j < b && s == HV_OK; ++j) {
+            uint64_t k = overlap_with(&O, &rw[j]);
+            if (!k) continue;
+            if (!to && !(to = hv_calloc(b, sizeof *to))) {
+                s = HV_ERR_NOMEM;
+                break;
+            }
+            to[g->nlost_to].region = j;
+            to[g->nlost_to++].voxels = k;
+        }
+        g->lost_to = to;
+        if (s == HV_OK) {
+            g->lost = fold_body(&O, &S, &U, &SU, &IU);
+            hv_bitgrid_free(&S);
+            s = collect_blocks(&O, NULL, &rw[b].n, &rw[b].origins, &rw[b].masks);
+            for (size_t q = 0; s == HV_OK && q < 8 * rw[b].n; ++q) g->voxels += (uint64_t)__builtin_popcountll(rw[b].masks[q]);
+        }
+        hv_bitgrid_free(&S);
+        hv_bitgrid_free(&O);
+    }
+    if (s == HV_OK) {
+        /* the surface of the union: surface voxels inside no body's interior */
+        size_t words = (size_t)(n[0] * n[1] * SU.words);
+        for (size_t w = 0; w < words; ++w) SU.bits[w] &= ~IU.bits[w];
+        hv_bitgrid_free(&IU);
+        s = store(&U, &SU, &plan->xf, opt->progress, &vol);
+    }
+    for (size_t b = 0; b < nb && s == HV_OK; ++b) {
+        int g;
+        s = hv_volume_grid_add(vol, regs->info[b].grid, HV_GRID_BOOL, &g);
+        hv_accessor acc;
+        hv_accessor_init(&acc, vol);
+        for (size_t k = 0; k < rw[b].n && s == HV_OK; ++k) {
+            const int32_t *o = rw[b].origins + 3 * k;
+            int64_t leaf = hv_accessor_leaf(&acc, o[0], o[1], o[2]);
+            if (leaf < 0) {
+                s = hv_error_set(HV_ERR_INTERNAL, "voxelize: region %s has voxels outside the occupancy", regs->info[b].grid);
+                break;
+            }
+            uint64_t *bits = hv_volume_leaf_bool(vol, g, (size_t)leaf);
+            const uint64_t *mask = hv_volume_leaf_mask(vol, (size_t)leaf);
+            for (int q = 0; q < 8; ++q) bits[q] = rw[b].masks[8 * k + (size_t)q] & mask[q];
+        }
+    }
+    if (s == HV_OK) {
+        hv_voxel_plan rec = *plan; /* the fill as resolved, when every body resolved alike */
+        rec.fill = (fills & (fills - 1)) == 0 ? (hv_fill_mode)__builtin_ctz((unsigned)fills) : HV_FILL_AUTO;
+        s = set_metadata(vol, mesh, &rec, opt->adjacency);
+        if (s == HV_OK)
+            s = hv_schema_doc_write(vol, HV_DOC_REGIONS,
+                                    hv_regions_to_doc(regs, plan->xf.voxel[0] * plan->xf.voxel[1] * plan->xf.voxel[2]));
+    }
+    if (s == HV_OK) {
+        *out = vol;
+        vol = NULL;
+    }
+    hv_volume_destroy(vol);
+    for (size_t b = 0; rw && b < nb; ++b) {
+        free(rw[b].origins);
+        free(rw[b].masks);
+    }
+    free(rw);
+    hv_regions_destroy(regs);
+    hv_bitgrid_free(&U);
+    hv_bitgrid_free(&SU);
+    hv_bitgrid_free(&IU);
+    return s;
+}
+
 hv_status hv_voxelize(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_volume **out)
 {
     *out = NULL;
     hv_voxel_plan plan;
     hv_status s = hv_voxelize_plan(mesh, opt, &plan);
     if (s != HV_OK) return s;
+    if (hv_mesh_body_count(mesh) > 1) return voxelize_bodies(mesh, opt, &plan, out);
     int64_t n[3], lo[3];
     grid_box(&plan, lo, n);
     hv_bitgrid S = {0}, occ = {0};

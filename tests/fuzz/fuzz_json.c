@@ -55,6 +55,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 free(again);
             }
             hv_material_table_destroy(t);
+        } else if (d == HV_DOC_REGIONS) {
+            hv_regions *r = NULL;
+            if (hv_regions_from_doc(doc, what, &r) == HV_OK) {
+                json_t *again = hv_regions_to_doc(r, 1.0); /* what reads must write */
+                if (!again) abort();
+                json_decref(again);
+            }
+            hv_regions_destroy(r);
         } else if (lattice()) {
             hv_object *o = NULL;
             json_t *again = NULL;

@@ -1,5 +1,6 @@
 /* src/voxel/regions.c - the regions of a voxelized assembly (hovox/voxelize.h): one per body,
- * with its material, fill, voxels and the voxels earlier bodies kept where they overlap; the
+ * with its material, fill, voxels, the voxels it lost and those of them earlier bodies kept where
+ * they overlap, and the overlap (centres inside two or more bodies); the
  * "hovox.regions.json" document that records them in a model. */
 #include <stdlib.h>
 #include <string.h>

@@ -202,8 +202,10 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     size_t nbodies = hv_mesh_body_count(mesh);
     if (nbodies > 1) {
         /* an assembly: AUTO is decided per body when it is voxelized; one body's working set at a
-         * time (at most the whole grid's), the union's three grids, the regions' leaf blocks
-         * (from each body's own area and volume) and one bool grid per region */
+         * time (at most the whole grid's: surface, occupancy, centres and the vote's three parity
+         * grids), the union's five grids, each body's two leaf-block lists kept until the second
+         * pass (first-pass voxels and skin candidates, each at most the body's leaves, from its own
+         * area and volume) and one bool grid per region */
         p->fill = opt->fill;
         uint64_t region_leaves = 0;
         size_t biggest = 0;
@@ -220,7 +222,10 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
             region_leaves += (uint64_t)HV_MIN(bb, all_blocks) + 1;
             biggest = HV_MAX(biggest, body->facet_count);
         }
-        p->memory_bytes = work + 3 * grid + region_leaves * (8 * sizeof(uint64_t) + 3 * sizeof(int32_t)) +
+        double vv = p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2];
+        double cross = r->area / cbrt(vv) / cbrt(vv) * 3.0;
+        uint64_t body_work = 6 * grid + (uint64_t)(cross * 12.0) + rows * 8u;
+        p->memory_bytes = body_work + 5 * grid + 2 * region_leaves * (8 * sizeof(uint64_t) + 3 * sizeof(int32_t)) +
                           hv_volume_memory_estimate(leaves, 0, 2 + (int)HV_MIN(nbodies, (size_t)INT32_MAX - 2)) +
                           (uint64_t)mesh_bytes(mesh) + (uint64_t)biggest * 100u;
     }

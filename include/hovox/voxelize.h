@@ -111,19 +111,27 @@ HV_API hv_status hv_voxelize_record_read(const hv_volume *model, hv_voxelize_rec
  * A mesh with more than one body (hv_mesh_body_count > 1: an assembly) voxelizes on one
  * lattice, planned from the whole mesh's box as for one body. Each body is voxelized alone on
  * that lattice (HV_FILL_AUTO decided from the body's own report, hv_mesh_body_extract) and its
- * voxels become bool grid "region.<body name>". Where bodies overlap, the first body in mesh
- * order keeps the voxels: a body's region is its voxels minus those of every body before it;
- * the voxels it gives up are its "lost" voxels, counted per earlier body. "occupancy" is the
- * union of the bodies; "surface" holds the bodies' surface voxels that lie in no body's
- * interior (the surface of the union: a body nested in another adds none). The metadata
+ * voxels become bool grid "region.<body name>". A voxel belongs to the body that contains its
+ * centre, in two passes in mesh order: (1) a voxel whose centre is inside one or more bodies
+ * goes to the first of them (where bodies overlap, the first keeps the voxels); (2) a voxel of
+ * the occupancy whose centre is inside no body (the outer skin: surface voxels whose centres
+ * lie outside) goes to the first body whose voxels have it. A body's centres are its interior
+ * voxels and those of its surface voxels whose centre the vote's crossing parities put inside
+ * (for every fill). "overlap" counts the voxels whose centres are inside two or more bodies;
+ * a body's "lost" voxels are its own voxels (surface and interior, as if voxelized alone) that
+ * another region got, and "lost_to" the part of them whose centres are inside the body too,
+ * per earlier body that kept them (so lost_to sums to at most lost). "occupancy" is the union
+ * of the bodies; "surface" holds the bodies' surface voxels that lie in no body's interior (the
+ * surface of the union: a body nested in another adds none). The metadata
  * "hovox.voxelize.json" records the fill as resolved when every body resolved alike, else
  * "auto"; "hovox.regions.json" records the regions (hv_voxelize_regions_read). A mesh with one
  * body voxelizes as it always did: no region grid, no regions document (a material it names is
  * not recorded). The plan (hv_voxelize_plan) keeps HV_FILL_AUTO for an assembly (each body
  * decides when it is voxelized) and estimates the memory of the whole job: a body's working
- * grids, the union's three, the regions' leaves and one bool grid per region in the volume. */
+ * grids, the union's five, each body's leaf blocks kept until the second pass and one bool grid
+ * per region in the volume. */
 
-/* What an earlier region kept of a body's voxels. */
+/* What an earlier region kept of a body's voxels whose centres are inside the body. */
 typedef struct hv_region_loss {
     size_t region;   /* index of the earlier region */
     uint64_t voxels;
@@ -137,9 +145,10 @@ typedef struct hv_region_info {
     float rgba[4];         /* the material's display colour in [0,1] when has_color */
     hv_fill_mode fill;     /* as resolved for this body (flood, vote or none) */
     uint64_t voxels;       /* voxels of the region */
-    uint64_t lost;         /* the body's voxels that earlier bodies kept */
+    uint64_t lost;         /* the body's own voxels (as voxelized alone) that other regions got */
     size_t nlost_to;
-    const hv_region_loss *lost_to; /* per earlier region that kept some, in region order */
+    const hv_region_loss *lost_to; /* its centres an earlier region kept (the overlap), per earlier
+                                    * region that kept some, in region order; sum <= lost */
 } hv_region_info;
 
 typedef struct hv_regions hv_regions;
@@ -154,7 +163,7 @@ HV_API size_t hv_regions_count(const hv_regions *regions);
 HV_API const hv_region_info *hv_regions_at(const hv_regions *regions, size_t i);
 /* The region of this exact name, or -1. */
 HV_API int64_t hv_regions_find(const hv_regions *regions, const char *name);
-/* Voxels where bodies overlap (the sum of every region's lost voxels). */
+/* Voxels whose centres are inside two or more bodies (where bodies overlap), each counted once. */
 HV_API uint64_t hv_regions_overlap(const hv_regions *regions);
 HV_API void hv_regions_destroy(hv_regions *regions); /* NULL allowed */
 

@@ -181,7 +181,8 @@ static hv_status add_sources(const grade_cli *g, const hv_volume *vol, hv_object
             int64_t k = hv_voxelize_regions_read(vol, &rg) == HV_OK ? hv_regions_find(rg, src->region) : -1;
             const hv_region_info *ri = k >= 0 ? hv_regions_at(rg, (size_t)k) : NULL;
             if (ri && ri->voxels == 0)
-                hv_error_set(s, "region '%s' is empty: the bodies before it in the file kept all its %llu voxels",
+                hv_error_set(s, "region '%s' is empty: other bodies took all its %llu voxels (its centres are all "
+                             "inside bodies before it in the file)",
                              src->region, (unsigned long long)ri->lost);
             else
                 hv_error_set(s, "%s", why);

@@ -64,14 +64,17 @@ static void print_regions(const hv_mesh *mesh, const hv_regions *rg, double vv)
         const hv_region_info *g = hv_regions_at(rg, i);
         if (g) {
             printf(": %llu voxels, fill %s", (unsigned long long)g->voxels, hv_fill_mode_name(g->fill));
+            if (g->lost) printf(", lost %llu", (unsigned long long)g->lost);
             for (size_t k = 0; k < g->nlost_to; ++k)
-                printf("%s %llu to %s", k ? "," : ", lost", (unsigned long long)g->lost_to[k].voxels,
+                printf("%s%llu to %s", k ? ", " : " (overlap: ", (unsigned long long)g->lost_to[k].voxels,
                        hv_regions_at(rg, g->lost_to[k].region)->name);
+            if (g->nlost_to) printf(")");
         }
         printf("\n");
     }
     if (rg)
-        printf("overlap     %llu voxels, volume %.6g (where bodies overlap, the first in file order keeps them)\n",
+        printf("overlap     %llu voxels, volume %.6g (centres inside two or more bodies: the first in file order "
+               "keeps them)\n",
                (unsigned long long)hv_regions_overlap(rg), (double)hv_regions_overlap(rg) * vv);
 }
 
@@ -199,6 +202,7 @@ const cli_spec cmd_voxelize = {
     "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
     "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"
     "origin + (i*Lx, j*Ly, k*Lz). A mesh of several bodies (an assembly) gives a bool grid\n"
-    "'region.<body name>' per body; where bodies overlap, the first in file order keeps\n"
-    "the voxels, and the summary reports what the others lost.\n",
+    "'region.<body name>' per body: a voxel goes to the body that holds its centre; where\n"
+    "bodies overlap, the first in file order keeps the voxels, and the summary reports the\n"
+    "overlap.\n",
     hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

@@ -322,14 +322,16 @@ static hv_status wind_range(void *vctx, size_t b, size_t e, int thread)
  * cores); beyond it they keep the plain majority of the three parities. */
 #define WIND_BUDGET 1.5e9
 
-hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *S, hv_bitgrid *occ,
-                       const hv_progress *progress)
+/* The vote on the lattice of G: occ = S | the voxels the vote puts inside; without S (NULL) every
+ * voxel is decided by its centre alone (the undecided surface voxels too). */
+static hv_status vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *G, const hv_bitgrid *S, hv_bitgrid *occ,
+                      const hv_progress *progress)
 {
     hv_bitgrid T[3];
     memset(T, 0, sizeof T);
     hv_status st = HV_OK;
-    for (int a = 0; a < 3 && st == HV_OK; ++a) st = hv_bitgrid_init(&T[a], S->n, S->lo);
-    int64_t nx = S->n[0], ny = S->n[1], nz = S->n[2], W = S->words;
+    for (int a = 0; a < 3 && st == HV_OK; ++a) st = hv_bitgrid_init(&T[a], G->n, G->lo);
+    int64_t nx = G->n[0], ny = G->n[1], nz = G->n[2], W = G->words;
     size_t nwords = (size_t)(nx * ny * W);
     /* odd lines: a closed surface crosses every full line an even number of times, so a line
      * with odd parity passed through a hole and says nothing; x lines are indexed (j, k) and y
@@ -361,7 +363,7 @@ hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *S
         for (int64_t i = 0; i < nx; ++i)
             for (int64_t j = 0; j < ny; ++j) {
                 uint64_t *p0 = hv_bitgrid_row(&T[0], i, j), *p1 = hv_bitgrid_row(&T[1], i, j);
-                const uint64_t *p2 = hv_bitgrid_row(&T[2], i, j), *s = hv_bitgrid_row(S, i, j);
+                const uint64_t *p2 = hv_bitgrid_row(&T[2], i, j), *s = S ? hv_bitgrid_row(S, i, j) : NULL;
                 uint64_t *o = hv_bitgrid_row(occ, i, j), r2 = odd2[i * ny + j] ? 0 : ~0ull;
                 for (int64_t w = 0; w < W; ++w) {
                     uint64_t r0 = ~odd0[j * W + w], r1 = ~odd1[i * W + w];
@@ -371,11 +373,11 @@ hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *S
                     uint64_t outL = x ^ y ^ z, outH = (x & y) | (x & z) | (y & z);
                     uint64_t gt = (inH & ~outH) | (~(inH ^ outH) & inL & ~outL);
                     uint64_t eq = ~(inH ^ outH) & ~(inL ^ outL);
-                    uint64_t valid = hv_bitgrid_valid(S, w);
-                    o[w] = (gt | s[w]) & valid;
+                    uint64_t valid = hv_bitgrid_valid(G, w), sw = s ? s[w] : 0;
+                    o[w] = (gt | sw) & valid;
                     /* this word's parities are used up: T[0] keeps the undecided, T[1] the
                      * majority of all three lines (the fallback beyond the budget) */
-                    uint64_t undecided = eq & ~s[w] & valid;
+                    uint64_t undecided = eq & ~sw & valid;
                     uint64_t maj = (p0[w] & p1[w]) | (p0[w] & p2[w]) | (p1[w] & p2[w]);
                     p0[w] = undecided;
                     p1[w] = maj;
@@ -419,4 +421,15 @@ hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *S
     free(odd1);
     free(odd2);
     return st;
+}
+
+hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *S, hv_bitgrid *occ,
+                       const hv_progress *progress)
+{
+    return vote(mesh, P, S, S, occ, progress);
+}
+
+hv_status hv_fill_centres(const hv_mesh *mesh, const double *P, hv_bitgrid *in, const hv_progress *progress)
+{
+    return vote(mesh, P, in, NULL, in, progress);
 }

@@ -1,5 +1,6 @@
 /* src/voxel/regions.c - the regions of a voxelized assembly (hovox/voxelize.h): one per body,
- * with its material, fill, voxels and the voxels earlier bodies kept where they overlap; the
+ * with its material, fill, voxels, the voxels it lost and those of them earlier bodies kept where
+ * they overlap, and the overlap (centres inside two or more bodies); the
  * "hovox.regions.json" document that records them in a model. */
 #include <stdlib.h>
 #include <string.h>
@@ -34,9 +35,7 @@ int64_t hv_regions_find(const hv_regions *r, const char *name)
 
 uint64_t hv_regions_overlap(const hv_regions *r)
 {
-    uint64_t n = 0;
-    for (size_t i = 0; r && i < r->n; ++i) n += r->info[i].lost;
-    return n;
+    return r ? r->overlap : 0;
 }
 
 hv_status hv_regions_grid_name(const char *body, char **out)
@@ -205,10 +204,13 @@ hv_status hv_regions_from_doc(const json_t *doc, const char *what, hv_regions **
             to[k].voxels = (uint64_t)v;
             sum += (uint64_t)v;
         }
-        if (s == HV_OK && sum != g->lost)
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: lost is %llu but lost_to sums to %llu", place,
+        if (s == HV_OK && sum > g->lost)
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: lost is %llu but lost_to sums to %llu, more", place,
                              (unsigned long long)g->lost, (unsigned long long)sum);
     }
+    long long ov = 0;
+    if (s == HV_OK) s = hv_json_get_int(doc, "overlap", what, 0, INT64_MAX, &ov);
+    r->overlap = (uint64_t)ov;
     if (s != HV_OK) {
         hv_regions_destroy(r);
         return s;

@@ -16,6 +16,11 @@ hv_status hv_fill_flood(const hv_bitgrid *surf, hv_bitgrid *occ, int adjacency,
 hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *surf,
                        hv_bitgrid *occ, const hv_progress *progress);
 
+/* in = the voxels whose centre is inside the mesh, by the vote's rule for every voxel (its even
+ * lines' majority, the winding number where they tie), surface voxels included: the centre
+ * classification of an assembly's bodies. in must be zeroed; its n and lo give the lattice. */
+hv_status hv_fill_centres(const hv_mesh *mesh, const double *P, hv_bitgrid *in, const hv_progress *progress);
+
 /* Mark the voxels of grid S that the triangle p (grid coordinates: voxel centres at integers)
  * covers by Huang's tests (adjacency 26 when adj26, else 6). Thread-safe (atomic OR). */
 void hv_voxel_mark_triangle(const double *p[3], int adj26, hv_bitgrid *S);
@@ -28,6 +33,7 @@ size_t mesh_bytes(const hv_mesh *m);
 struct hv_regions {
     size_t n;
     hv_region_info *info; /* strings and lost_to malloc'd, owned */
+    uint64_t overlap;     /* voxels whose centres are inside two or more bodies */
 };
 
 /* Longest body name a region takes ("region." + name within a grid name's 255 bytes). */

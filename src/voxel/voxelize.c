@@ -202,8 +202,10 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     size_t nbodies = hv_mesh_body_count(mesh);
     if (nbodies > 1) {
         /* an assembly: AUTO is decided per body when it is voxelized; one body's working set at a
-         * time (at most the whole grid's), the union's three grids, the regions' leaf blocks
-         * (from each body's own area and volume) and one bool grid per region */
+         * time (at most the whole grid's: surface, occupancy, centres and the vote's three parity
+         * grids), the union's five grids, each body's two leaf-block lists kept until the second
+         * pass (first-pass voxels and skin candidates, each at most the body's leaves, from its own
+         * area and volume) and one bool grid per region */
         p->fill = opt->fill;
         uint64_t region_leaves = 0;
         size_t biggest = 0;
@@ -220,7 +222,10 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
             region_leaves += (uint64_t)HV_MIN(bb, all_blocks) + 1;
             biggest = HV_MAX(biggest, body->facet_count);
         }
-        p->memory_bytes = work + 3 * grid + region_leaves * (8 * sizeof(uint64_t) + 3 * sizeof(int32_t)) +
+        double vv = p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2];
+        double cross = r->area / cbrt(vv) / cbrt(vv) * 3.0;
+        uint64_t body_work = 6 * grid + (uint64_t)(cross * 12.0) + rows * 8u;
+        p->memory_bytes = body_work + 5 * grid + 2 * region_leaves * (8 * sizeof(uint64_t) + 3 * sizeof(int32_t)) +
                           hv_volume_memory_estimate(leaves, 0, 2 + (int)HV_MIN(nbodies, (size_t)INT32_MAX - 2)) +
                           (uint64_t)mesh_bytes(mesh) + (uint64_t)biggest * 100u;
     }
@@ -645,9 +650,12 @@ static void body_box(const hv_mesh *bm, const hv_voxel_plan *p, const int64_t lo
     }
 }
 
-/* One body alone on the body's part of the grid: its surface S and occupancy O. */
+/* One body alone on the body's part of the grid: its surface S, occupancy O and centre set C (the
+ * voxels of O whose centre is inside the body: O's interior, which every fill puts inside only
+ * where it is, and the surface voxels whose centres the vote's parities put inside). */
 static hv_status body_voxels(const hv_mesh *bm, const hv_voxel_plan *p, const hv_voxelize_options *opt,
-                             hv_fill_mode fill, const int64_t blo[3], const int64_t bn[3], hv_bitgrid *S, hv_bitgrid *O)
+                             hv_fill_mode fill, const int64_t blo[3], const int64_t bn[3], hv_bitgrid *S, hv_bitgrid *O,
+                             hv_bitgrid *C)
 {
     size_t nv = hv_mesh_vertex_count(bm);
     double *P = hv_malloc_array(nv, 3 * sizeof *P);
@@ -661,19 +669,28 @@ static hv_status body_voxels(const hv_mesh *bm, const hv_voxel_plan *p, const hv
         s = hv_parallel_for(hv_mesh_facet_count(bm), 512, surf_range, &sc, opt->progress, "surface");
     }
     if (s == HV_OK) s = hv_bitgrid_init(O, bn, blo);
+    if (s == HV_OK) s = hv_bitgrid_init(C, bn, blo);
+    /* the vote of every voxel's centre; the vote fill is that plus the surface */
+    if (s == HV_OK) s = hv_fill_centres(bm, P, C, opt->progress);
+    size_t words = (size_t)(bn[0] * bn[1] * S->words);
     if (s == HV_OK) {
         switch (fill) {
         case HV_FILL_FLOOD: s = hv_fill_flood(S, O, opt->adjacency, opt->progress); break;
-        case HV_FILL_VOTE: s = hv_fill_vote(bm, P, S, O, opt->progress); break;
-        default: memcpy(O->bits, S->bits, (size_t)(bn[0] * bn[1] * S->words) * sizeof(uint64_t)); break;
+        case HV_FILL_VOTE:
+            for (size_t w = 0; w < words; ++w) O->bits[w] = C->bits[w] | S->bits[w];
+            break;
+        default: memcpy(O->bits, S->bits, words * sizeof(uint64_t)); break;
         }
     }
+    if (s == HV_OK)
+        for (size_t w = 0; w < words; ++w)
+            C->bits[w] = (O->bits[w] & ~S->bits[w]) | (S->bits[w] & C->bits[w]);
     free(P);
     return s;
 }
 
-/* Voxels of body occupancy O that earlier region j kept (its blocks inside O's box). */
-static uint64_t overlap_with(const hv_bitgrid *O, const region_work *rj)
+/* Voxels of body grid C that earlier region j took in the first pass (its blocks inside C's box). */
+static uint64_t overlap_with(const hv_bitgrid *C, const region_work *rj)
 {
     uint64_t n = 0;
     for (size_t b = 0; b < rj->n; ++b) {
@@ -681,39 +698,62 @@ static uint64_t overlap_with(const hv_bitgrid *O, const region_work *rj)
         int64_t d[3];
         int inside = 1;
         for (int a = 0; a < 3; ++a) {
-            d[a] = (int64_t)o[a] - O->lo[a];
-            if (d[a] < 0 || d[a] >= O->n[a]) inside = 0;
+            d[a] = (int64_t)o[a] - C->lo[a];
+            if (d[a] < 0 || d[a] >= C->n[a]) inside = 0;
         }
         if (!inside) continue;
         uint64_t w[8];
-        block_words(O, d[0] / 8, d[1] / 8, d[2] / 8, w);
+        block_words(C, d[0] / 8, d[1] / 8, d[2] / 8, w);
         for (int k = 0; k < 8; ++k) n += (uint64_t)__builtin_popcountll(w[k] & rj->masks[8 * b + (size_t)k]);
     }
     return n;
 }
 
-/* Fold body i's voxels into the union U (occupancy), SU (surfaces) and IU (interiors); O is left
- * holding the body's region: its voxels no earlier body has. Returns the voxels it lost. */
-static uint64_t fold_body(hv_bitgrid *O, const hv_bitgrid *S, hv_bitgrid *U, hv_bitgrid *SU, hv_bitgrid *IU)
+/* OR a block's 8 words (leaf layout) into grid g at block (bx, by, bz). */
+static void block_or(hv_bitgrid *g, int64_t bx, int64_t by, int64_t bz, const uint64_t m[8])
 {
-    uint64_t lost = 0;
-    int64_t di = O->lo[0] - U->lo[0], dj = O->lo[1] - U->lo[1], dw = (O->lo[2] - U->lo[2]) / 64;
+    int64_t word = (bz * 8) >> 6, shift = (bz * 8) & 63;
+    for (int x = 0; x < 8; ++x)
+        for (int y = 0; y < 8; ++y)
+            hv_bitgrid_row(g, bx * 8 + x, by * 8 + y)[word] |= ((m[x] >> (8 * y)) & 0xFFu) << shift;
+}
+
+/* The union grids of an assembly, on the job's grid. */
+typedef struct union_grids {
+    hv_bitgrid U;  /* occupancy: the union of the bodies' O */
+    hv_bitgrid SU; /* the bodies' surfaces */
+    hv_bitgrid IU; /* the bodies' interiors (O minus S); then the second pass's claimed voxels */
+    hv_bitgrid CU; /* centres inside some body */
+    hv_bitgrid C2; /* centres inside two or more bodies */
+} union_grids;
+
+/* Fold a body's grids into the unions. C is left holding the body's first-pass voxels (centres
+ * inside it and in no earlier body), O the candidates of the second pass (its voxels whose
+ * centres are not inside it). Counts the body's occupied voxels and first-pass voxels. */
+static void fold_body(hv_bitgrid *O, const hv_bitgrid *S, hv_bitgrid *C, union_grids *u, uint64_t *nocc, uint64_t *nfirst)
+{
+    int64_t di = O->lo[0] - u->U.lo[0], dj = O->lo[1] - u->U.lo[1], dw = (O->lo[2] - u->U.lo[2]) / 64;
     for (int64_t i = 0; i < O->n[0]; ++i)
         for (int64_t j = 0; j < O->n[1]; ++j) {
-            uint64_t *o = hv_bitgrid_row(O, i, j);
+            uint64_t *o = hv_bitgrid_row(O, i, j), *c = hv_bitgrid_row(C, i, j);
             const uint64_t *sb = hv_bitgrid_row(S, i, j);
-            uint64_t *u = hv_bitgrid_row(U, i + di, j + dj) + dw, *su = hv_bitgrid_row(SU, i + di, j + dj) + dw,
-                     *iu = hv_bitgrid_row(IU, i + di, j + dj) + dw;
+            int64_t gi = i + di, gj = j + dj;
+            uint64_t *uu = hv_bitgrid_row(&u->U, gi, gj) + dw, *su = hv_bitgrid_row(&u->SU, gi, gj) + dw,
+                     *iu = hv_bitgrid_row(&u->IU, gi, gj) + dw, *cu = hv_bitgrid_row(&u->CU, gi, gj) + dw,
+                     *c2 = hv_bitgrid_row(&u->C2, gi, gj) + dw;
             for (int64_t w = 0; w < O->words; ++w) {
-                uint64_t valid = hv_bitgrid_valid(O, w), occ = o[w] & valid, srf = sb[w] & valid;
-                lost += (uint64_t)__builtin_popcountll(occ & u[w]);
-                o[w] = occ & ~u[w];
-                u[w] |= occ;
+                uint64_t valid = hv_bitgrid_valid(O, w), occ = o[w] & valid, srf = sb[w] & valid, in = c[w] & occ;
+                *nocc += (uint64_t)__builtin_popcountll(occ);
+                uu[w] |= occ;
                 su[w] |= srf;
                 iu[w] |= occ & ~srf;
+                c2[w] |= in & cu[w];
+                c[w] = in & ~cu[w];
+                cu[w] |= in;
+                o[w] = occ & ~in;
+                *nfirst += (uint64_t)__builtin_popcountll(c[w]);
             }
         }
-    return lost;
 }
 
 static hv_fill_mode auto_fill(const hv_mesh_report *r)
@@ -721,27 +761,70 @@ static hv_fill_mode auto_fill(const hv_mesh_report *r)
     return r->open_edges == 0 && r->nonmanifold_edges == 0 && r->flipped_facets == 0 ? HV_FILL_FLOOD : HV_FILL_VOTE;
 }
 
+static void union_free(union_grids *u)
+{
+    hv_bitgrid_free(&u->U);
+    hv_bitgrid_free(&u->SU);
+    hv_bitgrid_free(&u->IU);
+    hv_bitgrid_free(&u->CU);
+    hv_bitgrid_free(&u->C2);
+}
+
+static uint64_t grid_count(const hv_bitgrid *g)
+{
+    uint64_t n = 0;
+    for (size_t w = 0; w < (size_t)(g->n[0] * g->n[1] * g->words); ++w) n += (uint64_t)__builtin_popcountll(g->bits[w]);
+    return n;
+}
+
+/* Write region b's blocks into bool grid g of vol (OR: a region comes in two block lists). */
+static hv_status region_write(hv_volume *vol, int g, const region_work *r, const char *grid)
+{
+    hv_accessor acc;
+    hv_accessor_init(&acc, vol);
+    for (size_t k = 0; k < r->n; ++k) {
+        const int32_t *o = r->origins + 3 * k;
+        const uint64_t *m = r->masks + 8 * k;
+        if (!(m[0] | m[1] | m[2] | m[3] | m[4] | m[5] | m[6] | m[7])) continue;
+        int64_t leaf = hv_accessor_leaf(&acc, o[0], o[1], o[2]);
+        if (leaf < 0) return hv_error_set(HV_ERR_INTERNAL, "voxelize: region %s has voxels outside the occupancy", grid);
+        uint64_t *bits = hv_volume_leaf_bool(vol, g, (size_t)leaf);
+        const uint64_t *mask = hv_volume_leaf_mask(vol, (size_t)leaf);
+        for (int q = 0; q < 8; ++q) bits[q] |= m[q] & mask[q];
+    }
+    return HV_OK;
+}
+
+/* The bodies of an assembly on one lattice. A voxel belongs to the body that contains its centre,
+ * in two passes in file order: (1) a voxel whose centre is inside one or more bodies goes to the
+ * first of them; (2) a voxel left (the outer skin: in some body's occupancy, its centre in none)
+ * goes to the first body whose occupancy holds it. Pass 1 runs as the bodies come; pass 2 needs
+ * every body's centres, so each body keeps its candidates as leaf blocks until the end. */
 static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options *opt, const hv_voxel_plan *plan,
                                  hv_volume **out)
 {
     size_t nb = hv_mesh_body_count(mesh);
     int64_t n[3], lo[3];
     grid_box(plan, lo, n);
-    hv_bitgrid U = {0}, SU = {0}, IU = {0};
-    region_work *rw = hv_calloc(nb, sizeof *rw);
+    union_grids u;
+    memset(&u, 0, sizeof u);
+    region_work *rw = hv_calloc(nb, sizeof *rw), *rk = hv_calloc(nb, sizeof *rk); /* pass 1 voxels, pass 2 candidates */
+    uint64_t *nocc = hv_calloc(nb, sizeof *nocc);
     hv_regions *regs = hv_calloc(1, sizeof *regs);
     hv_volume *vol = NULL;
-    hv_status s = rw && regs && (regs->info = hv_calloc(nb, sizeof *regs->info)) ? HV_OK : HV_ERR_NOMEM;
-    if (s == HV_OK) s = hv_bitgrid_init(&U, n, lo);
-    if (s == HV_OK) s = hv_bitgrid_init(&SU, n, lo);
-    if (s == HV_OK) s = hv_bitgrid_init(&IU, n, lo);
+    hv_status s = rw && rk && nocc && regs && (regs->info = hv_calloc(nb, sizeof *regs->info)) ? HV_OK : HV_ERR_NOMEM;
+    if (s == HV_OK) s = hv_bitgrid_init(&u.U, n, lo);
+    if (s == HV_OK) s = hv_bitgrid_init(&u.SU, n, lo);
+    if (s == HV_OK) s = hv_bitgrid_init(&u.IU, n, lo);
+    if (s == HV_OK) s = hv_bitgrid_init(&u.CU, n, lo);
+    if (s == HV_OK) s = hv_bitgrid_init(&u.C2, n, lo);
     int fills = 0; /* bit per resolved fill mode */
     for (size_t b = 0; b < nb && s == HV_OK; ++b) {
         const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
         hv_region_info *g = &regs->info[b];
         regs->n = b + 1;
         hv_mesh *bm = NULL;
-        hv_bitgrid S = {0}, O = {0};
+        hv_bitgrid S = {0}, O = {0}, C = {0};
         s = hv_mesh_body_extract(mesh, b, &bm);
         if (s == HV_OK && (!(g->name = hv_strdup(body->name)) ||
                            (body->material != HV_MESH_NO_MATERIAL &&
@@ -758,13 +841,13 @@ static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options 
             fills |= 1 << g->fill;
             int64_t blo[3], bn[3];
             body_box(bm, plan, lo, n, blo, bn);
-            s = body_voxels(bm, plan, opt, g->fill, blo, bn, &S, &O);
+            s = body_voxels(bm, plan, opt, g->fill, blo, bn, &S, &O, &C);
         }
         hv_mesh_destroy(bm);
-        /* what earlier regions kept of this body, then the body folded into the union */
+        /* the overlap: this body's centres that an earlier body took in the first pass */
         hv_region_loss *to = NULL;
         for (size_t j = 0; j < b && s == HV_OK; ++j) {
-            uint64_t k = overlap_with(&O, &rw[j]);
+            uint64_t k = overlap_with(&C, &rw[j]);
             if (!k) continue;
             if (!to && !(to = hv_calloc(b, sizeof *to))) {
                 s = HV_ERR_NOMEM;
@@ -775,37 +858,50 @@ static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options 
         }
         g->lost_to = to;
         if (s == HV_OK) {
-            g->lost = fold_body(&O, &S, &U, &SU, &IU);
+            uint64_t first = 0;
+            fold_body(&O, &S, &C, &u, &nocc[b], &first);
             hv_bitgrid_free(&S);
-            s = collect_blocks(&O, NULL, &rw[b].n, &rw[b].origins, &rw[b].masks);
-            for (size_t q = 0; s == HV_OK && q < 8 * rw[b].n; ++q) g->voxels += (uint64_t)__builtin_popcountll(rw[b].masks[q]);
+            g->voxels = first;
+            s = collect_blocks(&C, NULL, &rw[b].n, &rw[b].origins, &rw[b].masks);
+            hv_bitgrid_free(&C);
+            if (s == HV_OK) s = collect_blocks(&O, NULL, &rk[b].n, &rk[b].origins, &rk[b].masks);
         }
         hv_bitgrid_free(&S);
         hv_bitgrid_free(&O);
+        hv_bitgrid_free(&C);
     }
     if (s == HV_OK) {
         /* the surface of the union: surface voxels inside no body's interior */
-        size_t words = (size_t)(n[0] * n[1] * SU.words);
-        for (size_t w = 0; w < words; ++w) SU.bits[w] &= ~IU.bits[w];
-        hv_bitgrid_free(&IU);
-        s = store(&U, &SU, &plan->xf, opt->progress, &vol);
+        size_t words = (size_t)(n[0] * n[1] * u.SU.words);
+        for (size_t w = 0; w < words; ++w) u.SU.bits[w] &= ~u.IU.bits[w];
+        /* the second pass, IU now holding the voxels it gave away */
+        memset(u.IU.bits, 0, words * sizeof *u.IU.bits);
+        for (size_t b = 0; b < nb; ++b) {
+            for (size_t k = 0; k < rk[b].n; ++k) {
+                const int32_t *o = rk[b].origins + 3 * k;
+                uint64_t *m = rk[b].masks + 8 * k, cu[8], taken[8];
+                int64_t bx = (o[0] - lo[0]) / 8, by = (o[1] - lo[1]) / 8, bz = (o[2] - lo[2]) / 8;
+                block_words(&u.CU, bx, by, bz, cu);
+                block_words(&u.IU, bx, by, bz, taken);
+                for (int q = 0; q < 8; ++q) {
+                    m[q] &= ~cu[q] & ~taken[q];
+                    regs->info[b].voxels += (uint64_t)__builtin_popcountll(m[q]);
+                }
+                block_or(&u.IU, bx, by, bz, m);
+            }
+            regs->info[b].lost = nocc[b] - regs->info[b].voxels;
+        }
+        regs->overlap = grid_count(&u.C2);
+        hv_bitgrid_free(&u.IU);
+        hv_bitgrid_free(&u.CU);
+        hv_bitgrid_free(&u.C2);
+        s = store(&u.U, &u.SU, &plan->xf, opt->progress, &vol);
     }
     for (size_t b = 0; b < nb && s == HV_OK; ++b) {
         int g;
         s = hv_volume_grid_add(vol, regs->info[b].grid, HV_GRID_BOOL, &g);
-        hv_accessor acc;
-        hv_accessor_init(&acc, vol);
-        for (size_t k = 0; k < rw[b].n && s == HV_OK; ++k) {
-            const int32_t *o = rw[b].origins + 3 * k;
-            int64_t leaf = hv_accessor_leaf(&acc, o[0], o[1], o[2]);
-            if (leaf < 0) {
-                s = hv_error_set(HV_ERR_INTERNAL, "voxelize: region %s has voxels outside the occupancy", regs->info[b].grid);
-                break;
-            }
-            uint64_t *bits = hv_volume_leaf_bool(vol, g, (size_t)leaf);
-            const uint64_t *mask = hv_volume_leaf_mask(vol, (size_t)leaf);
-            for (int q = 0; q < 8; ++q) bits[q] = rw[b].masks[8 * k + (size_t)q] & mask[q];
-        }
+        if (s == HV_OK) s = region_write(vol, g, &rw[b], regs->info[b].grid);
+        if (s == HV_OK) s = region_write(vol, g, &rk[b], regs->info[b].grid);
     }
     if (s == HV_OK) {
         hv_voxel_plan rec = *plan; /* the fill as resolved, when every body resolved alike */
@@ -820,15 +916,21 @@ static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options 
         vol = NULL;
     }
     hv_volume_destroy(vol);
-    for (size_t b = 0; rw && b < nb; ++b) {
-        free(rw[b].origins);
-        free(rw[b].masks);
+    for (size_t b = 0; b < nb; ++b) {
+        if (rw) {
+            free(rw[b].origins);
+            free(rw[b].masks);
+        }
+        if (rk) {
+            free(rk[b].origins);
+            free(rk[b].masks);
+        }
     }
     free(rw);
+    free(rk);
+    free(nocc);
     hv_regions_destroy(regs);
-    hv_bitgrid_free(&U);
-    hv_bitgrid_free(&SU);
-    hv_bitgrid_free(&IU);
+    union_free(&u);
     return s;
 }
 

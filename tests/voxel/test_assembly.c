@@ -5,6 +5,7 @@
  * single-body meshes unchanged. */
 #include <criterion/criterion.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "hovox/generate.h"
@@ -83,41 +84,150 @@ static uint64_t differ(const hv_volume *a, const char *ga, const hv_volume *b, c
 
 static uint64_t count(const hv_volume *v, const char *g) { return hv_volume_mask_count(v, grid(v, g)); }
 
-Test(assembly, nested_boxes_core_first_give_the_core_alone_and_the_shell_around_it)
+/* The rule checked voxel for voxel from the boxes' bounds alone: a voxel whose centre is inside
+ * one or more boxes belongs to the first of them; any other voxel of the occupancy (the outer
+ * skin) to the first body whose occupancy, voxelized alone on the same lattice (alone[b]), has it.
+ * Also the counts: voxels per region, lost (the body's own voxels another region got), lost_to
+ * (its centres an earlier body took) and the overlap (centres inside two or more boxes). */
+typedef struct box_body {
+    double lo[3], hi[3];
+    const char *name;
+} box_body;
+
+static void check_rule(const hv_volume *v, const box_body *bx, hv_volume **alone, size_t nb, uint64_t *region_voxels)
+{
+    hv_transform xf = hv_volume_get_transform(v);
+    int gocc = grid(v, "occupancy"), greg[8], galone[8];
+    hv_accessor acc[8];
+    char gname[64];
+    uint64_t got[8] = {0}, own[8] = {0}, lost_to[8][8] = {{0}}, overlap = 0, occupied = 0;
+    cr_assert(nb <= 8);
+    for (size_t b = 0; b < nb; ++b) {
+        snprintf(gname, sizeof gname, "region.%s", bx[b].name);
+        greg[b] = grid(v, gname);
+        galone[b] = grid(alone[b], "occupancy");
+        hv_accessor_init(&acc[b], alone[b]);
+        own[b] = count(alone[b], "occupancy");
+    }
+    const int32_t *org = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+        for (unsigned q = 0; q < 512; ++q) {
+            if (!HV_BIT_GET(hv_volume_leaf_bool_c(v, gocc, l), q) || !HV_BIT_GET(hv_volume_leaf_mask(v, l), q)) continue;
+            ++occupied;
+            int32_t x[3] = {org[3 * l] + (int32_t)(q >> 6), org[3 * l + 1] + (int32_t)((q >> 3) & 7),
+                            org[3 * l + 2] + (int32_t)(q & 7)};
+            double c[3];
+            for (int a = 0; a < 3; ++a) c[a] = xf.origin[a] + x[a] * xf.voxel[a];
+            int first = -1, inside = 0;
+            for (size_t b = 0; b < nb; ++b) {
+                int in = 1;
+                for (int a = 0; a < 3; ++a) in &= c[a] > bx[b].lo[a] && c[a] < bx[b].hi[a];
+                if (!in) continue;
+                ++inside;
+                if (first < 0) first = (int)b;
+                else ++lost_to[b][first];
+            }
+            overlap += inside >= 2;
+            for (size_t b = 0; first < 0 && b < nb; ++b)
+                if (hv_accessor_bool(&acc[b], galone[b], x[0], x[1], x[2])) first = (int)b;
+            cr_assert(first >= 0, "voxel (%d, %d, %d) is in no body", x[0], x[1], x[2]);
+            int owners = 0;
+            for (size_t b = 0; b < nb; ++b)
+                if (HV_BIT_GET(hv_volume_leaf_bool_c(v, greg[b], l), q)) {
+                    ++owners;
+                    cr_assert_eq((int)b, first, "voxel (%d, %d, %d) at (%g, %g, %g) is in region %s, not %s", x[0], x[1],
+                                 x[2], c[0], c[1], c[2], bx[b].name, bx[first].name);
+                }
+            cr_assert_eq(owners, 1, "voxel (%d, %d, %d) has %d regions", x[0], x[1], x[2], owners);
+            ++got[first];
+        }
+    hv_regions *rg = NULL;
+    cr_assert_eq(hv_voxelize_regions_read(v, &rg), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_regions_count(rg), nb);
+    uint64_t sum = 0;
+    for (size_t b = 0; b < nb; ++b) {
+        const hv_region_info *g = hv_regions_at(rg, b);
+        cr_assert_str_eq(g->name, bx[b].name);
+        cr_assert_eq(g->voxels, got[b], "%s: %llu voxels, want %llu", g->name, (unsigned long long)g->voxels,
+                     (unsigned long long)got[b]);
+        cr_assert_eq(count(v, g->grid), got[b]);
+        cr_assert_eq(g->lost, own[b] - got[b], "%s: lost %llu, want %llu", g->name, (unsigned long long)g->lost,
+                     (unsigned long long)(own[b] - got[b]));
+        size_t k = 0;
+        for (size_t j = 0; j < b; ++j) {
+            if (!lost_to[b][j]) continue;
+            cr_assert(k < g->nlost_to, "%s: no lost_to %s", g->name, bx[j].name);
+            cr_assert_eq(g->lost_to[k].region, j);
+            cr_assert_eq(g->lost_to[k].voxels, lost_to[b][j], "%s lost_to %s: %llu, want %llu", g->name, bx[j].name,
+                         (unsigned long long)g->lost_to[k].voxels, (unsigned long long)lost_to[b][j]);
+            ++k;
+        }
+        cr_assert_eq(g->nlost_to, k, "%s", g->name);
+        sum += g->voxels;
+        if (region_voxels) region_voxels[b] = got[b];
+    }
+    cr_assert_eq(sum, occupied);
+    cr_assert_eq(hv_regions_overlap(rg), overlap, "overlap %llu, want %llu", (unsigned long long)hv_regions_overlap(rg),
+                 (unsigned long long)overlap);
+    hv_regions_destroy(rg);
+}
+
+static uint64_t centres_in(const hv_volume *v, const double lo[3], const double hi[3])
+{
+    hv_transform xf = hv_volume_get_transform(v);
+    int gocc = grid(v, "occupancy");
+    uint64_t n = 0;
+    const int32_t *org = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+        for (unsigned q = 0; q < 512; ++q) {
+            if (!HV_BIT_GET(hv_volume_leaf_bool_c(v, gocc, l), q)) continue;
+            int32_t x[3] = {org[3 * l] + (int32_t)(q >> 6), org[3 * l + 1] + (int32_t)((q >> 3) & 7),
+                            org[3 * l + 2] + (int32_t)(q & 7)};
+            int in = 1;
+            for (int a = 0; a < 3; ++a) {
+                double c = xf.origin[a] + x[a] * xf.voxel[a];
+                in &= c > lo[a] && c < hi[a];
+            }
+            n += (uint64_t)in;
+        }
+    return n;
+}
+
+Test(assembly, nested_boxes_core_first_give_the_core_the_voxels_whose_centres_it_holds)
 {
     hv_mesh *outer = box(0, 10), *inner = box(3, 7);
     hv_mesh *j = join2(inner, "core", "Agilus", outer, "shell", "Vero");
     hv_volume *v = vox(j, NULL, 0.5);
     hv_transform xf = hv_volume_get_transform(v);
     hv_volume *vi = vox(inner, &xf, 0), *vo = vox(outer, &xf, 0);
-    /* the reference: each body alone on the same lattice */
-    cr_assert_eq(differ(v, "region.core", vi, "occupancy"), 0);
+    /* a 4 mm core on the 0.5 mm lattice: 8^3 centres, against the 10^3 voxels of its surface
+     * test and fill (the outward surface voxels, centres outside it, now go to the shell) */
+    box_body bb[2] = {{{3, 3, 3}, {7, 7, 7}, "core"}, {{0, 0, 0}, {10, 10, 10}, "shell"}};
+    hv_volume *al[2] = {vi, vo};
+    uint64_t got[2];
+    check_rule(v, bb, al, 2, got);
     uint64_t ni = count(vi, "occupancy"), no = count(vo, "occupancy");
-    cr_assert(ni > 0 && no > ni);
-    cr_assert_eq(count(v, "region.shell"), no - ni);
+    cr_assert_eq(ni, 1000);
+    cr_assert_eq(got[0], 512);
+    cr_assert_eq(got[1], no - 512);
+    cr_assert_eq(centres_in(v, bb[0].lo, bb[0].hi), 512);
     cr_assert_eq(differ(v, "occupancy", vo, "occupancy"), 0);
     /* the core's surface lies in the shell's interior: the union's surface is the shell's */
     cr_assert_eq(differ(v, "surface", vo, "surface"), 0);
     hv_regions *rg = NULL;
     cr_assert_eq(hv_voxelize_regions_read(v, &rg), HV_OK, "%s", hv_last_error());
-    cr_assert_eq(hv_regions_count(rg), 2);
     const hv_region_info *c = hv_regions_at(rg, 0), *s = hv_regions_at(rg, 1);
-    cr_assert_str_eq(c->name, "core");
     cr_assert_str_eq(c->grid, "region.core");
     cr_assert_str_eq(c->material, "Agilus");
     cr_assert_eq(c->has_color, 0);
     cr_assert_eq(c->fill, HV_FILL_FLOOD);
-    cr_assert_eq(c->voxels, ni);
-    cr_assert_eq(c->lost, 0);
+    cr_assert_eq(c->lost, 1000 - 512); /* its outward surface voxels, centres in the shell */
     cr_assert_eq(c->nlost_to, 0);
-    cr_assert_str_eq(s->name, "shell");
     cr_assert_str_eq(s->material, "Vero");
-    cr_assert_eq(s->voxels, no - ni);
-    cr_assert_eq(s->lost, ni); /* the core came first: it keeps its voxels */
-    cr_assert_eq(s->nlost_to, 1);
-    cr_assert_eq(s->lost_to[0].region, 0);
-    cr_assert_eq(s->lost_to[0].voxels, ni);
-    cr_assert_eq(hv_regions_overlap(rg), ni);
+    cr_assert_eq(s->lost, 512);
+    cr_assert_eq(s->nlost_to, 1); /* the solid 10 mm box holds the core's centres too */
+    cr_assert_eq(s->lost_to[0].voxels, 512);
+    cr_assert_eq(hv_regions_overlap(rg), 512);
     cr_assert_eq(hv_regions_find(rg, "shell"), 1);
     cr_assert_eq(hv_regions_find(rg, "Shell"), -1);
     hv_regions_destroy(rg);
@@ -132,25 +242,29 @@ Test(assembly, nested_boxes_core_first_give_the_core_alone_and_the_shell_around_
     hv_mesh_destroy(outer);
 }
 
-Test(assembly, nested_boxes_shell_first_take_every_voxel_and_the_core_reports_them_lost)
+Test(assembly, nested_boxes_shell_first_take_every_voxel_and_report_the_overlap)
 {
     hv_mesh *outer = box(0, 10), *inner = box(3, 7);
     hv_mesh *j = join2(outer, "shell", "Vero", inner, "core", "Agilus");
     hv_volume *v = vox(j, NULL, 0.5);
     hv_transform xf = hv_volume_get_transform(v);
     hv_volume *vi = vox(inner, &xf, 0), *vo = vox(outer, &xf, 0);
-    uint64_t ni = count(vi, "occupancy");
+    box_body bb[2] = {{{0, 0, 0}, {10, 10, 10}, "shell"}, {{3, 3, 3}, {7, 7, 7}, "core"}};
+    hv_volume *al[2] = {vo, vi};
+    uint64_t got[2];
+    check_rule(v, bb, al, 2, got);
     cr_assert_eq(differ(v, "region.shell", vo, "occupancy"), 0);
+    cr_assert_eq(got[1], 0);
     cr_assert_eq(count(v, "region.core"), 0); /* kept as an empty grid */
     hv_regions *rg = NULL;
     cr_assert_eq(hv_voxelize_regions_read(v, &rg), HV_OK, "%s", hv_last_error());
     const hv_region_info *c = hv_regions_at(rg, 1);
-    cr_assert_str_eq(c->name, "core");
     cr_assert_eq(c->voxels, 0);
-    cr_assert_eq(c->lost, ni, "the overlap is the inner box's %llu voxels, got %llu", (unsigned long long)ni,
-                 (unsigned long long)c->lost);
+    cr_assert_eq(c->lost, 1000); /* all its voxels */
+    cr_assert_eq(c->nlost_to, 1);
     cr_assert_eq(c->lost_to[0].region, 0);
-    cr_assert_eq(hv_regions_overlap(rg), ni);
+    cr_assert_eq(c->lost_to[0].voxels, 512); /* of which its centres, the overlap */
+    cr_assert_eq(hv_regions_overlap(rg), 512);
     hv_regions_destroy(rg);
     hv_volume_destroy(v);
     hv_volume_destroy(vi);
@@ -158,6 +272,40 @@ Test(assembly, nested_boxes_shell_first_take_every_voxel_and_the_core_reports_th
     hv_mesh_destroy(j);
     hv_mesh_destroy(inner);
     hv_mesh_destroy(outer);
+}
+
+Test(assembly, boxes_touching_face_to_face_split_at_the_face_with_no_overlap)
+{
+    double a0[3] = {0, 0, 0}, a1[3] = {4, 4, 4}, b0[3] = {4, 0, 0}, b1[3] = {8, 4, 4};
+    hv_mesh *a = box3(a0, a1), *b = box3(b0, b1);
+    for (int order = 0; order < 2; ++order) {
+        hv_mesh *j = order ? join2(b, "b", "B", a, "a", "A") : join2(a, "a", "A", b, "b", "B");
+        hv_volume *v = vox(j, NULL, 0.5);
+        hv_transform xf = hv_volume_get_transform(v);
+        hv_volume *va = vox(a, &xf, 0), *vb = vox(b, &xf, 0);
+        box_body ba = {{0, 0, 0}, {4, 4, 4}, "a"}, bbb = {{4, 0, 0}, {8, 4, 4}, "b"};
+        box_body bb[2] = {order ? bbb : ba, order ? ba : bbb};
+        hv_volume *al[2] = {order ? vb : va, order ? va : vb};
+        uint64_t got[2];
+        check_rule(v, bb, al, 2, got);
+        /* each its 8^3 centres plus its part of the outer skin */
+        cr_assert_eq(centres_in(v, a0, a1), 512);
+        cr_assert_eq(centres_in(v, b0, b1), 512);
+        cr_assert(got[0] > 512 && got[1] > 512, "%llu %llu", (unsigned long long)got[0], (unsigned long long)got[1]);
+        hv_regions *rg = NULL;
+        cr_assert_eq(hv_voxelize_regions_read(v, &rg), HV_OK, "%s", hv_last_error());
+        cr_assert_eq(hv_regions_overlap(rg), 0);
+        cr_assert_eq(hv_regions_at(rg, 0)->nlost_to, 0);
+        cr_assert_eq(hv_regions_at(rg, 1)->nlost_to, 0);
+        cr_assert(hv_regions_at(rg, 0)->lost > 0); /* its surface voxels across the face */
+        hv_regions_destroy(rg);
+        hv_volume_destroy(v);
+        hv_volume_destroy(va);
+        hv_volume_destroy(vb);
+        hv_mesh_destroy(j);
+    }
+    hv_mesh_destroy(a);
+    hv_mesh_destroy(b);
 }
 
 Test(assembly, overlapping_boxes_split_at_the_first_and_count_the_overlap_per_pair)
@@ -171,35 +319,20 @@ Test(assembly, overlapping_boxes_split_at_the_first_and_count_the_overlap_per_pa
     hv_volume *v = vox(j, NULL, 0.25);
     hv_transform xf = hv_volume_get_transform(v);
     hv_volume *va = vox(a, &xf, 0), *vb = vox(b, &xf, 0), *vc = vox(c, &xf, 0);
-    cr_assert_eq(differ(v, "region.a", va, "occupancy"), 0);
-    /* b's region: b's voxels that a does not have; its loss: those a has */
-    uint64_t nb = count(vb, "occupancy"), nab = nb - (uint64_t)0, shared = 0;
-    hv_accessor acc;
-    hv_accessor_init(&acc, va);
-    const int32_t *org = hv_volume_leaf_origins(vb);
-    int gb = grid(vb, "occupancy"), ga = grid(va, "occupancy");
-    for (size_t l = 0; l < hv_volume_leaf_count(vb); ++l)
-        for (unsigned q = 0; q < 512; ++q)
-            if (HV_BIT_GET(hv_volume_leaf_bool_c(vb, gb, l), q) &&
-                hv_accessor_bool(&acc, ga, org[3 * l] + (int32_t)(q >> 6), org[3 * l + 1] + (int32_t)((q >> 3) & 7),
-                                 org[3 * l + 2] + (int32_t)(q & 7)))
-                ++shared;
-    (void)nab;
-    cr_assert(shared > 0);
-    cr_assert_eq(count(v, "region.b"), nb - shared);
+    box_body bb[3] = {{{0, 0, 0}, {6, 4, 4}, "a"}, {{4, 0.5, 0.5}, {10, 3.5, 3.5}, "b"}, {{9, 1, 1}, {12, 3, 3}, "c"}};
+    hv_volume *al[3] = {va, vb, vc};
+    check_rule(v, bb, al, 3, NULL);
     hv_regions *rg = NULL;
     cr_assert_eq(hv_voxelize_regions_read(v, &rg), HV_OK, "%s", hv_last_error());
     const hv_region_info *ib = hv_regions_at(rg, 1), *ic = hv_regions_at(rg, 2);
-    cr_assert_eq(ib->lost, shared);
+    /* the overlaps' centres on the 0.25 lattice: a-b 8 x 12 x 12, b-c 4 x 8 x 8 */
     cr_assert_eq(ib->nlost_to, 1);
-    cr_assert_eq(ib->lost_to[0].voxels, shared);
-    /* c overlaps b only */
+    cr_assert_eq(ib->lost_to[0].voxels, 8 * 12 * 12);
     cr_assert_null(ic->material);
-    cr_assert(ic->lost > 0);
     cr_assert_eq(ic->nlost_to, 1);
     cr_assert_eq(ic->lost_to[0].region, 1);
-    cr_assert_eq(ic->voxels + ic->lost, count(vc, "occupancy"));
-    cr_assert_eq(hv_regions_overlap(rg), shared + ic->lost);
+    cr_assert_eq(ic->lost_to[0].voxels, 4 * 8 * 8);
+    cr_assert_eq(hv_regions_overlap(rg), 8 * 12 * 12 + 4 * 8 * 8);
     cr_assert_eq(count(v, "occupancy"), count(v, "region.a") + count(v, "region.b") + count(v, "region.c"));
     hv_regions_destroy(rg);
     hv_volume_destroy(v);
@@ -326,9 +459,16 @@ Test(assembly, damaged_regions_documents_are_refused_naming_the_member)
          "\"lost_to\": []}, {\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, "
          "\"lost_to\": []}]}",
          "used by an earlier region"},
+        {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, "
+         "\"lost_to\": []}, {\"name\": \"b\", \"grid\": \"region.b\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 1, "
+         "\"lost_to\": [{\"region\": \"a\", \"voxels\": 2}]}]}",
+         "lost_to sums to 2, more"},
         {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 3, "
          "\"lost_to\": []}]}",
-         "lost_to sums to 0"},
+         "overlap is missing"},
+        {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 3, "
+         "\"lost_to\": []}], \"overlap\": -1}",
+         "overlap"},
         {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, "
          "\"lost_to\": [], \"color\": [1, 2, 0, 1]}]}",
          "color[1]"},

@@ -19,6 +19,17 @@
 
 static const float k_identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 
+/* lib3mf hands out a wrapper for every object it creates, released one by one (lib3mf_release):
+ * the tests keep them here and release them once the package is written. */
+static l3mf g_handles[4096];
+static int g_nhandles;
+
+static void keep(l3mf h)
+{
+    cr_assert_lt(g_nhandles, 4096);
+    g_handles[g_nhandles++] = h;
+}
+
 static l3mf new_model(unsigned unit)
 {
     l3mf m = NULL;
@@ -30,7 +41,7 @@ static l3mf new_model(unsigned unit)
 static l3mf add_mesh(l3mf model, const hv_mesh *mesh, const char *name)
 {
     l3mf o = NULL;
-    cr_assert_eq(lib3mf_model_addmeshobject(model, &o), 0);
+    cr_assert_eq(lib3mf_model_addmeshobject(model, &o), 0); keep(o);
     if (name) cr_assert_eq(lib3mf_object_setnameutf8(o, name), 0);
     int r = lib3mf_meshobject_setgeometry(o, hv_mesh_vertices(mesh), (unsigned)hv_mesh_vertex_count(mesh),
                                           hv_mesh_facets(mesh), (unsigned)hv_mesh_facet_count(mesh));
@@ -44,7 +55,7 @@ static l3mf add_mesh(l3mf model, const hv_mesh *mesh, const char *name)
 static void add_item(l3mf model, l3mf object, const float *transform)
 {
     l3mf item = NULL;
-    cr_assert_eq(lib3mf_model_addbuilditem(model, object, (float *)transform, &item), 0);
+    cr_assert_eq(lib3mf_model_addbuilditem(model, object, (float *)transform, &item), 0); keep(item);
 }
 
 /* The package lib3mf writes, in memory (malloc'd); the model is released. */
@@ -57,6 +68,7 @@ static unsigned char *package(l3mf model, size_t *len)
     unsigned char *buf = malloc(n);
     cr_assert_eq(lib3mf_writer_writetobuffer(w, buf, n), 0);
     lib3mf_release(w);
+    while (g_nhandles) lib3mf_release(g_handles[--g_nhandles]);
     lib3mf_release(model);
     *len = (size_t)n;
     return buf;
@@ -139,11 +151,11 @@ Test(threemf, components_and_build_items_are_placed_by_their_transforms)
     hv_mesh *unit = box(0, 1);
     l3mf model = new_model(L3MF_MM);
     l3mf cube = add_mesh(model, unit, "cube"), pair = NULL, c = NULL;
-    cr_assert_eq(lib3mf_model_addcomponentsobject(model, &pair), 0);
+    cr_assert_eq(lib3mf_model_addcomponentsobject(model, &pair), 0); keep(pair);
     cr_assert_eq(lib3mf_object_setnameutf8(pair, "pair"), 0);
     float shift[12] = {1, 0, 0, 5, 0, 1, 0, 0, 0, 0, 1, 0}, twice[12] = {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0};
-    cr_assert_eq(lib3mf_componentsobject_addcomponent(pair, cube, shift, &c), 0);
-    cr_assert_eq(lib3mf_componentsobject_addcomponent(pair, cube, twice, &c), 0);
+    cr_assert_eq(lib3mf_componentsobject_addcomponent(pair, cube, shift, &c), 0); keep(c);
+    cr_assert_eq(lib3mf_componentsobject_addcomponent(pair, cube, twice, &c), 0); keep(c);
     float up[12] = {1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1, 0};
     float turn[12] = {0, -1, 0, 20, 1, 0, 0, 0, 0, 0, 1, 0}; /* 90 degrees about z, then +20 in x */
     add_item(model, pair, up);
@@ -182,18 +194,18 @@ Test(threemf, two_nested_boxes_with_two_base_materials)
 {
     hv_mesh *outer = box(0, 10), *inner = box(3, 7);
     l3mf model = new_model(L3MF_MM), group = NULL, h = NULL;
-    cr_assert_eq(lib3mf_model_addbasematerialgroup(model, &group), 0);
+    cr_assert_eq(lib3mf_model_addbasematerialgroup(model, &group), 0); keep(group);
     unsigned vero, agilus, gid;
     cr_assert_eq(lib3mf_basematerial_addmaterialutf8(group, "VeroWhite", 240, 240, 240, &vero), 0);
     cr_assert_eq(lib3mf_basematerial_addmaterialutf8(group, "Agilus30", 20, 20, 20, &agilus), 0);
     cr_assert_eq(lib3mf_basematerial_setdisplaycolorrgba(group, vero, 240, 240, 240, 255), 0);
     cr_assert_eq(lib3mf_basematerial_getresourceid(group, &gid), 0);
     l3mf o = add_mesh(model, outer, "outer"), i = add_mesh(model, inner, "inner");
-    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(o, &h), 0);
+    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(o, &h), 0); keep(h);
     cr_assert_eq(lib3mf_defaultpropertyhandler_setbasematerial(h, gid, vero), 0);
-    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(i, &h), 0);
+    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(i, &h), 0); keep(h);
     cr_assert_eq(lib3mf_defaultpropertyhandler_setbasematerial(h, gid, agilus), 0);
-    cr_assert_eq(lib3mf_meshobject_createpropertyhandler(o, &h), 0); /* one triangle of the outer box in Agilus */
+    cr_assert_eq(lib3mf_meshobject_createpropertyhandler(o, &h), 0); keep(h); /* one triangle of the outer box in Agilus */
     cr_assert_eq(lib3mf_propertyhandler_setbasematerial(h, 5, gid, agilus), 0);
     add_item(model, o, NULL);
     add_item(model, i, NULL);
@@ -229,9 +241,9 @@ Test(threemf, colours_become_materials_named_by_their_value)
     hv_mesh *unit = box(0, 1);
     l3mf model = new_model(L3MF_MM), h = NULL;
     l3mf o = add_mesh(model, unit, "painted");
-    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(o, &h), 0);
+    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(o, &h), 0); keep(h);
     cr_assert_eq(lib3mf_defaultpropertyhandler_setcolorrgb(h, 255, 128, 0), 0);
-    cr_assert_eq(lib3mf_meshobject_createpropertyhandler(o, &h), 0);
+    cr_assert_eq(lib3mf_meshobject_createpropertyhandler(o, &h), 0); keep(h);
     for (unsigned t = 0; t < 12; ++t) cr_assert_eq(lib3mf_propertyhandler_setsinglecolorrgb(h, t, t < 4 ? 0 : 255, 128, 0), 0);
     add_item(model, o, NULL);
     hv_mesh *m = read_model(model, "painted.3mf");
@@ -441,10 +453,10 @@ Test(threemf, packages_beyond_the_memory_budget_are_refused_before_lib3mf_reads_
     float apart[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
     for (int level = 0; level < 16; ++level) {
         l3mf comps = NULL;
-        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0);
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0); keep(comps);
         apart[3] = (float)(1 << level);
-        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
-        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, apart, &c), 0);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, apart, &c), 0); keep(c);
         prev = comps;
     }
     add_item(model, prev, NULL);
@@ -458,13 +470,13 @@ Test(threemf, packages_beyond_the_memory_budget_are_refused_before_lib3mf_reads_
      * nodes for minutes; refused from the model part before lib3mf reads it */
     model = new_model(L3MF_MM);
     l3mf empty = NULL;
-    cr_assert_eq(lib3mf_model_addmeshobject(model, &empty), 0);
+    cr_assert_eq(lib3mf_model_addmeshobject(model, &empty), 0); keep(empty);
     prev = empty;
     for (int level = 0; level < 30; ++level) {
         l3mf comps = NULL;
-        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0);
-        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
-        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0); keep(comps);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
         prev = comps;
     }
     add_item(model, prev, NULL);
@@ -477,8 +489,8 @@ Test(threemf, packages_beyond_the_memory_budget_are_refused_before_lib3mf_reads_
     prev = add_mesh(model, unit, "cube");
     for (int level = 0; level < 300; ++level) {
         l3mf comps = NULL;
-        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0);
-        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0);
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0); keep(comps);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
         prev = comps;
     }
     add_item(model, prev, NULL);

@@ -174,6 +174,9 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 	$(CXX) $(CPPFLAGS_ALL) -Isrc -Itests $(CXXFLAGS_ALL) $(CRIT_CFLAGS) -o $@ $< $(TEST_SUPPORT_OBJ) \
 	    $(BUILD)/libhovox.a $(CRIT_LIBS) $(VDB_LIBS) $(LIBS)
 
+# The lib3mf test reads hovox's 3MF packages with the 3MF Consortium's library (lib3mf-dev)
+$(BUILD)/tests/threemf/test_lib3mf: LIBS += -l3MF
+
 # Benchmark drivers (tests/bench/*.c): small programs that call one kernel on a file.
 $(BUILD)/bench-tools/%: $(BUILD)/obj/tests/bench/%.o $(BUILD)/libhovox.a
 	@mkdir -p $(dir $@)

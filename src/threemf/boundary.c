@@ -2,7 +2,6 @@
  * triangle mesh: the faces between occupied and unoccupied voxels, with one vertex per voxel
  * corner and sheet of surface through it (so a 3MF consumer sees geometry equal to the voxels,
  * and no edge is shared by four triangles where voxels touch along an edge). */
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,11 +12,13 @@
  * of the block's configuration. Its 12 inner faces are numbered a * 4 + b[a+1] + 2 b[a+2] (a the
  * normal axis, b the bits of the two voxels along the other axes, which they share). Around each
  * of the 6 half-edges leaving the corner lie 4 voxels and 4 faces; the faces of the surface among
- * them pair up (2 of them: each other; 4, two voxels touching only along the edge: each occupied
- * voxel's two faces), and the pairs chain into cycles around the corner: one vertex per cycle. */
-static int8_t g_comp[256][12];
-static pthread_once_t g_comp_once = PTHREAD_ONCE_INIT;
-
+ * them pair up, and the pairs chain into cycles around the corner: one vertex per cycle. With 2
+ * faces they pair with each other. With 4 (two occupied voxels P, Q meeting only along the edge)
+ * each occupied voxel's two faces pair (the voxels are apart there), unless P and Q are joined by
+ * occupied voxels around both ends of the edge: then the surface would pinch at the edge (its
+ * cycles at both ends pass the edge twice, and no vertex copies can make it a 2-manifold), so
+ * there the faces pair around each empty voxel instead (the voxels are joined across the edge).
+ * Both ends of an edge decide alike, so the pairs of an edge are the same at both its vertices. */
 static int face_id(int a, const int b[3]) { return a * 4 + b[(a + 1) % 3] + 2 * b[(a + 2) % 3]; }
 
 static int uf_find(int *p, int x)
@@ -33,71 +34,6 @@ static void uf_join(int *p, int x, int y)
     if (x != y) p[y] = x;
 }
 
-static void build_comp_table(void)
-{
-    for (int cfg = 0; cfg < 256; ++cfg) {
-        int boundary[12] = {0}, parent[12];
-        for (int f = 0; f < 12; ++f) parent[f] = f;
-        for (int v = 0; v < 8; ++v) { /* faces between v and its neighbour across each axis */
-            int b[3] = {v & 1, (v >> 1) & 1, (v >> 2) & 1};
-            for (int a = 0; a < 3; ++a) {
-                int w = v ^ (1 << a);
-                if (((cfg >> v) & 1) != ((cfg >> w) & 1)) boundary[face_id(a, b)] = 1;
-            }
-        }
-        for (int e = 0; e < 3; ++e)
-            for (int side = 0; side < 2; ++side) {
-                int p = (e + 1) % 3, q = (e + 2) % 3;
-                /* the ring of 4 voxels around the half-edge, in order, and the faces between them */
-                int ring[4], faces[4];
-                static const int rp[4] = {0, 1, 1, 0}, rq[4] = {0, 0, 1, 1};
-                for (int r = 0; r < 4; ++r) {
-                    int b[3];
-                    b[e] = side;
-                    b[p] = rp[r];
-                    b[q] = rq[r];
-                    ring[r] = (cfg >> (b[0] + 2 * b[1] + 4 * b[2])) & 1;
-                }
-                for (int r = 0; r < 4; ++r) { /* face between ring[r] and ring[r+1] */
-                    int r1 = (r + 1) & 3, b[3];
-                    int axis = rp[r] != rp[r1] ? p : q;
-                    b[e] = side;
-                    b[p] = rp[r];
-                    b[q] = rq[r];
-                    faces[r] = face_id(axis, b);
-                }
-                int n = 0, first = -1, second = -1;
-                for (int r = 0; r < 4; ++r)
-                    if (boundary[faces[r]]) {
-                        if (n == 0) first = faces[r];
-                        else second = faces[r];
-                        ++n;
-                    }
-                if (n == 2) {
-                    uf_join(parent, first, second);
-                } else if (n == 4) { /* two voxels across the edge: keep each one's faces together */
-                    int r0 = ring[0] ? 0 : 1; /* the occupied ones are r0 and r0 + 2 */
-                    uf_join(parent, faces[(r0 + 3) & 3], faces[r0]);
-                    uf_join(parent, faces[r0 + 1], faces[r0 + 2]);
-                }
-            }
-        int8_t id[12];
-        int next = 0;
-        for (int f = 0; f < 12; ++f) id[f] = -1;
-        for (int f = 0; f < 12; ++f) {
-            if (!boundary[f]) {
-                g_comp[cfg][f] = -1;
-                continue;
-            }
-            int root = uf_find(parent, f);
-            if (id[root] < 0) id[root] = (int8_t)next++;
-            g_comp[cfg][f] = id[root];
-        }
-    }
-}
-
-/* ---- occupancy ------------------------------------------------------------------------------ */
-
 typedef struct bctx {
     const hv_volume *vol;
     const uint64_t *occ;
@@ -109,6 +45,82 @@ static int occ_at(const bctx *c, hv_accessor *acc, int32_t i, int32_t j, int32_t
     int64_t l = hv_accessor_leaf(acc, i, j, k);
     return l >= 0 && HV_BIT_GET(c->occ + 8 * (size_t)l, HV_LEAF_OFFSET(i, j, k));
 }
+
+/* P (ring place r0) and Q (r0 + 2) joined through a layer of the 4 voxels beside the ring. */
+static int joined(const int *layer, int r0) { return layer[r0] && layer[r0 + 2] && (layer[(r0 + 1) & 3] || layer[(r0 + 3) & 3]); }
+
+/* The cycle (0, 1, ...) of the surface at corner C that face `face` of the block belongs to. */
+static int corner_cycle(const bctx *c, hv_accessor *acc, const int32_t C[3], int cfg, int face)
+{
+    int boundary[12] = {0}, parent[12];
+    for (int f = 0; f < 12; ++f) parent[f] = f;
+    for (int v = 0; v < 8; ++v) { /* faces between v and its neighbour across each axis */
+        int b[3] = {v & 1, (v >> 1) & 1, (v >> 2) & 1};
+        for (int a = 0; a < 3; ++a)
+            if (((cfg >> v) & 1) != ((cfg >> (v ^ (1 << a))) & 1)) boundary[face_id(a, b)] = 1;
+    }
+    static const int rp[4] = {0, 1, 1, 0}, rq[4] = {0, 0, 1, 1};
+    for (int e = 0; e < 3; ++e)
+        for (int side = 0; side < 2; ++side) {
+            int p = (e + 1) % 3, q = (e + 2) % 3;
+            /* the ring of 4 voxels around the half-edge, in order, and the faces between them */
+            int ring[4], near[4], faces[4];
+            for (int r = 0; r < 4; ++r) {
+                int b[3];
+                b[e] = side;
+                b[p] = rp[r];
+                b[q] = rq[r];
+                ring[r] = (cfg >> (b[0] + 2 * b[1] + 4 * b[2])) & 1;
+                b[e] = 1 - side;
+                near[r] = (cfg >> (b[0] + 2 * b[1] + 4 * b[2])) & 1;
+                int r1 = (r + 1) & 3, axis = rp[r] != rp[r1] ? p : q;
+                b[e] = side;
+                faces[r] = face_id(axis, b);
+            }
+            int n = 0, first = -1, second = -1;
+            for (int r = 0; r < 4; ++r)
+                if (boundary[faces[r]]) {
+                    if (n == 0) first = faces[r];
+                    else second = faces[r];
+                    ++n;
+                }
+            if (n == 2) {
+                uf_join(parent, first, second);
+                continue;
+            }
+            if (n != 4) continue;
+            int r0 = ring[0] ? 0 : 1; /* the occupied ones are r0 and r0 + 2 */
+            int flip = 0;
+            if (joined(near, r0)) { /* and at the far end of the edge? */
+                int far[4];
+                for (int r = 0; r < 4; ++r) {
+                    int32_t v[3];
+                    v[e] = C[e] + (side ? 1 : -2);
+                    v[p] = C[p] + rp[r] - 1;
+                    v[q] = C[q] + rq[r] - 1;
+                    far[r] = occ_at(c, acc, v[0], v[1], v[2]);
+                }
+                flip = joined(far, r0);
+            }
+            if (!flip) { /* each occupied voxel's two faces */
+                uf_join(parent, faces[(r0 + 3) & 3], faces[r0]);
+                uf_join(parent, faces[r0 + 1], faces[r0 + 2]);
+            } else { /* each empty voxel's two faces */
+                uf_join(parent, faces[r0], faces[r0 + 1]);
+                uf_join(parent, faces[r0 + 2], faces[(r0 + 3) & 3]);
+            }
+        }
+    int id[12], next = 0, root = uf_find(parent, face);
+    for (int f = 0; f < 12; ++f) id[f] = -1;
+    for (int f = 0; f < 12; ++f) {
+        if (!boundary[f]) continue;
+        int rf = uf_find(parent, f);
+        if (id[rf] < 0) id[rf] = next++;
+    }
+    return boundary[face] ? id[root] : -1;
+}
+
+/* ---- counting ------------------------------------------------------------------------------ */
 
 static const int k_dir[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 
@@ -234,7 +246,6 @@ hv_status tmf_boundary_build(const hv_volume *vol, const uint64_t *occ, uint64_t
                              const hv_progress *progress)
 {
     memset(m, 0, sizeof *m);
-    pthread_once(&g_comp_once, build_comp_table);
     if (quads > (uint64_t)SIZE_MAX / 48)
         return hv_error_set(HV_ERR_LIMIT, "export: %llu boundary faces", (unsigned long long)quads);
     vmap vm = {NULL, 0, NULL, 0};
@@ -291,7 +302,8 @@ hv_status tmf_boundary_build(const hv_volume *vol, const uint64_t *occ, uint64_t
                             cfg |= (int)((nb >> ((ox + 1) + 3 * (oy + 1) + 9 * (oz + 1))) & 1u) << bb;
                         }
                         int bv[3] = {1 - cc[0], 1 - cc[1], 1 - cc[2]}; /* the voxel's place in the block */
-                        int comp = g_comp[cfg][face_id(a, bv)];
+                        int32_t corner[3] = {v[0] + cc[0], v[1] + cc[1], v[2] + cc[2]};
+                        int comp = corner_cycle(&c, &acc, corner, cfg, face_id(a, bv));
                         if (comp < 0) {
                             s = hv_error_set(HV_ERR_INTERNAL, "export: boundary face without a corner sheet");
                             break;

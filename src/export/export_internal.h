@@ -44,7 +44,7 @@ hv_status ex_model_init(ex_model *md, const hv_volume *vol, const hv_export_opti
 void ex_model_free(ex_model *md);
 
 /* The 3MF Volumetric package (src/threemf/write.c): the plan fills r (dims, triangles, stacks,
- * memory); the write claims the output's temporary, writes and renames it. */
+ * memory); the write, given that plan in r, claims the output's temporary, writes and renames it. */
 hv_status ex_3mf_plan(const ex_model *md, const hv_export_options *opt, hv_export_report *r);
 hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_options *opt, hv_export_report *r);
 

@@ -125,6 +125,7 @@ typedef struct rd {
     uint32_t *tri; /* 3 per triangle, indices into the object's vertices */
     size_t ntri, tcap;
     int builds, resources_seen;
+    uint64_t leaf_bytes; /* what a leaf of the model will cost (hv_volume_memory_estimate) */
 } rd;
 
 /* ---- messages ------------------------------------------------------------------------------------- */
@@ -1112,7 +1113,9 @@ static hv_status leaf_set(rd *r, leafmap *m, int32_t i, int32_t j, int32_t k)
     }
     if (m->n == m->cap) {
         size_t ncap = m->cap ? m->cap * 2 : 256;
-        hv_status s = charge(r, (uint64_t)(ncap - m->cap) * (3 * sizeof(int32_t) + 8 * sizeof(uint64_t)), "occupancy");
+        /* the leaves, and what they will cost in the model */
+        hv_status s = charge(r, (uint64_t)(ncap - m->cap) * (3 * sizeof(int32_t) + 8 * sizeof(uint64_t) + r->leaf_bytes),
+                             "the model's voxels");
         if (s != HV_OK) return s;
         int32_t *no = hv_realloc(m->origins, ncap * 3 * sizeof *no);
         if (!no) return HV_ERR_NOMEM;
@@ -1163,6 +1166,9 @@ static hv_status occupancy(rd *r, const double *s3, const uint32_t *tri, size_t 
     crossing *cr = NULL;
     size_t ncr = 0, cap = 0;
     hv_status s = HV_OK;
+    /* lattice points tried: a few per crossing for real meshes; a hostile one (long edges along
+     * rows) is stopped */
+    uint64_t tried = 0, max_tried = (r->budget / sizeof(crossing)) * 16 + 100000000u;
     for (size_t t = 0; t < nt && s == HV_OK; ++t) {
         const double *a = s3 + 3 * (size_t)tri[3 * t], *b = s3 + 3 * (size_t)tri[3 * t + 1],
                      *c = s3 + 3 * (size_t)tri[3 * t + 2];
@@ -1193,6 +1199,11 @@ static hv_status occupancy(rd *r, const double *s3, const uint32_t *tri, size_t 
             x0 = HV_MAX(x0, xlo) - 1;
             x1 = HV_MIN(x1, xhi) + 1;
             for (double x = ceil(x0); x <= x1 && s == HV_OK; x += 1) {
+                if (++tried > max_tried) {
+                    s = bad_at(r, HV_ERR_LIMIT, 0, "the mesh's triangles cover more lattice columns than the memory "
+                               "budget allows for their crossings");
+                    break;
+                }
                 if (!covers(a, b, c, x, y)) continue;
                 if (ncr == cap) {
                     s = grow(r, (void **)&cr, &cap, ncr + 1, sizeof *cr, "occupancy");
@@ -1203,7 +1214,7 @@ static hv_status occupancy(rd *r, const double *s3, const uint32_t *tri, size_t 
             }
         }
     }
-    if (s == HV_OK) qsort(cr, ncr, sizeof *cr, cmp_crossing);
+    if (s == HV_OK && ncr) qsort(cr, ncr, sizeof *cr, cmp_crossing);
     for (size_t b = 0; b < ncr && s == HV_OK;) {
         size_t e = b;
         while (e < ncr && cr[e].i == cr[b].i && cr[e].j == cr[b].j) ++e;
@@ -1318,6 +1329,18 @@ static double channel_value(const hv_png_pixels *px, size_t at, int ch)
     return idx < 0 ? 1.0 : p[idx] / max;
 }
 
+typedef struct zleaf {
+    int32_t z;
+    size_t leaf;
+} zleaf;
+
+static int cmp_zleaf(const void *a, const void *b)
+{
+    const zleaf *p = a, *q = b;
+    if (p->z != q->z) return p->z < q->z ? -1 : 1;
+    return p->leaf < q->leaf ? -1 : p->leaf > q->leaf;
+}
+
 /* ---- putting it together --------------------------------------------------------------------------------- */
 
 typedef struct used {
@@ -1328,6 +1351,35 @@ typedef struct used {
     img3d *im[HV_MAX_MATERIALS];
     double shift[3]; /* the build item's translation */
 } used;
+
+/* The fractions of the voxels of leaf l at height z, from the decoded sheets. */
+static void fill_layer(const used *u, hv_volume *v, const int *grid, size_t l, int64_t z, const int64_t *off,
+                       const sheet_cache *cache, const int *cache_of)
+{
+    int m = u->bg->n;
+    const int32_t *o = hv_volume_leaf_origins(v) + 3 * l;
+    const uint64_t *mask = hv_volume_leaf_mask(v, l);
+    float *dst[HV_MAX_MATERIALS];
+    for (int j = 0; j < m; ++j) dst[j] = hv_volume_leaf_float(v, grid[j], l);
+    for (unsigned x = 0; x < 8; ++x)
+        for (unsigned y = 0; y < 8; ++y) {
+            unsigned n = (x << 6) | (y << 3) | (unsigned)(z & 7);
+            if (!HV_BIT_GET(mask, n)) continue;
+            int64_t si = o[0] + (int64_t)x - off[0], sj = o[1] + (int64_t)y - off[1];
+            double val[HV_MAX_MATERIALS], sum = 0;
+            for (int j = 0; j < m; ++j) {
+                const img3d *im = u->im[j];
+                int64_t col = tile_index(si, (int64_t)im->cols, u->f[j]->tile[0]);
+                int64_t row = (int64_t)im->rows - 1 - tile_index(sj, (int64_t)im->rows, u->f[j]->tile[1]);
+                double c = channel_value(&cache[cache_of[j]].px, (size_t)row * im->cols + (size_t)col,
+                                         u->vd->maps[j].channel);
+                c = c * u->f[j]->scale + u->f[j]->offset;
+                val[j] = c > 1 ? 1 : c > 0 ? c : 0; /* NaN, < 0: 0 (spec 5.2.3) */
+                sum += val[j];
+            }
+            for (int j = 0; j < m; ++j) dst[j][n] = sum >= 1e-5 ? (float)(val[j] / sum) : (j == 0 ? 1.0f : 0.0f);
+        }
+}
 
 static const void *find_res(const void *arr, size_t n, size_t size, uint32_t id)
 {
@@ -1350,7 +1402,7 @@ static int near_zero(double v, double scale) { return fabs(v) <= 1e-12 * scale; 
 static hv_status resolve(rd *r, used *u, lattice *lat)
 {
     memset(u, 0, sizeof *u);
-    qsort(r->ids, r->nids, sizeof *r->ids, cmp_resid);
+    if (r->nids) qsort(r->ids, r->nids, sizeof *r->ids, cmp_resid);
     for (size_t i = 1; i < r->nids; ++i)
         if (r->ids[i].id == r->ids[i - 1].id)
             return bad_at(r, HV_ERR_BAD_INPUT, r->ids[i].line, "resource id %u is used twice (also on line %d)", r->ids[i].id,
@@ -1536,16 +1588,14 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
     leafmap lm;
     memset(&lm, 0, sizeof lm);
     uint64_t voxels = 0;
+    r->leaf_bytes = hv_volume_memory_estimate(1024, u->bg->n, 1) / 1024;
     if (s == HV_OK) s = occupancy(r, s3, r->tri + 3 * o->t0, o->nt, &lm, &voxels);
     if (s == HV_OK && voxels == 0)
         s = bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh> of object %u holds no voxel centre of the image stack's "
                    "lattice", o->id);
     /* shift to hovox indices (leaf origins stay multiples of 8: shift whole leaves, then voxels) */
     hv_volume *v = NULL;
-    if (s == HV_OK) {
-        uint64_t need = hv_volume_memory_estimate(lm.n, u->bg->n, 1);
-        s = charge(r, need, "the model");
-    }
+
     if (s == HV_OK && (off[0] % 8 || off[1] % 8 || off[2] % 8)) { /* rebuild the leaves on shifted indices */
         leafmap sh;
         memset(&sh, 0, sizeof sh);
@@ -1570,7 +1620,8 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
     for (size_t l = 0; l < nl; ++l) memcpy(hv_volume_leaf_bool(v, og, l), hv_volume_leaf_mask(v, l), 8 * sizeof(uint64_t));
     /* the materials */
     hv_material_table *table = NULL;
-    if (s == HV_OK) s = build_table(r, u, &table);
+    if (s == HV_OK && (s = build_table(r, u, &table)) != HV_OK && s != HV_ERR_NOMEM)
+        s = bad_at(r, HV_ERR_BAD_INPUT, u->bg->line, "<basematerials> %u: %s", u->bg->id, hv_last_error());
     int m = u->bg->n, grid[HV_MAX_MATERIALS];
     for (int j = 0; j < m && s == HV_OK; ++j) {
         char gname[80];
@@ -1598,47 +1649,29 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
     }
     if (s != HV_OK) nl = 0;
     const int32_t *orig = nl ? hv_volume_leaf_origins(v) : NULL;
-    int32_t zlo = INT32_MAX, zhi = INT32_MIN;
-    for (size_t l = 0; l < nl; ++l) {
-        zlo = HV_MIN(zlo, orig[3 * l + 2]);
-        zhi = HV_MAX(zhi, orig[3 * l + 2] + 7);
+    /* the leaves in z order, a slab (8 layers) at a time */
+    zleaf *zl = NULL;
+    if (nl) {
+        s = charge(r, nl * sizeof *zl, "the model's voxels");
+        if (s == HV_OK && !(zl = hv_malloc_array(nl, sizeof *zl))) s = HV_ERR_NOMEM;
+        if (s != HV_OK) nl = 0;
+        for (size_t l = 0; l < nl; ++l) zl[l] = (zleaf){orig[3 * l + 2], l};
+        if (nl) qsort(zl, nl, sizeof *zl, cmp_zleaf);
     }
-    for (int64_t z = zlo; z <= zhi && s == HV_OK && nl; ++z) {
-        if ((s = hv_progress_report(NULL, "read 3mf", 0)) != HV_OK) break;
-        int any = 0;
-        for (size_t l = 0; l < nl && !any; ++l) any = orig[3 * l + 2] == (int32_t)(z & ~(int64_t)7);
-        if (!any) continue;
-        for (int j = 0; j < m && s == HV_OK; ++j) {
-            if (cache_of[j] != j) continue;
-            int64_t sheet = tile_index(z - off[2], (int64_t)u->im[j]->sheets, u->f[j]->tile[2]);
-            s = load_sheet(r, u->im[j], &cache[j], sheet);
-        }
-        for (size_t l = 0; l < nl && s == HV_OK; ++l) {
-            if (orig[3 * l + 2] != (int32_t)(z & ~(int64_t)7)) continue;
-            const uint64_t *mask = hv_volume_leaf_mask(v, l);
-            float *dst[HV_MAX_MATERIALS];
-            for (int j = 0; j < m; ++j) dst[j] = hv_volume_leaf_float(v, grid[j], l);
-            for (unsigned x = 0; x < 8; ++x)
-                for (unsigned y = 0; y < 8; ++y) {
-                    unsigned n = (x << 6) | (y << 3) | (unsigned)(z & 7);
-                    if (!HV_BIT_GET(mask, n)) continue;
-                    int64_t si = orig[3 * l] + (int64_t)x - off[0], sj = orig[3 * l + 1] + (int64_t)y - off[1];
-                    double val[HV_MAX_MATERIALS], sum = 0;
-                    for (int j = 0; j < m; ++j) {
-                        const img3d *im = u->im[j];
-                        int64_t col = tile_index(si, (int64_t)im->cols, u->f[j]->tile[0]);
-                        int64_t row = (int64_t)im->rows - 1 - tile_index(sj, (int64_t)im->rows, u->f[j]->tile[1]);
-                        double c = channel_value(&cache[cache_of[j]].px, (size_t)row * im->cols + (size_t)col,
-                                                 u->vd->maps[j].channel);
-                        c = c * u->f[j]->scale + u->f[j]->offset;
-                        val[j] = c > 1 ? 1 : c > 0 ? c : 0; /* NaN, < 0: 0 (spec 5.2.3) */
-                        sum += val[j];
-                    }
-                    for (int j = 0; j < m; ++j)
-                        dst[j][n] = sum >= 1e-5 ? (float)(val[j] / sum) : (j == 0 ? 1.0f : 0.0f);
-                }
+    for (size_t b = 0, e = 0; b < nl && s == HV_OK; b = e) {
+        int32_t z0 = zl[b].z;
+        for (e = b; e < nl && zl[e].z == z0; ++e) {}
+        for (int64_t z = z0; z < (int64_t)z0 + 8 && s == HV_OK; ++z) {
+            if ((s = hv_progress_report(NULL, "read 3mf", 0)) != HV_OK) break;
+            for (int j = 0; j < m && s == HV_OK; ++j) {
+                if (cache_of[j] != j) continue;
+                int64_t sheet = tile_index(z - off[2], (int64_t)u->im[j]->sheets, u->f[j]->tile[2]);
+                s = load_sheet(r, u->im[j], &cache[j], sheet);
+            }
+            for (size_t li = b; li < e && s == HV_OK; ++li) fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
         }
     }
+    free(zl);
     for (int j = 0; j < m; ++j) hv_png_pixels_free(&cache[j].px);
     if (s == HV_OK) s = hv_material_table_store(v, table);
     hv_material_table_destroy(table);
@@ -1691,9 +1724,26 @@ static void rd_free(rd *r)
 static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
 static void xml_init(void) { xmlInitParser(); }
 
-static hv_status read_package(zip_t *za, const char *name, hv_volume **vol, hv_mesh **mesh)
+static void xml_silent(void *ctx, const char *fmt, ...)
+{
+    (void)ctx;
+    (void)fmt;
+}
+
+void tmf_xml_quiet_begin(tmf_xml_quiet *q)
 {
     pthread_once(&g_xml_once, xml_init);
+    q->ctx = xmlGenericErrorContext;
+    q->fn = xmlGenericError;
+    xmlSetGenericErrorFunc(NULL, xml_silent);
+}
+
+void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, q->fn); }
+
+static hv_status read_package(zip_t *za, const char *name, hv_volume **vol, hv_mesh **mesh)
+{
+    tmf_xml_quiet quiet;
+    tmf_xml_quiet_begin(&quiet);
     rd r;
     memset(&r, 0, sizeof r);
     r.name = name;
@@ -1714,6 +1764,7 @@ static hv_status read_package(zip_t *za, const char *name, hv_volume **vol, hv_m
     if (s == HV_OK) s = resolve(&r, &u, &lat);
     if (s == HV_OK) s = make_volume(&r, &u, &lat, vol, mesh);
     rd_free(&r);
+    tmf_xml_quiet_end(&quiet);
     return s;
 }
 

@@ -24,6 +24,16 @@
 #define TMF_CT_RELATIONSHIPS "application/vnd.openxmlformats-package.relationships+xml"
 #define TMF_CT_PNG "image/png"
 
+/* libxml2 reports some errors (encodings, I/O) through its generic handler, which prints to
+ * stderr: the library never prints, so readers and writers run between these two calls (the
+ * handler is per thread in libxml2). */
+typedef struct tmf_xml_quiet {
+    void *ctx;
+    void (*fn)(void *, const char *, ...);
+} tmf_xml_quiet;
+void tmf_xml_quiet_begin(tmf_xml_quiet *q);
+void tmf_xml_quiet_end(const tmf_xml_quiet *q);
+
 /* ---- the exact voxel boundary (boundary.c) --------------------------------------------------
  * The faces between occupied and unoccupied voxels, two triangles each, wound outward (counter-
  * clockwise seen from outside). Vertices sit on voxel corners: corner (a, b, c) is the lowest

@@ -6,7 +6,6 @@
 #include <errno.h>
 #include <libxml/xmlwriter.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -103,7 +102,9 @@ static uint64_t plan_bytes(const plan3 *p)
     return b > 1.8e19 ? UINT64_MAX : (uint64_t)b;
 }
 
-static hv_status plan3_make(const ex_model *md, const hv_export_options *opt, plan3 *p, const hv_progress *progress)
+/* quads: the boundary's faces when known (UINT64_MAX: count them). */
+static hv_status plan3_make(const ex_model *md, const hv_export_options *opt, plan3 *p, uint64_t quads,
+                            const hv_progress *progress)
 {
     memset(p, 0, sizeof *p);
     if (!md->table)
@@ -130,7 +131,8 @@ static hv_status plan3_make(const ex_model *md, const hv_export_options *opt, pl
         return hv_error_set(HV_ERR_LIMIT, "export: sheets of %lld x %lld pixels exceed PNG's limit", (long long)p->n[0],
                             (long long)p->n[1]);
     hv_status s = make_stacks(md, p);
-    if (s == HV_OK) s = tmf_boundary_count(md->vol, md->occ, &p->quads, progress);
+    p->quads = quads;
+    if (s == HV_OK && quads == UINT64_MAX) s = tmf_boundary_count(md->vol, md->occ, &p->quads, progress);
     return s;
 }
 
@@ -156,7 +158,7 @@ static void plan3_report(const ex_model *md, const plan3 *p, hv_export_report *r
 hv_status ex_3mf_plan(const ex_model *md, const hv_export_options *opt, hv_export_report *r)
 {
     plan3 p;
-    hv_status s = plan3_make(md, opt, &p, opt->progress);
+    hv_status s = plan3_make(md, opt, &p, UINT64_MAX, opt->progress);
     if (s == HV_OK) plan3_report(md, &p, r);
     plan3_free(&p);
     return s;
@@ -330,9 +332,6 @@ static hv_status sheet_fn(void *ctx, size_t b, size_t e, int thread)
 }
 
 /* ---- XML ------------------------------------------------------------------------------------ */
-
-static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
-static void xml_init(void) { xmlInitParser(); }
 
 typedef struct xml_out {
     FILE *fp;
@@ -602,7 +601,7 @@ static hv_status model_part(const ex_model *md, const plan3 *p, const tmf_bounda
         x_attr(&x, "transform", matrix);
         x_attr(&x, "name", qname);
         x_attr(&x, "required", "false");
-        x_attr(&x, "hovox:unit", st->unit);
+        if (st->unit[0]) x_attr(&x, "hovox:unit", st->unit);
         x_end(&x);
     }
     x_end(&x);
@@ -719,7 +718,8 @@ static hv_status property_ranges(wctx *c, plan3 *p, const hv_progress *progress)
 
 hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_options *opt, hv_export_report *r)
 {
-    pthread_once(&g_xml_once, xml_init);
+    tmf_xml_quiet quiet;
+    tmf_xml_quiet_begin(&quiet);
     plan3 p;
     wctx c;
     memset(&c, 0, sizeof c);
@@ -728,7 +728,7 @@ hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_opt
     hv_zip *z = NULL;
     char *dir = NULL;
     int made_dir = 0;
-    hv_status s = plan3_make(md, opt, &p, opt->progress);
+    hv_status s = plan3_make(md, opt, &p, r->cells / 2, opt->progress); /* counted by the plan */
     if (s == HV_OK) plan3_report(md, &p, r);
     /* the archive's temporary first: an unwritable place fails before any work */
     if (s == HV_OK) s = hv_zip_open(path, &z);
@@ -787,5 +787,6 @@ hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_opt
     free(c.lo);
     free(c.hi);
     plan3_free(&p);
+    tmf_xml_quiet_end(&quiet);
     return s;
 }

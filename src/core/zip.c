@@ -181,6 +181,13 @@ hv_status hv_zip_add_data(hv_zip *z, const char *name, const void *data, size_t 
     return zip_place(z, name, src, deflate);
 }
 
+hv_status hv_zip_add_owned(hv_zip *z, const char *name, void *data, size_t size, int deflate)
+{
+    zip_source_t *src = zip_source_buffer(z->za, data, size, 1);
+    if (!src) free(data);
+    return zip_place(z, name, src, deflate);
+}
+
 hv_status hv_zip_add_file(hv_zip *z, const char *name, const char *file, int deflate)
 {
     /* libzip opens the file only while it copies it, in hv_zip_write */

@@ -22,6 +22,9 @@ typedef struct hv_zip hv_zip;
 hv_status hv_zip_open(const char *path, hv_zip **out);
 void hv_zip_set_level(hv_zip *z, int level);
 hv_status hv_zip_add_data(hv_zip *z, const char *name, const void *data, size_t size, int deflate);
+/* As hv_zip_add_data, taking `data` (malloc'd) instead of copying it: freed by the archive, also
+ * on failure. */
+hv_status hv_zip_add_owned(hv_zip *z, const char *name, void *data, size_t size, int deflate);
 hv_status hv_zip_add_file(hv_zip *z, const char *name, const char *file, int deflate);
 hv_status hv_zip_write(hv_zip *z, const hv_progress *progress, const char *stage);
 hv_status hv_zip_commit(hv_zip *z);

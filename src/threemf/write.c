@@ -47,6 +47,7 @@ typedef struct plan3 {
     int64_t lo[3], n[3]; /* the image box: lowest occupied voxel and voxels per axis */
     uint64_t quads;
     int bits;
+    int in_memory; /* sheets kept encoded in memory until packed (else in temporary files) */
 } plan3;
 
 static void plan3_free(plan3 *p)
@@ -93,12 +94,20 @@ static hv_status make_stacks(const ex_model *md, plan3 *p)
 
 static size_t sample_bytes(int bits) { return bits == 16 ? 2 : 1; }
 
-/* Bytes of the writer's buffers: the mesh, and per worker one sheet per stack. */
+/* The sheets' samples, all stacks (a bound of their PNGs, which hold them deflated). */
+static double raw_bytes(const plan3 *p)
+{
+    return (double)p->n[0] * (double)p->n[1] * (double)p->n[2] * (double)sample_bytes(p->bits) * p->nstacks;
+}
+
+/* Bytes of the writer's buffers: the mesh, per worker one sheet per stack, and the encoded sheets
+ * when they stay in memory. */
 static uint64_t plan_bytes(const plan3 *p)
 {
     double sheet = (double)p->n[0] * (double)p->n[1] * (double)sample_bytes(p->bits);
     double per_worker = sheet * (p->nstacks + 1.1); /* the stacks' sheets and one encoded PNG */
     double b = (double)tmf_boundary_bytes(p->quads) + per_worker * HV_MAX(1, hv_threads()) + (1 << 20);
+    if (p->in_memory) b += raw_bytes(p) * 1.01 + 256.0 * (double)p->n[2] * p->nstacks;
     return b > 1.8e19 ? UINT64_MAX : (uint64_t)b;
 }
 
@@ -131,6 +140,9 @@ static hv_status plan3_make(const ex_model *md, const hv_export_options *opt, pl
         return hv_error_set(HV_ERR_LIMIT, "export: sheets of %lld x %lld pixels exceed PNG's limit", (long long)p->n[0],
                             (long long)p->n[1]);
     hv_status s = make_stacks(md, p);
+    /* sheets in memory when even uncompressed they would take at most a quarter of the budget:
+     * thousands of small temporary files cost more than their bytes */
+    p->in_memory = raw_bytes(p) * 1.01 <= (double)hv_memory_budget(opt->max_memory) / 4;
     p->quads = quads;
     if (s == HV_OK && quads == UINT64_MAX) s = tmf_boundary_count(md->vol, md->occ, &p->quads, progress);
     return s;
@@ -201,6 +213,8 @@ typedef struct wctx {
     size_t *slab_leaves;
     int64_t zslab0;           /* index of the first slab's lowest z / 8 */
     int level;
+    uint8_t **png;            /* in memory: the encoded sheet of stack t, sheet k at t * sheets + k */
+    size_t *png_size;
     /* property ranges, per worker then merged */
     double *lo, *hi;
     int nthreads;
@@ -322,6 +336,11 @@ static hv_status sheet_fn(void *ctx, size_t b, size_t e, int thread)
                 }
         }
         for (int t = 0; t < p->nstacks && s == HV_OK; ++t) {
+            if (c->png) {
+                size_t at = (size_t)t * (size_t)p->n[2] + k;
+                s = hv_png_encode(buf + (size_t)t * plane, (int)nx, (int)ny, 1, 0, &po, &c->png[at], &c->png_size[at]);
+                continue;
+            }
             char path[4400];
             sheet_path(path, sizeof path, c->dir, t, (int64_t)k);
             s = hv_png_write(path, buf + (size_t)t * plane, (int)nx, (int)ny, 1, 0, &po);
@@ -742,6 +761,12 @@ hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_opt
     c.p = &p;
     c.dir = dir;
     c.level = opt->zlib_level ? opt->zlib_level : 1;
+    if (s == HV_OK && p.in_memory) {
+        size_t n = (size_t)p.nstacks * (size_t)p.n[2];
+        c.png = hv_calloc(n, sizeof *c.png);
+        c.png_size = hv_calloc(n, sizeof *c.png_size);
+        if (!c.png || !c.png_size) s = HV_ERR_NOMEM;
+    }
     if (s == HV_OK) s = group_leaves(md, &p, &c);
     if (s == HV_OK) s = property_ranges(&c, &p, opt->progress);
     if (s == HV_OK) s = hv_parallel_for((size_t)p.n[2], 1, sheet_fn, &c, opt->progress, "export sheets");
@@ -765,6 +790,12 @@ hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_opt
         for (int64_t k = 0; k < p.n[2] && s == HV_OK; ++k) {
             char part[200], sheet[4400];
             sheet_part(part, sizeof part, &p.stacks[t], k);
+            if (c.png) {
+                size_t at = (size_t)t * (size_t)p.n[2] + (size_t)k;
+                s = hv_zip_add_owned(z, part + 1, c.png[at], c.png_size[at], 0);
+                c.png[at] = NULL;
+                continue;
+            }
             sheet_path(sheet, sizeof sheet, dir, t, k);
             s = hv_zip_add_file(z, part + 1, sheet, 0);
         }
@@ -782,6 +813,10 @@ hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_opt
         r->file_bytes = 0;
     }
     free(dir);
+    if (c.png)
+        for (size_t i = 0; i < (size_t)p.nstacks * (size_t)p.n[2]; ++i) free(c.png[i]);
+    free(c.png);
+    free(c.png_size);
     free(c.slab_first);
     free(c.slab_leaves);
     free(c.lo);

@@ -989,3 +989,48 @@ Test(threemf, reading_stays_inside_the_memory_budget)
     cr_expect(strstr(hv_last_error(), "memory budget") != NULL, "%s", hv_last_error());
     cr_expect_null(v);
 }
+
+/* A tight budget keeps the sheets in temporary files instead of memory: the same bytes. */
+Test(threemf, sheets_through_temporary_files_give_the_same_package)
+{
+    hv_transform xf = {{0.1, 0.1, 0.1}, {0, 0, 0}};
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_volume_create(&xf, &v), HV_OK);
+    int lo[3] = {0, 0, 0}, hi[3] = {63, 63, 95};
+    cr_assert_eq(t_add_box(v, lo, hi), HV_OK);
+    int og, g[3];
+    hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, &og);
+    static const char *const names[3] = {"a", "b", "c"};
+    hv_material_table *t;
+    hv_material_table_create(&t);
+    for (int m = 0; m < 3; ++m) {
+        char gn[32];
+        snprintf(gn, sizeof gn, "material.%s", names[m]);
+        hv_volume_grid_add(v, gn, HV_GRID_FLOAT, &g[m]);
+        hv_material_add(t, names[m], NULL, NULL);
+    }
+    hv_material_table_store(v, t);
+    hv_material_table_destroy(t);
+    const int32_t *orig = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+        for (unsigned n = 0; n < 512; ++n) {
+            hv_volume_leaf_bool(v, og, l)[n >> 6] |= 1ull << (n & 63);
+            float f[3];
+            fractions_at(orig[3 * l] + (int)(n >> 6), orig[3 * l + 1] + (int)((n >> 3) & 7), orig[3 * l + 2] + (int)(n & 7), f);
+            for (int m = 0; m < 3; ++m) hv_volume_leaf_float(v, g[m], l)[n] = f[m];
+        }
+    const char *a = t_tmpfile("mem.3mf"), *b = t_tmpfile("files.3mf");
+    hv_export_options o;
+    hv_export_options_init(&o);
+    hv_export_report r;
+    cr_assert_eq(hv_export_write(v, a, &o, &r), HV_OK, "%s", hv_last_error());
+    /* 3 stacks of 64 x 64 x 96 bytes: more than a quarter of 3.5 MiB, so the sheets go through files */
+    o.max_memory = 7u << 19;
+    cr_assert_eq(hv_export_write(v, b, &o, &r), HV_OK, "%s", hv_last_error());
+    cr_expect(r.memory_bytes < (7u << 19), "%llu", (unsigned long long)r.memory_bytes);
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
+    cr_expect_eq(t_run(cmd, NULL), 0, "the same package either way");
+    cr_expect_eq(count_entries(t_tmpdir(), "tmp-"), 0, "no temporary left");
+    hv_volume_destroy(v);
+}

@@ -115,7 +115,7 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
 static int run_cli(const cli_args *args, void *lib, void *local) { return run(args->pos[0], lib, local, args->quiet); }
 
 const cli_spec cmd_export = {
-    "export", "export a model to VTK (.vti image data, .vtu hexahedra) or 3MF Volumetric (.3mf)",
+    "export", "export a model to VTK (.vti image data, .vtu hexahedra) or 3MF (.3mf)",
     "MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf [options]",
     "Export a model to VTK XML (appended raw binary, zlib, 64-bit headers) for ParaView and\n"
     "FEA codes. .vti: image data over the occupied voxels' bounding box (or --box), one point\n"

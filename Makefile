@@ -36,12 +36,12 @@ CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-
 # (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.
 CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
                 $(if $(filter 1,$(WERROR)),-Werror) $(SANFLAGS)
-PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip 2>/dev/null)
-PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip 2>/dev/null)
+PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip libxml-2.0 2>/dev/null)
+PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip libxml-2.0 2>/dev/null)
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
-LIB_DIRS  := src/core src/image src/plot src/mesh src/voxel src/field src/material src/export src/lua volumes slicing renderer
+LIB_DIRS  := src/core src/image src/plot src/mesh src/voxel src/field src/material src/export src/threemf src/lua volumes slicing renderer
 LIB_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
 CLI_SRC   := $(wildcard src/cli/*.c)
 LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
@@ -186,6 +186,8 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 # (tests/support/lib3mf_c.h)
 $(BUILD)/tests/mesh/test_3mf: private LIBS += $(LIB3MF_LIBS)
 $(BUILD)/bench-tools/bench_mesh_formats: private LIBS += $(LIB3MF_LIBS)
+# The lib3mf test reads hovox's 3MF Volumetric packages with the 3MF Consortium's library
+$(BUILD)/tests/threemf/test_lib3mf: private LIBS += $(LIB3MF_LIBS)
 
 # Benchmark drivers (tests/bench/*.c): small programs that call one kernel on a file.
 $(BUILD)/bench-tools/%: $(BUILD)/obj/tests/bench/%.o $(BUILD)/libhovox.a

@@ -149,24 +149,6 @@ void hv_gcvf_config_begin(hv_buf *x, const double dpi[2], double layer_height, i
                           size_t count, int bit_depth, int colors, const uint8_t bg[3]);
 void hv_gcvf_config_material(hv_buf *x, const char *name, const uint8_t rgb[3], uint64_t voxels);
 
-/* ZIP archives on libzip (ZIP64 when needed), written for reproducible bytes: every entry
- * dated 1980-01-01 00:00 with mode 0644, stored or deflated as asked.
- * hv_zip_open creates a temporary next to `path` (for a special path such as a FIFO or
- * /dev/null, in $TMPDIR: zip needs to seek), so an unwritable place fails before any work.
- * Entries are only recorded until hv_zip_write: hv_zip_add_data copies its bytes,
- * hv_zip_add_file keeps the file's name and reads it then (no file held open or in memory;
- * about 0.5 KiB per entry). hv_zip_write writes the archive to the temporary and syncs it,
- * reporting `stage` progress and polling hv_cancel_requested; hv_zip_commit renames it into
- * place (copies it, for a special path) and frees z; hv_zip_abort removes it and frees z.
- * Errors: HV_ERR_IO naming the archive and libzip's reason, or the entry file that cannot be
- * read; HV_ERR_NOMEM; HV_ERR_CANCELLED or the progress callback's status. After an error the
- * caller calls hv_zip_abort. Not thread-safe. */
-typedef struct hv_zip hv_zip;
-hv_status hv_zip_open(const char *path, hv_zip **out);
-hv_status hv_zip_add_data(hv_zip *z, const char *name, const void *data, size_t size, int deflate);
-hv_status hv_zip_add_file(hv_zip *z, const char *name, const char *file, int deflate);
-hv_status hv_zip_write(hv_zip *z, const hv_progress *progress, const char *stage);
-hv_status hv_zip_commit(hv_zip *z);
-void hv_zip_abort(hv_zip *z);
+#include "core/zip.h"
 
 #endif

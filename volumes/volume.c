@@ -8,6 +8,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "hovox/threemf.h"
 #include "hovox/volume.h"
 #include "core/json.h"
 #include "vdb_bridge.h"
@@ -868,6 +869,8 @@ hv_status hv_volume_load(const char *path, hv_volume **out)
     unsigned char magic[8] = {0};
     size_t got = fread(magic, 1, 8, fp);
     fclose(fp);
+    /* a ZIP archive: a 3MF package with the Volumetric extension (src/threemf) */
+    if (got >= 4 && magic[0] == 'P' && magic[1] == 'K' && magic[2] == 3 && magic[3] == 4) return hv_3mf_load(path, out, NULL);
     /* OpenVDB files start with the int64 magic 0x56444220 ("VDB ") */
     if (got < 8 || !(magic[0] == 0x20 && magic[1] == 0x42 && magic[2] == 0x44 && magic[3] == 0x56))
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: not an OpenVDB file (bad magic number)", path);

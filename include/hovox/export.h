@@ -1,7 +1,9 @@
 /* hovox/export.h - graded models out to VTK for inspection (ParaView) and simulation (FEA):
  * .vti image data (point data over a box) and .vtu hexahedral meshes (cell data, optional
  * NxNxN coarsening), with derived physical properties (Voigt and Reuss mixing rules and
- * measured linearization tables, after the subdivision-gradients seed's missing step). */
+ * measured linearization tables, after the subdivision-gradients seed's missing step); and to
+ * the 3MF ecosystem as a 3MF Volumetric package (.3mf; read back by hv_volume_load, see
+ * hovox/threemf.h). */
 #ifndef HOVOX_EXPORT_H
 #define HOVOX_EXPORT_H
 
@@ -79,11 +81,19 @@ HV_API int hv_linearization_count(const hv_linearization *lin);
 /* ==== export ============================================================================ */
 
 typedef enum hv_export_format {
-    HV_EXPORT_AUTO = 0, /* by the extension of the path: .vti or .vtu (any case) */
+    HV_EXPORT_AUTO = 0, /* by the extension of the path: .vti, .vtu or .3mf (any case) */
     HV_EXPORT_VTI = 1,  /* vtkImageData: one point per voxel centre over a box, point data */
-    HV_EXPORT_VTU = 2   /* vtkUnstructuredGrid: one VTK_HEXAHEDRON per occupied voxel (or
+    HV_EXPORT_VTU = 2,  /* vtkUnstructuredGrid: one VTK_HEXAHEDRON per occupied voxel (or
                            coarse block), points shared between neighbours, cell data */
+    HV_EXPORT_3MF = 3   /* 3MF package with the Volumetric extension: the exact voxel boundary
+                           as the mesh, the materials as base materials, one image3d stack of
+                           PNG sheets per material fraction and per derived property */
 } hv_export_format;
+
+/* The 3MF Volumetric extension's limits on an image stack (spec 3.2): rows, columns and
+ * sheets at most 1024^3 each, at most 1024^5 voxels. */
+#define HV_3MF_MAX_IMAGE_SIDE (1ull << 30)
+#define HV_3MF_MAX_IMAGE_VOXELS (1ull << 50)
 
 /* Mixing rules to derive properties with (bit flags). */
 enum { HV_MIX_VOIGT = 1u, HV_MIX_REUSS = 2u };
@@ -121,6 +131,7 @@ typedef struct hv_export_options {
                                        field a script computed (hv_volume_grid_set) */
     uint64_t max_memory;            /* budget for the export's buffers; 0: half of RAM */
     int zlib_level;                 /* 1 (fastest) - 9 (smallest); 0: 1 */
+    int bits;                       /* .3mf: bits per PNG sample, 8 or 16; 0: 8 */
     const hv_progress *progress;    /* may be NULL */
 } hv_export_options;
 
@@ -128,7 +139,7 @@ typedef struct hv_export_options {
 HV_API void hv_export_options_init(hv_export_options *opt);
 
 /* The export options as an option set (hovox/options.h): keys box, coarsen, keep, properties,
- * linearize (PROPERTY=FILE.csv, repeatable), grids, level, max_memory. Static data. */
+ * linearize (PROPERTY=FILE.csv, repeatable), grids, level, bits, max_memory. Static data. */
 HV_API const hv_option_set *hv_export_option_set(void);
 /* Every option's domain. Errors: HV_ERR_INVALID naming the option. */
 HV_API hv_status hv_export_options_check(const hv_export_options *opt);
@@ -136,17 +147,21 @@ HV_API hv_status hv_export_options_check(const hv_export_options *opt);
 /* What an export wrote (or would write). */
 typedef struct hv_export_report {
     hv_export_format format;
-    int64_t lo[3], hi[3];    /* .vti: voxel index range of the image (inclusive); .vtu: the
-                                bounding box of the exported occupied voxels */
-    int64_t dims[3];         /* .vti: points per axis; .vtu: 0 */
-    uint64_t points;         /* .vti: dims product; .vtu: hexahedron corner points */
-    uint64_t cells;          /* .vtu: hexahedra; .vti: 0 */
+    int64_t lo[3], hi[3];    /* .vti: voxel index range of the image (inclusive); .vtu, .3mf:
+                                the bounding box of the exported occupied voxels */
+    int64_t dims[3];         /* .vti: points per axis; .3mf: columns, rows and sheets of every
+                                image stack (x, y, z voxels); .vtu: 0 */
+    uint64_t points;         /* .vti: dims product; .vtu: hexahedron corner points; .3mf: mesh
+                                vertices (0 for a plan: known once the mesh is welded) */
+    uint64_t cells;          /* .vtu: hexahedra; .3mf: mesh triangles; .vti: 0 */
     uint64_t occupied;       /* occupied voxels inside the box */
     int materials;           /* 0 when the model has no material table (occupancy only) */
-    int arrays;              /* data arrays written (occupancy, fractions, properties) */
+    int arrays;              /* data arrays written (occupancy, fractions, properties); .3mf:
+                                image stacks (fractions, properties) */
+    int bits;                /* .3mf: bits per PNG sample */
     uint64_t memory_bytes;   /* planned bytes of the export's buffers */
     uint64_t file_bytes;     /* size of the file written (0 for a plan) */
-    char names[2048];        /* the data array names, comma-separated */
+    char names[2048];        /* the data array names, comma-separated (.3mf: the image stacks) */
     char notes[1024];        /* why properties were left out, one per line ("" if none) */
 } hv_export_report;
 
@@ -179,6 +194,30 @@ typedef struct hv_export_report {
  * fails at once) and renamed when complete, so a failure leaves no file. `report` (may be
  * NULL) is filled. Multi-threaded; the file does not depend on the thread count. Progress
  * stages: "export cells", "export points" (.vtu), "export fill", "export write".
+ *
+ * .3mf (3MF Core 1.3 with the Volumetric extension 0.8, namespaces and names as its spec): an
+ * OPC package ([Content_Types].xml, _rels/.rels, 3D/3dmodel.model and its relationships
+ * 3D/_rels/3dmodel.model.rels to every PNG sheet, type 3dtexture) holding
+ *   - one object whose mesh is the exact boundary of the exported occupied voxels (the faces
+ *     between occupied and unoccupied voxels, two triangles each, outward, one vertex per
+ *     voxel corner and surface sheet: voxels meeting only along an edge or at a corner get
+ *     separate vertices there, so every edge has exactly two triangles), unit millimeter;
+ *   - the material table as <basematerials> (names; display colours #RRGGBB[AA]);
+ *   - per material an <v:image3d> named after it with an <v:imagestack> of PNG sheets
+ *     /3D/volumetric/<name>/sheetNNNN.png (grey, opt->bits bits; column = x, row 0 = the
+ *     highest y, sheet 0001 = the lowest z) over the occupied voxels' bounding box, 0 outside
+ *     the model; the fractions of a voxel are rounded so that they sum to exactly 2^bits - 1;
+ *   - per stack a <v:functionfromimage3d> (filter linear, tilestyles clamp);
+ *   - a <v:volumedata> with a <v:composite> (basematerialid: the base materials) of one
+ *     <v:materialmapping> per material (channel red, transform: model millimetres to the
+ *     stack's UVW so that voxel centres fall on pixel centres), and one <v:property> per
+ *     derived property array (name "hovox:<array>" in the namespace urn:hovox:3mf:2025, SI
+ *     units, the unit in attribute hovox:unit; required="false"; the values scaled into the
+ *     sheets by valueoffset and valuescale);
+ *   - metadata Application, hovox:materials (the material table as JSON) and hovox:origin.
+ * The sheets are written to a temporary directory next to the file first and packed
+ * (stored); the model part is deflated at opt->zlib_level. Progress stages: "export mesh",
+ * "export sheets", "export write". A model without materials is refused (HV_ERR_INVALID).
  * Errors: HV_ERR_INVALID (unknown extension, bad options, box without voxel centres,
  * nothing occupied to export as .vtu, a grid named twice or clashing with another
  * array), HV_ERR_BAD_INPUT (fractions that do not sum to 1,
@@ -186,7 +225,8 @@ typedef struct hv_export_report {
  * grids: the message lists the model's float grids),
  * HV_ERR_LIMIT (buffers over max_memory; the message says how much is needed),
  * HV_ERR_IO (cannot write or rename), HV_ERR_UNSUPPORTED (VTK plugin missing),
- * HV_ERR_NOMEM, HV_ERR_CANCELLED, HV_ERR_INTERNAL. */
+ * HV_ERR_NOMEM, HV_ERR_CANCELLED, HV_ERR_INTERNAL; for .3mf also HV_ERR_LIMIT naming the 3MF
+ * Volumetric limit an image stack would exceed. */
 HV_API hv_status hv_export_write(const hv_volume *vol, const char *path,
                                  const hv_export_options *opt, hv_export_report *report);
 
@@ -197,8 +237,8 @@ HV_API hv_status hv_export_write(const hv_volume *vol, const char *path,
 HV_API hv_status hv_export_plan(const hv_volume *vol, const char *path,
                                 const hv_export_options *opt, hv_export_report *report);
 
-/* Format named by a path's extension: HV_EXPORT_VTI, HV_EXPORT_VTU or HV_EXPORT_AUTO (none
- * of them). */
+/* Format named by a path's extension: HV_EXPORT_VTI, HV_EXPORT_VTU, HV_EXPORT_3MF or
+ * HV_EXPORT_AUTO (none of them). */
 HV_API hv_export_format hv_export_format_from_path(const char *path);
 
 #ifdef __cplusplus

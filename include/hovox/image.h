@@ -50,8 +50,10 @@ typedef struct hv_png_options {
     int palette_size;       /* 1..256 */
     const char *text_key;   /* optional tEXt chunk (1-79 Latin-1 bytes) ... */
     const char *text_value; /* ... and its value */
-    int bit_depth;          /* 1, 2, 4 or 8 (0 means 8); below 8 only with channels == 1 (grey
-                               or indexed): pixels stay one per byte, values < 2^bit_depth */
+    int bit_depth;          /* 1, 2, 4, 8 or 16 (0 means 8); below 8 only with channels == 1
+                               (grey or indexed): pixels stay one per byte, values < 2^bit_depth;
+                               16 (no palette): two bytes per sample, most significant first
+                               (PNG's order) */
     int in_place;           /* 1: hv_png_write writes the file under its name, unsynced, and
                                removes it on failure: for files inside a directory that is
                                itself written whole and renamed (a slice stack) */
@@ -60,9 +62,9 @@ typedef struct hv_png_options {
 /* Defaults: compression -1, no pHYs, no palette, no text, bit depth 8. */
 HV_API void hv_png_options_init(hv_png_options *opt);
 
-/* Encode 8-bit pixels as PNG. channels: 1 grey (indexed when opt->palette is set; values must
+/* Encode pixels as PNG. channels: 1 grey (indexed when opt->palette is set; values must
  * then be < palette_size), 2 grey+alpha, 3 RGB, 4 RGBA (straight alpha). `stride` is the byte
- * distance between rows (0: width*channels). opt may be NULL.
+ * distance between rows (0: width*channels, times 2 at 16 bits). opt may be NULL.
  * hv_png_write writes the file atomically (temporary name, sync, rename; opt->in_place: see
  * there). hv_png_encode returns a
  * malloc'd buffer in *data (free() it) of *size bytes.
@@ -74,6 +76,27 @@ HV_API hv_status hv_png_write(const char *path, const uint8_t *pixels, int width
 HV_API hv_status hv_png_encode(const uint8_t *pixels, int width, int height, int channels,
                                size_t stride, const hv_png_options *opt, uint8_t **data,
                                size_t *size);
+
+/* A decoded PNG: every sample widened to 16 bits, rows top to bottom. Palettes become RGB
+ * (RGBA with a tRNS chunk), grey of 1, 2 or 4 bits becomes 8-bit grey by bit replication (so
+ * value / (2^bit_depth - 1) is the stored value normalised to [0, 1] in every case); gamma
+ * and colour chunks are not applied. */
+typedef struct hv_png_pixels {
+    int width, height;
+    int channels;      /* 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA */
+    int bit_depth;     /* 8 or 16: samples lie in [0, 2^bit_depth - 1] */
+    uint16_t *samples; /* width * height * channels; free with hv_png_pixels_free */
+} hv_png_pixels;
+
+/* Decode a PNG held in memory, treated as hostile: the image is refused before its buffer is
+ * allocated when it has more than max_samples samples (width x height x channels); ancillary
+ * chunks are limited to 8 MiB. `name` prefixes messages. Errors: HV_ERR_BAD_INPUT ("name: not
+ * a PNG (no PNG signature)", "name: not a readable PNG: <libpng's reason>": truncated, bad CRC,
+ * damaged data), HV_ERR_LIMIT, HV_ERR_NOMEM. On error *out holds nothing. */
+HV_API hv_status hv_png_decode(const void *data, size_t size, const char *name, uint64_t max_samples,
+                               hv_png_pixels *out);
+/* Free the samples; NULL and a zeroed struct are allowed. */
+HV_API void hv_png_pixels_free(hv_png_pixels *p);
 
 #ifdef __cplusplus
 }

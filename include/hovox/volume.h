@@ -213,7 +213,9 @@ HV_API const char *hv_volume_meta_key(const hv_volume *vol, int i);
  * special file such as /dev/null), HV_ERR_IO, HV_ERR_NOMEM, HV_ERR_CANCELLED. */
 HV_API hv_status hv_volume_save(const hv_volume *vol, const char *path);
 
-/* Load an OpenVDB file. Float, double, int32 and bool grids are read (doubles and ints become
+/* Load a model: an OpenVDB file, or a 3MF package with the Volumetric extension (a ZIP archive,
+ * told apart by its first bytes; read by hv_3mf_load, hovox/threemf.h, with its errors).
+ * OpenVDB: float, double, int32 and bool grids are read (doubles and ints become
  * float grids, mask grids bool grids); every grid must use the same axis-aligned linear
  * transform; the topology is the union of the grids' active voxels (active tiles are
  * expanded to voxels). Every read is checked: a file that ends early or is damaged is refused

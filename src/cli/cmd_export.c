@@ -1,6 +1,7 @@
-/* src/cli/cmd_export.c - `hovox export MODEL.vdb -o OUT.vti|OUT.vtu`: a graded model to VTK
- * image data or a hexahedral mesh, with derived properties, for ParaView and FEA codes. The
- * options are the library's (hv_export_option_set). */
+/* src/cli/cmd_export.c - `hovox export MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf`: a graded model to
+ * VTK image data or a hexahedral mesh, with derived properties, for ParaView and FEA codes, or to
+ * a 3MF Volumetric package for the 3MF ecosystem. The options are the library's
+ * (hv_export_option_set). */
 #include <stdio.h>
 #include <string.h>
 
@@ -17,13 +18,13 @@ static hv_status check_vtk_path(const hv_option *o, const void *opts)
 {
     const char *path = *(const char *const *)((const char *)opts + o->offset);
     if (hv_export_format_from_path(path) != HV_EXPORT_AUTO) return HV_OK;
-    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .vti or .vtu)", path);
+    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .vti, .vtu or .3mf)", path);
 }
 
 static const hv_option k_local_opts[] = {
     {.key = "output", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED | HV_OPT_OUT_PATH,
      .offset = offsetof(export_cli, output), .meta = "FILE", .check = check_vtk_path,
-     .help = ".vti or .vtu, written atomically", .section = "Output"},
+     .help = ".vti, .vtu or .3mf, written atomically", .section = "Output"},
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(export_cli, dry_run),
      .help = "print the plan (arrays, sizes, memory), write nothing"},
 };
@@ -60,7 +61,15 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
            (long long)rep->lo[0], (long long)rep->hi[0], (long long)rep->lo[1], (long long)rep->hi[1],
            (long long)rep->lo[2], (long long)rep->hi[2], (unsigned long long)rep->occupied, xf.voxel[0], xf.voxel[1],
            xf.voxel[2]);
-    if (rep->format == HV_EXPORT_VTI)
+    if (rep->format == HV_EXPORT_3MF) {
+        if (rep->points)
+            printf("mesh        %llu triangles, %llu vertices (the exact voxel boundary)\n", (unsigned long long)rep->cells,
+                   (unsigned long long)rep->points);
+        else
+            printf("mesh        %llu triangles (the exact voxel boundary)\n", (unsigned long long)rep->cells);
+        printf("images      %d stacks of %lld %d-bit sheets of %lld x %lld pixels\n", rep->arrays, (long long)rep->dims[2],
+               rep->bits, (long long)rep->dims[0], (long long)rep->dims[1]);
+    } else if (rep->format == HV_EXPORT_VTI)
         printf("image       %lld x %lld x %lld points\n", (long long)rep->dims[0], (long long)rep->dims[1],
                (long long)rep->dims[2]);
     else if (opt->coarsen > 1)
@@ -69,7 +78,7 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
     else
         printf("mesh        %llu hexahedra, %llu points\n", (unsigned long long)rep->cells,
                (unsigned long long)rep->points);
-    print_list("arrays", rep->names);
+    print_list(rep->format == HV_EXPORT_3MF ? "stacks" : "arrays", rep->names);
     char mem[32];
     printf("memory      about %s\n", hv_size_text(mem, sizeof mem, (double)rep->memory_bytes));
     if (!c->dry_run) printf("wrote       %s (%llu bytes)\n", c->output, (unsigned long long)rep->file_bytes);
@@ -106,7 +115,8 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
 static int run_cli(const cli_args *args, void *lib, void *local) { return run(args->pos[0], lib, local, args->quiet); }
 
 const cli_spec cmd_export = {
-    "export", "export a model to VTK (.vti image data, .vtu hexahedra)", "MODEL.vdb -o OUT.vti|OUT.vtu [options]",
+    "export", "export a model to VTK (.vti image data, .vtu hexahedra) or 3MF (.3mf)",
+    "MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf [options]",
     "Export a model to VTK XML (appended raw binary, zlib, 64-bit headers) for ParaView and\n"
     "FEA codes. .vti: image data over the occupied voxels' bounding box (or --box), one point\n"
     "per voxel centre. .vtu: one hexahedron per occupied voxel (or NxNxN block), corner points\n"
@@ -114,5 +124,9 @@ const cli_spec cmd_export = {
     "(density, youngs_modulus, poisson_ratio, ...) <property>.voigt[<unit>] (rule of\n"
     "mixtures, sum p_j X_j) and <property>.reuss[<unit>] (inverse rule, 1 / sum p_j / X_j),\n"
     "plus <property>.table[<unit>] per --linearize table. A model without materials is\n"
-    "exported as occupancy only.\n",
+    "exported as occupancy only.\n"
+    ".3mf: a 3MF package with the Volumetric extension: the exact voxel boundary as the mesh\n"
+    "(mm), the materials as base materials, one image3d stack of PNG sheets per material\n"
+    "fraction and per derived property (8 or 16 bits, --bits), a volumedata whose composite\n"
+    "maps the fractions to the base materials; hovox reads it back as a graded model.\n",
     hv_export_option_set, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

@@ -1,7 +1,7 @@
 /* src/cli/cmd_layers.c - `hovox layers MODEL.vdb --mesh MESH.stl -o DIR`: printer slice stacks
  * (Wu 2.4.2): contour-constrained material layers at printer resolution, halftoned or as
- * fractions or masks, PNG layers with manifest.json, optionally a GCVF zip. The options are the
- * library's (hv_layers_option_set). */
+ * fractions or masks, PNG layers with manifest.json, optionally a GCVF zip. A 3MF Volumetric
+ * model brings its mesh. The options are the library's (hv_layers_option_set). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +12,7 @@
 #include "hovox/dist.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
+#include "hovox/threemf.h"
 
 typedef struct layers_cli {
     const char *output, *mesh;
@@ -24,8 +25,9 @@ static const hv_option k_local_opts[] = {
                "or be empty)", 0),
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(layers_cli, dry_run),
      .help = "print the plan (image size, layers, memory) and stop"},
-    {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED | HV_OPT_IN_PATH, .offset = offsetof(layers_cli, mesh),
-     .meta = "FILE", .help = "the mesh the model was made from (required)", .section = "Geometry"},
+    {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(layers_cli, mesh),
+     .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
+     .section = "Geometry"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("layers", k_local_opts, layers_cli);
 
@@ -54,7 +56,7 @@ static void warn(const hv_layers_report *r, size_t from)
 static void report(const hv_layers_report *r, const hv_layers_options *o, const layers_cli *c, const hv_mesh *mesh,
                    const hv_volume *model)
 {
-    printf("mesh        %s (%zu facets)\n", c->mesh, hv_mesh_facet_count(mesh));
+    printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
     hv_material_table *t = NULL;
     if (model && hv_material_table_load(model, &t) == HV_OK)
         printf("model       %s (%d materials)\n", o->model_name, hv_material_count(t));
@@ -83,8 +85,14 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
 {
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
-    hv_status s = hv_mesh_load(c->mesh, &mesh);
-    if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_volume_load(o->model_name, &model);
+    hv_status s;
+    if (!c->mesh) { /* a 3MF Volumetric model: its mesh and its model in one read */
+        s = hv_3mf_load(o->model_name, &model, &mesh);
+        o->mesh_name = o->model_name;
+    } else {
+        s = hv_mesh_load(c->mesh, &mesh);
+        if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_volume_load(o->model_name, &model);
+    }
     hv_layers_report r;
     memset(&r, 0, sizeof r);
     if (s == HV_OK) {
@@ -126,6 +134,8 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (!c->output && !c->dry_run) return cli_usage_error("layers", "missing -o DIR");
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
+    if (!c->mesh && (args->npos == 0 || !hv_3mf_sniff(args->pos[0])))
+        return cli_usage_error("layers", "--mesh is required (a .3mf model brings its own)");
     o->mesh_name = c->mesh;
     o->model_name = args->npos ? args->pos[0] : NULL;
     o->dist = cli_dist;
@@ -134,7 +144,8 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 
 const cli_spec cmd_layers = {
     "layers", "printer slice stacks (PNG) from a model and its mesh",
-    "MODEL.vdb --mesh MESH.stl -o DIR [options]\n       hovox layers --mesh MESH.stl -o DIR --mode mask [options]",
+    "MODEL.vdb --mesh MESH.stl -o DIR [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
+    "       hovox layers --mesh MESH.stl -o DIR --mode mask [options]",
     "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the mesh's\n"
     "lowest z; each is cut at its mid-height z. Per layer the mesh's contour (WDG slicer) is\n"
     "rasterised at printer resolution by pixel centres: that decides object and background,\n"

@@ -87,7 +87,8 @@ hv_status hv_atomic_write(const char *path, const void *data, size_t size);
 const char *hv_size_text(char *buf, size_t size, double bytes);
 /* A temporary path next to `path` (caller frees), for writers that take a path; for a
  * special `path` (see below) one in $TMPDIR (default /tmp). Temporaries of the same name left
- * by processes that died (".<name>.tmp-<pid>-<n>" of a gone pid) are removed first. */
+ * by processes that died (".<name>.tmp-<pid>-<n>" of a gone pid, files or directories) are
+ * removed first. */
 char *hv_temp_path(const char *path);
 /* Puts a finished temporary file in place: rename, or for a special `path` copy its bytes
  * there and remove `tmp`. Errors: HV_ERR_IO naming `path` (then `tmp` is left to the caller
@@ -153,6 +154,8 @@ hv_status hv_outdir_begin(const char *dir, const hv_outdir_rules *rules, int for
 hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rules *rules, int force);
 /* Remove the temporary directory and everything in it (best effort). */
 void hv_outdir_abort(const char *tmp);
+/* Remove a directory tree (or a file) without following links (best effort). */
+void hv_remove_tree(const char *path);
 
 /* ---- plugins ---------------------------------------------------------------------------- */
 /* Load plugins/<name>.so (searched in $HOVOX_PLUGIN_DIR, <exe dir>/plugins,

@@ -71,7 +71,7 @@ static int rm_entry(const char *path, const struct stat *sb, int flag, struct FT
     return 0;
 }
 
-static void remove_tree(const char *path)
+void hv_remove_tree(const char *path)
 {
     if (path && *path) nftw(path, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
 }
@@ -99,7 +99,7 @@ static void remove_stale(const char *dir)
         hv_buf p;
         hv_buf_init(&p);
         hv_buf_printf(&p, "%s/%s", parent, s);
-        if (!p.failed) remove_tree(p.data);
+        if (!p.failed) hv_remove_tree(p.data);
         hv_buf_free(&p);
     }
     if (d) closedir(d);
@@ -234,7 +234,7 @@ hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rul
     if (kind == OURS && (force || !r->need_force)) {
         char *old = sibling(dir, "old", (long)getpid());
         if (!old) return hv_error_set(HV_ERR_NOMEM, "out of memory");
-        remove_tree(old);
+        hv_remove_tree(old);
         if (rename(dir, old) != 0) {
             hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot move the old %s aside: %s", dir, r->what, strerror(errno));
             free(old);
@@ -246,7 +246,7 @@ hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rul
             free(old);
             return s;
         }
-        remove_tree(old);
+        hv_remove_tree(old);
         free(old);
         return HV_OK;
     }
@@ -257,4 +257,4 @@ hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rul
     return HV_OK;
 }
 
-void hv_outdir_abort(const char *tmp) { remove_tree(tmp); }
+void hv_outdir_abort(const char *tmp) { hv_remove_tree(tmp); }

@@ -260,7 +260,9 @@ static void clean_stale(const char *dir, size_t dirlen, const char *base)
         char full[4600];
         snprintf(full, sizeof full, "%s/%s", d, e->d_name);
         struct stat st;
-        if (lstat(full, &st) == 0 && S_ISREG(st.st_mode)) unlink(full);
+        if (lstat(full, &st) != 0) continue;
+        if (S_ISREG(st.st_mode)) unlink(full);
+        else if (S_ISDIR(st.st_mode)) hv_remove_tree(full); /* a writer's scratch directory */
     }
     closedir(dp);
 }

@@ -31,6 +31,7 @@ hv_export_format hv_export_format_from_path(const char *path)
     if (!dot || strchr(dot, '/')) return HV_EXPORT_AUTO;
     if (strcasecmp(dot, ".vti") == 0) return HV_EXPORT_VTI;
     if (strcasecmp(dot, ".vtu") == 0) return HV_EXPORT_VTU;
+    if (strcasecmp(dot, ".3mf") == 0) return HV_EXPORT_3MF;
     return HV_EXPORT_AUTO;
 }
 
@@ -252,7 +253,7 @@ static hv_status build_grid_props(ex_model *md, const char *grids, size_t *cap)
 
 /* ---- the model: materials, occupancy, box ----------------------------------------------- */
 
-static void model_free(ex_model *md)
+void ex_model_free(ex_model *md)
 {
     hv_material_table_destroy(md->table);
     free(md->props);
@@ -271,7 +272,7 @@ static int world_to_range(double o, double v, double a, double b, int64_t *lo, i
     return l <= h;
 }
 
-static hv_status model_init(ex_model *md, const hv_volume *vol, const hv_export_options *opt)
+hv_status ex_model_init(ex_model *md, const hv_volume *vol, const hv_export_options *opt)
 {
     memset(md, 0, sizeof *md);
     hv_buf_init(&md->notes);
@@ -569,14 +570,16 @@ static hv_status check_options(const char *path, const hv_export_options *opt,
     if (*fmt == HV_EXPORT_AUTO) {
         *fmt = hv_export_format_from_path(path);
         if (*fmt == HV_EXPORT_AUTO)
-            return hv_error_set(HV_ERR_INVALID, "%s: unknown extension (use .vti or .vtu)", path);
+            return hv_error_set(HV_ERR_INVALID, "%s: unknown extension (use .vti, .vtu or .3mf)", path);
     }
-    if (*fmt != HV_EXPORT_VTI && *fmt != HV_EXPORT_VTU)
+    if (*fmt != HV_EXPORT_VTI && *fmt != HV_EXPORT_VTU && *fmt != HV_EXPORT_3MF)
         return hv_error_set(HV_ERR_INVALID, "export: unknown format %d", (int)*fmt);
     hv_status s = hv_export_options_check(opt);
     if (s != HV_OK) return s;
     if (opt->coarsen > 1 && *fmt != HV_EXPORT_VTU)
         return hv_error_option(HV_ERR_INVALID, "{coarsen} applies to .vtu output only");
+    if (opt->bits && *fmt != HV_EXPORT_3MF)
+        return hv_error_option(HV_ERR_INVALID, "{bits} applies to .3mf output only");
     return HV_OK;
 }
 
@@ -588,9 +591,10 @@ static hv_status plan_all(const hv_volume *vol, const char *path, const hv_expor
     hv_status s = check_options(path, opt, &fmt);
     if (s != HV_OK) return s;
     r->format = fmt;
-    s = model_init(md, vol, opt);
+    s = ex_model_init(md, vol, opt);
     if (s != HV_OK) return s;
     report_names(md, r);
+    if (fmt == HV_EXPORT_3MF) return ex_3mf_plan(md, opt, r);
     return fmt == HV_EXPORT_VTI ? vti_plan(md, r) : vtu_plan(md, opt, h, r);
 }
 
@@ -609,7 +613,7 @@ static hv_status plan_impl(const hv_volume *vol, const char *path, const hv_expo
     hv_export_report tmp;
     hv_status s = plan_all(vol, path, opt, &md, &h, report ? report : &tmp);
     ex_hexmesh_free(&h);
-    model_free(&md);
+    ex_model_free(&md);
     return s;
 }
 
@@ -620,6 +624,11 @@ static hv_status check_budget(const hv_export_options *opt, const hv_export_repo
     char need[32], have[32];
     hv_size_text(need, sizeof need, (double)r->memory_bytes);
     hv_size_text(have, sizeof have, (double)budget);
+    if (r->format == HV_EXPORT_3MF)
+        return hv_error_option(HV_ERR_LIMIT, "export: the 3MF package (a mesh of %llu triangles, %d image stacks of "
+                               "%lld x %lld pixels per sheet) needs %s, more than the limit of %s ({max_memory})",
+                               (unsigned long long)r->cells, r->arrays, (long long)r->dims[0], (long long)r->dims[1],
+                               need, have);
     if (r->format == HV_EXPORT_VTI)
         return hv_error_option(HV_ERR_LIMIT, "export: the image of %lld x %lld x %lld points x %d "
                             "arrays needs %s, more than the limit of %s ({max_memory}); export "
@@ -654,6 +663,12 @@ static hv_status write_impl(const hv_volume *vol, const char *path, const hv_exp
 
     hv_status s = plan_all(vol, path, opt, &md, &h, r);
     if (s == HV_OK) s = check_budget(opt, r);
+    if (s == HV_OK && r->format == HV_EXPORT_3MF) {
+        s = ex_3mf_write(&md, path, opt, r);
+        ex_hexmesh_free(&h);
+        ex_model_free(&md);
+        return s;
+    }
     if (s == HV_OK) s = vtk_api();
     /* claim the temporary name now, so an unwritable place fails before the work */
     if (s == HV_OK) {
@@ -728,7 +743,7 @@ static hv_status write_impl(const hv_volume *vol, const char *path, const hv_exp
     free(conn);
     out_free(&out);
     ex_hexmesh_free(&h);
-    model_free(&md);
+    ex_model_free(&md);
     return s;
 }
 

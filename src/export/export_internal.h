@@ -36,6 +36,18 @@ typedef struct ex_model {
     hv_buf notes;
 } ex_model;
 
+/* The model for an export: materials, property arrays, occupied voxels inside the box (md->occ)
+ * and their bounding box. Errors: those of the material table, the property arrays and
+ * HV_ERR_INVALID (a box without voxel centres), HV_ERR_NOMEM. Free with ex_model_free (also
+ * after a failure). */
+hv_status ex_model_init(ex_model *md, const hv_volume *vol, const hv_export_options *opt);
+void ex_model_free(ex_model *md);
+
+/* The 3MF Volumetric package (src/threemf/write.c): the plan fills r (dims, triangles, stacks,
+ * memory); the write, given that plan in r, claims the output's temporary, writes and renames it. */
+hv_status ex_3mf_plan(const ex_model *md, const hv_export_options *opt, hv_export_report *r);
+hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_options *opt, hv_export_report *r);
+
 /* Material fractions at an occupied voxel must be finite, in [0,1] and sum to 1 (within
  * 1e-4: they are stored as floats). HV_ERR_BAD_INPUT naming the voxel otherwise. */
 /* "12.3 MiB" and the like, into buf. */

@@ -47,6 +47,13 @@ static hv_status parse_linearize(const hv_option *o, void *opts, const hv_opt_va
     return HV_OK;
 }
 
+static hv_status check_bits(const hv_option *o, const void *opts)
+{
+    int b = ((const hv_export_options *)opts)->bits;
+    if (b == 0 || b == 8 || b == 16) return HV_OK;
+    return hv_error_option(HV_ERR_INVALID, "{%s} must be 8 or 16, got %d", o->key, b);
+}
+
 #define OFF(f) offsetof(hv_export_options, f)
 static const hv_option k_opts[] = {
     {.key = "box", .kind = HV_OPT_CUSTOM, .meta = "X0,Y0,Z0,X1,Y1,Z1", .parse = parse_box,
@@ -69,6 +76,9 @@ static const hv_option k_opts[] = {
              "their names"},
     {.key = "level", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = 9, .flags = HV_OPT_UNSET0,
      .offset = OFF(zlib_level), .meta = "N", .help = "zlib level: 1 (fastest, default) to 9 (smallest)"},
+    {.key = "bits", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 8, .hi = 16, .flags = HV_OPT_UNSET0,
+     .offset = OFF(bits), .meta = "N", .check = check_bits,
+     .help = ".3mf: bits per PNG sample of the image stacks, 8 (default) or 16"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",
      .help = "refuse exports whose buffers need more (default: half of RAM), e.g. 2G"},
 };
@@ -86,8 +96,10 @@ static hv_status validate(const void *opts)
     if (o->nlinearize < 0 || o->nlinearize > HV_EXPORT_MAX_TABLES)
         return hv_error_set(HV_ERR_INVALID, "export: %d linearization files (at most %d)", o->nlinearize,
                             HV_EXPORT_MAX_TABLES);
-    if (o->format == HV_EXPORT_VTI && o->coarsen > 1)
+    if ((o->format == HV_EXPORT_VTI || o->format == HV_EXPORT_3MF) && o->coarsen > 1)
         return hv_error_option(HV_ERR_INVALID, "{coarsen} applies to .vtu output only");
+    if ((o->format == HV_EXPORT_VTI || o->format == HV_EXPORT_VTU) && o->bits)
+        return hv_error_option(HV_ERR_INVALID, "{bits} applies to .3mf output only");
     if (o->use_box)
         for (int a = 0; a < 3; ++a)
             if (!isfinite(o->box_lo[a]) || !isfinite(o->box_hi[a]) || o->box_lo[a] > o->box_hi[a])

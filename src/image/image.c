@@ -1,6 +1,7 @@
-/* src/image/image.c - the image module (hovox/image.h): float RGBA images, 8-bit PNG through libpng
- * (grey, grey+alpha, RGB, RGBA, indexed; pHYs resolution; to a file atomically or to memory),
- * and EXR/TIFF through the OpenImageIO bridge plugin, loaded only when asked for. */
+/* src/image/image.c - the image module (hovox/image.h): float RGBA images, PNG through libpng
+ * (grey, grey+alpha, RGB, RGBA, indexed, 1 to 16 bits; pHYs resolution; to a file atomically or
+ * to memory; decoding untrusted PNGs from memory), and EXR/TIFF through the OpenImageIO bridge
+ * plugin, loaded only when asked for. */
 #include <errno.h>
 #include <png.h>
 #include <pthread.h>
@@ -132,9 +133,10 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
                             height);
     if (channels < 1 || channels > 4)
         return hv_error_set(HV_ERR_INVALID, "PNG: %d channels (1 to 4)", channels);
-    if (stride && stride < (size_t)width * (size_t)channels)
-        return hv_error_set(HV_ERR_INVALID, "PNG: row stride %zu is less than %d x %d bytes",
-                            stride, width, channels);
+    size_t bps = o && o->bit_depth == 16 ? 2 : 1; /* bytes per sample */
+    if (stride && stride < (size_t)width * (size_t)channels * bps)
+        return hv_error_set(HV_ERR_INVALID, "PNG: row stride %zu is less than %d x %d x %zu bytes",
+                            stride, width, channels, bps);
     if (!o) return HV_OK;
     if (o->compression < -1 || o->compression > 9)
         return hv_error_set(HV_ERR_INVALID, "PNG: compression level %d (0..9 or -1)",
@@ -158,8 +160,10 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
                         x, y, pixels[(size_t)y * st + (size_t)x], o->palette_size);
     }
     int depth = o->bit_depth ? o->bit_depth : 8;
-    if (depth != 1 && depth != 2 && depth != 4 && depth != 8)
-        return hv_error_set(HV_ERR_INVALID, "PNG: bit depth %d (1, 2, 4 or 8)", o->bit_depth);
+    if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16)
+        return hv_error_set(HV_ERR_INVALID, "PNG: bit depth %d (1, 2, 4, 8 or 16)", o->bit_depth);
+    if (depth == 16 && o->palette)
+        return hv_error_set(HV_ERR_INVALID, "PNG: a palette needs at most 8 bits (got 16)");
     if (depth < 8) {
         if (channels != 1)
             return hv_error_set(HV_ERR_INVALID, "PNG: bit depth %d needs 1 channel (got %d)", depth,
@@ -235,7 +239,7 @@ static hv_status encode(png_sink *s, const uint8_t *pixels, int width, int heigh
     png_write_info(png, info);
     /* rows stay one pixel per byte; set after png_write_info, which resets the user depth */
     if (depth < 8) png_set_packing(png);
-    size_t st = stride ? stride : (size_t)width * (size_t)channels;
+    size_t st = stride ? stride : (size_t)width * (size_t)channels * (depth == 16 ? 2u : 1u);
     for (int y = 0; y < height; ++y) png_write_row(png, pixels + (size_t)y * st);
     png_write_end(png, info);
     png_destroy_write_struct(&png, &info);
@@ -288,6 +292,114 @@ hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int h
         return hv_error_prefix(st, "%s: ", path);
     }
     return hv_atomic_commit(&af);
+}
+
+/* ---- PNG in ------------------------------------------------------------------------------- */
+
+typedef struct png_source {
+    const uint8_t *data;
+    size_t size, at;
+    char msg[256];
+} png_source;
+
+static void source_error(png_structp png, png_const_charp msg)
+{
+    png_source *s = png_get_error_ptr(png);
+    if (!s->msg[0]) snprintf(s->msg, sizeof s->msg, "%s", msg);
+    png_longjmp(png, 1);
+}
+
+static void source_read(png_structp png, png_bytep out, size_t n)
+{
+    png_source *s = png_get_io_ptr(png);
+    if (n > s->size - s->at) png_error(png, "the file ends early");
+    memcpy(out, s->data + s->at, n);
+    s->at += n;
+}
+
+void hv_png_pixels_free(hv_png_pixels *p)
+{
+    if (!p) return;
+    free(p->samples);
+    memset(p, 0, sizeof *p);
+}
+
+/* The decoder keeps everything libpng must clean up in these, untouched between setjmp and a
+ * longjmp; `rows` and the output are freed by the caller of decode_png. */
+typedef struct png_decode {
+    png_structp png;
+    png_infop info;
+    uint8_t *row;
+    hv_png_pixels *out;
+} png_decode;
+
+static hv_status decode_png(png_decode *d, png_source *src, const char *name, uint64_t max_samples)
+{
+    if (setjmp(png_jmpbuf(d->png))) return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a readable PNG: %s", name, src->msg);
+    png_set_read_fn(d->png, src, source_read);
+    png_set_user_limits(d->png, 0x7fffffff, 0x7fffffff);
+    png_set_chunk_malloc_max(d->png, 8u << 20); /* ancillary chunks (iCCP, zTXt) stay small */
+    png_read_info(d->png, d->info);
+    png_uint_32 w = png_get_image_width(d->png, d->info), h = png_get_image_height(d->png, d->info);
+    int depth = png_get_bit_depth(d->png, d->info), type = png_get_color_type(d->png, d->info);
+    if (png_get_interlace_type(d->png, d->info) != PNG_INTERLACE_NONE) png_set_interlace_handling(d->png);
+    if (type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(d->png);
+    if (type == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(d->png);
+    if (png_get_valid(d->png, d->info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(d->png);
+    if (depth == 16) png_set_swap(d->png); /* host order (little-endian machines) */
+    png_read_update_info(d->png, d->info);
+    int channels = png_get_channels(d->png, d->info);
+    int bits = png_get_bit_depth(d->png, d->info);
+    if (channels < 1 || channels > 4 || (bits != 8 && bits != 16))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: PNG of %d channels of %d bits", name, channels, bits);
+    uint64_t samples = (uint64_t)w * h * (uint64_t)channels;
+    if (samples > max_samples)
+        return hv_error_set(HV_ERR_LIMIT, "%s: a PNG of %u x %u pixels is larger than allowed here (%llu samples)",
+                            name, (unsigned)w, (unsigned)h, (unsigned long long)max_samples);
+    size_t rowbytes = png_get_rowbytes(d->png, d->info);
+    if (rowbytes != (size_t)w * (size_t)channels * (size_t)(bits / 8))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: PNG rows of %zu bytes", name, rowbytes);
+    int passes = png_set_interlace_handling(d->png);
+    /* interlaced images are combined pass by pass into rows that start out zero */
+    d->out->samples = passes > 1 ? hv_calloc((size_t)samples, sizeof(uint16_t))
+                                 : hv_malloc_array((size_t)samples, sizeof(uint16_t));
+    d->row = hv_malloc(rowbytes ? rowbytes : 1);
+    if (!d->out->samples || !d->row) return HV_ERR_NOMEM;
+    for (int pass = 0; pass < passes; ++pass)
+        for (png_uint_32 y = 0; y < h; ++y) {
+            uint16_t *dst = d->out->samples + (size_t)y * w * (size_t)channels;
+            if (passes > 1) { /* interlaced: rows are combined with what earlier passes put there */
+                if (bits == 16) memcpy(d->row, dst, rowbytes);
+                else
+                    for (size_t i = 0; i < rowbytes; ++i) d->row[i] = (uint8_t)dst[i];
+            }
+            png_read_row(d->png, d->row, NULL);
+            if (bits == 16) memcpy(dst, d->row, rowbytes);
+            else
+                for (size_t i = 0; i < rowbytes; ++i) dst[i] = d->row[i];
+        }
+    png_read_end(d->png, NULL);
+    d->out->width = (int)w;
+    d->out->height = (int)h;
+    d->out->channels = channels;
+    d->out->bit_depth = bits;
+    return HV_OK;
+}
+
+hv_status hv_png_decode(const void *data, size_t size, const char *name, uint64_t max_samples, hv_png_pixels *out)
+{
+    memset(out, 0, sizeof *out);
+    if (size < 8 || png_sig_cmp((png_const_bytep)data, 0, 8) != 0)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a PNG (no PNG signature)", name);
+    png_source src = {data, size, 0, {0}};
+    png_decode d = {NULL, NULL, NULL, out};
+    d.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &src, source_error, sink_warning);
+    if (d.png) d.info = png_create_info_struct(d.png);
+    hv_status s = d.info ? decode_png(&d, &src, name, max_samples) : hv_error_set(HV_ERR_NOMEM, "PNG: out of memory");
+    png_destroy_read_struct(&d.png, d.info ? &d.info : NULL, NULL);
+    free(d.row);
+    if (s != HV_OK) hv_png_pixels_free(out);
+    return s;
 }
 
 /* ---- OpenImageIO plugin ----------------------------------------------------------------- */

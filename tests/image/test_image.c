@@ -423,3 +423,119 @@ Test(image, png_in_place_writes_the_same_bytes_and_leaves_nothing_on_failure)
     cr_assert_eq(hv_png_write(bad, px, 6, 4, 1, 0, &o), HV_ERR_INVALID);
     cr_assert_null(fopen(bad, "rb"), "a refused image leaves no file");
 }
+
+/* ---- PNG in ------------------------------------------------------------------------------- */
+
+/* A PNG made by libpng's simplified writer (independent of hovox's encoder). */
+static uint8_t *simple_png(png_uint_32 format, int w, int h, const void *px, size_t *n)
+{
+    png_image im;
+    memset(&im, 0, sizeof im);
+    im.version = PNG_IMAGE_VERSION;
+    im.width = (png_uint_32)w;
+    im.height = (png_uint_32)h;
+    im.format = format;
+    png_alloc_size_t size = 0;
+    cr_assert(png_image_write_to_memory(&im, NULL, &size, 0, px, 0, NULL));
+    uint8_t *buf = malloc(size);
+    cr_assert(png_image_write_to_memory(&im, buf, &size, 0, px, 0, NULL), "%s", im.message);
+    *n = size;
+    return buf;
+}
+
+Test(image, png_16_bit_grey_round_trip)
+{
+    enum { W = 7, H = 5 };
+    uint8_t be[W * H * 2];
+    uint16_t want[W * H];
+    for (int i = 0; i < W * H; ++i) {
+        want[i] = (uint16_t)(i * 1871 + 3);
+        be[2 * i] = (uint8_t)(want[i] >> 8);
+        be[2 * i + 1] = (uint8_t)want[i];
+    }
+    hv_png_options o;
+    hv_png_options_init(&o);
+    o.bit_depth = 16;
+    uint8_t *png = NULL;
+    size_t n = 0;
+    cr_assert_eq(hv_png_encode(be, W, H, 1, 0, &o, &png, &n), HV_OK, "%s", hv_last_error());
+    cr_expect_eq(png[24], 16, "IHDR bit depth");
+    cr_expect_eq(png[25], 0, "IHDR colour type grey");
+    hv_png_pixels px;
+    cr_assert_eq(hv_png_decode(png, n, "g16.png", 1000, &px), HV_OK, "%s", hv_last_error());
+    cr_assert(px.width == W && px.height == H && px.channels == 1 && px.bit_depth == 16);
+    for (int i = 0; i < W * H; ++i) cr_assert_eq(px.samples[i], want[i], "sample %d", i);
+    hv_png_pixels_free(&px);
+    /* a palette cannot have 16 bits */
+    uint8_t pal[3] = {0, 0, 0};
+    o.palette = pal;
+    o.palette_size = 1;
+    uint8_t *bad = NULL;
+    cr_expect_eq(hv_png_encode(be, W, H, 1, 0, &o, &bad, &n), HV_ERR_INVALID);
+    free(png);
+}
+
+Test(image, png_decode_reads_what_libpng_wrote)
+{
+    /* 8-bit RGBA */
+    uint8_t rgba[3 * 2 * 4];
+    for (int i = 0; i < 24; ++i) rgba[i] = (uint8_t)(i * 11);
+    size_t n;
+    uint8_t *png = simple_png(PNG_FORMAT_RGBA, 3, 2, rgba, &n);
+    hv_png_pixels px;
+    cr_assert_eq(hv_png_decode(png, n, "rgba.png", 100, &px), HV_OK, "%s", hv_last_error());
+    cr_assert(px.channels == 4 && px.bit_depth == 8 && px.width == 3 && px.height == 2);
+    for (int i = 0; i < 24; ++i) cr_assert_eq(px.samples[i], rgba[i]);
+    hv_png_pixels_free(&px);
+    /* the limit is checked before the buffer is made */
+    cr_expect_eq(hv_png_decode(png, n, "rgba.png", 23, &px), HV_ERR_LIMIT);
+    cr_expect_null(px.samples);
+    /* truncated and damaged */
+    cr_expect_eq(hv_png_decode(png, n - 20, "cut.png", 100, &px), HV_ERR_BAD_INPUT);
+    cr_expect(strstr(hv_last_error(), "cut.png: not a readable PNG") != NULL, "%s", hv_last_error());
+    png[40] ^= 0x55; /* inside IDAT or IHDR's CRC: libpng refuses */
+    cr_expect_eq(hv_png_decode(png, n, "crc.png", 100, &px), HV_ERR_BAD_INPUT);
+    cr_expect_eq(hv_png_decode("abc", 3, "t.png", 100, &px), HV_ERR_BAD_INPUT);
+    cr_expect_str_eq(hv_last_error(), "t.png: not a PNG (no PNG signature)");
+    free(png);
+    /* 16-bit grey through the simplified API's linear format */
+    uint16_t g[4] = {0, 1, 40000, 65535};
+    png = simple_png(PNG_FORMAT_LINEAR_Y, 2, 2, g, &n);
+    cr_assert_eq(hv_png_decode(png, n, "g.png", 100, &px), HV_OK, "%s", hv_last_error());
+    cr_assert(px.channels == 1 && px.bit_depth == 16);
+    for (int i = 0; i < 4; ++i) cr_expect_eq(px.samples[i], g[i]);
+    hv_png_pixels_free(&px);
+    free(png);
+}
+
+Test(image, png_decode_expands_palettes_and_low_bit_grey)
+{
+    /* indexed, 2 bits: hovox's writer, decoded to RGB */
+    uint8_t idx[4] = {0, 1, 2, 1};
+    uint8_t pal[9] = {10, 20, 30, 40, 50, 60, 70, 80, 90};
+    hv_png_options o;
+    hv_png_options_init(&o);
+    o.palette = pal;
+    o.palette_size = 3;
+    o.bit_depth = 2;
+    uint8_t *png;
+    size_t n;
+    cr_assert_eq(hv_png_encode(idx, 2, 2, 1, 0, &o, &png, &n), HV_OK);
+    hv_png_pixels px;
+    cr_assert_eq(hv_png_decode(png, n, "p.png", 100, &px), HV_OK, "%s", hv_last_error());
+    cr_assert(px.channels == 3 && px.bit_depth == 8);
+    for (int i = 0; i < 4; ++i)
+        for (int c = 0; c < 3; ++c) cr_expect_eq(px.samples[3 * i + c], pal[3 * idx[i] + c]);
+    hv_png_pixels_free(&px);
+    free(png);
+    /* grey of 2 bits: 0..3 become 0, 85, 170, 255 (value / 3 == sample / 255) */
+    uint8_t grey[4] = {0, 1, 2, 3};
+    hv_png_options_init(&o);
+    o.bit_depth = 2;
+    cr_assert_eq(hv_png_encode(grey, 4, 1, 1, 0, &o, &png, &n), HV_OK);
+    cr_assert_eq(hv_png_decode(png, n, "g2.png", 100, &px), HV_OK, "%s", hv_last_error());
+    cr_assert(px.channels == 1 && px.bit_depth == 8);
+    for (int i = 0; i < 4; ++i) cr_expect_eq(px.samples[i], 85 * i);
+    hv_png_pixels_free(&px);
+    free(png);
+}

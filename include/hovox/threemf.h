@@ -1,0 +1,57 @@
+/* hovox/threemf.h - 3MF packages with the Volumetric extension (3MF Consortium, "3MF Volumetric &
+ * Implicit Extensions" 0.8) read back as graded models. Writing is an export format
+ * (hovox/export.h, HV_EXPORT_3MF); hv_volume_load reads a .3mf through hv_3mf_load. */
+#ifndef HOVOX_THREEMF_H
+#define HOVOX_THREEMF_H
+
+#include "hovox/mesh.h"
+#include "hovox/volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Read a 3MF package holding one object (one build item, translated at most) whose mesh carries
+ * <v:volumedata> with a <v:composite>: the materials and their fractions. The result is a graded
+ * model as hovox makes them:
+ *   - the lattice of the image stacks: voxel (i, j, k) is column i, row (rows - 1 - j), sheet k of
+ *     the stacks (continued beyond them by each function's tile styles), voxel size and origin
+ *     from the <v:materialmapping> transform (all mappings must give the same lattice: an axis-
+ *     aligned scale with positive diagonal and a translation), millimetres (the model's unit is
+ *     converted);
+ *   - bool grid "occupancy": the voxels whose centre lies inside the mesh (ray parity along z; for
+ *     the exact voxel boundaries hovox writes, exactly the exported voxels);
+ *   - float grids "material.<name>" per base material: each mapping's channel (value x valuescale
+ *     + valueoffset, clamped to [0, 1]) divided by their sum at the voxel centre (spec 5.2.2; where
+ *     the sum is below 1e-5 the first material gets 1);
+ *   - metadata "hovox.materials.json": the base materials' names (characters hovox does not allow
+ *     in a name become '_'; duplicates get a suffix) and display colours, or the table the file
+ *     carries in its hovox:materials metadata when that names the same materials (properties
+ *     included).
+ * Image sheets are PNGs of any layout and depth (grey, grey+alpha, RGB, RGBA, palette; 1 to 16
+ * bits), all of a stack alike in size. <v:property> elements in hovox's namespace are derived
+ * arrays and skipped; others, <v:color> and elements of other extensions are ignored unless a
+ * property says required="true". Refused as unsupported (HV_ERR_UNSUPPORTED, naming the element):
+ * <v:levelset>, implicit or private functions, components, several build items, rotated or scaled
+ * transforms, an object without volume data, a required extension other than the volumetric one.
+ * The input is hostile: sizes and counts are bounded before anything is allocated (the memory
+ * budget hv_memory_budget(0)); every id and reference is checked.
+ *
+ * `mesh` (may be NULL) receives the object's mesh in millimetres (build item translation applied),
+ * e.g. for slicing. Errors: HV_ERR_IO (cannot open), HV_ERR_BAD_INPUT ("part.3mf: 3D/3dmodel.model:
+ * line 12: <v:imagestack>: rowcount 'x' is not a positive integer", "part.3mf: not a ZIP archive",
+ * a missing part or referenced image, a PNG whose size differs from its stack's), HV_ERR_UNSUPPORTED,
+ * HV_ERR_LIMIT (memory budget, image sizes beyond the spec's limits), HV_ERR_NOMEM,
+ * HV_ERR_CANCELLED. On success free *vol with hv_volume_destroy and *mesh with hv_mesh_destroy. */
+HV_API hv_status hv_3mf_load(const char *path, hv_volume **vol, hv_mesh **mesh);
+
+/* The same from a package in memory; `name` names it in messages. */
+HV_API hv_status hv_3mf_parse(const void *data, size_t size, const char *name, hv_volume **vol, hv_mesh **mesh);
+
+/* 1 when the file starts like a ZIP archive (a 3MF package), else 0. */
+HV_API int hv_3mf_sniff(const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,1829 @@
+/* src/threemf/read.c - 3MF packages with the Volumetric extension (3MF Consortium, "3MF Volumetric
+ * & Implicit Extensions" 0.8, Part I) read back as graded models: the OPC package through libzip,
+ * the model part streamed through libxml2's xmlTextReader (hostile input: every count bounded by the
+ * memory budget before it grows, every id and reference checked), the object's mesh voxelized on the
+ * lattice of the image stacks by ray parity at voxel centres, the materials' fractions sampled from
+ * the PNG sheets (hv_png_decode) and normalised as the composite element prescribes (spec 5.2.2). */
+#include <errno.h>
+#include <libxml/xmlreader.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <zip.h>
+
+#include "hovox/image.h"
+#include "hovox/material.h"
+#include "threemf_internal.h"
+
+#define MAX_DEPTH 256
+#define MAX_MODEL_PART ((uint64_t)8 << 30) /* bytes of XML read at most */
+
+/* ---- what the model part holds ------------------------------------------------------------------ */
+
+typedef enum kind {
+    K_NONE = 0, K_MODEL, K_METADATA, K_RESOURCES, K_BASEMATERIALS, K_BASE, K_OBJECT, K_MESH, K_VERTICES, K_VERTEX,
+    K_TRIANGLES, K_TRIANGLE, K_COMPONENTS, K_BUILD, K_ITEM, K_IMAGE3D, K_IMAGESTACK, K_IMAGESHEET, K_FUNCIMG,
+    K_VOLUMEDATA, K_COMPOSITE, K_MATMAP, K_PROPERTY, K_COLOR, K_LEVELSET, K_IMPLICIT, K_RESOURCE_OTHER, K_IGNORED
+} kind;
+
+typedef struct bgroup {
+    uint32_t id;
+    int line, n;
+    size_t cap;
+    char **names;
+    float *rgba; /* 4 per base */
+} bgroup;
+
+typedef struct img3d {
+    uint32_t id;
+    int line, stack_line, has_stack;
+    char *name;
+    uint64_t rows, cols, sheets;
+    char **paths;
+    int *lines;         /* of each imagesheet */
+    size_t npaths, cap;
+    int channels, bits; /* of the first sheet decoded */
+} img3d;
+
+enum { F_IMAGE = 1, F_IMPLICIT, F_OTHER };
+typedef struct func {
+    uint32_t id, image3did;
+    int line, kind;
+    double offset, scale;
+    int tile[3]; /* 0 wrap, 1 mirror, 2 clamp */
+    char elem[64];
+} func;
+
+typedef struct mapping {
+    uint32_t functionid;
+    int line, channel; /* 0 red, 1 green, 2 blue, 3 alpha */
+    double t[12];
+} mapping;
+
+typedef struct voldata {
+    uint32_t id, basematerialid;
+    int line, composites, composite_line;
+    mapping *maps;
+    int nmaps;
+    size_t cap;
+    int refuse_line;
+    char refuse[200];
+} voldata;
+
+enum { O_NONE = 0, O_MESH, O_COMPONENTS, O_LEVELSET };
+typedef struct object {
+    uint32_t id, volumeid;
+    int line, kind, has_volumeid, mesh_line;
+    size_t v0, nv, t0, nt;
+} object;
+
+typedef struct item {
+    uint32_t objectid;
+    int line, has_t;
+    double t[12];
+} item;
+
+typedef struct resid {
+    uint32_t id;
+    int line;
+} resid;
+
+typedef struct rd {
+    const char *name;   /* the package, for messages */
+    const char *part;   /* the model part's name in the archive */
+    zip_t *za;
+    uint64_t budget, used;
+    xmlTextReaderPtr xr;
+    char xml_error[512];
+    int xml_error_line;
+    uint64_t xml_bytes;
+    zip_file_t *zf;
+    /* model */
+    double unit;
+    char *materials_json;
+    double origin_meta[3];
+    int has_origin;
+    /* resources */
+    bgroup *groups;
+    size_t ngroups, gcap;
+    img3d *images;
+    size_t nimages, icap;
+    func *funcs;
+    size_t nfuncs, fcap;
+    voldata *vols;
+    size_t nvols, vcap;
+    object *objects;
+    size_t nobjects, ocap;
+    item *items;
+    size_t nitems, itcap;
+    resid *ids;
+    size_t nids, idcap;
+    double *xyz; /* 3 per vertex, all meshes */
+    size_t nxyz, xcap;
+    uint32_t *tri; /* 3 per triangle, indices into the object's vertices */
+    size_t ntri, tcap;
+    int builds, resources_seen;
+    uint64_t leaf_bytes; /* what a leaf of the model will cost (hv_volume_memory_estimate) */
+} rd;
+
+/* ---- messages ------------------------------------------------------------------------------------- */
+
+/* The line of the element being read (the parser itself reads ahead). */
+static int line_of(rd *r)
+{
+    if (!r->xr) return 0;
+    xmlNodePtr n = xmlTextReaderCurrentNode(r->xr);
+    long line = n ? xmlGetLineNo(n) : -1;
+    return line > 0 && line < INT32_MAX ? (int)line : xmlTextReaderGetParserLineNumber(r->xr);
+}
+
+/* "part.3mf: 3D/3dmodel.model: line 12: <elem> ..." */
+static hv_status bad_at(rd *r, hv_status code, int line, const char *fmt, ...) HV_PRINTF(4, 5);
+static hv_status bad_at(rd *r, hv_status code, int line, const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (line > 0) return hv_error_set(code, "%s: %s: line %d: %s", r->name, r->part, line, msg);
+    return hv_error_set(code, "%s: %s", r->name, msg);
+}
+
+static hv_status over_budget(rd *r, const char *what)
+{
+    char have[32];
+    hv_size_text(have, sizeof have, (double)r->budget);
+    return bad_at(r, HV_ERR_LIMIT, line_of(r), "%s: reading this file needs more than the memory budget of %s", what,
+                  have);
+}
+
+static hv_status charge(rd *r, uint64_t bytes, const char *what)
+{
+    if (bytes > r->budget || r->used > r->budget - bytes) return over_budget(r, what);
+    r->used += bytes;
+    return HV_OK;
+}
+
+/* Grow an array by one element, charging the budget for what grows. */
+static hv_status grow(rd *r, void **p, size_t *cap, size_t need, size_t size, const char *what)
+{
+    if (need <= *cap) return HV_OK;
+    size_t ncap = *cap ? *cap * 2 : 16;
+    while (ncap < need) ncap *= 2;
+    if (ncap > SIZE_MAX / size) return over_budget(r, what);
+    hv_status s = charge(r, (uint64_t)(ncap - *cap) * size, what);
+    if (s != HV_OK) return s;
+    void *q = hv_realloc(*p, ncap * size);
+    if (!q) return HV_ERR_NOMEM;
+    *p = q;
+    *cap = ncap;
+    return HV_OK;
+}
+
+/* ---- attributes ------------------------------------------------------------------------------------ */
+
+static const char *elem_name(rd *r)
+{
+    const xmlChar *n = xmlTextReaderConstName(r->xr);
+    return n ? (const char *)n : "?";
+}
+
+/* The attribute's value (NULL when absent); the caller frees with xmlFree. */
+static char *get_attr(rd *r, const char *name) { return (char *)xmlTextReaderGetAttribute(r->xr, BAD_CAST name); }
+
+static char *get_attr_ns(rd *r, const char *name, const char *ns)
+{
+    return (char *)xmlTextReaderGetAttributeNs(r->xr, BAD_CAST name, BAD_CAST ns);
+}
+
+static const char *trim(const char *s, size_t *n)
+{
+    while (*s == ' ' || *s == '\t' || *s == '\n' || *s == '\r') ++s;
+    size_t k = strlen(s);
+    while (k > 0 && (s[k - 1] == ' ' || s[k - 1] == '\t' || s[k - 1] == '\n' || s[k - 1] == '\r')) --k;
+    *n = k;
+    return s;
+}
+
+/* A finite xs:double in the forms ST_Number allows (no "INF", "NaN", hex). */
+static int parse_number(const char *text, double *out)
+{
+    size_t n;
+    const char *s = trim(text, &n);
+    if (n == 0 || n > 64) return 0;
+    char buf[80];
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    for (size_t i = 0; i < n; ++i) {
+        char c = buf[i];
+        if (!((c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' || c == 'E')) return 0;
+    }
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (*end || !isfinite(v)) return 0;
+    *out = v;
+    return 1;
+}
+
+/* A non-negative integer of at most `max` (decimal digits only). */
+static int parse_uint(const char *text, uint64_t max, uint64_t *out)
+{
+    size_t n;
+    const char *s = trim(text, &n);
+    if (n == 0 || n > 20) return 0;
+    uint64_t v = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (s[i] < '0' || s[i] > '9') return 0;
+        unsigned d = (unsigned)(s[i] - '0');
+        if (v > (max - d) / 10) return 0;
+        v = v * 10 + d;
+    }
+    *out = v;
+    return 1;
+}
+
+static hv_status need_attr(rd *r, const char *name, char **v)
+{
+    *v = get_attr(r, name);
+    if (!*v) return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> has no attribute %s", elem_name(r), name);
+    return HV_OK;
+}
+
+/* ST_ResourceID: a positive integer below 2^31. */
+static hv_status id_attr(rd *r, const char *name, int required, uint32_t *id, int *present)
+{
+    char *v = get_attr(r, name);
+    if (present) *present = v != NULL;
+    if (!v) return required ? bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> has no attribute %s", elem_name(r), name)
+                            : HV_OK;
+    uint64_t x = 0;
+    int ok = parse_uint(v, 2147483647u, &x) && x > 0;
+    hv_status s = ok ? HV_OK
+                     : bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %s '%.40s' is not a resource id (1 to 2^31 - 1)",
+                              elem_name(r), name, v);
+    *id = (uint32_t)x;
+    xmlFree(v);
+    return s;
+}
+
+static hv_status number_attr(rd *r, const char *name, double dflt, double *out)
+{
+    char *v = get_attr(r, name);
+    *out = dflt;
+    if (!v) return HV_OK;
+    hv_status s = parse_number(v, out) ? HV_OK
+                                       : bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %s '%.40s' is not a finite number",
+                                                elem_name(r), name, v);
+    xmlFree(v);
+    return s;
+}
+
+/* ST_Matrix3D: 12 numbers; absent: the identity. */
+static hv_status matrix_attr(rd *r, const char *name, double *t, int *present)
+{
+    static const double id[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    memcpy(t, id, sizeof id);
+    char *v = get_attr(r, name);
+    if (present) *present = v != NULL;
+    if (!v) return HV_OK;
+    const char *p = v;
+    int n = 0;
+    hv_status s = HV_OK;
+    while (s == HV_OK) {
+        while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') ++p;
+        if (!*p) break;
+        const char *e = p;
+        while (*e && *e != ' ' && *e != '\t' && *e != '\n' && *e != '\r') ++e;
+        char tok[80];
+        size_t len = (size_t)(e - p);
+        if (n == 12 || len >= sizeof tok) {
+            n = 13;
+            break;
+        }
+        memcpy(tok, p, len);
+        tok[len] = '\0';
+        if (!parse_number(tok, &t[n]))
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %s: '%.40s' is not a finite number", elem_name(r), name, tok);
+        ++n;
+        p = e;
+    }
+    if (s == HV_OK && n != 12)
+        s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %s must hold 12 numbers", elem_name(r), name);
+    xmlFree(v);
+    return s;
+}
+
+static hv_status add_id(rd *r, uint32_t id)
+{
+    hv_status s = grow(r, (void **)&r->ids, &r->idcap, r->nids + 1, sizeof *r->ids, "resources");
+    if (s == HV_OK) r->ids[r->nids++] = (resid){id, line_of(r)};
+    return s;
+}
+
+static int tile_style(const char *v)
+{
+    if (!v || strcmp(v, "wrap") == 0) return 0;
+    if (strcmp(v, "mirror") == 0) return 1;
+    if (strcmp(v, "clamp") == 0) return 2;
+    return -1;
+}
+
+/* ---- the elements ------------------------------------------------------------------------------------ */
+
+static kind classify(rd *r)
+{
+    const char *ns = (const char *)xmlTextReaderConstNamespaceUri(r->xr);
+    const char *ln = (const char *)xmlTextReaderConstLocalName(r->xr);
+    if (!ln) return K_IGNORED;
+    if (ns && strcmp(ns, TMF_NS_CORE) == 0) {
+        static const struct {
+            const char *n;
+            kind k;
+        } core[] = {{"model", K_MODEL},         {"metadata", K_METADATA},     {"resources", K_RESOURCES},
+                    {"basematerials", K_BASEMATERIALS}, {"base", K_BASE},     {"object", K_OBJECT},
+                    {"mesh", K_MESH},           {"vertices", K_VERTICES},     {"vertex", K_VERTEX},
+                    {"triangles", K_TRIANGLES}, {"triangle", K_TRIANGLE},     {"components", K_COMPONENTS},
+                    {"build", K_BUILD},         {"item", K_ITEM}};
+        for (size_t i = 0; i < HV_COUNT(core); ++i)
+            if (strcmp(ln, core[i].n) == 0) return core[i].k;
+        return K_IGNORED;
+    }
+    if (ns && strcmp(ns, TMF_NS_VOLUMETRIC) == 0) {
+        static const struct {
+            const char *n;
+            kind k;
+        } vol[] = {{"image3d", K_IMAGE3D},       {"imagestack", K_IMAGESTACK}, {"imagesheet", K_IMAGESHEET},
+                   {"functionfromimage3d", K_FUNCIMG}, {"volumedata", K_VOLUMEDATA}, {"composite", K_COMPOSITE},
+                   {"materialmapping", K_MATMAP}, {"property", K_PROPERTY}, {"color", K_COLOR},
+                   {"levelset", K_LEVELSET}};
+        for (size_t i = 0; i < HV_COUNT(vol); ++i)
+            if (strcmp(ln, vol[i].n) == 0) return vol[i].k;
+        return K_IGNORED;
+    }
+    if (ns && strcmp(ns, TMF_NS_IMPLICIT) == 0 && strcmp(ln, "implicitfunction") == 0) return K_IMPLICIT;
+    return K_IGNORED;
+}
+
+static hv_status on_model(rd *r)
+{
+    char *u = get_attr(r, "unit");
+    r->unit = 1;
+    hv_status s = HV_OK;
+    if (u) {
+        static const struct {
+            const char *n;
+            double mm;
+        } units[] = {{"micron", 0.001}, {"millimeter", 1}, {"centimeter", 10}, {"inch", 25.4}, {"foot", 304.8},
+                     {"meter", 1000}};
+        r->unit = 0;
+        for (size_t i = 0; i < HV_COUNT(units); ++i)
+            if (strcmp(u, units[i].n) == 0) r->unit = units[i].mm;
+        if (r->unit == 0)
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<model> unit '%.40s' is not micron, millimeter, centimeter, "
+                       "inch, foot or meter", u);
+        xmlFree(u);
+    }
+    char *req = s == HV_OK ? get_attr(r, "requiredextensions") : NULL;
+    if (req) {
+        for (char *p = req, *save = NULL, *tok; s == HV_OK && (tok = strtok_r(p, " \t\r\n", &save)); p = NULL) {
+            xmlChar *ns = xmlTextReaderLookupNamespace(r->xr, BAD_CAST tok);
+            if (!ns)
+                s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<model> requiredextensions names prefix '%.40s', which "
+                           "is not declared", tok);
+            else if (strcmp((char *)ns, TMF_NS_VOLUMETRIC) != 0 && strcmp((char *)ns, TMF_NS_MATERIAL) != 0)
+                s = bad_at(r, HV_ERR_UNSUPPORTED, line_of(r), "<model> requires the extension %.200s, which hovox "
+                           "does not read", (char *)ns);
+            xmlFree(ns);
+        }
+        xmlFree(req);
+    }
+    return s;
+}
+
+static hv_status on_metadata(rd *r)
+{
+    char *name = get_attr(r, "name");
+    if (!name) return HV_OK;
+    hv_status s = HV_OK;
+    char *colon = strchr(name, ':');
+    if (colon) {
+        *colon = '\0';
+        xmlChar *ns = xmlTextReaderLookupNamespace(r->xr, BAD_CAST name);
+        if (ns && strcmp((char *)ns, TMF_NS_HOVOX) == 0) {
+            int line = line_of(r);
+            char *text = (char *)xmlTextReaderReadString(r->xr);
+            if (strcmp(colon + 1, "materials") == 0 && text) {
+                free(r->materials_json);
+                r->materials_json = hv_strdup(text);
+                if (!r->materials_json) s = HV_ERR_NOMEM;
+            } else if (strcmp(colon + 1, "origin") == 0 && text) {
+                double o[3];
+                char extra;
+                if (sscanf(text, "%lf %lf %lf %c", &o[0], &o[1], &o[2], &extra) == 3 && isfinite(o[0]) &&
+                    isfinite(o[1]) && isfinite(o[2])) {
+                    memcpy(r->origin_meta, o, sizeof o);
+                    r->has_origin = 1;
+                } else {
+                    s = bad_at(r, HV_ERR_BAD_INPUT, line, "<metadata> hovox:origin '%.60s' is not three numbers", text);
+                }
+            }
+            xmlFree(text);
+        }
+        xmlFree(ns);
+    }
+    xmlFree(name);
+    return s;
+}
+
+static hv_status on_basematerials(rd *r)
+{
+    uint32_t id;
+    hv_status s = id_attr(r, "id", 1, &id, NULL);
+    if (s == HV_OK) s = add_id(r, id);
+    if (s == HV_OK) s = grow(r, (void **)&r->groups, &r->gcap, r->ngroups + 1, sizeof *r->groups, "base materials");
+    if (s != HV_OK) return s;
+    bgroup *g = &r->groups[r->ngroups++];
+    memset(g, 0, sizeof *g);
+    g->id = id;
+    g->line = line_of(r);
+    return HV_OK;
+}
+
+static int hexval(char c)
+{
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+static hv_status on_base(rd *r)
+{
+    bgroup *g = &r->groups[r->ngroups - 1];
+    char *name = NULL, *color = NULL;
+    hv_status s = need_attr(r, "name", &name);
+    if (s == HV_OK) s = need_attr(r, "displaycolor", &color);
+    float rgba[4] = {0, 0, 0, 1};
+    if (s == HV_OK) {
+        size_t n = strlen(color);
+        int ok = (n == 7 || n == 9) && color[0] == '#';
+        for (size_t i = 1; ok && i < n; ++i) ok = hexval(color[i]) >= 0;
+        for (size_t c = 0; ok && c < (n - 1) / 2; ++c)
+            rgba[c] = (float)(hexval(color[1 + 2 * c]) * 16 + hexval(color[2 + 2 * c])) / 255.0f;
+        if (!ok) s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<base> displaycolor '%.40s' is not #RRGGBB or #RRGGBBAA", color);
+    }
+    if (s == HV_OK && g->n >= HV_MAX_MATERIALS)
+        s = bad_at(r, HV_ERR_UNSUPPORTED, line_of(r), "<basematerials> id %u holds more than %d materials, hovox's most",
+                   g->id, HV_MAX_MATERIALS);
+    if (s == HV_OK) {
+        size_t cap = g->cap;
+        s = grow(r, (void **)&g->names, &cap, (size_t)g->n + 1, sizeof *g->names, "base materials");
+        if (s == HV_OK) {
+            size_t cap2 = g->cap;
+            s = grow(r, (void **)&g->rgba, &cap2, (size_t)g->n + 1, 4 * sizeof *g->rgba, "base materials");
+            g->cap = cap;
+        }
+    }
+    if (s == HV_OK) s = charge(r, strlen(name) + 1, "base materials");
+    if (s == HV_OK) {
+        g->names[g->n] = hv_strdup(name);
+        if (!g->names[g->n]) s = HV_ERR_NOMEM;
+        else memcpy(g->rgba + 4 * g->n++, rgba, sizeof rgba);
+    }
+    xmlFree(name);
+    xmlFree(color);
+    return s;
+}
+
+static hv_status on_object(rd *r)
+{
+    uint32_t id;
+    hv_status s = id_attr(r, "id", 1, &id, NULL);
+    if (s == HV_OK) s = add_id(r, id);
+    if (s == HV_OK) s = grow(r, (void **)&r->objects, &r->ocap, r->nobjects + 1, sizeof *r->objects, "objects");
+    if (s != HV_OK) return s;
+    object *o = &r->objects[r->nobjects++];
+    memset(o, 0, sizeof *o);
+    o->id = id;
+    o->line = line_of(r);
+    return HV_OK;
+}
+
+static hv_status on_mesh(rd *r)
+{
+    object *o = &r->objects[r->nobjects - 1];
+    if (o->kind != O_NONE)
+        return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<object> id %u has more than one shape", o->id);
+    o->kind = O_MESH;
+    o->mesh_line = line_of(r);
+    o->v0 = r->nxyz / 3;
+    o->t0 = r->ntri / 3;
+    char *v = get_attr_ns(r, "volumeid", TMF_NS_VOLUMETRIC);
+    if (!v) v = get_attr(r, "volumeid"); /* unqualified, as the spec's own example writes it */
+    if (!v) return HV_OK;
+    uint64_t x = 0;
+    hv_status s = parse_uint(v, 2147483647u, &x) && x > 0
+                      ? HV_OK
+                      : bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> volumeid '%.40s' is not a resource id", elem_name(r), v);
+    xmlFree(v);
+    o->volumeid = (uint32_t)x;
+    o->has_volumeid = 1;
+    return s;
+}
+
+static hv_status on_vertex(rd *r)
+{
+    object *o = &r->objects[r->nobjects - 1];
+    double p[3];
+    static const char *const xyz[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+        char *v = NULL;
+        hv_status s = need_attr(r, xyz[a], &v);
+        if (s != HV_OK) return s;
+        int ok = parse_number(v, &p[a]);
+        if (!ok) s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<vertex> %u: %s '%.40s' is not a finite number",
+                            (unsigned)o->nv, xyz[a], v);
+        xmlFree(v);
+        if (s != HV_OK) return s;
+    }
+    if (o->nv >= UINT32_MAX) return bad_at(r, HV_ERR_LIMIT, line_of(r), "<mesh> has more than 2^32 vertices");
+    hv_status s = grow(r, (void **)&r->xyz, &r->xcap, r->nxyz + 3, sizeof *r->xyz, "vertices");
+    if (s != HV_OK) return s;
+    memcpy(r->xyz + r->nxyz, p, sizeof p);
+    r->nxyz += 3;
+    o->nv++;
+    return HV_OK;
+}
+
+static hv_status on_triangle(rd *r)
+{
+    object *o = &r->objects[r->nobjects - 1];
+    uint32_t t[3];
+    static const char *const vn[3] = {"v1", "v2", "v3"};
+    for (int k = 0; k < 3; ++k) {
+        char *v = NULL;
+        hv_status s = need_attr(r, vn[k], &v);
+        if (s != HV_OK) return s;
+        uint64_t x = 0;
+        if (!parse_uint(v, UINT32_MAX, &x))
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<triangle> %zu: %s '%.40s' is not a vertex index", o->nt,
+                       vn[k], v);
+        else if (x >= o->nv)
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<triangle> %zu: %s = %llu is out of range (the mesh has %zu "
+                       "vertices)", o->nt, vn[k], (unsigned long long)x, o->nv);
+        xmlFree(v);
+        if (s != HV_OK) return s;
+        t[k] = (uint32_t)x;
+    }
+    hv_status s = grow(r, (void **)&r->tri, &r->tcap, r->ntri + 3, sizeof *r->tri, "triangles");
+    if (s != HV_OK) return s;
+    memcpy(r->tri + r->ntri, t, sizeof t);
+    r->ntri += 3;
+    o->nt++;
+    return HV_OK;
+}
+
+static hv_status on_item(rd *r)
+{
+    uint32_t id;
+    hv_status s = id_attr(r, "objectid", 1, &id, NULL);
+    if (s == HV_OK) s = grow(r, (void **)&r->items, &r->itcap, r->nitems + 1, sizeof *r->items, "build items");
+    if (s != HV_OK) return s;
+    item *it = &r->items[r->nitems++];
+    memset(it, 0, sizeof *it);
+    it->objectid = id;
+    it->line = line_of(r);
+    return matrix_attr(r, "transform", it->t, &it->has_t);
+}
+
+static hv_status on_image3d(rd *r)
+{
+    uint32_t id;
+    hv_status s = id_attr(r, "id", 1, &id, NULL);
+    if (s == HV_OK) s = add_id(r, id);
+    if (s == HV_OK) s = grow(r, (void **)&r->images, &r->icap, r->nimages + 1, sizeof *r->images, "images");
+    if (s != HV_OK) return s;
+    img3d *im = &r->images[r->nimages++];
+    memset(im, 0, sizeof *im);
+    im->id = id;
+    im->line = line_of(r);
+    char *name = get_attr(r, "name");
+    if (name) {
+        s = charge(r, strlen(name) + 1, "images");
+        if (s == HV_OK && !(im->name = hv_strdup(name))) s = HV_ERR_NOMEM;
+        xmlFree(name);
+    }
+    return s;
+}
+
+static hv_status on_imagestack(rd *r)
+{
+    img3d *im = &r->images[r->nimages - 1];
+    if (im->has_stack) return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<v:image3d> id %u has more than one stack", im->id);
+    im->has_stack = 1;
+    im->stack_line = line_of(r);
+    static const char *const names[3] = {"rowcount", "columncount", "sheetcount"};
+    uint64_t *dst[3] = {&im->rows, &im->cols, &im->sheets};
+    for (int a = 0; a < 3; ++a) {
+        char *v = NULL;
+        hv_status s = need_attr(r, names[a], &v);
+        if (s != HV_OK) return s;
+        uint64_t x = 0;
+        if (!parse_uint(v, UINT64_MAX / 16, &x) || x == 0)
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %s '%.40s' is not a positive integer", elem_name(r),
+                       names[a], v);
+        else if (x > HV_3MF_MAX_IMAGE_SIDE)
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %s %llu exceeds the 3MF Volumetric limit of 1024^3",
+                       elem_name(r), names[a], (unsigned long long)x);
+        xmlFree(v);
+        if (s != HV_OK) return s;
+        *dst[a] = x;
+    }
+    double total = (double)im->rows * (double)im->cols * (double)im->sheets;
+    if (total > (double)HV_3MF_MAX_IMAGE_VOXELS)
+        return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> of %.4g voxels exceeds the 3MF Volumetric limit of 1024^5",
+                      elem_name(r), total);
+    return HV_OK;
+}
+
+static hv_status on_imagesheet(rd *r)
+{
+    img3d *im = &r->images[r->nimages - 1];
+    if (!im->has_stack) return HV_OK;
+    if (im->npaths >= im->sheets)
+        return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %zu: the imagestack has sheetcount %llu", elem_name(r),
+                      im->npaths + 1, (unsigned long long)im->sheets);
+    char *path = NULL;
+    hv_status s = need_attr(r, "path", &path);
+    if (s != HV_OK) return s;
+    if (path[0] != '/' || !path[1] || strlen(path) > 1024)
+        s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> path '%.60s' is not an absolute part name", elem_name(r), path);
+    size_t lcap = im->cap;
+    if (s == HV_OK) s = grow(r, (void **)&im->lines, &lcap, im->npaths + 1, sizeof *im->lines, "image sheets");
+    if (s == HV_OK) s = grow(r, (void **)&im->paths, &im->cap, im->npaths + 1, sizeof *im->paths, "image sheets");
+    if (s == HV_OK) im->lines[im->npaths] = line_of(r);
+    if (s == HV_OK) s = charge(r, strlen(path), "image sheets");
+    if (s == HV_OK) {
+        im->paths[im->npaths] = hv_strdup(path + 1);
+        if (!im->paths[im->npaths]) s = HV_ERR_NOMEM;
+        else im->npaths++;
+    }
+    xmlFree(path);
+    return s;
+}
+
+static hv_status add_func(rd *r, int fkind, func **out)
+{
+    uint32_t id;
+    hv_status s = id_attr(r, "id", 1, &id, NULL);
+    if (s == HV_OK) s = add_id(r, id);
+    if (s == HV_OK) s = grow(r, (void **)&r->funcs, &r->fcap, r->nfuncs + 1, sizeof *r->funcs, "functions");
+    if (s != HV_OK) return s;
+    func *f = &r->funcs[r->nfuncs++];
+    memset(f, 0, sizeof *f);
+    f->id = id;
+    f->kind = fkind;
+    f->line = line_of(r);
+    snprintf(f->elem, sizeof f->elem, "%s", elem_name(r));
+    *out = f;
+    return HV_OK;
+}
+
+static hv_status on_funcimg(rd *r)
+{
+    func *f;
+    hv_status s = add_func(r, F_IMAGE, &f);
+    if (s == HV_OK) s = id_attr(r, "image3did", 1, &f->image3did, NULL);
+    if (s == HV_OK) s = number_attr(r, "valueoffset", 0.0, &f->offset);
+    if (s == HV_OK) s = number_attr(r, "valuescale", 1.0, &f->scale);
+    static const char *const tiles[3] = {"tilestyleu", "tilestylev", "tilestylew"};
+    for (int a = 0; a < 3 && s == HV_OK; ++a) {
+        char *v = get_attr(r, tiles[a]);
+        f->tile[a] = tile_style(v);
+        if (f->tile[a] < 0)
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> %s '%.40s' is not wrap, mirror or clamp", elem_name(r),
+                       tiles[a], v);
+        xmlFree(v);
+    }
+    char *filter = s == HV_OK ? get_attr(r, "filter") : NULL;
+    if (filter && strcmp(filter, "linear") != 0 && strcmp(filter, "nearest") != 0)
+        s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> filter '%.40s' is not linear or nearest", elem_name(r), filter);
+    xmlFree(filter);
+    return s;
+}
+
+static hv_status on_volumedata(rd *r)
+{
+    uint32_t id;
+    hv_status s = id_attr(r, "id", 1, &id, NULL);
+    if (s == HV_OK) s = add_id(r, id);
+    if (s == HV_OK) s = grow(r, (void **)&r->vols, &r->vcap, r->nvols + 1, sizeof *r->vols, "volume data");
+    if (s != HV_OK) return s;
+    voldata *v = &r->vols[r->nvols++];
+    memset(v, 0, sizeof *v);
+    v->id = id;
+    v->line = line_of(r);
+    return HV_OK;
+}
+
+static hv_status on_composite(rd *r)
+{
+    voldata *v = &r->vols[r->nvols - 1];
+    if (v->composites++)
+        return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<v:volumedata> id %u has more than one composite", v->id);
+    v->composite_line = line_of(r);
+    return id_attr(r, "basematerialid", 1, &v->basematerialid, NULL);
+}
+
+static hv_status on_matmap(rd *r)
+{
+    voldata *v = &r->vols[r->nvols - 1];
+    if (v->nmaps >= HV_MAX_MATERIALS)
+        return bad_at(r, HV_ERR_UNSUPPORTED, line_of(r), "<v:composite> holds more than %d material mappings, hovox's "
+                      "most", HV_MAX_MATERIALS);
+    hv_status s = grow(r, (void **)&v->maps, &v->cap, (size_t)v->nmaps + 1, sizeof *v->maps, "material mappings");
+    if (s != HV_OK) return s;
+    mapping *m = &v->maps[v->nmaps++];
+    memset(m, 0, sizeof *m);
+    m->line = line_of(r);
+    s = id_attr(r, "functionid", 1, &m->functionid, NULL);
+    char *ch = NULL;
+    if (s == HV_OK) s = need_attr(r, "channel", &ch);
+    if (s == HV_OK) {
+        static const char *const names[4] = {"red", "green", "blue", "alpha"};
+        m->channel = -1;
+        for (int c = 0; c < 4; ++c)
+            if (strcmp(ch, names[c]) == 0) m->channel = c;
+        if (m->channel < 0)
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> channel '%.40s' is not a scalar output of a "
+                       "functionfromimage3d (red, green, blue or alpha)", elem_name(r), ch);
+    }
+    xmlFree(ch);
+    if (s == HV_OK) s = matrix_attr(r, "transform", m->t, NULL);
+    return s;
+}
+
+static hv_status on_property(rd *r)
+{
+    voldata *v = &r->vols[r->nvols - 1];
+    char *req = get_attr(r, "required"), *name = get_attr(r, "name");
+    if (req && (strcmp(req, "true") == 0 || strcmp(req, "1") == 0) && !v->refuse_line) {
+        /* hovox's own properties are derived from the fractions; another's is a requirement hovox
+         * cannot meet */
+        int ours = 0;
+        char *colon = name ? strchr(name, ':') : NULL;
+        if (colon) {
+            *colon = '\0';
+            xmlChar *ns = xmlTextReaderLookupNamespace(r->xr, BAD_CAST name);
+            ours = ns && strcmp((char *)ns, TMF_NS_HOVOX) == 0;
+            xmlFree(ns);
+            *colon = ':';
+        }
+        if (!ours) {
+            v->refuse_line = line_of(r);
+            snprintf(v->refuse, sizeof v->refuse, "<v:property> '%.100s' is required, and hovox does not read "
+                     "properties", name ? name : "?");
+        }
+    }
+    xmlFree(req);
+    xmlFree(name);
+    return HV_OK;
+}
+
+/* ---- reading the model part ----------------------------------------------------------------------------- */
+
+static int xml_read_cb(void *ctx, char *buf, int len)
+{
+    rd *r = ctx;
+    zip_int64_t n = zip_fread(r->zf, buf, (zip_uint64_t)(len > 0 ? len : 0));
+    if (n < 0) {
+        snprintf(r->xml_error, sizeof r->xml_error, "the archive entry is damaged: %s",
+                 zip_error_strerror(zip_file_get_error(r->zf)));
+        return -1;
+    }
+    r->xml_bytes += (uint64_t)n;
+    if (r->xml_bytes > MAX_MODEL_PART) {
+        snprintf(r->xml_error, sizeof r->xml_error, "the model part is larger than 8 GiB");
+        return -1;
+    }
+    return (int)n;
+}
+
+static int xml_close_cb(void *ctx)
+{
+    (void)ctx;
+    return 0;
+}
+
+static void xml_error_cb(void *ctx, xmlErrorPtr e)
+{
+    rd *r = ctx;
+    if (r->xml_error[0] || !e) return;
+    snprintf(r->xml_error, sizeof r->xml_error, "%s", e->message ? e->message : "malformed XML");
+    size_t n = strlen(r->xml_error);
+    while (n > 0 && (r->xml_error[n - 1] == '\n' || r->xml_error[n - 1] == ' ')) r->xml_error[--n] = '\0';
+    r->xml_error_line = e->line;
+}
+
+static hv_status on_element(rd *r, kind k, kind parent, int depth, kind *self)
+{
+    *self = K_IGNORED;
+    if (depth == 0) {
+        if (k != K_MODEL)
+            return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "the root element is <%s>, not a 3MF <model>", elem_name(r));
+        *self = K_MODEL;
+        return on_model(r);
+    }
+    hv_status s = HV_OK;
+    switch (parent) {
+    case K_MODEL:
+        if (k == K_METADATA) s = on_metadata(r);
+        else if (k == K_RESOURCES && r->resources_seen++) s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "a second <resources>");
+        else if (k == K_BUILD && r->builds++) s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "a second <build>");
+        if (k == K_RESOURCES || k == K_BUILD) *self = k;
+        break;
+    case K_RESOURCES:
+        switch (k) {
+        case K_BASEMATERIALS: s = on_basematerials(r); break;
+        case K_OBJECT: s = on_object(r); break;
+        case K_IMAGE3D: s = on_image3d(r); break;
+        case K_FUNCIMG: s = on_funcimg(r); break;
+        case K_VOLUMEDATA: s = on_volumedata(r); break;
+        case K_IMPLICIT: {
+            func *f;
+            s = add_func(r, F_IMPLICIT, &f);
+            k = K_IGNORED;
+            break;
+        }
+        default: { /* another extension's resource: its id still counts */
+            char *id = get_attr(r, "id");
+            if (id) {
+                func *f;
+                xmlFree(id);
+                s = add_func(r, F_OTHER, &f);
+            }
+            k = K_IGNORED;
+        }
+        }
+        *self = k;
+        break;
+    case K_BASEMATERIALS:
+        if (k == K_BASE) s = on_base(r);
+        break;
+    case K_OBJECT:
+        if (k == K_MESH) s = on_mesh(r);
+        else if (k == K_COMPONENTS || k == K_LEVELSET) {
+            object *o = &r->objects[r->nobjects - 1];
+            if (o->kind != O_NONE)
+                s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<object> id %u has more than one shape", o->id);
+            o->kind = k == K_COMPONENTS ? O_COMPONENTS : O_LEVELSET;
+            o->mesh_line = line_of(r);
+            k = K_IGNORED;
+        }
+        *self = k == K_MESH ? K_MESH : K_IGNORED;
+        break;
+    case K_MESH:
+        if (k == K_VERTICES || k == K_TRIANGLES) *self = k;
+        break;
+    case K_VERTICES:
+        if (k == K_VERTEX) s = on_vertex(r);
+        break;
+    case K_TRIANGLES:
+        if (k == K_TRIANGLE) s = on_triangle(r);
+        break;
+    case K_BUILD:
+        if (k == K_ITEM) s = on_item(r);
+        break;
+    case K_IMAGE3D:
+        if (k == K_IMAGESTACK) {
+            s = on_imagestack(r);
+            *self = k;
+        }
+        break;
+    case K_IMAGESTACK:
+        if (k == K_IMAGESHEET) s = on_imagesheet(r);
+        break;
+    case K_VOLUMEDATA:
+        if (k == K_COMPOSITE) {
+            s = on_composite(r);
+            *self = k;
+        } else if (k == K_PROPERTY) {
+            s = on_property(r);
+        }
+        break;
+    case K_COMPOSITE:
+        if (k == K_MATMAP) s = on_matmap(r);
+        break;
+    default:
+        break;
+    }
+    return s;
+}
+
+static hv_status on_end(rd *r, kind k)
+{
+    if (k == K_IMAGESTACK) {
+        img3d *im = &r->images[r->nimages - 1];
+        if (im->npaths != im->sheets)
+            return bad_at(r, HV_ERR_BAD_INPUT, im->stack_line, "<v:imagestack> has sheetcount %llu but %zu imagesheets",
+                          (unsigned long long)im->sheets, im->npaths);
+    }
+    return HV_OK;
+}
+
+static hv_status read_model(rd *r)
+{
+    r->zf = zip_fopen(r->za, r->part, ZIP_FL_NOCASE);
+    if (!r->zf) return bad_at(r, HV_ERR_BAD_INPUT, 0, "the model part %s cannot be read: %s", r->part,
+                              zip_error_strerror(zip_get_error(r->za)));
+    r->xr = xmlReaderForIO(xml_read_cb, xml_close_cb, r, NULL, NULL, XML_PARSE_NONET | XML_PARSE_NOCDATA | XML_PARSE_BIG_LINES);
+    if (!r->xr) {
+        zip_fclose(r->zf);
+        r->zf = NULL;
+        return HV_ERR_NOMEM;
+    }
+    xmlTextReaderSetStructuredErrorHandler(r->xr, xml_error_cb, r);
+    kind stack[MAX_DEPTH];
+    hv_status s = HV_OK;
+    int rc;
+    while (s == HV_OK && (rc = xmlTextReaderRead(r->xr)) == 1) {
+        int type = xmlTextReaderNodeType(r->xr), depth = xmlTextReaderDepth(r->xr);
+        if (type == XML_READER_TYPE_DOCUMENT_TYPE) {
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "a DOCTYPE is not allowed in a 3MF model");
+            break;
+        }
+        if (depth < 0 || depth >= MAX_DEPTH) {
+            s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "elements nested more than %d deep", MAX_DEPTH);
+            break;
+        }
+        if (type == XML_READER_TYPE_END_ELEMENT) {
+            s = on_end(r, stack[depth]);
+            continue;
+        }
+        if (type != XML_READER_TYPE_ELEMENT) continue;
+        kind parent = depth > 0 ? stack[depth - 1] : K_NONE;
+        kind self = K_IGNORED;
+        if (depth == 0 || (parent != K_IGNORED && parent != K_NONE)) s = on_element(r, classify(r), parent, depth, &self);
+        stack[depth] = self;
+        if (s == HV_OK && xmlTextReaderIsEmptyElement(r->xr)) s = on_end(r, self);
+    }
+    if (s == HV_OK && rc != 0) {
+        int line = r->xml_error_line ? r->xml_error_line : line_of(r);
+        s = bad_at(r, HV_ERR_BAD_INPUT, line, "%s", r->xml_error[0] ? r->xml_error : "malformed XML");
+    }
+    xmlFreeTextReader(r->xr);
+    r->xr = NULL;
+    if (zip_fclose(r->zf) != 0 && s == HV_OK) s = bad_at(r, HV_ERR_BAD_INPUT, 0, "the model part %s is damaged", r->part);
+    r->zf = NULL;
+    if (s == HV_OK && !r->resources_seen) s = bad_at(r, HV_ERR_BAD_INPUT, 0, "%s: the model has no <resources>", r->part);
+    return s;
+}
+
+/* The model part named by the package relationship of type 3dmodel (_rels/.rels); without one,
+ * 3D/3dmodel.model. */
+static hv_status find_model_part(rd *r, char *part, size_t size)
+{
+    snprintf(part, size, "3D/3dmodel.model");
+    zip_file_t *zf = zip_fopen(r->za, "_rels/.rels", ZIP_FL_NOCASE);
+    if (!zf) return HV_OK;
+    zip_stat_t st;
+    hv_status s = HV_OK;
+    char *text = NULL;
+    if (zip_stat(r->za, "_rels/.rels", ZIP_FL_NOCASE, &st) != 0 || !(st.valid & ZIP_STAT_SIZE) || st.size > (1u << 20))
+        s = bad_at(r, HV_ERR_BAD_INPUT, 0, "_rels/.rels is larger than 1 MiB or unreadable");
+    if (s == HV_OK && !(text = hv_malloc((size_t)st.size + 1))) s = HV_ERR_NOMEM;
+    if (s == HV_OK && zip_fread(zf, text, st.size) != (zip_int64_t)st.size)
+        s = bad_at(r, HV_ERR_BAD_INPUT, 0, "_rels/.rels is damaged");
+    zip_fclose(zf);
+    xmlDocPtr doc = NULL;
+    if (s == HV_OK) {
+        doc = xmlReadMemory(text, (int)st.size, "rels", NULL, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING);
+        if (!doc) s = bad_at(r, HV_ERR_BAD_INPUT, 0, "_rels/.rels is not well-formed XML");
+    }
+    int found = 0;
+    for (xmlNodePtr n = doc ? xmlDocGetRootElement(doc) : NULL, c = n ? n->children : NULL; c && !found; c = c->next) {
+        if (c->type != XML_ELEMENT_NODE || strcmp((const char *)c->name, "Relationship") != 0) continue;
+        xmlChar *type = xmlGetProp(c, BAD_CAST "Type"), *target = xmlGetProp(c, BAD_CAST "Target");
+        if (type && target && strcmp((char *)type, TMF_REL_MODEL) == 0) {
+            const char *t = (const char *)target;
+            if (t[0] == '/') ++t;
+            if (!*t || strlen(t) >= size) s = bad_at(r, HV_ERR_BAD_INPUT, 0, "_rels/.rels: a bad model part name");
+            else snprintf(part, size, "%s", t);
+            found = 1;
+        }
+        xmlFree(type);
+        xmlFree(target);
+    }
+    if (doc) xmlFreeDoc(doc);
+    free(text);
+    return s;
+}
+
+/* ---- the lattice and the occupancy ---------------------------------------------------------------------------- */
+
+typedef struct lattice {
+    double t[12];      /* object -> UVW */
+    uint64_t n[3];     /* columns, rows, sheets */
+} lattice;
+
+typedef struct crossing {
+    int32_t i, j;
+    double z;
+} crossing;
+
+static int cmp_crossing(const void *a, const void *b)
+{
+    const crossing *p = a, *q = b;
+    if (p->i != q->i) return p->i < q->i ? -1 : 1;
+    if (p->j != q->j) return p->j < q->j ? -1 : 1;
+    return p->z < q->z ? -1 : p->z > q->z;
+}
+
+/* 2D edge function of p against edge e0 -> e1, computed with the endpoints in a fixed order so
+ * that the two triangles sharing an edge get exactly opposite values. */
+static double edge_fn(const double *e0, const double *e1, double px, double py)
+{
+    int swap = e1[0] < e0[0] || (e1[0] == e0[0] && e1[1] < e0[1]);
+    const double *a = swap ? e1 : e0, *b = swap ? e0 : e1;
+    double w = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+    return swap ? -w : w;
+}
+
+/* p inside the counter-clockwise triangle, points on an edge counted by the top-left rule, so
+ * every column through a closed mesh meets it an even number of times. */
+static int covers(const double *a, const double *b, const double *c, double px, double py)
+{
+    const double *v[3] = {a, b, c};
+    for (int e = 0; e < 3; ++e) {
+        const double *e0 = v[e], *e1 = v[(e + 1) % 3];
+        double w = edge_fn(e0, e1, px, py);
+        if (w > 0) continue;
+        if (w < 0) return 0;
+        double dx = e1[0] - e0[0], dy = e1[1] - e0[1];
+        if (!(dy < 0 || (dy == 0 && dx < 0))) return 0;
+    }
+    return 1;
+}
+
+typedef struct leafmap {
+    int32_t *origins; /* 3 per leaf */
+    uint64_t *masks;  /* 8 per leaf */
+    size_t n, cap;
+    int64_t *slot;    /* leaf + 1, 0 empty */
+    size_t scap;
+} leafmap;
+
+static uint64_t lhash(int32_t x, int32_t y, int32_t z)
+{
+    uint64_t h = (uint64_t)(uint32_t)x * 0x9E3779B97F4A7C15ull ^ (uint64_t)(uint32_t)y * 0xC2B2AE3D27D4EB4Full ^
+                 (uint64_t)(uint32_t)z * 0x165667B19E3779F9ull;
+    return h ^ (h >> 29);
+}
+
+static hv_status leaf_set(rd *r, leafmap *m, int32_t i, int32_t j, int32_t k)
+{
+    int32_t o[3] = {i & ~7, j & ~7, k & ~7};
+    if (2 * (m->n + 1) > m->scap) {
+        size_t ncap = m->scap ? m->scap * 2 : 1024;
+        hv_status s = charge(r, (uint64_t)(ncap - m->scap) * sizeof(int64_t), "occupancy");
+        if (s != HV_OK) return s;
+        int64_t *slot = hv_calloc(ncap, sizeof *slot);
+        if (!slot) return HV_ERR_NOMEM;
+        for (size_t l = 0; l < m->n; ++l) {
+            size_t h = (size_t)lhash(m->origins[3 * l], m->origins[3 * l + 1], m->origins[3 * l + 2]) & (ncap - 1);
+            while (slot[h]) h = (h + 1) & (ncap - 1);
+            slot[h] = (int64_t)l + 1;
+        }
+        free(m->slot);
+        m->slot = slot;
+        m->scap = ncap;
+    }
+    size_t h = (size_t)lhash(o[0], o[1], o[2]) & (m->scap - 1);
+    for (; m->slot[h]; h = (h + 1) & (m->scap - 1)) {
+        size_t l = (size_t)m->slot[h] - 1;
+        if (m->origins[3 * l] == o[0] && m->origins[3 * l + 1] == o[1] && m->origins[3 * l + 2] == o[2]) {
+            unsigned n = HV_LEAF_OFFSET(i, j, k);
+            m->masks[8 * l + (n >> 6)] |= 1ull << (n & 63);
+            return HV_OK;
+        }
+    }
+    if (m->n == m->cap) {
+        size_t ncap = m->cap ? m->cap * 2 : 256;
+        /* the leaves, and what they will cost in the model */
+        hv_status s = charge(r, (uint64_t)(ncap - m->cap) * (3 * sizeof(int32_t) + 8 * sizeof(uint64_t) + r->leaf_bytes),
+                             "the model's voxels");
+        if (s != HV_OK) return s;
+        int32_t *no = hv_realloc(m->origins, ncap * 3 * sizeof *no);
+        if (!no) return HV_ERR_NOMEM;
+        m->origins = no;
+        uint64_t *nm = hv_realloc(m->masks, ncap * 8 * sizeof *nm);
+        if (!nm) return HV_ERR_NOMEM;
+        m->masks = nm;
+        m->cap = ncap;
+    }
+    size_t l = m->n++;
+    memcpy(m->origins + 3 * l, o, sizeof o);
+    memset(m->masks + 8 * l, 0, 8 * sizeof(uint64_t));
+    unsigned n = HV_LEAF_OFFSET(i, j, k);
+    m->masks[8 * l + (n >> 6)] |= 1ull << (n & 63);
+    m->slot[h] = (int64_t)l + 1;
+    return HV_OK;
+}
+
+static void leafmap_free(leafmap *m)
+{
+    free(m->origins);
+    free(m->masks);
+    free(m->slot);
+    memset(m, 0, sizeof *m);
+}
+
+/* The voxels (lattice index space: voxel centres at integers, s = UVW * n - 1/2) whose centres lie
+ * inside the mesh: crossings of the columns through voxel centres with the triangles, sorted per
+ * column; a voxel is inside when an odd number of crossings lie below its centre (ray parity; a
+ * last unpaired crossing of an open column is dropped). */
+static hv_status occupancy(rd *r, const double *s3, const uint32_t *tri, size_t nt, leafmap *out, uint64_t *voxels)
+{
+    *voxels = 0;
+    /* visiting a triangle costs its rows: bound them before any work */
+    double rows = 0;
+    for (size_t t = 0; t < nt; ++t) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (int k = 0; k < 3; ++k) {
+            double y = s3[3 * (size_t)tri[3 * t + (size_t)k] + 1];
+            lo = HV_MIN(lo, y);
+            hi = HV_MAX(hi, y);
+        }
+        if (hi >= lo) rows += floor(hi) - ceil(lo) + 1;
+    }
+    if (rows > (double)(r->budget / 8) + 1e7)
+        return bad_at(r, HV_ERR_LIMIT, 0, "the mesh spans %.4g lattice rows across its triangles: too many for the "
+                      "memory budget", rows);
+    crossing *cr = NULL;
+    size_t ncr = 0, cap = 0;
+    hv_status s = HV_OK;
+    /* lattice points tried: a few per crossing for real meshes; a hostile one (long edges along
+     * rows) is stopped */
+    uint64_t tried = 0, max_tried = (r->budget / sizeof(crossing)) * 16 + 100000000u;
+    for (size_t t = 0; t < nt && s == HV_OK; ++t) {
+        const double *a = s3 + 3 * (size_t)tri[3 * t], *b = s3 + 3 * (size_t)tri[3 * t + 1],
+                     *c = s3 + 3 * (size_t)tri[3 * t + 2];
+        double o = edge_fn(a, b, c[0], c[1]);
+        if (o == 0) continue; /* seen edge-on from z: no column crosses it */
+        if (o < 0) {
+            const double *tmp = b;
+            b = c;
+            c = tmp;
+        }
+        double nx = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+        double ny = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
+        double nz = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        double ylo = HV_MIN(a[1], HV_MIN(b[1], c[1])), yhi = HV_MAX(a[1], HV_MAX(b[1], c[1]));
+        double xlo = HV_MIN(a[0], HV_MIN(b[0], c[0])), xhi = HV_MAX(a[0], HV_MAX(b[0], c[0]));
+        for (double y = ceil(ylo); y <= yhi && s == HV_OK; y += 1) {
+            /* the triangle's x range on this row */
+            double x0 = INFINITY, x1 = -INFINITY;
+            const double *v[3] = {a, b, c};
+            for (int e = 0; e < 3; ++e) {
+                const double *p = v[e], *q = v[(e + 1) % 3];
+                if ((p[1] <= y && y <= q[1]) || (q[1] <= y && y <= p[1])) {
+                    double x = p[1] == q[1] ? p[0] : p[0] + (q[0] - p[0]) * (y - p[1]) / (q[1] - p[1]);
+                    x0 = HV_MIN(x0, HV_MIN(x, p[1] == q[1] ? q[0] : x));
+                    x1 = HV_MAX(x1, HV_MAX(x, p[1] == q[1] ? q[0] : x));
+                }
+            }
+            x0 = HV_MAX(x0, xlo) - 1;
+            x1 = HV_MIN(x1, xhi) + 1;
+            for (double x = ceil(x0); x <= x1 && s == HV_OK; x += 1) {
+                if (++tried > max_tried) {
+                    s = bad_at(r, HV_ERR_LIMIT, 0, "the mesh's triangles cover more lattice columns than the memory "
+                               "budget allows for their crossings");
+                    break;
+                }
+                if (!covers(a, b, c, x, y)) continue;
+                if (ncr == cap) {
+                    s = grow(r, (void **)&cr, &cap, ncr + 1, sizeof *cr, "occupancy");
+                    if (s != HV_OK) break;
+                }
+                double z = a[2] - (nx * (x - a[0]) + ny * (y - a[1])) / nz;
+                cr[ncr++] = (crossing){(int32_t)x, (int32_t)y, z};
+            }
+        }
+    }
+    if (s == HV_OK && ncr) qsort(cr, ncr, sizeof *cr, cmp_crossing);
+    for (size_t b = 0; b < ncr && s == HV_OK;) {
+        size_t e = b;
+        while (e < ncr && cr[e].i == cr[b].i && cr[e].j == cr[b].j) ++e;
+        for (size_t p = b; p + 1 < e && s == HV_OK; p += 2) {
+            double k0 = floor(cr[p].z) + 1, k1 = floor(cr[p + 1].z);
+            if (k1 - k0 > 2.0e9) s = bad_at(r, HV_ERR_LIMIT, 0, "a column of the lattice holds %.4g voxels", k1 - k0);
+            for (double k = k0; k <= k1 && s == HV_OK; k += 1) {
+                s = leaf_set(r, out, cr[b].i, cr[b].j, (int32_t)k);
+                ++*voxels;
+            }
+        }
+        b = e;
+    }
+    free(cr);
+    return s;
+}
+
+/* ---- the fractions --------------------------------------------------------------------------------------- */
+
+/* A lattice index s onto an image index in [0, n) by the tile style (spec 2.2): at voxel centres
+ * u = (s + 1/2) / n, so wrap is s mod n, mirror reflects every other period, clamp the edge. */
+static int64_t tile_index(int64_t s, int64_t n, int style)
+{
+    if (style == 2) return s < 0 ? 0 : s >= n ? n - 1 : s;
+    if (style == 1) {
+        int64_t m = s % (2 * n);
+        if (m < 0) m += 2 * n;
+        return m < n ? m : 2 * n - 1 - m;
+    }
+    int64_t m = s % n;
+    return m < 0 ? m + n : m;
+}
+
+typedef struct sheet_cache {
+    int64_t sheet; /* decoded sheet, -1: none */
+    hv_png_pixels px;
+} sheet_cache;
+
+static hv_status read_entry(rd *r, const char *part, uint8_t **data, size_t *size)
+{
+    *data = NULL;
+    zip_stat_t st;
+    if (zip_stat(r->za, part, ZIP_FL_NOCASE, &st) != 0)
+        return bad_at(r, HV_ERR_BAD_INPUT, 0, "the image sheet /%s is missing from the package", part);
+    if (!(st.valid & ZIP_STAT_SIZE)) return bad_at(r, HV_ERR_BAD_INPUT, 0, "/%s: no size in the archive", part);
+    if (st.size > r->budget - HV_MIN(r->budget, r->used))
+        return bad_at(r, HV_ERR_LIMIT, 0, "/%s: %llu bytes exceed the memory budget", part, (unsigned long long)st.size);
+    zip_file_t *zf = zip_fopen(r->za, part, ZIP_FL_NOCASE);
+    if (!zf) return bad_at(r, HV_ERR_BAD_INPUT, 0, "/%s cannot be read: %s", part, zip_error_strerror(zip_get_error(r->za)));
+    uint8_t *buf = hv_malloc(st.size ? (size_t)st.size : 1);
+    hv_status s = buf ? HV_OK : HV_ERR_NOMEM;
+    char one;
+    if (s == HV_OK && (zip_fread(zf, buf, st.size) != (zip_int64_t)st.size || zip_fread(zf, &one, 1) != 0))
+        s = bad_at(r, HV_ERR_BAD_INPUT, 0, "/%s is damaged in the archive: %s", part, zip_error_strerror(zip_file_get_error(zf)));
+    zip_fclose(zf);
+    if (s != HV_OK) {
+        free(buf);
+        return s;
+    }
+    *data = buf;
+    *size = (size_t)st.size;
+    return HV_OK;
+}
+
+static hv_status load_sheet(rd *r, img3d *im, sheet_cache *c, int64_t sheet)
+{
+    if (c->sheet == sheet) return HV_OK;
+    hv_png_pixels_free(&c->px);
+    c->sheet = -1;
+    uint8_t *data = NULL;
+    size_t size = 0;
+    const char *part = im->paths[sheet];
+    hv_status s = read_entry(r, part, &data, &size);
+    if (s != HV_OK) return s;
+    char label[1300];
+    snprintf(label, sizeof label, "%s: %s: line %d: <v:imagesheet> /%s", r->name, r->part, im->lines[sheet], part);
+    s = hv_png_decode(data, size, label, (uint64_t)im->rows * im->cols * 4, &c->px);
+    free(data);
+    if (s == HV_ERR_LIMIT || (s == HV_OK && ((uint64_t)c->px.width != im->cols || (uint64_t)c->px.height != im->rows))) {
+        uint64_t w = s == HV_OK ? (uint64_t)c->px.width : 0, h = s == HV_OK ? (uint64_t)c->px.height : 0;
+        hv_png_pixels_free(&c->px);
+        if (s == HV_OK)
+            return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s is %llu x %llu pixels; its "
+                          "<v:imagestack> has %llu columns and %llu rows", part, (unsigned long long)w,
+                          (unsigned long long)h, (unsigned long long)im->cols, (unsigned long long)im->rows);
+        return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s is larger than its <v:imagestack> of "
+                      "%llu x %llu", part, (unsigned long long)im->cols, (unsigned long long)im->rows);
+    }
+    if (s != HV_OK) return s;
+    if (!im->channels) {
+        im->channels = c->px.channels;
+        im->bits = c->px.bit_depth;
+    } else if (im->channels != c->px.channels || im->bits != c->px.bit_depth) {
+        hv_png_pixels_free(&c->px);
+        return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s differs in pixel layout from the "
+                      "sheets before it in its stack", part);
+    }
+    c->sheet = sheet;
+    return HV_OK;
+}
+
+/* A channel of a sample normalised to [0, 1] (spec 3.2: Y gives red, green and blue; missing
+ * alpha is 1). */
+static double channel_value(const hv_png_pixels *px, size_t at, int ch)
+{
+    int n = px->channels;
+    double max = px->bit_depth == 16 ? 65535.0 : 255.0;
+    const uint16_t *p = px->samples + at * (size_t)n;
+    int idx;
+    if (ch == 3) idx = n == 2 ? 1 : n == 4 ? 3 : -1;
+    else idx = n >= 3 ? ch : 0;
+    return idx < 0 ? 1.0 : p[idx] / max;
+}
+
+typedef struct zleaf {
+    int32_t z;
+    size_t leaf;
+} zleaf;
+
+static int cmp_zleaf(const void *a, const void *b)
+{
+    const zleaf *p = a, *q = b;
+    if (p->z != q->z) return p->z < q->z ? -1 : 1;
+    return p->leaf < q->leaf ? -1 : p->leaf > q->leaf;
+}
+
+/* ---- putting it together --------------------------------------------------------------------------------- */
+
+typedef struct used {
+    const object *obj;
+    const voldata *vd;
+    const bgroup *bg;
+    const func *f[HV_MAX_MATERIALS];
+    img3d *im[HV_MAX_MATERIALS];
+    double shift[3]; /* the build item's translation */
+} used;
+
+/* The fractions of the voxels of leaf l at height z, from the decoded sheets. */
+static void fill_layer(const used *u, hv_volume *v, const int *grid, size_t l, int64_t z, const int64_t *off,
+                       const sheet_cache *cache, const int *cache_of)
+{
+    int m = u->bg->n;
+    const int32_t *o = hv_volume_leaf_origins(v) + 3 * l;
+    const uint64_t *mask = hv_volume_leaf_mask(v, l);
+    float *dst[HV_MAX_MATERIALS];
+    for (int j = 0; j < m; ++j) dst[j] = hv_volume_leaf_float(v, grid[j], l);
+    for (unsigned x = 0; x < 8; ++x)
+        for (unsigned y = 0; y < 8; ++y) {
+            unsigned n = (x << 6) | (y << 3) | (unsigned)(z & 7);
+            if (!HV_BIT_GET(mask, n)) continue;
+            int64_t si = o[0] + (int64_t)x - off[0], sj = o[1] + (int64_t)y - off[1];
+            double val[HV_MAX_MATERIALS], sum = 0;
+            for (int j = 0; j < m; ++j) {
+                const img3d *im = u->im[j];
+                int64_t col = tile_index(si, (int64_t)im->cols, u->f[j]->tile[0]);
+                int64_t row = (int64_t)im->rows - 1 - tile_index(sj, (int64_t)im->rows, u->f[j]->tile[1]);
+                double c = channel_value(&cache[cache_of[j]].px, (size_t)row * im->cols + (size_t)col,
+                                         u->vd->maps[j].channel);
+                c = c * u->f[j]->scale + u->f[j]->offset;
+                val[j] = c > 1 ? 1 : c > 0 ? c : 0; /* NaN, < 0: 0 (spec 5.2.3) */
+                sum += val[j];
+            }
+            for (int j = 0; j < m; ++j) dst[j][n] = sum >= 1e-5 ? (float)(val[j] / sum) : (j == 0 ? 1.0f : 0.0f);
+        }
+}
+
+static const void *find_res(const void *arr, size_t n, size_t size, uint32_t id)
+{
+    for (size_t i = 0; i < n; ++i) {
+        const void *e = (const char *)arr + i * size;
+        if (*(const uint32_t *)e == id) return e;
+    }
+    return NULL;
+}
+
+static int cmp_resid(const void *a, const void *b)
+{
+    const resid *p = a, *q = b;
+    if (p->id != q->id) return p->id < q->id ? -1 : 1;
+    return p->line - q->line;
+}
+
+static int near_zero(double v, double scale) { return fabs(v) <= 1e-12 * scale; }
+
+static hv_status resolve(rd *r, used *u, lattice *lat)
+{
+    memset(u, 0, sizeof *u);
+    if (r->nids) qsort(r->ids, r->nids, sizeof *r->ids, cmp_resid);
+    for (size_t i = 1; i < r->nids; ++i)
+        if (r->ids[i].id == r->ids[i - 1].id)
+            return bad_at(r, HV_ERR_BAD_INPUT, r->ids[i].line, "resource id %u is used twice (also on line %d)", r->ids[i].id,
+                          r->ids[i - 1].line);
+    if (r->nitems == 0) return bad_at(r, HV_ERR_BAD_INPUT, 0, "%s: the <build> has no <item>", r->part);
+    if (r->nitems > 1)
+        return bad_at(r, HV_ERR_UNSUPPORTED, r->items[1].line, "<item>: the build has %zu items; hovox reads a package "
+                      "of one object", r->nitems);
+    const item *it = &r->items[0];
+    u->obj = find_res(r->objects, r->nobjects, sizeof *r->objects, it->objectid);
+    if (!u->obj)
+        return bad_at(r, HV_ERR_BAD_INPUT, it->line, "<item> objectid %u names no <object>", it->objectid);
+    if (it->has_t) {
+        const double *t = it->t;
+        if (!(t[0] == 1 && t[4] == 1 && t[8] == 1 && t[1] == 0 && t[2] == 0 && t[3] == 0 && t[5] == 0 && t[6] == 0 &&
+              t[7] == 0))
+            return bad_at(r, HV_ERR_UNSUPPORTED, it->line, "<item> transform rotates or scales the object; hovox reads "
+                          "translations only");
+        for (int a = 0; a < 3; ++a) u->shift[a] = t[9 + a];
+    }
+    const object *o = u->obj;
+    if (o->kind == O_COMPONENTS)
+        return bad_at(r, HV_ERR_UNSUPPORTED, o->mesh_line, "<components> of object %u: hovox reads one mesh object", o->id);
+    if (o->kind == O_LEVELSET)
+        return bad_at(r, HV_ERR_UNSUPPORTED, o->mesh_line, "<v:levelset> of object %u: level-set shapes are not "
+                      "supported", o->id);
+    if (o->kind != O_MESH) return bad_at(r, HV_ERR_BAD_INPUT, o->line, "<object> %u has no mesh", o->id);
+    if (!o->has_volumeid)
+        return bad_at(r, HV_ERR_UNSUPPORTED, o->mesh_line, "<mesh> of object %u carries no volume data (v:volumeid): "
+                      "nothing graded to read (voxelize the mesh instead)", o->id);
+    if (o->nt == 0) return bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh> of object %u has no triangles", o->id);
+    u->vd = find_res(r->vols, r->nvols, sizeof *r->vols, o->volumeid);
+    if (!u->vd)
+        return bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh> volumeid %u names no <v:volumedata>", o->volumeid);
+    const voldata *vd = u->vd;
+    if (vd->refuse_line) return bad_at(r, HV_ERR_UNSUPPORTED, vd->refuse_line, "%s", vd->refuse);
+    if (!vd->composites)
+        return bad_at(r, HV_ERR_UNSUPPORTED, vd->line, "<v:volumedata> %u has no <v:composite>: hovox reads material "
+                      "compositions", vd->id);
+    u->bg = find_res(r->groups, r->ngroups, sizeof *r->groups, vd->basematerialid);
+    if (!u->bg)
+        return bad_at(r, HV_ERR_BAD_INPUT, vd->composite_line, "<v:composite> basematerialid %u names no "
+                      "<basematerials>", vd->basematerialid);
+    if (vd->nmaps < 1 || vd->nmaps != u->bg->n)
+        return bad_at(r, HV_ERR_BAD_INPUT, vd->composite_line, "<v:composite> has %d materialmappings for the %d base "
+                      "materials of <basematerials> %u", vd->nmaps, u->bg->n, u->bg->id);
+    for (int j = 0; j < vd->nmaps; ++j) {
+        const mapping *m = &vd->maps[j];
+        const func *f = find_res(r->funcs, r->nfuncs, sizeof *r->funcs, m->functionid);
+        if (!f) return bad_at(r, HV_ERR_BAD_INPUT, m->line, "<v:materialmapping> functionid %u names no function", m->functionid);
+        if (f->kind != F_IMAGE)
+            return bad_at(r, HV_ERR_UNSUPPORTED, m->line, "<v:materialmapping> functionid %u is a <%s> (line %d): only "
+                          "functionfromimage3d is supported", m->functionid, f->elem, f->line);
+        img3d *im = (img3d *)find_res(r->images, r->nimages, sizeof *r->images, f->image3did);
+        if (!im) return bad_at(r, HV_ERR_BAD_INPUT, f->line, "<%s> image3did %u names no <v:image3d>", f->elem, f->image3did);
+        if (!im->has_stack)
+            return bad_at(r, HV_ERR_UNSUPPORTED, im->line, "<v:image3d> %u has no <v:imagestack> (other image kinds are "
+                          "not supported)", im->id);
+        u->f[j] = f;
+        u->im[j] = im;
+        /* the transform: an axis-aligned scale with positive diagonal, and a translation */
+        const double *t = m->t;
+        double big = 0;
+        for (int k = 0; k < 12; ++k) big = HV_MAX(big, fabs(t[k]));
+        if (!(t[0] > 0 && t[4] > 0 && t[8] > 0) || !near_zero(t[1], big) || !near_zero(t[2], big) ||
+            !near_zero(t[3], big) || !near_zero(t[5], big) || !near_zero(t[6], big) || !near_zero(t[7], big))
+            return bad_at(r, HV_ERR_UNSUPPORTED, m->line, "<v:materialmapping> transform is not an axis-aligned scale "
+                          "and translation (rotations, shears and mirrors are not supported)");
+        uint64_t n[3] = {im->cols, im->rows, im->sheets};
+        if (j == 0) {
+            memcpy(lat->t, t, sizeof lat->t);
+            memcpy(lat->n, n, sizeof lat->n);
+            continue;
+        }
+        /* every mapping samples the same voxel centres */
+        for (int a = 0; a < 3; ++a) {
+            double s0 = lat->t[4 * a] * (double)lat->n[a], s1 = t[4 * a] * (double)n[a];
+            double c0 = lat->t[9 + a] * (double)lat->n[a], c1 = t[9 + a] * (double)n[a];
+            if (fabs(s0 - s1) > 1e-9 * s0 || fabs((c0 - c1) / s0) > 1e-6)
+                return bad_at(r, HV_ERR_UNSUPPORTED, m->line, "<v:materialmapping> samples another voxel lattice than "
+                              "the first mapping (line %d): hovox needs one lattice", vd->maps[0].line);
+        }
+    }
+    /* every sheet of the stacks in use is in the package */
+    for (int j = 0; j < vd->nmaps; ++j)
+        for (size_t k = 0; k < u->im[j]->npaths; ++k)
+            if (zip_name_locate(r->za, u->im[j]->paths[k], ZIP_FL_NOCASE) < 0)
+                return bad_at(r, HV_ERR_BAD_INPUT, u->im[j]->lines[k], "<v:imagesheet> /%s is missing from the package",
+                              u->im[j]->paths[k]);
+    return HV_OK;
+}
+
+/* Material names hovox accepts: [A-Za-z0-9_-], 1-64 bytes, unique. */
+static void material_names(const bgroup *g, char (*out)[72])
+{
+    for (int j = 0; j < g->n; ++j) {
+        const char *s = g->names[j];
+        size_t o = 0;
+        for (size_t i = 0; s[i] && o < 64; ++i) {
+            char c = s[i];
+            out[j][o++] = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_'
+                              ? c
+                              : '_';
+        }
+        if (o == 0) out[j][o++] = 'm';
+        out[j][o] = '\0';
+        for (int k = 0, dup = 1; k < j; ++k)
+            if (strcmp(out[k], out[j]) == 0) {
+                char tmp[72];
+                snprintf(tmp, sizeof tmp, "%.56s_%d", out[j], ++dup);
+                memcpy(out[j], tmp, sizeof tmp);
+                k = -1;
+            }
+    }
+}
+
+static hv_status build_table(rd *r, const used *u, hv_material_table **out)
+{
+    *out = NULL;
+    char names[HV_MAX_MATERIALS][72];
+    material_names(u->bg, names);
+    if (r->materials_json) { /* hovox's own table, when it names the same materials */
+        hv_material_table *t = NULL;
+        if (hv_material_table_from_json(r->materials_json, &t) == HV_OK && hv_material_count(t) == u->bg->n) {
+            int same = 1;
+            for (int j = 0; j < u->bg->n && same; ++j) same = strcmp(hv_material_name(t, j), names[j]) == 0;
+            if (same) {
+                *out = t;
+                return HV_OK;
+            }
+        }
+        hv_material_table_destroy(t);
+        hv_error_clear();
+    }
+    hv_material_table *t;
+    hv_status s = hv_material_table_create(&t);
+    for (int j = 0; j < u->bg->n && s == HV_OK; ++j) s = hv_material_add(t, names[j], u->bg->rgba + 4 * j, NULL);
+    if (s != HV_OK) {
+        hv_material_table_destroy(t);
+        return s;
+    }
+    *out = t;
+    return HV_OK;
+}
+
+static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume **vol, hv_mesh **mesh)
+{
+    const object *o = u->obj;
+    const double *t = lat->t;
+    /* vertices in lattice index space, and the world lattice */
+    double *s3 = NULL;
+    hv_status s = charge(r, (uint64_t)o->nv * 3 * sizeof(double), "vertices");
+    if (s == HV_OK && !(s3 = hv_malloc_array(o->nv, 3 * sizeof(double)))) s = HV_ERR_NOMEM;
+    for (size_t v = 0; v < o->nv && s == HV_OK; ++v)
+        for (int a = 0; a < 3; ++a) {
+            double x = r->xyz[3 * (o->v0 + v) + (size_t)a];
+            double w = (t[4 * a] * x + t[9 + a]) * (double)lat->n[a] - 0.5;
+            if (!(fabs(w) < 1e9))
+                s = bad_at(r, HV_ERR_LIMIT, o->mesh_line, "<mesh> vertex %zu lies %.4g voxels from the image stack's "
+                           "lattice origin: too far to voxelize", v, w);
+            s3[3 * v + (size_t)a] = w;
+        }
+    hv_transform xf;
+    int64_t off[3] = {0, 0, 0};
+    for (int a = 0; a < 3 && s == HV_OK; ++a) {
+        double L = 1.0 / (t[4 * a] * (double)lat->n[a]);           /* object units */
+        double c0 = (-t[9 + a] / t[4 * a] + 0.5 * L + u->shift[a]) * r->unit; /* centre of s = 0, mm */
+        xf.voxel[a] = L * r->unit;
+        if (!(xf.voxel[a] > 0 && isfinite(xf.voxel[a]) && isfinite(c0))) {
+            s = bad_at(r, HV_ERR_BAD_INPUT, u->vd->maps[0].line, "<v:materialmapping> transform gives voxels of %g mm",
+                       xf.voxel[a]);
+            break;
+        }
+        /* hovox index = s + off; with the origin hovox wrote, its own lattice comes back */
+        double k = r->has_origin ? floor((c0 - r->origin_meta[a]) / xf.voxel[a] + 0.5) : floor(c0 / xf.voxel[a]);
+        if (r->has_origin && fabs((c0 - r->origin_meta[a]) / xf.voxel[a] - k) > 1e-6) k = floor(c0 / xf.voxel[a]);
+        if (!(fabs(k) < 1e9)) k = 0;
+        off[a] = (int64_t)k;
+        xf.origin[a] = r->has_origin && fabs((c0 - r->origin_meta[a]) / xf.voxel[a] - k) <= 1e-6
+                           ? r->origin_meta[a]
+                           : c0 - k * xf.voxel[a];
+    }
+    leafmap lm;
+    memset(&lm, 0, sizeof lm);
+    uint64_t voxels = 0;
+    r->leaf_bytes = hv_volume_memory_estimate(1024, u->bg->n, 1) / 1024;
+    if (s == HV_OK) s = occupancy(r, s3, r->tri + 3 * o->t0, o->nt, &lm, &voxels);
+    if (s == HV_OK && voxels == 0)
+        s = bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh> of object %u holds no voxel centre of the image stack's "
+                   "lattice", o->id);
+    /* shift to hovox indices (leaf origins stay multiples of 8: shift whole leaves, then voxels) */
+    hv_volume *v = NULL;
+
+    if (s == HV_OK && (off[0] % 8 || off[1] % 8 || off[2] % 8)) { /* rebuild the leaves on shifted indices */
+        leafmap sh;
+        memset(&sh, 0, sizeof sh);
+        for (size_t l = 0; l < lm.n && s == HV_OK; ++l)
+            for (unsigned n = 0; n < 512 && s == HV_OK; ++n)
+                if (HV_BIT_GET(lm.masks + 8 * l, n))
+                    s = leaf_set(r, &sh, lm.origins[3 * l] + (int32_t)(n >> 6) + (int32_t)off[0],
+                                 lm.origins[3 * l + 1] + (int32_t)((n >> 3) & 7) + (int32_t)off[1],
+                                 lm.origins[3 * l + 2] + (int32_t)(n & 7) + (int32_t)off[2]);
+        leafmap_free(&lm);
+        lm = sh;
+    } else if (s == HV_OK) {
+        for (size_t l = 0; l < lm.n; ++l)
+            for (int a = 0; a < 3; ++a) lm.origins[3 * l + (size_t)a] += (int32_t)off[a];
+    }
+    int og = -1;
+    if (s == HV_OK) s = hv_volume_create(&xf, &v);
+    if (s == HV_OK) s = hv_volume_topology_add(v, lm.n, lm.origins, lm.masks);
+    leafmap_free(&lm);
+    if (s == HV_OK) s = hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, &og);
+    size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
+    for (size_t l = 0; l < nl; ++l) memcpy(hv_volume_leaf_bool(v, og, l), hv_volume_leaf_mask(v, l), 8 * sizeof(uint64_t));
+    /* the materials */
+    hv_material_table *table = NULL;
+    if (s == HV_OK && (s = build_table(r, u, &table)) != HV_OK && s != HV_ERR_NOMEM)
+        s = bad_at(r, HV_ERR_BAD_INPUT, u->bg->line, "<basematerials> %u: %s", u->bg->id, hv_last_error());
+    int m = u->bg->n, grid[HV_MAX_MATERIALS];
+    for (int j = 0; j < m && s == HV_OK; ++j) {
+        char gname[80];
+        snprintf(gname, sizeof gname, "material.%s", hv_material_name(table, j));
+        s = hv_volume_grid_add(v, gname, HV_GRID_FLOAT, &grid[j]);
+    }
+    /* sample the sheets layer by layer; a stack's decoded sheet is kept while its layer lasts */
+    sheet_cache cache[HV_MAX_MATERIALS];
+    int cache_of[HV_MAX_MATERIALS];
+    for (int j = 0; j < m; ++j) {
+        cache[j].sheet = -1;
+        memset(&cache[j].px, 0, sizeof cache[j].px);
+        cache_of[j] = j;
+        for (int k = 0; k < j; ++k)
+            if (u->im[k] == u->im[j]) {
+                cache_of[j] = cache_of[k];
+                break;
+            }
+    }
+    if (s == HV_OK) { /* decoded sheets: one per distinct stack */
+        uint64_t need = 0;
+        for (int j = 0; j < m; ++j)
+            if (cache_of[j] == j) need += (uint64_t)u->im[j]->rows * u->im[j]->cols * 4 * sizeof(uint16_t);
+        s = charge(r, need, "image sheets");
+    }
+    if (s != HV_OK) nl = 0;
+    const int32_t *orig = nl ? hv_volume_leaf_origins(v) : NULL;
+    /* the leaves in z order, a slab (8 layers) at a time */
+    zleaf *zl = NULL;
+    if (nl) {
+        s = charge(r, nl * sizeof *zl, "the model's voxels");
+        if (s == HV_OK && !(zl = hv_malloc_array(nl, sizeof *zl))) s = HV_ERR_NOMEM;
+        if (s != HV_OK) nl = 0;
+        for (size_t l = 0; l < nl; ++l) zl[l] = (zleaf){orig[3 * l + 2], l};
+        if (nl) qsort(zl, nl, sizeof *zl, cmp_zleaf);
+    }
+    for (size_t b = 0, e = 0; b < nl && s == HV_OK; b = e) {
+        int32_t z0 = zl[b].z;
+        for (e = b; e < nl && zl[e].z == z0; ++e) {}
+        for (int64_t z = z0; z < (int64_t)z0 + 8 && s == HV_OK; ++z) {
+            if ((s = hv_progress_report(NULL, "read 3mf", 0)) != HV_OK) break;
+            for (int j = 0; j < m && s == HV_OK; ++j) {
+                if (cache_of[j] != j) continue;
+                int64_t sheet = tile_index(z - off[2], (int64_t)u->im[j]->sheets, u->f[j]->tile[2]);
+                s = load_sheet(r, u->im[j], &cache[j], sheet);
+            }
+            for (size_t li = b; li < e && s == HV_OK; ++li) fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
+        }
+    }
+    free(zl);
+    for (int j = 0; j < m; ++j) hv_png_pixels_free(&cache[j].px);
+    if (s == HV_OK) s = hv_material_table_store(v, table);
+    hv_material_table_destroy(table);
+    /* the mesh, in millimetres */
+    if (s == HV_OK && mesh) {
+        float *xyz = hv_malloc_array(o->nv, 3 * sizeof(float));
+        if (!xyz) s = HV_ERR_NOMEM;
+        for (size_t k = 0; s == HV_OK && k < o->nv; ++k)
+            for (int a = 0; a < 3; ++a)
+                xyz[3 * k + (size_t)a] = (float)((r->xyz[3 * (o->v0 + k) + (size_t)a] + u->shift[a]) * r->unit);
+        if (s == HV_OK) s = hv_mesh_create(xyz, o->nv, r->tri + 3 * o->t0, o->nt, mesh);
+        if (s != HV_OK && s != HV_ERR_NOMEM) s = bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh>: %s", hv_last_error());
+        free(xyz);
+    }
+    free(s3);
+    if (s != HV_OK) {
+        hv_volume_destroy(v);
+        return s;
+    }
+    *vol = v;
+    return HV_OK;
+}
+
+static void rd_free(rd *r)
+{
+    for (size_t i = 0; i < r->ngroups; ++i) {
+        for (int j = 0; j < r->groups[i].n; ++j) free(r->groups[i].names[j]);
+        free(r->groups[i].names);
+        free(r->groups[i].rgba);
+    }
+    free(r->groups);
+    for (size_t i = 0; i < r->nimages; ++i) {
+        for (size_t k = 0; k < r->images[i].npaths; ++k) free(r->images[i].paths[k]);
+        free(r->images[i].paths);
+        free(r->images[i].lines);
+        free(r->images[i].name);
+    }
+    free(r->images);
+    free(r->funcs);
+    for (size_t i = 0; i < r->nvols; ++i) free(r->vols[i].maps);
+    free(r->vols);
+    free(r->objects);
+    free(r->items);
+    free(r->ids);
+    free(r->xyz);
+    free(r->tri);
+    free(r->materials_json);
+}
+
+static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
+static void xml_init(void) { xmlInitParser(); }
+
+static void xml_silent(void *ctx, const char *fmt, ...)
+{
+    (void)ctx;
+    (void)fmt;
+}
+
+void tmf_xml_quiet_begin(tmf_xml_quiet *q)
+{
+    pthread_once(&g_xml_once, xml_init);
+    q->ctx = xmlGenericErrorContext;
+    q->fn = xmlGenericError;
+    xmlSetGenericErrorFunc(NULL, xml_silent);
+}
+
+void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, q->fn); }
+
+static hv_status read_package(zip_t *za, const char *name, hv_volume **vol, hv_mesh **mesh)
+{
+    tmf_xml_quiet quiet;
+    tmf_xml_quiet_begin(&quiet);
+    rd r;
+    memset(&r, 0, sizeof r);
+    r.name = name;
+    r.za = za;
+    r.budget = hv_memory_budget(0);
+    r.unit = 1;
+    char part[1100];
+    r.part = "3D/3dmodel.model";
+    hv_status s = find_model_part(&r, part, sizeof part);
+    if (s == HV_OK) {
+        r.part = part;
+        if (zip_name_locate(za, part, ZIP_FL_NOCASE) < 0)
+            s = bad_at(&r, HV_ERR_BAD_INPUT, 0, "the model part %s is missing from the package", part);
+    }
+    if (s == HV_OK) s = read_model(&r);
+    used u;
+    lattice lat;
+    if (s == HV_OK) s = resolve(&r, &u, &lat);
+    if (s == HV_OK) s = make_volume(&r, &u, &lat, vol, mesh);
+    rd_free(&r);
+    tmf_xml_quiet_end(&quiet);
+    return s;
+}
+
+static hv_status open_fail(const char *name, zip_error_t *e)
+{
+    int code = zip_error_code_zip(e);
+    if (code == ZIP_ER_MEMORY) return HV_ERR_NOMEM;
+    if (code == ZIP_ER_OPEN || code == ZIP_ER_READ || code == ZIP_ER_NOENT)
+        return hv_error_set(HV_ERR_IO, "%s: cannot read: %s", name, zip_error_strerror(e));
+    return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a readable 3MF package (ZIP): %s", name, zip_error_strerror(e));
+}
+
+hv_status hv_3mf_parse(const void *data, size_t size, const char *name, hv_volume **vol, hv_mesh **mesh)
+{
+    *vol = NULL;
+    if (mesh) *mesh = NULL;
+    zip_error_t err;
+    zip_error_init(&err);
+    zip_source_t *src = zip_source_buffer_create(size ? data : "", size, 0, &err);
+    zip_t *za = src ? zip_open_from_source(src, ZIP_RDONLY | ZIP_CHECKCONS, &err) : NULL;
+    if (!za) {
+        hv_status s = open_fail(name, &err);
+        if (src) zip_source_free(src);
+        zip_error_fini(&err);
+        return s;
+    }
+    zip_error_fini(&err);
+    hv_status s = read_package(za, name, vol, mesh);
+    zip_discard(za);
+    return s;
+}
+
+hv_status hv_3mf_load(const char *path, hv_volume **vol, hv_mesh **mesh)
+{
+    *vol = NULL;
+    if (mesh) *mesh = NULL;
+    struct stat st;
+    if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (S_ISDIR(st.st_mode)) return hv_error_set(HV_ERR_IO, "%s: is a directory, not a file", path);
+    int zerr = 0;
+    zip_t *za = zip_open(path, ZIP_RDONLY | ZIP_CHECKCONS, &zerr);
+    if (!za) {
+        zip_error_t e;
+        zip_error_init_with_code(&e, zerr);
+        hv_status s = open_fail(path, &e);
+        zip_error_fini(&e);
+        return s;
+    }
+    hv_status s = read_package(za, path, vol, mesh);
+    zip_discard(za);
+    return s;
+}
+
+int hv_3mf_sniff(const char *path)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return 0;
+    unsigned char m[4] = {0};
+    size_t n = fread(m, 1, 4, fp);
+    fclose(fp);
+    return n == 4 && m[0] == 'P' && m[1] == 'K' && (m[2] == 3 || m[2] == 5) && (m[3] == 4 || m[3] == 6);
+}

@@ -1,0 +1,66 @@
+/* src/threemf/threemf_internal.h - what the 3MF Volumetric writer (write.c), reader (read.c) and
+ * the exact voxel boundary mesh (boundary.c) share: namespaces, OPC names, limits. Internal. */
+#ifndef HOVOX_THREEMF_INTERNAL_H
+#define HOVOX_THREEMF_INTERNAL_H
+
+#include "core/internal.h"
+#include "hovox/export.h"
+#include "hovox/threemf.h"
+
+/* XML namespaces (3MF Core 1.3; Volumetric and Implicit extensions 0.8, Part I "Document
+ * Conventions"; Materials 1.2) and hovox's own, for metadata and property names. */
+#define TMF_NS_CORE "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"
+#define TMF_NS_MATERIAL "http://schemas.microsoft.com/3dmanufacturing/material/2015/02"
+#define TMF_NS_VOLUMETRIC "http://schemas.3mf.io/3dmanufacturing/volumetric/2022/01"
+#define TMF_NS_IMPLICIT "http://schemas.3mf.io/3dmanufacturing/implicit/2023/12"
+#define TMF_NS_HOVOX "urn:hovox:3mf:2025"
+
+/* Open Packaging Conventions: content types, relationships. */
+#define TMF_NS_CONTENT_TYPES "http://schemas.openxmlformats.org/package/2006/content-types"
+#define TMF_NS_RELATIONSHIPS "http://schemas.openxmlformats.org/package/2006/relationships"
+#define TMF_REL_MODEL "http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"
+#define TMF_REL_TEXTURE "http://schemas.microsoft.com/3dmanufacturing/2013/01/3dtexture"
+#define TMF_CT_MODEL "application/vnd.ms-package.3dmanufacturing-3dmodel+xml"
+#define TMF_CT_RELATIONSHIPS "application/vnd.openxmlformats-package.relationships+xml"
+#define TMF_CT_PNG "image/png"
+
+/* libxml2 reports some errors (encodings, I/O) through its generic handler, which prints to
+ * stderr: the library never prints, so readers and writers run between these two calls (the
+ * handler is per thread in libxml2). */
+typedef struct tmf_xml_quiet {
+    void *ctx;
+    void (*fn)(void *, const char *, ...);
+} tmf_xml_quiet;
+void tmf_xml_quiet_begin(tmf_xml_quiet *q);
+void tmf_xml_quiet_end(const tmf_xml_quiet *q);
+
+/* ---- the exact voxel boundary (boundary.c) --------------------------------------------------
+ * The faces between occupied and unoccupied voxels, two triangles each, wound outward (counter-
+ * clockwise seen from outside). Vertices sit on voxel corners: corner (a, b, c) is the lowest
+ * corner of voxel (a, b, c), at index coordinates (a - 1/2, b - 1/2, c - 1/2). A corner where
+ * the surface touches itself (voxels meeting only along an edge or at the corner) gets one vertex
+ * per sheet of surface through it (voxels meeting along an edge are apart there, unless they are
+ * joined around both ends of the edge: see boundary.c), so every edge has exactly two triangles:
+ * the mesh is a closed, oriented 2-manifold (checked on 8,300 random voxel sets). Vertices are numbered in the
+ * order of first use, faces in leaf order, then in-leaf offset, then -x, +x, -y, +y, -z, +z: the
+ * mesh depends only on the voxels. */
+typedef struct tmf_boundary {
+    size_t nv, nt;
+    int32_t *corner; /* 3 per vertex */
+    uint32_t *tri;   /* 3 per triangle */
+} tmf_boundary;
+
+/* Quads of the boundary of the voxels set in occ (8 words per leaf of vol, as ex_model's occ).
+ * Multi-threaded. Errors: HV_ERR_CANCELLED. */
+hv_status tmf_boundary_count(const hv_volume *vol, const uint64_t *occ, uint64_t *quads,
+                             const hv_progress *progress);
+/* Build the mesh (quads: tmf_boundary_count's result, sizes the arrays). Errors: HV_ERR_NOMEM,
+ * HV_ERR_LIMIT (2^32 vertices or more), HV_ERR_CANCELLED. Free with tmf_boundary_free (also
+ * after a failure). */
+hv_status tmf_boundary_build(const hv_volume *vol, const uint64_t *occ, uint64_t quads, tmf_boundary *m,
+                             const hv_progress *progress);
+void tmf_boundary_free(tmf_boundary *m);
+/* Bytes tmf_boundary_build needs at most for a boundary of `quads` quads. */
+uint64_t tmf_boundary_bytes(uint64_t quads);
+
+#endif

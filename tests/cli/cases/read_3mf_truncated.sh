@@ -1,0 +1,2 @@
+# a damaged 3MF package (tests/data/make_3mf.py): one message naming the file and the place, exit 1
+$HOVOX probe tests/data/bad/3mf_truncated.3mf 10.5,20.5,0.5

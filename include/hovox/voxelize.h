@@ -15,8 +15,9 @@ extern "C" {
 #endif
 
 typedef enum hv_fill_mode {
-    HV_FILL_AUTO = 0,  /* flood when the mesh is closed, manifold and consistently oriented,
-                          else vote */
+    HV_FILL_AUTO = 0,  /* flood when the mesh is one closed, manifold, consistently oriented
+                          shell, else vote (several shells may nest: a hollow part's cavity
+                          must stay empty) */
     HV_FILL_FLOOD = 1, /* flood the outside from the grid border through non-surface voxels
                           (6-connected for adjacency 6, 26-connected for 26); the rest is inside */
     HV_FILL_VOTE = 2,  /* robust: a voxel is inside when the parity of surface crossings along

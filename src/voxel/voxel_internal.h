@@ -42,4 +42,8 @@ struct hv_regions {
 /* "region.<body>" (malloc'd). Errors: HV_ERR_BAD_INPUT (name too long), HV_ERR_NOMEM. */
 hv_status hv_regions_grid_name(const char *body, char **out);
 
+/* The fill HV_FILL_AUTO resolves to for a mesh with this report: flood for one closed, manifold,
+ * consistently oriented shell, else the vote. */
+hv_fill_mode hv_fill_auto(const hv_mesh_report *r);
+
 #endif

@@ -176,11 +176,7 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
             p->xf.origin[a] = ctr[a] - 0.5 * (double)(p->dims[a] - 1) * p->xf.voxel[a];
     }
 
-    p->fill = opt->fill;
-    if (p->fill == HV_FILL_AUTO)
-        p->fill = r->open_edges == 0 && r->nonmanifold_edges == 0 && r->flipped_facets == 0
-                      ? HV_FILL_FLOOD
-                      : HV_FILL_VOTE;
+    p->fill = opt->fill == HV_FILL_AUTO ? hv_fill_auto(r) : opt->fill;
 
     /* memory: working bit grids (surface, outside or three parity grids), flood queue or
      * crossing lists, and the volume's leaves (estimated from the mesh volume and area) */
@@ -756,9 +752,14 @@ static void fold_body(hv_bitgrid *O, const hv_bitgrid *S, hv_bitgrid *C, union_g
         }
 }
 
-static hv_fill_mode auto_fill(const hv_mesh_report *r)
+/* Flood only where it is exact: one closed, manifold, consistently oriented shell. Several shells
+ * may nest (a hollow part: an outer shell and an inward-facing cavity), and flooding from the
+ * border would fill the cavity; the vote's ray parities leave it empty. */
+hv_fill_mode hv_fill_auto(const hv_mesh_report *r)
 {
-    return r->open_edges == 0 && r->nonmanifold_edges == 0 && r->flipped_facets == 0 ? HV_FILL_FLOOD : HV_FILL_VOTE;
+    return r->open_edges == 0 && r->nonmanifold_edges == 0 && r->flipped_facets == 0 && r->shells <= 1
+               ? HV_FILL_FLOOD
+               : HV_FILL_VOTE;
 }
 
 static void union_free(union_grids *u)
@@ -837,7 +838,7 @@ static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options 
                 if ((g->has_color = mm->has_color))
                     for (int k = 0; k < 4; ++k) g->rgba[k] = (float)((mm->rgba >> (24 - 8 * k)) & 0xFFu) / 255.0f;
             }
-            g->fill = opt->fill == HV_FILL_AUTO ? auto_fill(hv_mesh_get_report(bm)) : opt->fill;
+            g->fill = opt->fill == HV_FILL_AUTO ? hv_fill_auto(hv_mesh_get_report(bm)) : opt->fill;
             fills |= 1 << g->fill;
             int64_t blo[3], bn[3];
             body_box(bm, plan, lo, n, blo, bn);

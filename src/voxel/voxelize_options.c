@@ -45,7 +45,7 @@ static const hv_option k_opts[] = {
              "triangle touches)",
      .section = "Surface and interior"},
     {.key = "fill", .kind = HV_OPT_ENUM, .enumdef = &k_fill, .offset = OFF(fill), .meta = "MODE",
-     .help = "auto: flood for closed, manifold, consistently oriented meshes, else vote; flood: flood the "
+     .help = "auto: flood for one closed, manifold, consistently oriented shell, else vote (a hollow part's cavity stays empty); flood: flood the "
              "outside from the border; vote (alias winding): majority of the x/y/z lines of even crossing "
              "parity, the generalized winding number where they leave a voxel undecided; none: surface only"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",

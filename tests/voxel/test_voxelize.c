@@ -436,3 +436,71 @@ Test(voxelize, cancels_and_records_metadata)
     hv_volume_destroy(v);
     hv_mesh_destroy(m);
 }
+
+/* A hollow part (an outer shell and an inward-facing cavity, both closed): AUTO must not flood,
+ * which would fill the cavity; it votes, and every voxel centre in the cavity stays empty while
+ * the wall is solid. Checked against the boxes' bounds, voxel by voxel. */
+Test(voxelize, auto_keeps_a_hollow_parts_cavity_empty)
+{
+    hv_mesh *outer, *inner, *m;
+    double lo[3] = {0, 0, 0}, hi[3] = {10, 10, 10}, clo[3] = {3, 3, 3}, chi[3] = {7, 7, 7};
+    cr_assert_eq(hv_generate_box(lo, hi, &outer), HV_OK);
+    cr_assert_eq(hv_generate_box(clo, chi, &inner), HV_OK);
+    /* one mesh: the outer box's facets and the cavity's, reversed */
+    size_t no = hv_mesh_facet_count(outer), ni = hv_mesh_facet_count(inner);
+    size_t vo = hv_mesh_vertex_count(outer), vi = hv_mesh_vertex_count(inner);
+    float *xyz = malloc((vo + vi) * 3 * sizeof *xyz);
+    uint32_t *f = malloc((no + ni) * 3 * sizeof *f);
+    memcpy(xyz, hv_mesh_vertices(outer), vo * 3 * sizeof *xyz);
+    memcpy(xyz + 3 * vo, hv_mesh_vertices(inner), vi * 3 * sizeof *xyz);
+    memcpy(f, hv_mesh_facets(outer), no * 3 * sizeof *f);
+    const uint32_t *fi = hv_mesh_facets(inner);
+    for (size_t t = 0; t < ni; ++t) {
+        f[3 * (no + t)] = (uint32_t)vo + fi[3 * t];
+        f[3 * (no + t) + 1] = (uint32_t)vo + fi[3 * t + 2];
+        f[3 * (no + t) + 2] = (uint32_t)vo + fi[3 * t + 1];
+    }
+    cr_assert_eq(hv_mesh_create(xyz, vo + vi, f, no + ni, &m), HV_OK, "%s", hv_last_error());
+    const hv_mesh_report *r = hv_mesh_get_report(m);
+    cr_assert_eq(r->shells, 2);
+    cr_assert_eq(r->open_edges + r->nonmanifold_edges + r->flipped_facets, 0);
+    cr_assert_float_eq(r->volume, 1000.0 - 64.0, 1e-6);
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
+    hv_voxel_plan plan;
+    cr_assert_eq(hv_voxelize_plan(m, &o, &plan), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(plan.fill, HV_FILL_VOTE);
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    int go = hv_volume_grid_find(v, "occupancy");
+    hv_transform xf = hv_volume_get_transform(v);
+    uint64_t cavity = 0, wall = 0;
+    for (int i = 0; i < 20; ++i)
+        for (int j = 0; j < 20; ++j)
+            for (int k = 0; k < 20; ++k) {
+                double c[3] = {xf.origin[0] + i * 0.5, xf.origin[1] + j * 0.5, xf.origin[2] + k * 0.5};
+                int in_cavity = 1, deep_cavity = 1;
+                for (int a = 0; a < 3; ++a) {
+                    in_cavity &= c[a] > 3 && c[a] < 7;
+                    deep_cavity &= c[a] > 3.6 && c[a] < 6.4; /* beyond the cavity's surface voxels */
+                }
+                int occ = hv_accessor_bool(&acc, go, i, j, k);
+                if (deep_cavity) cr_assert(!occ, "cavity voxel %d %d %d is filled", i, j, k);
+                if (!in_cavity) {
+                    cr_assert(occ, "wall voxel %d %d %d is empty", i, j, k);
+                    ++wall;
+                }
+                cavity += deep_cavity;
+            }
+    cr_assert_eq(wall, 8000 - 512);
+    cr_assert_gt(cavity, 0);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+    hv_mesh_destroy(outer);
+    hv_mesh_destroy(inner);
+    free(xyz);
+    free(f);
+}

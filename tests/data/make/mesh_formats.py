@@ -60,6 +60,14 @@ package('tests/data/good/two_boxes.3mf', model(
     MATS + '<object id="2" name="outer" type="model" pid="5" pindex="0">' + mesh_xml(ov, ot) + '</object>'
     '<object id="3" name="inner" type="model" pid="5" pindex="1">' + mesh_xml(iv, it) + '</object>',
     '<item objectid="2"/><item objectid="3" transform="1 0 0 0 1 0 0 0 1 0 0 0"/>'))
+# a CAD assembly that does not overlap: a Vero shell with a cavity (the outer box outward, the
+# cavity's faces inward) and the Agilus core that fills the cavity, listed shell first
+sv = ov + iv
+st = ot + [(c + 8, b + 8, a + 8) for a, b, c in it]
+package('tests/data/good/core_in_shell.3mf', model(
+    MATS + '<object id="2" name="shell" type="model" pid="5" pindex="0">' + mesh_xml(sv, st) + '</object>'
+    '<object id="3" name="core" type="model" pid="5" pindex="1">' + mesh_xml(iv, it) + '</object>',
+    '<item objectid="2"/><item objectid="3"/>'))
 with open('tests/data/good/groups.obj', 'w') as f:
     f.write('# two cubes: an outer shell and an inner core, as a CAD exporter writes them\nmtllib parts.mtl\n')
     for p in ov + iv:

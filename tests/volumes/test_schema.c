@@ -207,7 +207,8 @@ Test(schema, malformed_documents_say_where, .timeout = 60)
                    "{\"materials\": [{\"name\": \"A\", \"properties\": {\"density\": {\"unit\": \"kg\"}}}]}",
                    "hovox.materials.json: materials[0]: properties: density: value is missing");
     expect_refused(g, HV_DOC_MESH, "{\"format\": \"ply\"}",
-                   "hovox.mesh.json: format \"ply\" is not one of generated, binary or ascii");
+                   "hovox.mesh.json: format \"ply\" is not one of generated, binary, ascii, 3mf, obj, ply_ascii, "
+                   "ply_binary_le or ply_binary_be");
     expect_refused(g, HV_DOC_VOXELIZE,
                    "{\"adjacency\": 26, \"fill\": \"wet\", \"first\": [0, 0, 0], \"dims\": [1, 1, 1], \"voxel\": [1, 1, 1]}",
                    "hovox.voxelize.json: fill \"wet\" is not one of auto, flood, vote or none");

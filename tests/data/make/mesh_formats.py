@@ -3,6 +3,7 @@
 tests/data/bad (run from the repository root; the output is deterministic: fixed ZIP dates).
 The 3MF packages are written by hand here, not by lib3mf, so that they can be wrong in exactly
 one way each; the unit tests (tests/mesh/test_3mf.c) also read packages lib3mf writes."""
+import io
 import struct
 import zipfile
 
@@ -37,6 +38,7 @@ def mesh_xml(v, t, tri_attrs=None):
 
 
 def package(path, model, parts=('ct', 'rels', 'model')):
+    """Write the package to path (a file name or a file object)."""
     with zipfile.ZipFile(path, 'w', zipfile.ZIP_DEFLATED) as z:
         for name, text, key in (('[Content_Types].xml', CT, 'ct'), ('_rels/.rels', RELS, 'rels'),
                                 ('3D/3dmodel.model', model, 'model')):
@@ -95,9 +97,9 @@ package('tests/data/bad/3mf_nan_vertex.3mf', model(tet(v3='0 NaN 1')))
 package('tests/data/bad/3mf_unknown_component.3mf', model(
     tet() + '<object id="2" name="assembly" type="model"><components><component objectid="1"/>'
     '<component objectid="5"/></components></object>', '<item objectid="2"/>'))
-package('/tmp/hovox_good.3mf', model(tet()))
-with open('/tmp/hovox_good.3mf', 'rb') as f:
-    good = f.read()
+buf = io.BytesIO()
+package(buf, model(tet()))
+good = buf.getvalue()
 with open('tests/data/bad/3mf_truncated_zip.3mf', 'wb') as f:
     f.write(good[:len(good) * 2 // 3])
 with open('tests/data/bad/3mf_not_zip.3mf', 'w') as f:

@@ -133,7 +133,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 
 const cli_spec cmd_contours = {
     "contours", "slice a mesh into contour loops (SVG, CLI)",
-    "MESH.stl (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
+    "MESH (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
     "                      [-o OUT.svg|OUT.cli] [--per-layer DIR] [--json] [options]",
     "Slice a mesh into closed contour loops per layer with Wu's weighted directed graph:\n"
     "facets are nodes, shared edges arcs; each plane touches only the facets crossing it and\n"

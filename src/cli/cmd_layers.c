@@ -144,8 +144,8 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 
 const cli_spec cmd_layers = {
     "layers", "printer slice stacks (PNG) from a model and its mesh",
-    "MODEL.vdb --mesh MESH.stl -o DIR [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
-    "       hovox layers --mesh MESH.stl -o DIR --mode mask [options]",
+    "MODEL.vdb --mesh MESH -o DIR [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
+    "       hovox layers --mesh MESH -o DIR --mode mask [options]",
     "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the mesh's\n"
     "lowest z; each is cut at its mid-height z. Per layer the mesh's contour (WDG slicer) is\n"
     "rasterised at printer resolution by pixel centres: that decides object and background,\n"

@@ -1,6 +1,6 @@
 /* src/cli/cmd_tray.c - `hovox tray [JOB.json] -o DIR [--part SPEC ...]`: a build tray of parts in
  * one stack (hovox/tray.h). The options are the library's (hv_tray_option_set); this file
- * reads the --part shorthand MODEL.vdb,MESH.stl[@X,Y[,ROT]][xN] or MESH.stl:MATERIAL[@...]. */
+ * reads the --part shorthand MODEL.vdb,MESH[@X,Y[,ROT]][xN] or MESH:MATERIAL[@...]. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,7 +30,7 @@ static const hv_option k_local_opts[] = {
     CLI_OUTPUT(tray_cli, "DIR", "the stack directory (written under a temporary name and renamed when complete)", 0),
     {.key = "part", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "SPEC", .parse = add_part,
      .section = "Parts (besides those of JOB.json)",
-     .help = "MODEL.vdb,MESH.stl or MESH.stl:MATERIAL, then @X,Y[,ROT] (plate position of the part's box centre, "
+     .help = "MODEL.vdb,MESH or MESH:MATERIAL (MESH: .stl, .3mf, .obj or .ply), then @X,Y[,ROT] (plate position of the part's box centre, "
              "rotation 0/90/180/270; absent: arranged) and xN for N copies"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("tray", k_local_opts, tray_cli);
@@ -73,7 +73,7 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
         p->mesh = comma + 1;
     } else {
         char *colon = strrchr(buf, ':');
-        if (!colon) return hv_error_option(HV_ERR_INVALID, "{part} '%s': give MODEL.vdb,MESH.stl or MESH.stl:MATERIAL", spec);
+        if (!colon) return hv_error_option(HV_ERR_INVALID, "{part} '%s': give MODEL.vdb,MESH or MESH:MATERIAL", spec);
         *colon = '\0';
         p->mesh = buf;
         p->material = colon + 1;

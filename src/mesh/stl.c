@@ -172,7 +172,7 @@ static hv_status read_number(lexer *lx, size_t facet, const char *what, float *o
     buf[lx->tlen] = '\0';
     char *endp;
     double v = strtod(buf, &endp);
-    if (endp == buf || *endp != '\0')
+    if (endp == buf || endp != buf + lx->tlen) /* the whole token: a NUL byte inside ends strtod */
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: facet %zu: %s is not a number: '%s'",
                             lx->name, lx->line, facet, what, lx->tok);
     *out = (float)v;

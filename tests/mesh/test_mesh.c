@@ -285,3 +285,22 @@ Test(generate, rejects_bad_parameters)
     cr_assert_eq(hv_generate_box_with_hole(c, c, 1, 8, &m), HV_ERR_INVALID);
     cr_assert_null(m);
 }
+
+/* A number is its whole token: a NUL byte inside one ("1\0" "2"; past the first KiB, where
+ * the format check looks for binary bytes) is not the number 1. */
+Test(stl, a_nul_byte_inside_a_number_is_refused)
+{
+    static const char tail[] = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1\0" "2 0 0\n"
+                               "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+    char text[2048];
+    memset(text, 'x', 1200);
+    memcpy(text, "solid ", 6);
+    text[1200] = '\n';
+    memcpy(text + 1201, tail, sizeof tail - 1);
+    hv_mesh *m = NULL;
+    hv_status s = hv_mesh_parse_stl(text, 1201 + sizeof tail - 1, "nul.stl", &m);
+    cr_assert_eq(s, HV_ERR_BAD_INPUT, "accepted");
+    cr_assert_null(m);
+    cr_assert(strstr(hv_last_error(), "line 5") && strstr(hv_last_error(), "is not a number: '1?2'"), "%s",
+              hv_last_error());
+}

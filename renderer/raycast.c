@@ -531,8 +531,9 @@ static void march(const rctx *c, ray *r, double ta, double tb)
                 int32_t bi = page->brick[RP_INDEX(B.c[0], B.c[1], B.c[2])];
                 if (bi >= 0 && bt1 >= bt) {
                     double cell_end = bt1 >= tb ? HUGE_VAL : bt1; /* the last cell includes tb */
-                    march_brick(c, r, s->bricks + (size_t)bi * RB_VOX, s->brick_kind[bi], B.c, bt,
-                                cell_end, tb);
+                    int kind;
+                    const rvox *bk = r_brick_data(s, bi, &kind);
+                    march_brick(c, r, bk, kind, B.c, bt, cell_end, tb);
                     if (r->done) return;
                 }
                 if (bt1 >= mt1 || !dda_next(&B, &bt)) break;
@@ -798,7 +799,7 @@ hv_status hv_render(const hv_volume *vol, const hv_render_options *opt, const hv
     hv_status st = hv_render_options_check(opt);
     if (st != HV_OK) return st;
     hv_render_scene *s;
-    st = hv_render_scene_create(vol, progress, &s);
+    st = hv_render_scene_create_lazy(vol, progress, &s);
     if (st != HV_OK) return st;
     st = hv_render_scene_image(s, opt, progress, out);
     hv_render_scene_destroy(s);

@@ -4,8 +4,10 @@
 #ifndef HOVOX_RENDER_INTERNAL_H
 #define HOVOX_RENDER_INTERNAL_H
 
+#include <stdatomic.h>
 #include <stdint.h>
 
+#include "hovox/material.h"
 #include "hovox/render.h"
 
 /* One voxel of a brick, 8 bytes: colour and alpha of its composition (0 when unoccupied, so a
@@ -36,6 +38,14 @@ typedef struct rpage {
 
 #define RP_INDEX(x, y, z) ((((x) & 7) << 6) | (((y) & 7) << 3) | ((z) & 7))
 
+/* An occupied leaf of the model: its voxels where "occupancy" holds. */
+typedef struct r_occ {
+    size_t leaf;     /* volume leaf number */
+    int32_t blk[3];  /* block coordinates */
+    int full;        /* all 512 voxels occupied */
+    uint64_t mask[8];
+} r_occ;
+
 struct hv_render_scene {
     hv_transform xf;
     int materials;      /* coloured materials (0: grey occupancy-only) */
@@ -47,11 +57,34 @@ struct hv_render_scene {
     int32_t *top;
     rpage *pages;
     size_t npages;
-    rvox *bricks; /* nbricks * RB_VOX */
+    rvox *bricks; /* nbricks slots of RB_VOX voxels */
     int32_t *brick_block; /* 3 block coordinates per brick */
-    uint8_t *brick_kind;  /* RB_GENERAL, RB_SOLID or RB_UNIFORM */
+    uint8_t *brick_kind;  /* RB_GENERAL, RB_SOLID or RB_UNIFORM, once filled */
     size_t nbricks;
+    /* Bricks are filled from the model on first touch (scene.c, r_brick_fill): brick_slot[b] is
+     * the slot of brick b in bricks[] once filled, -1 before, -2 while a thread fills it; slots
+     * are handed out in fill order, so the memory touched is what the rays reached. A scene
+     * built eagerly has every brick filled (slot b) and no model. */
+    _Atomic int32_t *brick_slot;
+    atomic_size_t nslots;
+    const hv_volume *vol; /* the model, while bricks remain unfilled */
+    r_occ *occ;           /* occupied leaves, indexed by rpage.occ */
+    size_t nocc;
+    int grids[HV_MAX_MATERIALS];
+    float colour[HV_MAX_MATERIALS][4];
 };
+
+/* Fill brick b (or wait for the thread filling it); returns its slot. */
+int32_t r_brick_fill(const hv_render_scene *s, int32_t b);
+
+/* Voxels of brick b, filled on first use, and its kind. */
+static inline const rvox *r_brick_data(const hv_render_scene *s, int32_t b, int *kind)
+{
+    int32_t slot = atomic_load_explicit(&s->brick_slot[b], memory_order_acquire);
+    if (slot < 0) slot = r_brick_fill(s, b);
+    *kind = s->brick_kind[b];
+    return s->bricks + (size_t)slot * RB_VOX;
+}
 
 /* floor(a / 2^s) for negative a too */
 static inline int32_t r_floor_shift(int32_t a, int s)
@@ -69,7 +102,8 @@ static inline const rvox *r_brick(const hv_render_scene *s, int32_t bx, int32_t 
     int32_t p = s->top[((int64_t)mx * s->mdims[1] + my) * s->mdims[2] + mz];
     if (p < 0) return NULL;
     int32_t b = s->pages[p].brick[RP_INDEX(bx, by, bz)];
-    return b < 0 ? NULL : s->bricks + (size_t)b * RB_VOX;
+    int kind;
+    return b < 0 ? NULL : r_brick_data(s, b, &kind);
 }
 
 /* ---- camera ----------------------------------------------------------------------------- */

@@ -1,35 +1,20 @@
 /* renderer/scene.c - the render-ready form of a graded model (Wu 2.3): each voxel's colour
  * sum p_j * colour_j, occupancy and Sobel-smoothed occupancy gradient, in 9^3 bricks (8^3 block
  * plus apron) reached through a two-level block table (64^3 macro cells, 8^3 blocks) that the
- * ray caster also walks to skip empty space. Built once per model, in parallel over bricks. */
+ * ray caster also walks to skip empty space. The table is built at once; a brick is filled from
+ * the model when a ray first reaches it (or all of them, in parallel, for a scene that outlives
+ * its model). */
 #include <math.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/internal.h"
-#include "hovox/material.h"
 #include "render_internal.h"
 
 /* Guards against absurdly spread-out volumes: the dense top level of the block table. */
 #define MAX_TOP_CELLS (1u << 26)
-
-typedef struct occ_leaf {
-    size_t leaf;     /* volume leaf number */
-    int32_t blk[3];  /* block coordinates */
-    int full;        /* all 512 voxels occupied */
-    uint64_t mask[8];
-} occ_leaf;
-
-typedef struct build_ctx {
-    hv_render_scene *s;
-    const hv_volume *vol;
-    const occ_leaf *occ;
-    uint8_t *colour_of_leaf; /* 512 x RGBA per occupied leaf */
-    int nmat;
-    int grids[HV_MAX_MATERIALS];
-    float colour[HV_MAX_MATERIALS][4];
-} build_ctx;
 
 void r_scene_box(const hv_render_scene *s, double lo[3], double hi[3])
 {
@@ -56,6 +41,8 @@ void hv_render_scene_destroy(hv_render_scene *s)
     free(s->bricks);
     free(s->brick_block);
     free(s->brick_kind);
+    free((void *)s->brick_slot);
+    free(s->occ);
     free(s);
 }
 
@@ -119,58 +106,44 @@ static uint8_t grad_u8(int g)
     return (uint8_t)(128 + (v < -127 ? -127 : v > 127 ? 127 : v));
 }
 
-/* Colours of occupied leaves [begin, end): sum p_j colour_j / sum p_j per occupied voxel. */
-static hv_status fill_colours(void *vctx, size_t begin, size_t end, int thread)
+/* Colour of occupied voxel n of a leaf whose material buffers are mat[0..nmat-1]:
+ * sum p_j colour_j / sum p_j. */
+static void voxel_colour(const hv_render_scene *s, const float *const *mat, unsigned n, rvox *v)
 {
-    (void)thread;
-    const build_ctx *c = vctx;
-    const float *mat[HV_MAX_MATERIALS];
-    for (size_t i = begin; i < end; ++i) {
-        const occ_leaf *ol = &c->occ[i];
-        uint8_t *out = c->colour_of_leaf + i * HV_LEAF_SIZE * 4;
-        for (int j = 0; j < c->nmat; ++j)
-            mat[j] = hv_volume_leaf_float_c(c->vol, c->grids[j], ol->leaf);
-        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
-            uint8_t *o = out + 4 * n;
-            if (!HV_BIT_GET(ol->mask, n)) {
-                o[0] = o[1] = o[2] = o[3] = 0;
-                continue;
-            }
-            float sum = 0, acc[4] = {0, 0, 0, 0};
-            for (int j = 0; j < c->nmat; ++j) {
-                float p = mat[j][n];
-                if (!(p > 0)) continue; /* negative or NaN: no contribution */
-                if (p > 1) p = 1;
-                sum += p;
-                for (int k = 0; k < 4; ++k) acc[k] += p * c->colour[j][k];
-            }
-            if (sum > 1e-6f) {
-                float inv = 1.0f / sum;
-                for (int k = 0; k < 4; ++k) o[k] = to_u8(acc[k] * inv);
-            } else { /* no material: grey */
-                o[0] = o[1] = o[2] = to_u8(0.7f);
-                o[3] = 255;
-            }
-        }
+    uint8_t o[4];
+    float sum = 0, acc[4] = {0, 0, 0, 0};
+    for (int j = 0; j < s->materials; ++j) {
+        float p = mat[j][n];
+        if (!(p > 0)) continue; /* negative or NaN: no contribution */
+        if (p > 1) p = 1;
+        sum += p;
+        for (int k = 0; k < 4; ++k) acc[k] += p * s->colour[j][k];
     }
-    return HV_OK;
+    if (sum > 1e-6f) {
+        float inv = 1.0f / sum;
+        for (int k = 0; k < 4; ++k) o[k] = to_u8(acc[k] * inv);
+    } else { /* no material: grey */
+        o[0] = o[1] = o[2] = to_u8(0.7f);
+        o[3] = 255;
+    }
+    v->r = o[0];
+    v->g = o[1];
+    v->b = o[2];
+    v->a = o[3];
 }
 
-/* Fill bricks [begin, end): occupancy bits of the 17^3 neighbourhood (local -4..12) as rows
+/* Fill brick bi into out: occupancy bits of the 17^3 neighbourhood (local -4..12) as rows
  * along z, smoothed separably into S over local -1..9, then per voxel of the 9^3 brick the
- * composition colour and the central differences of S. */
-static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
+ * composition colour and the central differences of S. Returns its kind. */
+static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out)
 {
-    (void)thread;
-    const build_ctx *c = vctx;
-    const hv_render_scene *s = c->s;
     enum { N = 9 + 2 * (KR + 1), M = 9 + 2 };
     const uint32_t FULL = (1u << N) - 1;
     uint32_t rows[N][N]; /* bit z: local z - (KR + 1) */
     int32_t T1[N][N][M], T2[N][M][M], S[M][M][M];
-    for (size_t bi = begin; bi < end; ++bi) {
+    {
         const int32_t *B = s->brick_block + 3 * bi;
-        rvox *out = s->bricks + bi * RB_VOX;
+        const r_occ *occ = s->occ;
         int32_t nb[3][3][3];
         int full = 1;
         for (int dx = -1; dx <= 1; ++dx)
@@ -178,7 +151,7 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                 for (int dz = -1; dz <= 1; ++dz) {
                     int32_t o = occ_at(s, B[0] + dx, B[1] + dy, B[2] + dz);
                     nb[dx + 1][dy + 1][dz + 1] = o;
-                    full &= o >= 0 && c->occ[o].full;
+                    full &= o >= 0 && occ[o].full;
                 }
         /* deep inside a solid: all occupied, zero gradient */
         int flat = full, any = 0, all = 1;
@@ -193,7 +166,7 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                         int32_t o = nb[bx][by][bz];
                         if (o < 0) continue;
                         uint32_t byte =
-                            (uint32_t)(c->occ[o].mask[lx & 7] >> (8 * (ly & 7))) & 0xFFu;
+                            (uint32_t)(occ[o].mask[lx & 7] >> (8 * (ly & 7))) & 0xFFu;
                         row |= bz == 0 ? byte >> (8 - (KR + 1)) : bz == 1 ? byte << (KR + 1)
                                                                          : byte << (KR + 9);
                     }
@@ -238,6 +211,13 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                                20 * a3[z];
                 }
         }
+        /* material buffers of the (up to) 8 leaves the brick's voxels lie in */
+        const float *mat[2][2][2][HV_MAX_MATERIALS];
+        for (int d = 0; d < 8; ++d) {
+            int32_t o = nb[1 + (d >> 2)][1 + ((d >> 1) & 1)][1 + (d & 1)];
+            for (int j = 0; j < s->materials && o >= 0; ++j)
+                mat[d >> 2][(d >> 1) & 1][d & 1][j] = hv_volume_leaf_float_c(s->vol, s->grids[j], occ[o].leaf);
+        }
         for (int x = 0; x < RB_DIM; ++x)
             for (int y = 0; y < RB_DIM; ++y) {
                 uint32_t row = flat ? ((full || all) ? FULL : 0) : rows[x + KR + 1][y + KR + 1];
@@ -246,7 +226,12 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                     int32_t o = nb[1 + (x >> 3)][1 + (y >> 3)][1 + (z >> 3)];
                     unsigned off = HV_LEAF_OFFSET(x, y, z);
                     if (((row >> (z + KR + 1)) & 1u) && o >= 0) {
-                        memcpy(&v->r, c->colour_of_leaf + ((size_t)o * HV_LEAF_SIZE + off) * 4, 4);
+                        if (s->materials) {
+                            voxel_colour(s, mat[x >> 3][y >> 3][z >> 3], off, v);
+                        } else { /* no table: grey */
+                            v->r = v->g = v->b = to_u8(0.7f);
+                            v->a = 255;
+                        }
                         v->occ = 255;
                     } else {
                         v->r = v->g = v->b = v->a = 0;
@@ -267,24 +252,56 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
             for (int i = 1; i < RB_VOX && kind == RB_UNIFORM; ++i)
                 if (memcmp(&out[i], &out[0], sizeof *out) != 0) kind = RB_SOLID;
         }
-        s->brick_kind[bi] = kind;
+        return kind;
+    }
+}
+
+int32_t r_brick_fill(const hv_render_scene *cs, int32_t b)
+{
+    /* the lazy part of a scene is shared state under brick_slot: filling is not a change a
+     * reader of the const scene can see, only when it happens */
+    hv_render_scene *s = (hv_render_scene *)cs;
+    int32_t slot = -1;
+    if (atomic_compare_exchange_strong_explicit(&s->brick_slot[b], &slot, -2, memory_order_acq_rel,
+                                                memory_order_acquire)) {
+        size_t at = atomic_fetch_add_explicit(&s->nslots, 1, memory_order_relaxed);
+        s->brick_kind[b] = fill_brick(s, (size_t)b, s->bricks + at * RB_VOX);
+        atomic_store_explicit(&s->brick_slot[b], (int32_t)at, memory_order_release);
+        return (int32_t)at;
+    }
+    while (slot < 0) { /* another thread fills it: a few microseconds */
+        sched_yield();
+        slot = atomic_load_explicit(&s->brick_slot[b], memory_order_acquire);
+    }
+    return slot;
+}
+
+/* Fill bricks [begin, end) into their own slots (a scene built eagerly). */
+static hv_status fill_range(void *vctx, size_t begin, size_t end, int thread)
+{
+    (void)thread;
+    hv_render_scene *s = vctx;
+    for (size_t b = begin; b < end; ++b) {
+        s->brick_kind[b] = fill_brick(s, b, s->bricks + b * RB_VOX);
+        atomic_store_explicit(&s->brick_slot[b], (int32_t)b, memory_order_relaxed);
     }
     return HV_OK;
 }
 
-hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progress,
-                                 hv_render_scene **out)
+
+
+/* The block table of vol's occupied voxels; every brick filled (lazy == 0, progress "prepare")
+ * or none. */
+static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progress, hv_render_scene **out)
 {
     *out = NULL;
     hv_render_scene *s = hv_calloc(1, sizeof *s);
     if (!s) return HV_ERR_NOMEM;
     s->xf = hv_volume_get_transform(vol);
-    build_ctx c;
-    memset(&c, 0, sizeof c);
-    c.s = s;
-    c.vol = vol;
+    s->vol = vol;
+    atomic_init(&s->nslots, 0);
     hv_status st = HV_OK;
-    occ_leaf *occ = NULL;
+    r_occ *occ = NULL;
     size_t pcap = 0;
 
     /* material colours; a model without a table is grey */
@@ -296,14 +313,13 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
     }
     if (st != HV_OK) goto fail;
     if (t) {
-        c.nmat = hv_material_count(t);
-        for (int j = 0; j < c.nmat; ++j) {
-            c.grids[j] = hv_material_grid(vol, t, j);
-            hv_material_color(t, j, c.colour[j]);
+        s->materials = hv_material_count(t);
+        for (int j = 0; j < s->materials; ++j) {
+            s->grids[j] = hv_material_grid(vol, t, j);
+            hv_material_color(t, j, s->colour[j]);
         }
         hv_material_table_destroy(t);
     }
-    s->materials = c.nmat;
 
     /* occupied leaves: active voxels where "occupancy" (when present) is true */
     int g_occ = hv_volume_grid_find(vol, "occupancy");
@@ -311,7 +327,7 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
     size_t nl = hv_volume_leaf_count(vol), nocc = 0;
     {
         /* planned before anything is built: bricks and tables of every block that holds or
-         * touches occupied voxels (at most 8 per leaf), the colours while building */
+         * touches occupied voxels (at most 8 per leaf) */
         double need = (double)nl * (8.0 * 5.9e3 + 2.1e3);
         uint64_t budget = hv_memory_budget(0);
         if (budget && need > (double)budget) {
@@ -335,7 +351,7 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
     for (size_t l = 0; l < nl; ++l) {
         const uint64_t *m = hv_volume_leaf_mask(vol, l);
         const uint64_t *b = g_occ >= 0 ? hv_volume_leaf_bool_c(vol, g_occ, l) : NULL;
-        occ_leaf *o = &occ[nocc];
+        r_occ *o = &occ[nocc];
         uint64_t anyw = 0;
         for (int w = 0; w < 8; ++w) {
             o->mask[w] = b ? m[w] & b[w] : m[w];
@@ -433,30 +449,59 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
             memcpy(s->brick_block + 3 * s->nbricks, b, sizeof b);
             *slot = (int32_t)s->nbricks++;
         }
+    /* only the memory of the bricks rays reach is ever touched in a lazy scene */
     s->bricks = hv_malloc_big(s->nbricks, RB_VOX * sizeof(rvox));
     s->brick_kind = hv_malloc(s->nbricks);
-    if (!s->bricks || !s->brick_kind) {
+    s->brick_slot = hv_malloc_array(s->nbricks, sizeof *s->brick_slot);
+    if (!s->bricks || !s->brick_kind || !s->brick_slot) {
         st = hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)",
                           s->nbricks, (double)s->nbricks * RB_VOX * sizeof(rvox) / 1048576.0);
         goto fail;
     }
-    c.occ = occ;
-    c.colour_of_leaf = hv_malloc_big(nocc, HV_LEAF_SIZE * 4);
-    if (!c.colour_of_leaf) {
-        st = HV_ERR_NOMEM;
-        goto fail;
-    }
+    for (size_t b = 0; b < s->nbricks; ++b) atomic_init(&s->brick_slot[b], -1);
+    s->occ = occ;
+    s->nocc = nocc;
+    occ = NULL;
     pthread_once(&g_window_once, init_window);
-    st = hv_parallel_for(nocc, 16, fill_colours, &c, progress, "prepare");
-    if (st == HV_OK) st = hv_parallel_for(s->nbricks, 16, fill_bricks, &c, progress, "prepare");
-    free(c.colour_of_leaf);
+    if (lazy) {
+        st = hv_progress_report(progress, "prepare", 1.0);
+    } else {
+        atomic_store(&s->nslots, s->nbricks);
+        st = hv_parallel_for(s->nbricks, 16, fill_range, s, progress, "prepare");
+        /* complete: the model is not needed any more */
+        s->vol = NULL;
+        free(s->occ);
+        s->occ = NULL;
+    }
     if (st != HV_OK) goto fail;
-    free(occ);
     *out = s;
     return HV_OK;
 
 fail:
     free(occ);
     hv_render_scene_destroy(s);
+    return st;
+}
+
+hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progress, hv_render_scene **out)
+{
+    return build(vol, 0, progress, out);
+}
+
+hv_status hv_render_scene_create_lazy(const hv_volume *vol, const hv_progress *progress, hv_render_scene **out)
+{
+    return build(vol, 1, progress, out);
+}
+
+hv_status hv_render_volume_load(const char *path, hv_volume **out)
+{
+    /* what build() reads: the occupancy, the material table's grids (hv_material_grid) */
+    static const char *const k_grids[] = {"occupancy", "material.*"};
+    hv_status st = hv_volume_load_grids(path, k_grids, 2, out);
+    int g = st == HV_OK ? hv_volume_grid_find(*out, "occupancy") : 0;
+    if (g < 0 || (st == HV_OK && hv_volume_grid_type(*out, g) != HV_GRID_BOOL)) {
+        hv_volume_destroy(*out);
+        st = hv_volume_load(path, out);
+    }
     return st;
 }

@@ -151,7 +151,11 @@ HV_CHECKED_ROOT(hv_vec3i)
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <atomic>
+#include <deque>
+#include <exception>
 #include <map>
+#include <thread>
 #include <mutex>
 #include <new>
 #include <string>
@@ -207,7 +211,7 @@ std::mutex g_quiet_mutex;
 class QuietStreams {
 public:
     QuietStreams()
-        : mLock(g_quiet_mutex), mErr(std::cerr.rdbuf(mSink.rdbuf())), mOut(std::cout.rdbuf(mSink.rdbuf()))
+        : mLock(g_quiet_mutex), mErr(std::cerr.rdbuf(&mSink)), mOut(std::cout.rdbuf(&mSink))
     {
     }
     ~QuietStreams()
@@ -217,8 +221,14 @@ public:
     }
 
 private:
+    // discards everything and holds no state: grids read on several threads may all write to it
+    class Sink : public std::streambuf {
+    protected:
+        int_type overflow(int_type c) override { return traits_type::not_eof(c); }
+        std::streamsize xsputn(const char *, std::streamsize n) override { return n; }
+    };
     std::lock_guard<std::mutex> mLock;
-    std::ostringstream mSink;
+    Sink mSink;
     std::streambuf *mErr, *mOut;
 };
 
@@ -310,9 +320,11 @@ private:
 class ReadBuf : public std::streambuf {
 public:
     explicit ReadBuf(hv_vdb_cancel_fn cancel) : mCancel(cancel), mBuf(size_t(256) << 10) {}
+    // another reader of an open file (pread leaves the descriptor's position alone)
+    ReadBuf(hv_vdb_cancel_fn cancel, int fd) : mCancel(cancel), mBuf(size_t(256) << 10), mFd(fd), mOwn(false) {}
     ~ReadBuf() override
     {
-        if (mFd >= 0) ::close(mFd);
+        if (mFd >= 0 && mOwn) ::close(mFd);
     }
     bool open(const char *path)
     {
@@ -396,6 +408,7 @@ private:
     hv_vdb_cancel_fn mCancel;
     std::vector<char> mBuf;
     int mFd = -1;
+    bool mOwn = true;
     int64_t mBase = 0; // file offset of eback()
     std::streamsize mCount = 0;
 };
@@ -661,17 +674,16 @@ public:
         write(os, grids, seekable, meta);
     }
 
-    // Grids come out in file order; *count receives the number of grids the file holds.
+    // Grids come out in file order; *count receives the number of grids the file holds. With
+    // grid offsets, the wanted grids are read on up to `threads` threads, each with its own
+    // stream on the file (descriptor fd).
     template <typename Want>
-    void load(std::istream &is, int64_t fsize, const Want &want, openvdb::GridPtrVec &out, openvdb::MetaMap &meta,
-              int32_t *count)
+    void load(std::istream &is, int fd, int64_t fsize, const Want &want, int threads, hv_vdb_cancel_fn cancel,
+              openvdb::GridPtrVec &out, openvdb::MetaMap &meta, int32_t *count)
     {
         using openvdb::io::GridDescriptor;
         readHeader(is);
-        openvdb::io::StreamMetadata::Ptr sm(new openvdb::io::StreamMetadata);
-        openvdb::io::setStreamMetadataPtr(is, sm, /*transfer=*/false);
-        openvdb::io::setVersion(is, libraryVersion(), fileVersion());
-        openvdb::io::setDataCompression(is, compression());
+        tag(is);
         meta.readMeta(is);
         *count = readGridCount(is);
         if (*count < 0) damaged("a negative grid count");
@@ -679,7 +691,6 @@ public:
         std::vector<GridDescriptor> taken;
         std::vector<GridBase::Ptr> grids;
         std::map<openvdb::Name, GridDescriptor> skipped; // by unique name, for instance parents
-        NamedGridMap named;
         for (int32_t i = 0; i < *count; ++i) {
             GridDescriptor gd;
             GridBase::Ptr grid = gd.read(is);
@@ -690,18 +701,23 @@ public:
             if (offsets && (gd.getEndPos() < at || gd.getEndPos() > fsize))
                 damaged("grid '" + one_line(gd.gridName()) + "' ends at byte " + std::to_string(gd.getEndPos()) +
                         ", outside bytes " + std::to_string(at) + " to " + std::to_string(fsize));
-            if (offsets && !want(gd.gridName())) {
-                skipped[gd.uniqueName()] = gd;
+            if (offsets) { // the grid itself is read below (or not at all)
+                if (want(gd.gridName())) {
+                    taken.push_back(gd);
+                    grids.push_back(grid);
+                } else {
+                    skipped[gd.uniqueName()] = gd;
+                }
                 is.seekg(gd.getEndPos(), std::ios_base::beg);
                 continue;
             }
             Archive::readGrid(grid, gd, is);
-            if (offsets && int64_t(is.tellg()) != gd.getEndPos())
-                damaged("grid '" + one_line(gd.gridName()) + "' does not end where its offset says");
             taken.push_back(gd);
             grids.push_back(grid);
-            named[gd.uniqueName()] = grid;
         }
+        if (offsets) read_grids(is, fd, taken, grids, threads, cancel);
+        NamedGridMap named;
+        for (size_t i = 0; i < taken.size(); ++i) named[taken[i].uniqueName()] = grids[i];
         // an instance shares its parent's tree: a parent skipped above is read now
         for (const GridDescriptor &gd : taken) {
             if (!gd.isInstance() || named.count(gd.instanceParentName())) continue;
@@ -719,6 +735,75 @@ public:
     }
 
 private:
+    // Tag a stream as io::Stream tags the file's: format and library version, compression.
+    void tag(std::istream &is) const
+    {
+        mTags.emplace_back(new openvdb::io::StreamMetadata);
+        openvdb::io::setStreamMetadataPtr(is, mTags.back(), /*transfer=*/false);
+        openvdb::io::setVersion(is, libraryVersion(), fileVersion());
+        openvdb::io::setDataCompression(is, compression());
+    }
+
+    // One grid from its offsets; it must end where its descriptor says.
+    static void read_one(std::istream &is, const openvdb::io::GridDescriptor &gd, const GridBase::Ptr &grid)
+    {
+        is.seekg(gd.getGridPos(), std::ios_base::beg);
+        Archive::readGrid(grid, gd, is);
+        if (int64_t(is.tellg()) != gd.getEndPos())
+            damaged("grid '" + one_line(gd.gridName()) + "' does not end where its offset says");
+    }
+
+    // The grids of a file with offsets, largest first on each free thread; the failure of the
+    // grid first in the file is the one reported, whatever the threads' timing.
+    void read_grids(std::istream &is, int fd, const std::vector<openvdb::io::GridDescriptor> &gds,
+                    const std::vector<GridBase::Ptr> &grids, int threads, hv_vdb_cancel_fn cancel) const
+    {
+        const size_t n = gds.size();
+        if (threads > int(n)) threads = int(n);
+        if (threads <= 1) {
+            for (size_t i = 0; i < n; ++i) read_one(is, gds[i], grids[i]);
+            return;
+        }
+        std::vector<size_t> order(n);
+        for (size_t i = 0; i < n; ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+            return gds[a].getEndPos() - gds[a].getGridPos() > gds[b].getEndPos() - gds[b].getGridPos();
+        });
+        std::vector<std::exception_ptr> errors(n);
+        std::atomic<size_t> next(0);
+        auto work = [&](std::istream &s) {
+            for (size_t k; (k = next.fetch_add(1)) < n;) {
+                const size_t i = order[k];
+                try {
+                    read_one(s, gds[i], grids[i]);
+                } catch (...) {
+                    errors[i] = std::current_exception();
+                    next.store(n); // the load fails: stop handing out grids
+                }
+            }
+        };
+        std::vector<std::unique_ptr<ReadBuf>> bufs;
+        std::vector<std::unique_ptr<std::istream>> streams;
+        for (int t = 1; t < threads; ++t) {
+            bufs.emplace_back(new ReadBuf(cancel, fd));
+            streams.emplace_back(new std::istream(bufs.back().get()));
+            streams.back()->exceptions(std::ios::failbit | std::ios::badbit);
+            tag(*streams.back());
+        }
+        std::vector<std::thread> pool;
+        try {
+            for (auto &s : streams) pool.emplace_back(work, std::ref(*s));
+        } catch (...) { // no thread to be had: this one reads the rest
+        }
+        work(is);
+        for (auto &t : pool) t.join();
+        for (auto &e : errors)
+            if (e) std::rethrow_exception(e);
+    }
+
+    // setStreamMetadataPtr keeps the address of the shared pointer itself: a deque never moves it
+    mutable std::deque<openvdb::io::StreamMetadata::Ptr> mTags;
+
     [[noreturn]] static void damaged(const std::string &what) { throw Damaged{what + ": the file is damaged"}; }
 };
 
@@ -861,8 +946,9 @@ bool selected(const std::string &name, const char *const *want, int n)
     return false;
 }
 
-int b_load(const char *path, const char *const *want, int nwant, void **out, double voxel[3], double origin[3],
-           hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes, hv_vdb_cancel_fn cancel)
+int b_load(const char *path, const char *const *want, int nwant, int threads, void **out, double voxel[3],
+           double origin[3], hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes,
+           hv_vdb_cancel_fn cancel)
 {
     Volume *v = nullptr;
     try {
@@ -885,8 +971,8 @@ int b_load(const char *path, const char *const *want, int nwant, void **out, dou
         int32_t count = 0;
         try {
             AddressLimit limit((uint64_t(256) << 20) + 64 * fsize); // trees in memory: about the file's size; a damaged length asking for more fails at once instead of being filled
-            HvArchive().load(is, int64_t(fsize), [&](const std::string &name) { return selected(name, want, nwant); },
-                             *grids, *meta, &count);
+            HvArchive().load(is, buf.fd(), int64_t(fsize), [&](const std::string &name) { return selected(name, want, nwant); },
+                             threads, cancel, *grids, *meta, &count);
         } catch (const std::bad_alloc &) {
             return fail(E_BAD_INPUT, "the file is damaged: it asks for more memory than its " + std::to_string(fsize) +
                                          " bytes can hold");

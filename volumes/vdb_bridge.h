@@ -47,10 +47,11 @@ typedef struct hv_vdb_api {
     /* load: a file that ends early or is damaged is status 2; grids whose active voxels would
      * take more than max_bytes once expanded are refused before expanding (status 5). Only the
      * grids `want` selects are loaded (nwant entries, each a name or a prefix followed by '*';
-     * nwant < 0: every grid); with grid offsets in the file the others are not read. */
-    int (*load)(const char *path, const char *const *want, int nwant, void **out, double voxel[3],
-                double origin[3], hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx,
-                uint64_t max_bytes, hv_vdb_cancel_fn cancel);
+     * nwant < 0: every grid); with grid offsets in the file the others are not read, and the
+     * selected ones are read on up to `threads` threads. */
+    int (*load)(const char *path, const char *const *want, int nwant, int threads, void **out,
+                double voxel[3], double origin[3], hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb,
+                void *ctx, uint64_t max_bytes, hv_vdb_cancel_fn cancel);
     uint64_t (*memory)(const void *impl);
 } hv_vdb_api;
 

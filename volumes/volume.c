@@ -877,7 +877,7 @@ static hv_status load(const char *path, const char *const *names, int n, hv_volu
     hv_volume *v = hv_calloc(1, sizeof *v);
     if (!v) return HV_ERR_NOMEM;
     load_ctx ctx = {v};
-    int rc = g_api->load(path, names, n, &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
+    int rc = g_api->load(path, names, n, hv_threads(), &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
                          hv_memory_budget(0), cancel_poll);
     if (rc) {
         s = rc == HV_ERR_CANCELLED ? hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path)

@@ -39,8 +39,10 @@ void hv_render_scene_destroy(hv_render_scene *s)
     free(s->top);
     free(s->pages);
     free(s->bricks);
+    free(s->cells);
     free(s->brick_block);
     free(s->brick_kind);
+    free(s->brick_alpha);
     free((void *)s->brick_slot);
     free(s->occ);
     free(s);
@@ -132,10 +134,39 @@ static void voxel_colour(const hv_render_scene *s, const float *const *mat, unsi
     v->a = o[3];
 }
 
+/* The cell bits of a brick (render_internal.h): per voxel, rows along z of "unoccupied" and of
+ * "occupied, zero gradient", and of those the cells whose eight corners all have it. */
+static void fill_cells(const rvox *out, uint64_t *cells)
+{
+    uint32_t E[RB_DIM][RB_DIM], S[RB_DIM][RB_DIM];
+    for (int x = 0; x < RB_DIM; ++x)
+        for (int y = 0; y < RB_DIM; ++y) {
+            uint32_t e = 0, f = 0;
+            for (int z = 0; z < RB_DIM; ++z) {
+                const rvox *v = &out[RB_INDEX(x, y, z)];
+                e |= (uint32_t)(v->occ == 0) << z;
+                f |= (uint32_t)(v->occ == 255 && v->gx == 128 && v->gy == 128 && v->gz == 128) << z;
+            }
+            E[x][y] = e;
+            S[x][y] = f;
+        }
+    for (int x = 0; x < 8; ++x) {
+        uint64_t we = 0, ws = 0;
+        for (int y = 0; y < 8; ++y) {
+            uint32_t e = E[x][y] & E[x][y + 1] & E[x + 1][y] & E[x + 1][y + 1];
+            uint32_t f = S[x][y] & S[x][y + 1] & S[x + 1][y] & S[x + 1][y + 1];
+            we |= (uint64_t)(e & (e >> 1) & 0xFFu) << (8 * y);
+            ws |= (uint64_t)(f & (f >> 1) & 0xFFu) << (8 * y);
+        }
+        cells[x] = we;
+        cells[8 + x] = ws;
+    }
+}
+
 /* Fill brick bi into out: occupancy bits of the 17^3 neighbourhood (local -4..12) as rows
  * along z, smoothed separably into S over local -1..9, then per voxel of the 9^3 brick the
  * composition colour and the central differences of S. Returns its kind. */
-static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out)
+static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64_t *cells, int16_t *alpha)
 {
     enum { N = 9 + 2 * (KR + 1), M = 9 + 2 };
     const uint32_t FULL = (1u << N) - 1;
@@ -252,6 +283,11 @@ static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out)
             for (int i = 1; i < RB_VOX && kind == RB_UNIFORM; ++i)
                 if (memcmp(&out[i], &out[0], sizeof *out) != 0) kind = RB_SOLID;
         }
+        fill_cells(out, cells);
+        int a = -2;
+        for (int i = 0; i < RB_VOX && a != -1; ++i)
+            if (out[i].occ) a = a == -2 || a == out[i].a ? out[i].a : -1;
+        *alpha = (int16_t)(a < 0 ? -1 : a);
         return kind;
     }
 }
@@ -265,7 +301,7 @@ int32_t r_brick_fill(const hv_render_scene *cs, int32_t b)
     if (atomic_compare_exchange_strong_explicit(&s->brick_slot[b], &slot, -2, memory_order_acq_rel,
                                                 memory_order_acquire)) {
         size_t at = atomic_fetch_add_explicit(&s->nslots, 1, memory_order_relaxed);
-        s->brick_kind[b] = fill_brick(s, (size_t)b, s->bricks + at * RB_VOX);
+        s->brick_kind[b] = fill_brick(s, (size_t)b, s->bricks + at * RB_VOX, s->cells + at * RC_WORDS, &s->brick_alpha[b]);
         atomic_store_explicit(&s->brick_slot[b], (int32_t)at, memory_order_release);
         return (int32_t)at;
     }
@@ -282,7 +318,7 @@ static hv_status fill_range(void *vctx, size_t begin, size_t end, int thread)
     (void)thread;
     hv_render_scene *s = vctx;
     for (size_t b = begin; b < end; ++b) {
-        s->brick_kind[b] = fill_brick(s, b, s->bricks + b * RB_VOX);
+        s->brick_kind[b] = fill_brick(s, b, s->bricks + b * RB_VOX, s->cells + b * RC_WORDS, &s->brick_alpha[b]);
         atomic_store_explicit(&s->brick_slot[b], (int32_t)b, memory_order_relaxed);
     }
     return HV_OK;
@@ -451,9 +487,11 @@ static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progre
         }
     /* only the memory of the bricks rays reach is ever touched in a lazy scene */
     s->bricks = hv_malloc_big(s->nbricks, RB_VOX * sizeof(rvox));
+    s->cells = hv_malloc_big(s->nbricks, RC_WORDS * sizeof(uint64_t));
     s->brick_kind = hv_malloc(s->nbricks);
+    s->brick_alpha = hv_malloc_array(s->nbricks, sizeof *s->brick_alpha);
     s->brick_slot = hv_malloc_array(s->nbricks, sizeof *s->brick_slot);
-    if (!s->bricks || !s->brick_kind || !s->brick_slot) {
+    if (!s->bricks || !s->cells || !s->brick_kind || !s->brick_alpha || !s->brick_slot) {
         st = hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)",
                           s->nbricks, (double)s->nbricks * RB_VOX * sizeof(rvox) / 1048576.0);
         goto fail;

@@ -94,6 +94,8 @@ typedef struct ray {
     double o[3], d[3];   /* world */
     double oi[3], di[3]; /* index space: p(t) = oi + t di */
     float H[3];          /* Blinn half vector */
+    double tdelta8[3];   /* ray parameter across 8 index units along each axis (HUGE_VAL: never) */
+    float dp[4];         /* index-space step between samples, dt di */
     racc a;
     int64_t next_n;      /* next sample index on the lattice t = n dt */
     float prev_cov;      /* surface mode: coverage at the previous sample */
@@ -469,11 +471,9 @@ static __attribute__((noinline)) void march_brick(const rctx *c, ray *r, const r
     }
     const int solid = kind == RB_SOLID;
     const uint64_t *empty_cells = cells, *solid_cells = c->solid_cells ? cells + 8 : NULL;
-    float p0[4] = {0, 0, 0, 0}, dp[4] = {0, 0, 0, 0};
-    for (int a = 0; a < 3; ++a) {
-        p0[a] = (float)(r->oi[a] + (double)n * dt * r->di[a] - 8.0 * b[a]);
-        dp[a] = (float)(dt * r->di[a]);
-    }
+    float p0[4] = {0, 0, 0, 0};
+    const float *dp = r->dp;
+    for (int a = 0; a < 3; ++a) p0[a] = (float)(r->oi[a] + (double)n * dt * r->di[a] - 8.0 * b[a]);
     const int64_t n0 = n, end = run_end(c, n, tc1, tend);
     if (surface) {
         float cov = r->prev_cov;
@@ -563,24 +563,27 @@ typedef struct dda {
     double tnext[3], tdelta[3];
 } dda;
 
+/* size: 8 or 64. Dividing by a power of two is multiplying by its exact inverse, and size / di
+ * is (size / 8) (8 / di) exactly: the ray's tdelta8 scaled. */
 static void dda_init(dda *g, const ray *r, double t, double size, const int32_t lo[3],
                      const int32_t hi[3])
 {
+    const double inv = 1.0 / size, scale = size * 0.125;
     for (int a = 0; a < 3; ++a) {
         g->lo[a] = lo[a];
         g->hi[a] = hi[a];
         double p = r->oi[a] + t * r->di[a];
-        double cf = floor(p / size);
+        double cf = floor(p * inv);
         int32_t ci = cf < (double)lo[a] ? lo[a] : cf > (double)hi[a] ? hi[a] : (int32_t)cf;
         g->c[a] = ci;
         if (r->di[a] > 0) {
             g->step[a] = 1;
             g->tnext[a] = ((double)(ci + 1) * size - r->oi[a]) / r->di[a];
-            g->tdelta[a] = size / r->di[a];
+            g->tdelta[a] = scale * r->tdelta8[a];
         } else if (r->di[a] < 0) {
             g->step[a] = -1;
             g->tnext[a] = ((double)ci * size - r->oi[a]) / r->di[a];
-            g->tdelta[a] = -size / r->di[a];
+            g->tdelta[a] = scale * r->tdelta8[a];
         } else {
             g->step[a] = 0;
             g->tnext[a] = HUGE_VAL;
@@ -757,6 +760,11 @@ static void trace(const rctx *c, double px, double py, float out[4])
             tmax = -HUGE_VAL;
         }
     }
+    for (int a = 0; a < 3; ++a) {
+        r.tdelta8[a] = r.di[a] > 0 ? 8.0 / r.di[a] : r.di[a] < 0 ? -8.0 / r.di[a] : HUGE_VAL;
+        r.dp[a] = (float)(c->dt * r.di[a]);
+    }
+    r.dp[3] = 0;
     r.a.C = (v4f){0, 0, 0, 0};
     r.a.T = 1;
     r.a.done = 0;

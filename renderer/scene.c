@@ -10,6 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/internal.h"
 #include "render_internal.h"
 
@@ -134,11 +138,48 @@ static void voxel_colour(const hv_render_scene *s, const float *const *mat, unsi
     v->a = o[3];
 }
 
+/* The colours of voxels n..n+3 of a leaf (occupied or not) as RGBA bytes, r first: what
+ * voxel_colour gives each, four at a time (the same float operations lane by lane; a fraction
+ * that voxel_colour skips adds 0 here, which changes no sum). */
+static void colour4(const hv_render_scene *s, const float *const *mat, unsigned n, uint32_t out[4])
+{
+#if defined(__SSE2__)
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    __m128 sum = zero, acc[4] = {zero, zero, zero, zero};
+    for (int j = 0; j < s->materials; ++j) {
+        __m128 p = _mm_loadu_ps(mat[j] + n);
+        p = _mm_and_ps(_mm_cmpgt_ps(p, zero), _mm_min_ps(p, one)); /* NaN and p <= 0: 0 */
+        sum = _mm_add_ps(sum, p);
+        for (int k = 0; k < 4; ++k) acc[k] = _mm_add_ps(acc[k], _mm_mul_ps(p, _mm_set1_ps(s->colour[j][k])));
+    }
+    __m128 valid = _mm_cmpgt_ps(sum, _mm_set1_ps(1e-6f)), inv = _mm_div_ps(one, sum);
+    __m128i ch[4];
+    for (int k = 0; k < 4; ++k) { /* to_u8 */
+        __m128 v = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(acc[k], inv), _mm_set1_ps(255.0f)), _mm_set1_ps(0.5f));
+        v = _mm_min_ps(_mm_max_ps(v, zero), _mm_set1_ps(255.0f));
+        __m128i grey = _mm_set1_epi32(k < 3 ? to_u8(0.7f) : 255);
+        __m128i m = _mm_castps_si128(valid);
+        ch[k] = _mm_or_si128(_mm_and_si128(m, _mm_cvttps_epi32(v)), _mm_andnot_si128(m, grey));
+    }
+    __m128i x = _mm_packus_epi16(_mm_packs_epi32(ch[0], ch[1]), _mm_packs_epi32(ch[2], ch[3]));
+    __m128i rg = _mm_unpacklo_epi8(x, _mm_srli_si128(x, 4)), ba = _mm_unpacklo_epi8(_mm_srli_si128(x, 8), _mm_srli_si128(x, 12));
+    _mm_storeu_si128((__m128i *)(void *)out, _mm_unpacklo_epi16(rg, ba));
+#else
+    for (int i = 0; i < 4; ++i) {
+        rvox v;
+        voxel_colour(s, mat, n + (unsigned)i, &v);
+        memcpy(&out[i], &v, 4);
+    }
+#endif
+}
+
 /* The cell bits of a brick (render_internal.h): per voxel, rows along z of "unoccupied" and of
- * "occupied, zero gradient", and of those the cells whose eight corners all have it. */
-static void fill_cells(const rvox *out, uint64_t *cells)
+ * "occupied, zero gradient", and of those the cells whose eight corners all have it; the alpha
+ * its occupied voxels share, or -1. */
+static void fill_cells(const rvox *out, uint64_t *cells, int16_t *alpha)
 {
     uint32_t E[RB_DIM][RB_DIM], S[RB_DIM][RB_DIM];
+    int a = -2; /* the occupied voxels' alpha: -2 none yet, -1 not one */
     for (int x = 0; x < RB_DIM; ++x)
         for (int y = 0; y < RB_DIM; ++y) {
             uint32_t e = 0, f = 0;
@@ -146,10 +187,12 @@ static void fill_cells(const rvox *out, uint64_t *cells)
                 const rvox *v = &out[RB_INDEX(x, y, z)];
                 e |= (uint32_t)(v->occ == 0) << z;
                 f |= (uint32_t)(v->occ == 255 && v->gx == 128 && v->gy == 128 && v->gz == 128) << z;
+                if (v->occ && a != v->a) a = a == -2 ? v->a : -1;
             }
             E[x][y] = e;
             S[x][y] = f;
         }
+    *alpha = (int16_t)(a < 0 ? -1 : a);
     for (int x = 0; x < 8; ++x) {
         uint64_t we = 0, ws = 0;
         for (int y = 0; y < 8; ++y) {
@@ -168,10 +211,11 @@ static void fill_cells(const rvox *out, uint64_t *cells)
  * composition colour and the central differences of S. Returns its kind. */
 static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64_t *cells, int16_t *alpha)
 {
-    enum { N = 9 + 2 * (KR + 1), M = 9 + 2 };
+    enum { N = 9 + 2 * (KR + 1), M = 9 + 2, MZ = 12 /* M padded to whole vectors */ };
     const uint32_t FULL = (1u << N) - 1;
     uint32_t rows[N][N]; /* bit z: local z - (KR + 1) */
-    int32_t T1[N][N][M], T2[N][M][M], S[M][M][M];
+    int32_t T1[N][N][MZ] __attribute__((aligned(16))), T2[N][M][MZ] __attribute__((aligned(16))),
+        S[M][M][MZ] __attribute__((aligned(16)));
     {
         const int32_t *B = s->brick_block + 3 * bi;
         const r_occ *occ = s->occ;
@@ -216,9 +260,10 @@ static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64
                     uint32_t row = rows[x][y];
                     int32_t *t = T1[x][y];
                     if (row == 0 || row == FULL) {
-                        for (int z = 0; z < M; ++z) t[z] = row ? 64 : 0;
+                        for (int z = 0; z < MZ; ++z) t[z] = row ? 64 : 0;
                     } else {
                         for (int z = 0; z < M; ++z) t[z] = g_window[(row >> z) & 127u];
+                        t[M] = 0;
                     }
                 }
             for (int x = 0; x < N; ++x)
@@ -227,7 +272,7 @@ static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64
                     const int32_t *a0 = T1[x][y], *a1 = T1[x][y + 1], *a2 = T1[x][y + 2],
                                   *a3 = T1[x][y + 3], *a4 = T1[x][y + 4], *a5 = T1[x][y + 5],
                                   *a6 = T1[x][y + 6];
-                    for (int z = 0; z < M; ++z)
+                    for (int z = 0; z < MZ; ++z)
                         t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
                                20 * a3[z];
                 }
@@ -237,7 +282,7 @@ static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64
                     const int32_t *a0 = T2[x][y], *a1 = T2[x + 1][y], *a2 = T2[x + 2][y],
                                   *a3 = T2[x + 3][y], *a4 = T2[x + 4][y], *a5 = T2[x + 5][y],
                                   *a6 = T2[x + 6][y];
-                    for (int z = 0; z < M; ++z)
+                    for (int z = 0; z < MZ; ++z)
                         t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
                                20 * a3[z];
                 }
@@ -252,13 +297,24 @@ static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64
         for (int x = 0; x < RB_DIM; ++x)
             for (int y = 0; y < RB_DIM; ++y) {
                 uint32_t row = flat ? ((full || all) ? FULL : 0) : rows[x + KR + 1][y + KR + 1];
+                /* the row's colours: z 0-7 from the block's leaf four at a time, z 8 from the next */
+                uint32_t col[RB_DIM];
+                const int32_t o0 = nb[1 + (x >> 3)][1 + (y >> 3)][1], o8 = nb[1 + (x >> 3)][1 + (y >> 3)][2];
+                if (s->materials && o0 >= 0 && ((row >> (KR + 1)) & 0xFFu)) {
+                    colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 0), col);
+                    colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 4), col + 4);
+                }
+                if (s->materials && o8 >= 0 && ((row >> (KR + 9)) & 1u)) {
+                    rvox c8;
+                    voxel_colour(s, mat[x >> 3][y >> 3][1], HV_LEAF_OFFSET(x, y, 8), &c8);
+                    memcpy(&col[8], &c8, 4);
+                }
                 for (int z = 0; z < RB_DIM; ++z) {
                     rvox *v = &out[RB_INDEX(x, y, z)];
-                    int32_t o = nb[1 + (x >> 3)][1 + (y >> 3)][1 + (z >> 3)];
-                    unsigned off = HV_LEAF_OFFSET(x, y, z);
+                    int32_t o = z < 8 ? o0 : o8;
                     if (((row >> (z + KR + 1)) & 1u) && o >= 0) {
                         if (s->materials) {
-                            voxel_colour(s, mat[x >> 3][y >> 3][z >> 3], off, v);
+                            memcpy(v, &col[z], 4);
                         } else { /* no table: grey */
                             v->r = v->g = v->b = to_u8(0.7f);
                             v->a = 255;
@@ -283,11 +339,7 @@ static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64
             for (int i = 1; i < RB_VOX && kind == RB_UNIFORM; ++i)
                 if (memcmp(&out[i], &out[0], sizeof *out) != 0) kind = RB_SOLID;
         }
-        fill_cells(out, cells);
-        int a = -2;
-        for (int i = 0; i < RB_VOX && a != -1; ++i)
-            if (out[i].occ) a = a == -2 || a == out[i].a ? out[i].a : -1;
-        *alpha = (int16_t)(a < 0 ? -1 : a);
+        fill_cells(out, cells, alpha);
         return kind;
     }
 }

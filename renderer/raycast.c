@@ -11,6 +11,9 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include "core/internal.h"
 #include "render_internal.h"
@@ -61,6 +64,8 @@ typedef struct cplane {
     double off;  /* n . x > off is inside the removed region */
 } cplane;
 
+typedef struct rctx rctx;
+struct ray;
 typedef struct rctx {
     const hv_render_scene *s;
     const hv_render_options *o;
@@ -69,6 +74,8 @@ typedef struct rctx {
     int tiles_x, tiles_y;
     double dt, idt;     /* world step, its inverse (for guesses only) */
     int solid_cells;    /* a sample in a cell of solid corners composites as a solid brick's */
+    void (*march)(const struct rctx *, struct ray *, const rvox *, const uint64_t *, int, int, const int32_t *,
+                  double, double, double); /* march_brick for this machine */
     double box_lo[3], box_hi[3]; /* index box where the coverage can be > 0 */
     float density, tf_lo, tf_scale, iso;
     float ka, kd, ks, shin;
@@ -90,6 +97,7 @@ typedef struct racc {
     int done;
 } racc;
 
+typedef struct ray ray;
 typedef struct ray {
     double o[3], d[3];   /* world */
     double oi[3], di[3]; /* index space: p(t) = oi + t di */
@@ -373,14 +381,6 @@ static inline __attribute__((always_inline)) v4f solid_colour(const rvox *v, con
     return trilerp(lo, f[0], f[1], f[2]) * (1.0f / 255.0f);
 }
 
-/* A sample inside a solid: the trilinear colour of the eight corners (all occupied), full
- * coverage, plain colour; alpha >= 0: the opacity when all the corners' alphas are alike. */
-static inline void composite_solid(const rctx *c, racc *r, const rvox *v, const float f[3], float alpha)
-{
-    v4f col = solid_colour(v, f);
-    if (alpha < 0) alpha = opacity_of(c, col[3]); /* ramp(1) = 1: opacity from the material alpha */
-    if (alpha > 0) composite_v(r, col, alpha);
-}
 
 /* The samples n, n+1, ... (t < tc1, t <= tend) of a uniform brick are all alike: k of them
  * leave T (1 - alpha)^k and add T c (1 - (1 - alpha)^k), what one by one compositing gives. */
@@ -446,115 +446,81 @@ static inline __attribute__((always_inline)) void run_point(const float p0[4], c
     *cell = (unsigned)(li[0] << 6 | li[1] << 3 | li[2]);
 }
 
-/* Samples of the lattice t = n dt inside [tc0, tc1) (and <= tend) in brick bk of block b, with
- * the brick's cell bits. Positions inside the brick advance in float from a double start: a
- * brick holds at most a few dozen samples, so the drift stays far below a voxel. */
-static __attribute__((noinline)) void march_brick(const rctx *c, ray *r, const rvox *bk, const uint64_t *cells,
-                                                  int kind, int alpha_byte, const int32_t b[3], double tc0, double tc1,
-                                                  double tend)
+/* The general variant, SSE2 (x86-64's baseline) or plain C. */
+#define MB_NAME march_brick_base
+#define MB_TARGET
+#define MB_INTERP(v, f, og, col) tri8(v, f, og, col)
+#define MB_SOLID_COLOUR(v, f) solid_colour(v, f)
+#include "march_brick.inc"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/* The AVX2 variant: a voxel's eight bytes as one 8-float vector, the seven lerps of a trilinear
+ * sample on both its colour and its occupancy/gradient at once. */
+#define AVX2 __attribute__((target("avx2")))
+
+static inline AVX2 __attribute__((always_inline)) __m256 lerp8(__m256 a, __m256 b, __m256 t)
 {
-    const double dt = c->dt;
-    int64_t n = r->next_n;
-    int64_t nc = (int64_t)ceil(tc0 / dt);
-    const int surface = c->o->mode == HV_RENDER_SURFACE;
-    if (nc > n) {
-        /* samples skipped in empty blocks before this one had zero coverage */
-        if (surface) {
-            r->prev_cov = 0;
-            r->prev_t = (double)(nc - 1) * dt;
-        }
-        n = nc;
-    }
-    if (kind == RB_UNIFORM && !surface) {
-        composite_uniform(c, r, bk, n, tc1, tend);
-        return;
-    }
-    const int solid = kind == RB_SOLID;
-    const uint64_t *empty_cells = cells, *solid_cells = c->solid_cells ? cells + 8 : NULL;
-    float p0[4] = {0, 0, 0, 0};
-    const float *dp = r->dp;
-    for (int a = 0; a < 3; ++a) p0[a] = (float)(r->oi[a] + (double)n * dt * r->di[a] - 8.0 * b[a]);
-    const int64_t n0 = n, end = run_end(c, n, tc1, tend);
-    if (surface) {
-        float cov = r->prev_cov;
-        for (; n < end; ++n) {
-            int vi;
-            unsigned cell;
-            float f[3];
-            run_point(p0, dp, (int)(n - n0), &vi, &cell, f);
-            float prev = cov;
-            if (HV_BIT_GET(empty_cells, cell) && c->iso > 0) {
-                cov = 0; /* the eight corners unoccupied: the trilinear coverage is 0 */
-            } else {
-                v4f og;
-                tri8(bk + vi, f, &og, NULL);
-                cov = og[0] * (1.0f / 255.0f);
-            }
-            if (cov >= c->iso && prev < c->iso) {
-                double pt = n > n0 ? (double)(n - 1) * dt : r->prev_t;
-                surface_hit(c, r, pt, prev, (double)n * dt, cov);
-                r->next_n = n + 1;
-                return;
-            }
-        }
-        if (end > n0) {
-            r->prev_cov = cov;
-            r->prev_t = (double)(end - 1) * dt;
-        }
-        r->next_n = end;
-        return;
-    }
-    /* a brick whose occupied voxels share one alpha: every solid sample has its opacity, as
-     * opacity_of(trilerp of equal alphas * 1/255) computes it */
-    const float solid_alpha = alpha_byte >= 0 ? c->op_byte[alpha_byte] : -1.0f;
-    racc acc = r->a; /* in registers while the run lasts */
-    for (; n < end; ++n) {
-        int vi;
-        unsigned cell;
-        float f[3];
-        run_point(p0, dp, (int)(n - n0), &vi, &cell, f);
-        const rvox *v = bk + vi;
-        /* inside a solid, or a cell of one: coverage 1, no gradient, only the colour varies */
-        if (solid || (solid_cells && HV_BIT_GET(solid_cells, cell))) {
-            composite_solid(c, &acc, v, f, solid_alpha);
-            if (acc.done) {
-                r->a = acc;
-                r->next_n = n + 1;
-                return;
-            }
-            continue;
-        }
-        if (HV_BIT_GET(empty_cells, cell)) continue; /* coverage 0 <= tf_low */
-        v4f lo[8], hi[8], og, col;
-        corners(v, lo, hi);
-        og = trilerp(hi, f[0], f[1], f[2]);
-        float cov = og[0] * (1.0f / 255.0f);
-        if (cov <= c->tf_lo) continue; /* empty: the colour is not needed */
-        col = trilerp(lo, f[0], f[1], f[2]);
-        float rgb[3], amix, ramp = (cov - c->tf_lo) * c->tf_scale;
-        if (ramp > 1) ramp = 1;
-        colour_of(og, col, rgb, &amix);
-        float alpha = opacity_of(c, ramp * amix);
-        if (!(alpha > 0)) continue;
-        /* gradient strength: shading fades in at surfaces, interiors keep the plain colour */
-        float gx = og[1] - 128.0f, gy = og[2] - 128.0f, gz = og[3] - 128.0f;
-        float g2 = gx * gx + gy * gy + gz * gz;
-        if (g2 > 1.0f) {
-            float nrm[3], out[3];
-            float w = normal_of(c, og, nrm) * (1.0f / 64.0f);
-            shade(c, r, rgb, nrm, w > 1 ? 1 : w, out);
-            composite(&acc, out, alpha);
-        } else {
-            composite(&acc, rgb, alpha);
-        }
-        if (acc.done) {
-            r->a = acc;
-            r->next_n = n + 1;
-            return;
-        }
-    }
-    r->a = acc;
-    r->next_n = end;
+    return _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t));
+}
+
+static inline AVX2 __attribute__((always_inline)) __m256 expand8(const rvox *v)
+{
+    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)v)));
+}
+
+/* tri8: the lerps of trilerp() in its order, the colour in lanes 0-3, the rest in 4-7 */
+static inline AVX2 __attribute__((always_inline)) void tri8_avx2(const rvox *v, const float f[3], v4f *og, v4f *col)
+{
+    enum { DY = RB_DIM, DX = RB_DIM * RB_DIM };
+    const __m256 tx = _mm256_set1_ps(f[0]), ty = _mm256_set1_ps(f[1]), tz = _mm256_set1_ps(f[2]);
+    __m256 c00 = lerp8(expand8(v), expand8(v + 1), tz), c01 = lerp8(expand8(v + DY), expand8(v + DY + 1), tz);
+    __m256 c10 = lerp8(expand8(v + DX), expand8(v + DX + 1), tz);
+    __m256 c11 = lerp8(expand8(v + DX + DY), expand8(v + DX + DY + 1), tz);
+    __m256 x = lerp8(lerp8(c00, c01, ty), lerp8(c10, c11, ty), tx);
+    *col = (v4f)_mm256_castps256_ps128(x);
+    *og = (v4f)_mm256_extractf128_ps(x, 1);
+}
+
+/* The colours of two voxels a, b as one vector [a | b]. */
+static inline AVX2 __attribute__((always_inline)) __m256 colour2(const rvox *a, const rvox *b)
+{
+    int32_t wa, wb;
+    memcpy(&wa, a, 4);
+    memcpy(&wb, b, 4);
+    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_unpacklo_epi32(_mm_cvtsi32_si128(wa), _mm_cvtsi32_si128(wb))));
+}
+
+/* solid_colour: corners paired [0|2], [1|3], [4|6], [5|7], lerped along z, regrouped, along y,
+ * then the halves along x */
+static inline AVX2 __attribute__((always_inline)) v4f solid_colour_avx2(const rvox *v, const float f[3])
+{
+    enum { DY = RB_DIM, DX = RB_DIM * RB_DIM };
+    const __m256 ty = _mm256_set1_ps(f[1]), tz = _mm256_set1_ps(f[2]);
+    __m256 z0 = lerp8(colour2(v, v + DY), colour2(v + 1, v + DY + 1), tz);            /* [c00 | c01] */
+    __m256 z1 = lerp8(colour2(v + DX, v + DX + DY), colour2(v + DX + 1, v + DX + DY + 1), tz); /* [c10 | c11] */
+    __m256 y = lerp8(_mm256_permute2f128_ps(z0, z1, 0x20), _mm256_permute2f128_ps(z0, z1, 0x31), ty);
+    v4f lo = (v4f)_mm256_castps256_ps128(y), hi = (v4f)_mm256_extractf128_ps(y, 1);
+    return lerp4(lo, hi, f[0]) * (1.0f / 255.0f);
+}
+
+#define MB_NAME march_brick_avx2
+#define MB_TARGET AVX2
+#define MB_INTERP(v, f, og, col) tri8_avx2(v, f, og, col)
+#define MB_SOLID_COLOUR(v, f) solid_colour_avx2(v, f)
+#include "march_brick.inc"
+#endif
+
+/* The variant for this machine; r_render_base forces the general one (tests compare them). */
+typedef void (*march_fn)(const rctx *, ray *, const rvox *, const uint64_t *, int, int, const int32_t *, double,
+                         double, double);
+int r_render_base;
+
+static march_fn march_variant(void)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (!r_render_base && __builtin_cpu_supports("avx2")) return march_brick_avx2;
+#endif
+    return march_brick_base;
 }
 
 /* 3D DDA state over cells of `size` index units, cell coordinates within [lo, hi]. */
@@ -640,8 +606,8 @@ static void march(const rctx *c, ray *r, double ta, double tb)
                 if (bi >= 0 && bt1 >= bt) {
                     double cell_end = bt1 >= tb ? HUGE_VAL : bt1; /* the last cell includes tb */
                     size_t slot = r_brick_slot(s, bi);
-                    march_brick(c, r, s->bricks + slot * RB_VOX, s->cells + slot * RC_WORDS, s->brick_kind[bi],
-                                s->brick_alpha[bi], B.c, bt, cell_end, tb);
+                    c->march(c, r, s->bricks + slot * RB_VOX, s->cells + slot * RC_WORDS, s->brick_kind[bi],
+                             s->brick_alpha[bi], B.c, bt, cell_end, tb);
                     if (r->a.done) return;
                 }
                 if (bt1 >= mt1 || !dda_next(&B, &bt)) break;
@@ -855,6 +821,7 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
     double step = o->step > 0 ? o->step : o->mode == HV_RENDER_SURFACE ? 0.5 : 1.0;
     c->dt = step * vmin;
     c->idt = 1.0 / c->dt;
+    c->march = march_variant();
     for (int a = 0; a < 3; ++a) c->ivox[a] = (float)(1.0 / s->xf.voxel[a]);
     double lo[3], hi[3], ext = 0;
     r_scene_box(s, lo, hi);

@@ -112,6 +112,10 @@ static inline const rvox *r_brick(const hv_render_scene *s, int32_t bx, int32_t 
     return b < 0 ? NULL : s->bricks + r_brick_slot(s, b) * RB_VOX;
 }
 
+/* Nonzero: the ray caster's general variant, not the one for this machine's instruction set
+ * (raycast.c; the tests check that both give the same pixels). */
+extern int r_render_base;
+
 /* ---- camera ----------------------------------------------------------------------------- */
 
 typedef struct rcam {

@@ -912,6 +912,31 @@ Test(render, volume_load_reads_what_the_scene_needs)
     hv_volume_destroy(v);
 }
 
+extern int r_render_base; /* renderer/render_internal.h */
+
+Test(render, instruction_set_variants_agree)
+{
+    /* the AVX2 ray caster (where the CPU has it) and the general one: the same floats */
+    hv_volume *v = shaft_volume();
+    for (int mode = 0; mode < 2; ++mode) {
+        hv_render_options o;
+        hv_render_options_init(&o);
+        o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
+        o.width = 120;
+        o.height = 90;
+        cr_assert_eq(hv_clip_parse("x>60&z>0", &o.clip[0]), HV_OK);
+        o.clips = 1;
+        hv_image *a = render(v, &o);
+        r_render_base = 1;
+        hv_image *b = render(v, &o);
+        r_render_base = 0;
+        cr_expect(memcmp(a->rgba, b->rgba, sizeof(float) * 4 * 120 * 90) == 0, "mode %d differs", mode);
+        hv_image_destroy(a);
+        hv_image_destroy(b);
+    }
+    hv_volume_destroy(v);
+}
+
 Test(render, model_without_materials_is_grey)
 {
     hv_transform xf = {{1, 1, 1}, {0, 0, 0}};

@@ -18,7 +18,7 @@
 #include "core/internal.h"
 #include "render_internal.h"
 
-#define TILE 32
+#define TILE 32 /* tile edge in pixels; smaller for small images, so every thread has work */
 #define T_MIN (1.0f / 512.0f) /* early termination: the rest is below 8-bit resolution */
 #define BISECT_STEPS 8
 /* Sample opacity 1 - exp(-k u), u = ramp * alpha_mix in [0, 1], from a table with linear
@@ -71,7 +71,7 @@ typedef struct rctx {
     const hv_render_options *o;
     rcam cam;
     hv_image *img;
-    int tiles_x, tiles_y;
+    int tile, tiles_x, tiles_y;
     double dt, idt;     /* world step, its inverse (for guesses only) */
     int solid_cells;    /* a sample in a cell of solid corners composites as a solid brick's */
     void (*march)(const struct rctx *, struct ray *, const rvox *, const uint64_t *, int, int, const int32_t *,
@@ -776,8 +776,8 @@ static hv_status render_tiles(void *vctx, size_t begin, size_t end, int thread)
     const float inv = 1.0f / (float)(S * S);
     for (size_t tile = begin; tile < end; ++tile) {
         int tx = (int)(tile % (size_t)c->tiles_x), ty = (int)(tile / (size_t)c->tiles_x);
-        int x0 = tx * TILE, y0 = ty * TILE;
-        int x1 = HV_MIN(x0 + TILE, c->img->width), y1 = HV_MIN(y0 + TILE, c->img->height);
+        int x0 = tx * c->tile, y0 = ty * c->tile;
+        int x1 = HV_MIN(x0 + c->tile, c->img->width), y1 = HV_MIN(y0 + c->tile, c->img->height);
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
                 float acc[4] = {0, 0, 0, 0}, px[4];
@@ -880,8 +880,13 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
             c->foot[2] = c->foot[3] = HUGE_VAL;
         }
     }
-    c->tiles_x = (o->width + TILE - 1) / TILE;
-    c->tiles_y = (o->height + TILE - 1) / TILE;
+    c->tile = TILE;
+    for (;;) {
+        c->tiles_x = (o->width + c->tile - 1) / c->tile;
+        c->tiles_y = (o->height + c->tile - 1) / c->tile;
+        if (c->tile <= 4 || (int64_t)c->tiles_x * c->tiles_y >= 4 * (int64_t)hv_threads()) break;
+        c->tile /= 2;
+    }
     if (s->empty) { /* nothing but background */
         for (size_t i = 0; i < (size_t)o->width * (size_t)o->height; ++i)
             memcpy(c->img->rgba + 4 * i, c->bg, sizeof c->bg);

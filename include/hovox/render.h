@@ -165,7 +165,8 @@ HV_API int hv_render_scene_bounds(const hv_render_scene *scene, double lo[3], do
 HV_API int hv_render_scene_materials(const hv_render_scene *scene);
 
 /* Ray-cast the scene into a new image (*out, free with hv_image_destroy). Multi-threaded over
- * 32x32 tiles (hv_threads()); the result does not depend on the thread count. Progress stage
+ * 32x32 tiles (smaller for images of fewer than 4 tiles per thread; hv_threads()); the result
+ * does not depend on the thread count. Progress stage
  * "render". Errors: HV_ERR_INVALID (an option out of its domain, named in the message; a
  * degenerate camera; a fitted view of an empty scene), HV_ERR_NOMEM, HV_ERR_CANCELLED. */
 HV_API hv_status hv_render_scene_image(const hv_render_scene *scene,

@@ -359,7 +359,7 @@ int32_t r_brick_fill(const hv_render_scene *cs, int32_t b)
     }
     for (int spins = 0; slot < 0; ++spins) { /* another thread fills it: a few microseconds */
 #if defined(__SSE2__)
-        if (spins < 20000) _mm_pause(); else
+        if (spins < 256) _mm_pause(); else
 #endif
             sched_yield();
         slot = atomic_load_explicit(&s->brick_slot[b], memory_order_acquire);

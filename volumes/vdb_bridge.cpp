@@ -368,7 +368,10 @@ protected:
     }
     pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override
     {
-        int64_t to = dir == std::ios_base::beg ? int64_t(off) : dir == std::ios_base::cur ? pos() + int64_t(off) : -1;
+        int64_t to = -1;
+        if (dir == std::ios_base::beg) to = int64_t(off);
+        else if (dir == std::ios_base::cur) to = pos() + int64_t(off);
+        else if (struct stat st; fstat(mFd, &st) == 0) to = int64_t(st.st_size) + int64_t(off);
         return seek(to);
     }
     pos_type seekpos(pos_type p, std::ios_base::openmode) override { return seek(int64_t(std::streamoff(p))); }

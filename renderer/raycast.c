@@ -814,7 +814,7 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
     c->o = o;
     st = r_camera_setup(s, o, &c->cam);
     if (st != HV_OK) goto done;
-    st = hv_image_create(o->width, o->height, &c->img);
+    st = hv_image_create_unset(o->width, o->height, &c->img); /* every pixel is written below */
     if (st != HV_OK) goto done;
 
     double vmin = HV_MIN(s->xf.voxel[0], HV_MIN(s->xf.voxel[1], s->xf.voxel[2]));

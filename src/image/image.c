@@ -17,7 +17,7 @@
 
 /* ---- float images ----------------------------------------------------------------------- */
 
-hv_status hv_image_create(int width, int height, hv_image **out)
+static hv_status image_create(int width, int height, int clear, hv_image **out)
 {
     *out = NULL;
     if (width < 1 || width > 65535 || height < 1 || height > 65535)
@@ -27,7 +27,7 @@ hv_status hv_image_create(int width, int height, hv_image **out)
     if (!img) return HV_ERR_NOMEM;
     img->width = width;
     img->height = height;
-    img->rgba = hv_calloc_big((size_t)width * (size_t)height, 4 * sizeof(float));
+    img->rgba = (clear ? hv_calloc_big : hv_malloc_big)((size_t)width * (size_t)height, 4 * sizeof(float));
     if (!img->rgba) {
         free(img);
         return hv_error_set(HV_ERR_NOMEM, "out of memory for a %d x %d image", width, height);
@@ -35,6 +35,10 @@ hv_status hv_image_create(int width, int height, hv_image **out)
     *out = img;
     return HV_OK;
 }
+
+hv_status hv_image_create(int width, int height, hv_image **out) { return image_create(width, height, 1, out); }
+
+hv_status hv_image_create_unset(int width, int height, hv_image **out) { return image_create(width, height, 0, out); }
 
 void hv_image_destroy(hv_image *img)
 {

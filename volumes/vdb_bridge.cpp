@@ -85,6 +85,82 @@ namespace openvdb {
 OPENVDB_USE_VERSION_NAMESPACE
 namespace OPENVDB_VERSION_NAME {
 namespace tree {
+// OpenVDB 10.0's InternalNode::readTopology sets the child bits of a node before it creates the
+// children, so when the read throws half way (a damaged file) the node's destructor deletes a
+// pointer for every child bit, created or not: the table entries it never filled are floats and
+// bools, not pointers (found by fuzz_vdb: a segfault, once the root above destroyed what it had
+// read instead of leaking it). hovox's copy, for the trees this plugin compiles, clears the
+// bits of the children it did not create before the exception leaves the node.
+#define HV_CHECKED_INTERNAL_BODY                                                                              \
+    {                                                                                                         \
+        const ValueType background = !io::getGridBackgroundValuePtr(is)                                       \
+                                         ? zeroVal<ValueType>()                                               \
+                                         : *static_cast<const ValueType *>(io::getGridBackgroundValuePtr(is)); \
+        Index upto = 0; /* every child bit below this position has its child */                               \
+        try {                                                                                                 \
+            mChildMask.load(is);                                                                              \
+            mValueMask.load(is);                                                                              \
+            if (io::getFormatVersion(is) < OPENVDB_FILE_VERSION_INTERNALNODE_COMPRESSION) {                   \
+                for (Index i = 0; i < NUM_VALUES; ++i, upto = i) {                                            \
+                    if (this->isChildMaskOn(i)) {                                                             \
+                        ChildNodeType *child = new ChildNodeType(PartialCreate(), offsetToGlobalCoord(i), background); \
+                        mNodes[i].setChild(child);                                                            \
+                        upto = i + 1;                                                                         \
+                        child->readTopology(is);                                                              \
+                    } else {                                                                                  \
+                        ValueType value;                                                                      \
+                        is.read(reinterpret_cast<char *>(&value), sizeof(ValueType));                        \
+                        mNodes[i].setValue(value);                                                            \
+                    }                                                                                         \
+                }                                                                                             \
+            } else {                                                                                          \
+                const bool oldVersion = io::getFormatVersion(is) < OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION; \
+                const Index numValues = oldVersion ? mChildMask.countOff() : NUM_VALUES;                      \
+                {                                                                                             \
+                    std::unique_ptr<ValueType[]> valuePtr(new ValueType[numValues]);                          \
+                    ValueType *values = valuePtr.get();                                                       \
+                    io::readCompressedValues(is, values, numValues, mValueMask, fromHalf);                   \
+                    if (oldVersion) {                                                                         \
+                        Index n = 0;                                                                          \
+                        for (ValueAllIter it = this->beginValueAll(); it; ++it) mNodes[it.pos()].setValue(values[n++]); \
+                    } else {                                                                                  \
+                        for (ValueAllIter it = this->beginValueAll(); it; ++it)                               \
+                            mNodes[it.pos()].setValue(values[it.pos()]);                                      \
+                    }                                                                                         \
+                }                                                                                             \
+                for (ChildOnIter it = this->beginChildOn(); it; ++it) {                                       \
+                    ChildNodeType *child = new ChildNodeType(PartialCreate(), it.getCoord(), background);     \
+                    mNodes[it.pos()].setChild(child);                                                         \
+                    upto = it.pos() + 1;                                                                      \
+                    child->readTopology(is, fromHalf);                                                        \
+                }                                                                                             \
+            }                                                                                                 \
+        } catch (...) {                                                                                       \
+            for (Index i = upto; i < NUM_VALUES; ++i) mChildMask.setOff(i);                                   \
+            throw;                                                                                            \
+        }                                                                                                     \
+    }
+#define HV_CHECKED_INTERNAL(T)                                                                                \
+    template<>                                                                                                \
+    inline void InternalNode<LeafNode<T, 3>, 4>::readTopology(std::istream & is, bool fromHalf)               \
+        HV_CHECKED_INTERNAL_BODY                                                                              \
+    template<>                                                                                                \
+    inline void InternalNode<InternalNode<LeafNode<T, 3>, 4>, 5>::readTopology(std::istream & is, bool fromHalf) \
+        HV_CHECKED_INTERNAL_BODY
+typedef math::Vec3<float> hv_vec3f;
+typedef math::Vec3<double> hv_vec3d;
+typedef math::Vec3<int32_t> hv_vec3i;
+HV_CHECKED_INTERNAL(bool)
+HV_CHECKED_INTERNAL(float)
+HV_CHECKED_INTERNAL(double)
+HV_CHECKED_INTERNAL(int32_t)
+HV_CHECKED_INTERNAL(int64_t)
+HV_CHECKED_INTERNAL(hv_vec3f)
+HV_CHECKED_INTERNAL(hv_vec3d)
+HV_CHECKED_INTERNAL(hv_vec3i)
+#undef HV_CHECKED_INTERNAL
+#undef HV_CHECKED_INTERNAL_BODY
+
 #define HV_CHECKED_ROOT(T)                                                                                    \
     template<>                                                                                                \
     inline bool RootNode<InternalNode<InternalNode<LeafNode<T, 3>, 4>, 5>>::readTopology(std::istream & is,    \
@@ -120,9 +196,6 @@ namespace tree {
         }                                                                                                     \
         return true;                                                                                          \
     }
-typedef math::Vec3<float> hv_vec3f;
-typedef math::Vec3<double> hv_vec3d;
-typedef math::Vec3<int32_t> hv_vec3i;
 HV_CHECKED_ROOT(bool)
 HV_CHECKED_ROOT(float)
 HV_CHECKED_ROOT(double)

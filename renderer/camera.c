@@ -162,3 +162,32 @@ void r_camera_ray(const rcam *cam, double x, double y, double o[3], double d[3])
         norm3(d);
     }
 }
+
+int r_camera_footprint(const rcam *cam, const double lo[3], const double hi[3], double rect[4])
+{
+    double u0 = HUGE_VAL, u1 = -HUGE_VAL, v0 = HUGE_VAL, v1 = -HUGE_VAL;
+    for (int i = 0; i < 8; ++i) {
+        double p[3] = {(i & 4 ? hi[0] : lo[0]) - cam->eye[0], (i & 2 ? hi[1] : lo[1]) - cam->eye[1],
+                       (i & 1 ? hi[2] : lo[2]) - cam->eye[2]};
+        double u = dot3(p, cam->right), v = dot3(p, cam->up);
+        if (!cam->ortho) { /* a corner beside or behind the eye: no bound */
+            double d = dot3(p, cam->fwd);
+            if (!(d > 1e-6 * sqrt(dot3(p, p)))) return 0;
+            u /= d;
+            v /= d;
+        }
+        u0 = HV_MIN(u0, u);
+        u1 = HV_MAX(u1, u);
+        v0 = HV_MIN(v0, v);
+        v1 = HV_MAX(v1, v);
+    }
+    /* image position x = (u / half_w + 1) W / 2, y = (1 - v / half_h) H / 2; two pixels of
+     * margin leave the rounding of the rays' own arithmetic far behind */
+    rect[0] = (u0 / cam->half_w + 1.0) * 0.5 * cam->width - 2.0;
+    rect[2] = (u1 / cam->half_w + 1.0) * 0.5 * cam->width + 2.0;
+    rect[1] = (1.0 - v1 / cam->half_h) * 0.5 * cam->height - 2.0;
+    rect[3] = (1.0 - v0 / cam->half_h) * 0.5 * cam->height + 2.0;
+    for (int k = 0; k < 4; ++k)
+        if (!isfinite(rect[k])) return 0;
+    return 1;
+}

@@ -11,11 +11,14 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include "core/internal.h"
 #include "render_internal.h"
 
-#define TILE 32
+#define TILE 32 /* tile edge in pixels; smaller for small images, so every thread has work */
 #define T_MIN (1.0f / 512.0f) /* early termination: the rest is below 8-bit resolution */
 #define BISECT_STEPS 8
 /* Sample opacity 1 - exp(-k u), u = ramp * alpha_mix in [0, 1], from a table with linear
@@ -61,31 +64,47 @@ typedef struct cplane {
     double off;  /* n . x > off is inside the removed region */
 } cplane;
 
+typedef struct rctx rctx;
+struct ray;
 typedef struct rctx {
     const hv_render_scene *s;
     const hv_render_options *o;
     rcam cam;
     hv_image *img;
-    int tiles_x, tiles_y;
-    double dt;          /* world step */
+    int tile, tiles_x, tiles_y;
+    double dt, idt;     /* world step, its inverse (for guesses only) */
+    int solid_cells;    /* a sample in a cell of solid corners composites as a solid brick's */
+    void (*march)(const struct rctx *, struct ray *, const rvox *, const uint64_t *, int, int, const int32_t *,
+                  double, double, double); /* march_brick for this machine */
     double box_lo[3], box_hi[3]; /* index box where the coverage can be > 0 */
     float density, tf_lo, tf_scale, iso;
     float ka, kd, ks, shin;
     float L[3];         /* unit, world, towards the light */
     float ivox[3];      /* 1 / voxel size */
     float opacity[OPACITY_N + 2]; /* 1 - exp(-density dt u) at u = i / OPACITY_N */
+    float op_byte[256];           /* opacity_of(i / 255): of a material alpha byte */
     float bg[4];        /* premultiplied background */
+    double foot[4];     /* rays through image positions outside this rectangle miss the box */
     int nclips;
     int nplanes[HV_RENDER_MAX_CLIPS];
     cplane planes[HV_RENDER_MAX_CLIPS][HV_CLIP_MAX_PLANES];
 } rctx;
 
+/* What a ray has gathered: premultiplied colour, transmittance, and whether it is complete. */
+typedef struct racc {
+    v4f C;   /* lanes 0-2 (lane 3 is scratch) */
+    float T;
+    int done;
+} racc;
+
+typedef struct ray ray;
 typedef struct ray {
     double o[3], d[3];   /* world */
     double oi[3], di[3]; /* index space: p(t) = oi + t di */
     float H[3];          /* Blinn half vector */
-    float C[3], T;       /* premultiplied colour so far, transmittance */
-    int done;
+    double tdelta8[3];   /* ray parameter across 8 index units along each axis (HUGE_VAL: never) */
+    float dp[4];         /* index-space step between samples, dt di */
+    racc a;
     int64_t next_n;      /* next sample index on the lattice t = n dt */
     float prev_cov;      /* surface mode: coverage at the previous sample */
     double prev_t;
@@ -107,6 +126,22 @@ static inline __attribute__((always_inline)) void expand(const rvox *v, v4f *col
     memcpy(&b, &v->occ, 4);
     *col = __builtin_convertvector(a, v4f);
     *og = __builtin_convertvector(b, v4f);
+#endif
+}
+
+/* The colour bytes (r, g, b, a) of a brick voxel as a float vector: expand()'s first. */
+static inline __attribute__((always_inline)) v4f expand_colour(const rvox *v)
+{
+#if defined(__SSE2__)
+    const __m128i zero = _mm_setzero_si128();
+    int32_t w;
+    memcpy(&w, v, 4);
+    __m128i x = _mm_unpacklo_epi8(_mm_cvtsi32_si128(w), zero);
+    return (v4f)_mm_cvtepi32_ps(_mm_unpacklo_epi16(x, zero));
+#else
+    v4u8 a;
+    memcpy(&a, &v->r, 4);
+    return __builtin_convertvector(a, v4f);
 #endif
 }
 
@@ -231,16 +266,22 @@ static inline float normal_of(const rctx *c, v4f og, float n[3])
 
 /* ---- compositing ------------------------------------------------------------------------ */
 
-static inline void composite(ray *r, const float col[3], float alpha)
+/* (the colour's lanes 0-2 count; lane for lane, the arithmetic of three scalar sums) */
+static inline void composite_v(racc *r, v4f col, float alpha)
 {
     float ta = r->T * alpha;
-    for (int i = 0; i < 3; ++i) r->C[i] += ta * col[i];
+    r->C += ta * col;
     r->T -= ta;
     if (r->T < T_MIN) { /* the rest would not change an 8-bit pixel: absorb it here */
-        for (int i = 0; i < 3; ++i) r->C[i] += r->T * col[i];
+        r->C += r->T * col;
         r->T = 0;
         r->done = 1;
     }
+}
+
+static inline void composite(racc *r, const float col[3], float alpha)
+{
+    composite_v(r, (v4f){col[0], col[1], col[2], 0}, alpha);
 }
 
 /* Colour (straight) of the composition from the colour and occupancy vectors. */
@@ -282,8 +323,8 @@ static void cut_face(const rctx *c, ray *r, double t, const double n[3])
     } else {
         shade(c, r, rgb, nf, 1.0f, out);
     }
-    composite(r, out, alpha);
-    if (c->o->mode == HV_RENDER_SURFACE && alpha >= 1) r->done = 1;
+    composite(&r->a, out, alpha);
+    if (c->o->mode == HV_RENDER_SURFACE && alpha >= 1) r->a.done = 1;
 }
 
 /* Surface mode: the crossing lies in (t0, t1] with cov(t0) < iso <= cov(t1). */
@@ -315,8 +356,8 @@ static void surface_hit(const rctx *c, ray *r, double t0, float c0, double t1, f
     if (normal_of(c, og, n) < 2.0f)
         for (int a = 0; a < 3; ++a) n[a] = (float)-r->d[a];
     shade(c, r, rgb, n, 1.0f, out);
-    composite(r, out, 1.0f);
-    r->done = 1;
+    composite(&r->a, out, 1.0f);
+    r->a.done = 1;
 }
 
 /* Opacity of one sample for u = ramp(coverage) * alpha_mix in [0, 1], from the table. */
@@ -331,15 +372,15 @@ static inline float opacity_of(const rctx *c, float u01)
 
 /* A volume sample inside a solid brick: the trilinear colour of the eight corners (all
  * occupied), full coverage, plain colour. */
-static inline void composite_solid(const rctx *c, ray *r, const rvox *v, const float f[3])
+static inline __attribute__((always_inline)) v4f solid_colour(const rvox *v, const float f[3])
 {
-    v4f lo[8], hi[8];
-    corners(v, lo, hi);
-    v4f col = trilerp(lo, f[0], f[1], f[2]) * (1.0f / 255.0f);
-    float rgb[3] = {col[0], col[1], col[2]};
-    float alpha = opacity_of(c, col[3]); /* ramp(1) = 1: opacity from the material alpha */
-    if (alpha > 0) composite(r, rgb, alpha);
+    enum { DY = RB_DIM, DX = RB_DIM * RB_DIM };
+    v4f lo[8] = {expand_colour(v),           expand_colour(v + 1),      expand_colour(v + DY),
+                 expand_colour(v + DY + 1),  expand_colour(v + DX),     expand_colour(v + DX + 1),
+                 expand_colour(v + DX + DY), expand_colour(v + DX + DY + 1)};
+    return trilerp(lo, f[0], f[1], f[2]) * (1.0f / 255.0f);
 }
+
 
 /* The samples n, n+1, ... (t < tc1, t <= tend) of a uniform brick are all alike: k of them
  * leave T (1 - alpha)^k and add T c (1 - (1 - alpha)^k), what one by one compositing gives. */
@@ -356,100 +397,130 @@ static void composite_uniform(const rctx *c, ray *r, const rvox *bk, int64_t n, 
     if (k <= 0) return;
     float rgb[3] = {bk->r * (1.0f / 255.0f), bk->g * (1.0f / 255.0f), bk->b * (1.0f / 255.0f)};
     float alpha = opacity_of(c, bk->a * (1.0f / 255.0f));
-    if (alpha > 0) composite(r, rgb, alpha >= 1 ? 1 : 1 - powf(1 - alpha, (float)k));
+    if (alpha > 0) composite(&r->a, rgb, alpha >= 1 ? 1 : 1 - powf(1 - alpha, (float)k));
 }
 
-/* Samples of the lattice t = n dt inside [tc0, tc1) (and <= tend) in brick bk of block b.
- * Positions inside the brick advance in float from a double start: a brick holds at most a
- * few dozen samples, so the drift stays far below a voxel. */
-static void march_brick(const rctx *c, ray *r, const rvox *bk, int kind, const int32_t b[3],
-                        double tc0, double tc1, double tend)
+/* The first lattice index m >= n with m dt >= tc1 or m dt > tend: the end of a brick's run of
+ * samples, found from a guess by the very test a sample-by-sample loop would make. */
+static inline int64_t run_end(const rctx *c, int64_t n, double tc1, double tend)
 {
-    const double dt = c->dt;
-    int64_t n = r->next_n;
-    int64_t nc = (int64_t)ceil(tc0 / dt);
-    const int surface = c->o->mode == HV_RENDER_SURFACE;
-    if (nc > n) {
-        /* samples skipped in empty blocks before this one had zero coverage */
-        if (surface) {
-            r->prev_cov = 0;
-            r->prev_t = (double)(nc - 1) * dt;
-        }
-        n = nc;
-    }
-    if (kind == RB_UNIFORM && !surface) {
-        composite_uniform(c, r, bk, n, tc1, tend);
-        return;
-    }
-    const int solid = kind == RB_SOLID;
-    float p0[3], dp[3];
+    const double dt = c->dt, lim = HV_MIN(tc1, tend);
+    int64_t m = lim < (double)INT64_MAX / 2 * dt ? (int64_t)(lim * c->idt) : INT64_MAX / 2;
+    if (m < n) m = n;
+#define RUN_STOP(m) ((double)(m) * dt >= tc1 || (double)(m) * dt > tend)
+    while (!RUN_STOP(m)) ++m;
+    while (m > n && RUN_STOP(m - 1)) --m;
+#undef RUN_STOP
+    return m;
+}
+
+/* Local position of sample k of a run, p0 + k dp in the brick, clamped into it: the voxel
+ * (RB_INDEX), the cell (HV_LEAF_OFFSET) and the fractions f. */
+static inline __attribute__((always_inline)) void run_point(const float p0[4], const float dp[4], int k,
+                                                            int *voxel, unsigned *cell, float f[3])
+{
+#if defined(__SSE2__)
+    __m128 l = _mm_add_ps(_mm_loadu_ps(p0), _mm_mul_ps(_mm_set1_ps((float)k), _mm_loadu_ps(dp)));
+    l = _mm_min_ps(_mm_max_ps(l, _mm_setzero_ps()), _mm_set1_ps(8.0f));
+    __m128i i = _mm_cvttps_epi32(_mm_min_ps(l, _mm_set1_ps(7.0f)));
+    __m128 fr = _mm_sub_ps(l, _mm_cvtepi32_ps(i));
+    int32_t li[4];
+    float ff[4];
+    _mm_storeu_si128((__m128i *)(void *)li, i);
+    _mm_storeu_ps(ff, fr);
+    f[0] = ff[0];
+    f[1] = ff[1];
+    f[2] = ff[2];
+#else
+    int li[3];
     for (int a = 0; a < 3; ++a) {
-        p0[a] = (float)(r->oi[a] + (double)n * dt * r->di[a] - 8.0 * b[a]);
-        dp[a] = (float)(dt * r->di[a]);
+        float l = p0[a] + (float)k * dp[a];
+        l = l < 0 ? 0 : l > 8 ? 8 : l;
+        int i = (int)l;
+        i = i > 7 ? 7 : i;
+        li[a] = i;
+        f[a] = l - (float)i;
     }
-    for (int k = 0;; ++k, ++n) {
-        double t = (double)n * dt;
-        if (t >= tc1 || t > tend) break;
-        float f[3];
-        int li[3];
-        for (int a = 0; a < 3; ++a) {
-            float l = p0[a] + (float)k * dp[a];
-            l = l < 0 ? 0 : l > 8 ? 8 : l;
-            int i = (int)l;
-            i = i > 7 ? 7 : i;
-            li[a] = i;
-            f[a] = l - (float)i;
-        }
-        const rvox *v = bk + RB_INDEX(li[0], li[1], li[2]);
-        v4f og, col;
-        if (surface) {
-            tri8(v, f, &og, NULL);
-            float cov = og[0] * (1.0f / 255.0f);
-            if (cov >= c->iso && r->prev_cov < c->iso) {
-                surface_hit(c, r, r->prev_t, r->prev_cov, t, cov);
-                r->next_n = n + 1;
-                return;
-            }
-            r->prev_cov = cov;
-            r->prev_t = t;
-            continue;
-        }
-        if (solid) { /* inside a solid: coverage 1, no gradient, only the colour varies */
-            composite_solid(c, r, v, f);
-            if (r->done) {
-                r->next_n = n + 1;
-                return;
-            }
-            continue;
-        }
-        v4f lo[8], hi[8];
-        corners(v, lo, hi);
-        og = trilerp(hi, f[0], f[1], f[2]);
-        float cov = og[0] * (1.0f / 255.0f);
-        if (cov <= c->tf_lo) continue; /* empty: the colour is not needed */
-        col = trilerp(lo, f[0], f[1], f[2]);
-        float rgb[3], amix, ramp = (cov - c->tf_lo) * c->tf_scale;
-        if (ramp > 1) ramp = 1;
-        colour_of(og, col, rgb, &amix);
-        float alpha = opacity_of(c, ramp * amix);
-        if (!(alpha > 0)) continue;
-        /* gradient strength: shading fades in at surfaces, interiors keep the plain colour */
-        float gx = og[1] - 128.0f, gy = og[2] - 128.0f, gz = og[3] - 128.0f;
-        float g2 = gx * gx + gy * gy + gz * gz;
-        if (g2 > 1.0f) {
-            float nrm[3], out[3];
-            float w = normal_of(c, og, nrm) * (1.0f / 64.0f);
-            shade(c, r, rgb, nrm, w > 1 ? 1 : w, out);
-            composite(r, out, alpha);
-        } else {
-            composite(r, rgb, alpha);
-        }
-        if (r->done) {
-            r->next_n = n + 1;
-            return;
-        }
-    }
-    r->next_n = n;
+#endif
+    *voxel = RB_INDEX(li[0], li[1], li[2]);
+    *cell = (unsigned)(li[0] << 6 | li[1] << 3 | li[2]);
+}
+
+/* The general variant, SSE2 (x86-64's baseline) or plain C. */
+#define MB_NAME march_brick_base
+#define MB_TARGET
+#define MB_INTERP(v, f, og, col) tri8(v, f, og, col)
+#define MB_SOLID_COLOUR(v, f) solid_colour(v, f)
+#include "march_brick.inc"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/* The AVX2 variant: a voxel's eight bytes as one 8-float vector, the seven lerps of a trilinear
+ * sample on both its colour and its occupancy/gradient at once. */
+#define AVX2 __attribute__((target("avx2")))
+
+static inline AVX2 __attribute__((always_inline)) __m256 lerp8(__m256 a, __m256 b, __m256 t)
+{
+    return _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t));
+}
+
+static inline AVX2 __attribute__((always_inline)) __m256 expand8(const rvox *v)
+{
+    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)v)));
+}
+
+/* tri8: the lerps of trilerp() in its order, the colour in lanes 0-3, the rest in 4-7 */
+static inline AVX2 __attribute__((always_inline)) void tri8_avx2(const rvox *v, const float f[3], v4f *og, v4f *col)
+{
+    enum { DY = RB_DIM, DX = RB_DIM * RB_DIM };
+    const __m256 tx = _mm256_set1_ps(f[0]), ty = _mm256_set1_ps(f[1]), tz = _mm256_set1_ps(f[2]);
+    __m256 c00 = lerp8(expand8(v), expand8(v + 1), tz), c01 = lerp8(expand8(v + DY), expand8(v + DY + 1), tz);
+    __m256 c10 = lerp8(expand8(v + DX), expand8(v + DX + 1), tz);
+    __m256 c11 = lerp8(expand8(v + DX + DY), expand8(v + DX + DY + 1), tz);
+    __m256 x = lerp8(lerp8(c00, c01, ty), lerp8(c10, c11, ty), tx);
+    *col = (v4f)_mm256_castps256_ps128(x);
+    *og = (v4f)_mm256_extractf128_ps(x, 1);
+}
+
+/* The colours of two voxels a, b as one vector [a | b]. */
+static inline AVX2 __attribute__((always_inline)) __m256 colour2(const rvox *a, const rvox *b)
+{
+    int32_t wa, wb;
+    memcpy(&wa, a, 4);
+    memcpy(&wb, b, 4);
+    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_unpacklo_epi32(_mm_cvtsi32_si128(wa), _mm_cvtsi32_si128(wb))));
+}
+
+/* solid_colour: corners paired [0|2], [1|3], [4|6], [5|7], lerped along z, regrouped, along y,
+ * then the halves along x */
+static inline AVX2 __attribute__((always_inline)) v4f solid_colour_avx2(const rvox *v, const float f[3])
+{
+    enum { DY = RB_DIM, DX = RB_DIM * RB_DIM };
+    const __m256 ty = _mm256_set1_ps(f[1]), tz = _mm256_set1_ps(f[2]);
+    __m256 z0 = lerp8(colour2(v, v + DY), colour2(v + 1, v + DY + 1), tz);            /* [c00 | c01] */
+    __m256 z1 = lerp8(colour2(v + DX, v + DX + DY), colour2(v + DX + 1, v + DX + DY + 1), tz); /* [c10 | c11] */
+    __m256 y = lerp8(_mm256_permute2f128_ps(z0, z1, 0x20), _mm256_permute2f128_ps(z0, z1, 0x31), ty);
+    v4f lo = (v4f)_mm256_castps256_ps128(y), hi = (v4f)_mm256_extractf128_ps(y, 1);
+    return lerp4(lo, hi, f[0]) * (1.0f / 255.0f);
+}
+
+#define MB_NAME march_brick_avx2
+#define MB_TARGET AVX2
+#define MB_INTERP(v, f, og, col) tri8_avx2(v, f, og, col)
+#define MB_SOLID_COLOUR(v, f) solid_colour_avx2(v, f)
+#include "march_brick.inc"
+#endif
+
+/* The variant for this machine; r_render_base forces the general one (tests compare them). */
+typedef void (*march_fn)(const rctx *, ray *, const rvox *, const uint64_t *, int, int, const int32_t *, double,
+                         double, double);
+int r_render_base;
+
+static march_fn march_variant(void)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (!r_render_base && __builtin_cpu_supports("avx2")) return march_brick_avx2;
+#endif
+    return march_brick_base;
 }
 
 /* 3D DDA state over cells of `size` index units, cell coordinates within [lo, hi]. */
@@ -458,24 +529,27 @@ typedef struct dda {
     double tnext[3], tdelta[3];
 } dda;
 
+/* size: 8 or 64. Dividing by a power of two is multiplying by its exact inverse, and size / di
+ * is (size / 8) (8 / di) exactly: the ray's tdelta8 scaled. */
 static void dda_init(dda *g, const ray *r, double t, double size, const int32_t lo[3],
                      const int32_t hi[3])
 {
+    const double inv = 1.0 / size, scale = size * 0.125;
     for (int a = 0; a < 3; ++a) {
         g->lo[a] = lo[a];
         g->hi[a] = hi[a];
         double p = r->oi[a] + t * r->di[a];
-        double cf = floor(p / size);
+        double cf = floor(p * inv);
         int32_t ci = cf < (double)lo[a] ? lo[a] : cf > (double)hi[a] ? hi[a] : (int32_t)cf;
         g->c[a] = ci;
         if (r->di[a] > 0) {
             g->step[a] = 1;
             g->tnext[a] = ((double)(ci + 1) * size - r->oi[a]) / r->di[a];
-            g->tdelta[a] = size / r->di[a];
+            g->tdelta[a] = scale * r->tdelta8[a];
         } else if (r->di[a] < 0) {
             g->step[a] = -1;
             g->tnext[a] = ((double)ci * size - r->oi[a]) / r->di[a];
-            g->tdelta[a] = -size / r->di[a];
+            g->tdelta[a] = scale * r->tdelta8[a];
         } else {
             g->step[a] = 0;
             g->tnext[a] = HUGE_VAL;
@@ -512,7 +586,7 @@ static void march(const rctx *c, ray *r, double ta, double tb)
     dda M;
     dda_init(&M, r, ta, 64.0, mlo, mhi);
     double t = ta;
-    while (t <= tb && !r->done) {
+    while (t <= tb && !r->a.done) {
         double mt1 = HV_MIN(dda_exit(&M), tb);
         int32_t m[3] = {M.c[0] - s->mlo[0], M.c[1] - s->mlo[1], M.c[2] - s->mlo[2]};
         int32_t pg = s->top[((int64_t)m[0] * s->mdims[1] + m[1]) * s->mdims[2] + m[2]];
@@ -531,9 +605,10 @@ static void march(const rctx *c, ray *r, double ta, double tb)
                 int32_t bi = page->brick[RP_INDEX(B.c[0], B.c[1], B.c[2])];
                 if (bi >= 0 && bt1 >= bt) {
                     double cell_end = bt1 >= tb ? HUGE_VAL : bt1; /* the last cell includes tb */
-                    march_brick(c, r, s->bricks + (size_t)bi * RB_VOX, s->brick_kind[bi], B.c, bt,
-                                cell_end, tb);
-                    if (r->done) return;
+                    size_t slot = r_brick_slot(s, bi);
+                    c->march(c, r, s->bricks + slot * RB_VOX, s->cells + slot * RC_WORDS, s->brick_kind[bi],
+                             s->brick_alpha[bi], B.c, bt, cell_end, tb);
+                    if (r->a.done) return;
                 }
                 if (bt1 >= mt1 || !dda_next(&B, &bt)) break;
             }
@@ -624,6 +699,13 @@ static int kept_intervals(const rctx *c, const ray *r, double tmin, double tmax,
 
 static void trace(const rctx *c, double px, double py, float out[4])
 {
+    if (px < c->foot[0] || px > c->foot[2] || py < c->foot[1] || py > c->foot[3]) {
+        /* outside the box's footprint: what the loop below gives a ray that misses the box */
+        const float C = 0, T = 1;
+        for (int k = 0; k < 3; ++k) out[k] = C + T * c->bg[k];
+        out[3] = (1.0f - T) + T * c->bg[3];
+        return;
+    }
     ray r;
     r_camera_ray(&c->cam, px, py, r.o, r.d);
     const hv_transform *xf = &c->s->xf;
@@ -644,9 +726,14 @@ static void trace(const rctx *c, double px, double py, float out[4])
             tmax = -HUGE_VAL;
         }
     }
-    r.C[0] = r.C[1] = r.C[2] = 0;
-    r.T = 1;
-    r.done = 0;
+    for (int a = 0; a < 3; ++a) {
+        r.tdelta8[a] = r.di[a] > 0 ? 8.0 / r.di[a] : r.di[a] < 0 ? -8.0 / r.di[a] : HUGE_VAL;
+        r.dp[a] = (float)(c->dt * r.di[a]);
+    }
+    r.dp[3] = 0;
+    r.a.C = (v4f){0, 0, 0, 0};
+    r.a.T = 1;
+    r.a.done = 0;
     if (tmin < tmax) {
         float V[3] = {(float)-r.d[0], (float)-r.d[1], (float)-r.d[2]}, hl = 0;
         for (int a = 0; a < 3; ++a) {
@@ -658,7 +745,7 @@ static void trace(const rctx *c, double px, double py, float out[4])
         double iv[HV_RENDER_MAX_CLIPS + 1][2];
         int cut[HV_RENDER_MAX_CLIPS + 1];
         int n = kept_intervals(c, &r, tmin, tmax, iv, cut);
-        for (int i = 0; i < n && !r.done; ++i) {
+        for (int i = 0; i < n && !r.a.done; ++i) {
             r.next_n = (int64_t)floor(iv[i][0] / c->dt) + 1;
             r.prev_cov = 0;
             r.prev_t = iv[i][0];
@@ -666,7 +753,7 @@ static void trace(const rctx *c, double px, double py, float out[4])
                 const cplane *pl =
                     &c->planes[cut[i] / HV_CLIP_MAX_PLANES][cut[i] % HV_CLIP_MAX_PLANES];
                 cut_face(c, &r, iv[i][0], pl->n);
-                if (r.done) break;
+                if (r.a.done) break;
                 /* the surface search continues from inside the cut */
                 double p[3];
                 v4f og;
@@ -677,8 +764,8 @@ static void trace(const rctx *c, double px, double py, float out[4])
             march(c, &r, iv[i][0], iv[i][1]);
         }
     }
-    for (int k = 0; k < 3; ++k) out[k] = r.C[k] + r.T * c->bg[k];
-    out[3] = (1.0f - r.T) + r.T * c->bg[3];
+    for (int k = 0; k < 3; ++k) out[k] = r.a.C[k] + r.a.T * c->bg[k];
+    out[3] = (1.0f - r.a.T) + r.a.T * c->bg[3];
 }
 
 static hv_status render_tiles(void *vctx, size_t begin, size_t end, int thread)
@@ -689,8 +776,8 @@ static hv_status render_tiles(void *vctx, size_t begin, size_t end, int thread)
     const float inv = 1.0f / (float)(S * S);
     for (size_t tile = begin; tile < end; ++tile) {
         int tx = (int)(tile % (size_t)c->tiles_x), ty = (int)(tile / (size_t)c->tiles_x);
-        int x0 = tx * TILE, y0 = ty * TILE;
-        int x1 = HV_MIN(x0 + TILE, c->img->width), y1 = HV_MIN(y0 + TILE, c->img->height);
+        int x0 = tx * c->tile, y0 = ty * c->tile;
+        int x1 = HV_MIN(x0 + c->tile, c->img->width), y1 = HV_MIN(y0 + c->tile, c->img->height);
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
                 float acc[4] = {0, 0, 0, 0}, px[4];
@@ -727,12 +814,14 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
     c->o = o;
     st = r_camera_setup(s, o, &c->cam);
     if (st != HV_OK) goto done;
-    st = hv_image_create(o->width, o->height, &c->img);
+    st = hv_image_create_unset(o->width, o->height, &c->img); /* every pixel is written below */
     if (st != HV_OK) goto done;
 
     double vmin = HV_MIN(s->xf.voxel[0], HV_MIN(s->xf.voxel[1], s->xf.voxel[2]));
     double step = o->step > 0 ? o->step : o->mode == HV_RENDER_SURFACE ? 0.5 : 1.0;
     c->dt = step * vmin;
+    c->idt = 1.0 / c->dt;
+    c->march = march_variant();
     for (int a = 0; a < 3; ++a) c->ivox[a] = (float)(1.0 / s->xf.voxel[a]);
     double lo[3], hi[3], ext = 0;
     r_scene_box(s, lo, hi);
@@ -744,10 +833,18 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
     c->density = (float)(o->density > 0 ? o->density : (ext > 0 ? 16.0 / ext : 1.0));
     c->tf_lo = (float)o->tf_low;
     c->tf_scale = (float)(1.0 / (o->tf_high - o->tf_low));
+    {
+        /* full coverage, as the general path computes it, gives ramp exactly 1 (the solid
+         * path's assumption) for the default transfer function */
+        volatile float full = 255.0f;
+        float cov = full * (1.0f / 255.0f), ramp = (cov - c->tf_lo) * c->tf_scale;
+        c->solid_cells = cov > c->tf_lo && (ramp > 1 ? 1 : ramp) == 1.0f;
+    }
     c->iso = (float)o->iso;
     for (int i = 0; i <= OPACITY_N + 1; ++i)
         c->opacity[i] = (float)(1.0 - exp(-(double)c->density * c->dt *
                                           (double)HV_MIN(i, OPACITY_N) / OPACITY_N));
+    for (int i = 0; i < 256; ++i) c->op_byte[i] = opacity_of(c, (float)i * (1.0f / 255.0f));
     c->ka = o->flat ? 1.0f : (float)o->ambient;
     c->kd = o->flat ? 0.0f : (float)o->diffuse;
     c->ks = o->flat ? 0.0f : (float)o->specular;
@@ -771,8 +868,25 @@ hv_status hv_render_scene_image(const hv_render_scene *s, const hv_render_option
             c->planes[k][p].off = o->clip[k].offset[p] / nn;
         }
     }
-    c->tiles_x = (o->width + TILE - 1) / TILE;
-    c->tiles_y = (o->height + TILE - 1) / TILE;
+    {
+        /* the footprint of the box the rays are clipped to (trace) */
+        double wlo[3], whi[3];
+        for (int a = 0; a < 3; ++a) {
+            wlo[a] = s->xf.origin[a] + c->box_lo[a] * s->xf.voxel[a];
+            whi[a] = s->xf.origin[a] + c->box_hi[a] * s->xf.voxel[a];
+        }
+        if (s->empty || !r_camera_footprint(&c->cam, wlo, whi, c->foot)) {
+            c->foot[0] = c->foot[1] = -HUGE_VAL;
+            c->foot[2] = c->foot[3] = HUGE_VAL;
+        }
+    }
+    c->tile = TILE;
+    for (;;) {
+        c->tiles_x = (o->width + c->tile - 1) / c->tile;
+        c->tiles_y = (o->height + c->tile - 1) / c->tile;
+        if (c->tile <= 4 || (int64_t)c->tiles_x * c->tiles_y >= 4 * (int64_t)hv_threads()) break;
+        c->tile /= 2;
+    }
     if (s->empty) { /* nothing but background */
         for (size_t i = 0; i < (size_t)o->width * (size_t)o->height; ++i)
             memcpy(c->img->rgba + 4 * i, c->bg, sizeof c->bg);
@@ -798,7 +912,7 @@ hv_status hv_render(const hv_volume *vol, const hv_render_options *opt, const hv
     hv_status st = hv_render_options_check(opt);
     if (st != HV_OK) return st;
     hv_render_scene *s;
-    st = hv_render_scene_create(vol, progress, &s);
+    st = hv_render_scene_create_lazy(vol, progress, &s);
     if (st != HV_OK) return st;
     st = hv_render_scene_image(s, opt, progress, out);
     hv_render_scene_destroy(s);

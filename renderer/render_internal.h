@@ -4,8 +4,10 @@
 #ifndef HOVOX_RENDER_INTERNAL_H
 #define HOVOX_RENDER_INTERNAL_H
 
+#include <stdatomic.h>
 #include <stdint.h>
 
+#include "hovox/material.h"
 #include "hovox/render.h"
 
 /* One voxel of a brick, 8 bytes: colour and alpha of its composition (0 when unoccupied, so a
@@ -22,6 +24,7 @@ typedef struct rvox {
 #define RB_DIM 9
 #define RB_VOX (RB_DIM * RB_DIM * RB_DIM)
 #define RB_INDEX(x, y, z) (((x) * RB_DIM + (y)) * RB_DIM + (z))
+#define RC_WORDS 16
 
 /* Brick kinds: inside a solid (all 9^3 voxels occupied, zero gradient) the coverage is 1
  * everywhere; if the colour is the same too, every sample is the same and a run of them
@@ -36,6 +39,14 @@ typedef struct rpage {
 
 #define RP_INDEX(x, y, z) ((((x) & 7) << 6) | (((y) & 7) << 3) | ((z) & 7))
 
+/* An occupied leaf of the model: its voxels where "occupancy" holds. */
+typedef struct r_occ {
+    size_t leaf;     /* volume leaf number */
+    int32_t blk[3];  /* block coordinates */
+    int full;        /* all 512 voxels occupied */
+    uint64_t mask[8];
+} r_occ;
+
 struct hv_render_scene {
     hv_transform xf;
     int materials;      /* coloured materials (0: grey occupancy-only) */
@@ -47,11 +58,40 @@ struct hv_render_scene {
     int32_t *top;
     rpage *pages;
     size_t npages;
-    rvox *bricks; /* nbricks * RB_VOX */
+    rvox *bricks; /* nbricks slots of RB_VOX voxels */
+    /* per slot, RC_WORDS words: bit n (n = HV_LEAF_OFFSET(x, y, z) of the cell whose corners are
+     * voxels (x..x+1, y..y+1, z..z+1) of the brick) of words 0-7 set when all eight corners are
+     * unoccupied (the coverage there is exactly 0), of words 8-15 when all are occupied with a
+     * zero gradient (a sample there is a solid brick's sample) */
+    uint64_t *cells;
     int32_t *brick_block; /* 3 block coordinates per brick */
-    uint8_t *brick_kind;  /* RB_GENERAL, RB_SOLID or RB_UNIFORM */
+    uint8_t *brick_kind;  /* RB_GENERAL, RB_SOLID or RB_UNIFORM, once filled */
+    int16_t *brick_alpha; /* the alpha all occupied voxels of the brick share, or -1 */
     size_t nbricks;
+    /* Bricks are filled from the model on first touch (scene.c, r_brick_fill): brick_slot[b] is
+     * the slot of brick b in bricks[] once filled, -1 before, -2 while a thread fills it; slots
+     * are handed out in fill order, so the memory touched is what the rays reached. A scene
+     * built eagerly has every brick filled (slot b) and no model. */
+    _Atomic int32_t *brick_slot;
+    atomic_size_t nslots;
+    const hv_volume *vol; /* the model, while bricks remain unfilled */
+    r_occ *occ;           /* occupied leaves, indexed by rpage.occ */
+    size_t nocc;
+    int grids[HV_MAX_MATERIALS];
+    float colour[HV_MAX_MATERIALS][4];
 };
+
+/* Fill brick b (or wait for the thread filling it); returns its slot. */
+int32_t r_brick_fill(const hv_render_scene *s, int32_t b);
+
+/* Slot of brick b (voxels s->bricks + slot * RB_VOX, cells s->cells + slot * RC_WORDS), filled
+ * on first use; its kind is then s->brick_kind[b], its alpha s->brick_alpha[b]. */
+static inline size_t r_brick_slot(const hv_render_scene *s, int32_t b)
+{
+    int32_t slot = atomic_load_explicit(&s->brick_slot[b], memory_order_acquire);
+    if (slot < 0) slot = r_brick_fill(s, b);
+    return (size_t)slot;
+}
 
 /* floor(a / 2^s) for negative a too */
 static inline int32_t r_floor_shift(int32_t a, int s)
@@ -69,8 +109,12 @@ static inline const rvox *r_brick(const hv_render_scene *s, int32_t bx, int32_t 
     int32_t p = s->top[((int64_t)mx * s->mdims[1] + my) * s->mdims[2] + mz];
     if (p < 0) return NULL;
     int32_t b = s->pages[p].brick[RP_INDEX(bx, by, bz)];
-    return b < 0 ? NULL : s->bricks + (size_t)b * RB_VOX;
+    return b < 0 ? NULL : s->bricks + r_brick_slot(s, b) * RB_VOX;
 }
+
+/* Nonzero: the ray caster's general variant, not the one for this machine's instruction set
+ * (raycast.c; the tests check that both give the same pixels). */
+extern int r_render_base;
 
 /* ---- camera ----------------------------------------------------------------------------- */
 
@@ -87,6 +131,11 @@ hv_status r_camera_setup(const hv_render_scene *s, const hv_render_options *opt,
 /* World ray through continuous image position (x, y) in pixels (0,0 = top-left corner):
  * origin o, unit direction d. */
 void r_camera_ray(const rcam *cam, double x, double y, double o[3], double d[3]);
+
+/* A rectangle {x0, y0, x1, y1} of continuous image positions outside which every ray of the
+ * camera misses the world box [lo, hi]; 0 when there is none to give (perspective with the box
+ * reaching beside or behind the eye). */
+int r_camera_footprint(const rcam *cam, const double lo[3], const double hi[3], double rect[4]);
 
 /* The world bounding box corners of a scene (occupied voxel cells). */
 void r_scene_box(const hv_render_scene *s, double lo[3], double hi[3]);

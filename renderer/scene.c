@@ -1,35 +1,24 @@
 /* renderer/scene.c - the render-ready form of a graded model (Wu 2.3): each voxel's colour
  * sum p_j * colour_j, occupancy and Sobel-smoothed occupancy gradient, in 9^3 bricks (8^3 block
  * plus apron) reached through a two-level block table (64^3 macro cells, 8^3 blocks) that the
- * ray caster also walks to skip empty space. Built once per model, in parallel over bricks. */
+ * ray caster also walks to skip empty space. The table is built at once; a brick is filled from
+ * the model when a ray first reaches it (or all of them, in parallel, for a scene that outlives
+ * its model). */
 #include <math.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdlib.h>
 #include <string.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/internal.h"
-#include "hovox/material.h"
 #include "render_internal.h"
 
 /* Guards against absurdly spread-out volumes: the dense top level of the block table. */
 #define MAX_TOP_CELLS (1u << 26)
-
-typedef struct occ_leaf {
-    size_t leaf;     /* volume leaf number */
-    int32_t blk[3];  /* block coordinates */
-    int full;        /* all 512 voxels occupied */
-    uint64_t mask[8];
-} occ_leaf;
-
-typedef struct build_ctx {
-    hv_render_scene *s;
-    const hv_volume *vol;
-    const occ_leaf *occ;
-    uint8_t *colour_of_leaf; /* 512 x RGBA per occupied leaf */
-    int nmat;
-    int grids[HV_MAX_MATERIALS];
-    float colour[HV_MAX_MATERIALS][4];
-} build_ctx;
 
 void r_scene_box(const hv_render_scene *s, double lo[3], double hi[3])
 {
@@ -54,8 +43,12 @@ void hv_render_scene_destroy(hv_render_scene *s)
     free(s->top);
     free(s->pages);
     free(s->bricks);
+    free(s->cells);
     free(s->brick_block);
     free(s->brick_kind);
+    free(s->brick_alpha);
+    free((void *)s->brick_slot);
+    free(s->occ);
     free(s);
 }
 
@@ -119,58 +112,113 @@ static uint8_t grad_u8(int g)
     return (uint8_t)(128 + (v < -127 ? -127 : v > 127 ? 127 : v));
 }
 
-/* Colours of occupied leaves [begin, end): sum p_j colour_j / sum p_j per occupied voxel. */
-static hv_status fill_colours(void *vctx, size_t begin, size_t end, int thread)
+/* Colour of occupied voxel n of a leaf whose material buffers are mat[0..nmat-1]:
+ * sum p_j colour_j / sum p_j. */
+static void voxel_colour(const hv_render_scene *s, const float *const *mat, unsigned n, rvox *v)
 {
-    (void)thread;
-    const build_ctx *c = vctx;
-    const float *mat[HV_MAX_MATERIALS];
-    for (size_t i = begin; i < end; ++i) {
-        const occ_leaf *ol = &c->occ[i];
-        uint8_t *out = c->colour_of_leaf + i * HV_LEAF_SIZE * 4;
-        for (int j = 0; j < c->nmat; ++j)
-            mat[j] = hv_volume_leaf_float_c(c->vol, c->grids[j], ol->leaf);
-        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
-            uint8_t *o = out + 4 * n;
-            if (!HV_BIT_GET(ol->mask, n)) {
-                o[0] = o[1] = o[2] = o[3] = 0;
-                continue;
-            }
-            float sum = 0, acc[4] = {0, 0, 0, 0};
-            for (int j = 0; j < c->nmat; ++j) {
-                float p = mat[j][n];
-                if (!(p > 0)) continue; /* negative or NaN: no contribution */
-                if (p > 1) p = 1;
-                sum += p;
-                for (int k = 0; k < 4; ++k) acc[k] += p * c->colour[j][k];
-            }
-            if (sum > 1e-6f) {
-                float inv = 1.0f / sum;
-                for (int k = 0; k < 4; ++k) o[k] = to_u8(acc[k] * inv);
-            } else { /* no material: grey */
-                o[0] = o[1] = o[2] = to_u8(0.7f);
-                o[3] = 255;
-            }
-        }
+    uint8_t o[4];
+    float sum = 0, acc[4] = {0, 0, 0, 0};
+    for (int j = 0; j < s->materials; ++j) {
+        float p = mat[j][n];
+        if (!(p > 0)) continue; /* negative or NaN: no contribution */
+        if (p > 1) p = 1;
+        sum += p;
+        for (int k = 0; k < 4; ++k) acc[k] += p * s->colour[j][k];
     }
-    return HV_OK;
+    if (sum > 1e-6f) {
+        float inv = 1.0f / sum;
+        for (int k = 0; k < 4; ++k) o[k] = to_u8(acc[k] * inv);
+    } else { /* no material: grey */
+        o[0] = o[1] = o[2] = to_u8(0.7f);
+        o[3] = 255;
+    }
+    v->r = o[0];
+    v->g = o[1];
+    v->b = o[2];
+    v->a = o[3];
 }
 
-/* Fill bricks [begin, end): occupancy bits of the 17^3 neighbourhood (local -4..12) as rows
- * along z, smoothed separably into S over local -1..9, then per voxel of the 9^3 brick the
- * composition colour and the central differences of S. */
-static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
+/* The colours of voxels n..n+3 of a leaf (occupied or not) as RGBA bytes, r first: what
+ * voxel_colour gives each, four at a time (the same float operations lane by lane; a fraction
+ * that voxel_colour skips adds 0 here, which changes no sum). */
+static void colour4(const hv_render_scene *s, const float *const *mat, unsigned n, uint32_t out[4])
 {
-    (void)thread;
-    const build_ctx *c = vctx;
-    const hv_render_scene *s = c->s;
-    enum { N = 9 + 2 * (KR + 1), M = 9 + 2 };
+#if defined(__SSE2__)
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    __m128 sum = zero, acc[4] = {zero, zero, zero, zero};
+    for (int j = 0; j < s->materials; ++j) {
+        __m128 p = _mm_loadu_ps(mat[j] + n);
+        p = _mm_and_ps(_mm_cmpgt_ps(p, zero), _mm_min_ps(p, one)); /* NaN and p <= 0: 0 */
+        sum = _mm_add_ps(sum, p);
+        for (int k = 0; k < 4; ++k) acc[k] = _mm_add_ps(acc[k], _mm_mul_ps(p, _mm_set1_ps(s->colour[j][k])));
+    }
+    __m128 valid = _mm_cmpgt_ps(sum, _mm_set1_ps(1e-6f)), inv = _mm_div_ps(one, sum);
+    __m128i ch[4];
+    for (int k = 0; k < 4; ++k) { /* to_u8 */
+        __m128 v = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(acc[k], inv), _mm_set1_ps(255.0f)), _mm_set1_ps(0.5f));
+        v = _mm_min_ps(_mm_max_ps(v, zero), _mm_set1_ps(255.0f));
+        __m128i grey = _mm_set1_epi32(k < 3 ? to_u8(0.7f) : 255);
+        __m128i m = _mm_castps_si128(valid);
+        ch[k] = _mm_or_si128(_mm_and_si128(m, _mm_cvttps_epi32(v)), _mm_andnot_si128(m, grey));
+    }
+    __m128i x = _mm_packus_epi16(_mm_packs_epi32(ch[0], ch[1]), _mm_packs_epi32(ch[2], ch[3]));
+    __m128i rg = _mm_unpacklo_epi8(x, _mm_srli_si128(x, 4)), ba = _mm_unpacklo_epi8(_mm_srli_si128(x, 8), _mm_srli_si128(x, 12));
+    _mm_storeu_si128((__m128i *)(void *)out, _mm_unpacklo_epi16(rg, ba));
+#else
+    for (int i = 0; i < 4; ++i) {
+        rvox v;
+        voxel_colour(s, mat, n + (unsigned)i, &v);
+        memcpy(&out[i], &v, 4);
+    }
+#endif
+}
+
+/* The cell bits of a brick (render_internal.h): per voxel, rows along z of "unoccupied" and of
+ * "occupied, zero gradient", and of those the cells whose eight corners all have it; the alpha
+ * its occupied voxels share, or -1. */
+static void fill_cells(const rvox *out, uint64_t *cells, int16_t *alpha)
+{
+    uint32_t E[RB_DIM][RB_DIM], S[RB_DIM][RB_DIM];
+    int a = -2; /* the occupied voxels' alpha: -2 none yet, -1 not one */
+    for (int x = 0; x < RB_DIM; ++x)
+        for (int y = 0; y < RB_DIM; ++y) {
+            uint32_t e = 0, f = 0;
+            for (int z = 0; z < RB_DIM; ++z) {
+                const rvox *v = &out[RB_INDEX(x, y, z)];
+                e |= (uint32_t)(v->occ == 0) << z;
+                f |= (uint32_t)(v->occ == 255 && v->gx == 128 && v->gy == 128 && v->gz == 128) << z;
+                if (v->occ && a != v->a) a = a == -2 ? v->a : -1;
+            }
+            E[x][y] = e;
+            S[x][y] = f;
+        }
+    *alpha = (int16_t)(a < 0 ? -1 : a);
+    for (int x = 0; x < 8; ++x) {
+        uint64_t we = 0, ws = 0;
+        for (int y = 0; y < 8; ++y) {
+            uint32_t e = E[x][y] & E[x][y + 1] & E[x + 1][y] & E[x + 1][y + 1];
+            uint32_t f = S[x][y] & S[x][y + 1] & S[x + 1][y] & S[x + 1][y + 1];
+            we |= (uint64_t)(e & (e >> 1) & 0xFFu) << (8 * y);
+            ws |= (uint64_t)(f & (f >> 1) & 0xFFu) << (8 * y);
+        }
+        cells[x] = we;
+        cells[8 + x] = ws;
+    }
+}
+
+/* Fill brick bi into out: occupancy bits of the 17^3 neighbourhood (local -4..12) as rows
+ * along z, smoothed separably into S over local -1..9, then per voxel of the 9^3 brick the
+ * composition colour and the central differences of S. Returns its kind. */
+static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64_t *cells, int16_t *alpha)
+{
+    enum { N = 9 + 2 * (KR + 1), M = 9 + 2, MZ = 12 /* M padded to whole vectors */ };
     const uint32_t FULL = (1u << N) - 1;
     uint32_t rows[N][N]; /* bit z: local z - (KR + 1) */
-    int32_t T1[N][N][M], T2[N][M][M], S[M][M][M];
-    for (size_t bi = begin; bi < end; ++bi) {
+    int32_t T1[N][N][MZ] __attribute__((aligned(16))), T2[N][M][MZ] __attribute__((aligned(16))),
+        S[M][M][MZ] __attribute__((aligned(16)));
+    {
         const int32_t *B = s->brick_block + 3 * bi;
-        rvox *out = s->bricks + bi * RB_VOX;
+        const r_occ *occ = s->occ;
         int32_t nb[3][3][3];
         int full = 1;
         for (int dx = -1; dx <= 1; ++dx)
@@ -178,7 +226,7 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                 for (int dz = -1; dz <= 1; ++dz) {
                     int32_t o = occ_at(s, B[0] + dx, B[1] + dy, B[2] + dz);
                     nb[dx + 1][dy + 1][dz + 1] = o;
-                    full &= o >= 0 && c->occ[o].full;
+                    full &= o >= 0 && occ[o].full;
                 }
         /* deep inside a solid: all occupied, zero gradient */
         int flat = full, any = 0, all = 1;
@@ -193,7 +241,7 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                         int32_t o = nb[bx][by][bz];
                         if (o < 0) continue;
                         uint32_t byte =
-                            (uint32_t)(c->occ[o].mask[lx & 7] >> (8 * (ly & 7))) & 0xFFu;
+                            (uint32_t)(occ[o].mask[lx & 7] >> (8 * (ly & 7))) & 0xFFu;
                         row |= bz == 0 ? byte >> (8 - (KR + 1)) : bz == 1 ? byte << (KR + 1)
                                                                          : byte << (KR + 9);
                     }
@@ -212,9 +260,10 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                     uint32_t row = rows[x][y];
                     int32_t *t = T1[x][y];
                     if (row == 0 || row == FULL) {
-                        for (int z = 0; z < M; ++z) t[z] = row ? 64 : 0;
+                        for (int z = 0; z < MZ; ++z) t[z] = row ? 64 : 0;
                     } else {
                         for (int z = 0; z < M; ++z) t[z] = g_window[(row >> z) & 127u];
+                        t[M] = 0;
                     }
                 }
             for (int x = 0; x < N; ++x)
@@ -223,7 +272,7 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                     const int32_t *a0 = T1[x][y], *a1 = T1[x][y + 1], *a2 = T1[x][y + 2],
                                   *a3 = T1[x][y + 3], *a4 = T1[x][y + 4], *a5 = T1[x][y + 5],
                                   *a6 = T1[x][y + 6];
-                    for (int z = 0; z < M; ++z)
+                    for (int z = 0; z < MZ; ++z)
                         t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
                                20 * a3[z];
                 }
@@ -233,20 +282,43 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
                     const int32_t *a0 = T2[x][y], *a1 = T2[x + 1][y], *a2 = T2[x + 2][y],
                                   *a3 = T2[x + 3][y], *a4 = T2[x + 4][y], *a5 = T2[x + 5][y],
                                   *a6 = T2[x + 6][y];
-                    for (int z = 0; z < M; ++z)
+                    for (int z = 0; z < MZ; ++z)
                         t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
                                20 * a3[z];
                 }
         }
+        /* material buffers of the (up to) 8 leaves the brick's voxels lie in */
+        const float *mat[2][2][2][HV_MAX_MATERIALS];
+        for (int d = 0; d < 8; ++d) {
+            int32_t o = nb[1 + (d >> 2)][1 + ((d >> 1) & 1)][1 + (d & 1)];
+            for (int j = 0; j < s->materials && o >= 0; ++j)
+                mat[d >> 2][(d >> 1) & 1][d & 1][j] = hv_volume_leaf_float_c(s->vol, s->grids[j], occ[o].leaf);
+        }
         for (int x = 0; x < RB_DIM; ++x)
             for (int y = 0; y < RB_DIM; ++y) {
                 uint32_t row = flat ? ((full || all) ? FULL : 0) : rows[x + KR + 1][y + KR + 1];
+                /* the row's colours: z 0-7 from the block's leaf four at a time, z 8 from the next */
+                uint32_t col[RB_DIM];
+                const int32_t o0 = nb[1 + (x >> 3)][1 + (y >> 3)][1], o8 = nb[1 + (x >> 3)][1 + (y >> 3)][2];
+                if (s->materials && o0 >= 0 && ((row >> (KR + 1)) & 0xFFu)) {
+                    colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 0), col);
+                    colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 4), col + 4);
+                }
+                if (s->materials && o8 >= 0 && ((row >> (KR + 9)) & 1u)) {
+                    rvox c8;
+                    voxel_colour(s, mat[x >> 3][y >> 3][1], HV_LEAF_OFFSET(x, y, 8), &c8);
+                    memcpy(&col[8], &c8, 4);
+                }
                 for (int z = 0; z < RB_DIM; ++z) {
                     rvox *v = &out[RB_INDEX(x, y, z)];
-                    int32_t o = nb[1 + (x >> 3)][1 + (y >> 3)][1 + (z >> 3)];
-                    unsigned off = HV_LEAF_OFFSET(x, y, z);
+                    int32_t o = z < 8 ? o0 : o8;
                     if (((row >> (z + KR + 1)) & 1u) && o >= 0) {
-                        memcpy(&v->r, c->colour_of_leaf + ((size_t)o * HV_LEAF_SIZE + off) * 4, 4);
+                        if (s->materials) {
+                            memcpy(v, &col[z], 4);
+                        } else { /* no table: grey */
+                            v->r = v->g = v->b = to_u8(0.7f);
+                            v->a = 255;
+                        }
                         v->occ = 255;
                     } else {
                         v->r = v->g = v->b = v->a = 0;
@@ -267,24 +339,60 @@ static hv_status fill_bricks(void *vctx, size_t begin, size_t end, int thread)
             for (int i = 1; i < RB_VOX && kind == RB_UNIFORM; ++i)
                 if (memcmp(&out[i], &out[0], sizeof *out) != 0) kind = RB_SOLID;
         }
-        s->brick_kind[bi] = kind;
+        fill_cells(out, cells, alpha);
+        return kind;
+    }
+}
+
+int32_t r_brick_fill(const hv_render_scene *cs, int32_t b)
+{
+    /* the lazy part of a scene is shared state under brick_slot: filling is not a change a
+     * reader of the const scene can see, only when it happens */
+    hv_render_scene *s = (hv_render_scene *)cs;
+    int32_t slot = -1;
+    if (atomic_compare_exchange_strong_explicit(&s->brick_slot[b], &slot, -2, memory_order_acq_rel,
+                                                memory_order_acquire)) {
+        size_t at = atomic_fetch_add_explicit(&s->nslots, 1, memory_order_relaxed);
+        s->brick_kind[b] = fill_brick(s, (size_t)b, s->bricks + at * RB_VOX, s->cells + at * RC_WORDS, &s->brick_alpha[b]);
+        atomic_store_explicit(&s->brick_slot[b], (int32_t)at, memory_order_release);
+        return (int32_t)at;
+    }
+    for (int spins = 0; slot < 0; ++spins) { /* another thread fills it: a few microseconds */
+#if defined(__SSE2__)
+        if (spins < 256) _mm_pause(); else
+#endif
+            sched_yield();
+        slot = atomic_load_explicit(&s->brick_slot[b], memory_order_acquire);
+    }
+    return slot;
+}
+
+/* Fill bricks [begin, end) into their own slots (a scene built eagerly). */
+static hv_status fill_range(void *vctx, size_t begin, size_t end, int thread)
+{
+    (void)thread;
+    hv_render_scene *s = vctx;
+    for (size_t b = begin; b < end; ++b) {
+        s->brick_kind[b] = fill_brick(s, b, s->bricks + b * RB_VOX, s->cells + b * RC_WORDS, &s->brick_alpha[b]);
+        atomic_store_explicit(&s->brick_slot[b], (int32_t)b, memory_order_relaxed);
     }
     return HV_OK;
 }
 
-hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progress,
-                                 hv_render_scene **out)
+
+
+/* The block table of vol's occupied voxels; every brick filled (lazy == 0, progress "prepare")
+ * or none. */
+static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progress, hv_render_scene **out)
 {
     *out = NULL;
     hv_render_scene *s = hv_calloc(1, sizeof *s);
     if (!s) return HV_ERR_NOMEM;
     s->xf = hv_volume_get_transform(vol);
-    build_ctx c;
-    memset(&c, 0, sizeof c);
-    c.s = s;
-    c.vol = vol;
+    s->vol = vol;
+    atomic_init(&s->nslots, 0);
     hv_status st = HV_OK;
-    occ_leaf *occ = NULL;
+    r_occ *occ = NULL;
     size_t pcap = 0;
 
     /* material colours; a model without a table is grey */
@@ -296,14 +404,13 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
     }
     if (st != HV_OK) goto fail;
     if (t) {
-        c.nmat = hv_material_count(t);
-        for (int j = 0; j < c.nmat; ++j) {
-            c.grids[j] = hv_material_grid(vol, t, j);
-            hv_material_color(t, j, c.colour[j]);
+        s->materials = hv_material_count(t);
+        for (int j = 0; j < s->materials; ++j) {
+            s->grids[j] = hv_material_grid(vol, t, j);
+            hv_material_color(t, j, s->colour[j]);
         }
         hv_material_table_destroy(t);
     }
-    s->materials = c.nmat;
 
     /* occupied leaves: active voxels where "occupancy" (when present) is true */
     int g_occ = hv_volume_grid_find(vol, "occupancy");
@@ -311,7 +418,7 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
     size_t nl = hv_volume_leaf_count(vol), nocc = 0;
     {
         /* planned before anything is built: bricks and tables of every block that holds or
-         * touches occupied voxels (at most 8 per leaf), the colours while building */
+         * touches occupied voxels (at most 8 per leaf) */
         double need = (double)nl * (8.0 * 5.9e3 + 2.1e3);
         uint64_t budget = hv_memory_budget(0);
         if (budget && need > (double)budget) {
@@ -335,7 +442,7 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
     for (size_t l = 0; l < nl; ++l) {
         const uint64_t *m = hv_volume_leaf_mask(vol, l);
         const uint64_t *b = g_occ >= 0 ? hv_volume_leaf_bool_c(vol, g_occ, l) : NULL;
-        occ_leaf *o = &occ[nocc];
+        r_occ *o = &occ[nocc];
         uint64_t anyw = 0;
         for (int w = 0; w < 8; ++w) {
             o->mask[w] = b ? m[w] & b[w] : m[w];
@@ -433,30 +540,61 @@ hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progre
             memcpy(s->brick_block + 3 * s->nbricks, b, sizeof b);
             *slot = (int32_t)s->nbricks++;
         }
+    /* only the memory of the bricks rays reach is ever touched in a lazy scene */
     s->bricks = hv_malloc_big(s->nbricks, RB_VOX * sizeof(rvox));
+    s->cells = hv_malloc_big(s->nbricks, RC_WORDS * sizeof(uint64_t));
     s->brick_kind = hv_malloc(s->nbricks);
-    if (!s->bricks || !s->brick_kind) {
+    s->brick_alpha = hv_malloc_array(s->nbricks, sizeof *s->brick_alpha);
+    s->brick_slot = hv_malloc_array(s->nbricks, sizeof *s->brick_slot);
+    if (!s->bricks || !s->cells || !s->brick_kind || !s->brick_alpha || !s->brick_slot) {
         st = hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)",
                           s->nbricks, (double)s->nbricks * RB_VOX * sizeof(rvox) / 1048576.0);
         goto fail;
     }
-    c.occ = occ;
-    c.colour_of_leaf = hv_malloc_big(nocc, HV_LEAF_SIZE * 4);
-    if (!c.colour_of_leaf) {
-        st = HV_ERR_NOMEM;
-        goto fail;
-    }
+    for (size_t b = 0; b < s->nbricks; ++b) atomic_init(&s->brick_slot[b], -1);
+    s->occ = occ;
+    s->nocc = nocc;
+    occ = NULL;
     pthread_once(&g_window_once, init_window);
-    st = hv_parallel_for(nocc, 16, fill_colours, &c, progress, "prepare");
-    if (st == HV_OK) st = hv_parallel_for(s->nbricks, 16, fill_bricks, &c, progress, "prepare");
-    free(c.colour_of_leaf);
+    if (lazy) {
+        st = hv_progress_report(progress, "prepare", 1.0);
+    } else {
+        atomic_store(&s->nslots, s->nbricks);
+        st = hv_parallel_for(s->nbricks, 16, fill_range, s, progress, "prepare");
+        /* complete: the model is not needed any more */
+        s->vol = NULL;
+        free(s->occ);
+        s->occ = NULL;
+    }
     if (st != HV_OK) goto fail;
-    free(occ);
     *out = s;
     return HV_OK;
 
 fail:
     free(occ);
     hv_render_scene_destroy(s);
+    return st;
+}
+
+hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progress, hv_render_scene **out)
+{
+    return build(vol, 0, progress, out);
+}
+
+hv_status hv_render_scene_create_lazy(const hv_volume *vol, const hv_progress *progress, hv_render_scene **out)
+{
+    return build(vol, 1, progress, out);
+}
+
+hv_status hv_render_volume_load(const char *path, hv_volume **out)
+{
+    /* what build() reads: the occupancy, the material table's grids (hv_material_grid) */
+    static const char *const k_grids[] = {"occupancy", "material.*"};
+    hv_status st = hv_volume_load_grids(path, k_grids, 2, out);
+    int g = st == HV_OK ? hv_volume_grid_find(*out, "occupancy") : 0;
+    if (g < 0 || (st == HV_OK && hv_volume_grid_type(*out, g) != HV_GRID_BOOL)) {
+        hv_volume_destroy(*out);
+        st = hv_volume_load(path, out);
+    }
     return st;
 }

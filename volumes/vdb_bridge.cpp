@@ -4,6 +4,7 @@
 // (HV_CATCH) and turns them into a status plus what(); nothing propagates into C.
 #include "vdb_bridge.h"
 
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -179,9 +180,6 @@ namespace tree {
         }                                                                                                     \
         return true;                                                                                          \
     }
-typedef math::Vec3<float> hv_vec3f;
-typedef math::Vec3<double> hv_vec3d;
-typedef math::Vec3<int32_t> hv_vec3i;
 HV_CHECKED_ROOT(bool)
 HV_CHECKED_ROOT(float)
 HV_CHECKED_ROOT(double)
@@ -213,6 +211,11 @@ HV_CHECKED_ROOT(hv_vec3i)
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <atomic>
+#include <deque>
+#include <exception>
+#include <map>
+#include <thread>
 #include <mutex>
 #include <new>
 #include <string>
@@ -252,6 +255,9 @@ std::string one_line(const std::string &in)
 }
 
 struct Cancelled {};
+struct Damaged { // found by hovox's own checks, said as is
+    std::string what;
+};
 
 // OpenVDB's warnings go to std::cerr from its headers ("WARNING: multi-buffer trees are no
 // longer supported" for a damaged file) and, through log4cplus's console appender, to std::cout
@@ -265,7 +271,7 @@ std::mutex g_quiet_mutex;
 class QuietStreams {
 public:
     QuietStreams()
-        : mLock(g_quiet_mutex), mErr(std::cerr.rdbuf(mSink.rdbuf())), mOut(std::cout.rdbuf(mSink.rdbuf()))
+        : mLock(g_quiet_mutex), mErr(std::cerr.rdbuf(&mSink)), mOut(std::cout.rdbuf(&mSink))
     {
     }
     ~QuietStreams()
@@ -275,8 +281,14 @@ public:
     }
 
 private:
+    // discards everything and holds no state: grids read on several threads may all write to it
+    class Sink : public std::streambuf {
+    protected:
+        int_type overflow(int_type c) override { return traits_type::not_eof(c); }
+        std::streamsize xsputn(const char *, std::streamsize n) override { return n; }
+    };
     std::lock_guard<std::mutex> mLock;
-    std::ostringstream mSink;
+    Sink mSink;
     std::streambuf *mErr, *mOut;
 };
 
@@ -357,6 +369,110 @@ private:
         }
     }
     hv_vdb_cancel_fn mCancel;
+    std::streamsize mCount = 0;
+};
+
+// The file buffer loads read through: pread into a 256 KiB window, so the many small reads and
+// the position queries and seeks of OpenVDB's reader (a tellg per leaf buffer in readData
+// above) cost a copy, not a system call each (std::filebuf asks the kernel for every tellg:
+// 9% of loading a model). Polls `cancel` every 4 MiB. A read error or the end of the file is
+// the end of input: the checked stream above it throws.
+class ReadBuf : public std::streambuf {
+public:
+    explicit ReadBuf(hv_vdb_cancel_fn cancel) : mCancel(cancel), mBuf(size_t(256) << 10) {}
+    // another reader of an open file (pread leaves the descriptor's position alone)
+    ReadBuf(hv_vdb_cancel_fn cancel, int fd) : mCancel(cancel), mBuf(size_t(256) << 10), mFd(fd), mOwn(false) {}
+    ~ReadBuf() override
+    {
+        if (mFd >= 0 && mOwn) ::close(mFd);
+    }
+    bool open(const char *path)
+    {
+        mFd = ::open(path, O_RDONLY | O_CLOEXEC);
+        return mFd >= 0;
+    }
+    int fd() const { return mFd; }
+
+protected:
+    int_type underflow() override
+    {
+        if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+        mBase = pos();
+        size_t got = fill(mBuf.data(), mBuf.size(), mBase);
+        setg(mBuf.data(), mBuf.data(), mBuf.data() + got);
+        return got ? traits_type::to_int_type(*gptr()) : traits_type::eof();
+    }
+    std::streamsize xsgetn(char *s, std::streamsize n) override
+    {
+        poll(n);
+        std::streamsize done = 0;
+        while (done < n) {
+            std::streamsize avail = egptr() - gptr();
+            if (avail > 0) {
+                std::streamsize k = std::min(avail, n - done);
+                std::memcpy(s + done, gptr(), size_t(k));
+                gbump(int(k));
+                done += k;
+            } else if (n - done >= std::streamsize(mBuf.size())) { // large: straight to the caller
+                int64_t at = pos();
+                size_t got = fill(s + done, size_t(n - done), at);
+                mBase = at + int64_t(got);
+                setg(mBuf.data(), mBuf.data(), mBuf.data());
+                done += std::streamsize(got);
+                if (got == 0) break;
+            } else if (traits_type::eq_int_type(underflow(), traits_type::eof())) {
+                break;
+            }
+        }
+        return done;
+    }
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override
+    {
+        int64_t to = -1;
+        if (dir == std::ios_base::beg) to = int64_t(off);
+        else if (dir == std::ios_base::cur) to = pos() + int64_t(off);
+        else if (struct stat st; fstat(mFd, &st) == 0) to = int64_t(st.st_size) + int64_t(off);
+        return seek(to);
+    }
+    pos_type seekpos(pos_type p, std::ios_base::openmode) override { return seek(int64_t(std::streamoff(p))); }
+
+private:
+    int64_t pos() const { return mBase + (gptr() - eback()); }
+    pos_type seek(int64_t to)
+    {
+        if (to < 0) return pos_type(off_type(-1));
+        if (to >= mBase && to <= mBase + (egptr() - eback())) {
+            setg(eback(), eback() + (to - mBase), egptr());
+        } else {
+            mBase = to;
+            setg(mBuf.data(), mBuf.data(), mBuf.data());
+        }
+        return pos_type(off_type(to));
+    }
+    size_t fill(char *dst, size_t n, int64_t at)
+    {
+        size_t got = 0;
+        while (got < n) {
+            ssize_t r = ::pread(mFd, dst + got, n - got, off_t(at + int64_t(got)));
+            if (r < 0 && errno == EINTR) continue;
+            if (r <= 0) break;
+            got += size_t(r);
+        }
+        return got;
+    }
+    void poll(std::streamsize n)
+    {
+        mCount += n;
+        if (mCount >= (std::streamsize(4) << 20)) {
+            mCount = 0;
+            if (mCancel && mCancel()) throw Cancelled();
+        }
+    }
+    hv_vdb_cancel_fn mCancel;
+    std::vector<char> mBuf;
+    int mFd = -1;
+    bool mOwn = true;
+    int64_t mBase = 0; // file offset of eback()
     std::streamsize mCount = 0;
 };
 
@@ -607,6 +723,153 @@ int b_leaf_buffers(void *impl, int g, void **buffers)
     HV_CATCH(E_INTERNAL)
 }
 
+// OpenVDB's archive with its protected parts put to hovox's use. Saving writes the grid offsets
+// (what io::File writes: the header says so and each grid descriptor holds where its grid
+// starts and ends), through hovox's checked stream, so a later load can skip the grids it does
+// not want. Loading reads what io::Stream reads (header, file metadata, grid descriptors and
+// grids, instances connected) from a checked stream, but with offsets in the file it seeks past
+// the grids `want` turns down instead of reading them; a file without offsets (io::Stream's
+// format, hovox before issue 17) is read whole and the unwanted grids dropped.
+class HvArchive : public openvdb::io::Archive {
+public:
+    void save(std::ostream &os, const openvdb::GridPtrVec &grids, const openvdb::MetaMap &meta, bool seekable) const
+    {
+        write(os, grids, seekable, meta);
+    }
+
+    // Grids come out in file order; *count receives the number of grids the file holds. With
+    // grid offsets, the wanted grids are read on up to `threads` threads, each with its own
+    // stream on the file (descriptor fd).
+    template <typename Want>
+    void load(std::istream &is, int fd, int64_t fsize, const Want &want, int threads, hv_vdb_cancel_fn cancel,
+              openvdb::GridPtrVec &out, openvdb::MetaMap &meta, int32_t *count)
+    {
+        using openvdb::io::GridDescriptor;
+        readHeader(is);
+        tag(is);
+        meta.readMeta(is);
+        *count = readGridCount(is);
+        if (*count < 0) damaged("a negative grid count");
+        const bool offsets = inputHasGridOffsets();
+        std::vector<GridDescriptor> taken;
+        std::vector<GridBase::Ptr> grids;
+        std::map<openvdb::Name, GridDescriptor> skipped; // by unique name, for instance parents
+        for (int32_t i = 0; i < *count; ++i) {
+            GridDescriptor gd;
+            GridBase::Ptr grid = gd.read(is);
+            const int64_t at = int64_t(is.tellg());
+            if (offsets && gd.getGridPos() != at)
+                damaged("grid '" + one_line(gd.gridName()) + "' does not start where its offset says (byte " +
+                        std::to_string(gd.getGridPos()) + ", not " + std::to_string(at) + ")");
+            if (offsets && (gd.getEndPos() < at || gd.getEndPos() > fsize))
+                damaged("grid '" + one_line(gd.gridName()) + "' ends at byte " + std::to_string(gd.getEndPos()) +
+                        ", outside bytes " + std::to_string(at) + " to " + std::to_string(fsize));
+            if (offsets) { // the grid itself is read below (or not at all)
+                if (want(gd.gridName())) {
+                    taken.push_back(gd);
+                    grids.push_back(grid);
+                } else {
+                    skipped[gd.uniqueName()] = gd;
+                }
+                is.seekg(gd.getEndPos(), std::ios_base::beg);
+                continue;
+            }
+            Archive::readGrid(grid, gd, is);
+            taken.push_back(gd);
+            grids.push_back(grid);
+        }
+        if (offsets) read_grids(is, fd, taken, grids, threads, cancel);
+        NamedGridMap named;
+        for (size_t i = 0; i < taken.size(); ++i) named[taken[i].uniqueName()] = grids[i];
+        // an instance shares its parent's tree: a parent skipped above is read now
+        for (const GridDescriptor &gd : taken) {
+            if (!gd.isInstance() || named.count(gd.instanceParentName())) continue;
+            auto it = skipped.find(gd.instanceParentName());
+            if (it == skipped.end()) continue; // connectInstance names the missing parent
+            GridBase::Ptr parent = GridBase::createGrid(it->second.gridType());
+            parent->setSaveFloatAsHalf(it->second.saveFloatAsHalf());
+            is.seekg(it->second.getGridPos(), std::ios_base::beg);
+            Archive::readGrid(parent, it->second, is);
+            named[it->second.uniqueName()] = parent;
+        }
+        for (const GridDescriptor &gd : taken) connectInstance(gd, named);
+        for (size_t i = 0; i < taken.size(); ++i)
+            if (offsets || want(taken[i].gridName())) out.push_back(grids[i]);
+    }
+
+private:
+    // Tag a stream as io::Stream tags the file's: format and library version, compression.
+    void tag(std::istream &is) const
+    {
+        mTags.emplace_back(new openvdb::io::StreamMetadata);
+        openvdb::io::setStreamMetadataPtr(is, mTags.back(), /*transfer=*/false);
+        openvdb::io::setVersion(is, libraryVersion(), fileVersion());
+        openvdb::io::setDataCompression(is, compression());
+    }
+
+    // One grid from its offsets; it must end where its descriptor says.
+    static void read_one(std::istream &is, const openvdb::io::GridDescriptor &gd, const GridBase::Ptr &grid)
+    {
+        is.seekg(gd.getGridPos(), std::ios_base::beg);
+        Archive::readGrid(grid, gd, is);
+        if (int64_t(is.tellg()) != gd.getEndPos())
+            damaged("grid '" + one_line(gd.gridName()) + "' does not end where its offset says");
+    }
+
+    // The grids of a file with offsets, largest first on each free thread; the failure of the
+    // grid first in the file is the one reported, whatever the threads' timing.
+    void read_grids(std::istream &is, int fd, const std::vector<openvdb::io::GridDescriptor> &gds,
+                    const std::vector<GridBase::Ptr> &grids, int threads, hv_vdb_cancel_fn cancel) const
+    {
+        const size_t n = gds.size();
+        if (threads > int(n)) threads = int(n);
+        if (threads <= 1) {
+            for (size_t i = 0; i < n; ++i) read_one(is, gds[i], grids[i]);
+            return;
+        }
+        std::vector<size_t> order(n);
+        for (size_t i = 0; i < n; ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+            return gds[a].getEndPos() - gds[a].getGridPos() > gds[b].getEndPos() - gds[b].getGridPos();
+        });
+        std::vector<std::exception_ptr> errors(n);
+        std::atomic<size_t> next(0);
+        auto work = [&](std::istream &s) {
+            for (size_t k; (k = next.fetch_add(1)) < n;) {
+                const size_t i = order[k];
+                try {
+                    read_one(s, gds[i], grids[i]);
+                } catch (...) {
+                    errors[i] = std::current_exception();
+                    next.store(n); // the load fails: stop handing out grids
+                }
+            }
+        };
+        std::vector<std::unique_ptr<ReadBuf>> bufs;
+        std::vector<std::unique_ptr<std::istream>> streams;
+        for (int t = 1; t < threads; ++t) {
+            bufs.emplace_back(new ReadBuf(cancel, fd));
+            streams.emplace_back(new std::istream(bufs.back().get()));
+            streams.back()->exceptions(std::ios::failbit | std::ios::badbit);
+            tag(*streams.back());
+        }
+        std::vector<std::thread> pool;
+        try {
+            for (auto &s : streams) pool.emplace_back(work, std::ref(*s));
+        } catch (...) { // no thread to be had: this one reads the rest
+        }
+        work(is);
+        for (auto &t : pool) t.join();
+        for (auto &e : errors)
+            if (e) std::rethrow_exception(e);
+    }
+
+    // setStreamMetadataPtr keeps the address of the shared pointer itself: a deque never moves it
+    mutable std::deque<openvdb::io::StreamMetadata::Ptr> mTags;
+
+    [[noreturn]] static void damaged(const std::string &what) { throw Damaged{what + ": the file is damaged"}; }
+};
+
 // Inactive values are meaningless to hovox but visible to other readers: clear them.
 template <typename TreeT>
 void clear_inactive(TreeT &tree, typename TreeT::ValueType bg)
@@ -643,7 +906,11 @@ int b_save(const void *impl, const char *path, int ngrids, const char *const *na
             return fail(E_IO, std::string("cannot open for writing: ") + std::strerror(errno));
         std::ostream os(&buf);
         os.exceptions(std::ios::failbit | std::ios::badbit);
-        openvdb::io::Stream(os).write(out, meta);
+        // offsets need seeking back: a device or FIFO (hovox writes /dev/null in place) gets
+        // io::Stream's format
+        struct stat st;
+        const bool seekable = !(stat(path, &st) == 0 && !S_ISREG(st.st_mode));
+        HvArchive().save(os, out, meta, seekable);
         os.flush();
         if (!buf.close()) return fail(E_IO, "closing the file failed (disk full?)");
         return OK;
@@ -730,17 +997,29 @@ uint64_t expanded_bytes(const GridBase &g, uint64_t *voxels)
     return leaves * (per_leaf + 200);
 }
 
-int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_vdb_meta_cb meta_cb,
-           hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes, hv_vdb_cancel_fn cancel)
+// Does `name` match one of the n selectors (a name, or a prefix followed by '*')? n < 0: all.
+bool selected(const std::string &name, const char *const *want, int n)
+{
+    if (n < 0) return true;
+    for (int i = 0; i < n; ++i) {
+        size_t len = std::strlen(want[i]);
+        if (len && want[i][len - 1] == '*' ? name.compare(0, len - 1, want[i], len - 1) == 0 : name == want[i])
+            return true;
+    }
+    return false;
+}
+
+int b_load(const char *path, const char *const *want, int nwant, int threads, void **out, double voxel[3],
+           double origin[3], hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes,
+           hv_vdb_cancel_fn cancel)
 {
     Volume *v = nullptr;
     try {
         // our own stream with every read checked: a file that ends early throws at once,
         // instead of OpenVDB reading on with garbage counts
         QuietStreams quiet;
-        CheckedBuf buf(cancel);
-        if (!buf.open(path, std::ios::in | std::ios::binary))
-            return fail(E_IO, std::string("cannot open: ") + std::strerror(errno));
+        ReadBuf buf(cancel);
+        if (!buf.open(path)) return fail(E_IO, std::string("cannot open: ") + std::strerror(errno));
         const uint32_t version = file_version(path);
         if (version > openvdb::OPENVDB_FILE_VERSION)
             return fail(E_BAD_INPUT, "file format version " + std::to_string(version) + " is newer than this " +
@@ -749,19 +1028,19 @@ int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_v
         std::istream is(&buf);
         is.exceptions(std::ios::failbit | std::ios::badbit);
         struct stat st;
-        uint64_t fsize = stat(path, &st) == 0 ? uint64_t(st.st_size) : 0;
-        openvdb::GridPtrVecPtr grids;
-        openvdb::MetaMap::Ptr meta;
+        uint64_t fsize = fstat(buf.fd(), &st) == 0 ? uint64_t(st.st_size) : 0;
+        openvdb::GridPtrVecPtr grids(new openvdb::GridPtrVec);
+        openvdb::MetaMap::Ptr meta(new openvdb::MetaMap);
+        int32_t count = 0;
         try {
             AddressLimit limit((uint64_t(256) << 20) + 64 * fsize); // trees in memory: about the file's size; a damaged length asking for more fails at once instead of being filled
-            openvdb::io::Stream stream(is, false);
-            grids = stream.getGrids();
-            meta = stream.getMetadata();
+            HvArchive().load(is, buf.fd(), int64_t(fsize), [&](const std::string &name) { return selected(name, want, nwant); },
+                             threads, cancel, *grids, *meta, &count);
         } catch (const std::bad_alloc &) {
             return fail(E_BAD_INPUT, "the file is damaged: it asks for more memory than its " + std::to_string(fsize) +
                                          " bytes can hold");
         }
-        if (!grids || grids->empty()) return fail(E_BAD_INPUT, "file holds no grids");
+        if (count == 0) return fail(E_BAD_INPUT, "file holds no grids");
         uint64_t total = 0;
         for (const auto &g : *grids) {
             uint64_t voxels = 0, bytes = expanded_bytes(*g, &voxels);
@@ -785,7 +1064,7 @@ int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_v
             return x < y;
         });
         v = new Volume;
-        double v0[3] = {0, 0, 0}, o0[3] = {0, 0, 0};
+        double v0[3] = {1, 1, 1}, o0[3] = {0, 0, 0}; // no grid selected: the unit lattice
         for (size_t i = 0; i < grids->size(); ++i) {
             const GridBase::Ptr &g = (*grids)[i];
             double vs[3], os[3];
@@ -861,6 +1140,7 @@ int b_load(const char *path, void **out, double voxel[3], double origin[3], hv_v
         return OK;
     }
     catch (const Cancelled &) { delete v; return fail(E_CANCELLED, "cancelled"); }
+    catch (const Damaged &e) { delete v; return fail(E_BAD_INPUT, e.what); }
     catch (const std::ios_base::failure &) {
         delete v;
         return fail(E_BAD_INPUT, "the file ends early or is damaged (a read failed)");

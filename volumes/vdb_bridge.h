@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-#define HV_VDB_ABI 2
+#define HV_VDB_ABI 3
 
 enum { HV_META_STRING = 0, HV_META_NUMBER = 1 };
 
@@ -39,15 +39,19 @@ typedef struct hv_vdb_api {
     int (*leaf_topology)(const void *impl, int32_t *origins, const uint64_t **masks);
     int (*leaf_buffers)(void *impl, int g, void **buffers);
     /* files */
-    /* save: every write, the flush and the close are checked (a full disk is status 3) */
+    /* save: every write, the flush and the close are checked (a full disk is status 3); the file
+     * holds grid offsets (io::File's format), so loads can skip grids */
     int (*save)(const void *impl, const char *path, int ngrids, const char *const *names,
                 int nmeta, const char *const *keys, const int *kinds,
                 const char *const *strings, const double *numbers, hv_vdb_cancel_fn cancel);
     /* load: a file that ends early or is damaged is status 2; grids whose active voxels would
-     * take more than max_bytes once expanded are refused before expanding (status 5) */
-    int (*load)(const char *path, void **out, double voxel[3], double origin[3],
-                hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes,
-                hv_vdb_cancel_fn cancel);
+     * take more than max_bytes once expanded are refused before expanding (status 5). Only the
+     * grids `want` selects are loaded (nwant entries, each a name or a prefix followed by '*';
+     * nwant < 0: every grid); with grid offsets in the file the others are not read, and the
+     * selected ones are read on up to `threads` threads. */
+    int (*load)(const char *path, const char *const *want, int nwant, int threads, void **out,
+                double voxel[3], double origin[3], hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb,
+                void *ctx, uint64_t max_bytes, hv_vdb_cancel_fn cancel);
     uint64_t (*memory)(const void *impl);
 } hv_vdb_api;
 

@@ -858,7 +858,7 @@ static int load_grid(void *ctx, const char *name, int type)
     return 0;
 }
 
-hv_status hv_volume_load(const char *path, hv_volume **out)
+static hv_status load(const char *path, const char *const *names, int n, hv_volume **out)
 {
     *out = NULL;
     struct stat st;
@@ -880,8 +880,8 @@ hv_status hv_volume_load(const char *path, hv_volume **out)
     hv_volume *v = hv_calloc(1, sizeof *v);
     if (!v) return HV_ERR_NOMEM;
     load_ctx ctx = {v};
-    int rc = g_api->load(path, &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx, hv_memory_budget(0),
-                         cancel_poll);
+    int rc = g_api->load(path, names, n, hv_threads(), &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
+                         hv_memory_budget(0), cancel_poll);
     if (rc) {
         s = rc == HV_ERR_CANCELLED ? hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path)
                                    : hv_error_set((hv_status)rc, "%s: %s", path, g_api->last_error());
@@ -899,6 +899,18 @@ hv_status hv_volume_load(const char *path, hv_volume **out)
     }
     *out = v;
     return HV_OK;
+}
+
+hv_status hv_volume_load(const char *path, hv_volume **out) { return load(path, NULL, -1, out); }
+
+hv_status hv_volume_load_grids(const char *path, const char *const *names, int n, hv_volume **out)
+{
+    *out = NULL;
+    if (n < 0 || (n > 0 && !names))
+        return hv_error_set(HV_ERR_INVALID, "%s: %d grid names given", path, n);
+    for (int i = 0; i < n; ++i)
+        if (!names[i] || !*names[i]) return hv_error_set(HV_ERR_INVALID, "%s: grid name %d is empty", path, i + 1);
+    return load(path, names, n, out);
 }
 
 /* ---- memory ----------------------------------------------------------------------------- */

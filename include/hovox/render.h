@@ -135,14 +135,29 @@ HV_API hv_status hv_render_options_check(const hv_render_options *opt);
  * fractions count as 0), kept with 8 bits per channel; trilinear interpolation of these
  * colours equals the colour of the interpolated fractions, as the map is linear. A model
  * without a table renders in grey (0.7). Memory: 5.8 KB per 8^3 block that holds or touches
- * occupied voxels, plus 2 KB per occupied block while building. Progress stage "prepare".
- * Errors: HV_ERR_BAD_INPUT (corrupt material table, or a material without its grid),
- * HV_ERR_LIMIT (occupied voxels spread over more than 2^26 blocks of 64^3 voxels),
- * HV_ERR_NOMEM, HV_ERR_CANCELLED. Free with hv_render_scene_destroy. */
+ * occupied voxels. Progress stage "prepare". Errors: HV_ERR_BAD_INPUT (corrupt material table,
+ * or a material without its grid), HV_ERR_LIMIT (occupied voxels spread over more than 2^26
+ * blocks of 64^3 voxels), HV_ERR_NOMEM, HV_ERR_CANCELLED. Free with hv_render_scene_destroy. */
 typedef struct hv_render_scene hv_render_scene;
 HV_API hv_status hv_render_scene_create(const hv_volume *vol, const hv_progress *progress,
                                         hv_render_scene **out);
+/* The same scene, filled as it is rendered: only the block table is built here (a few
+ * milliseconds), and each block's colours and gradients are computed from the volume when a ray
+ * first reaches it, so a small or partial image pays only for the blocks it sees. The images are
+ * exactly those of hv_render_scene_create, for any thread count. `vol` must stay alive and
+ * unchanged until the scene is destroyed; several threads may still render the scene at once
+ * (a block is filled once, by the first thread that reaches it). Memory: that of the blocks
+ * filled, plus 100 bytes per occupied block. Errors: as hv_render_scene_create. */
+HV_API hv_status hv_render_scene_create_lazy(const hv_volume *vol, const hv_progress *progress,
+                                             hv_render_scene **out);
 HV_API void hv_render_scene_destroy(hv_render_scene *scene); /* NULL allowed */
+
+/* Load from an OpenVDB file what a scene reads: the "occupancy" grid and the "material.*" grids,
+ * with the file's metadata (hv_volume_load_grids: files hovox writes skip the other grids
+ * unread). A file without an "occupancy" grid is loaded whole, as its occupied voxels are then
+ * the active voxels of all its grids. Free with hv_volume_destroy. Errors: those of
+ * hv_volume_load. */
+HV_API hv_status hv_render_volume_load(const char *path, hv_volume **out);
 
 /* World-space bounding box of the scene's occupied voxel cells; 0 when the scene is empty. */
 HV_API int hv_render_scene_bounds(const hv_render_scene *scene, double lo[3], double hi[3]);
@@ -150,15 +165,16 @@ HV_API int hv_render_scene_bounds(const hv_render_scene *scene, double lo[3], do
 HV_API int hv_render_scene_materials(const hv_render_scene *scene);
 
 /* Ray-cast the scene into a new image (*out, free with hv_image_destroy). Multi-threaded over
- * 32x32 tiles (hv_threads()); the result does not depend on the thread count. Progress stage
+ * 32x32 tiles (smaller for images of fewer than 4 tiles per thread; hv_threads()); the result
+ * does not depend on the thread count. Progress stage
  * "render". Errors: HV_ERR_INVALID (an option out of its domain, named in the message; a
  * degenerate camera; a fitted view of an empty scene), HV_ERR_NOMEM, HV_ERR_CANCELLED. */
 HV_API hv_status hv_render_scene_image(const hv_render_scene *scene,
                                        const hv_render_options *opt,
                                        const hv_progress *progress, hv_image **out);
 
-/* hv_render_scene_create + hv_render_scene_image + destroy, for one picture; the errors of
- * both. */
+/* hv_render_scene_create_lazy + hv_render_scene_image + destroy, for one picture; the errors
+ * of both. */
 HV_API hv_status hv_render(const hv_volume *vol, const hv_render_options *opt,
                            const hv_progress *progress, hv_image **out);
 

@@ -206,7 +206,8 @@ HV_API const char *hv_volume_meta_key(const hv_volume *vol, int i);
 /* ---- files ----------------------------------------------------------------------------- */
 
 /* Save as an OpenVDB file: one FloatGrid or BoolGrid per grid, in grid order, with the
- * transform and the metadata at file level. Written to a temporary name in the same
+ * transform and the metadata at file level, and the grid offsets of OpenVDB's io::File format
+ * (hv_volume_load_grids can then skip grids). Written to a temporary name in the same
  * directory, every write, the flush and the close checked, synced to disk and renamed when
  * complete: a full disk leaves no file (and an older one under the name stays). Ctrl-C (the
  * cancel check) stops it. Errors: HV_ERR_INVALID (a name not ending in .vdb, other than a
@@ -225,6 +226,15 @@ HV_API hv_status hv_volume_save(const hv_volume *vol, const char *path);
  * grids, mixed or rotated transforms, unsupported grid type), HV_ERR_LIMIT, HV_ERR_NOMEM,
  * HV_ERR_CANCELLED, HV_ERR_UNSUPPORTED (no OpenVDB plugin). */
 HV_API hv_status hv_volume_load(const char *path, hv_volume **out);
+/* Load only the grids `names` selects (n entries: a grid name, or a prefix followed by '*',
+ * "material.*" selecting every grid whose name starts with "material."), with the file's
+ * metadata, as hv_volume_load would load them: the topology is the union of the selected grids'
+ * active voxels. A selector that matches nothing is not an error (hv_volume_grid_find then says
+ * -1); when nothing matches, the volume has no grids, no voxels and the unit lattice. Files
+ * hovox writes hold OpenVDB's grid offsets, so grids not selected are skipped, not read; other
+ * files (OpenVDB streams, hovox files from before) are read whole and the grids not selected
+ * dropped. Errors: those of hv_volume_load; HV_ERR_INVALID (n < 0, an empty or NULL name). */
+HV_API hv_status hv_volume_load_grids(const char *path, const char *const *names, int n, hv_volume **out);
 /* The path a volume was loaded from ("" for one made in memory), for messages; owned by the
  * volume. */
 HV_API const char *hv_volume_name(const hv_volume *vol);

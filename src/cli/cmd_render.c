@@ -50,14 +50,13 @@ static int run(const cli_args *args, void *lib, void *local)
     const render_cli *c = local;
     const char *path = args->pos[0];
     hv_volume *vol = NULL;
-    hv_status s = hv_volume_load(path, &vol);
+    hv_status s = hv_render_volume_load(path, &vol);
     if (s != HV_OK) return cli_fail(s);
     cli_progress bar;
     cli_progress_init(&bar, args->quiet);
     hv_progress prog = {cli_progress_fn, &bar};
     hv_render_scene *scene = NULL;
-    s = hv_render_scene_create(vol, &prog, &scene);
-    hv_volume_destroy(vol); /* the scene holds what it needs */
+    s = hv_render_scene_create_lazy(vol, &prog, &scene); /* reads vol as the rays reach it */
     double lo[3], hi[3];
     if (s == HV_OK && !hv_render_scene_bounds(scene, lo, hi))
         s = hv_error_set(HV_ERR_BAD_INPUT, "the model has no occupied voxels: nothing to render");
@@ -67,6 +66,7 @@ static int run(const cli_args *args, void *lib, void *local)
     cli_progress_done(&bar);
     int materials = scene ? hv_render_scene_materials(scene) : 0;
     hv_render_scene_destroy(scene);
+    hv_volume_destroy(vol);
     if (s == HV_OK) s = hv_image_write(img, c->output);
     hv_image_destroy(img);
     if (s != HV_OK) return cli_fail(s);

@@ -45,6 +45,11 @@ void *hv_malloc_big(size_t count, size_t size);
 /* hv_malloc_big, zeroed (for buffers written sparsely, such as images). */
 void *hv_calloc_big(size_t count, size_t size);
 char *hv_strdup(const char *s);
+/* hv_image_create (image.c) without clearing the pixels, for a caller that writes every one
+ * (the renderer): the memory is first touched where the pixels are written, on the threads
+ * that render them, not all at once before. */
+struct hv_image;
+hv_status hv_image_create_unset(int width, int height, struct hv_image **out);
 /* Grow *p (holding *cap elements of `size`) to hold at least `need`. */
 hv_status hv_grow(void **p, size_t *cap, size_t need, size_t size);
 

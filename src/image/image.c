@@ -18,7 +18,7 @@
 
 /* ---- float images ----------------------------------------------------------------------- */
 
-hv_status hv_image_create(int width, int height, hv_image **out)
+static hv_status image_create(int width, int height, int clear, hv_image **out)
 {
     *out = NULL;
     if (width < 1 || width > 65535 || height < 1 || height > 65535)
@@ -28,7 +28,7 @@ hv_status hv_image_create(int width, int height, hv_image **out)
     if (!img) return HV_ERR_NOMEM;
     img->width = width;
     img->height = height;
-    img->rgba = hv_calloc_big((size_t)width * (size_t)height, 4 * sizeof(float));
+    img->rgba = (clear ? hv_calloc_big : hv_malloc_big)((size_t)width * (size_t)height, 4 * sizeof(float));
     if (!img->rgba) {
         free(img);
         return hv_error_set(HV_ERR_NOMEM, "out of memory for a %d x %d image", width, height);
@@ -36,6 +36,10 @@ hv_status hv_image_create(int width, int height, hv_image **out)
     *out = img;
     return HV_OK;
 }
+
+hv_status hv_image_create(int width, int height, hv_image **out) { return image_create(width, height, 1, out); }
+
+hv_status hv_image_create_unset(int width, int height, hv_image **out) { return image_create(width, height, 0, out); }
 
 void hv_image_destroy(hv_image *img)
 {
@@ -236,6 +240,7 @@ static hv_status encode(png_sink *s, const uint8_t *pixels, int width, int heigh
         png_set_text(png, info, &t, 1);
     }
     if (o && o->compression >= 0) png_set_compression_level(png, o->compression);
+    if (o && o->filter_sub) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_write_info(png, info);
     /* rows stay one pixel per byte; set after png_write_info, which resets the user depth */
     if (depth < 8) png_set_packing(png);
@@ -470,10 +475,12 @@ hv_status hv_image_write(const hv_image *img, const char *path)
         uint8_t *px = hv_malloc_array((size_t)img->width * (size_t)img->height, 4);
         if (!px) return HV_ERR_NOMEM;
         hv_image_to_rgba8(img, px);
-        /* zlib level 3: a quarter of the default level's time for files ~20% larger */
+        /* zlib level 3: a quarter of the default level's time for files ~20% larger; the Sub
+         * filter on every row: a third of libpng's time to choose filters, files ~4% larger */
         hv_png_options o;
         hv_png_options_init(&o);
         o.compression = 3;
+        o.filter_sub = 1;
         hv_status st = hv_png_write(path, px, img->width, img->height, 4, 0, &o);
         free(px);
         return st;

@@ -7,6 +7,7 @@
 #include <dirent.h>
 #include <math.h>
 #include <png.h>
+#include <zlib.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -538,4 +539,47 @@ Test(image, png_decode_expands_palettes_and_low_bit_grey)
     for (int i = 0; i < 4; ++i) cr_expect_eq(px.samples[i], 85 * i);
     hv_png_pixels_free(&px);
     free(png);
+
+/* The zlib stream of a PNG's IDAT chunks, inflated: each row starts with its filter type. */
+static uint8_t *idat_rows(const uint8_t *png, size_t len, size_t rows_bytes)
+{
+    uint8_t *z = malloc(len), *out = malloc(rows_bytes);
+    size_t zn = 0;
+    for (size_t at = 8; at + 12 <= len;) {
+        uint32_t n = (uint32_t)png[at] << 24 | (uint32_t)png[at + 1] << 16 | (uint32_t)png[at + 2] << 8 | png[at + 3];
+        if (memcmp(png + at + 4, "IDAT", 4) == 0) {
+            memcpy(z + zn, png + at + 8, n);
+            zn += n;
+        }
+        at += 12 + n;
+    }
+    uLongf outn = rows_bytes;
+    cr_assert_eq(uncompress(out, &outn, z, zn), Z_OK);
+    cr_assert_eq(outn, rows_bytes);
+    free(z);
+    return out;
+}
+
+Test(image, png_sub_filter_keeps_the_pixels)
+{
+    /* filter_sub: every row Sub-filtered (type 1), the same pixels read back */
+    int w = 61, h = 23;
+    uint8_t *p = pattern(w, h, 4, (size_t)w * 4);
+    hv_png_options o;
+    hv_png_options_init(&o);
+    o.compression = 3;
+    o.filter_sub = 1;
+    uint8_t *mem = NULL;
+    size_t len = 0;
+    cr_assert_eq(hv_png_encode(p, w, h, 4, 0, &o, &mem, &len), HV_OK, "%s", hv_last_error());
+    decoded d;
+    decode(NULL, mem, len, &d);
+    cr_assert(d.w == (png_uint_32)w && d.h == (png_uint_32)h && d.channels == 4);
+    cr_expect(memcmp(d.pixels, p, (size_t)w * h * 4) == 0);
+    uint8_t *rows = idat_rows(mem, len, (size_t)h * (1 + (size_t)w * 4));
+    for (int y = 0; y < h; ++y) cr_expect_eq(rows[(size_t)y * (1 + (size_t)w * 4)], 1, "row %d: filter %d", y, rows[(size_t)y * (1 + (size_t)w * 4)]);
+    free(rows);
+    free_decoded(&d);
+    free(mem);
+    free(p);
 }

@@ -786,6 +786,157 @@ Test(render, output_does_not_depend_on_thread_count)
     hv_volume_destroy(v);
 }
 
+/* One picture from a scene built eagerly or lazily, with `threads` workers. */
+static hv_image *render_scene(const hv_volume *v, const hv_render_options *o, int lazy, int threads)
+{
+    hv_render_scene *sc = NULL;
+    hv_status s = lazy ? hv_render_scene_create_lazy(v, NULL, &sc) : hv_render_scene_create(v, NULL, &sc);
+    cr_assert_eq(s, HV_OK, "%s", hv_last_error());
+    hv_set_threads(threads);
+    hv_image *img = NULL;
+    s = hv_render_scene_image(sc, o, NULL, &img);
+    hv_set_threads(0);
+    cr_assert_eq(s, HV_OK, "%s", hv_last_error());
+    hv_render_scene_destroy(sc);
+    return img;
+}
+
+Test(render, lazy_scene_gives_the_eager_image)
+{
+    /* the scene filled block by block as rays reach it, by whichever thread gets there first,
+     * gives exactly the picture of the scene filled before rendering: views seeing a little
+     * (a small image, a clipped corner) or all of the model, both modes, 1 to 4 threads */
+    hv_volume *v = shaft_volume();
+    struct {
+        int w, h, mode, view, samples;
+        const char *clip;
+    } cases[] = {
+        {8, 6, HV_RENDER_VOLUME, HV_VIEW_ISO, 1, NULL},
+        {96, 64, HV_RENDER_VOLUME, HV_VIEW_FRONT, 1, NULL},
+        {80, 80, HV_RENDER_SURFACE, HV_VIEW_ISO, 1, "x>60&y<0"},
+        {64, 48, HV_RENDER_VOLUME, HV_VIEW_TOP, 2, "z>0"},
+        {72, 40, HV_RENDER_SURFACE, HV_VIEW_RIGHT, 1, NULL},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        hv_render_options o;
+        hv_render_options_init(&o);
+        o.width = cases[i].w;
+        o.height = cases[i].h;
+        o.mode = (hv_render_mode)cases[i].mode;
+        o.camera.view = (hv_view)cases[i].view;
+        o.samples = cases[i].samples;
+        if (cases[i].clip) {
+            cr_assert_eq(hv_clip_parse(cases[i].clip, &o.clip[0]), HV_OK);
+            o.clips = 1;
+        }
+        hv_image *eager = render_scene(v, &o, 0, 1);
+        size_t bytes = sizeof(float) * 4 * (size_t)o.width * (size_t)o.height;
+        for (int threads = 1; threads <= 4; ++threads) {
+            hv_image *lazy = render_scene(v, &o, 1, threads);
+            cr_expect(memcmp(eager->rgba, lazy->rgba, bytes) == 0, "case %zu, %d threads: the lazy scene differs", i,
+                      threads);
+            hv_image_destroy(lazy);
+        }
+        hv_image *via = render(v, &o); /* hv_render: a lazy scene too */
+        cr_expect(memcmp(eager->rgba, via->rgba, bytes) == 0, "case %zu: hv_render differs", i);
+        hv_image_destroy(via);
+        hv_image_destroy(eager);
+    }
+    hv_volume_destroy(v);
+}
+
+Test(render, lazy_scene_renders_again_and_keeps_its_blocks)
+{
+    /* one lazy scene, several pictures: a small view fills a few blocks, a wider one the rest;
+     * each picture equals that of the eager scene, which no longer needs its model */
+    hv_volume *v = shaft_volume(), *copy = NULL;
+    hv_render_scene *lazy = NULL, *eager = NULL;
+    cr_assert_eq(hv_render_scene_create_lazy(v, NULL, &lazy), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_volume_clone(v, &copy), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_render_scene_create(copy, NULL, &eager), HV_OK, "%s", hv_last_error());
+    hv_volume_destroy(copy);
+    double a[3], b[3], c[3], d[3];
+    cr_assert(hv_render_scene_bounds(lazy, a, b));
+    cr_assert(hv_render_scene_bounds(eager, c, d));
+    for (int k = 0; k < 3; ++k) cr_assert(a[k] == c[k] && b[k] == d[k]);
+    cr_assert_eq(hv_render_scene_materials(lazy), hv_render_scene_materials(eager));
+    for (int pass = 0; pass < 3; ++pass) {
+        hv_render_options o;
+        hv_render_options_init(&o);
+        o.width = pass == 0 ? 6 : 90;
+        o.height = pass == 0 ? 4 : 50;
+        o.mode = pass == 2 ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
+        hv_set_threads(pass + 1);
+        hv_image *x = NULL, *y = NULL;
+        cr_assert_eq(hv_render_scene_image(lazy, &o, NULL, &x), HV_OK, "%s", hv_last_error());
+        cr_assert_eq(hv_render_scene_image(eager, &o, NULL, &y), HV_OK, "%s", hv_last_error());
+        hv_set_threads(0);
+        cr_expect(memcmp(x->rgba, y->rgba, sizeof(float) * 4 * (size_t)o.width * (size_t)o.height) == 0, "pass %d differs",
+                  pass);
+        hv_image_destroy(x);
+        hv_image_destroy(y);
+    }
+    hv_render_scene_destroy(lazy);
+    hv_render_scene_destroy(eager);
+    hv_volume_destroy(v);
+}
+
+Test(render, volume_load_reads_what_the_scene_needs)
+{
+    /* hv_render_volume_load: occupancy and materials, the same picture as the whole model */
+    hv_volume *v = shaft_volume();
+    cr_assert_eq(hv_volume_grid_add(v, "surface", HV_GRID_BOOL, NULL), HV_OK);
+    cr_assert_eq(hv_volume_grid_add(v, "density", HV_GRID_FLOAT, NULL), HV_OK);
+    const char *path = t_tmpfile("render_load.vdb");
+    cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());
+    hv_volume *r = NULL;
+    cr_assert_eq(hv_render_volume_load(path, &r), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_volume_grid_count(r), 1 + SHAFT.nmat);
+    cr_assert_eq(hv_volume_grid_find(r, "surface"), -1);
+    cr_assert_eq(hv_volume_grid_find(r, "density"), -1);
+    hv_render_options o;
+    hv_render_options_init(&o);
+    o.width = 64;
+    o.height = 40;
+    hv_image *a = render(v, &o), *b = render(r, &o);
+    cr_expect(memcmp(a->rgba, b->rgba, sizeof(float) * 4 * 64 * 40) == 0);
+    hv_image_destroy(a);
+    hv_image_destroy(b);
+    hv_volume_destroy(r);
+    /* without "occupancy", every active voxel is occupied: all grids are read */
+    cr_assert_eq(hv_volume_grid_remove(v, hv_volume_grid_find(v, "occupancy")), HV_OK);
+    cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_render_volume_load(path, &r), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_volume_grid_count(r), hv_volume_grid_count(v));
+    hv_volume_destroy(r);
+    hv_volume_destroy(v);
+}
+
+extern int r_render_base; /* renderer/render_internal.h */
+
+Test(render, instruction_set_variants_agree)
+{
+    /* the AVX2 ray caster (where the CPU has it) and the general one: the same floats */
+    hv_volume *v = shaft_volume();
+    for (int mode = 0; mode < 2; ++mode) {
+        hv_render_options o;
+        hv_render_options_init(&o);
+        o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
+        o.width = 120;
+        o.height = 90;
+        cr_assert_eq(hv_clip_parse("x>60&z>0", &o.clip[0]), HV_OK);
+        o.clips = 1;
+        hv_image *a = render(v, &o);
+        r_render_base = 1;
+        hv_image *b = render(v, &o);
+        r_render_base = 0;
+        cr_expect(memcmp(a->rgba, b->rgba, sizeof(float) * 4 * 120 * 90) == 0, "mode %d differs", mode);
+        hv_image_destroy(a);
+        hv_image_destroy(b);
+    }
+    hv_volume_destroy(v);
+}
+
 Test(render, model_without_materials_is_grey)
 {
     hv_transform xf = {{1, 1, 1}, {0, 0, 0}};

@@ -2,15 +2,19 @@
 # tests/volumes/corrupt_vdb.sh - damaged and hostile .vdb files: truncations at every 1/64 of
 # a graded model, one-bit flips spread over it, and crafted files (a 4096^3 active tile, a grid
 # of an unsupported type, a rotated transform, a tiny and a huge voxel, no grids, a future
-# version). Every case must end in 5 s, under 1 GiB, with one line on stderr, no OpenVDB text
-# on stdout and a documented exit code: 1-4 for truncations and crafted files, 0-4 for a bit
-# flip (a flip in a value or padding leaves a readable file). Never a crash, never exit 70.
+# version, grid offsets outside the file or out of step with the grids). The model has grid
+# offsets (what hovox writes: `render` skips grids by them), and the same cuts at every 1/16 and
+# 40 flips go to a copy without (an OpenVDB stream, as hovox wrote models before issue 17).
+# Every case must end in 5 s, under 1 GiB, with one line on stderr, no OpenVDB text on stdout
+# and a documented exit code: 1-4 for truncations and crafted files, 0-4 for a bit flip (a flip
+# in a value or padding leaves a readable file). Never a crash, never exit 70.
 set -u
 : "${HOVOX:?set HOVOX to the hovox binary}"
 PY=${PYTHON:-/usr/bin/python3}
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 model=tests/data/models/linear2.vdb
+stream=tests/data/models/linear2_stream.vdb
 pass=0
 fail=0
 
@@ -47,18 +51,50 @@ done
 check "truncated by 100 bytes" "$model" 0 # the full file first: it must load
 head -c $((size - 100)) "$model" >"$TMP/t.vdb"
 check "truncated by 100 bytes" "$TMP/t.vdb" 1
+check "stream" "$stream" 0
+size=$(wc -c <"$stream")
+i=1
+while [ $i -lt 16 ]; do
+    n=$((size * i / 16))
+    head -c "$n" "$stream" >"$TMP/t.vdb"
+    check "stream truncated at $n of $size bytes" "$TMP/t.vdb" 1
+    i=$((i + 1))
+done
 
-"$PY" - "$model" "$TMP" <<'PYEOF'
-import sys
-src, out = sys.argv[1], sys.argv[2]
+"$PY" - "$model" "$stream" "$TMP" <<'PYEOF'
+import struct, sys
+src, stream, out = sys.argv[1], sys.argv[2], sys.argv[3]
 data = open(src, 'rb').read()
 for k in range(120):
     pos = (k * 7919) % len(data)
     b = bytearray(data)
     b[pos] ^= 1 << (k % 8)
     open('%s/flip%03d.vdb' % (out, k), 'wb').write(bytes(b))
+sdata = open(stream, 'rb').read()
+for k in range(40):
+    pos = (k * 7907 + 13) % len(sdata)
+    b = bytearray(sdata)
+    b[pos] ^= 1 << (k % 8)
+    open('%s/sflip%03d.vdb' % (out, k), 'wb').write(bytes(b))
+# grid offsets: the descriptor of "occupancy" (name, type, no parent) ends with grid, blocks
+# and end position, int64 each
+d = b'\x09\x00\x00\x00occupancy\x0f\x00\x00\x00Tree_bool_5_4_3\x00\x00\x00\x00'
+at = data.index(d) + len(d)
+grid, blocks, end = struct.unpack('<qqq', data[at:at + 24])
+def patched(name, g, b, e):
+    p = bytearray(data)
+    p[at:at + 24] = struct.pack('<qqq', g, b, e)
+    open('%s/%s.vdb' % (out, name), 'wb').write(bytes(p))
+patched('offset_end_beyond_file', grid, blocks, len(data) + 4096)
+patched('offset_end_before_grid', grid, blocks, grid - 8)
+patched('offset_end_early', grid, blocks, end - 100)
+patched('offset_grid_elsewhere', grid + 16, blocks, end)
+patched('offset_negative', -1, blocks, -1)
 PYEOF
-for f in "$TMP"/flip*.vdb; do check "bit flip $(basename "$f")" "$f" 0; done
+for f in "$TMP"/flip*.vdb "$TMP"/sflip*.vdb; do check "bit flip $(basename "$f")" "$f" 0; done
+for f in offset_end_beyond_file offset_end_before_grid offset_end_early offset_grid_elsewhere offset_negative; do
+    check "$f" "$TMP/$f.vdb" 1
+done
 
 "$PY" - "$TMP" <<'PYEOF'
 import sys

@@ -180,6 +180,9 @@ namespace tree {
         }                                                                                                     \
         return true;                                                                                          \
     }
+typedef math::Vec3<float> hv_vec3f;
+typedef math::Vec3<double> hv_vec3d;
+typedef math::Vec3<int32_t> hv_vec3i;
 HV_CHECKED_ROOT(bool)
 HV_CHECKED_ROOT(float)
 HV_CHECKED_ROOT(double)

@@ -539,6 +539,7 @@ Test(image, png_decode_expands_palettes_and_low_bit_grey)
     for (int i = 0; i < 4; ++i) cr_expect_eq(px.samples[i], 85 * i);
     hv_png_pixels_free(&px);
     free(png);
+}
 
 /* The zlib stream of a PNG's IDAT chunks, inflated: each row starts with its filter type. */
 static uint8_t *idat_rows(const uint8_t *png, size_t len, size_t rows_bytes)

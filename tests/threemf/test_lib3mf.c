@@ -141,6 +141,7 @@ Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials)
             for (int k = 0; k < 3; ++k) cr_assert(idx[i].m_nIndices[k] < nv);
         free(idx);
         free(vx);
+        lib3mf_release(mesh); /* each getcurrent hands out a new reference */
     }
     cr_expect_eq(meshes, 1);
     lib3mf_release(it);
@@ -159,6 +160,7 @@ Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials)
     unsigned char c[4];
     cr_assert_eq(lib3mf_basematerial_getdisplaycolor(group, 0, &c[0], &c[1], &c[2], &c[3]), 0);
     cr_expect(c[0] == 255 && c[1] == 0 && c[2] == 0 && c[3] == 255);
+    lib3mf_release(group);
     lib3mf_release(it);
     lib3mf_release(model);
     hv_volume_destroy(v);

@@ -34,7 +34,7 @@ static const double VOX[3] = {0.5, 1.0, 2.0}, ORG[3] = {10.0, -4.0, 1.5};
 
 static uint32_t hash3(int i, int j, int k)
 {
-    uint32_t h = (uint32_t)(i * 73856093) ^ (uint32_t)(j * 19349663) ^ (uint32_t)(k * 83492791);
+    uint32_t h = ((uint32_t)i * 73856093u) ^ ((uint32_t)j * 19349663u) ^ ((uint32_t)k * 83492791u);
     h ^= h >> 13;
     h *= 0x5bd1e995u;
     return h ^ (h >> 15);

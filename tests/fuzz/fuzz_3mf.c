@@ -80,14 +80,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (!packed) return 0;
         data = packed;
     }
-    hv_mesh *m = NULL;
-    hv_status s = hv_mesh_parse_3mf(data, size, "fuzz.3mf", &m);
-    if (s == HV_OK) {
-        fuzz_check_mesh(m);
-        hv_mesh_destroy(m);
-    } else if (m || s == HV_ERR_UNSUPPORTED) {
-        abort(); /* failures hand out no mesh; the bridge plugin must load */
-    }
+    if (fuzz_mesh_parse(hv_mesh_parse_3mf, data, size, "fuzz.3mf") == HV_ERR_UNSUPPORTED)
+        abort(); /* the bridge plugin must load */
     free(packed);
     return 0;
 }

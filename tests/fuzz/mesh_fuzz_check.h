@@ -38,4 +38,20 @@ static inline void fuzz_check_mesh(const hv_mesh *m)
         if (!hv_mesh_material_at(m, k)->name) abort();
 }
 
+/* One input through a reader's parse function: a failure hands out no mesh, a success builds a
+ * mesh fuzz_check_mesh accepts. Returns the reader's status. */
+typedef hv_status (*fuzz_mesh_parser)(const void *data, size_t size, const char *name, hv_mesh **out);
+static inline hv_status fuzz_mesh_parse(fuzz_mesh_parser parse, const void *data, size_t size, const char *name)
+{
+    hv_mesh *m = NULL;
+    hv_status s = parse(data, size, name, &m);
+    if (s == HV_OK) {
+        fuzz_check_mesh(m);
+        hv_mesh_destroy(m);
+    } else if (m) {
+        abort(); /* failures must not hand out a mesh */
+    }
+    return s;
+}
+
 #endif

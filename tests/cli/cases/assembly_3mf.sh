@@ -10,22 +10,5 @@ $HOVOX layers "$TMP/g.vdb" --mesh $m -o "$TMP/stack" --dpi 50,50 --layer-height 
 # the target is a mean of float fractions: its last digits follow the build's float contraction
 # (the sanitizer build differs past the 8th), so it is shown to 7 decimals
 sed -n '/"materials"/,/]/p' "$TMP/stack/manifest.json" | sed -E 's/("target": [0-9]+\.[0-9]{7})[0-9]*/\1/' &&
-/usr/bin/python3 -c "
-import zlib, struct, sys
-d = open(sys.argv[1], 'rb').read()
-w, h, bd, ct = struct.unpack('>IIBB', d[16:26])
-pos = 8; idat = b''
-while pos < len(d):
-    n, = struct.unpack('>I', d[pos:pos+4]); t = d[pos+4:pos+8]
-    if t == b'IDAT': idat += d[pos+8:pos+8+n]
-    pos += 12 + n
-raw = zlib.decompress(idat); stride = (w * bd + 7) // 8
-count = [0, 0, 0, 0]
-for y in range(h):
-    row = raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)]
-    px = [(row[x * bd // 8] >> (8 - bd - (x * bd) % 8)) & ((1 << bd) - 1) for x in range(w)]
-    for v in px: count[v] += 1
-    print(''.join('.VA?'[v] for v in px))
-print('pixels per palette index', count)
-" "$TMP/stack/layer-00005.png"
+/usr/bin/python3 tests/cli/png_palette_map.py "$TMP/stack/layer-00005.png" '.VA?'
 echo "rc=$?"

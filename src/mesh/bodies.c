@@ -24,29 +24,26 @@ const char *hv_mesh_format_name(hv_mesh_format f)
     return "generated";
 }
 
-static int name_taken(const hv_mesh_body *b, size_t n, const char *name)
-{
-    for (size_t i = 0; i < n; ++i)
-        if (strcmp(b[i].name, name) == 0) return 1;
-    return 0;
-}
-
-/* A unique copy of `want` among b[0..n): "body N" when empty, "NAME (k)" when taken. */
-static char *unique_name(const hv_mesh_body *b, size_t n, const char *want, size_t index)
+/* A unique copy of `want` among the names already given (the set `taken`, which gets it too):
+ * "body N" when empty, "NAME (k)" when taken. A hash set: files may hold 10^5 bodies. */
+static char *unique_name(hv_names *taken, const char *want, size_t index)
 {
     char buf[64];
     if (!want || !*want) {
         snprintf(buf, sizeof buf, "body %zu", index + 1);
         want = buf;
     }
-    if (!name_taken(b, n, want)) return hv_strdup(want);
     size_t len = strlen(want) + 32;
     char *s = malloc(len);
     if (!s) return NULL;
-    for (size_t k = 2;; ++k) {
-        snprintf(s, len, "%s (%zu)", want, k);
-        if (!name_taken(b, n, s)) return s;
+    snprintf(s, len, "%s", want);
+    for (size_t k = 2; hv_names_find(taken, s, strlen(s)) >= 0; ++k) snprintf(s, len, "%s (%zu)", want, k);
+    int32_t slot;
+    if (hv_names_intern(taken, s, strlen(s), &slot) != HV_OK) {
+        free(s);
+        return NULL;
     }
+    return s;
 }
 
 static void bodies_free(hv_mesh *m)
@@ -88,6 +85,8 @@ hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
                 return hv_error_set(HV_ERR_INVALID, "%s: facet %zu: material %d out of range (%zu)",
                                     hv_mesh_name(m), f, (int)facet_mat[f], nmats);
     hv_mesh tmp = {0};
+    hv_names taken; /* the body names given so far */
+    hv_names_init(&taken);
     tmp.bodies = hv_calloc(n, sizeof *tmp.bodies);
     tmp.mats = nmats ? hv_calloc(nmats, sizeof *tmp.mats) : NULL;
     tmp.facet_mat = facet_mat ? hv_malloc_array(m->nf, sizeof *tmp.facet_mat) : NULL;
@@ -105,7 +104,7 @@ hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
         *b = bodies[i];
         b->first_facet = first;
         first += b->facet_count;
-        b->name = unique_name(tmp.bodies, i, bodies[i].name, i);
+        b->name = unique_name(&taken, bodies[i].name, i);
         tmp.nbodies = i + 1;
         if (!b->name) goto nomem;
         if (b->material == HV_MESH_NO_MATERIAL && facet_mat && nmats) {
@@ -122,6 +121,7 @@ hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
             free(cnt);
         }
     }
+    hv_names_free(&taken);
     bodies_free(m);
     m->bodies = tmp.bodies;
     m->nbodies = tmp.nbodies;
@@ -130,6 +130,7 @@ hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
     m->facet_mat = tmp.facet_mat;
     return HV_OK;
 nomem:
+    hv_names_free(&taken);
     bodies_free(&tmp);
     return HV_ERR_NOMEM;
 }

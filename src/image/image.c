@@ -56,8 +56,10 @@ static uint8_t quant8(float v)
 
 void hv_image_to_rgba8(const hv_image *img, uint8_t *out)
 {
-    size_t n = (size_t)img->width * (size_t)img->height;
-    for (size_t i = 0; i < n; ++i) {
+    const long n = (long)img->width * (long)img->height;
+    /* on all threads for big images (a 2048^2 render: 4 M pixels before its PNG) */
+#pragma omp parallel for schedule(static) num_threads(hv_threads()) if (n >= (1L << 18))
+    for (long i = 0; i < n; ++i) {
         const float *p = img->rgba + 4 * i;
         float a = p[3], inv = a > 0 ? 1.0f / a : 0;
         for (int k = 0; k < 3; ++k) out[4 * i + k] = quant8(p[k] * inv);

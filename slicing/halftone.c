@@ -422,6 +422,76 @@ void hv_bluenoise_offsets(uint64_t seed, int off[3])
 
 /* ==== halftoning kernels ==================================================================== */
 
+/* The material picks of n pixels of one row, in one pass: material j where
+ * p_0 + .. + p_{j-1} <= t < p_0 + .. + p_j (the cumulative fractions summed in material order,
+ * so every vector width gives the same pick). A zero last fraction is skipped where rounding left
+ * the sum of the fractions below t: the last material present takes the pixel. out = 0 outside
+ * the mask, else 1 + material; n_j += pixels given material j. M is the material count, a
+ * constant where the function is inlined. */
+static inline __attribute__((always_inline)) void pick_row(int M, const float *const *f, const float *restrict t,
+                                                           const uint8_t *restrict mrow,
+                                                           uint8_t *restrict orow, int n, uint32_t *cnt)
+{
+    /* the planes in restrict locals, so the stores to orow cannot be taken to change them */
+    const float *restrict f0 = f[0], *restrict f1 = f[M > 1 ? 1 : 0], *restrict f2 = f[M > 2 ? 2 : 0],
+                          *restrict f3 = f[M > 3 ? 3 : 0];
+#pragma omp simd
+    for (int c = 0; c < n; ++c) {
+        float v[4] = {f0[c], f1[c], f2[c], f3[c]};
+        float cu = 0;
+        int k = 0, last = -1;
+        for (int j = 0; j < M - 1; ++j) {
+            cu += v[j];
+            k += t[c] >= cu;
+            last = v[j] > 0 ? j : last;
+        }
+        float fl = v[M - 1];
+        last = fl > 0 ? M - 1 : last;
+        k = (k == M - 1 && fl <= 0 && last >= 0) ? last : k;
+        orow[c] = (uint8_t)(mrow[c] * (k + 1));
+    }
+    for (int j = 0; j < M; ++j) {
+        uint32_t v = (uint32_t)j + 1, s = 0;
+#pragma omp simd reduction(+ : s)
+        for (int c = 0; c < n; ++c) s += orow[c] == v;
+        cnt[j] += s;
+    }
+}
+
+/* Any material count: the same picks, pixel by pixel. */
+static void pick_row_m(int m, const float *const *f, const float *t, const uint8_t *mrow, uint8_t *orow, int n,
+                       uint32_t *cnt)
+{
+    for (int c = 0; c < n; ++c) {
+        float cu = 0;
+        int k = 0, last = -1;
+        for (int j = 0; j < m - 1; ++j) {
+            cu += f[j][c];
+            k += t[c] >= cu;
+            last = f[j][c] > 0 ? j : last;
+        }
+        float fl = f[m - 1][c];
+        last = fl > 0 ? m - 1 : last;
+        k = (k == m - 1 && fl <= 0 && last >= 0) ? last : k;
+        orow[c] = (uint8_t)(mrow[c] * (k + 1));
+        cnt[k] += mrow[c];
+    }
+}
+
+/* The material picks of n pixels of one row (see pick_row); the common material counts are made
+ * constant, so their loops unroll and vectorise. */
+HV_HOT_CLONES static void pick_row_any(int m, const float *const *f, const float *t, const uint8_t *mrow,
+                                          uint8_t *orow, int n, uint32_t *cnt)
+{
+    switch (m) {
+    case 1: pick_row(1, f, t, mrow, orow, n, cnt); break;
+    case 2: pick_row(2, f, t, mrow, orow, n, cnt); break;
+    case 3: pick_row(3, f, t, mrow, orow, n, cnt); break;
+    case 4: pick_row(4, f, t, mrow, orow, n, cnt); break;
+    default: pick_row_m(m, f, t, mrow, orow, n, cnt); break;
+    }
+}
+
 void hv_halftone_bluenoise(const float *frac, int m, int w, int h, const uint8_t *mask,
                            const uint32_t *ranks, const int off[3], size_t layer, uint8_t *out,
                            uint64_t *counts, double *tsum)
@@ -429,94 +499,65 @@ void hv_halftone_bluenoise(const float *frac, int m, int w, int h, const uint8_t
     size_t plane = (size_t)w * (size_t)h;
     const float inv = 1.0f / (float)tile_cells();
     int z = (int)((layer + (size_t)off[2]) % HV_BLUENOISE_NZ);
-    float *t = malloc(3 * (size_t)w * sizeof *t), *cum = t ? t + w : NULL, *mf = t ? t + 2 * (size_t)w : NULL;
-    uint8_t *pick = malloc((size_t)w);
-    double rs[HV_MAX_MATERIALS];
-    for (int r = 0; r < h && t && pick; ++r) {
+    /* the row's thresholds, rotated by the seed's offset and repeated, so a run of up to RUN
+     * pixels from any phase in the tile is contiguous */
+    enum { RUN = 1024 };
+    float rot[RUN + HV_BLUENOISE_NX];
+    const float *f[HV_MAX_MATERIALS];
+    uint32_t cnt[HV_MAX_MATERIALS];
+    float *mf = tsum ? malloc((size_t)w * sizeof *mf) : NULL;
+    for (int r = 0; r < h; ++r) {
         size_t base = (size_t)r * (size_t)w;
         const uint8_t *mrow = mask + base;
         uint8_t *orow = out + base;
-        int c0 = 0, c1 = w - 1;
-        while (c0 <= c1 && !mrow[c0]) orow[c0++] = 0;
-        while (c1 >= c0 && !mrow[c1]) orow[c1--] = 0;
-        if (c0 > c1) continue;
+        const uint8_t *hit = memchr(mrow, 1, (size_t)w);
+        if (!hit) {
+            memset(orow, 0, (size_t)w);
+            continue;
+        }
+        int c0 = (int)(hit - mrow), c1 = (int)((const uint8_t *)memrchr(mrow, 1, (size_t)w) - mrow);
+        memset(orow, 0, (size_t)c0);
+        memset(orow + c1 + 1, 0, (size_t)(w - 1 - c1));
         int ty = (r + off[1]) % HV_BLUENOISE_NY;
         const uint32_t *trow = ranks + ((size_t)z * HV_BLUENOISE_NY + (size_t)ty) * HV_BLUENOISE_NX;
-        /* the thresholds of this tile row, rotated by the seed's offset, then tiled along the
-         * row in chunks (the tile is a power of two wide) */
-        float rot[HV_BLUENOISE_NX];
         for (int i = 0; i < HV_BLUENOISE_NX; ++i)
             rot[i] = ((float)trow[(i + off[0]) & (HV_BLUENOISE_NX - 1)] + 0.5f) * inv;
+        for (int i = HV_BLUENOISE_NX; i < (int)HV_COUNT(rot); ++i) rot[i] = rot[i - HV_BLUENOISE_NX];
+        for (int j = 0; j < m; ++j) {
+            f[j] = frac + (size_t)j * plane + base;
+            cnt[j] = 0;
+        }
+        /* in runs of up to RUN pixels, each starting at its phase in rot */
         for (int c = c0; c <= c1;) {
-            int i = c & (HV_BLUENOISE_NX - 1), n = HV_MIN(HV_BLUENOISE_NX - i, c1 - c + 1);
-            memcpy(t + c, rot + i, (size_t)n * sizeof *t);
+            int i = c & (HV_BLUENOISE_NX - 1), n = HV_MIN(RUN, c1 - c + 1);
+            const float *fc[HV_MAX_MATERIALS];
+            for (int j = 0; j < m; ++j) fc[j] = f[j] + c;
+            pick_row_any(m, fc, rot + i, mrow + c, orow + c, n, cnt);
             c += n;
         }
-        memset(cum + c0, 0, (size_t)(c1 - c0 + 1) * sizeof *cum);
-        memset(pick + c0, 0, (size_t)(c1 - c0 + 1));
+        for (int j = 0; j < m; ++j) counts[j] += cnt[j];
+        if (!tsum) continue;
+        /* the target: the fractions summed over the object pixels; the mask is 0 or 1, so
+         * multiplying keeps the loop free of branches */
+        if (!mf) { /* out of memory for one row: the sums pixel by pixel */
+            for (int j = 0; j < m; ++j) {
+                float s = 0;
+                for (int c = c0; c <= c1; ++c) s += mrow[c] ? f[j][c] : 0.0f;
+                tsum[j] += s;
+            }
+            continue;
+        }
+#pragma omp simd
         for (int c = c0; c <= c1; ++c) mf[c] = (float)mrow[c];
-        /* the material is the number of cumulative fractions at or below the threshold:
-         * material j where p_0 + .. + p_{j-1} <= t < p_0 + .. + p_j; planar and branch-free */
         for (int j = 0; j < m; ++j) {
-            const float *f = frac + (size_t)j * plane + base;
-            /* mask values are 0 or 1: multiplying keeps the loop free of branches */
+            const float *fj = f[j];
             float s = 0;
 #pragma omp simd reduction(+ : s)
-            for (int c = c0; c <= c1; ++c) s += mf[c] * f[c];
-            rs[j] = s;
-            if (j == m - 1) break;
-#pragma omp simd
-            for (int c = c0; c <= c1; ++c) {
-                cum[c] += f[c];
-                pick[c] = (uint8_t)(pick[c] + (t[c] >= cum[c]));
-            }
-        }
-        const float *flast = frac + (size_t)(m - 1) * plane + base;
-        for (int c = c0; c <= c1; ++c) {
-            int k = pick[c];
-            if (k == m - 1 && flast[c] <= 0 && mrow[c]) {
-                /* a zero fraction skips its material everywhere but here: rounding left the
-                 * sum of the fractions below t. The last material present takes it. */
-                for (int j = m - 1; j >= 0; --j)
-                    if (frac[(size_t)j * plane + base + (size_t)c] > 0) {
-                        k = j;
-                        break;
-                    }
-            }
-            orow[c] = (uint8_t)(mrow[c] * (k + 1));
-        }
-        for (int j = 0; j < m; ++j) {
-            unsigned v = (unsigned)j + 1, n = 0;
-            for (int c = c0; c <= c1; ++c) n += orow[c] == v;
-            counts[j] += n;
-        }
-        if (tsum)
-            for (int j = 0; j < m; ++j) tsum[j] += rs[j];
-    }
-    if (!t || !pick) { /* out of memory for two rows: the plain per-pixel loop */
-        for (size_t p = 0; p < plane; ++p) {
-            if (!mask[p]) {
-                out[p] = 0;
-                continue;
-            }
-            int r = (int)(p / (size_t)w), c = (int)(p % (size_t)w);
-            float th = ((float)ranks[((size_t)z * HV_BLUENOISE_NY + (size_t)((r + off[1]) % HV_BLUENOISE_NY)) *
-                                         HV_BLUENOISE_NX + (size_t)((c + off[0]) & (HV_BLUENOISE_NX - 1))] + 0.5f) * inv;
-            float cu = 0;
-            int k = 0;
-            for (int j = 0; j < m; ++j) {
-                float f = frac[(size_t)j * plane + p];
-                if (tsum) tsum[j] += f;
-                cu += f;
-                if (f > 0) k = j;
-                if (f > 0 && th < cu) break;
-            }
-            out[p] = (uint8_t)(k + 1);
-            counts[k]++;
+            for (int c = c0; c <= c1; ++c) s += mf[c] * fj[c];
+            tsum[j] += s;
         }
     }
-    free(t);
-    free(pick);
+    free(mf);
 }
 
 #define CARRY_Z 0.25f

@@ -218,3 +218,73 @@ Test(halftone, bluenoise_offsets_follow_the_seed)
     cr_expect(memcmp(b, c, sizeof b) == 0);
     for (int k = 0; k < 3; ++k) cr_expect(b[k] >= 0 && b[k] < (k < 2 ? 64 : 32));
 }
+
+/* The blue-noise kernel (vectorised, in runs) against its definition pixel by pixel: material j
+ * where p_0 + .. + p_{j-1} <= t < p_0 + .. + p_j, a zero last fraction skipped for the last
+ * material present. Random fractions with zeros, a ragged mask, widths that are no multiple of
+ * the tile or the vector, every material count up to 7 (the unrolled 1..4 and the general path). */
+Test(halftone, bluenoise_matches_its_definition_per_pixel, .timeout = 300)
+{
+    const uint32_t *ranks = NULL;
+    cr_assert_eq(hv_bluenoise_tile(t_tmpfile("cache"), NULL, &ranks, NULL), HV_OK);
+    const float inv = 1.0f / (float)(HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ);
+    uint64_t rng = 12345;
+    for (int m = 1; m <= 7; ++m) {
+        int w = 1100 + 37 * m, h = 23;
+        size_t plane = (size_t)w * h;
+        float *frac = malloc(sizeof(float) * plane * m);
+        uint8_t *mask = malloc(plane), *out = malloc(plane);
+        for (size_t p = 0; p < plane; ++p) {
+            int y = (int)(p / (size_t)w), x = (int)(p % (size_t)w);
+            /* rows empty, full, or a band whose ends move */
+            mask[p] = y % 7 == 3 ? 0 : y % 5 == 0 ? 1 : (x > 3 * y && x < w - 11 * y);
+            double s = 0, v[8];
+            for (int j = 0; j < m; ++j) {
+                rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+                v[j] = (rng >> 40) % 4 == 0 ? 0 : (double)(rng >> 11) / 9007199254740992.0;
+                s += v[j];
+            }
+            for (int j = 0; j < m; ++j) frac[j * plane + p] = s > 0 ? (float)(v[j] / s) : j == 0;
+        }
+        int off[3];
+        hv_bluenoise_offsets((uint64_t)m, off);
+        for (int z = 0; z < 3; ++z) {
+            uint64_t counts[8] = {0}, want[8] = {0};
+            double tsum[8] = {0}, wsum[8] = {0};
+            hv_halftone_bluenoise(frac, m, w, h, mask, ranks, off, (size_t)z, out, counts, tsum);
+            int zz = (z + off[2]) % HV_BLUENOISE_NZ;
+            for (size_t p = 0; p < plane; ++p) {
+                int y = (int)(p / (size_t)w), x = (int)(p % (size_t)w);
+                int k = 0;
+                if (mask[p]) {
+                    float t = ((float)ranks[((size_t)zz * HV_BLUENOISE_NY + (size_t)((y + off[1]) % HV_BLUENOISE_NY)) *
+                                                HV_BLUENOISE_NX + (size_t)((x + off[0]) & (HV_BLUENOISE_NX - 1))] + 0.5f) * inv;
+                    float cu = 0;
+                    for (int j = 0; j < m - 1; ++j) {
+                        cu += frac[j * plane + p];
+                        k += t >= cu;
+                    }
+                    if (k == m - 1 && frac[(m - 1) * plane + p] <= 0)
+                        for (int j = m - 1; j >= 0; --j)
+                            if (frac[j * plane + p] > 0) {
+                                k = j;
+                                break;
+                            }
+                    want[k]++;
+                    for (int j = 0; j < m; ++j) wsum[j] += frac[j * plane + p];
+                    ++k;
+                }
+                cr_assert_eq(out[p], k, "m %d layer %d pixel (%d, %d): %d, defined %d", m, z, x, y, out[p], k);
+            }
+            for (int j = 0; j < m; ++j) {
+                cr_expect_eq(counts[j], want[j], "m %d material %d: count %llu, defined %llu", m, j,
+                             (unsigned long long)counts[j], (unsigned long long)want[j]);
+                cr_expect(fabs(tsum[j] - wsum[j]) <= 1e-4 * wsum[j] + 1e-3, "m %d material %d: target %g vs %g", m, j,
+                          tsum[j], wsum[j]);
+            }
+        }
+        free(frac);
+        free(mask);
+        free(out);
+    }
+}

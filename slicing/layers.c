@@ -65,7 +65,7 @@ typedef struct worker {
     int ready;
     uint8_t *mask, *out, *gray;
     float *frac, *err, *next;
-    float *xtmp, *yacc; /* POI passes: float is ample for weighted means of fractions */
+    float *xtmp; /* POI x pass: float is ample for weighted means of fractions */
     int slab_k[2], slab_ok[2], slab_any[2];
     uint8_t *slab_occ[2];
     float *slab_mat[2];
@@ -97,6 +97,12 @@ typedef struct job {
     int vi0, vj0, vw, vh;
     hv_poi_axis ax, ay;
     float *axw, *ayw; /* the operators' weights as floats, for the passes */
+    /* the x operator padded to axl taps per column (zero weights around its own, the start moved
+     * back where the row ends), so the x pass has a fixed tap count: column c reads voxels
+     * axs[c] .. axs[c] + axl - 1 with weights axp[c * axl ..]; axl 0 when the row is too short */
+    int axl;
+    int *axs;
+    float *axp;
     hv_object *obj;
     /* halftone */
     const uint32_t *ranks;
@@ -143,7 +149,6 @@ static void job_free(job *J)
             free(w->err);
             free(w->next);
             free(w->xtmp);
-            free(w->yacc);
             for (int s = 0; s < 2; ++s) {
                 free(w->slab_occ[s]);
                 free(w->slab_mat[s]);
@@ -159,6 +164,8 @@ static void job_free(job *J)
     hv_poi_axis_free(&J->ay);
     free(J->axw);
     free(J->ayw);
+    free(J->axs);
+    free(J->axp);
     hv_object_destroy(J->obj);
     hv_material_table_destroy(J->table);
     hv_layer_plan_destroy(J->plan);
@@ -188,7 +195,7 @@ static uint64_t worker_bytes(const job *J)
         uint64_t vox = (uint64_t)J->vw * (uint64_t)J->vh;
         b += px * m * 4;                  /* fractions */
         if (ed_mode(J)) b += 2 * px * m * 4;
-        b += ((uint64_t)J->vh + 1) * (uint64_t)J->W * 4; /* x and y passes */
+        b += (uint64_t)J->vh * (uint64_t)J->W * 4; /* the x pass */
         b += 2 * vox * (1 + 4 * m);       /* two voxel slabs */
         b += vox * (4 * m + 1 + 8);       /* filled image, state, fronts */
     }
@@ -340,6 +347,21 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
         if (!J->axw || !J->ayw) return HV_ERR_NOMEM;
         for (size_t i = 0; i < nx; ++i) J->axw[i] = (float)J->ax.w[i];
         for (size_t i = 0; i < ny; ++i) J->ayw[i] = (float)J->ay.w[i];
+        int L = 0;
+        for (int x = 0; x < J->W; ++x) L = HV_MAX(L, J->ax.len[x]);
+        if (L <= J->vw) {
+            J->axs = hv_malloc_array((size_t)J->W, sizeof *J->axs);
+            J->axp = hv_malloc_array((size_t)J->W * (size_t)L, sizeof *J->axp);
+            if (!J->axs || !J->axp) return HV_ERR_NOMEM;
+            J->axl = L;
+            for (int x = 0; x < J->W; ++x) {
+                int from = HV_MIN(J->ax.start[x], J->vw - L), at = J->ax.start[x] - from;
+                J->axs[x] = from;
+                float *wp = J->axp + (size_t)x * (size_t)L;
+                for (int k = 0; k < L; ++k)
+                    wp[k] = k >= at && k - at < J->ax.len[x] ? J->axw[J->ax.off[x] + (size_t)(k - at)] : 0.0f;
+            }
+        }
     }
     /* palette and bit depth */
     if (o->mode == HV_LAYERS_HALFTONE) {
@@ -364,7 +386,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
         uint64_t weights = (uint64_t)J->ax.off[J->ax.n_out - 1] + (uint64_t)J->ax.len[J->ax.n_out - 1] +
                            (uint64_t)J->ay.off[J->ay.n_out - 1] + (uint64_t)J->ay.len[J->ay.n_out - 1];
         fixed += (uint64_t)HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ * 4 + weights * 8 +
-                 (uint64_t)(J->ax.n_out + J->ay.n_out) * 16;
+                 (uint64_t)(J->ax.n_out + J->ay.n_out) * 16 + (uint64_t)J->W * (uint64_t)(J->axl + 1) * 4;
     }
     J->memory = (uint64_t)J->threads * worker_bytes(J) + fixed;
     uint64_t budget = hv_memory_budget(o->max_memory);
@@ -471,7 +493,6 @@ static hv_status worker_ready(job *J, worker *w)
         size_t vox = (size_t)J->vw * (size_t)J->vh;
         w->frac = hv_malloc_array(px * m, sizeof *w->frac);
         w->xtmp = hv_malloc_array((size_t)J->vh * (size_t)J->W, sizeof *w->xtmp);
-        w->yacc = hv_malloc_array((size_t)J->W, sizeof *w->yacc);
         for (int s = 0; s < 2; ++s) {
             w->slab_occ[s] = hv_malloc(vox);
             w->slab_mat[s] = hv_malloc_array(vox * m, sizeof(float));
@@ -481,7 +502,7 @@ static hv_status worker_ready(job *J, worker *w)
         w->vstate = hv_malloc(vox);
         w->front = hv_malloc_array(vox, sizeof *w->front);
         w->front2 = hv_malloc_array(vox, sizeof *w->front2);
-        ok = w->frac && w->xtmp && w->yacc && w->slab_occ[0] && w->slab_occ[1] && w->slab_mat[0] && w->slab_mat[1] && w->vimg &&
+        ok = w->frac && w->xtmp && w->slab_occ[0] && w->slab_occ[1] && w->slab_mat[0] && w->slab_mat[1] && w->vimg &&
              w->vstate && w->front && w->front2;
         if (ok && ed_mode(J)) {
             w->err = hv_calloc(px * m, sizeof *w->err);
@@ -648,7 +669,17 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
 
 /* POI of the window image onto the object pixels of the layer (rows r0..r1, columns c0..c1 hold
  * all of them), then renormalised to sum 1. */
-static void resample_layer(job *J, worker *w, int r0, int r1, int c0, int c1)
+/* the x pass over columns c0..c1 of one voxel row s into t, L taps a column */
+#define XPASS(L)                                                                                                   \
+    for (int c = c0; c <= c1; ++c) {                                                                               \
+        const float *wt = J->axp + (size_t)c * (L);                                                               \
+        const float *p = s + J->axs[c];                                                                            \
+        float acc = 0;                                                                                             \
+        for (int k = 0; k < (L); ++k) acc += wt[k] * p[k];                                                         \
+        t[c] = acc;                                                                                                \
+    }
+
+HV_HOT_CLONES static void resample_layer(job *J, worker *w, int r0, int r1, int c0, int c1)
 {
     size_t vox = (size_t)J->vw * (size_t)J->vh, W = (size_t)J->W, n = (size_t)(c1 - c0 + 1);
     const hv_poi_axis *ax = &J->ax, *ay = &J->ay;
@@ -664,31 +695,53 @@ static void resample_layer(job *J, worker *w, int r0, int r1, int c0, int c1)
         for (int j = jlo; j <= jhi; ++j) {
             const float *s = src + (size_t)j * (size_t)J->vw;
             float *t = w->xtmp + (size_t)j * W;
-            for (int c = c0; c <= c1; ++c) {
-                const float *wt = J->axw + ax->off[c];
-                const float *p = s + ax->start[c];
-                float acc = 0;
-                for (int k = 0; k < ax->len[c]; ++k) acc += wt[k] * p[k];
-                t[c] = acc;
+            /* a fixed tap count unrolls; a zero weight adds +0, leaving every sum as it was */
+            switch (J->axl) {
+            case 2: XPASS(2); break;
+            case 3: XPASS(3); break;
+            case 4: XPASS(4); break;
+            default:
+                for (int c = c0; c <= c1; ++c) {
+                    const float *wt = J->axw + ax->off[c];
+                    const float *p = s + ax->start[c];
+                    float acc = 0;
+                    for (int k = 0; k < ax->len[c]; ++k) acc += wt[k] * p[k];
+                    t[c] = acc;
+                }
             }
         }
-        /* y pass, row by row as axpy over contiguous memory */
-        float *acc = w->yacc;
+        /* y pass, row by row over contiguous memory, straight into the plane; two and three
+         * taps in one sweep (the same sums in the same order as tap after tap) */
         for (int r = r0; r <= r1; ++r) {
             const uint8_t *mrow = w->mask + (size_t)r * W;
             if (!memchr(mrow + c0, 1, n)) continue;
             const float *wt = J->ayw + ay->off[r];
-            const float *base = w->xtmp + (size_t)ay->start[r] * W + (size_t)c0;
+            const float *restrict b0 = w->xtmp + (size_t)ay->start[r] * W + (size_t)c0;
+            float *restrict d = dst + (size_t)r * W + (size_t)c0;
             float w0 = wt[0];
+            int len = ay->len[r];
+            if (len == 2) {
+                const float *restrict b1 = b0 + W;
+                float w1 = wt[1];
 #pragma omp simd
-            for (size_t c = 0; c < n; ++c) acc[c] = w0 * base[c];
-            for (int k = 1; k < ay->len[r]; ++k) {
-                const float *bk = base + (size_t)k * W;
+                for (size_t c = 0; c < n; ++c) d[c] = w0 * b0[c] + w1 * b1[c];
+                continue;
+            }
+            if (len == 3) {
+                const float *restrict b1 = b0 + W, *restrict b2 = b1 + W;
+                float w1 = wt[1], w2 = wt[2];
+#pragma omp simd
+                for (size_t c = 0; c < n; ++c) d[c] = w0 * b0[c] + w1 * b1[c] + w2 * b2[c];
+                continue;
+            }
+#pragma omp simd
+            for (size_t c = 0; c < n; ++c) d[c] = w0 * b0[c];
+            for (int k = 1; k < len; ++k) {
+                const float *restrict bk = b0 + (size_t)k * W;
                 float wk = wt[k];
 #pragma omp simd
-                for (size_t c = 0; c < n; ++c) acc[c] += wk * bk[c];
+                for (size_t c = 0; c < n; ++c) d[c] += wk * bk[c];
             }
-            memcpy(dst + (size_t)r * W + (size_t)c0, acc, n * sizeof *acc);
         }
     }
     /* every operator row sums to 1 and the window image sums to 1 per pixel, so the fractions
@@ -771,9 +824,11 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
         const uint8_t *row = w->mask + (size_t)r * (size_t)J->W;
         const uint8_t *a = memchr(row, 1, (size_t)J->W);
         if (!a) continue;
-        int ca = (int)(a - row), cb = J->W - 1;
-        while (!row[cb]) --cb;
-        for (int c = ca; c <= cb; ++c) pixels += row[c];
+        int ca = (int)(a - row), cb = (int)((const uint8_t *)memrchr(row, 1, (size_t)J->W) - row);
+        uint32_t n = 0; /* the mask is 0 or 1 */
+#pragma omp simd reduction(+ : n)
+        for (int c = ca; c <= cb; ++c) n += row[c];
+        pixels += n;
         r0 = HV_MIN(r0, r);
         r1 = r;
         c0 = HV_MIN(c0, ca);

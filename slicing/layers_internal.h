@@ -125,6 +125,9 @@ void hv_layers_part_report(const hv_layers_part *p, hv_layers_report *r);
 hv_status hv_layers_part_gather(hv_layers_part *p, const hv_dist *d);
 /* Memory the part's workers will need (bytes), from its plan. */
 uint64_t hv_layers_part_memory(const hv_layers_part *p);
+/* OR n pixels' values lut[sp[k]] into a row packed at `bits` (1, 2 or 4) bits per pixel from
+ * pixel x0 on, the first pixel of a byte in its high bits (PNG's order). */
+void hv_tray_or_packed(uint8_t *row, int bits, int x0, const uint8_t *sp, int n, const uint8_t *lut);
 
 /* ---- several processes (hovox/dist.h) ----------------------------------------------------------- */
 #include "hovox/dist.h"

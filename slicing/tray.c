@@ -978,6 +978,22 @@ typedef struct wjob {
     atomic_int cancel;
 } wjob;
 
+/* whole bytes at a time where the run covers them */
+void hv_tray_or_packed(uint8_t *row, int bits, int x0, const uint8_t *sp, int n, const uint8_t *lut)
+{
+    int per = 8 / bits, k = 0, x = x0;
+    for (; k < n && x % per; ++k, ++x)
+        row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - bits - bits * (x % per)));
+    uint8_t *byte = row + x / per;
+    for (; k + per <= n; k += per, x += per) {
+        unsigned v = 0;
+        for (int i = 0; i < per; ++i) v = v << bits | lut[sp[k + i]];
+        *byte++ |= (uint8_t)v;
+    }
+    for (; k < n; ++k, ++x)
+        row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - bits - bits * (x % per)));
+}
+
 static hv_status tray_layer(wjob *J, tworker *w, int thread, size_t li)
 {
     hv_tray *t = J->t;
@@ -1012,29 +1028,10 @@ static hv_status tray_layer(wjob *J, tworker *w, int thread, size_t li)
             const uint8_t *sp = src + a;
             int n = b - a;
             /* OR the packed values in (background stays 0, so parts never erase each other) */
-            switch (bits) {
-            case 8:
+            if (bits == 8)
                 for (int k = 0; k < n; ++k) row[x0 + k] |= lut[sp[k]];
-                break;
-            case 4:
-                for (int k = 0; k < n; ++k) {
-                    int x = x0 + k;
-                    row[x >> 1] |= (uint8_t)(lut[sp[k]] << (4 - 4 * (x & 1)));
-                }
-                break;
-            case 2:
-                for (int k = 0; k < n; ++k) {
-                    int x = x0 + k;
-                    row[x >> 2] |= (uint8_t)(lut[sp[k]] << (6 - 2 * (x & 3)));
-                }
-                break;
-            default:
-                for (int k = 0; k < n; ++k) {
-                    int x = x0 + k;
-                    row[x >> 3] |= (uint8_t)(lut[sp[k]] << (7 - (x & 7)));
-                }
-                break;
-            }
+            else
+                hv_tray_or_packed(row, bits, x0, sp, n, lut);
             int32_t b0 = (int32_t)((size_t)x0 * (size_t)bits / 8);
             int32_t b1 = (int32_t)((size_t)(x0 + n - 1) * (size_t)bits / 8 + 1);
             int32_t *spn = w->span + 2 * y;

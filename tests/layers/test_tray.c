@@ -429,3 +429,30 @@ Test(tray, mask_mode_manifest_names_materials, .timeout = 60)
     json_decref(m);
     hv_tray_destroy(t);
 }
+
+/* Packing a part's pixels into the plate's rows, against packing pixel by pixel: every bit depth,
+ * every start within a byte, runs shorter and longer than a byte, onto a row already holding
+ * pixels (values are ORed in, never erased). */
+Test(tray, packed_rows_match_pixel_by_pixel)
+{
+    uint8_t lut[16], sp[40];
+    for (int i = 0; i < 16; ++i) lut[i] = (uint8_t)((i * 5 + 3) & 15);
+    for (int i = 0; i < 40; ++i) sp[i] = (uint8_t)((i * 7 + i / 3) % 16);
+    for (int bits = 1; bits <= 4; bits *= 2) {
+        uint8_t lb[16]; /* palette indices fit the depth */
+        for (int i = 0; i < 16; ++i) lb[i] = (uint8_t)(lut[i] & ((1 << bits) - 1));
+        for (int x0 = 0; x0 < 9; ++x0)
+            for (int n = 0; n <= 40 - x0; ++n) {
+                uint8_t row[24], want[24];
+                for (int b = 0; b < 24; ++b) row[b] = want[b] = (uint8_t)(b % 3 == 0 ? 0x81 : 0);
+                hv_tray_or_packed(row, bits, x0, sp, n, lb);
+                for (int k = 0; k < n; ++k) {
+                    int x = x0 + k, per = 8 / bits;
+                    want[x / per] |= (uint8_t)(lb[sp[k]] << (8 - bits * (x % per + 1)));
+                }
+                for (int b = 0; b < 24; ++b)
+                    cr_assert_eq(row[b], want[b], "bits %d x0 %d n %d byte %d: %02x, want %02x", bits, x0, n, b, row[b],
+                                 want[b]);
+            }
+    }
+}

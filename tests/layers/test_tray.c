@@ -16,6 +16,7 @@
 #include "hovox/tray.h"
 #include "hovox/voxelize.h"
 #include "support/support.h"
+#include "slicing/layers_internal.h"
 
 /* A small graded part on disk: a box 12 x 8 x 1.2 mm, 0.4 mm voxels, two materials graded
  * along x (axis feature), and its mesh. */

@@ -881,7 +881,7 @@ void clear_inactive(TreeT &tree, typename TreeT::ValueType bg)
         for (auto off = it->getValueMask().beginOff(); off; ++off) it->setValueOnly(off.pos(), bg);
 }
 
-int b_save(const void *impl, const char *path, int ngrids, const char *const *names, int nmeta,
+int b_save(const void *impl, const char *path, int ngrids, const char *const *names, const unsigned char *half, int nmeta,
            const char *const *keys, const int *kinds, const char *const *strings,
            const double *numbers, hv_vdb_cancel_fn cancel)
 {
@@ -890,7 +890,10 @@ int b_save(const void *impl, const char *path, int ngrids, const char *const *na
         openvdb::GridPtrVec out;
         for (int g = 0; g < ngrids; ++g) {
             GridBase::Ptr gp = v->grids[size_t(g)];
-            if (FloatGrid *f = dynamic_cast<FloatGrid *>(gp.get())) clear_inactive(f->tree(), 0.0f);
+            if (FloatGrid *f = dynamic_cast<FloatGrid *>(gp.get())) {
+                clear_inactive(f->tree(), 0.0f);
+                f->setSaveFloatAsHalf(half[g] != 0);
+            }
             else if (BoolGrid *b = dynamic_cast<BoolGrid *>(gp.get())) clear_inactive(b->tree(), false);
             gp->setName(names[g]);
             gp->insertMeta("hovox.index", openvdb::Int32Metadata(g)); // files list grids by name
@@ -1096,6 +1099,7 @@ int b_load(const char *path, const char *const *want, int nwant, int threads, vo
         v->topo->setTransform(v->xf);
         for (const auto &g : *grids) {
             int type = 0;
+            const int half = g->saveFloatAsHalf() ? HV_VDB_HALF : 0; // convert_grid clears it
             GridBase::Ptr c = convert_grid(g, &type);
             c->setTransform(v->xf);
             if (type == T_FLOAT)
@@ -1103,7 +1107,7 @@ int b_load(const char *path, const char *const *want, int nwant, int threads, vo
             else
                 v->topo->tree().topologyUnion(openvdb::gridPtrCast<BoolGrid>(c)->tree());
             v->grids.push_back(c);
-            if (grid_cb(ctx, g->getName().c_str(), type) != 0) {
+            if (grid_cb(ctx, g->getName().c_str(), type | half) != 0) {
                 delete v;
                 return fail(E_NOMEM, "out of memory");
             }

@@ -12,11 +12,13 @@
 extern "C" {
 #endif
 
-#define HV_VDB_ABI 3
+#define HV_VDB_ABI 4
 
 enum { HV_META_STRING = 0, HV_META_NUMBER = 1 };
 
-/* Called by load for each file-level metadata entry and each grid (in file order). */
+/* Called by load for each file-level metadata entry and each grid (in file order); a float
+ * grid the file stored as 16-bit half floats has HV_VDB_HALF added to its type. */
+enum { HV_VDB_HALF = 0x100 };
 typedef int (*hv_vdb_meta_cb)(void *ctx, const char *key, int kind, const char *s, double d);
 typedef int (*hv_vdb_grid_cb)(void *ctx, const char *name, int type);
 /* Polled while a file is read or written: nonzero stops it (status 6, cancelled). */
@@ -40,9 +42,11 @@ typedef struct hv_vdb_api {
     int (*leaf_buffers)(void *impl, int g, void **buffers);
     /* files */
     /* save: every write, the flush and the close are checked (a full disk is status 3); the file
-     * holds grid offsets (io::File's format), so loads can skip grids */
+     * holds grid offsets (io::File's format), so loads can skip grids. Float grid g is stored as
+     * 16-bit half floats where half[g] is nonzero (OpenVDB's saveFloatAsHalf: every reader gets
+     * floats back). */
     int (*save)(const void *impl, const char *path, int ngrids, const char *const *names,
-                int nmeta, const char *const *keys, const int *kinds,
+                const unsigned char *half, int nmeta, const char *const *keys, const int *kinds,
                 const char *const *strings, const double *numbers, hv_vdb_cancel_fn cancel);
     /* load: a file that ends early or is damaged is status 2; grids whose active voxels would
      * take more than max_bytes once expanded are refused before expanding (status 5). Only the

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "hovox/material.h"
 #include "hovox/threemf.h"
 #include "hovox/volume.h"
 #include "core/json.h"
@@ -776,6 +777,9 @@ const char *hv_volume_meta_key(const hv_volume *v, int i)
 
 /* ---- files ------------------------------------------------------------------------------ */
 
+/* The grids of material fractions, stored as half floats (hovox/volume.h). */
+static int is_fraction_grid(const char *name) { return strncmp(name, "material.", 9) == 0; }
+
 hv_status hv_volume_save(const hv_volume *v, const char *path)
 {
     if (hv_check_extension(path, ".vdb", "a model") != HV_OK) return HV_ERR_INVALID;
@@ -784,10 +788,11 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
     const char **strs = hv_calloc((size_t)v->nmeta + 1, sizeof *strs);
     int *kinds = hv_calloc((size_t)v->nmeta + 1, sizeof *kinds);
     double *nums = hv_calloc((size_t)v->nmeta + 1, sizeof *nums);
+    unsigned char *half = hv_calloc((size_t)v->ngrids + 1, 1);
     int special = hv_path_is_special(path); /* /dev/null and the like: write in place */
     char *tmp = special ? hv_strdup(path) : hv_temp_path(path);
     hv_status s = HV_OK;
-    if (!names || !keys || !strs || !kinds || !nums || !tmp) {
+    if (!names || !half || !keys || !strs || !kinds || !nums || !tmp) {
         s = HV_ERR_NOMEM;
         goto done;
     }
@@ -800,14 +805,17 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
         }
         fclose(probe);
     }
-    for (int g = 0; g < v->ngrids; ++g) names[g] = v->grids[g].name;
+    for (int g = 0; g < v->ngrids; ++g) {
+        names[g] = v->grids[g].name;
+        half[g] = v->grids[g].type == HV_GRID_FLOAT && is_fraction_grid(names[g]);
+    }
     for (int i = 0; i < v->nmeta; ++i) {
         keys[i] = v->meta[i].key;
         kinds[i] = v->meta[i].is_number ? HV_META_NUMBER : HV_META_STRING;
         strs[i] = v->meta[i].str ? v->meta[i].str : "";
         nums[i] = v->meta[i].num;
     }
-    int rc = g_api->save(v->impl, tmp, v->ngrids, names, v->nmeta, keys, kinds, strs, nums, cancel_poll);
+    int rc = g_api->save(v->impl, tmp, v->ngrids, names, half, v->nmeta, keys, kinds, strs, nums, cancel_poll);
     if (rc == HV_ERR_CANCELLED) s = hv_error_set(HV_ERR_CANCELLED, "%s: writing cancelled", path);
     else if (rc) s = hv_error_set((hv_status)rc, "%s: cannot write: %s", path, g_api->last_error());
     else if (!special) s = hv_fsync_path(tmp);
@@ -821,6 +829,7 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
     }
 done:
     free(names);
+    free(half);
     free(keys);
     free(strs);
     free(kinds);
@@ -831,7 +840,53 @@ done:
 
 typedef struct load_ctx {
     hv_volume *v;
+    int half_fractions; /* a material.* grid was stored as half floats */
 } load_ctx;
+
+
+/* ---- fractions stored as half floats ------------------------------------------------------
+ * hv_volume_save stores the material.* grids as halves, each fraction within 2^-12 of its float,
+ * so their sum in a voxel is off 1 by up to m * 2^-12. On load the largest fraction of each
+ * voxel takes what the others leave, and the sum is 1 again, as Wu eq. 12 asks; a voxel whose
+ * sum is further off than the halves explain is left as it is, for the checks to refuse. */
+typedef struct sums_ctx {
+    hv_volume *v;
+    int m;
+    const int *g;
+} sums_ctx;
+
+static hv_status restore_sums_range(void *vctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    sums_ctx *c = vctx;
+    float *f[HV_MAX_MATERIALS];
+    double tol = (double)c->m / 4096.0;
+    for (size_t l = b; l < e; ++l) {
+        const uint64_t *mask = hv_volume_leaf_mask(c->v, l);
+        for (int q = 0; q < c->m; ++q) f[q] = hv_volume_leaf_float(c->v, c->g[q], l);
+        for (int p = 0; p < 512; ++p) {
+            if (!(mask[p >> 6] >> (p & 63) & 1)) continue;
+            double sum = 0;
+            int big = 0;
+            for (int q = 0; q < c->m; ++q) {
+                sum += f[q][p];
+                if (f[q][p] > f[big][p]) big = q;
+            }
+            if (fabs(sum - 1.0) <= tol) f[big][p] = (float)(1.0 - (sum - f[big][p]));
+        }
+    }
+    return HV_OK;
+}
+
+static hv_status restore_sums(hv_volume *v)
+{
+    int g[HV_MAX_MATERIALS], m = 0;
+    for (int i = 0; i < v->ngrids && m < HV_MAX_MATERIALS; ++i)
+        if (v->grids[i].type == HV_GRID_FLOAT && is_fraction_grid(v->grids[i].name)) g[m++] = i;
+    if (m < 2) return HV_OK;
+    sums_ctx c = {v, m, g};
+    return hv_parallel_for(v->nleaves, 64, restore_sums_range, &c, NULL, NULL);
+}
 
 static int load_meta(void *ctx, const char *key, int kind, const char *s, double d)
 {
@@ -842,6 +897,8 @@ static int load_meta(void *ctx, const char *key, int kind, const char *s, double
 static int load_grid(void *ctx, const char *name, int type)
 {
     hv_volume *v = ((load_ctx *)ctx)->v;
+    if (type & HV_VDB_HALF && is_fraction_grid(name)) ((load_ctx *)ctx)->half_fractions = 1;
+    type &= ~HV_VDB_HALF;
     if (hv_grow((void **)&v->grids, &v->gcap, (size_t)v->ngrids + 1, sizeof *v->grids)) return 1;
     grid_entry *e = &v->grids[v->ngrids];
     memset(e, 0, sizeof *e);
@@ -879,7 +936,7 @@ static hv_status load(const char *path, const char *const *names, int n, hv_volu
     hv_transform xf;
     hv_volume *v = hv_calloc(1, sizeof *v);
     if (!v) return HV_ERR_NOMEM;
-    load_ctx ctx = {v};
+    load_ctx ctx = {v, 0};
     int rc = g_api->load(path, names, n, hv_threads(), &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
                          hv_memory_budget(0), cancel_poll);
     if (rc) {
@@ -892,6 +949,10 @@ static hv_status load(const char *path, const char *const *names, int n, hv_volu
     v->xf = xf;
     v->name = hv_strdup(path);
     s = v->name ? rebuild(v) : HV_ERR_NOMEM;
+    /* only with every fraction grid of the file loaded (all grids, or "material.*") */
+    int all_fractions = n < 0;
+    for (int i = 0; i < n; ++i) all_fractions |= strcmp(names[i], "material.*") == 0;
+    if (s == HV_OK && ctx.half_fractions && all_fractions) s = restore_sums(v);
     if (s != HV_OK) {
         if (s == HV_ERR_BAD_INPUT) hv_error_prefix(s, "%s: ", path); /* a damaged file found late */
         hv_volume_destroy(v);

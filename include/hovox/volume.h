@@ -207,7 +207,11 @@ HV_API const char *hv_volume_meta_key(const hv_volume *vol, int i);
 
 /* Save as an OpenVDB file: one FloatGrid or BoolGrid per grid, in grid order, with the
  * transform and the metadata at file level, and the grid offsets of OpenVDB's io::File format
- * (hv_volume_load_grids can then skip grids). Written to a temporary name in the same
+ * (hv_volume_load_grids can then skip grids). Material fractions (float grids named
+ * "material.*", values in [0, 1]) are stored as 16-bit half floats, as OpenVDB's
+ * saveFloatAsHalf stores them (every reader gets floats back): a loaded fraction differs from
+ * the saved one by at most 2^-12 (2.4e-4; relative 2^-11), well under a printer's 8-bit step,
+ * and the files are a third to a half smaller. Other float grids keep 32 bits. Written to a temporary name in the same
  * directory, every write, the flush and the close checked, synced to disk and renamed when
  * complete: a full disk leaves no file (and an older one under the name stays). Ctrl-C (the
  * cancel check) stops it. Errors: HV_ERR_INVALID (a name not ending in .vdb, other than a

@@ -883,7 +883,8 @@ Test(render, lazy_scene_renders_again_and_keeps_its_blocks)
 
 Test(render, volume_load_reads_what_the_scene_needs)
 {
-    /* hv_render_volume_load: occupancy and materials, the same picture as the whole model */
+    /* hv_render_volume_load: occupancy and materials, the same picture as the whole model read
+     * from the same file (the file holds the fractions as half floats) */
     hv_volume *v = shaft_volume();
     cr_assert_eq(hv_volume_grid_add(v, "surface", HV_GRID_BOOL, NULL), HV_OK);
     cr_assert_eq(hv_volume_grid_add(v, "density", HV_GRID_FLOAT, NULL), HV_OK);
@@ -898,11 +899,14 @@ Test(render, volume_load_reads_what_the_scene_needs)
     hv_render_options_init(&o);
     o.width = 64;
     o.height = 40;
-    hv_image *a = render(v, &o), *b = render(r, &o);
+    hv_volume *whole = NULL;
+    cr_assert_eq(hv_volume_load(path, &whole), HV_OK, "%s", hv_last_error());
+    hv_image *a = render(whole, &o), *b = render(r, &o);
     cr_expect(memcmp(a->rgba, b->rgba, sizeof(float) * 4 * 64 * 40) == 0);
     hv_image_destroy(a);
     hv_image_destroy(b);
     hv_volume_destroy(r);
+    hv_volume_destroy(whole);
     /* without "occupancy", every active voxel is occupied: all grids are read */
     cr_assert_eq(hv_volume_grid_remove(v, hv_volume_grid_find(v, "occupancy")), HV_OK);
     cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());

@@ -483,3 +483,84 @@ Test(volume, load_selected_instance_reads_its_parent)
     cr_assert_eq(hv_accessor_float(&a, 0, 3, 3, 3), 0.25f);
     hv_volume_destroy(r);
 }
+
+/* Half floats of the IEEE 754 binary16 format, by hand (round to nearest even), for numbers in
+ * [0, 1]: the values the file must give back for fractions, computed apart from OpenVDB. */
+static float to_half(float x)
+{
+    if (x == 0) return 0;
+    int e;
+    frexpf(x, &e);                    /* x = m 2^e, m in [0.5, 1) */
+    int bits = e - 1 < -14 ? -24 : e - 11; /* the unit in the last place: 10 bits below the leading one */
+    return ldexpf(rintf(ldexpf(x, -bits)), bits);
+}
+
+/* Fractions ("material.*") are stored as half floats: the file is smaller, every reader gets the
+ * halves back, hovox restores the sum of 1 in each voxel (the largest fraction takes the rest);
+ * other float grids keep their 32 bits; a load of some fraction grids only gives the halves. */
+Test(volume, fractions_are_stored_as_halves_and_sum_to_one)
+{
+    hv_volume *v = make(0.5, 0.5, 0.5);
+    int lo[3] = {0, 0, 0}, hi[3] = {23, 15, 15};
+    add_box(v, lo, hi);
+    int g[3], d, occ;
+    hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, &occ);
+    hv_volume_grid_add(v, "material.A", HV_GRID_FLOAT, &g[0]);
+    hv_volume_grid_add(v, "material.B", HV_GRID_FLOAT, &g[1]);
+    hv_volume_grid_add(v, "material.C", HV_GRID_FLOAT, &g[2]);
+    hv_volume_grid_add(v, "density", HV_GRID_FLOAT, &d);
+    const int32_t *org = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            int i = org[3 * l] + (int)(n >> 6), j = org[3 * l + 1] + (int)((n >> 3) & 7);
+            double a = 0.5 + 0.45 * sin(0.37 * i + 0.11 * j), b = (1 - a) * (0.3 + 0.2 * cos(0.23 * j));
+            hv_volume_leaf_float(v, g[0], l)[n] = (float)a;
+            hv_volume_leaf_float(v, g[1], l)[n] = (float)b;
+            hv_volume_leaf_float(v, g[2], l)[n] = (float)(1 - a - b);
+            hv_volume_leaf_float(v, d, l)[n] = (float)(1000.0 / 3.0 + i * 0.001);
+        }
+    const char *path = t_tmpfile("halves.vdb");
+    cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());
+    hv_volume *r = NULL, *a_only = NULL;
+    cr_assert_eq(hv_volume_load(path, &r), HV_OK, "%s", hv_last_error());
+    const char *one[] = {"material.A"};
+    cr_assert_eq(hv_volume_load_grids(path, one, 1, &a_only), HV_OK, "%s", hv_last_error());
+    int rg[3] = {hv_volume_grid_find(r, "material.A"), hv_volume_grid_find(r, "material.B"),
+                 hv_volume_grid_find(r, "material.C")};
+    int rd = hv_volume_grid_find(r, "density"), ra = hv_volume_grid_find(a_only, "material.A");
+    hv_accessor x, y, z;
+    hv_accessor_init(&x, v);
+    hv_accessor_init(&y, r);
+    hv_accessor_init(&z, a_only);
+    double worst = 0;
+    size_t adjusted = 0, voxels = 0;
+    for (int i = 0; i <= 23; ++i)
+        for (int j = 0; j <= 15; ++j)
+            for (int k = 0; k <= 15; k += 5) {
+                float f0[3], f1[3], h[3];
+                double sum = 0;
+                int big = 0;
+                for (int q = 0; q < 3; ++q) {
+                    f0[q] = hv_accessor_float(&x, g[q], i, j, k);
+                    f1[q] = hv_accessor_float(&y, rg[q], i, j, k);
+                    h[q] = to_half(f0[q]);
+                    sum += f1[q];
+                    if (h[q] > h[big]) big = q;
+                    worst = fmax(worst, fabs(f1[q] - f0[q]));
+                }
+                cr_assert_float_eq(sum, 1.0, 1e-6, "voxel (%d, %d, %d): sum %.9g", i, j, k, sum);
+                /* the others are the halves; the largest is what they leave */
+                for (int q = 0; q < 3; ++q)
+                    if (q != big) cr_assert_eq(f1[q], h[q], "voxel (%d, %d, %d) fraction %d: %.9g, half %.9g", i, j, k, q, f1[q], h[q]);
+                adjusted += f1[big] != h[big];
+                ++voxels;
+                /* a load of material.A alone: its halves, untouched */
+                cr_assert_eq(hv_accessor_float(&z, ra, i, j, k), h[0]);
+                cr_assert_eq(hv_accessor_float(&y, rd, i, j, k), hv_accessor_float(&x, d, i, j, k));
+            }
+    cr_expect_leq(worst, 2.0 / 4096, "a fraction moved by %.3g", worst);
+    cr_expect_gt(adjusted, voxels / 10, "the sums were already 1 in %zu of %zu voxels", voxels - adjusted, voxels);
+    hv_volume_destroy(v);
+    hv_volume_destroy(r);
+    hv_volume_destroy(a_only);
+}

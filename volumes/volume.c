@@ -855,24 +855,63 @@ typedef struct sums_ctx {
     const int *g;
 } sums_ctx;
 
+/* One leaf's voxels (inactive ones hold 0 in every grid: their sum is 0, so they stay 0), for up
+ * to four materials. M is a constant where the function is inlined, so the loop vectorises. */
+static inline __attribute__((always_inline)) void restore_leaf(int M, float *const *f)
+{
+    const float tol = (float)M / 4096.0f;
+    /* the grids in restrict locals: a store to one cannot be taken to change another */
+    float *restrict g0 = f[0], *restrict g1 = f[M > 1 ? 1 : 0], *restrict g2 = f[M > 2 ? 2 : 0],
+                    *restrict g3 = f[M > 3 ? 3 : 0];
+#pragma omp simd
+    for (int p = 0; p < 512; ++p) {
+        float x[4] = {g0[p], g1[p], g2[p], g3[p]};
+        float sum = 0, top = x[0];
+        int big = 0;
+        for (int q = 0; q < M; ++q) {
+            sum += x[q];
+            big = x[q] > top ? q : big;
+            top = x[q] > top ? x[q] : top;
+        }
+        float rest = 1.0f - (sum - top);
+        int ok = fabsf(sum - 1.0f) <= tol;
+        g0[p] = ok && big == 0 ? rest : x[0];
+        if (M > 1) g1[p] = ok && big == 1 ? rest : x[1];
+        if (M > 2) g2[p] = ok && big == 2 ? rest : x[2];
+        if (M > 3) g3[p] = ok && big == 3 ? rest : x[3];
+    }
+}
+
+/* More than four materials: the same, voxel by voxel. */
+static void restore_leaf_m(int m, float *const *f)
+{
+    const float tol = (float)m / 4096.0f;
+    for (int p = 0; p < 512; ++p) {
+        float sum = 0, top = f[0][p];
+        int big = 0;
+        for (int q = 0; q < m; ++q) {
+            sum += f[q][p];
+            if (f[q][p] > top) {
+                big = q;
+                top = f[q][p];
+            }
+        }
+        if (fabsf(sum - 1.0f) <= tol) f[big][p] = 1.0f - (sum - top);
+    }
+}
+
 static hv_status restore_sums_range(void *vctx, size_t b, size_t e, int thread)
 {
     (void)thread;
     sums_ctx *c = vctx;
     float *f[HV_MAX_MATERIALS];
-    double tol = (double)c->m / 4096.0;
     for (size_t l = b; l < e; ++l) {
-        const uint64_t *mask = hv_volume_leaf_mask(c->v, l);
         for (int q = 0; q < c->m; ++q) f[q] = hv_volume_leaf_float(c->v, c->g[q], l);
-        for (int p = 0; p < 512; ++p) {
-            if (!(mask[p >> 6] >> (p & 63) & 1)) continue;
-            double sum = 0;
-            int big = 0;
-            for (int q = 0; q < c->m; ++q) {
-                sum += f[q][p];
-                if (f[q][p] > f[big][p]) big = q;
-            }
-            if (fabs(sum - 1.0) <= tol) f[big][p] = (float)(1.0 - (sum - f[big][p]));
+        switch (c->m) {
+        case 2: restore_leaf(2, f); break;
+        case 3: restore_leaf(3, f); break;
+        case 4: restore_leaf(4, f); break;
+        default: restore_leaf_m(c->m, f); break;
         }
     }
     return HV_OK;

@@ -564,3 +564,46 @@ Test(volume, fractions_are_stored_as_halves_and_sum_to_one)
     hv_volume_destroy(r);
     hv_volume_destroy(a_only);
 }
+
+/* The same with two and six materials (the unrolled path and the general one). */
+Test(volume, fractions_of_two_and_six_materials_sum_to_one)
+{
+    for (int m = 2; m <= 6; m += 4) {
+        hv_volume *v = make(0.5, 0.5, 0.5);
+        int lo[3] = {0, 0, 0}, hi[3] = {15, 15, 7};
+        add_box(v, lo, hi);
+        int g[6];
+        for (int q = 0; q < m; ++q) {
+            char name[32];
+            snprintf(name, sizeof name, "material.M%d", q);
+            hv_volume_grid_add(v, name, HV_GRID_FLOAT, &g[q]);
+        }
+        const int32_t *org = hv_volume_leaf_origins(v);
+        for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+            for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+                int i = org[3 * l] + (int)(n >> 6), j = org[3 * l + 1] + (int)((n >> 3) & 7);
+                double w[6], s = 0;
+                for (int q = 0; q < m; ++q) s += w[q] = 1.3 + sin(0.31 * i * (q + 1) + 0.17 * j);
+                for (int q = 0; q < m; ++q) hv_volume_leaf_float(v, g[q], l)[n] = (float)(w[q] / s);
+            }
+        const char *path = t_tmpfile("halves_m.vdb");
+        cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());
+        hv_volume *r = NULL;
+        cr_assert_eq(hv_volume_load(path, &r), HV_OK, "%s", hv_last_error());
+        hv_accessor x, y;
+        hv_accessor_init(&x, v);
+        hv_accessor_init(&y, r);
+        for (int i = 0; i <= 15; ++i)
+            for (int j = 0; j <= 15; ++j) {
+                double sum = 0;
+                for (int q = 0; q < m; ++q) {
+                    float a = hv_accessor_float(&x, g[q], i, j, 3), b = hv_accessor_float(&y, q, i, j, 3);
+                    cr_assert_leq(fabs(a - b), 2.0 / 4096, "m %d voxel (%d, %d) fraction %d: %g vs %g", m, i, j, q, b, a);
+                    sum += b;
+                }
+                cr_assert_float_eq(sum, 1.0, 1e-6, "m %d voxel (%d, %d): sum %.9g", m, i, j, sum);
+            }
+        hv_volume_destroy(v);
+        hv_volume_destroy(r);
+    }
+}

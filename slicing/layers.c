@@ -667,8 +667,6 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
     return HV_OK;
 }
 
-/* POI of the window image onto the object pixels of the layer (rows r0..r1, columns c0..c1 hold
- * all of them), then renormalised to sum 1. */
 /* the x pass over columns c0..c1 of one voxel row s into t, L taps a column */
 #define XPASS(L)                                                                                                   \
     for (int c = c0; c <= c1; ++c) {                                                                               \
@@ -679,6 +677,8 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
         t[c] = acc;                                                                                                \
     }
 
+/* POI of the window image onto the object pixels of the layer (rows r0..r1, columns c0..c1 hold
+ * all of them). */
 HV_HOT_CLONES static void resample_layer(job *J, worker *w, int r0, int r1, int c0, int c1)
 {
     size_t vox = (size_t)J->vw * (size_t)J->vh, W = (size_t)J->W, n = (size_t)(c1 - c0 + 1);

@@ -111,8 +111,9 @@ typedef struct hv_tray_report {
     uint64_t memory;            /* bytes the workers and parts need */
     uint64_t object_pixels;     /* over the layers written */
     uint64_t bytes;             /* the stack's PNG bytes (after writing) */
-    double est_seconds;         /* rough estimates (plan): 2e8 part-box voxels/s and 2e9 plate */
-    double est_bytes;           /* voxels/s on 2 cores; about a bit per part pixel of halftone */
+    double est_seconds;         /* rough estimates (plan), from the bench tray on 2 cores: */
+    double est_bytes;           /* part-box voxels/s 4.5e8 (halftone) or 2e9 (mask), plate
+                                 * voxels/s 4e10; about a bit per part pixel of halftone */
 } hv_tray_report;
 
 /* Load every part's files, place them (arranging when asked), and check the tray: every part

@@ -140,8 +140,11 @@ static int run(const cli_args *args, void *lib, void *local)
         print_plan(&r, o);
         if (o->dry_run) {
             char sz[32];
-            printf("estimate    about %.0f s on 2 cores, about %s of PNG\n", r.est_seconds,
-                   hv_size_text(sz, sizeof sz, r.est_bytes));
+            if (r.est_seconds < 1)
+                printf("estimate    under 1 s on 2 cores, about %s of PNG\n", hv_size_text(sz, sizeof sz, r.est_bytes));
+            else
+                printf("estimate    about %.0f s on 2 cores, about %s of PNG\n", r.est_seconds,
+                       hv_size_text(sz, sizeof sz, r.est_bytes));
         }
         if (o->dry_run && cli_dist) { /* hovox-mpi: how the ranks share the layers */
             int n = cli_dist->size;

@@ -99,6 +99,8 @@ char *hv_temp_path(const char *path);
  * there and remove `tmp`. Errors: HV_ERR_IO naming `path` (then `tmp` is left to the caller
  * when the rename failed, removed otherwise). */
 hv_status hv_temp_commit(const char *tmp, const char *path);
+/* 1 when `path` ends in `ext` (with its dot: ".stl"), case-insensitive. */
+int hv_has_extension(const char *path, const char *ext);
 /* HV_ERR_INVALID unless `path` ends in `ext` (case-insensitive) or is a special file: an output
  * named for another format ("m.stl" for a model) is refused before anything is written. */
 hv_status hv_check_extension(const char *path, const char *ext, const char *what);

@@ -439,11 +439,15 @@ void hv_atomic_abort(hv_atomic_file *af)
     memset(af, 0, sizeof *af);
 }
 
+int hv_has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext);
+    return n >= k && strcasecmp(path + n - k, ext) == 0;
+}
+
 hv_status hv_check_extension(const char *path, const char *ext, const char *what)
 {
-    if (!path || hv_path_is_special(path)) return HV_OK;
-    size_t n = strlen(path), k = strlen(ext);
-    if (n >= k && strcasecmp(path + n - k, ext) == 0) return HV_OK;
+    if (!path || hv_path_is_special(path) || hv_has_extension(path, ext)) return HV_OK;
     return hv_error_set(HV_ERR_INVALID, "%s: %s is written as %s, which this name does not end in", path, what, ext);
 }
 

@@ -7,7 +7,6 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -27,11 +26,9 @@ void hv_export_options_init(hv_export_options *opt)
 
 hv_export_format hv_export_format_from_path(const char *path)
 {
-    const char *dot = strrchr(path, '.');
-    if (!dot || strchr(dot, '/')) return HV_EXPORT_AUTO;
-    if (strcasecmp(dot, ".vti") == 0) return HV_EXPORT_VTI;
-    if (strcasecmp(dot, ".vtu") == 0) return HV_EXPORT_VTU;
-    if (strcasecmp(dot, ".3mf") == 0) return HV_EXPORT_3MF;
+    if (hv_has_extension(path, ".vti")) return HV_EXPORT_VTI;
+    if (hv_has_extension(path, ".vtu")) return HV_EXPORT_VTU;
+    if (hv_has_extension(path, ".3mf")) return HV_EXPORT_3MF;
     return HV_EXPORT_AUTO;
 }
 

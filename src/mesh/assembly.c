@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "core/internal.h"
 #include "mesh_internal.h"
@@ -50,8 +49,7 @@ hv_status hv_mesh_write_obj(const hv_mesh *m, const char *path)
 
 hv_status hv_mesh_save(const hv_mesh *m, const char *path, int ascii)
 {
-    size_t n = strlen(path);
-    if (n > 4 && strcasecmp(path + n - 4, ".obj") == 0) return hv_mesh_write_obj(m, path);
+    if (hv_has_extension(path, ".obj")) return hv_mesh_write_obj(m, path);
     return hv_mesh_write_stl(m, path, ascii);
 }
 

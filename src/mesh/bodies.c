@@ -1,7 +1,6 @@
 /* src/mesh/bodies.c - bodies and materials of a mesh (hovox/mesh.h): the named parts of an
  * assembly as consecutive facet ranges, the materials a file names, extraction of one body as
  * its own mesh, joining meshes into an assembly, and hv_mesh_load's choice of reader. */
-#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -273,15 +272,6 @@ done:
 
 /* ---- reader choice ---------------------------------------------------------------------- */
 
-static int ext_is(const char *path, const char *ext)
-{
-    size_t n = strlen(path), e = strlen(ext);
-    if (n <= e || path[n - e - 1] != '.') return 0;
-    for (size_t i = 0; i < e; ++i)
-        if (tolower((unsigned char)path[n - e + i]) != ext[i]) return 0;
-    return 1;
-}
-
 const char *hv_mesh_load_extensions(void) { return "stl, 3mf, obj, ply"; }
 
 /* A whole file through one of the parse_ functions. */
@@ -300,10 +290,10 @@ static hv_status load_with(const char *path, hv_status (*parse)(const void *, si
 hv_status hv_mesh_load(const char *path, hv_mesh **out)
 {
     *out = NULL;
-    if (ext_is(path, "stl")) return hv_mesh_load_stl(path, out);
-    if (ext_is(path, "3mf")) return load_with(path, hv_mesh_parse_3mf, out);
-    if (ext_is(path, "obj")) return load_with(path, hv_mesh_parse_obj, out);
-    if (ext_is(path, "ply")) return load_with(path, hv_mesh_parse_ply, out);
+    if (hv_has_extension(path, ".stl")) return hv_mesh_load_stl(path, out);
+    if (hv_has_extension(path, ".3mf")) return load_with(path, hv_mesh_parse_3mf, out);
+    if (hv_has_extension(path, ".obj")) return load_with(path, hv_mesh_parse_obj, out);
+    if (hv_has_extension(path, ".ply")) return load_with(path, hv_mesh_parse_ply, out);
     const char *dot = strrchr(hv_basename(path), '.');
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: unsupported mesh format '%s' (supported: %s)", path,
                         dot ? dot + 1 : "", hv_mesh_load_extensions());

@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "core/internal.h"
 #include "hovox/plot.h"
@@ -97,16 +96,11 @@ hv_status hv_profile_plot_with(const hv_profile *p, const hv_profile_options *o,
     return s;
 }
 
-static int is_svg(const char *path)
-{
-    size_t n = strlen(path);
-    return n > 4 && strcasecmp(path + n - 4, ".svg") == 0;
-}
+static int is_svg(const char *path) { return hv_has_extension(path, ".svg"); }
 
 hv_status hv_plot_path_check(const char *path)
 {
-    size_t n = path ? strlen(path) : 0;
-    if (n > 4 && (is_svg(path) || strcasecmp(path + n - 4, ".png") == 0)) return HV_OK;
+    if (path && (is_svg(path) || hv_has_extension(path, ".png"))) return HV_OK;
     return hv_error_option(HV_ERR_INVALID, "{plot} '%s' has an unknown extension (use .png or .svg)", path ? path : "");
 }
 

@@ -1,6 +1,7 @@
 /* src/lua/lassembly.c - Lua: assemblies (hovox/mesh.h bodies, hovox/voxelize.h regions):
  * hovox.join_meshes (meshes joined into one multi-body mesh, a body per part) and
  * model:regions() (the regions a model voxelized from an assembly records). */
+#include <stdio.h>
 #include <string.h>
 
 #include <lauxlib.h>
@@ -39,8 +40,10 @@ static int l_join_meshes(lua_State *L)
         hv_lua_field(L, e, "mesh");
         l_mesh *u = luaL_testudata(L, -1, MT_MESH);
         if (!u) return arg_error(L, 1, "part %lld: mesh must be a hovox mesh", (long long)i);
-        parts[i - 1].name = hv_lua_string_field(L, e, "name", holder);
-        parts[i - 1].material = hv_lua_string_field(L, e, "material", holder);
+        char where[48];
+        snprintf(where, sizeof where, "part %lld: ", (long long)i);
+        parts[i - 1].name = hv_lua_string_in(L, e, 1, where, "name", holder);
+        parts[i - 1].material = hv_lua_string_in(L, e, 1, where, "material", holder);
         lua_replace(L, e); /* the mesh stays anchored in the part's slot */
     }
     /* the meshes now: nothing runs between here and the join (reading may have run a finalizer) */

@@ -84,9 +84,22 @@ void *hv_lua_take(lua_State *L, const char *mt)
     return p;
 }
 
+/* A copy of class `name`'s methods in package.loaded[name], so an argument error raised in a
+ * method called without method syntax (pcall(m.save, m, ...)) names it ('hovox.Mesh.save')
+ * instead of '?': Lua looks error names up in the loaded modules. A copy: a script changing it
+ * changes no object's methods. */
+static void name_methods(lua_State *L, const char *name, const luaL_Reg *methods)
+{
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    luaL_getsubtable(L, -1, name);
+    luaL_setfuncs(L, methods, 0);
+    lua_pop(L, 2);
+}
+
 void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,
                       lua_CFunction tostring)
 {
+    name_methods(L, name, methods);
     luaL_newmetatable(L, name);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);
@@ -107,6 +120,7 @@ void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, l
 
 void hv_lua_add_methods(lua_State *L, const char *name, const luaL_Reg *methods)
 {
+    name_methods(L, name, methods);
     luaL_getmetatable(L, name);
     lua_getfield(L, -1, "__index");
     luaL_setfuncs(L, methods, 0);

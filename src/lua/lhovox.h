@@ -114,6 +114,9 @@ int hv_lua_read(lua_State *L, int arg, const hv_option_set *set, void *opts, con
 int hv_lua_field(lua_State *L, int arg, const char *key);
 /* A private copy (in holder) of string field `key`, NULL when absent; raises on another type. */
 const char *hv_lua_string_field(lua_State *L, int arg, const char *key, int holder);
+/* The same for a table nested in argument `arg` (at stack index tbl); errors name argument `arg`,
+ * prefixed by `where` ("part 2: "). */
+const char *hv_lua_string_in(lua_State *L, int tbl, int arg, const char *where, const char *key, int holder);
 /* The same for an output path: required when `what` is not NULL ("path is required (<what>)"),
  * checked against the sandbox. */
 const char *hv_lua_out_path(lua_State *L, int arg, const char *key, int holder, const char *what);

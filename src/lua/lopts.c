@@ -254,20 +254,25 @@ int hv_lua_field(lua_State *L, int arg, const char *key)
     return lua_rawget(L, arg);
 }
 
-const char *hv_lua_string_field(lua_State *L, int arg, const char *key, int holder)
+const char *hv_lua_string_in(lua_State *L, int tbl, int arg, const char *where, const char *key, int holder)
 {
-    int t = hv_lua_field(L, arg, key);
+    int t = hv_lua_field(L, tbl, key);
     const char *copy = NULL;
     if (t == LUA_TSTRING) {
         size_t len;
         const char *s = lua_tolstring(L, -1, &len);
-        if (strlen(s) != len) hv_lua_arg_error(L, arg, "%s must not contain NUL bytes", key);
+        if (strlen(s) != len) hv_lua_arg_error(L, arg, "%s%s must not contain NUL bytes", where, key);
         copy = hv_lua_copy_string(L, holder, s, len);
     } else if (t != LUA_TNIL) {
-        hv_lua_arg_error(L, arg, "%s must be a string, got %s", key, lua_typename(L, t));
+        hv_lua_arg_error(L, arg, "%s%s must be a string, got %s", where, key, lua_typename(L, t));
     }
     lua_pop(L, 1);
     return copy;
+}
+
+const char *hv_lua_string_field(lua_State *L, int arg, const char *key, int holder)
+{
+    return hv_lua_string_in(L, arg, arg, "", key, holder);
 }
 
 const char *hv_lua_out_path(lua_State *L, int arg, const char *key, int holder, const char *what)

@@ -30,7 +30,7 @@ static void mats_add_one(lua_State *L, hv_material_table *t, int idx, int arg, i
     }
     if (!lua_istable(L, idx)) luaL_argerror(L, arg, "a material is a name or {name=..., color=..., ...}");
     hv_lua_check_plain_table(L, idx);
-    const char *name = hv_lua_string_field(L, idx, "name", holder);
+    const char *name = hv_lua_string_in(L, idx, arg, "material: ", "name", holder);
     if (!name) luaL_argerror(L, arg, "material needs a name");
     float rgba[4], *color = NULL;
     int ct = hv_lua_field(L, idx, "color");
@@ -401,8 +401,8 @@ static hv_calibration *calibration_table(lua_State *L, int idx, int arg, int hol
 {
     idx = lua_absindex(L, idx);
     if (lua_getmetatable(L, idx)) arg_error(L, arg, "calibration must be a plain table (one with a metatable is refused)");
-    const char *prop = hv_lua_string_field(L, idx, "property", holder);
-    const char *unit = hv_lua_string_field(L, idx, "unit", holder);
+    const char *prop = hv_lua_string_in(L, idx, arg, "calibration: ", "property", holder);
+    const char *unit = hv_lua_string_in(L, idx, arg, "calibration: ", "unit", holder);
     if (!prop) luaL_argerror(L, arg, "calibration table needs property = \"<name>\"");
     int n;
     double *tv = read_pairs(L, idx, arg, "calibration", &n);

@@ -63,12 +63,6 @@ static const char *jstr(const json_t *o, const char *key)
     return json_string_value(v);
 }
 
-static char *read_all(const char *path, size_t *n)
-{
-    char *d = NULL;
-    cr_assert_eq(hv_read_file(path, 1u << 30, &d, n), HV_OK, "%s", hv_last_error());
-    return d;
-}
 
 /* ---- models ------------------------------------------------------------------------------------ */
 
@@ -342,7 +336,7 @@ Test(layers, analytic_feature_isolates_resampling_error, .timeout = 300)
 static int same_file(const char *a, const char *b)
 {
     size_t na, nb;
-    char *x = read_all(a, &na), *y = read_all(b, &nb);
+    char *x = t_slurp(a, &na), *y = t_slurp(b, &nb);
     int same = na == nb && memcmp(x, y, na) == 0;
     free(x);
     free(y);

@@ -187,19 +187,6 @@ Test(profile, result_does_not_depend_on_the_thread_count)
 
 /* ---- CSV --------------------------------------------------------------------------------- */
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    cr_assert_not_null(f, "%s", path);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    cr_assert_eq(fread(s, 1, (size_t)n, f), (size_t)n);
-    s[n] = '\0';
-    fclose(f);
-    return s;
-}
 
 Test(profile, csv_rows_hold_the_samples)
 {
@@ -209,7 +196,7 @@ Test(profile, csv_rows_hold_the_samples)
     cr_assert_eq(hv_profile_sample(v, a, b, 77, &p), HV_OK);
     const char *path = t_tmpfile("p.csv");
     cr_assert_eq(hv_profile_write_csv(p, path), HV_OK, "%s", hv_last_error());
-    char *text = slurp(path);
+    char *text = t_slurp(path, NULL);
     char *save = NULL, *line = strtok_r(text, "\n", &save);
     cr_assert_str_eq(line, "t,x,y,z,inside,soft,rigid");
     int rows = 0;
@@ -238,7 +225,7 @@ Test(profile, csv_rows_hold_the_samples)
     FILE *f = fopen(spath, "w");
     cr_assert_eq(hv_profile_write_csv_stream(p, f), HV_OK);
     fclose(f);
-    char *x1 = slurp(path), *x2 = slurp(spath);
+    char *x1 = t_slurp(path, NULL), *x2 = t_slurp(spath, NULL);
     cr_expect_str_eq(x1, x2);
     free(x1);
     free(x2);

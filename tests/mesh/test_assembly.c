@@ -11,36 +11,15 @@
 #include "hovox/mesh.h"
 #include "support/support.h"
 
-static hv_mesh *box(double lo, double hi)
-{
-    hv_mesh *m = NULL;
-    double a[3] = {lo, lo, lo}, b[3] = {hi, hi, hi};
-    cr_assert_eq(hv_generate_box(a, b, &m), HV_OK, "%s", hv_last_error());
-    return m;
-}
-
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    cr_assert_not_null(f, "%s", path);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    cr_assert_eq(fread(s, 1, (size_t)n, f), (size_t)n);
-    s[n] = '\0';
-    fclose(f);
-    return s;
-}
 
 Test(assembly_out, obj_holds_every_body_in_order_with_its_material)
 {
-    hv_mesh *outer = box(0, 10), *inner = box(3, 7), *j = NULL;
+    hv_mesh *outer = t_cube_mesh(0, 10), *inner = t_cube_mesh(3, 7), *j = NULL;
     hv_mesh_part parts[3] = {{inner, "core", "Agilus"}, {outer, "shell", "Vero"}, {inner, "pin\nx", NULL}};
     cr_assert_eq(hv_mesh_join(parts, 3, &j), HV_OK, "%s", hv_last_error());
     const char *path = t_tmpfile("a.obj");
     cr_assert_eq(hv_mesh_write_obj(j, path), HV_OK, "%s", hv_last_error());
-    char *text = slurp(path);
+    char *text = t_slurp(path, NULL);
     /* parse it back: vertices, then per `o` group its usemtl and facets */
     size_t nv = 0, nf = 0, groups = 0, in_group[3] = {0};
     char names[3][32] = {{0}}, mats[3][32] = {{0}};
@@ -88,7 +67,7 @@ Test(assembly_out, obj_holds_every_body_in_order_with_its_material)
 
 Test(assembly_out, a_transform_keeps_bodies_and_materials_and_a_mirror_stays_outward)
 {
-    hv_mesh *outer = box(0, 10), *inner = box(3, 7), *j = NULL, *t = NULL, *m = NULL;
+    hv_mesh *outer = t_cube_mesh(0, 10), *inner = t_cube_mesh(3, 7), *j = NULL, *t = NULL, *m = NULL;
     hv_mesh_part parts[2] = {{inner, "core", "Agilus"}, {outer, "shell", "Vero"}};
     cr_assert_eq(hv_mesh_join(parts, 2, &j), HV_OK, "%s", hv_last_error());
     const double quarter[12] = {0, -1, 0, 100, 1, 0, 0, 0, 0, 0, 1, 5}; /* a quarter turn about z, moved */

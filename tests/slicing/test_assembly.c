@@ -145,20 +145,6 @@ Test(slice_bodies, the_gap_rule_joins_ends_of_one_body_only)
     hv_mesh_destroy(a);
 }
 
-static char *slurp(const char *path)
-{
-    char *text = NULL;
-    FILE *fp = fopen(path, "rb");
-    cr_assert_not_null(fp, "%s", path);
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    text = malloc((size_t)n + 1);
-    cr_assert_eq(fread(text, 1, (size_t)n, fp), (size_t)n);
-    text[n] = '\0';
-    fclose(fp);
-    return text;
-}
 
 static size_t occurrences(const char *text, const char *what)
 {
@@ -178,7 +164,7 @@ Test(slice_bodies, contour_files_give_each_body_its_part)
     cr_assert_eq(hv_contours_write(j, &o, "a.obj", NULL, NULL, NULL, NULL), HV_OK, "%s", hv_last_error());
     o.output = svg;
     cr_assert_eq(hv_contours_write(j, &o, "a.obj", NULL, NULL, NULL, NULL), HV_OK, "%s", hv_last_error());
-    char *c = slurp(cli), *g = slurp(svg);
+    char *c = t_slurp(cli, NULL), *g = t_slurp(svg, NULL);
     cr_assert(strstr(c, "$$LABEL/1,core\n$$LABEL/2,sh<ell\n"), "%s", c);
     /* 5 layers cut at z = 1, 3, 5, 7, 9: the shell in each, the core at 5 and 7 (a plane through
      * a top face gives its outline, through a bottom face nothing) */
@@ -191,7 +177,7 @@ Test(slice_bodies, contour_files_give_each_body_its_part)
     /* one body: the file as before */
     o.output = cli;
     cr_assert_eq(hv_contours_write(outer, &o, "outer.stl", NULL, NULL, NULL, NULL), HV_OK, "%s", hv_last_error());
-    c = slurp(cli);
+    c = t_slurp(cli, NULL);
     cr_assert(strstr(c, "$$LABEL/1,outer.stl\n"), "%s", c);
     cr_assert_eq(occurrences(c, "$$POLYLINE/1,1,"), 5);
     free(c);

@@ -140,9 +140,7 @@ static hv_mesh *gen_sphere(double r, int seg, int rings)
 static hv_mesh *gen_box(double x0, double y0, double z0, double x1, double y1, double z1)
 {
     double lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
-    return m;
+    return t_box_mesh(lo, hi);
 }
 
 static hv_mesh *gen_holed_box(void)
@@ -933,20 +931,6 @@ static size_t write_file(const char *path, hv_contour_format fmt, const hv_mesh 
     return n;
 }
 
-static char *slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    cr_assert(f, "%s", path);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    cr_assert_eq(fread(b, 1, (size_t)n, f), (size_t)n);
-    b[n] = '\0';
-    fclose(f);
-    *len = (size_t)n;
-    return b;
-}
 
 Test(files, svg_parses_as_xml)
 {
@@ -974,7 +958,7 @@ Test(files, cli_ascii_follows_the_format)
     const char *path = t_tmpfile("box.cli");
     size_t n = write_file(path, HV_CONTOUR_CLI_ASCII, m, 2.5);
     size_t len;
-    char *text = slurp(path, &len);
+    char *text = t_slurp(path, &len);
     cr_assert(strncmp(text, "$$HEADERSTART\n$$ASCII\n$$UNITS/00000001.000000\n$$VERSION/200\n", 60) == 0);
     char *save = NULL;
     size_t layers_declared = 0, layer_lines = 0, polylines = 0;
@@ -1025,7 +1009,7 @@ Test(files, cli_binary_follows_the_format)
     const char *path = t_tmpfile("box_bin.cli");
     size_t n = write_file(path, HV_CONTOUR_CLI_BINARY, m, 5);
     size_t len;
-    char *data = slurp(path, &len);
+    char *data = t_slurp(path, &len);
     cr_assert(strncmp(data, "$$HEADERSTART\n$$BINARY\n", 23) == 0);
     char *he = strstr(data, "$$HEADEREND");
     cr_assert(he);
@@ -1085,12 +1069,6 @@ static hv_status count_layer(void *user, size_t index, const hv_layer *layer, co
     return HV_OK;
 }
 
-static int exists(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f) fclose(f);
-    return f != NULL;
-}
 
 Test(job, file_per_layer_svgs_and_summary_agree_with_single_slices)
 {
@@ -1113,7 +1091,7 @@ Test(job, file_per_layer_svgs_and_summary_agree_with_single_slices)
         hv_slice_destroy(one);
         char path[4096];
         snprintf(path, sizeof path, "%s/layer-%05zu.svg", o.per_layer, i);
-        cr_assert(exists(path), "%s", path);
+        cr_assert(t_exists(path), "%s", path);
     }
     cr_assert_eq(sum.layers, hv_layer_plan_count(p));
     cr_assert_eq(c.layers, sum.layers);
@@ -1147,6 +1125,6 @@ Test(job, refusals_leave_nothing)
     o.binary = 0;
     o.per_layer = "/proc/hovox-no/such-dir";
     cr_assert_neq(hv_contours_write(m, &o, NULL, NULL, NULL, NULL, NULL), HV_OK);
-    cr_assert(!exists(o.output));
+    cr_assert(!t_exists(o.output));
     hv_mesh_destroy(m);
 }

@@ -84,6 +84,35 @@ int t_exists(const char *path)
     return stat(path, &st) == 0;
 }
 
+char *t_slurp(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    cr_assert_not_null(f, "%s", path);
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    cr_assert_not_null(s);
+    cr_assert_eq(fread(s, 1, (size_t)n, f), (size_t)n, "%s: short read", path);
+    s[n] = '\0';
+    fclose(f);
+    if (len) *len = (size_t)n;
+    return s;
+}
+
+hv_mesh *t_box_mesh(const double lo[3], const double hi[3])
+{
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK, "%s", hv_last_error());
+    return m;
+}
+
+hv_mesh *t_cube_mesh(double lo, double hi)
+{
+    double a[3] = {lo, lo, lo}, b[3] = {hi, hi, hi};
+    return t_box_mesh(a, b);
+}
+
 hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3])
 {
     size_t cap = 64, n = 0;

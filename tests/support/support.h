@@ -6,6 +6,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "hovox/generate.h"
+#include "hovox/mesh.h"
 #include "hovox/volume.h"
 
 /* Directory holding meshes/ ($HOVOX_SHARED, default "tests/data": copies of the shared meshes). */
@@ -20,6 +22,11 @@ const char *t_tmpfile(const char *name);
 int t_run(const char *cmd, char **out);
 /* Does a file exist? */
 int t_exists(const char *path);
+/* A whole file, NUL-terminated (malloc'd; *len gets its size when len != NULL); asserts. */
+char *t_slurp(const char *path, size_t *len);
+/* The closed box [lo, hi] (hv_generate_box), and the cube [lo, hi]^3; assert. */
+hv_mesh *t_box_mesh(const double lo[3], const double hi[3]);
+hv_mesh *t_cube_mesh(double lo, double hi);
 /* Activate the voxels [lo, hi] (inclusive index box) of v, leaf block by leaf block. Returns
  * hv_volume_topology_add's status (HV_ERR_NOMEM when the blocks cannot be listed). */
 hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3]);

@@ -12,21 +12,6 @@
 #include "hovox/voxelize.h"
 #include "support/support.h"
 
-static hv_mesh *box(double lo, double hi)
-{
-    hv_mesh *m = NULL;
-    double a[3] = {lo, lo, lo}, b[3] = {hi, hi, hi};
-    cr_assert_eq(hv_generate_box(a, b, &m), HV_OK, "%s", hv_last_error());
-    return m;
-}
-
-static hv_mesh *box3(const double lo[3], const double hi[3])
-{
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK, "%s", hv_last_error());
-    return m;
-}
-
 static hv_mesh *join2(hv_mesh *a, const char *na, const char *ma, hv_mesh *b, const char *nb, const char *mb)
 {
     hv_mesh_part parts[2] = {{a, na, ma}, {b, nb, mb}};
@@ -195,7 +180,7 @@ static uint64_t centres_in(const hv_volume *v, const double lo[3], const double 
 
 Test(assembly, nested_boxes_core_first_give_the_core_the_voxels_whose_centres_it_holds)
 {
-    hv_mesh *outer = box(0, 10), *inner = box(3, 7);
+    hv_mesh *outer = t_cube_mesh(0, 10), *inner = t_cube_mesh(3, 7);
     hv_mesh *j = join2(inner, "core", "Agilus", outer, "shell", "Vero");
     hv_volume *v = vox(j, NULL, 0.5);
     hv_transform xf = hv_volume_get_transform(v);
@@ -244,7 +229,7 @@ Test(assembly, nested_boxes_core_first_give_the_core_the_voxels_whose_centres_it
 
 Test(assembly, nested_boxes_shell_first_take_every_voxel_and_report_the_overlap)
 {
-    hv_mesh *outer = box(0, 10), *inner = box(3, 7);
+    hv_mesh *outer = t_cube_mesh(0, 10), *inner = t_cube_mesh(3, 7);
     hv_mesh *j = join2(outer, "shell", "Vero", inner, "core", "Agilus");
     hv_volume *v = vox(j, NULL, 0.5);
     hv_transform xf = hv_volume_get_transform(v);
@@ -277,7 +262,7 @@ Test(assembly, nested_boxes_shell_first_take_every_voxel_and_report_the_overlap)
 Test(assembly, boxes_touching_face_to_face_split_at_the_face_with_no_overlap)
 {
     double a0[3] = {0, 0, 0}, a1[3] = {4, 4, 4}, b0[3] = {4, 0, 0}, b1[3] = {8, 4, 4};
-    hv_mesh *a = box3(a0, a1), *b = box3(b0, b1);
+    hv_mesh *a = t_box_mesh(a0, a1), *b = t_box_mesh(b0, b1);
     for (int order = 0; order < 2; ++order) {
         hv_mesh *j = order ? join2(b, "b", "B", a, "a", "A") : join2(a, "a", "A", b, "b", "B");
         hv_volume *v = vox(j, NULL, 0.5);
@@ -312,7 +297,7 @@ Test(assembly, overlapping_boxes_split_at_the_first_and_count_the_overlap_per_pa
 {
     double a0[3] = {0, 0, 0}, a1[3] = {6, 4, 4}, b0[3] = {4, 0.5, 0.5}, b1[3] = {10, 3.5, 3.5}, c0[3] = {9, 1, 1},
            c1[3] = {12, 3, 3};
-    hv_mesh *a = box3(a0, a1), *b = box3(b0, b1), *c = box3(c0, c1);
+    hv_mesh *a = t_box_mesh(a0, a1), *b = t_box_mesh(b0, b1), *c = t_box_mesh(c0, c1);
     hv_mesh_part parts[3] = {{a, "a", "A"}, {b, "b", "B"}, {c, "c", NULL}};
     hv_mesh *j = NULL;
     cr_assert_eq(hv_mesh_join(parts, 3, &j), HV_OK, "%s", hv_last_error());
@@ -347,7 +332,7 @@ Test(assembly, overlapping_boxes_split_at_the_first_and_count_the_overlap_per_pa
 
 Test(assembly, the_regions_survive_a_vdb_round_trip)
 {
-    hv_mesh *outer = box(0, 10), *inner = box(3, 7);
+    hv_mesh *outer = t_cube_mesh(0, 10), *inner = t_cube_mesh(3, 7);
     hv_mesh *j = join2(inner, "core", "Agilus", outer, "shell", "Vero");
     hv_volume *v = vox(j, NULL, 1), *w = NULL;
     const char *path = t_tmpfile("assembly.vdb");
@@ -369,7 +354,7 @@ Test(assembly, the_regions_survive_a_vdb_round_trip)
 
 Test(assembly, a_single_body_has_no_regions_and_the_same_voxels)
 {
-    hv_mesh *outer = box(0, 10);
+    hv_mesh *outer = t_cube_mesh(0, 10);
     hv_mesh_part p = {outer, "only", "Vero"};
     hv_mesh *j = NULL;
     cr_assert_eq(hv_mesh_join(&p, 1, &j), HV_OK, "%s", hv_last_error());
@@ -389,7 +374,7 @@ Test(assembly, a_single_body_has_no_regions_and_the_same_voxels)
 
 Test(assembly, the_plan_counts_the_regions_and_refuses_over_the_limit)
 {
-    hv_mesh *outer = box(0, 10), *inner = box(3, 7);
+    hv_mesh *outer = t_cube_mesh(0, 10), *inner = t_cube_mesh(3, 7);
     hv_mesh *j = join2(inner, "core", "Agilus", outer, "shell", "Vero");
     hv_voxelize_options o;
     hv_voxelize_options_init(&o);
@@ -414,7 +399,7 @@ Test(assembly, the_plan_counts_the_regions_and_refuses_over_the_limit)
 
 Test(assembly, an_open_body_votes_while_a_closed_one_floods)
 {
-    hv_mesh *outer = box(0, 10), *inner = box(3, 7);
+    hv_mesh *outer = t_cube_mesh(0, 10), *inner = t_cube_mesh(3, 7);
     /* the inner box without its last facet: open */
     size_t nv = hv_mesh_vertex_count(inner), nf = hv_mesh_facet_count(inner);
     hv_mesh *open = NULL;

@@ -4,7 +4,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "core/internal.h"
 #include "slice_internal.h"
@@ -140,8 +139,7 @@ static void writer_free(hv_contour_writer *w);
 
 hv_status hv_contour_format_for_path(const char *path, int binary, hv_contour_format *out)
 {
-    size_t n = strlen(path);
-    int svg = n >= 4 && strcasecmp(path + n - 4, ".svg") == 0, cli = n >= 4 && strcasecmp(path + n - 4, ".cli") == 0;
+    int svg = hv_has_extension(path, ".svg"), cli = hv_has_extension(path, ".cli");
     if (!svg && !cli)
         return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .svg or .cli)", path);
     if (svg && binary) return hv_error_option(HV_ERR_INVALID, "{binary} needs a .cli output, not '%s'", path);

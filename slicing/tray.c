@@ -1055,7 +1055,8 @@ static hv_status tray_layer(wjob *J, tworker *w, int thread, size_t li)
     uint8_t *png = NULL;
     size_t size = 0;
     hv_status st = hv_png_fast_encode(&img, &png, &size);
-    if (st == HV_OK) st = hv_atomic_write(path, png, size);
+    /* in the stack's temporary directory, synced once and renamed whole (as layers writes) */
+    if (st == HV_OK) st = hv_write_in_place(path, png, size);
     free(png);
     J->st_bytes[li - J->first] = size;
     /* clear what was drawn */

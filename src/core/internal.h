@@ -88,6 +88,10 @@ hv_status hv_fsync_path(const char *path);
 void hv_atomic_abort(hv_atomic_file *af);
 /* `size` bytes written to `path` atomically (temporary, fsync, rename). Errors: HV_ERR_IO. */
 hv_status hv_atomic_write(const char *path, const void *data, size_t size);
+/* Write `size` bytes under `path` itself: for files inside a directory that is synced once and
+ * renamed whole (slice stacks). Every write, the flush and the close are checked; on failure
+ * the file is removed. */
+hv_status hv_write_in_place(const char *path, const void *data, size_t size);
 /* "512 bytes", "8.8 KiB", "1.5 GiB" (binary units, one decimal) into buf; returns buf. */
 const char *hv_size_text(char *buf, size_t size, double bytes);
 /* A temporary path next to `path` (caller frees), for writers that take a path; for a

@@ -451,6 +451,24 @@ hv_status hv_check_extension(const char *path, const char *ext, const char *what
     return hv_error_set(HV_ERR_INVALID, "%s: %s is written as %s, which this name does not end in", path, what, ext);
 }
 
+hv_status hv_write_in_place(const char *path, const void *data, size_t size)
+{
+    FILE *fp = fopen(path, "wb");
+    if (!fp) return hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    int bad = size && fwrite(data, 1, size, fp) != size, e = errno;
+    if (!bad && fflush(fp) != 0) {
+        bad = 1;
+        e = errno;
+    }
+    if (fclose(fp) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
+    if (!bad) return HV_OK;
+    remove(path);
+    return hv_error_set(HV_ERR_IO, "%s: write failed: %s", path, strerror(e));
+}
+
 hv_status hv_atomic_write(const char *path, const void *data, size_t size)
 {
     hv_atomic_file af;

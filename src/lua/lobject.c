@@ -210,13 +210,14 @@ static int object_as_model(lua_State *L)
     lua_pushvalue(L, base + 1);
     lua_call(L, 1, 0);
     if (rc == LUA_OK) return lua_gettop(L) - (base + 1);
-    /* the method ran without a name or a script line of its own: give the error both, as
-     * if the user had called it on the model ("#2" of the model call is "#1" of obj:name) */
+    /* the method ran without a script line of its own, under the model's name: give the error
+     * the object's, as if the user had called it on the model ("#2" of the model call is "#1"
+     * of obj:name) */
     const char *msg = lua_tostring(L, -1), *name = lua_tostring(L, lua_upvalueindex(2));
     luaL_where(L, 1);
     const char *where = lua_tostring(L, -1);
     int n = 0, used = 0;
-    if (msg && sscanf(msg, "bad argument #%d to '?'%n", &n, &used) == 1 && used > 0)
+    if (msg && sscanf(msg, "bad argument #%d to '%*[^']'%n", &n, &used) == 1 && used > 0)
         lua_pushfstring(L, "%sbad argument #%d to '%s'%s", where, n - 1, name, msg + used);
     else if (msg && strncmp(msg, where, strlen(where)) != 0)
         lua_pushfstring(L, "%s%s", where, msg);

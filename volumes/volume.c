@@ -865,20 +865,32 @@ static inline __attribute__((always_inline)) void restore_leaf(int M, float *con
                     *restrict g3 = f[M > 3 ? 3 : 0];
 #pragma omp simd
     for (int p = 0; p < 512; ++p) {
-        float x[4] = {g0[p], g1[p], g2[p], g3[p]};
-        float sum = 0, top = x[0];
+        /* written out for M <= 4 (the conditions are constants): inner loops keep GCC from
+         * vectorising */
+        float x0 = g0[p], x1 = M > 1 ? g1[p] : 0, x2 = M > 2 ? g2[p] : 0, x3 = M > 3 ? g3[p] : 0;
+        float sum = 0 + x0, top = x0;
         int big = 0;
-        for (int q = 0; q < M; ++q) {
-            sum += x[q];
-            big = x[q] > top ? q : big;
-            top = x[q] > top ? x[q] : top;
+        if (M > 1) {
+            sum += x1;
+            big = x1 > top ? 1 : big;
+            top = x1 > top ? x1 : top;
+        }
+        if (M > 2) {
+            sum += x2;
+            big = x2 > top ? 2 : big;
+            top = x2 > top ? x2 : top;
+        }
+        if (M > 3) {
+            sum += x3;
+            big = x3 > top ? 3 : big;
+            top = x3 > top ? x3 : top;
         }
         float rest = 1.0f - (sum - top);
-        int ok = fabsf(sum - 1.0f) <= tol;
-        g0[p] = ok && big == 0 ? rest : x[0];
-        if (M > 1) g1[p] = ok && big == 1 ? rest : x[1];
-        if (M > 2) g2[p] = ok && big == 2 ? rest : x[2];
-        if (M > 3) g3[p] = ok && big == 3 ? rest : x[3];
+        big = fabsf(sum - 1.0f) <= tol ? big : -1; /* -1: the sum is left alone */
+        g0[p] = big == 0 ? rest : x0;
+        if (M > 1) g1[p] = big == 1 ? rest : x1;
+        if (M > 2) g2[p] = big == 2 ? rest : x2;
+        if (M > 3) g3[p] = big == 3 ? rest : x3;
     }
 }
 
@@ -900,7 +912,7 @@ static void restore_leaf_m(int m, float *const *f)
     }
 }
 
-static hv_status restore_sums_range(void *vctx, size_t b, size_t e, int thread)
+HV_HOT_CLONES static hv_status restore_sums_range(void *vctx, size_t b, size_t e, int thread)
 {
     (void)thread;
     sums_ctx *c = vctx;

@@ -12,7 +12,7 @@
 #endif
 
 #include "core/internal.h"
-#include "hovox/field.h"
+#include "field_internal.h"
 
 /* Columns transformed together in the strided (y and x) passes: a tile of TILE adjacent rows
  * is gathered into a contiguous scratch buffer, so each memory line fetched serves TILE rows
@@ -37,6 +37,7 @@ typedef struct edt_ctx {
     float *sqz;       /* sqz[d] = (d * sz)^2 for d in [0, nz] */
     edt_scratch *scr; /* one per thread */
     int64_t nkt;      /* tiles of TILE columns along z */
+    float less;       /* the last pass writes max(distance - less, 0) */
 } edt_ctx;
 
 /* ---- scanning helpers: 16 bytes at a time where SSE2 is available (all x86-64) ---------- */
@@ -235,8 +236,9 @@ static void gather(float *tile, const float *base, size_t pitch, int64_t n, int6
             tile[(size_t)b * sn + (size_t)r] = base[(size_t)r * pitch + (size_t)b];
 }
 
+/* root: the last pass, writing max(sqrt(v) - less, 0) (less >= 0, so sqrt(v) where less = 0) */
 static void scatter(const float *tile, float *base, size_t pitch, int64_t n, int64_t bw, int root,
-                    int next)
+                    int next, float less)
 {
     size_t sn = (size_t)n;
     int64_t r = 0;
@@ -254,10 +256,11 @@ static void scatter(const float *tile, float *base, size_t pitch, int64_t n, int
                        a2 = _mm_loadu_ps(s + 2 * sn), a3 = _mm_loadu_ps(s + 3 * sn);
                 _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
                 if (root) {
-                    a0 = _mm_sqrt_ps(a0);
-                    a1 = _mm_sqrt_ps(a1);
-                    a2 = _mm_sqrt_ps(a2);
-                    a3 = _mm_sqrt_ps(a3);
+                    const __m128 l = _mm_set1_ps(less), z = _mm_setzero_ps();
+                    a0 = _mm_max_ps(_mm_sub_ps(_mm_sqrt_ps(a0), l), z);
+                    a1 = _mm_max_ps(_mm_sub_ps(_mm_sqrt_ps(a1), l), z);
+                    a2 = _mm_max_ps(_mm_sub_ps(_mm_sqrt_ps(a2), l), z);
+                    a3 = _mm_max_ps(_mm_sub_ps(_mm_sqrt_ps(a3), l), z);
                 }
                 _mm_storeu_ps(d0 + b, a0);
                 _mm_storeu_ps(d0 + pitch + b, a1);
@@ -269,7 +272,7 @@ static void scatter(const float *tile, float *base, size_t pitch, int64_t n, int
     for (; r < n; ++r)
         for (int64_t b = 0; b < bw; ++b) {
             float val = tile[(size_t)b * sn + (size_t)r];
-            base[(size_t)r * pitch + (size_t)b] = root ? sqrtf(val) : val;
+            base[(size_t)r * pitch + (size_t)b] = root ? HV_MAX(sqrtf(val) - less, 0.0f) : val;
         }
 }
 
@@ -281,7 +284,7 @@ static void y_tile(const edt_ctx *c, int64_t i, int64_t t, edt_scratch *w)
     float *base = c->out + ((size_t)i * (size_t)ny) * (size_t)nz + (size_t)k0;
     gather(w->tile, base, (size_t)nz, ny, bw);
     for (int64_t b = 0; b < bw; ++b) fh_row(w->tile + (size_t)b * (size_t)ny, ny, c->s2[1], w);
-    scatter(w->tile, base, (size_t)nz, ny, bw, 0, t + 1 < c->nkt);
+    scatter(w->tile, base, (size_t)nz, ny, bw, 0, t + 1 < c->nkt, 0);
 }
 
 /* x pass (the last) over tile t of the y-row j: rows are nx voxels one slice apart. */
@@ -293,7 +296,7 @@ static void x_tile(const edt_ctx *c, int64_t j, int64_t t, edt_scratch *w)
     float *base = c->out + (size_t)j * (size_t)nz + (size_t)k0;
     gather(w->tile, base, slice, nx, bw);
     for (int64_t b = 0; b < bw; ++b) fh_row(w->tile + (size_t)b * (size_t)nx, nx, c->s2[0], w);
-    scatter(w->tile, base, slice, nx, bw, 1, t + 1 < c->nkt); /* last pass: distances */
+    scatter(w->tile, base, slice, nx, bw, 1, t + 1 < c->nkt, c->less); /* last pass: distances */
 }
 
 /* Slices i in [b, e): z pass of every row, then the y pass while the slice is in cache. */
@@ -344,6 +347,12 @@ static size_t grain_for(size_t n, size_t min, int threads)
 hv_status hv_edt(const uint8_t *feature, const int64_t dims[3], const double spacing[3],
                  float *out, const hv_progress *progress)
 {
+    return hv_edt_less(feature, dims, spacing, 0.0f, out, progress);
+}
+
+hv_status hv_edt_less(const uint8_t *feature, const int64_t dims[3], const double spacing[3], float less,
+                      float *out, const hv_progress *progress)
+{
     if (!feature || !dims || !spacing || !out)
         return hv_error_set(HV_ERR_INVALID, "edt: %s is NULL",
                             !feature ? "feature" : !dims ? "dims" : !spacing ? "spacing" : "out");
@@ -377,7 +386,8 @@ hv_status hv_edt(const uint8_t *feature, const int64_t dims[3], const double spa
                             "(diagonal %g)",
                             sqrt(diag2));
 
-    edt_ctx c = {feature, out, dims[0], dims[1], dims[2], {0, 0, 0}, NULL, NULL, 0};
+    if (!(less >= 0 && isfinite(less))) return hv_error_set(HV_ERR_INVALID, "edt: offset %g (finite, >= 0)", (double)less);
+    edt_ctx c = {feature, out, dims[0], dims[1], dims[2], {0, 0, 0}, NULL, NULL, 0, less};
     for (int a = 0; a < 3; ++a) c.s2[a] = spacing[a] * spacing[a];
     c.nkt = (c.nz + TILE - 1) / TILE;
     int threads = hv_threads();

@@ -12,7 +12,7 @@
 #include "core/internal.h"
 #include "voxel/bitgrid.h"
 #include "voxel/voxel_internal.h"
-#include "hovox/field.h"
+#include "field/field_internal.h"
 #include "material_internal.h"
 
 double hv_voxel_scale(const hv_transform *xf) { return cbrt(xf->voxel[0] * xf->voxel[1] * xf->voxel[2]); }
@@ -381,21 +381,6 @@ static hv_status stamp_mask(const hv_volume *m, const int64_t lo[3], const int64
     return s == HV_OK && m ? hv_parallel_for(hv_volume_leaf_count(m), 256, stamp_leaves, &c, NULL, "field") : s;
 }
 
-typedef struct skin_ctx {
-    const uint8_t *feature;
-    float *d;
-    float off;
-} skin_ctx;
-
-/* the contour's depth: d - off inside, 0 outside */
-static hv_status depth_range(void *vctx, size_t b, size_t e, int thread)
-{
-    (void)thread;
-    const skin_ctx *c = vctx;
-    for (size_t v = b; v < e; ++v) c->d[v] = c->feature[v] ? 0.0f : HV_MAX(c->d[v] - c->off, 0.0f);
-    return HV_OK;
-}
-
 static hv_status compute_field(hv_frf *f, const hv_transform *xf, const int64_t want_lo[3],
                                const int64_t want_n[3], const hv_progress *progress)
 {
@@ -430,11 +415,10 @@ static hv_status compute_field(hv_frf *f, const hv_transform *xf, const int64_t 
         /* distance to the nearest voxel outside the mask, less one voxel: the occupied skin
          * reaches about t + L/2 beyond the true surface (t the slab half-thickness), so the
          * depth below the surface is EDT - ~L (accurate to about +-0.4 voxel) */
-        if ((s = stamp_mask(f->mask, lo, n, feature, 1, 0)) != HV_OK ||
-            (s = hv_edt(feature, n, spacing, d, progress)) != HV_OK)
-            break;
-        skin_ctx sc = {feature, d, (float)hv_voxel_scale(xf)};
-        s = hv_parallel_for((size_t)total, 1 << 16, depth_range, &sc, NULL, "field");
+        /* the depth is EDT - L inside, 0 outside (outside voxels are the EDT's features: 0 - L
+         * clamps to 0); the EDT's last pass applies it */
+        if ((s = stamp_mask(f->mask, lo, n, feature, 1, 0)) == HV_OK)
+            s = hv_edt_less(feature, n, spacing, (float)hv_voxel_scale(xf), d, progress);
         break;
     }
     case HV_FRF_MASK:

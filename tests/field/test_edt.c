@@ -10,6 +10,7 @@
 
 #include "hovox/core.h"
 #include "hovox/field.h"
+#include "field/field_internal.h"
 
 /* Deterministic xorshift so every run tests the same masks. */
 static uint64_t rng_state;
@@ -301,4 +302,35 @@ Test(edt, progress_and_cancel)
     cr_assert(strstr(hv_last_error(), "cancelled") != NULL, "%s", hv_last_error());
     free(m);
     free(out);
+}
+
+/* hv_edt_less (the contour's depth, offset in the EDT's last pass) is max(hv_edt - less, 0) to the
+ * bit, on a random mask with a width that is no multiple of the 4-wide transpose; a negative or
+ * non-finite offset is refused. */
+Test(edt, less_is_the_clamped_difference)
+{
+    int64_t d[3] = {23, 17, 31};
+    const double s[3] = {0.5, 0.5, 0.75};
+    size_t n = 23 * 17 * 31;
+    uint8_t *m = malloc(n);
+    uint64_t r = 99;
+    for (size_t v = 0; v < n; ++v) {
+        r = r * 6364136223846793005ull + 1442695040888963407ull;
+        m[v] = (r >> 60) < 3;
+    }
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    cr_assert_eq(hv_edt(m, d, s, a, NULL), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_edt_less(m, d, s, 0.6f, b, NULL), HV_OK, "%s", hv_last_error());
+    size_t clamped = 0;
+    for (size_t v = 0; v < n; ++v) {
+        float want = fmaxf(a[v] - 0.6f, 0.0f);
+        cr_assert(b[v] == want, "voxel %zu: %.9g, want %.9g", v, b[v], want);
+        clamped += a[v] > 0 && want == 0;
+    }
+    cr_expect_gt(clamped, 0, "no distance below the offset: the clamp went untested");
+    cr_assert_eq(hv_edt_less(m, d, s, -1.0f, b, NULL), HV_ERR_INVALID);
+    cr_assert_eq(hv_edt_less(m, d, s, NAN, b, NULL), HV_ERR_INVALID);
+    free(m);
+    free(a);
+    free(b);
 }

@@ -2,12 +2,8 @@
 # session: metatables, links out of the output directory, numeric paths, the memory limit reached
 # inside the layer callback (refused; nothing left behind)
 mkdir -p "$TMP/out" "$TMP/outside" && ln -s "$TMP/outside" "$TMP/out/escape" && cd "$TMP" || exit 1
-cat >attack.lua <<'LUA'
-local out = arg[1]
-local function try(name, fn, ...)
-  local ok, err = pcall(fn, ...)
-  print(name, ok and "ACCEPTED" or ("refused: " .. tostring(err):gsub("\n", " ")))
-end
+cp "$OLDPWD/tests/cli/hostile_prelude.lua" attack.lua # out, try(): lines 1-5
+cat >>attack.lua <<'LUA'
 local box = hovox.generate.box{min = {0, 0, 0}, max = {10, 10, 10}}
 local model = hovox.voxelize(box, {voxel_size = 1})
 local axis = hovox.axis{origin = {0, 0, 0}, direction = {0, 0, 1}}

@@ -4,12 +4,8 @@
 # and a never-ending loop under the sandbox's time limit
 mkdir -p "$TMP/out" "$TMP/outside" && ln -s "$TMP/outside" "$TMP/out/escape" && cd "$TMP" || exit 1
 cp "$OLDPWD/tests/data/good/core_in_shell.3mf" outside/a.3mf
-cat >attack.lua <<'LUA'
-local out = arg[1]
-local function try(name, fn, ...)
-  local ok, err = pcall(fn, ...)
-  print(name, ok and "ACCEPTED" or ("refused: " .. tostring(err):gsub("\n", " ")))
-end
+cp "$OLDPWD/tests/cli/hostile_prelude.lua" attack.lua # out, try(): lines 1-5
+cat >>attack.lua <<'LUA'
 local a = hovox.generate.box{min = {0, 0, 0}, max = {10, 10, 10}}
 local b = hovox.generate.box{min = {3, 3, 3}, max = {7, 7, 7}}
 -- 1. a part with a metatable whose __index frees the mesh and collects garbage

@@ -5,12 +5,8 @@
 # rewritten (paths with quotes and format characters), a path swapped after its check, a link
 # out of the output dir, bytecode, and a loop that never ends
 mkdir -p "$TMP/out" "$TMP/outside" && ln -s "$TMP/outside" "$TMP/out/escape" && cd "$TMP" || exit 1
-cat >attack.lua <<'LUA'
-local out = arg[1]
-local function try(name, fn, ...)
-  local ok, err = pcall(fn, ...)
-  print(name, ok and "ACCEPTED" or ("refused: " .. tostring(err):gsub("\n", " ")))
-end
+cp "$OLDPWD/tests/cli/hostile_prelude.lua" attack.lua # out, try(): lines 1-5
+cat >>attack.lua <<'LUA'
 local box = hovox.generate.box{min = {0, 0, 0}, max = {10, 10, 10}}
 local model = hovox.voxelize(box, {voxel_size = 1})
 -- 1. the named copies: a copy whose __index frees the model and collects garbage, then

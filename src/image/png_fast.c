@@ -484,21 +484,3 @@ hv_status hv_png_fast_encode(const hv_png_fast_image *img, uint8_t **out, size_t
     *size = png.len;
     return HV_OK;
 }
-
-hv_status hv_png_fast_write(const char *path, const hv_png_fast_image *img)
-{
-    uint8_t *data;
-    size_t size;
-    hv_status s = hv_png_fast_encode(img, &data, &size);
-    if (s != HV_OK) return hv_error_prefix(s, "%s: ", path);
-    hv_atomic_file af;
-    s = hv_atomic_open(&af, path, "wb");
-    if (s == HV_OK && fwrite(data, 1, size, af.fp) != size) {
-        hv_atomic_abort(&af);
-        s = hv_error_set(HV_ERR_IO, "%s: write failed (disk full?)", path);
-    } else if (s == HV_OK) {
-        s = hv_atomic_commit(&af);
-    }
-    free(data);
-    return s;
-}

@@ -36,10 +36,6 @@ typedef struct hv_png_fast_image {
  * above 2^31 bytes). */
 hv_status hv_png_fast_encode(const hv_png_fast_image *img, uint8_t **out, size_t *size);
 
-/* The same, written to `path` atomically (temporary name, fsync, rename). Errors: as encode,
- * HV_ERR_IO naming the path. */
-hv_status hv_png_fast_write(const char *path, const hv_png_fast_image *img);
-
 #ifdef __cplusplus
 }
 #endif

@@ -12,6 +12,8 @@
 #include <openvdb/io/Compression.h>
 #include <openvdb/math/Vec3.h>
 
+#include <type_traits>
+
 // OpenVDB 10.0's bloscFromStream/unzipFromStream read a chunk stored uncompressed (a length
 // n <= 0 before it) as -n bytes into a buffer of the size the tree expects, without comparing
 // the two: a damaged length writes past the buffer (found by fuzz_vdb under ASan: a heap
@@ -533,153 +535,12 @@ typename TreeT::LeafNodeType *leaf_at(TreeT &tree, const Coord &origin)
 
 const char *b_last_error() { return g_error.c_str(); }
 
-int b_create(const double voxel[3], const double origin[3], void **out)
-{
-    try {
-        Volume *v = new Volume;
-        v->xf = make_transform(voxel, origin);
-        v->topo = MaskGrid::create(false);
-        v->topo->setTransform(v->xf);
-        *out = v;
-        return OK;
-    }
-    HV_CATCH(E_INTERNAL)
-}
-
 void b_destroy(void *impl) { delete static_cast<Volume *>(impl); }
 
-int b_clone(const void *impl, void **out)
+void b_grid_free(void *impl, int g)
 {
-    try {
-        const Volume *v = static_cast<const Volume *>(impl);
-        Volume *c = new Volume;
-        c->xf = v->xf->copy();
-        c->topo = v->topo->deepCopy();
-        c->topo->setTransform(c->xf);
-        for (const auto &g : v->grids) {
-            GridBase::Ptr d = g->deepCopyGrid();
-            d->setTransform(c->xf);
-            c->grids.push_back(d);
-        }
-        *out = c;
-        return OK;
-    }
-    HV_CATCH(E_INTERNAL)
-}
-
-int b_grid_add(void *impl, int type)
-{
-    try {
-        Volume *v = static_cast<Volume *>(impl);
-        if (type != T_FLOAT && type != T_BOOL) return fail(E_INVALID, "unknown grid type");
-        // a topology copy of the shared mask tree is built in parallel by OpenVDB
-        GridBase::Ptr g;
-        if (type == T_FLOAT) {
-            FloatGrid::Ptr f = FloatGrid::create(FloatGrid::TreeType::Ptr(
-                new FloatGrid::TreeType(v->topo->tree(), 0.0f, openvdb::TopologyCopy())));
-            f->setSaveFloatAsHalf(false);
-            g = f;
-        } else {
-            g = BoolGrid::create(BoolGrid::TreeType::Ptr(
-                new BoolGrid::TreeType(v->topo->tree(), false, openvdb::TopologyCopy())));
-        }
-        g->setTransform(v->xf);
-        v->grids.push_back(g);
-        return OK;
-    }
-    HV_CATCH(E_INTERNAL)
-}
-
-int b_grid_remove(void *impl, int g)
-{
-    try {
-        Volume *v = static_cast<Volume *>(impl);
-        v->grids.erase(v->grids.begin() + g);
-        return OK;
-    }
-    HV_CATCH(E_INTERNAL)
-}
-
-template <typename TreeT>
-void or_mask(TreeT &tree, const Coord &origin, const uint64_t *mask)
-{
-    auto *leaf = tree.touchLeaf(origin);
-    auto &vm = leaf->getValueMask();
-    for (int w = 0; w < 8; ++w) vm.template getWord<uint64_t>(w) |= mask[w];
-}
-
-int b_topology_add(void *impl, size_t n, const int32_t *origins, const uint64_t *masks)
-{
-    try {
-        Volume *v = static_cast<Volume *>(impl);
-        for (size_t b = 0; b < n; ++b) {
-            Coord o(origins[3 * b], origins[3 * b + 1], origins[3 * b + 2]);
-            const uint64_t *m = masks + 8 * b;
-            or_mask(v->topo->tree(), o, m);
-            for (auto &g : v->grids) {
-                if (FloatGrid *f = dynamic_cast<FloatGrid *>(g.get()))
-                    or_mask(f->tree(), o, m);
-                else if (BoolGrid *bg = dynamic_cast<BoolGrid *>(g.get()))
-                    or_mask(bg->tree(), o, m);
-            }
-        }
-        return OK;
-    }
-    HV_CATCH(E_INTERNAL)
-}
-
-// Restrict every leaf's active mask to `keep`, resetting values that go inactive.
-template <typename TreeT>
-void restrict_tree(TreeT &tree, const MaskGrid &topo, typename TreeT::ValueType bg)
-{
-    for (auto it = tree.beginLeaf(); it; ++it) {
-        const auto *t = topo.tree().probeConstLeaf(it->origin());
-        if (!t) {
-            it->getValueMask().setOff();
-        } else {
-            it->setValueMask(t->getValueMask());
-        }
-        for (auto off = it->getValueMask().beginOff(); off; ++off) it->setValueOnly(off.pos(), bg);
-    }
-    openvdb::tools::pruneInactive(tree);
-}
-
-int b_topology_restrict(void *impl, int g)
-{
-    try {
-        Volume *v = static_cast<Volume *>(impl);
-        BoolGrid *keep = dynamic_cast<BoolGrid *>(v->grids.at(size_t(g)).get());
-        if (!keep) return fail(E_INVALID, "not a bool grid");
-        for (auto it = v->topo->tree().beginLeaf(); it; ++it) {
-            const auto *k = keep->tree().probeConstLeaf(it->origin());
-            auto &vm = it->getValueMask();
-            for (int w = 0; w < 8; ++w) {
-                uint64_t kw = k ? k->buffer().data()[w] : 0;
-                vm.template getWord<uint64_t>(w) &= kw;
-            }
-        }
-        openvdb::tools::pruneInactive(v->topo->tree());
-        for (auto &gp : v->grids) {
-            if (FloatGrid *f = dynamic_cast<FloatGrid *>(gp.get()))
-                restrict_tree(f->tree(), *v->topo, 0.0f);
-            else if (BoolGrid *b = dynamic_cast<BoolGrid *>(gp.get()))
-                restrict_tree(b->tree(), *v->topo, false);
-        }
-        return OK;
-    }
-    HV_CATCH(E_INTERNAL)
-}
-
-int b_topology_union(void *dst, const void *src)
-{
-    try {
-        Volume *d = static_cast<Volume *>(dst);
-        const Volume *s = static_cast<const Volume *>(src);
-        d->topo->tree().topologyUnion(s->topo->tree());
-        for (auto &g : d->grids) match_topology(*d, *g);
-        return OK;
-    }
-    HV_CATCH(E_INTERNAL)
+    Volume *v = static_cast<Volume *>(impl);
+    if (g >= 0 && size_t(g) < v->grids.size()) v->grids[size_t(g)].reset();
 }
 
 size_t b_leaf_count(const void *impl)
@@ -687,7 +548,7 @@ size_t b_leaf_count(const void *impl)
     return static_cast<const Volume *>(impl)->topo->tree().leafCount();
 }
 
-int b_leaf_topology(const void *impl, int32_t *origins, const uint64_t **masks)
+int b_leaf_topology(const void *impl, int32_t *origins, uint64_t *masks)
 {
     try {
         // non-const iteration: getWord() hands out a reference only on a mutable mask
@@ -698,7 +559,7 @@ int b_leaf_topology(const void *impl, int32_t *origins, const uint64_t **masks)
             origins[3 * i] = o.x();
             origins[3 * i + 1] = o.y();
             origins[3 * i + 2] = o.z();
-            masks[i] = &it->getValueMask().template getWord<uint64_t>(0);
+            std::memcpy(masks + 8 * i, &it->getValueMask().template getWord<uint64_t>(0), 8 * sizeof(uint64_t));
         }
         return OK;
     }
@@ -735,9 +596,26 @@ int b_leaf_buffers(void *impl, int g, void **buffers)
 // format, hovox before issue 17) is read whole and the unwanted grids dropped.
 class HvArchive : public openvdb::io::Archive {
 public:
-    void save(std::ostream &os, const openvdb::GridPtrVec &grids, const openvdb::MetaMap &meta, bool seekable) const
+    // What io::Archive::write does for grids with unique, non-empty names and no shared trees,
+    // with grid i made by make(i) just before it is written and dropped after: one grid at a
+    // time is held as an OpenVDB tree.
+    template <typename Make>
+    void save(std::ostream &os, int ngrids, const Make &make, const openvdb::MetaMap &meta, bool seekable) const
     {
-        write(os, grids, seekable, meta);
+        openvdb::io::StreamMetadata::Ptr sm(new openvdb::io::StreamMetadata);
+        openvdb::io::setStreamMetadataPtr(os, sm, /*transfer=*/false);
+        openvdb::io::setDataCompression(os, compression());
+        openvdb::io::setWriteGridStatsMetadata(os, isGridStatsMetadataEnabled());
+        writeHeader(os, seekable);
+        meta.writeMeta(os);
+        int32_t count = ngrids;
+        os.write(reinterpret_cast<const char *>(&count), sizeof count);
+        for (int i = 0; i < ngrids; ++i) {
+            GridBase::Ptr grid = make(i);
+            openvdb::io::GridDescriptor gd(grid->getName(), grid->type(), grid->saveFloatAsHalf());
+            writeGrid(gd, grid, os, seekable);
+            openvdb::io::setDataCompression(os, compression()); // mask compression is set per grid
+        }
     }
 
     // Grids come out in file order; *count receives the number of grids the file holds. With
@@ -873,32 +751,49 @@ private:
     [[noreturn]] static void damaged(const std::string &what) { throw Damaged{what + ": the file is damaged"}; }
 };
 
-// Inactive values are meaningless to hovox but visible to other readers: clear them.
-template <typename TreeT>
-void clear_inactive(TreeT &tree, typename TreeT::ValueType bg)
+// Grid g of a save, built from hovox's leaf tables. Inactive values are meaningless to hovox but
+// visible to other readers: they are written as 0.
+template <typename GridT>
+GridBase::Ptr build_grid(const openvdb::math::Transform::Ptr &xf, size_t n, const int32_t *origins,
+                         const uint64_t *masks, const void *const *buffers)
 {
-    for (auto it = tree.beginLeaf(); it; ++it)
-        for (auto off = it->getValueMask().beginOff(); off; ++off) it->setValueOnly(off.pos(), bg);
+    typename GridT::Ptr grid = GridT::create(typename GridT::ValueType(0));
+    grid->setTransform(xf);
+    auto &tree = grid->tree();
+    for (size_t l = 0; l < n; ++l) {
+        auto *leaf = tree.touchLeaf(Coord(origins[3 * l], origins[3 * l + 1], origins[3 * l + 2]));
+        const uint64_t *m = masks + 8 * l;
+        auto &vm = leaf->getValueMask();
+        for (int w = 0; w < 8; ++w) vm.template getWord<uint64_t>(w) = m[w];
+        if constexpr (std::is_same<typename GridT::ValueType, bool>::value) {
+            const uint64_t *src = static_cast<const uint64_t *>(buffers[l]);
+            uint64_t *dst = leaf->buffer().data();
+            for (int w = 0; w < 8; ++w) dst[w] = src[w] & m[w];
+        } else {
+            const float *src = static_cast<const float *>(buffers[l]);
+            float *dst = leaf->buffer().data();
+            for (unsigned i = 0; i < 512; ++i) dst[i] = (m[i >> 6] >> (i & 63)) & 1 ? src[i] : 0.0f;
+        }
+    }
+    return grid;
 }
 
-int b_save(const void *impl, const char *path, int ngrids, const char *const *names, const unsigned char *half, int nmeta,
-           const char *const *keys, const int *kinds, const char *const *strings,
-           const double *numbers, hv_vdb_cancel_fn cancel)
+int b_save(const char *path, const double voxel[3], const double origin[3], size_t n, const int32_t *origins,
+           const uint64_t *masks, int ngrids, const char *const *names, const int *types, const unsigned char *half,
+           const void *const *const *buffers, int nmeta, const char *const *keys, const int *kinds,
+           const char *const *strings, const double *numbers, hv_vdb_cancel_fn cancel)
 {
     try {
-        const Volume *v = static_cast<const Volume *>(impl);
-        openvdb::GridPtrVec out;
-        for (int g = 0; g < ngrids; ++g) {
-            GridBase::Ptr gp = v->grids[size_t(g)];
-            if (FloatGrid *f = dynamic_cast<FloatGrid *>(gp.get())) {
-                clear_inactive(f->tree(), 0.0f);
-                f->setSaveFloatAsHalf(half[g] != 0);
-            }
-            else if (BoolGrid *b = dynamic_cast<BoolGrid *>(gp.get())) clear_inactive(b->tree(), false);
+        const openvdb::math::Transform::Ptr xf = make_transform(voxel, origin);
+        auto make = [&](int g) {
+            GridBase::Ptr gp = types[g] == T_FLOAT ? build_grid<FloatGrid>(xf, n, origins, masks, buffers[g])
+                                                   : build_grid<BoolGrid>(xf, n, origins, masks, buffers[g]);
+            gp->setSaveFloatAsHalf(types[g] == T_FLOAT && half[g] != 0);
             gp->setName(names[g]);
             gp->insertMeta("hovox.index", openvdb::Int32Metadata(g)); // files list grids by name
-            out.push_back(gp);
-        }
+            if (cancel && cancel()) throw Cancelled{};
+            return gp;
+        };
         openvdb::MetaMap meta;
         for (int i = 0; i < nmeta; ++i) {
             if (kinds[i] == HV_META_NUMBER)
@@ -916,7 +811,7 @@ int b_save(const void *impl, const char *path, int ngrids, const char *const *na
         // io::Stream's format
         struct stat st;
         const bool seekable = !(stat(path, &st) == 0 && !S_ISREG(st.st_mode));
-        HvArchive().save(os, out, meta, seekable);
+        HvArchive().save(os, ngrids, make, meta, seekable);
         os.flush();
         if (!buf.close()) return fail(E_IO, "closing the file failed (disk full?)");
         return OK;
@@ -1165,23 +1060,9 @@ int b_load(const char *path, const char *const *want, int nwant, int threads, vo
     catch (...) { delete v; return fail(E_BAD_INPUT, "unknown exception reading VDB file"); }
 }
 
-uint64_t b_memory(const void *impl)
-{
-    try {
-        const Volume *v = static_cast<const Volume *>(impl);
-        uint64_t total = v->topo->memUsage();
-        for (const auto &g : v->grids) total += g->memUsage();
-        return total;
-    } catch (...) {
-        return 0;
-    }
-}
-
 const hv_vdb_api g_api = {
-    HV_VDB_ABI,      b_last_error,   b_create,       b_destroy,      b_clone,
-    b_grid_add,      b_grid_remove,  b_topology_add, b_topology_restrict,
-    b_topology_union, b_leaf_count,  b_leaf_topology, b_leaf_buffers, b_save,
-    b_load,          b_memory,
+    HV_VDB_ABI,   b_last_error,    b_save,         b_load,      b_leaf_count,
+    b_leaf_topology, b_leaf_buffers, b_grid_free, b_destroy,
 };
 
 } // namespace

@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-#define HV_VDB_ABI 4
+#define HV_VDB_ABI 5
 
 enum { HV_META_STRING = 0, HV_META_NUMBER = 1 };
 
@@ -24,39 +24,38 @@ typedef int (*hv_vdb_grid_cb)(void *ctx, const char *name, int type);
 /* Polled while a file is read or written: nonzero stops it (status 6, cancelled). */
 typedef int (*hv_vdb_cancel_fn)(void);
 
+/* The volume store (volume.c) is C; the plugin writes its volumes as OpenVDB files and reads
+ * the files the native reader (vdb_read.c) leaves to it. */
 typedef struct hv_vdb_api {
     int abi;
     const char *(*last_error)(void);
-    int (*create)(const double voxel[3], const double origin[3], void **out);
-    void (*destroy)(void *impl);
-    int (*clone)(const void *impl, void **out);
-    int (*grid_add)(void *impl, int type);
-    int (*grid_remove)(void *impl, int g);
-    /* topology: blocks of (origin, 8-word mask) to activate */
-    int (*topology_add)(void *impl, size_t n, const int32_t *origins, const uint64_t *masks);
-    int (*topology_restrict)(void *impl, int bool_grid);
-    int (*topology_union)(void *dst, const void *src);
-    /* leaf tables, in tree order of the shared topology */
-    size_t (*leaf_count)(const void *impl);
-    int (*leaf_topology)(const void *impl, int32_t *origins, const uint64_t **masks);
-    int (*leaf_buffers)(void *impl, int g, void **buffers);
-    /* files */
-    /* save: every write, the flush and the close are checked (a full disk is status 3); the file
-     * holds grid offsets (io::File's format), so loads can skip grids. Float grid g is stored as
-     * 16-bit half floats where half[g] is nonzero (OpenVDB's saveFloatAsHalf: every reader gets
-     * floats back). */
-    int (*save)(const void *impl, const char *path, int ngrids, const char *const *names,
-                const unsigned char *half, int nmeta, const char *const *keys, const int *kinds,
-                const char *const *strings, const double *numbers, hv_vdb_cancel_fn cancel);
+    /* save: the voxel transform, n leaves (origins in tree order, 8-word masks), and ngrids
+     * grids of type types[g] (1 float, 2 bool) whose leaf l has buffer buffers[g][l]; inactive
+     * voxels are written as 0. Every write, the flush and the close are checked (a full disk
+     * is status 3); the file holds grid offsets (io::File's format), so loads can skip grids.
+     * Float grid g is stored as 16-bit half floats where half[g] is nonzero (OpenVDB's
+     * saveFloatAsHalf: every reader gets floats back). One grid at a time is held as an
+     * OpenVDB tree. */
+    int (*save)(const char *path, const double voxel[3], const double origin[3], size_t n, const int32_t *origins,
+                const uint64_t *masks, int ngrids, const char *const *names, const int *types,
+                const unsigned char *half, const void *const *const *buffers, int nmeta, const char *const *keys,
+                const int *kinds, const char *const *strings, const double *numbers, hv_vdb_cancel_fn cancel);
     /* load: a file that ends early or is damaged is status 2; grids whose active voxels would
      * take more than max_bytes once expanded are refused before expanding (status 5). Only the
      * grids `want` selects are loaded (nwant entries, each a name or a prefix followed by '*';
      * nwant < 0: every grid); with grid offsets in the file the others are not read, and the
-     * selected ones are read on up to `threads` threads. */
+     * selected ones are read on up to `threads` threads. *out holds the grids, on one topology
+     * (the union of theirs), until destroy; the caller copies them out with the entries below. */
     int (*load)(const char *path, const char *const *want, int nwant, int threads, void **out,
                 double voxel[3], double origin[3], hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb,
                 void *ctx, uint64_t max_bytes, hv_vdb_cancel_fn cancel);
-    uint64_t (*memory)(const void *impl);
+    /* a loaded volume: its leaves in tree order (origins, masks: 3 int32 and 8 words each), the
+     * buffer of each leaf in grid g (floats or 8 words; valid until grid_free or destroy) */
+    size_t (*leaf_count)(const void *impl);
+    int (*leaf_topology)(const void *impl, int32_t *origins, uint64_t *masks);
+    int (*leaf_buffers)(void *impl, int g, void **buffers);
+    void (*grid_free)(void *impl, int g);
+    void (*destroy)(void *impl);
 } hv_vdb_api;
 
 /* The plugin's one exported symbol. */

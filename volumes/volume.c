@@ -1,6 +1,8 @@
-/* volumes/volume.c - the C side of the volume store: grid names, leaf tables and a block
- * hash for C kernels, cached accessors, trilinear sampling, mask algebra, metadata. The
- * OpenVDB work happens in the bridge plugin (vdb_bridge.cpp), loaded on first use. */
+/* volumes/volume.c - the volume store: grid names, the shared topology (a leaf table in OpenVDB's
+ * tree order with a block hash), one buffer per leaf and grid, cached accessors, trilinear
+ * sampling, mask algebra, metadata. Everything here is C; OpenVDB (the bridge plugin,
+ * vdb_bridge.cpp, loaded on first use) only writes files and reads the files the native reader
+ * (vdb_read.c) leaves to it. */
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
@@ -13,11 +15,12 @@
 #include "hovox/volume.h"
 #include "core/json.h"
 #include "vdb_bridge.h"
+#include "volume_internal.h"
 
 typedef struct grid_entry {
     char *name;
     hv_grid_type type;
-    void **leaves; /* buffer per leaf */
+    void **leaves; /* buffer per leaf (owned: HV_LEAF_SIZE floats or HV_LEAF_WORDS words) */
 } grid_entry;
 
 typedef struct meta_entry {
@@ -33,16 +36,15 @@ typedef struct hash_slot {
 } hash_slot;
 
 struct hv_volume {
-    void *impl;
     hv_transform xf;
     int ngrids;
     size_t gcap;
     grid_entry *grids;
-    /* leaf table of the shared topology */
+    /* the shared topology: leaves in OpenVDB's tree order (hv_leaf_order) */
     size_t nleaves;
-    int32_t *origins;
-    const uint64_t **masks;
-    size_t hcap; /* power of two */
+    int32_t *origins; /* 3 per leaf */
+    uint64_t *masks;  /* HV_LEAF_WORDS per leaf */
+    size_t hcap;      /* power of two */
     hash_slot *hash;
     /* metadata, sorted by key */
     int nmeta;
@@ -50,6 +52,8 @@ struct hv_volume {
     meta_entry *meta;
     char *name; /* the file it was loaded from, for messages (NULL: none) */
 };
+
+#define MASK(v, l) ((v)->masks + (size_t)(l) * HV_LEAF_WORDS)
 
 /* ---- the bridge ------------------------------------------------------------------------- */
 
@@ -82,12 +86,25 @@ static hv_status api(void)
     return HV_OK;
 }
 
-static hv_status bridge_fail(int status)
-{
-    return hv_error_set((hv_status)status, "OpenVDB: %s", g_api->last_error());
-}
+/* ---- leaf order and table --------------------------------------------------------------- */
 
-/* ---- leaf table ------------------------------------------------------------------------- */
+/* OpenVDB's tree order (5-4-3 trees): root children by their 4096-aligned origin, x then y then
+ * z (signed); inside, the 32^3 and then the 16^3 child offsets, x-major. Files list leaves in
+ * this order, and keeping it keeps every sum over leaves as it was with OpenVDB underneath. */
+int hv_leaf_order(const int32_t *a, const int32_t *b)
+{
+    for (int k = 0; k < 3; ++k) {
+        int32_t x = a[k] >> 12, y = b[k] >> 12; /* arithmetic shift: floor division */
+        if (x != y) return x < y ? -1 : 1;
+    }
+    uint32_t p = (((uint32_t)a[0] >> 7 & 31u) << 22) | (((uint32_t)a[1] >> 7 & 31u) << 17) |
+                 (((uint32_t)a[2] >> 7 & 31u) << 12) | (((uint32_t)a[0] >> 3 & 15u) << 8) |
+                 (((uint32_t)a[1] >> 3 & 15u) << 4) | ((uint32_t)a[2] >> 3 & 15u);
+    uint32_t q = (((uint32_t)b[0] >> 7 & 31u) << 22) | (((uint32_t)b[1] >> 7 & 31u) << 17) |
+                 (((uint32_t)b[2] >> 7 & 31u) << 12) | (((uint32_t)b[0] >> 3 & 15u) << 8) |
+                 (((uint32_t)b[1] >> 3 & 15u) << 4) | ((uint32_t)b[2] >> 3 & 15u);
+    return p < q ? -1 : p > q;
+}
 
 static uint64_t hash3(int32_t x, int32_t y, int32_t z)
 {
@@ -108,73 +125,55 @@ static int64_t hash_find(const hv_volume *v, int32_t x, int32_t y, int32_t z)
     }
 }
 
-static void drop_table(hv_volume *v)
+static size_t hash_cap(size_t n)
 {
-    free(v->origins);
-    free(v->masks);
-    free(v->hash);
-    v->origins = NULL;
-    v->masks = NULL;
-    v->hash = NULL;
-    v->nleaves = v->hcap = 0;
-    for (int g = 0; g < v->ngrids; ++g) {
-        free(v->grids[g].leaves);
-        v->grids[g].leaves = NULL;
-    }
-}
-
-static hv_status fill_grid_table(hv_volume *v, int g)
-{
-    free(v->grids[g].leaves);
-    v->grids[g].leaves = hv_calloc(v->nleaves ? v->nleaves : 1, sizeof(void *));
-    if (!v->grids[g].leaves) return HV_ERR_NOMEM;
-    if (v->nleaves == 0) return HV_OK;
-    int rc = g_api->leaf_buffers(v->impl, g, v->grids[g].leaves);
-    return rc ? bridge_fail(rc) : HV_OK;
-}
-
-/* Rebuild every table after a topology change. */
-static hv_status rebuild(hv_volume *v)
-{
-    drop_table(v);
-    size_t n = g_api->leaf_count(v->impl);
-    v->origins = hv_malloc_array(n ? 3 * n : 3, sizeof(int32_t));
-    v->masks = hv_malloc_array(n ? n : 1, sizeof(uint64_t *));
     size_t cap = 16;
     while (cap < 2 * n) cap *= 2;
-    v->hash = hv_malloc_array(cap, sizeof(hash_slot));
-    if (!v->origins || !v->masks || !v->hash) {
-        drop_table(v);
-        return HV_ERR_NOMEM;
-    }
-    v->nleaves = n;
-    v->hcap = cap;
-    for (size_t i = 0; i < cap; ++i) v->hash[i].leaf = -1;
-    if (n) {
-        int rc = g_api->leaf_topology(v->impl, v->origins, v->masks);
-        if (rc) {
-            drop_table(v);
-            return bridge_fail(rc);
-        }
-    }
-    for (size_t l = 0; l < n; ++l) {
+    return cap;
+}
+
+/* Fill `hash` (cap slots) with the leaves of v. */
+static void hash_fill(hv_volume *v, hash_slot *hash, size_t cap)
+{
+    for (size_t i = 0; i < cap; ++i) hash[i].leaf = -1;
+    for (size_t l = 0; l < v->nleaves; ++l) {
         const int32_t *o = v->origins + 3 * l;
         for (size_t i = (size_t)hash3(o[0], o[1], o[2]) & (cap - 1);; i = (i + 1) & (cap - 1)) {
-            if (v->hash[i].leaf < 0) {
-                memcpy(v->hash[i].key, o, sizeof v->hash[i].key);
-                v->hash[i].leaf = (int64_t)l;
+            if (hash[i].leaf < 0) {
+                memcpy(hash[i].key, o, sizeof hash[i].key);
+                hash[i].leaf = (int64_t)l;
                 break;
             }
         }
     }
-    for (int g = 0; g < v->ngrids; ++g) {
-        hv_status s = fill_grid_table(v, g);
-        if (s != HV_OK) {
-            drop_table(v);
-            return s;
+    free(v->hash);
+    v->hash = hash;
+    v->hcap = cap;
+}
+
+static size_t leaf_bytes(hv_grid_type t)
+{
+    return t == HV_GRID_FLOAT ? HV_LEAF_SIZE * sizeof(float) : HV_LEAF_WORDS * sizeof(uint64_t);
+}
+
+static void free_buffers(void **leaves, size_t n)
+{
+    if (!leaves) return;
+    for (size_t l = 0; l < n; ++l) free(leaves[l]);
+    free(leaves);
+}
+
+/* A table of n zeroed leaf buffers of type t (NULL when out of memory). */
+static void **zero_buffers(hv_grid_type t, size_t n)
+{
+    void **b = hv_calloc(n ? n : 1, sizeof *b);
+    if (!b) return NULL;
+    for (size_t l = 0; l < n; ++l)
+        if (!(b[l] = hv_calloc(1, leaf_bytes(t)))) {
+            free_buffers(b, l);
+            return NULL;
         }
-    }
-    return HV_OK;
+    return b;
 }
 
 /* ---- life cycle ------------------------------------------------------------------------- */
@@ -200,20 +199,8 @@ hv_status hv_volume_create(const hv_transform *xf, hv_volume **out)
         return hv_error_set(HV_ERR_INVALID,
                             "voxel size (%g, %g, %g) must be positive and finite, origin finite",
                             xf->voxel[0], xf->voxel[1], xf->voxel[2]);
-    hv_status s = api();
-    if (s != HV_OK) return s;
     hv_volume *v = new_volume(xf);
     if (!v) return HV_ERR_NOMEM;
-    int rc = g_api->create(xf->voxel, xf->origin, &v->impl);
-    if (rc) {
-        free(v);
-        return bridge_fail(rc);
-    }
-    s = rebuild(v);
-    if (s != HV_OK) {
-        hv_volume_destroy(v);
-        return s;
-    }
     *out = v;
     return HV_OK;
 }
@@ -233,12 +220,16 @@ static void free_meta(hv_volume *v)
 void hv_volume_destroy(hv_volume *v)
 {
     if (!v) return;
-    drop_table(v);
-    for (int g = 0; g < v->ngrids; ++g) free(v->grids[g].name);
+    for (int g = 0; g < v->ngrids; ++g) {
+        free(v->grids[g].name);
+        free_buffers(v->grids[g].leaves, v->nleaves);
+    }
     free(v->grids);
+    free(v->origins);
+    free(v->masks);
+    free(v->hash);
     free_meta(v);
     free(v->name);
-    if (v->impl && g_api) g_api->destroy(v->impl);
     free(v);
 }
 
@@ -255,30 +246,61 @@ static hv_status copy_meta(hv_volume *dst, const hv_volume *src)
     return HV_OK;
 }
 
+/* Give v a topology of n leaves (origins in tree order, masks): arrays and hash, no grids yet.
+ * v must have no leaves. */
+static hv_status set_topology(hv_volume *v, size_t n, const int32_t *origins, const uint64_t *masks)
+{
+    v->origins = hv_malloc_array(n ? 3 * n : 3, sizeof(int32_t));
+    v->masks = hv_malloc_array(n ? n : 1, HV_LEAF_WORDS * sizeof(uint64_t));
+    size_t cap = hash_cap(n);
+    hash_slot *hash = hv_malloc_array(cap, sizeof *hash);
+    if (!v->origins || !v->masks || !hash) {
+        free(hash);
+        return HV_ERR_NOMEM;
+    }
+    if (n) {
+        memcpy(v->origins, origins, 3 * n * sizeof(int32_t));
+        memcpy(v->masks, masks, n * HV_LEAF_WORDS * sizeof(uint64_t));
+    }
+    v->nleaves = n;
+    hash_fill(v, hash, cap);
+    return HV_OK;
+}
+
+/* Append a grid entry whose leaf table the caller fills (leaves: owned table, or NULL). */
+static hv_status push_grid(hv_volume *v, const char *name, hv_grid_type type, void **leaves)
+{
+    hv_status s = hv_grow((void **)&v->grids, &v->gcap, (size_t)v->ngrids + 1, sizeof *v->grids);
+    char *copy = s == HV_OK ? hv_strdup(name) : NULL;
+    if (!copy) return HV_ERR_NOMEM;
+    grid_entry *e = &v->grids[v->ngrids++];
+    e->name = copy;
+    e->type = type;
+    e->leaves = leaves;
+    return HV_OK;
+}
+
 hv_status hv_volume_clone(const hv_volume *src, hv_volume **out)
 {
     *out = NULL;
     hv_volume *v = new_volume(&src->xf);
     if (!v) return HV_ERR_NOMEM;
-    int rc = g_api->clone(src->impl, &v->impl);
-    if (rc) {
-        free(v);
-        return bridge_fail(rc);
-    }
-    hv_status s = HV_OK;
+    hv_status s = set_topology(v, src->nleaves, src->origins, src->masks);
     for (int g = 0; g < src->ngrids && s == HV_OK; ++g) {
-        s = hv_grow((void **)&v->grids, &v->gcap, (size_t)g + 1, sizeof *v->grids);
-        if (s == HV_OK) {
-            grid_entry *e = &v->grids[g];
-            memset(e, 0, sizeof *e);
-            e->type = src->grids[g].type;
-            e->name = hv_strdup(src->grids[g].name);
-            v->ngrids = g + 1;
-            if (!e->name) s = HV_ERR_NOMEM;
+        size_t bytes = leaf_bytes(src->grids[g].type);
+        void **b = hv_calloc(v->nleaves ? v->nleaves : 1, sizeof *b);
+        for (size_t l = 0; b && l < v->nleaves; ++l) {
+            if (!(b[l] = hv_malloc(bytes))) {
+                free_buffers(b, l);
+                b = NULL;
+                break;
+            }
+            memcpy(b[l], src->grids[g].leaves[l], bytes);
         }
+        s = b ? push_grid(v, src->grids[g].name, src->grids[g].type, b) : HV_ERR_NOMEM;
+        if (s != HV_OK) free_buffers(b, v->nleaves);
     }
     if (s == HV_OK) s = copy_meta(v, src);
-    if (s == HV_OK) s = rebuild(v);
     if (s != HV_OK) {
         hv_volume_destroy(v);
         return s;
@@ -336,25 +358,14 @@ hv_status hv_volume_grid_add(hv_volume *v, const char *name, hv_grid_type type, 
     if (s != HV_OK) return s;
     if (type != HV_GRID_FLOAT && type != HV_GRID_BOOL)
         return hv_error_set(HV_ERR_INVALID, "grid '%s': unknown type %d", name, (int)type);
-    s = hv_grow((void **)&v->grids, &v->gcap, (size_t)v->ngrids + 1, sizeof *v->grids);
-    if (s != HV_OK) return s;
-    char *copy = hv_strdup(name);
-    if (!copy) return HV_ERR_NOMEM;
-    int rc = g_api->grid_add(v->impl, (int)type);
-    if (rc) {
-        free(copy);
-        return bridge_fail(rc);
-    }
-    int g = v->ngrids++;
-    v->grids[g].name = copy;
-    v->grids[g].type = type;
-    v->grids[g].leaves = NULL;
-    s = fill_grid_table(v, g);
+    void **b = zero_buffers(type, v->nleaves);
+    if (!b) return HV_ERR_NOMEM;
+    s = push_grid(v, name, type, b);
     if (s != HV_OK) {
-        hv_volume_grid_remove(v, g);
+        free_buffers(b, v->nleaves);
         return s;
     }
-    if (index) *index = g;
+    if (index) *index = v->ngrids - 1;
     return HV_OK;
 }
 
@@ -362,10 +373,8 @@ hv_status hv_volume_grid_remove(hv_volume *v, int g)
 {
     if (g < 0 || g >= v->ngrids)
         return hv_error_set(HV_ERR_INVALID, "no grid with index %d (volume has %d)", g, v->ngrids);
-    int rc = g_api->grid_remove(v->impl, g);
-    if (rc) return bridge_fail(rc);
     free(v->grids[g].name);
-    free(v->grids[g].leaves);
+    free_buffers(v->grids[g].leaves, v->nleaves);
     memmove(&v->grids[g], &v->grids[g + 1], (size_t)(v->ngrids - g - 1) * sizeof *v->grids);
     --v->ngrids;
     return HV_OK;
@@ -417,7 +426,7 @@ hv_status hv_volume_grid_copy(hv_volume *dst, const char *name, const hv_volume 
         const int32_t *o = src->origins + 3 * l;
         int64_t dl = dst == src ? (int64_t)l : hash_find(dst, o[0], o[1], o[2]);
         if (dl < 0) return hv_error_set(HV_ERR_INTERNAL, "grid copy: topology union incomplete");
-        const uint64_t *m = src->masks[l];
+        const uint64_t *m = MASK(src, l);
         if (type == HV_GRID_FLOAT) {
             const float *sb = src->grids[sg].leaves[l];
             float *db = dst->grids[dg].leaves[dl];
@@ -436,7 +445,7 @@ hv_status hv_volume_grid_copy(hv_volume *dst, const char *name, const hv_volume 
 
 size_t hv_volume_leaf_count(const hv_volume *v) { return v->nleaves; }
 const int32_t *hv_volume_leaf_origins(const hv_volume *v) { return v->origins; }
-const uint64_t *hv_volume_leaf_mask(const hv_volume *v, size_t l) { return v->masks[l]; }
+const uint64_t *hv_volume_leaf_mask(const hv_volume *v, size_t l) { return MASK(v, l); }
 
 float *hv_volume_leaf_float(hv_volume *v, int g, size_t l)
 {
@@ -468,7 +477,7 @@ static uint64_t popcount8(const uint64_t *w)
 uint64_t hv_volume_active_count(const hv_volume *v)
 {
     uint64_t c = 0;
-    for (size_t l = 0; l < v->nleaves; ++l) c += popcount8(v->masks[l]);
+    for (size_t l = 0; l < v->nleaves; ++l) c += popcount8(MASK(v, l));
     return c;
 }
 
@@ -478,7 +487,7 @@ int hv_volume_index_bbox(const hv_volume *v, int32_t lo[3], int32_t hi[3])
     int32_t a[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, b[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
     for (size_t l = 0; l < v->nleaves; ++l) {
         const int32_t *o = v->origins + 3 * l;
-        const uint64_t *m = v->masks[l];
+        const uint64_t *m = MASK(v, l);
         /* cheap reject: the leaf cannot move the box */
         if (any && o[0] >= a[0] && o[0] + 7 <= b[0] && o[1] >= a[1] && o[1] + 7 <= b[1] &&
             o[2] >= a[2] && o[2] + 7 <= b[2])
@@ -501,6 +510,21 @@ int hv_volume_index_bbox(const hv_volume *v, int32_t lo[3], int32_t hi[3])
     return any;
 }
 
+/* New blocks of a topology_add, sorted into tree order (equal origins next to each other). */
+typedef struct new_block {
+    const int32_t *o;
+    size_t b;
+} new_block;
+
+static int new_block_cmp(const void *x, const void *y)
+{
+    const new_block *a = x, *b = y;
+    int c = hv_leaf_order(a->o, b->o);
+    return c ? c : (a->b > b->b) - (a->b < b->b);
+}
+
+static int same_origin(const int32_t *a, const int32_t *b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
 hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
                                  const uint64_t *masks)
 {
@@ -510,20 +534,156 @@ hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
                 return hv_error_set(HV_ERR_INVALID,
                                     "block %zu: origin (%d, %d, %d) is not a multiple of 8", b,
                                     origins[3 * b], origins[3 * b + 1], origins[3 * b + 2]);
-    int rc = g_api->topology_add(v->impl, n, origins, masks);
-    hv_status s = rc ? bridge_fail(rc) : HV_OK;
-    hv_status r = rebuild(v);
-    return s != HV_OK ? s : r;
+    /* 1. the blocks without a leaf yet, sorted; every allocation is made before v changes */
+    size_t nnew = 0, nuniq = 0;
+    new_block *nb = NULL;
+    for (size_t b = 0; b < n; ++b)
+        nnew += hash_find(v, origins[3 * b], origins[3 * b + 1], origins[3 * b + 2]) < 0;
+    if (nnew) {
+        nb = hv_malloc_array(nnew, sizeof *nb);
+        if (!nb) return HV_ERR_NOMEM;
+        size_t k = 0;
+        for (size_t b = 0; b < n; ++b)
+            if (hash_find(v, origins[3 * b], origins[3 * b + 1], origins[3 * b + 2]) < 0) nb[k++] = (new_block){origins + 3 * b, b};
+        qsort(nb, nnew, sizeof *nb, new_block_cmp);
+        for (size_t i = 0; i < nnew; ++i) nuniq += i == 0 || !same_origin(nb[i].o, nb[i - 1].o);
+    }
+    size_t total = v->nleaves + nuniq;
+    int32_t *org = NULL;
+    uint64_t *msk = NULL;
+    hash_slot *hash = NULL;
+    void ***tables = NULL;
+    size_t cap = hash_cap(total);
+    if (nuniq) {
+        org = hv_malloc_array(3 * total, sizeof *org);
+        msk = hv_calloc(total, HV_LEAF_WORDS * sizeof *msk);
+        hash = hv_malloc_array(cap, sizeof *hash);
+        tables = hv_calloc((size_t)v->ngrids + 1, sizeof *tables);
+        int ok = org && msk && hash && tables;
+        for (int g = 0; ok && g < v->ngrids; ++g) {
+            tables[g] = hv_calloc(total, sizeof(void *));
+            ok = tables[g] != NULL;
+            /* the new leaves' buffers go to the end of the table; the merge below moves them */
+            for (size_t i = 0; ok && i < nuniq; ++i)
+                ok = (tables[g][v->nleaves + i] = hv_calloc(1, leaf_bytes(v->grids[g].type))) != NULL;
+        }
+        if (!ok) {
+            for (int g = 0; tables && g < v->ngrids; ++g)
+                if (tables[g])
+                    for (size_t i = 0; i < nuniq; ++i) free(tables[g][v->nleaves + i]);
+            for (int g = 0; tables && g < v->ngrids; ++g) free(tables[g]);
+            free(tables);
+            free(org);
+            free(msk);
+            free(hash);
+            free(nb);
+            return HV_ERR_NOMEM;
+        }
+    }
+    /* 2. blocks on leaves that exist: their new voxels start at 0 in every grid */
+    for (size_t b = 0; b < n; ++b) {
+        int64_t l = hash_find(v, origins[3 * b], origins[3 * b + 1], origins[3 * b + 2]);
+        if (l < 0) continue;
+        uint64_t *m = MASK(v, l);
+        for (int w = 0; w < HV_LEAF_WORDS; ++w) {
+            uint64_t add = masks[HV_LEAF_WORDS * b + (size_t)w] & ~m[w];
+            if (!add) continue;
+            m[w] |= add;
+            for (int g = 0; g < v->ngrids; ++g) {
+                if (v->grids[g].type == HV_GRID_BOOL) {
+                    ((uint64_t *)v->grids[g].leaves[l])[w] &= ~add;
+                } else {
+                    float *f = v->grids[g].leaves[l];
+                    for (uint64_t a = add; a; a &= a - 1) f[w * 64 + __builtin_ctzll(a)] = 0.0f;
+                }
+            }
+        }
+    }
+    if (!nuniq) return HV_OK;
+    /* 3. merge the new leaves (sorted) into the table (sorted) */
+    size_t i = 0, j = 0, k = 0, u = 0; /* old leaf, new block, output, new leaf */
+    while (i < v->nleaves || j < nnew) {
+        int take_new = i == v->nleaves || (j < nnew && hv_leaf_order(nb[j].o, v->origins + 3 * i) < 0);
+        if (!take_new) {
+            memcpy(org + 3 * k, v->origins + 3 * i, 3 * sizeof *org);
+            memcpy(msk + HV_LEAF_WORDS * k, MASK(v, i), HV_LEAF_WORDS * sizeof *msk);
+            for (int g = 0; g < v->ngrids; ++g) tables[g][k] = v->grids[g].leaves[i];
+            ++i;
+        } else {
+            memcpy(org + 3 * k, nb[j].o, 3 * sizeof *org);
+            size_t e = j;
+            for (; e < nnew && same_origin(nb[e].o, nb[j].o); ++e)
+                for (int w = 0; w < HV_LEAF_WORDS; ++w)
+                    msk[HV_LEAF_WORDS * k + (size_t)w] |= masks[HV_LEAF_WORDS * nb[e].b + (size_t)w];
+            j = e;
+            /* new leaves take the zeroed buffers from the end of the table, in turn; an old leaf
+             * never reads a slot at or past v->nleaves + u before it is moved */
+            for (int g = 0; g < v->ngrids; ++g) {
+                void *buf = tables[g][v->nleaves + u];
+                tables[g][v->nleaves + u] = NULL;
+                tables[g][k] = buf;
+            }
+            ++u;
+        }
+        ++k;
+    }
+    free(nb);
+    for (int g = 0; g < v->ngrids; ++g) {
+        free(v->grids[g].leaves);
+        v->grids[g].leaves = tables[g];
+    }
+    free(tables);
+    free(v->origins);
+    free(v->masks);
+    v->origins = org;
+    v->masks = msk;
+    v->nleaves = total;
+    hash_fill(v, hash, cap);
+    return HV_OK;
 }
 
 hv_status hv_volume_topology_restrict(hv_volume *v, int g)
 {
     if (g < 0 || g >= v->ngrids || v->grids[g].type != HV_GRID_BOOL)
         return hv_error_set(HV_ERR_INVALID, "topology restrict: grid %d is not a bool grid", g);
-    int rc = g_api->topology_restrict(v->impl, g);
-    hv_status s = rc ? bridge_fail(rc) : HV_OK;
-    hv_status r = rebuild(v);
-    return s != HV_OK ? s : r;
+    size_t k = 0;
+    for (size_t l = 0; l < v->nleaves; ++l) {
+        uint64_t *m = MASK(v, l), keep = 0;
+        const uint64_t *on = v->grids[g].leaves[l];
+        uint64_t drop[HV_LEAF_WORDS];
+        for (int w = 0; w < HV_LEAF_WORDS; ++w) {
+            drop[w] = m[w] & ~on[w];
+            m[w] &= on[w];
+            keep |= m[w];
+        }
+        if (!keep) { /* an empty leaf goes, as OpenVDB's pruneInactive drops it */
+            for (int q = 0; q < v->ngrids; ++q) free(v->grids[q].leaves[l]);
+            continue;
+        }
+        for (int q = 0; q < v->ngrids; ++q) { /* voxels that go inactive are reset to 0 */
+            if (v->grids[q].type == HV_GRID_BOOL) {
+                uint64_t *b = v->grids[q].leaves[l];
+                for (int w = 0; w < HV_LEAF_WORDS; ++w) b[w] &= ~drop[w];
+            } else {
+                float *f = v->grids[q].leaves[l];
+                for (int w = 0; w < HV_LEAF_WORDS; ++w)
+                    for (uint64_t a = drop[w]; a; a &= a - 1) f[w * 64 + __builtin_ctzll(a)] = 0.0f;
+            }
+        }
+        if (k != l) {
+            memcpy(v->origins + 3 * k, v->origins + 3 * l, 3 * sizeof *v->origins);
+            memcpy(MASK(v, k), m, HV_LEAF_WORDS * sizeof *m);
+            for (int q = 0; q < v->ngrids; ++q) v->grids[q].leaves[k] = v->grids[q].leaves[l];
+        }
+        ++k;
+    }
+    if (k == v->nleaves) return HV_OK;
+    v->nleaves = k;
+    /* the hash is refilled in place: it only ever shrinks here */
+    hash_slot *hash = v->hash;
+    v->hash = NULL;
+    hash_fill(v, hash, v->hcap);
+    return HV_OK;
 }
 
 hv_status hv_volume_topology_union(hv_volume *dst, const hv_volume *src)
@@ -531,10 +691,7 @@ hv_status hv_volume_topology_union(hv_volume *dst, const hv_volume *src)
     if (!hv_transform_same(&dst->xf, &src->xf))
         return hv_error_set(HV_ERR_INVALID, "topology union: the volumes have different lattices");
     if (dst == src) return HV_OK;
-    int rc = g_api->topology_union(dst->impl, src->impl);
-    hv_status s = rc ? bridge_fail(rc) : HV_OK;
-    hv_status r = rebuild(dst);
-    return s != HV_OK ? s : r;
+    return hv_volume_topology_add(dst, src->nleaves, src->origins, src->masks);
 }
 
 /* ---- masks ------------------------------------------------------------------------------ */
@@ -550,7 +707,7 @@ hv_status hv_volume_mask_combine(hv_volume *v, int dst, int a, int b, hv_mask_op
     for (size_t l = 0; l < v->nleaves; ++l) {
         const uint64_t *wa = v->grids[a].leaves[l], *wb = v->grids[b].leaves[l];
         uint64_t *wd = v->grids[dst].leaves[l];
-        const uint64_t *m = v->masks[l];
+        const uint64_t *m = MASK(v, l);
         for (int w = 0; w < HV_LEAF_WORDS; ++w) {
             uint64_t r = op == HV_MASK_UNION ? (wa[w] | wb[w])
                          : op == HV_MASK_INTERSECT ? (wa[w] & wb[w]) : (wa[w] & ~wb[w]);
@@ -567,7 +724,7 @@ uint64_t hv_volume_mask_count(const hv_volume *v, int g)
     for (size_t l = 0; l < v->nleaves; ++l) {
         const uint64_t *w = v->grids[g].leaves[l];
         for (int i = 0; i < HV_LEAF_WORDS; ++i)
-            c += (uint64_t)__builtin_popcountll(w[i] & v->masks[l][i]);
+            c += (uint64_t)__builtin_popcountll(w[i] & MASK(v, l)[i]);
     }
     return c;
 }
@@ -596,7 +753,7 @@ int64_t hv_accessor_leaf(hv_accessor *acc, int32_t i, int32_t j, int32_t k)
 int hv_accessor_active(hv_accessor *acc, int32_t i, int32_t j, int32_t k)
 {
     int64_t l = hv_accessor_leaf(acc, i, j, k);
-    return l >= 0 && HV_BIT_GET(acc->vol->masks[l], HV_LEAF_OFFSET(i, j, k));
+    return l >= 0 && HV_BIT_GET(MASK(acc->vol, l), HV_LEAF_OFFSET(i, j, k));
 }
 
 float hv_accessor_float(hv_accessor *acc, int g, int32_t i, int32_t j, int32_t k)
@@ -604,7 +761,7 @@ float hv_accessor_float(hv_accessor *acc, int g, int32_t i, int32_t j, int32_t k
     int64_t l = hv_accessor_leaf(acc, i, j, k);
     if (l < 0) return 0.0f;
     unsigned n = HV_LEAF_OFFSET(i, j, k);
-    if (!HV_BIT_GET(acc->vol->masks[l], n)) return 0.0f;
+    if (!HV_BIT_GET(MASK(acc->vol, l), n)) return 0.0f;
     return ((const float *)acc->vol->grids[g].leaves[l])[n];
 }
 
@@ -614,7 +771,7 @@ int hv_accessor_bool(hv_accessor *acc, int g, int32_t i, int32_t j, int32_t k)
     if (l < 0) return 0;
     unsigned n = HV_LEAF_OFFSET(i, j, k);
     const uint64_t *w = acc->vol->grids[g].leaves[l];
-    return (int)(HV_BIT_GET(acc->vol->masks[l], n) & HV_BIT_GET(w, n));
+    return (int)(HV_BIT_GET(MASK(acc->vol, l), n) & HV_BIT_GET(w, n));
 }
 
 hv_status hv_accessor_set_float(hv_accessor *acc, int g, int32_t i, int32_t j, int32_t k,
@@ -622,7 +779,7 @@ hv_status hv_accessor_set_float(hv_accessor *acc, int g, int32_t i, int32_t j, i
 {
     int64_t l = hv_accessor_leaf(acc, i, j, k);
     unsigned n = HV_LEAF_OFFSET(i, j, k);
-    if (l < 0 || !HV_BIT_GET(acc->vol->masks[l], n))
+    if (l < 0 || !HV_BIT_GET(MASK(acc->vol, l), n))
         return hv_error_set(HV_ERR_INVALID, "voxel (%d, %d, %d) is not active", i, j, k);
     ((float *)acc->vol->grids[g].leaves[l])[n] = value;
     return HV_OK;
@@ -667,7 +824,7 @@ void hv_volume_sample(hv_accessor *acc, const int *grids, int n, const double wo
         int64_t l = hv_accessor_leaf(acc, p[0], p[1], p[2]);
         if (l < 0) continue;
         unsigned off = HV_LEAF_OFFSET(p[0], p[1], p[2]);
-        if (!HV_BIT_GET(v->masks[l], off)) continue;
+        if (!HV_BIT_GET(MASK(v, l), off)) continue;
         wsum += w;
         for (int g = 0; g < m; ++g) acc_v[g] += w * ((const float *)v->grids[grids[g]].leaves[l])[off];
     }
@@ -783,16 +940,20 @@ static int is_fraction_grid(const char *name) { return strncmp(name, "material."
 hv_status hv_volume_save(const hv_volume *v, const char *path)
 {
     if (hv_check_extension(path, ".vdb", "a model") != HV_OK) return HV_ERR_INVALID;
-    const char **names = hv_calloc((size_t)v->ngrids + 1, sizeof *names);
-    const char **keys = hv_calloc((size_t)v->nmeta + 1, sizeof *keys);
-    const char **strs = hv_calloc((size_t)v->nmeta + 1, sizeof *strs);
-    int *kinds = hv_calloc((size_t)v->nmeta + 1, sizeof *kinds);
-    double *nums = hv_calloc((size_t)v->nmeta + 1, sizeof *nums);
-    unsigned char *half = hv_calloc((size_t)v->ngrids + 1, 1);
+    hv_status s = api();
+    if (s != HV_OK) return s;
+    size_t ng = (size_t)v->ngrids + 1, nm = (size_t)v->nmeta + 1;
+    const char **names = hv_calloc(ng, sizeof *names);
+    int *types = hv_calloc(ng, sizeof *types);
+    const void *const **buffers = hv_calloc(ng, sizeof *buffers);
+    unsigned char *half = hv_calloc(ng, 1);
+    const char **keys = hv_calloc(nm, sizeof *keys);
+    const char **strs = hv_calloc(nm, sizeof *strs);
+    int *kinds = hv_calloc(nm, sizeof *kinds);
+    double *nums = hv_calloc(nm, sizeof *nums);
     int special = hv_path_is_special(path); /* /dev/null and the like: write in place */
     char *tmp = special ? hv_strdup(path) : hv_temp_path(path);
-    hv_status s = HV_OK;
-    if (!names || !half || !keys || !strs || !kinds || !nums || !tmp) {
+    if (!names || !types || !buffers || !half || !keys || !strs || !kinds || !nums || !tmp) {
         s = HV_ERR_NOMEM;
         goto done;
     }
@@ -807,6 +968,8 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
     }
     for (int g = 0; g < v->ngrids; ++g) {
         names[g] = v->grids[g].name;
+        types[g] = (int)v->grids[g].type;
+        buffers[g] = (const void *const *)v->grids[g].leaves;
         half[g] = v->grids[g].type == HV_GRID_FLOAT && is_fraction_grid(names[g]);
     }
     for (int i = 0; i < v->nmeta; ++i) {
@@ -815,7 +978,8 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
         strs[i] = v->meta[i].str ? v->meta[i].str : "";
         nums[i] = v->meta[i].num;
     }
-    int rc = g_api->save(v->impl, tmp, v->ngrids, names, half, v->nmeta, keys, kinds, strs, nums, cancel_poll);
+    int rc = g_api->save(tmp, v->xf.voxel, v->xf.origin, v->nleaves, v->origins, v->masks, v->ngrids, names, types,
+                         half, buffers, v->nmeta, keys, kinds, strs, nums, cancel_poll);
     if (rc == HV_ERR_CANCELLED) s = hv_error_set(HV_ERR_CANCELLED, "%s: writing cancelled", path);
     else if (rc) s = hv_error_set((hv_status)rc, "%s: cannot write: %s", path, g_api->last_error());
     else if (!special) s = hv_fsync_path(tmp);
@@ -829,6 +993,8 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
     }
 done:
     free(names);
+    free(types);
+    free(buffers);
     free(half);
     free(keys);
     free(strs);
@@ -837,7 +1003,6 @@ done:
     free(tmp);
     return s;
 }
-
 typedef struct load_ctx {
     hv_volume *v;
     int half_fractions; /* a material.* grid was stored as half floats */
@@ -945,28 +1110,110 @@ static int load_meta(void *ctx, const char *key, int kind, const char *s, double
     return (kind == HV_META_NUMBER ? meta_put(v, key, NULL, &d) : meta_put(v, key, s, NULL)) != HV_OK;
 }
 
-static int load_grid(void *ctx, const char *name, int type)
+hv_status hv_volume_adopt_grid(hv_volume *v, const char *name, hv_grid_type type, void **leaves)
 {
-    hv_volume *v = ((load_ctx *)ctx)->v;
-    if (type & HV_VDB_HALF && is_fraction_grid(name)) ((load_ctx *)ctx)->half_fractions = 1;
-    type &= ~HV_VDB_HALF;
-    if (hv_grow((void **)&v->grids, &v->gcap, (size_t)v->ngrids + 1, sizeof *v->grids)) return 1;
-    grid_entry *e = &v->grids[v->ngrids];
-    memset(e, 0, sizeof *e);
     /* unnamed or duplicate grids get a unique name */
     char buf[300];
     if (!*name || hv_volume_grid_find(v, name) >= 0)
-        snprintf(buf, sizeof buf, "%s%sgrid%d", name, *name ? "." : "", v->ngrids);
+        snprintf(buf, sizeof buf, "%.255s%sgrid%d", name, *name ? "." : "", v->ngrids);
     else
         snprintf(buf, sizeof buf, "%s", name);
-    e->name = hv_strdup(buf);
-    if (!e->name) return 1;
-    e->type = (hv_grid_type)type;
-    ++v->ngrids;
-    return 0;
+    hv_status s = push_grid(v, buf, type, leaves);
+    if (s != HV_OK) free_buffers(leaves, v->nleaves);
+    return s;
 }
 
-static hv_status load(const char *path, const char *const *names, int n, hv_volume **out)
+void hv_volume_adopt_transform(hv_volume *v, const hv_transform *xf) { v->xf = *xf; }
+
+hv_status hv_volume_adopt_topology(hv_volume *v, size_t n, int32_t *origins, uint64_t *masks)
+{
+    free(v->origins);
+    free(v->masks);
+    v->origins = origins;
+    v->masks = masks;
+    v->nleaves = n;
+    size_t cap = hash_cap(n);
+    hash_slot *hash = hv_malloc_array(cap, sizeof *hash);
+    if (!hash) return HV_ERR_NOMEM;
+    hash_fill(v, hash, cap);
+    return HV_OK;
+}
+
+static int load_grid(void *ctx, const char *name, int type)
+{
+    load_ctx *c = ctx;
+    if (type & HV_VDB_HALF && is_fraction_grid(name)) c->half_fractions = 1;
+    return hv_volume_adopt_grid(c->v, name, (hv_grid_type)(type & ~HV_VDB_HALF), NULL) != HV_OK;
+}
+
+/* Copy what the plugin loaded into v, grid by grid, each freed in the plugin once copied. */
+static hv_status copy_out(hv_volume *v, void *impl)
+{
+    size_t n = g_api->leaf_count(impl);
+    int32_t *org = hv_malloc_array(n ? 3 * n : 3, sizeof *org);
+    uint64_t *msk = hv_malloc_array(n ? n : 1, HV_LEAF_WORDS * sizeof *msk);
+    void **src = hv_malloc_array(n ? n : 1, sizeof *src);
+    hv_status s = org && msk && src ? HV_OK : HV_ERR_NOMEM;
+    int rc = s == HV_OK && n ? g_api->leaf_topology(impl, org, msk) : 0;
+    if (rc) s = hv_error_set((hv_status)rc, "OpenVDB: %s", g_api->last_error());
+    if (s == HV_OK) {
+        s = hv_volume_adopt_topology(v, n, org, msk);
+        org = NULL; /* the volume's now */
+        msk = NULL;
+    }
+    for (int g = 0; g < v->ngrids && s == HV_OK; ++g) {
+        size_t bytes = leaf_bytes(v->grids[g].type);
+        rc = n ? g_api->leaf_buffers(impl, g, src) : 0;
+        if (rc) {
+            s = hv_error_set((hv_status)rc, "%s", g_api->last_error());
+            break;
+        }
+        void **b = v->grids[g].leaves = hv_calloc(n ? n : 1, sizeof *b);
+        for (size_t l = 0; b && l < n; ++l) {
+            if (!(b[l] = hv_malloc(bytes))) break;
+            memcpy(b[l], src[l], bytes);
+        }
+        if (!b || (n && !b[n - 1])) s = HV_ERR_NOMEM;
+        g_api->grid_free(impl, g);
+    }
+    free(org);
+    free(msk);
+    free(src);
+    return s;
+}
+
+/* A file the native reader (vdb_read.c) leaves to OpenVDB. */
+static hv_status load_openvdb(const char *path, const char *const *names, int n, hv_volume **out, int *half)
+{
+    hv_status s = api();
+    if (s != HV_OK) return s;
+    hv_transform xf;
+    hv_volume *v = hv_calloc(1, sizeof *v);
+    if (!v) return HV_ERR_NOMEM;
+    load_ctx ctx = {v, 0};
+    void *impl = NULL;
+    int rc = g_api->load(path, names, n, hv_threads(), &impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
+                         hv_memory_budget(0), cancel_poll);
+    if (rc) {
+        s = rc == HV_ERR_CANCELLED ? hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path)
+                                   : hv_error_set((hv_status)rc, "%s: %s", path, g_api->last_error());
+        hv_volume_destroy(v);
+        return s;
+    }
+    v->xf = xf;
+    s = copy_out(v, impl);
+    g_api->destroy(impl);
+    if (s != HV_OK) {
+        hv_volume_destroy(v);
+        return s;
+    }
+    *half = ctx.half_fractions;
+    *out = v;
+    return HV_OK;
+}
+
+/* openvdb: 1 asks OpenVDB only, 0 the native reader first (volume_internal.h) */
+static hv_status load(const char *path, const char *const *names, int n, int openvdb, hv_volume **out)
 {
     *out = NULL;
     struct stat st;
@@ -982,28 +1229,17 @@ static hv_status load(const char *path, const char *const *names, int n, hv_volu
     /* OpenVDB files start with the int64 magic 0x56444220 ("VDB ") */
     if (got < 8 || !(magic[0] == 0x20 && magic[1] == 0x42 && magic[2] == 0x44 && magic[3] == 0x56))
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: not an OpenVDB file (bad magic number)", path);
-    hv_status s = api();
+    hv_volume *v = NULL;
+    int half = 0, declined = 0;
+    hv_status s = openvdb ? HV_OK : hv_vdb_read(path, names, n, hv_memory_budget(0), &v, &half, &declined);
+    if (openvdb || declined) s = load_openvdb(path, names, n, &v, &half);
     if (s != HV_OK) return s;
-    hv_transform xf;
-    hv_volume *v = hv_calloc(1, sizeof *v);
-    if (!v) return HV_ERR_NOMEM;
-    load_ctx ctx = {v, 0};
-    int rc = g_api->load(path, names, n, hv_threads(), &v->impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
-                         hv_memory_budget(0), cancel_poll);
-    if (rc) {
-        s = rc == HV_ERR_CANCELLED ? hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path)
-                                   : hv_error_set((hv_status)rc, "%s: %s", path, g_api->last_error());
-        v->impl = NULL;
-        hv_volume_destroy(v);
-        return s;
-    }
-    v->xf = xf;
     v->name = hv_strdup(path);
-    s = v->name ? rebuild(v) : HV_ERR_NOMEM;
+    s = v->name ? HV_OK : HV_ERR_NOMEM;
     /* only with every fraction grid of the file loaded (all grids, or "material.*") */
     int all_fractions = n < 0;
     for (int i = 0; i < n; ++i) all_fractions |= strcmp(names[i], "material.*") == 0;
-    if (s == HV_OK && ctx.half_fractions && all_fractions) s = restore_sums(v);
+    if (s == HV_OK && half && all_fractions) s = restore_sums(v);
     if (s != HV_OK) {
         if (s == HV_ERR_BAD_INPUT) hv_error_prefix(s, "%s: ", path); /* a damaged file found late */
         hv_volume_destroy(v);
@@ -1013,7 +1249,12 @@ static hv_status load(const char *path, const char *const *names, int n, hv_volu
     return HV_OK;
 }
 
-hv_status hv_volume_load(const char *path, hv_volume **out) { return load(path, NULL, -1, out); }
+hv_status hv_volume_load(const char *path, hv_volume **out) { return load(path, NULL, -1, 0, out); }
+
+hv_status hv_volume_load_openvdb(const char *path, const char *const *names, int n, hv_volume **out)
+{
+    return load(path, names, n, 1, out);
+}
 
 hv_status hv_volume_load_grids(const char *path, const char *const *names, int n, hv_volume **out)
 {
@@ -1022,15 +1263,16 @@ hv_status hv_volume_load_grids(const char *path, const char *const *names, int n
         return hv_error_set(HV_ERR_INVALID, "%s: %d grid names given", path, n);
     for (int i = 0; i < n; ++i)
         if (!names[i] || !*names[i]) return hv_error_set(HV_ERR_INVALID, "%s: grid name %d is empty", path, i + 1);
-    return load(path, names, n, out);
+    return load(path, names, n, 0, out);
 }
 
 /* ---- memory ----------------------------------------------------------------------------- */
 
 uint64_t hv_volume_memory_bytes(const hv_volume *v)
 {
-    uint64_t b = g_api->memory(v->impl);
-    b += v->nleaves * (3 * sizeof(int32_t) + sizeof(void *) * (size_t)(v->ngrids + 1));
+    /* leaf buffers with malloc's 16-byte header, their tables, the topology and its hash */
+    uint64_t b = sizeof *v + v->nleaves * (3 * sizeof(int32_t) + HV_LEAF_WORDS * sizeof(uint64_t));
+    for (int g = 0; g < v->ngrids; ++g) b += v->nleaves * (leaf_bytes(v->grids[g].type) + 16 + sizeof(void *));
     b += v->hcap * sizeof(hash_slot);
     return b;
 }
@@ -1118,4 +1360,33 @@ hv_status hv_volume_grid_set(hv_volume *vol, const char *name, const char *mask,
             for (uint64_t w = a[q] & b[q]; w; w &= w - 1) f[q * 64 + (unsigned)__builtin_ctzll(w)] = values[i++];
     }
     return HV_OK;
+}
+
+int hv_volume_identical(const hv_volume *a, const hv_volume *b, char *why, size_t len)
+{
+#define DIFFER(...) return snprintf(why, len, __VA_ARGS__), 0
+    if (memcmp(&a->xf, &b->xf, sizeof a->xf) != 0) DIFFER("transforms differ");
+    if (a->ngrids != b->ngrids) DIFFER("%d grids against %d", a->ngrids, b->ngrids);
+    if (a->nleaves != b->nleaves) DIFFER("%zu leaves against %zu", a->nleaves, b->nleaves);
+    if (a->nleaves && (memcmp(a->origins, b->origins, 3 * a->nleaves * sizeof *a->origins) != 0 ||
+                       memcmp(a->masks, b->masks, HV_LEAF_WORDS * a->nleaves * sizeof *a->masks) != 0))
+        DIFFER("leaf origins or masks differ");
+    for (int g = 0; g < a->ngrids; ++g) {
+        if (strcmp(a->grids[g].name, b->grids[g].name) != 0 || a->grids[g].type != b->grids[g].type)
+            DIFFER("grid %d: '%s' against '%s'", g, a->grids[g].name, b->grids[g].name);
+        for (size_t l = 0; l < a->nleaves; ++l)
+            if (memcmp(a->grids[g].leaves[l], b->grids[g].leaves[l], leaf_bytes(a->grids[g].type)) != 0)
+                DIFFER("grid '%s', leaf %zu at (%d, %d, %d): values differ", a->grids[g].name, l, a->origins[3 * l],
+                       a->origins[3 * l + 1], a->origins[3 * l + 2]);
+    }
+    if (a->nmeta != b->nmeta) DIFFER("%d metadata entries against %d", a->nmeta, b->nmeta);
+    for (int i = 0; i < a->nmeta; ++i) {
+        const meta_entry *x = &a->meta[i], *y = &b->meta[i];
+        if (strcmp(x->key, y->key) != 0 || x->is_number != y->is_number ||
+            (x->is_number ? memcmp(&x->num, &y->num, sizeof x->num) != 0 : strcmp(x->str, y->str) != 0))
+            DIFFER("metadata '%s' differs", x->key);
+    }
+#undef DIFFER
+    if (len) why[0] = 0;
+    return 1;
 }

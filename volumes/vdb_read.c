@@ -352,6 +352,20 @@ static int grid_transform(mcur *c, grid_in *g)
 
 static int coord_ok(int32_t x) { return x >= -COORD_LIMIT && x <= COORD_LIMIT - 8; }
 
+/* The first set bit at or after `from` in a mask of `bits` bits (little-endian bytes, as node
+ * masks are saved), or `bits`. */
+static unsigned next_bit(const unsigned char *mask, unsigned bits, unsigned from)
+{
+    while (from < bits) {
+        uint64_t w;
+        memcpy(&w, mask + (from >> 6) * 8, 8);
+        w >>= from & 63;
+        if (w) return from + (unsigned)__builtin_ctzll(w);
+        from = (from | 63) + 1;
+    }
+    return bits;
+}
+
 /* The topology: leaves and their masks, in tree order; no active tiles. */
 static int grid_topology(mcur *c, grid_in *g, void *scratch, int *nomem)
 {
@@ -379,15 +393,13 @@ static int grid_topology(mcur *c, grid_in *g, void *scratch, int *nomem)
         const unsigned char *child5 = mtake(c, 4096), *value5 = mtake(c, 4096);
         if (!child5 || !value5 || popcount_words(value5, 512)) return 0;
         if (!skip_values(c, g->comp, 32768, 0, esize, vsize, scratch)) return 0;
-        for (unsigned i = 0; i < 32768; ++i) {
-            if (!(child5[i >> 3] >> (i & 7) & 1)) continue;
+        for (unsigned i = next_bit(child5, 32768, 0); i < 32768; i = next_bit(child5, 32768, i + 1)) {
             int32_t io[3] = {ro[0] + (int32_t)((i >> 10) & 31) * 128, ro[1] + (int32_t)((i >> 5) & 31) * 128,
                              ro[2] + (int32_t)(i & 31) * 128};
             const unsigned char *child4 = mtake(c, 512), *value4 = mtake(c, 512);
             if (!child4 || !value4 || popcount_words(value4, 64)) return 0;
             if (!skip_values(c, g->comp, 4096, 0, esize, vsize, scratch)) return 0;
-            for (unsigned j = 0; j < 4096; ++j) {
-                if (!(child4[j >> 3] >> (j & 7) & 1)) continue;
+            for (unsigned j = next_bit(child4, 4096, 0); j < 4096; j = next_bit(child4, 4096, j + 1)) {
                 int32_t lo[3] = {io[0] + (int32_t)((j >> 8) & 15) * 8, io[1] + (int32_t)((j >> 4) & 15) * 8,
                                  io[2] + (int32_t)(j & 15) * 8};
                 const unsigned char *m = mtake(c, 64);
@@ -430,8 +442,8 @@ static int grid_records(mcur *c, grid_in *g, int *nomem)
 
 typedef struct decode_ctx {
     const grid_in *g;
-    const hv_volume *v; /* its topology: every grid's (checked) */
-    void **leaves;
+    hv_volume *v; /* its topology is every grid's (checked) */
+    int index;    /* the grid in v */
     const unsigned char *buffers; /* the grid's bytes from its block position */
     size_t nbuffers;
 } decode_ctx;
@@ -465,10 +477,14 @@ static int decode_float(const grid_in *g, mcur *c, const uint64_t *mask, float *
         memcpy(dst, vals, sizeof vals);
         return 1;
     }
-    for (unsigned n = 0, k = 0; n < 512; ++n) {
-        if (mask[n >> 6] >> (n & 63) & 1) dst[n] = vals[k++];
-        else dst[n] = sel && (sel[n >> 3] >> (n & 7) & 1) ? in1 : in0;
-    }
+    /* inactive values first, then the active ones scattered to their places */
+    for (unsigned n = 0; n < 512; ++n) dst[n] = in0;
+    if (sel)
+        for (unsigned n = 0; n < 512; ++n)
+            if (sel[n >> 3] >> (n & 7) & 1) dst[n] = in1;
+    unsigned k = 0;
+    for (unsigned w = 0; w < 8; ++w)
+        for (uint64_t m = mask[w]; m; m &= m - 1) dst[w * 64 + (unsigned)__builtin_ctzll(m)] = vals[k++];
     return 1;
 }
 
@@ -480,7 +496,7 @@ static hv_status decode_range(void *vctx, size_t b, size_t e, int thread)
     for (size_t l = b; l < e; ++l) {
         size_t end = l + 1 < g->nleaves ? g->records[l + 1] : d->nbuffers;
         mcur c = {d->buffers + g->records[l], end - g->records[l], 0, 0};
-        void *buf = d->leaves[l];
+        void *buf = g->is_bool ? (void *)hv_volume_leaf_bool(d->v, d->index, l) : (void *)hv_volume_leaf_float(d->v, d->index, l);
         int ok;
         if (g->is_bool) {
             mtake(&c, 64 + 12);
@@ -708,21 +724,11 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
         size_t n = hv_volume_leaf_count(v);
         for (int i = 0; i < nsel; ++i) {
             grid_in *g = order[i];
-            void **leaves = hv_calloc(n ? n : 1, sizeof *leaves);
-            for (size_t l = 0; leaves && l < n; ++l)
-                if (!(leaves[l] = hv_malloc(g->is_bool ? 64 : 2048))) {
-                    for (size_t k = 0; k < l; ++k) free(leaves[k]);
-                    free(leaves);
-                    leaves = NULL;
-                }
-            if (!leaves) {
-                nomem = 1;
+            int index;
+            if ((s = hv_volume_adopt_grid(v, g->name, g->is_bool ? HV_GRID_BOOL : HV_GRID_FLOAT, &index)) != HV_OK)
                 goto done;
-            }
-            decode_ctx d = {g, v, leaves, g->bytes + (g->block - g->pos), (size_t)(g->end - g->block)};
+            decode_ctx d = {g, v, index, g->bytes + (g->block - g->pos), (size_t)(g->end - g->block)};
             hv_status r = hv_parallel_for(n, 256, decode_range, &d, NULL, NULL);
-            if ((s = hv_volume_adopt_grid(v, g->name, g->is_bool ? HV_GRID_BOOL : HV_GRID_FLOAT, leaves)) != HV_OK)
-                goto done;
             if (r == HV_ERR_CANCELLED) {
                 s = hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path);
                 goto done;

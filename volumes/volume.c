@@ -17,10 +17,18 @@
 #include "vdb_bridge.h"
 #include "volume_internal.h"
 
+/* Leaf buffers live in slabs, a few per grid: one allocation instead of one per leaf. */
+typedef struct slab {
+    unsigned char *base;
+    size_t leaves; /* capacity */
+} slab;
+
 typedef struct grid_entry {
     char *name;
     hv_grid_type type;
-    void **leaves; /* buffer per leaf (owned: HV_LEAF_SIZE floats or HV_LEAF_WORDS words) */
+    void **leaves; /* buffer per leaf (HV_LEAF_SIZE floats or HV_LEAF_WORDS words), in the slabs */
+    slab *slabs;
+    size_t nslabs, scap;
 } grid_entry;
 
 typedef struct meta_entry {
@@ -156,24 +164,44 @@ static size_t leaf_bytes(hv_grid_type t)
     return t == HV_GRID_FLOAT ? HV_LEAF_SIZE * sizeof(float) : HV_LEAF_WORDS * sizeof(uint64_t);
 }
 
-static void free_buffers(void **leaves, size_t n)
+/* A slab of n zeroed leaf buffers of type t (calloc: a large one is mapped by malloc and its
+ * pages fault in where the buffers are first written, on every thread that writes them). 0 when
+ * out of memory. */
+static int slab_new(slab *sl, hv_grid_type t, size_t n)
 {
-    if (!leaves) return;
-    for (size_t l = 0; l < n; ++l) free(leaves[l]);
-    free(leaves);
+    sl->leaves = n;
+    sl->base = hv_calloc(n ? n : 1, leaf_bytes(t));
+    return sl->base != NULL;
 }
 
-/* A table of n zeroed leaf buffers of type t (NULL when out of memory). */
-static void **zero_buffers(hv_grid_type t, size_t n)
+static void slab_free(slab *sl) { free(sl->base); }
+
+static void storage_free(grid_entry *e)
 {
-    void **b = hv_calloc(n ? n : 1, sizeof *b);
-    if (!b) return NULL;
-    for (size_t l = 0; l < n; ++l)
-        if (!(b[l] = hv_calloc(1, leaf_bytes(t)))) {
-            free_buffers(b, l);
-            return NULL;
-        }
-    return b;
+    for (size_t i = 0; i < e->nslabs; ++i) slab_free(&e->slabs[i]);
+    free(e->slabs);
+    free(e->leaves);
+    e->slabs = NULL;
+    e->leaves = NULL;
+    e->nslabs = e->scap = 0;
+}
+
+/* Give grid entry e (no storage yet) n zeroed leaf buffers in one slab. */
+static hv_status storage_new(grid_entry *e, size_t n)
+{
+    e->leaves = hv_calloc(n ? n : 1, sizeof *e->leaves);
+    e->slabs = hv_calloc(1, sizeof *e->slabs);
+    if (!e->leaves || !e->slabs || !slab_new(&e->slabs[0], e->type, n)) {
+        free(e->leaves);
+        free(e->slabs);
+        e->leaves = NULL;
+        e->slabs = NULL;
+        return hv_error_set(HV_ERR_NOMEM, "out of memory for %zu leaves of grid '%s'", n, e->name);
+    }
+    e->nslabs = e->scap = 1;
+    size_t bytes = leaf_bytes(e->type);
+    for (size_t l = 0; l < n; ++l) e->leaves[l] = e->slabs[0].base + l * bytes;
+    return HV_OK;
 }
 
 /* ---- life cycle ------------------------------------------------------------------------- */
@@ -222,7 +250,7 @@ void hv_volume_destroy(hv_volume *v)
     if (!v) return;
     for (int g = 0; g < v->ngrids; ++g) {
         free(v->grids[g].name);
-        free_buffers(v->grids[g].leaves, v->nleaves);
+        storage_free(&v->grids[g]);
     }
     free(v->grids);
     free(v->origins);
@@ -267,16 +295,21 @@ static hv_status set_topology(hv_volume *v, size_t n, const int32_t *origins, co
     return HV_OK;
 }
 
-/* Append a grid entry whose leaf table the caller fills (leaves: owned table, or NULL). */
-static hv_status push_grid(hv_volume *v, const char *name, hv_grid_type type, void **leaves)
+/* Append a grid with n zeroed leaf buffers (n = v->nleaves). */
+static hv_status push_grid(hv_volume *v, const char *name, hv_grid_type type)
 {
     hv_status s = hv_grow((void **)&v->grids, &v->gcap, (size_t)v->ngrids + 1, sizeof *v->grids);
     char *copy = s == HV_OK ? hv_strdup(name) : NULL;
     if (!copy) return HV_ERR_NOMEM;
-    grid_entry *e = &v->grids[v->ngrids++];
+    grid_entry *e = &v->grids[v->ngrids];
+    memset(e, 0, sizeof *e);
     e->name = copy;
     e->type = type;
-    e->leaves = leaves;
+    if ((s = storage_new(e, v->nleaves)) != HV_OK) {
+        free(copy);
+        return s;
+    }
+    ++v->ngrids;
     return HV_OK;
 }
 
@@ -287,18 +320,9 @@ hv_status hv_volume_clone(const hv_volume *src, hv_volume **out)
     if (!v) return HV_ERR_NOMEM;
     hv_status s = set_topology(v, src->nleaves, src->origins, src->masks);
     for (int g = 0; g < src->ngrids && s == HV_OK; ++g) {
+        s = push_grid(v, src->grids[g].name, src->grids[g].type);
         size_t bytes = leaf_bytes(src->grids[g].type);
-        void **b = hv_calloc(v->nleaves ? v->nleaves : 1, sizeof *b);
-        for (size_t l = 0; b && l < v->nleaves; ++l) {
-            if (!(b[l] = hv_malloc(bytes))) {
-                free_buffers(b, l);
-                b = NULL;
-                break;
-            }
-            memcpy(b[l], src->grids[g].leaves[l], bytes);
-        }
-        s = b ? push_grid(v, src->grids[g].name, src->grids[g].type, b) : HV_ERR_NOMEM;
-        if (s != HV_OK) free_buffers(b, v->nleaves);
+        for (size_t l = 0; s == HV_OK && l < v->nleaves; ++l) memcpy(v->grids[g].leaves[l], src->grids[g].leaves[l], bytes);
     }
     if (s == HV_OK) s = copy_meta(v, src);
     if (s != HV_OK) {
@@ -358,13 +382,7 @@ hv_status hv_volume_grid_add(hv_volume *v, const char *name, hv_grid_type type, 
     if (s != HV_OK) return s;
     if (type != HV_GRID_FLOAT && type != HV_GRID_BOOL)
         return hv_error_set(HV_ERR_INVALID, "grid '%s': unknown type %d", name, (int)type);
-    void **b = zero_buffers(type, v->nleaves);
-    if (!b) return HV_ERR_NOMEM;
-    s = push_grid(v, name, type, b);
-    if (s != HV_OK) {
-        free_buffers(b, v->nleaves);
-        return s;
-    }
+    if ((s = push_grid(v, name, type)) != HV_OK) return s;
     if (index) *index = v->ngrids - 1;
     return HV_OK;
 }
@@ -374,7 +392,7 @@ hv_status hv_volume_grid_remove(hv_volume *v, int g)
     if (g < 0 || g >= v->ngrids)
         return hv_error_set(HV_ERR_INVALID, "no grid with index %d (volume has %d)", g, v->ngrids);
     free(v->grids[g].name);
-    free_buffers(v->grids[g].leaves, v->nleaves);
+    storage_free(&v->grids[g]);
     memmove(&v->grids[g], &v->grids[g + 1], (size_t)(v->ngrids - g - 1) * sizeof *v->grids);
     --v->ngrids;
     return HV_OK;
@@ -553,26 +571,29 @@ hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
     uint64_t *msk = NULL;
     hash_slot *hash = NULL;
     void ***tables = NULL;
+    slab *pend = NULL; /* per grid, the slab of the new leaves */
     size_t cap = hash_cap(total);
     if (nuniq) {
         org = hv_malloc_array(3 * total, sizeof *org);
         msk = hv_calloc(total, HV_LEAF_WORDS * sizeof *msk);
         hash = hv_malloc_array(cap, sizeof *hash);
         tables = hv_calloc((size_t)v->ngrids + 1, sizeof *tables);
-        int ok = org && msk && hash && tables;
+        pend = hv_calloc((size_t)v->ngrids + 1, sizeof *pend);
+        int ok = org && msk && hash && tables && pend, made = 0;
         for (int g = 0; ok && g < v->ngrids; ++g) {
+            grid_entry *e = &v->grids[g];
             tables[g] = hv_calloc(total, sizeof(void *));
-            ok = tables[g] != NULL;
+            ok = tables[g] && hv_grow((void **)&e->slabs, &e->scap, e->nslabs + 1, sizeof *e->slabs) == HV_OK &&
+                 slab_new(&pend[g], e->type, nuniq);
+            made = ok ? g + 1 : g;
             /* the new leaves' buffers go to the end of the table; the merge below moves them */
-            for (size_t i = 0; ok && i < nuniq; ++i)
-                ok = (tables[g][v->nleaves + i] = hv_calloc(1, leaf_bytes(v->grids[g].type))) != NULL;
+            for (size_t i = 0; ok && i < nuniq; ++i) tables[g][v->nleaves + i] = pend[g].base + i * leaf_bytes(e->type);
         }
         if (!ok) {
-            for (int g = 0; tables && g < v->ngrids; ++g)
-                if (tables[g])
-                    for (size_t i = 0; i < nuniq; ++i) free(tables[g][v->nleaves + i]);
+            for (int g = 0; g < made; ++g) slab_free(&pend[g]);
             for (int g = 0; tables && g < v->ngrids; ++g) free(tables[g]);
             free(tables);
+            free(pend);
             free(org);
             free(msk);
             free(hash);
@@ -629,10 +650,13 @@ hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
     }
     free(nb);
     for (int g = 0; g < v->ngrids; ++g) {
-        free(v->grids[g].leaves);
-        v->grids[g].leaves = tables[g];
+        grid_entry *e = &v->grids[g];
+        free(e->leaves);
+        e->leaves = tables[g];
+        e->slabs[e->nslabs++] = pend[g];
     }
     free(tables);
+    free(pend);
     free(v->origins);
     free(v->masks);
     v->origins = org;
@@ -640,6 +664,25 @@ hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
     v->nleaves = total;
     hash_fill(v, hash, cap);
     return HV_OK;
+}
+
+/* When fewer than half of a grid's slab buffers are in use (after a restrict), its n leaves
+ * move to one new slab and the old ones go; without memory for it, they stay where they are. */
+static void compact(grid_entry *e, size_t n)
+{
+    size_t held = 0;
+    for (size_t i = 0; i < e->nslabs; ++i) held += e->slabs[i].leaves;
+    if (held <= 2 * n + 256) return;
+    slab sl;
+    if (!slab_new(&sl, e->type, n)) return;
+    size_t bytes = leaf_bytes(e->type);
+    for (size_t l = 0; l < n; ++l) {
+        memcpy(sl.base + l * bytes, e->leaves[l], bytes);
+        e->leaves[l] = sl.base + l * bytes;
+    }
+    for (size_t i = 0; i < e->nslabs; ++i) slab_free(&e->slabs[i]);
+    e->slabs[0] = sl;
+    e->nslabs = 1;
 }
 
 hv_status hv_volume_topology_restrict(hv_volume *v, int g)
@@ -656,10 +699,7 @@ hv_status hv_volume_topology_restrict(hv_volume *v, int g)
             m[w] &= on[w];
             keep |= m[w];
         }
-        if (!keep) { /* an empty leaf goes, as OpenVDB's pruneInactive drops it */
-            for (int q = 0; q < v->ngrids; ++q) free(v->grids[q].leaves[l]);
-            continue;
-        }
+        if (!keep) continue; /* an empty leaf goes, as OpenVDB's pruneInactive drops it */
         for (int q = 0; q < v->ngrids; ++q) { /* voxels that go inactive are reset to 0 */
             if (v->grids[q].type == HV_GRID_BOOL) {
                 uint64_t *b = v->grids[q].leaves[l];
@@ -683,6 +723,7 @@ hv_status hv_volume_topology_restrict(hv_volume *v, int g)
     hash_slot *hash = v->hash;
     v->hash = NULL;
     hash_fill(v, hash, v->hcap);
+    for (int q = 0; q < v->ngrids; ++q) compact(&v->grids[q], k);
     return HV_OK;
 }
 
@@ -1003,9 +1044,14 @@ done:
     free(tmp);
     return s;
 }
+/* What the plugin's load says of each grid, kept until the topology is known. */
 typedef struct load_ctx {
     hv_volume *v;
     int half_fractions; /* a material.* grid was stored as half floats */
+    int n;
+    size_t cap;
+    char **names;
+    hv_grid_type *types;
 } load_ctx;
 
 
@@ -1110,7 +1156,7 @@ static int load_meta(void *ctx, const char *key, int kind, const char *s, double
     return (kind == HV_META_NUMBER ? meta_put(v, key, NULL, &d) : meta_put(v, key, s, NULL)) != HV_OK;
 }
 
-hv_status hv_volume_adopt_grid(hv_volume *v, const char *name, hv_grid_type type, void **leaves)
+hv_status hv_volume_adopt_grid(hv_volume *v, const char *name, hv_grid_type type, int *index)
 {
     /* unnamed or duplicate grids get a unique name */
     char buf[300];
@@ -1118,8 +1164,8 @@ hv_status hv_volume_adopt_grid(hv_volume *v, const char *name, hv_grid_type type
         snprintf(buf, sizeof buf, "%.255s%sgrid%d", name, *name ? "." : "", v->ngrids);
     else
         snprintf(buf, sizeof buf, "%s", name);
-    hv_status s = push_grid(v, buf, type, leaves);
-    if (s != HV_OK) free_buffers(leaves, v->nleaves);
+    hv_status s = push_grid(v, buf, type);
+    if (s == HV_OK && index) *index = v->ngrids - 1;
     return s;
 }
 
@@ -1143,11 +1189,16 @@ static int load_grid(void *ctx, const char *name, int type)
 {
     load_ctx *c = ctx;
     if (type & HV_VDB_HALF && is_fraction_grid(name)) c->half_fractions = 1;
-    return hv_volume_adopt_grid(c->v, name, (hv_grid_type)(type & ~HV_VDB_HALF), NULL) != HV_OK;
+    size_t cap = c->cap;
+    if (hv_grow((void **)&c->names, &c->cap, (size_t)c->n + 1, sizeof *c->names) != HV_OK ||
+        hv_grow((void **)&c->types, &cap, (size_t)c->n + 1, sizeof *c->types) != HV_OK)
+        return 1;
+    c->types[c->n] = (hv_grid_type)(type & ~HV_VDB_HALF);
+    return !(c->names[c->n++] = hv_strdup(name));
 }
 
 /* Copy what the plugin loaded into v, grid by grid, each freed in the plugin once copied. */
-static hv_status copy_out(hv_volume *v, void *impl)
+static hv_status copy_out(hv_volume *v, void *impl, const load_ctx *c)
 {
     size_t n = g_api->leaf_count(impl);
     int32_t *org = hv_malloc_array(n ? 3 * n : 3, sizeof *org);
@@ -1161,20 +1212,14 @@ static hv_status copy_out(hv_volume *v, void *impl)
         org = NULL; /* the volume's now */
         msk = NULL;
     }
-    for (int g = 0; g < v->ngrids && s == HV_OK; ++g) {
-        size_t bytes = leaf_bytes(v->grids[g].type);
-        rc = n ? g_api->leaf_buffers(impl, g, src) : 0;
-        if (rc) {
-            s = hv_error_set((hv_status)rc, "%s", g_api->last_error());
-            break;
-        }
-        void **b = v->grids[g].leaves = hv_calloc(n ? n : 1, sizeof *b);
-        for (size_t l = 0; b && l < n; ++l) {
-            if (!(b[l] = hv_malloc(bytes))) break;
-            memcpy(b[l], src[l], bytes);
-        }
-        if (!b || (n && !b[n - 1])) s = HV_ERR_NOMEM;
-        g_api->grid_free(impl, g);
+    for (int i = 0; i < c->n && s == HV_OK; ++i) {
+        int g;
+        s = hv_volume_adopt_grid(v, c->names[i], c->types[i], &g);
+        rc = s == HV_OK && n ? g_api->leaf_buffers(impl, i, src) : 0;
+        if (rc) s = hv_error_set((hv_status)rc, "%s", g_api->last_error());
+        size_t bytes = leaf_bytes(c->types[i]);
+        for (size_t l = 0; s == HV_OK && l < n; ++l) memcpy(v->grids[g].leaves[l], src[l], bytes);
+        g_api->grid_free(impl, i);
     }
     free(org);
     free(msk);
@@ -1190,19 +1235,21 @@ static hv_status load_openvdb(const char *path, const char *const *names, int n,
     hv_transform xf;
     hv_volume *v = hv_calloc(1, sizeof *v);
     if (!v) return HV_ERR_NOMEM;
-    load_ctx ctx = {v, 0};
+    load_ctx ctx = {v, 0, 0, 0, NULL, NULL};
     void *impl = NULL;
     int rc = g_api->load(path, names, n, hv_threads(), &impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
                          hv_memory_budget(0), cancel_poll);
     if (rc) {
         s = rc == HV_ERR_CANCELLED ? hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path)
                                    : hv_error_set((hv_status)rc, "%s: %s", path, g_api->last_error());
-        hv_volume_destroy(v);
-        return s;
+    } else {
+        v->xf = xf;
+        s = copy_out(v, impl, &ctx);
+        g_api->destroy(impl);
     }
-    v->xf = xf;
-    s = copy_out(v, impl);
-    g_api->destroy(impl);
+    for (int i = 0; i < ctx.n; ++i) free(ctx.names[i]);
+    free(ctx.names);
+    free(ctx.types);
     if (s != HV_OK) {
         hv_volume_destroy(v);
         return s;
@@ -1270,17 +1317,24 @@ hv_status hv_volume_load_grids(const char *path, const char *const *names, int n
 
 uint64_t hv_volume_memory_bytes(const hv_volume *v)
 {
-    /* leaf buffers with malloc's 16-byte header, their tables, the topology and its hash */
+    /* the slabs of leaf buffers, their tables, the topology and its hash */
     uint64_t b = sizeof *v + v->nleaves * (3 * sizeof(int32_t) + HV_LEAF_WORDS * sizeof(uint64_t));
-    for (int g = 0; g < v->ngrids; ++g) b += v->nleaves * (leaf_bytes(v->grids[g].type) + 16 + sizeof(void *));
+    for (int g = 0; g < v->ngrids; ++g) {
+        const grid_entry *e = &v->grids[g];
+        for (size_t i = 0; i < e->nslabs; ++i) b += e->slabs[i].leaves * leaf_bytes(e->type);
+        b += v->nleaves * sizeof(void *);
+    }
     b += v->hcap * sizeof(hash_slot);
     return b;
 }
 
 uint64_t hv_volume_memory_estimate(uint64_t leaves, int float_grids, int bool_grids)
 {
-    /* OpenVDB leaves: float 512*4 + mask 64 + origin/flags ~ 2152 B; bool 2*64 + ~32 B;
-     * the shared topology (mask leaf ~ 80 B); internal nodes ~ 3%; our tables ~ 64 B/leaf. */
+    /* What an OpenVDB tree took, kept as a bound on the C store: float 2152 B per leaf, bool
+     * 160 B, topology 80 B and tables 64 B + 8 B per grid, 3% more. The C store takes
+     * 2048 + 8 B per float leaf, 64 + 8 B per bool leaf (buffers in slabs, a pointer), 76 B of
+     * topology and 32 to 64 B of hash per leaf (hv_volume_memory_bytes); slabs left half
+     * empty by a restrict are compacted. A save holds one grid more while OpenVDB writes it. */
     uint64_t per_leaf = (uint64_t)float_grids * 2152u + (uint64_t)bool_grids * 160u + 80u +
                         64u + 8u * (uint64_t)(float_grids + bool_grids);
     return leaves * per_leaf + leaves * per_leaf / 32u + (1u << 20);

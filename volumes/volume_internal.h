@@ -17,10 +17,10 @@ hv_status hv_volume_adopt_topology(hv_volume *v, size_t n, int32_t *origins, uin
 /* Set the lattice of a volume that has no leaves yet. */
 void hv_volume_adopt_transform(hv_volume *v, const hv_transform *xf);
 
-/* Append a grid whose leaf table `leaves` (one malloc'd buffer per leaf, in a malloc'd table; or
- * NULL, to be filled before use) the volume takes, also on failure. An empty or used name is
- * made unique ("name.grid3"). Errors: HV_ERR_NOMEM. */
-hv_status hv_volume_adopt_grid(hv_volume *v, const char *name, hv_grid_type type, void **leaves);
+/* Append a grid of zeroed leaf buffers (one per leaf of the topology: adopt the topology
+ * first); *index (may be NULL) receives its index. An empty or used name is made unique
+ * ("name.grid3"). Errors: HV_ERR_NOMEM. */
+hv_status hv_volume_adopt_grid(hv_volume *v, const char *name, hv_grid_type type, int *index);
 
 /* hovox's own reader for OpenVDB files (vdb_read.c): what OpenVDB's io::File writes with grid
  * offsets, format versions 222 to 224, float (also stored as half floats) and bool grids of

@@ -1,6 +1,7 @@
 /* hovox/volume.h - the volume store: a voxel transform and named float and bool grids that
- * share one sparse topology of 8x8x8 leaf blocks. OpenVDB sits underneath (volumes/), loaded
- * on first use; C kernels work directly on the leaf buffers. */
+ * share one sparse topology of 8x8x8 leaf blocks, kept in C (volumes/volume.c); C kernels work
+ * directly on the leaf buffers. Files are OpenVDB files: hovox's own are read natively
+ * (volumes/vdb_read.c), OpenVDB (a plugin, loaded on first use) writes them and reads others. */
 #ifndef HOVOX_VOLUME_H
 #define HOVOX_VOLUME_H
 
@@ -35,8 +36,7 @@ typedef struct hv_transform {
 /* ---- life cycle ------------------------------------------------------------------------ */
 
 /* New empty volume (no grids, no active voxels). Errors: HV_ERR_INVALID (voxel size not
- * finite and > 0, origin not finite), HV_ERR_UNSUPPORTED (OpenVDB bridge not loadable),
- * HV_ERR_NOMEM. Free with hv_volume_destroy. */
+ * finite and > 0, origin not finite), HV_ERR_NOMEM. Free with hv_volume_destroy. */
 HV_API hv_status hv_volume_create(const hv_transform *xf, hv_volume **out);
 
 /* Free a volume; NULL is allowed. */
@@ -81,7 +81,8 @@ HV_API hv_status hv_volume_grid_copy(hv_volume *dst, const char *name, const hv_
 
 /* ---- topology and leaf buffers --------------------------------------------------------- */
 
-/* Leaves are numbered 0..count-1 in ascending (x,y,z) order of their origins. Numbers,
+/* Leaves are numbered 0..count-1 in OpenVDB's tree order of their origins (by 4096^3 block,
+ * then 128^3 block, then leaf, each x-major: the order files list them in). Numbers,
  * origins, masks and buffer pointers stay valid until the topology changes
  * (hv_volume_topology_*, hv_volume_grid_copy, hv_volume_load) or the volume is freed. */
 HV_API size_t hv_volume_leaf_count(const hv_volume *vol);
@@ -214,8 +215,10 @@ HV_API const char *hv_volume_meta_key(const hv_volume *vol, int i);
  * and the files are a third to a half smaller. Other float grids keep 32 bits. Written to a temporary name in the same
  * directory, every write, the flush and the close checked, synced to disk and renamed when
  * complete: a full disk leaves no file (and an older one under the name stays). Ctrl-C (the
- * cancel check) stops it. Errors: HV_ERR_INVALID (a name not ending in .vdb, other than a
- * special file such as /dev/null), HV_ERR_IO, HV_ERR_NOMEM, HV_ERR_CANCELLED. */
+ * cancel check) stops it. OpenVDB writes the file, holding one grid at a time as its own
+ * tree. Errors: HV_ERR_INVALID (a name not ending in .vdb, other than a special file such as
+ * /dev/null), HV_ERR_IO, HV_ERR_NOMEM, HV_ERR_CANCELLED, HV_ERR_UNSUPPORTED (no OpenVDB
+ * plugin). */
 HV_API hv_status hv_volume_save(const hv_volume *vol, const char *path);
 
 /* Load a model: an OpenVDB file, or a 3MF package with the Volumetric extension (a ZIP archive,
@@ -228,7 +231,9 @@ HV_API hv_status hv_volume_save(const hv_volume *vol, const char *path);
  * than the memory budget (hv_memory_budget(0)) is refused, saying how much. Errors:
  * HV_ERR_IO (missing, unreadable), HV_ERR_BAD_INPUT (not a VDB file, truncated, corrupt, no
  * grids, mixed or rotated transforms, unsupported grid type), HV_ERR_LIMIT, HV_ERR_NOMEM,
- * HV_ERR_CANCELLED, HV_ERR_UNSUPPORTED (no OpenVDB plugin). */
+ * HV_ERR_CANCELLED, HV_ERR_UNSUPPORTED (no OpenVDB plugin, for a file the native reader leaves
+ * to OpenVDB). The files hovox writes are read without OpenVDB (volumes/vdb_read.c, with the
+ * same result bit for bit); the rest, and any file that is damaged, go to OpenVDB. */
 HV_API hv_status hv_volume_load(const char *path, hv_volume **out);
 /* Load only the grids `names` selects (n entries: a grid name, or a prefix followed by '*',
  * "material.*" selecting every grid whose name starts with "material."), with the file's

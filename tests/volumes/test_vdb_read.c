@@ -138,6 +138,10 @@ static hv_volume *model(void)
         for (int w = 0; w < 8; ++w) msk[8 * b + w] = b % 3 == 0 ? ~0ull : next() | next();
     }
     cr_assert_eq(hv_volume_topology_add(v, NB, org, msk), HV_OK);
+    /* and a leaf with no active voxel (a block added empty) */
+    int32_t far[3] = {-4096 - 64, 4096, 0};
+    uint64_t none[8] = {0};
+    cr_assert_eq(hv_volume_topology_add(v, 1, far, none), HV_OK);
     int occ, srf, ma, mb, mc, dist;
     cr_assert_eq(hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, &occ), HV_OK);
     cr_assert_eq(hv_volume_grid_add(v, "material.A", HV_GRID_FLOAT, &ma), HV_OK);

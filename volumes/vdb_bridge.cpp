@@ -1,6 +1,7 @@
-// volumes/vdb_bridge.cpp - the only code that includes OpenVDB: grids sharing one topology,
-// leaf tables for C kernels, .vdb files. Built as plugins/hovox-vdb.so and loaded on first
-// use (linking libopenvdb costs ~40 ms of start-up). Every entry catches all exceptions
+// volumes/vdb_bridge.cpp - the only code that includes OpenVDB: it writes hovox's volumes (kept
+// in C by volume.c) as .vdb files, one grid at a time, and reads the .vdb files the native reader
+// (vdb_read.c) leaves to it, handing their leaves over to volume.c. Built as
+// plugins/hovox-vdb.so and loaded only for those (linking libopenvdb costs ~40 ms of start-up). Every entry catches all exceptions
 // (HV_CATCH) and turns them into a status plus what(); nothing propagates into C.
 #include "vdb_bridge.h"
 
@@ -493,6 +494,7 @@ using openvdb::FloatGrid;
 using openvdb::GridBase;
 using openvdb::MaskGrid;
 
+// A file loaded by b_load, until volume.c has copied its leaves out.
 struct Volume {
     openvdb::math::Transform::Ptr xf;
     MaskGrid::Ptr topo;                 // the shared active topology
@@ -520,15 +522,6 @@ void match_topology(Volume &v, GridBase &g)
         f->tree().topologyUnion(v.topo->tree());
     else if (BoolGrid *b = dynamic_cast<BoolGrid *>(&g))
         b->tree().topologyUnion(v.topo->tree());
-}
-
-// Leaf of `tree` at `origin`, which must exist (shared topology invariant).
-template <typename TreeT>
-typename TreeT::LeafNodeType *leaf_at(TreeT &tree, const Coord &origin)
-{
-    auto *leaf = tree.probeLeaf(origin);
-    if (!leaf) throw std::runtime_error("grid topology out of step with the volume topology");
-    return leaf;
 }
 
 // --- entries --------------------------------------------------------------------------

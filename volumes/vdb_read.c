@@ -6,7 +6,8 @@
  * and .cc, tree/RootNode.h, InternalNode.h, LeafNode.h, LeafNodeBool.h, math/Maps.h), all
  * little-endian:
  *   header     int64 magic 0x56444220, uint32 file version (222..224 here), uint32 library
- *              major and minor, uint8 "has grid offsets" (1 here), 36-byte UUID text;
+ *              major and minor, uint8 "has grid offsets" (1 here), 36-byte UUID text
+ *              (8-4-4-4-12 hex digits: OpenVDB refuses a file whose UUID is not);
  *   metadata   int32 count, then per entry: string key, string type name, uint32 size, value
  *              (a string is uint32 length + bytes);
  *   grids      int32 count, then per grid: descriptor (unique name, type name with a
@@ -513,6 +514,19 @@ static hv_status decode_range(void *vctx, size_t b, size_t e, int thread)
 
 /* ---- the file ------------------------------------------------------------------------------ */
 
+/* The header's UUID as OpenVDB reads it (boost's operator>>): 8-4-4-4-12 hex digits, either
+ * case; anything else fails the read. */
+static int uuid_ok(const unsigned char *u)
+{
+    for (int i = 0; i < 36; ++i) {
+        int dash = i == 8 || i == 13 || i == 18 || i == 23;
+        unsigned char c = u[i];
+        int hex = (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+        if (dash ? c != '-' : !hex) return 0;
+    }
+    return 1;
+}
+
 static int selected(const char *name, const char *const *want, int n)
 {
     if (n < 0) return 1;
@@ -632,7 +646,7 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
     unsigned char offsets = 0, uuid[36];
     fget(&c, &offsets, 1);
     fget(&c, uuid, 36);
-    ok = !c.bad && magic == 0x56444220 && version >= V_MIN && version <= V_MAX && offsets == 1;
+    ok = !c.bad && magic == 0x56444220 && version >= V_MIN && version <= V_MAX && offsets == 1 && uuid_ok(uuid);
     ok = ok && file_meta(&c, v, &nomem);
     ngrids = ok ? (int32_t)fu32(&c) : 0;
     ok = ok && !c.bad && ngrids > 0 && (uint64_t)ngrids <= c.size / 16;

@@ -316,17 +316,77 @@ static int add_leaf(grid_in *g, const int32_t o[3], const unsigned char *mask, i
     return 1;
 }
 
-/* Metadata of a grid: hovox.index is the one entry read; all must be well formed. */
+/* OpenVDB's DelayedLoadMetadata ("__delayedload", per-leaf masks and compressed sizes, written
+ * with float grids) as its readValue reads it: uint32 count; uint32 n and then a blosc buffer of
+ * n bytes holding count mask bytes (padded with zeros to 128 bytes when shorter), or (n = 0) the
+ * count bytes raw; uint32 n again, then UINT32_MAX for no sizes, a blosc buffer of count int64
+ * (padded alike), or (0) those raw. OpenVDB reads what
+ * it reads whatever the size before it says; a value that does not fill its size exactly is left
+ * to OpenVDB. */
+static int delayed_load(mcur *c, uint32_t size)
+{
+    if (size == 0) return 1;
+    size_t start = c->at;
+    uint32_t count = mu32(c);
+    for (int part = 0; part < 2 && !c->bad; ++part) {
+        uint32_t n = mu32(c);
+        size_t each = part == 0 ? 1 : 8;
+        if (part == 1 && n == UINT32_MAX) break;
+        if (n == 0) {
+            if ((uint64_t)count * each > c->n - c->at) return 0;
+            mtake(c, (size_t)count * each);
+            continue;
+        }
+        const unsigned char *b = mtake(c, n);
+        size_t nbytes = 0;
+        /* OpenVDB pads buffers under 128 bytes to 128 before compressing (StreamCompression) */
+        uint64_t want = (uint64_t)count * each;
+        if (!b || blosc_cbuffer_validate(b, n, &nbytes) != 0 || nbytes < 1 || !(nbytes == want || (nbytes == 128 && want <= 128)))
+            return 0;
+        void *tmp = hv_malloc(nbytes ? nbytes : 1);
+        int ok = tmp && (nbytes == 0 || blosc_decompress_ctx(b, tmp, nbytes, 1) == (int)nbytes);
+        free(tmp);
+        if (!ok) return 0;
+    }
+    return !c->bad && c->at - start == size;
+}
+
+/* The size of a fixed-size metadata type OpenVDB registers (it reads that many bytes whatever the
+ * size before the value says); 0 for string and __delayedload; -1 for a type hovox leaves to
+ * OpenVDB. */
+static int meta_type_size(const unsigned char *t, uint32_t n)
+{
+    static const struct {
+        const char *name;
+        int size;
+    } types[] = {{"bool", 1},   {"double", 8}, {"float", 4},  {"int32", 4},  {"int64", 8},  {"vec2i", 8},
+                 {"vec2s", 8},  {"vec2d", 16}, {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},
+                 {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64}, {"mat4d", 128}, {"string", 0}, {"__delayedload", 0}};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; ++i)
+        if (strlen(types[i].name) == n && memcmp(types[i].name, t, n) == 0) return types[i].size;
+    return -1;
+}
+
+/* Metadata of a grid: hovox.index is the one entry read; every entry must be of a known type and
+ * fill its size exactly. */
 static int grid_meta(mcur *c, grid_in *g)
 {
     int32_t n = (int32_t)mu32(c);
     if (n < 0) return 0;
     for (int32_t i = 0; i < n && !c->bad; ++i) {
         int is_index = mstr_is(c, "hovox.index");
-        int is_int32 = mstr_is(c, "int32");
+        uint32_t tn = mu32(c);
+        const unsigned char *t = mtake(c, tn);
         uint32_t size = mu32(c);
+        if (!t || c->bad) return 0;
+        int fixed = meta_type_size(t, tn);
+        if (fixed < 0 || (fixed > 0 && size != (uint32_t)fixed)) return 0;
+        if (tn == 13 && memcmp(t, "__delayedload", 13) == 0) {
+            if (!delayed_load(c, size)) return 0;
+            continue;
+        }
         const unsigned char *v = mtake(c, size);
-        if (v && is_index && is_int32 && size == 4) g->index = (int32_t)get_u32(v);
+        if (v && is_index && fixed == 4 && tn == 5 && memcmp(t, "int32", 5) == 0) g->index = (int32_t)get_u32(v);
     }
     return !c->bad;
 }

@@ -100,31 +100,12 @@ static void sink_warning(png_structp png, png_const_charp msg)
     (void)msg; /* the library never prints */
 }
 
+static int put(png_sink *s, const void *p, size_t n);
+
 static void sink_write(png_structp png, png_bytep data, size_t n)
 {
     png_sink *s = png_get_io_ptr(png);
-    if (s->fp) {
-        if (fwrite(data, 1, n, s->fp) != n) {
-            s->status = HV_ERR_IO;
-            snprintf(s->msg, sizeof s->msg, "write failed: %s", strerror(errno));
-            png_error(png, "write failed");
-        }
-        return;
-    }
-    if (s->len + n > s->cap) {
-        size_t cap = s->cap ? s->cap : 65536;
-        while (cap < s->len + n) cap *= 2;
-        uint8_t *m = realloc(s->mem, cap);
-        if (!m) {
-            s->status = HV_ERR_NOMEM;
-            snprintf(s->msg, sizeof s->msg, "out of memory for a %zu-byte PNG", cap);
-            png_error(png, "out of memory");
-        }
-        s->mem = m;
-        s->cap = cap;
-    }
-    memcpy(s->mem + s->len, data, n);
-    s->len += n;
+    if (!put(s, data, n)) png_error(png, s->status == HV_ERR_IO ? "write failed" : "out of memory");
 }
 
 static void sink_flush(png_structp png)
@@ -205,6 +186,7 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
 
 enum { PAR_MIN_PIXELS = 1 << 18, PAR_DICT = 32768 };
 
+/* n bytes to the file or the memory buffer; 0 (status and message set) on failure. */
 static int put(png_sink *s, const void *p, size_t n)
 {
     if (s->fp) {

@@ -10,21 +10,14 @@
 
 #include "hovox/volume.h"
 #include "volumes/volume_internal.h"
+#include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static char path[64];
-    if (!path[0]) snprintf(path, sizeof path, "/tmp/hovox-fuzz-%ld.vdb", (long)getpid());
-    hv_set_memory_cap(256u << 20); /* a small model's worth: expansion bombs are refused */
-    FILE *fp = fopen(path, "wb");
-    if (!fp) return 0;
-    if (fwrite(data, 1, size, fp) != size) {
-        fclose(fp);
-        return 0;
-    }
-    fclose(fp);
+    const char *path = fuzz_write_file("vdb", ".vdb", data, size);
+    if (!path) return 0;
     /* the whole file, then what a render reads (files with grid offsets skip the rest) */
     static const char *const sel[] = {"occupancy", "material.*"};
     for (int pass = 0; pass < 2; ++pass) {

@@ -11,20 +11,14 @@
 
 #include "hovox/volume.h"
 #include "volumes/volume_internal.h"
+#include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static char path[64];
-    if (!path[0]) snprintf(path, sizeof path, "/tmp/hovox-fuzz-native-%ld.vdb", (long)getpid());
-    FILE *fp = fopen(path, "wb");
-    if (!fp) return 0;
-    if (fwrite(data, 1, size, fp) != size) {
-        fclose(fp);
-        return 0;
-    }
-    fclose(fp);
+    const char *path = fuzz_write_file("native", ".vdb", data, size);
+    if (!path) return 0;
     static const char *const sel[] = {"occupancy", "material.*"};
     for (int pass = 0; pass < 2; ++pass) {
         hv_volume *v = NULL;

@@ -277,6 +277,7 @@ typedef struct grid_in {
     int is_bool, half;
     int64_t pos, block, end;
     int32_t index; /* hovox.index, INT32_MAX without */
+    int name_ok;   /* its "name" entry is a string equal to the descriptor's name */
     uint32_t comp;
     double voxel[3], origin[3];
     unsigned char *bytes; /* [pos, end) of the file */
@@ -367,14 +368,18 @@ static int meta_type_size(const unsigned char *t, uint32_t n)
     return -1;
 }
 
-/* Metadata of a grid: hovox.index is the one entry read; every entry must be of a known type and
- * fill its size exactly. */
+/* Metadata of a grid: hovox.index and name are the entries read; every entry must be of a known
+ * type and fill its size exactly. */
 static int grid_meta(mcur *c, grid_in *g)
 {
     int32_t n = (int32_t)mu32(c);
     if (n < 0) return 0;
+    g->name_ok = 0;
     for (int32_t i = 0; i < n && !c->bad; ++i) {
+        size_t key = c->at;
         int is_index = mstr_is(c, "hovox.index");
+        c->at = key;
+        int is_name = mstr_is(c, "name");
         uint32_t tn = mu32(c);
         const unsigned char *t = mtake(c, tn);
         uint32_t size = mu32(c);
@@ -386,9 +391,12 @@ static int grid_meta(mcur *c, grid_in *g)
             continue;
         }
         const unsigned char *v = mtake(c, size);
-        if (v && is_index && fixed == 4 && tn == 5 && memcmp(t, "int32", 5) == 0) g->index = (int32_t)get_u32(v);
+        /* an entry given twice: the last one counts, as in OpenVDB's MetaMap */
+        if (v && is_index) g->index = fixed == 4 && tn == 5 && memcmp(t, "int32", 5) == 0 ? (int32_t)get_u32(v) : INT32_MAX;
+        if (v && is_name) g->name_ok = fixed == 0 && tn == 6 && size == strlen(g->name) && memcmp(v, g->name, size) == 0;
     }
-    return !c->bad;
+    /* OpenVDB names a grid by its "name" entry, not by its descriptor: the two must agree */
+    return !c->bad && g->name_ok;
 }
 
 /* The transform: an axis-aligned (uniform) scale and translation, positive and finite. */

@@ -186,21 +186,33 @@ static void storage_free(grid_entry *e)
     e->nslabs = e->scap = 0;
 }
 
-/* Give grid entry e (no storage yet) n zeroed leaf buffers in one slab. */
+/* Append a slab of n zeroed leaf buffers to e, their addresses into ptrs[0..n-1]. 0 when out of
+ * memory (e unchanged). */
+static int slabs_add(grid_entry *e, size_t n, void **ptrs)
+{
+    size_t first = e->nslabs, bytes = leaf_bytes(e->type);
+    if (hv_grow((void **)&e->slabs, &e->scap, first + 1, sizeof *e->slabs) != HV_OK) return 0;
+    if (!slab_new(&e->slabs[first], e->type, n)) return 0;
+    for (size_t l = 0; l < n; ++l) ptrs[l] = e->slabs[first].base + l * bytes;
+    e->nslabs = first + 1;
+    return 1;
+}
+
+/* Drop the slabs of e from index `first` on (those a failed operation added). */
+static void slabs_drop(grid_entry *e, size_t first)
+{
+    for (size_t i = first; i < e->nslabs; ++i) slab_free(&e->slabs[i]);
+    e->nslabs = first;
+}
+
+/* Give grid entry e (no storage yet) n zeroed leaf buffers. */
 static hv_status storage_new(grid_entry *e, size_t n)
 {
     e->leaves = hv_calloc(n ? n : 1, sizeof *e->leaves);
-    e->slabs = hv_calloc(1, sizeof *e->slabs);
-    if (!e->leaves || !e->slabs || !slab_new(&e->slabs[0], e->type, n)) {
-        free(e->leaves);
-        free(e->slabs);
-        e->leaves = NULL;
-        e->slabs = NULL;
+    if (!e->leaves || !slabs_add(e, n, e->leaves)) {
+        storage_free(e);
         return hv_error_set(HV_ERR_NOMEM, "out of memory for %zu leaves of grid '%s'", n, e->name);
     }
-    e->nslabs = e->scap = 1;
-    size_t bytes = leaf_bytes(e->type);
-    for (size_t l = 0; l < n; ++l) e->leaves[l] = e->slabs[0].base + l * bytes;
     return HV_OK;
 }
 
@@ -571,29 +583,28 @@ hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
     uint64_t *msk = NULL;
     hash_slot *hash = NULL;
     void ***tables = NULL;
-    slab *pend = NULL; /* per grid, the slab of the new leaves */
+    size_t *first = NULL; /* per grid, its first slab of the new leaves */
     size_t cap = hash_cap(total);
     if (nuniq) {
         org = hv_malloc_array(3 * total, sizeof *org);
         msk = hv_calloc(total, HV_LEAF_WORDS * sizeof *msk);
         hash = hv_malloc_array(cap, sizeof *hash);
         tables = hv_calloc((size_t)v->ngrids + 1, sizeof *tables);
-        pend = hv_calloc((size_t)v->ngrids + 1, sizeof *pend);
-        int ok = org && msk && hash && tables && pend, made = 0;
+        first = hv_calloc((size_t)v->ngrids + 1, sizeof *first);
+        int ok = org && msk && hash && tables && first, made = 0;
         for (int g = 0; ok && g < v->ngrids; ++g) {
             grid_entry *e = &v->grids[g];
             tables[g] = hv_calloc(total, sizeof(void *));
-            ok = tables[g] && hv_grow((void **)&e->slabs, &e->scap, e->nslabs + 1, sizeof *e->slabs) == HV_OK &&
-                 slab_new(&pend[g], e->type, nuniq);
-            made = ok ? g + 1 : g;
+            first[g] = e->nslabs;
             /* the new leaves' buffers go to the end of the table; the merge below moves them */
-            for (size_t i = 0; ok && i < nuniq; ++i) tables[g][v->nleaves + i] = pend[g].base + i * leaf_bytes(e->type);
+            ok = tables[g] && slabs_add(e, nuniq, tables[g] + v->nleaves);
+            made = ok ? g + 1 : g;
         }
         if (!ok) {
-            for (int g = 0; g < made; ++g) slab_free(&pend[g]);
+            for (int g = 0; g < made; ++g) slabs_drop(&v->grids[g], first[g]);
             for (int g = 0; tables && g < v->ngrids; ++g) free(tables[g]);
             free(tables);
-            free(pend);
+            free(first);
             free(org);
             free(msk);
             free(hash);
@@ -653,10 +664,9 @@ hv_status hv_volume_topology_add(hv_volume *v, size_t n, const int32_t *origins,
         grid_entry *e = &v->grids[g];
         free(e->leaves);
         e->leaves = tables[g];
-        e->slabs[e->nslabs++] = pend[g];
     }
     free(tables);
-    free(pend);
+    free(first);
     free(v->origins);
     free(v->masks);
     v->origins = org;
@@ -673,16 +683,24 @@ static void compact(grid_entry *e, size_t n)
     size_t held = 0;
     for (size_t i = 0; i < e->nslabs; ++i) held += e->slabs[i].leaves;
     if (held <= 2 * n + 256) return;
-    slab sl;
-    if (!slab_new(&sl, e->type, n)) return;
+    grid_entry fresh = {.type = e->type};
+    void **ptrs = hv_malloc_array(n ? n : 1, sizeof *ptrs);
+    if (!ptrs || !slabs_add(&fresh, n, ptrs)) {
+        free(ptrs);
+        free(fresh.slabs);
+        return;
+    }
     size_t bytes = leaf_bytes(e->type);
     for (size_t l = 0; l < n; ++l) {
-        memcpy(sl.base + l * bytes, e->leaves[l], bytes);
-        e->leaves[l] = sl.base + l * bytes;
+        memcpy(ptrs[l], e->leaves[l], bytes);
+        e->leaves[l] = ptrs[l];
     }
-    for (size_t i = 0; i < e->nslabs; ++i) slab_free(&e->slabs[i]);
-    e->slabs[0] = sl;
-    e->nslabs = 1;
+    free(ptrs);
+    slabs_drop(e, 0);
+    free(e->slabs);
+    e->slabs = fresh.slabs;
+    e->nslabs = fresh.nslabs;
+    e->scap = fresh.scap;
 }
 
 hv_status hv_volume_topology_restrict(hv_volume *v, int g)

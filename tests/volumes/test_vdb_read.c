@@ -105,6 +105,24 @@ Test(store, topology_add_and_restrict_against_brute_force)
     cr_assert_eq(hv_volume_topology_restrict(v, keep), HV_OK);
     cr_assert_lt(hv_volume_leaf_count(v), before);
     check_against_dense(v, f);
+    /* a restrict that keeps one leaf in ten: the buffers move to a fresh slab (compaction) and
+     * keep their values */
+    int keep2;
+    cr_assert_eq(hv_volume_grid_add(v, "keep2", HV_GRID_BOOL, &keep2), HV_OK);
+    o = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) {
+        uint64_t *b = hv_volume_leaf_bool(v, keep2, l);
+        for (int w = 0; w < 8; ++w) b[w] = l % 10 == 0 ? ~0ull : 0;
+        if (l % 10 == 0) continue;
+        for (unsigned n = 0; n < 512; ++n)
+            dense_on[at(o[3 * l] + (int)(n >> 6), o[3 * l + 1] + (int)((n >> 3) & 7), o[3 * l + 2] + (int)(n & 7))] = 0;
+    }
+    before = hv_volume_leaf_count(v);
+    uint64_t mem_before = hv_volume_memory_bytes(v);
+    cr_assert_eq(hv_volume_topology_restrict(v, keep2), HV_OK);
+    cr_assert_lt(hv_volume_leaf_count(v) * 5, before);
+    cr_assert_lt(hv_volume_memory_bytes(v) * 2, mem_before, "the slabs were compacted");
+    check_against_dense(v, f);
     /* voxels that went inactive read 0 when activated again */
     int32_t all[3] = {-64, -64, -64};
     uint64_t full[8];

@@ -224,7 +224,7 @@ static int chunk(mcur *c, uint32_t comp, void *dst, size_t bytes)
     int64_t n = mi64(c);
     if (c->bad) return 0;
     if (n <= 0) {
-        if ((uint64_t)(-n) != bytes) return 0;
+        if (0 - (uint64_t)n != bytes) return 0; /* -n without overflow at INT64_MIN */
         const unsigned char *b = mtake(c, bytes);
         if (b && dst) memcpy(dst, b, bytes);
         return b != NULL || bytes == 0;
@@ -278,6 +278,7 @@ typedef struct grid_in {
     int64_t pos, block, end;
     int32_t index; /* hovox.index, INT32_MAX without */
     int name_ok;   /* its "name" entry is a string equal to the descriptor's name */
+    int saved_half; /* "_HalfFloat" on its type (g->half: a float grid stored so) */
     uint32_t comp;
     double voxel[3], origin[3];
     unsigned char *bytes; /* [pos, end) of the file */
@@ -329,6 +330,9 @@ static int delayed_load(mcur *c, uint32_t size)
     if (size == 0) return 1;
     size_t start = c->at;
     uint32_t count = mu32(c);
+    /* one entry per leaf, and each leaf takes 64 bytes of the grid: more is damage, and would
+     * have OpenVDB (and this reader) allocate far beyond the file */
+    if (count > c->n / 64 + 1) return 0;
     for (int part = 0; part < 2 && !c->bad; ++part) {
         uint32_t n = mu32(c);
         size_t each = part == 0 ? 1 : 8;
@@ -372,11 +376,24 @@ static int meta_type_size(const unsigned char *t, uint32_t n)
  * type and fill its size exactly. */
 static int grid_meta(mcur *c, grid_in *g)
 {
+    enum { MAX_ENTRIES = 256 }; /* hovox's grids carry 8 */
+    size_t keys[MAX_ENTRIES];   /* where each key is, to refuse one given twice */
     int32_t n = (int32_t)mu32(c);
-    if (n < 0) return 0;
+    if (n < 0 || n > MAX_ENTRIES) return 0;
     g->name_ok = 0;
     for (int32_t i = 0; i < n && !c->bad; ++i) {
         size_t key = c->at;
+        /* an empty key, or one given twice (OpenVDB's MetaMap throws on both, or on a second
+         * type for it), is left to OpenVDB */
+        uint32_t kn = mu32(c);
+        const unsigned char *k = mtake(c, kn);
+        if (!k || kn == 0) return 0;
+        for (int32_t j = 0; j < i; ++j) {
+            const unsigned char *o = c->p + keys[j];
+            if (get_u32(o) == kn && memcmp(o + 4, k, kn) == 0) return 0;
+        }
+        keys[i] = key;
+        c->at = key;
         int is_index = mstr_is(c, "hovox.index");
         c->at = key;
         int is_name = mstr_is(c, "name");
@@ -391,7 +408,6 @@ static int grid_meta(mcur *c, grid_in *g)
             continue;
         }
         const unsigned char *v = mtake(c, size);
-        /* an entry given twice: the last one counts, as in OpenVDB's MetaMap */
         if (v && is_index) g->index = fixed == 4 && tn == 5 && memcmp(t, "int32", 5) == 0 ? (int32_t)get_u32(v) : INT32_MAX;
         if (v && is_name) g->name_ok = fixed == 0 && tn == 6 && size == strlen(g->name) && memcmp(v, g->name, size) == 0;
     }
@@ -410,10 +426,14 @@ static int grid_transform(mcur *c, grid_in *g)
     for (int a = 0; a < 3; ++a) g->origin[a] = mf64(c);
     for (int a = 0; a < 3; ++a) g->voxel[a] = mf64(c);
     mtake(c, 4 * 24); /* voxel size, inverse scale, its square, inverse twice the scale */
-    for (int a = 0; a < 3; ++a)
+    for (int a = 0; a < 3; ++a) {
         if (!(g->voxel[a] > 0) || g->voxel[a] > 1e300 || !(g->origin[a] == g->origin[a]) ||
             g->origin[a] > 1e300 || g->origin[a] < -1e300)
             return 0;
+        g->origin[a] += 0.0; /* -0 is +0, as OpenVDB's affine matrix gives it */
+    }
+    /* OpenVDB refuses a nearly singular map (its determinant under about 3e-15) */
+    if (g->voxel[0] * g->voxel[1] * g->voxel[2] < 1e-12) return 0;
     return !c->bad;
 }
 
@@ -717,7 +737,8 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
     ok = !c.bad && magic == 0x56444220 && version >= V_MIN && version <= V_MAX && offsets == 1 && uuid_ok(uuid);
     ok = ok && file_meta(&c, v, &nomem);
     ngrids = ok ? (int32_t)fu32(&c) : 0;
-    ok = ok && !c.bad && ngrids > 0 && (uint64_t)ngrids <= c.size / 16;
+    /* hovox writes tens of grids; more (and the quadratic name check) is left to OpenVDB */
+    ok = ok && !c.bad && ngrids > 0 && ngrids <= 4096 && (uint64_t)ngrids <= c.size / 16;
     if (ok && !(grids = hv_calloc((size_t)ngrids, sizeof *grids))) nomem = 1;
     /* descriptors: each grid follows its own, the next descriptor at the grid's end */
     for (int i = 0; ok && grids && i < ngrids; ++i) {
@@ -747,6 +768,7 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
         g->end = end;
         g->is_bool = is_bool;
         g->half = is_float && is_half;
+        g->saved_half = is_half; /* the bridge's half flag, for any grid type */
         if (selected(name, want, nwant)) {
             g->name = name;
             ++nsel;
@@ -788,8 +810,9 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
     for (int i = 1; ok && i < nsel; ++i) {
         const grid_in *a = order[0], *b = order[i];
         ok = memcmp(a->voxel, b->voxel, sizeof a->voxel) == 0 && memcmp(a->origin, b->origin, sizeof a->origin) == 0 &&
-             a->nleaves == b->nleaves && memcmp(a->origins, b->origins, 3 * a->nleaves * sizeof *a->origins) == 0 &&
-             memcmp(a->masks, b->masks, 8 * a->nleaves * sizeof *a->masks) == 0;
+             a->nleaves == b->nleaves &&
+             (a->nleaves == 0 || (memcmp(a->origins, b->origins, 3 * a->nleaves * sizeof *a->origins) == 0 &&
+                                  memcmp(a->masks, b->masks, 8 * a->nleaves * sizeof *a->masks) == 0));
     }
     if (!ok) goto done;
     /* the volume: the lattice, the topology, then each grid's leaves decoded */
@@ -819,7 +842,7 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
                 ok = 0;
                 goto done;
             }
-            if (g->half && strncmp(g->name, "material.", 9) == 0) *half = 1;
+            if (g->saved_half && strncmp(g->name, "material.", 9) == 0) *half = 1;
             free(g->bytes);
             g->bytes = NULL;
         }

@@ -319,3 +319,23 @@ Test(vdb_read, leaves_other_files_to_openvdb)
     remove(path);
     hv_volume_destroy(v);
 }
+
+/* An origin of -0 (OpenVDB's affine map makes it +0): native and OpenVDB loads still agree. */
+Test(vdb_read, minus_zero_origin)
+{
+    hv_transform xf = {{0.5, 0.5, 0.5}, {-0.0, 1.0, -0.0}};
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_volume_create(&xf, &v), HV_OK);
+    int32_t o[3] = {0, 8, -16};
+    uint64_t m[8] = {~0ull, 1, 2, 3, 4, 5, 6, 7};
+    cr_assert_eq(hv_volume_topology_add(v, 1, o, m), HV_OK);
+    cr_assert_eq(hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, NULL), HV_OK);
+    char path[256];
+    tmp_path(path, sizeof path, "minus0.vdb");
+    cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());
+    hv_volume *r = both_ways(path, NULL, -1, 1);
+    cr_assert(!signbit(hv_volume_get_transform(r).origin[0]));
+    hv_volume_destroy(r);
+    remove(path);
+    hv_volume_destroy(v);
+}

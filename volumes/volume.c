@@ -286,25 +286,21 @@ static hv_status copy_meta(hv_volume *dst, const hv_volume *src)
     return HV_OK;
 }
 
-/* Give v a topology of n leaves (origins in tree order, masks): arrays and hash, no grids yet.
- * v must have no leaves. */
+/* Give v (no leaves yet) a copy of a topology of n leaves in tree order. */
 static hv_status set_topology(hv_volume *v, size_t n, const int32_t *origins, const uint64_t *masks)
 {
-    v->origins = hv_malloc_array(n ? 3 * n : 3, sizeof(int32_t));
-    v->masks = hv_malloc_array(n ? n : 1, HV_LEAF_WORDS * sizeof(uint64_t));
-    size_t cap = hash_cap(n);
-    hash_slot *hash = hv_malloc_array(cap, sizeof *hash);
-    if (!v->origins || !v->masks || !hash) {
-        free(hash);
+    int32_t *o = hv_malloc_array(n ? 3 * n : 3, sizeof *o);
+    uint64_t *m = hv_malloc_array(n ? n : 1, HV_LEAF_WORDS * sizeof *m);
+    if (!o || !m) {
+        free(o);
+        free(m);
         return HV_ERR_NOMEM;
     }
     if (n) {
-        memcpy(v->origins, origins, 3 * n * sizeof(int32_t));
-        memcpy(v->masks, masks, n * HV_LEAF_WORDS * sizeof(uint64_t));
+        memcpy(o, origins, 3 * n * sizeof *o);
+        memcpy(m, masks, n * HV_LEAF_WORDS * sizeof *m);
     }
-    v->nleaves = n;
-    hash_fill(v, hash, cap);
-    return HV_OK;
+    return hv_volume_adopt_topology(v, n, o, m);
 }
 
 /* Append a grid with n zeroed leaf buffers (n = v->nleaves). */
@@ -1063,13 +1059,17 @@ done:
     return s;
 }
 /* What the plugin's load says of each grid, kept until the topology is known. */
+typedef struct load_grid_info {
+    char *name;
+    hv_grid_type type;
+} load_grid_info;
+
 typedef struct load_ctx {
     hv_volume *v;
     int half_fractions; /* a material.* grid was stored as half floats */
     int n;
     size_t cap;
-    char **names;
-    hv_grid_type *types;
+    load_grid_info *grids;
 } load_ctx;
 
 
@@ -1207,12 +1207,9 @@ static int load_grid(void *ctx, const char *name, int type)
 {
     load_ctx *c = ctx;
     if (type & HV_VDB_HALF && is_fraction_grid(name)) c->half_fractions = 1;
-    size_t cap = c->cap;
-    if (hv_grow((void **)&c->names, &c->cap, (size_t)c->n + 1, sizeof *c->names) != HV_OK ||
-        hv_grow((void **)&c->types, &cap, (size_t)c->n + 1, sizeof *c->types) != HV_OK)
-        return 1;
-    c->types[c->n] = (hv_grid_type)(type & ~HV_VDB_HALF);
-    return !(c->names[c->n++] = hv_strdup(name));
+    if (hv_grow((void **)&c->grids, &c->cap, (size_t)c->n + 1, sizeof *c->grids) != HV_OK) return 1;
+    c->grids[c->n].type = (hv_grid_type)(type & ~HV_VDB_HALF);
+    return !(c->grids[c->n++].name = hv_strdup(name));
 }
 
 /* Copy what the plugin loaded into v, grid by grid, each freed in the plugin once copied. */
@@ -1232,10 +1229,10 @@ static hv_status copy_out(hv_volume *v, void *impl, const load_ctx *c)
     }
     for (int i = 0; i < c->n && s == HV_OK; ++i) {
         int g;
-        s = hv_volume_adopt_grid(v, c->names[i], c->types[i], &g);
+        s = hv_volume_adopt_grid(v, c->grids[i].name, c->grids[i].type, &g);
         rc = s == HV_OK && n ? g_api->leaf_buffers(impl, i, src) : 0;
         if (rc) s = hv_error_set((hv_status)rc, "%s", g_api->last_error());
-        size_t bytes = leaf_bytes(c->types[i]);
+        size_t bytes = leaf_bytes(c->grids[i].type);
         for (size_t l = 0; s == HV_OK && l < n; ++l) memcpy(v->grids[g].leaves[l], src[l], bytes);
         g_api->grid_free(impl, i);
     }
@@ -1253,7 +1250,7 @@ static hv_status load_openvdb(const char *path, const char *const *names, int n,
     hv_transform xf;
     hv_volume *v = hv_calloc(1, sizeof *v);
     if (!v) return HV_ERR_NOMEM;
-    load_ctx ctx = {v, 0, 0, 0, NULL, NULL};
+    load_ctx ctx = {v, 0, 0, 0, NULL};
     void *impl = NULL;
     int rc = g_api->load(path, names, n, hv_threads(), &impl, xf.voxel, xf.origin, load_meta, load_grid, &ctx,
                          hv_memory_budget(0), cancel_poll);
@@ -1265,9 +1262,8 @@ static hv_status load_openvdb(const char *path, const char *const *names, int n,
         s = copy_out(v, impl, &ctx);
         g_api->destroy(impl);
     }
-    for (int i = 0; i < ctx.n; ++i) free(ctx.names[i]);
-    free(ctx.names);
-    free(ctx.types);
+    for (int i = 0; i < ctx.n; ++i) free(ctx.grids[i].name);
+    free(ctx.grids);
     if (s != HV_OK) {
         hv_volume_destroy(v);
         return s;

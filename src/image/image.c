@@ -220,7 +220,7 @@ static void be32(uint8_t *b, uint32_t v)
     b[3] = (uint8_t)v;
 }
 
-/* A chunk whose data is the n bytes of `parts` (up to 3 pieces). */
+/* A chunk whose data is the nparts pieces of `parts`, one after the other. */
 static int put_chunk(png_sink *s, const char *type, const uint8_t *const *parts, const size_t *sizes, int nparts)
 {
     uint8_t head[8], tail[4];
@@ -244,6 +244,7 @@ typedef struct par_ctx {
     uint8_t *filtered;       /* height * rowbytes */
     uint8_t **out;           /* per band: its deflate output */
     size_t *len;
+    size_t *in;              /* per band: its filtered bytes */
     uLong *adler;
 } par_ctx;
 
@@ -290,6 +291,7 @@ static hv_status par_deflate(void *vctx, size_t b, size_t e, int thread)
         int r = ok ? deflate(&z, flush) : Z_MEM_ERROR;
         ok = flush == Z_FINISH ? r == Z_STREAM_END : r == Z_OK && z.avail_in == 0;
         c->len[k] = cap - z.avail_out;
+        c->in[k] = n;
         c->adler[k] = adler32_z(1L, in, n);
         deflateEnd(&z);
         if (!ok) return hv_error_set(HV_ERR_NOMEM, "PNG: zlib failed on rows %zu to %zu", y0, y1);
@@ -320,8 +322,12 @@ static hv_status encode_parallel(png_sink *s, const uint8_t *pixels, int width, 
     c.filtered = hv_malloc_array((size_t)height, c.rowbytes);
     c.out = hv_calloc((size_t)c.bands, sizeof *c.out);
     c.len = hv_calloc((size_t)c.bands, sizeof *c.len);
+    c.in = hv_calloc((size_t)c.bands, sizeof *c.in);
+    /* the IDAT's pieces: the zlib header, the bands, the Adler-32 */
+    const uint8_t **parts = hv_calloc((size_t)c.bands + 2, sizeof *parts);
+    size_t *sizes = hv_calloc((size_t)c.bands + 2, sizeof *sizes);
     c.adler = hv_calloc((size_t)c.bands, sizeof *c.adler);
-    hv_status st = c.filtered && c.out && c.len && c.adler ? HV_OK : HV_ERR_NOMEM;
+    hv_status st = c.filtered && c.out && c.len && c.in && c.adler && parts && sizes ? HV_OK : HV_ERR_NOMEM;
     if (st == HV_OK) st = hv_parallel_for((size_t)height, 64, par_filter, &c, NULL, NULL);
     if (st == HV_OK) st = hv_parallel_for((size_t)c.bands, 1, par_deflate, &c, NULL, NULL);
     if (st == HV_OK) {
@@ -338,12 +344,7 @@ static hv_status encode_parallel(png_sink *s, const uint8_t *pixels, int width, 
         zhead[1] = (uint8_t)(flevel << 6);
         zhead[1] = (uint8_t)(zhead[1] + 31 - (zhead[0] * 256 + zhead[1]) % 31);
         uLong adler = c.adler[0];
-        size_t total = 0;
-        for (int k = 0; k < c.bands; ++k) total += c.len[k];
-        for (int k = 1; k < c.bands; ++k) {
-            size_t y0 = (size_t)height * (size_t)k / (size_t)c.bands, y1 = (size_t)height * (size_t)(k + 1) / (size_t)c.bands;
-            adler = adler32_combine(adler, c.adler[k], (z_off_t)((y1 - y0) * c.rowbytes));
-        }
+        for (int k = 1; k < c.bands; ++k) adler = adler32_combine(adler, c.adler[k], (z_off_t)c.in[k]);
         be32(ztail, (uint32_t)adler);
         const uint8_t *p1[1] = {ihdr};
         size_t n1[1] = {13};
@@ -362,27 +363,25 @@ static hv_status encode_parallel(png_sink *s, const uint8_t *pixels, int width, 
             size_t nt[3] = {strlen(o->text_key), 1, strlen(o->text_value)};
             ok = put_chunk(s, "tEXt", pt, nt, 3);
         }
-        /* IDAT: the zlib header, the bands and the Adler-32, the chunk written piece by piece */
-        if (ok) {
-            uint8_t head[8];
-            be32(head, (uint32_t)(2 + total + 4));
-            memcpy(head + 4, "IDAT", 4);
-            uLong crc = crc32(crc32(0L, head + 4, 4), zhead, 2);
-            for (int k = 0; k < c.bands; ++k) crc = crc32_z(crc, c.out[k], c.len[k]);
-            crc = crc32(crc, ztail, 4);
-            uint8_t crcb[4];
-            be32(crcb, (uint32_t)crc);
-            ok = put(s, head, 8) && put(s, zhead, 2);
-            for (int k = 0; ok && k < c.bands; ++k) ok = put(s, c.out[k], c.len[k]);
-            ok = ok && put(s, ztail, 4) && put(s, crcb, 4);
+        parts[0] = zhead;
+        sizes[0] = 2;
+        for (int k = 0; k < c.bands; ++k) {
+            parts[k + 1] = c.out[k];
+            sizes[k + 1] = c.len[k];
         }
+        parts[c.bands + 1] = ztail;
+        sizes[c.bands + 1] = 4;
+        ok = ok && put_chunk(s, "IDAT", parts, sizes, c.bands + 2);
         ok = ok && put_chunk(s, "IEND", NULL, NULL, 0);
         if (!ok) st = hv_error_set(s->status, "PNG: %s", s->msg);
     }
     for (int k = 0; c.out && k < c.bands; ++k) free(c.out[k]);
     free(c.out);
     free(c.len);
+    free(c.in);
     free(c.adler);
+    free(parts);
+    free(sizes);
     free(c.filtered);
     return st;
 }

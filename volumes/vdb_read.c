@@ -455,6 +455,15 @@ static unsigned next_bit(const unsigned char *mask, unsigned bits, unsigned from
     return bits;
 }
 
+/* An internal node of `bits` entries: its child mask (returned), its value mask (no active
+ * tiles: else NULL) and its tile values, checked and skipped. */
+static const unsigned char *node_header(mcur *c, uint32_t comp, unsigned bits, size_t esize, size_t vsize, void *scratch)
+{
+    const unsigned char *child = mtake(c, bits / 8), *value = mtake(c, bits / 8);
+    if (!child || !value || popcount_words(value, bits / 64)) return NULL;
+    return skip_values(c, comp, bits, 0, esize, vsize, scratch) ? child : NULL;
+}
+
 /* The topology: leaves and their masks, in tree order; no active tiles. */
 static int grid_topology(mcur *c, grid_in *g, void *scratch, int *nomem)
 {
@@ -479,15 +488,13 @@ static int grid_topology(mcur *c, grid_in *g, void *scratch, int *nomem)
             if (ro[a] & 4095) return 0;
         if (r && hv_leaf_order(prev, ro) >= 0) return 0; /* the root's children come sorted */
         memcpy(prev, ro, sizeof prev);
-        const unsigned char *child5 = mtake(c, 4096), *value5 = mtake(c, 4096);
-        if (!child5 || !value5 || popcount_words(value5, 512)) return 0;
-        if (!skip_values(c, g->comp, 32768, 0, esize, vsize, scratch)) return 0;
+        const unsigned char *child5 = node_header(c, g->comp, 32768, esize, vsize, scratch);
+        if (!child5) return 0;
         for (unsigned i = next_bit(child5, 32768, 0); i < 32768; i = next_bit(child5, 32768, i + 1)) {
             int32_t io[3] = {ro[0] + (int32_t)((i >> 10) & 31) * 128, ro[1] + (int32_t)((i >> 5) & 31) * 128,
                              ro[2] + (int32_t)(i & 31) * 128};
-            const unsigned char *child4 = mtake(c, 512), *value4 = mtake(c, 512);
-            if (!child4 || !value4 || popcount_words(value4, 64)) return 0;
-            if (!skip_values(c, g->comp, 4096, 0, esize, vsize, scratch)) return 0;
+            const unsigned char *child4 = node_header(c, g->comp, 4096, esize, vsize, scratch);
+            if (!child4) return 0;
             for (unsigned j = next_bit(child4, 4096, 0); j < 4096; j = next_bit(child4, 4096, j + 1)) {
                 int32_t lo[3] = {io[0] + (int32_t)((j >> 8) & 15) * 8, io[1] + (int32_t)((j >> 4) & 15) * 8,
                                  io[2] + (int32_t)(j & 15) * 8};

@@ -13,6 +13,7 @@
 
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/model.h"
 #include "hovox/tray.h"
 #include "hovox/volume.h"
 #include "image/png_fast.h"
@@ -579,7 +580,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
-    if (st == HV_OK && s->p.model) st = hv_volume_load(s->p.model, &model);
+    if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
     int q = (s->p.rotation / 90) % 4;
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;

@@ -1289,6 +1289,10 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         return HV_OK;
     }
     if (!dir || !*dir) return hv_error_set(HV_ERR_INVALID, "tray: no output directory");
+    /* outputs that are inputs are refused before anything is written (the parts are read now) */
+    if ((st = hv_output_check(dir, 1)) != HV_OK || (o->stl_path && (st = hv_output_check(o->stl_path, 0)) != HV_OK) ||
+        (o->gcvf_path && (st = hv_output_check(o->gcvf_path, 0)) != HV_OK))
+        return st;
     if (o->gcvf_path && !o->force && !hv_path_is_special(o->gcvf_path)) {
         struct stat sb;
         if (stat(o->gcvf_path, &sb) == 0) return hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);

@@ -208,4 +208,5 @@ const char *hv_quote(char *buf, size_t cap, const char *s, size_t n);
 /* The base name of a file without its extension ("part" for "dir/part.obj"); malloc'd. */
 char *hv_file_stem(const char *name);
 
+
 #endif

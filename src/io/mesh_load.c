@@ -72,6 +72,7 @@ hv_status hv_mesh_load(const char *path, hv_mesh **out)
     char *data;
     size_t size;
     hv_status s = hv_read_file(path, (size_t)1 << 40, &data, &size);
+    if (s == HV_OK) hv_input_note(path);
     if (s != HV_OK) return s;
     int r = signature((const unsigned char *)data, size);
     if (r < 0) r = by_ext;

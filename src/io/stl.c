@@ -300,6 +300,7 @@ hv_status hv_mesh_load_stl(const char *path, hv_mesh **out)
     char *data;
     size_t size;
     hv_status s = hv_read_file(path, STL_MAX_BYTES, &data, &size);
+    if (s == HV_OK) hv_input_note(path);
     if (s != HV_OK) return s;
     s = hv_mesh_parse_stl(data, size, path, out);
     free(data);

@@ -95,6 +95,7 @@ static hv_status probe_vtk(const char *path, const char *array, size_t n, const 
     if (s != HV_OK) return s;
     hv_vtk_probe_info info;
     memset(&info, 0, sizeof info);
+    hv_input_note(path);
     int rc = api->probe(path, array, (int64_t)n, xyz, out, valid, &info);
     if (rc != HV_OK) return hv_error_set((hv_status)rc, "%s", api->last_error());
     range[0] = info.range[0];

@@ -31,6 +31,7 @@ hv_status hv_model_load(const char *path, hv_volume **out)
     model_kind kind;
     hv_status s = sniff(path, &kind);
     if (s != HV_OK) return s;
+    hv_input_note(path);
     return kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load(path, out);
 }
 
@@ -40,5 +41,6 @@ hv_status hv_model_load_grids(const char *path, const char *const *names, int n,
     model_kind kind;
     hv_status s = sniff(path, &kind);
     if (s != HV_OK) return s;
+    hv_input_note(path);
     return kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load_grids(path, names, n, out);
 }

@@ -35,7 +35,8 @@ static int is_fraction_grid(const char *name) { return strncmp(name, "material."
 hv_status hv_volume_save(const hv_volume *v, const char *path)
 {
     if (hv_check_extension(path, ".vdb", "a model") != HV_OK) return HV_ERR_INVALID;
-    hv_status s = api();
+    hv_status s = hv_output_check(path, 0);
+    if (s == HV_OK) s = api();
     if (s != HV_OK) return s;
     int ngrids = hv_volume_grid_count(v), nmeta = hv_volume_meta_count(v);
     size_t ng = (size_t)ngrids + 1, nm = (size_t)nmeta + 1;
@@ -85,6 +86,10 @@ hv_status hv_volume_save(const hv_volume *v, const char *path)
     else if (!special) s = hv_fsync_path(tmp);
     if (s != HV_OK) {
         if (!special) remove(tmp);
+        goto done;
+    }
+    if (!special && (s = hv_output_check(path, 0)) != HV_OK) {
+        remove(tmp);
         goto done;
     }
     if (!special && rename(tmp, path) != 0) {
@@ -315,6 +320,7 @@ static hv_status load(const char *path, const char *const *names, int n, int ope
     hv_status s = openvdb ? HV_OK : hv_vdb_read(path, names, n, hv_memory_budget(0), &v, &half, &declined);
     if (openvdb || declined) s = load_openvdb(path, names, n, &v, &half);
     if (s != HV_OK) return s;
+    hv_input_note(path);
     s = hv_volume_set_name(v, path);
     /* only with every fraction grid of the file loaded (all grids, or "material.*") */
     int all_fractions = n < 0;

@@ -7,6 +7,7 @@
 
 #include "hovox/core.h"
 
+#include <cstdio>
 #include <exception>
 #include <new>
 #include <string>
@@ -42,6 +43,21 @@ inline int fail(int status, std::string msg)
 }
 
 inline const char *last_error() { return last_error_text().c_str(); }
+
+// A size as the library writes it (hv_size_text): "512 bytes", "9.3 KiB", "4.3 GiB".
+inline std::string size_text(double bytes)
+{
+    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 5) {
+        bytes /= 1024.0;
+        ++u;
+    }
+    char buf[64];
+    if (u == 0) std::snprintf(buf, sizeof buf, "%.0f bytes", bytes);
+    else std::snprintf(buf, sizeof buf, "%.1f %s", bytes, unit[u]);
+    return buf;
+}
 
 } // namespace hv_bridge
 

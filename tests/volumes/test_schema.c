@@ -248,7 +248,7 @@ Test(schema, unknown_names_are_refused_on_read, .timeout = 60)
     strcpy(bogus + (at - text), "\"kind\": \"torus\"");
     strcat(bogus, at + strlen("\"kind\": \"point\""));
     expect_refused(g, HV_DOC_OBJECT, bogus,
-                   "hovox.object.json: features[0]: kind \"torus\" is not one of point, axis, plane, segment, contour, mask, facets, harmonic or field");
+                   "hovox.object.json: features[0]: kind \"torus\" is not one of point, axis, plane, halfspace, segment, contour, mask, facets, harmonic or field");
     free(bogus);
     free(text);
     hv_blend b;

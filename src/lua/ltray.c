@@ -129,13 +129,16 @@ static int tray_layers(lua_State *L)
     return 1;
 }
 
-static int tray_gc(lua_State *L) { return hv_tray_destroy(hv_lua_take(L, MT_TRAY)), 0; }
+static void destroy_tray(void *p) { hv_tray_destroy(p); }
+static int tray_gc(lua_State *L) { return hv_lua_release(L, destroy_tray, hv_lua_take(L, MT_TRAY)), 0; }
 
 void hv_lua_open_tray(lua_State *L, int module)
 {
     static const luaL_Reg methods[] = {{"add", tray_add}, {"arrange", tray_arrange}, {"layers", tray_layers},
                                        {"free", tray_gc}, {NULL, NULL}};
     hv_lua_new_class(L, MT_TRAY, methods, tray_gc, NULL);
-    lua_pushcfunction(L, l_tray_new);
-    lua_setfield(L, module, "tray");
+    static const luaL_Reg fns[] = {{"tray", l_tray_new}, {NULL, NULL}};
+    lua_pushvalue(L, module);
+    hv_lua_set_funcs(L, fns);
+    lua_pop(L, 1);
 }

@@ -381,11 +381,22 @@ static void *watch(void *arg)
 
 /* ---- progress ------------------------------------------------------------------------------------ */
 
-/* The CLI's bar, each stage ended on its own line when complete. */
+/* The CLI's bar, a stage's line ended when it is complete (the script may print next). */
+typedef struct run_bar {
+    cli_progress bar;
+    char finished[32]; /* the stage last completed: a second report of its end draws nothing */
+} run_bar;
+
 static int run_progress(void *user, const char *stage, double fraction)
 {
-    int rc = cli_progress_fn(user, stage, fraction);
-    if (fraction >= 1.0) cli_progress_done(user);
+    run_bar *b = user;
+    if (fraction >= 1.0 && strncmp(b->finished, stage, sizeof b->finished - 1) == 0) return 0;
+    b->finished[0] = '\0';
+    int rc = cli_progress_fn(&b->bar, stage, fraction);
+    if (fraction >= 1.0) {
+        cli_progress_done(&b->bar);
+        snprintf(b->finished, sizeof b->finished, "%s", stage);
+    }
     return rc;
 }
 
@@ -444,8 +455,8 @@ static int run_script(const run_cli *c, char **argv, int argc, int quiet)
     lua_sethook(L, stop_hook, LUA_MASKCOUNT, 1000);
     luaL_openlibs(L);
     open_hovox_global(L);
-    cli_progress bar;
-    cli_progress_init(&bar, quiet);
+    run_bar bar = {0};
+    cli_progress_init(&bar.bar, quiet);
     const hv_progress progress = {run_progress, &bar};
     hv_lua_set_runner(L, binding_entry, &h, &progress);
     guard(L, NULL, "pcall");
@@ -477,7 +488,7 @@ static int run_script(const run_cli *c, char **argv, int argc, int quiet)
         for (int i = 1; i < argc; ++i) lua_pushstring(L, argv[i]);
         st = lua_pcall(L, argc - 1, 0, -argc - 1);
     }
-    cli_progress_done(&bar);
+    cli_progress_done(&bar.bar);
     if (st != LUA_OK) {
         const char *msg = lua_tostring(L, -1);
         char buf[64];

@@ -265,7 +265,7 @@ static int l_contours(lua_State *L)
     mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     lua_newtable(L);
     contour_run run = {L, keep, lua_gettop(L), mesh};
-    hv_status s = hv_contours_write(mesh, &o, NULL, contour_layer, &run, NULL, NULL);
+    hv_status s = hv_contours_write(mesh, &o, NULL, contour_layer, &run, hv_lua_progress(L), NULL);
     return s != HV_OK ? fail(L, s) : 1;
 }
 

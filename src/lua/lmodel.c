@@ -38,6 +38,7 @@ static int l_voxelize(lua_State *L)
     lua_pop(L, 1);
     hv_volume *v;
     mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
+    o.progress = hv_lua_progress(L);
     hv_status s = hv_voxelize(mesh, &o, &v);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);

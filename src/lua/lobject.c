@@ -101,12 +101,18 @@ static int object_delete_ags(lua_State *L)
     return s != HV_OK ? fail(L, s) : 0;
 }
 
+/* obj:move_ags(src, d_neg) -> the moved source, which takes src's place in the object (so
+ * obj:delete_ags(moved) and obj:move_ags(moved, ...) reach it; src is no longer in it) */
 static int object_move_ags(lua_State *L)
 {
-    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
-    l_source *a = CHECK(L, 2, l_source, MT_SOURCE);
-    hv_status s = hv_object_move_ags(u->p, a->p, luaL_checknumber(L, 3));
-    return s != HV_OK ? fail(L, s) : 0;
+    hv_object *o = CHECK(L, 1, l_object, MT_OBJECT)->p; /* kept alive while this runs */
+    const hv_ags *a = CHECK(L, 2, l_source, MT_SOURCE)->p;
+    double d_neg = luaL_checknumber(L, 3);
+    hv_lua_push_source(L, NULL); /* the userdata first: an allocation failure leaks nothing */
+    l_source *moved = lua_touserdata(L, -1);
+    hv_status s = hv_ags_moved(a, d_neg, &moved->p);
+    if (s == HV_OK) s = hv_object_replace_ags(o, a, moved->p);
+    return s != HV_OK ? fail(L, s) : 1;
 }
 
 static int object_set_blend(lua_State *L)

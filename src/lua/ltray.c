@@ -105,7 +105,7 @@ static int tray_arrange(lua_State *L)
     read_over(L, u, 2, NULL);
     u = CHECK(L, 1, l_tray, MT_TRAY);
     hv_tray_report r;
-    hv_status s = hv_tray_plan(u->p, &u->o, NULL, &r);
+    hv_status s = hv_tray_plan(u->p, &u->o, hv_lua_progress(L), &r);
     if (s != HV_OK) return fail(L, s);
     push_report(L, &r);
     return 1;
@@ -123,7 +123,7 @@ static int tray_layers(lua_State *L)
     hv_lua_check_paths(L, 2, hv_tray_option_set(), &u->o); /* gcvf, stl: where they are used */
     u = CHECK(L, 1, l_tray, MT_TRAY);
     hv_tray_report r;
-    hv_status s = hv_tray_write(u->p, dir, &u->o, NULL, &r);
+    hv_status s = hv_tray_write(u->p, dir, &u->o, hv_lua_progress(L), &r);
     if (s != HV_OK) return fail(L, s);
     push_report(L, &r);
     return 1;

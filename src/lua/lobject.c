@@ -60,11 +60,14 @@ static int l_make_object(lua_State *L)
     return 1;
 }
 
+/* The object's material table (its user value), which the script may have freed (obj:materials()
+ * closed as a to-be-closed variable). */
 static hv_material_table *object_mats(lua_State *L, int idx)
 {
     lua_getiuservalue(L, idx, 1);
     l_mats *t = luaL_checkudata(L, -1, MT_MATS);
     lua_pop(L, 1);
+    if (!t->p) luaL_argerror(L, idx, "the object's materials were freed");
     return t->p;
 }
 

@@ -293,6 +293,20 @@ Test(files, paths_below_a_root_follow_directories_and_links)
     snprintf(prefix, sizeof prefix, "%s/below_root2/x", root); /* a name that merely starts like root */
     cr_assert(!hv_path_below(out, prefix));
     cr_assert(!hv_path_below(out, "/nonexistent-dir/x"));
+    /* issue 32.4: the root itself, however spelt, is no name below it (a directory written there
+     * makes its temporary beside it); a subdirectory so spelt is */
+    static const char *const self[] = {"/", "/.", "/./", "//", "/.//./", "/sub/..", "/."};
+    for (size_t i = 0; i < sizeof self / sizeof *self; ++i) {
+        char p[4096];
+        snprintf(p, sizeof p, "%s%s", out, self[i]);
+        cr_assert(!hv_path_below(out, p), "%s names the root", p);
+    }
+    static const char *const sub[] = {"/sub/", "/sub/.", "/sub//./", "/new/"};
+    for (size_t i = 0; i < sizeof sub / sizeof *sub; ++i) {
+        char p[4096];
+        snprintf(p, sizeof p, "%s%s", out, sub[i]);
+        cr_assert(hv_path_below(out, p), "%s is below the root", p);
+    }
 }
 
 Test(files, read_errors_name_the_path)

@@ -7,8 +7,9 @@
  * loutput.c (a model's outputs: render, export, layers, profile) and lopts.c (option tables
  * read through the library's option sets).
  *
- * Rules every binding follows: check arguments first, call C, raise only after C returned (no
- * longjmp crosses library or C++ frames); options are read by key through the library's option
+ * Rules every binding follows: it is entered through hv_lua_enter (the registration helpers do
+ * it), so an object freed while it runs lives until it returns; check arguments first, call C,
+ * raise only after C returned (no longjmp crosses library or C++ frames); options are read by key through the library's option
  * set, so every refusal names its key and says what the CLI says; every text the C call uses is
  * a private copy; class metatables are locked (__metatable), so a script reaches an object's
  * C side only through its methods. */

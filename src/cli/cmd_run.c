@@ -21,7 +21,9 @@
 #include <lualib.h>
 
 #if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/allocator_interface.h>
+/* AddressSanitizer's count of the bytes its allocator has handed out (sanitizer/
+ * allocator_interface.h, which GCC's packages do not always install) */
+size_t __sanitizer_get_current_allocated_bytes(void);
 #endif
 
 #include "cli.h"
@@ -128,7 +130,9 @@ typedef struct heap {
 
 static heap *g_heap;
 
+#if !defined(__SANITIZE_ADDRESS__)
 static int g_statm = -1; /* /proc/self/statm, kept open: one pread per count */
+#endif
 
 static size_t resident_bytes(void)
 {

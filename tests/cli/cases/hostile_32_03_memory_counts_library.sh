@@ -25,8 +25,13 @@ local keep = {}
 for i = 1, 200 do keep[i] = hovox.generate.knot{facets = 200000} end -- 5 MiB each
 print("held", #keep)
 LUA
+# the bound on the peak: 270 MiB; 1.2 GiB under AddressSanitizer (its shadow memory and its
+# quarantine of freed blocks are resident too; the script's count is its allocator's)
+bound=276480
+ldd "$HOVOX" | grep -q libasan && bound=1258291
 for s in models caught meshes; do
     /usr/bin/time -f %M -o peak.txt $HOVOX run --max-memory 150M $s.lua 2>err.txt; echo "rc=$?"
     sed 's/the limit of [0-9.]* MiB/the limit of (what is left) MiB/' err.txt >&2
-    [ "$(tail -1 peak.txt)" -lt 276480 ] && echo "peak resident size below 270 MiB"
+    peak=$(tail -1 peak.txt)
+    [ "$peak" -lt $bound ] && echo "peak resident size within its bound" || echo "peak resident size $peak KiB"
 done

@@ -10,6 +10,7 @@
 --   B-1), "all" (default: 370 layers) or "none"
 -- test-args: 2 180:183
 local out = arg[1] or "."
+hovox.mkdir(out) -- the output directory and its parents, as mkdir -p
 local voxel = tonumber(arg[2] or "0.5")
 local stack = arg[3] or "all"
 local range

@@ -8,6 +8,7 @@
 --   "A:B" (layers A to B-1), "all" (default: 1461 layers, about 20 s) or "none"
 -- test-args: 96 700:704
 local out = arg[1] or "."
+hovox.mkdir(out) -- the output directory and its parents, as mkdir -p
 local dims = tonumber(arg[2] or "128")
 local stack = arg[3] or "all"
 local range

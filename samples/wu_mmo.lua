@@ -4,6 +4,7 @@
 -- The part is a block whose corners lie 30 = d- + d+ from the axis.
 -- usage: hovox run samples/wu_mmo.lua [OUTDIR]
 local out = arg[1] or "."
+hovox.mkdir(out) -- the output directory and its parents, as mkdir -p
 
 local h = 30 / math.sqrt(2)
 local mesh = hovox.generate.box{min = {-h, 0, -h}, max = {h, 50, h}}

@@ -4,6 +4,7 @@
 -- (256, 97, 97) voxel grid.
 -- usage: hovox run samples/wu_shaft.lua [OUTDIR]
 local out = arg[1] or "."
+hovox.mkdir(out) -- the output directory and its parents, as mkdir -p
 
 local mesh = hovox.generate.cylinder{base = {0, 0, 0}, axis = 0, length = 150, radius = 27.5,
                                      segments = 192}

@@ -477,6 +477,11 @@ HV_API hv_status hv_object_add_ags(hv_object *o, hv_ags *a);
 HV_API hv_status hv_object_add_ags_region(hv_object *o, const char *region, hv_ags *a);
 HV_API hv_status hv_object_delete_ags(hv_object *o, const hv_ags *a);
 HV_API hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg);
+/* Put source b in the place of a in every region that holds a (the order kept, so the blend's
+ * ties fall as before); the object keeps a reference to b. Move is hv_ags_moved then this, for
+ * callers that keep the moved source (to delete or move it later). Errors: HV_ERR_NOT_FOUND (a
+ * absent), HV_ERR_INVALID (b over another material count). */
+HV_API hv_status hv_object_replace_ags(hv_object *o, const hv_ags *a, hv_ags *b);
 
 /* Heterogeneous Booleans (Wu eq. 27-30) and plain CSG subtraction; a and b must share the
  * lattice and the material count (HV_ERR_INVALID otherwise). Results are new objects:

@@ -99,6 +99,13 @@ const char *hv_size_text(char *buf, size_t size, double bytes);
  * by processes that died (".<name>.tmp-<pid>-<n>" of a gone pid, files or directories) are
  * removed first. */
 char *hv_temp_path(const char *path);
+/* Temporaries in progress, for a process that must end at once (hovox run's watchdog: a script
+ * stuck where it cannot be stopped, a second Ctrl-C): hv_temp_path and hv_outdir_begin track
+ * the names they hand out (before the file or directory is made); hv_temp_remove_all removes
+ * every one still there and keeps the list locked, so no thread makes another before the process
+ * exits. Thread-safe; names committed or removed are forgotten as the list grows. */
+void hv_temp_track(const char *path);
+void hv_temp_remove_all(void);
 /* Puts a finished temporary file in place: rename, or for a special `path` copy its bytes
  * there and remove `tmp`. Errors: HV_ERR_IO naming `path` (then `tmp` is left to the caller
  * when the rename failed, removed otherwise). */
@@ -114,7 +121,9 @@ int hv_path_is_special(const char *path);
 /* 1 when writing `path` stays below the directory `root` (an absolute, resolved path, as
  * realpath gives): the directory of `path` resolves below root, and when `path` itself is a
  * symbolic link its target does too (writers follow links: a link inside root must not lead
- * out of it). A sandbox's rule; checked on the text the writer then uses. */
+ * out of it). Trailing "/" and "/." are dropped first, as writers of directories drop them (so
+ * "root/" names root itself, whose temporary would be made outside it), and a name whose last
+ * part is "." or ".." is refused. A sandbox's rule; checked on the text the writer then uses. */
 int hv_path_below(const char *root, const char *path);
 
 /* ---- two-column CSV tables (csv_table.c) -----------------------------------------------------

@@ -14,11 +14,22 @@
 
 #include "internal.h"
 
-/* parent directory and last component of `dir` (trailing slashes ignored); caller frees */
-static hv_status split_path(const char *dir, char **parent, char **name)
+/* The length of `dir` without its trailing "/" and "/." ("out/." and "out/" name out). */
+static size_t dir_length(const char *dir)
 {
     size_t n = strlen(dir);
-    while (n > 1 && dir[n - 1] == '/') --n;
+    for (;;) {
+        while (n > 1 && dir[n - 1] == '/') --n;
+        if (n >= 3 && dir[n - 1] == '.' && dir[n - 2] == '/') --n;
+        else break;
+    }
+    return n;
+}
+
+/* parent directory and last component of `dir` (see dir_length); caller frees */
+static hv_status split_path(const char *dir, char **parent, char **name)
+{
+    size_t n = dir_length(dir);
     if (n == 0) return hv_error_set(HV_ERR_INVALID, "empty output directory name");
     size_t s = n;
     while (s > 0 && dir[s - 1] != '/') --s;
@@ -45,11 +56,13 @@ static hv_status split_path(const char *dir, char **parent, char **name)
     return HV_OK;
 }
 
-/* "<parent>/.<name>.<tag>-<pid>" */
-static char *sibling(const char *dir, const char *tag, long pid)
+/* *out = "<parent>/.<name>.<tag>-<pid>" (caller frees) */
+static hv_status sibling(const char *dir, const char *tag, long pid, char **out)
 {
     char *parent = NULL, *name = NULL;
-    if (split_path(dir, &parent, &name) != HV_OK) return NULL;
+    *out = NULL;
+    hv_status s = split_path(dir, &parent, &name);
+    if (s != HV_OK) return s; /* "name the output directory itself", or out of memory */
     hv_buf b;
     hv_buf_init(&b);
     hv_buf_printf(&b, "%s%s.%s.%s-%ld", parent, strcmp(parent, ".") == 0 ? "/" : "", name, tag, pid);
@@ -57,9 +70,10 @@ static char *sibling(const char *dir, const char *tag, long pid)
     free(name);
     if (b.failed) {
         hv_buf_free(&b);
-        return NULL;
+        return hv_error_set(HV_ERR_NOMEM, "out of memory");
     }
-    return b.data;
+    *out = b.data;
+    return HV_OK;
 }
 
 static int rm_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
@@ -94,7 +108,7 @@ static void remove_stale(const char *dir)
         if (strncmp(tag, "tmp-", 4) != 0 && strncmp(tag, "old-", 4) != 0) continue;
         char *end = NULL;
         long pid = strtol(tag + 4, &end, 10);
-        if (!end || *end || pid <= 0) continue;
+        if (!end || (*end && strcmp(end, "-ended") != 0) || pid <= 0) continue; /* -ended: hv_temp_remove_all's */
         if (pid != (long)getpid() && !(kill((pid_t)pid, 0) != 0 && errno == ESRCH)) continue;
         hv_buf p;
         hv_buf_init(&p);
@@ -206,9 +220,10 @@ hv_status hv_outdir_begin(const char *dir, const hv_outdir_rules *r, int force, 
         s = hv_error_option(HV_ERR_IO, "%s: a %s exists there ({force} replaces it)", dir, r->what);
     hv_buf_free(&foreign);
     if (s != HV_OK) return s;
-    char *t = sibling(dir, "tmp", (long)getpid());
-    if (!t) return hv_error_set(HV_ERR_NOMEM, "out of memory");
+    char *t;
+    if ((s = sibling(dir, "tmp", (long)getpid(), &t)) != HV_OK) return s;
     remove_stale(dir);
+    hv_temp_track(t);
     if (mkdir(t, 0777) != 0) {
         s = hv_error_set(HV_ERR_IO, "%s: cannot create the output directory: %s", dir, strerror(errno));
         free(t);
@@ -218,8 +233,20 @@ hv_status hv_outdir_begin(const char *dir, const hv_outdir_rules *r, int force, 
     return HV_OK;
 }
 
-hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rules *r, int force)
+/* The directory `dir` names (see dir_length), into buf. */
+static const char *dir_itself(const char *dir, char *buf, size_t size)
 {
+    size_t n = dir_length(dir);
+    if (n >= size) return dir;
+    memcpy(buf, dir, n);
+    buf[n] = '\0';
+    return buf;
+}
+
+hv_status hv_outdir_commit(const char *tmp, const char *given, const hv_outdir_rules *r, int force)
+{
+    char name[4096];
+    const char *dir = dir_itself(given, name, sizeof name);
     /* the files were written without a sync each: one sync of the file system makes them all
      * durable before the rename publishes them */
     int fd = open(tmp, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -236,16 +263,17 @@ hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rul
     hv_status refused = hv_output_check(dir, 1);
     if (refused != HV_OK) return refused;
     if (kind == OURS && (force || !r->need_force)) {
-        char *old = sibling(dir, "old", (long)getpid());
-        if (!old) return hv_error_set(HV_ERR_NOMEM, "out of memory");
+        char *old;
+        hv_status s = sibling(dir, "old", (long)getpid(), &old);
+        if (s != HV_OK) return s;
         hv_remove_tree(old);
         if (rename(dir, old) != 0) {
-            hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot move the old %s aside: %s", dir, r->what, strerror(errno));
+            s = hv_error_set(HV_ERR_IO, "%s: cannot move the old %s aside: %s", dir, r->what, strerror(errno));
             free(old);
             return s;
         }
         if (rename(tmp, dir) != 0) {
-            hv_status s = hv_error_set(HV_ERR_IO, "%s: cannot rename %s to it: %s", dir, tmp, strerror(errno));
+            s = hv_error_set(HV_ERR_IO, "%s: cannot rename %s to it: %s", dir, tmp, strerror(errno));
             if (rename(old, dir) != 0) { /* leave the old one where the user can find it */ }
             free(old);
             return s;

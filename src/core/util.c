@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -10,6 +11,7 @@
 #include <strings.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "internal.h"
@@ -295,7 +297,71 @@ char *hv_temp_path(const char *path)
     snprintf(tmp, n, "%.*s%s.%s.tmp-%ld-%u", (int)dirlen, dir,
              dir != path && dirlen > 0 && dir[dirlen - 1] != '/' ? "/" : "", base, (long)getpid(),
              atomic_fetch_add(&g_temp_counter, 1u));
+    hv_temp_track(tmp);
     return tmp;
+}
+
+/* ---- temporaries in progress ------------------------------------------------------------------ */
+
+typedef struct temp_entry {
+    char *path;
+    double since; /* monotonic seconds when tracked */
+} temp_entry;
+
+static pthread_mutex_t g_temps_lock = PTHREAD_MUTEX_INITIALIZER;
+static temp_entry *g_temps;
+static size_t g_ntemps, g_temps_cap;
+
+static double monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void hv_temp_track(const char *path)
+{
+    char *copy = strdup(path);
+    if (!copy) return;
+    double now = monotonic_seconds();
+    pthread_mutex_lock(&g_temps_lock);
+    if (g_ntemps == g_temps_cap) {
+        /* forget the names that are gone (renamed into place or removed); a name is tracked
+         * before its file is made, so only those older than a second */
+        size_t n = 0;
+        struct stat st;
+        for (size_t i = 0; i < g_ntemps; ++i) {
+            if (now - g_temps[i].since > 1.0 && lstat(g_temps[i].path, &st) != 0) free(g_temps[i].path);
+            else g_temps[n++] = g_temps[i];
+        }
+        g_ntemps = n;
+        if (2 * n >= g_temps_cap) { /* still half full: grow */
+            size_t cap = g_temps_cap ? 2 * g_temps_cap : 32;
+            temp_entry *t = realloc(g_temps, cap * sizeof *t);
+            if (t) {
+                g_temps = t;
+                g_temps_cap = cap;
+            }
+        }
+    }
+    if (g_ntemps < g_temps_cap) g_temps[g_ntemps++] = (temp_entry){copy, now};
+    else free(copy);
+    pthread_mutex_unlock(&g_temps_lock);
+}
+
+void hv_temp_remove_all(void)
+{
+    pthread_mutex_lock(&g_temps_lock); /* never unlocked: the process is ending */
+    for (size_t i = 0; i < g_ntemps; ++i) {
+        /* renamed first: the writer, still running, either renamed it into place before (a
+         * complete output: left alone) or can no longer (nor add to it by its name) */
+        char gone[PATH_MAX];
+        struct stat st;
+        if (snprintf(gone, sizeof gone, "%s-ended", g_temps[i].path) >= (int)sizeof gone ||
+            rename(g_temps[i].path, gone) != 0)
+            continue;
+        for (int tries = 0; tries < 100 && lstat(gone, &st) == 0; ++tries) hv_remove_tree(gone);
+    }
 }
 
 hv_status hv_temp_commit(const char *tmp, const char *path)
@@ -345,8 +411,19 @@ static int resolved_below(const char *real, const char *root)
 
 int hv_path_below(const char *root, const char *path)
 {
-    char dir[PATH_MAX], real[PATH_MAX];
+    char dir[PATH_MAX], real[PATH_MAX], norm[PATH_MAX];
     if (strlen(path) >= sizeof dir) return 0;
+    /* what a writer makes of the name: "out/", "out/." and "out/./" name out itself, whose
+     * temporary (a stack's ".out.tmp-PID") is made beside it, in its parent */
+    snprintf(norm, sizeof norm, "%s", path);
+    for (size_t n = strlen(norm);;) {
+        while (n > 1 && norm[n - 1] == '/') norm[--n] = '\0';
+        if (n >= 2 && norm[n - 1] == '.' && norm[n - 2] == '/') norm[--n] = '\0';
+        else break;
+    }
+    const char *last = hv_basename(norm);
+    if (!*last || strcmp(last, ".") == 0 || strcmp(last, "..") == 0) return 0; /* not a name of its own */
+    path = norm;
     snprintf(dir, sizeof dir, "%s", path);
     char *slash = strrchr(dir, '/');
     if (slash) {

@@ -123,6 +123,8 @@ void hv_lua_open_assembly(lua_State *L, int module)
 {
     static const luaL_Reg model_methods[] = {{"regions", model_regions}, {NULL, NULL}};
     hv_lua_add_methods(L, MT_MODEL, model_methods);
-    lua_pushcfunction(L, l_join_meshes);
-    lua_setfield(L, module, "join_meshes");
+    static const luaL_Reg fns[] = {{"join_meshes", l_join_meshes}, {NULL, NULL}};
+    lua_pushvalue(L, module);
+    hv_lua_set_funcs(L, fns);
+    lua_pop(L, 1);
 }

@@ -1,9 +1,12 @@
 /* src/lua/lhovox.c - the `hovox` Lua 5.4 module: the helpers every binding file shares and the
  * module table, assembled from the per-class files (see lhovox.h for the rules they follow). */
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <lauxlib.h>
 
@@ -20,11 +23,6 @@ int hv_lua_arg_error(lua_State *L, int arg, const char *fmt, ...)
     return luaL_argerror(L, arg, msg);
 }
 
-int hv_lua_fail(lua_State *L, hv_status s)
-{
-    const char *m = hv_last_error();
-    return luaL_error(L, "%s", *m ? m : hv_status_name(s));
-}
 
 void *hv_lua_new_ud(lua_State *L, size_t size, const char *mt)
 {
@@ -76,6 +74,175 @@ void *hv_lua_option_object(lua_State *L, int arg, const char *key, const char *m
     return p;
 }
 
+/* ---- objects in use ---------------------------------------------------------------------------- */
+
+#define MAX_FRAMES 256 /* bindings nested through callbacks; deeper ones are covered by these */
+
+typedef struct deferred {
+    void (*destroy)(void *);
+    void *p;
+} deferred;
+
+/* The module's record of a state (a userdata in the registry, finalized last: created first). */
+typedef struct lstate {
+    uintptr_t frames[MAX_FRAMES]; /* frames of bindings entered and maybe still running */
+    int nframes;
+    deferred *dead; /* released while a binding ran */
+    size_t ndead, cap;
+    int closed;
+    hv_lua_entry_fn entry;
+    void *entry_user;
+    hv_progress progress;
+    int has_progress;
+    hv_status fail_status; /* the library's last failure raised, and its text */
+    char fail_text[1024];
+} lstate;
+
+static const char k_state = 0; /* its registry key (the address) */
+
+/* The record, or NULL before the module is open; allocates nothing. */
+static lstate *state_of(lua_State *L)
+{
+    lstate *s = lua_rawgetp(L, LUA_REGISTRYINDEX, &k_state) == LUA_TUSERDATA ? lua_touserdata(L, -1) : NULL;
+    lua_pop(L, 1);
+    return s;
+}
+
+/* Forget the frames that cannot be running below `here`: a running binding's frame is above
+ * (at a higher address than) every frame it called. */
+static void prune(lstate *s, uintptr_t here)
+{
+    int n = 0;
+    for (int i = 0; i < s->nframes; ++i)
+        if (s->frames[i] > here) s->frames[n++] = s->frames[i];
+    s->nframes = n;
+}
+
+static void flush(lstate *s)
+{
+    /* a destroy runs no Lua code, so nothing is added meanwhile */
+    for (size_t i = 0; i < s->ndead; ++i) s->dead[i].destroy(s->dead[i].p);
+    s->ndead = 0;
+}
+
+void hv_lua_enter(lua_State *L, uintptr_t frame)
+{
+    lstate *s = state_of(L);
+    if (!s) return;
+    prune(s, frame);
+    if (s->nframes == 0) flush(s);
+    if (s->nframes < MAX_FRAMES) s->frames[s->nframes++] = frame;
+    if (s->entry) s->entry(L, s->entry_user);
+}
+
+void hv_lua_release(lua_State *L, void (*destroy)(void *), void *p)
+{
+    if (!p) return;
+    lstate *s = state_of(L);
+    if (s && !s->closed) {
+        prune(s, HV_LUA_FRAME());
+        if (s->nframes > 0) {
+            if (s->ndead == s->cap) {
+                size_t cap = s->cap ? 2 * s->cap : 16;
+                deferred *d = realloc(s->dead, cap * sizeof *d);
+                if (!d) return; /* kept alive: a leak, never a use after free */
+                s->dead = d;
+                s->cap = cap;
+            }
+            s->dead[s->ndead++] = (deferred){destroy, p};
+            return;
+        }
+        flush(s);
+    }
+    destroy(p);
+}
+
+static int state_gc(lua_State *L)
+{
+    lstate *s = lua_touserdata(L, 1);
+    flush(s); /* the state is closing: no binding runs */
+    free(s->dead);
+    s->dead = NULL;
+    s->cap = 0;
+    s->closed = 1;
+    return 0;
+}
+
+static lstate *open_state(lua_State *L)
+{
+    lstate *s = state_of(L);
+    if (s) return s;
+    s = lua_newuserdatauv(L, sizeof *s, 0);
+    memset(s, 0, sizeof *s);
+    lua_createtable(L, 0, 1);
+    lua_pushcfunction(L, state_gc);
+    lua_setfield(L, -2, "__gc");
+    lua_setmetatable(L, -2);
+    lua_rawsetp(L, LUA_REGISTRYINDEX, &k_state);
+    return s;
+}
+
+void hv_lua_set_runner(lua_State *L, hv_lua_entry_fn entry, void *user, const hv_progress *progress)
+{
+    lstate *s = open_state(L);
+    s->entry = entry;
+    s->entry_user = user;
+    s->has_progress = progress != NULL;
+    if (progress) s->progress = *progress;
+}
+
+const hv_progress *hv_lua_progress(lua_State *L)
+{
+    lstate *s = state_of(L);
+    return s && s->has_progress ? &s->progress : NULL;
+}
+
+/* A registered function, entered: upvalue 1 is its luaL_Reg. Called directly (not through
+ * lua_call), so Lua names it and counts its arguments as before. */
+static int entered(lua_State *L)
+{
+    const luaL_Reg *r = lua_touserdata(L, lua_upvalueindex(1));
+    hv_lua_enter(L, HV_LUA_FRAME());
+    return r->func(L);
+}
+
+static void push_entered(lua_State *L, const luaL_Reg *r)
+{
+    lua_pushlightuserdata(L, (void *)r);
+    lua_pushcclosure(L, entered, 1);
+}
+
+void hv_lua_set_funcs(lua_State *L, const luaL_Reg *fns)
+{
+    for (const luaL_Reg *r = fns; r->name; ++r) {
+        push_entered(L, r);
+        lua_setfield(L, -2, r->name);
+    }
+}
+
+int hv_lua_fail(lua_State *L, hv_status s)
+{
+    const char *m = hv_last_error();
+    luaL_where(L, 1);
+    lua_pushfstring(L, "%s%s", lua_tostring(L, -1), *m ? m : hv_status_name(s));
+    hv_lua_note_failure(L, s, lua_tostring(L, -1));
+    return lua_error(L);
+}
+
+void hv_lua_note_failure(lua_State *L, hv_status s, const char *message)
+{
+    lstate *st = state_of(L);
+    if (!st) return;
+    st->fail_status = s;
+    snprintf(st->fail_text, sizeof st->fail_text, "%s", message ? message : "");
+}
+
+hv_status hv_lua_failure_status(lua_State *L, const char *message)
+{
+    lstate *st = state_of(L);
+    return st && message && st->fail_status != HV_OK && strcmp(message, st->fail_text) == 0 ? st->fail_status : HV_OK;
+}
+
 void *hv_lua_take(lua_State *L, const char *mt)
 {
     void **u = luaL_checkudata(L, 1, mt);
@@ -84,32 +251,44 @@ void *hv_lua_take(lua_State *L, const char *mt)
     return p;
 }
 
-/* A copy of class `name`'s methods in package.loaded[name], so an argument error raised in a
- * method called without method syntax (pcall(m.save, m, ...)) names it ('hovox.Mesh.save')
- * instead of '?': Lua looks error names up in the loaded modules. A copy: a script changing it
- * changes no object's methods. */
-static void name_methods(lua_State *L, const char *name, const luaL_Reg *methods)
+/* Class `name`'s methods into the table at the top of the stack (its __index), each wrapped to
+ * enter except the class's free (gc), and the same functions into package.loaded[name], so an
+ * argument error raised in a method called without method syntax (pcall(m.save, m, ...)) names it
+ * ('hovox.Mesh.save') instead of '?': Lua looks error names up in the loaded modules. A copy of
+ * the table: a script changing it changes no object's methods. */
+static void set_methods(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc)
 {
+    int index = lua_gettop(L);
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
     luaL_getsubtable(L, -1, name);
-    luaL_setfuncs(L, methods, 0);
-    lua_pop(L, 2);
+    for (const luaL_Reg *r = methods; r->name; ++r) {
+        if (r->func == gc) lua_pushcfunction(L, r->func);
+        else push_entered(L, r);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, index, r->name);
+        lua_setfield(L, -2, r->name);
+    }
+    lua_settop(L, index);
 }
 
 void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,
                       lua_CFunction tostring)
 {
-    name_methods(L, name, methods);
+    open_state(L); /* before any object: finalized after all of them */
     luaL_newmetatable(L, name);
     lua_newtable(L);
-    luaL_setfuncs(L, methods, 0);
+    set_methods(L, name, methods, gc);
     lua_setfield(L, -2, "__index");
     lua_pushcfunction(L, gc);
     lua_setfield(L, -2, "__gc");
     lua_pushcfunction(L, gc);
     lua_setfield(L, -2, "__close");
     if (tostring) {
-        lua_pushcfunction(L, tostring);
+        /* the function's luaL_Reg lives as long as the state: one per class, kept in the metatable */
+        luaL_Reg *r = lua_newuserdatauv(L, sizeof *r, 0);
+        *r = (luaL_Reg){"__tostring", tostring};
+        lua_setfield(L, -2, "hovox.tostring");
+        push_entered(L, r);
         lua_setfield(L, -2, "__tostring");
     }
     /* getmetatable(obj) returns the name: a script cannot call __gc on an object C still uses */
@@ -120,10 +299,9 @@ void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, l
 
 void hv_lua_add_methods(lua_State *L, const char *name, const luaL_Reg *methods)
 {
-    name_methods(L, name, methods);
     luaL_getmetatable(L, name);
     lua_getfield(L, -1, "__index");
-    luaL_setfuncs(L, methods, 0);
+    set_methods(L, name, methods, NULL);
     lua_pop(L, 2);
 }
 
@@ -135,8 +313,35 @@ static int l_set_threads(lua_State *L)
     return 0;
 }
 
+/* hovox.mkdir(path): the directory and its missing parents (as mkdir -p), each one checked
+ * against the sandbox before it is made; an existing directory is no error. */
+static int l_mkdir(lua_State *L)
+{
+    size_t len;
+    const char *given = luaL_checklstring(L, 1, &len);
+    if (len == 0 || strlen(given) != len) return luaL_argerror(L, 1, "a directory name, without NUL bytes");
+    char *p = lua_newuserdatauv(L, len + 1, 0); /* a private copy, cut at each '/' in turn */
+    memcpy(p, given, len + 1);
+    for (size_t i = 1; i <= len; ++i) {
+        if (p[i] != '/' && p[i] != '\0') continue;
+        char c = p[i];
+        p[i] = '\0';
+        struct stat st;
+        if (stat(p, &st) != 0) {
+            hv_lua_check_write(L, 1, p);
+            if (mkdir(p, 0777) != 0 && errno != EEXIST)
+                return luaL_error(L, "%s: cannot create the directory: %s", p, strerror(errno));
+        } else if (!S_ISDIR(st.st_mode)) {
+            return luaL_error(L, "%s: exists and is not a directory", p);
+        }
+        p[i] = c;
+    }
+    return 0;
+}
+
 int luaopen_hovox(lua_State *L)
 {
+    open_state(L); /* before any object: finalized after all of them */
     lua_newtable(L);
     int module = lua_gettop(L);
     hv_lua_open_mesh(L, module);
@@ -146,8 +351,8 @@ int luaopen_hovox(lua_State *L)
     hv_lua_open_object(L, module);
     hv_lua_open_tray(L, module);
     hv_lua_open_assembly(L, module);
-    lua_pushcfunction(L, l_set_threads);
-    lua_setfield(L, module, "set_threads");
+    static const luaL_Reg fns[] = {{"set_threads", l_set_threads}, {"mkdir", l_mkdir}, {NULL, NULL}};
+    hv_lua_set_funcs(L, fns);
     lua_pushstring(L, hv_version());
     lua_setfield(L, module, "version");
     return 1;

@@ -7,14 +7,18 @@
  * loutput.c (a model's outputs: render, export, layers, profile) and lopts.c (option tables
  * read through the library's option sets).
  *
- * Rules every binding follows: check arguments first, call C, raise only after C returned (no
- * longjmp crosses library or C++ frames); options are read by key through the library's option
+ * Rules every binding follows: it is entered through hv_lua_enter (the registration helpers do
+ * it), so an object freed while it runs lives until it returns; check arguments first, call C,
+ * raise only after C returned (no longjmp crosses library or C++ frames); options are read by key through the library's option
  * set, so every refusal names its key and says what the CLI says; every text the C call uses is
  * a private copy; class metatables are locked (__metatable), so a script reaches an object's
  * C side only through its methods. */
 #ifndef HOVOX_LHOVOX_H
 #define HOVOX_LHOVOX_H
 
+#include <stdint.h>
+
+#include <lauxlib.h>
 #include <lua.h>
 
 #include "hovox/material.h"
@@ -36,6 +40,31 @@ void hv_lua_sandbox(lua_State *L);
  * root, and when `path` itself is a symbolic link, its target does too. Call on a private copy
  * right before the C call that writes. Returns path. */
 const char *hv_lua_check_write(lua_State *L, int arg, const char *path);
+
+/* ---- objects in use, the runner's hooks (lhovox.c) -----------------------------------------------
+ * Any allocation may run finalizers, and a finalizer (or a callback) may free an object
+ * (obj:free(), __close, __gc) while a binding is between reading the object's C pointer and its
+ * last use of it. So every binding is entered through hv_lua_enter (the methods and functions
+ * registered by hv_lua_new_class, hv_lua_add_methods and hv_lua_set_funcs are wrapped in a
+ * function that does it; closures with upvalues of their own call it first), which records the
+ * binding's C stack frame; hv_lua_release, which every class's free and __gc go through, takes
+ * the object from the script at once (its methods then say "object was freed") but destroys its C
+ * side only when no binding entered before is still running (a frame above the releasing one:
+ * the C stack grows down; Lua runs coroutines on the same C stack), else when the next binding
+ * is entered with none running, or when the state closes. */
+#define HV_LUA_FRAME() ((uintptr_t)__builtin_frame_address(0))
+void hv_lua_enter(lua_State *L, uintptr_t frame);
+/* Destroy p with destroy(p) now, or when no binding is running (see above). p may be NULL. */
+void hv_lua_release(lua_State *L, void (*destroy)(void *), void *p);
+/* Set what the runner (hovox run) wants on every binding entry: `entry` is called by
+ * hv_lua_enter (it may raise: a time or memory limit passed; it may set the process-wide memory
+ * cap of the call); `progress` (copied; NULL: none) is given to the library's long operations. */
+typedef void (*hv_lua_entry_fn)(lua_State *L, void *user);
+void hv_lua_set_runner(lua_State *L, hv_lua_entry_fn entry, void *user, const hv_progress *progress);
+/* The runner's progress for a library call (NULL when none). */
+const hv_progress *hv_lua_progress(lua_State *L);
+/* Register each function of `fns` into the table at the top of the stack, wrapped to enter. */
+void hv_lua_set_funcs(lua_State *L, const luaL_Reg *fns);
 
 /* ---- classes and shared helpers (lhovox.c) ---------------------------------------------------- */
 #define MT_MESH "hovox.Mesh"
@@ -62,11 +91,12 @@ void *hv_lua_check_live(lua_State *L, int arg, const char *mt);
  * stack, anchored, while C uses it); raises "bad argument #arg (<key> must be a <what>)" or
  * "(<key> was freed)". */
 void *hv_lua_option_object(lua_State *L, int arg, const char *key, const char *mt, const char *what);
-/* For a class's __gc: the C object of the userdata of class `mt` at 1, which is left freed (NULL);
- * the caller destroys what it returns (NULL allowed). */
+/* For a class's free and __gc: the C object of the userdata of class `mt` at 1, which is left
+ * freed (NULL); the caller releases what it returns (hv_lua_release; NULL allowed). */
 void *hv_lua_take(lua_State *L, const char *mt);
-/* Register class `name`: methods as __index, gc as __gc and __close, tostring (may be NULL),
- * __name, and a locked __metatable. */
+/* Register class `name`: methods as __index (each wrapped to enter, except gc, which is the
+ * class's free), gc as __gc and __close, tostring (may be NULL; wrapped), __name, and a locked
+ * __metatable. */
 void hv_lua_new_class(lua_State *L, const char *name, const luaL_Reg *methods, lua_CFunction gc,
                       lua_CFunction tostring);
 /* Add methods to an existing class. */
@@ -81,6 +111,12 @@ hv_ags *hv_lua_source_arg(lua_State *L, int arg);
 void hv_lua_push_source(lua_State *L, hv_ags *a);
 /* Raise the library's message for a failed call (after the call has returned). */
 int hv_lua_fail(lua_State *L, hv_status status);
+/* The status of the library failure whose error text (with its place) is `message`, the last
+ * one raised; HV_OK for any other error. So a runner gives a script ended by a library failure
+ * the exit code the command would (3 for a plan over the memory limit). hv_lua_note_failure
+ * records a failure's text again when a binding rewrites it. */
+hv_status hv_lua_failure_status(lua_State *L, const char *message);
+void hv_lua_note_failure(lua_State *L, hv_status status, const char *message);
 /* luaL_argerror with a printf-style message (C formats: %g for numbers). */
 int hv_lua_arg_error(lua_State *L, int arg, const char *fmt, ...) HV_PRINTF(3, 4);
 #define arg_error hv_lua_arg_error

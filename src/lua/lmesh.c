@@ -60,8 +60,7 @@ static void push_report(lua_State *L, const hv_mesh_report *r)
 
 static int mesh_report(lua_State *L)
 {
-    l_mesh *u = CHECK(L, 1, l_mesh, MT_MESH);
-    push_report(L, hv_mesh_get_report(u->p));
+    push_report(L, hv_mesh_get_report(hv_lua_mesh(L, 1))); /* the mesh lives while this runs */
     return 1;
 }
 
@@ -131,13 +130,14 @@ static int mesh_save(lua_State *L)
 
 static int mesh_count(lua_State *L)
 {
-    l_mesh *u = CHECK(L, 1, l_mesh, MT_MESH);
-    lua_pushinteger(L, (lua_Integer)hv_mesh_facet_count(u->p));
-    lua_pushinteger(L, (lua_Integer)hv_mesh_vertex_count(u->p));
+    const hv_mesh *m = hv_lua_mesh(L, 1);
+    lua_pushinteger(L, (lua_Integer)hv_mesh_facet_count(m));
+    lua_pushinteger(L, (lua_Integer)hv_mesh_vertex_count(m));
     return 2;
 }
 
-static int mesh_gc(lua_State *L) { return hv_mesh_destroy(hv_lua_take(L, MT_MESH)), 0; }
+static void destroy_mesh(void *p) { hv_mesh_destroy(p); }
+static int mesh_gc(lua_State *L) { return hv_lua_release(L, destroy_mesh, hv_lua_take(L, MT_MESH)), 0; }
 
 static int mesh_tostring(lua_State *L)
 {
@@ -152,6 +152,7 @@ static int mesh_tostring(lua_State *L)
 /* hovox.generate.SHAPE{key = value, ...}; upvalue 1: the shape's index */
 static int l_generate(lua_State *L)
 {
+    hv_lua_enter(L, HV_LUA_FRAME());
     int shape = (int)lua_tointeger(L, lua_upvalueindex(1));
     hv_shape_params p;
     hv_lua_read(L, 1, hv_shape_option_set(shape), &p, NULL);
@@ -264,7 +265,7 @@ static int l_contours(lua_State *L)
     mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     lua_newtable(L);
     contour_run run = {L, keep, lua_gettop(L), mesh};
-    hv_status s = hv_contours_write(mesh, &o, NULL, contour_layer, &run, NULL, NULL);
+    hv_status s = hv_contours_write(mesh, &o, NULL, contour_layer, &run, hv_lua_progress(L), NULL);
     return s != HV_OK ? fail(L, s) : 1;
 }
 
@@ -273,11 +274,11 @@ void hv_lua_open_mesh(lua_State *L, int module)
     static const luaL_Reg methods[] = {{"report", mesh_report},       {"save", mesh_save},     {"count", mesh_count},
                                        {"bodies", mesh_bodies},       {"materials", mesh_materials},
                                        {"free", mesh_gc},             {NULL, NULL}};
+    static const luaL_Reg fns[] = {{"load_mesh", l_load_mesh}, {"contours", l_contours}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MESH, methods, mesh_gc, mesh_tostring);
-    lua_pushcfunction(L, l_load_mesh);
-    lua_setfield(L, module, "load_mesh");
-    lua_pushcfunction(L, l_contours);
-    lua_setfield(L, module, "contours");
+    lua_pushvalue(L, module);
+    hv_lua_set_funcs(L, fns);
+    lua_pop(L, 1);
     lua_createtable(L, 0, hv_shape_count());
     for (int i = 0; i < hv_shape_count(); ++i) {
         lua_pushinteger(L, i);

@@ -39,6 +39,7 @@ static int l_voxelize(lua_State *L)
     lua_pop(L, 1);
     hv_volume *v;
     mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
+    o.progress = hv_lua_progress(L);
     hv_status s = hv_voxelize(mesh, &o, &v);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);
@@ -57,22 +58,22 @@ static int l_load(lua_State *L)
 
 static int model_save(lua_State *L)
 {
-    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    hv_volume *vol = hv_lua_model(L, 1); /* kept alive while this runs (hv_lua_release) */
     const char *path = hv_lua_check_write(L, 2, luaL_checkstring(L, 2));
-    hv_status s = hv_volume_save(u->p, path);
+    hv_status s = hv_volume_save(vol, path);
     return s != HV_OK ? fail(L, s) : 0;
 }
 
 static int model_grids(lua_State *L)
 {
-    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
-    int n = hv_volume_grid_count(u->p);
+    const hv_volume *vol = hv_lua_model(L, 1);
+    int n = hv_volume_grid_count(vol);
     lua_createtable(L, n, 0);
     for (int g = 0; g < n; ++g) {
         lua_createtable(L, 0, 2);
-        lua_pushstring(L, hv_volume_grid_name(u->p, g));
+        lua_pushstring(L, hv_volume_grid_name(vol, g));
         lua_setfield(L, -2, "name");
-        lua_pushstring(L, hv_volume_grid_type(u->p, g) == HV_GRID_BOOL ? "bool" : "float");
+        lua_pushstring(L, hv_volume_grid_type(vol, g) == HV_GRID_BOOL ? "bool" : "float");
         lua_setfield(L, -2, "type");
         lua_rawseti(L, -2, g + 1);
     }
@@ -81,16 +82,16 @@ static int model_grids(lua_State *L)
 
 static int model_voxels(lua_State *L)
 {
-    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    const hv_volume *vol = hv_lua_model(L, 1);
     const char *grid = luaL_optstring(L, 2, NULL);
     if (!grid) {
-        lua_pushinteger(L, (lua_Integer)hv_volume_active_count(u->p));
+        lua_pushinteger(L, (lua_Integer)hv_volume_active_count(vol));
         return 1;
     }
-    int g = hv_volume_grid_find(u->p, grid);
-    if (g < 0 || hv_volume_grid_type(u->p, g) != HV_GRID_BOOL)
+    int g = hv_volume_grid_find(vol, grid);
+    if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL)
         return arg_error(L, 2, "no bool grid '%s'", grid);
-    lua_pushinteger(L, (lua_Integer)hv_volume_mask_count(u->p, g));
+    lua_pushinteger(L, (lua_Integer)hv_volume_mask_count(vol, g));
     return 1;
 }
 
@@ -132,15 +133,15 @@ static int model_add_grid(lua_State *L)
 
 static int model_transform(lua_State *L)
 {
-    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
-    hv_transform xf = hv_volume_get_transform(u->p);
+    const hv_volume *vol = hv_lua_model(L, 1);
+    hv_transform xf = hv_volume_get_transform(vol);
     lua_createtable(L, 0, 2);
     hv_lua_push_vec(L, xf.voxel, 3);
     lua_setfield(L, -2, "voxel");
     hv_lua_push_vec(L, xf.origin, 3);
     lua_setfield(L, -2, "origin");
     int32_t lo[3], hi[3];
-    if (hv_volume_index_bbox(u->p, lo, hi)) {
+    if (hv_volume_index_bbox(vol, lo, hi)) {
         double a[3] = {lo[0], lo[1], lo[2]}, b[3] = {hi[0], hi[1], hi[2]};
         hv_lua_push_vec(L, a, 3);
         lua_setfield(L, -2, "index_min");
@@ -152,12 +153,12 @@ static int model_transform(lua_State *L)
 
 static int model_meta(lua_State *L)
 {
-    l_model *u = CHECK(L, 1, l_model, MT_MODEL);
+    const hv_volume *vol = hv_lua_model(L, 1);
     const char *key = luaL_checkstring(L, 2);
     double d;
-    const char *s = hv_volume_meta_string(u->p, key);
+    const char *s = hv_volume_meta_string(vol, key);
     if (s) lua_pushstring(L, s);
-    else if (hv_volume_meta_number(u->p, key, &d)) lua_pushnumber(L, d);
+    else if (hv_volume_meta_number(vol, key, &d)) lua_pushnumber(L, d);
     else lua_pushnil(L);
     return 1;
 }
@@ -177,12 +178,14 @@ static int model_probe(lua_State *L)
     l_model *u = CHECK(L, 1, l_model, MT_MODEL);
     double p[3];
     if (hv_lua_numbers(L, 2, 2, "point", p, 3) != 3) return luaL_argerror(L, 2, "point must be {x, y, z}");
-    hv_material_table *t = model_mats(L, u);
+    u = CHECK(L, 1, l_model, MT_MODEL); /* again, after the conversions */
+    hv_volume *vol = u->p;
+    const hv_material_table *t = model_mats(L, u);
     int m = hv_material_count(t), grids[HV_MAX_MATERIALS], inside;
-    for (int j = 0; j < m; ++j) grids[j] = hv_material_grid(u->p, t, j);
+    for (int j = 0; j < m; ++j) grids[j] = hv_material_grid(vol, t, j);
     double f[HV_MAX_MATERIALS];
     hv_accessor acc;
-    hv_accessor_init(&acc, u->p);
+    hv_accessor_init(&acc, vol);
     hv_model_probe(&acc, t, grids, p, &inside, f);
     lua_pushboolean(L, inside);
     lua_createtable(L, m, m);
@@ -195,13 +198,18 @@ static int model_probe(lua_State *L)
     return 2;
 }
 
+static void destroy_volume(void *p) { hv_volume_destroy(p); }
+static void destroy_mats(void *p) { hv_material_table_destroy(p); }
+
 int hv_lua_model_free(lua_State *L)
 {
     l_model *u = luaL_checkudata(L, 1, MT_MODEL);
-    hv_volume_destroy(u->p);
-    hv_material_table_destroy(u->mats);
+    hv_volume *v = u->p;
+    hv_material_table *t = u->mats;
     u->p = NULL;
     u->mats = NULL;
+    hv_lua_release(L, destroy_volume, v);
+    hv_lua_release(L, destroy_mats, t);
     return 0;
 }
 
@@ -221,9 +229,9 @@ void hv_lua_open_model(lua_State *L, int module)
     static const luaL_Reg methods[] = {{"save", model_save},     {"grids", model_grids}, {"voxels", model_voxels},
                                        {"transform", model_transform}, {"meta", model_meta},   {"probe", model_probe},
                                        {"add_grid", model_add_grid}, {"free", hv_lua_model_free}, {NULL, NULL}};
+    static const luaL_Reg fns[] = {{"voxelize", l_voxelize}, {"load", l_load}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MODEL, methods, hv_lua_model_free, model_tostring);
-    lua_pushcfunction(L, l_voxelize);
-    lua_setfield(L, module, "voxelize");
-    lua_pushcfunction(L, l_load);
-    lua_setfield(L, module, "load");
+    lua_pushvalue(L, module);
+    hv_lua_set_funcs(L, fns);
+    lua_pop(L, 1);
 }

@@ -60,11 +60,14 @@ static int l_make_object(lua_State *L)
     return 1;
 }
 
+/* The object's material table (its user value), which the script may have freed (obj:materials()
+ * closed as a to-be-closed variable). */
 static hv_material_table *object_mats(lua_State *L, int idx)
 {
     lua_getiuservalue(L, idx, 1);
     l_mats *t = luaL_checkudata(L, -1, MT_MATS);
     lua_pop(L, 1);
+    if (!t->p) luaL_argerror(L, idx, "the object's materials were freed");
     return t->p;
 }
 
@@ -101,12 +104,18 @@ static int object_delete_ags(lua_State *L)
     return s != HV_OK ? fail(L, s) : 0;
 }
 
+/* obj:move_ags(src, d_neg) -> the moved source, which takes src's place in the object (so
+ * obj:delete_ags(moved) and obj:move_ags(moved, ...) reach it; src is no longer in it) */
 static int object_move_ags(lua_State *L)
 {
-    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
-    l_source *a = CHECK(L, 2, l_source, MT_SOURCE);
-    hv_status s = hv_object_move_ags(u->p, a->p, luaL_checknumber(L, 3));
-    return s != HV_OK ? fail(L, s) : 0;
+    hv_object *o = CHECK(L, 1, l_object, MT_OBJECT)->p; /* kept alive while this runs */
+    const hv_ags *a = CHECK(L, 2, l_source, MT_SOURCE)->p;
+    double d_neg = luaL_checknumber(L, 3);
+    hv_lua_push_source(L, NULL); /* the userdata first: an allocation failure leaks nothing */
+    l_source *moved = lua_touserdata(L, -1);
+    hv_status s = hv_ags_moved(a, d_neg, &moved->p);
+    if (s == HV_OK) s = hv_object_replace_ags(o, a, moved->p);
+    return s != HV_OK ? fail(L, s) : 1;
 }
 
 static int object_set_blend(lua_State *L)
@@ -165,7 +174,7 @@ static int object_subtract(lua_State *L) { return object_boolean(L, HV_OP_SUBTRA
 
 static int object_evaluate(lua_State *L)
 {
-    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
+    hv_object *obj = CHECK(L, 1, l_object, MT_OBJECT)->p; /* kept alive while this runs */
     uint64_t maxmem = 0;
     if (lua_istable(L, 2) && hv_lua_field(L, 2, "max_memory") != LUA_TNIL) {
         /* the output's own options table: only max_memory is the evaluation's, read by its option */
@@ -184,7 +193,7 @@ static int object_evaluate(lua_State *L)
     }
     hv_material_table *t = object_mats(L, 1);
     hv_volume *v;
-    hv_status s = hv_object_evaluate(u->p, t, maxmem, NULL, &v);
+    hv_status s = hv_object_evaluate(obj, t, maxmem, hv_lua_progress(L), &v);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);
     return 1;
@@ -195,6 +204,7 @@ static int object_evaluate(lua_State *L)
  * the model's method of that name (upvalue 1) with the same arguments, and free the model. */
 static int object_as_model(lua_State *L)
 {
+    hv_lua_enter(L, HV_LUA_FRAME());
     CHECK(L, 1, l_object, MT_OBJECT);
     int base = lua_gettop(L);
     lua_pushcfunction(L, object_evaluate);
@@ -214,6 +224,7 @@ static int object_as_model(lua_State *L)
      * the object's, as if the user had called it on the model ("#2" of the model call is "#1"
      * of obj:name) */
     const char *msg = lua_tostring(L, -1), *name = lua_tostring(L, lua_upvalueindex(2));
+    hv_status failed = hv_lua_failure_status(L, msg);
     luaL_where(L, 1);
     const char *where = lua_tostring(L, -1);
     int n = 0, used = 0;
@@ -223,27 +234,28 @@ static int object_as_model(lua_State *L)
         lua_pushfstring(L, "%s%s", where, msg);
     else
         lua_pushvalue(L, -2);
+    if (failed != HV_OK) hv_lua_note_failure(L, failed, lua_tostring(L, -1));
     return lua_error(L);
 }
 
 static int object_regions(lua_State *L)
 {
-    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
-    int n = hv_object_region_count(u->p);
+    const hv_object *obj = CHECK(L, 1, l_object, MT_OBJECT)->p; /* kept alive while this runs */
+    int n = hv_object_region_count(obj);
     lua_createtable(L, n, 0);
     double base[HV_MAX_MATERIALS];
     for (int r = 0; r < n; ++r) {
         lua_createtable(L, 0, 4);
-        lua_pushinteger(L, (lua_Integer)hv_object_region_voxels(u->p, r));
+        lua_pushinteger(L, (lua_Integer)hv_object_region_voxels(obj, r));
         lua_setfield(L, -2, "voxels");
-        lua_pushinteger(L, hv_object_region_ags_count(u->p, r));
+        lua_pushinteger(L, hv_object_region_ags_count(obj, r));
         lua_setfield(L, -2, "sources");
-        if (hv_object_region_name(u->p, r)) {
-            lua_pushstring(L, hv_object_region_name(u->p, r));
+        if (hv_object_region_name(obj, r)) {
+            lua_pushstring(L, hv_object_region_name(obj, r));
             lua_setfield(L, -2, "name");
         }
-        hv_object_region_base(u->p, r, base);
-        hv_lua_push_vec(L, base, hv_object_materials(u->p));
+        hv_object_region_base(obj, r, base);
+        hv_lua_push_vec(L, base, hv_object_materials(obj));
         lua_setfield(L, -2, "base");
         lua_rawseti(L, -2, r + 1);
     }
@@ -260,12 +272,12 @@ static int object_materials(lua_State *L)
 
 static int object_voxels(lua_State *L)
 {
-    l_object *u = CHECK(L, 1, l_object, MT_OBJECT);
-    lua_pushinteger(L, (lua_Integer)hv_object_voxels(u->p));
+    lua_pushinteger(L, (lua_Integer)hv_object_voxels(CHECK(L, 1, l_object, MT_OBJECT)->p));
     return 1;
 }
 
-static int object_gc(lua_State *L) { return hv_object_destroy(hv_lua_take(L, MT_OBJECT)), 0; }
+static void destroy_object(void *p) { hv_object_destroy(p); }
+static int object_gc(lua_State *L) { return hv_lua_release(L, destroy_object, hv_lua_take(L, MT_OBJECT)), 0; }
 
 void hv_lua_open_object(lua_State *L, int module)
 {
@@ -292,6 +304,8 @@ void hv_lua_open_object(lua_State *L, int module)
         lua_setfield(L, -2, via_model[i]);
     }
     lua_pop(L, 4);
-    lua_pushcfunction(L, l_make_object);
-    lua_setfield(L, module, "object");
+    static const luaL_Reg fns[] = {{"object", l_make_object}, {NULL, NULL}};
+    lua_pushvalue(L, module);
+    hv_lua_set_funcs(L, fns);
+    lua_pop(L, 1);
 }

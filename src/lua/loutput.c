@@ -88,6 +88,7 @@ static int model_export(lua_State *L)
     o.format = hv_export_format_from_path(path);
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_export_report rep;
+    o.progress = hv_lua_progress(L);
     hv_status s = hv_export_write(vol, path, &o, &rep);
     if (s != HV_OK) return fail(L, s);
     lua_createtable(L, 0, 6);
@@ -112,7 +113,7 @@ static int model_render(lua_State *L)
     const char *path = hv_lua_out_path(L, 2, "path", holder, ".png, .exr or .tif");
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_image *img = NULL;
-    hv_status s = hv_render(vol, &o, NULL, &img);
+    hv_status s = hv_render(vol, &o, hv_lua_progress(L), &img);
     if (s == HV_OK) s = hv_image_write(img, path);
     hv_image_destroy(img);
     return s != HV_OK ? fail(L, s) : 0;
@@ -134,7 +135,7 @@ static int model_layers(lua_State *L)
     hv_mesh *mesh = ((l_mesh *)hv_lua_option_object(L, 2, "mesh", MT_MESH, "hovox mesh"))->p; /* anchored */
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
-    hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, NULL, &rep);
+    hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, hv_lua_progress(L), &rep);
     if (s != HV_OK) return fail(L, s);
     lua_createtable(L, 0, 10);
     SET_INT("width", rep.width);

@@ -95,11 +95,11 @@ static int l_materials(lua_State *L)
 
 static int mats_names(lua_State *L)
 {
-    l_mats *u = CHECK(L, 1, l_mats, MT_MATS);
-    int n = hv_material_count(u->p);
+    const hv_material_table *t = CHECK(L, 1, l_mats, MT_MATS)->p; /* kept alive while this runs */
+    int n = hv_material_count(t);
     lua_createtable(L, n, 0);
     for (int j = 0; j < n; ++j) {
-        lua_pushstring(L, hv_material_name(u->p, j));
+        lua_pushstring(L, hv_material_name(t, j));
         lua_rawseti(L, -2, j + 1);
     }
     return 1;
@@ -111,19 +111,19 @@ static int mats_count(lua_State *L)
     return 1;
 }
 
-static int mats_find(lua_State *L, l_mats *u)
+static int mats_find(lua_State *L, const hv_material_table *t)
 {
     const char *name = luaL_checkstring(L, 2);
-    int m = hv_material_find(u->p, name);
+    int m = hv_material_find(t, name);
     if (m < 0) return arg_error(L, 2, "no material '%s'", name);
     return m;
 }
 
 static int mats_color(lua_State *L)
 {
-    l_mats *u = CHECK(L, 1, l_mats, MT_MATS);
+    const hv_material_table *t = CHECK(L, 1, l_mats, MT_MATS)->p;
     float c[4];
-    hv_material_color(u->p, mats_find(L, u), c);
+    hv_material_color(t, mats_find(L, t), c);
     double d[4] = {c[0], c[1], c[2], c[3]};
     hv_lua_push_vec(L, d, 4);
     return 1;
@@ -131,11 +131,11 @@ static int mats_color(lua_State *L)
 
 static int mats_property(lua_State *L)
 {
-    l_mats *u = CHECK(L, 1, l_mats, MT_MATS);
-    int m = mats_find(L, u);
+    const hv_material_table *t = CHECK(L, 1, l_mats, MT_MATS)->p;
+    int m = mats_find(L, t);
     double v;
     const char *unit;
-    if (!hv_material_property(u->p, m, luaL_checkstring(L, 3), &v, &unit)) {
+    if (!hv_material_property(t, m, luaL_checkstring(L, 3), &v, &unit)) {
         lua_pushnil(L);
         return 1;
     }
@@ -144,7 +144,8 @@ static int mats_property(lua_State *L)
     return 2;
 }
 
-static int mats_gc(lua_State *L) { return hv_material_table_destroy(hv_lua_take(L, MT_MATS)), 0; }
+static void destroy_mats(void *p) { hv_material_table_destroy(p); }
+static int mats_gc(lua_State *L) { return hv_lua_release(L, destroy_mats, hv_lua_take(L, MT_MATS)), 0; }
 
 /* ---- features ------------------------------------------------------------------------------- */
 
@@ -159,6 +160,7 @@ static int push_feature(lua_State *L, hv_status s, hv_frf *f)
 /* hovox.point/axis/line/plane/segment{...}: upvalue 1 is the kind. hovox.point{x, y, z} also. */
 static int l_feature_make(lua_State *L)
 {
+    hv_lua_enter(L, HV_LUA_FRAME());
     hv_frf_kind kind = (hv_frf_kind)lua_tointeger(L, lua_upvalueindex(1));
     hv_frf_options o;
     hv_frf *f = NULL;
@@ -254,21 +256,22 @@ static int model_harmonic(lua_State *L)
 
 static int feature_distance(lua_State *L)
 {
-    l_feature *u = CHECK(L, 1, l_feature, MT_FEATURE);
+    hv_frf *feat = CHECK(L, 1, l_feature, MT_FEATURE)->p; /* kept alive while this runs */
     double p[3];
     if (hv_lua_numbers(L, 2, 2, "point", p, 3) != 3) return luaL_argerror(L, 2, "point must be {x, y, z}");
     hv_volume *lat = lua_isnoneornil(L, 3) ? NULL : hv_lua_model(L, 3);
-    hv_frf_kind kind = hv_frf_get_kind(u->p);
+    hv_frf_kind kind = hv_frf_get_kind(feat);
     if (!lat && kind != HV_FRF_HALFSPACE && kind >= HV_FRF_CONTOUR)
         return luaL_argerror(L, 3, "voxel features need the model whose lattice to use");
     double d;
-    hv_status s = hv_frf_distance(u->p, lat, p, &d);
+    hv_status s = hv_frf_distance(feat, lat, p, &d);
     if (s != HV_OK) return fail(L, s);
     lua_pushnumber(L, d);
     return 1;
 }
 
-static int feature_gc(lua_State *L) { return hv_frf_release(hv_lua_take(L, MT_FEATURE)), 0; }
+static void release_feature(void *p) { hv_frf_release(p); }
+static int feature_gc(lua_State *L) { return hv_lua_release(L, release_feature, hv_lua_take(L, MT_FEATURE)), 0; }
 
 static int feature_tostring(lua_State *L)
 {
@@ -386,11 +389,13 @@ static int push_source(lua_State *L, hv_ags *a)
     return 1;
 }
 
+static void release_calibration(void *p) { hv_calibration_release(p); }
+
 static int calibration_box_gc(lua_State *L)
 {
     hv_calibration **box = lua_touserdata(L, 1);
     if (box) {
-        hv_calibration_release(*box);
+        hv_lua_release(L, release_calibration, *box);
         *box = NULL;
     }
     return 0;
@@ -445,12 +450,12 @@ static hv_ags *source_from_table(lua_State *L, int arg, int wu3)
         lua_pop(L, 1);
         o.calibration_table = *box;
     }
-    l_feature *feat = hv_lua_option_object(L, arg, "feature", MT_FEATURE,
-                                           "hovox feature (hovox.axis{...}, model:contour(), ...)");
+    hv_frf *feature = ((l_feature *)hv_lua_option_object(L, arg, "feature", MT_FEATURE,
+                                                               "hovox feature (hovox.axis{...}, model:contour(), ...)"))->p;
     lua_fn_ctx ctx = {L, LUA_NOREF, 0, ""};
     hv_dfn *f = read_f(L, arg, &ctx, holder);
     hv_ags *a = NULL;
-    hv_status s = wu3 ? hv_ags_wu3_from_options(feat->p, &o, f, &a) : hv_ags_from_options(feat->p, &o, f, &a);
+    hv_status s = wu3 ? hv_ags_wu3_from_options(feature, &o, f, &a) : hv_ags_from_options(feature, &o, f, &a);
     hv_dfn_destroy(f);
     if (ctx.ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, ctx.ref);
     lua_pop(L, cal_table ? 3 : 2); /* the feature, the calibration's box, the holder */
@@ -469,10 +474,10 @@ static int l_wu3(lua_State *L) { return push_source(L, source_from_table(L, 1, 1
 
 static int source_eval(lua_State *L)
 {
-    l_source *u = CHECK(L, 1, l_source, MT_SOURCE);
+    const hv_ags *a = CHECK(L, 1, l_source, MT_SOURCE)->p;
     double d = luaL_checknumber(L, 2), p[HV_MAX_MATERIALS];
-    hv_ags_eval(u->p, d, p);
-    hv_lua_push_vec(L, p, hv_ags_materials(u->p));
+    hv_ags_eval(a, d, p);
+    hv_lua_push_vec(L, p, hv_ags_materials(a));
     return 1;
 }
 
@@ -487,14 +492,16 @@ static int source_ranges(lua_State *L)
 
 static int source_moved(lua_State *L)
 {
-    l_source *u = CHECK(L, 1, l_source, MT_SOURCE);
+    const hv_ags *a = CHECK(L, 1, l_source, MT_SOURCE)->p;
+    double d_neg = luaL_checknumber(L, 2);
     hv_ags *b;
-    hv_status s = hv_ags_moved(u->p, luaL_checknumber(L, 2), &b);
+    hv_status s = hv_ags_moved(a, d_neg, &b);
     if (s != HV_OK) return fail(L, s);
     return push_source(L, b);
 }
 
-static int source_gc(lua_State *L) { return hv_ags_release(hv_lua_take(L, MT_SOURCE)), 0; }
+static void release_source(void *p) { hv_ags_release(p); }
+static int source_gc(lua_State *L) { return hv_lua_release(L, release_source, hv_lua_take(L, MT_SOURCE)), 0; }
 
 void hv_lua_open_sources(lua_State *L, int module)
 {
@@ -512,7 +519,7 @@ void hv_lua_open_sources(lua_State *L, int module)
     hv_lua_new_class(L, MT_SOURCE, src_m, source_gc, NULL);
     hv_lua_add_methods(L, MT_MODEL, model_m);
     lua_pushvalue(L, module);
-    luaL_setfuncs(L, fns, 0);
+    hv_lua_set_funcs(L, fns);
     lua_pop(L, 1);
     static const struct { const char *name; hv_frf_kind kind; } kinds[] = {
         {"point", HV_FRF_POINT}, {"axis", HV_FRF_LINE}, {"line", HV_FRF_LINE}, {"plane", HV_FRF_PLANE},

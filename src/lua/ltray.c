@@ -105,7 +105,7 @@ static int tray_arrange(lua_State *L)
     read_over(L, u, 2, NULL);
     u = CHECK(L, 1, l_tray, MT_TRAY);
     hv_tray_report r;
-    hv_status s = hv_tray_plan(u->p, &u->o, NULL, &r);
+    hv_status s = hv_tray_plan(u->p, &u->o, hv_lua_progress(L), &r);
     if (s != HV_OK) return fail(L, s);
     push_report(L, &r);
     return 1;
@@ -123,19 +123,22 @@ static int tray_layers(lua_State *L)
     hv_lua_check_paths(L, 2, hv_tray_option_set(), &u->o); /* gcvf, stl: where they are used */
     u = CHECK(L, 1, l_tray, MT_TRAY);
     hv_tray_report r;
-    hv_status s = hv_tray_write(u->p, dir, &u->o, NULL, &r);
+    hv_status s = hv_tray_write(u->p, dir, &u->o, hv_lua_progress(L), &r);
     if (s != HV_OK) return fail(L, s);
     push_report(L, &r);
     return 1;
 }
 
-static int tray_gc(lua_State *L) { return hv_tray_destroy(hv_lua_take(L, MT_TRAY)), 0; }
+static void destroy_tray(void *p) { hv_tray_destroy(p); }
+static int tray_gc(lua_State *L) { return hv_lua_release(L, destroy_tray, hv_lua_take(L, MT_TRAY)), 0; }
 
 void hv_lua_open_tray(lua_State *L, int module)
 {
     static const luaL_Reg methods[] = {{"add", tray_add}, {"arrange", tray_arrange}, {"layers", tray_layers},
                                        {"free", tray_gc}, {NULL, NULL}};
     hv_lua_new_class(L, MT_TRAY, methods, tray_gc, NULL);
-    lua_pushcfunction(L, l_tray_new);
-    lua_setfield(L, module, "tray");
+    static const luaL_Reg fns[] = {{"tray", l_tray_new}, {NULL, NULL}};
+    lua_pushvalue(L, module);
+    hv_lua_set_funcs(L, fns);
+    lua_pop(L, 1);
 }

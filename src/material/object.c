@@ -509,11 +509,10 @@ hv_status hv_object_delete_ags(hv_object *o, const hv_ags *a)
     return found ? HV_OK : hv_error_set(HV_ERR_NOT_FOUND, "the object has no such grading source");
 }
 
-hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg)
+hv_status hv_object_replace_ags(hv_object *o, const hv_ags *a, hv_ags *b)
 {
-    hv_ags *b;
-    hv_status s = hv_ags_moved(a, d_neg, &b);
-    if (s != HV_OK) return s;
+    if (hv_ags_materials(b) != o->m)
+        return hv_error_set(HV_ERR_INVALID, "the source has %d materials, the object %d", hv_ags_materials(b), o->m);
     int found = 0;
     for (int r = 0; r < o->nreg; ++r)
         for (int i = 0; i < o->reg[r].nags; ++i)
@@ -522,8 +521,17 @@ hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg)
                 o->reg[r].ags[i] = hv_ags_retain(b);
                 found = 1;
             }
-    hv_ags_release(b);
     return found ? HV_OK : hv_error_set(HV_ERR_NOT_FOUND, "the object has no such grading source");
+}
+
+hv_status hv_object_move_ags(hv_object *o, const hv_ags *a, double d_neg)
+{
+    hv_ags *b;
+    hv_status s = hv_ags_moved(a, d_neg, &b);
+    if (s != HV_OK) return s;
+    s = hv_object_replace_ags(o, a, b);
+    hv_ags_release(b);
+    return s;
 }
 
 /* ---- Booleans (Wu eq. 27-30) ---------------------------------------------------------------- */

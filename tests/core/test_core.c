@@ -262,7 +262,7 @@ Test(files, paths_below_a_root_follow_directories_and_links)
     char real[PATH_MAX], root[1024], out[2048], in[2048], link_out[4096], link_in[4096], outside[4096], dotdot[4096];
     cr_assert_not_null(realpath(t_tmpdir(), real));
     cr_assert_lt(strlen(real), sizeof root);
-    snprintf(root, sizeof root, "%s", real);
+    memcpy(root, real, strlen(real) + 1); /* shorter than root: checked above */
     snprintf(out, sizeof out, "%s/below_root", root);
     snprintf(in, sizeof in, "%s/below_root/sub", root);
     mkdir(out, 0755);
@@ -293,6 +293,20 @@ Test(files, paths_below_a_root_follow_directories_and_links)
     snprintf(prefix, sizeof prefix, "%s/below_root2/x", root); /* a name that merely starts like root */
     cr_assert(!hv_path_below(out, prefix));
     cr_assert(!hv_path_below(out, "/nonexistent-dir/x"));
+    /* issue 32.4: the root itself, however spelt, is no name below it (a directory written there
+     * makes its temporary beside it); a subdirectory so spelt is */
+    static const char *const self[] = {"/", "/.", "/./", "//", "/.//./", "/sub/..", "/."};
+    for (size_t i = 0; i < sizeof self / sizeof *self; ++i) {
+        char p[4096];
+        snprintf(p, sizeof p, "%s%s", out, self[i]);
+        cr_assert(!hv_path_below(out, p), "%s names the root", p);
+    }
+    static const char *const sub[] = {"/sub/", "/sub/.", "/sub//./", "/new/"};
+    for (size_t i = 0; i < sizeof sub / sizeof *sub; ++i) {
+        char p[4096];
+        snprintf(p, sizeof p, "%s%s", out, sub[i]);
+        cr_assert(hv_path_below(out, p), "%s is below the root", p);
+    }
 }
 
 Test(files, read_errors_name_the_path)

@@ -203,9 +203,18 @@ local s2 = o:add_ags{feature = hovox.plane{normal = {1, 0, 0}}, d_grad = 20, ms 
 assert(o:regions()[1].sources == 2)
 o:set_blend("idw", 2)
 o:set_blend("nearest")
-o:move_ags(src, 0.5)
+-- issue 32.17: move returns the moved source, which takes src's place: it can be moved again and
+-- deleted; src itself is no longer in the object
+local moved = o:move_ags(src, 0.25)
+assert(moved ~= src and select(1, moved:ranges()) == 0.25 and select(1, src:ranges()) == 1, "move_ags returns the moved source")
+fails("no such grading source", o.delete_ags, o, src)
+moved = o:move_ags(moved, 0.5)
+assert(select(1, moved:ranges()) == 0.5 and o:regions()[1].sources == 2)
 o:delete_ags(s2)
 assert(o:regions()[1].sources == 1)
+o:delete_ags(moved)
+assert(o:regions()[1].sources == 0)
+o:add_ags(moved)
 o:set_base{0, 0, 1}
 -- method calls name the method and count arguments after self, as Lua does
 fails("bad argument #1 to 'set_base' (base = [0.5, 0.6, 0] sums to 1.1", function() o:set_base{0.5, 0.6, 0} end)

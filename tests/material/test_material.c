@@ -530,6 +530,25 @@ Test(wu, example3_gear_two_sources, .timeout = 120)
     hv_model_probe(&acc, t, g, p, &inside, frac);
     cr_assert_float_eq(frac[0], 0.9 * (15 - 12) / 9.54, 1e-3 + 0.9 / 9.54 * 0.31); /* moved d- */
     hv_volume_destroy(out);
+    /* the moved source itself, kept by the caller (issue 32.17): it takes a1's place, and can be
+     * deleted; a1 is gone; a source over other materials is refused */
+    cr_assert_eq(hv_object_move_ags(o, a1, 12), HV_ERR_NOT_FOUND); /* a1 was replaced */
+    cr_assert_eq(hv_object_add_ags(o, a1), HV_OK);
+    hv_ags *b1;
+    cr_assert_eq(hv_ags_moved(a1, 12, &b1), HV_OK);
+    cr_assert_eq(hv_object_replace_ags(o, a1, b1), HV_OK);
+    cr_assert_eq(hv_object_region_ags_count(o, 0), 2);
+    cr_assert_eq(hv_object_delete_ags(o, a1), HV_ERR_NOT_FOUND);
+    cr_assert_eq(hv_object_delete_ags(o, b1), HV_OK);
+    cr_assert_eq(hv_object_region_ags_count(o, 0), 1);
+    cr_assert_eq(hv_object_replace_ags(o, b1, a1), HV_ERR_NOT_FOUND);
+    double ms2[2] = {1, 0}, me2[2] = {0, 1};
+    hv_ags_desc d2 = {axis, 1, 0, 3, NULL, ms2, me2, 2, NULL}; /* a step: no f */
+    hv_ags *two = NULL;
+    cr_assert_eq(hv_ags_create(&d2, &two), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_object_replace_ags(o, a2, two), HV_ERR_INVALID);
+    hv_ags_release(two);
+    hv_ags_release(b1);
     hv_ags_release(a1);
     hv_ags_release(a2);
     hv_frf_release(axis);

@@ -41,10 +41,13 @@ PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzi
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
-LIB_DIRS  := src/core src/image src/plot src/mesh src/voxel src/field src/material src/export src/threemf src/lua volumes slicing renderer
+LIB_DIRS  := src/core src/image src/plot src/mesh src/voxel src/field src/material src/export src/threemf src/lua volumes slicing renderer src/viewer
 LIB_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
+# the viewer page's HTML, CSS and JavaScript, embedded into the library (scripts/embed.sh)
+VIEW_ASSETS := src/viewer/assets/page.html src/viewer/assets/viewer.css src/viewer/assets/viewer.js
+VIEW_GEN  := $(BUILD)/gen/viewer_assets.c
 CLI_SRC   := $(wildcard src/cli/*.c)
-LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
+LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o) $(BUILD)/obj/gen/viewer_assets.o
 CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 HEADERS   := $(wildcard include/hovox/*.h)
 
@@ -110,6 +113,14 @@ FORCE:
 $(BUILD)/obj/%.o: %.c $(BUILD)/.flags
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS_ALL) $(PKG_CFLAGS) $(CFLAGS_ALL) -c $< -o $@
+
+$(VIEW_GEN): $(VIEW_ASSETS) scripts/embed.sh
+	@mkdir -p $(dir $@)
+	sh scripts/embed.sh $@ $(VIEW_ASSETS)
+
+$(BUILD)/obj/gen/viewer_assets.o: $(VIEW_GEN) $(BUILD)/.flags
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -c $< -o $@
 
 $(BUILD)/libhovox.a: $(LIB_OBJ)
 	@mkdir -p $(dir $@)

@@ -135,8 +135,18 @@ int cli_interrupted(void);
 void cli_set_time_limit(double seconds);
 int cli_out_of_time(void);
 
+/* --view of layers and tray (cmd_view.c): hv_stack_finish_fn writing the stack's page, and its
+ * report (warnings and a "page" line) once the stack is written. */
+#include "hovox/viewer.h"
+typedef struct cli_view_hook {
+    hv_viewer_report report;
+    int done;
+} cli_view_hook;
+hv_status cli_view_finish(void *user, const char *tmp, const char *dir, const hv_progress *progress);
+void cli_view_report(const cli_view_hook *h, const char *dir);
+
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
-    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_export;
+    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export;
 
 #endif

@@ -44,7 +44,7 @@ static void report_stack(const char *dir, const char *page, const hv_viewer_repo
         printf("side views  %d row%s and %d column%s%s (every pixel and layer)\n", r->cut_rows, r->cut_rows == 1 ? "" : "s",
                r->cut_cols, r->cut_cols == 1 ? "" : "s", r->kind == HV_VIEWER_TRAY ? " per part" : "");
     else
-        printf("side views  %d row%s and %d column%s%s (every %dth pixel and layer)\n", r->cut_rows,
+        printf("side views  %d row%s and %d column%s%s (one pixel and layer in %d)\n", r->cut_rows,
                r->cut_rows == 1 ? "" : "s", r->cut_cols, r->cut_cols == 1 ? "" : "s",
                r->kind == HV_VIEWER_TRAY ? " per part" : "", r->cut_step);
     printf("layers from %s\n", r->base[0] ? r->base : "the page's directory");
@@ -57,7 +57,7 @@ static void report_model(const char *path, const char *page, const hv_viewer_rep
     printf("model       %s (%d x %d x %d voxels of %.6g x %.6g x %.6g, %d material%s)\n", path, r->dims[0], r->dims[1],
            r->dims[2], r->voxel[0], r->voxel[1], r->voxel[2], r->materials, r->materials == 1 ? "" : "s");
     printf("slices      %d x, %d y, %d z", r->slices[0], r->slices[1], r->slices[2]);
-    if (r->slice_step > 1) printf(" (every %dth voxel in the plane)", r->slice_step);
+    if (r->slice_step > 1) printf(" (one voxel in %d in the plane)", r->slice_step);
     printf("\n");
     printf("renders     %d\n", r->render_count);
     printf("wrote       %s (%s)\n", page, hv_size_text(sz, sizeof sz, (double)r->bytes));

@@ -37,6 +37,8 @@ typedef struct job {
     /* per row of the image: the row cuts through it, and the column-cut samples it holds */
     int *row_start, *row_cut;         /* CSR: cuts at row r: row_cut[row_start[r] .. row_start[r+1]) */
     int *col_start, *col_task;        /* CSR: (cut, k) pairs, 2 ints each */
+    size_t *span_start, *span;        /* CSR: the bytes of row r inside parts' boxes, [a, b) pairs:
+                                         only they go into the union (a tray's plate is mostly empty) */
     /* per part: the layer sample a layer position belongs to (-1: none), from the part's l0 */
     size_t stride;                    /* bytes of a packed row */
     int threads;
@@ -95,6 +97,54 @@ static uint64_t cut_samples(const vw_stack *S, int n, int s)
                  (uint64_t)L;
     }
     return total * (uint64_t)S->channels;
+}
+
+static int span_cmp(const void *a, const void *b)
+{
+    const size_t *x = a, *y = b;
+    return x[0] < y[0] ? -1 : x[0] > y[0];
+}
+
+/* Per row, the bytes inside the boxes of the parts that have layers, merged. */
+static hv_status plan_spans(job *J)
+{
+    const vw_stack *S = J->S;
+    int H = S->height, bd = S->bit_depth;
+    size_t n = 0;
+    for (int p = 0; p < S->nparts; ++p)
+        if (S->parts[p].l1 > S->parts[p].l0) n += (size_t)S->parts[p].box[3];
+    J->span_start = hv_calloc((size_t)H + 1, sizeof *J->span_start);
+    J->span = hv_malloc_array(2 * n + 2, sizeof *J->span);
+    size_t *tmp = hv_malloc_array(2 * (size_t)S->nparts + 2, sizeof *tmp);
+    if (!J->span_start || !J->span || !tmp) {
+        free(tmp);
+        return HV_ERR_NOMEM;
+    }
+    size_t at = 0;
+    for (int y = 0; y < H; ++y) {
+        size_t k = 0;
+        for (int p = 0; p < S->nparts; ++p) {
+            const vw_part *P = &S->parts[p];
+            if (P->l1 <= P->l0 || y < P->box[1] || y >= P->box[1] + P->box[3]) continue;
+            tmp[2 * k] = (size_t)P->box[0] * (size_t)bd / 8;
+            tmp[2 * k + 1] = ((size_t)(P->box[0] + P->box[2]) * (size_t)bd + 7) / 8;
+            ++k;
+        }
+        qsort(tmp, k, 2 * sizeof *tmp, span_cmp);
+        J->span_start[y] = at;
+        for (size_t i = 0; i < k; ++i) {
+            if (at > J->span_start[y] && tmp[2 * i] <= J->span[2 * at - 1]) {
+                J->span[2 * at - 1] = HV_MAX(J->span[2 * at - 1], tmp[2 * i + 1]);
+            } else {
+                J->span[2 * at] = tmp[2 * i];
+                J->span[2 * at + 1] = tmp[2 * i + 1];
+                ++at;
+            }
+        }
+    }
+    J->span_start[H] = at;
+    free(tmp);
+    return HV_OK;
 }
 
 static hv_status plan_cuts(job *J, const hv_viewer_options *o, hv_viewer_report *r)
@@ -180,6 +230,7 @@ static hv_status plan_cuts(job *J, const hv_viewer_options *o, hv_viewer_report 
     }
     free(fill);
     free(fill2);
+    if (st == HV_OK) st = plan_spans(J);
     return st;
 }
 
@@ -207,7 +258,8 @@ static void take_row(job *J, int t, int ch, int y, const uint8_t *row)
 {
     const vw_stack *S = J->S;
     uint8_t *u = J->uni[t] + (size_t)y * J->stride;
-    for (size_t i = 0; i < J->stride; ++i) u[i] |= row[i];
+    for (size_t k = J->span_start[y]; k < J->span_start[y + 1]; ++k)
+        for (size_t i = J->span[2 * k]; i < J->span[2 * k + 1]; ++i) u[i] |= row[i];
     const int *lk = J->lk[t];
     for (int i = J->row_start[y]; i < J->row_start[y + 1]; ++i) {
         cut *c = &J->cuts[J->row_cut[i]];
@@ -653,6 +705,8 @@ static void job_free(job *J)
     free(J->row_cut);
     free(J->col_start);
     free(J->col_task);
+    free(J->span_start);
+    free(J->span);
     for (int t = 0; t < J->threads; ++t) {
         if (J->rowbuf) free(J->rowbuf[t]);
         if (J->uni) free(J->uni[t]);
@@ -750,9 +804,11 @@ hv_status hv_viewer_stack_write(const char *stack_dir, const char *html_path, co
     struct tinfo all;
     memset(&all, 0, sizeof all);
     if (s == HV_OK) { /* the threads' unions into the first; what they saw, by layer order */
-        size_t total = J.stride * (size_t)S.height;
         for (int t = 1; t < J.threads; ++t)
-            for (size_t i = 0; i < total; ++i) J.uni[0][i] |= J.uni[t][i];
+            for (int y = 0; y < S.height; ++y)
+                for (size_t k = J.span_start[y]; k < J.span_start[y + 1]; ++k)
+                    for (size_t i = J.span[2 * k]; i < J.span[2 * k + 1]; ++i)
+                        J.uni[0][(size_t)y * J.stride + i] |= J.uni[t][(size_t)y * J.stride + i];
         for (int t = 0; t < J.threads; ++t) {
             const struct tinfo *ti = &J.ti[t];
 #define EARLIER(f) (ti->f && (!all.f || ti->f < all.f))

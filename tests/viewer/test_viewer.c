@@ -16,6 +16,7 @@
 #include "hovox/image.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
+#include "hovox/tray.h"
 #include "hovox/viewer.h"
 #include "hovox/voxelize.h"
 #include "support/support.h"
@@ -508,6 +509,99 @@ Test(viewer, fractions_and_mask_stack_pages, .timeout = 300)
     cr_assert_eq(hv_viewer_stack_write(mk, page, NULL, NULL, &r), HV_OK, "%s", hv_last_error());
     cr_expect(r.channels == 1 && strcmp(r.mode, "mask") == 0);
     check_stack_page(mk, page);
+}
+
+Test(viewer, tray_page_parts_outlines_and_cuts, .timeout = 300)
+{
+    double lo[3] = {0, 0, 0}, a[3] = {8, 5, 1}, b[3] = {4, 6, 1};
+    hv_mesh *ma = t_box_mesh(lo, a), *mb = t_box_mesh(lo, b);
+    const char *pa = t_tmpfile("a.stl"), *pb = t_tmpfile("b.stl");
+    cr_assert_eq(hv_mesh_save(ma, pa, 0), HV_OK);
+    cr_assert_eq(hv_mesh_save(mb, pb, 0), HV_OK);
+    hv_mesh_destroy(ma);
+    hv_mesh_destroy(mb);
+    hv_tray *t = NULL;
+    cr_assert_eq(hv_tray_create(&t), HV_OK);
+    hv_tray_part p;
+    hv_tray_part_init(&p);
+    p.mesh = pa;
+    p.material = "VeroPureWhite";
+    p.at[0] = 30;
+    p.at[1] = 370;
+    p.placed = 1;
+    p.rotation = 90;
+    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK, "%s", hv_last_error());
+    hv_tray_part_init(&p);
+    p.mesh = pb;
+    p.material = "VeroCyan-V";
+    p.copies = 2; /* arranged */
+    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK, "%s", hv_last_error());
+    hv_tray_options o;
+    hv_tray_options_init(&o);
+    o.arrange = 1;
+    o.first = 10;
+    o.last = 12;
+    o.cache_dir = t_tmpfile("bncache");
+    const char *dir = t_tmpfile("tray");
+    cr_assert_eq(hv_tray_write(t, dir, &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    hv_tray_destroy(t);
+    char page[1024];
+    snprintf(page, sizeof page, "%s/index.html", dir);
+    hv_viewer_report r;
+    hv_viewer_options vo;
+    hv_viewer_options_init(&vo);
+    vo.cuts = 5;
+    cr_assert_eq(hv_viewer_stack_write(dir, page, &vo, NULL, &r), HV_OK, "%s", hv_last_error());
+    cr_expect(r.kind == HV_VIEWER_TRAY && r.parts == 3 && r.layers == 2 && r.cut_rows == 5 && r.cut_cols == 5);
+    cr_expect(fabs(r.pixel_mm[0] - 25.4 / 600) < 1e-12 && fabs(r.pixel_mm[1] + 25.4 / 300) < 1e-12);
+    check_stack_page(dir, page);
+    json_t *d = page_data(page);
+    const json_t *parts = get(d, "parts");
+    cr_assert_eq(json_array_size(parts), 3);
+    cr_expect_eq(iget(json_array_get(parts, 2), "copy"), 2);
+    cr_expect_eq(json_array_size(get(d, "cuts")), 30, "5 rows and 5 columns per part");
+    cr_expect_str_eq(json_string_value(get(json_array_get(get(d, "palette"), 1), "name")), "VeroCyan-V");
+    cr_expect_str_eq(json_string_value(json_array_get(json_array_get(get(d, "files"), 0), 1)), "layer-00011.png");
+    json_decref(d);
+}
+
+/* --view's way in: a finish step run in the temporary directory before it is renamed */
+static hv_status add_page(void *user, const char *tmp, const char *dir, const hv_progress *progress)
+{
+    (void)dir;
+    char page[4200];
+    snprintf(page, sizeof page, "%s/index.html", tmp);
+    if (user) return hv_error_set(HV_ERR_IO, "%s: refused on purpose", page);
+    return hv_viewer_stack_write(tmp, page, NULL, progress, NULL);
+}
+
+Test(viewer, page_written_with_the_stack)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {6, 4, 2};
+    hv_mesh *m = t_box_mesh(lo, hi);
+    hv_layers_options o = lopts(HV_LAYERS_MASK, 50, 50, 1);
+    o.finish = add_page;
+    const char *dir = t_tmpfile("with_page");
+    cr_assert_eq(hv_layers_write(m, NULL, dir, &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    char page[1024];
+    snprintf(page, sizeof page, "%s/index.html", dir);
+    cr_expect(t_exists(page));
+    json_t *d = page_data(page);
+    cr_expect_str_eq(json_string_value(get(d, "base")), "");
+    json_decref(d);
+    /* a stack holding its page is still one hovox replaces with force */
+    o.force = 1;
+    o.finish = NULL;
+    cr_expect_eq(hv_layers_write(m, NULL, dir, &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    cr_expect(!t_exists(page));
+    /* a failing step fails the job and leaves nothing */
+    const char *dir2 = t_tmpfile("failed_page");
+    o.finish = add_page;
+    o.finish_user = (void *)1;
+    cr_expect_eq(hv_layers_write(m, NULL, dir2, &o, NULL, NULL), HV_ERR_IO);
+    cr_expect(strstr(hv_last_error(), "refused on purpose"));
+    cr_expect(!t_exists(dir2));
+    hv_mesh_destroy(m);
 }
 
 Test(viewer, stack_errors_leave_nothing)

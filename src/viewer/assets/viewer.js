@@ -40,6 +40,15 @@
 
   function mm(v) { return num(v, 3) + ' mm'; }
 
+  /* a fraction in a table: four decimals, always */
+  function frac(v) { return typeof v === 'number' && isFinite(v) ? v.toFixed(4) : '-'; }
+
+  function signed(v) {
+    if (typeof v !== 'number' || !isFinite(v)) return '-';
+    var t = Math.abs(v).toFixed(4);
+    return +t === 0 ? '0.0000' : (v > 0 ? '+' : '\u2212') + t;
+  }
+
   function swatch(color) { return el('span', { class: 'swatch', style: 'background:' + color }); }
 
   function hexRgb(c) {
@@ -572,7 +581,7 @@
       var mmPos = c.axis === 'row' ? D.origin_mm[1] + (c.pos + 0.5) * sy : D.origin_mm[0] + (c.pos + 0.5) * sx;
       cutLabel.textContent = (c.axis === 'row' ? 'row ' + c.pos + ', y ' : 'column ' + c.pos + ', x ') + mm(mmPos) +
         ' (' + (Math.min(st.cut, list.length - 1) + 1) + ' of ' + list.length + ')' +
-        (D.cut_step > 1 ? ' \u00b7 every ' + D.cut_step + 'th pixel and layer' : '');
+        (D.cut_step > 1 ? ' \u00b7 one pixel and layer in ' + D.cut_step : '');
       var g = cutImage(ci);
       sideNote.hidden = g.state === 'ok';
       sideNote.textContent = 'loading\u2026';
@@ -652,8 +661,8 @@
         el('th', { class: 'num', text: 'achieved' }), el('th', { class: 'num', text: 'difference' })])].concat(
         D.materials.map(function (m) {
           var diff = typeof m.achieved === 'number' && typeof m.target === 'number' ? m.achieved - m.target : null;
-          return el('tr', null, [el('td', null, [swatch(m.color), m.name]), el('td', { class: 'num', text: num(m.target, 4) }),
-            el('td', { class: 'num', text: num(m.achieved, 4) }), el('td', { class: 'num', text: diff === null ? '-' : (diff >= 0 ? '+' : '') + num(diff, 4) })]);
+          return el('tr', null, [el('td', null, [swatch(m.color), m.name]), el('td', { class: 'num', text: frac(m.target) }),
+            el('td', { class: 'num', text: frac(m.achieved) }), el('td', { class: 'num', text: signed(diff) })]);
         }))));
     }
     var partDivs = [];
@@ -665,7 +674,7 @@
         var rows = Object.keys(mats).map(function (k) {
           var m = mats[k] || {};
           return el('tr', null, [el('td', { text: k + (m.resin && m.resin !== k ? ' \u2192 ' + m.resin : '') }),
-            el('td', { class: 'num', text: num(m.target, 4) }), el('td', { class: 'num', text: num(m.achieved, 4) })]);
+            el('td', { class: 'num', text: frac(m.target) }), el('td', { class: 'num', text: frac(m.achieved) })]);
         });
         var d = el('div', { class: 'part' }, [
           el('div', { class: 'name', text: 'part ' + partLabel(i), title: 'show its side view', onclick: function () { setPart(i); } }),
@@ -915,13 +924,13 @@
       ['box from', org.map(function (v) { return num(v, 3); }).join(', ') + ' mm (first voxel centre)'],
       ['occupied', D.occupied + ' voxels'],
       ['slices', D.axes.map(function (A) { return A.slices.length + ' ' + A.axis; }).join(', ') +
-        (D.step > 1 ? ', every ' + D.step + 'th voxel in the plane' : '')]]));
+        (D.step > 1 ? ', one voxel in ' + D.step + ' in the plane' : '')]]));
     if (m) {
       side.appendChild(el('h2', { text: 'materials: mean fraction over the occupied voxels' }));
       side.appendChild(el('table', null, D.materials.map(function (x) {
         var props = x.properties || {};
         var ptxt = Object.keys(props).map(function (k) { return k + ' ' + props[k][0] + (props[k][1] ? ' ' + props[k][1] : ''); }).join(', ');
-        return el('tr', null, [el('td', null, [swatch(x.color), x.name]), el('td', { class: 'num', text: num(x.mean, 4) }),
+        return el('tr', null, [el('td', null, [swatch(x.color), x.name]), el('td', { class: 'num', text: frac(x.mean) }),
           el('td', { class: 'meta', text: ptxt })]);
       })));
     } else {

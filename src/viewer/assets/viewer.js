@@ -639,7 +639,8 @@
       ['written by', info.generator], ['printer', info.profile], ['mode', D.mode + (info.halftone ? ' (' + info.halftone + ')' : '')],
       ['method', info.method], ['layers', N + (N > 1 ? ' (index ' + D.index[0] + ' to ' + D.index[N - 1] + ')' : '')],
       ['image', W + ' \u00d7 ' + H + ' pixels, ' + D.bit_depth + '-bit'],
-      ['pixel', num(sx, 5) + ' \u00d7 ' + num(Math.abs(sy), 5) + ' mm (a row is ' + num(aspect, 3) + ' columns tall)'],
+      ['pixel', num(sx, 5) + ' \u00d7 ' + num(Math.abs(sy), 5) + ' mm' +
+        (aspect === 1 ? ' (square)' : ' (a row is ' + num(aspect, 3) + ' columns tall)')],
       ['layer height', mm(D.layer_height_mm)], ['mesh', info.mesh], ['model', info.model],
       ['plate used', info.utilisation !== undefined ? num(100 * info.utilisation, 2) + '%' : undefined],
       ['object pixels', info.object_pixels], ['stack at', D.base === '' ? 'this page\u2019s directory' : D.base]
@@ -703,8 +704,9 @@
       ['o', 'outlines, names and the cut line on / off'], ['s', 'side view: x\u2013z / y\u2013z'], ['[ ]', 'previous / next cut'],
       ['shift-click', 'cut through the point'], ['click side view', 'show that layer']
     ]));
-    side.appendChild(el('p', { class: 'meta', text: 'True aspect: each layer pixel is drawn ' + num(aspect, 3) +
-      ' times as tall as it is wide, as the printer places it; below 1:1 pixels are averaged, from 1:1 up each one is a block.' }));
+    side.appendChild(el('p', { class: 'meta', text: 'True aspect: each layer pixel is drawn ' +
+      (aspect === 1 ? 'square' : num(aspect, 3) + ' times as tall as it is wide') +
+      ', as the printer places it; below 1:1 pixels are averaged, from 1:1 up each one is a block.' }));
 
     document.addEventListener('keydown', function (ev) {
       var t = ev.target;

@@ -97,6 +97,13 @@ HV_API hv_status hv_viewer_stack_write(const char *stack_dir, const char *html_p
                                        const hv_viewer_options *opt, const hv_progress *progress,
                                        hv_viewer_report *report);
 
+/* The step layers and trays take to write their page with the stack (an hv_stack_finish_fn,
+ * hovox/layers.h: hv_layers_options.finish, hv_tray_options.finish): `tmp`/index.html, the page of
+ * the stack in its temporary directory, titled with the last component of `dir`, with default
+ * options. `user` (may be NULL) is an hv_viewer_report that receives the page's report. Errors:
+ * those of hv_viewer_stack_write. */
+HV_API hv_status hv_viewer_stack_finish(void *user, const char *tmp, const char *dir, const hv_progress *progress);
+
 /* ==== models ==================================================================================
  *
  * Write a page for a graded model to `html_path`: for each axis, slices of the occupied box

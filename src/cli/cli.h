@@ -135,15 +135,11 @@ int cli_interrupted(void);
 void cli_set_time_limit(double seconds);
 int cli_out_of_time(void);
 
-/* --view of layers and tray (cmd_view.c): hv_stack_finish_fn writing the stack's page, and its
- * report (warnings and a "page" line) once the stack is written. */
+/* --view of layers and tray: hv_viewer_stack_finish writes the page into the report given as its
+ * user pointer; this prints its warnings and a "page" line once the stack is written (nothing when
+ * no page was written). */
 #include "hovox/viewer.h"
-typedef struct cli_view_hook {
-    hv_viewer_report report;
-    int done;
-} cli_view_hook;
-hv_status cli_view_finish(void *user, const char *tmp, const char *dir, const hv_progress *progress);
-void cli_view_report(const cli_view_hook *h, const char *dir);
+void cli_view_report(const hv_viewer_report *r, const char *dir);
 
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,

@@ -120,10 +120,10 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         cli_progress bar;
         cli_progress_init(&bar, quiet);
         hv_progress prog = {cli_progress_fn, &bar};
-        cli_view_hook page;
+        hv_viewer_report page;
         memset(&page, 0, sizeof page);
         if (c->view) {
-            o->finish = cli_view_finish;
+            o->finish = hv_viewer_stack_finish;
             o->finish_user = &page;
         }
         s = hv_layers_write(mesh, model, c->output, o, &prog, &r);

@@ -131,7 +131,7 @@ static int run(const cli_args *args, void *lib, void *local)
     }
     hv_tray_report r;
     memset(&r, 0, sizeof r);
-    cli_view_hook page;
+    hv_viewer_report page;
     memset(&page, 0, sizeof page);
     if (s == HV_OK) {
         cli_progress bar;
@@ -139,7 +139,7 @@ static int run(const cli_args *args, void *lib, void *local)
         hv_progress prog = {cli_progress_fn, &bar};
         o->dist = cli_dist;
         if (c->view) {
-            o->finish = cli_view_finish;
+            o->finish = hv_viewer_stack_finish;
             o->finish_user = &page;
         }
         s = hv_tray_write(t, c->output, o, &prog, &r);

@@ -63,33 +63,15 @@ static void report_model(const char *path, const char *page, const hv_viewer_rep
     printf("wrote       %s (%s)\n", page, hv_size_text(sz, sizeof sz, (double)r->bytes));
 }
 
-/* --view of layers and tray: the page goes into the stack's temporary directory as index.html,
- * titled with the stack's final name, before the directory is renamed into place. */
-hv_status cli_view_finish(void *user, const char *tmp, const char *dir, const hv_progress *progress)
+/* --view of layers and tray (hv_viewer_stack_finish wrote the page): its warnings and where it is */
+void cli_view_report(const hv_viewer_report *r, const char *dir)
 {
-    cli_view_hook *h = user;
-    char page[4200], title[1024];
-    if ((size_t)snprintf(page, sizeof page, "%s/index.html", tmp) >= sizeof page)
-        return hv_error_set(HV_ERR_INVALID, "%s: path too long", tmp);
-    snprintf(title, sizeof title, "%s", dir);
-    size_t n = strlen(title);
-    while (n > 1 && title[n - 1] == '/') title[--n] = '\0';
-    hv_viewer_options o;
-    hv_viewer_options_init(&o);
-    o.title = hv_basename(title);
-    hv_status s = hv_viewer_stack_write(tmp, page, &o, progress, &h->report);
-    h->done = s == HV_OK;
-    return s;
-}
-
-void cli_view_report(const cli_view_hook *h, const char *dir)
-{
-    if (!h->done) return;
+    if (!r->bytes) return;
     char sz[32];
     size_t n = strlen(dir);
     while (n > 1 && dir[n - 1] == '/') --n;
-    warn(&h->report);
-    printf("page        %.*s/index.html (%s)\n", (int)n, dir, hv_size_text(sz, sizeof sz, (double)h->report.bytes));
+    warn(r);
+    printf("page        %.*s/index.html (%s)\n", (int)n, dir, hv_size_text(sz, sizeof sz, (double)r->bytes));
 }
 
 /* MODEL.vdb -> MODEL.html (next to it) */

@@ -859,3 +859,15 @@ hv_status hv_viewer_stack_write(const char *stack_dir, const char *html_path, co
     if (report) *report = rep;
     return s;
 }
+
+hv_status hv_viewer_stack_finish(void *user, const char *tmp, const char *dir, const hv_progress *progress)
+{
+    char page[4200], title[1024];
+    if (!tmp || !dir) return hv_error_set(HV_ERR_INVALID, "viewer: no stack directory");
+    if ((size_t)snprintf(page, sizeof page, "%s/index.html", tmp) >= sizeof page)
+        return hv_error_set(HV_ERR_INVALID, "%s: path too long", tmp);
+    hv_viewer_options o;
+    hv_viewer_options_init(&o);
+    o.title = dir_title(dir, title, sizeof title);
+    return hv_viewer_stack_write(tmp, page, &o, progress, user);
+}

@@ -565,14 +565,13 @@ Test(viewer, tray_page_parts_outlines_and_cuts, .timeout = 300)
     json_decref(d);
 }
 
-/* --view's way in: a finish step run in the temporary directory before it is renamed */
-static hv_status add_page(void *user, const char *tmp, const char *dir, const hv_progress *progress)
+/* a finish step that fails */
+static hv_status refuse_page(void *user, const char *tmp, const char *dir, const hv_progress *progress)
 {
+    (void)user;
     (void)dir;
-    char page[4200];
-    snprintf(page, sizeof page, "%s/index.html", tmp);
-    if (user) return hv_error_set(HV_ERR_IO, "%s: refused on purpose", page);
-    return hv_viewer_stack_write(tmp, page, NULL, progress, NULL);
+    (void)progress;
+    return hv_error_set(HV_ERR_IO, "%s/index.html: refused on purpose", tmp);
 }
 
 Test(viewer, page_written_with_the_stack)
@@ -580,15 +579,21 @@ Test(viewer, page_written_with_the_stack)
     double lo[3] = {0, 0, 0}, hi[3] = {6, 4, 2};
     hv_mesh *m = t_box_mesh(lo, hi);
     hv_layers_options o = lopts(HV_LAYERS_MASK, 50, 50, 1);
-    o.finish = add_page;
+    hv_viewer_report r;
+    memset(&r, 0, sizeof r);
+    o.finish = hv_viewer_stack_finish;
+    o.finish_user = &r;
     const char *dir = t_tmpfile("with_page");
     cr_assert_eq(hv_layers_write(m, NULL, dir, &o, NULL, NULL), HV_OK, "%s", hv_last_error());
     char page[1024];
     snprintf(page, sizeof page, "%s/index.html", dir);
     cr_expect(t_exists(page));
+    cr_expect(r.bytes > 0 && r.layers == 2 && strcmp(r.mode, "mask") == 0);
     json_t *d = page_data(page);
     cr_expect_str_eq(json_string_value(get(d, "base")), "");
+    cr_expect_str_eq(json_string_value(get(d, "title")), "with_page", "titled with the stack's name, not the temporary one");
     json_decref(d);
+    o.finish_user = NULL;
     /* a stack holding its page is still one hovox replaces with force */
     o.force = 1;
     o.finish = NULL;
@@ -596,8 +601,7 @@ Test(viewer, page_written_with_the_stack)
     cr_expect(!t_exists(page));
     /* a failing step fails the job and leaves nothing */
     const char *dir2 = t_tmpfile("failed_page");
-    o.finish = add_page;
-    o.finish_user = (void *)1;
+    o.finish = refuse_page;
     cr_expect_eq(hv_layers_write(m, NULL, dir2, &o, NULL, NULL), HV_ERR_IO);
     cr_expect(strstr(hv_last_error(), "refused on purpose"));
     cr_expect(!t_exists(dir2));

@@ -608,6 +608,39 @@ Test(viewer, page_written_with_the_stack)
     hv_mesh_destroy(m);
 }
 
+Test(viewer, phys_that_disagrees_is_a_warning)
+{
+    const char *dir = t_tmpfile("phys");
+    write_stack(dir, HV_LAYERS_MASK, 50, 50, 1); /* 24 x 16 pixels of 0.508 mm, 1-bit */
+    char path[1024], page[1024];
+    snprintf(page, sizeof page, "%s/index.html", dir);
+    hv_viewer_report r;
+    cr_assert_eq(hv_viewer_stack_write(dir, page, NULL, NULL, &r), HV_OK, "%s", hv_last_error());
+    cr_expect_str_eq(r.warnings, "", "hovox's own layers carry the manifest's pixel size");
+    /* layer 1 at 100 x 50 dpi, layer 2 without pHYs: the page still draws the manifest's */
+    uint8_t px[24 * 16];
+    memset(px, 1, sizeof px);
+    hv_png_options po;
+    hv_png_options_init(&po);
+    po.bit_depth = 1;
+    po.dpi[0] = 100;
+    po.dpi[1] = 50;
+    snprintf(path, sizeof path, "%s/layer-00001.png", dir);
+    cr_assert_eq(hv_png_write(path, px, 24, 16, 1, 0, &po), HV_OK, "%s", hv_last_error());
+    po.dpi[0] = po.dpi[1] = 0;
+    snprintf(path, sizeof path, "%s/layer-00002.png", dir);
+    cr_assert_eq(hv_png_write(path, px, 24, 16, 1, 0, &po), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_viewer_stack_write(dir, page, NULL, NULL, &r), HV_OK, "%s", hv_last_error());
+    cr_expect(strstr(r.warnings, "layer-00001.png: pHYs says 3937 x 1969 pixels per metre, manifest.json's pixel_mm 0.508 x "
+                                 "0.508 mm (1969 x 1969 per metre)"),
+              "%s", r.warnings);
+    cr_expect(strstr(r.warnings, "layer-00002.png: no pHYs"), "%s", r.warnings);
+    json_t *d = page_data(page);
+    cr_expect_eq(json_array_size(get(d, "warnings")), 2);
+    cr_expect(fabs(json_number_value(json_array_get(get(d, "pixel_mm"), 0)) - 0.508) < 1e-12);
+    json_decref(d);
+}
+
 Test(viewer, stack_errors_leave_nothing)
 {
     const char *dir = t_tmpfile("bad");

@@ -253,6 +253,25 @@ static void rd_warning(png_structp png, png_const_charp msg)
     (void)msg;
 }
 
+/* The layer file as libpng reads it. libpng inflates what is left of the image data once the last
+ * row is read (and only warns), so image data going on past the image (a bomb of zeros) is refused
+ * once more than 64 KiB follow the last row, as hv_png_decode refuses it. */
+typedef struct layer_src {
+    FILE *fp;
+    uint32_t height; /* rows of the image, once known */
+    size_t tail;     /* bytes read after the last row */
+} layer_src;
+
+#define LAYER_TAIL_MAX ((size_t)64 << 10)
+
+static void rd_read(png_structp png, png_bytep out, size_t n)
+{
+    layer_src *s = png_get_io_ptr(png);
+    if (s->height && png_get_current_row_number(png) >= s->height && (s->tail += n) > LAYER_TAIL_MAX)
+        png_error(png, "image data goes on past the image (more than 64 KiB of it after the last row)");
+    if (fread(out, 1, n, s->fp) != n) png_error(png, "the file ends early");
+}
+
 /* One layer's rows into the job's tables. */
 static void take_row(job *J, int t, int ch, int y, const uint8_t *row)
 {
@@ -302,9 +321,10 @@ static hv_status read_layer(job *J, int t, size_t li, int ch)
         fclose(fp);
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a readable PNG: %s", path, e.msg);
     }
+    layer_src src = {fp, 0, 0};
     png_set_user_limits(png, (png_uint_32)S->width, (png_uint_32)S->height);
     png_set_chunk_malloc_max(png, 8u << 20);
-    png_init_io(png, fp);
+    png_set_read_fn(png, &src, rd_read);
     png_read_info(png, info);
     png_uint_32 w = 0, h = 0;
     int bd = 0, ct = 0, il = 0;
@@ -355,11 +375,12 @@ static hv_status read_layer(job *J, int t, size_t li, int ch)
     } else if (!ti->phys_none_at) {
         ti->phys_none_at = li + 1;
     }
+    src.height = h;
     for (int y = 0; y < S->height; ++y) {
         png_read_row(png, row, NULL);
         take_row(J, t, ch, y, row);
     }
-    png_read_end(png, NULL);
+    /* no png_read_end: the pixels are complete, and chunks after the image are not needed */
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
     return HV_OK;

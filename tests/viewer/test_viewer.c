@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <zlib.h>
 
 #include "core/internal.h"
 #include "core/json.h"
@@ -639,6 +640,59 @@ Test(viewer, phys_that_disagrees_is_a_warning)
     cr_expect_eq(json_array_size(get(d, "warnings")), 2);
     cr_expect(fabs(json_number_value(json_array_get(get(d, "pixel_mm"), 0)) - 0.508) < 1e-12);
     json_decref(d);
+}
+
+/* A PNG chunk (length, type, data, CRC) appended to b. */
+static size_t put_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
+{
+    b[0] = (uint8_t)(n >> 24), b[1] = (uint8_t)(n >> 16), b[2] = (uint8_t)(n >> 8), b[3] = (uint8_t)n;
+    memcpy(b + 4, type, 4);
+    if (n) memcpy(b + 8, data, n);
+    uLong crc = crc32(crc32(0, Z_NULL, 0), b + 4, n + 4);
+    b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
+    b[11 + n] = (uint8_t)crc;
+    return 12 + n;
+}
+
+/* a layer whose image data goes on past its last row (a bomb continues with gigabytes of zeros):
+ * refused once more than 64 KiB follow, as hv_png_decode refuses it */
+Test(viewer, layer_data_past_the_image_is_refused)
+{
+    const char *dir = t_tmpfile("tail");
+    write_stack(dir, HV_LAYERS_MASK, 50, 50, 1); /* 24 x 16, 1-bit: rows of 1 + 3 bytes */
+    enum { W = 24, H = 16, ROW = 1 + 3, EXTRA = 100 << 10 };
+    static uint8_t raw[H * ROW + EXTRA], z[EXTRA + 4096], png[EXTRA + 8192];
+    unsigned seed = 7;
+    for (size_t i = 0; i < sizeof raw; ++i) raw[i] = (uint8_t)((seed = seed * 1103515245u + 12345u) >> 16);
+    for (int y = 0; y < H; ++y) raw[y * ROW] = 0;
+    z_stream zs;
+    memset(&zs, 0, sizeof zs);
+    cr_assert_eq(deflateInit(&zs, 6), Z_OK);
+    zs.next_in = raw, zs.avail_in = H * ROW, zs.next_out = z, zs.avail_out = sizeof z;
+    cr_assert_eq(deflate(&zs, Z_FULL_FLUSH), Z_OK);
+    size_t n1 = sizeof z - zs.avail_out;
+    zs.next_in = raw + H * ROW, zs.avail_in = EXTRA;
+    cr_assert_eq(deflate(&zs, Z_FINISH), Z_STREAM_END);
+    size_t nz = sizeof z - zs.avail_out;
+    deflateEnd(&zs);
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    uint8_t ihdr[13] = {0, 0, 0, W, 0, 0, 0, H, 1, 0, 0, 0, 0};
+    size_t n = 8;
+    memcpy(png, sig, 8);
+    n += put_chunk(png + n, "IHDR", ihdr, 13);
+    n += put_chunk(png + n, "IDAT", z, (uint32_t)n1);
+    n += put_chunk(png + n, "IDAT", z + n1, (uint32_t)(nz - n1));
+    n += put_chunk(png + n, "IEND", NULL, 0);
+    char path[1024], page[1024];
+    snprintf(path, sizeof path, "%s/layer-00001.png", dir);
+    FILE *f = fopen(path, "wb");
+    cr_assert(f && fwrite(png, 1, n, f) == n);
+    fclose(f);
+    snprintf(page, sizeof page, "%s/index.html", dir);
+    cr_expect_eq(hv_viewer_stack_write(dir, page, NULL, NULL, NULL), HV_ERR_BAD_INPUT);
+    cr_expect(strstr(hv_last_error(), "layer-00001.png: not a readable PNG: image data goes on past the image"), "%s",
+              hv_last_error());
+    cr_expect(!t_exists(page));
 }
 
 Test(viewer, stack_errors_leave_nothing)

@@ -176,16 +176,11 @@ hv_status hv_viewer_model_write(const hv_volume *vol, const char *name, const ch
                                 const hv_viewer_options *opt, const hv_progress *progress, hv_viewer_report *report)
 {
     hv_viewer_options defaults;
-    if (!opt) {
-        hv_viewer_options_init(&defaults);
-        opt = &defaults;
-    }
     hv_viewer_report rep;
     memset(&rep, 0, sizeof rep);
     rep.kind = HV_VIEWER_MODEL;
-    if (!vol || !html_path) return hv_error_set(HV_ERR_INVALID, "viewer: no model or page path");
-    hv_status s = hv_options_check(hv_viewer_option_set(), opt);
-    if (s == HV_OK) s = hv_check_extension(html_path, ".html", "the page");
+    if (!vol) return hv_error_set(HV_ERR_INVALID, "viewer: no model");
+    hv_status s = vw_page_begin(&opt, &defaults, html_path);
     if (s != HV_OK) return s;
     const char *vname = name ? name : hv_volume_name(vol);
     mjob J;

@@ -8,6 +8,17 @@
 
 #include "viewer_internal.h"
 
+hv_status vw_page_begin(const hv_viewer_options **opt, hv_viewer_options *defaults, const char *html_path)
+{
+    if (!*opt) {
+        hv_viewer_options_init(defaults);
+        *opt = defaults;
+    }
+    if (!html_path) return hv_error_set(HV_ERR_INVALID, "viewer: no page path");
+    hv_status s = hv_options_check(hv_viewer_option_set(), *opt);
+    return s == HV_OK ? hv_check_extension(html_path, ".html", "the page") : s;
+}
+
 void vw_warn(hv_viewer_report *r, const char *fmt, ...)
 {
     if (!r) return;

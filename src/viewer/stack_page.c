@@ -751,15 +751,10 @@ hv_status hv_viewer_stack_write(const char *stack_dir, const char *html_path, co
                                 const hv_progress *progress, hv_viewer_report *report)
 {
     hv_viewer_options defaults;
-    if (!opt) {
-        hv_viewer_options_init(&defaults);
-        opt = &defaults;
-    }
     hv_viewer_report rep;
     memset(&rep, 0, sizeof rep);
-    if (!stack_dir || !html_path) return hv_error_set(HV_ERR_INVALID, "viewer: no stack directory or page path");
-    hv_status s = hv_options_check(hv_viewer_option_set(), opt);
-    if (s == HV_OK) s = hv_check_extension(html_path, ".html", "the page");
+    if (!stack_dir) return hv_error_set(HV_ERR_INVALID, "viewer: no stack directory");
+    hv_status s = vw_page_begin(&opt, &defaults, html_path);
     if (s != HV_OK) return s;
     struct stat sb;
     if (stat(stack_dir, &sb) != 0) return hv_error_set(HV_ERR_IO, "%s: %s", stack_dir, strerror(errno));

@@ -85,6 +85,9 @@ char *vw_json_for_script(const json_t *doc);
  * the script, written atomically to `path`. *bytes (may be NULL) receives its size. Errors:
  * HV_ERR_IO naming the path, HV_ERR_NOMEM. */
 hv_status vw_page_write(const char *path, const char *title, const char *data_json, uint64_t *bytes);
+/* The start of every page: *opt (NULL: the defaults, kept in *defaults) checked, and html_path
+ * ending in .html. Errors: HV_ERR_INVALID naming the option or the path. */
+hv_status vw_page_begin(const hv_viewer_options **opt, hv_viewer_options *defaults, const char *html_path);
 /* Add a line to a report's warnings (truncated when full). */
 void vw_warn(hv_viewer_report *r, const char *fmt, ...) HV_PRINTF(2, 3);
 

@@ -642,18 +642,6 @@ Test(viewer, phys_that_disagrees_is_a_warning)
     json_decref(d);
 }
 
-/* A PNG chunk (length, type, data, CRC) appended to b. */
-static size_t put_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
-{
-    b[0] = (uint8_t)(n >> 24), b[1] = (uint8_t)(n >> 16), b[2] = (uint8_t)(n >> 8), b[3] = (uint8_t)n;
-    memcpy(b + 4, type, 4);
-    if (n) memcpy(b + 8, data, n);
-    uLong crc = crc32(crc32(0, Z_NULL, 0), b + 4, n + 4);
-    b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
-    b[11 + n] = (uint8_t)crc;
-    return 12 + n;
-}
-
 /* a layer whose image data goes on past its last row (a bomb continues with gigabytes of zeros):
  * refused once more than 64 KiB follow, as hv_png_decode refuses it */
 Test(viewer, layer_data_past_the_image_is_refused)
@@ -679,10 +667,10 @@ Test(viewer, layer_data_past_the_image_is_refused)
     uint8_t ihdr[13] = {0, 0, 0, W, 0, 0, 0, H, 1, 0, 0, 0, 0};
     size_t n = 8;
     memcpy(png, sig, 8);
-    n += put_chunk(png + n, "IHDR", ihdr, 13);
-    n += put_chunk(png + n, "IDAT", z, (uint32_t)n1);
-    n += put_chunk(png + n, "IDAT", z + n1, (uint32_t)(nz - n1));
-    n += put_chunk(png + n, "IEND", NULL, 0);
+    n += t_png_chunk(png + n, "IHDR", ihdr, 13);
+    n += t_png_chunk(png + n, "IDAT", z, (uint32_t)n1);
+    n += t_png_chunk(png + n, "IDAT", z + n1, (uint32_t)(nz - n1));
+    n += t_png_chunk(png + n, "IEND", NULL, 0);
     char path[1024], page[1024];
     snprintf(path, sizeof path, "%s/layer-00001.png", dir);
     FILE *f = fopen(path, "wb");

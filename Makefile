@@ -1,6 +1,6 @@
 # hovox - heterogeneous-object modeling for multi-material 3D printing.
 #   make            library, CLI (build/hovox) and plugins
-#   make test       unit, header, CLI and sample tests (installs missing packages as root)
+#   make test       unit, header, CLI, sample and browser tests (installs missing packages as root)
 #   make sanitize   the whole test suite built with ASan + UBSan (build-san/)
 #   make bench      benchmarks against the anchors named in the issues
 #   make demo       the gear sample end to end
@@ -44,8 +44,11 @@ LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 # Every .c below src/ (but the CLI's), volumes/, slicing/ and renderer/ is the library; the layers
 # and their order are in README's "Layout".
 LIB_SRC   := $(sort $(shell find src volumes slicing renderer -name '*.c' -not -path 'src/cli/*'))
+# the viewer page's HTML, CSS and JavaScript, embedded into the library (scripts/embed.sh)
+VIEW_ASSETS := src/viewer/assets/page.html src/viewer/assets/viewer.css src/viewer/assets/viewer.js
+VIEW_GEN  := $(BUILD)/gen/viewer_assets.c
 CLI_SRC   := $(wildcard src/cli/*.c)
-LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
+LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o) $(BUILD)/obj/gen/viewer_assets.o
 CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 HEADERS   := $(wildcard include/hovox/*.h)
 
@@ -78,7 +81,7 @@ TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
 CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
-.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests mpi-tests sanitize bench \
+.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests mpi-tests browser-tests sanitize bench \
         demo deps clean check-deps-build check-deps-test
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
@@ -111,6 +114,14 @@ FORCE:
 $(BUILD)/obj/%.o: %.c $(BUILD)/.flags
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS_ALL) $(PKG_CFLAGS) $(CFLAGS_ALL) -c $< -o $@
+
+$(VIEW_GEN): $(VIEW_ASSETS) scripts/embed.sh
+	@mkdir -p $(dir $@)
+	sh scripts/embed.sh $@ $(VIEW_ASSETS)
+
+$(BUILD)/obj/gen/viewer_assets.o: $(VIEW_GEN) $(BUILD)/.flags
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_ALL) -c $< -o $@
 
 $(BUILD)/libhovox.a: $(LIB_OBJ)
 	@mkdir -p $(dir $@)
@@ -274,13 +285,19 @@ cli-tests: $(BUILD)/hovox $(PLUGINS)
 vdb-tests: $(BUILD)/hovox $(PLUGINS) $(BUILD)/fuzz/fuzz_vdb
 	@HOVOX=$(ROOT)/$(BUILD)/hovox sh tests/io/vdb/corrupt_vdb.sh
 
+# hovox view's pages in Debian's chromium, headless, driven over the DevTools protocol
+# (tests/browser). With no chromium installed the test says so and passes, unless
+# HOVOX_REQUIRE_BROWSER=1 (.ci/run sets it) or CI is set: then it fails.
+browser-tests: $(BUILD)/hovox $(PLUGINS)
+	@HOVOX=$(ROOT)/$(BUILD)/hovox /usr/bin/python3 tests/browser/test_view.py
+
 sample-tests: $(BUILD)/hovox $(PLUGINS)
 	@if [ -f tests/samples/run.sh ]; then HOVOX=$(ROOT)/$(BUILD)/hovox SHARED=$(SHARED) \
 	    sh tests/samples/run.sh; fi
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests
+	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests browser-tests
 
 # intercept_tls_get_addr=0: GCC 12's LeakSanitizer misreads glibc 2.36's dynamic TLS blocks of
 # dlopen'd plugins (a "DTLS" range of garbage) and its tracer crashes at exit ("Tracer caught

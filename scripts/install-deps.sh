@@ -1,7 +1,7 @@
 #!/bin/sh
 # scripts/install-deps.sh - the Debian 12 packages hovox needs, by group.
-#   scripts/install-deps.sh [--check] [build] [test] [bench] [fuzz]   (no group: build, test,
-#   bench; fuzz is clang for `make fuzz`)
+#   scripts/install-deps.sh [--check] [build] [test] [bench] [browser] [fuzz]   (no group: build,
+#   test, bench, browser; fuzz is clang for `make fuzz`, browser chromium for the viewer's tests)
 # Installs what is missing when run as root (apt-get update once, then apt-get install -y
 # --no-install-recommends); otherwise prints the exact command and exits 1. --check only
 # reports (exit 1 when something is missing).
@@ -12,6 +12,9 @@ libpng-dev zlib1g-dev liblua5.4-dev libcairo2-dev libjansson-dev libzip-dev libb
 TEST_PKGS="libcriterion-dev libopenvdb-tools openimageio-tools libopenmpi-dev openmpi-bin python3 python3-numpy \
 python3-scipy python3-openvdb python3-vtk9 libxml2-utils unzip lib3mf-dev time bsdutils"
 BENCH_PKGS="admesh prusa-slicer hyperfine time"
+# the browser tests of hovox view's pages (make browser-tests): CI installs and requires them;
+# without them `make test` skips those tests with a message
+BROWSER_PKGS="chromium python3-pil"
 FUZZ_PKGS="clang"
 
 check=0
@@ -19,11 +22,11 @@ groups=""
 for a in "$@"; do
     case "$a" in
     --check) check=1 ;;
-    build | test | bench | fuzz) groups="$groups $a" ;;
-    *) echo "install-deps.sh: unknown argument '$a' (groups: build test bench fuzz; --check)" >&2; exit 2 ;;
+    build | test | bench | browser | fuzz) groups="$groups $a" ;;
+    *) echo "install-deps.sh: unknown argument '$a' (groups: build test bench browser fuzz; --check)" >&2; exit 2 ;;
     esac
 done
-[ -n "$groups" ] || groups="build test bench"
+[ -n "$groups" ] || groups="build test bench browser"
 
 pkgs=""
 for g in $groups; do
@@ -31,6 +34,7 @@ for g in $groups; do
     build) pkgs="$pkgs $BUILD_PKGS" ;;
     test) pkgs="$pkgs $TEST_PKGS" ;;
     bench) pkgs="$pkgs $BENCH_PKGS" ;;
+    browser) pkgs="$pkgs $BROWSER_PKGS" ;;
     fuzz) pkgs="$pkgs $FUZZ_PKGS" ;;
     esac
 done

@@ -1352,6 +1352,7 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
     }
     if (st == HV_OK) st = write_manifest(&J, &rep);
     if (st == HV_OK && J.zip) st = write_gcvf(&J, &rep, J.zip);
+    if (st == HV_OK && o->finish) st = o->finish(o->finish_user, J.tmp, dir, progress);
     if (st == HV_OK) st = hv_stack_commit(J.tmp, dir, o->force);
     if (J.zip) {
         if (st == HV_OK) st = hv_zip_commit(J.zip);

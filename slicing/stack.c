@@ -31,8 +31,8 @@ hv_status hv_stack_manifest_check(const char *text, size_t size)
 static int stack_manifest_ok(const char *text, size_t size) { return hv_stack_manifest_check(text, size) == HV_OK; }
 
 /* What a stack holds: manifest.json (written by hovox), layer PNGs, and in fractions mode one
- * subdirectory of layer PNGs per material. */
-static const char *const k_stack_files[] = {"manifest.json", "layer-*.png", NULL};
+ * subdirectory of layer PNGs per material; index.html is the page `hovox view` (or --view) adds. */
+static const char *const k_stack_files[] = {"manifest.json", "layer-*.png", "index.html", NULL};
 static const hv_outdir_rules k_stack = {
     "stack", "manifest.json", stack_manifest_ok, k_stack_files, 1, 1};
 

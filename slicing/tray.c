@@ -1375,6 +1375,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     }
     if (st == HV_OK && zip) st = write_gcvf(t, o, tmp, &rep, zip, progress);
     if (st == HV_OK && o->stl_path) st = write_stl(t, o->stl_path);
+    if (st == HV_OK && o->finish) st = o->finish(o->finish_user, tmp, dir, progress);
     if (st == HV_OK) st = hv_stack_commit(tmp, dir, o->force);
     if (zip) {
         if (st == HV_OK) st = hv_zip_commit(zip);

@@ -181,6 +181,12 @@ typedef enum hv_halftone_method {
 
 #define HV_HALFTONE_BLOCK 32
 
+/* A step run once a stack is complete in its temporary directory `tmp`, before that is renamed
+ * to `dir` (by the one process that commits, with several): it may add files to `tmp` (the
+ * --view page of the CLI, hovox/viewer.h). A status other than HV_OK (its message set) fails the
+ * job and nothing is left. `progress` is the job's. */
+typedef hv_status (*hv_stack_finish_fn)(void *user, const char *tmp, const char *dir, const hv_progress *progress);
+
 typedef struct hv_layers_options {
     hv_layers_mode mode;           /* default HALFTONE */
     hv_layers_method method;       /* default RESAMPLE */
@@ -216,6 +222,8 @@ typedef struct hv_layers_options {
     double place[2];               /* plate position (mm) of the centre of the mesh's xy box: the
                                       image is then the part's box on the plate's pixel grid
                                       (row 0 at the plate's far edge y = build[1]), as in a tray */
+    hv_stack_finish_fn finish;     /* run before the stack is renamed into place; NULL: none */
+    void *finish_user;
 } hv_layers_options;
 
 /* Defaults as noted above; dpi and layer height from the j750 profile. */

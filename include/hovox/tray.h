@@ -77,6 +77,9 @@ typedef struct hv_tray_options {
     const char *resin_color[HV_TRAY_MAX_RESINS]; /* "RESIN=#rrggbb" (borrowed) */
     const char *cache_dir;                       /* blue-noise cache (see hv_layers_options) */
     const struct hv_dist *dist;                  /* several processes (hovox/dist.h); NULL: one */
+    hv_stack_finish_fn finish;                   /* run before the stack is renamed into place
+                                                    (see hovox/layers.h); NULL: none */
+    void *finish_user;
 } hv_tray_options;
 HV_API void hv_tray_options_init(hv_tray_options *o);
 HV_API const hv_option_set *hv_tray_option_set(void);

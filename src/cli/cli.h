@@ -135,8 +135,14 @@ int cli_interrupted(void);
 void cli_set_time_limit(double seconds);
 int cli_out_of_time(void);
 
+/* --view of layers and tray: hv_viewer_stack_finish writes the page into the report given as its
+ * user pointer; this prints its warnings and a "page" line once the stack is written (nothing when
+ * no page was written). */
+#include "hovox/viewer.h"
+void cli_view_report(const hv_viewer_report *r, const char *dir);
+
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
-    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_export;
+    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export;
 
 #endif

@@ -17,7 +17,7 @@
 
 typedef struct layers_cli {
     const char *output, *mesh;
-    int dry_run;
+    int dry_run, view;
 } layers_cli;
 
 static const hv_option k_local_opts[] = {
@@ -26,6 +26,8 @@ static const hv_option k_local_opts[] = {
                "or be empty)", 0),
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(layers_cli, dry_run),
      .help = "print the plan (image size, layers, memory) and stop"},
+    {.key = "view", .kind = HV_OPT_FLAG, .offset = offsetof(layers_cli, view),
+     .help = "also DIR/index.html, a page to look through the stack in a web browser (see hovox view)"},
     {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(layers_cli, mesh),
      .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
      .section = "Geometry"},
@@ -118,10 +120,17 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         cli_progress bar;
         cli_progress_init(&bar, quiet);
         hv_progress prog = {cli_progress_fn, &bar};
+        hv_viewer_report page;
+        memset(&page, 0, sizeof page);
+        if (c->view) {
+            o->finish = hv_viewer_stack_finish;
+            o->finish_user = &page;
+        }
         s = hv_layers_write(mesh, model, c->output, o, &prog, &r);
         cli_progress_done(&bar);
         if (s == HV_OK) warn(&r, HV_MIN(seen, strlen(r.warnings)));
         if (s == HV_OK) report(&r, o, c, mesh, model);
+        if (s == HV_OK) cli_view_report(&page, c->output);
     }
     hv_volume_destroy(model);
     hv_mesh_destroy(mesh);

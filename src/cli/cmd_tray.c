@@ -16,6 +16,7 @@ typedef struct tray_cli {
     const char *output;
     const char *part[MAX_CLI_PARTS];
     int nparts;
+    int view;
 } tray_cli;
 
 static hv_status add_part(const hv_option *o, void *opts, const hv_opt_value *v)
@@ -28,6 +29,8 @@ static hv_status add_part(const hv_option *o, void *opts, const hv_opt_value *v)
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(tray_cli, "DIR", "the stack directory (written under a temporary name and renamed when complete)", 0),
+    {.key = "view", .kind = HV_OPT_FLAG, .offset = offsetof(tray_cli, view),
+     .help = "also DIR/index.html, a page to look through the tray in a web browser (see hovox view)"},
     {.key = "part", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "SPEC", .parse = add_part,
      .section = "Parts (besides those of JOB.json)",
      .help = "MODEL.vdb,MESH or MESH:MATERIAL (MESH: .stl, .3mf, .obj or .ply), then @X,Y[,ROT] (plate position of the part's box centre, "
@@ -128,11 +131,17 @@ static int run(const cli_args *args, void *lib, void *local)
     }
     hv_tray_report r;
     memset(&r, 0, sizeof r);
+    hv_viewer_report page;
+    memset(&page, 0, sizeof page);
     if (s == HV_OK) {
         cli_progress bar;
         cli_progress_init(&bar, args->quiet);
         hv_progress prog = {cli_progress_fn, &bar};
         o->dist = cli_dist;
+        if (c->view) {
+            o->finish = hv_viewer_stack_finish;
+            o->finish_user = &page;
+        }
         s = hv_tray_write(t, c->output, o, &prog, &r);
         cli_progress_done(&bar);
     }
@@ -161,6 +170,7 @@ static int run(const cli_args *args, void *lib, void *local)
             printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
                    (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",
                    o->gcvf_path ? o->gcvf_path : "");
+        if (!o->dry_run) cli_view_report(&page, c->output);
     }
     hv_tray_destroy(t);
     return s == HV_OK ? EXIT_OK : cli_fail(s);

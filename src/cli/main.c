@@ -6,7 +6,8 @@
 
 static const cli_spec *const g_commands[] = {&cmd_info,   &cmd_voxelize, &cmd_grade,  &cmd_probe,
                                              &cmd_profile, &cmd_run,      &cmd_render, &cmd_contours,
-                                             &cmd_layers,  &cmd_tray,     &cmd_export,  &cmd_generate};
+                                             &cmd_layers,  &cmd_tray,     &cmd_view,    &cmd_export,
+                                             &cmd_generate};
 
 static void print_help(FILE *out)
 {

@@ -13,6 +13,7 @@
 #include "hovox/plot.h"
 #include "hovox/profile.h"
 #include "hovox/render.h"
+#include "hovox/viewer.h"
 #include "lhovox.h"
 
 #define SET_INT(k, v) (lua_pushinteger(L, (lua_Integer)(v)), lua_setfield(L, -2, k))
@@ -126,13 +127,17 @@ static int model_render(lua_State *L)
  *       achieved}}, diff_mean, diff_max, warnings} */
 static int model_layers(lua_State *L)
 {
-    static const char *const extra[] = {"mesh", "dir", NULL};
+    static const char *const extra[] = {"mesh", "dir", "view", NULL};
     hv_volume *vol = hv_lua_model(L, 1);
     hv_layers_options o;
     int holder = hv_lua_read(L, 2, hv_layers_option_set(), &o, extra);
     const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");
     hv_lua_check_paths(L, 2, hv_layers_option_set(), &o);
     hv_mesh *mesh = ((l_mesh *)hv_lua_option_object(L, 2, "mesh", MT_MESH, "hovox mesh"))->p; /* anchored */
+    lua_getfield(L, 2, "view"); /* view = true: the stack's page, DIR/index.html (hovox view) */
+    if (!lua_isnil(L, -1) && !lua_isboolean(L, -1)) return luaL_error(L, "view must be true or false");
+    if (lua_toboolean(L, -1)) o.finish = hv_viewer_stack_finish;
+    lua_pop(L, 1);
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
     hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, hv_lua_progress(L), &rep);

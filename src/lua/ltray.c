@@ -9,6 +9,7 @@
 
 #include "core/internal.h"
 #include "hovox/tray.h"
+#include "hovox/viewer.h"
 #include "lhovox.h"
 
 #define MT_TRAY "hovox.Tray"
@@ -114,14 +115,19 @@ static int tray_arrange(lua_State *L)
 /* tray:layers{dir = "stack", <tray options>} -> report */
 static int tray_layers(lua_State *L)
 {
-    static const char *const extra[] = {"dir", NULL};
+    static const char *const extra[] = {"dir", "view", NULL};
     l_tray *u = CHECK(L, 1, l_tray, MT_TRAY);
     luaL_checktype(L, 2, LUA_TTABLE);
     read_over(L, u, 2, extra);
+    lua_getfield(L, 2, "view"); /* view = true: the tray's page, DIR/index.html (hovox view) */
+    if (!lua_isnil(L, -1) && !lua_isboolean(L, -1)) return luaL_error(L, "view must be true or false");
+    int view = lua_toboolean(L, -1);
+    lua_pop(L, 1);
     int holder = keeper(L, 1);
     const char *dir = hv_lua_out_path(L, 2, "dir", holder, u->o.dry_run ? NULL : "the stack's directory");
     hv_lua_check_paths(L, 2, hv_tray_option_set(), &u->o); /* gcvf, stl: where they are used */
     u = CHECK(L, 1, l_tray, MT_TRAY);
+    u->o.finish = view ? hv_viewer_stack_finish : NULL;
     hv_tray_report r;
     hv_status s = hv_tray_write(u->p, dir, &u->o, hv_lua_progress(L), &r);
     if (s != HV_OK) return fail(L, s);

@@ -636,18 +636,6 @@ Test(image, png_in_parallel_bands_read_back_by_libpng)
     }
 }
 
-/* A PNG chunk (length, type, data, CRC) appended to b. */
-static size_t put_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
-{
-    b[0] = (uint8_t)(n >> 24), b[1] = (uint8_t)(n >> 16), b[2] = (uint8_t)(n >> 8), b[3] = (uint8_t)n;
-    memcpy(b + 4, type, 4);
-    if (n) memcpy(b + 8, data, n);
-    uLong crc = crc32(crc32(0, Z_NULL, 0), b + 4, n + 4);
-    b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
-    b[11 + n] = (uint8_t)crc;
-    return 12 + n;
-}
-
 /* issue 32 item 12: image data that goes on past the image is refused once more than 64 KiB of it
  * follow the last row: here a second IDAT chunk continues the deflate stream with 100 KiB of
  * random bytes (stored), as a bomb's continues with gigabytes of zeros. Before, libpng inflated it
@@ -679,12 +667,12 @@ Test(image, png_decode_refuses_image_data_past_the_last_row)
     uint8_t ihdr[13] = {0, 0, 0, W, 0, 0, 0, H, 8, 0, 0, 0, 0};
     size_t n = 0;
     memcpy(png, sig, 8), n = 8;
-    n += put_chunk(png + n, "IHDR", ihdr, 13);
+    n += t_png_chunk(png + n, "IHDR", ihdr, 13);
     size_t idat1 = n;
-    n += put_chunk(png + n, "IDAT", z, (uint32_t)n1);
+    n += t_png_chunk(png + n, "IDAT", z, (uint32_t)n1);
     size_t tail = n;
-    n += put_chunk(png + n, "IDAT", z + n1, (uint32_t)(nz - n1));
-    n += put_chunk(png + n, "IEND", NULL, 0);
+    n += t_png_chunk(png + n, "IDAT", z + n1, (uint32_t)(nz - n1));
+    n += t_png_chunk(png + n, "IEND", NULL, 0);
     hv_png_pixels px;
     cr_assert_eq(hv_png_decode(png, n, "tail.png", 1000, &px), HV_ERR_BAD_INPUT);
     cr_assert(strstr(hv_last_error(), "tail.png") && strstr(hv_last_error(), "goes on past the image"), "%s",
@@ -697,8 +685,8 @@ Test(image, png_decode_refuses_image_data_past_the_last_row)
     nz = sizeof z - zs.avail_out;
     deflateEnd(&zs);
     n = idat1;
-    n += put_chunk(png + n, "IDAT", z, (uint32_t)nz);
-    n += put_chunk(png + n, "IEND", NULL, 0);
+    n += t_png_chunk(png + n, "IDAT", z, (uint32_t)nz);
+    n += t_png_chunk(png + n, "IEND", NULL, 0);
     (void)tail;
     cr_assert_eq(hv_png_decode(png, n, "ok.png", 1000, &px), HV_OK, "%s", hv_last_error());
     for (int y = 0; y < H; ++y)

@@ -1,5 +1,6 @@
 /* tests/support/support.c - see support.h. */
 #include <png.h>
+#include <zlib.h>
 #include <criterion/criterion.h>
 
 #include "support.h"
@@ -193,3 +194,14 @@ void t_png_load(const char *path, t_png *im)
     fclose(fp);
 }
 
+
+size_t t_png_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
+{
+    b[0] = (uint8_t)(n >> 24), b[1] = (uint8_t)(n >> 16), b[2] = (uint8_t)(n >> 8), b[3] = (uint8_t)n;
+    memcpy(b + 4, type, 4);
+    if (n) memcpy(b + 8, data, n);
+    uLong crc = crc32(crc32(0, Z_NULL, 0), b + 4, n + 4);
+    b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
+    b[11 + n] = (uint8_t)crc;
+    return 12 + n;
+}

@@ -40,5 +40,8 @@ typedef struct t_png {
     unsigned long ppm_x, ppm_y;
 } t_png;
 void t_png_load(const char *path, t_png *im);
+/* A PNG chunk (length, type, n bytes of data, CRC) written at b; returns its size (12 + n). For tests
+ * that build damaged PNGs by hand. */
+size_t t_png_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n);
 
 #endif

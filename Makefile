@@ -78,7 +78,7 @@ CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
 .PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests mpi-tests sanitize bench \
-        demo deps clean check-deps-build check-deps-test
+        demo deps clean check-deps-build check-deps-test python python-tests
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
 
@@ -244,6 +244,32 @@ fuzz:
 	        build-fuzz-ub/corpus-fuzz_vdb tests/fuzz/corpus/vdb || exit 1; \
 	fi
 
+# ---- Python ------------------------------------------------------------------------------
+# `make python`: the package hovox (python/) built in place over libhovox.a, its plugins copied
+# beside the extension; `make python-tests` runs its pytest suite (python/tests). Under SAN=1 it is
+# built into $(BUILD)/python instead and run with ASan preloaded (Python itself is not
+# instrumented; PYTHONMALLOC=malloc lets ASan see every allocation).
+PYTHON  ?= /usr/bin/python3
+ifeq ($(SAN),1)
+PYDIR   := $(ROOT)/$(BUILD)/python
+PY_BUILD = build --build-base $(ROOT)/$(BUILD)/python-tmp --build-lib $(PYDIR)
+PY_RUN   = LD_PRELOAD=$$($(CC) -print-file-name=libasan.so) PYTHONMALLOC=malloc \
+           LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan-python.supp:print_suppressions=0
+else
+PYDIR   := $(ROOT)/python
+PY_BUILD = build_ext --inplace --build-temp $(ROOT)/$(BUILD)/python-tmp
+PY_RUN   =
+endif
+
+python: $(BUILD)/libhovox.a $(PLUGINS)
+	@cd python && HOVOX_BUILD=$(ROOT)/$(BUILD) HOVOX_SAN=$(SAN) HOVOX_WERROR=$(WERROR) \
+	    $(PYTHON) setup.py -q $(PY_BUILD) >$(ROOT)/$(BUILD)/python-build.log 2>&1 || \
+	    { cat $(ROOT)/$(BUILD)/python-build.log; exit 1; }
+
+python-tests: python $(BUILD)/hovox
+	@$(PY_RUN) PYTHONPATH=$(PYDIR) HOVOX=$(ROOT)/$(BUILD)/hovox HOVOX_SHARED=$(SHARED) \
+	    $(PYTHON) -m pytest -q -p no:cacheprovider python/tests
+
 # Every public header compiles alone as C11 and as C++17.
 $(BUILD)/.headers-ok: $(HEADERS)
 	@mkdir -p $(BUILD)
@@ -301,5 +327,9 @@ demo: $(BUILD)/.deps-build
 
 clean:
 	rm -rf build build-san build-fuzz build-fuzz-ub
+
+# `make -s print-LIBS`: a variable's value (the Python build links with the same libraries)
+print-%:
+	@echo '$($*)'
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

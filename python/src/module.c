@@ -225,8 +225,8 @@ PyObject *hvpy_array_own(void *data, int nd, const Py_ssize_t *dims, int typenum
 
 PyObject *hvpy_as_array(PyObject *o, int typenum, const char *what)
 {
-    PyObject *a = PyArray_FromAny(o, PyArray_DescrFromType(typenum), 0, 0, NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED,
-                                  NULL);
+    PyObject *a = PyArray_FromAny(o, PyArray_DescrFromType(typenum), 0, 0,
+                                  NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED | NPY_ARRAY_FORCECAST, NULL);
     if (!a) {
         PyObject *t, *v, *tb;
         PyErr_Fetch(&t, &v, &tb);

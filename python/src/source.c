@@ -669,8 +669,8 @@ PyObject *hvpy_make_source(PyObject *args, PyObject *kw, int wu3)
     s = wu3 ? hv_ags_wu3_from_options(feat, &o, f, &src) : hv_ags_from_options(feat, &o, f, &src);
     if (ctx.exc_type) { /* the callable's own exception */
         hv_ags_release(src);
-        PyErr_Restore(ctx.exc_type, ctx.exc_value, ctx.exc_tb);
-        ctx.exc_type = NULL;
+        PyErr_Restore(ctx.exc_type, ctx.exc_value, ctx.exc_tb); /* steals all three */
+        ctx.exc_type = ctx.exc_value = ctx.exc_tb = NULL;
         goto done;
     }
     res = s != HV_OK ? hvpy_fail(s) : hvpy_new_source(src);

@@ -19,8 +19,8 @@ def layer_image(model, mesh, index, **options):
         stack = os.path.join(work, "stack")
         model.layers(mesh, stack, layers=(index, index + 1), **options)
         name = "layer-%05d.png" % index
-        if os.path.exists(os.path.join(stack, name)):
-            return _hovox.read_png(os.path.join(stack, name))
+        if os.path.exists(os.path.join(stack, name)):  # halftone (palette indices) or mask (0/1)
+            return _hovox.read_png(os.path.join(stack, name), indices=True)
         # fractions mode: one directory per material, in the model's order
         import numpy
         names = model.materials().names()

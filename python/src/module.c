@@ -432,10 +432,15 @@ static PyObject *py_status_name(PyObject *self, PyObject *arg)
     return PyUnicode_FromString(hv_status_name((hv_status)n));
 }
 
-/* read_png(path) -> (H, W) or (H, W, C) uint8 (uint16 for 16-bit files) */
-static PyObject *py_read_png(PyObject *self, PyObject *arg)
+/* read_png(path, indices=False) -> (H, W) or (H, W, C) uint8 (uint16 for 16-bit files); a palette
+ * image as RGB(A), or as its indices */
+static PyObject *py_read_png(PyObject *self, PyObject *args, PyObject *kw)
 {
     (void)self;
+    static char *kwlist[] = {"path", "indices", NULL};
+    PyObject *arg;
+    int indices = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|p:read_png", kwlist, &arg, &indices)) return NULL;
     PyObject *path = hvpy_path(arg, "path");
     if (!path) return NULL;
     PyObject *data = NULL;
@@ -467,8 +472,8 @@ static PyObject *py_read_png(PyObject *self, PyObject *arg)
     }
     hv_png_pixels px;
     memset(&px, 0, sizeof px);
-    hv_status s = hv_png_decode(PyBytes_AS_STRING(data), (size_t)PyBytes_GET_SIZE(data), PyBytes_AS_STRING(path),
-                                (uint64_t)1 << 34, &px);
+    hv_status s = hv_png_decode_flags(PyBytes_AS_STRING(data), (size_t)PyBytes_GET_SIZE(data), PyBytes_AS_STRING(path),
+                                      (uint64_t)1 << 34, indices ? HV_PNG_PALETTE_INDICES : 0, &px);
     Py_DECREF(data);
     Py_DECREF(path);
     if (s != HV_OK) return hvpy_fail(s);
@@ -516,9 +521,10 @@ static PyMethodDef g_functions[] = {
     {"set_threads", py_set_threads, METH_O, "set_threads(n): worker threads of the multi-threaded kernels (0: all cores)."},
     {"threads", py_threads, METH_NOARGS, "threads() -> the worker threads in use."},
     {"status_name", py_status_name, METH_O, "status_name(code) -> 'HV_ERR_...'."},
-    {"read_png", py_read_png, METH_O,
-     "read_png(path) -> array: a PNG's samples, (H, W) for grey or palette indices, else (H, W, C); uint8, or uint16 "
-     "for 16-bit files (hovox's hostile-input decoder)."},
+    {"read_png", (PyCFunction)(void (*)(void))py_read_png, METH_VARARGS | METH_KEYWORDS,
+     "read_png(path, indices=False) -> array: a PNG's samples, (H, W) for grey, else (H, W, C); uint8, or uint16 for "
+     "16-bit files (hovox's hostile-input decoder); a palette image as RGB(A), or with indices=True as its palette "
+     "indices (H, W)."},
     {"rgba8", py_rgba8, METH_O,
      "rgba8(image) -> (H, W, 4) uint8 with straight alpha, from render()'s premultiplied float image (what the PNG "
      "file holds)."},

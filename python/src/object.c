@@ -70,7 +70,12 @@ static PyObject *py_object(PyObject *self, PyObject *args, PyObject *kw)
         hv_material_table_destroy(built);
         return hvpy_fail(s);
     }
-    PyObject *mats = built ? hvpy_new_materials(built) : Py_NewRef(to);
+    /* the object's own table (a copy of the one given), so the caller may free theirs */
+    if (!built && hv_material_table_clone(given, &built) != HV_OK) {
+        hv_object_destroy(o);
+        return hvpy_fail(HV_ERR_NOMEM);
+    }
+    PyObject *mats = hvpy_new_materials(built);
     if (!mats) {
         hv_object_destroy(o);
         return NULL;

@@ -1,0 +1,142 @@
+"""Reference counting: objects freed in any order, models kept alive by the arrays that view them,
+no use after free from another thread's call, no crash on hostile use."""
+import gc
+import threading
+import weakref
+
+import numpy as np
+import pytest
+
+import hovox
+
+
+def build():
+    mesh = hovox.generate.sphere(radius=10)
+    model = hovox.voxelize(mesh, dims=24)
+    mats = hovox.materials(["A", "B"])
+    feat = hovox.point(0, 0, 0)
+    obj = hovox.object(model, mats)
+    src = obj.add_ags(feature=feat, d_neg=2, d_grad=6, d_pos=2, ms=(1, 0), me=(0, 1))
+    return {"mesh": mesh, "model": model, "mats": mats, "feat": feat, "obj": obj, "src": src}
+
+
+@pytest.mark.parametrize("order", [
+    ["mesh", "model", "mats", "feat", "src", "obj"],
+    ["obj", "src", "feat", "mats", "model", "mesh"],
+    ["mats", "feat", "model", "mesh", "src", "obj"],
+    ["src", "mats", "obj", "feat", "mesh", "model"],
+])
+@pytest.mark.parametrize("how", ["free", "del"])
+def test_free_in_any_order(order, how):
+    objs = build()
+    expect = objs["obj"].evaluate().fractions()
+    refs = {k: weakref.ref(v) for k, v in objs.items()}
+    for i, k in enumerate(order):
+        if how == "free":
+            objs[k].free()
+        else:
+            del objs[k]
+            gc.collect()
+            assert refs[k]() is None
+        # whatever is left still works, and gives the same result
+        if "obj" in objs and not objs["obj"].closed:
+            assert np.array_equal(objs["obj"].evaluate().fractions(), expect)
+        if "src" in objs and not objs["src"].closed:
+            assert objs["src"].eval(5.0) == pytest.approx([0.5, 0.5])
+            assert objs["src"].feature.kind == "point"
+
+
+def test_arrays_keep_models_and_meshes_alive():
+    mesh = hovox.generate.box()
+    v, f = mesh.vertices, mesh.facets
+    r = weakref.ref(mesh)
+    with pytest.raises(BufferError, match="2 arrays"):
+        mesh.free()
+    del mesh
+    gc.collect()
+    assert r() is not None and v.shape == (8, 3) and f.max() == 7
+    with pytest.raises(ValueError):
+        v[0, 0] = 1  # read-only view
+    del v, f
+    gc.collect()
+    assert r() is None
+    # an evaluation freed by obj.render/... is kept by the array it returned
+    objs = build()
+    img = objs["obj"].render(size=(16, 16))
+    leaves = objs["obj"].evaluate().leaves("material.A")[2]
+    gc.collect()
+    assert img.shape == (16, 16, 4) and float(leaves.sum()) > 0
+    # fractions() is a copy: the model goes at once
+    m = hovox.voxelize(hovox.generate.box(), dims=8)
+    rm = weakref.ref(m)
+    occ = m.occupancy()
+    del m
+    gc.collect()
+    assert rm() is None and occ.any()
+
+
+def test_no_free_while_another_thread_uses_it(tmp_path):
+    g = hovox.generate.gear()
+    m = hovox.voxelize(g, dims=64)
+    o = hovox.object(m, hovox.materials(["A", "B"]))
+    e = o.evaluate()
+    started, errors = threading.Event(), []
+
+    def slow(stage, fraction):
+        started.set()
+
+    def run():
+        try:
+            e.layers(g, tmp_path / "s", layers=(0, 60), progress=slow)
+        except Exception as x:  # noqa: BLE001
+            errors.append(x)
+    t = threading.Thread(target=run)
+    t.start()
+    started.wait(10)
+    refused = None
+    try:
+        e.free()
+    except BufferError as x:
+        refused = x
+    t.join()
+    assert not errors
+    if refused is None:  # the call ended before free() ran: then free() freed it
+        assert e.closed
+    else:
+        assert "in another thread" in str(refused) and not e.closed
+        e.free()
+    assert e.closed
+
+
+def test_hostile_use():
+    objs = build()
+    o = objs["obj"]
+
+    class Weird:
+        def __float__(self):
+            objs["model"].free()
+            return 1.0
+    with pytest.raises(hovox.InvalidError):
+        hovox.voxelize(objs["mesh"], dims=[Weird()])
+    # f that frees the object it is added to
+    def f(d):
+        o.free()
+        return 0.5
+    with pytest.raises(hovox.ClosedError):
+        o.add_ags(feature=objs["feat"], d_neg=1, d_grad=1, d_pos=1, f=f, ms=(1, 0), me=(0, 1))
+    # values callable that frees the model
+    m = hovox.voxelize(hovox.generate.box(), dims=8)
+    with pytest.raises(hovox.ClosedError):
+        m.add_grid("x", lambda p: (m.free(), p[:, 0])[1])
+    # a progress callback that frees the model in use is refused (pinned)
+    g = hovox.generate.gear()
+    e = hovox.object(hovox.voxelize(g, dims=32), hovox.materials(["A"])).evaluate()
+    errs = []
+
+    def free_me(stage, fraction):
+        try:
+            e.free()
+        except BufferError as x:
+            errs.append(x)
+    e.render(size=(32, 32), progress=free_me)
+    assert errs and not e.closed

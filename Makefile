@@ -253,8 +253,9 @@ PYTHON  ?= /usr/bin/python3
 ifeq ($(SAN),1)
 PYDIR   := $(ROOT)/$(BUILD)/python
 PY_BUILD = build --build-base $(ROOT)/$(BUILD)/python-tmp --build-lib $(PYDIR)
-PY_RUN   = LD_PRELOAD=$$($(CC) -print-file-name=libasan.so) PYTHONMALLOC=malloc \
-           LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan-python.supp:print_suppressions=0
+PY_RUN   = cat tests/lsan.supp tests/lsan-python.supp >$(BUILD)/lsan-python.supp && \
+           LD_PRELOAD=$$($(CC) -print-file-name=libasan.so) PYTHONMALLOC=malloc \
+           LSAN_OPTIONS=suppressions=$(ROOT)/$(BUILD)/lsan-python.supp:print_suppressions=0
 else
 PYDIR   := $(ROOT)/python
 PY_BUILD = build_ext --inplace --build-temp $(ROOT)/$(BUILD)/python-tmp
@@ -305,7 +306,7 @@ sample-tests: $(BUILD)/hovox $(PLUGINS)
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests
+	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests python-tests
 
 # intercept_tls_get_addr=0: GCC 12's LeakSanitizer misreads glibc 2.36's dynamic TLS blocks of
 # dlopen'd plugins (a "DTLS" range of garbage) and its tracer crashes at exit ("Tracer caught
@@ -314,7 +315,7 @@ sanitize: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory BUILD=build-san SAN=1 all
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1 \
 	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 \
-	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests fuzz-tests cli-tests sample-tests
+	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests fuzz-tests cli-tests sample-tests python-tests
 
 bench: $(BUILD)/.deps-test
 	@sh scripts/install-deps.sh build test bench

@@ -1,5 +1,5 @@
 """Build of the hovox Python package: the extension hovox._hovox (python/src/*.c) linked with the
-repository's static library (build/libhovox.a, made by `make` first when missing or stale), and the
+repository's static library (build/libhovox.a, made by `make` first when missing), and the
 C++ bridge plugins (build/plugins/*.so) copied into the package, where the library looks for them
 (beside the file that holds it). Environment: HOVOX_BUILD (the build directory, default
 <repository>/build), HOVOX_SAN=1 (ASan + UBSan, with `make sanitize`), HOVOX_WERROR=1."""
@@ -36,8 +36,11 @@ def version():
 
 class BuildExt(build_ext):
     def run(self):
-        # the library and its plugins, as the Makefile builds them (nothing to do when current)
-        make(os.path.relpath(os.path.join(BUILD, "libhovox.a"), ROOT), "plugins")
+        # the library and its plugins, built by the Makefile when missing (`make python` keeps
+        # them current; a build with other flags is not redone here)
+        plugins = glob.glob(os.path.join(BUILD, "plugins", "*.so"))
+        if not os.path.exists(os.path.join(BUILD, "libhovox.a")) or not plugins:
+            make(os.path.relpath(os.path.join(BUILD, "libhovox.a"), ROOT), "plugins")
         libs = shlex.split(make("-s", "print-LIBS").strip())
         for ext in self.extensions:
             ext.extra_objects = [os.path.join(BUILD, "libhovox.a")]

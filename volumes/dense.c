@@ -61,7 +61,7 @@ static hv_status dense_slabs(void *ctx, size_t begin, size_t end, int thread)
                         if (!HV_BIT_GET(act, n)) continue;
                         size_t at = row + (size_t)(z - j->lo[2]);
                         if (j->mask) {
-                            j->mask[at] = bits ? (uint8_t)HV_BIT_GET(bits, n) : 1;
+                            j->mask[at] = (uint8_t)(bits ? HV_BIT_GET(bits, n) : 1u);
                         } else {
                             float *dst = j->out + at * per;
                             for (int c = 0; c < j->n; ++c) dst[c] = buf[c][n];

@@ -635,3 +635,35 @@ Test(image, png_in_parallel_bands_read_back_by_libpng)
         free(px);
     }
 }
+
+/* hv_png_decode_flags(HV_PNG_PALETTE_INDICES): a palette image of any bit depth reads back as the
+ * indices it was written with (the form of a halftoned layer); without the flag, as RGB. */
+Test(image, png_decode_palette_indices)
+{
+    int w = 13, h = 5;
+    uint8_t px[13 * 5];
+    static const uint8_t pal[12] = {0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0, 255};
+    for (int depth = 1; depth <= 8; depth *= 2) {
+        int levels = depth == 1 ? 2 : 4;
+        for (int i = 0; i < w * h; ++i) px[i] = (uint8_t)((i * 7 + i / 3) % levels);
+        hv_png_options o;
+        hv_png_options_init(&o);
+        o.bit_depth = depth;
+        o.palette = pal;
+        o.palette_size = levels;
+        uint8_t *mem = NULL;
+        size_t len = 0;
+        cr_assert_eq(hv_png_encode(px, w, h, 1, 0, &o, &mem, &len), HV_OK, "%s", hv_last_error());
+        hv_png_pixels p;
+        cr_assert_eq(hv_png_decode_flags(mem, len, "mem", 1 << 20, HV_PNG_PALETTE_INDICES, &p), HV_OK, "%s",
+                     hv_last_error());
+        cr_assert(p.width == w && p.height == h && p.channels == 1 && p.bit_depth == 8, "depth %d", depth);
+        for (int i = 0; i < w * h; ++i) cr_assert_eq(p.samples[i], px[i], "depth %d pixel %d", depth, i);
+        hv_png_pixels_free(&p);
+        cr_assert_eq(hv_png_decode(mem, len, "mem", 1 << 20, &p), HV_OK);
+        cr_assert_eq(p.channels, 3);
+        for (int i = 0; i < w * h; ++i) cr_assert_eq(p.samples[3 * i], pal[3 * px[i]]);
+        hv_png_pixels_free(&p);
+        free(mem);
+    }
+}

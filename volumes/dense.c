@@ -1,7 +1,7 @@
 /* volumes/dense.c - grids of the sparse store copied into dense arrays over an index box (for
  * front ends that hand arrays to numerical code: the Python package's model.fractions()). The
- * box is cut into slabs of 8 x-planes, each zeroed and filled from its leaves by one thread, so
- * the array's pages are first touched by the thread that fills them. */
+ * box is cut into slabs of 8 x-planes, each written by one thread (so the array's pages are first
+ * touched by the thread that fills them), every value once: from its leaf, or 0. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -30,46 +30,62 @@ static void slab_planes(const dense_job *j, size_t s, int32_t *a, int32_t *b)
     *b = HV_MIN(x0 + 8, j->hi[0] + 1);
 }
 
+/* One slab: every value of its x-planes written once, row by row (y), in runs of up to 8 z: from
+ * the leaf that holds the run (its active mask decides value or 0), else zeros. */
 static hv_status dense_slabs(void *ctx, size_t begin, size_t end, int thread)
 {
     (void)thread;
     const dense_job *j = ctx;
     const int32_t *org = hv_volume_leaf_origins(j->vol);
-    size_t plane = j->ny * j->nz, per = j->mask ? 1 : (size_t)j->n;
+    size_t per = j->mask ? 1 : (size_t)j->n;
+    int32_t ty0 = j->lo[1] & ~7, tz0 = j->lo[2] & ~7;
+    size_t nty = (size_t)(((int64_t)j->hi[1] - ty0) / 8 + 1), ntz = (size_t)(((int64_t)j->hi[2] - tz0) / 8 + 1);
+    int64_t *tile = hv_malloc_array(nty * ntz, sizeof *tile); /* the leaf of each (y, z) tile, or -1 */
+    if (!tile) return HV_ERR_NOMEM;
     for (size_t s = begin; s < end; ++s) {
         int32_t xa, xb;
         slab_planes(j, s, &xa, &xb);
         if (xa >= xb) continue;
-        size_t first = (size_t)(xa - j->lo[0]) * plane * per, count = (size_t)(xb - xa) * plane * per;
-        if (j->mask) memset(j->mask + first, 0, count);
-        else memset(j->out + first, 0, count * sizeof(float));
+        for (size_t t = 0; t < nty * ntz; ++t) tile[t] = -1;
         for (size_t q = j->slab_first[s]; q < j->slab_first[s + 1]; ++q) {
             size_t l = j->order[q];
-            const int32_t *o = org + 3 * l;
-            const uint64_t *act = hv_volume_leaf_mask(j->vol, l);
-            const uint64_t *bits = j->mask && j->g >= 0 ? hv_volume_leaf_bool_c(j->vol, j->g, l) : NULL;
-            const float *buf[64];
-            for (int c = 0; !j->mask && c < j->n; ++c) buf[c] = hv_volume_leaf_float_c(j->vol, j->grids[c], l);
-            int32_t ya = HV_MAX(o[1], j->lo[1]), yb = HV_MIN(o[1] + 8, j->hi[1] + 1);
-            int32_t za = HV_MAX(o[2], j->lo[2]), zb = HV_MIN(o[2] + 8, j->hi[2] + 1);
-            int32_t xla = HV_MAX(o[0], xa), xlb = HV_MIN(o[0] + 8, xb);
-            for (int32_t x = xla; x < xlb; ++x)
-                for (int32_t y = ya; y < yb; ++y) {
-                    size_t row = ((size_t)(x - j->lo[0]) * j->ny + (size_t)(y - j->lo[1])) * j->nz;
-                    for (int32_t z = za; z < zb; ++z) {
-                        unsigned n = HV_LEAF_OFFSET(x, y, z);
-                        if (!HV_BIT_GET(act, n)) continue;
-                        size_t at = row + (size_t)(z - j->lo[2]);
-                        if (j->mask) {
-                            j->mask[at] = (uint8_t)(bits ? HV_BIT_GET(bits, n) : 1u);
-                        } else {
-                            float *dst = j->out + at * per;
-                            for (int c = 0; c < j->n; ++c) dst[c] = buf[c][n];
-                        }
+            tile[(size_t)((org[3 * l + 1] - ty0) / 8) * ntz + (size_t)((org[3 * l + 2] - tz0) / 8)] = (int64_t)l;
+        }
+        for (int32_t x = xa; x < xb; ++x)
+            for (int32_t y = j->lo[1]; y <= j->hi[1]; ++y) {
+                size_t row = ((size_t)(x - j->lo[0]) * j->ny + (size_t)(y - j->lo[1])) * j->nz;
+                const int64_t *trow = tile + (size_t)((y - ty0) / 8) * ntz;
+                for (size_t tz = 0; tz < ntz; ++tz) {
+                    int32_t z0 = tz0 + 8 * (int32_t)tz, za = HV_MAX(z0, j->lo[2]), zb = HV_MIN(z0 + 8, j->hi[2] + 1);
+                    size_t at = row + (size_t)(za - j->lo[2]), len = (size_t)(zb - za);
+                    int64_t l = trow[tz];
+                    if (l < 0) {
+                        if (j->mask) memset(j->mask + at, 0, len);
+                        else memset(j->out + at * per, 0, len * per * sizeof(float));
+                        continue;
+                    }
+                    /* the run's active bits: bits (y & 7) * 8 .. + 7 of word x & 7 */
+                    unsigned act = (unsigned)(hv_volume_leaf_mask(j->vol, (size_t)l)[x & 7] >> (8 * (y & 7))) & 0xffu;
+                    unsigned base = ((unsigned)(x & 7) << 6) | ((unsigned)(y & 7) << 3);
+                    if (j->mask) {
+                        const uint64_t *bits = j->g >= 0 ? hv_volume_leaf_bool_c(j->vol, j->g, (size_t)l) : NULL;
+                        unsigned on = bits ? act & (unsigned)(bits[x & 7] >> (8 * (y & 7))) : act;
+                        for (int32_t z = za; z < zb; ++z) j->mask[at + (size_t)(z - za)] = (uint8_t)((on >> (z & 7)) & 1u);
+                        continue;
+                    }
+                    float *dst = j->out + at * per;
+                    for (int c = 0; c < j->n; ++c) {
+                        const float *src = hv_volume_leaf_float_c(j->vol, j->grids[c], (size_t)l) + base;
+                        if (act == 0xffu)
+                            for (int32_t z = za; z < zb; ++z) dst[(size_t)(z - za) * per + (size_t)c] = src[z & 7];
+                        else
+                            for (int32_t z = za; z < zb; ++z)
+                                dst[(size_t)(z - za) * per + (size_t)c] = (act >> (z & 7)) & 1u ? src[z & 7] : 0.0f;
                     }
                 }
-        }
+            }
     }
+    free(tile);
     return HV_OK;
 }
 

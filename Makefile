@@ -41,8 +41,9 @@ PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzi
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
-LIB_DIRS  := src/core src/image src/plot src/mesh src/voxel src/field src/material src/export src/threemf src/lua volumes slicing renderer
-LIB_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
+# Every .c below src/ (but the CLI's), volumes/, slicing/ and renderer/ is the library; the layers
+# and their order are in README's "Layout".
+LIB_SRC   := $(sort $(shell find src volumes slicing renderer -name '*.c' -not -path 'src/cli/*'))
 CLI_SRC   := $(wildcard src/cli/*.c)
 LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
 CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
@@ -61,13 +62,13 @@ PLUGINS   := $(PLUGDIR)/hovox-vdb.so $(PLUGDIR)/hovox-3mf.so
 ifneq ($(wildcard src/image/oiio_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-oiio.so
 endif
-ifneq ($(wildcard src/export/vtk_bridge.cpp),)
+ifneq ($(wildcard src/io/vtk/vtk_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-vtk.so
 endif
 
 # ---- tests --------------------------------------------------------------------------------
-TEST_C    := $(wildcard tests/*/test_*.c)
-TEST_CXX  := $(wildcard tests/*/test_*.cpp)
+TEST_C    := $(sort $(shell find tests -name 'test_*.c'))
+TEST_CXX  := $(sort $(shell find tests -name 'test_*.cpp'))
 TEST_BIN  := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_C)) \
              $(patsubst tests/%.cpp,$(BUILD)/tests/%,$(TEST_CXX))
 BENCH_C   := $(wildcard tests/bench/*.c)
@@ -146,7 +147,7 @@ $(BUILD)/obj/%.pic.o: %.cpp $(BUILD)/.flags
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS_ALL) $(CXXFLAGS_ALL) $(BRIDGE_CXXFLAGS) $(EXTRA_CXXFLAGS) -c $< -o $@
 
-$(PLUGDIR)/hovox-vdb.so: $(BUILD)/obj/volumes/vdb_bridge.pic.o
+$(PLUGDIR)/hovox-vdb.so: $(BUILD)/obj/src/io/vdb/vdb_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(VDB_LIBS) $(SANFLAGS)
 
@@ -156,13 +157,13 @@ $(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
 
 # (BRIDGE_CXXFLAGS, not EXTRA_CXXFLAGS: the fuzz build sets that one on the command line)
-$(BUILD)/obj/src/mesh/threemf_bridge.pic.o: BRIDGE_CXXFLAGS = $(LIB3MF_CFLAGS)
-$(PLUGDIR)/hovox-3mf.so: $(BUILD)/obj/src/mesh/threemf_bridge.pic.o
+$(BUILD)/obj/src/io/3mf/lib3mf_bridge.pic.o: BRIDGE_CXXFLAGS = $(LIB3MF_CFLAGS)
+$(PLUGDIR)/hovox-3mf.so: $(BUILD)/obj/src/io/3mf/lib3mf_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(LIB3MF_LIBS) $(SANFLAGS)
 
-$(BUILD)/obj/src/export/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
-$(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/src/export/vtk_bridge.pic.o
+$(BUILD)/obj/src/io/vtk/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
+$(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/src/io/vtk/vtk_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(VTK_LIBS) $(SANFLAGS)
 
@@ -184,10 +185,10 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 
 # The 3MF tests and the mesh-format bench write their packages with lib3mf itself
 # (tests/support/lib3mf_c.h)
-$(BUILD)/tests/mesh/test_3mf: private LIBS += $(LIB3MF_LIBS)
+$(BUILD)/tests/io/test_3mf: private LIBS += $(LIB3MF_LIBS)
 $(BUILD)/bench-tools/bench_mesh_formats: private LIBS += $(LIB3MF_LIBS)
 # The lib3mf test reads hovox's 3MF Volumetric packages with the 3MF Consortium's library
-$(BUILD)/tests/threemf/test_lib3mf: private LIBS += $(LIB3MF_LIBS)
+$(BUILD)/tests/io/3mf/test_lib3mf: private LIBS += $(LIB3MF_LIBS)
 
 # Benchmark drivers (tests/bench/*.c): small programs that call one kernel on a file.
 $(BUILD)/bench-tools/%: $(BUILD)/obj/tests/bench/%.o $(BUILD)/libhovox.a
@@ -288,7 +289,7 @@ header-tests: $(BUILD)/.headers-ok
 unit-tests: $(TEST_BIN) $(PLUGINS)
 	@fail=0; for t in $(TEST_BIN); do \
 	    HOVOX_SHARED=$(SHARED) HOVOX_BUILD=$(BUILD) $$t --jobs 2 >$$t.log 2>&1; rc=$$?; \
-	    tail -n 1 $$t.log | sed "s|^|$$(basename $$(dirname $$t))/$$(basename $$t): |"; \
+	    tail -n 1 $$t.log | sed "s|^|$${t#$(BUILD)/tests/}: |"; \
 	    if [ $$rc -ne 0 ]; then cat $$t.log; fail=1; fi; \
 	done; exit $$fail
 
@@ -298,7 +299,7 @@ cli-tests: $(BUILD)/hovox $(PLUGINS)
 # Damaged and hostile .vdb files end cleanly, in time and memory (not under ASan: its shadow
 # memory is not the program's).
 vdb-tests: $(BUILD)/hovox $(PLUGINS) $(BUILD)/fuzz/fuzz_vdb
-	@HOVOX=$(ROOT)/$(BUILD)/hovox sh tests/volumes/corrupt_vdb.sh
+	@HOVOX=$(ROOT)/$(BUILD)/hovox sh tests/io/vdb/corrupt_vdb.sh
 
 sample-tests: $(BUILD)/hovox $(PLUGINS)
 	@if [ -f tests/samples/run.sh ]; then HOVOX=$(ROOT)/$(BUILD)/hovox SHARED=$(SHARED) \

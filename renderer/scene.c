@@ -15,6 +15,7 @@
 #endif
 
 #include "core/internal.h"
+#include "hovox/model.h"
 #include "render_internal.h"
 
 /* Guards against absurdly spread-out volumes: the dense top level of the block table. */
@@ -590,11 +591,11 @@ hv_status hv_render_volume_load(const char *path, hv_volume **out)
 {
     /* what build() reads: the occupancy, the material table's grids (hv_material_grid) */
     static const char *const k_grids[] = {"occupancy", "material.*"};
-    hv_status st = hv_volume_load_grids(path, k_grids, 2, out);
+    hv_status st = hv_model_load_grids(path, k_grids, 2, out);
     int g = st == HV_OK ? hv_volume_grid_find(*out, "occupancy") : 0;
     if (g < 0 || (st == HV_OK && hv_volume_grid_type(*out, g) != HV_GRID_BOOL)) {
         hv_volume_destroy(*out);
-        st = hv_volume_load(path, out);
+        st = hv_model_load(path, out);
     }
     return st;
 }

@@ -13,6 +13,7 @@
 
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/model.h"
 #include "hovox/tray.h"
 #include "hovox/volume.h"
 #include "image/png_fast.h"
@@ -579,7 +580,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
-    if (st == HV_OK && s->p.model) st = hv_volume_load(s->p.model, &model);
+    if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
     int q = (s->p.rotation / 90) % 4;
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;
@@ -1288,6 +1289,10 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         return HV_OK;
     }
     if (!dir || !*dir) return hv_error_set(HV_ERR_INVALID, "tray: no output directory");
+    /* outputs that are inputs are refused before anything is written (the parts are read now) */
+    if ((st = hv_output_check(dir, 1)) != HV_OK || (o->stl_path && (st = hv_output_check(o->stl_path, 0)) != HV_OK) ||
+        (o->gcvf_path && (st = hv_output_check(o->gcvf_path, 0)) != HV_OK))
+        return st;
     if (o->gcvf_path && !o->force && !hv_path_is_special(o->gcvf_path)) {
         struct stat sb;
         if (stat(o->gcvf_path, &sb) == 0) return hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);

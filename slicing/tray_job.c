@@ -357,6 +357,7 @@ hv_status hv_tray_load_job(const char *path, hv_tray **out, hv_tray_options *o)
     char *text = NULL;
     size_t size = 0;
     hv_status s = hv_read_file(path, MAX_JOB, &text, &size);
+    if (s == HV_OK) hv_input_note(path);
     if (s != HV_OK) return s;
     char base[4096];
     snprintf(base, sizeof base, "%s", path);

@@ -1,8 +1,9 @@
 /* volumes/schema.h - the model metadata schema, in one place: the JSON documents a model (.vdb)
- * carries as string metadata, their keys and schema versions, reading and writing them with the
- * version check, and (listed here, implemented by the module that owns each document) their
- * (de)serialisers. Not public API: the public readers are hv_voxelize_record_read,
- * hv_material_table_load / _from_json and hv_object_from_model.
+ * carries as string metadata, their keys and schema versions, and reading and writing them with
+ * the version check. Each document's (de)serialisers live with the module that owns it (mesh
+ * report: mesh_internal.h; voxelize record and regions: voxel_internal.h; material table and
+ * grading definition: material_internal.h). Not public API: the public readers are
+ * hv_voxelize_record_read, hv_material_table_load / _from_json and hv_object_from_model.
  *
  * Every document is an object whose first member is "schema": its version. Version 1 is the
  * layout hovox 0.1.0 wrote without that member (the object document had "version": 1), so a
@@ -14,8 +15,7 @@
 #define HOVOX_SCHEMA_H
 
 #include "core/json.h"
-#include "hovox/material.h"
-#include "hovox/voxelize.h"
+#include "hovox/volume.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -58,31 +58,6 @@ hv_status hv_schema_doc_write(hv_volume *vol, hv_schema_doc d, json_t *doc);
  * needs no newer member writes the version older hovox reads (the object document is version 1
  * unless its regions carry names or bases of their own). */
 hv_status hv_schema_doc_write_version(hv_volume *vol, hv_schema_doc d, json_t *doc, int version);
-
-/* ---- the documents' (de)serialisers, in the modules that own them ---------------------------
- * to_doc: a new object without "schema" (NULL when out of memory). from_doc: `what` names the
- * document in messages; errors HV_ERR_BAD_INPUT naming the member, HV_ERR_NOMEM. */
-
-/* hovox.mesh.json (src/mesh/report_json.c): also the object of `hovox info --json`. */
-json_t *hv_mesh_report_to_doc(const char *file, const hv_mesh_report *r);
-hv_status hv_mesh_report_from_doc(const json_t *doc, const char *what, hv_mesh_report *r);
-
-/* hovox.voxelize.json (src/voxel/voxelize.c): fills the job part of rec (not rec->mesh). */
-json_t *hv_voxelize_to_doc(const hv_voxel_plan *plan, int adjacency);
-hv_status hv_voxelize_from_doc(const json_t *doc, const char *what, hv_voxelize_record *rec);
-
-/* hovox.regions.json (src/voxel/regions.c) */
-json_t *hv_regions_to_doc(const hv_regions *r, double voxel_volume);
-hv_status hv_regions_from_doc(const json_t *doc, const char *what, hv_regions **out);
-
-/* hovox.materials.json (src/material/table.c) */
-json_t *hv_material_table_to_doc(const hv_material_table *t);
-hv_status hv_material_table_from_doc(const json_t *doc, const char *what, hv_material_table **out);
-
-/* hovox.object.json (src/material/object.c; features in frf.c, sources in ags.c): from_doc
- * rebuilds the object on vol's lattice, taking stored fields and region masks from vol. */
-hv_status hv_object_to_doc(const hv_object *o, json_t **out);
-hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object **out);
 
 #ifdef __cplusplus
 }

@@ -88,6 +88,18 @@ HV_API uint64_t hv_memory_budget(uint64_t requested);
  * Set it before starting work. */
 HV_API void hv_set_memory_cap(uint64_t bytes);
 
+/* What a command reads, so that it never writes over it: every reader of a user's file (meshes,
+ * models, fields, tables, job files) notes it; every writer refuses a target that is a noted input
+ * (the same device and inode: through any path, symbolic or hard link) or, for a directory it
+ * replaces whole, a directory holding one (HV_ERR_INVALID: "out.vdb: is an input of this
+ * command: refusing to write over it"), before it creates anything and again before it renames
+ * into place. The record is process-wide. A front end running several commands in one process
+ * (a script's calls, Python) calls hv_inputs_reset at the start of each, so one call is one
+ * command; the CLI runs one command per process. */
+HV_API void hv_input_note(const char *path);
+HV_API hv_status hv_output_check(const char *path, int is_dir);
+HV_API void hv_inputs_reset(void);
+
 /* Library version string, e.g. "0.1.0". */
 HV_API const char *hv_version(void);
 

@@ -47,13 +47,13 @@ static PyObject *py_load_mesh(PyObject *self, PyObject *arg)
     (void)self;
     PyObject *path = hvpy_path(arg, "path");
     if (!path) return NULL;
-    hv_mesh *m;
-    hv_status s;
-    Py_BEGIN_ALLOW_THREADS
-    s = hv_mesh_load(PyBytes_AS_STRING(path), &m);
-    Py_END_ALLOW_THREADS
+    hv_mesh *m = NULL;
+    hvpy_call c;
+    hvpy_begin(&c, NULL, NULL, 0);
+    hv_status s = hv_mesh_load(PyBytes_AS_STRING(path), &m);
+    hvpy_end(&c);
     Py_DECREF(path);
-    return s != HV_OK ? hvpy_fail(s) : hvpy_new_mesh(m);
+    return s != HV_OK ? hvpy_call_fail(&c, s) : hvpy_call_done(&c, hvpy_new_mesh(m));
 }
 
 /* mesh(vertices, facets) -> Mesh from an (n, 3) float array and an (f, 3) integer array */

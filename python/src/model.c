@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "hovox/model.h"
 #include "hovox/voxelize.h"
 
 static int model_clear(PyObject *self)
@@ -112,7 +113,7 @@ static PyObject *py_load(PyObject *self, PyObject *arg)
     hvpy_call c;
     hv_volume *v = NULL;
     hvpy_begin(&c, NULL, NULL, 0);
-    hv_status s = hv_volume_load(PyBytes_AS_STRING(path), &v);
+    hv_status s = hv_model_load(PyBytes_AS_STRING(path), &v);
     hvpy_end(&c);
     Py_DECREF(path);
     return s != HV_OK ? hvpy_call_fail(&c, s) : hvpy_call_done(&c, hvpy_new_model(v));

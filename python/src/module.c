@@ -328,6 +328,9 @@ static int progress_cb(void *user, const char *stage, double fraction)
 void hvpy_begin(hvpy_call *c, PyObject *progress, PyObject *const *pins, int npins)
 {
     memset(c, 0, sizeof *c);
+    /* a call is one command: what it reads it may not write over; what earlier calls read, it may
+     * (a model loaded, changed and saved in place) */
+    hv_inputs_reset();
     c->callback = progress && progress != Py_None ? progress : NULL;
     Py_XINCREF(c->callback);
     c->prog.fn = progress_cb;

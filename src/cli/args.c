@@ -20,6 +20,7 @@ typedef struct common_opts {
     int threads;
     int quiet;
     int help;
+    uint64_t max_memory;
 } common_opts;
 
 static const hv_option k_common_opts[] = {
@@ -27,7 +28,23 @@ static const hv_option k_common_opts[] = {
      .offset = offsetof(common_opts, threads), .meta = "N", .help = "worker threads (default: all cores)"},
     {.key = "quiet", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, quiet), .help = "no progress bar"},
     {.key = "help", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, help), .help = "this text"},
+    {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = offsetof(common_opts, max_memory), .meta = "SIZE",
+     .help = "memory the command may use, its readers included (default: half of RAM); a file or job that needs "
+             "more is refused (exit 3)"},
 };
+
+/* The option `key` of a command's library or local set, or NULL. */
+static const hv_option *own_option(const cli_spec *spec, const char *key, int *which)
+{
+    const hv_option_set *sets[2] = {spec->lib ? spec->lib() : NULL, spec->local};
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; sets[k] && i < sets[k]->count; ++i)
+            if (strcmp(sets[k]->options[i].key, key) == 0) {
+                if (which) *which = k;
+                return &sets[k]->options[i];
+            }
+    return NULL;
+}
 static const hv_option_set k_common = {"common", k_common_opts, (int)HV_COUNT(k_common_opts),
                                        sizeof(common_opts), NULL, NULL, 0, NULL, NULL, NULL, 0};
 
@@ -210,6 +227,7 @@ static void print_help(const cli_spec *spec)
         const hv_option *o = &k_common_opts[i];
         if (strcmp(o->key, "threads") == 0 && !(spec->flags & CLI_THREADS)) continue;
         if (strcmp(o->key, "quiet") == 0 && !(spec->flags & CLI_QUIET)) continue;
+        if (strcmp(o->key, "max_memory") == 0 && own_option(spec, "max_memory", NULL)) continue;
         print_option(out, o, NULL, NULL);
     }
     if (spec->notes) fprintf(out, "\n%s", spec->notes);
@@ -348,6 +366,13 @@ static int parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, vo
     if (spec->local && hv_optargs_finish(&out->local) != HV_OK) return usage_from_library(spec->name);
     if (lib && hv_optargs_finish(&out->lib) != HV_OK) return usage_from_library(spec->name);
     if (common.threads) hv_set_threads(common.threads);
+    /* the budget caps every allocation the command plans, its readers' included (a file of a few
+     * KB that expands to GB is refused before it is expanded) */
+    int which = 0;
+    const hv_option *mm = own_option(spec, "max_memory", &which);
+    uint64_t cap = common.max_memory;
+    if (mm) cap = *(const uint64_t *)((const char *)(which == 0 ? lib_opts : local_opts) + mm->offset);
+    if (cap) hv_set_memory_cap(cap);
     out->quiet = common.quiet;
     return -1;
 }

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/model.h"
 #include "hovox/export.h"
 
 typedef struct export_cli {
@@ -96,7 +97,7 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
     }
     if (s != HV_OK) return cli_fail(s);
     hv_volume *vol = NULL;
-    s = hv_volume_load(model, &vol);
+    s = hv_model_load(model, &vol);
     if (s != HV_OK) return cli_fail(s);
     hv_export_report rep;
     memset(&rep, 0, sizeof rep);

@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/model.h"
 #include "hovox/material.h"
 #include "hovox/voxelize.h"
 
@@ -216,7 +217,7 @@ static int grade(const char *model, grade_cli *g, int quiet)
     /* everything the user typed is checked before the model is read */
     if (g->materials && (s = hv_material_table_parse(g->materials, g->colors, g->props, g->nprops, &given)) == HV_OK)
         s = check_ms(g, hv_material_count(given));
-    if (s == HV_OK) s = hv_volume_load(model, &vol);
+    if (s == HV_OK) s = hv_model_load(model, &vol);
     int assembly = 0;
     if (s == HV_OK && !g->grid) {
         /* a model voxelized from an assembly: one region per body, each of its body's material */

@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/model.h"
 #include "hovox/dist.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
@@ -91,7 +92,7 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         o->mesh_name = o->model_name;
     } else {
         s = hv_mesh_load(c->mesh, &mesh);
-        if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_volume_load(o->model_name, &model);
+        if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_model_load(o->model_name, &model);
     }
     hv_layers_report r;
     memset(&r, 0, sizeof r);

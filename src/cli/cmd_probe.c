@@ -8,6 +8,7 @@
 
 #include "core/internal.h"
 #include "cli.h"
+#include "hovox/model.h"
 #include "hovox/material.h"
 
 typedef struct probe_cli {
@@ -51,7 +52,7 @@ static int points_add(points *p, const double v[3])
 static int probe(const char *model, const points *pts)
 {
     hv_volume *vol = NULL;
-    hv_status s = hv_volume_load(model, &vol);
+    hv_status s = hv_model_load(model, &vol);
     if (s == HV_OK && (s = hv_model_probe_csv(vol, pts->xyz, pts->n, stdout)) != HV_OK)
         hv_error_prefix(s, "%s: ", s == HV_ERR_IO ? "stdout" : model);
     hv_volume_destroy(vol);

@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "core/internal.h"
+#include "hovox/model.h"
 #include "hovox/plot.h"
 #include "hovox/profile.h"
 
@@ -63,7 +64,7 @@ static int run(const char *model, const hv_profile_options *o, const profile_cli
 {
     int to_stdout = c->output && strcmp(c->output, "-") == 0;
     hv_volume *vol;
-    hv_status s = hv_volume_load(model, &vol);
+    hv_status s = hv_model_load(model, &vol);
     if (s != HV_OK) return cli_fail(s);
     hv_profile *prof;
     s = hv_profile_sample_with(vol, o, &prof);

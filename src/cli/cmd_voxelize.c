@@ -5,6 +5,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/model.h"
 #include "hovox/voxelize.h"
 
 typedef struct vox_cli {
@@ -147,7 +148,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_transform lattice;
     if (c->like) {
         hv_volume *ref;
-        hv_status s = hv_volume_load(c->like, &ref);
+        hv_status s = hv_model_load(c->like, &ref);
         if (s != HV_OK) return cli_fail(s);
         lattice = hv_volume_get_transform(ref);
         hv_volume_destroy(ref);

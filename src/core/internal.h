@@ -169,11 +169,6 @@ void hv_outdir_abort(const char *tmp);
 void hv_remove_tree(const char *path);
 
 /* ---- plugins ---------------------------------------------------------------------------- */
-/* Load plugins/<name>.so (searched in $HOVOX_PLUGIN_DIR, <exe dir>/plugins,
- * <exe dir>/../plugins, <exe dir>/../lib/hovox/plugins, the build-time directory) and return
- * the address of `symbol`. Errors: HV_ERR_UNSUPPORTED naming the places tried and dlerror. */
-hv_status hv_plugin_symbol(const char *name, const char *symbol, void **out);
-
 /* ---- parallel loops ---------------------------------------------------------------------- */
 /* Call fn(ctx, begin, end, thread) over [0, n) in chunks of `grain` on hv_threads() threads.
  * Progress (stage, done/n) is reported from the calling thread; a cancel stops handing out
@@ -190,4 +185,28 @@ hv_status hv_progress_report(const hv_progress *p, const char *stage, double fra
 #ifdef __cplusplus
 }
 #endif
+/* ---- names (names.c) --------------------------------------------------------------------- */
+
+/* A set of names, each with the index of its first insertion (bodies, materials). */
+typedef struct hv_names {
+    char **names; /* n, in insertion order; owned */
+    size_t n, cap;
+    int64_t *slots; /* open addressing: index + 1, 0 empty */
+    size_t nslots;
+} hv_names;
+void hv_names_init(hv_names *t);
+void hv_names_free(hv_names *t);
+/* The index of the name s[0..n), or -1. */
+int64_t hv_names_find(const hv_names *t, const char *s, size_t n);
+/* The index of the name s[0..n), inserted when new. Errors: NOMEM, LIMIT. */
+hv_status hv_names_intern(hv_names *t, const char *s, size_t n, int32_t *index);
+
+/* A printable copy of s[0..n) for messages (control and non-ASCII bytes as '?', "..." when
+ * cut to fit cap); returns buf. */
+const char *hv_quote(char *buf, size_t cap, const char *s, size_t n);
+
+/* The base name of a file without its extension ("part" for "dir/part.obj"); malloc'd. */
+char *hv_file_stem(const char *name);
+
+
 #endif

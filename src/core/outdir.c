@@ -195,6 +195,8 @@ static hv_status refuse(const char *dir, const hv_outdir_rules *r, int kind, con
 hv_status hv_outdir_begin(const char *dir, const hv_outdir_rules *r, int force, char **tmp)
 {
     *tmp = NULL;
+    hv_status refused = hv_output_check(dir, 1);
+    if (refused != HV_OK) return refused;
     hv_buf foreign;
     hv_buf_init(&foreign);
     int kind = classify(dir, r, &foreign);
@@ -231,6 +233,8 @@ hv_status hv_outdir_commit(const char *tmp, const char *dir, const hv_outdir_rul
     hv_buf_init(&foreign);
     int kind = classify(dir, r, &foreign);
     hv_buf_free(&foreign);
+    hv_status refused = hv_output_check(dir, 1);
+    if (refused != HV_OK) return refused;
     if (kind == OURS && (force || !r->need_force)) {
         char *old = sibling(dir, "old", (long)getpid());
         if (!old) return hv_error_set(HV_ERR_NOMEM, "out of memory");

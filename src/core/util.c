@@ -301,6 +301,11 @@ char *hv_temp_path(const char *path)
 hv_status hv_temp_commit(const char *tmp, const char *path)
 {
     if (!hv_path_is_special(path)) {
+        hv_status s = hv_output_check(path, 0);
+        if (s != HV_OK) {
+            unlink(tmp);
+            return s;
+        }
         if (rename(tmp, path) == 0) return HV_OK;
         return hv_error_set(HV_ERR_IO, "%s: cannot rename into place: %s", path, strerror(errno));
     }
@@ -371,6 +376,8 @@ hv_status hv_atomic_open(hv_atomic_file *af, const char *path, const char *mode)
         }
         return HV_OK;
     }
+    hv_status s = hv_output_check(path, 0);
+    if (s != HV_OK) return s;
     af->path = hv_strdup(path);
     af->tmp = hv_temp_path(path);
     if (!af->path || !af->tmp) {
@@ -416,6 +423,11 @@ hv_status hv_atomic_commit(hv_atomic_file *af)
         free(af->path);
         memset(af, 0, sizeof *af);
         return HV_OK;
+    }
+    hv_status refused = hv_output_check(af->path, 0);
+    if (refused != HV_OK) {
+        hv_atomic_abort(af);
+        return refused;
     }
     if (rename(af->tmp, af->path) != 0) {
         e = errno;

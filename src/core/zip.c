@@ -109,6 +109,7 @@ void hv_zip_abort(hv_zip *z)
 hv_status hv_zip_open(const char *path, hv_zip **out)
 {
     *out = NULL;
+    if (path && hv_output_check(path, 0) != HV_OK) return HV_ERR_INVALID;
     hv_zip *z = hv_calloc(1, sizeof *z);
     if (!z) return HV_ERR_NOMEM;
     zip_error_init(&z->zerr);

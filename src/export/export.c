@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "export_internal.h"
-#include "vtk_bridge.h"
+#include "io/vtk/vtk_bridge.h"
 
 #define FRACTION_TOL 1e-4
 
@@ -355,39 +355,6 @@ hv_status ex_model_init(ex_model *md, const hv_volume *vol, const hv_export_opti
 
 /* ---- the VTK plugin ---------------------------------------------------------------------- */
 
-static const hv_vtk_api *g_vtk;
-static hv_status g_vtk_status = HV_OK;
-static char g_vtk_error[2048];
-static pthread_once_t g_vtk_once = PTHREAD_ONCE_INIT;
-
-static void load_vtk(void)
-{
-    void *sym = NULL;
-    g_vtk_status = hv_plugin_symbol("hovox-vtk", HV_VTK_ENTRY, &sym);
-    if (g_vtk_status == HV_OK) {
-        g_vtk = ((hv_vtk_entry_fn)sym)();
-        if (!g_vtk || g_vtk->abi != HV_VTK_ABI) {
-            g_vtk = NULL;
-            g_vtk_status = hv_error_set(HV_ERR_UNSUPPORTED,
-                                        "VTK bridge failed to initialise or has a different ABI");
-        }
-    }
-    if (g_vtk_status != HV_OK) strncpy(g_vtk_error, hv_last_error(), sizeof g_vtk_error - 1);
-}
-
-static hv_status vtk_api(void)
-{
-    pthread_once(&g_vtk_once, load_vtk);
-    if (g_vtk_status != HV_OK) return hv_error_set(g_vtk_status, "%s", g_vtk_error);
-    return HV_OK;
-}
-
-hv_status hv_vtk_bridge(const hv_vtk_api **api)
-{
-    hv_status s = vtk_api();
-    *api = s == HV_OK ? g_vtk : NULL;
-    return s;
-}
 
 static int vtk_progress(void *user, double fraction)
 {
@@ -666,7 +633,8 @@ static hv_status write_impl(const hv_volume *vol, const char *path, const hv_exp
         ex_model_free(&md);
         return s;
     }
-    if (s == HV_OK) s = vtk_api();
+    const hv_vtk_api *g_vtk = NULL;
+    if (s == HV_OK) s = hv_vtk_bridge(&g_vtk);
     /* claim the temporary name now, so an unwritable place fails before the work */
     if (s == HV_OK) {
         tmp = hv_temp_path(path);

@@ -159,6 +159,7 @@ hv_status hv_linearization_load(const char *path, const char *property, hv_linea
     char *data;
     size_t size;
     hv_status s = hv_read_file(path, MAX_CSV_BYTES, &data, &size);
+    if (s == HV_OK) hv_input_note(path);
     if (s != HV_OK) return s;
     s = hv_linearization_parse(data, size, path, property, out);
     free(data);

@@ -14,6 +14,7 @@
 #include <zlib.h>
 
 #include "core/internal.h"
+#include "core/plugin.h"
 #include "hovox/image.h"
 #include "oiio_bridge.h"
 
@@ -614,32 +615,15 @@ hv_status hv_png_decode_flags(const void *data, size_t size, const char *name, u
 
 /* ---- OpenImageIO plugin ----------------------------------------------------------------- */
 
-static const hv_oiio_api *g_oiio;
-static hv_status g_oiio_status = HV_OK;
-static char g_oiio_error[2048];
-static pthread_once_t g_oiio_once = PTHREAD_ONCE_INIT;
-
-static void load_oiio(void)
-{
-    void *sym = NULL;
-    g_oiio_status = hv_plugin_symbol("hovox-oiio", HV_OIIO_ENTRY, &sym);
-    if (g_oiio_status == HV_OK) {
-        g_oiio = ((hv_oiio_entry_fn)sym)();
-        if (!g_oiio || g_oiio->abi != HV_OIIO_ABI) {
-            g_oiio = NULL;
-            g_oiio_status = hv_error_set(
-                HV_ERR_UNSUPPORTED, "OpenImageIO bridge failed to initialise or has a different ABI");
-        }
-    }
-    if (g_oiio_status != HV_OK) strncpy(g_oiio_error, hv_last_error(), sizeof g_oiio_error - 1);
-}
+static hv_plugin g_oiio_plugin = HV_PLUGIN_DEF("hovox-oiio", HV_OIIO_ENTRY, HV_OIIO_ABI, "OpenImageIO bridge");
 
 static hv_status write_oiio(const hv_image *img, const char *path, const char *format, int exr)
 {
-    pthread_once(&g_oiio_once, load_oiio);
-    if (g_oiio_status != HV_OK)
+    const void *api = NULL;
+    if (hv_plugin_api(&g_oiio_plugin, &api) != HV_OK)
         return hv_error_set(HV_ERR_UNSUPPORTED, "%s: %s output needs OpenImageIO: %s", path,
-                            exr ? "EXR" : "TIFF", g_oiio_error);
+                            exr ? "EXR" : "TIFF", hv_last_error());
+    const hv_oiio_api *g_oiio = api;
     size_t n = (size_t)img->width * (size_t)img->height;
     const float *px = img->rgba;
     float *straight = NULL;

@@ -4,6 +4,8 @@
 // status plus what(); nothing propagates into C.
 #include "oiio_bridge.h"
 
+#include "core/bridge.hpp"
+
 #include <OpenImageIO/imageio.h>
 
 #include <exception>
@@ -13,23 +15,11 @@
 
 namespace {
 
-// Status values of hovox/core.h (the plugin does not link the library).
-enum { OK = 0, E_INVALID = 1, E_IO = 3, E_NOMEM = 4, E_UNSUPPORTED = 8, E_INTERNAL = 9 };
+using namespace hv_bridge;
 
-thread_local std::string g_error;
+#define HV_CATCH(code) HV_CATCH_PREFIXED(code, "", "OpenImageIO")
 
-int fail(int status, const std::string &msg)
-{
-    g_error = msg;
-    return status;
-}
-
-#define HV_CATCH(code)                                                                 \
-    catch (const std::bad_alloc &) { return fail(E_NOMEM, "out of memory"); }          \
-    catch (const std::exception &e) { return fail(code, e.what()); }                   \
-    catch (...) { return fail(code, "unknown exception in OpenImageIO bridge"); }
-
-const char *b_last_error(void) { return g_error.c_str(); }
+const char *b_last_error(void) { return last_error(); }
 
 // OpenImageIO keeps a per-thread pending error; fetch it so the message is ours to report
 // (and OIIO does not complain about unretrieved errors at exit).

@@ -8,6 +8,7 @@
 #include <lauxlib.h>
 
 #include "core/internal.h"
+#include "hovox/model.h"
 #include "hovox/voxelize.h"
 #include "lhovox.h"
 
@@ -48,7 +49,7 @@ static int l_load(lua_State *L)
 {
     const char *path = luaL_checkstring(L, 1);
     hv_volume *v;
-    hv_status s = hv_volume_load(path, &v);
+    hv_status s = hv_model_load(path, &v);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);
     return 1;

@@ -39,6 +39,9 @@ static int write_allowed(lua_State *L, const char *path)
 
 const char *hv_lua_check_write(lua_State *L, int arg, const char *path)
 {
+    /* a call of a script is one command: what earlier calls read may be written now (a model
+     * loaded, changed and saved in place), what this call reads may not */
+    hv_inputs_reset();
     if (!write_allowed(L, path))
         arg_error(L, arg, "sandbox: writing '%s' outside the output directory is not allowed", path);
     return path;

@@ -205,6 +205,7 @@ hv_status hv_calibration_load(const char *path, hv_calibration **out)
     char *data;
     size_t size;
     hv_status s = hv_read_file(path, MAX_CSV_BYTES, &data, &size);
+    if (s == HV_OK) hv_input_note(path);
     if (s != HV_OK) return s;
     s = hv_calibration_parse(data, size, path, out);
     free(data);

@@ -1,6 +1,6 @@
 /* src/material/field_file.c - field features: a scalar field from data (an FEA result, a scan)
  * sampled at the model's voxel centres, where its value plays the role of Wu's distance d. VTK
- * files go through the VTK bridge plugin (src/export/vtk_bridge.h: vtkProbeFilter), .vdb float
+ * files go through the VTK bridge plugin (src/io/vtk/vtk_bridge.h: vtkProbeFilter), .vdb float
  * grids through the volume store; voxels the field misses are refused or filled from the
  * nearest covered voxel. The result is an ordinary stored field (HV_FRF_FIELD). */
 #include <math.h>
@@ -8,7 +8,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "export/vtk_bridge.h"
+#include "io/vtk/vtk_bridge.h"
 #include "material_internal.h"
 
 /* The voxel centres of the true voxels of bool grid 0 of m (n of them, 3 doubles each). */
@@ -95,6 +95,7 @@ static hv_status probe_vtk(const char *path, const char *array, size_t n, const 
     if (s != HV_OK) return s;
     hv_vtk_probe_info info;
     memset(&info, 0, sizeof info);
+    hv_input_note(path);
     int rc = api->probe(path, array, (int64_t)n, xyz, out, valid, &info);
     if (rc != HV_OK) return hv_error_set((hv_status)rc, "%s", api->last_error());
     range[0] = info.range[0];

@@ -135,4 +135,16 @@ hv_status hv_ags_from_parts(hv_frf *frf, double d_neg, double d_grad, double d_p
                             const char *fdesc, const double *ms, const double *me, int m,
                             const char *name, hv_ags **out);
 
+/* The documents grading writes (volumes/schema.h). to_doc: a new object without "schema" (NULL
+ * when out of memory); from_doc: `what` names the document in messages, errors HV_ERR_BAD_INPUT
+ * naming the member, HV_ERR_NOMEM. */
+/* hovox.materials.json (table.c) */
+json_t *hv_material_table_to_doc(const hv_material_table *t);
+hv_status hv_material_table_from_doc(const json_t *doc, const char *what, hv_material_table **out);
+
+/* hovox.object.json (object.c; features in frf.c, sources in ags.c): from_doc rebuilds the object
+ * on vol's lattice, taking stored fields and region masks from vol. */
+hv_status hv_object_to_doc(const hv_object *o, json_t **out);
+hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object **out);
+
 #endif

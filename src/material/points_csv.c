@@ -101,6 +101,7 @@ hv_status hv_points_read_csv(const char *path, double **xyz, size_t *n)
     char *data;
     size_t size;
     hv_status s = hv_read_file(path, MAX_POINTS_FILE, &data, &size);
+    if (s == HV_OK) hv_input_note(path);
     if (s != HV_OK) return s;
     s = hv_points_parse_csv(data, size, path, xyz, n);
     free(data);

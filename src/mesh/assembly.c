@@ -1,6 +1,5 @@
-/* src/mesh/assembly.c - assemblies out and moved (hovox/mesh.h): a multi-body mesh written as
- * OBJ (one `o` group and `usemtl` per body), and an affine transform that keeps the bodies and
- * materials (a part turned on a tray keeps its bodies). */
+/* src/mesh/assembly.c - assemblies moved (hovox/mesh.h): an affine transform that keeps the bodies
+ * and materials (a part turned on a tray keeps its bodies). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,50 +7,6 @@
 
 #include "core/internal.h"
 #include "mesh_internal.h"
-
-/* A name on one OBJ line: control characters (a newline would end the statement) become '_'. */
-static void put_name(FILE *fp, const char *s)
-{
-    for (; *s; ++s) fputc((unsigned char)*s < 0x20 || *s == 0x7f ? '_' : *s, fp);
-}
-
-hv_status hv_mesh_write_obj(const hv_mesh *m, const char *path)
-{
-    if (hv_check_extension(path, ".obj", "a mesh") != HV_OK) return HV_ERR_INVALID;
-    hv_atomic_file af;
-    hv_status s = hv_atomic_open(&af, path, "wb");
-    if (s != HV_OK) return s;
-    FILE *fp = af.fp;
-    fprintf(fp, "# written by hovox: %zu bodies, %zu vertices, %zu facets\n", m->nbodies, m->nv, m->nf);
-    for (size_t i = 0; i < m->nv; ++i)
-        fprintf(fp, "v %.9g %.9g %.9g\n", (double)m->xyz[3 * i], (double)m->xyz[3 * i + 1], (double)m->xyz[3 * i + 2]);
-    int active = 0; /* a usemtl is in effect: OBJ carries it over to the next group */
-    for (size_t b = 0; b < m->nbodies; ++b) {
-        const hv_mesh_body *body = &m->bodies[b];
-        fputs("o ", fp);
-        put_name(fp, body->name);
-        fputc('\n', fp);
-        if (body->material != HV_MESH_NO_MATERIAL) {
-            fputs("usemtl ", fp);
-            put_name(fp, m->mats[body->material].name);
-            fputc('\n', fp);
-            active = 1;
-        } else if (active) {
-            fputs("usemtl\n", fp); /* no material from here on */
-            active = 0;
-        }
-        for (size_t f = body->first_facet; f < body->first_facet + body->facet_count; ++f)
-            fprintf(fp, "f %lu %lu %lu\n", (unsigned long)m->tri[3 * f] + 1, (unsigned long)m->tri[3 * f + 1] + 1,
-                    (unsigned long)m->tri[3 * f + 2] + 1);
-    }
-    return hv_atomic_commit(&af);
-}
-
-hv_status hv_mesh_save(const hv_mesh *m, const char *path, int ascii)
-{
-    if (hv_has_extension(path, ".obj")) return hv_mesh_write_obj(m, path);
-    return hv_mesh_write_stl(m, path, ascii);
-}
 
 hv_status hv_mesh_transform(const hv_mesh *m, const double a[12], hv_mesh **out)
 {

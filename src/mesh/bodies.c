@@ -138,7 +138,7 @@ nomem:
  * the extension), or "body 1". */
 hv_status hv_mesh_default_body(hv_mesh *m)
 {
-    char *stem = hv_mesh_file_stem(m->name);
+    char *stem = hv_file_stem(m->name);
     if (!stem) return HV_ERR_NOMEM;
     hv_mesh_body b = {stem, HV_MESH_NO_MATERIAL, 0, m->nf};
     hv_status s = hv_mesh_set_bodies(m, &b, 1, NULL, 0, NULL);
@@ -268,33 +268,4 @@ done:
     free(bodies);
     free(mats);
     return s;
-}
-
-/* ---- reader choice ---------------------------------------------------------------------- */
-
-const char *hv_mesh_load_extensions(void) { return "stl, 3mf, obj, ply"; }
-
-/* A whole file through one of the parse_ functions. */
-static hv_status load_with(const char *path, hv_status (*parse)(const void *, size_t, const char *, hv_mesh **),
-                           hv_mesh **out)
-{
-    char *data;
-    size_t size;
-    hv_status s = hv_read_file(path, (size_t)1 << 40, &data, &size);
-    if (s != HV_OK) return s;
-    s = parse(data, size, path, out);
-    free(data);
-    return s;
-}
-
-hv_status hv_mesh_load(const char *path, hv_mesh **out)
-{
-    *out = NULL;
-    if (hv_has_extension(path, ".stl")) return hv_mesh_load_stl(path, out);
-    if (hv_has_extension(path, ".3mf")) return load_with(path, hv_mesh_parse_3mf, out);
-    if (hv_has_extension(path, ".obj")) return load_with(path, hv_mesh_parse_obj, out);
-    if (hv_has_extension(path, ".ply")) return load_with(path, hv_mesh_parse_ply, out);
-    const char *dot = strrchr(hv_basename(path), '.');
-    return hv_error_set(HV_ERR_BAD_INPUT, "%s: unsupported mesh format '%s' (supported: %s)", path,
-                        dot ? dot + 1 : "", hv_mesh_load_extensions());
 }

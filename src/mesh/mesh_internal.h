@@ -1,10 +1,11 @@
-/* src/mesh/mesh_internal.h - the mesh object and its builder, shared by the STL reader,
- * the generators and the slicer. */
+/* src/mesh/mesh_internal.h - the mesh object and its builder, shared by the file readers
+ * (src/io), the generators and the slicer. */
 #ifndef HOVOX_MESH_INTERNAL_H
 #define HOVOX_MESH_INTERNAL_H
 
 #include "hovox/mesh.h"
 #include "core/internal.h"
+#include "core/json.h"
 
 struct hv_mesh {
     char *name;
@@ -54,34 +55,10 @@ const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10
 hv_status hv_mesh_default_body(hv_mesh *m);
 void hv_mesh_bodies_free(hv_mesh *m);
 
-/* ---- what the file readers share (readers.c) -------------------------------------------- */
-
-/* A set of names, each with the index of its first insertion (bodies, materials). */
-typedef struct hv_names {
-    char **names; /* n, in insertion order; owned */
-    size_t n, cap;
-    int64_t *slots; /* open addressing: index + 1, 0 empty */
-    size_t nslots;
-} hv_names;
-void hv_names_init(hv_names *t);
-void hv_names_free(hv_names *t);
-/* The index of the name s[0..n), or -1. */
-int64_t hv_names_find(const hv_names *t, const char *s, size_t n);
-/* The index of the name s[0..n), inserted when new. Errors: NOMEM, LIMIT. */
-hv_status hv_names_intern(hv_names *t, const char *s, size_t n, int32_t *index);
-
-/* A printable copy of s[0..n) for messages (control and non-ASCII bytes as '?', "..." when
- * cut to fit cap); returns buf. */
-const char *hv_quote(char *buf, size_t cap, const char *s, size_t n);
-
-/* The base name of a file without its extension ("part" for "dir/part.obj"); malloc'd. */
-char *hv_mesh_file_stem(const char *name);
-
-/* A reader's last step: the soup (9 floats per facet, finite) becomes a mesh named `name`,
- * with the bodies given (consecutive facet ranges in order; none: one body named after the
- * file) and the materials (facet_mat may be NULL). */
-hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_format format,
-                        const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
-                        size_t nmats, const int32_t *facet_mat, hv_mesh **out);
+/* hovox.mesh.json (report_json.c; volumes/schema.h): also the object of `hovox info --json`.
+ * to_doc: a new object without "schema" (NULL when out of memory); from_doc: `what` names the
+ * document in messages, errors HV_ERR_BAD_INPUT naming the member, HV_ERR_NOMEM. */
+json_t *hv_mesh_report_to_doc(const char *file, const hv_mesh_report *r);
+hv_status hv_mesh_report_from_doc(const json_t *doc, const char *what, hv_mesh_report *r);
 
 #endif

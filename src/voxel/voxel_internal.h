@@ -3,6 +3,7 @@
 #define HOVOX_VOXEL_INTERNAL_H
 
 #include "bitgrid.h"
+#include "core/json.h"
 #include "hovox/mesh.h"
 #include "hovox/voxelize.h"
 
@@ -45,5 +46,16 @@ hv_status hv_regions_grid_name(const char *body, char **out);
 /* The fill HV_FILL_AUTO resolves to for a mesh with this report: flood for one closed, manifold,
  * consistently oriented shell, else the vote. */
 hv_fill_mode hv_fill_auto(const hv_mesh_report *r);
+
+/* The documents voxelization writes (volumes/schema.h). to_doc: a new object without "schema"
+ * (NULL when out of memory); from_doc: `what` names the document in messages, errors
+ * HV_ERR_BAD_INPUT naming the member, HV_ERR_NOMEM. */
+/* hovox.voxelize.json (voxelize.c): fills the job part of rec (not rec->mesh). */
+json_t *hv_voxelize_to_doc(const hv_voxel_plan *plan, int adjacency);
+hv_status hv_voxelize_from_doc(const json_t *doc, const char *what, hv_voxelize_record *rec);
+
+/* hovox.regions.json (regions.c) */
+json_t *hv_regions_to_doc(const hv_regions *r, double voxel_volume);
+hv_status hv_regions_from_doc(const json_t *doc, const char *what, hv_regions **out);
 
 #endif

@@ -6,6 +6,11 @@
 
 #include "slicing/layers_internal.h"
 #include "volumes/schema.h"
+#include "hovox/material.h"
+#include "hovox/voxelize.h"
+#include "mesh/mesh_internal.h"
+#include "voxel/voxel_internal.h"
+#include "material/material_internal.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

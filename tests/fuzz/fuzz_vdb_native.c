@@ -11,6 +11,7 @@
 
 #include "hovox/volume.h"
 #include "volumes/volume_internal.h"
+#include "io/vdb/vdb_internal.h"
 #include "fuzz_file.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

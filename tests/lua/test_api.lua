@@ -48,7 +48,7 @@ local groups = hovox.load_mesh("tests/data/good/groups.obj")
 assert(groups:bodies()[2].name == "core" and groups:materials()[1].color == nil)
 assert(hovox.load_mesh("tests/data/good/tet_binary_be.ply"):report().format == "ply_binary_be")
 fails("header declares 1000000000000 vertices", hovox.load_mesh, "tests/data/bad/ply_count_lies.ply")
-fails("unsupported mesh format 'off'", hovox.load_mesh, "part.off")
+fails("unsupported mesh format 'step'", hovox.load_mesh, "tests/data/good/part.step")
 
 -- generators
 local s = hovox.generate.sphere{radius = 5, segments = 32, rings = 16}

@@ -15,6 +15,11 @@
 #include "support/support.h"
 #include "material/material_internal.h"
 #include "volumes/schema.h"
+#include "hovox/material.h"
+#include "hovox/voxelize.h"
+#include "mesh/mesh_internal.h"
+#include "voxel/voxel_internal.h"
+#include "material/material_internal.h"
 
 /* ---- helpers ------------------------------------------------------------------------------ */
 

@@ -1,6 +1,6 @@
 /* tests/mesh/test_bodies.c - bodies and materials of meshes (hovox/mesh.h): the default body,
  * joining meshes into an assembly, extraction checked against the part meshes' own reports,
- * unique names and the reader choice by extension. */
+ * unique names. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
@@ -93,15 +93,4 @@ Test(bodies, join_without_names_or_materials)
     cr_assert_eq(hv_mesh_join(&none, 1, &j), HV_ERR_INVALID);
     cr_assert_null(j);
     hv_mesh_destroy(a);
-}
-
-Test(bodies, load_refuses_an_unknown_extension_listing_the_known_ones)
-{
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_mesh_load("part.step", &m), HV_ERR_BAD_INPUT);
-    cr_assert_null(m);
-    cr_assert(strstr(hv_last_error(), "part.step") && strstr(hv_last_error(), "'step'") &&
-                  strstr(hv_last_error(), hv_mesh_load_extensions()),
-              "%s", hv_last_error());
-    cr_assert_str_eq(hv_mesh_format_name(HV_MESH_STL_BINARY), "binary STL");
 }

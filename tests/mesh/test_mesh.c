@@ -304,3 +304,47 @@ Test(stl, a_nul_byte_inside_a_number_is_refused)
     cr_assert(strstr(hv_last_error(), "line 5") && strstr(hv_last_error(), "is not a number: '1?2'"), "%s",
               hv_last_error());
 }
+
+/* The pairing of half-edges around a non-manifold edge (hv_mesh_neighbors), against the rule
+ * written out by brute force: in facet order, each unpaired half-edge takes the next unpaired one
+ * of opposite direction, else the next unpaired one; a last odd one stays open. Facets fan around
+ * the edge v0 v1, each wound one way or the other at random. */
+Test(report, nonmanifold_pairing_follows_the_rule_for_any_fan)
+{
+    unsigned seed = 12345;
+    for (int round = 0; round < 40; ++round) {
+        size_t k = 3 + (size_t)(round * 7 % 97);
+        float *xyz = malloc((k + 2) * 3 * sizeof *xyz);
+        uint32_t *tri = malloc(k * 3 * sizeof *tri);
+        int *dir = malloc(k * sizeof *dir);
+        xyz[0] = 0, xyz[1] = 0, xyz[2] = 0, xyz[3] = 1, xyz[4] = 0, xyz[5] = 0;
+        for (size_t i = 0; i < k; ++i) {
+            double a = 6.283185307179586 * (double)i / (double)k;
+            xyz[3 * (i + 2)] = 0.5f, xyz[3 * (i + 2) + 1] = (float)cos(a), xyz[3 * (i + 2) + 2] = (float)sin(a);
+            seed = seed * 1103515245u + 12345u;
+            dir[i] = (int)((seed >> 16) & 1u);
+            tri[3 * i] = dir[i] ? 1 : 0, tri[3 * i + 1] = dir[i] ? 0 : 1, tri[3 * i + 2] = (uint32_t)(i + 2);
+        }
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_create(xyz, k + 2, tri, k, &m), HV_OK, "%s", hv_last_error());
+        /* the rule, quadratic, over the facets in order (edge 0 of every facet is v0 v1) */
+        int32_t *want = malloc(k * sizeof *want);
+        char *used = calloc(k, 1);
+        for (size_t i = 0; i < k; ++i) {
+            if (used[i]) continue;
+            used[i] = 1;
+            size_t pick = k;
+            for (size_t j = i + 1; j < k && pick == k; ++j)
+                if (!used[j] && dir[j] != dir[i]) pick = j;
+            for (size_t j = i + 1; j < k && pick == k; ++j)
+                if (!used[j]) pick = j;
+            want[i] = pick == k ? HV_MESH_OPEN : (int32_t)pick;
+            if (pick < k) used[pick] = 1, want[pick] = (int32_t)i;
+        }
+        const int32_t *nbr = hv_mesh_neighbors(m);
+        for (size_t i = 0; i < k; ++i)
+            cr_assert_eq(nbr[3 * i], want[i], "fan of %zu, facet %zu: %d, the rule says %d", k, i, nbr[3 * i], want[i]);
+        free(want), free(used), free(dir), free(tri), free(xyz);
+        hv_mesh_destroy(m);
+    }
+}

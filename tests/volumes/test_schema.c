@@ -10,6 +10,11 @@
 #include "hovox/generate.h"
 #include "support/support.h"
 #include "volumes/schema.h"
+#include "hovox/material.h"
+#include "hovox/voxelize.h"
+#include "mesh/mesh_internal.h"
+#include "voxel/voxel_internal.h"
+#include "material/material_internal.h"
 
 /* tests/data/models/legacy_graded.vdb: written by hovox 0.1.0 (before schema versions). */
 static const char *legacy_path(void)

@@ -1,0 +1,27 @@
+/* hovox/model.h - models from any file: the one model loader, which picks the reader by the file's
+ * content. A model is a volume (hovox/volume.h) with its documents in metadata: occupancy, the
+ * material fractions and their table, the grading definition, the regions of an assembly. */
+#ifndef HOVOX_MODEL_H
+#define HOVOX_MODEL_H
+
+#include "hovox/volume.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Load a model: an OpenVDB file (hv_volume_load), or a 3MF package with the Volumetric extension
+ * (a ZIP archive; hv_3mf_load, hovox/threemf.h), told apart by their first bytes. Errors: those of
+ * the reader; HV_ERR_IO (missing, unreadable, a directory), HV_ERR_BAD_INPUT (neither format:
+ * "not an OpenVDB file (bad magic number)"). On success free *out with hv_volume_destroy. */
+HV_API hv_status hv_model_load(const char *path, hv_volume **out);
+
+/* hv_model_load taking only the grids `names` selects from an OpenVDB file (hv_volume_load_grids); a
+ * 3MF package is read whole. Errors: those of hv_model_load, HV_ERR_INVALID (n < 0,
+ * an empty or NULL name). */
+HV_API hv_status hv_model_load_grids(const char *path, const char *const *names, int n, hv_volume **out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

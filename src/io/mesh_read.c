@@ -1,0 +1,41 @@
+/* src/io/mesh_read.c - the last step of every mesh reader: facets grouped into bodies become a
+ * mesh. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/internal.h"
+#include "io_internal.h"
+
+/* ---- the last step of a reader ----------------------------------------------------------- */
+
+hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_format format,
+                        const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
+                        size_t nmats, const int32_t *facet_mat, hv_mesh **out)
+{
+    *out = NULL;
+    hv_mesh *m = NULL;
+    hv_status s = hv_mesh_from_soup(soup, NULL, nf, name, format, &m);
+    if (s != HV_OK) return s;
+    if (nbodies > 0 || nmats > 0) {
+        hv_mesh_body whole = {NULL, HV_MESH_NO_MATERIAL, 0, nf};
+        char *stem = NULL;
+        if (nbodies == 0) { /* one body named after the file, with the materials given */
+            stem = hv_file_stem(name);
+            if (!stem) {
+                hv_mesh_destroy(m);
+                return HV_ERR_NOMEM;
+            }
+            whole.name = stem;
+            bodies = &whole;
+            nbodies = 1;
+        }
+        s = hv_mesh_set_bodies(m, bodies, nbodies, mats, nmats, facet_mat);
+        free(stem);
+        if (s != HV_OK) {
+            hv_mesh_destroy(m);
+            return s;
+        }
+    }
+    *out = m;
+    return HV_OK;
+}

@@ -1,0 +1,46 @@
+/* src/model/load.c - the one model loader (hovox/model.h): an OpenVDB file or a 3MF Volumetric
+ * package, told apart by the first bytes. */
+#include <stdio.h>
+#include <sys/stat.h>
+
+#include "core/internal.h"
+#include "hovox/model.h"
+#include "hovox/threemf.h"
+
+typedef enum model_kind { MODEL_VDB, MODEL_3MF } model_kind;
+
+/* Which reader: a ZIP archive is a 3MF package; anything else goes to the .vdb reader, which says
+ * what is wrong with a file that is neither. */
+static hv_status sniff(const char *path, model_kind *kind)
+{
+    struct stat st;
+    if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: no such file", path);
+    if (S_ISDIR(st.st_mode)) return hv_error_set(HV_ERR_IO, "%s: is a directory, not a file", path);
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return hv_error_set(HV_ERR_IO, "%s: cannot open for reading", path);
+    unsigned char magic[4] = {0};
+    size_t got = fread(magic, 1, 4, fp);
+    fclose(fp);
+    *kind = got == 4 && magic[0] == 'P' && magic[1] == 'K' && magic[2] == 3 && magic[3] == 4 ? MODEL_3MF : MODEL_VDB;
+    return HV_OK;
+}
+
+hv_status hv_model_load(const char *path, hv_volume **out)
+{
+    *out = NULL;
+    model_kind kind;
+    hv_status s = sniff(path, &kind);
+    if (s != HV_OK) return s;
+    hv_input_note(path);
+    return kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load(path, out);
+}
+
+hv_status hv_model_load_grids(const char *path, const char *const *names, int n, hv_volume **out)
+{
+    *out = NULL;
+    model_kind kind;
+    hv_status s = sniff(path, &kind);
+    if (s != HV_OK) return s;
+    hv_input_note(path);
+    return kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load_grids(path, names, n, out);
+}

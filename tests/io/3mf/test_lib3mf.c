@@ -1,0 +1,167 @@
+/* tests/io/3mf/test_lib3mf.c - an independent reader opens hovox's 3MF Volumetric packages: lib3mf
+ * 1.8 (Debian lib3mf-dev, the 3MF Consortium's library; it predates the Volumetric extension, so it
+ * reads the core mesh and must pass over the rest without error or warning). Its C API is declared
+ * here (its headers are C++ only); the types follow lib3mf's NMR_WinTypes.h for GCC. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "hovox/export.h"
+#include "hovox/material.h"
+#include "support/support.h"
+
+typedef unsigned int LIB3MFRESULT; /* HRESULT */
+typedef void L3;                   /* every lib3mf handle */
+typedef struct {
+    float m_fPosition[3];
+} l3_vertex;
+typedef struct {
+    unsigned m_nIndices[3];
+} l3_triangle;
+extern LIB3MFRESULT lib3mf_createmodel(L3 **model);
+extern LIB3MFRESULT lib3mf_release(L3 *instance);
+extern LIB3MFRESULT lib3mf_getlasterror(L3 *instance, unsigned *code, const char **message);
+extern LIB3MFRESULT lib3mf_model_queryreader(L3 *model, const char *kind, L3 **reader);
+extern LIB3MFRESULT lib3mf_reader_readfromfileutf8(L3 *reader, const char *path);
+extern LIB3MFRESULT lib3mf_reader_getwarningcount(L3 *reader, unsigned *count);
+extern LIB3MFRESULT lib3mf_model_getmeshobjects(L3 *model, L3 **iterator);
+extern LIB3MFRESULT lib3mf_model_getbasematerials(L3 *model, L3 **iterator);
+extern LIB3MFRESULT lib3mf_resourceiterator_movenext(L3 *iterator, int *has_next);
+extern LIB3MFRESULT lib3mf_resourceiterator_getcurrent(L3 *iterator, L3 **resource);
+extern LIB3MFRESULT lib3mf_meshobject_getvertexcount(L3 *mesh, unsigned *count);
+extern LIB3MFRESULT lib3mf_meshobject_gettrianglecount(L3 *mesh, unsigned *count);
+extern LIB3MFRESULT lib3mf_meshobject_getvertices(L3 *mesh, l3_vertex *vertices, unsigned size, unsigned *count);
+extern LIB3MFRESULT lib3mf_meshobject_gettriangleindices(L3 *mesh, l3_triangle *indices, unsigned size, unsigned *count);
+extern LIB3MFRESULT lib3mf_basematerial_getcount(L3 *group, unsigned *count);
+extern LIB3MFRESULT lib3mf_basematerial_getnameutf8(L3 *group, unsigned index, char *buffer, unsigned size,
+                                                    unsigned *needed);
+extern LIB3MFRESULT lib3mf_basematerial_getdisplaycolor(L3 *group, unsigned index, unsigned char *r, unsigned char *g,
+                                                        unsigned char *b, unsigned char *a);
+
+/* A 5 x 3 x 4 box of 0.25 mm voxels at origin (-1, 2, 0.5) with one voxel missing from a face
+ * (a dent), two materials in a gradient along x. */
+enum { NX = 5, NY = 3, NZ = 4 };
+static hv_volume *make_box(void)
+{
+    hv_transform xf = {{0.25, 0.25, 0.25}, {-1, 2, 0.5}};
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_volume_create(&xf, &v), HV_OK, "%s", hv_last_error());
+    int lo[3] = {0, 0, 0}, hi[3] = {NX - 1, NY - 1, NZ - 1};
+    cr_assert_eq(t_add_box(v, lo, hi), HV_OK);
+    int og, ga, gb;
+    hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, &og);
+    hv_volume_grid_add(v, "material.rigid", HV_GRID_FLOAT, &ga);
+    hv_volume_grid_add(v, "material.rubber", HV_GRID_FLOAT, &gb);
+    const int32_t *orig = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+        for (unsigned n = 0; n < 512; ++n) {
+            if (!HV_BIT_GET(hv_volume_leaf_mask(v, l), n)) continue;
+            int i = orig[3 * l] + (int)(n >> 6), j = orig[3 * l + 1] + (int)((n >> 3) & 7), k = orig[3 * l + 2] + (int)(n & 7);
+            if (i == 2 && j == 0 && k == NZ - 1) continue; /* the dent */
+            hv_volume_leaf_bool(v, og, l)[n >> 6] |= 1ull << (n & 63);
+            hv_volume_leaf_float(v, ga, l)[n] = (float)i / (NX - 1);
+            hv_volume_leaf_float(v, gb, l)[n] = 1.0f - (float)i / (NX - 1);
+        }
+    hv_material_table *t;
+    hv_material_table_create(&t);
+    const float red[4] = {1, 0, 0, 1}, blue[4] = {0, 0, 1, 1};
+    hv_material_add(t, "rigid", red, NULL);
+    hv_material_add(t, "rubber", blue, NULL);
+    hv_material_table_store(v, t);
+    hv_material_table_destroy(t);
+    return v;
+}
+
+static L3 *read_3mf(const char *path)
+{
+    L3 *model = NULL, *reader = NULL;
+    cr_assert_eq(lib3mf_createmodel(&model), 0);
+    cr_assert_eq(lib3mf_model_queryreader(model, "3mf", &reader), 0);
+    LIB3MFRESULT rc = lib3mf_reader_readfromfileutf8(reader, path);
+    if (rc != 0) {
+        unsigned code = 0;
+        const char *msg = "?";
+        lib3mf_getlasterror(reader, &code, &msg);
+        cr_assert_fail("lib3mf cannot read %s: 0x%x, %u %s", path, rc, code, msg);
+    }
+    unsigned warnings = 99;
+    cr_assert_eq(lib3mf_reader_getwarningcount(reader, &warnings), 0);
+    cr_expect_eq(warnings, 0, "lib3mf warns %u times", warnings);
+    lib3mf_release(reader);
+    return model;
+}
+
+Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials)
+{
+    hv_volume *v = make_box();
+    const char *path = t_tmpfile("box.3mf");
+    hv_export_options o;
+    hv_export_options_init(&o);
+    o.bits = 16;
+    hv_export_report r;
+    cr_assert_eq(hv_export_write(v, path, &o, &r), HV_OK, "%s", hv_last_error());
+    L3 *model = read_3mf(path);
+    L3 *it = NULL, *mesh = NULL;
+    cr_assert_eq(lib3mf_model_getmeshobjects(model, &it), 0);
+    int has = 0, meshes = 0;
+    while (lib3mf_resourceiterator_movenext(it, &has) == 0 && has) {
+        cr_assert_eq(lib3mf_resourceiterator_getcurrent(it, &mesh), 0);
+        ++meshes;
+        unsigned nv = 0, nt = 0;
+        lib3mf_meshobject_getvertexcount(mesh, &nv);
+        lib3mf_meshobject_gettrianglecount(mesh, &nt);
+        /* the counts hovox reports, and the box's by hand: its surface is 2 (5x3 + 3x4 + 5x4) = 94 faces;
+         * the dent on an edge takes 2 and opens 4: 96 quads, 192 triangles; corners (6 x 4 x 5) minus the
+         * (4 x 2 x 3) inner ones = 96, plus the 2 at the bottom of the dent (Euler: 98 - 288 + 192 = 2) */
+        cr_expect_eq(nv, r.points);
+        cr_expect_eq(nt, r.cells);
+        cr_expect_eq(nt, 192u);
+        cr_expect_eq(nv, 98u);
+        l3_vertex *vx = calloc(nv, sizeof *vx);
+        unsigned got = 0;
+        cr_assert_eq(lib3mf_meshobject_getvertices(mesh, vx, nv, &got), 0);
+        /* the bounding box is the voxels' outer faces */
+        float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+        for (unsigned i = 0; i < got; ++i)
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = fminf(lo[a], vx[i].m_fPosition[a]);
+                hi[a] = fmaxf(hi[a], vx[i].m_fPosition[a]);
+            }
+        const double want_lo[3] = {-1.125, 1.875, 0.375}, want_hi[3] = {-1.125 + NX * 0.25, 1.875 + NY * 0.25, 0.375 + NZ * 0.25};
+        for (int a = 0; a < 3; ++a) {
+            cr_expect_float_eq(lo[a], want_lo[a], 1e-6);
+            cr_expect_float_eq(hi[a], want_hi[a], 1e-6);
+        }
+        l3_triangle *idx = calloc(nt, sizeof *idx);
+        unsigned tn = 0;
+        cr_assert_eq(lib3mf_meshobject_gettriangleindices(mesh, idx, nt, &tn), 0);
+        cr_expect_eq(tn, nt);
+        for (unsigned i = 0; i < tn; ++i)
+            for (int k = 0; k < 3; ++k) cr_assert(idx[i].m_nIndices[k] < nv);
+        free(idx);
+        free(vx);
+        lib3mf_release(mesh); /* each getcurrent hands out a new reference */
+    }
+    cr_expect_eq(meshes, 1);
+    lib3mf_release(it);
+    /* the base materials, names and colours */
+    cr_assert_eq(lib3mf_model_getbasematerials(model, &it), 0);
+    L3 *group = NULL;
+    cr_assert(lib3mf_resourceiterator_movenext(it, &has) == 0 && has);
+    cr_assert_eq(lib3mf_resourceiterator_getcurrent(it, &group), 0);
+    unsigned count = 0;
+    lib3mf_basematerial_getcount(group, &count);
+    cr_expect_eq(count, 2u);
+    char name[64];
+    unsigned need = 0;
+    cr_assert_eq(lib3mf_basematerial_getnameutf8(group, 1, name, sizeof name, &need), 0);
+    cr_expect_str_eq(name, "rubber");
+    unsigned char c[4];
+    cr_assert_eq(lib3mf_basematerial_getdisplaycolor(group, 0, &c[0], &c[1], &c[2], &c[3]), 0);
+    cr_expect(c[0] == 255 && c[1] == 0 && c[2] == 0 && c[3] == 255);
+    lib3mf_release(group);
+    lib3mf_release(it);
+    lib3mf_release(model);
+    hv_volume_destroy(v);
+}

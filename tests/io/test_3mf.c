@@ -1,0 +1,522 @@
+/* tests/io/test_3mf.c - the 3MF reader: packages written in the test by lib3mf's own writer
+ * (an independent implementation) read back against the STL reader on the same mesh;
+ * components and build transforms; two nested boxes with two base materials; colours; units;
+ * support objects; and damaged packages (made with libzip here), each refused with one message
+ * naming the place, including what lib3mf reads silently (a pid naming nothing, an index past
+ * a group's end) and packages that expand beyond the memory budget. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zip.h>
+
+#include "hovox/generate.h"
+#include "hovox/mesh.h"
+#include "reader_check.h"
+#include "support/lib3mf_c.h"
+#include "support/support.h"
+
+static const float k_identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+
+/* lib3mf hands out a wrapper for every object it creates, released one by one (lib3mf_release):
+ * the tests keep them here and release them once the package is written. */
+static l3mf g_handles[4096];
+static int g_nhandles;
+
+static void keep(l3mf h)
+{
+    cr_assert_lt(g_nhandles, 4096);
+    g_handles[g_nhandles++] = h;
+}
+
+static l3mf new_model(unsigned unit)
+{
+    l3mf m = NULL;
+    cr_assert_eq(lib3mf_createmodel(&m), 0);
+    cr_assert_eq(lib3mf_model_setunit(m, unit), 0);
+    return m;
+}
+
+static l3mf add_mesh(l3mf model, const hv_mesh *mesh, const char *name)
+{
+    l3mf o = NULL;
+    cr_assert_eq(lib3mf_model_addmeshobject(model, &o), 0); keep(o);
+    if (name) cr_assert_eq(lib3mf_object_setnameutf8(o, name), 0);
+    int r = lib3mf_meshobject_setgeometry(o, hv_mesh_vertices(mesh), (unsigned)hv_mesh_vertex_count(mesh),
+                                          hv_mesh_facets(mesh), (unsigned)hv_mesh_facet_count(mesh));
+    unsigned code = 0;
+    const char *msg = NULL;
+    if (r) lib3mf_getlasterror(o, &code, &msg);
+    cr_assert_eq(r, 0, "lib3mf: %s (0x%x)", msg ? msg : "?", code);
+    return o;
+}
+
+static void add_item(l3mf model, l3mf object, const float *transform)
+{
+    l3mf item = NULL;
+    cr_assert_eq(lib3mf_model_addbuilditem(model, object, (float *)transform, &item), 0); keep(item);
+}
+
+/* The package lib3mf writes, in memory (malloc'd); the model is released. */
+static unsigned char *package(l3mf model, size_t *len)
+{
+    l3mf w = NULL;
+    cr_assert_eq(lib3mf_model_querywriter(model, "3mf", &w), 0);
+    unsigned long long n = 0;
+    cr_assert_eq(lib3mf_writer_getstreamsize(w, &n), 0);
+    unsigned char *buf = malloc(n);
+    cr_assert_eq(lib3mf_writer_writetobuffer(w, buf, n), 0);
+    lib3mf_release(w);
+    while (g_nhandles) lib3mf_release(g_handles[--g_nhandles]);
+    lib3mf_release(model);
+    *len = (size_t)n;
+    return buf;
+}
+
+static hv_mesh *read_model(l3mf model, const char *name)
+{
+    size_t len;
+    unsigned char *data = package(model, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, name, &m), HV_OK, "%s", hv_last_error());
+    free(data);
+    cr_assert_eq(hv_mesh_get_report(m)->format, HV_MESH_3MF);
+    return m;
+}
+
+/* The mesh scaled by 64 and its coordinates put on a 1/64 grid: lib3mf writes six decimals,
+ * which hold them exactly, so both readers see the same floats. */
+static hv_mesh *grid_mesh(hv_mesh *m)
+{
+    size_t nv = hv_mesh_vertex_count(m);
+    float *xyz = malloc(3 * nv * sizeof *xyz);
+    for (size_t i = 0; i < 3 * nv; ++i) xyz[i] = roundf(hv_mesh_vertices(m)[i] * 4096) / 64;
+    hv_mesh *q = NULL;
+    cr_assert_eq(hv_mesh_create(xyz, nv, hv_mesh_facets(m), hv_mesh_facet_count(m), &q), HV_OK, "%s", hv_last_error());
+    free(xyz);
+    hv_mesh_destroy(m);
+    /* facets whose corners fell together are left out (lib3mf's writer refuses them) */
+    size_t nf = hv_mesh_facet_count(q), kept = 0;
+    const uint32_t *t = hv_mesh_facets(q);
+    uint32_t *keep = malloc(3 * nf * sizeof *keep);
+    for (size_t f = 0; f < nf; ++f)
+        if (t[3 * f] != t[3 * f + 1] && t[3 * f + 1] != t[3 * f + 2] && t[3 * f] != t[3 * f + 2])
+            memcpy(keep + 3 * kept++, t + 3 * f, 3 * sizeof *keep);
+    hv_mesh *r = NULL;
+    cr_assert_eq(hv_mesh_create(hv_mesh_vertices(q), hv_mesh_vertex_count(q), keep, kept, &r), HV_OK);
+    free(keep);
+    hv_mesh_destroy(q);
+    return r;
+}
+
+static hv_mesh *box(double lo, double hi)
+{
+    hv_mesh *m = NULL;
+    double a[3] = {lo, lo, lo}, b[3] = {hi, hi, hi};
+    cr_assert_eq(hv_generate_box(a, b, &m), HV_OK, "%s", hv_last_error());
+    return m;
+}
+
+static void body_report(const hv_mesh *m, size_t i, hv_mesh_report *r)
+{
+    cr_assert_eq(hv_mesh_body_report(m, i, r), HV_OK, "%s", hv_last_error());
+}
+
+Test(threemf, a_mesh_reads_back_with_the_stl_readers_report)
+{
+    static const char *const names[] = {"helical_gear.stl", "bunny_1500.stl"};
+    for (size_t k = 0; k < 2; ++k) {
+        hv_mesh *ref = grid_mesh(stl_reference(names[k]));
+        const char *stl = t_tmpfile("ref.stl");
+        cr_assert_eq(hv_mesh_write_stl(ref, stl, 0), HV_OK);
+        hv_mesh *again = NULL; /* the reference through the STL reader */
+        cr_assert_eq(hv_mesh_load_stl(stl, &again), HV_OK);
+        l3mf model = new_model(L3MF_MM);
+        add_item(model, add_mesh(model, ref, "part"), NULL);
+        hv_mesh *m = read_model(model, "dir/ref.3mf");
+        same_report(m, again, 1e-7); /* lib3mf's number text is not exact to the last bit */
+        cr_assert_eq(hv_mesh_body_count(m), 1);
+        cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "part");
+        cr_assert_eq(hv_mesh_material_count(m), 0);
+        cr_assert_null(hv_mesh_facet_materials(m));
+        hv_mesh_destroy(m);
+        hv_mesh_destroy(again);
+        hv_mesh_destroy(ref);
+    }
+}
+
+Test(threemf, components_and_build_items_are_placed_by_their_transforms)
+{
+    hv_mesh *unit = box(0, 1);
+    l3mf model = new_model(L3MF_MM);
+    l3mf cube = add_mesh(model, unit, "cube"), pair = NULL, c = NULL;
+    cr_assert_eq(lib3mf_model_addcomponentsobject(model, &pair), 0); keep(pair);
+    cr_assert_eq(lib3mf_object_setnameutf8(pair, "pair"), 0);
+    float shift[12] = {1, 0, 0, 5, 0, 1, 0, 0, 0, 0, 1, 0}, twice[12] = {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0};
+    cr_assert_eq(lib3mf_componentsobject_addcomponent(pair, cube, shift, &c), 0); keep(c);
+    cr_assert_eq(lib3mf_componentsobject_addcomponent(pair, cube, twice, &c), 0); keep(c);
+    float up[12] = {1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1, 0};
+    float turn[12] = {0, -1, 0, 20, 1, 0, 0, 0, 0, 0, 1, 0}; /* 90 degrees about z, then +20 in x */
+    add_item(model, pair, up);
+    add_item(model, cube, turn);
+    l3mf unnamed = add_mesh(model, unit, NULL);
+    add_item(model, unnamed, k_identity);
+    hv_mesh *m = read_model(model, "asm.3mf");
+    cr_assert_eq(hv_mesh_body_count(m), 3);
+    cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "pair");
+    cr_assert_str_eq(hv_mesh_body_at(m, 1)->name, "cube");
+    cr_assert_str_eq(hv_mesh_body_at(m, 2)->name, "body 3");
+    cr_assert_eq(hv_mesh_body_at(m, 0)->facet_count, 24);
+    cr_assert_eq(hv_mesh_body_at(m, 1)->first_facet, 24);
+    hv_mesh_report r;
+    body_report(m, 0, &r);
+    double lo0[3] = {0, 10, 0}, hi0[3] = {6, 12, 2};
+    for (int k = 0; k < 3; ++k) {
+        cr_assert_float_eq(r.bbox_min[k], lo0[k], 1e-6);
+        cr_assert_float_eq(r.bbox_max[k], hi0[k], 1e-6);
+    }
+    cr_assert_float_eq(r.volume, 1 + 8, 1e-5);
+    cr_assert_eq(r.shells, 2);
+    body_report(m, 1, &r);
+    double lo1[3] = {19, 0, 0}, hi1[3] = {20, 1, 1};
+    for (int k = 0; k < 3; ++k) {
+        cr_assert_float_eq(r.bbox_min[k], lo1[k], 1e-6);
+        cr_assert_float_eq(r.bbox_max[k], hi1[k], 1e-6);
+    }
+    cr_assert_float_eq(r.volume, 1, 1e-6); /* a rotation keeps the orientation */
+    cr_assert_eq(r.flipped_facets, 0);
+    hv_mesh_destroy(m);
+    hv_mesh_destroy(unit);
+}
+
+Test(threemf, two_nested_boxes_with_two_base_materials)
+{
+    hv_mesh *outer = box(0, 10), *inner = box(3, 7);
+    l3mf model = new_model(L3MF_MM), group = NULL, h = NULL;
+    cr_assert_eq(lib3mf_model_addbasematerialgroup(model, &group), 0); keep(group);
+    unsigned vero, agilus, gid;
+    cr_assert_eq(lib3mf_basematerial_addmaterialutf8(group, "VeroWhite", 240, 240, 240, &vero), 0);
+    cr_assert_eq(lib3mf_basematerial_addmaterialutf8(group, "Agilus30", 20, 20, 20, &agilus), 0);
+    cr_assert_eq(lib3mf_basematerial_setdisplaycolorrgba(group, vero, 240, 240, 240, 255), 0);
+    cr_assert_eq(lib3mf_basematerial_getresourceid(group, &gid), 0);
+    l3mf o = add_mesh(model, outer, "outer"), i = add_mesh(model, inner, "inner");
+    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(o, &h), 0); keep(h);
+    cr_assert_eq(lib3mf_defaultpropertyhandler_setbasematerial(h, gid, vero), 0);
+    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(i, &h), 0); keep(h);
+    cr_assert_eq(lib3mf_defaultpropertyhandler_setbasematerial(h, gid, agilus), 0);
+    cr_assert_eq(lib3mf_meshobject_createpropertyhandler(o, &h), 0); keep(h); /* one triangle of the outer box in Agilus */
+    cr_assert_eq(lib3mf_propertyhandler_setbasematerial(h, 5, gid, agilus), 0);
+    add_item(model, o, NULL);
+    add_item(model, i, NULL);
+    hv_mesh *m = read_model(model, "nested.3mf");
+    cr_assert_eq(hv_mesh_body_count(m), 2);
+    cr_assert_eq(hv_mesh_material_count(m), 2);
+    cr_assert_str_eq(hv_mesh_material_at(m, 0)->name, "VeroWhite");
+    cr_assert_str_eq(hv_mesh_material_at(m, 1)->name, "Agilus30");
+    cr_assert_eq(hv_mesh_material_at(m, 0)->rgba, 0xF0F0F0FFu, "%08x", hv_mesh_material_at(m, 0)->rgba);
+    cr_assert_eq(hv_mesh_material_at(m, 1)->rgba, 0x14141400u); /* lib3mf 1.8 writes alpha 0 when given none */
+    const hv_mesh_body *bo = hv_mesh_body_at(m, 0), *bi = hv_mesh_body_at(m, 1);
+    cr_assert_str_eq(bo->name, "outer");
+    cr_assert_str_eq(bi->name, "inner");
+    cr_assert_eq(bo->material, 0);
+    cr_assert_eq(bi->material, 1);
+    const int32_t *fm = hv_mesh_facet_materials(m);
+    cr_assert_not_null(fm);
+    for (size_t f = 0; f < hv_mesh_facet_count(m); ++f)
+        cr_assert_eq(fm[f], f == 5 || f >= 12 ? 1 : 0, "facet %zu: %d", f, fm[f]);
+    hv_mesh_report r;
+    body_report(m, 0, &r);
+    cr_assert_float_eq(r.volume, 1000, 1e-6);
+    body_report(m, 1, &r);
+    cr_assert_float_eq(r.volume, 64, 1e-6);
+    cr_assert_float_eq(hv_mesh_get_report(m)->volume, 1064, 1e-6);
+    hv_mesh_destroy(m);
+    hv_mesh_destroy(outer);
+    hv_mesh_destroy(inner);
+}
+
+Test(threemf, colours_become_materials_named_by_their_value)
+{
+    hv_mesh *unit = box(0, 1);
+    l3mf model = new_model(L3MF_MM), h = NULL;
+    l3mf o = add_mesh(model, unit, "painted");
+    cr_assert_eq(lib3mf_object_createdefaultpropertyhandler(o, &h), 0); keep(h);
+    cr_assert_eq(lib3mf_defaultpropertyhandler_setcolorrgb(h, 255, 128, 0), 0);
+    cr_assert_eq(lib3mf_meshobject_createpropertyhandler(o, &h), 0); keep(h);
+    for (unsigned t = 0; t < 12; ++t) cr_assert_eq(lib3mf_propertyhandler_setsinglecolorrgb(h, t, t < 4 ? 0 : 255, 128, 0), 0);
+    add_item(model, o, NULL);
+    hv_mesh *m = read_model(model, "painted.3mf");
+    cr_assert_eq(hv_mesh_material_count(m), 2);
+    cr_assert_str_eq(hv_mesh_material_at(m, 0)->name, "#ff8000"); /* the object's default, met first */
+    cr_assert_str_eq(hv_mesh_material_at(m, 1)->name, "#008000");
+    cr_assert_eq(hv_mesh_material_at(m, 1)->rgba, 0x008000FFu);
+    cr_assert_eq(hv_mesh_body_at(m, 0)->material, 0);
+    cr_assert_eq(hv_mesh_facet_materials(m)[0], 1);
+    cr_assert_eq(hv_mesh_facet_materials(m)[4], 0);
+    hv_mesh_destroy(m);
+    hv_mesh_destroy(unit);
+}
+
+Test(threemf, the_model_unit_is_converted_to_millimetres)
+{
+    static const unsigned units[] = {L3MF_MICRON, L3MF_MM, L3MF_CM, L3MF_INCH, L3MF_FOOT, L3MF_METER};
+    static const double mm[] = {0.001, 1, 10, 25.4, 304.8, 1000};
+    hv_mesh *unit = box(0, 2);
+    for (int u = 0; u < 6; ++u) {
+        l3mf model = new_model(units[u]);
+        add_item(model, add_mesh(model, unit, "b"), NULL);
+        hv_mesh *m = read_model(model, "u.3mf");
+        const hv_mesh_report *r = hv_mesh_get_report(m);
+        cr_assert_float_eq(r->bbox_max[0], 2 * mm[u], 1e-6 * mm[u], "unit %d: %g", u, r->bbox_max[0]);
+        cr_assert_float_eq(r->volume, 8 * mm[u] * mm[u] * mm[u], 1e-6 * 8 * mm[u] * mm[u] * mm[u]);
+        hv_mesh_destroy(m);
+    }
+    hv_mesh_destroy(unit);
+}
+
+Test(threemf, support_objects_are_not_bodies)
+{
+    hv_mesh *unit = box(0, 1);
+    l3mf model = new_model(L3MF_MM);
+    l3mf part = add_mesh(model, unit, "part"), sup = add_mesh(model, unit, "support");
+    cr_assert_eq(lib3mf_object_settype(sup, 2), 0);
+    add_item(model, sup, NULL);
+    add_item(model, part, NULL);
+    hv_mesh *m = read_model(model, "s.3mf");
+    cr_assert_eq(hv_mesh_body_count(m), 1);
+    cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "part");
+    hv_mesh_destroy(m);
+    model = new_model(L3MF_MM);
+    sup = add_mesh(model, unit, "support");
+    cr_assert_eq(lib3mf_object_settype(sup, 2), 0);
+    add_item(model, sup, NULL);
+    size_t len;
+    unsigned char *data = package(model, &len);
+    refused(hv_mesh_parse_3mf, "s.3mf", data, len, HV_ERR_BAD_INPUT,
+            "s.3mf: no build item places a mesh (1 items, those of support and other objects not read)");
+    free(data);
+    hv_mesh_destroy(unit);
+}
+
+/* ---- damaged packages ---------------------------------------------------------------------- */
+
+static const char k_types[] = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                              "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+                              "<Default Extension=\"rels\" ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
+                              "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/>"
+                              "</Types>";
+static const char k_rels[] = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                             "<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
+                             "<Relationship Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
+                             "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>";
+#define MODEL_HEAD "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" xml:lang=\"en-US\" " \
+                   "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\" " \
+                   "xmlns:m=\"http://schemas.microsoft.com/3dmanufacturing/material/2015/02\">"
+#define TET_VERTICES "<vertices><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/>" \
+                     "<vertex x=\"0\" y=\"1\" z=\"0\"/><vertex x=\"0\" y=\"0\" z=\"1\"/></vertices>"
+#define MATS "<basematerials id=\"5\"><base name=\"Vero\" displaycolor=\"#FF0000\"/><base name=\"Agilus\" displaycolor=\"#00FF00\"/></basematerials>"
+
+/* A package of the given parts (name, text; text NULL: left out), in memory. */
+static unsigned char *zip_parts(const char *const *parts, size_t n, size_t *len)
+{
+    const char *path = t_tmpfile("handmade.3mf");
+    remove(path);
+    int err = 0;
+    zip_t *z = zip_open(path, ZIP_CREATE | ZIP_TRUNCATE, &err);
+    cr_assert_not_null(z);
+    for (size_t i = 0; i < n; ++i) {
+        if (!parts[2 * i + 1]) continue;
+        zip_source_t *s = zip_source_buffer(z, parts[2 * i + 1], strlen(parts[2 * i + 1]), 0);
+        cr_assert(zip_file_add(z, parts[2 * i], s, ZIP_FL_OVERWRITE) >= 0);
+    }
+    cr_assert_eq(zip_close(z), 0);
+    FILE *fp = fopen(path, "rb");
+    fseek(fp, 0, SEEK_END);
+    *len = (size_t)ftell(fp);
+    rewind(fp);
+    unsigned char *data = malloc(*len);
+    cr_assert_eq(fread(data, 1, *len, fp), *len);
+    fclose(fp);
+    return data;
+}
+
+static void refused_model(const char *model_xml, const char *message)
+{
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", model_xml};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT, message);
+    free(data);
+}
+
+#define TET_OBJECT(attrs, tri0) "<object id=\"1\" name=\"tet\" type=\"model\"" attrs "><mesh>" TET_VERTICES \
+    "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\"" tri0 "/><triangle v1=\"0\" v2=\"1\" v3=\"3\"/>" \
+    "<triangle v1=\"1\" v2=\"2\" v3=\"3\"/><triangle v1=\"0\" v2=\"3\" v3=\"2\"/></triangles></mesh></object>"
+#define BUILD "<build><item objectid=\"1\"/></build></model>"
+
+Test(threemf, the_handmade_package_reads)
+{
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                           MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"1\"", " p1=\"0\"") "</resources>" BUILD};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "good.3mf", &m), HV_OK, "%s", hv_last_error());
+    cr_assert_float_eq(hv_mesh_get_report(m)->volume, 1.0 / 6, 1e-9);
+    cr_assert_str_eq(hv_mesh_material_at(m, hv_mesh_body_at(m, 0)->material)->name, "Agilus");
+    cr_assert_eq(hv_mesh_facet_materials(m)[0], 1); /* Vero, met after the object's default */
+    hv_mesh_destroy(m);
+    free(data);
+}
+
+Test(threemf, damaged_packages_are_refused_naming_the_place)
+{
+    /* what lib3mf refuses without a place: the scan names it */
+    refused_model(MODEL_HEAD "<resources><object id=\"1\" name=\"tet\" type=\"model\"><mesh>" TET_VERTICES
+                             "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"7\"/></triangles></mesh></object></resources>" BUILD,
+                  "bad.3mf: object 1 'tet': triangle 0: vertex index 7 out of range (4 vertices)");
+    refused_model(MODEL_HEAD "<resources><object id=\"1\" type=\"model\"><mesh><vertices><vertex x=\"0\" y=\"nan\" z=\"0\"/>"
+                             "</vertices><triangles/></mesh></object></resources>" BUILD,
+                  "bad.3mf: object 1: vertex 0: y is not a finite number ('nan')");
+    refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\" name=\"asm\"><components>"
+                             "<component objectid=\"3\"/></components></object></resources><build><item objectid=\"2\"/></build></model>",
+                  "bad.3mf: object 2 'asm': component 1 names object 3, which is not an object defined above it");
+    /* what lib3mf reads silently */
+    refused_model(MODEL_HEAD "<resources>" TET_OBJECT(" pid=\"9\" pindex=\"0\"", "") "</resources>" BUILD,
+                  "bad.3mf: object 1 'tet': pid 9 names no property group (none has that id above it)");
+    refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"0\"", " pid=\"9\" p1=\"0\"") "</resources>" BUILD,
+                  "bad.3mf: object 1 'tet': triangle 0: pid 9 names no property group (none has that id above it)");
+    refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"0\"", " p1=\"2\"") "</resources>" BUILD,
+                  "bad.3mf: object 1 'tet': triangle 0: p1 2 is past the end of basematerials 5 (2 entries)");
+    refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"7\"", "") "</resources>" BUILD,
+                  "bad.3mf: object 1 'tet': pindex 7 is past the end of basematerials 5 (2 entries)");
+    refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT("", " pid=\"5\" p1=\"0\"") "</resources>" BUILD,
+                  "bad.3mf: object 1 'tet': triangle 0 sets pid 5 but its object sets none (3MF: an object whose "
+                  "triangles carry properties names a default pid)");
+    refused_model(MODEL_HEAD "<resources>" MATS "<object id=\"7\" type=\"model\" pid=\"5\" pindex=\"x\"/></resources>" BUILD,
+                  "bad.3mf: object 7: pindex 'x' is not an index");
+    refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources><build/></model>",
+                  "bad.3mf: no build item places a mesh (0 items)");
+    /* the package itself */
+    const char *no_model[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels};
+    size_t len;
+    unsigned char *data = zip_parts(no_model, 2, &len);
+    refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT,
+            "bad.3mf: missing model part '/3D/3dmodel.model' (named by _rels/.rels)");
+    free(data);
+    const char *no_rels[] = {"3D/3dmodel.model", MODEL_HEAD "</model>"};
+    data = zip_parts(no_rels, 1, &len);
+    refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT,
+            "bad.3mf: missing model part: the package has no _rels/.rels naming one");
+    free(data);
+    const char *good[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                          MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
+    data = zip_parts(good, 3, &len);
+    refused(hv_mesh_parse_3mf, "bad.3mf", data, len / 2, HV_ERR_BAD_INPUT,
+            "bad.3mf: not a 3MF package: not a readable ZIP archive (libzip: Not a zip archive; truncated?)");
+    free(data);
+    refused(hv_mesh_parse_3mf, "bad.3mf", "solid x\n", 8, HV_ERR_BAD_INPUT,
+            "bad.3mf: not a 3MF package: not a readable ZIP archive (libzip: Not a zip archive; truncated?)");
+    refused(hv_mesh_parse_3mf, "bad.3mf", "", 0, HV_ERR_BAD_INPUT, "bad.3mf: empty file (0 bytes)");
+}
+
+Test(threemf, packages_beyond_the_memory_budget_are_refused_before_lib3mf_reads_them)
+{
+    /* 4 MiB of model text in a small zip, under a 2 MiB cap: the expanded size is counted */
+    size_t n = 4u << 20;
+    char *xml = malloc(n + 4096);
+    /* a tetrahedron with 4 MiB of vertices no triangle uses (lib3mf refuses long runs of blanks) */
+    static const char unused[] = "<vertex x=\"0\" y=\"0\" z=\"0\"/>";
+    strcpy(xml, MODEL_HEAD "<resources><object id=\"1\" type=\"model\"><mesh>" TET_VERTICES);
+    size_t at = strlen(xml) - strlen("</vertices>");
+    for (size_t k = 0; k < n / (sizeof unused - 1); ++k, at += sizeof unused - 1) memcpy(xml + at, unused, sizeof unused - 1);
+    strcpy(xml + at, "</vertices><triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\"/><triangle v1=\"0\" v2=\"1\" v3=\"3\"/>"
+                     "<triangle v1=\"1\" v2=\"2\" v3=\"3\"/><triangle v1=\"0\" v2=\"3\" v3=\"2\"/></triangles></mesh></object>"
+                     "</resources>" BUILD);
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", xml};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    cr_assert_lt(len, 64u << 10);
+    hv_set_memory_cap(2u << 20);
+    refused(hv_mesh_parse_3mf, "bomb.3mf", data, len, HV_ERR_LIMIT,
+            "bomb.3mf: the package expands to more than 1.0 MiB, half of the memory budget (2.0 MiB)");
+    hv_set_memory_cap(0);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "bomb.3mf", &m), HV_OK, "%s", hv_last_error());
+    hv_mesh_destroy(m);
+    free(data);
+    free(xml);
+    /* components that double at each level: 12 * 2^16 triangles from a few kB */
+    hv_mesh *unit = box(0, 1);
+    l3mf model = new_model(L3MF_MM), prev = add_mesh(model, unit, "cube"), c = NULL;
+    float apart[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    for (int level = 0; level < 16; ++level) {
+        l3mf comps = NULL;
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0); keep(comps);
+        apart[3] = (float)(1 << level);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, apart, &c), 0); keep(c);
+        prev = comps;
+    }
+    add_item(model, prev, NULL);
+    data = package(model, &len);
+    hv_set_memory_cap(64u << 20);
+    refused(hv_mesh_parse_3mf, "bomb.3mf", data, len, HV_ERR_LIMIT,
+            "bomb.3mf: the build items hold more than 524288 triangles once their components are placed");
+    hv_set_memory_cap(0);
+    free(data);
+    /* the same tree over an object without triangles, 30 levels: lib3mf would walk its 2^31
+     * nodes for minutes; refused from the model part before lib3mf reads it */
+    model = new_model(L3MF_MM);
+    l3mf empty = NULL;
+    cr_assert_eq(lib3mf_model_addmeshobject(model, &empty), 0); keep(empty);
+    prev = empty;
+    for (int level = 0; level < 30; ++level) {
+        l3mf comps = NULL;
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0); keep(comps);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
+        prev = comps;
+    }
+    add_item(model, prev, NULL);
+    data = package(model, &len);
+    refused(hv_mesh_parse_3mf, "bomb.3mf", data, len, HV_ERR_LIMIT,
+            "bomb.3mf: the build items place objects more than 1000000 times once their components are expanded");
+    free(data);
+    /* a chain of 300 components, one within the next */
+    model = new_model(L3MF_MM);
+    prev = add_mesh(model, unit, "cube");
+    for (int level = 0; level < 300; ++level) {
+        l3mf comps = NULL;
+        cr_assert_eq(lib3mf_model_addcomponentsobject(model, &comps), 0); keep(comps);
+        cr_assert_eq(lib3mf_componentsobject_addcomponent(comps, prev, NULL, &c), 0); keep(c);
+        prev = comps;
+    }
+    add_item(model, prev, NULL);
+    data = package(model, &len);
+    refused(hv_mesh_parse_3mf, "bomb.3mf", data, len, HV_ERR_LIMIT,
+            "bomb.3mf: object 258 nests components deeper than 256 levels");
+    free(data);
+    hv_mesh_destroy(unit);
+}
+
+Test(threemf, load_reads_a_file_by_its_extension)
+{
+    hv_mesh *unit = box(0, 1);
+    l3mf model = new_model(L3MF_CM);
+    add_item(model, add_mesh(model, unit, NULL), NULL);
+    size_t len;
+    unsigned char *data = package(model, &len);
+    const char *path = t_tmpfile("Cube.3MF");
+    FILE *fp = fopen(path, "wb");
+    fwrite(data, 1, len, fp);
+    fclose(fp);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_load(path, &m), HV_OK, "%s", hv_last_error());
+    cr_assert_float_eq(hv_mesh_get_report(m)->volume, 1000, 1e-6);
+    cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "body 1");
+    hv_mesh_destroy(m);
+    free(data);
+    hv_mesh_destroy(unit);
+}

@@ -220,3 +220,22 @@ def test_tray(graded_gear, gear_mesh, tmp_path):
     assert layer.shape == (rep["height"], rep["width"]) and layer.max() > 0
     with pytest.raises(hovox.InvalidError):
         t.add(mesh=pin, copies=0)
+
+
+def test_a_call_is_one_command(graded_gear, tmp_path):
+    """A model loaded by one call may be saved over its file by the next; a call never writes over
+    what it reads (a field feature's file)."""
+    import shutil
+    p = tmp_path / "m.vdb"
+    shutil.copy(graded_gear["path"], p)
+    m = hovox.load(p)
+    m.add_grid("z", lambda c: c[:, 2])
+    m.save(p)
+    assert "z" in [g["name"] for g in hovox.load(p).grids()]
+    pin = tmp_path / "pin.stl"
+    hovox.generate.cylinder(base=(0, 0, 0), axis=2, length=3, radius=2).save(pin)
+    t = hovox.tray(profile="j750")
+    t.add(mesh=pin, material="VeroPureWhite")
+    with pytest.raises(hovox.InvalidError, match="is an input of this command"):
+        t.layers(tmp_path / "stack", layers=(0, 1), arrange="all", stl=pin)  # the parts over a part's mesh
+    assert hovox.load_mesh(pin).count()[0] > 0 and not (tmp_path / "stack").exists()

@@ -60,9 +60,9 @@ HV_API hv_status hv_material_table_amend(hv_material_table *t, const char *color
 HV_API void hv_material_name_from(const char *text, char out[65]);
 
 /* Properties: set (replacing) a value with its SI unit (may be "" or NULL). Keys: 1-64 bytes
- * of [A-Za-z0-9_.-]. A material's properties are kept in key order (strcmp), whatever order they
- * are set in, so a table (and the model that stores it) is the same from any front end.
- * Errors: HV_ERR_INVALID (key, non-finite value). */
+ * of [A-Za-z0-9_.-]. Properties keep the order they were first set in (a front end reading them
+ * from a table without an order, a Lua table or a Python dict, sets them in key order, so the
+ * same table gives the same model). Errors: HV_ERR_INVALID (key, non-finite value). */
 HV_API hv_status hv_material_set_property(hv_material_table *t, int m, const char *key,
                                           double value, const char *unit);
 /* The SI unit of a property hovox knows by name ("density" -> "kg/m^3"; "youngs_modulus",

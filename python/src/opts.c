@@ -242,7 +242,10 @@ int hvpy_read_options(PyObject *kw, const hv_option_set *set, void *opts, const 
         char buf[80];
         while (PyDict_Next(kw, &pos, &k, &v)) {
             const char *key = key_of(k, buf, sizeof buf);
-            if (!key) return -1;
+            if (!key) {
+                if (!PyErr_Occurred()) PyErr_Format(PyExc_TypeError, "option names must be strings, got %s", Py_TYPE(k)->tp_name);
+                return -1;
+            }
             int known = hv_option_find(set, key) != NULL || listed(extra, key);
             for (int i = 0; !known && i < set->alias_count; ++i) known = strcmp(set->aliases[i].name, key) == 0;
             if (known) continue;

@@ -94,11 +94,26 @@ static int mats_add_one(hv_material_table *t, PyObject *it, Py_ssize_t index, hv
     int mi;
     hv_status s = hv_material_add(t, name, color, &mi);
     if (s != HV_OK) return hvpy_fail(s), -1;
-    PyObject *k, *v;
-    Py_ssize_t pos = 0;
-    while (PyDict_Next(it, &pos, &k, &v)) {
-        const char *key = PyUnicode_Check(k) ? PyUnicode_AsUTF8(k) : NULL;
-        if (!key) return hvpy_raise(HV_ERR_INVALID, "material '%s': keys must be strings", name), -1;
+    /* the properties in key order, as the Lua binding sets them: the same table gives the same
+     * model from either */
+    PyObject *keys = PyDict_Keys(it);
+    if (!keys) return -1;
+    for (Py_ssize_t i = 0; i < PyList_GET_SIZE(keys); ++i)
+        if (!PyUnicode_Check(PyList_GET_ITEM(keys, i))) {
+            Py_DECREF(keys);
+            return hvpy_raise(HV_ERR_INVALID, "material '%s': keys must be strings", name), -1;
+        }
+    if (PyList_Sort(keys) < 0) {
+        Py_DECREF(keys);
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < PyList_GET_SIZE(keys); ++i) {
+        PyObject *k = PyList_GET_ITEM(keys, i), *v = PyDict_GetItem(it, k);
+        const char *key = PyUnicode_AsUTF8(k);
+        if (!key || !v) {
+            Py_DECREF(keys);
+            return -1;
+        }
         if (strcmp(key, "name") == 0 || strcmp(key, "color") == 0) continue;
         double value;
         const char *unit;
@@ -109,14 +124,22 @@ static int mats_add_one(hv_material_table *t, PyObject *it, Py_ssize_t index, hv
                                                                     PyFloat_Check(PyTuple_GET_ITEM(v, 0))) &&
                    PyUnicode_Check(PyTuple_GET_ITEM(v, 1))) {
             value = PyFloat_AsDouble(PyTuple_GET_ITEM(v, 0));
-            if (!(unit = hvpy_arena_str(a, PyTuple_GET_ITEM(v, 1), "unit"))) return -1;
+            if (!(unit = hvpy_arena_str(a, PyTuple_GET_ITEM(v, 1), "unit"))) {
+                Py_DECREF(keys);
+                return -1;
+            }
         } else {
             hvpy_raise(HV_ERR_INVALID, "material '%s': %s must be a number or (value, \"unit\") (a property; the colour is "
                        "'color'), got %s", name, key, Py_TYPE(v)->tp_name);
+            Py_DECREF(keys);
             return -1;
         }
-        if ((s = hv_material_set_property(t, mi, key, value, unit)) != HV_OK) return hvpy_fail(s), -1;
+        if ((s = hv_material_set_property(t, mi, key, value, unit)) != HV_OK) {
+            Py_DECREF(keys);
+            return hvpy_fail(s), -1;
+        }
     }
+    Py_DECREF(keys);
     return 0;
 }
 

@@ -126,3 +126,11 @@ def test_freed_objects_raise(gear_mesh, mats):
     assert b.closed
     with pytest.raises(hovox.ClosedError):
         b.count()
+
+
+def test_option_dicts_with_odd_keys(gear_mesh):
+    model = hovox.voxelize(gear_mesh, dims=8)
+    with pytest.raises(TypeError, match="option names must be strings"):
+        model.harmonic(gear_mesh, one={1: 2}, zero={"normal": (0, 0, 1)})
+    with pytest.raises(TypeError, match="facet selection"):
+        model.harmonic(gear_mesh, one=[1], zero={"normal": (0, 0, 1)})

@@ -247,14 +247,9 @@ hv_status hv_material_set_property(hv_material_table *t, int m, const char *key,
         free(u);
         return HV_ERR_NOMEM;
     }
-    /* kept in key order: a table is the same whatever order its properties were given in (a Lua
-     * table's, a dict's, a file's), and so are the files that hold it */
-    int at = mt->nprops;
-    while (at > 0 && strcmp(mt->props[at - 1].key, k) > 0) --at;
-    memmove(mt->props + at + 1, mt->props + at, (size_t)(mt->nprops - at) * sizeof *mt->props);
-    mt->props[at].key = k;
-    mt->props[at].unit = u;
-    mt->props[at].value = value;
+    mt->props[mt->nprops].key = k;
+    mt->props[mt->nprops].unit = u;
+    mt->props[mt->nprops].value = value;
     ++mt->nprops;
     return HV_OK;
 }

@@ -246,20 +246,10 @@ int hvpy_read_options(PyObject *kw, const hv_option_set *set, void *opts, const 
                 if (!PyErr_Occurred()) PyErr_Format(PyExc_TypeError, "option names must be strings, got %s", Py_TYPE(k)->tp_name);
                 return -1;
             }
-            int known = hv_option_find(set, key) != NULL || listed(extra, key);
-            for (int i = 0; !known && i < set->alias_count; ++i) known = strcmp(set->aliases[i].name, key) == 0;
-            if (known) continue;
-            char list[1024];
-            size_t n = 0;
-            list[0] = '\0';
-            for (int i = 0; i < set->count && n < sizeof list; ++i)
-                n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", set->options[i].key);
-            for (int i = 0; i < set->alias_count && n < sizeof list; ++i)
-                n += (size_t)snprintf(list + n, sizeof list - n, ", %s", set->aliases[i].name);
-            for (const char *const *q = extra; q && *q && n < sizeof list; ++q)
-                n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", *q);
-            hvpy_raise(HV_ERR_INVALID, "unknown option '%s' (options: %s)", key, list);
-            return -1;
+            if (hv_option_known(set, extra, key) != HV_OK) {
+                hvpy_raise(HV_ERR_INVALID, "%s", hv_last_error()); /* a usage error, as the CLI's exit 2 */
+                return -1;
+            }
         }
         /* then the values, in the set's order (deterministic messages) */
         for (int i = 0; i < set->count; ++i) {

@@ -549,6 +549,27 @@ static double py_f(void *user, double d)
     return v;
 }
 
+/* `points` as 2 to 100000 pairs: an (n, 2) array-like, returned as x[0..n) then y[0..n) (PyMem; the
+ * caller frees), `what` naming them in refusals ("f: points must be 2 to 100000 pairs (d, f)"). */
+static double *read_pairs(PyObject *points, const char *what, const char *pair, int *n)
+{
+    PyObject *arr = hvpy_as_array(points, NPY_FLOAT64, what);
+    if (!arr) return NULL;
+    PyArrayObject *pa = (PyArrayObject *)arr;
+    double *xy = NULL;
+    if (PyArray_NDIM(pa) != 2 || PyArray_DIM(pa, 1) != 2 || PyArray_DIM(pa, 0) < 2 || PyArray_DIM(pa, 0) > 100000) {
+        hvpy_raise(HV_ERR_INVALID, "%s: points must be 2 to 100000 pairs %s", what, pair);
+    } else if (!(xy = PyMem_Malloc((size_t)PyArray_DIM(pa, 0) * 2 * sizeof *xy))) {
+        PyErr_NoMemory();
+    } else {
+        *n = (int)PyArray_DIM(pa, 0);
+        const double *src = PyArray_DATA(pa);
+        for (int i = 0; i < *n; ++i) xy[i] = src[2 * i], xy[*n + i] = src[2 * i + 1];
+    }
+    Py_DECREF(arr);
+    return xy;
+}
+
 /* f given as {"kind": ..., params} or {"kind": "table", "points": [(d, f), ...]} */
 static hv_status f_dict(PyObject *d, hvpy_arena *a, hv_dfn **out)
 {
@@ -566,25 +587,12 @@ static hv_status f_dict(PyObject *d, hvpy_arena *a, hv_dfn **out)
         if (s != HV_OK) hvpy_fail(s);
         return s;
     }
-    PyObject *arr = hvpy_as_array(pts, NPY_FLOAT64, "points");
-    if (!arr) return HV_ERR_INVALID;
-    PyArrayObject *pa = (PyArrayObject *)arr;
-    hv_status s = HV_ERR_INVALID;
-    if (PyArray_NDIM(pa) != 2 || PyArray_DIM(pa, 1) != 2 || PyArray_DIM(pa, 0) < 2 || PyArray_DIM(pa, 0) > 100000) {
-        hvpy_raise(HV_ERR_INVALID, "f: points must be 2 to 100000 pairs (d, f)");
-    } else {
-        int n = (int)PyArray_DIM(pa, 0);
-        double *xy = PyMem_Malloc((size_t)n * 2 * sizeof *xy);
-        if (!xy) {
-            PyErr_NoMemory();
-        } else {
-            const double *src = PyArray_DATA(pa);
-            for (int i = 0; i < n; ++i) xy[i] = src[2 * i], xy[n + i] = src[2 * i + 1];
-            if ((s = hv_dfn_table(xy, xy + n, n, out)) != HV_OK) hvpy_fail(s);
-            PyMem_Free(xy);
-        }
-    }
-    Py_DECREF(arr);
+    int n;
+    double *xy = read_pairs(pts, "f", "(d, f)", &n);
+    if (!xy) return HV_ERR_INVALID;
+    hv_status s = hv_dfn_table(xy, xy + n, n, out);
+    if (s != HV_OK) hvpy_fail(s);
+    PyMem_Free(xy);
     return s;
 }
 
@@ -611,29 +619,17 @@ static hv_calibration *calibration_dict(PyObject *d, hvpy_arena *a)
         if (!PyErr_Occurred()) hvpy_raise(HV_ERR_INVALID, "calibration table needs property = \"<name>\"");
         return NULL;
     }
-    PyObject *arr = pts ? hvpy_as_array(pts, NPY_FLOAT64, "calibration: points") : NULL;
-    if (!arr) {
-        if (!PyErr_Occurred()) hvpy_raise(HV_ERR_INVALID, "calibration: points must be 2 to 100000 pairs (t, value)");
+    if (!pts) {
+        hvpy_raise(HV_ERR_INVALID, "calibration: points must be 2 to 100000 pairs (t, value)");
         return NULL;
     }
-    PyArrayObject *pa = (PyArrayObject *)arr;
+    int n;
+    double *tv = read_pairs(pts, "calibration", "(t, value)", &n);
+    if (!tv) return NULL;
     hv_calibration *c = NULL;
-    if (PyArray_NDIM(pa) != 2 || PyArray_DIM(pa, 1) != 2 || PyArray_DIM(pa, 0) < 2 || PyArray_DIM(pa, 0) > 100000) {
-        hvpy_raise(HV_ERR_INVALID, "calibration: points must be 2 to 100000 pairs (t, value)");
-    } else {
-        int n = (int)PyArray_DIM(pa, 0);
-        double *tv = PyMem_Malloc((size_t)n * 2 * sizeof *tv);
-        if (!tv) {
-            PyErr_NoMemory();
-        } else {
-            const double *src = PyArray_DATA(pa);
-            for (int i = 0; i < n; ++i) tv[i] = src[2 * i], tv[n + i] = src[2 * i + 1];
-            hv_status s = hv_calibration_create(prop, unit, tv, tv + n, n, &c);
-            if (s != HV_OK) hvpy_fail(s);
-            PyMem_Free(tv);
-        }
-    }
-    Py_DECREF(arr);
+    hv_status s = hv_calibration_create(prop, unit, tv, tv + n, n, &c);
+    if (s != HV_OK) hvpy_fail(s);
+    PyMem_Free(tv);
     return c;
 }
 

@@ -19,8 +19,11 @@ def layer_image(model, mesh, index, **options):
         stack = os.path.join(work, "stack")
         model.layers(mesh, stack, layers=(index, index + 1), **options)
         name = "layer-%05d.png" % index
-        if os.path.exists(os.path.join(stack, name)):  # halftone (palette indices) or mask (0/1)
-            return _hovox.read_png(os.path.join(stack, name), indices=True)
+        if os.path.exists(os.path.join(stack, name)):
+            image = _hovox.read_png(os.path.join(stack, name), indices=True)
+            if options.get("mode") == "mask":  # 1-bit grey, read back as 0 or 255: the bits, 1 = object
+                image = (image > 0).astype(image.dtype)
+            return image  # halftone: the palette indices
         # fractions mode: one directory per material, in the model's order
         import numpy
         names = model.materials().names()

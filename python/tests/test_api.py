@@ -184,7 +184,7 @@ def test_layers_and_one_layer_as_an_array(graded_gear, gear_mesh, tmp_path):
     inside = one > 0
     assert np.all(fr.astype(int).sum(axis=0)[inside] >= 253)
     mask = g.layer(gear_mesh, 701, mode="mask")
-    assert np.array_equal(mask > 0, inside)
+    assert set(np.unique(mask)) == {0, 1} and np.array_equal(mask == 1, inside)
     with pytest.raises(TypeError):
         g.layer(gear_mesh, 1, layers=(1, 2))
 

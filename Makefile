@@ -3,6 +3,7 @@
 #   make test       unit, header, CLI and sample tests (installs missing packages as root)
 #   make sanitize   the whole test suite built with ASan + UBSan (build-san/)
 #   make bench      benchmarks against the anchors named in the issues
+#   make python     the Python package hovox, built in place (python/); make python-tests runs its tests
 #   make demo       the gear sample end to end
 #   make deps       install every Debian package (build, test, bench)
 # Options: WERROR=1 (warnings are errors, as in CI), BUILD=dir, SHARED=tests/data (holds meshes/: copies of the shared test meshes).
@@ -329,6 +330,7 @@ demo: $(BUILD)/.deps-build
 
 clean:
 	rm -rf build build-san build-fuzz build-fuzz-ub
+	rm -rf python/build python/*.egg-info python/hovox/plugins python/hovox/_hovox*.so
 
 # `make -s print-LIBS`: a variable's value (the Python build links with the same libraries)
 print-%:

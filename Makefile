@@ -1,6 +1,6 @@
 # hovox - heterogeneous-object modeling for multi-material 3D printing.
 #   make            library, CLI (build/hovox) and plugins
-#   make test       unit, header, CLI and sample tests (installs missing packages as root)
+#   make test       unit, header, CLI, sample and Python tests (installs missing packages as root)
 #   make sanitize   the whole test suite built with ASan + UBSan (build-san/)
 #   make bench      benchmarks against the anchors named in the issues
 #   make python     the Python package hovox, built in place (python/); make python-tests runs its tests

@@ -21,7 +21,7 @@
 
 #define CELL 0.5        /* footprint grid (mm) */
 #define RUN 8           /* consecutive tray layers per work unit */
-#define MAX_PARTS 4096  /* placed instances */
+#define MAX_PARTS HV_TRAY_MAX_PARTS /* placed instances */
 
 /* ---- resins -------------------------------------------------------------------------------- */
 
@@ -197,6 +197,7 @@ struct hv_tray {
     instance *inst;
     int ninst;
     int planned;
+    int loaded; /* a plan began: instances and sources hold what unplan frees */
     const hv_printer_profile *profile;
     double sx, py;
     int W, H, bit_depth;
@@ -238,6 +239,8 @@ static void fp_free(footprint *f)
 
 static void unplan(hv_tray *t)
 {
+    if (!t->loaded) return; /* nothing read since the last unplan: adding parts stays linear */
+    t->loaded = 0;
     for (int i = 0; i < t->ninst; ++i) hv_layers_part_close(t->inst[i].part);
     free(t->inst);
     t->inst = NULL;
@@ -876,6 +879,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
     hv_status st = hv_options_check(&k_tray_set, o);
     if (st != HV_OK) return st;
     unplan(t);
+    t->loaded = 1;
     if (t->nsrc == 0) return hv_error_set(HV_ERR_INVALID, "tray: no parts");
     t->profile = hv_printer_profile_find(o->profile ? o->profile : "j750");
     t->sx = 25.4 / t->profile->dpi[0];

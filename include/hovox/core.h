@@ -93,9 +93,10 @@ HV_API void hv_set_memory_cap(uint64_t bytes);
  * (the same device and inode: through any path, symbolic or hard link) or, for a directory it
  * replaces whole, a directory holding one (HV_ERR_INVALID: "out.vdb: is an input of this
  * command: refusing to write over it"), before it creates anything and again before it renames
- * into place. The record is process-wide. A front end running several commands in one process
- * (a script's calls, Python) calls hv_inputs_reset at the start of each, so one call is one
- * command; the CLI runs one command per process. */
+ * into place. The record is process-wide and kept from the first hv_inputs_reset on, which a
+ * front end calls where a command starts: the CLI once, a script or Python at each call (so one
+ * call is one command: a model loaded by one call may be saved over by a later one). A program
+ * using the library without calling it keeps every write it asks for. */
 HV_API void hv_input_note(const char *path);
 HV_API hv_status hv_output_check(const char *path, int is_dir);
 HV_API void hv_inputs_reset(void);

@@ -205,7 +205,8 @@ HV_API const char *hv_dfn_describe(const hv_dfn *f);
 /* ==== reference features ================================================================ */
 
 /* A fixed reference feature gives each point a distance d >= 0 (world units; dimensionless
- * for the harmonic feature). Analytic features are exact; voxel features use the exact
+ * for the harmonic feature), or, for the signed features (a half-space, a field of data), a value
+ * of either sign. Analytic features are exact; voxel features use the exact
  * Euclidean distance transform of their feature voxels (src/field), computed once per
  * evaluation lattice and cached. FRFs are reference-counted and immutable. */
 typedef struct hv_frf hv_frf;
@@ -213,7 +214,8 @@ typedef struct hv_frf hv_frf;
 typedef enum hv_frf_kind {
     HV_FRF_POINT, HV_FRF_LINE, HV_FRF_PLANE, HV_FRF_SEGMENT,
     HV_FRF_CONTOUR, HV_FRF_MASK, HV_FRF_FACETS, HV_FRF_HARMONIC,
-    HV_FRF_FIELD /* a stored distance grid ("distance.K" of a graded model) */
+    HV_FRF_FIELD, /* a stored distance grid ("distance.K" of a graded model) */
+    HV_FRF_HALFSPACE /* signed distance to a plane, positive on the side the normal points to */
 } hv_frf_kind;
 
 HV_API hv_status hv_frf_point(const double p[3], hv_frf **out);
@@ -222,6 +224,11 @@ HV_API hv_status hv_frf_line(const double origin[3], const double dir[3], hv_frf
 /* Plane through point with normal (non-zero): d = |n.(x - point)| / |n|. */
 HV_API hv_status hv_frf_plane(const double point[3], const double normal[3], hv_frf **out);
 HV_API hv_status hv_frf_segment(const double a[3], const double b[3], hv_frf **out);
+/* The half-space side of a plane, signed: d = n.(x - point) / |n|, positive on the side the normal
+ * points to, negative behind (a plane feature is its absolute value). */
+HV_API hv_status hv_frf_halfspace(const double point[3], const double normal[3], hv_frf **out);
+/* 1 when the feature's d may be negative (half-space, field), so a source's d- may be too. */
+HV_API int hv_frf_is_signed(const hv_frf *f);
 /* The boundary of bool grid `grid` of vol (the model's contour): d = depth below the boundary
  * for voxels inside (estimated from the distance transform to the outside, corrected by half
  * the surface skin, see README), 0 outside. vol is copied (the mask only). */
@@ -247,8 +254,8 @@ HV_API hv_status hv_frf_harmonic(const hv_volume *vol, const char *domain, const
                                  const hv_facet_select *one, const hv_facet_select *zero,
                                  hv_frf **out);
 
-/* Features from options: the kinds point, axis (alias line), plane, segment, contour, mask and
- * field, each with its keys (point: point; axis: origin, direction; plane: point, normal;
+/* Features from options: the kinds point, axis (alias line), plane, halfspace, segment, contour,
+ * mask and field, each with its keys (point: point; axis: origin, direction; plane, halfspace: point, normal;
  * segment: from, to; contour, mask: grid; field: file, array, outside). */
 typedef struct hv_frf_options {
     hv_frf_kind kind;

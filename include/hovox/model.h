@@ -21,6 +21,13 @@ HV_API hv_status hv_model_load(const char *path, hv_volume **out);
  * an empty or NULL name). */
 HV_API hv_status hv_model_load_grids(const char *path, const char *const *names, int n, hv_volume **out);
 
+/* Check a graded model's grids against each other (hv_model_load does it on every load): every
+ * voxel of the occupancy has fractions that are finite, in [0, 1] and sum to 1 (within the 2^-12
+ * per material that 16-bit storage explains), and no voxel outside the occupancy holds a
+ * fraction. A model without occupancy or materials passes. Errors: HV_ERR_BAD_INPUT naming the
+ * model, the first bad voxel (index and world coordinates) and the value. */
+HV_API hv_status hv_model_check(const hv_volume *vol);
+
 #ifdef __cplusplus
 }
 #endif

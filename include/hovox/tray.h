@@ -28,6 +28,8 @@ extern "C" {
 #endif
 
 #define HV_TRAY_MAX_RESINS 64
+/* Most parts a tray places (copies counted). */
+#define HV_TRAY_MAX_PARTS 4096
 
 /* A resin: its name and display colour (palette entry). */
 typedef struct hv_resin {

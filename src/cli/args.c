@@ -430,6 +430,7 @@ static int check_outputs(const cli_spec *spec, const cli_args *a, const hv_optio
 
 int cli_main(const cli_spec *spec, int argc, char **argv)
 {
+    hv_inputs_reset(); /* one command: it never writes over what it reads (hovox/core.h) */
     const hv_option_set *lib = spec->lib ? spec->lib() : NULL;
     void *lib_opts = lib ? hv_calloc(1, lib->size) : NULL;
     void *local_opts = spec->local ? hv_calloc(1, spec->local->size) : NULL;

@@ -19,6 +19,7 @@ typedef struct input_file {
 } input_file;
 
 static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
+static int g_on; /* a front end started a command (hv_inputs_reset) */
 static input_file *g_inputs;
 static size_t g_count, g_cap;
 
@@ -27,7 +28,7 @@ void hv_input_note(const char *path)
     struct stat st;
     if (!path || stat(path, &st) != 0 || !S_ISREG(st.st_mode)) return; /* devices and pipes are read in place */
     pthread_mutex_lock(&g_lock);
-    int known = 0;
+    int known = !g_on;
     for (size_t i = 0; i < g_count && !known; ++i) known = g_inputs[i].dev == st.st_dev && g_inputs[i].ino == st.st_ino;
     if (!known && hv_grow((void **)&g_inputs, &g_cap, g_count + 1, sizeof *g_inputs) == HV_OK) {
         input_file *f = &g_inputs[g_count];
@@ -51,6 +52,7 @@ void hv_inputs_reset(void)
     free(g_inputs);
     g_inputs = NULL;
     g_count = g_cap = 0;
+    g_on = 1;
     pthread_mutex_unlock(&g_lock);
 }
 

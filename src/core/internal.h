@@ -182,9 +182,6 @@ hv_status hv_parallel_for(size_t n, size_t grain, hv_range_fn fn, void *ctx,
 /* Report progress from the calling thread; returns HV_ERR_CANCELLED (message set) on cancel. */
 hv_status hv_progress_report(const hv_progress *p, const char *stage, double fraction);
 
-#ifdef __cplusplus
-}
-#endif
 /* ---- names (names.c) --------------------------------------------------------------------- */
 
 /* A set of names, each with the index of its first insertion (bodies, materials). */
@@ -209,4 +206,7 @@ const char *hv_quote(char *buf, size_t cap, const char *s, size_t n);
 char *hv_file_stem(const char *name);
 
 
+#ifdef __cplusplus
+}
+#endif
 #endif

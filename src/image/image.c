@@ -501,8 +501,15 @@ hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int h
 typedef struct png_source {
     const uint8_t *data;
     size_t size, at;
+    uint32_t height;  /* rows of the image, once known */
+    int interlaced;
+    size_t tail;      /* bytes read after the last row */
     char msg[256];
 } png_source;
+
+/* Input libpng may read after the last row: the end of the deflate stream, the CRC and the next
+ * chunk's header take a few bytes; more is image data going on past the image. */
+#define PNG_TAIL_MAX ((size_t)64 << 10)
 
 static void source_error(png_structp png, png_const_charp msg)
 {
@@ -515,6 +522,13 @@ static void source_read(png_structp png, png_bytep out, size_t n)
 {
     png_source *s = png_get_io_ptr(png);
     if (n > s->size - s->at) png_error(png, "the file ends early");
+    /* every row read: libpng inflates what is left of the image data to its end (and only warns if
+     * there is any), so a sheet with 400 MB of extra IDAT was inflated silently; it is refused once
+     * more than a few KiB follow the last row */
+    if (s->height && (s->interlaced ? png_get_current_pass_number(png) >= 7
+                                    : png_get_current_row_number(png) >= s->height) &&
+        (s->tail += n) > PNG_TAIL_MAX)
+        png_error(png, "image data goes on past the image (more than 64 KiB of it after the last row)");
     memcpy(out, s->data + s->at, n);
     s->at += n;
 }
@@ -565,6 +579,8 @@ static hv_status decode_png(png_decode *d, png_source *src, const char *name, ui
     if (rowbytes != (size_t)w * (size_t)channels * (size_t)(bits / 8))
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: PNG rows of %zu bytes", name, rowbytes);
     int passes = png_set_interlace_handling(d->png);
+    src->height = h;
+    src->interlaced = passes > 1;
     /* interlaced images are combined pass by pass into rows that start out zero */
     d->out->samples = passes > 1 ? hv_calloc((size_t)samples, sizeof(uint16_t))
                                  : hv_malloc_array((size_t)samples, sizeof(uint16_t));
@@ -583,7 +599,7 @@ static hv_status decode_png(png_decode *d, png_source *src, const char *name, ui
             else
                 for (size_t i = 0; i < rowbytes; ++i) dst[i] = d->row[i];
         }
-    png_read_end(d->png, NULL);
+    /* no png_read_end: the pixels are complete, and chunks after the image are not needed */
     d->out->width = (int)w;
     d->out->height = (int)h;
     d->out->channels = channels;
@@ -602,7 +618,7 @@ hv_status hv_png_decode_flags(const void *data, size_t size, const char *name, u
     memset(out, 0, sizeof *out);
     if (size < 8 || png_sig_cmp((png_const_bytep)data, 0, 8) != 0)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a PNG (no PNG signature)", name);
-    png_source src = {data, size, 0, {0}};
+    png_source src = {data, size, 0, 0, 0, 0, {0}};
     png_decode d = {NULL, NULL, NULL, out, flags};
     d.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &src, source_error, sink_warning);
     if (d.png) d.info = png_create_info_struct(d.png);

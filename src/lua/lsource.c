@@ -275,7 +275,8 @@ static int feature_distance(lua_State *L)
     double p[3];
     if (hv_lua_numbers(L, 2, 2, "point", p, 3) != 3) return luaL_argerror(L, 2, "point must be {x, y, z}");
     hv_volume *lat = lua_isnoneornil(L, 3) ? NULL : hv_lua_model(L, 3);
-    if (!lat && hv_frf_get_kind(u->p) >= HV_FRF_CONTOUR)
+    hv_frf_kind kind = hv_frf_get_kind(u->p);
+    if (!lat && kind != HV_FRF_HALFSPACE && kind >= HV_FRF_CONTOUR)
         return luaL_argerror(L, 3, "voxel features need the model whose lattice to use");
     double d;
     hv_status s = hv_frf_distance(u->p, lat, p, &d);
@@ -532,7 +533,7 @@ void hv_lua_open_sources(lua_State *L, int module)
     lua_pop(L, 1);
     static const struct { const char *name; hv_frf_kind kind; } kinds[] = {
         {"point", HV_FRF_POINT}, {"axis", HV_FRF_LINE}, {"line", HV_FRF_LINE}, {"plane", HV_FRF_PLANE},
-        {"segment", HV_FRF_SEGMENT}};
+        {"halfspace", HV_FRF_HALFSPACE}, {"segment", HV_FRF_SEGMENT}};
     for (size_t i = 0; i < HV_COUNT(kinds); ++i) {
         lua_pushinteger(L, kinds[i].kind);
         lua_pushcclosure(L, l_feature_make, 1);

@@ -10,14 +10,23 @@
 #include "core/internal.h"
 #include "material_internal.h"
 
-static hv_status check_ranges(double dn, double dg, double dp)
+/* d- may be below 0 only where d is: a signed feature (a half-space, a field of data that changes
+ * sign); a distance is never negative, so there d- < 0 would be a mistake. */
+static hv_status check_ranges(const hv_frf *frf, double dn, double dg, double dp)
 {
     const char *names[3] = {"d- (negative constant range)", "dg (gradient range)",
                             "d+ (positive constant range)"};
     double v[3] = {dn, dg, dp};
-    for (int i = 0; i < 3; ++i)
-        if (!isfinite(v[i]) || v[i] < 0)
-            return hv_error_set(HV_ERR_INVALID, "%s must be >= 0 (got %g)", names[i], v[i]);
+    for (int i = 0; i < 3; ++i) {
+        if (!isfinite(v[i])) return hv_error_set(HV_ERR_INVALID, "%s must be finite (got %g)", names[i], v[i]);
+        if (v[i] >= 0 || (i == 0 && frf && hv_frf_is_signed(frf))) continue;
+        if (i == 0)
+            return hv_error_set(HV_ERR_INVALID,
+                                "%s must be >= 0 for a %s feature, whose distances are never negative (got %g; a "
+                                "signed feature, halfspace or field, takes d- < 0)",
+                                names[i], frf ? hv_frf_kind_name(hv_frf_get_kind(frf)) : "distance", v[i]);
+        return hv_error_set(HV_ERR_INVALID, "%s must be >= 0 (got %g)", names[i], v[i]);
+    }
     return HV_OK;
 }
 
@@ -100,7 +109,7 @@ hv_status hv_ags_create_calibrated(const hv_ags_desc *desc, hv_calibration *cali
     if (!desc->frf) return hv_error_set(HV_ERR_INVALID, "grading source without a reference feature");
     if (desc->m < 1 || desc->m > HV_MAX_MATERIALS)
         return hv_error_set(HV_ERR_INVALID, "material count %d out of range [1, %d]", desc->m, HV_MAX_MATERIALS);
-    hv_status s = check_ranges(desc->d_neg, desc->d_grad, desc->d_pos);
+    hv_status s = check_ranges(desc->frf, desc->d_neg, desc->d_grad, desc->d_pos);
     if (s != HV_OK) return s;
     if ((s = hv_composition_check(desc->ms, desc->m, "Ms")) != HV_OK ||
         (s = hv_composition_check(desc->me, desc->m, "Me")) != HV_OK)
@@ -157,7 +166,7 @@ hv_status hv_ags_create_calibrated(const hv_ags_desc *desc, hv_calibration *cali
 hv_status hv_ags_moved(const hv_ags *a, double d_neg, hv_ags **out)
 {
     *out = NULL;
-    hv_status s = check_ranges(d_neg, a->d_grad, a->d_pos);
+    hv_status s = check_ranges(a->frf, d_neg, a->d_grad, a->d_pos);
     if (s != HV_OK) return s;
     hv_ags *b = hv_malloc(sizeof *b);
     if (!b) return HV_ERR_NOMEM;

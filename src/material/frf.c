@@ -79,6 +79,21 @@ hv_status hv_frf_plane(const double p[3], const double n[3], hv_frf **out)
     return HV_OK;
 }
 
+hv_status hv_frf_halfspace(const double p[3], const double n[3], hv_frf **out)
+{
+    *out = NULL;
+    double u[3];
+    if (!finite3(p) || !unit3(n, u))
+        return hv_error_set(HV_ERR_INVALID, "halfspace feature: point must be finite and normal non-zero");
+    hv_status s = new_frf(HV_FRF_HALFSPACE, out);
+    if (s != HV_OK) return s;
+    memcpy((*out)->a, p, 3 * sizeof(double));
+    memcpy((*out)->b, u, 3 * sizeof(double));
+    snprintf((*out)->desc, sizeof (*out)->desc, "halfspace(%.9g,%.9g,%.9g; %.9g,%.9g,%.9g)", p[0], p[1], p[2],
+             n[0], n[1], n[2]);
+    return HV_OK;
+}
+
 hv_status hv_frf_segment(const double a[3], const double b[3], hv_frf **out)
 {
     *out = NULL;
@@ -266,6 +281,11 @@ static int is_voxel_kind(hv_frf_kind k)
 }
 
 int hv_frf_is_voxel(const hv_frf *f) { return is_voxel_kind(f->kind); }
+
+int hv_frf_is_signed(const hv_frf *f) { return f->kind == HV_FRF_HALFSPACE || f->kind == HV_FRF_FIELD; }
+
+/* Features evaluated from their parameters (and stored in a model as them). */
+static int is_analytic_kind(hv_frf_kind k) { return k <= HV_FRF_SEGMENT || k == HV_FRF_HALFSPACE; }
 
 hv_status hv_frf_field(const hv_volume *vol, const char *grid, const char *description, hv_frf **out)
 {
@@ -494,6 +514,7 @@ static double analytic(const hv_frf *f, const double p[3])
         return sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     }
     case HV_FRF_PLANE: return fabs(v[0] * f->b[0] + v[1] * f->b[1] + v[2] * f->b[2]);
+    case HV_FRF_HALFSPACE: return v[0] * f->b[0] + v[1] * f->b[1] + v[2] * f->b[2];
     case HV_FRF_SEGMENT: {
         double ab[3] = {f->b[0] - f->a[0], f->b[1] - f->a[1], f->b[2] - f->a[2]};
         double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
@@ -519,7 +540,7 @@ HV_HOT_CLONES void hv_frf_leaf_distances(const hv_frf *f, const hv_transform *xf
     if (!is_voxel_kind(f->kind)) {
         double x0 = xf->origin[0] + o[0] * xf->voxel[0], y0 = xf->origin[1] + o[1] * xf->voxel[1],
                z0 = xf->origin[2] + o[2] * xf->voxel[2];
-        if (f->kind == HV_FRF_LINE || f->kind == HV_FRF_PLANE) {
+        if (f->kind == HV_FRF_LINE || f->kind == HV_FRF_PLANE || f->kind == HV_FRF_HALFSPACE) {
             /* the hot analytic cases: coordinates relative to the feature in double per row,
              * then float rows the compiler vectorises */
             const double *a = f->a;
@@ -534,6 +555,10 @@ HV_HOT_CLONES void hv_frf_leaf_distances(const hv_frf *f, const hv_transform *xf
                         const float base = px * u0 + py * u1;
 #pragma omp simd
                         for (int z = 0; z < 8; ++z) row[z] = fabsf(base + (pz0 + (float)z * vz) * u2);
+                    } else if (f->kind == HV_FRF_HALFSPACE) {
+                        const float base = px * u0 + py * u1;
+#pragma omp simd
+                        for (int z = 0; z < 8; ++z) row[z] = base + (pz0 + (float)z * vz) * u2;
                     } else {
                         const float c2 = px * u1 - py * u0;
 #pragma omp simd
@@ -727,7 +752,7 @@ json_t *hv_frf_to_doc(const hv_frf *f, const char *grid, const char *derived)
 {
     json_t *j = json_object();
     if (!j) return NULL;
-    const hv_option_set *set = f->kind <= HV_FRF_SEGMENT ? hv_frf_option_set(f->kind) : NULL;
+    const hv_option_set *set = is_analytic_kind(f->kind) ? hv_frf_option_set(f->kind) : NULL;
     hv_frf_kind dk = f->kind == HV_FRF_FIELD ? f->derived : f->kind;
     int failed;
     if (derived && !set && (dk == HV_FRF_CONTOUR || dk == HV_FRF_MASK)) {
@@ -776,7 +801,7 @@ hv_status hv_frf_from_doc(const json_t *j, const hv_volume *vol, const char *wha
                           : hv_error_prefix(s == HV_ERR_INVALID || s == HV_ERR_NOT_FOUND ? HV_ERR_BAD_INPUT : s,
                                             "%s: ", what);
     }
-    const hv_option_set *set = kind <= HV_FRF_SEGMENT ? hv_frf_option_set((hv_frf_kind)kind) : NULL;
+    const hv_option_set *set = is_analytic_kind((hv_frf_kind)kind) ? hv_frf_option_set((hv_frf_kind)kind) : NULL;
     if (!set) return hv_error_set(HV_ERR_BAD_INPUT, "%s: a %s feature is not stored in a model", what, hv_frf_kind_name((hv_frf_kind)kind));
     hv_frf_options o;
     set->init(&o);

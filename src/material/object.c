@@ -719,7 +719,9 @@ HV_HOT_CLONES static hv_status eval_leaves(void *vctx, size_t b, size_t e, int t
                     const hv_ags *a = r->ags[s];
                     const float *ds = dist[s];
                     leaf_weights(a, ds, w);
-                    if (s == 0) memcpy(best, ds, sizeof best);
+                    /* nearest by |d|: a signed feature's d is negative behind it */
+                    if (s == 0)
+                        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) best[n] = fabsf(ds[n]);
                     for (int j = 0; j < m; ++j) {
                         const float ms = (float)a->ms[j], dm = (float)(a->me[j] - a->ms[j]);
                         float *vj = val[j];
@@ -730,13 +732,13 @@ HV_HOT_CLONES static hv_status eval_leaves(void *vctx, size_t b, size_t e, int t
 #pragma omp simd
                             for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
                                 const float v = ms + w[n] * dm; /* unconditional: the select vectorises */
-                                vj[n] = ds[n] < best[n] ? v : vj[n];
+                                vj[n] = fabsf(ds[n]) < best[n] ? v : vj[n];
                             }
                         }
                     }
                     if (s > 0) {
 #pragma omp simd
-                        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) best[n] = ds[n] < best[n] ? ds[n] : best[n];
+                        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) best[n] = fabsf(ds[n]) < best[n] ? fabsf(ds[n]) : best[n];
                     }
                 }
             } else {
@@ -745,7 +747,7 @@ HV_HOT_CLONES static hv_status eval_leaves(void *vctx, size_t b, size_t e, int t
                     double acc_p[HV_MAX_MATERIALS] = {0}, wsum = 0;
                     for (int s = 0; s < k; ++s) {
                         const hv_ags *a = r->ags[s];
-                        double om = pow((double)dist[s][n] + eps, -o->power);
+                        double om = pow(fabs((double)dist[s][n]) + eps, -o->power);
                         double ww = hv_ags_weight(a, dist[s][n]);
                         for (int j = 0; j < m; ++j) acc_p[j] += om * (a->ms[j] + ww * (a->me[j] - a->ms[j]));
                         wsum += om;
@@ -1240,19 +1242,21 @@ void hv_object_sample(const hv_object *o, const double p[3], int *inside, double
     if (g->nags == 1 || o->blend == HV_BLEND_NEAREST) {
         int best = 0;
         double bd = INFINITY;
+        double dbest = 0;
         for (int i = 0; i < g->nags; ++i) {
             double d = hv_frf_sample(g->ags[i]->frf, p);
-            if (d < bd) {
-                bd = d;
+            if (fabs(d) < bd) { /* nearest by |d|, as the evaluation (signed features) */
+                bd = fabs(d);
+                dbest = d;
                 best = i;
             }
         }
-        hv_ags_eval(g->ags[best], bd, frac);
+        hv_ags_eval(g->ags[best], dbest, frac);
         return;
     }
     double eps = 0.5 * hv_voxel_scale(&o->xf), wsum = 0, tmp[HV_MAX_MATERIALS];
     for (int i = 0; i < g->nags; ++i) {
-        double d = hv_frf_sample(g->ags[i]->frf, p), w = pow(d + eps, -o->power);
+        double d = hv_frf_sample(g->ags[i]->frf, p), w = pow(fabs(d) + eps, -o->power);
         hv_ags_eval(g->ags[i], d, tmp);
         for (int j = 0; j < m; ++j) frac[j] += w * tmp[j];
         wsum += w;

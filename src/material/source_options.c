@@ -10,10 +10,10 @@
 
 /* ---- features -------------------------------------------------------------------------------- */
 
-static const char *const k_frf_names[] = {"point", "axis", "plane", "segment", "contour", "mask",
+static const char *const k_frf_names[] = {"point", "axis", "plane", "halfspace", "segment", "contour", "mask",
                                           "facets", "harmonic", "field", NULL};
-static const int k_frf_values[] = {HV_FRF_POINT, HV_FRF_LINE, HV_FRF_PLANE, HV_FRF_SEGMENT, HV_FRF_CONTOUR,
-                                   HV_FRF_MASK, HV_FRF_FACETS, HV_FRF_HARMONIC, HV_FRF_FIELD};
+static const int k_frf_values[] = {HV_FRF_POINT, HV_FRF_LINE, HV_FRF_PLANE, HV_FRF_HALFSPACE, HV_FRF_SEGMENT,
+                                   HV_FRF_CONTOUR, HV_FRF_MASK, HV_FRF_FACETS, HV_FRF_HARMONIC, HV_FRF_FIELD};
 static const char *const k_frf_aliases[] = {"line", "axis", NULL};
 static const hv_enum_def k_frf = {"feature", k_frf_names, k_frf_values, k_frf_aliases};
 
@@ -41,6 +41,9 @@ static const hv_option k_axis[] = {V3("origin", origin, 0, "a point of the line 
                                    V3("direction", direction, HV_OPT_REQUIRED, "its direction (non-zero)")};
 static const hv_option k_plane[] = {V3("point", point, 0, "a point of the plane (default 0,0,0)"),
                                     V3("normal", normal, HV_OPT_REQUIRED, "its normal (non-zero)")};
+static const hv_option k_halfspace[] = {V3("point", point, 0, "a point of the plane bounding it (default 0,0,0)"),
+                                        V3("normal", normal, HV_OPT_REQUIRED,
+                                           "its normal, pointing to where d > 0 (non-zero)")};
 static const hv_option k_segment[] = {V3("from", from, HV_OPT_REQUIRED, "one end"),
                                       V3("to", to, HV_OPT_REQUIRED, "the other end")};
 static const hv_option k_contour[] = {{.key = "grid", .kind = HV_OPT_STRING, .offset = FOFF(grid), .meta = "GRID",
@@ -64,7 +67,9 @@ static const hv_option k_field[] = {
 static hv_status frf_validate(const void *opts)
 {
     const hv_frf_options *o = opts;
-    const double *dir = o->kind == HV_FRF_LINE ? o->direction : o->kind == HV_FRF_PLANE ? o->normal : NULL;
+    const double *dir = o->kind == HV_FRF_LINE                                  ? o->direction
+                        : o->kind == HV_FRF_PLANE || o->kind == HV_FRF_HALFSPACE ? o->normal
+                                                                                 : NULL;
     if (dir && dir[0] == 0 && dir[1] == 0 && dir[2] == 0)
         return hv_error_option(HV_ERR_INVALID, "{%s} must not be zero", o->kind == HV_FRF_LINE ? "direction" : "normal");
     if (o->kind == HV_FRF_SEGMENT && o->from[0] == o->to[0] && o->from[1] == o->to[1] && o->from[2] == o->to[2])
@@ -75,6 +80,11 @@ static hv_status frf_validate(const void *opts)
 static void frf_init_point(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_POINT; }
 static void frf_init_axis(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_LINE; }
 static void frf_init_plane(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_PLANE; }
+static void frf_init_halfspace(void *o)
+{
+    memset(o, 0, sizeof(hv_frf_options));
+    ((hv_frf_options *)o)->kind = HV_FRF_HALFSPACE;
+}
 static void frf_init_segment(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv_frf_options *)o)->kind = HV_FRF_SEGMENT; }
 static void frf_init_contour(void *o)
 {
@@ -88,7 +98,8 @@ static void frf_init_field(void *o) { memset(o, 0, sizeof(hv_frf_options)), ((hv
 #define FSET(name, opts, init) {name, opts, (int)HV_COUNT(opts), sizeof(hv_frf_options), init, NULL, 0, NULL, frf_validate, NULL, 0}
 static const hv_option_set k_frf_sets[] = {
     FSET("point", k_point, frf_init_point),       FSET("axis", k_axis, frf_init_axis),
-    FSET("plane", k_plane, frf_init_plane),       FSET("segment", k_segment, frf_init_segment),
+    FSET("plane", k_plane, frf_init_plane),       FSET("halfspace", k_halfspace, frf_init_halfspace),
+    FSET("segment", k_segment, frf_init_segment),
     FSET("contour", k_contour, frf_init_contour), FSET("mask", k_mask, frf_init_mask),
     FSET("field", k_field, frf_init_field),
 };
@@ -113,6 +124,7 @@ hv_status hv_frf_from_options(const hv_frf_options *o, const hv_volume *vol, hv_
     case HV_FRF_POINT: return hv_frf_point(o->point, out);
     case HV_FRF_LINE: return hv_frf_line(o->origin, o->direction, out);
     case HV_FRF_PLANE: return hv_frf_plane(o->point, o->normal, out);
+    case HV_FRF_HALFSPACE: return hv_frf_halfspace(o->point, o->normal, out);
     case HV_FRF_SEGMENT: return hv_frf_segment(o->from, o->to, out);
     case HV_FRF_CONTOUR:
     case HV_FRF_MASK:
@@ -173,7 +185,7 @@ const hv_option_set *hv_facet_select_option_set(void) { return &k_select_set; }
 static hv_status parse_ranges(const hv_option *o, void *opts, const hv_opt_value *v)
 {
     hv_ags_options *a = opts;
-    static const hv_option three = {.key = "ranges", .kind = HV_OPT_NUMBER, .count = 3, .lo = 0, .hi = 1e9,
+    static const hv_option three = {.key = "ranges", .kind = HV_OPT_NUMBER, .count = 3, .lo = -1e9, .hi = 1e9,
                                     .meta = "D-,DG,D+"};
     double r[3];
     hv_status s = hv_option_set_value(&three, r, v);
@@ -227,8 +239,8 @@ static hv_status parse_composition(const hv_option *o, void *opts, const hv_opt_
 #define AGS_RANGES_AND_F \
     {.key = "ranges", .kind = HV_OPT_CUSTOM, .meta = "D-,DG,D+", .parse = parse_ranges, \
      .help = "the negative constant, gradient and positive constant ranges (Wu eq. 11); DG = 0 is a step"}, \
-    {.key = "d_neg", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_neg), .meta = "D", \
-     .help = "d-: the negative constant range"}, \
+    {.key = "d_neg", .kind = HV_OPT_NUMBER, .lo = -1e9, .hi = 1e9, .offset = AOFF(d_neg), .meta = "D", \
+     .help = "d-: the negative constant range (below 0 only for a signed feature: halfspace, field)"}, \
     {.key = "d_grad", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_grad), .meta = "D", \
      .help = "dg: the gradient range (0: a step, a multi-material object)"}, \
     {.key = "d_pos", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e9, .offset = AOFF(d_pos), .meta = "D", \

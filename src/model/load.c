@@ -1,5 +1,5 @@
 /* src/model/load.c - the one model loader (hovox/model.h): an OpenVDB file or a 3MF Volumetric
- * package, told apart by the first bytes. */
+ * package, told apart by the first bytes, its grids checked against each other (check.c). */
 #include <stdio.h>
 #include <sys/stat.h>
 
@@ -25,6 +25,17 @@ static hv_status sniff(const char *path, model_kind *kind)
     return HV_OK;
 }
 
+/* A model whose grids disagree is refused whole (hv_model_check). */
+static hv_status checked(hv_volume **out)
+{
+    hv_status s = hv_model_check(*out);
+    if (s != HV_OK) {
+        hv_volume_destroy(*out);
+        *out = NULL;
+    }
+    return s;
+}
+
 hv_status hv_model_load(const char *path, hv_volume **out)
 {
     *out = NULL;
@@ -32,7 +43,8 @@ hv_status hv_model_load(const char *path, hv_volume **out)
     hv_status s = sniff(path, &kind);
     if (s != HV_OK) return s;
     hv_input_note(path);
-    return kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load(path, out);
+    s = kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load(path, out);
+    return s == HV_OK ? checked(out) : s;
 }
 
 hv_status hv_model_load_grids(const char *path, const char *const *names, int n, hv_volume **out)
@@ -42,5 +54,6 @@ hv_status hv_model_load_grids(const char *path, const char *const *names, int n,
     hv_status s = sniff(path, &kind);
     if (s != HV_OK) return s;
     hv_input_note(path);
-    return kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load_grids(path, names, n, out);
+    s = kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load_grids(path, names, n, out);
+    return s == HV_OK ? checked(out) : s;
 }

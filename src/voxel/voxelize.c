@@ -103,6 +103,9 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
         ctr[a] = 0.5 * (r->bbox_max[a] + r->bbox_min[a]);
     }
     double longest = HV_MAX(ext[0], HV_MAX(ext[1], ext[2]));
+    /* a mesh that is one point has nothing to voxelize, whatever the resolution (issue 32 item 12:
+     * --voxel-size and --like took it) */
+    if (!(longest > 0)) return hv_error_set(HV_ERR_INVALID, "%s: the mesh has no extent", name);
     int snapped = 0; /* origin set below from a lattice phase instead of centring */
     double phase[3] = {0, 0, 0};
     if (opt->lattice) {

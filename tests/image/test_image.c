@@ -666,4 +666,73 @@ Test(image, png_decode_palette_indices)
         hv_png_pixels_free(&p);
         free(mem);
     }
+
+/* A PNG chunk (length, type, data, CRC) appended to b. */
+static size_t put_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
+{
+    b[0] = (uint8_t)(n >> 24), b[1] = (uint8_t)(n >> 16), b[2] = (uint8_t)(n >> 8), b[3] = (uint8_t)n;
+    memcpy(b + 4, type, 4);
+    if (n) memcpy(b + 8, data, n);
+    uLong crc = crc32(crc32(0, Z_NULL, 0), b + 4, n + 4);
+    b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
+    b[11 + n] = (uint8_t)crc;
+    return 12 + n;
+}
+
+/* issue 32 item 12: image data that goes on past the image is refused once more than 64 KiB of it
+ * follow the last row: here a second IDAT chunk continues the deflate stream with 100 KiB of
+ * random bytes (stored), as a bomb's continues with gigabytes of zeros. Before, libpng inflated it
+ * all and only warned (400 MB of extra IDAT were inflated silently). */
+Test(image, png_decode_refuses_image_data_past_the_last_row)
+{
+    enum { W = 8, H = 8 };
+    enum { EXTRA = 100 << 10 };
+    static uint8_t raw[H * (W + 1) + EXTRA];
+    unsigned seed = 7;
+    for (size_t i = 0; i < sizeof raw; ++i) raw[i] = (uint8_t)((seed = seed * 1103515245u + 12345u) >> 16);
+    for (int y = 0; y < H; ++y) raw[y * (W + 1)] = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) raw[y * (W + 1) + 1 + x] = (uint8_t)(16 * y + x);
+    /* the rows, a full flush ending the first IDAT, then the same stream goes on in a second */
+    static uint8_t z[EXTRA + 4096];
+    z_stream zs;
+    memset(&zs, 0, sizeof zs);
+    cr_assert_eq(deflateInit(&zs, 6), Z_OK);
+    zs.next_in = raw, zs.avail_in = H * (W + 1), zs.next_out = z, zs.avail_out = sizeof z;
+    cr_assert_eq(deflate(&zs, Z_FULL_FLUSH), Z_OK);
+    size_t n1 = sizeof z - zs.avail_out;
+    zs.next_in = raw + H * (W + 1), zs.avail_in = EXTRA;
+    cr_assert_eq(deflate(&zs, Z_FINISH), Z_STREAM_END);
+    size_t nz = sizeof z - zs.avail_out;
+    deflateEnd(&zs);
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    static uint8_t png[EXTRA + 8192];
+    uint8_t ihdr[13] = {0, 0, 0, W, 0, 0, 0, H, 8, 0, 0, 0, 0};
+    size_t n = 0;
+    memcpy(png, sig, 8), n = 8;
+    n += put_chunk(png + n, "IHDR", ihdr, 13);
+    size_t idat1 = n;
+    n += put_chunk(png + n, "IDAT", z, (uint32_t)n1);
+    size_t tail = n;
+    n += put_chunk(png + n, "IDAT", z + n1, (uint32_t)(nz - n1));
+    n += put_chunk(png + n, "IEND", NULL, 0);
+    hv_png_pixels px;
+    cr_assert_eq(hv_png_decode(png, n, "tail.png", 1000, &px), HV_ERR_BAD_INPUT);
+    cr_assert(strstr(hv_last_error(), "tail.png") && strstr(hv_last_error(), "goes on past the image"), "%s",
+              hv_last_error());
+    /* the same stream ended where the image ends reads, pixel for pixel */
+    memset(&zs, 0, sizeof zs);
+    cr_assert_eq(deflateInit(&zs, 6), Z_OK);
+    zs.next_in = raw, zs.avail_in = H * (W + 1), zs.next_out = z, zs.avail_out = sizeof z;
+    cr_assert_eq(deflate(&zs, Z_FINISH), Z_STREAM_END);
+    nz = sizeof z - zs.avail_out;
+    deflateEnd(&zs);
+    n = idat1;
+    n += put_chunk(png + n, "IDAT", z, (uint32_t)nz);
+    n += put_chunk(png + n, "IEND", NULL, 0);
+    (void)tail;
+    cr_assert_eq(hv_png_decode(png, n, "ok.png", 1000, &px), HV_OK, "%s", hv_last_error());
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) cr_assert_eq(px.samples[y * W + x], 16 * y + x);
+    hv_png_pixels_free(&px);
 }

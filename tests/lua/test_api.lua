@@ -115,6 +115,15 @@ local axis = hovox.axis{origin = {0, 5, 5}, direction = {1, 0, 0}}
 near(axis:distance{3, 5, 8}, 3, 1e-12, "axis distance")
 near(hovox.line{direction = {0, 0, 2}}:distance{3, 4, 9}, 5, 1e-12, "line distance")
 near(hovox.plane{point = {0, 0, 1}, normal = {0, 0, 5}}:distance{7, 7, 4}, 3, 1e-12, "plane")
+near(hovox.plane{point = {0, 0, 1}, normal = {0, 0, 5}}:distance{7, 7, -2}, 3, 1e-12, "plane behind")
+near(hovox.halfspace{point = {0, 0, 1}, normal = {0, 0, 5}}:distance{7, 7, 4}, 3, 1e-12, "halfspace")
+near(hovox.halfspace{point = {0, 0, 1}, normal = {0, 0, 5}}:distance{7, 7, -2}, -3, 1e-12, "halfspace behind")
+do -- a signed feature takes d- < 0, a distance feature does not
+    local hs = hovox.ags{feature = hovox.halfspace{normal = {1, 0, 0}}, ranges = {-5, 10, 0}, ms = {1, 0}, me = {0, 1}}
+    near(hs:eval(-2.5)[2], 0.25, 1e-6, "halfspace source")
+    fails("must be >= 0 for a plane feature", hovox.ags,
+          {feature = hovox.plane{normal = {1, 0, 0}}, ranges = {-5, 10, 0}, ms = {1, 0}, me = {0, 1}})
+end
 near(hovox.point{1, 1, 1}:distance{1, 1, 3}, 2, 1e-12, "point")
 near(hovox.point{point = {1, 1, 1}}:distance{1, 1, 3}, 2, 1e-12, "point table")
 near(hovox.segment{from = {0, 0, 0}, to = {10, 0, 0}}:distance{15, 3, 4}, math.sqrt(25 + 25), 1e-12, "segment")

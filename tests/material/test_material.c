@@ -281,7 +281,9 @@ Test(ags, evaluation_rules)
     double bad[3] = {0.5, 0.6, 0};
     hv_ags_desc d2 = {axis, -1, 1, 1, NULL, ms, me, 3, NULL};
     cr_assert_eq(hv_ags_create(&d2, &a), HV_ERR_INVALID);
-    cr_assert(strstr(hv_last_error(), "d- (negative constant range) must be >= 0 (got -1)"), "%s", hv_last_error());
+    cr_assert(strstr(hv_last_error(), "d- (negative constant range) must be >= 0 for a axis feature") &&
+                  strstr(hv_last_error(), "(got -1;"),
+              "%s", hv_last_error());
     hv_ags_desc d3 = {axis, 0, 0, 0, NULL, bad, me, 3, NULL};
     cr_assert_eq(hv_ags_create(&d3, &a), HV_ERR_INVALID);
     cr_assert(strstr(hv_last_error(), "Ms = [0.5, 0.6, 0] sums to 1.1"), "%s", hv_last_error());
@@ -293,6 +295,59 @@ Test(ags, evaluation_rules)
     hv_ags_release(b);
     hv_ags_release(c);
     hv_frf_release(axis);
+}
+
+/* issue 32 item 16: a half-space gives the signed distance to its plane, positive where the normal
+ * points; a signed feature takes d- < 0 (a distance feature does not), and round trips through the
+ * object document as the options that make it. */
+Test(ags, signed_features_take_a_negative_d_neg)
+{
+    double p0[3] = {10, 0, 0}, n[3] = {2, 0, 0}, q[3];
+    hv_frf *hs;
+    cr_assert_eq(hv_frf_halfspace(p0, n, &hs), HV_OK);
+    cr_assert(hv_frf_is_signed(hs));
+    double at[3][2] = {{2.5, -7.5}, {10, 0}, {13, 3}};
+    for (int i = 0; i < 3; ++i) {
+        q[0] = at[i][0], q[1] = 4, q[2] = -3;
+        cr_assert_float_eq(hv_frf_sample(hs, q), at[i][1], 1e-12);
+    }
+    /* the leaf kernel gives the same signed values */
+    hv_transform xf = {{0.5, 0.5, 0.5}, {2, 0, 0}};
+    int32_t o[3] = {8, 0, 0};
+    float d[HV_LEAF_SIZE];
+    hv_frf_leaf_distances(hs, &xf, o, d);
+    cr_assert_float_eq(d[0], (2 + 8 * 0.5) - 10, 1e-5);
+    cr_assert_float_eq(d[7 << 6], (2 + 15 * 0.5) - 10, 1e-5);
+    double ms[3] = {1, 0, 0}, me[3] = {0, 1, 0}, c[3];
+    hv_ags *a = make_ags(hs, -5, 10, 0, "d/dg", ms, me), *b;
+    hv_ags_eval(a, -7.5, c);
+    cr_assert_float_eq(c[0], 1, 1e-9);
+    hv_ags_eval(a, -2.5, c);
+    cr_assert_float_eq(c[1], 0.25, 1e-6);
+    cr_assert_eq(hv_ags_moved(a, -8, &b), HV_OK);
+    hv_ags_release(b);
+    /* the document: kind halfspace with point and normal, read back to the same distances */
+    json_t *doc = hv_frf_to_doc(hs, NULL, NULL);
+    cr_assert_not_null(doc);
+    cr_assert_str_eq(json_string_value(json_object_get(doc, "kind")), "halfspace");
+    hv_frf *back;
+    cr_assert_eq(hv_frf_from_doc(doc, NULL, "test", &back), HV_OK, "%s", hv_last_error());
+    q[0] = 3, q[1] = 0, q[2] = 0;
+    cr_assert_float_eq(hv_frf_sample(back, q), -7, 1e-12);
+    json_decref(doc);
+    hv_frf_release(back);
+    /* a plane is the unsigned distance and refuses d- < 0 */
+    hv_frf *pl;
+    cr_assert_eq(hv_frf_plane(p0, n, &pl), HV_OK);
+    cr_assert(!hv_frf_is_signed(pl));
+    q[0] = 2.5;
+    cr_assert_float_eq(hv_frf_sample(pl, q), 7.5, 1e-12);
+    hv_ags_desc dd = {pl, -5, 10, 0, NULL, ms, me, 3, NULL};
+    cr_assert_eq(hv_ags_create(&dd, &b), HV_ERR_INVALID);
+    cr_assert(strstr(hv_last_error(), "plane feature, whose distances are never negative"), "%s", hv_last_error());
+    hv_frf_release(pl);
+    hv_ags_release(a);
+    hv_frf_release(hs);
 }
 
 Test(ags, wu_eq13_three_material_paradigm)

@@ -666,6 +666,7 @@ Test(image, png_decode_palette_indices)
         hv_png_pixels_free(&p);
         free(mem);
     }
+}
 
 /* A PNG chunk (length, type, data, CRC) appended to b. */
 static size_t put_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)

@@ -1,7 +1,7 @@
 """hovox: heterogeneous-object modeling for multi-material 3D printing, after Xiaojun Wu, from Python.
 
 The C library's API (what the Lua API reaches, README "Python"): meshes (load_mesh, mesh, generate,
-join_meshes, Mesh.transform), voxelize, materials, features (point, axis, plane, segment, facets,
+join_meshes, Mesh.transform), voxelize, materials, features (point, axis, plane, halfspace, segment, facets,
 Model.contour/mask/field/harmonic), sources (ags, wu3; f may be a Python callable, tabulated once),
 objects and their Booleans (object; & | - +), evaluation (grading), probe, profile, render, contours,
 layers, tray and export, with NumPy arrays in and out: Model.fractions() and friends (dense),
@@ -38,6 +38,7 @@ from ._hovox import (  # noqa: F401
     axis,
     contours,
     facets,
+    halfspace,
     join_meshes,
     line,
     load,

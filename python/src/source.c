@@ -293,6 +293,7 @@ static PyObject *py_point(PyObject *s, PyObject *a, PyObject *k) { (void)s; retu
 static PyObject *py_axis(PyObject *s, PyObject *a, PyObject *k) { (void)s; return make_feature(HV_FRF_LINE, a, k); }
 static PyObject *py_plane(PyObject *s, PyObject *a, PyObject *k) { (void)s; return make_feature(HV_FRF_PLANE, a, k); }
 static PyObject *py_segment(PyObject *s, PyObject *a, PyObject *k) { (void)s; return make_feature(HV_FRF_SEGMENT, a, k); }
+static PyObject *py_halfspace(PyObject *s, PyObject *a, PyObject *k) { (void)s; return make_feature(HV_FRF_HALFSPACE, a, k); }
 
 static int read_select(PyObject *d, hv_facet_select *sel, hvpy_arena *a, const char *what)
 {
@@ -479,7 +480,8 @@ static PyObject *feature_distance(PyObject *self, PyObject *args)
     if (hvpy_numbers(po, p, 3, "point") < 0) return NULL;
     hv_volume *lat = NULL;
     if (mo != Py_None && !(lat = HVPY_MODEL(mo))) return NULL;
-    if (!lat && hv_frf_get_kind(f) >= HV_FRF_CONTOUR)
+    hv_frf_kind kind = hv_frf_get_kind(f);
+    if (!lat && kind != HV_FRF_HALFSPACE && kind >= HV_FRF_CONTOUR)
         return hvpy_raise(HV_ERR_INVALID, "voxel features need the model whose lattice to use (model=...)");
     hv_status s = hv_frf_distance(f, lat, p, &d);
     return s != HV_OK ? hvpy_fail(s) : PyFloat_FromDouble(d);
@@ -505,7 +507,8 @@ static PyMethodDef feature_methods[] = {
     {NULL, NULL, 0, NULL},
 };
 static PyGetSetDef feature_getset[] = {
-    {"kind", feature_kind, NULL, "point, axis, plane, segment, contour, mask, facets, harmonic or field.", NULL},
+    {"kind", feature_kind, NULL, "point, axis, plane, halfspace, segment, contour, mask, facets, harmonic or field.",
+     NULL},
     HVPY_HANDLE_GETSET,
     {NULL, NULL, NULL, NULL, NULL},
 };
@@ -809,6 +812,9 @@ PyMethodDef hvpy_source_functions[] = {
     {"line", (PyCFunction)(void (*)(void))py_axis, METH_VARARGS | METH_KEYWORDS, "line(origin=..., direction=...): axis."},
     {"plane", (PyCFunction)(void (*)(void))py_plane, METH_VARARGS | METH_KEYWORDS,
      "plane(point=(x, y, z), normal=(x, y, z)) -> Feature."},
+    {"halfspace", (PyCFunction)(void (*)(void))py_halfspace, METH_VARARGS | METH_KEYWORDS,
+     "halfspace(point=(x, y, z), normal=(x, y, z)) -> Feature: the signed distance to the plane (negative behind "
+     "it), so a source on it may take d_neg < 0."},
     {"segment", (PyCFunction)(void (*)(void))py_segment, METH_VARARGS | METH_KEYWORDS,
      "segment(from_=(x, y, z), to=(x, y, z)) -> Feature."},
     {"facets", (PyCFunction)(void (*)(void))py_facets, METH_VARARGS | METH_KEYWORDS,

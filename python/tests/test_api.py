@@ -73,6 +73,12 @@ def test_sources_features_and_booleans():
     assert hovox.plane(point=(0, 0, 0), normal=(0, 0, 1)).distance((1, 2, 3)) == pytest.approx(3)
     assert hovox.segment(from_=(0, 0, 0), to=(1, 0, 0)).distance((2, 0, 0)) == pytest.approx(1)
     assert hovox.point((1, 1, 1)).distance((1, 1, 3)) == pytest.approx(2)
+    hs = hovox.halfspace(point=(0, 0, 10), normal=(0, 0, 1))
+    assert hs.distance((0, 0, 13)) == pytest.approx(3) and hs.distance((0, 0, 4)) == pytest.approx(-6)
+    signed = hovox.object(model, mats)
+    signed.add_ags(feature=hs, d_neg=-5, d_grad=10, d_pos=0, ms=(1, 0, 0), me=(0, 1, 0))
+    _, f = signed.evaluate().probe((0, 0, 10.5))
+    assert f["B"] == pytest.approx(0.55, abs=0.02)  # d = 0.5: (0.5 + 5) / 10
     # f as a Python function, an expression, a dict, a table: the same linear f
     common = dict(feature=ax, d_neg=2, d_grad=8, d_pos=2, ms=(1, 0, 0), me=(0, 1, 0))
     srcs = [hovox.ags(f=lambda d: d / 8, **common), hovox.ags(f="d/dg", **common),

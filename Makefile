@@ -1,8 +1,9 @@
 # hovox - heterogeneous-object modeling for multi-material 3D printing.
 #   make            library, CLI (build/hovox) and plugins
-#   make test       unit, header, CLI, sample and browser tests (installs missing packages as root)
+#   make test       unit, header, CLI, sample, Python and browser tests (installs missing packages as root)
 #   make sanitize   the whole test suite built with ASan + UBSan (build-san/)
 #   make bench      benchmarks against the anchors named in the issues
+#   make python     the Python package hovox, built in place (python/); make python-tests runs its tests
 #   make demo       the gear sample end to end
 #   make deps       install every Debian package (build, test, bench)
 # Options: WERROR=1 (warnings are errors, as in CI), BUILD=dir, SHARED=tests/data (holds meshes/: copies of the shared test meshes).
@@ -82,7 +83,7 @@ CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
 .PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests mpi-tests browser-tests sanitize bench \
-        demo deps clean check-deps-build check-deps-test
+        demo deps clean check-deps-build check-deps-test python python-tests
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
 
@@ -256,6 +257,33 @@ fuzz:
 	        build-fuzz-ub/corpus-fuzz_vdb tests/fuzz/corpus/vdb || exit 1; \
 	fi
 
+# ---- Python ------------------------------------------------------------------------------
+# `make python`: the package hovox (python/) built in place over libhovox.a, its plugins copied
+# beside the extension; `make python-tests` runs its pytest suite (python/tests). Under SAN=1 it is
+# built into $(BUILD)/python instead and run with ASan preloaded (Python itself is not
+# instrumented; PYTHONMALLOC=malloc lets ASan see every allocation).
+PYTHON  ?= /usr/bin/python3
+ifeq ($(SAN),1)
+PYDIR   := $(ROOT)/$(BUILD)/python
+PY_BUILD = build --build-base $(ROOT)/$(BUILD)/python-tmp --build-lib $(PYDIR)
+PY_RUN   = cat tests/lsan.supp tests/lsan-python.supp >$(BUILD)/lsan-python.supp && \
+           LD_PRELOAD=$$($(CC) -print-file-name=libasan.so) PYTHONMALLOC=malloc \
+           LSAN_OPTIONS=suppressions=$(ROOT)/$(BUILD)/lsan-python.supp:print_suppressions=0
+else
+PYDIR   := $(ROOT)/python
+PY_BUILD = build_ext --inplace --build-temp $(ROOT)/$(BUILD)/python-tmp
+PY_RUN   =
+endif
+
+python: $(BUILD)/libhovox.a $(PLUGINS)
+	@cd python && HOVOX_BUILD=$(ROOT)/$(BUILD) HOVOX_SAN=$(SAN) HOVOX_WERROR=$(WERROR) \
+	    $(PYTHON) setup.py -q $(PY_BUILD) >$(ROOT)/$(BUILD)/python-build.log 2>&1 || \
+	    { cat $(ROOT)/$(BUILD)/python-build.log; exit 1; }
+
+python-tests: python $(BUILD)/hovox
+	@$(PY_RUN) PYTHONPATH=$(PYDIR) HOVOX=$(ROOT)/$(BUILD)/hovox HOVOX_SHARED=$(SHARED) \
+	    $(PYTHON) -m pytest -q -p no:cacheprovider python/tests
+
 # Every public header compiles alone as C11 and as C++17.
 $(BUILD)/.headers-ok: $(HEADERS)
 	@mkdir -p $(BUILD)
@@ -297,7 +325,7 @@ sample-tests: $(BUILD)/hovox $(PLUGINS)
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests browser-tests
+	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests python-tests browser-tests
 
 # intercept_tls_get_addr=0: GCC 12's LeakSanitizer misreads glibc 2.36's dynamic TLS blocks of
 # dlopen'd plugins (a "DTLS" range of garbage) and its tracer crashes at exit ("Tracer caught
@@ -306,7 +334,7 @@ sanitize: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory BUILD=build-san SAN=1 all
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1 \
 	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 \
-	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests fuzz-tests cli-tests sample-tests
+	    $(MAKE) --no-print-directory BUILD=build-san SAN=1 unit-tests fuzz-tests cli-tests sample-tests python-tests
 
 bench: $(BUILD)/.deps-test
 	@sh scripts/install-deps.sh build test bench
@@ -319,5 +347,10 @@ demo: $(BUILD)/.deps-build
 
 clean:
 	rm -rf build build-san build-fuzz build-fuzz-ub
+	rm -rf python/build python/*.egg-info python/hovox/plugins python/hovox/_hovox*.so
+
+# `make -s print-LIBS`: a variable's value (the Python build links with the same libraries)
+print-%:
+	@echo '$($*)'
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

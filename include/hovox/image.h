@@ -98,6 +98,12 @@ typedef struct hv_png_pixels {
  * damaged data), HV_ERR_LIMIT, HV_ERR_NOMEM. On error *out holds nothing. */
 HV_API hv_status hv_png_decode(const void *data, size_t size, const char *name, uint64_t max_samples,
                                hv_png_pixels *out);
+/* hv_png_decode with flags: HV_PNG_PALETTE_INDICES decodes a palette image as its indices (one
+ * channel, 8 bits, one index per pixel whatever the bit depth; no transparency), as a slice stack's
+ * halftoned layers hold them (palette index j + 1 = material j). */
+#define HV_PNG_PALETTE_INDICES 1
+HV_API hv_status hv_png_decode_flags(const void *data, size_t size, const char *name, uint64_t max_samples,
+                                     int flags, hv_png_pixels *out);
 /* Free the samples; NULL and a zeroed struct are allowed. */
 HV_API void hv_png_pixels_free(hv_png_pixels *p);
 

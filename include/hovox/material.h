@@ -60,7 +60,9 @@ HV_API hv_status hv_material_table_amend(hv_material_table *t, const char *color
 HV_API void hv_material_name_from(const char *text, char out[65]);
 
 /* Properties: set (replacing) a value with its SI unit (may be "" or NULL). Keys: 1-64 bytes
- * of [A-Za-z0-9_.-]. Errors: HV_ERR_INVALID (key, non-finite value). */
+ * of [A-Za-z0-9_.-]. Properties keep the order they were first set in (a front end reading them
+ * from a table without an order, a Lua table or a Python dict, sets them in key order, so the
+ * same table gives the same model). Errors: HV_ERR_INVALID (key, non-finite value). */
 HV_API hv_status hv_material_set_property(hv_material_table *t, int m, const char *key,
                                           double value, const char *unit);
 /* The SI unit of a property hovox knows by name ("density" -> "kg/m^3"; "youngs_modulus",
@@ -303,7 +305,29 @@ typedef struct hv_field_report {
  * missing), HV_ERR_NOMEM. */
 HV_API hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *path,
                                    const char *array, hv_field_outside outside, hv_frf **out);
-/* 1 and *r for a feature made by hv_frf_field_file; 0 for others. */
+/* A field given as an array (a solver's result in a script: a NumPy array): dims[0] x dims[1] x
+ * dims[2] point samples, x slowest and z fastest (a C-order (nx, ny, nz) array), sample (i, j, k)
+ * at origin + (i, j, k) * spacing (world units), as float (double_values 0) or double values.
+ * Sampled at the voxel centres as a .vti's point data is: trilinear in the cell holding the
+ * centre (weights in double, the result rounded to float), so the same samples written to a .vti
+ * give the same field up to that rounding (bit for bit where the centres' cell coordinates are
+ * exact binary fractions); centres outside [origin, origin + (dims - 1) spacing] are not covered
+ * and follow `outside`, as for files. An axis of one sample covers only its plane. */
+typedef struct hv_field_grid {
+    const void *values;  /* read during the call only */
+    int double_values;   /* 1: double, 0: float */
+    int64_t dims[3];
+    double spacing[3], origin[3];
+} hv_field_grid;
+/* The feature of such an array on bool grid `grid` of vol (NULL: "occupancy"); `name` (may be
+ * NULL: "array") names it in messages and in its description ("field(name)"). Errors:
+ * HV_ERR_INVALID (dims outside 1..2^24, spacing not > 0, a non-finite value or origin, naming
+ * the sample), HV_ERR_LIMIT (more than 2^40 samples), HV_ERR_BAD_INPUT (no voxel covered, or
+ * voxels outside under HV_FIELD_REFUSE), HV_ERR_NOT_FOUND (no bool grid `grid`), HV_ERR_NOMEM.
+ * hv_frf_field_report works on it (file_lo, file_hi: the array's range). */
+HV_API hv_status hv_frf_field_grid(const hv_volume *vol, const char *grid, const hv_field_grid *g,
+                                   const char *name, hv_field_outside outside, hv_frf **out);
+/* 1 and *r for a feature made by hv_frf_field_file or hv_frf_field_grid; 0 for others. */
 HV_API int hv_frf_field_report(const hv_frf *f, hv_field_report *r);
 
 HV_API hv_frf *hv_frf_retain(hv_frf *f);

@@ -27,6 +27,9 @@ typedef enum hv_mesh_format {
 /* "binary STL", "ASCII STL", "3MF", "OBJ", "ASCII PLY", "binary PLY (little-endian)", ...,
  * "generated". Static. */
 HV_API const char *hv_mesh_format_name(hv_mesh_format format);
+/* The key of a format in JSON, Lua and Python ("binary", "ascii", "3mf", "obj", "ply_ascii",
+ * ...). Static. */
+HV_API const char *hv_mesh_format_key(hv_mesh_format format);
 
 /* What the mesh report says. Defects (open edges, flips, degenerate facets) are facts, not
  * errors: a mesh that has them still loads. */

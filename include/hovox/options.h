@@ -161,6 +161,10 @@ typedef struct hv_option_set {
 
 /* The option of that key, or NULL. */
 HV_API const hv_option *hv_option_find(const hv_option_set *set, const char *key);
+/* HV_OK when `key` is an option of the set, one of its aliases, or listed in `extra` (NULL or
+ * NULL-terminated: keys a front end reads itself, such as an output path); else HV_ERR_NOT_FOUND
+ * with the message the front ends give: "unknown option 'k' (options: a, b, ..., extra, ...)". */
+HV_API hv_status hv_option_known(const hv_option_set *set, const char *const *extra, const char *key);
 
 /* Store a value into opts (parsing text, checking the domain). Errors: HV_ERR_INVALID with a
  * message naming the option ("{step} must be in (0, 4] voxels, got 5", see hv_error_option). */

@@ -115,6 +115,19 @@ HV_API hv_status hv_volume_centres(const hv_volume *vol, const char *mask, doubl
 HV_API hv_status hv_volume_grid_set(hv_volume *vol, const char *name, const char *mask, const float *values,
                                     size_t n);
 
+/* Dense copies over the inclusive index box [lo, hi] (for numerical code that wants arrays):
+ * hv_volume_dense writes the n float grids `grids` (1 to 64) interleaved, out[((i * ny + j) * nz
+ * + k) * n + c] = grid c at voxel (lo[0] + i, lo[1] + j, lo[2] + k), 0 where the voxel is not
+ * active (a C-order (nx, ny, nz, n) array); hv_volume_dense_mask writes one byte per voxel, 1
+ * where bool grid g is true (g = -1: where the voxel is active), else 0. `out` holds nx * ny * nz
+ * (* n) values and is written whole (not read). Multi-threaded (hv_threads()), slab by slab.
+ * Errors: HV_ERR_INVALID (hi < lo on an axis, a grid of another type or out of range),
+ * HV_ERR_NOMEM, HV_ERR_CANCELLED (the cancel check). */
+HV_API hv_status hv_volume_dense(const hv_volume *vol, const int *grids, int n, const int32_t lo[3],
+                                 const int32_t hi[3], float *out);
+HV_API hv_status hv_volume_dense_mask(const hv_volume *vol, int g, const int32_t lo[3], const int32_t hi[3],
+                                      uint8_t *out);
+
 /* Inclusive index bounding box of the active voxels; returns 0 (and leaves lo/hi alone) when
  * the volume is empty, 1 otherwise. */
 HV_API int hv_volume_index_bbox(const hv_volume *vol, int32_t lo[3], int32_t hi[3]);

@@ -644,6 +644,25 @@ const hv_option *hv_option_find(const hv_option_set *set, const char *key)
     return NULL;
 }
 
+hv_status hv_option_known(const hv_option_set *set, const char *const *extra, const char *key)
+{
+    if (hv_option_find(set, key)) return HV_OK;
+    for (int i = 0; i < set->alias_count; ++i)
+        if (strcmp(set->aliases[i].name, key) == 0) return HV_OK;
+    for (const char *const *q = extra; q && *q; ++q)
+        if (strcmp(*q, key) == 0) return HV_OK;
+    char list[1024];
+    size_t n = 0;
+    list[0] = '\0';
+    for (int i = 0; i < set->count && n < sizeof list; ++i)
+        n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", set->options[i].key);
+    for (int i = 0; i < set->alias_count && n < sizeof list; ++i)
+        n += (size_t)snprintf(list + n, sizeof list - n, ", %s", set->aliases[i].name);
+    for (const char *const *q = extra; q && *q && n < sizeof list; ++q)
+        n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", *q);
+    return hv_error_set(HV_ERR_NOT_FOUND, "unknown option '%s' (options: %s)", key, list);
+}
+
 /* ---- collecting ------------------------------------------------------------------------------ */
 
 void hv_optargs_begin(hv_optargs *args, const hv_option_set *set, void *opts)

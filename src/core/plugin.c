@@ -38,8 +38,8 @@ hv_status hv_plugin_symbol(const char *name, const char *symbol, void **out)
     void *h = NULL;
     const char *env = getenv("HOVOX_PLUGIN_DIR");
     if (env && *env) h = try_open(env, name, &tried);
+    char exe[PATH_MAX] = "";
     if (!h) {
-        char exe[PATH_MAX];
         ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
         if (n > 0) {
             exe[n] = '\0';
@@ -49,6 +49,21 @@ hv_status hv_plugin_symbol(const char *name, const char *symbol, void **out)
             for (size_t i = 0; i < HV_COUNT(rel) && !h; ++i) {
                 char dir[PATH_MAX];
                 snprintf(dir, sizeof dir, "%s%s", exe, rel[i]);
+                h = try_open(dir, name, &tried);
+            }
+        }
+    }
+    if (!h) {
+        /* the file that holds the library (libhovox.so, or a program or Python extension linked
+         * with libhovox.a): a package ships its plugins beside it */
+        Dl_info info;
+        char dir[PATH_MAX];
+        if (dladdr((void *)hv_plugin_symbol, &info) && info.dli_fname && realpath(info.dli_fname, dir)) {
+            *strrchr(dir, '/') = '\0';
+            size_t len = strlen(dir);
+            /* a program's own directory was tried above */
+            if (strcmp(dir, exe) != 0 && len + sizeof "/plugins" <= sizeof dir) {
+                memcpy(dir + len, "/plugins", sizeof "/plugins");
                 h = try_open(dir, name, &tried);
             }
         }

@@ -547,6 +547,7 @@ typedef struct png_decode {
     png_infop info;
     uint8_t *row;
     hv_png_pixels *out;
+    int flags; /* HV_PNG_* */
 } png_decode;
 
 static hv_status decode_png(png_decode *d, png_source *src, const char *name, uint64_t max_samples)
@@ -559,9 +560,11 @@ static hv_status decode_png(png_decode *d, png_source *src, const char *name, ui
     png_uint_32 w = png_get_image_width(d->png, d->info), h = png_get_image_height(d->png, d->info);
     int depth = png_get_bit_depth(d->png, d->info), type = png_get_color_type(d->png, d->info);
     if (png_get_interlace_type(d->png, d->info) != PNG_INTERLACE_NONE) png_set_interlace_handling(d->png);
-    if (type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(d->png);
+    int indices = type == PNG_COLOR_TYPE_PALETTE && (d->flags & HV_PNG_PALETTE_INDICES);
+    if (indices && depth < 8) png_set_packing(d->png); /* one index per byte */
+    if (type == PNG_COLOR_TYPE_PALETTE && !indices) png_set_palette_to_rgb(d->png);
     if (type == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(d->png);
-    if (png_get_valid(d->png, d->info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(d->png);
+    if (png_get_valid(d->png, d->info, PNG_INFO_tRNS) && !indices) png_set_tRNS_to_alpha(d->png);
     if (depth == 16) png_set_swap(d->png); /* host order (little-endian machines) */
     png_read_update_info(d->png, d->info);
     int channels = png_get_channels(d->png, d->info);
@@ -606,11 +609,17 @@ static hv_status decode_png(png_decode *d, png_source *src, const char *name, ui
 
 hv_status hv_png_decode(const void *data, size_t size, const char *name, uint64_t max_samples, hv_png_pixels *out)
 {
+    return hv_png_decode_flags(data, size, name, max_samples, 0, out);
+}
+
+hv_status hv_png_decode_flags(const void *data, size_t size, const char *name, uint64_t max_samples, int flags,
+                              hv_png_pixels *out)
+{
     memset(out, 0, sizeof *out);
     if (size < 8 || png_sig_cmp((png_const_bytep)data, 0, 8) != 0)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a PNG (no PNG signature)", name);
     png_source src = {data, size, 0, 0, 0, 0, {0}};
-    png_decode d = {NULL, NULL, NULL, out};
+    png_decode d = {NULL, NULL, NULL, out, flags};
     d.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &src, source_error, sink_warning);
     if (d.png) d.info = png_create_info_struct(d.png);
     hv_status s = d.info ? decode_png(&d, &src, name, max_samples) : hv_error_set(HV_ERR_NOMEM, "PNG: out of memory");

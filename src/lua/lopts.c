@@ -197,20 +197,8 @@ void hv_lua_read_nested(lua_State *L, int idx, int arg, const hv_option_set *set
             hv_lua_arg_error(L, arg, "options are named (key = value), got a %s key", luaL_typename(L, -1));
             return;
         }
-        const char *k = lua_tostring(L, -1);
-        int known = hv_option_find(set, k) != NULL || listed(extra, k);
-        for (int i = 0; !known && i < set->alias_count; ++i) known = strcmp(set->aliases[i].name, k) == 0;
-        if (known) continue;
-        char list[1024];
-        size_t n = 0;
-        list[0] = '\0';
-        for (int i = 0; i < set->count && n < sizeof list; ++i)
-            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", set->options[i].key);
-        for (int i = 0; i < set->alias_count && n < sizeof list; ++i)
-            n += (size_t)snprintf(list + n, sizeof list - n, ", %s", set->aliases[i].name);
-        for (const char *const *q = extra; q && *q && n < sizeof list; ++q)
-            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", *q);
-        hv_lua_arg_error(L, arg, "unknown option '%s' (options: %s)", k, list);
+        if (hv_option_known(set, extra, lua_tostring(L, -1)) == HV_OK) continue;
+        hv_lua_arg_error(L, arg, "%s", hv_last_error());
         return;
     }
     /* then the values, in the set's order (deterministic messages) */

@@ -16,6 +16,8 @@
 
 /* ---- material tables ------------------------------------------------------------------------ */
 
+static int cmp_keys(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
+
 /* One material: a name, or {name = ..., color = "#rrggbb" | {r, g, b[, a]}, <property> = value |
  * {value, "unit"}, ...} (properties in SI units unless a unit is given). */
 static void mats_add_one(lua_State *L, hv_material_table *t, int idx, int arg, int holder)
@@ -47,13 +49,27 @@ static void mats_add_one(lua_State *L, hv_material_table *t, int idx, int arg, i
     int mi;
     hv_status s = hv_material_add(t, name, color, &mi);
     if (s != HV_OK) fail(L, s);
+    /* the properties in key order: a Lua table has no order of its own (its traversal follows the
+     * hash seed, which changes from run to run), and the model must not depend on it */
+    int nk = 0;
     lua_pushnil(L);
     while (lua_next(L, idx)) {
-        const char *key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : NULL;
-        if (!key || strcmp(key, "name") == 0 || strcmp(key, "color") == 0) {
-            lua_pop(L, 1);
-            continue;
-        }
+        lua_pop(L, 1);
+        nk += lua_type(L, -1) == LUA_TSTRING;
+    }
+    const char **keys = lua_newuserdatauv(L, (size_t)(nk ? nk : 1) * sizeof *keys, 0); /* the keys stay anchored by the table */
+    nk = 0;
+    lua_pushnil(L);
+    while (lua_next(L, idx)) {
+        lua_pop(L, 1);
+        if (lua_type(L, -1) == LUA_TSTRING) keys[nk++] = lua_tostring(L, -1);
+    }
+    qsort(keys, (size_t)nk, sizeof *keys, cmp_keys);
+    for (int ki = 0; ki < nk; ++ki) {
+        const char *key = keys[ki];
+        if (strcmp(key, "name") == 0 || strcmp(key, "color") == 0) continue;
+        lua_pushstring(L, key);
+        lua_rawget(L, idx);
         double value = 0;
         const char *unit = NULL;
         if (lua_type(L, -1) == LUA_TNUMBER) {
@@ -73,6 +89,7 @@ static void mats_add_one(lua_State *L, hv_material_table *t, int idx, int arg, i
         if ((s = hv_material_set_property(t, mi, key, value, unit)) != HV_OK) fail(L, s);
         lua_pop(L, 1);
     }
+    lua_pop(L, 1); /* the keys */
 }
 
 static int l_materials(lua_State *L)

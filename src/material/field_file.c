@@ -204,17 +204,29 @@ done:
     return s;
 }
 
-hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *path, const char *array,
-                            hv_field_outside outside, hv_frf **out)
+/* Samples a field at n points: val[i] and valid[i] (0: the point lies outside the field), and
+ * the field's own range. */
+typedef hv_status (*probe_fn)(void *ctx, size_t n, const double *xyz, float *val, uint8_t *valid, double range[2]);
+
+typedef struct file_probe {
+    const char *path, *array;
+    int vdb;
+} file_probe;
+
+static hv_status probe_file(void *ctx, size_t n, const double *xyz, float *val, uint8_t *valid, double range[2])
 {
-    *out = NULL;
+    const file_probe *f = ctx;
+    return f->vdb ? probe_vdb(f->path, f->array, n, xyz, val, valid, range)
+                  : probe_vtk(f->path, f->array, n, xyz, val, valid, range);
+}
+
+/* A field feature on bool grid `grid` of vol from a probe: the voxel centres sampled, the voxels
+ * not covered refused or filled, the values stored as the feature's field. `label` names the
+ * field in messages ("s.vti: sigma"), `desc` is the feature's description. */
+static hv_status field_feature(const hv_volume *vol, const char *grid, const char *label, const char *desc,
+                               probe_fn probe, void *ctx, hv_field_outside outside, hv_frf **out)
+{
     grid = grid ? grid : "occupancy";
-    if (!path || !*path || !array || !*array)
-        return hv_error_set(HV_ERR_INVALID, "a field feature needs a file and an array");
-    const char *ext = ext_of(path);
-    int vdb = !strcasecmp(ext, ".vdb");
-    if (!vdb && strcasecmp(ext, ".vti") != 0 && strcasecmp(ext, ".vtu") != 0)
-        return hv_error_set(HV_ERR_UNSUPPORTED, "%s: a field is read from .vti, .vtu or .vdb, not '%s'", path, ext);
     int g = hv_volume_grid_find(vol, grid);
     if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL)
         return hv_error_set(HV_ERR_NOT_FOUND, "the model has no bool grid '%s'", grid);
@@ -237,16 +249,15 @@ hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *
     hv_field_report rep;
     memset(&rep, 0, sizeof rep);
     double range[2] = {0, 0};
-    if (s == HV_OK)
-        s = vdb ? probe_vdb(path, array, n, xyz, val, valid, range) : probe_vtk(path, array, n, xyz, val, valid, range);
+    if (s == HV_OK) s = probe(ctx, n, xyz, val, valid, range);
     uint64_t covered = 0;
     for (size_t i = 0; s == HV_OK && i < n; ++i) covered += valid[i];
     if (s == HV_OK && covered == 0)
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s covers none of the model's %zu voxels (no overlap: are they in the "
-                         "same coordinates?)", path, array, n);
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s covers none of the model's %zu voxels (no overlap: are they in the "
+                         "same coordinates?)", label, n);
     if (s == HV_OK && covered < n && outside == HV_FIELD_REFUSE)
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s covers %llu of the model's %zu voxels; %llu lie outside it (the rule "
-                         "'nearest' gives them the nearest covered value)", path, array, (unsigned long long)covered, n,
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s covers %llu of the model's %zu voxels; %llu lie outside it (the rule "
+                         "'nearest' gives them the nearest covered value)", label, (unsigned long long)covered, n,
                          (unsigned long long)(n - covered));
     if (s == HV_OK && covered < n) s = fill_nearest(m, val, valid, n);
     /* the field as a float grid on the model's voxels, then an ordinary stored-field feature */
@@ -267,8 +278,6 @@ hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *
                 ++k;
             }
         }
-        char desc[256];
-        snprintf(desc, sizeof desc, "field(%s:%s)", path, array);
         s = hv_frf_field(m, "d", desc, out);
     }
     if (s == HV_OK) {
@@ -284,6 +293,102 @@ hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *
     free(valid);
     hv_volume_destroy(m);
     return s;
+}
+
+hv_status hv_frf_field_file(const hv_volume *vol, const char *grid, const char *path, const char *array,
+                            hv_field_outside outside, hv_frf **out)
+{
+    *out = NULL;
+    if (!path || !*path || !array || !*array)
+        return hv_error_set(HV_ERR_INVALID, "a field feature needs a file and an array");
+    const char *ext = ext_of(path);
+    int vdb = !strcasecmp(ext, ".vdb");
+    if (!vdb && strcasecmp(ext, ".vti") != 0 && strcasecmp(ext, ".vtu") != 0)
+        return hv_error_set(HV_ERR_UNSUPPORTED, "%s: a field is read from .vti, .vtu or .vdb, not '%s'", path, ext);
+    file_probe f = {path, array, vdb};
+    char label[512], desc[256];
+    snprintf(label, sizeof label, "%s: %s", path, array);
+    snprintf(desc, sizeof desc, "field(%s:%s)", path, array);
+    return field_feature(vol, grid, label, desc, probe_file, &f, outside, out);
+}
+
+/* A dense grid of point samples, trilinear inside its box (as VTK interpolates image data: the
+ * cell holding the point, its eight corners weighted in vtkVoxel's order). */
+static double grid_value_d(const hv_field_grid *g, int64_t i, int64_t j, int64_t k)
+{
+    size_t at = (size_t)((i * g->dims[1] + j) * g->dims[2] + k);
+    return g->double_values ? ((const double *)g->values)[at] : (double)((const float *)g->values)[at];
+}
+
+static hv_status probe_grid(void *ctx, size_t n, const double *xyz, float *val, uint8_t *valid, double range[2])
+{
+    const hv_field_grid *g = ctx;
+    for (size_t i = 0; i < n; ++i) {
+        int64_t c[3];
+        double t[3];
+        int in = 1;
+        for (int a = 0; a < 3 && in; ++a) {
+            double u = (xyz[3 * i + (size_t)a] - g->origin[a]) / g->spacing[a];
+            double last = (double)(g->dims[a] - 1);
+            if (!(u >= 0 && u <= last)) {
+                in = 0;
+                break;
+            }
+            c[a] = (int64_t)floor(u);
+            if (c[a] >= g->dims[a] - 1) c[a] = g->dims[a] > 1 ? g->dims[a] - 2 : 0; /* the far face */
+            t[a] = g->dims[a] > 1 ? u - (double)c[a] : 0.0;
+        }
+        valid[i] = (uint8_t)in;
+        val[i] = 0.0f;
+        if (!in) continue;
+        int64_t d[3];
+        for (int a = 0; a < 3; ++a) d[a] = g->dims[a] > 1 ? 1 : 0;
+        double r = t[0], s = t[1], q = t[2], rm = 1 - r, sm = 1 - s, qm = 1 - q;
+        double w[8] = {rm * sm * qm, r * sm * qm, rm * s * qm, r * s * qm, rm * sm * q, r * sm * q, rm * s * q, r * s * q};
+        double v = 0;
+        for (int p = 0; p < 8; ++p) {
+            int64_t ii = c[0] + ((p & 1) ? d[0] : 0), jj = c[1] + ((p & 2) ? d[1] : 0), kk = c[2] + ((p & 4) ? d[2] : 0);
+            v += w[p] * grid_value_d(g, ii, jj, kk);
+        }
+        val[i] = (float)v;
+    }
+    range[0] = INFINITY;
+    range[1] = -INFINITY;
+    size_t total = (size_t)(g->dims[0] * g->dims[1] * g->dims[2]);
+    for (size_t p = 0; p < total; ++p) {
+        double v = g->double_values ? ((const double *)g->values)[p] : (double)((const float *)g->values)[p];
+        range[0] = fmin(range[0], v);
+        range[1] = fmax(range[1], v);
+    }
+    return HV_OK;
+}
+
+hv_status hv_frf_field_grid(const hv_volume *vol, const char *grid, const hv_field_grid *g, const char *name,
+                            hv_field_outside outside, hv_frf **out)
+{
+    *out = NULL;
+    name = name && *name ? name : "array";
+    if (!g || !g->values) return hv_error_set(HV_ERR_INVALID, "field %s: no values", name);
+    uint64_t total = 1;
+    for (int a = 0; a < 3; ++a) {
+        if (g->dims[a] < 1 || g->dims[a] > (1 << 24))
+            return hv_error_set(HV_ERR_INVALID, "field %s: %lld samples along axis %d (1 to %d)", name,
+                                (long long)g->dims[a], a, 1 << 24);
+        if (!(g->spacing[a] > 0) || !isfinite(g->spacing[a]) || !isfinite(g->origin[a]))
+            return hv_error_set(HV_ERR_INVALID, "field %s: spacing must be finite and > 0 and the origin finite "
+                                "(axis %d: spacing %g, origin %g)", name, a, g->spacing[a], g->origin[a]);
+        total *= (uint64_t)g->dims[a];
+        if (total > ((uint64_t)1 << 40)) return hv_error_set(HV_ERR_LIMIT, "field %s: too many samples", name);
+    }
+    for (int64_t i = 0; i < g->dims[0]; ++i)
+        for (int64_t j = 0; j < g->dims[1]; ++j)
+            for (int64_t k = 0; k < g->dims[2]; ++k)
+                if (!isfinite(grid_value_d(g, i, j, k)))
+                    return hv_error_set(HV_ERR_INVALID, "field %s: the value at [%lld, %lld, %lld] is %g (values must be "
+                                        "finite)", name, (long long)i, (long long)j, (long long)k, grid_value_d(g, i, j, k));
+    char desc[256];
+    snprintf(desc, sizeof desc, "field(%s)", name);
+    return field_feature(vol, grid, name, desc, probe_grid, (void *)(uintptr_t)g, outside, out);
 }
 
 int hv_frf_field_report(const hv_frf *f, hv_field_report *r)

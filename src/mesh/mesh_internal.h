@@ -46,8 +46,6 @@ void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);
  * when out of memory. */
 void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_mesh_report *body_reports);
 
-/* The name of a format in JSON and Lua ("binary", "ascii", "3mf", "obj", "ply_ascii", ...). */
-const char *hv_mesh_format_key(hv_mesh_format format);
 
 /* The display colour of a material as text: "#rrggbb", "#rrggbbaa" when not opaque; buf. */
 const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10]);

@@ -261,3 +261,17 @@ Test(options, layers_profile_sets_the_printer)
     cr_assert_eq(hv_optargs_set(&a, "profile", &bad), HV_ERR_INVALID);
     cr_assert(strstr(hv_last_error(), "j750, j850"));
 }
+
+/* hv_option_known: options, aliases and a front end's own keys are known; anything else is refused
+ * with every key listed (the message Lua and Python give for a misspelt option). */
+Test(options, known_keys_and_the_unknown_key_message)
+{
+    static const char *const extra[] = {"path", "mesh", NULL};
+    cr_assert_eq(hv_option_known(&k_set, NULL, "step"), HV_OK);
+    cr_assert_eq(hv_option_known(&k_set, NULL, "surface"), HV_OK); /* an alias */
+    cr_assert_eq(hv_option_known(&k_set, extra, "mesh"), HV_OK);
+    cr_assert_eq(hv_option_known(&k_set, NULL, "mesh"), HV_ERR_NOT_FOUND);
+    cr_assert_eq(hv_option_known(&k_set, extra, "stepp"), HV_ERR_NOT_FOUND);
+    cr_assert_str_eq(hv_last_error(), "unknown option 'stepp' (options: step, size, eye, dims, mode, seed, budget, "
+                                      "layers, background, palette0, flag, name, surface, path, mesh)");
+}

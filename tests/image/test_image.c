@@ -636,6 +636,50 @@ Test(image, png_in_parallel_bands_read_back_by_libpng)
     }
 }
 
+/* hv_png_decode_flags(HV_PNG_PALETTE_INDICES): a palette image of any bit depth reads back as the
+ * indices it was written with (the form of a halftoned layer); without the flag, as RGB. */
+Test(image, png_decode_palette_indices)
+{
+    int w = 13, h = 5;
+    uint8_t px[13 * 5];
+    static const uint8_t pal[12] = {0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0, 255};
+    for (int depth = 1; depth <= 8; depth *= 2) {
+        int levels = depth == 1 ? 2 : 4;
+        for (int i = 0; i < w * h; ++i) px[i] = (uint8_t)((i * 7 + i / 3) % levels);
+        hv_png_options o;
+        hv_png_options_init(&o);
+        o.bit_depth = depth;
+        o.palette = pal;
+        o.palette_size = levels;
+        uint8_t *mem = NULL;
+        size_t len = 0;
+        cr_assert_eq(hv_png_encode(px, w, h, 1, 0, &o, &mem, &len), HV_OK, "%s", hv_last_error());
+        hv_png_pixels p;
+        cr_assert_eq(hv_png_decode_flags(mem, len, "mem", 1 << 20, HV_PNG_PALETTE_INDICES, &p), HV_OK, "%s",
+                     hv_last_error());
+        cr_assert(p.width == w && p.height == h && p.channels == 1 && p.bit_depth == 8, "depth %d", depth);
+        for (int i = 0; i < w * h; ++i) cr_assert_eq(p.samples[i], px[i], "depth %d pixel %d", depth, i);
+        hv_png_pixels_free(&p);
+        cr_assert_eq(hv_png_decode(mem, len, "mem", 1 << 20, &p), HV_OK);
+        cr_assert_eq(p.channels, 3);
+        for (int i = 0; i < w * h; ++i) cr_assert_eq(p.samples[3 * i], pal[3 * px[i]]);
+        hv_png_pixels_free(&p);
+        free(mem);
+    }
+}
+
+/* A PNG chunk (length, type, data, CRC) appended to b. */
+static size_t put_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
+{
+    b[0] = (uint8_t)(n >> 24), b[1] = (uint8_t)(n >> 16), b[2] = (uint8_t)(n >> 8), b[3] = (uint8_t)n;
+    memcpy(b + 4, type, 4);
+    if (n) memcpy(b + 8, data, n);
+    uLong crc = crc32(crc32(0, Z_NULL, 0), b + 4, n + 4);
+    b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
+    b[11 + n] = (uint8_t)crc;
+    return 12 + n;
+}
+
 /* issue 32 item 12: image data that goes on past the image is refused once more than 64 KiB of it
  * follow the last row: here a second IDAT chunk continues the deflate stream with 100 KiB of
  * random bytes (stored), as a bomb's continues with gigabytes of zeros. Before, libpng inflated it

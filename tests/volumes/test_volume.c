@@ -607,3 +607,63 @@ Test(volume, fractions_of_two_and_six_materials_sum_to_one)
         hv_volume_destroy(r);
     }
 }
+
+/* Dense copies (hv_volume_dense, hv_volume_dense_mask) against the accessor voxel by voxel, over
+ * the whole box, a box cutting leaves on every side (negative indices included) and a box beyond
+ * the active voxels; any thread count gives the same array. */
+Test(volume, dense_copies_over_boxes)
+{
+    hv_volume *v = make(0.5, 0.5, 0.5);
+    int lo[3] = {-11, -3, 2}, hi[3] = {20, 9, 27};
+    add_box(v, lo, hi);
+    int a[3] = {30, 1, 40}, b[3] = {33, 4, 41};
+    add_box(v, a, b);
+    int g = -1, g2 = -1, bg = -1;
+    cr_assert_eq(hv_volume_grid_add(v, "f", HV_GRID_FLOAT, &g), HV_OK);
+    cr_assert_eq(hv_volume_grid_add(v, "g", HV_GRID_FLOAT, &g2), HV_OK);
+    cr_assert_eq(hv_volume_grid_add(v, "b", HV_GRID_BOOL, &bg), HV_OK);
+    fill(v, g, bg);
+    const int32_t *org = hv_volume_leaf_origins(v);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) /* g = -f, inactive voxels poisoned */
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n)
+            hv_volume_leaf_float(v, g2, l)[n] = HV_BIT_GET(hv_volume_leaf_mask(v, l), n)
+                                                    ? -hv_volume_leaf_float(v, g, l)[n] : 1e9f;
+    (void)org;
+    int32_t boxes[3][6] = {{-11, -3, 2, 33, 9, 41}, {-9, -2, 5, 31, 3, 40}, {-20, -10, -5, 45, 15, 50}};
+    for (int bi = 0; bi < 3; ++bi)
+        for (int threads = 1; threads <= 3; threads += 2) {
+            hv_set_threads(threads);
+            int32_t *bx = boxes[bi];
+            size_t nx = (size_t)(bx[3] - bx[0] + 1), ny = (size_t)(bx[4] - bx[1] + 1), nz = (size_t)(bx[5] - bx[2] + 1);
+            float *out = malloc(nx * ny * nz * 2 * sizeof(float));
+            uint8_t *act = malloc(nx * ny * nz), *bits = malloc(nx * ny * nz);
+            memset(out, 0x7f, nx * ny * nz * 2 * sizeof(float)); /* garbage: the call writes every value */
+            memset(act, 7, nx * ny * nz);
+            int grids[2] = {g, g2};
+            cr_assert_eq(hv_volume_dense(v, grids, 2, bx, bx + 3, out), HV_OK, "%s", hv_last_error());
+            cr_assert_eq(hv_volume_dense_mask(v, -1, bx, bx + 3, act), HV_OK);
+            cr_assert_eq(hv_volume_dense_mask(v, bg, bx, bx + 3, bits), HV_OK);
+            hv_accessor acc;
+            hv_accessor_init(&acc, v);
+            size_t q = 0;
+            for (int32_t i = bx[0]; i <= bx[3]; ++i)
+                for (int32_t j = bx[1]; j <= bx[4]; ++j)
+                    for (int32_t k = bx[2]; k <= bx[5]; ++k, ++q) {
+                        int on = hv_accessor_active(&acc, i, j, k);
+                        cr_assert_eq(act[q], on, "box %d (%d,%d,%d)", bi, i, j, k);
+                        cr_assert_eq(bits[q], on && hv_accessor_bool(&acc, bg, i, j, k));
+                        cr_assert_eq(out[2 * q], on ? hv_accessor_float(&acc, g, i, j, k) : 0.0f);
+                        cr_assert_eq(out[2 * q + 1], on ? -hv_accessor_float(&acc, g, i, j, k) : 0.0f);
+                    }
+            free(out);
+            free(act);
+            free(bits);
+        }
+    hv_set_threads(0);
+    float one;
+    int32_t p[3] = {0, 0, 0}, m[3] = {0, -1, 0};
+    cr_expect_eq(hv_volume_dense(v, &bg, 1, p, p, &one), HV_ERR_INVALID);
+    cr_expect_eq(hv_volume_dense(v, &g, 1, p, m, &one), HV_ERR_INVALID);
+    cr_expect_eq(hv_volume_dense_mask(v, g, p, p, (uint8_t *)&one), HV_ERR_INVALID);
+    hv_volume_destroy(v);
+}

@@ -1,0 +1,407 @@
+/* python/src/output.c - Python: a model's outputs, each reading the options of its CLI command
+ * through the library's option set: model.render (hv_render_option_set; the image also as an
+ * array, without a copy), model.export (hv_export_option_set), model.layers
+ * (hv_layers_option_set), model.profile (hv_profile_option_set; the samples as arrays), and
+ * hovox.contours (hv_contours_option_set; the loops as arrays). Long calls release the GIL. */
+#include "hvpy.h"
+
+#include <stdlib.h>
+
+#include "hovox/export.h"
+#include "hovox/image.h"
+#include "hovox/layers.h"
+#include "hovox/plot.h"
+#include "hovox/profile.h"
+#include "hovox/render.h"
+#include "hovox/slice.h"
+
+/* The keywords of a call with the progress callback taken out; `path` (if not NULL) the output
+ * path keyword, required when `what` is not NULL. */
+typedef struct out_call {
+    PyObject *progress, *rest;
+    hvpy_arena a;
+} out_call;
+
+static int out_begin(out_call *oc, PyObject *kw)
+{
+    oc->progress = oc->rest = NULL;
+    oc->a.keep = NULL;
+    if (hvpy_split_progress(kw, &oc->progress, &oc->rest) < 0) return -1;
+    return hvpy_arena_init(&oc->a);
+}
+
+static void out_end(out_call *oc)
+{
+    Py_XDECREF(oc->progress);
+    Py_XDECREF(oc->rest);
+    hvpy_arena_free(&oc->a);
+}
+
+/* The output path: positional argument `pos` (may be NULL) or keyword `key`. */
+static const char *out_path(out_call *oc, PyObject *pos, const char *key, const char *what)
+{
+    PyObject *v = pos ? pos : hvpy_kw(oc->rest, key);
+    if (pos && hvpy_kw(oc->rest, key)) {
+        PyErr_Format(PyExc_TypeError, "%s given twice", key);
+        return NULL;
+    }
+    if (!v) {
+        if (what) hvpy_raise(HV_ERR_INVALID, "%s is required (%s)", key, what);
+        return NULL;
+    }
+    return hvpy_arena_str(&oc->a, v, key);
+}
+
+static void image_free(PyObject *cap) { hv_image_destroy(PyCapsule_GetPointer(cap, "hovox.image")); }
+
+/* model.render(path=None, *, progress=None, **options of `hovox render`) -> (H, W, 4) float32 RGBA,
+ * premultiplied alpha (hovox.rgba8 gives the 8-bit straight-alpha pixels of the PNG); writes the
+ * image to path (.png, .exr, .tif) when given */
+static PyObject *model_render(PyObject *self, PyObject *args, PyObject *kw)
+{
+    static const char *const extra[] = {"path", NULL};
+    PyObject *pos = NULL;
+    if (!PyArg_ParseTuple(args, "|O:render", &pos)) return NULL;
+    hv_volume *vol = HVPY_MODEL(self);
+    if (!vol) return NULL;
+    out_call oc;
+    PyObject *res = NULL;
+    if (out_begin(&oc, kw) < 0) goto done;
+    hv_render_options o;
+    if (hvpy_read_options(oc.rest, hv_render_option_set(), &o, extra, &oc.a) < 0) goto done;
+    const char *path = out_path(&oc, pos, "path", NULL);
+    if (!path && PyErr_Occurred()) goto done;
+    hvpy_call c;
+    hv_image *img = NULL;
+    hvpy_begin(&c, oc.progress, &self, 1);
+    hv_status s = hv_render(vol, &o, &c.prog, &img);
+    if (s == HV_OK && path) s = hv_image_write(img, path);
+    hvpy_end(&c);
+    if (s != HV_OK) {
+        hv_image_destroy(img);
+        hvpy_call_fail(&c, s);
+        goto done;
+    }
+    PyObject *cap = PyCapsule_New(img, "hovox.image", image_free);
+    if (!cap) {
+        hv_image_destroy(img);
+        goto done;
+    }
+    npy_intp d[3] = {img->height, img->width, 4};
+    PyObject *arr = PyArray_New(&PyArray_Type, 3, d, NPY_FLOAT32, NULL, img->rgba, 0, NPY_ARRAY_CARRAY, NULL);
+    if (!arr || PyArray_SetBaseObject((PyArrayObject *)arr, cap) < 0) {
+        if (!arr) Py_DECREF(cap);
+        Py_XDECREF(arr);
+        goto done;
+    }
+    res = hvpy_call_done(&c, arr);
+done:
+    out_end(&oc);
+    return res;
+}
+
+/* model.export(path, *, progress=None, **options of `hovox export`) -> report */
+static PyObject *model_export(PyObject *self, PyObject *args, PyObject *kw)
+{
+    static const char *const extra[] = {"path", NULL};
+    PyObject *pos = NULL;
+    if (!PyArg_ParseTuple(args, "|O:export", &pos)) return NULL;
+    hv_volume *vol = HVPY_MODEL(self);
+    if (!vol) return NULL;
+    out_call oc;
+    PyObject *res = NULL;
+    if (out_begin(&oc, kw) < 0) goto done;
+    hv_export_options o;
+    if (hvpy_read_options(oc.rest, hv_export_option_set(), &o, extra, &oc.a) < 0) goto done;
+    const char *path = out_path(&oc, pos, "path", ".vti, .vtu or .3mf");
+    if (!path) goto done;
+    o.format = hv_export_format_from_path(path);
+    hvpy_call c;
+    hv_export_report rep;
+    hvpy_begin(&c, oc.progress, &self, 1);
+    o.progress = &c.prog;
+    hv_status s = hv_export_write(vol, path, &o, &rep);
+    hvpy_end(&c);
+    if (s != HV_OK) {
+        hvpy_call_fail(&c, s);
+        goto done;
+    }
+    res = hvpy_call_done(&c, Py_BuildValue("{s:K,s:K,s:K,s:s,s:s,s:K}", "points", (unsigned long long)rep.points, "cells",
+                                           (unsigned long long)rep.cells, "occupied", (unsigned long long)rep.occupied,
+                                           "arrays", rep.names, "notes", rep.notes, "bytes",
+                                           (unsigned long long)rep.file_bytes));
+done:
+    out_end(&oc);
+    return res;
+}
+
+/* model.layers(mesh, dir, *, progress=None, **options of `hovox layers`) -> report */
+static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
+{
+    static const char *const extra[] = {"mesh", "dir", NULL};
+    PyObject *mo = NULL, *pos = NULL;
+    if (!PyArg_ParseTuple(args, "|OO:layers", &mo, &pos)) return NULL;
+    hv_volume *vol = HVPY_MODEL(self);
+    if (!vol) return NULL;
+    out_call oc;
+    PyObject *res = NULL;
+    if (out_begin(&oc, kw) < 0) goto done;
+    hv_layers_options o;
+    if (hvpy_read_options(oc.rest, hv_layers_option_set(), &o, extra, &oc.a) < 0) goto done;
+    if (!mo) mo = hvpy_kw(oc.rest, "mesh");
+    else if (hvpy_kw(oc.rest, "mesh")) {
+        PyErr_SetString(PyExc_TypeError, "mesh given twice");
+        goto done;
+    }
+    if (!mo) {
+        hvpy_raise(HV_ERR_INVALID, "mesh is required (the mesh the model was voxelized from)");
+        goto done;
+    }
+    hv_mesh *mesh = HVPY_MESH(mo);
+    if (!mesh) goto done;
+    const char *dir = out_path(&oc, pos, "dir", "the stack's directory");
+    if (!dir) goto done;
+    hvpy_call c;
+    hv_layers_report rep;
+    PyObject *pins[2] = {self, mo};
+    hvpy_begin(&c, oc.progress, pins, 2);
+    hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, &c.prog, &rep);
+    hvpy_end(&c);
+    if (s != HV_OK) {
+        hvpy_call_fail(&c, s);
+        goto done;
+    }
+    PyObject *d = Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep.width, "height", rep.height, "layers",
+                                (Py_ssize_t)rep.layers_total, "first", (Py_ssize_t)rep.first, "last",
+                                (Py_ssize_t)rep.last, "object_pixels", (unsigned long long)rep.object_pixels,
+                                "warnings", rep.warnings);
+    PyObject *mats = d ? PyDict_New() : NULL;
+    hv_material_table *t = NULL;
+    if (mats && rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
+        for (int j = 0; j < rep.materials && j < hv_material_count(t); ++j) {
+            PyObject *x = Py_BuildValue("{s:d,s:d}", "target", rep.target[j], "achieved", rep.achieved[j]);
+            if (!x || PyDict_SetItemString(mats, hv_material_name(t, j), x) < 0) Py_CLEAR(mats);
+            Py_XDECREF(x);
+            if (!mats) break;
+        }
+    }
+    hv_material_table_destroy(t);
+    if (mats && PyDict_SetItemString(d, "materials", mats) == 0 && rep.compared) {
+        PyObject *mean = PyFloat_FromDouble(rep.diff_mean), *mx = PyFloat_FromDouble(rep.diff_max);
+        if (!mean || !mx || PyDict_SetItemString(d, "diff_mean", mean) < 0 || PyDict_SetItemString(d, "diff_max", mx) < 0)
+            Py_CLEAR(d);
+        Py_XDECREF(mean);
+        Py_XDECREF(mx);
+    } else if (!mats) {
+        Py_CLEAR(d);
+    }
+    Py_XDECREF(mats);
+    res = d ? hvpy_call_done(&c, d) : NULL;
+done:
+    out_end(&oc);
+    return res;
+}
+
+/* model.profile(*, csv=None, plot=None, **options of `hovox profile`) -> {t, xyz, inside, fractions,
+ * materials, property} */
+static PyObject *model_profile(PyObject *self, PyObject *args, PyObject *kw)
+{
+    static const char *const extra[] = {"csv", "plot", NULL};
+    if (PyTuple_GET_SIZE(args) > 0) return PyErr_Format(PyExc_TypeError, "profile takes keyword arguments only");
+    hv_volume *vol = HVPY_MODEL(self);
+    if (!vol) return NULL;
+    out_call oc;
+    PyObject *res = NULL;
+    hv_profile *p = NULL;
+    if (out_begin(&oc, kw) < 0) goto done;
+    if (oc.progress) {
+        PyErr_SetString(PyExc_TypeError, "profile takes no progress callback");
+        goto done;
+    }
+    hv_profile_options o;
+    if (hvpy_read_options(oc.rest, hv_profile_option_set(), &o, extra, &oc.a) < 0) goto done;
+    const char *csv = out_path(&oc, NULL, "csv", NULL), *plot = PyErr_Occurred() ? NULL : out_path(&oc, NULL, "plot", NULL);
+    if (PyErr_Occurred()) goto done;
+    hvpy_call c;
+    hvpy_begin(&c, NULL, &self, 1);
+    hv_status s = hv_profile_sample_with(vol, &o, &p);
+    if (s == HV_OK) s = hv_profile_write_files(p, &o, csv, plot);
+    hvpy_end(&c);
+    if (s != HV_OK) {
+        hvpy_call_fail(&c, s);
+        goto done;
+    }
+    int ns = hv_profile_samples(p), m = hv_profile_materials(p);
+    npy_intp d1[1] = {ns}, d3[2] = {ns, 3}, dm[2] = {ns, m};
+    PyObject *t = PyArray_EMPTY(1, d1, NPY_FLOAT64, 0), *xyz = PyArray_EMPTY(2, d3, NPY_FLOAT64, 0),
+             *in = PyArray_EMPTY(1, d1, NPY_BOOL, 0), *fr = PyArray_EMPTY(2, dm, NPY_FLOAT64, 0),
+             *names = PyList_New(m);
+    if (!t || !xyz || !in || !fr || !names) {
+        Py_XDECREF(t), Py_XDECREF(xyz), Py_XDECREF(in), Py_XDECREF(fr), Py_XDECREF(names);
+        goto done;
+    }
+    for (int i = 0; i < ns; ++i) {
+        ((double *)PyArray_DATA((PyArrayObject *)t))[i] = hv_profile_t(p, i);
+        hv_profile_position(p, i, (double *)PyArray_DATA((PyArrayObject *)xyz) + 3 * i);
+        ((npy_bool *)PyArray_DATA((PyArrayObject *)in))[i] = (npy_bool)(hv_profile_inside(p, i) != 0);
+        memcpy((double *)PyArray_DATA((PyArrayObject *)fr) + (size_t)i * (size_t)m, hv_profile_fractions(p, i),
+               (size_t)m * sizeof(double));
+    }
+    for (int j = 0; j < m; ++j) PyList_SET_ITEM(names, j, PyUnicode_FromString(hv_material_name(hv_profile_table(p), j)));
+    PyObject *dict = Py_BuildValue("{s:N,s:N,s:N,s:N,s:N}", "t", t, "xyz", xyz, "inside", in, "fractions", fr,
+                                   "materials", names);
+    const char *unit, *prop = hv_profile_property(p, &unit);
+    if (dict && prop) {
+        PyObject *vals = PyArray_EMPTY(1, d1, NPY_FLOAT64, 0);
+        for (int i = 0; vals && i < ns; ++i) ((double *)PyArray_DATA((PyArrayObject *)vals))[i] = hv_profile_property_value(p, i);
+        PyObject *pd = vals ? Py_BuildValue("{s:s,s:s,s:N}", "name", prop, "unit", unit, "values", vals) : NULL;
+        if (!pd || PyDict_SetItemString(dict, "property", pd) < 0) Py_CLEAR(dict);
+        Py_XDECREF(pd);
+    }
+    res = dict ? hvpy_call_done(&c, dict) : NULL;
+done:
+    hv_profile_destroy(p);
+    out_end(&oc);
+    return res;
+}
+
+/* ---- contours ------------------------------------------------------------------------------------- */
+
+typedef struct contour_run {
+    hvpy_call *call;
+    PyObject *list;
+    int keep_loops;
+    const hv_mesh *mesh;
+} contour_run;
+
+static PyObject *layer_dict(const contour_run *r, const hv_layer *layer, const hv_slice *slice)
+{
+    const hv_slice_stats *st = hv_slice_get_stats(slice);
+    PyObject *d = Py_BuildValue("{s:d,s:d,s:d,s:d,s:n,s:n,s:n}", "z", layer->z, "bottom", layer->bottom, "top", layer->top,
+                                "area", st->area, "loops", (Py_ssize_t)st->loops, "holes", (Py_ssize_t)st->holes, "open",
+                                (Py_ssize_t)st->open);
+    if (!d || !r->keep_loops) return d;
+    size_t n = hv_slice_loop_count(slice);
+    const hv_slice_loop *loops = hv_slice_loops(slice);
+    PyObject *list = PyList_New((Py_ssize_t)n);
+    for (size_t i = 0; list && i < n; ++i) {
+        const hv_slice_loop *lp = &loops[i];
+        npy_intp dims[2] = {(npy_intp)lp->count, 2};
+        PyObject *pts = PyArray_EMPTY(2, dims, NPY_FLOAT64, 0);
+        if (pts) memcpy(PyArray_DATA((PyArrayObject *)pts), lp->xy, lp->count * 2 * sizeof(double));
+        const hv_mesh_body *b = hv_mesh_body_at(r->mesh, (size_t)lp->body);
+        PyObject *ld = pts ? Py_BuildValue("{s:N,s:O,s:i,s:n,s:d,s:s}", "points", pts, "closed", lp->closed ? Py_True : Py_False,
+                                           "orientation", lp->orientation, "parent", (Py_ssize_t)lp->parent, "area",
+                                           lp->area, "body", b ? b->name : "")
+                           : NULL;
+        if (!ld) Py_CLEAR(list);
+        else PyList_SET_ITEM(list, (Py_ssize_t)i, ld);
+    }
+    if (!list || PyDict_SetItemString(d, "contours", list) < 0) Py_CLEAR(d);
+    Py_XDECREF(list);
+    return d;
+}
+
+/* Runs on the calling thread, in layer order (hv_contours_write's contract): the GIL is taken for
+ * the layer's dict. */
+static hv_status contour_layer(void *user, size_t index, const hv_layer *layer, const hv_slice *slice)
+{
+    (void)index;
+    contour_run *r = user;
+    hvpy_call_enter_python(r->call);
+    PyObject *d = layer_dict(r, layer, slice);
+    int ok = d && PyList_Append(r->list, d) == 0;
+    Py_XDECREF(d);
+    if (!ok && !r->call->exc_type) PyErr_Fetch(&r->call->exc_type, &r->call->exc_value, &r->call->exc_tb);
+    hvpy_call_leave_python(r->call);
+    return ok ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory for the layers' dicts");
+}
+
+/* contours(mesh, *, loops=True, progress=None, **options of `hovox contours`) -> [{z, bottom, top, area,
+ * loops, holes, open, contours: [{points (k, 2), closed, orientation, parent, area, body}]}] */
+static PyObject *py_contours(PyObject *self, PyObject *args, PyObject *kw)
+{
+    (void)self;
+    static const char *const extra[] = {"loops", NULL};
+    PyObject *mo;
+    if (!PyArg_ParseTuple(args, "O:contours", &mo)) return NULL;
+    hv_mesh *mesh = HVPY_MESH(mo);
+    if (!mesh) return NULL;
+    out_call oc;
+    PyObject *res = NULL;
+    if (out_begin(&oc, kw) < 0) goto done;
+    hv_contours_options o;
+    if (hvpy_read_options(oc.rest, hv_contours_option_set(), &o, extra, &oc.a) < 0) goto done;
+    PyObject *lo = hvpy_kw(oc.rest, "loops");
+    contour_run run = {NULL, PyList_New(0), !lo || PyObject_IsTrue(lo), mesh};
+    if (!run.list) goto done;
+    hvpy_call c;
+    run.call = &c;
+    hvpy_begin(&c, oc.progress, &mo, 1);
+    hv_status s = hv_contours_write(mesh, &o, NULL, contour_layer, &run, &c.prog, NULL);
+    hvpy_end(&c);
+    if (s != HV_OK) {
+        Py_DECREF(run.list);
+        hvpy_call_fail(&c, s);
+        goto done;
+    }
+    res = hvpy_call_done(&c, run.list);
+done:
+    out_end(&oc);
+    return res;
+}
+
+/* model.layer(mesh, index, **options of `hovox layers`) -> the printer layer `index` as an array:
+ * written as a one-layer stack (the bytes of the full stack's layer) and read back, by the
+ * package's Python side (hovox._support.layer_image) */
+static PyObject *model_layer(PyObject *self, PyObject *args, PyObject *kw)
+{
+    PyObject *mod = PyImport_ImportModule("hovox._support");
+    PyObject *fn = mod ? PyObject_GetAttrString(mod, "layer_image") : NULL;
+    Py_XDECREF(mod);
+    if (!fn) return NULL;
+    PyObject *head = PyTuple_Pack(1, self), *full = head ? PySequence_Concat(head, args) : NULL;
+    Py_XDECREF(head);
+    PyObject *r = full ? PyObject_Call(fn, full, kw) : NULL;
+    Py_XDECREF(full);
+    Py_DECREF(fn);
+    return r;
+}
+
+static PyMethodDef model_output_methods[] = {
+    {"layer", (PyCFunction)(void (*)(void))model_layer, METH_VARARGS | METH_KEYWORDS,
+     "layer(mesh, index, **options of `hovox layers`) -> printer layer `index` as an array, the bytes the stack's "
+     "PNG holds: (H, W) uint8 palette indices (halftone: 0 background, j + 1 material j), (H, W) 0/1 (mask), or "
+     "(m, H, W) uint8 fractions (round(255 p))."},
+    {"render", (PyCFunction)(void (*)(void))model_render, METH_VARARGS | METH_KEYWORDS,
+     "render(path=None, *, progress=None, **options of `hovox render` (size, surface, flat, view, eye, target, up, "
+     "ortho, fov, step, density, clip, clip_box, background, aa, max_memory, ...)) -> (H, W, 4) float32 RGBA with "
+     "premultiplied alpha (no copy); writes .png, .exr or .tif when path is given."},
+    {"export", (PyCFunction)(void (*)(void))model_export, METH_VARARGS | METH_KEYWORDS,
+     "export(path, *, progress=None, **options of `hovox export` (box, coarsen, keep, properties, linearize, grids, "
+     "level, bits, max_memory)) -> {points, cells, occupied, arrays, notes, bytes}: .vti, .vtu or a 3MF Volumetric "
+     ".3mf."},
+    {"layers", (PyCFunction)(void (*)(void))model_layers, METH_VARARGS | METH_KEYWORDS,
+     "layers(mesh, dir, *, progress=None, **options of `hovox layers` (profile, dpi, layer_height, mode, method, "
+     "halftone, seed, layers=(first, last), threshold, fill_rule, background, compare, gcvf, force, max_memory, ...)) "
+     "-> {width, height, layers, first, last, object_pixels, materials: {name: {target, achieved}}, warnings}."},
+    {"profile", (PyCFunction)(void (*)(void))model_profile, METH_VARARGS | METH_KEYWORDS,
+     "profile(*, from_=..., to=..., samples=200, property=None, title=None, size=None, mark=None, y_range=None, "
+     "csv=None, plot=None) -> {t, xyz, inside, fractions (n, m), materials, property}: material fractions along a "
+     "line; writes the CSV and a PNG or SVG plot when named."},
+    {NULL, NULL, 0, NULL},
+};
+
+PyMethodDef hvpy_output_functions[] = {
+    {"contours", (PyCFunction)(void (*)(void))py_contours, METH_VARARGS | METH_KEYWORDS,
+     "contours(mesh, *, loops=True, progress=None, **options of `hovox contours` (layer_height, first_layer, "
+     "adaptive, close_gap, binary, output, per_layer)) -> [{z, bottom, top, area, loops, holes, open, contours: "
+     "[{points (k, 2) array, closed, orientation, parent (-1: none), area, body}]}]."},
+    {NULL, NULL, 0, NULL},
+};
+
+int hvpy_init_output(PyObject *m)
+{
+    (void)m;
+    return hvpy_add_methods(&hvpy_ModelType, model_output_methods);
+}

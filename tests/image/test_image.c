@@ -668,18 +668,6 @@ Test(image, png_decode_palette_indices)
     }
 }
 
-/* A PNG chunk (length, type, data, CRC) appended to b. */
-static size_t put_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
-{
-    b[0] = (uint8_t)(n >> 24), b[1] = (uint8_t)(n >> 16), b[2] = (uint8_t)(n >> 8), b[3] = (uint8_t)n;
-    memcpy(b + 4, type, 4);
-    if (n) memcpy(b + 8, data, n);
-    uLong crc = crc32(crc32(0, Z_NULL, 0), b + 4, n + 4);
-    b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
-    b[11 + n] = (uint8_t)crc;
-    return 12 + n;
-}
-
 /* issue 32 item 12: image data that goes on past the image is refused once more than 64 KiB of it
  * follow the last row: here a second IDAT chunk continues the deflate stream with 100 KiB of
  * random bytes (stored), as a bomb's continues with gigabytes of zeros. Before, libpng inflated it

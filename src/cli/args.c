@@ -478,12 +478,18 @@ int cli_given(const cli_args *a, const char *key)
 
 void cli_warn(const char *fmt, ...)
 {
+    /* one write per warning: the ranks of hovox-mpi share a stderr, and a line written in pieces
+     * interleaves with theirs */
+    char line[2048];
+    int n = snprintf(line, sizeof line, "hovox: warning: ");
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "hovox: warning: ");
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    vsnprintf(line + n, sizeof line - (size_t)n - 1, fmt, ap);
     va_end(ap);
+    size_t len = strlen(line);
+    line[len++] = '\n';
+    fflush(stderr);
+    fwrite(line, 1, len, stderr);
 }
 
 /* ---- JSON on stdout ------------------------------------------------------------------------ */

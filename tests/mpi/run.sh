@@ -76,7 +76,7 @@ disagree "ranks with different trays" -np 1 "$HOVOX_MPI" tray $R -o "$T/dis" --t
 # threads beyond the cores a rank is bound to (issue 32 item 22): a warning on every rank that
 # has them; none when each rank may use every core
 mpirun -np 2 --bind-to core "$HOVOX_MPI" layers $L -o "$T/bound" --threads 2 -q >/dev/null 2>"$T/err"
-n=$(grep -c 'warning: 2 threads on 1 processor' "$T/err")
+n=$(grep -o 'warning: 2 threads on 1 processor' "$T/err" | wc -l)
 mpirun -np 2 --bind-to none "$HOVOX_MPI" layers $L -o "$T/unbound" --threads 2 -q >/dev/null 2>"$T/err2"
 m=$(grep -c 'warning' "$T/err2")
 if [ "$n" = 2 ] && [ "$m" = 0 ]; then

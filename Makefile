@@ -82,7 +82,7 @@ TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
 CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
-.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests mpi-tests browser-tests sanitize bench \
+.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests readme-tests layering-tests vdb-tests mpi-tests browser-tests sanitize bench \
         demo deps clean check-deps-build check-deps-test python python-tests
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
@@ -316,6 +316,14 @@ browser-tests: $(BUILD)/hovox $(PLUGINS)
 sample-tests: $(BUILD)/hovox $(PLUGINS)
 	@if [ -f tests/samples/run.sh ]; then HOVOX=$(ROOT)/$(BUILD)/hovox SHARED=$(SHARED) \
 	    sh tests/samples/run.sh; fi
+
+# every README example, verbatim (tests/readme/run.py: sh blocks, transcripts, the Lua example)
+readme-tests: $(BUILD)/hovox $(PLUGINS) $(MPI_BIN)
+	@/usr/bin/python3 tests/readme/run.py README.md --hovox $(ROOT)/$(BUILD)/hovox
+
+# the includes point down the pipeline (scripts/layering.py; STYLE.md rule 1)
+layering-tests:
+	@/usr/bin/python3 scripts/layering.py
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all

@@ -1,11 +1,12 @@
-/* src/threemf/threemf_internal.h - what the 3MF Volumetric writer (write.c), reader (read.c) and
- * the exact voxel boundary mesh (boundary.c) share: namespaces, OPC names, limits. Internal. */
+/* src/io/3mf/threemf_internal.h - what the 3MF package module (package.c), the mesh reader, the
+ * Volumetric writer and reader and the exact voxel boundary mesh (boundary.c) share: namespaces,
+ * OPC names. Internal. */
 #ifndef HOVOX_THREEMF_INTERNAL_H
 #define HOVOX_THREEMF_INTERNAL_H
 
 #include "core/internal.h"
-#include "hovox/export.h"
 #include "hovox/threemf.h"
+#include "hovox/volume.h"
 
 /* XML namespaces (3MF Core 1.3; Volumetric and Implicit extensions 0.8, Part I "Document
  * Conventions"; Materials 1.2) and hovox's own, for metadata and property names. */

@@ -15,6 +15,10 @@
 #define TMF_NS_VOLUMETRIC "http://schemas.3mf.io/3dmanufacturing/volumetric/2022/01"
 #define TMF_NS_IMPLICIT "http://schemas.3mf.io/3dmanufacturing/implicit/2023/12"
 #define TMF_NS_HOVOX "urn:hovox:3mf:2025"
+#define TMF_NS_BEAM "http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02"
+#define TMF_NS_SLICE "http://schemas.microsoft.com/3dmanufacturing/slice/2015/07"
+#define TMF_NS_PRODUCTION "http://schemas.microsoft.com/3dmanufacturing/production/2015/06"
+#define TMF_NS_SECURE "http://schemas.microsoft.com/3dmanufacturing/securecontent/2019/04"
 
 /* Open Packaging Conventions: content types, relationships. */
 #define TMF_NS_CONTENT_TYPES "http://schemas.openxmlformats.org/package/2006/content-types"

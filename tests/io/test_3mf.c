@@ -334,6 +334,16 @@ Test(threemf, components_and_build_items_are_placed_by_their_transforms)
     }
     cr_assert_float_eq(r.volume, 1, 1e-6); /* a rotation keeps the orientation */
     cr_assert_eq(r.flipped_facets, 0);
+    /* the file's build items, as info reports them (issue 27 item 4) */
+    cr_assert_str_eq(hv_mesh_file_unit(m), "millimeter");
+    cr_assert_eq(hv_mesh_item_count(m), 3);
+    const hv_mesh_item *it = hv_mesh_item_at(m, 1);
+    cr_assert_eq(it->body, 1);
+    cr_assert_str_eq(it->object_name, "cube");
+    for (int k = 0; k < 12; ++k) cr_assert_float_eq(it->transform[k], turn[k], 1e-9, "transform %d", k);
+    cr_assert_eq(hv_mesh_item_at(m, 0)->body, 0);
+    cr_assert_str_eq(hv_mesh_item_at(m, 2)->object_name, "");
+    cr_assert_null(hv_mesh_item_at(m, 3));
     hv_mesh_destroy(m);
     hv_mesh_destroy(unit);
 }
@@ -425,6 +435,8 @@ Test(threemf, the_model_unit_is_converted_to_millimetres)
         const hv_mesh_report *r = hv_mesh_get_report(m);
         cr_assert_float_eq(r->bbox_max[0], 2 * mm[u], 1e-6 * mm[u], "unit %d: %g", u, r->bbox_max[0]);
         cr_assert_float_eq(r->volume, 8 * mm[u] * mm[u] * mm[u], 1e-6 * 8 * mm[u] * mm[u] * mm[u]);
+        static const char *const names[] = {"micron", "millimeter", "centimeter", "inch", "foot", "meter"};
+        cr_assert_str_eq(hv_mesh_file_unit(m), names[u]);
         hv_mesh_destroy(m);
     }
     hv_mesh_destroy(unit);
@@ -441,6 +453,9 @@ Test(threemf, support_objects_are_not_bodies)
     hv_mesh *m = read_model(model, "s.3mf");
     cr_assert_eq(hv_mesh_body_count(m), 1);
     cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "part");
+    cr_assert_eq(hv_mesh_item_count(m), 2);
+    cr_assert_eq(hv_mesh_item_at(m, 0)->body, -1); /* the support's item is no body */
+    cr_assert_eq(hv_mesh_item_at(m, 1)->body, 0);
     hv_mesh_destroy(m);
     model = new_model(L3MF_MM);
     sup = add_mesh(model, unit, "support");

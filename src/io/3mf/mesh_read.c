@@ -74,6 +74,7 @@ typedef struct reader {
     tmf_pkg *pk;
     uint64_t budget, charged;
     double unit; /* model unit to mm */
+    const char *unit_name;
     hv_names ids; /* resource ids as decimal text */
     resource *res;
     size_t rcap;
@@ -530,6 +531,7 @@ static hv_status on_model(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     for (int k = 0; k < 6; ++k)
         if (u->len == strlen(units[k]) && memcmp(u->value, units[k], u->len) == 0) {
             r->unit = mm[k];
+            r->unit_name = units[k];
             return HV_OK;
         }
     char q[72];
@@ -794,6 +796,7 @@ static void appearance_of(build *b, const int32_t *ref, int flip)
 {
     const reader *r = b->r;
     size_t f = b->nf;
+    if (!b->corner) return;
     b->ftex[f] = -1;
     memset(b->corner + 3 * f, 0, 3 * sizeof *b->corner);
     memset(b->uv + 6 * f, 0, 6 * sizeof *b->uv);
@@ -965,21 +968,31 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         else nf += o->tri;
     }
     hv_mesh_body *bodies = hv_calloc(r->nitems + 1, sizeof *bodies);
+    hv_mesh_item *items = hv_calloc(r->nitems + 1, sizeof *items);
     b.soup = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.soup);
     b.fmat = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.fmat);
-    b.corner = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.corner);
-    b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
-    b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
-    hv_status s = bodies && b.soup && b.fmat && b.corner && b.uv && b.ftex ? HV_OK : HV_ERR_NOMEM;
+    int appearance = 0; /* colour or texture groups: the facets' appearance is kept */
+    for (size_t k = 0; k < r->ids.n; ++k) appearance |= r->res[k].kind == R_COLOR || r->res[k].kind == R_TEXTURE;
+    if (appearance) {
+        b.corner = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.corner);
+        b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
+        b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
+    }
+    hv_status s = bodies && items && b.soup && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
     size_t nb = 0;
     for (size_t i = 0; i < r->nitems && s == HV_OK; ++i) {
         const object *o = &r->objs[r->items[i].obj];
+        items[i].body = -1;
+        items[i].object_id = o->id;
+        items[i].object_name = o->name ? o->name : "";
+        memcpy(items[i].transform, r->items[i].t, sizeof items[i].transform);
         if (o->type == T_SUPPORT || o->type == T_OTHER) continue;
         size_t first = b.nf;
         int32_t mat; /* its object's default (named first), else its facets' majority */
         if ((s = material_of(&b, o->dres, o->dentry, &mat)) != HV_OK) break;
         s = place(&b, r->items[i].obj, r->items[i].t);
         if (s != HV_OK || b.nf == first) continue; /* an item placing no triangle is no body */
+        items[i].body = (int64_t)nb;
         hv_mesh_body *body = &bodies[nb++];
         body->name = o->name ? o->name : "";
         body->material = mat;
@@ -999,6 +1012,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     if (s == HV_OK)
         s = hv_mesh_build(b.soup, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n, b.any_material ? b.fmat : NULL, out);
     if (s == HV_OK && (b.any_colour || b.any_texture)) s = set_appearance(&b, *out);
+    if (s == HV_OK) s = hv_mesh_set_file_info(*out, r->unit_name ? r->unit_name : "millimeter", items, r->nitems);
     if (s != HV_OK && *out) {
         hv_mesh_destroy(*out);
         *out = NULL;
@@ -1007,6 +1021,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     free(b.uv);
     free(b.ftex);
     free(mats);
+    free(items);
     free(bodies);
     free(b.soup);
     free(b.fmat);

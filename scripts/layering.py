@@ -12,10 +12,12 @@ import sys
 
 # low to high; a module may include only modules at its own position or before it
 ORDER = [
-    'src/core', 'volumes', 'src/image', 'src/mesh', 'src/io', 'src/voxel', 'src/field', 'src/material',
-    'src/colour', 'src/geometry', 'src/export', 'model formats', 'src/model', 'slicing', 'renderer',
+    'src/core', 'volumes', 'src/image', 'src/mesh', 'src/io', 'src/geometry', 'src/voxel', 'src/field',
+    'src/material', 'src/colour', 'src/export', 'model formats', 'src/model', 'slicing', 'renderer',
     'src/plot', 'src/viewer', 'src/lua', 'src/cli', 'python/src',
 ]
+# the geometry record (a model's leaves and Boolean tree) is data the voxelizer and the Booleans
+# write, so it sits just above the formats that give its meshes;
 # the formats wing holds mesh and volume formats (low: the store and the mesh below them) and
 # model formats, which read and write whole graded models: 3MF Volumetric voxelizes through
 # src/voxel and writes the export's property stacks, so it sits above them, below the one model
@@ -27,7 +29,7 @@ PUBLIC = {
     'mesh.h': 'src/mesh', 'generate.h': 'src/mesh', 'threemf.h': 'src/io', 'scan.h': 'src/io',
     'model.h': 'src/model', 'voxelize.h': 'src/voxel', 'field.h': 'src/field',
     'material.h': 'src/material', 'profile.h': 'src/material', 'colour.h': 'src/colour',
-    'geometry.h': 'src/geometry', 'export.h': 'src/export', 'slice.h': 'slicing',
+    'geometry.h': 'src/geometry', 'solid.h': 'src/geometry', 'export.h': 'src/export', 'slice.h': 'slicing',
     'layers.h': 'slicing', 'tray.h': 'slicing', 'dist.h': 'slicing', 'render.h': 'renderer',
     'plot.h': 'src/plot', 'viewer.h': 'src/viewer', 'placement.h': 'src/mesh',
 }

@@ -14,13 +14,10 @@
 
 typedef struct info_cli {
     int json;
-    uint64_t max_memory;
 } info_cli;
 
 static const hv_option k_local_opts[] = {
-    CLI_JSON(info_cli, "one JSON object per mesh or volume (an array when several are given), with its materials and bodies"),
-    {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = offsetof(info_cli, max_memory), .meta = "SIZE",
-     .help = "refuse a volume whose data would need more (4 bytes a sample; default: half of RAM), e.g. 8G"}};
+    CLI_JSON(info_cli, "one JSON object per mesh or volume (an array when several are given), with its materials and bodies")};
 static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
 
 
@@ -181,12 +178,9 @@ static int report(char **paths, int n, const info_cli *opt)
     hv_mesh_report **bodies = calloc((size_t)n, sizeof *bodies);
     hv_scan **scans = calloc((size_t)n, sizeof *scans);
     hv_status s = meshes && bodies && scans ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory");
-    hv_scan_options so;
-    hv_scan_options_init(&so);
-    so.max_memory = opt->max_memory;
     for (int i = 0; i < n && s == HV_OK; ++i) {
         if (hv_scan_path_is_scan(paths[i])) {
-            s = hv_scan_load(paths[i], &so, &scans[i]);
+            s = hv_scan_load(paths[i], NULL, &scans[i]); /* --max-memory caps its budget */
             continue;
         }
         s = hv_mesh_load(paths[i], &meshes[i]);
@@ -208,7 +202,7 @@ static int report(char **paths, int n, const info_cli *opt)
     if (json && n > 1) hv_buf_puts(&out, "[");
     for (int i = 0; i < n; ++i) {
         const char *path = paths[i];
-        warn_inside_out(path, meshes[i], bodies[i]);
+        if (meshes[i]) warn_inside_out(path, meshes[i], bodies[i]);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");
             if (scans[i]) scan_json(&out, path, scans[i]);

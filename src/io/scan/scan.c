@@ -373,6 +373,10 @@ int hv_scan_path_is_scan(const char *path)
     static const char *const k[] = {".nii", ".nii.gz", ".nrrd", ".nhdr", ".mha", ".mhd"};
     for (size_t i = 0; i < HV_COUNT(k); ++i)
         if (ext_is(path, k[i])) return 1;
+    /* a directory is a DICOM series, unless it is named as a mesh or model would be */
+    static const char *const not_scan[] = {".stl", ".3mf", ".obj", ".ply", ".vdb", ".vti", ".vtu"};
+    for (size_t i = 0; i < HV_COUNT(not_scan); ++i)
+        if (ext_is(path, not_scan[i])) return 0;
     struct stat st;
     return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }

@@ -184,6 +184,7 @@ static int report(char **paths, int n, const info_cli *opt)
             continue;
         }
         s = hv_mesh_load(paths[i], &meshes[i]);
+        if (s == HV_OK) cli_mesh_notes(meshes[i]);
         if (s == HV_OK) s = body_reports(meshes[i], &bodies[i]);
     }
     if (s != HV_OK) {

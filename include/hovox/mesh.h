@@ -99,8 +99,9 @@ HV_API const char *hv_mesh_load_extensions(void);
  * (materials are names only); hv_mesh_load reads the libraries beside the file: a material's
  * `Kd` (and `d`/`Tr`) becomes its display colour, its `map_Kd` (PNG or JPEG, -clamp, -o, -s) a
  * texture of the faces that use it and give every corner a `vt` (the texture replaces Kd there).
- * A library or texture that is missing, not an image, or holds a bad value: HV_ERR_BAD_INPUT
- * naming the file, the line and the value. */
+ * A library that is not there is skipped (the materials stay names only); one that cannot be
+ * read, a texture that is missing or not an image, a bad value: HV_ERR_BAD_INPUT naming the
+ * file, the line and the value. */
 HV_API hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_mesh **out);
 
 /* PLY 1.0, ASCII or binary of either byte order: the element vertex's x, y, z (any scalar

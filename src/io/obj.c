@@ -400,6 +400,9 @@ static hv_status read_mtllibs(obj_reader *r, hv_mtl *lib)
                 s = HV_ERR_NOMEM;
                 break;
             }
+            /* a library that is not there (OBJ files travel without theirs) leaves the materials
+             * names only, as an OBJ read from memory has them */
+            if (access(path.data, F_OK) != 0) continue;
             char *data = NULL;
             size_t size = 0;
             s = hv_read_file(path.data, (size_t)64 << 20, &data, &size);

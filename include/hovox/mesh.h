@@ -246,6 +246,14 @@ HV_API const int32_t *hv_mesh_facet_textures(const hv_mesh *mesh);
  * display colour)? */
 HV_API int hv_mesh_has_colour(const hv_mesh *mesh);
 
+/* ---- reader notes ----------------------------------------------------------------------------
+ * What a reader accepted but a person should know, one line each ("file: place: what"), in the
+ * order found (a 3MF object whose triangles carry properties without a default pid). The CLI
+ * prints them as warnings. Owned by the mesh; derived meshes (extract, join, transform) carry
+ * none. */
+HV_API size_t hv_mesh_note_count(const hv_mesh *mesh);
+HV_API const char *hv_mesh_note_at(const hv_mesh *mesh, size_t i); /* i < count */
+
 /* The colour of facet f at barycentric coordinates bary (weights of its corners 0, 1, 2, summing
  * to 1), by the rule above: rgba receives sRGB-encoded red, green, blue and alpha in [0, 1].
  * Textures are sampled bilinearly (HV_FILTER_AUTO, HV_FILTER_LINEAR) between pixel centres, or

@@ -126,6 +126,7 @@ static int report(char **paths, int n, int json)
     hv_status s = meshes && bodies ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory");
     for (int i = 0; i < n && s == HV_OK; ++i) {
         s = hv_mesh_load(paths[i], &meshes[i]);
+        if (s == HV_OK) cli_mesh_notes(meshes[i]);
         if (s == HV_OK) s = body_reports(meshes[i], &bodies[i]);
     }
     if (s != HV_OK) {

@@ -122,6 +122,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     hv_contours_summary sum;
     hv_mesh *mesh = NULL;
     hv_status s = hv_mesh_load(mesh_path, &mesh);
+    if (s == HV_OK) cli_mesh_notes(mesh);
     js.nbodies = mesh ? hv_mesh_body_count(mesh) : 0;
     if (s == HV_OK) s = hv_contours_write(mesh, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
     cli_progress_done(&bar);

@@ -96,6 +96,7 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         o->mesh_name = o->model_name;
     } else {
         s = hv_mesh_load(c->mesh, &mesh);
+        if (s == HV_OK) cli_mesh_notes(mesh);
         if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_model_load(o->model_name, &model);
     }
     hv_layers_report r;

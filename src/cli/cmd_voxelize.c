@@ -157,6 +157,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_mesh *mesh;
     hv_status s = hv_mesh_load(path, &mesh);
     if (s != HV_OK) return cli_fail(s);
+    cli_mesh_notes(mesh);
     hv_voxel_plan plan;
     s = hv_voxelize_plan(mesh, opt, &plan);
     if (s != HV_OK) {

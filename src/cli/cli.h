@@ -147,6 +147,6 @@ void cli_view_report(const hv_viewer_report *r, const char *dir);
 
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
-    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export;
+    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export, cmd_colour;
 
 #endif

@@ -11,6 +11,7 @@
 typedef struct vox_cli {
     const char *output, *like;
     int dry_run, json;
+    hv_placement place;
 } vox_cli;
 
 static const hv_option k_local_opts[] = {
@@ -20,6 +21,7 @@ static const hv_option k_local_opts[] = {
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, dry_run),
      .help = "print the plan and its memory estimate, write nothing", .section = "Output"},
     CLI_JSON(vox_cli, "print the summary as JSON"),
+    HV_PLACEMENT_OPTIONS(vox_cli, place),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
@@ -101,6 +103,9 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
         cli_json j;
         cli_json_begin(&j);
         cli_json_str(&j, "mesh", path);
+        char placed[1024];
+        if (hv_placement_given(&c->place))
+            cli_json_str(&j, "placement", hv_placement_describe(&c->place, placed, sizeof placed));
         cli_json_ints(&j, "dims", plan->dims, 3);
         cli_json_nums(&j, "voxel", plan->xf.voxel, 3);
         cli_json_nums(&j, "origin", plan->xf.origin, 3);
@@ -127,6 +132,9 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
         printf("mesh        %s (%llu facets, %zu bodies)\n", path, (unsigned long long)r->facets, nbodies);
     else
         printf("mesh        %s (%llu facets)\n", path, (unsigned long long)r->facets);
+    char placed[1024];
+    if (hv_placement_given(&c->place))
+        printf("placed      %s\n", hv_placement_describe(&c->place, placed, sizeof placed));
     printf("grid        %lld x %lld x %lld voxels of %.6g x %.6g x %.6g\n", (long long)plan->dims[0],
            (long long)plan->dims[1], (long long)plan->dims[2], plan->xf.voxel[0], plan->xf.voxel[1], plan->xf.voxel[2]);
     printf("origin      %.6g %.6g %.6g (centre of voxel 0,0,0)\n", plan->xf.origin[0], plan->xf.origin[1],
@@ -155,7 +163,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         opt->lattice = &lattice;
     }
     hv_mesh *mesh;
-    hv_status s = hv_mesh_load(path, &mesh);
+    hv_status s = cli_mesh_load_placed(path, &c->place, NULL, &mesh);
     if (s != HV_OK) return cli_fail(s);
     hv_voxel_plan plan;
     s = hv_voxelize_plan(mesh, opt, &plan);

@@ -155,7 +155,8 @@ HV_API const hv_mesh_material *hv_mesh_material_at(const hv_mesh *mesh, size_t i
 HV_API const int32_t *hv_mesh_facet_materials(const hv_mesh *mesh);
 
 /* A new mesh holding body i alone: its facets welded again, its own adjacency and report,
- * one body of the same name and material, the materials of the whole mesh, name
+ * one body of the same name and material, the materials and textures of the whole mesh, the
+ * body's corner colours and texture coordinates, name
  * "MESH#BODY" (just MESH when there is one body). Errors: HV_ERR_INVALID (i out of range),
  * HV_ERR_NOMEM. */
 HV_API hv_status hv_mesh_body_extract(const hv_mesh *mesh, size_t i, hv_mesh **out);
@@ -167,7 +168,9 @@ HV_API hv_status hv_mesh_body_report(const hv_mesh *mesh, size_t i, hv_mesh_repo
 
 /* Join meshes into one multi-body mesh, one body per part in order: all of the part's facets
  * (whatever bodies it has) become one body. Materials are the distinct `material` names, in
- * order. The result is named "" (generated). Errors: HV_ERR_INVALID (n == 0, a NULL mesh),
+ * order. Each part's appearance comes along (its textures appended, renumbered); a part whose
+ * colour came from its materials keeps it as corner colours, and the facets of a part without
+ * colour, when others have some, are HV_MESH_NO_COLOUR. The result is named "" (generated). Errors: HV_ERR_INVALID (n == 0, a NULL mesh),
  * HV_ERR_NOMEM. */
 typedef struct hv_mesh_part {
     const hv_mesh *mesh;
@@ -175,6 +178,67 @@ typedef struct hv_mesh_part {
     const char *material; /* NULL: none */
 } hv_mesh_part;
 HV_API hv_status hv_mesh_join(const hv_mesh_part *parts, size_t n, hv_mesh **out);
+
+/* ---- appearance ----------------------------------------------------------------------------
+ * Besides its per-facet materials a mesh may carry colour: per facet corner colours, textures,
+ * and per facet corner texture coordinates. A facet's colour is its texture (facet_texture >=
+ * 0) sampled at the UV interpolated over the facet; else its corner colours (interpolated)
+ * when set; else its material's colour (has_color); else none. Facets are in file order
+ * (welding never reorders them), so readers set these after building the mesh.
+ * hv_mesh_body_extract, hv_mesh_join and hv_mesh_transform carry them (a mirror that swaps two
+ * corners of a facet swaps their colours and UVs too). */
+typedef enum hv_tile { HV_TILE_WRAP = 0, HV_TILE_MIRROR, HV_TILE_CLAMP, HV_TILE_NONE } hv_tile;
+typedef enum hv_filter { HV_FILTER_AUTO = 0, HV_FILTER_LINEAR, HV_FILTER_NEAREST } hv_filter;
+typedef struct hv_mesh_texture {
+    const char *name;       /* where it came from ("3D/Textures/skin.png", "skin.png"); owned by the mesh */
+    const uint8_t *rgba;    /* width*height*4 bytes, 8-bit sRGB + alpha, row 0 = top of image (v = 1) */
+    uint32_t width, height;
+    hv_tile tile_u, tile_v;
+    hv_filter filter;
+} hv_mesh_texture;
+
+/* Per facet corner 0xRRGGBBAA (3 per facet, facet order), copied; NULL clears them.
+ * Errors: HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_set_corner_colours(hv_mesh *mesh, const uint32_t *rgba);
+/* The corner colours (3 per facet), owned by the mesh; NULL: none. */
+HV_API const uint32_t *hv_mesh_corner_colours(const hv_mesh *mesh);
+
+/* Add a texture: copies the name and the pixels (width*height*4 bytes, row 0 the top);
+ * *index (may be NULL) receives its index, counted from 0 in the order added. Errors:
+ * HV_ERR_INVALID (a zero or too large size, NULL pixels, a tile or filter out of range),
+ * HV_ERR_LIMIT (more than 2^31 - 1 textures), HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_add_texture(hv_mesh *mesh, const char *name, const uint8_t *rgba,
+                                     uint32_t width, uint32_t height, hv_tile tile_u,
+                                     hv_tile tile_v, hv_filter filter, int32_t *index);
+HV_API size_t hv_mesh_texture_count(const hv_mesh *mesh);
+/* Texture i < hv_mesh_texture_count (else NULL); owned by the mesh. */
+HV_API const hv_mesh_texture *hv_mesh_texture_at(const hv_mesh *mesh, size_t i);
+
+/* uv: 6 floats per facet (u, v per corner), finite; facet_texture: per facet a texture index or
+ * -1 (none; or HV_MESH_NO_COLOUR); both copied. NULL uv clears both (facet_texture is then
+ * ignored). Errors: HV_ERR_INVALID (uv given without facet_texture, an index that names no
+ * texture), HV_ERR_BAD_INPUT (a textured facet's coordinate not finite, or outside [0, 1] along
+ * an axis its texture tiles HV_TILE_NONE: "NAME: facet F: texture coordinate (u, v) outside
+ * [0, 1] and texture T does not tile"), HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_set_corner_uvs(hv_mesh *mesh, const float *uv, const int32_t *facet_texture);
+/* Owned by the mesh; NULL: none. */
+HV_API const float *hv_mesh_corner_uvs(const hv_mesh *mesh);
+HV_API const int32_t *hv_mesh_facet_textures(const hv_mesh *mesh);
+
+/* In facet_texture: a facet with no colour at all, even though the mesh has corner colours
+ * (hv_mesh_join gives it to the facets of parts without colour). */
+#define HV_MESH_NO_COLOUR (-2)
+
+/* Does any facet have a colour (by the rule above: a texture, corner colours, a material with a
+ * display colour)? */
+HV_API int hv_mesh_has_colour(const hv_mesh *mesh);
+
+/* The colour of facet f at barycentric coordinates bary (weights of its corners 0, 1, 2, summing
+ * to 1), by the rule above: rgba receives sRGB-encoded red, green, blue and alpha in [0, 1].
+ * Textures are sampled bilinearly (HV_FILTER_AUTO, HV_FILTER_LINEAR) between pixel centres, or
+ * nearest, with the texture's tile styles (HV_TILE_NONE samples as HV_TILE_CLAMP). Returns 1, or
+ * 0 (rgba untouched) when the facet has no colour or f is out of range. */
+HV_API int hv_mesh_colour_at(const hv_mesh *mesh, size_t f, const double bary[3], float rgba[4]);
 
 /* Free a mesh; NULL is allowed. */
 HV_API void hv_mesh_destroy(hv_mesh *mesh);

@@ -376,12 +376,10 @@ static uint64_t find_free(uint8_t *kind, size_t *queue, const level *L)
     return floating;
 }
 
-hv_status hv_harmonic(const uint8_t *domain, const uint8_t *label, const int64_t dims[3],
-                      const double spacing[3], double tol, int max_iter, float *phi,
-                      int *iterations, uint64_t *floating, const hv_progress *progress)
+/* The arguments' checks, before any allocation. */
+static hv_status check_args(const uint8_t *domain, const uint8_t *label, const int64_t dims[3],
+                            const double spacing[3], double tol, int max_iter, const float *phi)
 {
-    if (iterations) *iterations = 0;
-    if (floating) *floating = 0;
     if (!domain || !label || !dims || !spacing || !phi)
         return hv_error_set(HV_ERR_INVALID, "harmonic: %s is NULL",
                             !domain  ? "domain"
@@ -413,10 +411,8 @@ hv_status hv_harmonic(const uint8_t *domain, const uint8_t *label, const int64_t
         return hv_error_set(HV_ERR_LIMIT,
                             "harmonic: %lld x %lld x %lld voxels exceed the limit of 2^40",
                             (long long)dims[0], (long long)dims[1], (long long)dims[2]);
-    const int64_t nx = dims[0], ny = dims[1], nz = dims[2];
-    const size_t nvox = (size_t)(nx * ny * nz);
-
-    /* labels first: a missing one is the caller's error, before any allocation */
+    /* labels too: a missing one is the caller's error */
+    const size_t nvox = (size_t)(dims[0] * dims[1] * dims[2]);
     int has1 = 0, has2 = 0;
     for (size_t v = 0; v < nvox && !(has1 && has2); ++v)
         if (domain[v]) {
@@ -425,29 +421,165 @@ hv_status hv_harmonic(const uint8_t *domain, const uint8_t *label, const int64_t
         }
     if (!has1 || !has2)
         return hv_error_set(HV_ERR_INVALID, "harmonic: no domain voxel is labelled %d", has1 ? 2 : 1);
+    return HV_OK;
+}
 
-    solver S;
-    memset(&S, 0, sizeof S);
-    S.threads = hv_threads();
-    hv_status st = HV_OK;
-    uint8_t *kind = NULL;
-    size_t *queue = NULL;
-    double *x = NULL, *r = NULL, *p = NULL, *q = NULL, *z = NULL;
-
-    /* level hierarchy down to at most 4 cells per axis */
-    int64_t lx = nx, ly = ny, lz = nz;
+/* The level hierarchy, down to at most 4 cells per axis. */
+static hv_status build_levels(solver *S, int64_t lx, int64_t ly, int64_t lz)
+{
     for (;;) {
-        if (S.nlev == MAX_LEVELS || (st = level_alloc(&S.lv[S.nlev], lx, ly, lz)) != HV_OK) {
+        hv_status st = HV_OK;
+        if (S->nlev == MAX_LEVELS || (st = level_alloc(&S->lv[S->nlev], lx, ly, lz)) != HV_OK) {
             if (st == HV_OK) st = hv_error_set(HV_ERR_INTERNAL, "harmonic: too many levels");
-            ++S.nlev;
-            goto done;
+            ++S->nlev; /* so solver_free releases a partly allocated level */
+            return st;
         }
-        ++S.nlev;
-        if (lx <= 4 && ly <= 4 && lz <= 4) break;
+        ++S->nlev;
+        if (lx <= 4 && ly <= 4 && lz <= 4) return HV_OK;
         lx = (lx + 1) / 2;
         ly = (ly + 1) / 2;
         lz = (lz + 1) / 2;
     }
+}
+
+/* Classify every voxel (outside, labelled 1 or 2, candidate), then find the free ones; the
+ * count of floating domain voxels goes to *nfloat. */
+static hv_status classify(const uint8_t *domain, const uint8_t *label, const level *F,
+                          int64_t nx, int64_t ny, int64_t nz, uint8_t *kind, uint64_t *nfloat)
+{
+    size_t ncand = 0;
+    for (int64_t i = 0; i < nx; ++i)
+        for (int64_t j = 0; j < ny; ++j)
+            for (int64_t k = 0; k < nz; ++k) {
+                size_t v = (size_t)((i * ny + j) * nz + k);
+                uint8_t t = K_OUT;
+                if (domain[v]) t = label[v] == 1 ? K_ONE : label[v] == 2 ? K_ZERO : K_CAND;
+                ncand += t != K_OUT;
+                kind[at(F, i, j, k)] = t;
+            }
+    size_t *queue = hv_malloc_array(ncand, sizeof(size_t));
+    if (!queue) return HV_ERR_NOMEM; /* ncand <= 2^40: no overflow, so out of memory */
+    *nfloat = find_free(kind, queue, F);
+    free(queue);
+    return HV_OK;
+}
+
+/* The fine operator and the right-hand side b, into r (CG's r starts as b, x as 0); returns
+ * |b|^2. The weights are rounded to float once; everything (d0, b, the matrix) uses these
+ * values, so the discrete problem is exactly the masked Laplacian with these weights. */
+static double assemble(solver *S, const uint8_t *kind, const double spacing[3], double *r)
+{
+    level *F = &S->lv[0];
+    const double w[3] = {(float)(1.0 / (spacing[0] * spacing[0])),
+                         (float)(1.0 / (spacing[1] * spacing[1])),
+                         (float)(1.0 / (spacing[2] * spacing[2]))};
+    const size_t step[3] = {F->sx, F->sy, 1};
+    double bnorm2 = 0;
+    for (int64_t i = 0; i < F->nx; ++i) {
+        double s = 0;
+        for (int64_t j = 0; j < F->ny; ++j) {
+            size_t c = at(F, i, j, 0);
+            for (int64_t k = 0; k < F->nz; ++k, ++c) {
+                if (kind[c] != K_FREE) continue;
+                float *wf[3] = {&F->wx[c], &F->wy[c], &F->wz[c]};
+                double d0 = 0, b = 0;
+                for (int a = 0; a < 3; ++a) {
+                    uint8_t up = kind[c + step[a]], dn = kind[c - step[a]];
+                    if (up == K_FREE) *wf[a] = (float)w[a];
+                    d0 += (up == K_ONE || up == K_ZERO ? w[a] : 0) +
+                          (dn == K_ONE || dn == K_ZERO ? w[a] : 0);
+                    b += (up == K_ONE ? w[a] : 0) + (dn == K_ONE ? w[a] : 0);
+                }
+                S->d0[c] = d0;
+                F->d0[c] = (float)d0;
+                r[c] = b;
+                s += b * b;
+            }
+        }
+        bnorm2 += s;
+    }
+    return bnorm2;
+}
+
+/* Preconditioned conjugate gradients from x = 0, r = b, until |r| <= tol |b|; *iterations
+ * receives the count. HV_ERR_LIMIT when it does not converge (x holds the last iterate). */
+static hv_status pcg(solver *S, double bnorm2, double tol, int max_iter, double *x, double *r,
+                     double *p, double *q, double *z, int *iterations, const hv_progress *progress)
+{
+    const level *F = &S->lv[0];
+    const double bnorm = sqrt(bnorm2), target = tol * bnorm;
+    double rnorm = bnorm;
+    hv_status st = HV_OK;
+    int it = 0;
+    if (bnorm > 0) {
+        double rz = precondition(S, r, z);
+        memcpy(p, z, F->n * sizeof(double));
+        while (rnorm > target) {
+            if (it == max_iter) {
+                st = hv_error_set(HV_ERR_LIMIT,
+                                  "harmonic: no convergence in %d iterations (relative residual "
+                                  "%.3g, tolerance %g)",
+                                  max_iter, rnorm / bnorm, tol);
+                break;
+            }
+            double pq = matvec_dot(S, p, q);
+            if (!(pq > 0) || !(rz > 0)) {
+                st = hv_error_set(HV_ERR_LIMIT,
+                                  "harmonic: stalled after %d iterations (relative residual %.3g, "
+                                  "tolerance %g)",
+                                  it, rnorm / bnorm, tol);
+                break;
+            }
+            double alpha = rz / pq;
+            rnorm = sqrt(update_xr(S, alpha, p, q, x, r));
+            ++it;
+            double frac = rnorm > 0 ? log(rnorm / bnorm) / log(tol) : 1.0;
+            if ((st = hv_progress_report(progress, "harmonic", frac)) != HV_OK) break;
+            if (rnorm <= target) break;
+            double rz_new = precondition(S, r, z);
+            update_p(S, rz_new / rz, z, p);
+            rz = rz_new;
+        }
+    }
+    *iterations = it;
+    return st;
+}
+
+/* phi: the iterate on free voxels (clamped to [0,1], which the exact solution obeys by the
+ * maximum principle), the labels' values, 0 elsewhere. */
+static void write_phi(const solver *S, const uint8_t *kind, const double *x, float *phi)
+{
+    const level *F = &S->lv[0];
+    const int64_t nx = F->nx, ny = F->ny, nz = F->nz;
+#pragma omp parallel for schedule(static) num_threads(S->threads)
+    for (int64_t i = 0; i < nx; ++i)
+        for (int64_t j = 0; j < ny; ++j) {
+            size_t c = at(F, i, j, 0), v = (size_t)((i * ny + j) * nz);
+            for (int64_t k = 0; k < nz; ++k, ++c, ++v) {
+                float val = 0.0f;
+                if (kind[c] == K_FREE) val = (float)HV_CLAMP(x[c], 0.0, 1.0);
+                else if (kind[c] == K_ONE) val = 1.0f;
+                phi[v] = val;
+            }
+        }
+}
+
+hv_status hv_harmonic(const uint8_t *domain, const uint8_t *label, const int64_t dims[3],
+                      const double spacing[3], double tol, int max_iter, float *phi,
+                      int *iterations, uint64_t *floating, const hv_progress *progress)
+{
+    if (iterations) *iterations = 0;
+    if (floating) *floating = 0;
+    hv_status st = check_args(domain, label, dims, spacing, tol, max_iter, phi);
+    if (st != HV_OK) return st;
+    const int64_t nx = dims[0], ny = dims[1], nz = dims[2];
+
+    solver S;
+    memset(&S, 0, sizeof S);
+    S.threads = hv_threads();
+    uint8_t *kind = NULL;
+    double *x = NULL, *r = NULL, *p = NULL, *q = NULL, *z = NULL;
+    if ((st = build_levels(&S, nx, ny, nz)) != HV_OK) goto done;
     level *F = &S.lv[0];
     S.part = hv_calloc((size_t)nx, sizeof(double));
     S.d0 = hv_calloc(F->n, sizeof(double));
@@ -461,121 +593,26 @@ hv_status hv_harmonic(const uint8_t *domain, const uint8_t *label, const int64_t
         st = HV_ERR_NOMEM;
         goto done;
     }
-
-    /* classify, then find the free voxels */
-    size_t ncand = 0;
-    for (int64_t i = 0; i < nx; ++i)
-        for (int64_t j = 0; j < ny; ++j)
-            for (int64_t k = 0; k < nz; ++k) {
-                size_t v = (size_t)((i * ny + j) * nz + k);
-                uint8_t t = K_OUT;
-                if (domain[v]) t = label[v] == 1 ? K_ONE : label[v] == 2 ? K_ZERO : K_CAND;
-                ncand += t != K_OUT;
-                kind[at(F, i, j, k)] = t;
-            }
-    queue = hv_malloc_array(ncand, sizeof(size_t));
-    if (!queue) { /* ncand <= 2^40: no overflow, so out of memory */
-        st = HV_ERR_NOMEM;
-        goto done;
-    }
-    uint64_t nfloat = find_free(kind, queue, F);
-    free(queue);
-    queue = NULL;
+    uint64_t nfloat = 0;
+    if ((st = classify(domain, label, F, nx, ny, nz, kind, &nfloat)) != HV_OK) goto done;
     if (floating) *floating = nfloat;
     if ((st = hv_progress_report(progress, "harmonic: setup", 0.0)) != HV_OK) goto done;
 
-    /* fine operator and right-hand side (CG's r starts as b, x as 0) */
-    /* weights rounded to float once; everything (d0, b, the matrix) uses these values, so the
-     * discrete problem is exactly the masked Laplacian with these weights */
-    const double w[3] = {(float)(1.0 / (spacing[0] * spacing[0])),
-                         (float)(1.0 / (spacing[1] * spacing[1])),
-                         (float)(1.0 / (spacing[2] * spacing[2]))};
-    const size_t step[3] = {F->sx, F->sy, 1};
-    double bnorm2 = 0;
-    for (int64_t i = 0; i < nx; ++i) {
-        double s = 0;
-        for (int64_t j = 0; j < ny; ++j) {
-            size_t c = at(F, i, j, 0);
-            for (int64_t k = 0; k < nz; ++k, ++c) {
-                if (kind[c] != K_FREE) continue;
-                float *wf[3] = {&F->wx[c], &F->wy[c], &F->wz[c]};
-                double d0 = 0, b = 0;
-                for (int a = 0; a < 3; ++a) {
-                    uint8_t up = kind[c + step[a]], dn = kind[c - step[a]];
-                    if (up == K_FREE) *wf[a] = (float)w[a];
-                    d0 += (up == K_ONE || up == K_ZERO ? w[a] : 0) +
-                          (dn == K_ONE || dn == K_ZERO ? w[a] : 0);
-                    b += (up == K_ONE ? w[a] : 0) + (dn == K_ONE ? w[a] : 0);
-                }
-                S.d0[c] = d0;
-                F->d0[c] = (float)d0;
-                r[c] = b;
-                s += b * b;
-            }
-        }
-        bnorm2 += s;
-    }
+    double bnorm2 = assemble(&S, kind, spacing, r);
     finish_level(&S, F);
     for (int l = 1; l < S.nlev; ++l) {
         coarsen(&S, &S.lv[l - 1], &S.lv[l]);
         finish_level(&S, &S.lv[l]);
     }
-
-    /* preconditioned conjugate gradients */
-    const double bnorm = sqrt(bnorm2), target = tol * bnorm;
-    double rnorm = bnorm;
     int it = 0;
-    if (bnorm > 0) {
-        double rz = precondition(&S, r, z);
-        memcpy(p, z, F->n * sizeof(double));
-        while (rnorm > target) {
-            if (it == max_iter) {
-                st = hv_error_set(HV_ERR_LIMIT,
-                                  "harmonic: no convergence in %d iterations (relative residual "
-                                  "%.3g, tolerance %g)",
-                                  max_iter, rnorm / bnorm, tol);
-                break;
-            }
-            double pq = matvec_dot(&S, p, q);
-            if (!(pq > 0) || !(rz > 0)) {
-                st = hv_error_set(HV_ERR_LIMIT,
-                                  "harmonic: stalled after %d iterations (relative residual %.3g, "
-                                  "tolerance %g)",
-                                  it, rnorm / bnorm, tol);
-                break;
-            }
-            double alpha = rz / pq;
-            rnorm = sqrt(update_xr(&S, alpha, p, q, x, r));
-            ++it;
-            double frac = rnorm > 0 ? log(rnorm / bnorm) / log(tol) : 1.0;
-            if ((st = hv_progress_report(progress, "harmonic", frac)) != HV_OK) break;
-            if (rnorm <= target) break;
-            double rz_new = precondition(&S, r, z);
-            update_p(&S, rz_new / rz, z, p);
-            rz = rz_new;
-        }
-    }
+    st = pcg(&S, bnorm2, tol, max_iter, x, r, p, q, z, &it, progress);
     if (iterations) *iterations = it;
     if (st != HV_OK && st != HV_ERR_LIMIT) goto done;
-
-    /* phi: the iterate on free voxels (clamped to [0,1], which the exact solution obeys by the
-     * maximum principle), the labels' values, 0 elsewhere */
-#pragma omp parallel for schedule(static) num_threads(S.threads)
-    for (int64_t i = 0; i < nx; ++i)
-        for (int64_t j = 0; j < ny; ++j) {
-            size_t c = at(F, i, j, 0), v = (size_t)((i * ny + j) * nz);
-            for (int64_t k = 0; k < nz; ++k, ++c, ++v) {
-                float val = 0.0f;
-                if (kind[c] == K_FREE) val = (float)HV_CLAMP(x[c], 0.0, 1.0);
-                else if (kind[c] == K_ONE) val = 1.0f;
-                phi[v] = val;
-            }
-        }
+    write_phi(&S, kind, x, phi);
 
 done:
     solver_free(&S);
     free(kind);
-    free(queue);
     free(x);
     free(r);
     free(p);

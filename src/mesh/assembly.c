@@ -1,5 +1,5 @@
 /* src/mesh/assembly.c - assemblies moved (hovox/mesh.h): an affine transform that keeps the bodies
- * and materials (a part turned on a tray keeps its bodies). */
+ * and materials (a part turned on a tray keeps its bodies) and its appearance. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,6 +37,7 @@ hv_status hv_mesh_transform(const hv_mesh *m, const double a[12], hv_mesh **out)
     hv_status s = hv_mesh_from_soup(soup, NULL, m->nf, hv_mesh_name(m), m->report.format, out);
     free(soup);
     if (s == HV_OK) s = hv_mesh_set_bodies(*out, m->bodies, m->nbodies, m->mats, m->nmats, m->facet_mat);
+    if (s == HV_OK) s = hv_mesh_appearance_copy(*out, m, 0, m->nf, det < 0);
     if (s != HV_OK) {
         hv_mesh_destroy(*out);
         *out = NULL;

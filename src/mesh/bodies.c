@@ -198,6 +198,7 @@ hv_status hv_mesh_body_extract(const hv_mesh *m, size_t i, hv_mesh **out)
     hv_mesh_body one = *b;
     s = hv_mesh_set_bodies(*out, &one, 1, m->mats, m->nmats,
                            m->facet_mat ? m->facet_mat + b->first_facet : NULL);
+    if (s == HV_OK) s = hv_mesh_appearance_copy(*out, m, b->first_facet, b->facet_count, 0);
     if (s != HV_OK) {
         hv_mesh_destroy(*out);
         *out = NULL;
@@ -259,6 +260,13 @@ hv_status hv_mesh_join(const hv_mesh_part *parts, size_t n, hv_mesh **out)
     }
     s = hv_mesh_from_soup(soup, NULL, nf, "", HV_MESH_GENERATED, out);
     if (s == HV_OK) s = hv_mesh_set_bodies(*out, bodies, n, mats, nmats, NULL);
+    if (s == HV_OK) {
+        const hv_mesh **meshes = hv_malloc_array(n, sizeof *meshes);
+        if (!meshes) s = HV_ERR_NOMEM;
+        for (size_t i = 0; meshes && i < n; ++i) meshes[i] = parts[i].mesh;
+        if (meshes) s = hv_mesh_appearance_join(*out, meshes, n);
+        free(meshes);
+    }
     if (s != HV_OK) {
         hv_mesh_destroy(*out);
         *out = NULL;

@@ -540,6 +540,7 @@ void hv_mesh_destroy(hv_mesh *m)
     free(m->nbr);
     free(m->eflags);
     hv_mesh_bodies_free(m);
+    hv_mesh_appearance_free(m);
     free(m);
 }
 

@@ -20,7 +20,20 @@ struct hv_mesh {
     hv_mesh_material *mats;
     size_t nmats;
     int32_t *facet_mat;       /* nf entries, or NULL */
+    /* appearance (appearance.c) */
+    uint32_t *corner_rgba;    /* 3 per facet, or NULL */
+    float *corner_uv;         /* 6 per facet, or NULL (then facet_tex is NULL too) */
+    int32_t *facet_tex;       /* per facet a texture, -1 or HV_MESH_NO_COLOUR */
+    hv_mesh_texture *tex;     /* names and pixels owned */
+    size_t ntex;
 };
+
+/* Give dst (just built from src's facets [first, first + n), in order) src's appearance of
+ * those facets; swap: corners 1 and 2 of every facet were exchanged (a mirror). */
+hv_status hv_mesh_appearance_copy(hv_mesh *dst, const hv_mesh *src, size_t first, size_t n, int swap);
+/* The appearance of parts[0..n) (meshes whose facets were concatenated into dst, in order). */
+hv_status hv_mesh_appearance_join(hv_mesh *dst, const hv_mesh *const *parts, size_t n);
+void hv_mesh_appearance_free(hv_mesh *m);
 
 /* Give a mesh just built by hv_mesh_from_soup its bodies and materials (readers). Body names
  * may be NULL, empty or repeated (made unique: "body N", "NAME (2)"); first_facet is ignored

@@ -786,20 +786,15 @@ static void stroke_series(cairo_t *cr, const series *sr, double width, double s,
     cairo_set_dash(cr, NULL, 0, 0);
 }
 
-static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
+/* The plot area, clipped: spans, then the grid over them, then markers and lines. */
+static void draw_area(const hv_plot *p, const layout *L, cairo_t *cr, double width)
 {
     double s = L->s, off, lw;
-    char buf[80];
-    set_font_options(cr);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-
     double l = L->left, t = L->top, r = L->right, b = L->bottom;
     cairo_save(cr);
     cairo_rectangle(cr, l, t, r - l, b - t);
     cairo_clip(cr);
 
-    /* spans, then the grid over them, then markers and lines */
     rgb(cr, C_SPAN);
     for (int i = 0; i < p->nspans; ++i) {
         double x0 = HV_MAX(map_x(L, p->spans[i].x0), l), x1 = HV_MIN(map_x(L, p->spans[i].x1), r);
@@ -838,16 +833,20 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
 
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-    double width = HV_MAX(1.5, 2.0 * s);
     for (int i = 0; i < p->nseries; ++i) {
         series_path(p, L, cr, &p->series[i]);
         stroke_series(cr, &p->series[i], width, s, light_colour(p->series[i].rgba));
     }
     cairo_restore(cr);
 
-    /* frame with outward ticks */
+}
+
+/* The frame with outward ticks. */
+static void draw_frame(const layout *L, cairo_t *cr, double tick)
+{
+    double s = L->s, off, lw;
+    double l = L->left, t = L->top, r = L->right, b = L->bottom;
     lw = crisp(1.0 * s, &off);
-    double tick = 5.0 * s;
     cairo_set_line_width(cr, lw);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
     rgb(cr, C_FRAME);
@@ -869,6 +868,14 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
     }
     cairo_stroke(cr);
 
+}
+
+/* Tick labels and axis labels. */
+static void draw_labels(const hv_plot *p, const layout *L, cairo_t *cr, double tick)
+{
+    double s = L->s;
+    double l = L->left, t = L->top, r = L->right, b = L->bottom;
+    char buf[80];
     /* tick labels */
     rgb(cr, C_TEXT);
     use_font(cr, F_TICK, s, 1.0);
@@ -907,7 +914,13 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
         cairo_restore(cr);
     }
 
-    /* title and subtitle, centred over the plot area, shrunk to fit it */
+}
+
+/* Title and subtitle, centred over the plot area, shrunk to fit it; the marker labels above it. */
+static void draw_titles(const hv_plot *p, const layout *L, cairo_t *cr)
+{
+    double s = L->s;
+    double l = L->left, r = L->right;
     double y = 12.0 * s;
     if (p->title) {
         use_font(cr, F_TITLE, s, 1.0);
@@ -932,7 +945,11 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
         if (mb->w > 0) text_at(cr, p->markers[k].label, mb->x + mb->w / 2, mb->y + mb->h / 2, 0.5, 0.5);
     }
 
-    /* legend */
+}
+
+static void draw_legend(const hv_plot *p, const layout *L, cairo_t *cr, double width)
+{
+    double s = L->s, off, lw;
     if (L->legend.w > 0) {
         const box *g = &L->legend;
         lw = crisp(1.0 * s, &off);
@@ -966,6 +983,20 @@ static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
             text_at(cr, L->entries[e].text, sx + L->swatch_w + 7.0 * s, ry, 0.0, 0.0);
         }
     }
+}
+
+static void draw(const hv_plot *p, const layout *L, cairo_t *cr)
+{
+    double s = L->s;
+    set_font_options(cr);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    double width = HV_MAX(1.5, 2.0 * s), tick = 5.0 * s;
+    draw_area(p, L, cr, width);
+    draw_frame(L, cr, tick);
+    draw_labels(p, L, cr, tick);
+    draw_titles(p, L, cr);
+    draw_legend(p, L, cr, width);
 }
 
 /* ---- output ----------------------------------------------------------------------------- */

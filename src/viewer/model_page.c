@@ -172,6 +172,104 @@ static hv_status renders(const hv_volume *vol, const hv_viewer_options *o, const
 
 /* ---- the page ----------------------------------------------------------------------------------- */
 
+/* How many slices per axis (n), at which in-plane step (returned): at most max_samples samples
+ * in all, fewer slices first, then a coarser step. */
+static int plan_slices(const mjob *J, uint64_t max_samples, int n[3])
+{
+    int q = 1;
+    uint64_t ch = (uint64_t)J->m + 1;
+    for (int k = 0; k < 3; ++k) n[k] = J->dims[k];
+#define TOTAL()                                                                                                        \
+    (ch * ((uint64_t)n[0] * (uint64_t)samples(J->dims[1], q) * (uint64_t)samples(J->dims[2], q) +                       \
+           (uint64_t)n[1] * (uint64_t)samples(J->dims[0], q) * (uint64_t)samples(J->dims[2], q) +                       \
+           (uint64_t)n[2] * (uint64_t)samples(J->dims[0], q) * (uint64_t)samples(J->dims[1], q)))
+    while (TOTAL() > max_samples && HV_MAX(n[0], HV_MAX(n[1], n[2])) > 16)
+        for (int k = 0; k < 3; ++k) n[k] = HV_MAX(1, HV_MIN(n[k], 16 + (n[k] - 16) / 2));
+    while (TOTAL() > max_samples && q < (1 << 20)) q *= 2;
+#undef TOTAL
+    return q;
+}
+
+/* The page's materials: name, colour, mean fraction and properties ([value, unit]); nonzero
+ * when out of memory. */
+static int materials_json(const hv_material_table *t, int m, const double *mean, json_t *mats)
+{
+    int fail = 0;
+    for (int j = 0; !fail && j < m; ++j) {
+        float rgba[4];
+        hv_material_color(t, j, rgba);
+        uint8_t rgb[3];
+        for (int k = 0; k < 3; ++k) rgb[k] = (uint8_t)lrintf(255.0f * HV_CLAMP(rgba[k], 0.0f, 1.0f));
+        char col[8];
+        snprintf(col, sizeof col, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
+        json_t *e = json_object();
+        fail |= !e || json_array_append_new(mats, e);
+        if (fail) break;
+        fail |= hv_json_set(e, "name", hv_json_text(hv_material_name(t, j)));
+        fail |= hv_json_set(e, "color", json_string(col));
+        fail |= hv_json_set(e, "mean", hv_json_number(mean[j]));
+        json_t *props = json_object(); /* name: [value, unit] */
+        fail |= hv_json_set(e, "properties", props);
+        for (int k = 0; !fail && k < hv_material_property_count(t, j); ++k) {
+            const char *key = hv_material_property_key(t, j, k), *unit = NULL;
+            double v = 0;
+            hv_material_property(t, j, key, &v, &unit);
+            fail |= hv_json_set(props, key, json_pack("[o,s]", hv_json_number(v), unit ? unit : ""));
+        }
+    }
+    return fail;
+}
+
+/* Axis a's slices (J->n of them): drawn into one atlas per channel (occupancy, then each
+ * material), each a PNG data URI in the axis' entry of `axes`. */
+static hv_status axis_atlas(mjob *J, int a, const char *vname, json_t *axes, const hv_progress *progress)
+{
+    static const char *const axis_name[3] = {"x", "y", "z"};
+    hv_status s = HV_OK;
+    J->a = a;
+    J->pw = samples(J->dims[k_u[a]], J->q);
+    J->ph = samples(J->dims[k_v[a]], J->q);
+    /* tiles in a square-ish atlas */
+    J->cols = HV_MAX(1, (int)ceil(sqrt((double)J->n * J->ph / J->pw)));
+    J->cols = HV_MIN(J->cols, J->n);
+    int rows = (J->n + J->cols - 1) / J->cols;
+    J->aw = (size_t)J->cols * (size_t)J->pw;
+    size_t ah = (size_t)rows * (size_t)J->ph;
+    if (J->aw > 65535 || ah > 65535)
+        return hv_error_set(HV_ERR_LIMIT, "%s: a %zu x %zu slice atlas is too large for a PNG page (lower max_samples)",
+                            vname, J->aw, ah);
+    J->slice = hv_malloc_array((size_t)J->n, sizeof *J->slice);
+    J->atlas = hv_calloc((size_t)J->m + 1, sizeof *J->atlas);
+    if (!J->slice || !J->atlas) s = HV_ERR_NOMEM;
+    for (int c = 0; s == HV_OK && c <= J->m; ++c)
+        if (!(J->atlas[c] = hv_calloc(J->aw * ah, 1))) s = HV_ERR_NOMEM;
+    for (int i = 0; s == HV_OK && i < J->n; ++i) J->slice[i] = (int)(((double)i + 0.5) * J->dims[a] / J->n);
+    if (s == HV_OK) s = hv_parallel_for((size_t)J->n, 1, fill_slices, J, progress, "slices");
+    json_t *e = json_object(), *imgs = json_array(), *idx = json_array();
+    if (s == HV_OK && (!e || json_array_append_new(axes, e) || hv_json_set(e, "images", imgs) ||
+                       hv_json_set(e, "slices", idx)))
+        s = hv_error_set(HV_ERR_NOMEM, "out of memory for the page");
+    if (s == HV_OK) {
+        int f = hv_json_set(e, "axis", json_string(axis_name[a])) | hv_json_set(e, "w", json_integer(J->pw)) |
+                hv_json_set(e, "h", json_integer(J->ph)) | hv_json_set(e, "cols", json_integer(J->cols));
+        for (int i = 0; i < J->n; ++i) f |= json_array_append_new(idx, json_integer(J->slice[i]));
+        if (f) s = hv_error_set(HV_ERR_NOMEM, "out of memory for the page");
+    }
+    for (int c = 0; s == HV_OK && c <= J->m; ++c) {
+        hv_buf uri;
+        hv_buf_init(&uri);
+        s = png_uri(J->atlas[c], (int)J->aw, (int)ah, 1, &uri);
+        if (s == HV_OK) s = add_uri(imgs, &uri);
+        hv_buf_free(&uri);
+    }
+    for (int c = 0; J->atlas && c <= J->m; ++c) free(J->atlas[c]);
+    free(J->atlas);
+    free(J->slice);
+    J->atlas = NULL;
+    J->slice = NULL;
+    return s;
+}
+
 hv_status hv_viewer_model_write(const hv_volume *vol, const char *name, const char *html_path,
                                 const hv_viewer_options *opt, const hv_progress *progress, hv_viewer_report *report)
 {
@@ -216,19 +314,9 @@ hv_status hv_viewer_model_write(const hv_volume *vol, const char *name, const ch
     hv_transform xf = hv_volume_get_transform(vol);
     memcpy(rep.voxel, xf.voxel, sizeof rep.voxel);
     rep.materials = J.m;
-    /* how many slices, at which in-plane step */
-    int n[3] = {J.dims[0], J.dims[1], J.dims[2]}, q = 1;
-    uint64_t ch = (uint64_t)J.m + 1;
-#define TOTAL()                                                                                                        \
-    (ch * ((uint64_t)n[0] * (uint64_t)samples(J.dims[1], q) * (uint64_t)samples(J.dims[2], q) +                          \
-           (uint64_t)n[1] * (uint64_t)samples(J.dims[0], q) * (uint64_t)samples(J.dims[2], q) +                          \
-           (uint64_t)n[2] * (uint64_t)samples(J.dims[0], q) * (uint64_t)samples(J.dims[1], q)))
-    while (TOTAL() > opt->max_samples && HV_MAX(n[0], HV_MAX(n[1], n[2])) > 16)
-        for (int k = 0; k < 3; ++k) n[k] = HV_MAX(1, HV_MIN(n[k], 16 + (n[k] - 16) / 2));
-    while (TOTAL() > opt->max_samples && q < (1 << 20)) q *= 2;
-#undef TOTAL
-    J.q = q;
-    rep.slice_step = q;
+    int n[3];
+    J.q = plan_slices(&J, opt->max_samples, n);
+    rep.slice_step = J.q;
 
     json_t *doc = json_object(), *axes = json_array(), *mats = json_array(), *rends = json_array();
     int fail = !doc || hv_json_set(doc, "axes", axes) || hv_json_set(doc, "materials", mats) ||
@@ -244,78 +332,14 @@ hv_status hv_viewer_model_write(const hv_volume *vol, const char *name, const ch
     fail |= hv_json_set(doc, "voxel_mm", hv_json_numbers(vox, 3));
     fail |= hv_json_set(doc, "origin_mm", hv_json_numbers(origin, 3));
     fail |= hv_json_set(doc, "occupied", json_integer((json_int_t)nocc));
-    fail |= hv_json_set(doc, "step", json_integer(q));
-    for (int j = 0; !fail && j < J.m; ++j) {
-        float rgba[4];
-        hv_material_color(t, j, rgba);
-        uint8_t rgb[3];
-        for (int k = 0; k < 3; ++k) rgb[k] = (uint8_t)lrintf(255.0f * HV_CLAMP(rgba[k], 0.0f, 1.0f));
-        char col[8];
-        snprintf(col, sizeof col, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
-        json_t *e = json_object();
-        fail |= !e || json_array_append_new(mats, e);
-        if (fail) break;
-        fail |= hv_json_set(e, "name", hv_json_text(hv_material_name(t, j)));
-        fail |= hv_json_set(e, "color", json_string(col));
-        fail |= hv_json_set(e, "mean", hv_json_number(mean[j]));
-        json_t *props = json_object(); /* name: [value, unit] */
-        fail |= hv_json_set(e, "properties", props);
-        for (int k = 0; !fail && k < hv_material_property_count(t, j); ++k) {
-            const char *key = hv_material_property_key(t, j, k), *unit = NULL;
-            double v = 0;
-            hv_material_property(t, j, key, &v, &unit);
-            fail |= hv_json_set(props, key, json_pack("[o,s]", hv_json_number(v), unit ? unit : ""));
-        }
-    }
+    fail |= hv_json_set(doc, "step", json_integer(J.q));
+    if (!fail) fail |= materials_json(t, J.m, mean, mats);
     hv_material_table_destroy(t);
     if (fail) s = hv_error_set(HV_ERR_NOMEM, "out of memory for the page");
-    static const char *const axis_name[3] = {"x", "y", "z"};
     for (int a = 0; s == HV_OK && a < 3; ++a) {
-        J.a = a;
         J.n = n[a];
-        J.pw = samples(J.dims[k_u[a]], q);
-        J.ph = samples(J.dims[k_v[a]], q);
-        /* tiles in a square-ish atlas */
-        J.cols = HV_MAX(1, (int)ceil(sqrt((double)J.n * J.ph / J.pw)));
-        J.cols = HV_MIN(J.cols, J.n);
-        int rows = (J.n + J.cols - 1) / J.cols;
-        J.aw = (size_t)J.cols * (size_t)J.pw;
-        size_t ah = (size_t)rows * (size_t)J.ph;
-        if (J.aw > 65535 || ah > 65535) {
-            s = hv_error_set(HV_ERR_LIMIT, "%s: a %zu x %zu slice atlas is too large for a PNG page (lower max_samples)", vname,
-                             J.aw, ah);
-            break;
-        }
-        J.slice = hv_malloc_array((size_t)J.n, sizeof *J.slice);
-        J.atlas = hv_calloc((size_t)J.m + 1, sizeof *J.atlas);
-        if (!J.slice || !J.atlas) s = HV_ERR_NOMEM;
-        for (int c = 0; s == HV_OK && c <= J.m; ++c)
-            if (!(J.atlas[c] = hv_calloc(J.aw * ah, 1))) s = HV_ERR_NOMEM;
-        for (int i = 0; s == HV_OK && i < J.n; ++i) J.slice[i] = (int)(((double)i + 0.5) * J.dims[a] / J.n);
-        if (s == HV_OK) s = hv_parallel_for((size_t)J.n, 1, fill_slices, &J, progress, "slices");
-        json_t *e = json_object(), *imgs = json_array(), *idx = json_array();
-        if (s == HV_OK && (!e || json_array_append_new(axes, e) || hv_json_set(e, "images", imgs) ||
-                           hv_json_set(e, "slices", idx)))
-            s = hv_error_set(HV_ERR_NOMEM, "out of memory for the page");
-        if (s == HV_OK) {
-            int f = hv_json_set(e, "axis", json_string(axis_name[a])) | hv_json_set(e, "w", json_integer(J.pw)) |
-                    hv_json_set(e, "h", json_integer(J.ph)) | hv_json_set(e, "cols", json_integer(J.cols));
-            for (int i = 0; i < J.n; ++i) f |= json_array_append_new(idx, json_integer(J.slice[i]));
-            if (f) s = hv_error_set(HV_ERR_NOMEM, "out of memory for the page");
-        }
-        for (int c = 0; s == HV_OK && c <= J.m; ++c) {
-            hv_buf uri;
-            hv_buf_init(&uri);
-            s = png_uri(J.atlas[c], (int)J.aw, (int)ah, 1, &uri);
-            if (s == HV_OK) s = add_uri(imgs, &uri);
-            hv_buf_free(&uri);
-        }
+        s = axis_atlas(&J, a, vname, axes, progress);
         rep.slices[a] = J.n;
-        for (int c = 0; J.atlas && c <= J.m; ++c) free(J.atlas[c]);
-        free(J.atlas);
-        free(J.slice);
-        J.atlas = NULL;
-        J.slice = NULL;
     }
     if (s == HV_OK && !opt->no_renders) s = renders(vol, opt, progress, rends, &rep.render_count);
     if (s == HV_OK) {

@@ -549,6 +549,71 @@ static hv_status encode_cut(const job *J, const struct tinfo *ti, const cut *c, 
     return s;
 }
 
+/* The page's parts: name, copy, box, layers, the manifest's info and the outline; *fail set
+ * when out of memory for the document; errors of the outline. */
+static hv_status parts_doc(const job *J, json_t *d, int *fail)
+{
+    const vw_stack *S = J->S;
+    json_t *parts = json_array();
+    *fail |= hv_json_set(d, "parts", parts);
+    for (int p = 0; !*fail && p < S->nparts; ++p) {
+        const vw_part *P = &S->parts[p];
+        json_t *e = json_object();
+        *fail |= !e || json_array_append_new(parts, e);
+        if (*fail) break;
+        double lay[2] = {(double)P->l0, (double)P->l1};
+        *fail |= hv_json_set(e, "name", hv_json_text(P->name));
+        *fail |= hv_json_set(e, "copy", json_integer(P->copy));
+        *fail |= hv_json_set(e, "box_px", json_pack("[iiii]", P->box[0], P->box[1], P->box[2], P->box[3]));
+        *fail |= hv_json_set(e, "layers", hv_json_numbers(lay, 2));
+        if (P->info) *fail |= hv_json_set(e, "info", json_deep_copy(P->info));
+        json_t *ol = NULL;
+        hv_status s = part_outline(J, P, &ol);
+        if (s != HV_OK) return s;
+        *fail |= hv_json_set(e, "outline", ol);
+    }
+    return HV_OK;
+}
+
+/* The page's side views: each cut's place and its images, one per channel; *fail as above. */
+static hv_status cuts_doc(const job *J, const struct tinfo *ti, json_t *d, int *fail)
+{
+    const vw_stack *S = J->S;
+    json_t *cuts = json_array();
+    *fail |= hv_json_set(d, "cuts", cuts);
+    *fail |= hv_json_set(d, "cut_step", json_integer(J->step));
+    for (int i = 0; !*fail && i < J->ncuts; ++i) {
+        const cut *c = &J->cuts[i];
+        const vw_part *P = &S->parts[c->part];
+        json_t *e = json_object(), *imgs = json_array();
+        *fail |= !e || json_array_append_new(cuts, e);
+        if (*fail) break;
+        *fail |= hv_json_set(e, "part", json_integer(c->part));
+        *fail |= hv_json_set(e, "axis", json_string(c->axis == 0 ? "row" : "col"));
+        *fail |= hv_json_set(e, "pos", json_integer(c->pos));
+        *fail |= hv_json_set(e, "from", json_integer(c->from));
+        *fail |= hv_json_set(e, "to", json_integer(c->to));
+        *fail |= hv_json_set(e, "l0", json_integer((json_int_t)P->l0));
+        *fail |= hv_json_set(e, "l1", json_integer((json_int_t)P->l1));
+        *fail |= hv_json_set(e, "w", json_integer(c->w));
+        *fail |= hv_json_set(e, "h", json_integer(c->h));
+        *fail |= hv_json_set(e, "images", imgs);
+        for (int ch = 0; !*fail && ch < S->channels; ++ch) {
+            hv_buf uri;
+            hv_buf_init(&uri);
+            hv_status s = encode_cut(J, ti, c, ch, &uri);
+            if (s == HV_OK && uri.failed) s = HV_ERR_NOMEM;
+            if (s != HV_OK) {
+                hv_buf_free(&uri);
+                return s;
+            }
+            *fail |= json_array_append_new(imgs, json_string(uri.data));
+            hv_buf_free(&uri);
+        }
+    }
+    return HV_OK;
+}
+
 static hv_status build_doc(const job *J, const struct tinfo *ti, const char *title, const char *base,
                            const hv_viewer_report *r, json_t **out)
 {
@@ -607,58 +672,12 @@ static hv_status build_doc(const job *J, const struct tinfo *ti, const char *tit
             }
         }
     }
-    json_t *parts = json_array();
-    fail |= hv_json_set(d, "parts", parts);
-    for (int p = 0; !fail && p < S->nparts; ++p) {
-        const vw_part *P = &S->parts[p];
-        json_t *e = json_object();
-        fail |= !e || json_array_append_new(parts, e);
-        if (fail) break;
-        double lay[2] = {(double)P->l0, (double)P->l1};
-        fail |= hv_json_set(e, "name", hv_json_text(P->name));
-        fail |= hv_json_set(e, "copy", json_integer(P->copy));
-        fail |= hv_json_set(e, "box_px", json_pack("[iiii]", P->box[0], P->box[1], P->box[2], P->box[3]));
-        fail |= hv_json_set(e, "layers", hv_json_numbers(lay, 2));
-        if (P->info) fail |= hv_json_set(e, "info", json_deep_copy(P->info));
-        json_t *ol = NULL;
-        hv_status s = part_outline(J, P, &ol);
-        if (s != HV_OK) {
+    if (!fail) {
+        hv_status st = parts_doc(J, d, &fail);
+        if (st == HV_OK && !fail) st = cuts_doc(J, ti, d, &fail);
+        if (st != HV_OK) {
             json_decref(d);
-            return s;
-        }
-        fail |= hv_json_set(e, "outline", ol);
-    }
-    json_t *cuts = json_array();
-    fail |= hv_json_set(d, "cuts", cuts);
-    fail |= hv_json_set(d, "cut_step", json_integer(J->step));
-    for (int i = 0; !fail && i < J->ncuts; ++i) {
-        const cut *c = &J->cuts[i];
-        const vw_part *P = &S->parts[c->part];
-        json_t *e = json_object(), *imgs = json_array();
-        fail |= !e || json_array_append_new(cuts, e);
-        if (fail) break;
-        fail |= hv_json_set(e, "part", json_integer(c->part));
-        fail |= hv_json_set(e, "axis", json_string(c->axis == 0 ? "row" : "col"));
-        fail |= hv_json_set(e, "pos", json_integer(c->pos));
-        fail |= hv_json_set(e, "from", json_integer(c->from));
-        fail |= hv_json_set(e, "to", json_integer(c->to));
-        fail |= hv_json_set(e, "l0", json_integer((json_int_t)P->l0));
-        fail |= hv_json_set(e, "l1", json_integer((json_int_t)P->l1));
-        fail |= hv_json_set(e, "w", json_integer(c->w));
-        fail |= hv_json_set(e, "h", json_integer(c->h));
-        fail |= hv_json_set(e, "images", imgs);
-        for (int ch = 0; !fail && ch < S->channels; ++ch) {
-            hv_buf uri;
-            hv_buf_init(&uri);
-            hv_status s = encode_cut(J, ti, c, ch, &uri);
-            if (s == HV_OK && uri.failed) s = HV_ERR_NOMEM;
-            if (s != HV_OK) {
-                hv_buf_free(&uri);
-                json_decref(d);
-                return s;
-            }
-            fail |= json_array_append_new(imgs, json_string(uri.data));
-            hv_buf_free(&uri);
+            return st;
         }
     }
     json_t *warn = json_array();
@@ -747,6 +766,84 @@ static const char *dir_title(const char *dir, char *buf, size_t size)
     return hv_basename(buf);
 }
 
+/* The readers' buffers: a union image and a row per thread, within the memory budget; the cuts. */
+static hv_status job_alloc(job *J, const char *stack_dir, const hv_viewer_options *opt, hv_viewer_report *rep)
+{
+    const vw_stack *S = J->S;
+    hv_status s = HV_OK;
+    /* the readers' memory: a union image and a row per thread */
+    uint64_t need = (uint64_t)J->threads * ((uint64_t)J->stride * (uint64_t)S->height + J->stride) + opt->max_samples;
+    uint64_t budget = hv_memory_budget(0);
+    if (need > budget) {
+        char a[32], b[32];
+        s = hv_error_set(HV_ERR_LIMIT, "%s: reading %d x %d layers on %d threads needs %s, over the budget of %s", stack_dir,
+                         S->width, S->height, J->threads, hv_size_text(a, sizeof a, (double)need),
+                         hv_size_text(b, sizeof b, (double)budget));
+    }
+    if (s == HV_OK) s = plan_cuts(J, opt, rep);
+    if (s == HV_OK) {
+        J->rowbuf = hv_calloc((size_t)J->threads, sizeof *J->rowbuf);
+        J->uni = hv_calloc((size_t)J->threads, sizeof *J->uni);
+        J->lk = hv_calloc((size_t)J->threads, sizeof *J->lk);
+        J->ti = hv_calloc((size_t)J->threads, sizeof *J->ti);
+        s = J->rowbuf && J->uni && J->lk && J->ti ? HV_OK : HV_ERR_NOMEM;
+        for (int t = 0; s == HV_OK && t < J->threads; ++t) {
+            J->rowbuf[t] = hv_malloc(J->stride + 16);
+            J->uni[t] = hv_calloc_big(J->stride * (size_t)S->height, 1);
+            J->lk[t] = hv_calloc((size_t)S->nparts + 1, sizeof **J->lk);
+            if (!J->rowbuf[t] || !J->uni[t] || !J->lk[t]) s = HV_ERR_NOMEM;
+        }
+    }
+    return s;
+}
+
+/* The threads' findings merged: the union images into the first, and what they saw (palette,
+ * pHYs), by layer order, as the page's warnings. */
+static void merge_threads(job *J, struct tinfo *all, hv_viewer_report *rep)
+{
+    const vw_stack *S = J->S;
+    for (int t = 1; t < J->threads; ++t)
+        for (int y = 0; y < S->height; ++y)
+            for (size_t k = J->span_start[y]; k < J->span_start[y + 1]; ++k)
+                for (size_t i = J->span[2 * k]; i < J->span[2 * k + 1]; ++i)
+                    J->uni[0][(size_t)y * J->stride + i] |= J->uni[t][(size_t)y * J->stride + i];
+    for (int t = 0; t < J->threads; ++t) {
+        const struct tinfo *ti = &J->ti[t];
+#define EARLIER(f) (ti->f && (!all->f || ti->f < all->f))
+        if (EARLIER(plte_at)) {
+            all->plte_at = ti->plte_at;
+            all->plte_n = ti->plte_n;
+            memcpy(all->plte, ti->plte, sizeof all->plte);
+        }
+        if (EARLIER(phys_bad_at)) {
+            all->phys_bad_at = ti->phys_bad_at;
+            all->phys_x = ti->phys_x;
+            all->phys_y = ti->phys_y;
+        }
+        if (EARLIER(phys_none_at)) all->phys_none_at = ti->phys_none_at;
+#undef EARLIER
+    }
+    /* a thread's palette differing from the first one's counts too */
+    for (int t = 0; t < J->threads; ++t) {
+        const struct tinfo *ti = &J->ti[t];
+        size_t bad = ti->plte_bad_at;
+        if (ti->plte_at && (ti->plte_n != all->plte_n || memcmp(ti->plte, all->plte, (size_t)all->plte_n * 3)))
+            bad = bad ? HV_MIN(bad, ti->plte_at) : ti->plte_at;
+        if (bad && (!all->plte_bad_at || bad < all->plte_bad_at)) all->plte_bad_at = bad;
+    }
+    if (all->phys_bad_at)
+        vw_warn(rep, "%s: pHYs says %u x %u pixels per metre, manifest.json's pixel_mm %g x %g mm (%.0f x %.0f per metre); "
+                      "the page draws the manifest's",
+                S->files[(all->phys_bad_at - 1) * (size_t)S->channels], all->phys_x, all->phys_y, S->pixel_mm[0],
+                fabs(S->pixel_mm[1]), 1000.0 / S->pixel_mm[0], 1000.0 / fabs(S->pixel_mm[1]));
+    if (all->phys_none_at)
+        vw_warn(rep, "%s: no pHYs (physical pixel size); the page draws manifest.json's pixel_mm",
+                S->files[(all->phys_none_at - 1) * (size_t)S->channels]);
+    if (all->plte_bad_at)
+        vw_warn(rep, "%s: its palette differs from %s's; the page draws each layer with its own, the side views with the first",
+                S->files[all->plte_bad_at - 1], S->files[all->plte_at - 1]);
+}
+
 hv_status hv_viewer_stack_write(const char *stack_dir, const char *html_path, const hv_viewer_options *opt,
                                 const hv_progress *progress, hv_viewer_report *report)
 {
@@ -790,77 +887,13 @@ hv_status hv_viewer_stack_write(const char *stack_dir, const char *html_path, co
     J.dir = stack_dir;
     J.stride = ((size_t)S.width * (size_t)S.bit_depth + 7) / 8;
     J.threads = HV_MAX(1, hv_threads());
-    if (s == HV_OK) { /* the readers' memory: a union image and a row per thread */
-        uint64_t need = (uint64_t)J.threads * ((uint64_t)J.stride * (uint64_t)S.height + J.stride) + opt->max_samples;
-        uint64_t budget = hv_memory_budget(0);
-        if (need > budget) {
-            char a[32], b[32];
-            s = hv_error_set(HV_ERR_LIMIT, "%s: reading %d x %d layers on %d threads needs %s, over the budget of %s", stack_dir,
-                             S.width, S.height, J.threads, hv_size_text(a, sizeof a, (double)need),
-                             hv_size_text(b, sizeof b, (double)budget));
-        }
-    }
-    if (s == HV_OK) s = plan_cuts(&J, opt, &rep);
-    if (s == HV_OK) {
-        J.rowbuf = hv_calloc((size_t)J.threads, sizeof *J.rowbuf);
-        J.uni = hv_calloc((size_t)J.threads, sizeof *J.uni);
-        J.lk = hv_calloc((size_t)J.threads, sizeof *J.lk);
-        J.ti = hv_calloc((size_t)J.threads, sizeof *J.ti);
-        s = J.rowbuf && J.uni && J.lk && J.ti ? HV_OK : HV_ERR_NOMEM;
-        for (int t = 0; s == HV_OK && t < J.threads; ++t) {
-            J.rowbuf[t] = hv_malloc(J.stride + 16);
-            J.uni[t] = hv_calloc_big(J.stride * (size_t)S.height, 1);
-            J.lk[t] = hv_calloc((size_t)S.nparts + 1, sizeof **J.lk);
-            if (!J.rowbuf[t] || !J.uni[t] || !J.lk[t]) s = HV_ERR_NOMEM;
-        }
-    }
+    if (s == HV_OK) s = job_alloc(&J, stack_dir, opt, &rep);
     if (s == HV_OK) s = hv_progress_report(progress, "view", 0.0);
     if (s == HV_OK) s = hv_parallel_for(S.nlayers, 1, read_layers, &J, progress, "view");
     if (s == HV_OK) s = hv_progress_report(progress, "view", 1.0);
     struct tinfo all;
     memset(&all, 0, sizeof all);
-    if (s == HV_OK) { /* the threads' unions into the first; what they saw, by layer order */
-        for (int t = 1; t < J.threads; ++t)
-            for (int y = 0; y < S.height; ++y)
-                for (size_t k = J.span_start[y]; k < J.span_start[y + 1]; ++k)
-                    for (size_t i = J.span[2 * k]; i < J.span[2 * k + 1]; ++i)
-                        J.uni[0][(size_t)y * J.stride + i] |= J.uni[t][(size_t)y * J.stride + i];
-        for (int t = 0; t < J.threads; ++t) {
-            const struct tinfo *ti = &J.ti[t];
-#define EARLIER(f) (ti->f && (!all.f || ti->f < all.f))
-            if (EARLIER(plte_at)) {
-                all.plte_at = ti->plte_at;
-                all.plte_n = ti->plte_n;
-                memcpy(all.plte, ti->plte, sizeof all.plte);
-            }
-            if (EARLIER(phys_bad_at)) {
-                all.phys_bad_at = ti->phys_bad_at;
-                all.phys_x = ti->phys_x;
-                all.phys_y = ti->phys_y;
-            }
-            if (EARLIER(phys_none_at)) all.phys_none_at = ti->phys_none_at;
-#undef EARLIER
-        }
-        /* a thread's palette differing from the first one's counts too */
-        for (int t = 0; t < J.threads; ++t) {
-            const struct tinfo *ti = &J.ti[t];
-            size_t bad = ti->plte_bad_at;
-            if (ti->plte_at && (ti->plte_n != all.plte_n || memcmp(ti->plte, all.plte, (size_t)all.plte_n * 3)))
-                bad = bad ? HV_MIN(bad, ti->plte_at) : ti->plte_at;
-            if (bad && (!all.plte_bad_at || bad < all.plte_bad_at)) all.plte_bad_at = bad;
-        }
-        if (all.phys_bad_at)
-            vw_warn(&rep, "%s: pHYs says %u x %u pixels per metre, manifest.json's pixel_mm %g x %g mm (%.0f x %.0f per metre); "
-                          "the page draws the manifest's",
-                    S.files[(all.phys_bad_at - 1) * (size_t)S.channels], all.phys_x, all.phys_y, S.pixel_mm[0],
-                    fabs(S.pixel_mm[1]), 1000.0 / S.pixel_mm[0], 1000.0 / fabs(S.pixel_mm[1]));
-        if (all.phys_none_at)
-            vw_warn(&rep, "%s: no pHYs (physical pixel size); the page draws manifest.json's pixel_mm",
-                    S.files[(all.phys_none_at - 1) * (size_t)S.channels]);
-        if (all.plte_bad_at)
-            vw_warn(&rep, "%s: its palette differs from %s's; the page draws each layer with its own, the side views with the first",
-                    S.files[all.plte_bad_at - 1], S.files[all.plte_at - 1]);
-    }
+    if (s == HV_OK) merge_threads(&J, &all, &rep);
     json_t *doc = NULL;
     char tbuf[1024];
     const char *title = opt->title ? opt->title : dir_title(stack_dir, tbuf, sizeof tbuf);

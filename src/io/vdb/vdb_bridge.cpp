@@ -895,6 +895,80 @@ bool selected(const std::string &name, const char *const *want, int n)
     return false;
 }
 
+// Every grid within the budget once expanded (max_bytes, 0: none) and within index 2^30; a
+// failure code (fail()) or OK.
+int check_grids(const openvdb::GridPtrVec &grids, uint64_t max_bytes)
+{
+    uint64_t total = 0;
+    for (const auto &g : grids) {
+        uint64_t voxels = 0, bytes = expanded_bytes(*g, &voxels);
+        total += bytes;
+        if (max_bytes && total > max_bytes)
+            return fail(E_LIMIT, "grid '" + one_line(g->getName()) + "' holds " + std::to_string(voxels) +
+                                     " active voxels: about " + size_text(double(total)) +
+                                     " once expanded, more than the budget of " +
+                                     size_text(double(max_bytes)));
+        const openvdb::CoordBBox bb = g->evalActiveVoxelBoundingBox();
+        const int lim = 1 << 30;
+        if (!bb.empty() && (bb.min().x() < -lim || bb.min().y() < -lim || bb.min().z() < -lim ||
+                            bb.max().x() > lim || bb.max().y() > lim || bb.max().z() > lim))
+            return fail(E_BAD_INPUT, "grid '" + one_line(g->getName()) + "' has voxels beyond index 2^30");
+    }
+    return OK;
+}
+
+// The grids' one axis-aligned lattice (voxel size and origin into v0, o0); a failure code when a
+// grid has another transform.
+int common_lattice(const openvdb::GridPtrVec &grids, double v0[3], double o0[3])
+{
+    for (size_t i = 0; i < grids.size(); ++i) {
+        const GridBase::Ptr &g = grids[i];
+        double vs[3], os[3];
+        if (!axis_aligned(g->transform(), vs, os))
+            return fail(E_BAD_INPUT, "grid '" + g->getName() +
+                                         "' has a transform that is not an axis-aligned scale "
+                                         "and translation");
+        if (i == 0) {
+            std::memcpy(v0, vs, sizeof vs);
+            std::memcpy(o0, os, sizeof os);
+            continue;
+        }
+        for (int a = 0; a < 3; ++a)
+            if (std::fabs(vs[a] - v0[a]) > 1e-9 * v0[a] || std::fabs(os[a] - o0[a]) > 1e-9 * v0[a])
+                return fail(E_BAD_INPUT, "grid '" + g->getName() + "' has a different transform from grid '" +
+                                             grids[0]->getName() + "'");
+    }
+    return OK;
+}
+
+// The file's metadata to the caller, one entry at a time; the first nonzero answer of meta_cb.
+int pass_metadata(const openvdb::MetaMap &meta, hv_vdb_meta_cb meta_cb, void *ctx)
+{
+    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) {
+        const openvdb::Metadata::ConstPtr m = it->second;
+        int rc = 0;
+        if (m->typeName() == openvdb::StringMetadata::staticTypeName())
+            rc = meta_cb(ctx, it->first.c_str(), HV_META_STRING,
+                         static_cast<const openvdb::StringMetadata &>(*m).value().c_str(), 0.0);
+        else if (m->typeName() == openvdb::DoubleMetadata::staticTypeName())
+            rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                         static_cast<const openvdb::DoubleMetadata &>(*m).value());
+        else if (m->typeName() == openvdb::FloatMetadata::staticTypeName())
+            rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                         static_cast<const openvdb::FloatMetadata &>(*m).value());
+        else if (m->typeName() == openvdb::Int32Metadata::staticTypeName())
+            rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                         static_cast<const openvdb::Int32Metadata &>(*m).value());
+        else if (m->typeName() == openvdb::Int64Metadata::staticTypeName())
+            rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
+                         double(static_cast<const openvdb::Int64Metadata &>(*m).value()));
+        else
+            rc = meta_cb(ctx, it->first.c_str(), HV_META_STRING, m->str().c_str(), 0.0);
+        if (rc != 0) return rc;
+    }
+    return 0;
+}
+
 int b_load(const char *path, const char *const *want, int nwant, int threads, void **out, double voxel[3],
            double origin[3], hv_vdb_meta_cb meta_cb, hv_vdb_grid_cb grid_cb, void *ctx, uint64_t max_bytes,
            hv_vdb_cancel_fn cancel)
@@ -927,21 +1001,7 @@ int b_load(const char *path, const char *const *want, int nwant, int threads, vo
                                          " bytes can hold");
         }
         if (count == 0) return fail(E_BAD_INPUT, "file holds no grids");
-        uint64_t total = 0;
-        for (const auto &g : *grids) {
-            uint64_t voxels = 0, bytes = expanded_bytes(*g, &voxels);
-            total += bytes;
-            if (max_bytes && total > max_bytes)
-                return fail(E_LIMIT, "grid '" + one_line(g->getName()) + "' holds " + std::to_string(voxels) +
-                                         " active voxels: about " + size_text(double(total)) +
-                                         " once expanded, more than the budget of " +
-                                         size_text(double(max_bytes)));
-            const openvdb::CoordBBox bb = g->evalActiveVoxelBoundingBox();
-            const int lim = 1 << 30;
-            if (!bb.empty() && (bb.min().x() < -lim || bb.min().y() < -lim || bb.min().z() < -lim ||
-                                bb.max().x() > lim || bb.max().y() > lim || bb.max().z() > lim))
-                return fail(E_BAD_INPUT, "grid '" + one_line(g->getName()) + "' has voxels beyond index 2^30");
-        }
+        if (int rc = check_grids(*grids, max_bytes)) return rc;
         // restore hovox's grid order (OpenVDB returns grids by name)
         std::stable_sort(grids->begin(), grids->end(), [](const GridBase::Ptr &a, const GridBase::Ptr &b) {
             auto ia = a->getMetadata<openvdb::Int32Metadata>("hovox.index");
@@ -949,31 +1009,9 @@ int b_load(const char *path, const char *const *want, int nwant, int threads, vo
             int x = ia ? ia->value() : INT32_MAX, y = ib ? ib->value() : INT32_MAX;
             return x < y;
         });
-        v = new Volume;
         double v0[3] = {1, 1, 1}, o0[3] = {0, 0, 0}; // no grid selected: the unit lattice
-        for (size_t i = 0; i < grids->size(); ++i) {
-            const GridBase::Ptr &g = (*grids)[i];
-            double vs[3], os[3];
-            if (!axis_aligned(g->transform(), vs, os)) {
-                delete v;
-                return fail(E_BAD_INPUT, "grid '" + g->getName() +
-                                             "' has a transform that is not an axis-aligned scale "
-                                             "and translation");
-            }
-            if (i == 0) {
-                std::memcpy(v0, vs, sizeof v0);
-                std::memcpy(o0, os, sizeof o0);
-            } else {
-                for (int a = 0; a < 3; ++a)
-                    if (std::fabs(vs[a] - v0[a]) > 1e-9 * v0[a] ||
-                        std::fabs(os[a] - o0[a]) > 1e-9 * v0[a]) {
-                        delete v;
-                        return fail(E_BAD_INPUT, "grid '" + g->getName() +
-                                                     "' has a different transform from grid '" +
-                                                     (*grids)[0]->getName() + "'");
-                    }
-            }
-        }
+        if (int rc = common_lattice(*grids, v0, o0)) return rc;
+        v = new Volume;
         v->xf = make_transform(v0, o0);
         v->topo = MaskGrid::create(false);
         v->topo->setTransform(v->xf);
@@ -994,32 +1032,9 @@ int b_load(const char *path, const char *const *want, int nwant, int threads, vo
         }
         v->topo->tree().voxelizeActiveTiles();
         for (auto &g : v->grids) match_topology(*v, *g);
-        if (meta) {
-            for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it) {
-                const openvdb::Metadata::Ptr &m = it->second;
-                int rc = 0;
-                if (m->typeName() == openvdb::StringMetadata::staticTypeName())
-                    rc = meta_cb(ctx, it->first.c_str(), HV_META_STRING,
-                                 static_cast<openvdb::StringMetadata &>(*m).value().c_str(), 0.0);
-                else if (m->typeName() == openvdb::DoubleMetadata::staticTypeName())
-                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
-                                 static_cast<openvdb::DoubleMetadata &>(*m).value());
-                else if (m->typeName() == openvdb::FloatMetadata::staticTypeName())
-                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
-                                 static_cast<openvdb::FloatMetadata &>(*m).value());
-                else if (m->typeName() == openvdb::Int32Metadata::staticTypeName())
-                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
-                                 static_cast<openvdb::Int32Metadata &>(*m).value());
-                else if (m->typeName() == openvdb::Int64Metadata::staticTypeName())
-                    rc = meta_cb(ctx, it->first.c_str(), HV_META_NUMBER, nullptr,
-                                 double(static_cast<openvdb::Int64Metadata &>(*m).value()));
-                else
-                    rc = meta_cb(ctx, it->first.c_str(), HV_META_STRING, m->str().c_str(), 0.0);
-                if (rc != 0) {
-                    delete v;
-                    return fail(E_NOMEM, "out of memory");
-                }
-            }
+        if (meta && pass_metadata(*meta, meta_cb, ctx) != 0) {
+            delete v;
+            return fail(E_NOMEM, "out of memory");
         }
         std::memcpy(voxel, v0, sizeof v0);
         std::memcpy(origin, o0, sizeof o0);

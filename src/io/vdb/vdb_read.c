@@ -710,6 +710,100 @@ static int grid_parse(grid_in *g, int *nomem)
     return grid_records(&b, g, nomem);
 }
 
+/* The grid descriptors: each grid follows its own, the next descriptor at the grid's end. The
+ * grids `want` selects keep their names (*nsel counts them). 0 when the file is not one this
+ * reader takes (OpenVDB then reads it or says what is wrong). */
+static int read_descriptors(fcur *c, grid_in *grids, int ngrids, const char *const *want, int nwant, int *nsel,
+                            int *nomem)
+{
+    int ok = 1;
+    for (int i = 0; ok && i < ngrids; ++i) {
+        char *name = fstr(c, 255, nomem), *type = name ? fstr(c, 64, nomem) : NULL,
+             *parent = type ? fstr(c, 0, nomem) : NULL;
+        int64_t pos = fi64(c), block = fi64(c), end = fi64(c);
+        ok = parent && !c->bad && *name && !strchr(name, 0x1e) && pos == (int64_t)c->at && block >= pos &&
+             end >= block && (uint64_t)end <= c->size;
+        /* the "_HalfFloat" suffix goes with every grid saved "as half", bool ones too, whose
+         * values it does not change */
+        int is_float = ok && strncmp(type, "Tree_float_5_4_3", 16) == 0;
+        int is_bool = ok && strncmp(type, "Tree_bool_5_4_3", 15) == 0;
+        const char *rest = is_float ? type + 16 : is_bool ? type + 15 : "?";
+        int is_half = strcmp(rest, "_HalfFloat") == 0;
+        ok = ok && (is_float || is_bool) && (*rest == 0 || is_half);
+        for (int k = 0; ok && k < i; ++k)
+            if (grids[k].name && strcmp(grids[k].name, name) == 0) ok = 0; /* a name twice */
+        free(type);
+        free(parent);
+        if (!ok) {
+            free(name);
+            break;
+        }
+        grid_in *g = &grids[i];
+        g->pos = pos;
+        g->block = block;
+        g->end = end;
+        g->is_bool = is_bool;
+        g->half = is_float && is_half;
+        g->saved_half = is_half; /* the bridge's half flag, for any grid type */
+        if (selected(name, want, nwant)) {
+            g->name = name;
+            ++*nsel;
+        } else {
+            free(name);
+            g->name = NULL;
+        }
+        c->at = (uint64_t)end;
+    }
+    return ok;
+}
+
+/* Whether the selected grids share one transform and one topology. */
+static int same_lattice(grid_in *const *order, int nsel)
+{
+    for (int i = 1; i < nsel; ++i) {
+        const grid_in *a = order[0], *b = order[i];
+        int same = memcmp(a->voxel, b->voxel, sizeof a->voxel) == 0 && memcmp(a->origin, b->origin, sizeof a->origin) == 0 &&
+             a->nleaves == b->nleaves &&
+             (a->nleaves == 0 || (memcmp(a->origins, b->origins, 3 * a->nleaves * sizeof *a->origins) == 0 &&
+                                  memcmp(a->masks, b->masks, 8 * a->nleaves * sizeof *a->masks) == 0));
+        if (!same) return 0;
+    }
+    return 1;
+}
+
+/* The volume: the lattice, the topology, then each grid's leaves decoded. *ok = 0 when a leaf
+ * does not decode (the file goes to OpenVDB, which says what is wrong). */
+static hv_status fill_volume(const char *path, hv_volume *v, grid_in *const *order, int nsel, int *half, int *ok)
+{
+    grid_in *f = order[0];
+    hv_transform xf;
+    memcpy(xf.voxel, f->voxel, sizeof xf.voxel);
+    memcpy(xf.origin, f->origin, sizeof xf.origin);
+    hv_volume_adopt_transform(v, &xf);
+    hv_status s = hv_volume_adopt_topology(v, f->nleaves, f->origins, f->masks);
+    f->origins = NULL; /* the volume's now (also on failure) */
+    f->masks = NULL;
+    if (s != HV_OK) return s;
+    size_t n = hv_volume_leaf_count(v);
+    for (int i = 0; i < nsel; ++i) {
+        grid_in *g = order[i];
+        int index;
+        if ((s = hv_volume_adopt_grid(v, g->name, g->is_bool ? HV_GRID_BOOL : HV_GRID_FLOAT, &index)) != HV_OK)
+            return s;
+        decode_ctx d = {g, v, index, g->bytes + (g->block - g->pos), (size_t)(g->end - g->block)};
+        hv_status r = hv_parallel_for(n, 256, decode_range, &d, NULL, NULL);
+        if (r == HV_ERR_CANCELLED) return hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path);
+        if (r != HV_OK) { /* a leaf that does not decode: OpenVDB says what is wrong */
+            *ok = 0;
+            return HV_OK;
+        }
+        if (g->saved_half && strncmp(g->name, "material.", 9) == 0) *half = 1;
+        free(g->bytes);
+        g->bytes = NULL;
+    }
+    return HV_OK;
+}
+
 hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint64_t budget, hv_volume **out,
                       int *half, int *declined)
 {
@@ -748,44 +842,7 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
     /* hovox writes tens of grids; more (and the quadratic name check) is left to OpenVDB */
     ok = ok && !c.bad && ngrids > 0 && ngrids <= 4096 && (uint64_t)ngrids <= c.size / 16;
     if (ok && !(grids = hv_calloc((size_t)ngrids, sizeof *grids))) nomem = 1;
-    /* descriptors: each grid follows its own, the next descriptor at the grid's end */
-    for (int i = 0; ok && grids && i < ngrids; ++i) {
-        char *name = fstr(&c, 255, &nomem), *type = name ? fstr(&c, 64, &nomem) : NULL,
-             *parent = type ? fstr(&c, 0, &nomem) : NULL;
-        int64_t pos = fi64(&c), block = fi64(&c), end = fi64(&c);
-        ok = parent && !c.bad && *name && !strchr(name, 0x1e) && pos == (int64_t)c.at && block >= pos &&
-             end >= block && (uint64_t)end <= c.size;
-        /* the "_HalfFloat" suffix goes with every grid saved "as half", bool ones too, whose
-         * values it does not change */
-        int is_float = ok && strncmp(type, "Tree_float_5_4_3", 16) == 0;
-        int is_bool = ok && strncmp(type, "Tree_bool_5_4_3", 15) == 0;
-        const char *rest = is_float ? type + 16 : is_bool ? type + 15 : "?";
-        int is_half = strcmp(rest, "_HalfFloat") == 0;
-        ok = ok && (is_float || is_bool) && (*rest == 0 || is_half);
-        for (int k = 0; ok && k < i; ++k)
-            if (grids[k].name && strcmp(grids[k].name, name) == 0) ok = 0; /* a name twice */
-        free(type);
-        free(parent);
-        if (!ok) {
-            free(name);
-            break;
-        }
-        grid_in *g = &grids[i];
-        g->pos = pos;
-        g->block = block;
-        g->end = end;
-        g->is_bool = is_bool;
-        g->half = is_float && is_half;
-        g->saved_half = is_half; /* the bridge's half flag, for any grid type */
-        if (selected(name, want, nwant)) {
-            g->name = name;
-            ++nsel;
-        } else {
-            free(name);
-            g->name = NULL;
-        }
-        c.at = (uint64_t)end;
-    }
+    if (ok && grids) ok = read_descriptors(&c, grids, ngrids, want, nwant, &nsel, &nomem);
     if (!ok || nomem) goto done;
     /* the selected grids: parsed, in hovox.index order, on one transform and one topology */
     order = hv_calloc((size_t)nsel + 1, sizeof *order);
@@ -815,46 +872,9 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
     }
     if (!ok || nomem) goto done;
     qsort(order, (size_t)nsel, sizeof *order, index_cmp);
-    for (int i = 1; ok && i < nsel; ++i) {
-        const grid_in *a = order[0], *b = order[i];
-        ok = memcmp(a->voxel, b->voxel, sizeof a->voxel) == 0 && memcmp(a->origin, b->origin, sizeof a->origin) == 0 &&
-             a->nleaves == b->nleaves &&
-             (a->nleaves == 0 || (memcmp(a->origins, b->origins, 3 * a->nleaves * sizeof *a->origins) == 0 &&
-                                  memcmp(a->masks, b->masks, 8 * a->nleaves * sizeof *a->masks) == 0));
-    }
+    ok = ok && same_lattice(order, nsel);
     if (!ok) goto done;
-    /* the volume: the lattice, the topology, then each grid's leaves decoded */
-    if (nsel) {
-        grid_in *f = order[0];
-        hv_transform xf;
-        memcpy(xf.voxel, f->voxel, sizeof xf.voxel);
-        memcpy(xf.origin, f->origin, sizeof xf.origin);
-        hv_volume_adopt_transform(v, &xf);
-        s = hv_volume_adopt_topology(v, f->nleaves, f->origins, f->masks);
-        f->origins = NULL; /* the volume's now (also on failure) */
-        f->masks = NULL;
-        if (s != HV_OK) goto done;
-        size_t n = hv_volume_leaf_count(v);
-        for (int i = 0; i < nsel; ++i) {
-            grid_in *g = order[i];
-            int index;
-            if ((s = hv_volume_adopt_grid(v, g->name, g->is_bool ? HV_GRID_BOOL : HV_GRID_FLOAT, &index)) != HV_OK)
-                goto done;
-            decode_ctx d = {g, v, index, g->bytes + (g->block - g->pos), (size_t)(g->end - g->block)};
-            hv_status r = hv_parallel_for(n, 256, decode_range, &d, NULL, NULL);
-            if (r == HV_ERR_CANCELLED) {
-                s = hv_error_set(HV_ERR_CANCELLED, "%s: reading cancelled", path);
-                goto done;
-            }
-            if (r != HV_OK) { /* a leaf that does not decode: OpenVDB says what is wrong */
-                ok = 0;
-                goto done;
-            }
-            if (g->saved_half && strncmp(g->name, "material.", 9) == 0) *half = 1;
-            free(g->bytes);
-            g->bytes = NULL;
-        }
-    }
+    if (nsel) s = fill_volume(path, v, order, nsel, half, &ok);
 done:
     for (int i = 0; grids && i < ngrids; ++i) grid_free(&grids[i]);
     free(grids);

@@ -51,6 +51,10 @@ HV_API hv_status hv_placement_matrix(const hv_placement *p, double matrix[12]);
  * 1,2,3"; "" when nothing was given), into buf; returns buf. */
 HV_API const char *hv_placement_describe(const hv_placement *p, char *buf, size_t size);
 
+/* A new mesh: `mesh` placed (a copy when nothing was given), freed with hv_mesh_destroy. Errors:
+ * HV_ERR_INVALID ({unit} given for a 3MF, which states its own unit; those of hv_mesh_transform),
+ * HV_ERR_NOMEM. */
+HV_API hv_status hv_placement_transform(const hv_placement *p, const hv_mesh *mesh, hv_mesh **out);
 /* Place a mesh: *mesh is replaced by its transformed copy (the old one destroyed) unless nothing
  * was given. Errors: HV_ERR_INVALID ({unit} given for a 3MF, which states its own unit; those
  * of hv_mesh_transform), HV_ERR_NOMEM; *mesh is unchanged on failure. */

@@ -202,18 +202,22 @@ const char *hv_placement_describe(const hv_placement *p, char *buf, size_t size)
     return buf;
 }
 
+hv_status hv_placement_transform(const hv_placement *p, const hv_mesh *mesh, hv_mesh **out)
+{
+    *out = NULL;
+    if (p->unit != 0 && hv_mesh_get_report(mesh)->format == HV_MESH_3MF)
+        return hv_error_option(HV_ERR_INVALID, "{unit} is for files without a unit; %s is a 3MF package, which "
+                                               "states its own", hv_mesh_name(mesh));
+    double m[12];
+    hv_status s = hv_placement_matrix(p, m);
+    return s == HV_OK ? hv_mesh_transform(mesh, m, out) : s;
+}
+
 hv_status hv_placement_apply(const hv_placement *p, hv_mesh **mesh)
 {
     if (!hv_placement_given(p)) return HV_OK;
-    const char *name = hv_mesh_name(*mesh);
-    if (p->unit != 0 && hv_mesh_get_report(*mesh)->format == HV_MESH_3MF)
-        return hv_error_option(HV_ERR_INVALID, "{unit} is for files without a unit; %s is a 3MF package, which "
-                                               "states its own", name);
-    double m[12];
-    hv_status s = hv_placement_matrix(p, m);
-    if (s != HV_OK) return s;
     hv_mesh *placed;
-    s = hv_mesh_transform(*mesh, m, &placed);
+    hv_status s = hv_placement_transform(p, *mesh, &placed);
     if (s != HV_OK) return s;
     hv_mesh_destroy(*mesh);
     *mesh = placed;

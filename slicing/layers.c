@@ -1171,8 +1171,28 @@ static hv_status cost_range(void *ctx, size_t b, size_t e, int t)
     return HV_OK;
 }
 
-/* The ranges of `size` processes and their shares of the cost. */
-static hv_status job_partition(job *J, int size, size_t *ranges, double *share)
+/* The plan's fingerprint: image, layers and their heights, materials, halftoning, and each
+ * layer's estimated cost (which the mesh's contours give). */
+static uint64_t job_hash(const job *J, const double *cost)
+{
+    const hv_layers_options *o = J->o;
+    uint64_t h = HV_PLAN_HASH0;
+    int64_t v[] = {J->W, J->H, J->m, (int64_t)J->first, (int64_t)J->last, o->mode, o->halftone, (int64_t)o->seed,
+                   J->placed, J->c0, J->r0, J->bit_depth};
+    h = hv_plan_hash(h, v, sizeof v);
+    h = hv_plan_hash(h, J->grid.pixel, sizeof J->grid.pixel);
+    for (size_t i = J->first; i < J->last; ++i) h = hv_plan_hash(h, &J->layers[i].z, sizeof J->layers[i].z);
+    for (int g = 0; J->table && g < J->m; ++g) {
+        const char *name = hv_material_name(J->table, g);
+        h = hv_plan_hash(h, name, strlen(name) + 1);
+    }
+    h = hv_plan_hash(h, J->palette, sizeof J->palette);
+    return hv_plan_hash(h, cost, (J->last - J->first) * sizeof *cost);
+}
+
+/* The ranges of `size` processes, their shares of the cost, the plan's fingerprint (hash: NULL
+ * when not wanted). */
+static hv_status job_partition(job *J, int size, size_t *ranges, double *share, uint64_t *hash)
 {
     size_t n = J->last - J->first;
     double *cost = hv_malloc_array(n, sizeof *cost);
@@ -1181,6 +1201,7 @@ static hv_status job_partition(job *J, int size, size_t *ranges, double *share)
     if (st == HV_OK) st = hv_parallel_for(n, 16, cost_range, &c, NULL, "layers");
     if (st == HV_OK) {
         hv_dist_partition(cost, J->first, J->last, ed_mode(J) ? HV_HALFTONE_BLOCK : RUN_LAYERS, size, ranges);
+        if (hash) *hash = job_hash(J, cost);
         double total = 0;
         for (size_t i = 0; i < n; ++i) total += cost[i];
         for (int r = 0; share && r < size; ++r) {
@@ -1196,7 +1217,9 @@ static hv_status job_partition(job *J, int size, size_t *ranges, double *share)
 static hv_status dist_share(job *J, const hv_dist *D)
 {
     size_t *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
-    hv_status st = ranges ? job_partition(J, D->size, ranges, NULL) : HV_ERR_NOMEM;
+    uint64_t hash = 0;
+    hv_status st = ranges ? job_partition(J, D->size, ranges, NULL, &hash) : HV_ERR_NOMEM;
+    st = hv_dist_same_plan(D, hash, st);
     if (st == HV_OK) {
         J->run_lo = ranges[2 * D->rank];
         J->run_hi = ranges[2 * D->rank + 1];
@@ -1212,7 +1235,7 @@ hv_status hv_layers_partition(const hv_mesh *mesh, const hv_volume *model, const
     hv_layers_place pl;
     if (ranks < 1) return hv_error_set(HV_ERR_INVALID, "layers: %d processes", ranks);
     hv_status st = name_model(model, o, job_plan(&J, mesh, model, o, NULL, options_place(o, &pl)));
-    if (st == HV_OK) st = job_partition(&J, ranks, ranges, share);
+    if (st == HV_OK) st = job_partition(&J, ranks, ranges, share, NULL);
     job_free(&J);
     return st;
 }

@@ -140,6 +140,13 @@ void hv_dist_partition(const double *cost, size_t first, size_t last, size_t blo
 hv_status hv_dist_agree(const hv_dist *d, hv_status local);
 /* Rank 0's string (at most size - 1 bytes) on every process. */
 void hv_dist_bcast_string(const hv_dist *d, char *buf, size_t size);
+/* FNV-1a over bytes, chained from h (start with HV_PLAN_HASH0): the fingerprint of a plan. */
+#define HV_PLAN_HASH0 UINT64_C(0xcbf29ce484222325)
+uint64_t hv_plan_hash(uint64_t h, const void *data, size_t size);
+/* Every process planned the same job: rank 0's fingerprint is broadcast, each compares its own,
+ * and rank 0 fails the job with one message when any differs (another --layer-height, another
+ * mesh or model on one rank); then as hv_dist_agree. Called by every process whatever `local`. */
+hv_status hv_dist_same_plan(const hv_dist *d, uint64_t hash, hv_status local);
 
 /* A copy of s kept as long as tray t (job files' strings); NULL when out of memory. */
 struct hv_tray;

@@ -142,3 +142,24 @@ void hv_dist_bcast_string(const hv_dist *d, char *buf, size_t size)
     d->bcast(d->ctx, buf, size, 0);
     buf[size - 1] = '\0';
 }
+
+uint64_t hv_plan_hash(uint64_t h, const void *data, size_t size)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < size; ++i) h = (h ^ p[i]) * UINT64_C(0x100000001b3);
+    return h;
+}
+
+hv_status hv_dist_same_plan(const hv_dist *d, uint64_t hash, hv_status local)
+{
+    uint64_t h0 = hash;
+    d->bcast(d->ctx, &h0, sizeof h0, 0);
+    double differs = local == HV_OK && h0 != hash ? 1.0 : 0.0;
+    d->sum_to_root(d->ctx, &differs, 1);
+    if (d->rank == 0 && local == HV_OK && differs > 0)
+        local = hv_error_set(HV_ERR_BAD_INPUT,
+                             "%.0f of the job's %d processes planned a different job from rank 0's (other options, layer "
+                             "heights or input files): every process must be given the same command and the same files",
+                             differs, d->size);
+    return hv_dist_agree(d, local);
+}

@@ -1223,6 +1223,34 @@ static hv_status write_gcvf(hv_tray *t, const hv_tray_options *o, const char *tm
 
 /* Layer costs: the boxes of the parts a layer holds, and a fiftieth of the plate (its empty
  * pixels); then the ranges of `size` processes and their shares. */
+/* The plan's fingerprint: plate image, layers, palette, every instance's place and size, every
+ * part's mesh (its vertices and facets) and model (its lattice and leaves). */
+static uint64_t tray_hash(const hv_tray *t, size_t first, size_t last)
+{
+    uint64_t h = HV_PLAN_HASH0;
+    int64_t v[] = {t->W, t->H, t->bit_depth, (int64_t)t->nlayers, (int64_t)first, (int64_t)last, t->nresins,
+                   t->ninst, t->nsrc};
+    h = hv_plan_hash(h, v, sizeof v);
+    h = hv_plan_hash(h, t->used, sizeof t->used);
+    for (int k = 0; k < t->ninst; ++k) {
+        const instance *I = &t->inst[k];
+        int64_t w[] = {I->src, I->copy, (int64_t)I->lift, I->c0, I->r0, I->w, I->h, (int64_t)I->layers};
+        h = hv_plan_hash(h, w, sizeof w);
+    }
+    for (int i = 0; i < t->nsrc; ++i) {
+        const source *S = &t->src[i];
+        h = hv_plan_hash(h, hv_mesh_vertices(S->mesh), 3 * sizeof(float) * hv_mesh_vertex_count(S->mesh));
+        h = hv_plan_hash(h, hv_mesh_facets(S->mesh), 3 * sizeof(uint32_t) * hv_mesh_facet_count(S->mesh));
+        if (S->model) {
+            hv_transform xf = hv_volume_get_transform(S->model);
+            uint64_t leaves = hv_volume_leaf_count(S->model);
+            h = hv_plan_hash(h, &xf, sizeof xf);
+            h = hv_plan_hash(h, &leaves, sizeof leaves);
+        }
+    }
+    return h;
+}
+
 static hv_status tray_partition(const hv_tray *t, size_t first, size_t last, int size, size_t *ranges, double *share)
 {
     size_t n = last - first;
@@ -1327,6 +1355,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     if (st == HV_OK && (!J.w || !J.st_bytes)) st = HV_ERR_NOMEM;
     if (D) { /* rank 0 made the directory; each process takes a share of the layers by cost */
         st = hv_dist_agree(D, st);
+        const hv_status agreed = st; /* the same on every process: the collectives below match */
         char name[4200] = "";
         if (root && tmp) snprintf(name, sizeof name, "%s", tmp);
         if (st == HV_OK) hv_dist_bcast_string(D, name, sizeof name);
@@ -1334,6 +1363,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         size_t *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
         if (st == HV_OK && !ranges) st = HV_ERR_NOMEM;
         if (st == HV_OK) st = tray_partition(t, rep.first, rep.last, D->size, ranges, NULL);
+        if (agreed == HV_OK) st = hv_dist_same_plan(D, tray_hash(t, rep.first, rep.last), st);
         if (st == HV_OK) {
             J.run_lo = ranges[2 * D->rank];
             J.run_hi = ranges[2 * D->rank + 1];

@@ -73,10 +73,13 @@ HV_API void hv_set_cancel_check(int (*fn)(void *user), void *user);
 HV_API int hv_cancel_requested(void);
 
 /* Worker threads used by the multi-threaded kernels. 0 (the default) means: the value of
- * the environment variable HOVOX_THREADS if set, else the number of online processors.
- * Results never depend on the thread count. */
+ * the environment variable HOVOX_THREADS if set, else hv_cpus_allowed(). Results never depend
+ * on the thread count. */
 HV_API void hv_set_threads(int threads);
 HV_API int hv_threads(void);
+/* The processors this process may run on: the size of its affinity mask (sched_getaffinity;
+ * mpirun's binding, taskset, a cpuset), else the online processors; 1 to 1024. */
+HV_API int hv_cpus_allowed(void);
 
 /* Physical memory of the machine in bytes (0 when unknown); used for default budgets. */
 HV_API uint64_t hv_physical_memory(void);

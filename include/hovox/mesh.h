@@ -48,6 +48,10 @@ typedef struct hv_mesh_report {
     uint64_t normal_mismatch;   /* ASCII/binary stored normals opposite to the winding */
 } hv_mesh_report;
 
+/* 1 when the report's mesh is closed (no open or non-manifold edge) and its signed volume is
+ * negative: consistently wound, but with every facet facing inward. */
+HV_API int hv_mesh_report_inside_out(const hv_mesh_report *r);
+
 /* Load an STL file. The format is decided by content: a file whose size is 84 + 50*n,
  * n being the count at byte 80, is binary; otherwise it must be ASCII ("solid" ... "endsolid").
  * Errors: HV_ERR_IO (missing, unreadable, a directory), HV_ERR_BAD_INPUT (truncated, trailing

@@ -25,7 +25,7 @@ typedef struct common_opts {
 
 static const hv_option k_common_opts[] = {
     {.key = "threads", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = 1024,
-     .offset = offsetof(common_opts, threads), .meta = "N", .help = "worker threads (default: all cores)"},
+     .offset = offsetof(common_opts, threads), .meta = "N", .help = "worker threads (default: the processors this process may run on)"},
     {.key = "quiet", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, quiet), .help = "no progress bar"},
     {.key = "help", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, help), .help = "this text"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = offsetof(common_opts, max_memory), .meta = "SIZE",
@@ -366,6 +366,10 @@ static int parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, vo
     if (spec->local && hv_optargs_finish(&out->local) != HV_OK) return usage_from_library(spec->name);
     if (lib && hv_optargs_finish(&out->lib) != HV_OK) return usage_from_library(spec->name);
     if (common.threads) hv_set_threads(common.threads);
+    if ((spec->flags & CLI_THREADS) && hv_threads() > hv_cpus_allowed())
+        cli_warn("%d threads on %d processor%s (this process's affinity mask): the threads will share them; "
+                 "under mpirun, give each rank its cores (--map-by slot:PE=N, or --bind-to none)",
+                 hv_threads(), hv_cpus_allowed(), hv_cpus_allowed() == 1 ? "" : "s");
     /* the budget caps every allocation the command plans, its readers' included (a file of a few
      * KB that expands to GB is refused before it is expanded) */
     int which = 0;
@@ -474,12 +478,18 @@ int cli_given(const cli_args *a, const char *key)
 
 void cli_warn(const char *fmt, ...)
 {
+    /* one write per warning: the ranks of hovox-mpi share a stderr, and a line written in pieces
+     * interleaves with theirs */
+    char line[2048];
+    int n = snprintf(line, sizeof line, "hovox: warning: ");
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "hovox: warning: ");
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    vsnprintf(line + n, sizeof line - (size_t)n - 1, fmt, ap);
     va_end(ap);
+    size_t len = strlen(line);
+    line[len++] = '\n';
+    fflush(stderr);
+    fwrite(line, 1, len, stderr);
 }
 
 /* ---- JSON on stdout ------------------------------------------------------------------------ */

@@ -36,7 +36,12 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
     printf("degenerate facets   %llu\n", (unsigned long long)r->degenerate_facets);
     printf("flipped facets      %llu\n", (unsigned long long)r->flipped_facets);
     printf("normal mismatches   %llu\n", (unsigned long long)r->normal_mismatch);
-    printf("closed              %s\n", closed ? "yes" : "no");
+    size_t inverted = 0;
+    for (size_t i = 0; i < hv_mesh_body_count(m); ++i) inverted += (size_t)hv_mesh_report_inside_out(&bodies[i]);
+    if (!closed) printf("closed              no\n");
+    else if (!inverted) printf("closed              yes\n");
+    else if (hv_mesh_body_count(m) == 1) printf("closed              yes, inside-out (negative volume)\n");
+    else printf("closed              yes, %zu bod%s inside-out (negative volume)\n", inverted, inverted == 1 ? "y" : "ies");
     size_t nm = hv_mesh_material_count(m), nb = hv_mesh_body_count(m);
     if (nm) {
         int w = 8;
@@ -63,7 +68,23 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
         printf("  %-*s  %-*s  %10llu  %12.6g  %6llu  %s\n", wn, b->name, wm,
                b->material >= 0 ? hv_mesh_material_at(m, (size_t)b->material)->name : "-",
                (unsigned long long)br->facets, br->volume, (unsigned long long)br->shells,
-               br->open_edges == 0 && br->nonmanifold_edges == 0 ? "yes" : "no");
+               br->open_edges == 0 && br->nonmanifold_edges == 0 ? hv_mesh_report_inside_out(br) ? "inside-out" : "yes" : "no");
+    }
+}
+
+/* A closed body wound inside out (issue 27: "closed yes, flipped 0" said nothing of it): slicers
+ * orient contours by the winding, so its outlines come out as holes. One warning per body. */
+static void warn_inside_out(const char *path, const hv_mesh *m, const hv_mesh_report *bodies)
+{
+    size_t nb = hv_mesh_body_count(m);
+    for (size_t i = 0; i < nb; ++i) {
+        if (!hv_mesh_report_inside_out(&bodies[i])) continue;
+        if (nb == 1)
+            cli_warn("%s: the mesh is closed but inside-out (volume %.6g): every facet faces inward; reverse them "
+                     "(admesh --reverse-all, or export it again) before slicing", path, bodies[i].volume);
+        else
+            cli_warn("%s: body '%s' is closed but inside-out (volume %.6g): every facet faces inward; reverse them "
+                     "before slicing", path, hv_mesh_body_at(m, i)->name, bodies[i].volume);
     }
 }
 
@@ -108,6 +129,7 @@ static int report(char **paths, int n, int json)
     if (json && n > 1) hv_buf_puts(&out, "[");
     for (int i = 0; i < n; ++i) {
         const char *path = paths[i];
+        warn_inside_out(path, meshes[i], bodies[i]);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");
             hv_mesh_info_json(&out, path, meshes[i], bodies[i]);

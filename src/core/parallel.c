@@ -2,6 +2,7 @@
  * cancellation reported on the calling thread, physical memory. */
 #include <limits.h>
 #include <omp.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,6 +21,20 @@ int hv_threads(void)
     if (env && *env) {
         long n = strtol(env, NULL, 10);
         if (n > 0 && n <= 1024) return (int)n;
+    }
+    return hv_cpus_allowed();
+}
+
+int hv_cpus_allowed(void)
+{
+    /* the affinity mask, not the machine: under mpirun's default binding (one core per rank
+     * when there are two ranks or fewer), taskset or a cgroup's cpuset, a thread per online
+     * processor would share one core */
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) == 0) {
+        int n = CPU_COUNT(&set);
+        if (n > 0) return HV_MIN(n, 1024);
     }
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     return n > 0 ? (int)HV_MIN(n, 1024) : 1;

@@ -79,11 +79,19 @@ const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10
     return buf;
 }
 
+int hv_mesh_report_inside_out(const hv_mesh_report *r)
+{
+    return r->open_edges == 0 && r->nonmanifold_edges == 0 && r->volume < 0;
+}
+
 void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_mesh_report *body_reports)
 {
     json_t *j = hv_mesh_report_to_doc(file, hv_mesh_get_report(m));
     json_t *mats = json_array(), *bodies = json_array();
     int failed = !j || !mats || !bodies;
+    int any = 0; /* the mesh is inside out when a body is (the whole's volume sums them) */
+    for (size_t i = 0; i < hv_mesh_body_count(m); ++i) any |= hv_mesh_report_inside_out(&body_reports[i]);
+    if (!failed) failed |= hv_json_set(j, "inside_out", json_boolean(any));
     for (size_t k = 0; !failed && k < hv_mesh_material_count(m); ++k) {
         const hv_mesh_material *mt = hv_mesh_material_at(m, k);
         char col[10];
@@ -105,6 +113,7 @@ void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_m
         failed |= hv_json_set(o, "material", bd->material >= 0 ? hv_json_text(hv_mesh_material_at(m, (size_t)bd->material)->name)
                                                                 : json_null());
         failed |= hv_json_set(o, "first_facet", json_integer((json_int_t)bd->first_facet));
+        failed |= hv_json_set(o, "inside_out", json_boolean(hv_mesh_report_inside_out(&body_reports[i])));
         const char *key;
         json_t *v;
         json_object_foreach(r, key, v) {

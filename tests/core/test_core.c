@@ -1,6 +1,7 @@
 /* tests/core/test_core.c - status names, detail messages, JSON (jansson helpers), enum names, atomic files and
  * the parallel loop (determinism, failure order, cancellation). */
 #include <criterion/criterion.h>
+#include <sched.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -410,4 +411,30 @@ Test(threads, environment_and_override)
     cr_assert_geq(hv_threads(), 1);
     cr_assert_gt(hv_physical_memory(), 1u << 20);
     cr_assert_str_eq(hv_version(), HV_VERSION_STRING);
+}
+
+/* issue 32 item 22: the default thread count is the affinity mask's, not the machine's (mpirun
+ * binds a rank to one core when there are two ranks or fewer); Criterion runs each test in its
+ * own process, so the mask set here goes with it */
+Test(threads, default_follows_the_affinity_mask)
+{
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    cr_assert_eq(sched_getaffinity(0, sizeof set, &set), 0);
+    int first = -1;
+    for (int c = 0; c < CPU_SETSIZE && first < 0; ++c)
+        if (CPU_ISSET(c, &set)) first = c;
+    cr_assert_geq(first, 0);
+    unsetenv("HOVOX_THREADS");
+    hv_set_threads(0);
+    cr_assert_eq(hv_cpus_allowed(), CPU_COUNT(&set));
+    cr_assert_eq(hv_threads(), CPU_COUNT(&set));
+    CPU_ZERO(&set);
+    CPU_SET(first, &set);
+    cr_assert_eq(sched_setaffinity(0, sizeof set, &set), 0);
+    cr_assert_eq(hv_cpus_allowed(), 1);
+    cr_assert_eq(hv_threads(), 1, "one core allowed: one thread");
+    hv_set_threads(3); /* an explicit count is kept (the CLI warns) */
+    cr_assert_eq(hv_threads(), 3);
+    hv_set_threads(0);
 }

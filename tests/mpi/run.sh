@@ -51,4 +51,39 @@ else
 fi
 # a rerun to the same place works
 mpirun -np 2 "$HOVOX_MPI" layers $L -o "$T/failed" --threads 1 -q >/dev/null && check one failed "" "" "rerun after the failure"
+# ranks given different jobs (issue 32 item 9): one message, exit 1, nothing written, for layers
+# (another layer height on rank 1) and tray (another part on rank 1)
+disagree() { # name, then the command of rank 0 and of rank 1 separated by ':'
+    what=$1
+    shift
+    mpirun "$@" >/dev/null 2>"$T/err"
+    rc=$?
+    n=$(grep -c '^hovox:' "$T/err")
+    left=$(ls -A "$T" | grep -c dis)
+    if [ $rc = 1 ] && [ "$n" = 1 ] && [ "$left" = 0 ] && grep -q "planned a different job from rank 0's" "$T/err"; then
+        echo "mpi: $what: one message, exit 1, nothing left"
+    else
+        echo "mpi: $what: exit $rc, $n messages, $left leftovers"
+        cat "$T/err"
+        fail=1
+    fi
+}
+L2="$T/g.vdb --mesh $T/g.stl --dpi 300,150 --layer-height 0.06"
+disagree "ranks with different layer heights" -np 1 "$HOVOX_MPI" layers $L -o "$T/dis" --threads 1 -q : \
+    -np 1 "$HOVOX_MPI" layers $L2 -o "$T/dis" --threads 1 -q
+disagree "ranks with different trays" -np 1 "$HOVOX_MPI" tray $R -o "$T/dis" --threads 1 -q : \
+    -np 1 "$HOVOX_MPI" tray $R --part "$T/g.stl:VeroPureWhite@300,300" -o "$T/dis" --threads 1 -q
+# threads beyond the cores a rank is bound to (issue 32 item 22): a warning on every rank that
+# has them; none when each rank may use every core
+mpirun -np 2 --bind-to core "$HOVOX_MPI" layers $L -o "$T/bound" --threads 2 -q >/dev/null 2>"$T/err"
+n=$(grep -o 'warning: 2 threads on 1 processor' "$T/err" | wc -l)
+mpirun -np 2 --bind-to none "$HOVOX_MPI" layers $L -o "$T/unbound" --threads 2 -q >/dev/null 2>"$T/err2"
+m=$(grep -c 'warning' "$T/err2")
+if [ "$n" = 2 ] && [ "$m" = 0 ]; then
+    echo "mpi: --threads beyond a rank's binding warns on each rank; --bind-to none does not"
+else
+    echo "mpi: binding warnings: $n bound (expected 2), $m unbound (expected 0)"
+    cat "$T/err" "$T/err2"
+    fail=1
+fi
 exit $fail

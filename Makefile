@@ -62,7 +62,7 @@ VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkFiltersCore-9.1 -lvtkCommonExec
              -lvtkCommonDataModel-9.1 -lvtkCommonCore-9.1
 LIB3MF_CFLAGS := -isystem /usr/include/lib3mf
 LIB3MF_LIBS   := -l3MF
-PLUGINS   := $(PLUGDIR)/hovox-vdb.so $(PLUGDIR)/hovox-3mf.so
+PLUGINS   := $(PLUGDIR)/hovox-vdb.so
 ifneq ($(wildcard src/image/oiio_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-oiio.so
 endif
@@ -82,7 +82,7 @@ TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
 CRIT_CFLAGS := $(shell pkg-config --cflags criterion 2>/dev/null)
 CRIT_LIBS   := $(shell pkg-config --libs criterion 2>/dev/null)
 
-.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests vdb-tests mpi-tests browser-tests sanitize bench \
+.PHONY: all lib plugins bench-tools fuzz fuzz-tests test unit-tests header-tests cli-tests sample-tests readme-tests layering-tests vdb-tests mpi-tests browser-tests sanitize bench \
         demo deps clean check-deps-build check-deps-test python python-tests
 
 all: $(BUILD)/hovox $(BUILD)/libhovox.a $(BUILD)/libhovox.so $(PLUGINS)
@@ -168,12 +168,6 @@ $(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
 
-# (BRIDGE_CXXFLAGS, not EXTRA_CXXFLAGS: the fuzz build sets that one on the command line)
-$(BUILD)/obj/src/io/3mf/lib3mf_bridge.pic.o: BRIDGE_CXXFLAGS = $(LIB3MF_CFLAGS)
-$(PLUGDIR)/hovox-3mf.so: $(BUILD)/obj/src/io/3mf/lib3mf_bridge.pic.o
-	@mkdir -p $(dir $@)
-	$(CXX) -shared -o $@ $^ $(LIB3MF_LIBS) $(SANFLAGS)
-
 $(BUILD)/obj/src/io/vtk/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
 $(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/src/io/vtk/vtk_bridge.pic.o
 	@mkdir -p $(dir $@)
@@ -226,10 +220,10 @@ fuzz-tests: $(FUZZ_BIN)
 fuzz:
 	@sh scripts/install-deps.sh build fuzz
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
-	@# the OpenVDB and lib3mf bridges too, instrumented, so fuzz_vdb and fuzz_3mf see inside them
-	@# (the fuzz build looks for its plugins in build-fuzz/plugins; lib3mf itself is not instrumented)
+	@# the OpenVDB bridge too, instrumented, so fuzz_vdb sees inside it
+	@# (the fuzz build looks for its plugins in build-fuzz/plugins)
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link \
-	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so $(ROOT)/build-fuzz/plugins/hovox-3mf.so
+	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so
 	@mkdir -p build-fuzz/libfuzzer
 	@for t in $(filter-out tests/fuzz/fuzz_vdb.c,$(filter %$(FUZZ_ONLY).c,$(FUZZ_C))); do n=$$(basename $$t .c); \
 	    c=tests/fuzz/corpus/$${n#fuzz_}; \
@@ -322,6 +316,14 @@ browser-tests: $(BUILD)/hovox $(PLUGINS)
 sample-tests: $(BUILD)/hovox $(PLUGINS)
 	@if [ -f tests/samples/run.sh ]; then HOVOX=$(ROOT)/$(BUILD)/hovox SHARED=$(SHARED) \
 	    sh tests/samples/run.sh; fi
+
+# every README example, verbatim (tests/readme/run.py: sh blocks, transcripts, the Lua example)
+readme-tests: $(BUILD)/hovox $(PLUGINS) $(MPI_BIN)
+	@/usr/bin/python3 tests/readme/run.py README.md --hovox $(ROOT)/$(BUILD)/hovox
+
+# the includes point down the pipeline (scripts/layering.py; STYLE.md rule 1)
+layering-tests:
+	@/usr/bin/python3 scripts/layering.py
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all

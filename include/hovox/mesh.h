@@ -105,21 +105,22 @@ HV_API hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *na
  * after the file; colours are not read (no materials). */
 HV_API hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_mesh **out);
 
-/* 3MF (core specification 1.x, with the materials extension's base materials and colour
- * groups), read by lib3mf in a plugin (plugins/hovox-3mf.so, loaded on first use;
- * HV_ERR_UNSUPPORTED when it is missing). Each build item is a body: its object's mesh, or its
- * components flattened, placed by the item's and the components' transforms, named by the
+/* 3MF (core specification 1.3, with the materials extension's base materials and colour
+ * groups), read by hovox's package module on libzip and libxml2 (streamed; messages name the
+ * part, line and column). Each build item is a body: its object's mesh, or its components
+ * flattened, placed by the item's and the components' transforms (12 finite numbers, not
+ * singular; a mirroring one reverses the facets so the volume stays positive), named by the
  * object's name attribute ("body N" without one); items of objects of type "support" or
  * "other" are not bodies. Coordinates are converted from the model's unit to millimetres.
- * Materials are read by hovox from the model part (lib3mf 1.8 mishandles them): base
- * materials by name (with their display colour) and colours ("#rrggbb", "#rrggbbaa" when not
- * opaque), per object (pid/pindex) and per triangle (pid/p1; a gradient's first corner); a
- * body's material is its object's default, else its facets' majority. Every material reference
- * is checked (a pid naming no property group defined above it, an index past its group's end:
- * HV_ERR_BAD_INPUT), and so is every vertex index and coordinate lib3mf hands over. Before
- * lib3mf reads anything the package's real expanded size must fit half the memory budget and
- * its component trees at most 256 levels, 1,000,000 placements and the triangles the budget
- * holds (HV_ERR_LIMIT). */
+ * Materials: base materials by name (with their display colour) and colours ("#rrggbb",
+ * "#rrggbbaa" when not opaque), per object (pid/pindex) and per triangle (pid/p1; a gradient's
+ * first corner); a body's material is its object's default, else its facets' majority. Every
+ * reference is checked (a pid naming no property group defined above it, an index past its
+ * group's end, a component naming an object not defined above its own: HV_ERR_BAD_INPUT), and
+ * so is every vertex index and coordinate. A package whose ZIP declares more than half the
+ * memory budget, or a part more than 1000 times its compressed size, is refused before it
+ * inflates; component trees deeper than 256 levels, 1,000,000 placements or more triangles
+ * than the budget holds are refused before anything is placed (HV_ERR_LIMIT). */
 HV_API hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out);
 
 /* ---- bodies and materials ------------------------------------------------------------------

@@ -1,5 +1,5 @@
-/* tests/fuzz/fuzz_3mf.c - fuzz target: any bytes through hv_mesh_parse_3mf (the ZIP checks, the
- * model part scan, lib3mf in the bridge plugin, the placing of build items) must fail cleanly,
+/* tests/fuzz/fuzz_3mf.c - fuzz target: any bytes through hv_mesh_parse_3mf (the package module's
+ * ZIP, relationship and content-type checks, the streamed model part, the placing of build items) must fail cleanly,
  * handing out no mesh, or build a self-consistent mesh, within a small memory budget
  * (expansion and component bombs are refused). Bytes that start with "PK" are a package as
  * they are; any others are the model part's XML, packed here with the content types and root

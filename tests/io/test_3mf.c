@@ -74,12 +74,159 @@ static unsigned char *package(l3mf model, size_t *len)
     return buf;
 }
 
+
+/* ---- lib3mf as the oracle ---------------------------------------------------------------------
+ * lib3mf reads the same package; its build items, flattened through their components with the
+ * transforms composed, must give hovox's bodies (names, facet counts) and every facet's corners
+ * (in mm, within float rounding; a mirrored placement's corners in either order). */
+
+typedef struct oracle {
+    double *soup; /* 9 per facet */
+    size_t nf, cap;
+} oracle;
+
+static void affine(const float *m, double *t)
+{
+    for (int i = 0; i < 12; ++i) t[i] = m[i];
+}
+
+static void compose_t(const double *a, const double *b, double *out)
+{
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j)
+            out[4 * i + j] = a[4 * i] * b[j] + a[4 * i + 1] * b[4 + j] + a[4 * i + 2] * b[8 + j] + (j == 3 ? a[4 * i + 3] : 0);
+}
+
+static void oracle_object(oracle *o, l3mf obj, const double *t, double unit, int depth)
+{
+    cr_assert_lt(depth, 300);
+    int is_mesh = 0, is_comps = 0;
+    cr_assert_eq(lib3mf_object_ismeshobject(obj, &is_mesh), 0);
+    cr_assert_eq(lib3mf_object_iscomponentsobject(obj, &is_comps), 0);
+    if (is_mesh) {
+        unsigned nv = 0, nt = 0, got = 0;
+        cr_assert_eq(lib3mf_meshobject_getvertexcount(obj, &nv), 0);
+        cr_assert_eq(lib3mf_meshobject_gettrianglecount(obj, &nt), 0);
+        float *xyz = malloc(3 * (size_t)nv * sizeof *xyz + 1);
+        unsigned *tri = malloc(3 * (size_t)nt * sizeof *tri + 1);
+        if (nv) cr_assert_eq(lib3mf_meshobject_getvertices(obj, xyz, nv, &got), 0);
+        if (nt) cr_assert_eq(lib3mf_meshobject_gettriangleindices(obj, tri, nt, &got), 0);
+        if (o->nf + nt > o->cap) {
+            o->cap = 2 * (o->nf + nt);
+            o->soup = realloc(o->soup, 9 * o->cap * sizeof *o->soup);
+        }
+        for (unsigned f = 0; f < nt; ++f)
+            for (int c = 0; c < 3; ++c) {
+                const float *p = xyz + 3 * tri[3 * f + (unsigned)c];
+                for (int k = 0; k < 3; ++k)
+                    o->soup[9 * (o->nf + f) + 3 * (size_t)c + (size_t)k] =
+                        (t[4 * k] * p[0] + t[4 * k + 1] * p[1] + t[4 * k + 2] * p[2] + t[4 * k + 3]) * unit;
+            }
+        o->nf += nt;
+        free(xyz);
+        free(tri);
+    } else if (is_comps) {
+        unsigned nc = 0;
+        cr_assert_eq(lib3mf_componentsobject_getcomponentcount(obj, &nc), 0);
+        for (unsigned k = 0; k < nc; ++k) {
+            l3mf c = NULL, child = NULL;
+            cr_assert_eq(lib3mf_componentsobject_getcomponent(obj, k, &c), 0);
+            cr_assert_eq(lib3mf_component_getobjectresource(c, &child), 0);
+            double ct[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, w[12];
+            int has = 0;
+            cr_assert_eq(lib3mf_component_hastransform(c, &has), 0);
+            if (has) {
+                float m[12];
+                cr_assert_eq(lib3mf_component_gettransform(c, m), 0);
+                affine(m, ct);
+            }
+            compose_t(t, ct, w);
+            oracle_object(o, child, w, unit, depth + 1);
+            lib3mf_release(child);
+            lib3mf_release(c);
+        }
+    }
+}
+
+static int same_corner(const double *a, const float *b)
+{
+    for (int k = 0; k < 3; ++k)
+        if (fabs(a[k] - b[k]) > 1e-5 * fmax(1.0, fabs(a[k]))) return 0;
+    return 1;
+}
+
+/* hovox's mesh m of the package data[len] against lib3mf's reading of it. */
+static void oracle_check(const unsigned char *data, size_t len, const hv_mesh *m)
+{
+    static const double unit_mm[] = {0.001, 1, 10, 25.4, 304.8, 1000};
+    l3mf model = NULL, reader = NULL, it = NULL;
+    cr_assert_eq(lib3mf_createmodel(&model), 0);
+    cr_assert_eq(lib3mf_model_queryreader(model, "3mf", &reader), 0);
+    cr_assert_eq(lib3mf_reader_readfrombuffer(reader, data, len), 0, "lib3mf refuses the package");
+    unsigned unit = 1;
+    cr_assert_eq(lib3mf_model_getunit(model, &unit), 0);
+    cr_assert_leq(unit, 5);
+    cr_assert_eq(lib3mf_model_getbuilditems(model, &it), 0);
+    oracle o = {NULL, 0, 0};
+    size_t body = 0;
+    for (;;) {
+        int has = 0;
+        cr_assert_eq(lib3mf_builditemiterator_movenext(it, &has), 0);
+        if (!has) break;
+        l3mf item = NULL, obj = NULL;
+        cr_assert_eq(lib3mf_builditemiterator_getcurrent(it, &item), 0);
+        cr_assert_eq(lib3mf_builditem_getobjectresource(item, &obj), 0);
+        unsigned type = 1;
+        cr_assert_eq(lib3mf_object_gettype(obj, &type), 0);
+        double t[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+        int ht = 0;
+        cr_assert_eq(lib3mf_builditem_hasobjecttransform(item, &ht), 0);
+        if (ht) {
+            float mt[12];
+            cr_assert_eq(lib3mf_builditem_getobjecttransform(item, mt), 0);
+            affine(mt, t);
+        }
+        size_t first = o.nf;
+        if (type != 2 && type != 0) oracle_object(&o, obj, t, unit_mm[unit], 0); /* support, other: no body */
+        if (o.nf > first) {
+            cr_assert_lt(body, hv_mesh_body_count(m));
+            const hv_mesh_body *b = hv_mesh_body_at(m, body++);
+            cr_assert_eq(b->first_facet, first);
+            cr_assert_eq(b->facet_count, o.nf - first, "body %zu: lib3mf %zu facets, hovox %zu", body, o.nf - first,
+                         b->facet_count);
+            char name[256] = "";
+            unsigned need = 0;
+            if (lib3mf_object_getnameutf8(obj, NULL, 0, &need) == 0 && need > 1 && need < sizeof name)
+                lib3mf_object_getnameutf8(obj, name, sizeof name, &need);
+            if (name[0]) cr_assert_str_eq(b->name, name);
+        }
+        lib3mf_release(obj);
+        lib3mf_release(item);
+    }
+    cr_assert_eq(body, hv_mesh_body_count(m));
+    cr_assert_eq(o.nf, hv_mesh_facet_count(m));
+    const float *v = hv_mesh_vertices(m);
+    const uint32_t *f = hv_mesh_facets(m);
+    for (size_t i = 0; i < o.nf; ++i) {
+        const double *a = o.soup + 9 * i;
+        const float *c0 = v + 3 * f[3 * i], *c1 = v + 3 * f[3 * i + 1], *c2 = v + 3 * f[3 * i + 2];
+        int same = same_corner(a, c0) && ((same_corner(a + 3, c1) && same_corner(a + 6, c2)) ||
+                                          (same_corner(a + 3, c2) && same_corner(a + 6, c1)));
+        cr_assert(same, "facet %zu: lib3mf (%g %g %g) hovox (%g %g %g)", i, a[0], a[1], a[2], c0[0], c0[1], c0[2]);
+    }
+    free(o.soup);
+    lib3mf_release(it);
+    lib3mf_release(reader);
+    lib3mf_release(model);
+}
+
 static hv_mesh *read_model(l3mf model, const char *name)
 {
     size_t len;
     unsigned char *data = package(model, &len);
     hv_mesh *m = NULL;
     cr_assert_eq(hv_mesh_parse_3mf(data, len, name, &m), HV_OK, "%s", hv_last_error());
+    oracle_check(data, len, m);
     free(data);
     cr_assert_eq(hv_mesh_get_report(m)->format, HV_MESH_3MF);
     return m;
@@ -363,6 +510,7 @@ Test(threemf, the_handmade_package_reads)
     unsigned char *data = zip_parts(parts, 3, &len);
     hv_mesh *m = NULL;
     cr_assert_eq(hv_mesh_parse_3mf(data, len, "good.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(data, len, m);
     cr_assert_float_eq(hv_mesh_get_report(m)->volume, 1.0 / 6, 1e-9);
     cr_assert_str_eq(hv_mesh_material_at(m, hv_mesh_body_at(m, 0)->material)->name, "Agilus");
     cr_assert_eq(hv_mesh_facet_materials(m)[0], 1); /* Vero, met after the object's default */
@@ -375,27 +523,26 @@ Test(threemf, damaged_packages_are_refused_naming_the_place)
     /* what lib3mf refuses without a place: the scan names it */
     refused_model(MODEL_HEAD "<resources><object id=\"1\" name=\"tet\" type=\"model\"><mesh>" TET_VERTICES
                              "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"7\"/></triangles></mesh></object></resources>" BUILD,
-                  "bad.3mf: object 1 'tet': triangle 0: vertex index 7 out of range (4 vertices)");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 407: object 1 'tet': triangle 0: vertex index 7 out of range (4 vertices)");
     refused_model(MODEL_HEAD "<resources><object id=\"1\" type=\"model\"><mesh><vertices><vertex x=\"0\" y=\"nan\" z=\"0\"/>"
                              "</vertices><triangles/></mesh></object></resources>" BUILD,
-                  "bad.3mf: object 1: vertex 0: y is not a finite number ('nan')");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 263: object 1: vertex 0: y is not a finite number ('nan')");
     refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\" name=\"asm\"><components>"
                              "<component objectid=\"3\"/></components></object></resources><build><item objectid=\"2\"/></build></model>",
-                  "bad.3mf: object 2 'asm': component 1 names object 3, which is not an object defined above it");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 594: object 2 'asm': component 1 names object 3, which is not an object defined above it");
     /* what lib3mf reads silently */
     refused_model(MODEL_HEAD "<resources>" TET_OBJECT(" pid=\"9\" pindex=\"0\"", "") "</resources>" BUILD,
-                  "bad.3mf: object 1 'tet': pid 9 names no property group (none has that id above it)");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 249: object 1 'tet': pid 9 names no property group (none has that id above it)");
     refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"0\"", " pid=\"9\" p1=\"0\"") "</resources>" BUILD,
-                  "bad.3mf: object 1 'tet': triangle 0: pid 9 names no property group (none has that id above it)");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 565: object 1 'tet': triangle 0: pid 9 names no property group (none has that id above it)");
     refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"0\"", " p1=\"2\"") "</resources>" BUILD,
-                  "bad.3mf: object 1 'tet': triangle 0: p1 2 is past the end of basematerials 5 (2 entries)");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 557: object 1 'tet': triangle 0: p1 2 is past the end of basematerials 5 (2 entries)");
     refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"7\"", "") "</resources>" BUILD,
-                  "bad.3mf: object 1 'tet': pindex 7 is past the end of basematerials 5 (2 entries)");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 373: object 1 'tet': pindex 7 is past the end of basematerials 5 (2 entries)");
     refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT("", " pid=\"5\" p1=\"0\"") "</resources>" BUILD,
-                  "bad.3mf: object 1 'tet': triangle 0 sets pid 5 but its object sets none (3MF: an object whose "
-                  "triangles carry properties names a default pid)");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 546: object 1 'tet': triangle 0 sets pid 5 but its object sets none (3MF: an object whose triangles carry properties names a default pid)");
     refused_model(MODEL_HEAD "<resources>" MATS "<object id=\"7\" type=\"model\" pid=\"5\" pindex=\"x\"/></resources>" BUILD,
-                  "bad.3mf: object 7: pindex 'x' is not an index");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 362: object 7: pindex 'x' is not an index");
     refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources><build/></model>",
                   "bad.3mf: no build item places a mesh (0 items)");
     /* the package itself */
@@ -419,6 +566,68 @@ Test(threemf, damaged_packages_are_refused_naming_the_place)
     refused(hv_mesh_parse_3mf, "bad.3mf", "solid x\n", 8, HV_ERR_BAD_INPUT,
             "bad.3mf: not a 3MF package: not a readable ZIP archive (libzip: Not a zip archive; truncated?)");
     refused(hv_mesh_parse_3mf, "bad.3mf", "", 0, HV_ERR_BAD_INPUT, "bad.3mf: empty file (0 bytes)");
+}
+
+Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)
+{
+    /* a DOCTYPE (entities: XXE, billion laughs) never reaches its subset */
+    refused_model("<?xml version=\"1.0\"?>\n<!DOCTYPE model [<!ENTITY a \"aaaaaaaaaa\"><!ENTITY b \"&a;&a;&a;&a;&a;&a;"
+                  "&a;&a;&a;&a;\">]>\n<model>&b;</model>",
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 17: a DOCTYPE is not allowed in a 3MF part");
+    refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources><build><item objectid=\"1\" "
+                             "transform=\"1 0 0 0 1 0 0 0 0 5 5 5\"/></build></model>",
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 606: build item 1: transform '1 0 0 0 1 0 0 0 0 5 5 5' is singular (determinant 0)");
+    refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources><build><item objectid=\"1\" "
+                             "transform=\"1 0 0 0 1 0 0 0 1 nan 0 0\"/></build></model>",
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 608: build item 1: transform '1 0 0 0 1 0 0 0 1 nan 0 0' is not 12 finite numbers");
+    refused_model("<?xml version=\"1.0\"?>\n<model unit=\"furlong\"><resources/><build/></model>",
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 22: <model> unit 'furlong' is not one of micron, millimeter, centimeter, inch, foot, meter");
+    refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\" name=\"self\"><components>"
+                             "<component objectid=\"2\"/></components></object></resources><build><item objectid=\"2\"/></build></model>",
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 595: object 2 'self': component 1 names object 2, which is not an object defined above it");
+    refused_model(MODEL_HEAD "<resources><object id=\"1\"><mesh><vertices><vertex x=\"0\" y=\"0\"",
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 242: malformed XML: attributes construct error");
+    /* issue 32 item 5: the part read is the one the relationship names, never a look-alike */
+    const char *cased[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3DModel.model",
+                           MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
+    size_t len;
+    unsigned char *data = zip_parts(cased, 3, &len);
+    refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT,
+            "bad.3mf: missing model part '/3D/3dmodel.model' (named by _rels/.rels; the package holds "
+            "'/3D/3DModel.model', spelt in another case)");
+    free(data);
+    const char *no_types[] = {"_rels/.rels", k_rels, "3D/3dmodel.model", MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
+    data = zip_parts(no_types, 2, &len);
+    refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT, "bad.3mf: not a 3MF package: no [Content_Types].xml");
+    free(data);
+    static const char png_types[] = "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+                                    "<Default Extension=\"model\" ContentType=\"image/png\"/></Types>";
+    const char *wrong_type[] = {"[Content_Types].xml", png_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                                MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
+    data = zip_parts(wrong_type, 3, &len);
+    refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT,
+            "bad.3mf: the model part '/3D/3dmodel.model' has content type 'image/png', not "
+            "application/vnd.ms-package.3dmanufacturing-3dmodel+xml");
+    free(data);
+}
+
+Test(threemf, a_mirroring_transform_keeps_the_volume_positive)
+{
+    /* Core 4.1: a transform with a negative determinant must not change the sign of the volume */
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                           MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources><build><item objectid=\"1\" "
+                                      "transform=\"-1 0 0 0 1 0 0 0 1 10 0 0\"/></build></model>"};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "mirror.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(data, len, m);
+    const hv_mesh_report *r = hv_mesh_get_report(m);
+    cr_assert_float_eq(r->volume, 1.0 / 6, 1e-9);
+    cr_assert_float_eq(r->bbox_min[0], 9, 1e-9);
+    cr_assert_float_eq(r->bbox_max[0], 10, 1e-9);
+    hv_mesh_destroy(m);
+    free(data);
 }
 
 Test(threemf, packages_beyond_the_memory_budget_are_refused_before_lib3mf_reads_them)

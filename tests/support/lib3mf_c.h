@@ -3,7 +3,8 @@
  * own header (NMR_DLLInterfaces.h) is C++ only, so the C declarations are repeated here with
  * the same ABI: every handle is a pointer, results are int (0: success), DWORD is unsigned,
  * a vertex is 3 floats, a triangle 3 unsigned, a transform 3 rows of 4 floats (x' = row . (x,
- * y, z, 1)). Link with -l3MF. */
+ * y, z, 1)). Link with -l3MF. The reading functions at the end make lib3mf the test oracle of
+ * hovox's own 3MF reader (tests/io/test_3mf.c). */
 #ifndef HOVOX_TEST_LIB3MF_C_H
 #define HOVOX_TEST_LIB3MF_C_H
 
@@ -39,5 +40,29 @@ int lib3mf_model_querywriter(l3mf model, const char *kind, l3mf *writer);
 int lib3mf_writer_writetofileutf8(l3mf writer, const char *path);
 int lib3mf_writer_getstreamsize(l3mf writer, unsigned long long *size);
 int lib3mf_writer_writetobuffer(l3mf writer, unsigned char *buffer, unsigned long long size);
+
+/* reading (BOOL is int) */
+int lib3mf_model_queryreader(l3mf model, const char *kind, l3mf *reader);
+int lib3mf_reader_readfrombuffer(l3mf reader, const unsigned char *buffer, unsigned long long size);
+int lib3mf_model_getunit(l3mf model, unsigned *unit);
+int lib3mf_model_getbuilditems(l3mf model, l3mf *iterator);
+int lib3mf_builditemiterator_movenext(l3mf iterator, int *has);
+int lib3mf_builditemiterator_getcurrent(l3mf iterator, l3mf *item);
+int lib3mf_builditem_getobjectresource(l3mf item, l3mf *object);
+int lib3mf_builditem_hasobjecttransform(l3mf item, int *has);
+int lib3mf_builditem_getobjecttransform(l3mf item, float *transform);
+int lib3mf_object_gettype(l3mf object, unsigned *type);
+int lib3mf_object_getnameutf8(l3mf object, char *buffer, unsigned size, unsigned *needed);
+int lib3mf_object_ismeshobject(l3mf object, int *is);
+int lib3mf_object_iscomponentsobject(l3mf object, int *is);
+int lib3mf_meshobject_getvertexcount(l3mf mesh, unsigned *count);
+int lib3mf_meshobject_gettrianglecount(l3mf mesh, unsigned *count);
+int lib3mf_meshobject_getvertices(l3mf mesh, float *xyz, unsigned size, unsigned *needed);
+int lib3mf_meshobject_gettriangleindices(l3mf mesh, unsigned *tri, unsigned size, unsigned *needed);
+int lib3mf_componentsobject_getcomponentcount(l3mf components, unsigned *count);
+int lib3mf_componentsobject_getcomponent(l3mf components, unsigned index, l3mf *component);
+int lib3mf_component_getobjectresource(l3mf component, l3mf *object);
+int lib3mf_component_hastransform(l3mf component, int *has);
+int lib3mf_component_gettransform(l3mf component, float *transform);
 
 #endif

@@ -1721,24 +1721,6 @@ static void rd_free(rd *r)
     free(r->materials_json);
 }
 
-static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
-static void xml_init(void) { xmlInitParser(); }
-
-static void xml_silent(void *ctx, const char *fmt, ...)
-{
-    (void)ctx;
-    (void)fmt;
-}
-
-void tmf_xml_quiet_begin(tmf_xml_quiet *q)
-{
-    pthread_once(&g_xml_once, xml_init);
-    q->ctx = xmlGenericErrorContext;
-    q->fn = xmlGenericError;
-    xmlSetGenericErrorFunc(NULL, xml_silent);
-}
-
-void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, q->fn); }
 
 static hv_status read_package(zip_t *za, const char *name, hv_volume **vol, hv_mesh **mesh)
 {

@@ -1,0 +1,559 @@
+/* src/io/3mf/package.c - the one 3MF package module: the OPC container (ECMA-376 Part 2, as 3MF
+ * Core 1.3 chapters 2 "Parts and Relationships" and 6 profile it) opened through libzip with
+ * budgets against ZIP bombs, [Content_Types].xml and the root relationships read for the start
+ * part, and XML parts streamed through libxml2's SAX2 push parser (no tree) with the line and
+ * column of every element. The mesh reader, the Volumetric reader and the writer's checks use it. */
+#include <errno.h>
+#include <libxml/parser.h>
+#include <libxml/SAX2.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "package.h"
+#include "threemf_internal.h"
+
+#define PKG_MAX_SMALL_PART ((uint64_t)1 << 20) /* _rels/.rels and [Content_Types].xml */
+#define PKG_MAX_RATIO 1000                     /* declared size per compressed byte, past 16 MiB */
+#define PKG_RATIO_FLOOR ((uint64_t)16 << 20)
+#define PKG_MAX_ATTRS 64
+#define PKG_MAX_DEPTH 256
+#define PKG_CHUNK 65536
+
+/* ---- opening ------------------------------------------------------------------------------ */
+
+void tmf_pkg_close(tmf_pkg *pk)
+{
+    if (pk->zip) zip_discard(pk->zip);
+    else if (pk->src) zip_source_free(pk->src);
+    pk->zip = NULL;
+    pk->src = NULL;
+}
+
+static hv_status open_fail(const char *name, zip_error_t *e)
+{
+    int code = zip_error_code_zip(e);
+    if (code == ZIP_ER_MEMORY) return HV_ERR_NOMEM;
+    if (code == ZIP_ER_OPEN || code == ZIP_ER_READ || code == ZIP_ER_NOENT)
+        return hv_error_set(HV_ERR_IO, "%s: cannot read: %s", name, zip_error_strerror(e));
+    return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a 3MF package: not a readable ZIP archive (libzip: %s; truncated?)",
+                        name, zip_error_strerror(e));
+}
+
+/* The sizes the ZIP's directory declares: a bomb is refused here, before anything inflates
+ * (issue 32 item 12). Parts inflating past what they declare are stopped while inflating. */
+static hv_status check_declared(tmf_pkg *pk)
+{
+    zip_int64_t ne = zip_get_num_entries(pk->zip, 0);
+    uint64_t total = 0, limit = pk->budget / 2;
+    for (zip_int64_t i = 0; i < ne; ++i) {
+        zip_stat_t st;
+        if (zip_stat_index(pk->zip, (zip_uint64_t)i, 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE)) continue;
+        uint64_t comp = (st.valid & ZIP_STAT_COMP_SIZE) ? st.comp_size : st.size;
+        char q[96];
+        const char *en = (st.valid & ZIP_STAT_NAME) && st.name ? st.name : "?";
+        if (st.size > PKG_RATIO_FLOOR && st.size / PKG_MAX_RATIO > comp)
+            return hv_error_set(HV_ERR_LIMIT,
+                                "%s: part '/%s' declares %llu bytes from %llu compressed, more than %d times: a ZIP bomb",
+                                pk->name, hv_quote(q, sizeof q, en, strlen(en)), (unsigned long long)st.size,
+                                (unsigned long long)comp, PKG_MAX_RATIO);
+        total += HV_MIN(st.size, UINT64_MAX / 2);
+        if (total > limit) {
+            char b1[32], b2[32];
+            return hv_error_set(HV_ERR_LIMIT, "%s: the package expands to more than %s, half of the memory budget (%s)",
+                                pk->name, hv_size_text(b1, sizeof b1, (double)limit),
+                                hv_size_text(b2, sizeof b2, (double)pk->budget));
+        }
+    }
+    pk->inflate_cap = limit;
+    return HV_OK;
+}
+
+int tmf_pkg_has(const tmf_pkg *pk, const char *part) { return zip_name_locate(pk->zip, part, 0) >= 0; }
+
+/* The entry of a part: exactly that name; `nocase` also accepts another spelling of the two
+ * names OPC fixes ([Content_Types].xml, _rels/.rels). */
+static zip_int64_t locate(const tmf_pkg *pk, const char *part, int nocase)
+{
+    zip_int64_t i = zip_name_locate(pk->zip, part, 0);
+    if (i < 0 && nocase) i = zip_name_locate(pk->zip, part, ZIP_FL_NOCASE);
+    return i;
+}
+
+typedef struct inflater {
+    tmf_pkg *pk;
+    const char *part;
+    zip_file_t *f;
+    uint64_t declared, bytes, limit;
+} inflater;
+
+static hv_status inflate_open(tmf_pkg *pk, zip_int64_t i, const char *part, uint64_t limit, inflater *in)
+{
+    memset(in, 0, sizeof *in);
+    in->pk = pk;
+    in->part = part;
+    in->limit = limit;
+    zip_stat_t st;
+    in->declared = UINT64_MAX;
+    if (zip_stat_index(pk->zip, (zip_uint64_t)i, 0, &st) == 0 && (st.valid & ZIP_STAT_SIZE)) in->declared = st.size;
+    in->f = zip_fopen_index(pk->zip, (zip_uint64_t)i, 0);
+    if (!in->f) {
+        char q[96];
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '/%s' cannot be read (libzip: %s)", pk->name,
+                            hv_quote(q, sizeof q, part, strlen(part)), zip_strerror(pk->zip));
+    }
+    return HV_OK;
+}
+
+/* Up to cap bytes; 0 at the end. Counts against the part's limit, its declared size and the
+ * package's inflate cap. */
+static hv_status inflate_read(inflater *in, void *buf, size_t cap, size_t *got)
+{
+    *got = 0;
+    zip_int64_t n = zip_fread(in->f, buf, cap);
+    char q[96];
+    if (n < 0)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '/%s' is damaged (libzip: %s)", in->pk->name,
+                            hv_quote(q, sizeof q, in->part, strlen(in->part)), zip_file_strerror(in->f));
+    in->bytes += (uint64_t)n;
+    in->pk->inflated += (uint64_t)n;
+    if (in->bytes > in->declared)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '/%s' inflates past the %llu bytes the ZIP declares", in->pk->name,
+                            hv_quote(q, sizeof q, in->part, strlen(in->part)), (unsigned long long)in->declared);
+    if (in->bytes > in->limit || in->pk->inflated > in->pk->inflate_cap) {
+        char b[32];
+        return hv_error_set(HV_ERR_LIMIT, "%s: part '/%s' expands to more than %s", in->pk->name,
+                            hv_quote(q, sizeof q, in->part, strlen(in->part)),
+                            hv_size_text(b, sizeof b, (double)HV_MIN(in->limit, in->pk->inflate_cap)));
+    }
+    *got = (size_t)n;
+    return HV_OK;
+}
+
+static void inflate_close(inflater *in)
+{
+    if (in->f) zip_fclose(in->f);
+    in->f = NULL;
+}
+
+hv_status tmf_pkg_read(tmf_pkg *pk, const char *part, uint64_t limit, uint8_t **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    zip_int64_t i = locate(pk, part, 0);
+    char q[96];
+    if (i < 0)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '/%s' is missing from the package", pk->name,
+                            hv_quote(q, sizeof q, part, strlen(part)));
+    inflater in;
+    hv_status s = inflate_open(pk, i, part, limit, &in);
+    if (s != HV_OK) return s;
+    size_t cap = (size_t)HV_MIN(in.declared, (uint64_t)HV_MIN(limit, (uint64_t)SIZE_MAX / 2));
+    uint8_t *buf = hv_malloc(cap + 1);
+    if (!buf) s = HV_ERR_NOMEM;
+    size_t len = 0, got = 0;
+    while (s == HV_OK) {
+        if (len == cap) { /* at the declared size: one more byte means it lied */
+            uint8_t one;
+            if ((s = inflate_read(&in, &one, 1, &got)) == HV_OK && got) s = HV_ERR_BAD_INPUT; /* unreachable: counted */
+            break;
+        }
+        if ((s = inflate_read(&in, buf + len, cap - len, &got)) != HV_OK || got == 0) break;
+        len += got;
+    }
+    inflate_close(&in);
+    if (s != HV_OK) {
+        free(buf);
+        return s;
+    }
+    *data = buf;
+    *size = len;
+    return HV_OK;
+}
+
+/* ---- XML ---------------------------------------------------------------------------------- */
+
+struct tmf_xml {
+    tmf_pkg *pk;
+    const char *part;
+    xmlParserCtxtPtr ctxt;
+    const tmf_xml_handler *h;
+    void *ctx;
+    hv_status status;
+    int depth;
+    char xml_error[400];
+    int err_line, err_col;
+};
+
+tmf_pkg *tmf_xml_pkg(tmf_xml *x) { return x->pk; }
+
+void tmf_xml_where(const tmf_xml *x, int *line, int *col)
+{
+    *line = x->ctxt ? xmlSAX2GetLineNumber(x->ctxt) : 0;
+    *col = x->ctxt ? xmlSAX2GetColumnNumber(x->ctxt) : 0;
+}
+
+hv_status tmf_xml_vbad(tmf_xml *x, hv_status code, const char *fmt, va_list ap)
+{
+    char msg[1024];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    int line, col;
+    tmf_xml_where(x, &line, &col);
+    return hv_error_set(code, "%s: %s: line %d, column %d: %s", x->pk->name, x->part, line, col, msg);
+}
+
+hv_status tmf_xml_bad(tmf_xml *x, hv_status code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    hv_status s = tmf_xml_vbad(x, code, fmt, ap);
+    va_end(ap);
+    return s;
+}
+
+static void stop(tmf_xml *x, hv_status s)
+{
+    if (x->status == HV_OK) x->status = s;
+    xmlStopParser(x->ctxt);
+}
+
+static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
+                     const xmlChar **ns, int nattrs, int ndefaulted, const xmlChar **attrs)
+{
+    (void)prefix, (void)nns, (void)ns, (void)ndefaulted;
+    tmf_xml *x = ctx;
+    if (x->status != HV_OK) return;
+    if (++x->depth > PKG_MAX_DEPTH) {
+        stop(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "elements nested more than %d deep", PKG_MAX_DEPTH));
+        return;
+    }
+    if (nattrs > PKG_MAX_ATTRS) {
+        stop(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<%s> has %d attributes, more than %d", (const char *)local, nattrs,
+                            PKG_MAX_ATTRS));
+        return;
+    }
+    tmf_attr a[PKG_MAX_ATTRS];
+    for (int i = 0; i < nattrs; ++i) {
+        const xmlChar **t = attrs + 5 * i;
+        a[i].local = (const char *)t[0];
+        a[i].uri = (const char *)t[2];
+        a[i].value = (const char *)t[3];
+        a[i].len = (size_t)(t[4] - t[3]);
+    }
+    hv_status s = x->h->start ? x->h->start(x->ctx, x, (const char *)local, (const char *)uri, a, nattrs) : HV_OK;
+    if (s != HV_OK) stop(x, s);
+}
+
+static void on_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri)
+{
+    (void)prefix;
+    tmf_xml *x = ctx;
+    if (x->status != HV_OK) return;
+    x->depth--;
+    hv_status s = x->h->end ? x->h->end(x->ctx, x, (const char *)local, (const char *)uri) : HV_OK;
+    if (s != HV_OK) stop(x, s);
+}
+
+/* A DOCTYPE is where entities are declared (XXE, billion laughs): refused before its subset. */
+static void on_doctype(void *ctx, const xmlChar *name, const xmlChar *ext, const xmlChar *sys)
+{
+    (void)name, (void)ext, (void)sys;
+    tmf_xml *x = ctx;
+    if (x->status == HV_OK) stop(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "a DOCTYPE is not allowed in a 3MF part"));
+}
+
+static void on_error(void *ctx, xmlErrorPtr e)
+{
+    tmf_xml *x = ctx;
+    if (x->xml_error[0] || !e || e->level < XML_ERR_ERROR) return;
+    snprintf(x->xml_error, sizeof x->xml_error, "%s", e->message ? e->message : "malformed XML");
+    size_t n = strlen(x->xml_error);
+    while (n > 0 && (x->xml_error[n - 1] == '\n' || x->xml_error[n - 1] == ' ')) x->xml_error[--n] = '\0';
+    x->err_line = e->line;
+    x->err_col = e->int2;
+}
+
+static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
+static void xml_init(void) { xmlInitParser(); }
+
+static void xml_silent(void *ctx, const char *fmt, ...)
+{
+    (void)ctx;
+    (void)fmt;
+}
+
+void tmf_xml_quiet_begin(tmf_xml_quiet *q)
+{
+    pthread_once(&g_xml_once, xml_init);
+    q->ctx = xmlGenericErrorContext;
+    q->fn = xmlGenericError;
+    xmlSetGenericErrorFunc(NULL, xml_silent);
+}
+
+void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, q->fn); }
+
+hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf_xml_handler *h, void *ctx)
+{
+    zip_int64_t i = locate(pk, part, 0);
+    char q[96];
+    if (i < 0)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '/%s' is missing from the package", pk->name,
+                            hv_quote(q, sizeof q, part, strlen(part)));
+    inflater in;
+    hv_status s = inflate_open(pk, i, part, limit, &in);
+    if (s != HV_OK) return s;
+    xmlSAXHandler sax;
+    memset(&sax, 0, sizeof sax);
+    sax.initialized = XML_SAX2_MAGIC;
+    sax.startElementNs = on_start;
+    sax.endElementNs = on_end;
+    sax.internalSubset = on_doctype;
+    sax.serror = on_error;
+    tmf_xml x;
+    memset(&x, 0, sizeof x);
+    x.pk = pk;
+    x.part = part;
+    x.h = h;
+    x.ctx = ctx;
+    char *buf = hv_malloc(PKG_CHUNK);
+    if (!buf) {
+        inflate_close(&in);
+        return HV_ERR_NOMEM;
+    }
+    tmf_xml_quiet quiet;
+    tmf_xml_quiet_begin(&quiet);
+    x.ctxt = xmlCreatePushParserCtxt(&sax, &x, NULL, 0, part);
+    if (!x.ctxt) s = HV_ERR_NOMEM;
+    else xmlCtxtUseOptions(x.ctxt, XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA);
+    size_t got = 0;
+    int done = 0;
+    while (s == HV_OK && !done) {
+        if ((s = inflate_read(&in, buf, PKG_CHUNK, &got)) != HV_OK) break;
+        done = got == 0;
+        int rc = xmlParseChunk(x.ctxt, buf, (int)got, done);
+        if (x.status != HV_OK) s = x.status;
+        else if (rc != 0 || x.xml_error[0] || x.ctxt->disableSAX) {
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", pk->name, part,
+                             x.err_line, x.err_col, x.xml_error[0] ? x.xml_error : "the parser stopped");
+        }
+    }
+    if (x.ctxt) {
+        if (x.ctxt->myDoc) xmlFreeDoc(x.ctxt->myDoc);
+        xmlFreeParserCtxt(x.ctxt);
+    }
+    tmf_xml_quiet_end(&quiet);
+    free(buf);
+    inflate_close(&in);
+    return s;
+}
+
+/* ---- attributes ----------------------------------------------------------------------------- */
+
+const tmf_attr *tmf_attr_find(const tmf_attr *attrs, int n, const char *local, const char *uri)
+{
+    for (int i = 0; i < n; ++i)
+        if (strcmp(attrs[i].local, local) == 0 && (!uri || (attrs[i].uri && strcmp(attrs[i].uri, uri) == 0)))
+            return &attrs[i];
+    return NULL;
+}
+
+static void trim(const tmf_attr *a, const char **s, const char **e)
+{
+    *s = a->value;
+    *e = a->value + a->len;
+    while (*s < *e && (**s == ' ' || **s == '\t' || **s == '\n' || **s == '\r')) ++*s;
+    while (*e > *s && ((*e)[-1] == ' ' || (*e)[-1] == '\t' || (*e)[-1] == '\n' || (*e)[-1] == '\r')) --*e;
+}
+
+int tmf_attr_uint(const tmf_attr *a, uint64_t max, uint64_t *out)
+{
+    if (!a) return 0;
+    const char *s, *e;
+    trim(a, &s, &e);
+    if (s == e) return -1;
+    uint64_t v = 0;
+    for (; s < e; ++s) {
+        if (*s < '0' || *s > '9') return -1;
+        uint64_t d = (uint64_t)(*s - '0');
+        if (v > (max - d) / 10) return -1;
+        v = v * 10 + d;
+    }
+    *out = v;
+    return 1;
+}
+
+int tmf_attr_double(const tmf_attr *a, double *out)
+{
+    if (!a) return 0;
+    const char *s, *e;
+    trim(a, &s, &e);
+    char buf[80];
+    size_t n = (size_t)(e - s);
+    if (n == 0 || n >= sizeof buf) return -1;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    char *end;
+    double v = strtod(buf, &end);
+    if (end != buf + n || !isfinite(v)) return -1;
+    *out = v;
+    return 1;
+}
+
+const char *tmf_attr_quote(const tmf_attr *a, char *buf, size_t cap) { return hv_quote(buf, cap, a->value, a->len); }
+
+/* ---- the root relationships and content types -------------------------------------------- */
+
+typedef struct rels_scan {
+    char target[TMF_MAX_PART_NAME];
+    int found, bad;
+} rels_scan;
+
+static hv_status rels_start(void *ctx, tmf_xml *x, const char *local, const char *uri, const tmf_attr *a, int n)
+{
+    (void)x, (void)uri;
+    rels_scan *r = ctx;
+    if (r->found || strcmp(local, "Relationship") != 0) return HV_OK;
+    const tmf_attr *type = tmf_attr_find(a, n, "Type", NULL), *target = tmf_attr_find(a, n, "Target", NULL);
+    if (!type || !target || type->len != strlen(TMF_REL_MODEL) || memcmp(type->value, TMF_REL_MODEL, type->len) != 0)
+        return HV_OK;
+    r->found = 1;
+    const char *t = target->value;
+    size_t len = target->len;
+    if (len && t[0] == '/') ++t, --len; /* the root relationships' source is the package root */
+    if (len == 0 || len >= sizeof r->target || memchr(t, '\0', len)) {
+        r->bad = 1;
+        snprintf(r->target, sizeof r->target, "%.*s", (int)HV_MIN(len, (size_t)200), t);
+        return HV_OK;
+    }
+    memcpy(r->target, t, len);
+    r->target[len] = '\0';
+    return HV_OK;
+}
+
+typedef struct types_scan {
+    const char *part; /* the start part, no leading '/' */
+    char over[160], dflt[160];
+} types_scan;
+
+static void copy_value(char *dst, size_t cap, const tmf_attr *a)
+{
+    size_t n = HV_MIN(a->len, cap - 1);
+    memcpy(dst, a->value, n);
+    dst[n] = '\0';
+}
+
+static hv_status types_start(void *ctx, tmf_xml *x, const char *local, const char *uri, const tmf_attr *a, int n)
+{
+    (void)x, (void)uri;
+    types_scan *t = ctx;
+    const tmf_attr *ct = tmf_attr_find(a, n, "ContentType", NULL);
+    if (!ct) return HV_OK;
+    if (strcmp(local, "Override") == 0) {
+        const tmf_attr *pn = tmf_attr_find(a, n, "PartName", NULL);
+        /* part names compare without case (ECMA-376 Part 2, 9.1.1.1) */
+        if (pn && pn->len == strlen(t->part) + 1 && pn->value[0] == '/' &&
+            strncasecmp(pn->value + 1, t->part, pn->len - 1) == 0)
+            copy_value(t->over, sizeof t->over, ct);
+    } else if (strcmp(local, "Default") == 0) {
+        const tmf_attr *ext = tmf_attr_find(a, n, "Extension", NULL);
+        const char *dot = strrchr(t->part, '.');
+        if (ext && dot && !strchr(dot, '/') && ext->len == strlen(dot + 1) && strncasecmp(ext->value, dot + 1, ext->len) == 0)
+            copy_value(t->dflt, sizeof t->dflt, ct);
+    }
+    return HV_OK;
+}
+
+static hv_status find_start_part(tmf_pkg *pk)
+{
+    zip_int64_t i = locate(pk, "_rels/.rels", 1);
+    if (i < 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: missing model part: the package has no _rels/.rels naming one", pk->name);
+    const char *rels_name = zip_get_name(pk->zip, (zip_uint64_t)i, 0);
+    rels_scan r;
+    memset(&r, 0, sizeof r);
+    tmf_xml_handler h = {rels_start, NULL};
+    hv_status s = tmf_xml_parse(pk, rels_name ? rels_name : "_rels/.rels", PKG_MAX_SMALL_PART, &h, &r);
+    if (s != HV_OK) return s;
+    char q[96];
+    if (!r.found) return hv_error_set(HV_ERR_BAD_INPUT, "%s: missing model part: _rels/.rels names no 3D model", pk->name);
+    if (r.bad)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: _rels/.rels names the model part '%s', not a part name", pk->name,
+                            hv_quote(q, sizeof q, r.target, strlen(r.target)));
+    snprintf(pk->model, sizeof pk->model, "%s", r.target);
+    if (locate(pk, pk->model, 0) < 0) {
+        zip_int64_t other = zip_name_locate(pk->zip, pk->model, ZIP_FL_NOCASE);
+        const char *on = other >= 0 ? zip_get_name(pk->zip, (zip_uint64_t)other, 0) : NULL;
+        char q2[96];
+        if (on) /* issue 32 item 5: the part read is the one named, never a look-alike */
+            return hv_error_set(HV_ERR_BAD_INPUT,
+                                "%s: missing model part '/%s' (named by _rels/.rels; the package holds '/%s', spelt "
+                                "in another case)",
+                                pk->name, hv_quote(q, sizeof q, pk->model, strlen(pk->model)),
+                                hv_quote(q2, sizeof q2, on, strlen(on)));
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: missing model part '/%s' (named by _rels/.rels)", pk->name,
+                            hv_quote(q, sizeof q, pk->model, strlen(pk->model)));
+    }
+    /* its content type */
+    i = locate(pk, "[Content_Types].xml", 1);
+    if (i < 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a 3MF package: no [Content_Types].xml", pk->name);
+    const char *types_name = zip_get_name(pk->zip, (zip_uint64_t)i, 0);
+    types_scan t;
+    memset(&t, 0, sizeof t);
+    t.part = pk->model;
+    h.start = types_start;
+    if ((s = tmf_xml_parse(pk, types_name ? types_name : "[Content_Types].xml", PKG_MAX_SMALL_PART, &h, &t)) != HV_OK)
+        return s;
+    snprintf(pk->model_type, sizeof pk->model_type, "%s", t.over[0] ? t.over : t.dflt);
+    if (!pk->model_type[0])
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: [Content_Types].xml gives the model part '/%s' no content type", pk->name,
+                            hv_quote(q, sizeof q, pk->model, strlen(pk->model)));
+    if (strcmp(pk->model_type, TMF_CT_MODEL) != 0) {
+        char q2[96];
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: the model part '/%s' has content type '%s', not %s", pk->name,
+                            hv_quote(q, sizeof q, pk->model, strlen(pk->model)),
+                            hv_quote(q2, sizeof q2, pk->model_type, strlen(pk->model_type)), TMF_CT_MODEL);
+    }
+    return HV_OK;
+}
+
+hv_status tmf_pkg_open(tmf_pkg *pk, const void *data, size_t size, const char *path, const char *name)
+{
+    memset(pk, 0, sizeof *pk);
+    pk->name = name;
+    pk->budget = hv_memory_budget(0);
+    zip_error_t ze;
+    zip_error_init(&ze);
+    if (data || !path) {
+        if (size == 0) {
+            zip_error_fini(&ze);
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: empty file (0 bytes)", name);
+        }
+        pk->src = zip_source_buffer_create(data, size, 0, &ze);
+        if (!pk->src) {
+            zip_error_fini(&ze);
+            return HV_ERR_NOMEM;
+        }
+        pk->zip = zip_open_from_source(pk->src, ZIP_RDONLY, &ze);
+    } else {
+        struct stat st;
+        if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: %s", name, strerror(errno));
+        if (S_ISDIR(st.st_mode)) return hv_error_set(HV_ERR_IO, "%s: is a directory, not a file", name);
+        if (st.st_size == 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: empty file (0 bytes)", name);
+        int zerr = 0;
+        pk->zip = zip_open(path, ZIP_RDONLY, &zerr);
+        if (!pk->zip) zip_error_init_with_code(&ze, zerr);
+    }
+    if (!pk->zip) {
+        hv_status s = open_fail(name, &ze);
+        zip_error_fini(&ze);
+        tmf_pkg_close(pk);
+        return s;
+    }
+    zip_error_fini(&ze);
+    hv_status s = check_declared(pk);
+    if (s == HV_OK) s = find_start_part(pk);
+    if (s != HV_OK) tmf_pkg_close(pk);
+    return s;
+}

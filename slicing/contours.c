@@ -510,7 +510,7 @@ static hv_status nest(hv_slice *sl, size_t nclosed, const double *votes, const h
     free(it);
     for (size_t i = 0; i < nclosed; ++i) {
         hv_slice_loop *L = &sl->loops[i];
-        double v = s->body_inverted[L->body] ? -votes[i] : votes[i];
+        double v = s && s->body_inverted[L->body] ? -votes[i] : votes[i];
         int traced = L->area > 0 ? 1 : -1;
         int want = v > 0 ? traced : v < 0 ? -traced : L->depth % 2 == 0 ? 1 : -1;
         if ((L->area > 0 ? 1 : -1) != want) {
@@ -590,6 +590,62 @@ static hv_status build_slice(work *w, double gap, hv_slice **out)
     if (st != HV_OK) {
         hv_slice_destroy(sl);
         return HV_ERR_NOMEM;
+    }
+    *out = sl;
+    return HV_OK;
+}
+
+hv_status hv_slice_from_loops(double z, const double *const *xy, const size_t *count, size_t n, hv_slice **out)
+{
+    *out = NULL;
+    if (!isfinite(z)) return hv_error_set(HV_ERR_INVALID, "slice from loops: z = %g is not finite", z);
+    size_t total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        for (size_t k = 0; k < 2 * count[i]; ++k)
+            if (!isfinite(xy[i][k]))
+                return hv_error_set(HV_ERR_INVALID, "slice from loops: loop %zu point %zu is not finite", i, k / 2);
+        total += count[i];
+    }
+    hv_slice *sl = hv_calloc(1, sizeof *sl);
+    if (!sl) return HV_ERR_NOMEM;
+    sl->stats.z = z;
+    sl->xy = hv_malloc_array(2 * HV_MAX(total, (size_t)1), sizeof *sl->xy);
+    sl->loops = hv_malloc_array(HV_MAX(n, (size_t)1), sizeof *sl->loops);
+    double *votes = hv_malloc_array(HV_MAX(n, (size_t)1), sizeof *votes);
+    if (!sl->xy || !sl->loops || !votes) {
+        free(votes);
+        hv_slice_destroy(sl);
+        return HV_ERR_NOMEM;
+    }
+    size_t used = 0, nl = 0;
+    for (size_t i = 0; i < n; ++i) {
+        double *dst = sl->xy + 2 * used;
+        size_t m = 0;
+        for (size_t k = 0; k < count[i]; ++k) {
+            if (m && same(dst + 2 * (m - 1), xy[i] + 2 * k)) continue;
+            dst[2 * m] = xy[i][2 * k];
+            dst[2 * m + 1] = xy[i][2 * k + 1];
+            ++m;
+        }
+        while (m > 1 && same(dst, dst + 2 * (m - 1))) --m;
+        double area = m >= 3 ? loop_area(dst, m) : 0.0;
+        if (m < 3 || area == 0) {
+            ++sl->stats.dropped;
+            continue;
+        }
+        votes[nl] = 1.0; /* keep the direction given */
+        hv_slice_loop *L = &sl->loops[nl++];
+        *L = (hv_slice_loop){dst, m, 1, 0, -1, 0, 0, area, 0};
+        used += m;
+        sl->stats.points += m;
+        ++sl->stats.loops;
+    }
+    sl->nloops = nl;
+    hv_status st = nest(sl, nl, votes, NULL);
+    free(votes);
+    if (st != HV_OK) {
+        hv_slice_destroy(sl);
+        return st;
     }
     *out = sl;
     return HV_OK;

@@ -14,6 +14,7 @@ static const struct {
     [HV_DOC_MATERIALS] = {"hovox.materials.json", 1},
     [HV_DOC_OBJECT] = {"hovox.object.json", 2}, /* 2: regions with "name" and "base" */
     [HV_DOC_REGIONS] = {"hovox.regions.json", 1},
+    [HV_DOC_GEOMETRY] = {"hovox.geometry.json", 1},
 };
 
 const char *hv_schema_key(hv_schema_doc d) { return k_docs[d].key; }

@@ -162,6 +162,16 @@ HV_API hv_status hv_slicer_slice(const hv_slicer *slicer, double h,
 /* Free a slice; NULL is allowed. */
 HV_API void hv_slice_destroy(hv_slice *slice);
 
+/* A slice of the plane z from closed loops made elsewhere (a Boolean of outlines, the iso-lines
+ * of a field): loop i is count[i] points at xy[i] (x0, y0, x1, y1, ...; the first not repeated),
+ * counter-clockwise for an outer boundary and clockwise for a hole, as the slicer gives them;
+ * all of body 0. They are copied, consecutive repeated points removed, nested as the slicer
+ * nests its loops (parent, depth) and kept in their direction; loops of fewer than 3 distinct
+ * points or zero area are dropped (stats.dropped). stats.facets is 0. Errors: HV_ERR_INVALID (a
+ * coordinate not finite, z not finite), HV_ERR_NOMEM. Free with hv_slice_destroy. */
+HV_API hv_status hv_slice_from_loops(double z, const double *const *xy, const size_t *count, size_t n,
+                                     hv_slice **out);
+
 /* Number of entries in hv_slice_loops: the closed loops come first (hv_slice_stats.loops of
  * them, in traversal order of their lowest-numbered facet), then the open polylines. */
 HV_API size_t hv_slice_loop_count(const hv_slice *slice);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "hovox/geometry.h"
 #include "hovox/voxelize.h"
 #include "material_internal.h"
 #include "volumes/schema.h"
@@ -560,6 +561,11 @@ static hv_status merged_set(const hv_object *o, region *out)
     return HV_OK;
 }
 
+_Static_assert((int)HV_OP_INTERSECT == (int)HV_GEOMETRY_INTERSECT && (int)HV_OP_UNITE == (int)HV_GEOMETRY_UNITE &&
+                   (int)HV_OP_DIFFERENCE == (int)HV_GEOMETRY_DIFFERENCE && (int)HV_OP_MERGE == (int)HV_GEOMETRY_MERGE &&
+                   (int)HV_OP_SUBTRACT == (int)HV_GEOMETRY_SUBTRACT,
+               "hv_bool_op and hv_geometry_op name the same Booleans");
+
 hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op op, hv_object **out)
 {
     *out = NULL;
@@ -577,6 +583,8 @@ hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op o
     o->power = a->power;
     hv_volume *O1 = NULL, *O2 = NULL, *mask = NULL;
     if ((s = record_combine(a->record, b->record, &o->record)) != HV_OK) goto done;
+    /* the shape's tree follows the voxels (issue 28): hv_bool_op and hv_geometry_op agree */
+    if (o->record && (s = hv_geometry_combine_models(a->record, b->record, (hv_geometry_op)op, o->record)) != HV_OK) goto done;
     if ((s = object_mask(a, &O1)) != HV_OK || (s = object_mask(b, &O2)) != HV_OK) goto done;
     switch (op) {
     case HV_OP_INTERSECT: /* (O1 n O2, G1 u G2), pairwise over the regions */

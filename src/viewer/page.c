@@ -35,40 +35,8 @@ void vw_warn(hv_viewer_report *r, const char *fmt, ...)
 
 void vw_data_uri(hv_buf *b, const char *mime, const uint8_t *data, size_t size)
 {
-    static const char k[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     hv_buf_printf(b, "data:%s;base64,", mime);
-    size_t need = b->len + (size + 2) / 3 * 4 + 1;
-    if (b->failed) return;
-    if (need > b->cap) {
-        size_t cap = b->cap ? b->cap : 64;
-        while (cap < need) cap *= 2;
-        char *p = realloc(b->data, cap);
-        if (!p) {
-            b->failed = 1;
-            hv_error_set(HV_ERR_NOMEM, "out of memory for a page's image");
-            return;
-        }
-        b->data = p;
-        b->cap = cap;
-    }
-    char *o = b->data + b->len;
-    size_t i = 0;
-    for (; i + 3 <= size; i += 3) {
-        uint32_t v = (uint32_t)data[i] << 16 | (uint32_t)data[i + 1] << 8 | data[i + 2];
-        *o++ = k[v >> 18];
-        *o++ = k[v >> 12 & 63];
-        *o++ = k[v >> 6 & 63];
-        *o++ = k[v & 63];
-    }
-    if (i < size) {
-        uint32_t v = (uint32_t)data[i] << 16 | (i + 1 < size ? (uint32_t)data[i + 1] << 8 : 0);
-        *o++ = k[v >> 18];
-        *o++ = k[v >> 12 & 63];
-        *o++ = i + 1 < size ? k[v >> 6 & 63] : '=';
-        *o++ = '=';
-    }
-    *o = '\0';
-    b->len = (size_t)(o - b->data);
+    hv_base64_append(b, data, size);
 }
 
 char *vw_json_for_script(const json_t *doc)

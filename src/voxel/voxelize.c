@@ -13,6 +13,7 @@
 #include "core/internal.h"
 #include "mesh/mesh_internal.h"
 #include "bitgrid.h"
+#include "hovox/geometry.h"
 #include "hovox/voxelize.h"
 #include "voxel_internal.h"
 #include "volumes/schema.h"
@@ -609,6 +610,11 @@ static hv_status set_metadata(hv_volume *vol, const hv_mesh *mesh, const hv_voxe
     hv_status s = hv_schema_doc_write(vol, HV_DOC_MESH, hv_mesh_report_to_doc(hv_mesh_name(mesh), hv_mesh_get_report(mesh)));
     if (s == HV_OK) s = hv_schema_doc_write(vol, HV_DOC_VOXELIZE, hv_voxelize_to_doc(plan, adjacency));
     if (s == HV_OK) s = hv_volume_meta_set_string(vol, HV_META_HOVOX_VERSION, hv_version());
+    /* the geometry truth (issue 28): the mesh itself, so every later stage cuts the exact shape */
+    hv_geometry *g = NULL;
+    if (s == HV_OK) s = hv_geometry_from_mesh(mesh, NULL, NULL, 1.0, &g);
+    if (s == HV_OK) s = hv_geometry_write(g, vol);
+    hv_geometry_destroy(g);
     return s;
 }
 

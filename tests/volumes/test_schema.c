@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "hovox/generate.h"
+#include "hovox/geometry.h"
 #include "support/support.h"
 #include "volumes/schema.h"
 #include "hovox/material.h"
@@ -91,7 +92,8 @@ static void graded_free(graded *x)
 
 /* Each document written by the current code starts with "schema": its version (the object's
  * the oldest that holds it: 1 without named regions), reads back, and writes again to the same
- * text. The regions of an assembly round-trip in tests/voxel/test_assembly.c. */
+ * text. The regions of an assembly round-trip in tests/voxel/test_assembly.c; the geometry
+ * record's refusals are tested in tests/geometry/test_geometry.c. */
 Test(schema, documents_round_trip, .timeout = 60)
 {
     graded x = graded_box();
@@ -128,6 +130,18 @@ Test(schema, documents_round_trip, .timeout = 60)
             memcpy(plan.xf.voxel, rec.voxel, sizeof plan.xf.voxel);
             plan.fill = rec.fill;
             again = hv_voxelize_to_doc(&plan, rec.adjacency);
+        } else if (d == HV_DOC_GEOMETRY) {
+            hv_geometry *r;
+            cr_assert_eq(hv_geometry_read(g, &r), HV_OK, "%s", hv_last_error());
+            cr_assert_eq(hv_geometry_leaf_at(r, 0)->kind, HV_LEAF_MESH);
+            hv_transform xf = {{1, 1, 1}, {0, 0, 0}};
+            hv_volume *w;
+            cr_assert_eq(hv_volume_create(&xf, &w), HV_OK);
+            cr_assert_eq(hv_geometry_write(r, w), HV_OK);
+            cr_assert_eq(hv_schema_doc_read(w, HV_DOC_GEOMETRY, &again), HV_OK);
+            json_object_del(again, "schema");
+            hv_volume_destroy(w);
+            hv_geometry_destroy(r);
         } else if (d == HV_DOC_MATERIALS) {
             hv_material_table *r;
             cr_assert_eq(hv_material_table_from_doc(doc, key, &r), HV_OK, "%s", hv_last_error());
@@ -272,7 +286,7 @@ Test(schema, models_without_schema_versions_load, .timeout = 60)
 {
     hv_volume *g = load(legacy_path());
     for (int d = 0; d < HV_DOC_COUNT; ++d)
-        if (d != HV_DOC_REGIONS) /* 0.1.0 had no assemblies */
+        if (d != HV_DOC_REGIONS && d != HV_DOC_GEOMETRY) /* 0.1.0 had no assemblies nor geometry records */
             cr_assert_null(strstr(hv_volume_meta_string(g, hv_schema_key((hv_schema_doc)d)), "\"schema\""));
     hv_voxelize_record rec;
     cr_assert_eq(hv_voxelize_record_read(g, &rec), HV_OK, "%s", hv_last_error());

@@ -5,6 +5,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/geometry.h"
 #include "hovox/model.h"
 #include "hovox/voxelize.h"
 
@@ -162,13 +163,25 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         hv_volume_destroy(ref);
         opt->lattice = &lattice;
     }
-    hv_mesh *mesh;
-    hv_status s = cli_mesh_load_placed(path, &c->place, NULL, &mesh);
-    if (s != HV_OK) return cli_fail(s);
+    /* the mesh as read (raw) and as placed: the model records the raw mesh and the placement
+     * (DESIGN-ROUND "Placement": one record, geometry's leaf) */
+    hv_mesh *mesh = NULL, *raw = NULL;
+    hv_status s = hv_mesh_load(path, &raw);
+    if (s == HV_OK && hv_placement_given(&c->place)) s = hv_placement_transform(&c->place, raw, &mesh);
+    else if (s == HV_OK) {
+        mesh = raw;
+        raw = NULL;
+    }
+    if (s != HV_OK) {
+        hv_mesh_destroy(raw);
+        return cli_fail(s);
+    }
+    cli_warn_mesh_size(mesh, NULL);
     hv_voxel_plan plan;
     s = hv_voxelize_plan(mesh, opt, &plan);
     if (s != HV_OK) {
         hv_mesh_destroy(mesh);
+        hv_mesh_destroy(raw);
         return cli_fail(s);
     }
     const hv_mesh_report *r = hv_mesh_get_report(mesh);
@@ -185,16 +198,26 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         s = hv_voxelize(mesh, opt, &vol);
         cli_progress_done(&bar);
         opt->progress = NULL;
+        if (s == HV_OK && raw) { /* the leaf: the raw mesh and the placement's matrix */
+            double m[12];
+            hv_geometry *g = NULL;
+            s = hv_placement_matrix(&c->place, m);
+            if (s == HV_OK) s = hv_geometry_from_mesh(raw, NULL, m, c->place.unit > 0 ? c->place.unit : 1.0, &g);
+            if (s == HV_OK) s = hv_geometry_write(g, vol);
+            hv_geometry_destroy(g);
+        }
         if (s == HV_OK) s = hv_volume_save(vol, c->output);
         if (s != HV_OK) {
             hv_volume_destroy(vol);
             hv_mesh_destroy(mesh);
+            hv_mesh_destroy(raw);
             return cli_fail(s);
         }
     }
     int rc = report(path, mesh, &plan, opt, c, vol);
     hv_volume_destroy(vol);
     hv_mesh_destroy(mesh);
+    hv_mesh_destroy(raw);
     return rc;
 }
 

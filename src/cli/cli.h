@@ -88,6 +88,10 @@ const char *cli_message(char *buf, size_t size);
 /* Print "hovox: warning: <message>" on stderr. */
 void cli_warn(const char *fmt, ...) HV_PRINTF(1, 2);
 
+/* A mesh reader's notes (hv_mesh_note_at), each as a warning; mesh may be NULL. */
+struct hv_mesh;
+void cli_mesh_notes(const struct hv_mesh *mesh);
+
 /* A JSON object printed on stdout as one line: {"key": value, ...} (jansson, round-trip
  * numbers). cli_json_end prints it; with lines_key, `lines` (records already in JSON, each
  * starting on a new line) follow as a member of that name. Returns 0, or the exit code of a

@@ -167,6 +167,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
      * (DESIGN-ROUND "Placement": one record, geometry's leaf) */
     hv_mesh *mesh = NULL, *raw = NULL;
     hv_status s = hv_mesh_load(path, &raw);
+    if (s == HV_OK) cli_mesh_notes(raw);
     if (s == HV_OK && hv_placement_given(&c->place)) s = hv_placement_transform(&c->place, raw, &mesh);
     else if (s == HV_OK) {
         mesh = raw;

@@ -22,6 +22,7 @@ void cli_warn_mesh_size(const hv_mesh *mesh, const double build[3])
 hv_status cli_mesh_load_placed(const char *path, const hv_placement *place, const double build[3], hv_mesh **out)
 {
     hv_status s = hv_mesh_load(path, out);
+    if (s == HV_OK) cli_mesh_notes(*out); /* the reader's notes, before the mesh is placed */
     if (s == HV_OK) s = hv_placement_apply(place, out);
     if (s != HV_OK) {
         hv_mesh_destroy(*out);

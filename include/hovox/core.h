@@ -90,6 +90,9 @@ HV_API uint64_t hv_memory_budget(uint64_t requested);
 /* A process-wide cap on every operation's budget (0: none), e.g. a sandboxed script's limit.
  * Set it before starting work. */
 HV_API void hv_set_memory_cap(uint64_t bytes);
+/* The cap hv_set_memory_cap set (0: none): readers allow hostile amplification (a small file
+ * that expands to gigabytes) only when a limit was given. */
+HV_API uint64_t hv_memory_cap(void);
 
 /* What a command reads, so that it never writes over it: every reader of a user's file (meshes,
  * models, fields, tables, job files) notes it; every writer refuses a target that is a noted input

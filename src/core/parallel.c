@@ -61,6 +61,7 @@ int hv_cancel_requested(void) { return g_cancel_fn && g_cancel_fn(g_cancel_user)
 static uint64_t g_budget_cap;
 
 void hv_set_memory_cap(uint64_t bytes) { g_budget_cap = bytes; }
+uint64_t hv_memory_cap(void) { return g_budget_cap; }
 
 uint64_t hv_memory_budget(uint64_t requested)
 {

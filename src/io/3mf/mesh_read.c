@@ -17,6 +17,9 @@
 
 #define TMF_MAX_DEPTH 256          /* components within components */
 #define TMF_MAX_PLACEMENTS 1000000 /* objects placed once components are expanded */
+#define TMF_TRIANGLE_BYTES 128     /* a placed triangle's cost, read and welded (measured: about 100) */
+#define TMF_AMPLIFY_FLOOR ((uint64_t)512 << 20)
+#define TMF_AMPLIFY_RATIO 256
 
 enum { R_OBJECT = 1, R_BASE, R_COLOR, R_TEXTURE, R_COMPOSITE, R_MULTI, R_OTHER, R_TEX2D };
 static const char *const k_group_tags[] = {"", "object", "basematerials", "colorgroup", "texture2dgroup",
@@ -714,7 +717,7 @@ static hv_status on_end(void *ctx, tmf_xml *x, const char *local, const char *ur
 
 /* ---- expansion: what the build items place, linear in objects and components -------------- */
 
-static hv_status expand_counts(reader *r, const char *name, uint64_t max_tri)
+static hv_status expand_counts(reader *r, const char *name, uint64_t max_tri, uint64_t *placed)
 {
     const uint64_t cap = UINT64_MAX / 4;
     for (size_t i = 0; i < r->nobj; ++i) { /* components name objects above them */
@@ -744,7 +747,24 @@ static hv_status expand_counts(reader *r, const char *name, uint64_t max_tri)
     if (t > max_tri)
         return hv_error_set(HV_ERR_LIMIT, "%s: the build items hold more than %llu triangles once their components are placed",
                             name, (unsigned long long)max_tri);
+    *placed = t;
     return HV_OK;
+}
+
+/* Issue 32 item 10: without a memory limit given, a package may not grow by repetition
+ * (components, items) beyond 512 MiB or 256 times its own size: a 400 kB file placing a strip
+ * 1024 times took 6 GB and a minute. A limit given (--max-memory) allows what it holds. */
+static hv_status check_amplification(const reader *r, const char *name, size_t size, uint64_t placed)
+{
+    uint64_t need = placed * TMF_TRIANGLE_BYTES, allow = HV_MAX(TMF_AMPLIFY_FLOOR, (uint64_t)size * TMF_AMPLIFY_RATIO);
+    if (hv_memory_cap() || placed <= r->ntri || need <= allow) return HV_OK;
+    char b1[32], b2[32], b3[32];
+    return hv_error_set(HV_ERR_LIMIT,
+                        "%s: the build items place %llu triangles from %zu stored (repeated by components and items): "
+                        "reading them needs about %s, more than a package of %s may expand to without a memory limit "
+                        "(%s); give one (--max-memory) to read it",
+                        name, (unsigned long long)placed, r->ntri, hv_size_text(b1, sizeof b1, (double)need),
+                        hv_size_text(b2, sizeof b2, (double)size), hv_size_text(b3, sizeof b3, (double)allow));
 }
 
 typedef struct build {
@@ -1048,8 +1068,10 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     tmf_xml_handler h = {on_start, on_end};
     s = tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &r);
     if (s == HV_OK && !r.resources_seen) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: the model has no <resources>", name, pk.model);
-    uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / 128);
-    if (s == HV_OK) s = expand_counts(&r, name, max_tri);
+    uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / TMF_TRIANGLE_BYTES);
+    uint64_t placed = 0;
+    if (s == HV_OK) s = expand_counts(&r, name, max_tri, &placed);
+    if (s == HV_OK) s = check_amplification(&r, name, size, placed);
     if (s == HV_OK) s = assemble(&r, name, out);
     if (s == HV_OK && r.loose_props) {
         char note[2048];

@@ -1,7 +1,8 @@
-/* src/geometry/record.c - a model's geometry record (hovox/geometry.h; DESIGN.md "Geometry
+/* src/mesh/geometry.c - a model's geometry record (hovox/geometry.h; DESIGN.md "Geometry
  * truth", issue 28): leaves (a mesh packed and deflated, or a kind's own data) with their
  * placement, and the Boolean tree of Wu's eq. 27-30 and CSG subtract over them, kept in the
- * model's metadata. Layer 2 of README's Layout: it knows meshes and the volume store only. */
+ * model's metadata. Layer 2 of README's Layout (with the meshes it packs): it knows meshes and the
+ * volume store only, so the voxelizer and the Booleans below the slicer can write it. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,7 +10,7 @@
 
 #include "core/json.h"
 #include "hovox/geometry.h"
-#include "mesh/mesh_internal.h"
+#include "mesh_internal.h"
 #include "volumes/schema.h"
 
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__

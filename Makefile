@@ -169,7 +169,7 @@ $(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
 
 # Clipper (Debian libpolyclipping): the polygon Booleans of a model's Boolean tree
-$(PLUGDIR)/hovox-clipper.so: $(BUILD)/obj/src/geometry/clipper_bridge.pic.o
+$(PLUGDIR)/hovox-clipper.so: $(BUILD)/obj/slicing/clipper_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ -lpolyclipping $(SANFLAGS)
 

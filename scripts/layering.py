@@ -13,7 +13,7 @@ import sys
 # low to high; a module may include only modules at its own position or before it
 ORDER = [
     'src/core', 'volumes', 'src/image', 'src/mesh', 'src/io', 'src/voxel', 'src/field', 'src/material',
-    'src/colour', 'src/export', 'model formats', 'src/model', 'slicing', 'src/geometry', 'renderer',
+    'src/colour', 'src/geometry', 'src/export', 'model formats', 'src/model', 'slicing', 'renderer',
     'src/plot', 'src/viewer', 'src/lua', 'src/cli', 'python/src',
 ]
 # the formats wing holds mesh and volume formats (low: the store and the mesh below them) and
@@ -23,14 +23,14 @@ ORDER = [
 MODEL_FORMATS = ('src/io/3mf/volumetric_',)
 # the geometry truth (issue 28) lives at two heights: its record (geometry.h: leaves and the
 # Boolean tree, written by the voxelizer and the Booleans) with the meshes, its solid (solid.h:
-# leaves cut by the WDG slicer, outlines combined by Clipper) just above the slicer
+# leaves cut by the WDG slicer, outlines combined by Clipper, what layers and trays cut) in slicing
 # public headers and the module behind each
 PUBLIC = {
     'core.h': 'src/core', 'options.h': 'src/core', 'volume.h': 'volumes', 'image.h': 'src/image',
     'mesh.h': 'src/mesh', 'generate.h': 'src/mesh', 'threemf.h': 'src/io', 'scan.h': 'src/io',
     'model.h': 'src/model', 'voxelize.h': 'src/voxel', 'field.h': 'src/field',
     'material.h': 'src/material', 'profile.h': 'src/material', 'colour.h': 'src/colour',
-    'geometry.h': 'src/mesh', 'solid.h': 'src/geometry', 'export.h': 'src/export', 'slice.h': 'slicing',
+    'geometry.h': 'src/mesh', 'solid.h': 'slicing', 'export.h': 'src/export', 'slice.h': 'slicing',
     'layers.h': 'slicing', 'tray.h': 'slicing', 'dist.h': 'slicing', 'render.h': 'renderer',
     'plot.h': 'src/plot', 'viewer.h': 'src/viewer', 'placement.h': 'src/mesh',
 }

@@ -1,4 +1,4 @@
-// src/geometry/clipper_bridge.cpp - the Clipper bridge plugin (plugins/hovox-clipper.so; table in
+// slicing/clipper_bridge.cpp - the Clipper bridge plugin (plugins/hovox-clipper.so; table in
 // clipper_bridge.h): 2D polygon Booleans by Clipper 6 (Vatti's sweep with Johnson's extensions,
 // Debian libpolyclipping) for the outlines of a model's Boolean tree. Every entry catches all
 // exceptions (HV_CATCH) and turns them into a status plus what().

@@ -1,4 +1,4 @@
-/* src/geometry/leaf.c - the leaf interface (hovox/solid.h): a leaf of a geometry record opened
+/* slicing/leaf.c - the leaf interface (hovox/solid.h): a leaf of a geometry record opened
  * through its kind's table entry, and the MESH kind: the placed mesh cut by the WDG slicer
  * (Wu 2.4.1). Layer 9 of README's Layout (it uses the slicer). */
 #include <math.h>
@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "core/internal.h"
-#include "geometry_internal.h"
+#include "solid_internal.h"
 
 struct hv_leaf {
     const hv_leaf_ops *ops;

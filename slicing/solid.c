@@ -1,4 +1,4 @@
-/* src/geometry/solid.c - the solid of a geometry record (hovox/solid.h), its exact shape: its
+/* slicing/solid.c - the solid of a geometry record (hovox/solid.h), its exact shape: its
  * leaves opened and its Boolean tree (Wu eq. 27-30, CSG subtract; the shape each op leaves is in
  * hovox/geometry.h) evaluated over their answers. Layer 9 of README's Layout. */
 #include <math.h>
@@ -8,7 +8,7 @@
 #include "clipper_bridge.h"
 #include "core/internal.h"
 #include "core/plugin.h"
-#include "geometry_internal.h"
+#include "solid_internal.h"
 
 struct hv_solid {
     size_t nleaf, nnode;

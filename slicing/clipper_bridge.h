@@ -1,5 +1,5 @@
-/* src/geometry/clipper_bridge.h - the function table between the solid (src/geometry/solid.c)
- * and the Clipper bridge plugin (src/geometry/clipper_bridge.cpp, built as
+/* slicing/clipper_bridge.h - the function table between the solid (slicing/solid.c)
+ * and the Clipper bridge plugin (slicing/clipper_bridge.cpp, built as
  * plugins/hovox-clipper.so): Angus Johnson's Clipper 6 (Debian libpolyclipping), the polygon
  * Booleans slicers such as PrusaSlicer use, on integer coordinates. Internal. The plugin does not
  * link libhovox; on failure its last_error() holds the message. No exception crosses the table. */

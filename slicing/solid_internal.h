@@ -1,8 +1,8 @@
-/* src/geometry/geometry_internal.h - the leaf interface's table of kinds (hovox/solid.h): what a
+/* slicing/solid_internal.h - the leaf interface's table of kinds (hovox/solid.h): what a
  * module implements to make a kind of leaf cut by every stage. A kind's module fills one
  * hv_leaf_ops and leaf.c's table points at it (FIELD_ISO: the scanned-volume module). */
-#ifndef HOVOX_GEOMETRY_INTERNAL_H
-#define HOVOX_GEOMETRY_INTERNAL_H
+#ifndef HOVOX_SOLID_INTERNAL_H
+#define HOVOX_SOLID_INTERNAL_H
 
 #include "hovox/solid.h"
 

@@ -232,7 +232,8 @@ static hv_status shape_name(job *J, const hv_volume *model, const hv_layers_opti
     if (st != HV_OK) return st;
     hv_buf b;
     hv_buf_init(&b);
-    node_text(g, hv_geometry_node_count(g) - 1, 1, &b);
+    if (hv_geometry_shape_is_leaf(g)) hv_buf_puts(&b, hv_geometry_leaf_at(g, 0)->name);
+    else node_text(g, hv_geometry_node_count(g) - 1, 1, &b);
     hv_geometry_destroy(g);
     if (b.failed) {
         hv_buf_free(&b);

@@ -36,6 +36,10 @@ hv_status hv_solid_open(const hv_geometry *g, const hv_progress *progress, hv_so
     hv_status st = s->leaf && s->node ? HV_OK : HV_ERR_NOMEM;
     for (size_t i = 0; i < nn && st == HV_OK; ++i) s->node[i] = *hv_geometry_node_at(g, i);
     s->nnode = nn;
+    if (hv_geometry_shape_is_leaf(g)) { /* X op X: cut X alone, as a plain record */
+        s->node[0] = (hv_geometry_node){-1, 0, 0, 0};
+        s->nnode = 1;
+    }
     for (size_t i = 0; i < nl && st == HV_OK; ++i, ++s->nleaf) st = hv_leaf_open(g, i, progress, &s->leaf[i]);
     if (st != HV_OK) {
         hv_solid_close(s);
@@ -143,15 +147,19 @@ hv_status hv_solid_from_mesh(const hv_mesh *mesh, const hv_progress *progress, h
 static void leaf_names(const hv_geometry *g, hv_buf *b)
 {
     size_t n = hv_geometry_leaf_count(g);
-    for (size_t i = 0; i < n && i < 4; ++i) hv_buf_printf(b, "%s%s", i ? ", " : "", hv_geometry_leaf_at(g, i)->name);
+    for (size_t i = 0; i < n && i < 4; ++i) {
+        const char *name = hv_geometry_leaf_at(g, i)->name;
+        hv_buf_printf(b, "%s%s", i ? ", " : "", *name ? name : "an unnamed mesh");
+    }
     if (n > 4) hv_buf_printf(b, " and %zu more", n - 4);
 }
 
-/* 1 when mesh is the placed mesh of g's one leaf (same vertices, facets and bodies). */
+/* 1 when mesh is the placed mesh of g's one leaf, the whole shape (same vertices, facets and
+ * bodies). */
 static int mesh_matches(const hv_geometry *g, const hv_mesh *mesh, hv_status *st)
 {
     *st = HV_OK;
-    if (!hv_geometry_is_plain(g) || hv_geometry_leaf_at(g, 0)->kind != HV_LEAF_MESH) return 0;
+    if (!hv_geometry_shape_is_leaf(g) || hv_geometry_leaf_at(g, 0)->kind != HV_LEAF_MESH) return 0;
     hv_mesh *rec = NULL;
     if ((*st = hv_geometry_leaf_mesh(g, 0, &rec)) != HV_OK) return 0;
     size_t nv = hv_mesh_vertex_count(mesh), nf = hv_mesh_facet_count(mesh);
@@ -186,7 +194,7 @@ hv_status hv_solid_for_model(const hv_volume *model, const hv_mesh *mesh, const 
             hv_buf b;
             hv_buf_init(&b);
             leaf_names(g, &b);
-            if (hv_geometry_is_plain(g))
+            if (hv_geometry_shape_is_leaf(g))
                 s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s differs from the mesh the model records (%s): leave the mesh out to cut the recorded one",
                                  stage, mesh_name, b.data ? b.data : "");
             else

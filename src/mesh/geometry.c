@@ -357,6 +357,14 @@ size_t hv_geometry_node_count(const hv_geometry *g) { return g->nnode; }
 const hv_geometry_node *hv_geometry_node_at(const hv_geometry *g, size_t i) { return i < g->nnode ? &g->node[i] : NULL; }
 int hv_geometry_is_plain(const hv_geometry *g) { return g->nleaf == 1 && g->nnode == 1; }
 
+int hv_geometry_shape_is_leaf(const hv_geometry *g)
+{
+    if (g->nleaf != 1) return 0;
+    for (size_t i = 0; i < g->nnode; ++i)
+        if (g->node[i].op == HV_GEOMETRY_SUBTRACT) return 0;
+    return 1;
+}
+
 /* ---- Booleans ---------------------------------------------------------------------------------- */
 
 static int same_leaf(const leaf_rec *x, const leaf_rec *y)

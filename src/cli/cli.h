@@ -142,7 +142,7 @@ int cli_out_of_time(void);
 void cli_view_report(const hv_viewer_report *r, const char *dir);
 
 /* Commands */
-extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
+extern const cli_spec cmd_info, cmd_generate, cmd_boolean, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
     cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export;
 
 #endif

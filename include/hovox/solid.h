@@ -89,6 +89,16 @@ HV_API hv_status hv_solid_for_model(const hv_volume *model, const hv_mesh *mesh,
                                     const char *model_name, const char *mesh_name, const hv_progress *progress,
                                     hv_solid **out);
 
+
+/* hv_contours_write (hovox/slice.h) for the shape a model records (issue 28): a model voxelized
+ * from one mesh gives exactly hv_contours_write of that mesh; a Boolean tree is cut on uniform layers
+ * (adaptive layers need one mesh: HV_ERR_INVALID), each layer's loops those of hv_solid_slice
+ * (body 0). `name` is the model's file. Errors: those of hv_contours_write and
+ * hv_solid_for_model (a model that records no shape: HV_ERR_INVALID). */
+HV_API hv_status hv_contours_write_model(const hv_volume *model, const hv_contours_options *o, const char *name,
+                                         hv_contours_layer_fn layer, void *user, const hv_progress *progress,
+                                         hv_contours_summary *summary);
+
 #ifdef __cplusplus
 }
 #endif

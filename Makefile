@@ -37,8 +37,8 @@ CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-
 # (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.
 CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
                 $(if $(filter 1,$(WERROR)),-Werror) $(SANFLAGS)
-PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc 2>/dev/null)
-PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc 2>/dev/null)
+PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc libjpeg lcms2 2>/dev/null)
+PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc libjpeg lcms2 2>/dev/null)
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
@@ -169,7 +169,7 @@ $(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
 
 # Clipper (Debian libpolyclipping): the polygon Booleans of a model's Boolean tree
-$(PLUGDIR)/hovox-clipper.so: $(BUILD)/obj/slicing/clipper_bridge.pic.o
+$(PLUGDIR)/hovox-clipper.so: $(BUILD)/obj/src/geometry/clipper_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ -lpolyclipping $(SANFLAGS)
 
@@ -332,7 +332,7 @@ layering-tests:
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests python-tests browser-tests
+	@$(MAKE) --no-print-directory layering-tests header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests python-tests browser-tests
 
 # intercept_tls_get_addr=0: GCC 12's LeakSanitizer misreads glibc 2.36's dynamic TLS blocks of
 # dlopen'd plugins (a "DTLS" range of garbage) and its tracer crashes at exit ("Tracer caught

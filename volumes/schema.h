@@ -2,7 +2,7 @@
  * carries as string metadata, their keys and schema versions, and reading and writing them with
  * the version check. Each document's (de)serialisers live with the module that owns it (mesh
  * report: mesh_internal.h; voxelize record and regions: voxel_internal.h; material table and
- * grading definition: material_internal.h; geometry record: src/mesh/geometry.c). Not public API: the public readers are
+ * grading definition: material_internal.h; geometry record: src/geometry/record.c). Not public API: the public readers are
  * hv_voxelize_record_read, hv_material_table_load / _from_json and hv_object_from_model.
  *
  * Every document is an object whose first member is "schema": its version. Version 1 is the

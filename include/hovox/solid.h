@@ -14,7 +14,7 @@ extern "C" {
 #endif
 
 /* ==== the leaf interface =======================================================================
- * A leaf opened for queries. Each kind implements the same four answers (slicing/leaf.c
+ * A leaf opened for queries. Each kind implements the same four answers (src/geometry/leaf.c
  * holds the table of kinds):
  *   MESH       the mesh placed by the leaf's transform; outlines: the WDG slicer (Wu 2.4.1,
  *              hovox/slice.h: loops oriented, outers counter-clockwise, holes clockwise,

@@ -19,8 +19,9 @@ extern "C" {
  *     from the <v:materialmapping> transform (all mappings must give the same lattice: an axis-
  *     aligned scale with positive diagonal and a translation), millimetres (the model's unit is
  *     converted);
- *   - bool grid "occupancy": the voxels whose centre lies inside the mesh (ray parity along z; for
- *     the exact voxel boundaries hovox writes, exactly the exported voxels);
+ *   - bool grid "occupancy": the voxels whose centre lies inside the mesh (src/voxel's centre
+ *     test: parity along x, y, z, the winding number where they disagree; for the exact voxel
+ *     boundaries hovox writes, exactly the exported voxels);
  *   - float grids "material.<name>" per base material: each mapping's channel (value x valuescale
  *     + valueoffset, clamped to [0, 1]) divided by their sum at the voxel centre (spec 5.2.2; where
  *     the sum is below 1e-5 the first material gets 1);

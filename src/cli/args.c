@@ -12,6 +12,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/mesh.h"
 
 static const cli_spec *g_spec; /* for spelling option names in messages */
 
@@ -474,6 +475,11 @@ int cli_fail(hv_status s)
 int cli_given(const cli_args *a, const char *key)
 {
     return (a->lib.set && hv_optargs_given(&a->lib, key)) || (a->local.set && hv_optargs_given(&a->local, key));
+}
+
+void cli_mesh_notes(const hv_mesh *mesh)
+{
+    for (size_t i = 0; mesh && i < hv_mesh_note_count(mesh); ++i) cli_warn("%s", hv_mesh_note_at(mesh, i));
 }
 
 void cli_warn(const char *fmt, ...)

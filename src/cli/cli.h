@@ -88,6 +88,10 @@ const char *cli_message(char *buf, size_t size);
 /* Print "hovox: warning: <message>" on stderr. */
 void cli_warn(const char *fmt, ...) HV_PRINTF(1, 2);
 
+/* A mesh reader's notes (hv_mesh_note_at), each as a warning; mesh may be NULL. */
+struct hv_mesh;
+void cli_mesh_notes(const struct hv_mesh *mesh);
+
 /* A JSON object printed on stdout as one line: {"key": value, ...} (jansson, round-trip
  * numbers). cli_json_end prints it; with lines_key, `lines` (records already in JSON, each
  * starting on a new line) follow as a member of that name. Returns 0, or the exit code of a
@@ -140,6 +144,15 @@ int cli_out_of_time(void);
  * no page was written). */
 #include "hovox/viewer.h"
 void cli_view_report(const hv_viewer_report *r, const char *dir);
+
+/* ---- placement (place.c) ---------------------------------------------------------------------
+ * Load a mesh and place it (hovox/placement.h), then warn when its size suggests a wrong unit
+ * (build: the printer's build volume; NULL: the largest built-in one). Errors: those of
+ * hv_mesh_load and hv_placement_apply; *out is NULL then. */
+#include "hovox/placement.h"
+hv_status cli_mesh_load_placed(const char *path, const hv_placement *place, const double build[3], hv_mesh **out);
+/* The size warning alone (a mesh placed otherwise). */
+void cli_warn_mesh_size(const hv_mesh *mesh, const double build[3]);
 
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_boolean, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,

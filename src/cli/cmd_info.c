@@ -1,18 +1,23 @@
-/* src/cli/cmd_info.c - `hovox info MESH...`: the mesh report as text or JSON. */
+/* src/cli/cmd_info.c - `hovox info MESH|VOLUME...`: the mesh report, or a scanner volume's
+ * (NIfTI, NRRD, MetaImage, a DICOM series directory), as text or JSON. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <jansson.h>
 
 #include "core/internal.h"
 #include "mesh/mesh_internal.h"
 #include "cli.h"
 #include "hovox/mesh.h"
+#include "io/scan/scan_internal.h"
 
 typedef struct info_cli {
     int json;
 } info_cli;
 
-static const hv_option k_local_opts[] = {CLI_JSON(info_cli, "one JSON object per mesh (an array when several meshes are given), with its materials and bodies")};
+static const hv_option k_local_opts[] = {
+    CLI_JSON(info_cli, "one JSON object per mesh or volume (an array when several are given), with its materials and bodies")};
 static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
 
 
@@ -53,6 +58,19 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
             printf("  %-*s  %s\n", w, mt->name, mt->has_color ? hv_mesh_material_color_text(mt, col) : "-");
         }
     }
+    /* appearance: textures with the facets that use them, corner colours */
+    size_t nt = hv_mesh_texture_count(m), nf = hv_mesh_facet_count(m);
+    const int32_t *ft = hv_mesh_facet_textures(m);
+    if (nt) {
+        printf("textures            %zu\n", nt);
+        for (size_t k = 0; k < nt; ++k) {
+            const hv_mesh_texture *t = hv_mesh_texture_at(m, k);
+            size_t used = 0;
+            for (size_t f = 0; ft && f < nf; ++f) used += ft[f] == (int32_t)k;
+            printf("  %s  %u x %u  %zu facet%s\n", t->name, t->width, t->height, used, used == 1 ? "" : "s");
+        }
+    }
+    if (hv_mesh_corner_colours(m)) printf("corner colours      yes\n");
     if (nb < 2 && nm == 0) return; /* one body and no material: the report above says it all */
     int wn = 4, wm = 8;
     for (size_t i = 0; i < nb; ++i) {
@@ -88,6 +106,66 @@ static void warn_inside_out(const char *path, const hv_mesh *m, const hv_mesh_re
     }
 }
 
+static void print_scan_text(const char *path, const hv_scan *sc)
+{
+    const hv_scan_info *in = hv_scan_get_info(sc);
+    size_t d[3];
+    double m[12], sp[3], lo[3], hi[3];
+    char axes[4];
+    hv_scan_dims(sc, d);
+    hv_scan_affine(sc, m);
+    hv_scan_geometry(sc, sp, axes, lo, hi);
+    printf("file                %s\n", path);
+    printf("format              %s (%s)\n", in->format_name, in->encoding);
+    if (in->files > 1) printf("files               %zu\n", in->files);
+    printf("samples             %zu x %zu x %zu %s\n", d[0], d[1], d[2], in->sample_type);
+    printf("values              %.6g .. %.6g%s%s\n", in->value_min, in->value_max, in->unit[0] ? " " : "", in->unit);
+    if (in->slope != 1 || in->intercept != 0) printf("rescale             stored * %.6g %c %.6g\n", in->slope, in->intercept < 0 ? '-' : '+', fabs(in->intercept));
+    printf("spacing             %.6g x %.6g x %.6g mm\n", sp[0], sp[1], sp[2]);
+    printf("orientation         %s (axes i, j, k point toward %c, %c, %c)\n", axes, axes[0], axes[1], axes[2]);
+    printf("origin              %.6g %.6g %.6g (centre of sample 0,0,0; RAS mm)\n", m[3], m[7], m[11]);
+    for (int a = 0; a < 3; ++a) printf("axis %c              %.6g %.6g %.6g\n", "ijk"[a], m[a], m[4 + a], m[8 + a]);
+    printf("bbox min            %.6g %.6g %.6g\n", lo[0], lo[1], lo[2]);
+    printf("bbox max            %.6g %.6g %.6g\n", hi[0], hi[1], hi[2]);
+    printf("size                %.6g x %.6g x %.6g\n", hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    printf("world from          %s\n", in->space);
+}
+
+static void json_nums(hv_buf *b, const char *key, const double *v, int n)
+{
+    hv_buf_printf(b, ", \"%s\": [", key);
+    for (int i = 0; i < n; ++i) hv_buf_printf(b, "%s%.17g", i ? ", " : "", v[i]);
+    hv_buf_puts(b, "]");
+}
+
+static void scan_json(hv_buf *b, const char *path, const hv_scan *sc)
+{
+    const hv_scan_info *in = hv_scan_get_info(sc);
+    size_t d[3];
+    double m[12], sp[3], lo[3], hi[3];
+    char axes[4];
+    hv_scan_dims(sc, d);
+    hv_scan_affine(sc, m);
+    hv_scan_geometry(sc, sp, axes, lo, hi);
+    json_t *f = json_string(path), *sp_ = json_string(in->space);
+    char *fj = f ? json_dumps(f, JSON_ENCODE_ANY) : NULL, *sj = sp_ ? json_dumps(sp_, JSON_ENCODE_ANY) : NULL;
+    hv_buf_printf(b, "{\"file\": %s, \"kind\": \"volume\", \"format\": \"%s\", \"encoding\": \"%s\", \"files\": %zu, "
+                  "\"dims\": [%zu, %zu, %zu], \"sample_type\": \"%s\", \"unit\": \"%s\"",
+                  fj ? fj : "null", in->format_name, in->encoding, in->files, d[0], d[1], d[2], in->sample_type, in->unit);
+    hv_buf_printf(b, ", \"value_min\": %.9g, \"value_max\": %.9g, \"slope\": %.17g, \"intercept\": %.17g", in->value_min,
+                  in->value_max, in->slope, in->intercept);
+    json_nums(b, "spacing", sp, 3);
+    hv_buf_printf(b, ", \"orientation\": \"%s\"", axes);
+    json_nums(b, "affine", m, 12);
+    json_nums(b, "bbox_min", lo, 3);
+    json_nums(b, "bbox_max", hi, 3);
+    hv_buf_printf(b, ", \"world_from\": %s}", sj ? sj : "null");
+    free(fj);
+    free(sj);
+    json_decref(f);
+    json_decref(sp_);
+}
+
 /* Each body's own report (one body: the mesh's). */
 static hv_status body_reports(const hv_mesh *m, hv_mesh_report **out)
 {
@@ -105,23 +183,32 @@ static hv_status body_reports(const hv_mesh *m, hv_mesh_report **out)
     return HV_OK;
 }
 
-static int report(char **paths, int n, int json)
+static int report(char **paths, int n, const info_cli *opt)
 {
+    int json = opt->json;
     /* load everything first: no partial report on failure */
     hv_mesh **meshes = calloc((size_t)n, sizeof *meshes);
     hv_mesh_report **bodies = calloc((size_t)n, sizeof *bodies);
-    hv_status s = meshes && bodies ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory");
+    hv_scan **scans = calloc((size_t)n, sizeof *scans);
+    hv_status s = meshes && bodies && scans ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory");
     for (int i = 0; i < n && s == HV_OK; ++i) {
+        if (hv_scan_path_is_scan(paths[i])) {
+            s = hv_scan_load(paths[i], NULL, &scans[i]); /* --max-memory caps its budget */
+            continue;
+        }
         s = hv_mesh_load(paths[i], &meshes[i]);
+        if (s == HV_OK) cli_mesh_notes(meshes[i]);
         if (s == HV_OK) s = body_reports(meshes[i], &bodies[i]);
     }
     if (s != HV_OK) {
-        for (int k = 0; k < n && meshes && bodies; ++k) {
+        for (int k = 0; k < n && meshes && bodies && scans; ++k) {
             hv_mesh_destroy(meshes[k]);
             free(bodies[k]);
+            hv_scan_destroy(scans[k]);
         }
         free(meshes);
         free(bodies);
+        free(scans);
         return cli_fail(s);
     }
     hv_buf out;
@@ -129,19 +216,23 @@ static int report(char **paths, int n, int json)
     if (json && n > 1) hv_buf_puts(&out, "[");
     for (int i = 0; i < n; ++i) {
         const char *path = paths[i];
-        warn_inside_out(path, meshes[i], bodies[i]);
+        if (meshes[i]) warn_inside_out(path, meshes[i], bodies[i]);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");
-            hv_mesh_info_json(&out, path, meshes[i], bodies[i]);
+            if (scans[i]) scan_json(&out, path, scans[i]);
+            else hv_mesh_info_json(&out, path, meshes[i], bodies[i]);
         } else {
             if (i) putchar('\n');
-            print_text(path, meshes[i], bodies[i]);
+            if (scans[i]) print_scan_text(path, scans[i]);
+            else print_text(path, meshes[i], bodies[i]);
         }
         hv_mesh_destroy(meshes[i]);
         free(bodies[i]);
+        hv_scan_destroy(scans[i]);
     }
     free(meshes);
     free(bodies);
+    free(scans);
     if (json) {
         if (n > 1) hv_buf_puts(&out, "]");
         hv_buf_puts(&out, "\n");
@@ -158,17 +249,21 @@ static int report(char **paths, int n, int json)
 static int run(const cli_args *args, void *lib, void *local)
 {
     (void)lib;
-    return report(args->pos, args->npos, ((const info_cli *)local)->json);
+    return report(args->pos, args->npos, (const info_cli *)local);
 }
 
 const cli_spec cmd_info = {
-    "info", "report on meshes: size, volume, shells, defects, bodies, materials",
-    "[--json] MESH.stl|.3mf|.obj|.ply [MESH ...]",
+    "info", "report on meshes (size, volume, shells, defects, bodies, materials) and scanner volumes",
+    "[--json] MESH.stl|.3mf|.obj|.ply|VOLUME.nii[.gz]|.nrrd|.nhdr|.mha|.mhd|DICOM-DIR [...]",
     "Load meshes (STL binary or ASCII, detected by content; 3MF; OBJ; PLY) and report:\n"
     "facets, vertices after exact welding, bounding box, signed volume, surface area,\n"
     "shells, open and non-manifold edges, degenerate facets, facets whose orientation\n"
     "disagrees with their neighbours, and stored normals that contradict the winding;\n"
     "then the materials the file names, and for a file of several bodies (3MF build\n"
     "items, OBJ groups) each body's material, facets, volume, shells and closedness.\n"
-    "Defects are reported, not fatal; unreadable files are errors.\n",
+    "Defects are reported, not fatal; unreadable files are errors.\n"
+    "A volume (NIfTI-1/2, NRRD, MetaImage, or a directory holding one DICOM series) is\n"
+    "read whole and reported: format, samples and their type, value range (DICOM rescaled\n"
+    "to Hounsfield units), spacing, orientation, the index-to-world affine and the world\n"
+    "box, in RAS millimetres (DICOM, MetaImage and LPS NRRD files are turned from LPS).\n",
     NULL, &k_local, NULL, 1, -1, "MESH argument", 0, run, NULL, NULL};

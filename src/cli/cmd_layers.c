@@ -18,6 +18,7 @@
 typedef struct layers_cli {
     const char *output, *mesh;
     int dry_run, view;
+    hv_placement place;
 } layers_cli;
 
 static const hv_option k_local_opts[] = {
@@ -31,6 +32,7 @@ static const hv_option k_local_opts[] = {
     {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(layers_cli, mesh),
      .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
      .section = "Geometry"},
+    HV_PLACEMENT_OPTIONS(layers_cli, place),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("layers", k_local_opts, layers_cli);
 
@@ -61,14 +63,19 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
 {
     if (mesh) printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
     else printf("shape       the one %s records\n", o->model_name);
+    char placed[1024];
+    if (hv_placement_given(&c->place))
+        printf("placed      %s\n", hv_placement_describe(&c->place, placed, sizeof placed));
     hv_material_table *t = NULL;
     if (model && hv_material_table_load(model, &t) == HV_OK)
         printf("model       %s (%d materials)\n", o->model_name, hv_material_count(t));
     print_plan(r, o);
     if (o->mode != HV_LAYERS_MASK && t) {
-        printf("material    target    %s\n", o->mode == HV_LAYERS_HALFTONE ? "achieved" : "");
+        int w = 9; /* the names' column, as wide as the longest name */
+        for (int j = 0; j < r->materials; ++j) w = HV_MAX(w, (int)strlen(hv_material_name(t, j)));
+        printf("%-*s    %s\n", w - 1, "material", o->mode == HV_LAYERS_HALFTONE ? "target    achieved" : "target    ");
         for (int j = 0; j < r->materials; ++j) {
-            printf("  %-9s %.6f", hv_material_name(t, j), r->target[j]);
+            printf("  %-*s %.6f", w, hv_material_name(t, j), r->target[j]);
             if (o->mode == HV_LAYERS_HALFTONE) printf("  %.6f", r->achieved[j]);
             printf("\n");
         }
@@ -95,7 +102,8 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         o->mesh_name = o->model_name;
     } else {
         /* without --mesh the shape is the one the model records (issue 28) */
-        s = c->mesh ? hv_mesh_load(c->mesh, &mesh) : HV_OK;
+        const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
+        s = c->mesh ? cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh) : HV_OK;
         if (s == HV_OK && o->model_name) s = hv_model_load(o->model_name, &model);
     }
     hv_layers_report r;
@@ -147,6 +155,9 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
     if (!c->mesh && args->npos == 0) return cli_usage_error("layers", "missing MODEL.vdb or --mesh");
+    if (!c->mesh && hv_placement_given(&c->place))
+        return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
+                                         "sliced where its recorded shape is");
     o->mesh_name = c->mesh;
     o->model_name = args->npos ? args->pos[0] : NULL;
     o->dist = cli_dist;

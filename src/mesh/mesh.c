@@ -541,8 +541,26 @@ void hv_mesh_destroy(hv_mesh *m)
     free(m->eflags);
     hv_mesh_bodies_free(m);
     hv_mesh_appearance_free(m);
+    for (size_t i = 0; i < m->nnotes; ++i) free(m->notes[i]);
+    free(m->notes);
     free(m);
 }
+
+hv_status hv_mesh_add_note(hv_mesh *m, const char *text)
+{
+    char *copy = hv_strdup(text);
+    char **n = copy ? hv_realloc(m->notes, (m->nnotes + 1) * sizeof *n) : NULL;
+    if (!n) {
+        free(copy);
+        return HV_ERR_NOMEM;
+    }
+    m->notes = n;
+    m->notes[m->nnotes++] = copy;
+    return HV_OK;
+}
+
+size_t hv_mesh_note_count(const hv_mesh *m) { return m->nnotes; }
+const char *hv_mesh_note_at(const hv_mesh *m, size_t i) { return i < m->nnotes ? m->notes[i] : ""; }
 
 size_t hv_mesh_vertex_count(const hv_mesh *m) { return m->nv; }
 size_t hv_mesh_facet_count(const hv_mesh *m) { return m->nf; }

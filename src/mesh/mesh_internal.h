@@ -26,7 +26,12 @@ struct hv_mesh {
     int32_t *facet_tex;       /* per facet a texture, -1 or HV_MESH_NO_COLOUR */
     hv_mesh_texture *tex;     /* names and pixels owned */
     size_t ntex;
+    char **notes;             /* reader notes (hv_mesh_note_at) */
+    size_t nnotes;
 };
+
+/* Add a reader note (copied). Errors: HV_ERR_NOMEM. */
+hv_status hv_mesh_add_note(hv_mesh *m, const char *text);
 
 /* Give dst (just built from src's facets [first, first + n), in order) src's appearance of
  * those facets; swap: corners 1 and 2 of every facet were exchanged (a mirror). */

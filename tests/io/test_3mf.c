@@ -539,8 +539,6 @@ Test(threemf, damaged_packages_are_refused_naming_the_place)
                   "bad.3mf: 3D/3dmodel.model: line 2, column 557: object 1 'tet': triangle 0: p1 2 is past the end of basematerials 5 (2 entries)");
     refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT(" pid=\"5\" pindex=\"7\"", "") "</resources>" BUILD,
                   "bad.3mf: 3D/3dmodel.model: line 2, column 373: object 1 'tet': pindex 7 is past the end of basematerials 5 (2 entries)");
-    refused_model(MODEL_HEAD "<resources>" MATS TET_OBJECT("", " pid=\"5\" p1=\"0\"") "</resources>" BUILD,
-                  "bad.3mf: 3D/3dmodel.model: line 2, column 546: object 1 'tet': triangle 0 sets pid 5 but its object sets none (3MF: an object whose triangles carry properties names a default pid)");
     refused_model(MODEL_HEAD "<resources>" MATS "<object id=\"7\" type=\"model\" pid=\"5\" pindex=\"x\"/></resources>" BUILD,
                   "bad.3mf: 3D/3dmodel.model: line 2, column 362: object 7: pindex 'x' is not an index");
     refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources><build/></model>",
@@ -584,7 +582,8 @@ Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)
                   "bad.3mf: 3D/3dmodel.model: line 2, column 22: <model> unit 'furlong' is not one of micron, millimeter, centimeter, inch, foot, meter");
     refused_model(MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\" name=\"self\"><components>"
                              "<component objectid=\"2\"/></components></object></resources><build><item objectid=\"2\"/></build></model>",
-                  "bad.3mf: 3D/3dmodel.model: line 2, column 595: object 2 'self': component 1 names object 2, which is not an object defined above it");
+                  "bad.3mf: 3D/3dmodel.model: line 2, column 595: object 2 'self': component 1 names object 2, its own object: "
+                  "components may not form a cycle");
     refused_model(MODEL_HEAD "<resources><object id=\"1\"><mesh><vertices><vertex x=\"0\" y=\"0\"",
                   "bad.3mf: 3D/3dmodel.model: line 2, column 242: malformed XML: attributes construct error");
     /* issue 32 item 5: the part read is the one the relationship names, never a look-alike */
@@ -609,6 +608,65 @@ Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)
             "bad.3mf: the model part '/3D/3dmodel.model' has content type 'image/png', not "
             "application/vnd.ms-package.3dmanufacturing-3dmodel+xml");
     free(data);
+}
+
+Test(threemf, triangle_properties_without_a_default_pid_are_read_with_one_note)
+{
+    /* issue 27: 6 of the Consortium's 16 examples do this; Core 4.1.1 puts the rule on producers */
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                           MODEL_HEAD "<resources>" MATS "<object id=\"1\" name=\"tet\" type=\"model\"><mesh>" TET_VERTICES
+                                      "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\" pid=\"5\" p1=\"1\"/>"
+                                      "<triangle v1=\"0\" v2=\"1\" v3=\"3\" pid=\"5\" p1=\"0\"/>"
+                                      "<triangle v1=\"1\" v2=\"2\" v3=\"3\"/><triangle v1=\"0\" v2=\"3\" v3=\"2\" pid=\"5\" p1=\"1\"/>"
+                                      "</triangles></mesh></object></resources>" BUILD};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "loose.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(data, len, m);
+    const int32_t *fm = hv_mesh_facet_materials(m);
+    cr_assert_not_null(fm);
+    cr_assert_str_eq(hv_mesh_material_at(m, (size_t)fm[0])->name, "Agilus");
+    cr_assert_str_eq(hv_mesh_material_at(m, (size_t)fm[1])->name, "Vero");
+    cr_assert_eq(fm[2], HV_MESH_NO_MATERIAL);
+    cr_assert_eq(hv_mesh_note_count(m), 1);
+    cr_assert_str_eq(hv_mesh_note_at(m, 0),
+                     "loose.3mf: 3D/3dmodel.model: line 2, column 546: object 1 'tet': triangle 0 sets a pid though its "
+                     "object names no default pid (3MF Core 4.1.1 asks producers for one); 3 triangles so: read with "
+                     "their own properties, the other triangles of such objects with none");
+    hv_mesh_destroy(m);
+    free(data);
+}
+
+Test(threemf, beam_lattice_slice_and_other_required_extensions_are_refused_by_name)
+{
+#define BEAM_NS "http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02"
+#define SLICE_NS "http://schemas.microsoft.com/3dmanufacturing/slice/2015/07"
+    const char *models[][2] = {
+        {MODEL_HEAD "<resources><object id=\"1\"><mesh>" TET_VERTICES "<triangles/><b:beamlattice xmlns:b=\"" BEAM_NS
+                    "\" minlength=\"0.1\" radius=\"1\"><b:beams><b:beam v1=\"0\" v2=\"1\"/></b:beams></b:beamlattice>"
+                    "</mesh></object></resources>" BUILD,
+         "<beamlattice> is of the 3MF Beam Lattice extension (" BEAM_NS "), which hovox does not read"},
+        {MODEL_HEAD "<resources><s:slicestack xmlns:s=\"" SLICE_NS "\" id=\"3\" zbottom=\"0\"/></resources><build/></model>",
+         "<slicestack> is of the 3MF Slice extension (" SLICE_NS "), which hovox does not read"},
+        {"<?xml version=\"1.0\"?>\n<model xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\" "
+         "xmlns:b=\"" BEAM_NS "\" requiredextensions=\"b\"><resources/><build/></model>",
+         "<model> requires the 3MF Beam Lattice extension (" BEAM_NS "), which hovox does not read"},
+        {"<?xml version=\"1.0\"?>\n<model requiredextensions=\"q\"><resources/><build/></model>",
+         "<model> requiredextensions names prefix 'q', which is not declared"},
+    };
+    for (size_t k = 0; k < 4; ++k) {
+        const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", models[k][0]};
+        size_t len;
+        unsigned char *data = zip_parts(parts, 3, &len);
+        hv_mesh *m = NULL;
+        hv_status st = hv_mesh_parse_3mf(data, len, "ext.3mf", &m);
+        cr_assert(st == HV_ERR_UNSUPPORTED || st == HV_ERR_BAD_INPUT, "%d", (int)k);
+        cr_assert_null(m);
+        cr_assert(strstr(hv_last_error(), models[k][1]), "%s", hv_last_error());
+        cr_assert(strncmp(hv_last_error(), "ext.3mf: 3D/3dmodel.model: line ", 32) == 0, "%s", hv_last_error());
+        free(data);
+    }
 }
 
 Test(threemf, a_mirroring_transform_keeps_the_volume_positive)

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "io/io_internal.h"
+#include "mesh/mesh_internal.h"
 #include "package.h"
 #include "threemf_internal.h"
 
@@ -85,6 +86,8 @@ typedef struct reader {
     int group; /* the property group being read (index into res) */
     int has_model, resources_seen, builds;
     char label[200]; /* "object 3 'name'" */
+    uint64_t loose_props;  /* triangles with a pid in objects without a default one */
+    char loose_first[1400]; /* where the first is */
 } reader;
 
 /* ---- memory: every array the reader grows is charged to half the memory budget --------------- */
@@ -152,6 +155,22 @@ static hv_status not_index(tmf_xml *x, const char *place, const tmf_attr *a)
 {
     char q[72];
     return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: %s '%s' is not an index", place, a->local, tmf_attr_quote(a, q, sizeof q));
+}
+
+/* Extensions hovox does not read, refused by name when a file requires them or uses their
+ * geometry (a mesh without its beams or slices would be another part). */
+static hv_status unsupported(tmf_xml *x, const char *what, const char *uri)
+{
+    static const struct {
+        const char *uri, *name;
+    } known[] = {{TMF_NS_BEAM, "Beam Lattice"}, {TMF_NS_SLICE, "Slice"}, {TMF_NS_PRODUCTION, "Production"},
+                 {TMF_NS_SECURE, "Secure Content"}, {TMF_NS_IMPLICIT, "Implicit"}};
+    const char *name = NULL;
+    for (size_t i = 0; i < HV_COUNT(known) && uri; ++i)
+        if (strcmp(uri, known[i].uri) == 0) name = known[i].name;
+    if (name)
+        return tmf_xml_bad(x, HV_ERR_UNSUPPORTED, "%s the 3MF %s extension (%s), which hovox does not read", what, name, uri);
+    return tmf_xml_bad(x, HV_ERR_UNSUPPORTED, "%s the extension %s, which hovox does not read", what, uri ? uri : "?");
 }
 
 /* An index attribute: 1 and *v, 0 absent; a bad value is the error. */
@@ -260,6 +279,8 @@ static hv_status on_object(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     o->t0 = r->ntri;
     o->c0 = r->ncomp;
     if (nm && nm->len && !(o->name = copy_text(nm))) return HV_ERR_NOMEM;
+    for (int i = 0; i < n; ++i)
+        if (a[i].uri && strcmp(a[i].uri, TMF_NS_SLICE) == 0) return unsupported(x, "the object's slices are of", a[i].uri);
     const tmf_attr *type = tmf_attr_find(a, n, "type", NULL);
     if (type) {
         static const char *const types[] = {"model", "solidsupport", "support", "surface", "other"};
@@ -312,8 +333,7 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
 {
     static const char *const corner[] = {"v1", "v2", "v3"}, *const prop[] = {"p1", "p2", "p3"};
     object *o = &r->objs[r->nobj - 1];
-    char place[240];
-    snprintf(place, sizeof place, "%s: triangle %zu", r->label, o->nt);
+    char place[240]; /* written when a message needs it (a million triangles need none) */
     hv_status s = grow(r, x, (void **)&r->tri, &r->tcap, 3 * (r->ntri + 1), sizeof *r->tri);
     if (s == HV_OK) s = grow(r, x, (void **)&r->refs, &r->rfcap, 2 * (r->ntri + 1), sizeof *r->refs);
     if (s != HV_OK) return s;
@@ -321,28 +341,33 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
         const tmf_attr *v = c < n && strcmp(a[c].local, corner[c]) == 0 ? &a[c] : tmf_attr_find(a, n, corner[c], NULL);
         uint64_t i = 0;
         int rc = tmf_attr_uint(v, UINT32_MAX, &i);
+        if (rc > 0 && i < o->nv) {
+            r->tri[3 * r->ntri + (size_t)c] = (uint32_t)i;
+            continue;
+        }
+        snprintf(place, sizeof place, "%s: triangle %zu", r->label, o->nt);
         if (rc < 0) return not_index(x, place, v);
         if (rc == 0) return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s has no %s", place, corner[c]);
-        if (i >= o->nv)
-            return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex index %llu out of range (%zu vertices)", place,
-                               (unsigned long long)i, o->nv);
-        r->tri[3 * r->ntri + (size_t)c] = (uint32_t)i;
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex index %llu out of range (%zu vertices)", place,
+                           (unsigned long long)i, o->nv);
     }
     int32_t res = o->dres, ent = o->dentry;
     if (n > 3) { /* properties of its own */
+        snprintf(place, sizeof place, "%s: triangle %zu", r->label, o->nt);
         uint64_t pid = 0, p = 0;
         int has_pid, has_p, has_p1 = 0;
         if ((s = index_attr(x, place, tmf_attr_find(a, n, "pid", NULL), &pid, &has_pid)) != HV_OK) return s;
-        if (has_pid && o->dres < 0)
-            return tmf_xml_bad(x, HV_ERR_BAD_INPUT,
-                               "%s sets pid %llu but its object sets none (3MF: an object whose triangles carry "
-                               "properties names a default pid)",
-                               place, (unsigned long long)pid);
+        if (has_pid && o->dres < 0 && r->loose_props++ == 0) { /* Core 4.1.1 asks producers for a default */
+            int line, col;
+            tmf_xml_where(x, &line, &col);
+            snprintf(r->loose_first, sizeof r->loose_first, "%s: line %d, column %d: %s", tmf_xml_pkg(x)->model, line,
+                     col, place);
+        }
         if (!has_pid && o->dres >= 0) pid = strtoull(r->ids.names[o->dres], NULL, 10);
         for (int c = 0; c < 3; ++c) {
             if ((s = index_attr(x, place, tmf_attr_find(a, n, prop[c], NULL), &p, &has_p)) != HV_OK) return s;
             if (!has_p) continue;
-            if (o->dres < 0)
+            if (!has_pid && o->dres < 0)
                 return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s gives %s but neither it nor its object names a property group (pid)",
                                    place, prop[c]);
             int32_t rc, ec;
@@ -411,7 +436,10 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
         return rc < 0 ? not_index(x, place, oa) : tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s has no objectid", place);
     int64_t k = lookup(r, id);
     /* a component names an object defined above its own: component graphs have no cycles */
-    if (k < 0 || r->res[k].kind != R_OBJECT || (is_component && r->res[k].first == r->nobj - 1))
+    if (is_component && k >= 0 && r->res[k].kind == R_OBJECT && r->res[k].first == r->nobj - 1)
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s names object %llu, its own object: components may not form a cycle",
+                           place, (unsigned long long)id);
+    if (k < 0 || r->res[k].kind != R_OBJECT)
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s names object %llu, which is not %s", place, (unsigned long long)id,
                            is_component ? "an object defined above it" : "an object of the resources");
     double t[12];
@@ -431,11 +459,33 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
     return HV_OK;
 }
 
+static hv_status required_extensions(tmf_xml *x, const tmf_attr *req)
+{
+    char list[1024], q[72];
+    if (req->len >= sizeof list)
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<model> requiredextensions '%s' is too long", tmf_attr_quote(req, q, sizeof q));
+    memcpy(list, req->value, req->len);
+    list[req->len] = '\0';
+    for (char *p = list, *save = NULL, *tok; (tok = strtok_r(p, " \t\r\n", &save)); p = NULL) {
+        const char *ns = tmf_xml_lookup_ns(x, tok);
+        if (!ns)
+            return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<model> requiredextensions names prefix '%s', which is not declared",
+                               hv_quote(q, sizeof q, tok, strlen(tok)));
+        /* materials are read; the Volumetric extension's mesh is read here, its volume by hv_3mf_load */
+        if (strcmp(ns, TMF_NS_MATERIAL) != 0 && strcmp(ns, TMF_NS_CORE) != 0 && strcmp(ns, TMF_NS_VOLUMETRIC) != 0)
+            return unsupported(x, "<model> requires", ns);
+    }
+    return HV_OK;
+}
+
 static hv_status on_model(reader *r, tmf_xml *x, const tmf_attr *a, int n)
 {
     static const char *const units[] = {"micron", "millimeter", "centimeter", "inch", "foot", "meter"};
     static const double mm[] = {0.001, 1.0, 10.0, 25.4, 304.8, 1000.0};
     r->has_model = 1;
+    const tmf_attr *req = tmf_attr_find(a, n, "requiredextensions", NULL);
+    hv_status s = req ? required_extensions(x, req) : HV_OK;
+    if (s != HV_OK) return s;
     const tmf_attr *u = tmf_attr_find(a, n, "unit", NULL);
     if (!u) return HV_OK;
     for (int k = 0; k < 6; ++k)
@@ -455,8 +505,9 @@ static int group_kind(const char *local)
     return 0;
 }
 
-static hv_status on_resource(reader *r, tmf_xml *x, const char *local, const tmf_attr *a, int n)
+static hv_status on_resource(reader *r, tmf_xml *x, const char *local, const char *uri, const tmf_attr *a, int n)
 {
+    if (uri && strcmp(uri, TMF_NS_SLICE) == 0) return unsupported(x, "<slicestack> is of", uri);
     if (strcmp(local, "object") == 0) {
         r->at = W_OBJECT;
         return on_object(r, x, a, n);
@@ -506,7 +557,7 @@ static hv_status on_start(void *ctx, tmf_xml *x, const char *local, const char *
             return HV_OK;
         }
         break;
-    case W_RESOURCES: return on_resource(r, x, local, a, n);
+    case W_RESOURCES: return on_resource(r, x, local, uri, a, n);
     case W_GROUP:
         if (strcmp(local, k_child_tags[r->res[r->group].kind]) == 0) return on_entry(r, x, a, n);
         break;
@@ -523,6 +574,7 @@ static hv_status on_start(void *ctx, tmf_xml *x, const char *local, const char *
     case W_MESH:
         if (strcmp(local, "vertices") == 0) r->at = W_VERTICES;
         else if (strcmp(local, "triangles") == 0) r->at = W_TRIANGLES;
+        else if (uri && strcmp(uri, TMF_NS_BEAM) == 0) return unsupported(x, "<beamlattice> is of", uri);
         else break;
         return HV_OK;
     case W_COMPONENTS:
@@ -775,6 +827,18 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / 128);
     if (s == HV_OK) s = expand_counts(&r, name, max_tri);
     if (s == HV_OK) s = assemble(&r, name, out);
+    if (s == HV_OK && r.loose_props) {
+        char note[2048];
+        snprintf(note, sizeof note,
+                 "%s: %s sets a pid though its object names no default pid (3MF Core 4.1.1 asks producers for one); "
+                 "%llu triangle%s so: read with their own properties, the other triangles of such objects with none",
+                 name, r.loose_first, (unsigned long long)r.loose_props, r.loose_props == 1 ? "" : "s");
+        s = hv_mesh_add_note(*out, note);
+        if (s != HV_OK) {
+            hv_mesh_destroy(*out);
+            *out = NULL;
+        }
+    }
     reader_free(&r);
     return s;
 }

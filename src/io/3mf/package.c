@@ -72,10 +72,9 @@ static hv_status check_declared(tmf_pkg *pk)
     return HV_OK;
 }
 
-int tmf_pkg_has(const tmf_pkg *pk, const char *part) { return zip_name_locate(pk->zip, part, 0) >= 0; }
-
-/* The entry of a part: exactly that name; `nocase` also accepts another spelling of the two
- * names OPC fixes ([Content_Types].xml, _rels/.rels). */
+/* The entry of a part: exactly that name; `nocase` also accepts another spelling (OPC compares
+ * part names without case; the start part alone is only read under the name its relationship
+ * gives, so no look-alike can stand in for it). */
 static zip_int64_t locate(const tmf_pkg *pk, const char *part, int nocase)
 {
     zip_int64_t i = zip_name_locate(pk->zip, part, 0);
@@ -89,6 +88,8 @@ typedef struct inflater {
     zip_file_t *f;
     uint64_t declared, bytes, limit;
 } inflater;
+
+int tmf_pkg_has(const tmf_pkg *pk, const char *part) { return locate(pk, part, 1) >= 0; }
 
 static hv_status inflate_open(tmf_pkg *pk, zip_int64_t i, const char *part, uint64_t limit, inflater *in)
 {
@@ -143,7 +144,7 @@ hv_status tmf_pkg_read(tmf_pkg *pk, const char *part, uint64_t limit, uint8_t **
 {
     *data = NULL;
     *size = 0;
-    zip_int64_t i = locate(pk, part, 0);
+    zip_int64_t i = locate(pk, part, 1);
     char q[96];
     if (i < 0)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '/%s' is missing from the package", pk->name,
@@ -184,11 +185,34 @@ struct tmf_xml {
     void *ctx;
     hv_status status;
     int depth;
+    char qname[160]; /* the element being read, as written (prefix:local) */
+    int collect;     /* its text is wanted (tmf_xml_collect_text) */
+    hv_buf text;
     char xml_error[400];
     int err_line, err_col;
 };
 
 tmf_pkg *tmf_xml_pkg(tmf_xml *x) { return x->pk; }
+
+const char *tmf_xml_qname(const tmf_xml *x) { return x->qname; }
+
+const char *tmf_xml_lookup_ns(const tmf_xml *x, const char *prefix)
+{
+    /* the parser's namespace stack: (prefix, URI) pairs, innermost last */
+    for (int i = x->ctxt ? x->ctxt->nsNr - 2 : -2; i >= 0; i -= 2) {
+        const char *p = (const char *)x->ctxt->nsTab[i];
+        if (p && strcmp(p, prefix) == 0) return (const char *)x->ctxt->nsTab[i + 1];
+    }
+    return NULL;
+}
+
+void tmf_xml_collect_text(tmf_xml *x)
+{
+    x->collect = 1;
+    x->text.len = 0;
+}
+
+const char *tmf_xml_text(const tmf_xml *x) { return x->text.data && x->text.len ? x->text.data : ""; }
 
 void tmf_xml_where(const tmf_xml *x, int *line, int *col)
 {
@@ -235,6 +259,9 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
                             PKG_MAX_ATTRS));
         return;
     }
+    if (prefix) snprintf(x->qname, sizeof x->qname, "%s:%s", (const char *)prefix, (const char *)local);
+    else snprintf(x->qname, sizeof x->qname, "%s", (const char *)local);
+    x->collect = 0;
     tmf_attr a[PKG_MAX_ATTRS];
     for (int i = 0; i < nattrs; ++i) {
         const xmlChar **t = attrs + 5 * i;
@@ -249,12 +276,28 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
 
 static void on_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri)
 {
-    (void)prefix;
     tmf_xml *x = ctx;
     if (x->status != HV_OK) return;
     x->depth--;
+    if (prefix) snprintf(x->qname, sizeof x->qname, "%s:%s", (const char *)prefix, (const char *)local);
+    else snprintf(x->qname, sizeof x->qname, "%s", (const char *)local);
     hv_status s = x->h->end ? x->h->end(x->ctx, x, (const char *)local, (const char *)uri) : HV_OK;
+    x->collect = 0;
     if (s != HV_OK) stop(x, s);
+}
+
+#define PKG_MAX_TEXT ((size_t)64 << 20)
+
+static void on_text(void *ctx, const xmlChar *ch, int len)
+{
+    tmf_xml *x = ctx;
+    if (x->status != HV_OK || !x->collect || len <= 0) return;
+    if (x->text.len + (size_t)len > PKG_MAX_TEXT) {
+        stop(x, tmf_xml_bad(x, HV_ERR_LIMIT, "<%s> holds more than 64 MiB of text", x->qname));
+        return;
+    }
+    hv_buf_append(&x->text, (const char *)ch, (size_t)len);
+    if (x->text.failed) stop(x, HV_ERR_NOMEM);
 }
 
 /* A DOCTYPE is where entities are declared (XXE, billion laughs): refused before its subset. */
@@ -312,12 +355,15 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     sax.endElementNs = on_end;
     sax.internalSubset = on_doctype;
     sax.serror = on_error;
+    sax.characters = on_text;
+    sax.cdataBlock = on_text;
     tmf_xml x;
     memset(&x, 0, sizeof x);
     x.pk = pk;
     x.part = part;
     x.h = h;
     x.ctx = ctx;
+    hv_buf_init(&x.text);
     char *buf = hv_malloc(PKG_CHUNK);
     if (!buf) {
         inflate_close(&in);
@@ -345,6 +391,7 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
         xmlFreeParserCtxt(x.ctxt);
     }
     tmf_xml_quiet_end(&quiet);
+    hv_buf_free(&x.text);
     free(buf);
     inflate_close(&in);
     return s;

@@ -38,10 +38,10 @@ typedef struct tmf_pkg {
 hv_status tmf_pkg_open(tmf_pkg *pk, const void *data, size_t size, const char *path, const char *name);
 void tmf_pkg_close(tmf_pkg *pk);
 
-/* 1 when the package holds a part of exactly this name (no leading '/'). */
+/* 1 when the package holds a part of this name (no leading '/'; as OPC, case aside). */
 int tmf_pkg_has(const tmf_pkg *pk, const char *part);
 
-/* A part read whole (images), at most `limit` bytes inflated; *data freed by the caller with
+/* A part read whole (images; its name as for tmf_pkg_has), at most `limit` bytes inflated; *data freed by the caller with
  * free. Errors: HV_ERR_BAD_INPUT (missing, damaged, inflating past its declared size),
  * HV_ERR_LIMIT (past `limit` or the package's inflate cap), HV_ERR_NOMEM. */
 hv_status tmf_pkg_read(tmf_pkg *pk, const char *part, uint64_t limit, uint8_t **data, size_t *size);
@@ -77,6 +77,14 @@ hv_status tmf_xml_bad(tmf_xml *x, hv_status code, const char *fmt, ...) HV_PRINT
 hv_status tmf_xml_vbad(tmf_xml *x, hv_status code, const char *fmt, va_list ap);
 /* The package being parsed. */
 tmf_pkg *tmf_xml_pkg(tmf_xml *x);
+/* The element being read as written ("v:imagesheet"). */
+const char *tmf_xml_qname(const tmf_xml *x);
+/* The namespace URI a prefix is bound to where the parser is, or NULL. */
+const char *tmf_xml_lookup_ns(const tmf_xml *x, const char *prefix);
+/* Called from a start callback: collect the element's text (at most 64 MiB), which the end
+ * callback reads with tmf_xml_text ("" when none). */
+void tmf_xml_collect_text(tmf_xml *x);
+const char *tmf_xml_text(const tmf_xml *x);
 
 /* The attribute `local` (any namespace when uri is NULL, else that namespace), or NULL. */
 const tmf_attr *tmf_attr_find(const tmf_attr *attrs, int n, const char *local, const char *uri);

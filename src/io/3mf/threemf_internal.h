@@ -1,11 +1,12 @@
-/* src/threemf/threemf_internal.h - what the 3MF Volumetric writer (write.c), reader (read.c) and
- * the exact voxel boundary mesh (boundary.c) share: namespaces, OPC names, limits. Internal. */
+/* src/io/3mf/threemf_internal.h - what the 3MF package module (package.c), the mesh reader, the
+ * Volumetric writer and reader and the exact voxel boundary mesh (boundary.c) share: namespaces,
+ * OPC names. Internal. */
 #ifndef HOVOX_THREEMF_INTERNAL_H
 #define HOVOX_THREEMF_INTERNAL_H
 
 #include "core/internal.h"
-#include "hovox/export.h"
 #include "hovox/threemf.h"
+#include "hovox/volume.h"
 
 /* XML namespaces (3MF Core 1.3; Volumetric and Implicit extensions 0.8, Part I "Document
  * Conventions"; Materials 1.2) and hovox's own, for metadata and property names. */
@@ -14,6 +15,10 @@
 #define TMF_NS_VOLUMETRIC "http://schemas.3mf.io/3dmanufacturing/volumetric/2022/01"
 #define TMF_NS_IMPLICIT "http://schemas.3mf.io/3dmanufacturing/implicit/2023/12"
 #define TMF_NS_HOVOX "urn:hovox:3mf:2025"
+#define TMF_NS_BEAM "http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02"
+#define TMF_NS_SLICE "http://schemas.microsoft.com/3dmanufacturing/slice/2015/07"
+#define TMF_NS_PRODUCTION "http://schemas.microsoft.com/3dmanufacturing/production/2015/06"
+#define TMF_NS_SECURE "http://schemas.microsoft.com/3dmanufacturing/securecontent/2019/04"
 
 /* Open Packaging Conventions: content types, relationships. */
 #define TMF_NS_CONTENT_TYPES "http://schemas.openxmlformats.org/package/2006/content-types"

@@ -13,6 +13,7 @@
 
 #include "core/zip.h"
 #include "export/export_internal.h"
+#include "hovox/export.h"
 #include "hovox/image.h"
 #include "threemf_internal.h"
 

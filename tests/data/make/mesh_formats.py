@@ -97,6 +97,18 @@ package('tests/data/bad/3mf_nan_vertex.3mf', model(tet(v3='0 NaN 1')))
 package('tests/data/bad/3mf_unknown_component.3mf', model(
     tet() + '<object id="2" name="assembly" type="model"><components><component objectid="1"/>'
     '<component objectid="5"/></components></object>', '<item objectid="2"/>'))
+# issue 27: what other producers write and hovox reads (with one warning), or refuses by name
+package('tests/data/good/3mf_loose_pid.3mf', model(MATS + tet(tri_attrs={0: ' pid="5" p1="1"', 1: ' pid="5" p1="0"',
+                                                                   2: ' pid="5" p1="0"', 3: ' pid="5" p1="0"'})))
+package('tests/data/bad/3mf_singular_transform.3mf', model(tet(), '<item objectid="1" transform="1 0 0 0 1 0 0 0 0 0 0 0"/>'))
+package('tests/data/bad/3mf_cyclic_component.3mf', model(
+    tet() + '<object id="2" name="loop" type="model"><components><component objectid="2"/></components></object>',
+    '<item objectid="2"/>'))
+package('tests/data/bad/3mf_unknown_unit.3mf', model(tet(), unit='furlong'))
+package('tests/data/bad/3mf_beam_lattice.3mf', model(
+    '<object id="1" name="lattice" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="0" y="0" z="10"/>'
+    '</vertices><triangles/><b:beamlattice xmlns:b="http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02" '
+    'minlength="0.1" radius="1"><b:beams><b:beam v1="0" v2="1"/></b:beams></b:beamlattice></mesh></object>'))
 buf = io.BytesIO()
 package(buf, model(tet()))
 good = buf.getvalue()

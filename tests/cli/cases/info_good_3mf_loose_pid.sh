@@ -1,0 +1,1 @@
+$HOVOX info tests/data/good/3mf_loose_pid.3mf

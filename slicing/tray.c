@@ -50,6 +50,7 @@ static const hv_option k_part[] = {
      .meta = "DEG", .unit = "degrees", .help = "about z: 0, 90, 180 or 270"},
     {.key = "copies", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = MAX_PARTS, .offset = POFF(copies),
      .meta = "N", .help = "copies in a row along +x"},
+    HV_PLACEMENT_OPTIONS(hv_tray_part, place),
 };
 #undef POFF
 
@@ -602,6 +603,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
+    if (st == HV_OK) st = hv_placement_apply(&s->p.place, &mesh);
     if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
     int q = (s->p.rotation / 90) % 4;
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
@@ -1176,6 +1178,10 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
         failed |= hv_json_set(p, "at_mm", num2(in->x, in->y));
         failed |= hv_json_set(p, "lift_layers", json_integer((json_int_t)in->lift));
         failed |= hv_json_set(p, "rotation", json_integer(s->p.rotation));
+        if (hv_placement_given(&s->p.place)) {
+            char placed[1024];
+            failed |= hv_json_set(p, "placement", hv_json_text(hv_placement_describe(&s->p.place, placed, sizeof placed)));
+        }
         double wx = s->bmax[0] - s->bmin[0], wy = s->bmax[1] - s->bmin[1];
         json_t *box = json_array();
         json_array_append_new(box, hv_json_number(in->x - 0.5 * wx));

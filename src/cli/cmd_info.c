@@ -1,20 +1,67 @@
-/* src/cli/cmd_info.c - `hovox info MESH...`: the mesh report as text or JSON. */
+/* src/cli/cmd_info.c - `hovox info MESH|VOLUME...`: the mesh report, or a scanner volume's
+ * (NIfTI, NRRD, MetaImage, a DICOM series directory), as text or JSON. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <jansson.h>
 
 #include "core/internal.h"
 #include "mesh/mesh_internal.h"
 #include "cli.h"
 #include "hovox/mesh.h"
+#include "io/scan/scan_internal.h"
 
 typedef struct info_cli {
     int json;
 } info_cli;
 
-static const hv_option k_local_opts[] = {CLI_JSON(info_cli, "one JSON object per mesh (an array when several meshes are given), with its materials and bodies")};
+static const hv_option k_local_opts[] = {
+    CLI_JSON(info_cli, "one JSON object per mesh or volume (an array when several are given), with its materials and bodies")};
 static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
 
+
+/* An item's transform: "identity", "translate X Y Z", or its three rows. */
+static void transform_text(const double *t, char *buf, size_t size)
+{
+    int linear_id = t[0] == 1 && t[1] == 0 && t[2] == 0 && t[4] == 0 && t[5] == 1 && t[6] == 0 && t[8] == 0 &&
+                    t[9] == 0 && t[10] == 1;
+    if (linear_id && t[3] == 0 && t[7] == 0 && t[11] == 0) snprintf(buf, size, "identity");
+    else if (linear_id) snprintf(buf, size, "translate %.6g %.6g %.6g", t[3], t[7], t[11]);
+    else
+        snprintf(buf, size, "[%.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g]", t[0], t[1], t[2], t[3], t[4],
+                 t[5], t[6], t[7], t[8], t[9], t[10], t[11]);
+}
+
+/* "3 'name'" or "3": an item's object. */
+static int item_label(const hv_mesh_item *it, char *buf, size_t size)
+{
+    if (it->object_name[0]) return snprintf(buf, size, "%llu '%.160s'", (unsigned long long)it->object_id, it->object_name);
+    return snprintf(buf, size, "%llu", (unsigned long long)it->object_id);
+}
+
+/* The file's build items (3MF): object, the body it became, transform. */
+static void print_items(const hv_mesh *m)
+{
+    size_t n = hv_mesh_item_count(m);
+    if (!n) return;
+    int wo = 6, wb = 4;
+    char label[192];
+    for (size_t i = 0; i < n; ++i) {
+        const hv_mesh_item *it = hv_mesh_item_at(m, i);
+        wo = HV_MAX(wo, item_label(it, label, sizeof label));
+        if (it->body >= 0) wb = HV_MAX(wb, (int)strlen(hv_mesh_body_at(m, (size_t)it->body)->name));
+    }
+    printf("build items         %zu\n", n);
+    printf("  %4s  %-*s  %-*s  %s\n", "item", wo, "object", wb, "body", "transform");
+    for (size_t i = 0; i < n; ++i) {
+        const hv_mesh_item *it = hv_mesh_item_at(m, i);
+        char t[320];
+        transform_text(it->transform, t, sizeof t);
+        item_label(it, label, sizeof label);
+        printf("  %4zu  %-*s  %-*s  %s\n", i + 1, wo, label, wb, it->body >= 0 ? hv_mesh_body_at(m, (size_t)it->body)->name : "-", t);
+    }
+}
 
 static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report *bodies)
 {
@@ -22,6 +69,9 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
     int closed = r->open_edges == 0 && r->nonmanifold_edges == 0;
     printf("file                %s\n", path);
     printf("format              %s\n", hv_mesh_format_name(r->format));
+    if (hv_mesh_file_unit(m))
+        printf("unit                %s%s\n", hv_mesh_file_unit(m),
+               strcmp(hv_mesh_file_unit(m), "millimeter") ? " (the file's; the figures here are in mm)" : "");
     printf("facets              %llu\n", (unsigned long long)r->facets);
     printf("vertices            %llu\n", (unsigned long long)r->vertices);
     printf("bbox min            %.6g %.6g %.6g\n", r->bbox_min[0], r->bbox_min[1], r->bbox_min[2]);
@@ -66,6 +116,7 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
         }
     }
     if (hv_mesh_corner_colours(m)) printf("corner colours      yes\n");
+    print_items(m);
     if (nb < 2 && nm == 0) return; /* one body and no material: the report above says it all */
     int wn = 4, wm = 8;
     for (size_t i = 0; i < nb; ++i) {
@@ -101,6 +152,66 @@ static void warn_inside_out(const char *path, const hv_mesh *m, const hv_mesh_re
     }
 }
 
+static void print_scan_text(const char *path, const hv_scan *sc)
+{
+    const hv_scan_info *in = hv_scan_get_info(sc);
+    size_t d[3];
+    double m[12], sp[3], lo[3], hi[3];
+    char axes[4];
+    hv_scan_dims(sc, d);
+    hv_scan_affine(sc, m);
+    hv_scan_geometry(sc, sp, axes, lo, hi);
+    printf("file                %s\n", path);
+    printf("format              %s (%s)\n", in->format_name, in->encoding);
+    if (in->files > 1) printf("files               %zu\n", in->files);
+    printf("samples             %zu x %zu x %zu %s\n", d[0], d[1], d[2], in->sample_type);
+    printf("values              %.6g .. %.6g%s%s\n", in->value_min, in->value_max, in->unit[0] ? " " : "", in->unit);
+    if (in->slope != 1 || in->intercept != 0) printf("rescale             stored * %.6g %c %.6g\n", in->slope, in->intercept < 0 ? '-' : '+', fabs(in->intercept));
+    printf("spacing             %.6g x %.6g x %.6g mm\n", sp[0], sp[1], sp[2]);
+    printf("orientation         %s (axes i, j, k point toward %c, %c, %c)\n", axes, axes[0], axes[1], axes[2]);
+    printf("origin              %.6g %.6g %.6g (centre of sample 0,0,0; RAS mm)\n", m[3], m[7], m[11]);
+    for (int a = 0; a < 3; ++a) printf("axis %c              %.6g %.6g %.6g\n", "ijk"[a], m[a], m[4 + a], m[8 + a]);
+    printf("bbox min            %.6g %.6g %.6g\n", lo[0], lo[1], lo[2]);
+    printf("bbox max            %.6g %.6g %.6g\n", hi[0], hi[1], hi[2]);
+    printf("size                %.6g x %.6g x %.6g\n", hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    printf("world from          %s\n", in->space);
+}
+
+static void json_nums(hv_buf *b, const char *key, const double *v, int n)
+{
+    hv_buf_printf(b, ", \"%s\": [", key);
+    for (int i = 0; i < n; ++i) hv_buf_printf(b, "%s%.17g", i ? ", " : "", v[i]);
+    hv_buf_puts(b, "]");
+}
+
+static void scan_json(hv_buf *b, const char *path, const hv_scan *sc)
+{
+    const hv_scan_info *in = hv_scan_get_info(sc);
+    size_t d[3];
+    double m[12], sp[3], lo[3], hi[3];
+    char axes[4];
+    hv_scan_dims(sc, d);
+    hv_scan_affine(sc, m);
+    hv_scan_geometry(sc, sp, axes, lo, hi);
+    json_t *f = json_string(path), *sp_ = json_string(in->space);
+    char *fj = f ? json_dumps(f, JSON_ENCODE_ANY) : NULL, *sj = sp_ ? json_dumps(sp_, JSON_ENCODE_ANY) : NULL;
+    hv_buf_printf(b, "{\"file\": %s, \"kind\": \"volume\", \"format\": \"%s\", \"encoding\": \"%s\", \"files\": %zu, "
+                  "\"dims\": [%zu, %zu, %zu], \"sample_type\": \"%s\", \"unit\": \"%s\"",
+                  fj ? fj : "null", in->format_name, in->encoding, in->files, d[0], d[1], d[2], in->sample_type, in->unit);
+    hv_buf_printf(b, ", \"value_min\": %.9g, \"value_max\": %.9g, \"slope\": %.17g, \"intercept\": %.17g", in->value_min,
+                  in->value_max, in->slope, in->intercept);
+    json_nums(b, "spacing", sp, 3);
+    hv_buf_printf(b, ", \"orientation\": \"%s\"", axes);
+    json_nums(b, "affine", m, 12);
+    json_nums(b, "bbox_min", lo, 3);
+    json_nums(b, "bbox_max", hi, 3);
+    hv_buf_printf(b, ", \"world_from\": %s}", sj ? sj : "null");
+    free(fj);
+    free(sj);
+    json_decref(f);
+    json_decref(sp_);
+}
+
 /* Each body's own report (one body: the mesh's). */
 static hv_status body_reports(const hv_mesh *m, hv_mesh_report **out)
 {
@@ -118,24 +229,32 @@ static hv_status body_reports(const hv_mesh *m, hv_mesh_report **out)
     return HV_OK;
 }
 
-static int report(char **paths, int n, int json)
+static int report(char **paths, int n, const info_cli *opt)
 {
+    int json = opt->json;
     /* load everything first: no partial report on failure */
     hv_mesh **meshes = calloc((size_t)n, sizeof *meshes);
     hv_mesh_report **bodies = calloc((size_t)n, sizeof *bodies);
-    hv_status s = meshes && bodies ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory");
+    hv_scan **scans = calloc((size_t)n, sizeof *scans);
+    hv_status s = meshes && bodies && scans ? HV_OK : hv_error_set(HV_ERR_NOMEM, "out of memory");
     for (int i = 0; i < n && s == HV_OK; ++i) {
+        if (hv_scan_path_is_scan(paths[i])) {
+            s = hv_scan_load(paths[i], NULL, &scans[i]); /* --max-memory caps its budget */
+            continue;
+        }
         s = hv_mesh_load(paths[i], &meshes[i]);
         if (s == HV_OK) cli_mesh_notes(meshes[i]);
         if (s == HV_OK) s = body_reports(meshes[i], &bodies[i]);
     }
     if (s != HV_OK) {
-        for (int k = 0; k < n && meshes && bodies; ++k) {
+        for (int k = 0; k < n && meshes && bodies && scans; ++k) {
             hv_mesh_destroy(meshes[k]);
             free(bodies[k]);
+            hv_scan_destroy(scans[k]);
         }
         free(meshes);
         free(bodies);
+        free(scans);
         return cli_fail(s);
     }
     hv_buf out;
@@ -143,19 +262,23 @@ static int report(char **paths, int n, int json)
     if (json && n > 1) hv_buf_puts(&out, "[");
     for (int i = 0; i < n; ++i) {
         const char *path = paths[i];
-        warn_inside_out(path, meshes[i], bodies[i]);
+        if (meshes[i]) warn_inside_out(path, meshes[i], bodies[i]);
         if (json) {
             if (i) hv_buf_puts(&out, ",\n ");
-            hv_mesh_info_json(&out, path, meshes[i], bodies[i]);
+            if (scans[i]) scan_json(&out, path, scans[i]);
+            else hv_mesh_info_json(&out, path, meshes[i], bodies[i]);
         } else {
             if (i) putchar('\n');
-            print_text(path, meshes[i], bodies[i]);
+            if (scans[i]) print_scan_text(path, scans[i]);
+            else print_text(path, meshes[i], bodies[i]);
         }
         hv_mesh_destroy(meshes[i]);
         free(bodies[i]);
+        hv_scan_destroy(scans[i]);
     }
     free(meshes);
     free(bodies);
+    free(scans);
     if (json) {
         if (n > 1) hv_buf_puts(&out, "]");
         hv_buf_puts(&out, "\n");
@@ -172,17 +295,21 @@ static int report(char **paths, int n, int json)
 static int run(const cli_args *args, void *lib, void *local)
 {
     (void)lib;
-    return report(args->pos, args->npos, ((const info_cli *)local)->json);
+    return report(args->pos, args->npos, (const info_cli *)local);
 }
 
 const cli_spec cmd_info = {
-    "info", "report on meshes: size, volume, shells, defects, bodies, materials",
-    "[--json] MESH.stl|.3mf|.obj|.ply [MESH ...]",
+    "info", "report on meshes (size, volume, shells, defects, bodies, materials) and scanner volumes",
+    "[--json] MESH.stl|.3mf|.obj|.ply|VOLUME.nii[.gz]|.nrrd|.nhdr|.mha|.mhd|DICOM-DIR [...]",
     "Load meshes (STL binary or ASCII, detected by content; 3MF; OBJ; PLY) and report:\n"
     "facets, vertices after exact welding, bounding box, signed volume, surface area,\n"
     "shells, open and non-manifold edges, degenerate facets, facets whose orientation\n"
     "disagrees with their neighbours, and stored normals that contradict the winding;\n"
     "then the materials the file names, and for a file of several bodies (3MF build\n"
     "items, OBJ groups) each body's material, facets, volume, shells and closedness.\n"
-    "Defects are reported, not fatal; unreadable files are errors.\n",
+    "Defects are reported, not fatal; unreadable files are errors.\n"
+    "A volume (NIfTI-1/2, NRRD, MetaImage, or a directory holding one DICOM series) is\n"
+    "read whole and reported: format, samples and their type, value range (DICOM rescaled\n"
+    "to Hounsfield units), spacing, orientation, the index-to-world affine and the world\n"
+    "box, in RAS millimetres (DICOM, MetaImage and LPS NRRD files are turned from LPS).\n",
     NULL, &k_local, NULL, 1, -1, "MESH argument", 0, run, NULL, NULL};

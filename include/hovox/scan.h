@@ -1,0 +1,98 @@
+/* hovox/scan.h - scanner and simulation volumes: NIfTI-1/2 (.nii, .nii.gz), NRRD (.nrrd, .nhdr),
+ * MetaImage (.mha, .mhd) and DICOM series (a directory of slices) read into one dense scalar
+ * field with its index-to-world affine, in millimetres and RAS coordinates (src/io/scan/).
+ *
+ * World coordinates. hovox's world for scans is RAS+ (+x toward the patient's right, +y anterior,
+ * +z superior), NIfTI's convention: NIfTI's sform or
+ * qform is taken as it is; DICOM, MetaImage (ITK's physical space) and NRRD files whose space
+ * is left-posterior-superior are LPS+ and become RAS+ by negating x and y. A head thus prints
+ * standing, its top at +z. Lengths in metres or micrometres are scaled to millimetres. */
+#ifndef HOVOX_SCAN_H
+#define HOVOX_SCAN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hovox/core.h"
+#include "hovox/options.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct hv_scan hv_scan;
+
+typedef enum hv_scan_format {
+    HV_SCAN_NIFTI1 = 1, /* .nii, .nii.gz */
+    HV_SCAN_NIFTI2,     /* .nii, .nii.gz */
+    HV_SCAN_NRRD,       /* .nrrd (attached data), .nhdr (detached) */
+    HV_SCAN_METAIMAGE,  /* .mha (attached), .mhd (detached) */
+    HV_SCAN_DICOM       /* a directory of single-frame slices of one series */
+} hv_scan_format;
+
+/* Reading options. */
+typedef struct hv_scan_options {
+    uint64_t max_memory; /* bytes the data may take (0: hv_memory_budget's default) */
+} hv_scan_options;
+
+/* The option set (key max_memory) and defaults. */
+HV_API const hv_option_set *hv_scan_option_set(void);
+HV_API void hv_scan_options_init(hv_scan_options *opts);
+
+/* What was read, for reports. Strings are owned by the scan. */
+typedef struct hv_scan_info {
+    hv_scan_format format;
+    const char *format_name;  /* "NIfTI-1", "NIfTI-2", "NRRD", "MetaImage", "DICOM series" */
+    const char *sample_type;  /* the file's sample type: "int16", "uint8", "float32", ... */
+    const char *encoding;     /* "raw", "gzip", "zlib", "ascii" */
+    const char *space;        /* where the affine came from: "sform (scanner)", "qform (aligned)",
+                                 "LPS -> RAS", "pixdim only", ... */
+    const char *unit;         /* value unit: "HU" for CT DICOM, else "" */
+    double slope, intercept;  /* value = stored * slope + intercept (1, 0 when none) */
+    double value_min, value_max; /* over every voxel (after scaling) */
+    size_t files;             /* files read (a DICOM series: its slices; .nhdr/.mhd: 2) */
+} hv_scan_info;
+
+/* 1 when `path` names a scan by its form: a file ending in .nii, .nii.gz, .nrrd, .nhdr, .mha or
+ * .mhd (case-insensitive), or a directory (a DICOM series). Touches the file system only to
+ * tell a directory. */
+HV_API int hv_scan_path_is_scan(const char *path);
+
+/* Read a scan (the format by the name's extension; a directory is a DICOM series). Every voxel's
+ * value becomes a float (scaled as the file says: NIfTI scl_slope/scl_inter, DICOM rescale slope
+ * and intercept, giving Hounsfield units for CT). The data's size (4 bytes a voxel) is checked
+ * against hv_memory_budget(opts->max_memory) before anything is allocated. Input is hostile:
+ * sizes, offsets and counts are checked against the file before they are used. opts may be NULL.
+ * Errors: HV_ERR_IO (missing, unreadable), HV_ERR_BAD_INPUT (malformed, truncated, a header
+ * that lies about sizes, an unsupported sample type or encoding, a DICOM series with gaps,
+ * mixed sizes or orientations, or several series; one message naming the file, the place and
+ * the value), HV_ERR_LIMIT (over the memory budget, saying how much is needed),
+ * HV_ERR_NOMEM, HV_ERR_UNSUPPORTED (a compressed DICOM transfer syntax, bzip2 NRRD).
+ * Free with hv_scan_destroy. */
+HV_API hv_status hv_scan_load(const char *path, const hv_scan_options *opts, hv_scan **out);
+
+/* Parse a scan held in memory: the attached forms only (.nii or .nii.gz bytes, .nrrd, .mha, or
+ * one DICOM slice as a series of one). `name` (for messages) is also what tells the format by
+ * its extension ("x.nii", "x.nrrd", "x.mha", "x.dcm"). Errors: those of hv_scan_load. */
+HV_API hv_status hv_scan_parse(const void *data, size_t size, const char *name,
+                               const hv_scan_options *opts, hv_scan **out);
+
+/* Free; NULL is allowed. */
+HV_API void hv_scan_destroy(hv_scan *scan);
+
+/* Samples along i, j, k. */
+HV_API void hv_scan_dims(const hv_scan *scan, size_t dims[3]);
+/* The values, i fastest: value(i, j, k) = data[i + nx * (j + ny * k)]. Owned by the scan. */
+HV_API const float *hv_scan_data(const hv_scan *scan);
+/* The index-to-world affine, 3x4 row-major (as hv_mesh_transform): the centre of sample (i,j,k)
+ * is at world x = m[0] i + m[1] j + m[2] k + m[3], y = m[4] i + ..., z = m[8] i + ... + m[11]
+ * (RAS, mm). */
+HV_API void hv_scan_affine(const hv_scan *scan, double m[12]);
+HV_API const hv_scan_info *hv_scan_get_info(const hv_scan *scan);
+/* The path (or name) it was read from; owned by the scan. */
+HV_API const char *hv_scan_name(const hv_scan *scan);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

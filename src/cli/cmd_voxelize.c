@@ -1,6 +1,7 @@
 /* src/cli/cmd_voxelize.c - `hovox voxelize MESH -o MODEL.vdb`: surface + interior voxels (Wu 2.1).
  * The options are the library's (hv_voxelize_option_set). */
 #include <stdio.h>
+#include <string.h>
 
 #include "cli.h"
 #include "core/internal.h"
@@ -13,7 +14,21 @@ typedef struct vox_cli {
     const char *output, *like;
     int dry_run, json;
     hv_placement place;
+    const char *material[64]; /* "BODY=NAME" */
+    int nmaterial;
 } vox_cli;
+
+static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    vox_cli *c = opts;
+    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
+    if (!eq || eq == v->text || !eq[1])
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=MATERIAL, got '%s'", o->key,
+                               v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
+    if (c->nmaterial == 64) return hv_error_option(HV_ERR_INVALID, "at most 64 {%s} options", o->key);
+    c->material[c->nmaterial++] = v->text;
+    return HV_OK;
+}
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(vox_cli, "MODEL.vdb", "the .vdb to write (atomically)", 0),
@@ -22,6 +37,10 @@ static const hv_option k_local_opts[] = {
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, dry_run),
      .help = "print the plan and its memory estimate, write nothing", .section = "Output"},
     CLI_JSON(vox_cli, "print the summary as JSON"),
+    {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+     .parse = add_material, .section = "Assemblies",
+     .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
+             "says; repeatable"},
     HV_PLACEMENT_OPTIONS(vox_cli, place),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
@@ -168,6 +187,12 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_mesh *mesh = NULL, *raw = NULL;
     hv_status s = hv_mesh_load(path, &raw);
     if (s == HV_OK) cli_mesh_notes(raw);
+    for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
+        const char *eq = strchr(c->material[i], '=');
+        char body[1024];
+        snprintf(body, sizeof body, "%.*s", (int)(eq - c->material[i]), c->material[i]);
+        s = hv_mesh_body_material_set(raw, body, eq + 1);
+    }
     if (s == HV_OK && hv_placement_given(&c->place)) s = hv_placement_transform(&c->place, raw, &mesh);
     else if (s == HV_OK) {
         mesh = raw;

@@ -294,7 +294,11 @@ hv_status hv_geometry_leaf_mesh_raw(const hv_geometry *g, size_t i, hv_mesh **ou
         mats[k].has_color = take_u32(&r) != 0;
         mats[k].name = take_str(&r, &nomem);
     }
-    const int32_t *fm = flags & 1 && !nomem ? take(&r, 4 * (size_t)nf) : NULL;
+    /* the facets' materials follow the names, at any byte offset: copied out to be read as int32 */
+    const void *fm_bytes = flags & 1 && !nomem ? take(&r, 4 * (size_t)nf) : NULL;
+    int32_t *fm = NULL;
+    if (fm_bytes && !(fm = hv_malloc_array(nf, sizeof *fm))) nomem = 1;
+    if (fm) memcpy(fm, fm_bytes, 4 * (size_t)nf);
     hv_status s = HV_OK;
     if (nomem) s = HV_ERR_NOMEM;
     else if (r.bad || total != nf || r.at != r.n)
@@ -327,6 +331,7 @@ hv_status hv_geometry_leaf_mesh_raw(const hv_geometry *g, size_t i, hv_mesh **ou
     free(bodies);
     free(mats);
     free(soup);
+    free(fm);
     if (s != HV_OK) {
         hv_mesh_destroy(m);
         return s;

@@ -37,8 +37,8 @@ CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-
 # (with -fvisibility=hidden openvdb::initialize() crashes); plugins load RTLD_LOCAL anyway.
 CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
                 $(if $(filter 1,$(WERROR)),-Werror) $(SANFLAGS)
-PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc 2>/dev/null)
-PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc 2>/dev/null)
+PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc libjpeg lcms2 2>/dev/null)
+PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc libjpeg lcms2 2>/dev/null)
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------

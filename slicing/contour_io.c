@@ -244,7 +244,7 @@ hv_status hv_contour_writer_open_bodies(const char *path, hv_contour_format form
         }
         printf_(w, "$$DIMENSION/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", lo[0], lo[1], lo[2], hi[0], hi[1],
                 hi[2]);
-        printf_(w, "$$LAYERS/%06zu\n", layers ? layers + 1 : 0); /* + the zero layer */
+        printf_(w, "$$LAYERS/%06zu\n", layers);
         puts_(w, format == HV_CONTOUR_CLI_BINARY ? "$$HEADEREND" : "$$HEADEREND\n$$GEOMETRYSTART\n");
     }
     st = flush(w);
@@ -301,11 +301,6 @@ static void svg_layer(hv_contour_writer *w, const hv_layer *L, const hv_slice *s
 
 static void cli_ascii_layer(hv_contour_writer *w, const hv_layer *L, const hv_slice *sl)
 {
-    if (w->added == 0) { /* zero layer: gives the first layer its thickness */
-        puts_(w, "$$LAYER/");
-        num(w, L->bottom);
-        put(w, "\n", 1);
-    }
     puts_(w, "$$LAYER/");
     num(w, L->top);
     put(w, "\n", 1);
@@ -329,10 +324,6 @@ static void cli_ascii_layer(hv_contour_writer *w, const hv_layer *L, const hv_sl
 
 static void cli_binary_layer(hv_contour_writer *w, const hv_layer *L, const hv_slice *sl)
 {
-    if (w->added == 0) {
-        put_u16(w, 127);
-        put_f32(w, L->bottom);
-    }
     put_u16(w, 127);
     put_f32(w, L->top);
     size_t n = hv_slice_loop_count(sl);

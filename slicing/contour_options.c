@@ -47,8 +47,8 @@ static const hv_option k_opts[] = {
     {.key = "output", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = OFF(output), .meta = "FILE",
      .check = check_output, .section = "Output",
      .help = ".svg: one file, a <g> per layer (data-z = cut height), 1 user unit = 1 mm, y up; .cli: Common Layer "
-             "Interface 2.0, ASCII ($$LAYER/z is the top of the layer; a leading zero layer gives the first "
-             "layer's thickness; $$POLYLINE dir 1 outer, 0 hole, 2 open)"},
+             "Interface 2.0, ASCII ($$LAYER/z is the top of the layer, the first starting at $$DIMENSION's "
+             "lowest z; $$LAYERS the count of layers; $$POLYLINE dir 1 outer, 0 hole, 2 open)"},
     {.key = "per_layer", .kind = HV_OPT_STRING, .flags = HV_OPT_OUT_PATH, .offset = OFF(per_layer), .meta = "DIR",
      .help = "also one SVG per layer: DIR/layer-00000.svg, ..."},
 };

@@ -252,6 +252,12 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
          * [c sx, (c+1) sx) and y in (plate_y - (r+1) py, plate_y - r py] */
         double tx = pl->x - 0.5 * (info.bbox_min[0] + info.bbox_max[0]);
         double ty = pl->y - 0.5 * (info.bbox_min[1] + info.bbox_max[1]);
+        double bx0 = info.bbox_min[0] + tx, bx1 = info.bbox_max[0] + tx;
+        double by0 = info.bbox_min[1] + ty, by1 = info.bbox_max[1] + ty;
+        if (bx0 < -1e-9 || by0 < -1e-9 || bx1 > pl->plate_x + 1e-9 || by1 > pl->plate_y + 1e-9)
+            return hv_error_option(HV_ERR_INVALID, "{place} %g,%g puts the part off the %s plate: its box spans x %.4g..%.4g, "
+                                   "y %.4g..%.4g mm (the plate is %g x %g mm)", pl->x, pl->y, pl->plate, bx0, bx1,
+                                   by0, by1, pl->plate_x, pl->plate_y);
         double c0 = floor((info.bbox_min[0] + tx) / sx + 1e-9) - mx, c1 = ceil((info.bbox_max[0] + tx) / sx - 1e-9) + mx;
         double r0 = floor((pl->plate_y - (info.bbox_max[1] + ty)) / py + 1e-9) - my;
         double r1 = ceil((pl->plate_y - (info.bbox_min[1] + ty)) / py - 1e-9) + my;
@@ -459,7 +465,10 @@ static const hv_layers_place *options_place(const hv_layers_options *o, hv_layer
     const hv_printer_profile *p = hv_printer_profile_find(o->profile);
     pl->x = o->place[0];
     pl->y = o->place[1];
-    pl->plate_y = (p ? p : &g_profiles[0])->build[1];
+    p = p ? p : &g_profiles[0];
+    pl->plate_y = p->build[1];
+    pl->plate_x = p->build[0];
+    pl->plate = p->name;
     pl->lift = 0;
     return pl;
 }

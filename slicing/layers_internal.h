@@ -103,6 +103,8 @@ hv_status hv_stack_manifest_check(const char *text, size_t size);
 typedef struct hv_layers_place {
     double x, y, plate_y;
     size_t lift;
+    double plate_x;     /* the plate's width (mm): the part's box must lie on the plate */
+    const char *plate;  /* the plate's name in messages ("j750") */
 } hv_layers_place;
 
 /* One part of a tray: the single-part job planned on the plate, rendering layers into its

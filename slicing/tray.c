@@ -25,21 +25,10 @@
 
 /* ---- resins -------------------------------------------------------------------------------- */
 
-/* Public colour names of PolyJet resins for the J750/J850 (Stratasys material data sheets);
- * the display colours are ours. Not vendor-confirmed: a job may override them. */
-static const hv_resin k_resins[] = {
-    {"VeroCyan-V", {0x00, 0x9f, 0xe3}},      {"VeroMagenta-V", {0xd4, 0x0f, 0x7d}},
-    {"VeroYellow-V", {0xf5, 0xd5, 0x00}},    {"VeroBlackPlus", {0x20, 0x20, 0x20}},
-    {"VeroPureWhite", {0xf4, 0xf4, 0xf0}},   {"VeroClear", {0xb8, 0xd8, 0xe0}},
-    {"VeroUltraClear", {0xe0, 0xee, 0xf2}},  {"Agilus30Clear", {0xd8, 0xd4, 0xb8}},
-    {"Agilus30Black", {0x38, 0x38, 0x38}},   {"Agilus30White", {0xe8, 0xe8, 0xe0}},
-};
-
 const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n)
 {
     (void)p; /* the J750 and J850 take the same resins */
-    *n = (int)HV_COUNT(k_resins);
-    return k_resins;
+    return hv_resin_table(n);
 }
 
 /* ---- options ---------------------------------------------------------------------------------- */
@@ -189,6 +178,7 @@ typedef struct instance {
     int c0, r0, w, h;
     size_t layers;
     int cx, cy;      /* the footprint's cell (0,0) on the plate's CELL grid */
+    int arranged;    /* placed by arrange() */
 } instance;
 
 struct hv_tray {
@@ -287,6 +277,23 @@ void hv_tray_instance_box(const hv_tray *t, int i, double box[4])
     box[1] = in->y - 0.5 * wy;
     box[2] = in->x + 0.5 * wx;
     box[3] = in->y + 0.5 * wy;
+}
+
+void hv_tray_instance_get(const hv_tray *t, int i, hv_tray_placement *out)
+{
+    const instance *in = &t->inst[i];
+    const source *s = &t->src[in->src];
+    memset(out, 0, sizeof *out);
+    out->name = s->p.name;
+    out->part = s->number;
+    out->copy = in->copy + 1;
+    out->copies = s->p.copies;
+    out->at[0] = in->x;
+    out->at[1] = in->y;
+    hv_tray_instance_box(t, i, out->box);
+    out->rotation = s->p.rotation;
+    out->lift = in->lift;
+    out->arranged = in->arranged;
 }
 
 static char *dup_or_null(const char *s, int *bad)
@@ -440,10 +447,16 @@ static hv_status fp_alloc(footprint *f, int w, int h)
     return HV_OK;
 }
 
-/* The shadow of every facet on the CELL grid over the mesh's box (row 0 at the box's min y). */
+/* The shadow of every facet on the CELL grid over the mesh's box (row 0 at the box's min y).
+ * Cells are half-open ([c, c + 1) cells from the box corner), so a box whose sides fall on grid
+ * lines covers exactly its own cells and two boxes that touch share none. */
+static int cell_lo(double t, int n) { return HV_CLAMP((int)floor(t + 1e-6), 0, n - 1); }
+static int cell_hi(double t, int lo, int n) { return HV_CLAMP(HV_MAX((int)ceil(t - 1e-6) - 1, lo), 0, n - 1); }
+
 static hv_status fp_from_mesh(const hv_mesh *m, const double bmin[3], const double bmax[3], footprint *f)
 {
-    int w = (int)ceil((bmax[0] - bmin[0]) / CELL) + 1, h = (int)ceil((bmax[1] - bmin[1]) / CELL) + 1;
+    int w = HV_MAX((int)ceil((bmax[0] - bmin[0]) / CELL - 1e-6), 1);
+    int h = HV_MAX((int)ceil((bmax[1] - bmin[1]) / CELL - 1e-6), 1);
     hv_status s = fp_alloc(f, w, h);
     if (s != HV_OK) return s;
     f->x0 = bmin[0];
@@ -459,8 +472,10 @@ static hv_status fp_from_mesh(const hv_mesh *m, const double bmin[3], const doub
         }
         /* each covered cell row gets the triangle's x extent over that row (conservative) */
         double ylo = fmin(y[0], fmin(y[1], y[2])), yhi = fmax(y[0], fmax(y[1], y[2]));
-        for (int r = HV_MAX((int)floor(ylo), 0); r <= HV_MIN((int)floor(yhi), h - 1); ++r) {
+        int r0 = cell_lo(ylo, h), r1 = cell_hi(yhi, r0, h);
+        for (int r = r0; r <= r1; ++r) {
             double a = fmax(ylo, r), b = fmin(yhi, r + 1.0), xl = 1e300, xr = -1e300;
+            if (a > b) a = b = ylo > r ? ylo : yhi; /* a flat triangle on the row's edge */
             for (int e = 0; e < 3; ++e) {
                 double x1 = x[e], y1 = y[e], x2 = x[(e + 1) % 3], y2 = y[(e + 1) % 3];
                 double e0 = fmin(y1, y2), e1 = fmax(y1, y2);
@@ -475,7 +490,7 @@ static hv_status fp_from_mesh(const hv_mesh *m, const double bmin[3], const doub
                 }
             }
             if (xl > xr) continue;
-            int cl = HV_MAX((int)floor(xl), 0), cr = HV_MIN((int)floor(xr), w - 1);
+            int cl = cell_lo(xl, w), cr = cell_hi(xr, cl, w);
             if (cl < f->lo[r]) f->lo[r] = cl;
             if (cr > f->hi[r]) f->hi[r] = cr;
         }
@@ -486,10 +501,13 @@ static hv_status fp_from_mesh(const hv_mesh *m, const double bmin[3], const doub
     return HV_OK;
 }
 
-/* f grown by d mm (a disc), as spans; the result's cell (0,0) is f's (-k,-k), k = ceil(d / CELL). */
+/* The cells closer than d mm to f (their closed squares' gap under d) and f's own: the cells
+ * another footprint may not take. The result's cell (0,0) is f's (-k,-k), k = ceil(d / CELL). */
+static int dilation_cells(double d) { return (int)ceil(d / CELL - 1e-9); }
+
 static hv_status fp_dilate(const footprint *f, double d, footprint *out)
 {
-    int k = (int)ceil(d / CELL - 1e-9);
+    int k = dilation_cells(d);
     hv_status s = fp_alloc(out, f->w + 2 * k, f->h + 2 * k);
     if (s != HV_OK) return s;
     out->x0 = f->x0 - k * CELL;
@@ -497,9 +515,10 @@ static hv_status fp_dilate(const footprint *f, double d, footprint *out)
     for (int r = 0; r < f->h; ++r) {
         if (f->lo[r] > f->hi[r]) continue;
         for (int dy = -k; dy <= k; ++dy) {
-            double rem = d * d - (double)dy * dy * CELL * CELL;
-            if (rem < 0) continue;
-            int dx = (int)floor(sqrt(rem) / CELL + 1e-9);
+            /* a cell dx columns over, dy rows up is (|dx| - 1, |dy| - 1) cells away (when >= 0) */
+            double gy = HV_MAX(abs(dy) - 1, 0) * CELL;
+            if (dy && gy >= d) continue;
+            int dx = (int)ceil(sqrt(d * d - gy * gy) / CELL - 1e-9);
             int rr = r + dy + k;
             int lo = f->lo[r] + k - dx, hi = f->hi[r] + k + dx;
             if (lo < out->lo[rr]) out->lo[rr] = lo;
@@ -730,7 +749,8 @@ static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
 }
 
 /* Place every instance without a position: largest footprint first, the first free spot
- * scanning rows from the plate's far edge and columns from x = 0 in 1 mm steps. */
+ * scanning rows from the plate's far edge and columns from x = 0 in 1 mm steps, the spacing
+ * kept from the plate's edges too. */
 static hv_status arrange(hv_tray *t, occupancy *occ, const int *order, int n)
 {
     for (int k = 0; k < n; ++k) {
@@ -738,14 +758,15 @@ static hv_status arrange(hv_tray *t, occupancy *occ, const int *order, int n)
         const source *s = &t->src[in->src];
         const footprint *f = &s->fp, *d = &s->dil;
         int found = 0, kk = (f->x0 - d->x0) > 0 ? (int)lround((f->x0 - d->x0) / CELL) : 0;
-        for (int cy = occ->h - f->h; cy >= 0 && !found; cy -= 2)
-            for (int cx = 0; cx + f->w <= occ->w && !found; cx += 2) {
+        for (int cy = occ->h - f->h - kk; cy >= kk && !found; cy -= 2)
+            for (int cx = kk; cx + f->w + kk <= occ->w && !found; cx += 2) {
                 if (occ_hits(occ, d, cx - kk, cy - kk)) continue;
                 occ_add(occ, f, cx, cy);
                 in->cx = cx;
                 in->cy = cy;
                 in->x = cx * CELL + 0.5 * (s->bmax[0] - s->bmin[0]);
                 in->y = cy * CELL + 0.5 * (s->bmax[1] - s->bmin[1]);
+                in->arranged = 1;
                 found = 1;
             }
         if (!found) {
@@ -805,7 +826,10 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
             break;
         }
         double wx = s->bmax[0] - s->bmin[0], wy = s->bmax[1] - s->bmin[1];
-        in->x = s->p.at[0] + in->copy * (wx + o->spacing);
+        /* copies in a row: the width plus the spacing on the footprint grid, so the spacing check
+         * below passes for them by construction */
+        int pitch = s->fp.w + dilation_cells(o->spacing);
+        in->x = s->p.at[0] + in->copy * pitch * CELL;
         in->y = s->p.at[1];
         double x0 = in->x - 0.5 * wx, y0 = in->y - 0.5 * wy;
         if (x0 < -1e-9 || y0 < -1e-9 || x0 + wx > B[0] + 1e-9 || y0 + wy > B[1] + 1e-9) {
@@ -815,7 +839,7 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
                               x0 + wx, y0, y0 + wy, B[0], B[1]);
             break;
         }
-        in->cx = (int)lround(x0 / CELL);
+        in->cx = (int)lround((s->p.at[0] - 0.5 * wx) / CELL) + in->copy * pitch;
         in->cy = (int)lround(y0 / CELL);
         /* against every part placed before it whose heights come within the spacing: parts may
          * stand above one another (the printer builds support under them) */
@@ -827,10 +851,15 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
             if (o->arrange == 2 || (!sj->p.placed && o->arrange == 1)) continue; /* arranged later */
             double w0 = sj->p.z, w1 = w0 + sj->bmax[2] - sj->bmin[2];
             if (z0 >= w1 + o->spacing || w0 >= z1 + o->spacing) continue;
-            if (fp_meet(&s->dil, in->cx - kk, in->cy - kk, &sj->fp, oj->cx, oj->cy))
+            if (!fp_meet(&s->dil, in->cx - kk, in->cy - kk, &sj->fp, oj->cx, oj->cy)) continue;
+            if (o->spacing > 0)
                 st = hv_error_set(HV_ERR_INVALID, "%s%s%s comes closer than %g mm to %s (their footprints, at heights "
                                   "that overlap)", where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb),
                                   o->spacing, inst_name(t, oj, nb2, sizeof nb2));
+            else
+                st = hv_error_set(HV_ERR_INVALID, "%s%s%s overlaps %s (their footprints, at heights that overlap)",
+                                  where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb),
+                                  inst_name(t, oj, nb2, sizeof nb2));
         }
         if (st != HV_OK) break;
         occ_add(&occ, &s->fp, in->cx, in->cy);
@@ -910,7 +939,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         const source *s = &t->src[in->src];
         hv_layers_options lo;
         part_options(t, o, s, &lo);
-        hv_layers_place pl = {in->x, in->y, t->profile->build[1], in->lift};
+        hv_layers_place pl = {in->x, in->y, t->profile->build[1], in->lift, t->profile->build[0], t->profile->name};
         st = hv_layers_part_open(s->mesh, s->model, &lo, &pl, progress, &in->part);
         if (st != HV_OK) {
             char nb[256];

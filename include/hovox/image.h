@@ -107,6 +107,29 @@ HV_API hv_status hv_png_decode_flags(const void *data, size_t size, const char *
 /* Free the samples; NULL and a zeroed struct are allowed. */
 HV_API void hv_png_pixels_free(hv_png_pixels *p);
 
+/* ---- textures: 8-bit RGBA pictures read from PNG or JPEG ---------------------------------- */
+
+/* A decoded picture: width*height pixels of 4 bytes (R, G, B, A; straight alpha; the file's
+ * own colour values, no colour management), rows top to bottom. `icc` holds the ICC profile the
+ * file embeds (PNG iCCP, JPEG APP2), or is NULL. Free with hv_rgba8_free. */
+typedef struct hv_rgba8 {
+    int width, height;
+    uint8_t *rgba;
+    uint8_t *icc;
+    size_t icc_size;
+} hv_rgba8;
+
+/* Decode a PNG or a JPEG (chosen by signature) held in memory, treated as hostile: refused before
+ * the pixels are allocated when width x height exceeds max_pixels. PNG: grey, grey+alpha, RGB,
+ * RGBA, palettes (tRNS gives alpha), 16-bit samples rounded to 8. JPEG (libjpeg): grey or YCbCr,
+ * opaque; CMYK JPEGs are refused. Errors: HV_ERR_BAD_INPUT ("name: not an image (neither PNG
+ * nor JPEG)", "name: not a readable JPEG: <libjpeg's reason>", the PNG decoder's messages),
+ * HV_ERR_LIMIT, HV_ERR_NOMEM. On error *out holds nothing. */
+HV_API hv_status hv_rgba8_decode(const void *data, size_t size, const char *name, uint64_t max_pixels,
+                                 hv_rgba8 *out);
+/* Free the pixels and the profile; NULL and a zeroed struct are allowed. */
+HV_API void hv_rgba8_free(hv_rgba8 *img);
+
 #ifdef __cplusplus
 }
 #endif

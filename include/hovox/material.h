@@ -43,6 +43,18 @@ HV_API void hv_material_color(const hv_material_table *t, int m, float rgba[4]);
 HV_API hv_status hv_material_set_color(hv_material_table *t, int m, const float rgba[4]);
 /* The i-th colour of the default palette (tab10-like), for i >= 0. */
 HV_API void hv_material_palette(int i, float rgba[4]);
+/* A PolyJet resin: its public product name and the display colour hovox gives it. */
+typedef struct hv_resin {
+    const char *name;
+    uint8_t rgb[3];
+} hv_resin;
+/* The one table of resin colours (static; *n entries; public names, display colours chosen by
+ * hovox, not vendor-confirmed). A material named like a resin (case-insensitively) is shown in
+ * that resin's colour everywhere: hv_material_add gives it that colour when none is given, and a
+ * tray prints it in that resin. */
+HV_API const hv_resin *hv_resin_table(int *n);
+/* The resin named `name` (case-insensitive), or NULL. */
+HV_API const hv_resin *hv_resin_find(const char *name);
 /* Colours are parsed by hv_color_parse (hovox/options.h). */
 /* A table from its text form (the CLI's --materials, --colors, --property): `names` "A,B,C",
  * `colors` "#rrggbb,..." one per material (NULL: the palette), and `props[0..nprops)` each

@@ -92,17 +92,25 @@ HV_API const char *hv_mesh_load_extensions(void);
  * and must name a vertex (texture coordinate, normal) defined above the face. `o` and `g`
  * start a body of that name (one that holds no face is dropped, a name that comes back
  * continues its body); faces before any `o`/`g` form a body named after the file. `usemtl`
- * names the material of the faces that follow. `vt`, `vn` (counted), `s`, `mtllib` and the
- * other display statements are skipped; lines (`l`) and points (`p`) are not read; free-form
- * geometry and unknown statements are refused. `\` continues a statement on the next line;
- * `#` starts a comment. */
+ * names the material of the faces that follow. `vt` (u [v [w]]) gives texture coordinates;
+ * `vn` (counted), `s` and the other display statements are skipped; lines (`l`) and points (`p`)
+ * are not read; free-form geometry and unknown statements are refused. `\` continues a
+ * statement on the next line; `#` starts a comment. From memory `mtllib` is not followed
+ * (materials are names only); hv_mesh_load reads the libraries beside the file: a material's
+ * `Kd` (and `d`/`Tr`) becomes its display colour, its `map_Kd` (PNG or JPEG, -clamp, -o, -s) a
+ * texture of the faces that use it and give every corner a `vt` (the texture replaces Kd there).
+ * A library that is not there is skipped (the materials stay names only); one that cannot be
+ * read, a texture that is missing or not an image, a bad value: HV_ERR_BAD_INPUT naming the
+ * file, the line and the value. */
 HV_API hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_mesh **out);
 
 /* PLY 1.0, ASCII or binary of either byte order: the element vertex's x, y, z (any scalar
  * type) and the element face's list vertex_indices or vertex_index (integer count and item
  * types); other properties and elements, lists included, are skipped. Element counts are
  * checked against the bytes after the header before anything is allocated. One body, named
- * after the file; colours are not read (no materials). */
+ * after the file. Vertex colours `red green blue [alpha]` (uchar, or float/double in [0, 1])
+ * become corner colours (hv_mesh_corner_colours); other integer types, a partial set or a float
+ * outside [0, 1] are refused. */
 HV_API hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_mesh **out);
 
 /* 3MF (core specification 1.3, with the materials extension's base materials and colour

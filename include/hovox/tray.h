@@ -21,6 +21,7 @@
 #include <stdint.h>
 
 #include "hovox/layers.h"
+#include "hovox/material.h"
 #include "hovox/options.h"
 
 #ifdef __cplusplus
@@ -31,13 +32,8 @@ extern "C" {
 /* Most parts a tray places (copies counted). */
 #define HV_TRAY_MAX_PARTS 4096
 
-/* A resin: its name and display colour (palette entry). */
-typedef struct hv_resin {
-    const char *name;
-    uint8_t rgb[3];
-} hv_resin;
-
-/* The built-in resin table of a profile (count in *n; static data, not vendor-confirmed). */
+/* The built-in resin table of a profile (count in *n; static data, not vendor-confirmed): the
+ * one table of hovox/material.h (hv_resin_table), which the J750 and J850 share. */
 HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
 
 /* A part as options (hv_tray_part_option_set): model (a graded .vdb; absent for a plain mesh),
@@ -132,6 +128,18 @@ HV_API hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_pro
  * plate (x0, y0, x1, y1 mm). */
 HV_API int hv_tray_instance_count(const hv_tray *t);
 HV_API void hv_tray_instance_box(const hv_tray *t, int i, double box[4]);
+/* Where instance i (0 <= i < hv_tray_instance_count) went, after planning. */
+typedef struct hv_tray_placement {
+    const char *name;  /* the part's name (owned by the tray) */
+    int part, copy;    /* part N (in the order added) and its copy, both from 1 */
+    int copies;        /* the part's copies */
+    double at[2];      /* the centre of its xy box on the plate (mm) */
+    double box[4];     /* its xy box on the plate: x0, y0, x1, y1 (mm) */
+    int rotation;      /* degrees about z */
+    size_t lift;       /* tray layers below its first layer */
+    int arranged;      /* 1: placed by `arrange`, 0: where it was given */
+} hv_tray_placement;
+HV_API void hv_tray_instance_get(const hv_tray *t, int i, hv_tray_placement *out);
 
 /* How `ranks` processes would share the tray's layers (hovox/dist.h): rank r writes layers
  * [ranges[2r], ranges[2r+1]), share[r] of the estimated cost (may be NULL). Plans the tray. */

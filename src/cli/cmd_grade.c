@@ -2,6 +2,7 @@
  * --ranges D-,DG,D+ --f EXPR --ms ... --me ...`: materials from grading sources (Wu 2.2). A
  * source's values are the library's (hv_ags_option_set, hv_frf_option_set); this file only
  * groups them after each --frf and reads the FRF syntax KIND:A:B. */
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +36,20 @@ typedef struct grade_cli {
     const char *region; /* a --region waiting for its --frf */
 } grade_cli;
 
+/* The features --frf makes, "point, axis, ..." */
+static const char *frf_kinds(char *list, size_t size)
+{
+    size_t n = 0;
+    const hv_enum_def *e = hv_frf_kind_enum();
+    list[0] = '\0';
+    for (int i = 0; e->names[i] && n < size; ++i) {
+        hv_frf_kind k;
+        if (hv_frf_kind_parse(e->names[i], &k) == HV_OK && hv_frf_option_set(k))
+            n += (size_t)snprintf(list + n, size - n, "%s%s", n ? ", " : "", e->names[i]);
+    }
+    return list;
+}
+
 /* "axis:0,0,0:0,0,1" -> the feature's keys in their order (checked as the options are read) */
 static hv_status parse_frf(const char *spec, char *buf, size_t size, hv_frf_options *o)
 {
@@ -44,20 +59,43 @@ static hv_status parse_frf(const char *spec, char *buf, size_t size, hv_frf_opti
     if (arg) *arg++ = '\0';
     hv_frf_kind k;
     const hv_option_set *set = NULL;
-    if (hv_frf_kind_parse(kind, &k) != HV_OK || !(set = hv_frf_option_set(k)))
-        return hv_error_option(HV_ERR_INVALID, "unknown feature '%s' (axis, plane, point, segment, contour, mask, field)", kind);
+    if (hv_frf_kind_parse(kind, &k) != HV_OK || !(set = hv_frf_option_set(k))) {
+        char list[256];
+        return hv_error_option(HV_ERR_INVALID, "unknown feature '%s' (%s)", kind, frf_kinds(list, sizeof list));
+    }
     hv_optargs args;
     hv_optargs_begin(&args, set, o);
-    for (int i = 0; arg; ++i) {
+    int given = 0;
+    for (; arg; ++given) {
         char *next = strchr(arg, ':');
         if (next) *next++ = '\0';
-        if (i >= set->count)
+        if (given >= set->count)
             return hv_error_option(HV_ERR_INVALID, "%s takes %d value%s (%s)", kind, set->count,
                                    set->count == 1 ? "" : "s", spec);
         hv_opt_value v = {HV_VALUE_TEXT, arg, NULL, 0, 0};
-        if (hv_optargs_set(&args, set->options[i].key, &v) != HV_OK) return HV_ERR_INVALID;
+        if (hv_optargs_set(&args, set->options[given].key, &v) != HV_OK) return HV_ERR_INVALID;
         arg = next;
     }
+    /* the values are positional: a missing one is named in the syntax, not as an option */
+    for (int i = given; i < set->count; ++i)
+        if (set->options[i].flags & HV_OPT_REQUIRED) {
+            char syntax[256];
+            size_t n = (size_t)snprintf(syntax, sizeof syntax, "%s", kind);
+            int same = 1;
+            for (int j = 0; j < set->count && n + 2 < sizeof syntax; ++j) {
+                syntax[n++] = ':';
+                for (const char *c = set->options[j].key; *c && n + 1 < sizeof syntax; ++c)
+                    syntax[n++] = (char)toupper((unsigned char)*c);
+                syntax[n] = '\0';
+                same &= strcmp(set->options[j].meta, set->options[0].meta) == 0;
+            }
+            char key[64];
+            size_t m = 0;
+            for (const char *c = set->options[i].key; *c && m + 1 < sizeof key; ++c) key[m++] = (char)toupper((unsigned char)*c);
+            key[m] = '\0';
+            return hv_error_set(HV_ERR_INVALID, "%s is missing (%s%s%s)", key, syntax, same ? ", each " : "",
+                                same ? set->options[0].meta : "");
+        }
     return hv_optargs_finish(&args);
 }
 

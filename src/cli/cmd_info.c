@@ -58,6 +58,19 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
             printf("  %-*s  %s\n", w, mt->name, mt->has_color ? hv_mesh_material_color_text(mt, col) : "-");
         }
     }
+    /* appearance: textures with the facets that use them, corner colours */
+    size_t nt = hv_mesh_texture_count(m), nf = hv_mesh_facet_count(m);
+    const int32_t *ft = hv_mesh_facet_textures(m);
+    if (nt) {
+        printf("textures            %zu\n", nt);
+        for (size_t k = 0; k < nt; ++k) {
+            const hv_mesh_texture *t = hv_mesh_texture_at(m, k);
+            size_t used = 0;
+            for (size_t f = 0; ft && f < nf; ++f) used += ft[f] == (int32_t)k;
+            printf("  %s  %u x %u  %zu facet%s\n", t->name, t->width, t->height, used, used == 1 ? "" : "s");
+        }
+    }
+    if (hv_mesh_corner_colours(m)) printf("corner colours      yes\n");
     if (nb < 2 && nm == 0) return; /* one body and no material: the report above says it all */
     int wn = 4, wm = 8;
     for (size_t i = 0; i < nb; ++i) {

@@ -65,9 +65,11 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
         printf("model       %s (%d materials)\n", o->model_name, hv_material_count(t));
     print_plan(r, o);
     if (o->mode != HV_LAYERS_MASK && t) {
-        printf("material    target    %s\n", o->mode == HV_LAYERS_HALFTONE ? "achieved" : "");
+        int w = 9; /* the names' column, as wide as the longest name */
+        for (int j = 0; j < r->materials; ++j) w = HV_MAX(w, (int)strlen(hv_material_name(t, j)));
+        printf("%-*s    %s\n", w - 1, "material", o->mode == HV_LAYERS_HALFTONE ? "target    achieved" : "target    ");
         for (int j = 0; j < r->materials; ++j) {
-            printf("  %-9s %.6f", hv_material_name(t, j), r->target[j]);
+            printf("  %-*s %.6f", w, hv_material_name(t, j), r->target[j]);
             if (o->mode == HV_LAYERS_HALFTONE) printf("  %.6f", r->achieved[j]);
             printf("\n");
         }

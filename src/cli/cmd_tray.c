@@ -95,6 +95,21 @@ static void print_plan(const hv_tray_report *r, const hv_tray_options *o)
     printf("memory      about %s\n", hv_size_text(mem, sizeof mem, (double)r->memory));
 }
 
+/* Where every part went (the dry run's list): given or arranged, its box on the plate. */
+static void print_parts(const hv_tray *t)
+{
+    for (int i = 0; i < hv_tray_instance_count(t); ++i) {
+        hv_tray_placement p;
+        hv_tray_instance_get(t, i, &p);
+        char copy[48] = "", turn[32] = "", lift[48] = "";
+        if (p.copies > 1) snprintf(copy, sizeof copy, " copy %d of %d", p.copy, p.copies);
+        if (p.rotation) snprintf(turn, sizeof turn, ", turned %d", p.rotation);
+        if (p.lift) snprintf(lift, sizeof lift, ", lifted %zu layers", p.lift);
+        printf("part %-6d %s%s at %.6g, %.6g mm%s%s%s (box x %.6g to %.6g, y %.6g to %.6g)\n", p.part, p.name, copy,
+               p.at[0], p.at[1], turn, lift, p.arranged ? ", arranged" : "", p.box[0], p.box[2], p.box[1], p.box[3]);
+    }
+}
+
 static int run(const cli_args *args, void *lib, void *local)
 {
     hv_tray_options *o = lib;
@@ -154,6 +169,7 @@ static int run(const cli_args *args, void *lib, void *local)
             else
                 printf("estimate    about %.0f s on 2 cores, about %s of PNG\n", r.est_seconds,
                        hv_size_text(sz, sizeof sz, r.est_bytes));
+            print_parts(t);
         }
         if (o->dry_run && cli_dist) { /* hovox-mpi: how the ranks share the layers */
             int n = cli_dist->size;

@@ -15,4 +15,36 @@ hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_
                         const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
                         size_t nmats, const int32_t *facet_mat, hv_mesh **out);
 
+/* ---- Wavefront material libraries (mtl.c) ------------------------------------------------ */
+
+typedef struct hv_mtl_material {
+    char *name;
+    char *lib_path;     /* the library file it came from (hv_mtl_parse's name) */
+    size_t line;        /* of its newmtl */
+    int has_kd;
+    float kd[3];        /* Kd, read as sRGB-encoded values in [0, 1] */
+    float alpha;        /* d, or 1 - Tr; 1 when neither is given */
+    char *map;          /* map_Kd's file as written, or NULL */
+    size_t map_line;
+    hv_tile tile;       /* -clamp on: HV_TILE_CLAMP; else HV_TILE_WRAP (the MTL default) */
+    float offset[2], scale[2]; /* -o, -s: u' = u * scale + offset */
+} hv_mtl_material;
+
+typedef struct hv_mtl {
+    hv_mtl_material *m;
+    size_t n, cap;
+} hv_mtl;
+
+/* Append the materials of one .mtl file held in memory (`name` in messages). Errors:
+ * HV_ERR_BAD_INPUT (a value not a finite number or out of range, a statement before newmtl, an
+ * unknown map_Kd option, Kd spectral/xyz), HV_ERR_NOMEM. Free with hv_mtl_free. */
+hv_status hv_mtl_parse(const void *data, size_t size, const char *name, hv_mtl *out);
+void hv_mtl_free(hv_mtl *t);
+/* The first material of that name, or NULL. */
+const hv_mtl_material *hv_mtl_find(const hv_mtl *t, const char *name);
+
+/* The OBJ reader; read_files: `mtllib` files and their textures are read, relative to the
+ * directory of `name` (hv_mesh_load), else skipped (hv_mesh_parse_obj, from memory). */
+hv_status hv_obj_parse(const void *data, size_t size, const char *name, int read_files, hv_mesh **out);
+
 #endif

@@ -12,10 +12,16 @@
 
 typedef hv_status (*parse_fn)(const void *, size_t, const char *, hv_mesh **);
 
+/* OBJ from a file: its mtllib libraries and their textures are read beside it. */
+static hv_status parse_obj_file(const void *data, size_t size, const char *name, hv_mesh **out)
+{
+    return hv_obj_parse(data, size, name, 1, out);
+}
+
 static const struct {
     const char *ext;
     parse_fn parse;
-} k_readers[] = {{".stl", hv_mesh_parse_stl}, {".3mf", hv_mesh_parse_3mf}, {".obj", hv_mesh_parse_obj},
+} k_readers[] = {{".stl", hv_mesh_parse_stl}, {".3mf", hv_mesh_parse_3mf}, {".obj", parse_obj_file},
                  {".ply", hv_mesh_parse_ply}};
 enum { R_STL, R_3MF, R_OBJ, R_PLY };
 

@@ -1,13 +1,19 @@
-/* src/mesh/obj.c - Wavefront OBJ input: vertices, polygon faces (fan-triangulated), `o`/`g`
- * groups as bodies, `usemtl` names as materials. A strict reader for hostile input: every
- * index is checked against the vertices defined above it, every coordinate must be a finite
- * float, and every defect is one message naming the file, the line and the value. */
+/* src/io/obj.c - Wavefront OBJ input: vertices, polygon faces (fan-triangulated), `o`/`g`
+ * groups as bodies, `usemtl` names as materials, and (read from files) the `mtllib` libraries'
+ * colours (Kd, d) and diffuse textures (map_Kd, sampled at the `vt` coordinates). A strict
+ * reader for hostile input: every index is checked against the vertices defined above it, every
+ * coordinate must be a finite float, and every defect is one message naming the file, the line
+ * and the value. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/internal.h"
+#include "hovox/image.h"
 #include "io_internal.h"
+
+#define NO_VT UINT32_MAX
 
 
 typedef struct obj_reader {
@@ -15,7 +21,16 @@ typedef struct obj_reader {
     size_t line; /* where the statement being read starts */
     float *xyz;  /* 3 per vertex */
     size_t nv, vcap;
-    size_t nvt, nvn; /* counted for the index checks; their values are not used */
+    size_t nvn;      /* counted for the index checks; their values are not used */
+    float *vt;       /* 2 per texture coordinate (u, v) */
+    size_t nvt, vtcap;
+    uint32_t *tvt;   /* 3 per triangle: texture coordinate indices, or NO_VT */
+    size_t tvtcap;
+    uint32_t *poly_vt;
+    size_t pvcap;
+    hv_buf mtllibs;  /* the mtllib statements' rest of line, each NUL-ended, in order */
+    size_t *mtllib_line;
+    size_t nmtllib, mlcap;
     uint32_t *tri;   /* 3 per triangle, file order */
     int32_t *tbody, *tmat;
     size_t nt, tcap, bcap, mcap;
@@ -80,6 +95,44 @@ static hv_status parse_coord(const obj_reader *r, const char *s, const char *e, 
     return HV_OK;
 }
 
+/* vt u [v [w]]: v defaults to 0, w is read and not used. */
+static hv_status tex_coord(obj_reader *r, const char *p, const char *e)
+{
+    static const char *const what[] = {"u", "v", "w"};
+    hv_status s = hv_grow((void **)&r->vt, &r->vtcap, 2 * (r->nvt + 1), sizeof *r->vt);
+    if (s != HV_OK) return s;
+    if (r->nvt >= UINT32_MAX - 1)
+        return hv_error_set(HV_ERR_LIMIT, "%s: line %zu: more than %u texture coordinates", r->name, r->line,
+                            UINT32_MAX - 1);
+    const char *ts, *te;
+    int k = 0;
+    float uv[3] = {0, 0, 0};
+    for (; next_tok(&p, e, &ts, &te); ++k) {
+        if (k == 3)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: texture coordinate has more than 3 values (u v w)",
+                                r->name, r->line);
+        char buf[80], q[72];
+        size_t n = (size_t)(te - ts);
+        char *endp = buf;
+        float v = NAN;
+        if (n < sizeof buf) {
+            memcpy(buf, ts, n);
+            buf[n] = '\0';
+            v = strtof(buf, &endp);
+        }
+        if (n >= sizeof buf || endp != buf + n || !isfinite(v))
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: texture coordinate %s is not a finite number: '%s'",
+                                r->name, r->line, what[k], hv_quote(q, sizeof q, ts, n));
+        uv[k] = v;
+    }
+    if (k == 0)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: texture coordinate has no values", r->name, r->line);
+    r->vt[2 * r->nvt] = uv[0];
+    r->vt[2 * r->nvt + 1] = uv[1];
+    r->nvt++;
+    return HV_OK;
+}
+
 static hv_status vertex(obj_reader *r, const char *p, const char *e)
 {
     static const char *const what[] = {"x", "y", "z", "w", "value 5", "value 6", "value 7"};
@@ -140,9 +193,11 @@ bad_number:
                         r->line, corner, what, hv_quote(q, sizeof q, s, n));
 }
 
-/* One corner of a face: v, v/vt, v//vn or v/vt/vn. */
-static hv_status corner_ref(const obj_reader *r, size_t corner, const char *s, const char *e, uint32_t *v)
+/* One corner of a face: v, v/vt, v//vn or v/vt/vn; *vt is NO_VT without a texture coordinate. */
+static hv_status corner_ref(const obj_reader *r, size_t corner, const char *s, const char *e, uint32_t *v,
+                            uint32_t *vt)
 {
+    *vt = NO_VT;
     const char *a = memchr(s, '/', (size_t)(e - s));
     const char *ve = a ? a : e;
     hv_status st = resolve(r, corner, s, (size_t)(ve - s), r->nv, "vertex", v);
@@ -150,7 +205,7 @@ static hv_status corner_ref(const obj_reader *r, size_t corner, const char *s, c
     const char *b = memchr(a + 1, '/', (size_t)(e - a - 1));
     uint32_t ignored;
     if (b != a + 1 && (st = resolve(r, corner, a + 1, (size_t)((b ? b : e) - a - 1), r->nvt,
-                                    "texture coordinate", &ignored)) != HV_OK)
+                                    "texture coordinate", vt)) != HV_OK)
         return st;
     if (b && (st = resolve(r, corner, b + 1, (size_t)(e - b - 1), r->nvn, "normal", &ignored)) != HV_OK)
         return st;
@@ -191,8 +246,10 @@ static hv_status face(obj_reader *r, const char *p, const char *e)
     size_t n = 0;
     hv_status s;
     while (next_tok(&p, e, &ts, &te)) {
-        if ((s = hv_grow((void **)&r->poly, &r->pcap, n + 1, sizeof *r->poly)) != HV_OK) return s;
-        if ((s = corner_ref(r, n + 1, ts, te, &r->poly[n])) != HV_OK) return s;
+        if ((s = hv_grow((void **)&r->poly, &r->pcap, n + 1, sizeof *r->poly)) != HV_OK ||
+            (s = hv_grow((void **)&r->poly_vt, &r->pvcap, n + 1, sizeof *r->poly_vt)) != HV_OK)
+            return s;
+        if ((s = corner_ref(r, n + 1, ts, te, &r->poly[n], &r->poly_vt[n])) != HV_OK) return s;
         ++n;
     }
     if (n < 3)
@@ -202,12 +259,18 @@ static hv_status face(obj_reader *r, const char *p, const char *e)
     size_t add = n - 2; /* a fan around the first corner */
     if ((s = hv_grow((void **)&r->tri, &r->tcap, 3 * (r->nt + add), sizeof *r->tri)) != HV_OK ||
         (s = hv_grow((void **)&r->tbody, &r->bcap, r->nt + add, sizeof *r->tbody)) != HV_OK ||
-        (s = hv_grow((void **)&r->tmat, &r->mcap, r->nt + add, sizeof *r->tmat)) != HV_OK)
+        (s = hv_grow((void **)&r->tmat, &r->mcap, r->nt + add, sizeof *r->tmat)) != HV_OK ||
+        (s = hv_grow((void **)&r->tvt, &r->tvtcap, 3 * (r->nt + add), sizeof *r->tvt)) != HV_OK)
         return s;
+    int all_vt = 1; /* a face textures only when every corner has a coordinate */
+    for (size_t k = 0; k < n; ++k) all_vt &= r->poly_vt[k] != NO_VT;
     for (size_t k = 1; k + 1 < n; ++k, ++r->nt) {
         r->tri[3 * r->nt] = r->poly[0];
         r->tri[3 * r->nt + 1] = r->poly[k];
         r->tri[3 * r->nt + 2] = r->poly[k + 1];
+        r->tvt[3 * r->nt] = all_vt ? r->poly_vt[0] : NO_VT;
+        r->tvt[3 * r->nt + 1] = all_vt ? r->poly_vt[k] : NO_VT;
+        r->tvt[3 * r->nt + 2] = all_vt ? r->poly_vt[k + 1] : NO_VT;
         r->tbody[r->nt] = r->body;
         r->tmat[r->nt] = r->mat;
     }
@@ -229,7 +292,7 @@ static int word_in(const char *s, const char *e, const char *const *list)
 
 static hv_status statement(obj_reader *r, const char *p, const char *e)
 {
-    static const char *const ignored[] = {"s", "mtllib", "mg", "maplib", "usemap", "lod", "bevel", "c_interp",
+    static const char *const ignored[] = {"s", "mg", "maplib", "usemap", "lod", "bevel", "c_interp",
                                           "d_interp", "shadow_obj", "trace_obj", "ctech", "stech", NULL};
     static const char *const freeform[] = {"vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf",
                                            "parm", "trim", "hole", "scrv", "sp", "end", "con", NULL};
@@ -237,7 +300,7 @@ static hv_status statement(obj_reader *r, const char *p, const char *e)
     if (!next_tok(&p, e, &ks, &ke)) return HV_OK; /* blank or comment */
     if (word_is(ks, ke, "v")) return vertex(r, p, e);
     if (word_is(ks, ke, "f")) return face(r, p, e);
-    if (word_is(ks, ke, "vt")) return r->nvt++, HV_OK;
+    if (word_is(ks, ke, "vt")) return tex_coord(r, p, e);
     if (word_is(ks, ke, "vn")) return r->nvn++, HV_OK;
     const char *ns, *ne;
     if (word_is(ks, ke, "o") || word_is(ks, ke, "g")) {
@@ -246,6 +309,15 @@ static hv_status statement(obj_reader *r, const char *p, const char *e)
         hv_buf_append(&r->body_name, ns, (size_t)(ne - ns));
         r->body_new = 1;
         return r->body_name.failed ? HV_ERR_NOMEM : HV_OK;
+    }
+    if (word_is(ks, ke, "mtllib")) {
+        rest_of(p, e, &ns, &ne);
+        hv_status s = hv_grow((void **)&r->mtllib_line, &r->mlcap, r->nmtllib + 1, sizeof *r->mtllib_line);
+        if (s != HV_OK) return s;
+        r->mtllib_line[r->nmtllib++] = r->line;
+        hv_buf_append(&r->mtllibs, ns, (size_t)(ne - ns));
+        hv_buf_append(&r->mtllibs, "", 1);
+        return r->mtllibs.failed ? HV_ERR_NOMEM : HV_OK;
     }
     if (word_is(ks, ke, "usemtl")) {
         rest_of(p, e, &ns, &ne);
@@ -273,17 +345,185 @@ static int continued(const char *s, const char *e)
     return e > s && e[-1] == '\\';
 }
 
-/* The triangles grouped by body (first appearance order), as a soup, with their materials. */
-static hv_status finish(obj_reader *r, hv_mesh **out)
+/* "dir/" of a path (empty for a bare name), into b. */
+static void dir_of(hv_buf *b, const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    b->len = 0;
+    if (slash) hv_buf_append(b, path, (size_t)(slash - path) + 1);
+    else hv_buf_append(b, "", 0);
+}
+
+/* A file named in `from` (a path), relative to from's directory unless absolute, into b. */
+static void beside(hv_buf *b, const char *from, const char *file)
+{
+    if (file[0] == '/') {
+        b->len = 0;
+        hv_buf_puts(b, file);
+        return;
+    }
+    dir_of(b, from);
+    hv_buf_puts(b, file);
+}
+
+/* The libraries of every mtllib statement, read beside the OBJ file: the whole rest of the line
+ * names one file when it exists (names with blanks), else each word names one. */
+static hv_status read_mtllibs(obj_reader *r, hv_mtl *lib)
+{
+    hv_buf path;
+    hv_buf_init(&path);
+    hv_status s = HV_OK;
+    const char *names = r->mtllibs.data;
+    for (size_t i = 0; i < r->nmtllib && s == HV_OK; ++i) {
+        const char *rest = names;
+        names += strlen(names) + 1;
+        if (!*rest)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: mtllib names no file", r->name, r->mtllib_line[i]);
+        beside(&path, r->name, rest);
+        int whole = !path.failed && access(path.data, F_OK) == 0;
+        const char *p = rest, *e = rest + strlen(rest), *ts, *te;
+        while (s == HV_OK && (whole ? p < e : next_tok(&p, e, &ts, &te))) {
+            if (whole) {
+                ts = p;
+                te = p = e;
+            }
+            char *file = hv_malloc((size_t)(te - ts) + 1);
+            if (!file) {
+                s = HV_ERR_NOMEM;
+                break;
+            }
+            memcpy(file, ts, (size_t)(te - ts));
+            file[te - ts] = '\0';
+            beside(&path, r->name, file);
+            free(file);
+            if (path.failed) {
+                s = HV_ERR_NOMEM;
+                break;
+            }
+            /* a library that is not there (OBJ files travel without theirs) leaves the materials
+             * names only, as an OBJ read from memory has them */
+            if (access(path.data, F_OK) != 0) continue;
+            char *data = NULL;
+            size_t size = 0;
+            s = hv_read_file(path.data, (size_t)64 << 20, &data, &size);
+            if (s == HV_ERR_IO || s == HV_ERR_LIMIT) {
+                char why[512];
+                snprintf(why, sizeof why, "%s", hv_last_error());
+                s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: material library %s", r->name,
+                                 r->mtllib_line[i], why);
+            }
+            if (s == HV_OK) {
+                hv_input_note(path.data);
+                s = hv_mtl_parse(data, size, path.data, lib);
+            }
+            free(data);
+        }
+    }
+    hv_buf_free(&path);
+    return s;
+}
+
+/* The picture of a map_Kd, read beside its library. */
+static hv_status read_texture(const hv_mtl_material *m, const char *lib_path, hv_rgba8 *img)
+{
+    hv_buf path;
+    hv_buf_init(&path);
+    beside(&path, lib_path, m->map);
+    if (path.failed) return HV_ERR_NOMEM;
+    char *data = NULL;
+    size_t size = 0;
+    char why[512];
+    hv_status s = hv_read_file(path.data, (size_t)1 << 30, &data, &size);
+    if (s == HV_OK) {
+        hv_input_note(path.data);
+        s = hv_rgba8_decode(data, size, path.data, (uint64_t)1 << 28, img);
+    }
+    if (s == HV_ERR_IO || s == HV_ERR_BAD_INPUT || s == HV_ERR_LIMIT) {
+        snprintf(why, sizeof why, "%s", hv_last_error());
+        s = hv_error_set(s == HV_ERR_LIMIT ? HV_ERR_LIMIT : HV_ERR_BAD_INPUT, "%s: line %zu: map_Kd: %s", lib_path,
+                         m->map_line, why);
+    }
+    free(data);
+    hv_buf_free(&path);
+    return s;
+}
+
+/* The look of an OBJ's materials. */
+typedef struct obj_look {
+    hv_mtl lib;
+    int32_t *tex_of;   /* per OBJ material: its texture index, or -1 */
+    hv_rgba8 *pics;    /* the textures, in order */
+    char **pic_names;  /* map_Kd as written */
+    const hv_mtl_material **pic_mat; /* the first material of each texture */
+    const hv_mtl_material **mtl_of;  /* per OBJ material: its definition, or NULL */
+    size_t npics;
+} obj_look;
+
+static void look_free(obj_look *L)
+{
+    hv_mtl_free(&L->lib);
+    free(L->tex_of);
+    for (size_t i = 0; i < L->npics; ++i) hv_rgba8_free(&L->pics[i]);
+    free(L->pics);
+    free(L->pic_names);
+    free(L->pic_mat);
+    free(L->mtl_of);
+}
+
+static uint8_t unit8(float v) { return (uint8_t)lrintf(v * 255.0f); }
+
+/* The look of the materials used: colours into mats, textures loaded (one per distinct map). */
+static hv_status look_up(obj_reader *r, hv_mesh_material *mats, size_t nm, obj_look *L)
+{
+    hv_status s = read_mtllibs(r, &L->lib);
+    if (s != HV_OK) return s;
+    L->tex_of = hv_malloc_array(nm ? nm : 1, sizeof *L->tex_of);
+    L->pics = hv_calloc(nm ? nm : 1, sizeof *L->pics);
+    L->pic_names = hv_calloc(nm ? nm : 1, sizeof *L->pic_names);
+    L->pic_mat = hv_calloc(nm ? nm : 1, sizeof *L->pic_mat);
+    L->mtl_of = hv_calloc(nm ? nm : 1, sizeof *L->mtl_of);
+    if (!L->tex_of || !L->pics || !L->pic_names || !L->pic_mat || !L->mtl_of) return HV_ERR_NOMEM;
+    for (size_t k = 0; k < nm; ++k) {
+        L->tex_of[k] = -1;
+        const hv_mtl_material *m = hv_mtl_find(&L->lib, mats[k].name);
+        L->mtl_of[k] = m;
+        if (!m) continue;
+        if (m->has_kd) {
+            mats[k].rgba = (uint32_t)unit8(m->kd[0]) << 24 | (uint32_t)unit8(m->kd[1]) << 16 |
+                           (uint32_t)unit8(m->kd[2]) << 8 | unit8(m->alpha);
+            mats[k].has_color = 1;
+        }
+        if (!m->map) continue;
+        for (size_t j = 0; j < L->npics && L->tex_of[k] < 0; ++j) /* the same picture, read once */
+            if (strcmp(L->pic_names[j], m->map) == 0 && L->pic_mat[j]->tile == m->tile &&
+                strcmp(L->pic_mat[j]->lib_path, m->lib_path) == 0)
+                L->tex_of[k] = (int32_t)j;
+        if (L->tex_of[k] >= 0) continue;
+        if ((s = read_texture(m, m->lib_path, &L->pics[L->npics])) != HV_OK) return s;
+        L->pic_names[L->npics] = m->map;
+        L->pic_mat[L->npics] = m;
+        L->tex_of[k] = (int32_t)L->npics++;
+    }
+    return HV_OK;
+}
+
+/* The triangles grouped by body (first appearance order), as a soup, with their materials; with
+ * read_files, the materials' colours and textures from the mtllib files. */
+static hv_status finish(obj_reader *r, int read_files, hv_mesh **out)
 {
     size_t nb = r->bodies.n, nm = r->mats.n;
     float *soup = hv_malloc_array(r->nt, 9 * sizeof(float));
     int32_t *fmat = nm ? hv_malloc_array(r->nt, sizeof *fmat) : NULL;
     size_t *at = hv_calloc(nb + 1, sizeof *at);
+    size_t *where = hv_malloc_array(r->nt, sizeof *where); /* triangle -> facet */
     hv_mesh_body *bodies = hv_calloc(nb, sizeof *bodies);
     hv_mesh_material *mats = nm ? hv_calloc(nm, sizeof *mats) : NULL;
+    obj_look look;
+    memset(&look, 0, sizeof look);
+    float *uv = NULL;
+    int32_t *ftex = NULL;
     hv_status s = HV_OK;
-    if (!soup || (nm && (!fmat || !mats)) || !at || !bodies) {
+    if (!soup || (nm && (!fmat || !mats)) || !at || !where || !bodies) {
         s = HV_ERR_NOMEM;
         goto done;
     }
@@ -295,22 +535,59 @@ static hv_status finish(obj_reader *r, hv_mesh **out)
         at[b + 1] += at[b];
     }
     for (size_t k = 0; k < nm; ++k) mats[k].name = r->mats.names[k];
+    if (read_files && r->nmtllib && (s = look_up(r, mats, nm, &look)) != HV_OK) goto done;
     for (size_t t = 0; t < r->nt; ++t) {
         size_t f = at[r->tbody[t]]++;
+        where[t] = f;
         for (int c = 0; c < 3; ++c) memcpy(soup + 9 * f + 3 * c, r->xyz + 3 * (size_t)r->tri[3 * t + (size_t)c], 3 * sizeof(float));
         if (fmat) fmat[f] = r->tmat[t];
     }
     s = hv_mesh_build(soup, r->nt, r->name, HV_MESH_OBJ, bodies, nb, mats, nm, fmat, out);
+    if (s != HV_OK || look.npics == 0) goto done;
+    for (size_t j = 0; j < look.npics && s == HV_OK; ++j) {
+        const hv_mtl_material *m = look.pic_mat[j];
+        s = hv_mesh_add_texture(*out, look.pic_names[j], look.pics[j].rgba, (uint32_t)look.pics[j].width,
+                                (uint32_t)look.pics[j].height, m->tile, m->tile, HV_FILTER_AUTO, NULL);
+    }
+    uv = hv_calloc(r->nt, 6 * sizeof *uv);
+    ftex = hv_malloc_array(r->nt, sizeof *ftex);
+    if (s == HV_OK && (!uv || !ftex)) s = HV_ERR_NOMEM;
+    for (size_t t = 0; s == HV_OK && t < r->nt; ++t) {
+        size_t f = where[t];
+        int32_t k = r->tmat[t], tex = k >= 0 ? look.tex_of[k] : -1;
+        ftex[f] = tex >= 0 && r->tvt[3 * t] != NO_VT ? tex : -1;
+        if (ftex[f] < 0) continue;
+        const hv_mtl_material *m = look.mtl_of[k];
+        for (int c = 0; c < 3; ++c) {
+            const float *q = r->vt + 2 * (size_t)r->tvt[3 * t + (size_t)c];
+            uv[6 * f + 2 * (size_t)c] = q[0] * m->scale[0] + m->offset[0];
+            uv[6 * f + 2 * (size_t)c + 1] = q[1] * m->scale[1] + m->offset[1];
+        }
+    }
+    if (s == HV_OK) s = hv_mesh_set_corner_uvs(*out, uv, ftex);
+    if (s != HV_OK) {
+        hv_mesh_destroy(*out);
+        *out = NULL;
+    }
 done:
+    look_free(&look);
+    free(uv);
+    free(ftex);
     free(soup);
     free(fmat);
     free(at);
+    free(where);
     free(bodies);
     free(mats);
     return s;
 }
 
 hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_mesh **out)
+{
+    return hv_obj_parse(data, size, name, 0, out);
+}
+
+hv_status hv_obj_parse(const void *data, size_t size, const char *name, int read_files, hv_mesh **out)
 {
     *out = NULL;
     if (size == 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: empty file (0 bytes)", name);
@@ -322,6 +599,7 @@ hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_
     hv_names_init(&r.mats);
     hv_buf_init(&r.body_name);
     hv_buf_init(&r.mat_name);
+    hv_buf_init(&r.mtllibs);
     hv_buf joined;
     hv_buf_init(&joined);
     const char *p = data, *end = p + size;
@@ -364,12 +642,17 @@ hv_status hv_mesh_parse_obj(const void *data, size_t size, const char *name, hv_
     if (s == HV_OK && r.nt == 0)
         s = hv_error_set(HV_ERR_BAD_INPUT, "%s: contains no faces (%zu vert%s%s)", name, r.nv,
                          r.nv == 1 ? "ex" : "ices", r.ignored ? "; lines and points are not read" : "");
-    if (s == HV_OK) s = finish(&r, out);
+    if (s == HV_OK) s = finish(&r, read_files, out);
     free(r.xyz);
     free(r.tri);
     free(r.tbody);
     free(r.tmat);
     free(r.poly);
+    free(r.poly_vt);
+    free(r.vt);
+    free(r.tvt);
+    free(r.mtllib_line);
+    hv_buf_free(&r.mtllibs);
     hv_names_free(&r.bodies);
     hv_names_free(&r.mats);
     hv_buf_free(&r.body_name);

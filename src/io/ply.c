@@ -1,8 +1,9 @@
-/* src/mesh/ply.c - PLY input (Turk's polygon file format 1.0): ASCII, binary little- and
- * big-endian. The vertex element's x, y, z (any scalar type) and the face element's vertex
- * index list (any integer types) are read; every other property and element is skipped by
- * its size. Counts in the header are checked against the bytes that follow before anything is
- * allocated. Polygons are fan-triangulated; one body named after the file; colours ignored. */
+/* src/io/ply.c - PLY input (Turk's polygon file format 1.0): ASCII, binary little- and
+ * big-endian. The vertex element's x, y, z (any scalar type), its colour red, green, blue
+ * [alpha] (uchar, or float/double in [0, 1]) and the face element's vertex index list (any
+ * integer types) are read; every other property and element is skipped by its size. Counts in
+ * the header are checked against the bytes that follow before anything is allocated. Polygons
+ * are fan-triangulated; one body named after the file; vertex colours become corner colours. */
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -36,6 +37,7 @@ typedef struct ply_elem {
     size_t nprops, cap;
     int role;       /* 0 other, 1 vertex, 2 face */
     int xyz[3];     /* vertex: property of x, y, z */
+    int rgba[4];    /* vertex: property of red, green, blue, alpha, or -1 */
     int indices;    /* face: the list property */
 } ply_elem;
 
@@ -48,6 +50,7 @@ typedef struct ply_reader {
     size_t nelems;
     ply_elem *vertex, *face;
     float *xyz;
+    uint32_t *colour; /* per vertex 0xRRGGBBAA, when the vertices have colours */
     uint32_t *tri;
     size_t nt, tcap;
 } ply_reader;
@@ -175,6 +178,25 @@ static hv_status roles(ply_reader *r)
                     return hv_error_set(HV_ERR_BAD_INPUT, "%s: header: vertex property %s is a list, not a scalar",
                                         r->name, axis[a]);
             }
+            static const char *const chan[] = {"red", "green", "blue", "alpha"};
+            int found = 0;
+            for (int c = 0; c < 4; ++c) {
+                el->rgba[c] = -1;
+                for (size_t k = 0; k < el->nprops; ++k)
+                    if (strcmp(el->props[k].name, chan[c]) == 0) el->rgba[c] = (int)k;
+                if (el->rgba[c] < 0) continue;
+                const ply_prop *pr = &el->props[el->rgba[c]];
+                if (pr->count_type != T_NONE || !(pr->type == T_UINT8 || pr->type == T_FLOAT32 || pr->type == T_FLOAT64))
+                    return hv_error_set(HV_ERR_BAD_INPUT,
+                                        "%s: header: vertex colour %s must be a uchar, float or double scalar",
+                                        r->name, chan[c]);
+                if (c < 3) ++found;
+            }
+            if (found != 0 && found != 3)
+                return hv_error_set(HV_ERR_BAD_INPUT, "%s: header: vertex colour needs red, green and blue (%s missing)",
+                                    r->name, el->rgba[0] < 0 ? "red" : el->rgba[1] < 0 ? "green" : "blue");
+            if (found == 0 && el->rgba[3] >= 0)
+                return hv_error_set(HV_ERR_BAD_INPUT, "%s: header: vertex alpha without red, green and blue", r->name);
         } else if (strcmp(el->name, "face") == 0) {
             el->role = 2;
             r->face = el;
@@ -467,6 +489,19 @@ static hv_status read_element(ply_reader *r, const ply_elem *el)
                 ply_what what = {0, pr->name, 0};
                 if ((s = read_value(r, pr->type, el, i, &what, &v)) != HV_OK) return s;
                 if (el->role != 1) continue;
+                for (int c = 0; c < 4 && r->colour; ++c) {
+                    if (el->rgba[c] != (int)k) continue;
+                    static const char *const chan[] = {"red", "green", "blue", "alpha"};
+                    double x = as_double(pr->type, v);
+                    if (pr->type != T_UINT8) {
+                        if (!(x >= 0 && x <= 1))
+                            return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s %g outside [0, 1]", r->name,
+                                                place(r, el, i, at, pl, sizeof pl), chan[c], x);
+                        x = floor(x * 255 + 0.5);
+                    }
+                    int sh = 24 - 8 * c;
+                    r->colour[i] = (r->colour[i] & ~(0xFFu << sh)) | (uint32_t)x << sh;
+                }
                 for (int a = 0; a < 3; ++a) {
                     if (el->xyz[a] != (int)k) continue;
                     double x = as_double(pr->type, v);
@@ -525,6 +560,10 @@ hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_
     if (s == HV_OK && r.vertex->count &&
         !(r.xyz = hv_malloc_array((size_t)r.vertex->count, 3 * sizeof(float))))
         s = HV_ERR_NOMEM;
+    if (s == HV_OK && r.vertex->count && r.vertex->rgba[0] >= 0) {
+        if (!(r.colour = hv_malloc_array((size_t)r.vertex->count, sizeof *r.colour))) s = HV_ERR_NOMEM;
+        for (size_t i = 0; s == HV_OK && i < r.vertex->count; ++i) r.colour[i] = 0xFFu; /* opaque */
+    }
     for (size_t i = 0; i < r.nelems && s == HV_OK; ++i) s = read_element(&r, &r.elems[i]);
     if (s == HV_OK && r.format == F_ASCII) { /* nothing but blanks after the last element */
         const unsigned char *p = r.p;
@@ -548,8 +587,20 @@ hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_
                                                                                       : HV_MESH_PLY_BINARY_BE;
         s = hv_mesh_build(soup, r.nt, name, f, NULL, 0, NULL, 0, NULL, out);
     }
+    if (s == HV_OK && r.colour) { /* facets are in file order: corner c of facet t is vertex tri[3t+c] */
+        uint32_t *corner = hv_malloc_array(r.nt, 3 * sizeof *corner);
+        if (!corner) s = HV_ERR_NOMEM;
+        for (size_t i = 0; corner && i < 3 * r.nt; ++i) corner[i] = r.colour[r.tri[i]];
+        if (s == HV_OK) s = hv_mesh_set_corner_colours(*out, corner);
+        free(corner);
+        if (s != HV_OK) {
+            hv_mesh_destroy(*out);
+            *out = NULL;
+        }
+    }
     for (size_t i = 0; i < r.nelems; ++i) free(r.elems[i].props);
     free(r.xyz);
+    free(r.colour);
     free(r.tri);
     free(soup);
     return s;

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/internal.h"
 #include "hovox/material.h"
@@ -43,6 +44,29 @@ void hv_material_palette(int i, float rgba[4])
     rgba[1] = c[1];
     rgba[2] = c[2];
     rgba[3] = 1.0f;
+}
+
+/* Public colour names of PolyJet resins for the J750/J850 (Stratasys material data sheets);
+ * the display colours are ours. Not vendor-confirmed: a tray job may override them. */
+static const hv_resin k_resins[] = {
+    {"VeroCyan-V", {0x00, 0x9f, 0xe3}},      {"VeroMagenta-V", {0xd4, 0x0f, 0x7d}},
+    {"VeroYellow-V", {0xf5, 0xd5, 0x00}},    {"VeroBlackPlus", {0x20, 0x20, 0x20}},
+    {"VeroPureWhite", {0xf4, 0xf4, 0xf0}},   {"VeroClear", {0xb8, 0xd8, 0xe0}},
+    {"VeroUltraClear", {0xe0, 0xee, 0xf2}},  {"Agilus30Clear", {0xd8, 0xd4, 0xb8}},
+    {"Agilus30Black", {0x38, 0x38, 0x38}},   {"Agilus30White", {0xe8, 0xe8, 0xe0}},
+};
+
+const hv_resin *hv_resin_table(int *n)
+{
+    *n = (int)HV_COUNT(k_resins);
+    return k_resins;
+}
+
+const hv_resin *hv_resin_find(const char *name)
+{
+    for (size_t i = 0; name && i < HV_COUNT(k_resins); ++i)
+        if (strcasecmp(k_resins[i].name, name) == 0) return &k_resins[i];
+    return NULL;
 }
 
 hv_status hv_material_table_create(hv_material_table **out)
@@ -91,6 +115,10 @@ hv_status hv_material_add(hv_material_table *t, const char *name, const float rg
                 return hv_error_set(HV_ERR_INVALID, "material '%s': colour component %d is %g, not in [0,1]",
                                     name, k, (double)rgba[k]);
         memcpy(c, rgba, sizeof c);
+    } else if (hv_resin_find(name)) { /* one colour per resin: layers, render and trays agree */
+        const hv_resin *r = hv_resin_find(name);
+        for (int k = 0; k < 3; ++k) c[k] = (float)r->rgb[k] / 255.0f;
+        c[3] = 1.0f;
     } else {
         hv_material_palette(t->n, c);
     }

@@ -160,6 +160,36 @@ Test(material, table_from_text)
     }
 }
 
+/* issue 32 item 18: one colour table; a resin-named material takes the resin's colour by default */
+Test(material, resin_named_materials_take_the_resin_colour)
+{
+    int n = 0;
+    const hv_resin *r = hv_resin_table(&n);
+    cr_assert_geq(n, 10);
+    cr_assert_eq(hv_resin_find("veropurewhite"), hv_resin_find("VeroPureWhite"));
+    cr_assert_null(hv_resin_find("VeroPureWhite2"));
+    cr_assert_null(hv_resin_find(NULL));
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_create(&t), HV_OK);
+    const float given[4] = {0.25f, 0.5f, 0.75f, 1};
+    cr_assert_eq(hv_material_add(t, "A", NULL, NULL), HV_OK);
+    cr_assert_eq(hv_material_add(t, "verocyan-v", NULL, NULL), HV_OK);
+    cr_assert_eq(hv_material_add(t, "VeroMagenta-V", given, NULL), HV_OK);
+    float c[4], p[4];
+    hv_material_color(t, 0, c);
+    hv_material_palette(0, p);
+    cr_assert(memcmp(c, p, sizeof c) == 0);
+    hv_material_color(t, 1, c);
+    const hv_resin *cyan = hv_resin_find("VeroCyan-V");
+    cr_assert_not_null(cyan);
+    cr_assert(cyan >= r && cyan < r + n);
+    for (int k = 0; k < 3; ++k) cr_assert_eq(lroundf(c[k] * 255.0f), cyan->rgb[k]);
+    cr_assert_eq(c[3], 1.0f);
+    hv_material_color(t, 2, c);
+    cr_assert(memcmp(c, given, sizeof c) == 0);
+    hv_material_table_destroy(t);
+}
+
 Test(material, table_round_trips_through_a_volume)
 {
     hv_material_table *t = table3(), *r;

@@ -21,6 +21,7 @@ typedef struct hv_leaf_ops {
 } hv_leaf_ops;
 
 extern const hv_leaf_ops hv_leaf_mesh_ops;
+extern const hv_leaf_ops hv_leaf_field_ops; /* FIELD_ISO: field_leaf.c */
 
 /* 1 when (x, y) lies inside the closed loops of `slice` by the nonzero winding rule. */
 int hv_slice_point_inside(const hv_slice *slice, double x, double y);

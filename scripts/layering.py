@@ -12,22 +12,28 @@ import sys
 
 # low to high; a module may include only modules at its own position or before it
 ORDER = [
-    'src/core', 'volumes', 'src/image', 'src/mesh', 'src/io', 'src/voxel', 'src/field', 'src/material',
-    'src/colour', 'src/geometry', 'src/export', 'model formats', 'src/model', 'slicing', 'renderer',
+    'src/core', 'volumes', 'src/image', 'src/mesh', 'src/io', 'WDG slicer', 'src/geometry', 'src/voxel', 'src/field',
+    'src/material', 'src/colour', 'src/export', 'model formats', 'src/model', 'slicing', 'renderer',
     'src/plot', 'src/viewer', 'src/lua', 'src/cli', 'python/src',
 ]
+# the geometry record (a model's leaves and Boolean tree) is data the voxelizer and the Booleans
+# write, so it sits just above the formats that give its meshes;
 # the formats wing holds mesh and volume formats (low: the store and the mesh below them) and
 # model formats, which read and write whole graded models: 3MF Volumetric voxelizes through
 # src/voxel and writes the export's property stacks, so it sits above them, below the one model
 # loader (src/model) that picks a model reader by content
 MODEL_FORMATS = ('src/io/3mf/volumetric_',)
+# the WDG slicer (a mesh's closed outlines at a height; Wu 2.4.1) is what the geometry record's
+# mesh leaves answer with, so it sits below it; the rest of slicing/ (resampling, halftoning, the
+# stack writer) is above everything that makes models
+WDG = ('slicing/wdg.c', 'slicing/slice_plan.c', 'slicing/contours.c', 'slicing/slice_internal.h')
 # public headers and the module behind each
 PUBLIC = {
     'core.h': 'src/core', 'options.h': 'src/core', 'volume.h': 'volumes', 'image.h': 'src/image',
     'mesh.h': 'src/mesh', 'generate.h': 'src/mesh', 'threemf.h': 'src/io', 'scan.h': 'src/io',
     'model.h': 'src/model', 'voxelize.h': 'src/voxel', 'field.h': 'src/field',
     'material.h': 'src/material', 'profile.h': 'src/material', 'colour.h': 'src/colour',
-    'geometry.h': 'src/geometry', 'export.h': 'src/export', 'slice.h': 'slicing',
+    'geometry.h': 'src/geometry', 'solid.h': 'src/geometry', 'export.h': 'src/export', 'slice.h': 'WDG slicer',
     'layers.h': 'slicing', 'tray.h': 'slicing', 'dist.h': 'slicing', 'render.h': 'renderer',
     'plot.h': 'src/plot', 'viewer.h': 'src/viewer', 'placement.h': 'src/mesh',
 }
@@ -37,6 +43,8 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 def module_of(path):
     if path.startswith(MODEL_FORMATS):
         return 'model formats'
+    if path in WDG:
+        return 'WDG slicer'
     for m in sorted(ORDER, key=len, reverse=True):
         if path == m or path.startswith(m + '/'):
             return m
@@ -58,7 +66,7 @@ def main():
     bad = unknown = 0
     rank = {m: i for i, m in enumerate(ORDER)}
     files = []
-    for top in [m for m in ORDER if m != 'model formats'] + ['include/hovox']:
+    for top in [m for m in ORDER if m not in ('model formats', 'WDG slicer')] + ['include/hovox']:
         for d, _, names in os.walk(os.path.join(root, top)):
             files += [os.path.relpath(os.path.join(d, n), root) for n in names
                       if n.endswith(('.c', '.h', '.cpp', '.hpp', '.inc'))]

@@ -309,6 +309,82 @@ done:
     return st;
 }
 
+/* The box of the slicer's vertices (nv of them). */
+static void bounding_box(hv_slicer *s, size_t nv)
+{
+    hv_slicer_info *in = &s->info;
+    for (int a = 0; a < 3; ++a) {
+        in->bbox_min[a] = nv ? s->xyz[a] : 0;
+        in->bbox_max[a] = in->bbox_min[a];
+    }
+    for (size_t v = 0; v < nv; ++v)
+        for (int a = 0; a < 3; ++a) {
+            double q = s->xyz[3 * v + (size_t)a];
+            if (q < in->bbox_min[a]) in->bbox_min[a] = q;
+            if (q > in->bbox_max[a]) in->bbox_max[a] = q;
+        }
+}
+
+/* Per facet the unit horizontal normal (the orientation vote), and the signed volume of each
+ * body about the box centre (divergence theorem): an inside-out body has every loop's vote
+ * reversed. */
+static hv_status orientation(hv_slicer *s, const uint32_t *tri)
+{
+    const size_t nf = s->nf;
+    const hv_slicer_info *in = &s->info;
+    s->nxy = hv_malloc_array(2 * nf, sizeof *s->nxy);
+    if (!s->nxy) return HV_ERR_NOMEM;
+    double c[3], vol6 = 0;
+    size_t body = 0;
+    for (int a = 0; a < 3; ++a) c[a] = 0.5 * (in->bbox_min[a] + in->bbox_max[a]);
+    for (size_t f = 0; f < nf; ++f) {
+        if (f == s->body_first[body + 1]) {
+            s->body_inverted[body++] = vol6 < 0;
+            vol6 = 0;
+        }
+        const double *p = s->xyz + 3 * (size_t)tri[3 * f], *q = s->xyz + 3 * (size_t)tri[3 * f + 1],
+                     *r = s->xyz + 3 * (size_t)tri[3 * f + 2];
+        double ax = p[0] - c[0], ay = p[1] - c[1], az = p[2] - c[2];
+        double bx = q[0] - c[0], by = q[1] - c[1], bz = q[2] - c[2];
+        double cx = r[0] - c[0], cy = r[1] - c[1], cz = r[2] - c[2];
+        vol6 += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+        double ux = bx - ax, uy = by - ay, uz = bz - az, vx = cx - ax, vy = cy - ay, vz = cz - az;
+        double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, len = sqrt(nx * nx + ny * ny);
+        s->nxy[2 * f] = len > 0 ? (float)(nx / len) : 0.0f;
+        s->nxy[2 * f + 1] = len > 0 ? (float)(ny / len) : 0.0f;
+    }
+    s->body_inverted[body] = vol6 < 0;
+    s->inverted = s->body_inverted[0];
+    return HV_OK;
+}
+
+/* The traversal relies on arcs being an involution: any arc whose twin disagrees is dropped;
+ * then the open edges, arcs and non-manifold arcs are counted. */
+static void check_arcs(hv_slicer *s, const uint8_t *eflags)
+{
+    const size_t nf = s->nf;
+    hv_slicer_info *in = &s->info;
+    for (size_t f = 0; f < nf; ++f)
+        for (int w = 1; w <= 3; ++w) {
+            int32_t g = s->arc[3 * f + (size_t)(w - 1)];
+            if (g < 0) continue;
+            int wg = hv_wdg_back(s, f, w);
+            if (wg < 1 || s->arc[3 * (size_t)g + (size_t)(wg - 1)] != (int32_t)f ||
+                hv_wdg_back(s, (size_t)g, wg) != w)
+                set_arc(s, (uint32_t)f, w, -1, 0);
+        }
+    for (size_t f = 0; f < nf; ++f)
+        for (int le = 0; le < 3; ++le) {
+            int w = k_weight_of_edge[le];
+            if (s->arc[3 * f + (size_t)(w - 1)] < 0) {
+                ++in->open_edges;
+            } else {
+                ++in->arcs;
+                if (eflags && (eflags[f] >> le) & 1) ++in->nonmanifold_arcs;
+            }
+        }
+}
+
 hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_slicer **out)
 {
     if (!out) return hv_error_set(HV_ERR_INVALID, "hv_slicer_create: out is NULL");
@@ -355,47 +431,8 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
     memcpy(s->tri, tri, 3 * nf * sizeof *tri);
     hv_slicer_info *in = &s->info;
     in->facets = nf;
-    for (int a = 0; a < 3; ++a) {
-        in->bbox_min[a] = nv ? s->xyz[a] : 0;
-        in->bbox_max[a] = in->bbox_min[a];
-    }
-    for (size_t v = 0; v < nv; ++v)
-        for (int a = 0; a < 3; ++a) {
-            double q = s->xyz[3 * v + (size_t)a];
-            if (q < in->bbox_min[a]) in->bbox_min[a] = q;
-            if (q > in->bbox_max[a]) in->bbox_max[a] = q;
-        }
-    {
-        /* per facet the unit horizontal normal (the orientation vote), and the signed volume
-         * of each body about the box centre (divergence theorem): an inside-out body has every
-         * loop's vote reversed */
-        s->nxy = hv_malloc_array(2 * nf, sizeof *s->nxy);
-        if (!s->nxy) {
-            st = HV_ERR_NOMEM;
-            goto fail;
-        }
-        double c[3], vol6 = 0;
-        size_t body = 0;
-        for (int a = 0; a < 3; ++a) c[a] = 0.5 * (in->bbox_min[a] + in->bbox_max[a]);
-        for (size_t f = 0; f < nf; ++f) {
-            if (f == s->body_first[body + 1]) {
-                s->body_inverted[body++] = vol6 < 0;
-                vol6 = 0;
-            }
-            const double *p = s->xyz + 3 * (size_t)tri[3 * f], *q = s->xyz + 3 * (size_t)tri[3 * f + 1],
-                         *r = s->xyz + 3 * (size_t)tri[3 * f + 2];
-            double ax = p[0] - c[0], ay = p[1] - c[1], az = p[2] - c[2];
-            double bx = q[0] - c[0], by = q[1] - c[1], bz = q[2] - c[2];
-            double cx = r[0] - c[0], cy = r[1] - c[1], cz = r[2] - c[2];
-            vol6 += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-            double ux = bx - ax, uy = by - ay, uz = bz - az, vx = cx - ax, vy = cy - ay, vz = cz - az;
-            double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, len = sqrt(nx * nx + ny * ny);
-            s->nxy[2 * f] = len > 0 ? (float)(nx / len) : 0.0f;
-            s->nxy[2 * f + 1] = len > 0 ? (float)(ny / len) : 0.0f;
-        }
-        s->body_inverted[body] = vol6 < 0;
-        s->inverted = s->body_inverted[0];
-    }
+    bounding_box(s, nv);
+    if ((st = orientation(s, tri)) != HV_OK) goto fail;
 
     st = hv_progress_report(progress, "slicer", 0.0);
     if (st != HV_OK) goto fail;
@@ -404,26 +441,7 @@ hv_status hv_slicer_create(const hv_mesh *mesh, const hv_progress *progress, hv_
     if (st != HV_OK) goto fail;
     resolve_ambiguous(&bx);
 
-    /* the traversal relies on arcs being an involution; drop any arc whose twin disagrees */
-    for (size_t f = 0; f < nf; ++f)
-        for (int w = 1; w <= 3; ++w) {
-            int32_t g = s->arc[3 * f + (size_t)(w - 1)];
-            if (g < 0) continue;
-            int wg = hv_wdg_back(s, f, w);
-            if (wg < 1 || s->arc[3 * (size_t)g + (size_t)(wg - 1)] != (int32_t)f ||
-                hv_wdg_back(s, (size_t)g, wg) != w)
-                set_arc(s, (uint32_t)f, w, -1, 0);
-        }
-    for (size_t f = 0; f < nf; ++f)
-        for (int le = 0; le < 3; ++le) {
-            int w = k_weight_of_edge[le];
-            if (s->arc[3 * f + (size_t)(w - 1)] < 0) {
-                ++in->open_edges;
-            } else {
-                ++in->arcs;
-                if (eflags && (eflags[f] >> le) & 1) ++in->nonmanifold_arcs;
-            }
-        }
+    check_arcs(s, eflags);
     st = hv_progress_report(progress, "slicer", 0.5);
     if (st != HV_OK) goto fail;
     st = build_index(s, progress);

@@ -254,6 +254,23 @@ HV_API int hv_mesh_has_colour(const hv_mesh *mesh);
 HV_API size_t hv_mesh_note_count(const hv_mesh *mesh);
 HV_API const char *hv_mesh_note_at(const hv_mesh *mesh, size_t i); /* i < count */
 
+/* ---- what the file says about placement (3MF) ---------------------------------------------
+ * The unit its coordinates were given in (3MF <model unit>: "micron", "millimeter", ...,
+ * converted to mm on reading; NULL when the format names none) and its build items in file
+ * order: the body each became (-1: an item of a support or other object, or one that places no
+ * triangle), its object's id and name, and its transform (3x4 rows as hv_mesh_transform's, in
+ * the file's unit; the identity when the item has none). Owned by the mesh; derived meshes
+ * (extract, join, transform) carry none. */
+typedef struct hv_mesh_item {
+    int64_t body;
+    uint64_t object_id;
+    const char *object_name; /* "" when the object has none */
+    double transform[12];
+} hv_mesh_item;
+HV_API const char *hv_mesh_file_unit(const hv_mesh *mesh);
+HV_API size_t hv_mesh_item_count(const hv_mesh *mesh);
+HV_API const hv_mesh_item *hv_mesh_item_at(const hv_mesh *mesh, size_t i); /* NULL past the end */
+
 /* The colour of facet f at barycentric coordinates bary (weights of its corners 0, 1, 2, summing
  * to 1), by the rule above: rgba receives sRGB-encoded red, green, blue and alpha in [0, 1].
  * Textures are sampled bilinearly (HV_FILTER_AUTO, HV_FILTER_LINEAR) between pixel centres, or

@@ -23,6 +23,7 @@
 #include "hovox/layers.h"
 #include "hovox/material.h"
 #include "hovox/options.h"
+#include "hovox/placement.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -39,8 +40,10 @@ HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
 /* A part as options (hv_tray_part_option_set): model (a graded .vdb; absent for a plain mesh),
  * mesh (.stl, required), material (a plain mesh's material, required without a model), name,
  * at = X,Y (plate position of the centre of its xy box; absent: arranged), z (lift, mm, >= 0),
- * rotation (0, 90, 180, 270 degrees about z), copies (>= 1, placed in a row along +x). Paths are
- * borrowed. */
+ * rotation (0, 90, 180, 270 degrees about z), copies (>= 1, placed in a row along +x), and the
+ * placement of the mesh (hovox/placement.h: unit, up, scale, rotate, translate; applied to the mesh
+ * when it is read, before `rotation`; a model must have been voxelized from the mesh so placed).
+ * Paths are borrowed. */
 typedef struct hv_tray_part {
     const char *model, *mesh, *material, *name;
     double at[2];
@@ -48,6 +51,7 @@ typedef struct hv_tray_part {
     int rotation;
     int copies;
     int placed; /* `at` given */
+    hv_placement place;
 } hv_tray_part;
 HV_API void hv_tray_part_init(hv_tray_part *p);
 HV_API const hv_option_set *hv_tray_part_option_set(void);
@@ -76,6 +80,8 @@ typedef struct hv_tray_options {
     hv_stack_finish_fn finish;                   /* run before the stack is renamed into place
                                                     (see hovox/layers.h); NULL: none */
     void *finish_user;
+    hv_stack_manifest_fn manifest;               /* adds to manifest.json; NULL: none */
+    void *manifest_user;
 } hv_tray_options;
 HV_API void hv_tray_options_init(hv_tray_options *o);
 HV_API const hv_option_set *hv_tray_option_set(void);

@@ -145,8 +145,17 @@ int cli_out_of_time(void);
 #include "hovox/viewer.h"
 void cli_view_report(const hv_viewer_report *r, const char *dir);
 
+/* ---- placement (place.c) ---------------------------------------------------------------------
+ * Load a mesh and place it (hovox/placement.h), then warn when its size suggests a wrong unit
+ * (build: the printer's build volume; NULL: the largest built-in one). Errors: those of
+ * hv_mesh_load and hv_placement_apply; *out is NULL then. */
+#include "hovox/placement.h"
+hv_status cli_mesh_load_placed(const char *path, const hv_placement *place, const double build[3], hv_mesh **out);
+/* The size warning alone (a mesh placed otherwise). */
+void cli_warn_mesh_size(const hv_mesh *mesh, const double build[3]);
+
 /* Commands */
 extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
-    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export;
+    cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export, cmd_colour;
 
 #endif

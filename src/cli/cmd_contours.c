@@ -13,12 +13,14 @@
 
 typedef struct contours_cli {
     int json;
+    hv_placement place;
 } contours_cli;
 
 static const hv_option k_local_opts[] = {
     {.key = "json", .kind = HV_OPT_FLAG, .offset = offsetof(contours_cli, json), .section = "Output",
      .help = "per-layer statistics as JSON on stdout (z, bottom, top, loops, outers, holes, open, gaps_closed, area "
              "in mm^2)"},
+    HV_PLACEMENT_OPTIONS(contours_cli, place),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("contours", k_local_opts, contours_cli);
 
@@ -121,8 +123,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     hv_buf_init(&js.b);
     hv_contours_summary sum;
     hv_mesh *mesh = NULL;
-    hv_status s = hv_mesh_load(mesh_path, &mesh);
-    if (s == HV_OK) cli_mesh_notes(mesh);
+    hv_status s = cli_mesh_load_placed(mesh_path, &c->place, NULL, &mesh);
     js.nbodies = mesh ? hv_mesh_body_count(mesh) : 0;
     if (s == HV_OK) s = hv_contours_write(mesh, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
     cli_progress_done(&bar);

@@ -21,12 +21,57 @@ static const hv_option k_local_opts[] = {
 static const hv_option_set k_local = CLI_LOCAL_SET("info", k_local_opts, info_cli);
 
 
+/* An item's transform: "identity", "translate X Y Z", or its three rows. */
+static void transform_text(const double *t, char *buf, size_t size)
+{
+    int linear_id = t[0] == 1 && t[1] == 0 && t[2] == 0 && t[4] == 0 && t[5] == 1 && t[6] == 0 && t[8] == 0 &&
+                    t[9] == 0 && t[10] == 1;
+    if (linear_id && t[3] == 0 && t[7] == 0 && t[11] == 0) snprintf(buf, size, "identity");
+    else if (linear_id) snprintf(buf, size, "translate %.6g %.6g %.6g", t[3], t[7], t[11]);
+    else
+        snprintf(buf, size, "[%.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g]", t[0], t[1], t[2], t[3], t[4],
+                 t[5], t[6], t[7], t[8], t[9], t[10], t[11]);
+}
+
+/* "3 'name'" or "3": an item's object. */
+static int item_label(const hv_mesh_item *it, char *buf, size_t size)
+{
+    if (it->object_name[0]) return snprintf(buf, size, "%llu '%.160s'", (unsigned long long)it->object_id, it->object_name);
+    return snprintf(buf, size, "%llu", (unsigned long long)it->object_id);
+}
+
+/* The file's build items (3MF): object, the body it became, transform. */
+static void print_items(const hv_mesh *m)
+{
+    size_t n = hv_mesh_item_count(m);
+    if (!n) return;
+    int wo = 6, wb = 4;
+    char label[192];
+    for (size_t i = 0; i < n; ++i) {
+        const hv_mesh_item *it = hv_mesh_item_at(m, i);
+        wo = HV_MAX(wo, item_label(it, label, sizeof label));
+        if (it->body >= 0) wb = HV_MAX(wb, (int)strlen(hv_mesh_body_at(m, (size_t)it->body)->name));
+    }
+    printf("build items         %zu\n", n);
+    printf("  %4s  %-*s  %-*s  %s\n", "item", wo, "object", wb, "body", "transform");
+    for (size_t i = 0; i < n; ++i) {
+        const hv_mesh_item *it = hv_mesh_item_at(m, i);
+        char t[320];
+        transform_text(it->transform, t, sizeof t);
+        item_label(it, label, sizeof label);
+        printf("  %4zu  %-*s  %-*s  %s\n", i + 1, wo, label, wb, it->body >= 0 ? hv_mesh_body_at(m, (size_t)it->body)->name : "-", t);
+    }
+}
+
 static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report *bodies)
 {
     const hv_mesh_report *r = hv_mesh_get_report(m);
     int closed = r->open_edges == 0 && r->nonmanifold_edges == 0;
     printf("file                %s\n", path);
     printf("format              %s\n", hv_mesh_format_name(r->format));
+    if (hv_mesh_file_unit(m))
+        printf("unit                %s%s\n", hv_mesh_file_unit(m),
+               strcmp(hv_mesh_file_unit(m), "millimeter") ? " (the file's; the figures here are in mm)" : "");
     printf("facets              %llu\n", (unsigned long long)r->facets);
     printf("vertices            %llu\n", (unsigned long long)r->vertices);
     printf("bbox min            %.6g %.6g %.6g\n", r->bbox_min[0], r->bbox_min[1], r->bbox_min[2]);
@@ -71,6 +116,7 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
         }
     }
     if (hv_mesh_corner_colours(m)) printf("corner colours      yes\n");
+    print_items(m);
     if (nb < 2 && nm == 0) return; /* one body and no material: the report above says it all */
     int wn = 4, wm = 8;
     for (size_t i = 0; i < nb; ++i) {

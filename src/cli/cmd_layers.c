@@ -18,6 +18,7 @@
 typedef struct layers_cli {
     const char *output, *mesh;
     int dry_run, view;
+    hv_placement place;
 } layers_cli;
 
 static const hv_option k_local_opts[] = {
@@ -31,6 +32,7 @@ static const hv_option k_local_opts[] = {
     {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(layers_cli, mesh),
      .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
      .section = "Geometry"},
+    HV_PLACEMENT_OPTIONS(layers_cli, place),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("layers", k_local_opts, layers_cli);
 
@@ -60,6 +62,9 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
                    const hv_volume *model)
 {
     printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
+    char placed[1024];
+    if (hv_placement_given(&c->place))
+        printf("placed      %s\n", hv_placement_describe(&c->place, placed, sizeof placed));
     hv_material_table *t = NULL;
     if (model && hv_material_table_load(model, &t) == HV_OK)
         printf("model       %s (%d materials)\n", o->model_name, hv_material_count(t));
@@ -95,8 +100,8 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         s = hv_3mf_load(o->model_name, &model, &mesh);
         o->mesh_name = o->model_name;
     } else {
-        s = hv_mesh_load(c->mesh, &mesh);
-        if (s == HV_OK) cli_mesh_notes(mesh);
+        const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
+        s = cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh);
         if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_model_load(o->model_name, &model);
     }
     hv_layers_report r;
@@ -149,6 +154,9 @@ static int run_cli(const cli_args *args, void *lib, void *local)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
     if (!c->mesh && (args->npos == 0 || !hv_3mf_sniff(args->pos[0])))
         return cli_usage_error("layers", "--mesh is required (a .3mf model brings its own)");
+    if (!c->mesh && hv_placement_given(&c->place))
+        return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a .3mf "
+                                         "model is sliced where it is");
     o->mesh_name = c->mesh;
     o->model_name = args->npos ? args->pos[0] : NULL;
     o->dist = cli_dist;

@@ -15,6 +15,8 @@
 typedef struct tray_cli {
     const char *output;
     const char *part[MAX_CLI_PARTS];
+    hv_placement place[MAX_CLI_PARTS]; /* of each --part: the placement options after it */
+    unsigned place_given[MAX_CLI_PARTS];
     int nparts;
     int view;
 } tray_cli;
@@ -27,6 +29,29 @@ static hv_status add_part(const hv_option *o, void *opts, const hv_opt_value *v)
     return HV_OK;
 }
 
+/* --unit, --up, --scale, --rotate, --translate place the --part given before them (each once
+ * per part; --rotate repeatable). */
+static hv_status place_part(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    tray_cli *c = opts;
+    if (c->nparts == 0) return hv_error_option(HV_ERR_INVALID, "{%s} places the {part} given before it; none is", o->key);
+    static const char *const keys[] = {"unit", "up", "scale", "translate"};
+    for (unsigned k = 0; k < 4; ++k)
+        if (strcmp(o->key, keys[k]) == 0) {
+            if (c->place_given[c->nparts - 1] & (1u << k))
+                return hv_error_option(HV_ERR_INVALID, "{%s} given twice for the {part} '%s'", o->key,
+                                       c->part[c->nparts - 1]);
+            c->place_given[c->nparts - 1] |= 1u << k;
+        }
+    hv_option one = *o;
+    one.offset = 0;
+    return hv_placement_option_parse(&one, &c->place[c->nparts - 1], v);
+}
+
+#define PLACE_OPT(key_, meta_, help_, section_)                                                                 \
+    {.key = key_, .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = meta_, .help = help_, .section = section_, \
+     .parse = place_part}
+
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(tray_cli, "DIR", "the stack directory (written under a temporary name and renamed when complete)", 0),
     {.key = "view", .kind = HV_OPT_FLAG, .offset = offsetof(tray_cli, view),
@@ -35,6 +60,12 @@ static const hv_option k_local_opts[] = {
      .section = "Parts (besides those of JOB.json)",
      .help = "MODEL.vdb,MESH or MESH:MATERIAL (MESH: .stl, .3mf, .obj or .ply), then @X,Y[,ROT] (plate position of the part's box centre, "
              "rotation 0/90/180/270; absent: arranged) and xN for N copies"},
+    PLACE_OPT("unit", "mm|cm|m|in", "the unit of the part before it, a file without one (also um, ft)",
+              "Placement of the --part before them (as in voxelize; job files: the part's keys)"),
+    PLACE_OPT("up", "y|z", "y: the part before it is Y-up, turned Z-up", NULL),
+    PLACE_OPT("scale", "S|SX,SY,SZ", "scale the part before it about the origin", NULL),
+    PLACE_OPT("rotate", "AXIS:DEG|DEG@X,Y,Z", "turn the part before it (repeatable, in order), before ROT", NULL),
+    PLACE_OPT("translate", "X,Y,Z", "move the part before it (mm), last", NULL),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("tray", k_local_opts, tray_cli);
 
@@ -138,6 +169,7 @@ static int run(const cli_args *args, void *lib, void *local)
     for (int i = 0; i < c->nparts && s == HV_OK; ++i) {
         hv_tray_part p;
         s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
+        p.place = c->place[i];
         if (s == HV_OK) s = hv_tray_add(t, &p, NULL); /* "part N", counted after the job file's */
     }
     if (s == HV_OK && hv_tray_part_count(t) == 0) {

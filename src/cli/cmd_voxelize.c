@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/geometry.h"
 #include "hovox/model.h"
 #include "hovox/scan.h"
 #include "hovox/voxelize.h"
@@ -19,6 +20,7 @@ typedef struct vox_cli {
     double iso, range[2], min_feature;
     const char *labels;
     int keep_largest, fill_holes;
+    hv_placement place;
 } vox_cli;
 
 static const hv_option k_local_opts[] = {
@@ -28,6 +30,7 @@ static const hv_option k_local_opts[] = {
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, dry_run),
      .help = "print the plan and its memory estimate, write nothing", .section = "Output"},
     CLI_JSON(vox_cli, "print the summary as JSON"),
+    HV_PLACEMENT_OPTIONS(vox_cli, place),
     {.key = "iso", .kind = HV_OPT_NUMBER, .offset = offsetof(vox_cli, iso), .meta = "VALUE",
      .help = "a scanned volume's solid: where its trilinearly interpolated value is at least VALUE (e.g. 300 HU for bone)",
      .section = "Scanned volumes (NIfTI, NRRD, MetaImage, DICOM series: one of --iso, --range, --labels)"},
@@ -122,6 +125,9 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
         cli_json j;
         cli_json_begin(&j);
         cli_json_str(&j, "mesh", path);
+        char placed[1024];
+        if (hv_placement_given(&c->place))
+            cli_json_str(&j, "placement", hv_placement_describe(&c->place, placed, sizeof placed));
         cli_json_ints(&j, "dims", plan->dims, 3);
         cli_json_nums(&j, "voxel", plan->xf.voxel, 3);
         cli_json_nums(&j, "origin", plan->xf.origin, 3);
@@ -148,6 +154,9 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
         printf("mesh        %s (%llu facets, %zu bodies)\n", path, (unsigned long long)r->facets, nbodies);
     else
         printf("mesh        %s (%llu facets)\n", path, (unsigned long long)r->facets);
+    char placed[1024];
+    if (hv_placement_given(&c->place))
+        printf("placed      %s\n", hv_placement_describe(&c->place, placed, sizeof placed));
     printf("grid        %lld x %lld x %lld voxels of %.6g x %.6g x %.6g\n", (long long)plan->dims[0],
            (long long)plan->dims[1], (long long)plan->dims[2], plan->xf.voxel[0], plan->xf.voxel[1], plan->xf.voxel[2]);
     printf("origin      %.6g %.6g %.6g (centre of voxel 0,0,0)\n", plan->xf.origin[0], plan->xf.origin[1],
@@ -175,14 +184,26 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         hv_volume_destroy(ref);
         opt->lattice = &lattice;
     }
-    hv_mesh *mesh;
-    hv_status s = hv_mesh_load(path, &mesh);
-    if (s != HV_OK) return cli_fail(s);
-    cli_mesh_notes(mesh);
+    /* the mesh as read (raw) and as placed: the model records the raw mesh and the placement
+     * (DESIGN-ROUND "Placement": one record, geometry's leaf) */
+    hv_mesh *mesh = NULL, *raw = NULL;
+    hv_status s = hv_mesh_load(path, &raw);
+    if (s == HV_OK) cli_mesh_notes(raw);
+    if (s == HV_OK && hv_placement_given(&c->place)) s = hv_placement_transform(&c->place, raw, &mesh);
+    else if (s == HV_OK) {
+        mesh = raw;
+        raw = NULL;
+    }
+    if (s != HV_OK) {
+        hv_mesh_destroy(raw);
+        return cli_fail(s);
+    }
+    cli_warn_mesh_size(mesh, NULL);
     hv_voxel_plan plan;
     s = hv_voxelize_plan(mesh, opt, &plan);
     if (s != HV_OK) {
         hv_mesh_destroy(mesh);
+        hv_mesh_destroy(raw);
         return cli_fail(s);
     }
     const hv_mesh_report *r = hv_mesh_get_report(mesh);
@@ -199,16 +220,26 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         s = hv_voxelize(mesh, opt, &vol);
         cli_progress_done(&bar);
         opt->progress = NULL;
+        if (s == HV_OK && raw) { /* the leaf: the raw mesh and the placement's matrix */
+            double m[12];
+            hv_geometry *g = NULL;
+            s = hv_placement_matrix(&c->place, m);
+            if (s == HV_OK) s = hv_geometry_from_mesh(raw, NULL, m, c->place.unit > 0 ? c->place.unit : 1.0, &g);
+            if (s == HV_OK) s = hv_geometry_write(g, vol);
+            hv_geometry_destroy(g);
+        }
         if (s == HV_OK) s = hv_volume_save(vol, c->output);
         if (s != HV_OK) {
             hv_volume_destroy(vol);
             hv_mesh_destroy(mesh);
+            hv_mesh_destroy(raw);
             return cli_fail(s);
         }
     }
     int rc = report(path, mesh, &plan, opt, c, vol);
     hv_volume_destroy(vol);
     hv_mesh_destroy(mesh);
+    hv_mesh_destroy(raw);
     return rc;
 }
 
@@ -332,7 +363,12 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 {
     const vox_cli *c = local;
     if (!c->output && !c->dry_run) return cli_usage_error("voxelize", "missing -o MODEL.vdb");
-    if (hv_scan_path_is_scan(args->pos[0])) return run_scan(args, args->pos[0], lib, c);
+    if (hv_scan_path_is_scan(args->pos[0])) {
+        if (hv_placement_given(&c->place))
+            return cli_usage_error("voxelize", "placement options are for meshes; a scanned volume is placed by its own "
+                                   "affine (world RAS millimetres)");
+        return run_scan(args, args->pos[0], lib, c);
+    }
     static const char *const scan_only[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature"};
     for (size_t i = 0; i < sizeof scan_only / sizeof *scan_only; ++i)
         if (cli_given(args, scan_only[i]))

@@ -7,7 +7,7 @@
 static const cli_spec *const g_commands[] = {&cmd_info,   &cmd_voxelize, &cmd_grade,  &cmd_probe,
                                              &cmd_profile, &cmd_run,      &cmd_render, &cmd_contours,
                                              &cmd_layers,  &cmd_tray,     &cmd_view,    &cmd_export,
-                                             &cmd_generate};
+                                             &cmd_generate, &cmd_colour};
 
 static void print_help(FILE *out)
 {

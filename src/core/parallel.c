@@ -84,6 +84,7 @@ hv_status hv_parallel_for(size_t n, size_t grain, hv_range_fn fn, void *ctx,
     size_t chunks = (n + grain - 1) / grain;
     int threads = hv_threads();
     if ((size_t)threads > chunks) threads = (int)chunks;
+    if (omp_in_parallel()) threads = 1; /* inside a loop over parts (an assembly's bodies): its thread alone */
 
     atomic_size_t next = 0, done = 0;
     atomic_int stop = 0;

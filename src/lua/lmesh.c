@@ -7,6 +7,7 @@
 
 #include "core/internal.h"
 #include "hovox/generate.h"
+#include "hovox/placement.h"
 #include "hovox/slice.h"
 #include "lhovox.h"
 #include "mesh/mesh_internal.h"
@@ -26,6 +27,21 @@ static int l_load_mesh(lua_State *L)
     hv_status s = hv_mesh_load(path, &m);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_mesh(L, m);
+    return 1;
+}
+
+/* mesh:transform{unit = "m", up = "y", scale = S | {SX, SY, SZ}, rotate = "x:90" | {"x:90",
+ *   "30@1,1,0", ...}, translate = {X, Y, Z}} -> a new Mesh, placed as `hovox voxelize --unit ...`
+ *   places it (hovox/placement.h; the same order whatever the keys' order) */
+static int mesh_transform(lua_State *L)
+{
+    hv_lua_mesh(L, 1);
+    hv_placement p;
+    hv_lua_read(L, 2, hv_placement_option_set(), &p, NULL);
+    hv_mesh *out = NULL;
+    hv_status s = hv_placement_transform(&p, hv_lua_mesh(L, 1), &out); /* again: reading the options may have run a finalizer */
+    if (s != HV_OK) return fail(L, s);
+    hv_lua_push_mesh(L, out);
     return 1;
 }
 
@@ -273,7 +289,8 @@ void hv_lua_open_mesh(lua_State *L, int module)
 {
     static const luaL_Reg methods[] = {{"report", mesh_report},       {"save", mesh_save},     {"count", mesh_count},
                                        {"bodies", mesh_bodies},       {"materials", mesh_materials},
-                                       {"free", mesh_gc},             {NULL, NULL}};
+                                       {"free", mesh_gc},             {"transform", mesh_transform},
+                                       {NULL, NULL}};
     static const luaL_Reg fns[] = {{"load_mesh", l_load_mesh}, {"contours", l_contours}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MESH, methods, mesh_gc, mesh_tostring);
     lua_pushvalue(L, module);

@@ -543,8 +543,29 @@ void hv_mesh_destroy(hv_mesh *m)
     hv_mesh_appearance_free(m);
     for (size_t i = 0; i < m->nnotes; ++i) free(m->notes[i]);
     free(m->notes);
+    for (size_t i = 0; i < m->nitems; ++i) free((char *)m->items[i].object_name);
+    free(m->items);
+    free(m->file_unit);
     free(m);
 }
+
+hv_status hv_mesh_set_file_info(hv_mesh *m, const char *unit, const hv_mesh_item *items, size_t n)
+{
+    if (unit && !(m->file_unit = hv_strdup(unit))) return HV_ERR_NOMEM;
+    if (n == 0) return HV_OK;
+    if (!(m->items = hv_calloc(n, sizeof *m->items))) return HV_ERR_NOMEM;
+    for (size_t i = 0; i < n; ++i) {
+        m->items[i] = items[i];
+        m->items[i].object_name = hv_strdup(items[i].object_name ? items[i].object_name : "");
+        if (!m->items[i].object_name) return HV_ERR_NOMEM; /* the names before it are freed with the mesh */
+        m->nitems = i + 1;
+    }
+    return HV_OK;
+}
+
+const char *hv_mesh_file_unit(const hv_mesh *m) { return m->file_unit; }
+size_t hv_mesh_item_count(const hv_mesh *m) { return m->nitems; }
+const hv_mesh_item *hv_mesh_item_at(const hv_mesh *m, size_t i) { return i < m->nitems ? &m->items[i] : NULL; }
 
 hv_status hv_mesh_add_note(hv_mesh *m, const char *text)
 {

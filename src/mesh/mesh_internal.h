@@ -28,7 +28,14 @@ struct hv_mesh {
     size_t ntex;
     char **notes;             /* reader notes (hv_mesh_note_at) */
     size_t nnotes;
+    char *file_unit;          /* hv_mesh_file_unit */
+    hv_mesh_item *items;      /* hv_mesh_item_at; names owned */
+    size_t nitems;
 };
+
+/* Give a mesh the file's unit (may be NULL) and build items (copied, names too). Errors:
+ * HV_ERR_NOMEM. */
+hv_status hv_mesh_set_file_info(hv_mesh *m, const char *unit, const hv_mesh_item *items, size_t n);
 
 /* Add a reader note (copied). Errors: HV_ERR_NOMEM. */
 hv_status hv_mesh_add_note(hv_mesh *m, const char *text);

@@ -92,6 +92,25 @@ void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_m
     int any = 0; /* the mesh is inside out when a body is (the whole's volume sums them) */
     for (size_t i = 0; i < hv_mesh_body_count(m); ++i) any |= hv_mesh_report_inside_out(&body_reports[i]);
     if (!failed) failed |= hv_json_set(j, "inside_out", json_boolean(any));
+    if (!failed && hv_mesh_file_unit(m)) failed |= hv_json_set(j, "unit", json_string(hv_mesh_file_unit(m)));
+    if (!failed && hv_mesh_item_count(m)) { /* the file's build items (3MF) */
+        json_t *items = json_array();
+        failed |= !items || hv_json_set(j, "items", items);
+        for (size_t i = 0; !failed && i < hv_mesh_item_count(m); ++i) {
+            const hv_mesh_item *it = hv_mesh_item_at(m, i);
+            json_t *o = json_object(), *t = json_array();
+            failed |= !o || !t || json_array_append_new(items, o) != 0;
+            if (failed) {
+                json_decref(t);
+                break;
+            }
+            failed |= hv_json_set(o, "object", json_integer((json_int_t)it->object_id));
+            failed |= hv_json_set(o, "name", hv_json_text(it->object_name));
+            failed |= hv_json_set(o, "body", it->body >= 0 ? hv_json_text(hv_mesh_body_at(m, (size_t)it->body)->name) : json_null());
+            for (int k = 0; k < 12; ++k) failed |= json_array_append_new(t, json_real(it->transform[k])) != 0;
+            failed |= hv_json_set(o, "transform", t);
+        }
+    }
     for (size_t k = 0; !failed && k < hv_mesh_material_count(m); ++k) {
         const hv_mesh_material *mt = hv_mesh_material_at(m, k);
         char col[10];

@@ -18,8 +18,9 @@ hv_status hv_fill_vote(const hv_mesh *mesh, const double *P, const hv_bitgrid *s
                        hv_bitgrid *occ, const hv_progress *progress);
 
 /* in = the voxels whose centre is inside the mesh, by the vote's rule for every voxel (its even
- * lines' majority, the winding number where they tie), surface voxels included: the centre
- * classification of an assembly's bodies. in must be zeroed; its n and lo give the lattice. */
+ * lines' majority; where they tie, the majority of all three lines' parities, not the winding
+ * number), surface voxels included: the centre classification of an assembly's bodies. in must
+ * be zeroed; its n and lo give the lattice. */
 hv_status hv_fill_centres(const hv_mesh *mesh, const double *P, hv_bitgrid *in, const hv_progress *progress);
 
 /* Mark the voxels of grid S that the triangle p (grid coordinates: voxel centres at integers)

@@ -7,6 +7,8 @@
  * anisotropic voxels: separation is a property of the lattice. Only each triangle's voxel
  * bounding box is visited, column by column along the normal's dominant axis. */
 #include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -805,6 +807,94 @@ static hv_status region_write(hv_volume *vol, int g, const region_work *r, const
     return HV_OK;
 }
 
+/* A body on its way through voxelize_bodies: its mesh, box and grids (body_voxels). */
+typedef struct body_job {
+    hv_mesh *bm;
+    int64_t blo[3], bn[3];
+    hv_bitgrid S, O, C;
+} body_job;
+
+static void body_job_free(body_job *j)
+{
+    hv_mesh_destroy(j->bm);
+    hv_bitgrid_free(&j->S);
+    hv_bitgrid_free(&j->O);
+    hv_bitgrid_free(&j->C);
+    memset(j, 0, sizeof *j);
+}
+
+/* Body b alone: its region record (name, material, colour, fill), its mesh, box and grids.
+ * Thread-safe for distinct bodies. */
+static hv_status body_run(const hv_mesh *mesh, size_t b, const hv_voxelize_options *opt, const hv_voxel_plan *plan,
+                          const int64_t lo[3], const int64_t n[3], hv_region_info *g, body_job *j)
+{
+    memset(j, 0, sizeof *j);
+    const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
+    hv_status s = hv_mesh_body_extract(mesh, b, &j->bm);
+    if (s == HV_OK && (!(g->name = hv_strdup(body->name)) ||
+                       (body->material != HV_MESH_NO_MATERIAL &&
+                        !(g->material = hv_strdup(hv_mesh_material_at(mesh, (size_t)body->material)->name)))))
+        s = HV_ERR_NOMEM;
+    if (s == HV_OK) s = hv_regions_grid_name(body->name, (char **)&g->grid);
+    if (s != HV_OK) return s;
+    if (body->material != HV_MESH_NO_MATERIAL) {
+        const hv_mesh_material *mm = hv_mesh_material_at(mesh, (size_t)body->material);
+        if ((g->has_color = mm->has_color))
+            for (int k = 0; k < 4; ++k) g->rgba[k] = (float)((mm->rgba >> (24 - 8 * k)) & 0xFFu) / 255.0f;
+    }
+    g->fill = opt->fill == HV_FILL_AUTO ? hv_fill_auto(hv_mesh_get_report(j->bm)) : opt->fill;
+    body_box(j->bm, plan, lo, n, j->blo, j->bn);
+    return body_voxels(j->bm, plan, opt, g->fill, j->blo, j->bn, &j->S, &j->O, &j->C);
+}
+
+/* Small enough to run on one thread beside others: few facets and a box of a few MiB of bits
+ * (the box of its facets' vertices, as body_box finds it). */
+static int body_small(const hv_mesh *mesh, size_t b, const hv_voxel_plan *p, const int64_t lo[3], const int64_t n[3])
+{
+    const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
+    if (body->facet_count > 65536) return 0;
+    const uint32_t *tri = hv_mesh_facets(mesh);
+    const float *xyz = hv_mesh_vertices(mesh);
+    double voxels = 1;
+    for (int a = 0; a < 3; ++a) {
+        double mn = INFINITY, mx = -INFINITY;
+        for (size_t f = body->first_facet; f < body->first_facet + body->facet_count; ++f)
+            for (int k = 0; k < 3; ++k) {
+                double q = ((double)xyz[3 * (size_t)tri[3 * f + (size_t)k] + (size_t)a] - p->xf.origin[a]) / p->xf.voxel[a];
+                mn = HV_MIN(mn, q);
+                mx = HV_MAX(mx, q);
+            }
+        double span = HV_MIN(mx + PAD + 1, (double)(lo[a] + n[a])) - HV_MAX(mn - PAD, (double)lo[a]) + 64;
+        voxels *= HV_MAX(span, 1.0);
+    }
+    return voxels <= (double)(1 << 24);
+}
+
+/* Fold body b's grids into the unions, in file order (the first body keeps the overlap), and keep
+ * its first-pass voxels and second-pass candidates as blocks. */
+static hv_status body_fold(body_job *j, size_t b, union_grids *u, region_work *rw, region_work *rk, uint64_t *nocc,
+                           hv_region_info *g)
+{
+    /* the overlap: this body's centres that an earlier body took in the first pass */
+    hv_region_loss *to = NULL;
+    for (size_t q = 0; q < b; ++q) {
+        uint64_t cnt = overlap_with(&j->C, &rw[q]);
+        if (!cnt) continue;
+        if (!to && !(to = hv_calloc(b, sizeof *to))) return HV_ERR_NOMEM;
+        g->lost_to = to;
+        to[g->nlost_to].region = q;
+        to[g->nlost_to++].voxels = cnt;
+    }
+    uint64_t first = 0;
+    fold_body(&j->O, &j->S, &j->C, u, &nocc[b], &first);
+    hv_bitgrid_free(&j->S);
+    g->voxels = first;
+    hv_status s = collect_blocks(&j->C, NULL, &rw[b].n, &rw[b].origins, &rw[b].masks);
+    hv_bitgrid_free(&j->C);
+    if (s == HV_OK) s = collect_blocks(&j->O, NULL, &rk[b].n, &rk[b].origins, &rk[b].masks);
+    return s;
+}
+
 /* The bodies of an assembly on one lattice. A voxel belongs to the body that contains its centre,
  * in two passes in file order: (1) a voxel whose centre is inside one or more bodies goes to the
  * first of them; (2) a voxel left (the outer skin: in some body's occupancy, its centre in none)
@@ -829,56 +919,59 @@ static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options 
     if (s == HV_OK) s = hv_bitgrid_init(&u.CU, n, lo);
     if (s == HV_OK) s = hv_bitgrid_init(&u.C2, n, lo);
     int fills = 0; /* bit per resolved fill mode */
-    for (size_t b = 0; b < nb && s == HV_OK; ++b) {
-        const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
-        hv_region_info *g = &regs->info[b];
-        regs->n = b + 1;
-        hv_mesh *bm = NULL;
-        hv_bitgrid S = {0}, O = {0}, C = {0};
-        s = hv_mesh_body_extract(mesh, b, &bm);
-        if (s == HV_OK && (!(g->name = hv_strdup(body->name)) ||
-                           (body->material != HV_MESH_NO_MATERIAL &&
-                            !(g->material = hv_strdup(hv_mesh_material_at(mesh, (size_t)body->material)->name)))))
-            s = HV_ERR_NOMEM;
-        if (s == HV_OK) s = hv_regions_grid_name(body->name, (char **)&g->grid);
-        if (s == HV_OK) {
-            if (body->material != HV_MESH_NO_MATERIAL) {
-                const hv_mesh_material *mm = hv_mesh_material_at(mesh, (size_t)body->material);
-                if ((g->has_color = mm->has_color))
-                    for (int k = 0; k < 4; ++k) g->rgba[k] = (float)((mm->rgba >> (24 - 8 * k)) & 0xFFu) / 255.0f;
+    if (s == HV_OK) regs->n = nb; /* records filled as the bodies come (calloc'd: freed whatever happens) */
+    hv_voxelize_options quiet = *opt;
+    quiet.progress = NULL;
+    for (size_t b = 0; b < nb && s == HV_OK;) {
+        /* a run of small bodies, a thread each, folded in file order (an assembly of many small
+         * bodies pays no fork and join per body and loop: issue 32 item 20); a large body alone,
+         * its loops parallel */
+        size_t e = b;
+        while (e < nb && body_small(mesh, e, plan, lo, n)) ++e;
+        if (e == b) {
+            body_job j;
+            s = body_run(mesh, b, opt, plan, lo, n, &regs->info[b], &j);
+            if (s == HV_OK) fills |= 1 << regs->info[b].fill;
+            if (s == HV_OK) s = body_fold(&j, b, &u, rw, rk, nocc, &regs->info[b]);
+            body_job_free(&j);
+            ++b;
+            continue;
+        }
+        atomic_int stop = 0;
+        hv_status run_status = HV_OK;
+#pragma omp parallel for ordered schedule(dynamic, 1) num_threads(hv_threads())
+        for (size_t k = b; k < e; ++k) {
+            body_job j;
+            memset(&j, 0, sizeof j);
+            hv_status st = atomic_load(&stop) ? HV_ERR_CANCELLED
+                                              : body_run(mesh, k, &quiet, plan, lo, n, &regs->info[k], &j);
+            char msg[512] = "";
+            if (st != HV_OK) snprintf(msg, sizeof msg, "%s", hv_last_error());
+#pragma omp ordered
+            {
+                if (run_status == HV_OK && st != HV_OK) {
+                    run_status = hv_error_set(st, "%s", msg);
+                    atomic_store(&stop, 1);
+                }
+                if (run_status == HV_OK) {
+                    fills |= 1 << regs->info[k].fill;
+                    st = body_fold(&j, k, &u, rw, rk, nocc, &regs->info[k]);
+                    if (st != HV_OK) {
+                        run_status = st;
+                        snprintf(msg, sizeof msg, "%s", hv_last_error());
+                        hv_error_set(st, "%s", msg);
+                        atomic_store(&stop, 1);
+                    }
+                }
             }
-            g->fill = opt->fill == HV_FILL_AUTO ? hv_fill_auto(hv_mesh_get_report(bm)) : opt->fill;
-            fills |= 1 << g->fill;
-            int64_t blo[3], bn[3];
-            body_box(bm, plan, lo, n, blo, bn);
-            s = body_voxels(bm, plan, opt, g->fill, blo, bn, &S, &O, &C);
+            body_job_free(&j);
         }
-        hv_mesh_destroy(bm);
-        /* the overlap: this body's centres that an earlier body took in the first pass */
-        hv_region_loss *to = NULL;
-        for (size_t j = 0; j < b && s == HV_OK; ++j) {
-            uint64_t k = overlap_with(&C, &rw[j]);
-            if (!k) continue;
-            if (!to && !(to = hv_calloc(b, sizeof *to))) {
-                s = HV_ERR_NOMEM;
-                break;
-            }
-            to[g->nlost_to].region = j;
-            to[g->nlost_to++].voxels = k;
+        if (run_status != HV_OK) { /* the message was set on the thread that failed: again here */
+            s = run_status;
+            break;
         }
-        g->lost_to = to;
-        if (s == HV_OK) {
-            uint64_t first = 0;
-            fold_body(&O, &S, &C, &u, &nocc[b], &first);
-            hv_bitgrid_free(&S);
-            g->voxels = first;
-            s = collect_blocks(&C, NULL, &rw[b].n, &rw[b].origins, &rw[b].masks);
-            hv_bitgrid_free(&C);
-            if (s == HV_OK) s = collect_blocks(&O, NULL, &rk[b].n, &rk[b].origins, &rk[b].masks);
-        }
-        hv_bitgrid_free(&S);
-        hv_bitgrid_free(&O);
-        hv_bitgrid_free(&C);
+        b = e;
+        s = hv_progress_report(opt->progress, "bodies", (double)b / (double)nb);
     }
     if (s == HV_OK) {
         /* the surface of the union: surface voxels inside no body's interior */

@@ -12,6 +12,7 @@
 #include <zip.h>
 
 #include "hovox/generate.h"
+#include "hovox/image.h"
 #include "hovox/mesh.h"
 #include "reader_check.h"
 #include "support/lib3mf_c.h"
@@ -333,6 +334,16 @@ Test(threemf, components_and_build_items_are_placed_by_their_transforms)
     }
     cr_assert_float_eq(r.volume, 1, 1e-6); /* a rotation keeps the orientation */
     cr_assert_eq(r.flipped_facets, 0);
+    /* the file's build items, as info reports them (issue 27 item 4) */
+    cr_assert_str_eq(hv_mesh_file_unit(m), "millimeter");
+    cr_assert_eq(hv_mesh_item_count(m), 3);
+    const hv_mesh_item *it = hv_mesh_item_at(m, 1);
+    cr_assert_eq(it->body, 1);
+    cr_assert_str_eq(it->object_name, "cube");
+    for (int k = 0; k < 12; ++k) cr_assert_float_eq(it->transform[k], turn[k], 1e-9, "transform %d", k);
+    cr_assert_eq(hv_mesh_item_at(m, 0)->body, 0);
+    cr_assert_str_eq(hv_mesh_item_at(m, 2)->object_name, "");
+    cr_assert_null(hv_mesh_item_at(m, 3));
     hv_mesh_destroy(m);
     hv_mesh_destroy(unit);
 }
@@ -401,6 +412,13 @@ Test(threemf, colours_become_materials_named_by_their_value)
     cr_assert_eq(hv_mesh_body_at(m, 0)->material, 0);
     cr_assert_eq(hv_mesh_facet_materials(m)[0], 1);
     cr_assert_eq(hv_mesh_facet_materials(m)[4], 0);
+    /* and the mesh's appearance: every corner its colour (DESIGN-ROUND: colour groups) */
+    const uint32_t *cc = hv_mesh_corner_colours(m);
+    cr_assert_not_null(cc);
+    for (size_t f = 0; f < 12; ++f)
+        for (int c = 0; c < 3; ++c)
+            cr_assert_eq(cc[3 * f + (size_t)c], f < 4 ? 0x008000FFu : 0xFF8000FFu, "facet %zu corner %d: %08x", f, c,
+                         cc[3 * f + (size_t)c]);
     hv_mesh_destroy(m);
     hv_mesh_destroy(unit);
 }
@@ -417,6 +435,8 @@ Test(threemf, the_model_unit_is_converted_to_millimetres)
         const hv_mesh_report *r = hv_mesh_get_report(m);
         cr_assert_float_eq(r->bbox_max[0], 2 * mm[u], 1e-6 * mm[u], "unit %d: %g", u, r->bbox_max[0]);
         cr_assert_float_eq(r->volume, 8 * mm[u] * mm[u] * mm[u], 1e-6 * 8 * mm[u] * mm[u] * mm[u]);
+        static const char *const names[] = {"micron", "millimeter", "centimeter", "inch", "foot", "meter"};
+        cr_assert_str_eq(hv_mesh_file_unit(m), names[u]);
         hv_mesh_destroy(m);
     }
     hv_mesh_destroy(unit);
@@ -433,6 +453,9 @@ Test(threemf, support_objects_are_not_bodies)
     hv_mesh *m = read_model(model, "s.3mf");
     cr_assert_eq(hv_mesh_body_count(m), 1);
     cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "part");
+    cr_assert_eq(hv_mesh_item_count(m), 2);
+    cr_assert_eq(hv_mesh_item_at(m, 0)->body, -1); /* the support's item is no body */
+    cr_assert_eq(hv_mesh_item_at(m, 1)->body, 0);
     hv_mesh_destroy(m);
     model = new_model(L3MF_MM);
     sup = add_mesh(model, unit, "support");
@@ -667,6 +690,101 @@ Test(threemf, beam_lattice_slice_and_other_required_extensions_are_refused_by_na
         cr_assert(strncmp(hv_last_error(), "ext.3mf: 3D/3dmodel.model: line ", 32) == 0, "%s", hv_last_error());
         free(data);
     }
+}
+
+/* A package of parts with binary contents (name, data, size). */
+static unsigned char *zip_bin(const char *const *names, const void *const *data, const size_t *sizes, size_t n, size_t *len)
+{
+    const char *path = t_tmpfile("bin.3mf");
+    remove(path);
+    int err = 0;
+    zip_t *z = zip_open(path, ZIP_CREATE | ZIP_TRUNCATE, &err);
+    cr_assert_not_null(z);
+    for (size_t i = 0; i < n; ++i) {
+        zip_source_t *src = zip_source_buffer(z, data[i], sizes[i], 0);
+        cr_assert(zip_file_add(z, names[i], src, ZIP_FL_OVERWRITE) >= 0);
+    }
+    cr_assert_eq(zip_close(z), 0);
+    FILE *fp = fopen(path, "rb");
+    fseek(fp, 0, SEEK_END);
+    *len = (size_t)ftell(fp);
+    rewind(fp);
+    unsigned char *out = malloc(*len);
+    cr_assert_eq(fread(out, 1, *len, fp), *len);
+    fclose(fp);
+    return out;
+}
+
+Test(threemf, gradients_textures_and_mirrors_reach_the_mesh_appearance)
+{
+    /* a tetrahedron as a texturing exporter writes it: one face a colour gradient (p1 p2 p3 of a
+     * colorgroup), two faces textured from a 2 x 2 PNG (tex2coord corners), one face without a
+     * property; placed by a mirror, which swaps corners 1 and 2 of every facet */
+    static const uint8_t px[16] = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
+    uint8_t *png = NULL;
+    size_t png_size = 0;
+    hv_png_options po;
+    hv_png_options_init(&po);
+    cr_assert_eq(hv_png_encode(px, 2, 2, 4, 8, &po, &png, &png_size), HV_OK, "%s", hv_last_error());
+    static const char types[] = "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+                                "<Default Extension=\"rels\" ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
+                                "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/>"
+                                "<Default Extension=\"png\" ContentType=\"image/png\"/></Types>";
+    static const char model[] =
+        MODEL_HEAD "<resources><m:colorgroup id=\"2\"><m:color color=\"#FF0000\"/><m:color color=\"#00FF00\"/>"
+        "<m:color color=\"#0000FF80\"/></m:colorgroup>"
+        "<m:texture2d id=\"3\" path=\"/3D/Textures/checker.png\" contenttype=\"image/png\" tilestyleu=\"clamp\" "
+        "tilestylev=\"mirror\" filter=\"nearest\"/>"
+        "<m:texture2dgroup id=\"4\" texid=\"3\"><m:tex2coord u=\"0\" v=\"0\"/><m:tex2coord u=\"1\" v=\"0\"/>"
+        "<m:tex2coord u=\"0.5\" v=\"1\"/></m:texture2dgroup>"
+        "<object id=\"1\" name=\"tet\" type=\"model\" pid=\"2\" pindex=\"0\"><mesh>" TET_VERTICES
+        "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\" pid=\"2\" p1=\"0\" p2=\"1\" p3=\"2\"/>"
+        "<triangle v1=\"0\" v2=\"1\" v3=\"3\" pid=\"4\" p1=\"0\" p2=\"1\" p3=\"2\"/>"
+        "<triangle v1=\"1\" v2=\"2\" v3=\"3\" pid=\"4\" p1=\"2\" p2=\"1\" p3=\"0\"/>"
+        "<triangle v1=\"0\" v2=\"3\" v3=\"2\"/></triangles></mesh></object></resources>"
+        "<build><item objectid=\"1\" transform=\"-1 0 0 0 1 0 0 0 1 0 0 0\"/></build></model>";
+    static const char model_rels[] = "<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
+                                     "<Relationship Target=\"/3D/Textures/checker.png\" Id=\"rel1\" Type=\"http://schemas."
+                                     "microsoft.com/3dmanufacturing/2013/01/3dtexture\"/></Relationships>";
+    const char *names[] = {"[Content_Types].xml", "_rels/.rels", "3D/3dmodel.model", "3D/_rels/3dmodel.model.rels",
+                           "3D/Textures/checker.png"};
+    const void *data[] = {types, k_rels, model, model_rels, png};
+    size_t sizes[] = {strlen(types), strlen(k_rels), strlen(model), strlen(model_rels), png_size}, len;
+    unsigned char *pkg = zip_bin(names, data, sizes, 5, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(pkg, len, "painted.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(pkg, len, m);
+    cr_assert_float_eq(hv_mesh_get_report(m)->volume, 1.0 / 6, 1e-9);
+    cr_assert_eq(hv_mesh_texture_count(m), 1);
+    const hv_mesh_texture *tx = hv_mesh_texture_at(m, 0);
+    cr_assert_str_eq(tx->name, "3D/Textures/checker.png");
+    cr_assert_eq(tx->width, 2);
+    cr_assert_eq(tx->tile_u, HV_TILE_CLAMP);
+    cr_assert_eq(tx->tile_v, HV_TILE_MIRROR);
+    cr_assert_eq(tx->filter, HV_FILTER_NEAREST);
+    cr_assert_eq(memcmp(tx->rgba, px, 16), 0);
+    const uint32_t *cc = hv_mesh_corner_colours(m);
+    const float *uv = hv_mesh_corner_uvs(m);
+    const int32_t *ft = hv_mesh_facet_textures(m);
+    cr_assert(cc && uv && ft);
+    /* facet 0: the gradient, corners 1 and 2 swapped by the mirror */
+    cr_assert_eq(cc[0], 0xFF0000FFu);
+    cr_assert_eq(cc[1], 0x0000FF80u);
+    cr_assert_eq(cc[2], 0x00FF00FFu);
+    cr_assert_eq(ft[0], -1);
+    /* facets 1 and 2: textured, (u, v) per corner, swapped likewise */
+    cr_assert_eq(ft[1], 0);
+    cr_assert_eq(ft[2], 0);
+    static const float uv1[6] = {0, 0, 0.5f, 1, 1, 0}, uv2[6] = {0.5f, 1, 0, 0, 1, 0};
+    for (int k = 0; k < 6; ++k) {
+        cr_assert_float_eq(uv[6 + k], uv1[k], 0, "facet 1, %d", k);
+        cr_assert_float_eq(uv[12 + k], uv2[k], 0, "facet 2, %d", k);
+    }
+    /* facet 3: the object's default colour (pindex 0), every corner */
+    for (int c = 0; c < 3; ++c) cr_assert_eq(cc[9 + c], 0xFF0000FFu);
+    hv_mesh_destroy(m);
+    free(pkg);
+    free(png);
 }
 
 Test(threemf, a_mirroring_transform_keeps_the_volume_positive)

@@ -469,3 +469,67 @@ Test(assembly, damaged_regions_documents_are_refused_naming_the_member)
     }
     hv_volume_destroy(v);
 }
+
+/* Issue 32 item 20: small bodies run a thread each and are folded in file order, so many bodies
+ * give the same regions on one thread or three, voxel for voxel, with the same counts; some boxes
+ * overlap their neighbours (the first keeps the overlap) and one is open (it votes). */
+Test(assembly, many_small_bodies_give_the_same_regions_on_any_number_of_threads)
+{
+    enum { N = 30 };
+    hv_mesh *m[N];
+    hv_mesh_part parts[N];
+    char names[N][16];
+    for (int i = 0; i < N; ++i) {
+        double x = 3.0 * (i % 6), y = 3.0 * (i / 6);
+        m[i] = t_cube_mesh(0, 4); /* 4 mm boxes at a 3 mm pitch: each overlaps its neighbours */
+        hv_mesh *moved = NULL;
+        const double at[12] = {1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, 0.25 * i};
+        cr_assert_eq(hv_mesh_transform(m[i], at, &moved), HV_OK, "%s", hv_last_error());
+        hv_mesh_destroy(m[i]);
+        if (i == 7) { /* open: without its last facet */
+            cr_assert_eq(hv_mesh_create(hv_mesh_vertices(moved), hv_mesh_vertex_count(moved), hv_mesh_facets(moved),
+                                        hv_mesh_facet_count(moved) - 1, &m[i]),
+                         HV_OK);
+            hv_mesh_destroy(moved);
+        } else m[i] = moved;
+        snprintf(names[i], sizeof names[i], "b%d", i);
+        parts[i] = (hv_mesh_part){m[i], names[i], NULL};
+    }
+    hv_mesh *j = NULL;
+    cr_assert_eq(hv_mesh_join(parts, N, &j), HV_OK, "%s", hv_last_error());
+    hv_volume *v[2];
+    const int threads[2] = {1, 3};
+    for (int t = 0; t < 2; ++t) {
+        hv_set_threads(threads[t]);
+        v[t] = vox(j, NULL, 0.5);
+    }
+    hv_set_threads(0);
+    hv_regions *r[2];
+    for (int t = 0; t < 2; ++t) cr_assert_eq(hv_voxelize_regions_read(v[t], &r[t]), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(differ(v[0], "occupancy", v[1], "occupancy"), 0);
+    cr_assert_eq(differ(v[0], "surface", v[1], "surface"), 0);
+    uint64_t total = 0;
+    for (int i = 0; i < N; ++i) {
+        const hv_region_info *a = hv_regions_at(r[0], (size_t)i), *b = hv_regions_at(r[1], (size_t)i);
+        cr_assert_str_eq(a->name, names[i]);
+        cr_assert_eq(differ(v[0], a->grid, v[1], b->grid), 0, "%s", a->name);
+        cr_assert_eq(a->voxels, b->voxels, "%s", a->name);
+        cr_assert_eq(a->lost, b->lost, "%s", a->name);
+        cr_assert_eq(a->nlost_to, b->nlost_to, "%s", a->name);
+        for (size_t k = 0; k < a->nlost_to; ++k) {
+            cr_assert_eq(a->lost_to[k].region, b->lost_to[k].region);
+            cr_assert_eq(a->lost_to[k].voxels, b->lost_to[k].voxels);
+        }
+        cr_assert_eq(a->fill, i == 7 ? HV_FILL_VOTE : HV_FILL_FLOOD, "%s", a->name);
+        total += a->voxels;
+    }
+    cr_assert(hv_regions_at(r[0], 1)->nlost_to > 0); /* the overlap is real */
+    cr_assert_eq(total, count(v[0], "occupancy")); /* the regions partition the occupancy */
+    cr_assert_eq(hv_regions_overlap(r[0]), hv_regions_overlap(r[1]));
+    for (int t = 0; t < 2; ++t) {
+        hv_regions_destroy(r[t]);
+        hv_volume_destroy(v[t]);
+    }
+    hv_mesh_destroy(j);
+    for (int i = 0; i < N; ++i) hv_mesh_destroy(m[i]);
+}

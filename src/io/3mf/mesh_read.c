@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hovox/image.h"
 #include "io/io_internal.h"
 #include "mesh/mesh_internal.h"
 #include "package.h"
@@ -17,10 +18,10 @@
 #define TMF_MAX_DEPTH 256          /* components within components */
 #define TMF_MAX_PLACEMENTS 1000000 /* objects placed once components are expanded */
 
-enum { R_OBJECT = 1, R_BASE, R_COLOR, R_TEXTURE, R_COMPOSITE, R_MULTI, R_OTHER };
+enum { R_OBJECT = 1, R_BASE, R_COLOR, R_TEXTURE, R_COMPOSITE, R_MULTI, R_OTHER, R_TEX2D };
 static const char *const k_group_tags[] = {"", "object", "basematerials", "colorgroup", "texture2dgroup",
-                                           "compositematerials", "multiproperties", "resource"};
-static const char *const k_child_tags[] = {"", "", "base", "color", "tex2coord", "composite", "multi", ""};
+                                           "compositematerials", "multiproperties", "resource", "texture2d"};
+static const char *const k_child_tags[] = {"", "", "base", "color", "tex2coord", "composite", "multi", "", ""};
 
 /* object types (3MF Core 4.1); support and other are not printed as parts */
 enum { T_MODEL = 0, T_SOLIDSUPPORT, T_SUPPORT, T_SURFACE, T_OTHER };
@@ -36,6 +37,15 @@ typedef struct entry {
     uint32_t rgba;
     int32_t mat; /* the mesh material, once used; -2 before */
 } entry;
+
+/* A <texture2d>: its image part and how it is addressed (Materials 6). */
+typedef struct tex2d {
+    char *path; /* the part, without the leading '/' */
+    int png;    /* contenttype image/png (else image/jpeg, not decoded) */
+    hv_tile tile_u, tile_v;
+    hv_filter filter;
+    int32_t mesh_index; /* the mesh texture, once added; -1 before, -2 not decodable */
+} tex2d;
 
 typedef struct object {
     uint64_t id;
@@ -64,6 +74,7 @@ typedef struct reader {
     tmf_pkg *pk;
     uint64_t budget, charged;
     double unit; /* model unit to mm */
+    const char *unit_name;
     hv_names ids; /* resource ids as decimal text */
     resource *res;
     size_t rcap;
@@ -75,8 +86,14 @@ typedef struct reader {
     size_t nxyz, xcap;
     uint32_t *tri; /* 3 per triangle, object-local vertex indices */
     size_t ntri, tcap;
-    int32_t *refs; /* 2 per triangle: resource (-1: none) and entry */
+    int32_t *refs; /* 4 per triangle: resource (-1: none) and the entries of its three corners */
     size_t rfcap;
+    tex2d *texs;   /* <texture2d> resources (resource.first indexes them) */
+    size_t ntex, txcap;
+    float *uvs;    /* 2 per <tex2coord> of every texture group */
+    size_t nuv, uvcap;
+    int32_t *texgroup_tex; /* per resource: a texture group's texture (index into texs), else -1 */
+    size_t tgcap;
     component *comps;
     size_t ncomp, ccap;
     item *items;
@@ -115,6 +132,10 @@ static void reader_free(reader *r)
 {
     for (size_t i = 0; i < r->nent; ++i) free(r->entries[i].name);
     for (size_t i = 0; i < r->nobj; ++i) free(r->objs[i].name);
+    for (size_t i = 0; i < r->ntex; ++i) free(r->texs[i].path);
+    free(r->texs);
+    free(r->uvs);
+    free(r->texgroup_tex);
     free(r->entries);
     free(r->objs);
     free(r->xyz);
@@ -145,9 +166,11 @@ static hv_status define(reader *r, tmf_xml *x, uint64_t id, int kind)
     if (s != HV_OK) return s;
     if (r->ids.n == before) return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "resource id %llu is used twice", (unsigned long long)id);
     if ((s = grow(r, x, (void **)&r->res, &r->rcap, r->ids.n, sizeof *r->res)) != HV_OK) return s;
+    if ((s = grow(r, x, (void **)&r->texgroup_tex, &r->tgcap, r->ids.n, sizeof *r->texgroup_tex)) != HV_OK) return s;
+    r->texgroup_tex[k] = -1;
     r->res[k].kind = kind;
     r->res[k].count = 0;
-    r->res[k].first = kind == R_OBJECT ? r->nobj : r->nent;
+    r->res[k].first = kind == R_OBJECT ? r->nobj : kind == R_TEX2D ? r->ntex : kind == R_TEXTURE ? r->nuv / 2 : r->nent;
     return HV_OK;
 }
 
@@ -190,9 +213,9 @@ static hv_status check_ref(reader *r, tmf_xml *x, const char *place, uint64_t pi
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: pid %llu names no property group (none has that id above it)", place,
                            (unsigned long long)pid);
     const resource *g = &r->res[k];
-    if (g->kind == R_OBJECT)
-        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: pid %llu names an object, not a property group", place,
-                           (unsigned long long)pid);
+    if (g->kind == R_OBJECT || g->kind == R_TEX2D)
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: pid %llu names %s, not a property group", place,
+                           (unsigned long long)pid, g->kind == R_OBJECT ? "an object" : "a texture2d");
     if (g->kind != R_OTHER && index >= g->count)
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: %s %llu is past the end of %s %llu (%llu entries)", place, key,
                            (unsigned long long)index, k_group_tags[g->kind], (unsigned long long)pid,
@@ -231,6 +254,20 @@ static char *copy_text(const tmf_attr *a)
 static hv_status on_entry(reader *r, tmf_xml *x, const tmf_attr *a, int n)
 {
     resource *g = &r->res[r->group];
+    if (g->kind == R_TEXTURE) { /* u, v: any finite numbers (tiling applies outside [0, 1]) */
+        double uv[2];
+        static const char *const key[2] = {"u", "v"};
+        for (int k = 0; k < 2; ++k)
+            if (tmf_attr_double(tmf_attr_find(a, n, key[k], NULL), &uv[k]) <= 0)
+                return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2dgroup %s: tex2coord %llu: %s is missing or not a finite number",
+                                   r->ids.names[r->group], (unsigned long long)g->count, key[k]);
+        hv_status s = grow(r, x, (void **)&r->uvs, &r->uvcap, r->nuv + 2, sizeof *r->uvs);
+        if (s != HV_OK) return s;
+        r->uvs[r->nuv++] = (float)uv[0];
+        r->uvs[r->nuv++] = (float)uv[1];
+        g->count++;
+        return HV_OK;
+    }
     if (g->kind != R_BASE && g->kind != R_COLOR) {
         g->count++;
         return HV_OK;
@@ -335,7 +372,7 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     object *o = &r->objs[r->nobj - 1];
     char place[240]; /* written when a message needs it (a million triangles need none) */
     hv_status s = grow(r, x, (void **)&r->tri, &r->tcap, 3 * (r->ntri + 1), sizeof *r->tri);
-    if (s == HV_OK) s = grow(r, x, (void **)&r->refs, &r->rfcap, 2 * (r->ntri + 1), sizeof *r->refs);
+    if (s == HV_OK) s = grow(r, x, (void **)&r->refs, &r->rfcap, 4 * (r->ntri + 1), sizeof *r->refs);
     if (s != HV_OK) return s;
     for (int c = 0; c < 3; ++c) {
         const tmf_attr *v = c < n && strcmp(a[c].local, corner[c]) == 0 ? &a[c] : tmf_attr_find(a, n, corner[c], NULL);
@@ -351,7 +388,7 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex index %llu out of range (%zu vertices)", place,
                            (unsigned long long)i, o->nv);
     }
-    int32_t res = o->dres, ent = o->dentry;
+    int32_t res = o->dres, ent = o->dentry, ec[3] = {o->dentry, o->dentry, o->dentry};
     if (n > 3) { /* properties of its own */
         snprintf(place, sizeof place, "%s: triangle %zu", r->label, o->nt);
         uint64_t pid = 0, p = 0;
@@ -370,15 +407,18 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
             if (!has_pid && o->dres < 0)
                 return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s gives %s but neither it nor its object names a property group (pid)",
                                    place, prop[c]);
-            int32_t rc, ec;
-            if ((s = check_ref(r, x, place, pid, prop[c], p, &rc, &ec)) != HV_OK) return s;
-            if (c == 0) res = rc, ent = ec, has_p1 = 1;
+            int32_t rc, e;
+            if ((s = check_ref(r, x, place, pid, prop[c], p, &rc, &e)) != HV_OK) return s;
+            if (c == 0) res = rc, ent = e, has_p1 = 1, ec[0] = ec[1] = ec[2] = e;
+            else ec[c] = e; /* p2, p3: their corners' (absent: p1's) */
         }
         if (has_pid && !has_p1)
             return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s sets pid %llu without p1", place, (unsigned long long)pid);
     }
-    r->refs[2 * r->ntri] = res;
-    r->refs[2 * r->ntri + 1] = ent;
+    (void)ent;
+    int32_t *ref = r->refs + 4 * r->ntri;
+    ref[0] = res;
+    memcpy(ref + 1, ec, sizeof ec);
     r->ntri++;
     o->nt++;
     return HV_OK;
@@ -491,6 +531,7 @@ static hv_status on_model(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     for (int k = 0; k < 6; ++k)
         if (u->len == strlen(units[k]) && memcmp(u->value, units[k], u->len) == 0) {
             r->unit = mm[k];
+            r->unit_name = units[k];
             return HV_OK;
         }
     char q[72];
@@ -505,6 +546,66 @@ static int group_kind(const char *local)
     return 0;
 }
 
+/* A <texture2d> (Materials 6): path, content type, tile styles, filter. */
+static hv_status on_texture2d(reader *r, tmf_xml *x, uint64_t id, const tmf_attr *a, int n)
+{
+    char q[96];
+    const tmf_attr *path = tmf_attr_find(a, n, "path", NULL), *ct = tmf_attr_find(a, n, "contenttype", NULL);
+    if (!path || path->len < 2 || path->len >= TMF_MAX_PART_NAME || path->value[0] != '/')
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2d %llu: path '%s' is not a part name", (unsigned long long)id,
+                           path ? tmf_attr_quote(path, q, sizeof q) : "");
+    int png = ct && ct->len == 9 && memcmp(ct->value, "image/png", 9) == 0;
+    if (!png && !(ct && ct->len == 10 && memcmp(ct->value, "image/jpeg", 10) == 0))
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2d %llu: contenttype '%s' is not image/png or image/jpeg",
+                           (unsigned long long)id, ct ? tmf_attr_quote(ct, q, sizeof q) : "");
+    hv_status s = define(r, x, id, R_TEX2D);
+    if (s == HV_OK) s = grow(r, x, (void **)&r->texs, &r->txcap, r->ntex + 1, sizeof *r->texs);
+    if (s != HV_OK) return s;
+    tex2d *t = &r->texs[r->ntex];
+    memset(t, 0, sizeof *t);
+    t->png = png;
+    t->mesh_index = -1;
+    static const char *const tiles[] = {"wrap", "mirror", "clamp", "none"};
+    static const char *const filters[] = {"auto", "linear", "nearest"};
+    const char *keys[3] = {"tilestyleu", "tilestylev", "filter"};
+    int val[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+        const tmf_attr *v = tmf_attr_find(a, n, keys[k], NULL);
+        if (!v) continue;
+        const char *const *names = k < 2 ? tiles : filters;
+        int nn = k < 2 ? 4 : 3;
+        val[k] = -1;
+        for (int i = 0; i < nn; ++i)
+            if (v->len == strlen(names[i]) && memcmp(v->value, names[i], v->len) == 0) val[k] = i;
+        if (val[k] < 0)
+            return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2d %llu: %s '%s' is not one of %s", (unsigned long long)id, keys[k],
+                               tmf_attr_quote(v, q, sizeof q), k < 2 ? "wrap, mirror, clamp, none" : "auto, linear, nearest");
+    }
+    t->tile_u = (hv_tile)val[0];
+    t->tile_v = (hv_tile)val[1];
+    t->filter = (hv_filter)val[2];
+    if (!(t->path = hv_malloc(path->len))) return HV_ERR_NOMEM;
+    memcpy(t->path, path->value + 1, path->len - 1);
+    t->path[path->len - 1] = '\0';
+    r->ntex++;
+    return HV_OK;
+}
+
+/* A <texture2dgroup>'s texid: a <texture2d> defined above. */
+static hv_status texgroup_texture(reader *r, tmf_xml *x, uint64_t id, const tmf_attr *a, int n)
+{
+    uint64_t tid = 0;
+    const tmf_attr *t = tmf_attr_find(a, n, "texid", NULL);
+    int64_t k = tmf_attr_uint(t, UINT32_MAX, &tid) > 0 ? lookup(r, tid) : -1;
+    if (k < 0 || r->res[k].kind != R_TEX2D) {
+        char q[72];
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2dgroup %llu: texid '%s' names no texture2d defined above it",
+                           (unsigned long long)id, t ? tmf_attr_quote(t, q, sizeof q) : "");
+    }
+    r->texgroup_tex[r->ids.n - 1] = (int32_t)r->res[k].first;
+    return HV_OK;
+}
+
 static hv_status on_resource(reader *r, tmf_xml *x, const char *local, const char *uri, const tmf_attr *a, int n)
 {
     if (uri && strcmp(uri, TMF_NS_SLICE) == 0) return unsupported(x, "<slicestack> is of", uri);
@@ -516,7 +617,9 @@ static hv_status on_resource(reader *r, tmf_xml *x, const char *local, const cha
     uint64_t id;
     r->skip = 1; /* another extension's resource: its id still counts */
     if (tmf_attr_uint(tmf_attr_find(a, n, "id", NULL), UINT32_MAX, &id) <= 0) return HV_OK;
+    if (strcmp(local, "texture2d") == 0) return on_texture2d(r, x, id, a, n);
     hv_status s = define(r, x, id, kind ? kind : R_OTHER);
+    if (s == HV_OK && kind == R_TEXTURE) s = texgroup_texture(r, x, id, a, n);
     if (s == HV_OK && kind) {
         r->skip = 0;
         r->at = W_GROUP;
@@ -651,6 +754,10 @@ typedef struct build {
     int32_t *fmat;
     size_t nf;
     int any_material;
+    uint32_t *corner; /* 3 per facet: colour-group colours (DESIGN-ROUND: the mesh appearance) */
+    float *uv;        /* 6 per facet */
+    int32_t *ftex;    /* per facet: a texture (index into texs), -1 none */
+    int any_colour, any_texture;
     hv_names mats;
     uint32_t *rgba;
     size_t rcap;
@@ -683,6 +790,31 @@ static hv_status material_of(build *b, int32_t res, int32_t ent, int32_t *mat)
     return s;
 }
 
+/* Facet b->nf's colours (a colour group: one per corner) and texture coordinates (a texture
+ * group), corners 1 and 2 swapped as the placement swapped them. */
+static void appearance_of(build *b, const int32_t *ref, int flip)
+{
+    const reader *r = b->r;
+    size_t f = b->nf;
+    if (!b->corner) return;
+    b->ftex[f] = -1;
+    memset(b->corner + 3 * f, 0, 3 * sizeof *b->corner);
+    memset(b->uv + 6 * f, 0, 6 * sizeof *b->uv);
+    if (ref[0] < 0) return;
+    const resource *g = &r->res[ref[0]];
+    for (int c = 0; c < 3; ++c) {
+        int32_t e = ref[1 + (flip && c ? 3 - c : c)];
+        if (g->kind == R_COLOR || g->kind == R_BASE) {
+            b->corner[3 * f + (size_t)c] = r->entries[g->first + (size_t)e].rgba;
+            b->any_colour |= g->kind == R_COLOR;
+        } else if (g->kind == R_TEXTURE) {
+            memcpy(b->uv + 6 * f + 2 * (size_t)c, r->uvs + 2 * (g->first + (size_t)e), 2 * sizeof(float));
+            b->ftex[f] = r->texgroup_tex[ref[0]];
+            b->any_texture = 1;
+        }
+    }
+}
+
 static void compose(const double *a, const double *b, double *out) /* out = a after b */
 {
     for (int i = 0; i < 3; ++i) {
@@ -711,9 +843,10 @@ static hv_status place_mesh(build *b, const object *o, const double *t)
             }
         }
         int32_t mat;
-        const int32_t *ref = r->refs + 2 * (o->t0 + f);
+        const int32_t *ref = r->refs + 4 * (o->t0 + f);
         hv_status s = material_of(b, ref[0], ref[1], &mat);
         if (s != HV_OK) return s;
+        appearance_of(b, ref, flip);
         b->fmat[b->nf++] = mat;
         if (mat >= 0) b->any_material = 1;
     }
@@ -752,6 +885,75 @@ static hv_status place(build *b, size_t obj, const double *t)
     return s;
 }
 
+/* A texture's image as 8-bit RGBA, row 0 the top (PNG's order). */
+static hv_status load_texture(reader *r, const char *name, tex2d *t, hv_mesh *m)
+{
+    uint8_t *data = NULL;
+    size_t size = 0;
+    char label[TMF_MAX_PART_NAME + 64];
+    snprintf(label, sizeof label, "%s: texture /%s", name, t->path);
+    hv_status s = tmf_pkg_read(r->pk, t->path, r->budget / 4, &data, &size);
+    hv_png_pixels px;
+    memset(&px, 0, sizeof px);
+    if (s == HV_OK) s = hv_png_decode(data, size, label, r->budget / 16, &px);
+    free(data);
+    uint8_t *rgba = s == HV_OK ? hv_malloc_array((size_t)px.width * (size_t)px.height, 4) : NULL;
+    if (s == HV_OK && !rgba) s = HV_ERR_NOMEM;
+    for (size_t i = 0; s == HV_OK && i < (size_t)px.width * (size_t)px.height; ++i) {
+        const uint16_t *p = px.samples + i * (size_t)px.channels;
+        int shift = px.bit_depth == 16 ? 8 : 0;
+        uint8_t g = (uint8_t)(p[0] >> shift);
+        rgba[4 * i] = g;
+        rgba[4 * i + 1] = px.channels >= 3 ? (uint8_t)(p[1] >> shift) : g;
+        rgba[4 * i + 2] = px.channels >= 3 ? (uint8_t)(p[2] >> shift) : g;
+        rgba[4 * i + 3] = px.channels == 4 ? (uint8_t)(p[3] >> shift) : px.channels == 2 ? (uint8_t)(p[1] >> shift) : 255;
+    }
+    if (s == HV_OK)
+        s = hv_mesh_add_texture(m, t->path, rgba, (uint32_t)px.width, (uint32_t)px.height, t->tile_u, t->tile_v, t->filter,
+                                &t->mesh_index);
+    free(rgba);
+    hv_png_pixels_free(&px);
+    return s;
+}
+
+/* The colours and textures the facets carry, given to the mesh (hovox/mesh.h, appearance).
+ * Facets of a colour-less property keep their material's display colour as corner colours; a
+ * JPEG texture is not decoded (a note says so) and its facets fall back likewise. */
+static hv_status set_appearance(build *b, hv_mesh *m)
+{
+    reader *r = b->r;
+    hv_status s = HV_OK;
+    size_t jpeg = 0;
+    for (size_t f = 0; f < b->nf && s == HV_OK; ++f) {
+        int32_t t = b->ftex[f];
+        if (t < 0) continue;
+        if (r->texs[t].mesh_index == -1) {
+            if (r->texs[t].png) s = load_texture(r, b->name, &r->texs[t], m);
+            else r->texs[t].mesh_index = -2, ++jpeg;
+        }
+        b->ftex[f] = r->texs[t].mesh_index >= 0 ? r->texs[t].mesh_index : -1;
+    }
+    const hv_mesh_material *mats = NULL;
+    int no_colour = 0;
+    for (size_t f = 0; f < b->nf && s == HV_OK; ++f) { /* facets without a colour of their own */
+        uint32_t *c = b->corner + 3 * f;
+        if (c[0] || c[1] || c[2] || b->ftex[f] >= 0) continue;
+        int32_t mat = b->fmat[f];
+        mats = mat >= 0 ? hv_mesh_material_at(m, (size_t)mat) : NULL;
+        if (mats && mats->has_color) c[0] = c[1] = c[2] = mats->rgba;
+        else if (b->ftex[f] == -1) b->ftex[f] = HV_MESH_NO_COLOUR, no_colour = 1;
+    }
+    if (s == HV_OK) s = hv_mesh_set_corner_colours(m, b->corner);
+    if (s == HV_OK && (hv_mesh_texture_count(m) || no_colour)) s = hv_mesh_set_corner_uvs(m, b->uv, b->ftex);
+    if (s == HV_OK && jpeg) {
+        char note[512];
+        snprintf(note, sizeof note, "%s: %zu JPEG texture%s not decoded (hovox reads PNG textures): their facets show "
+                 "their material's colour", b->name, jpeg, jpeg == 1 ? " is" : "s are");
+        s = hv_mesh_add_note(m, note);
+    }
+    return s;
+}
+
 static hv_status assemble(reader *r, const char *name, hv_mesh **out)
 {
     build b;
@@ -766,18 +968,31 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         else nf += o->tri;
     }
     hv_mesh_body *bodies = hv_calloc(r->nitems + 1, sizeof *bodies);
+    hv_mesh_item *items = hv_calloc(r->nitems + 1, sizeof *items);
     b.soup = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.soup);
     b.fmat = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.fmat);
-    hv_status s = bodies && b.soup && b.fmat ? HV_OK : HV_ERR_NOMEM;
+    int appearance = 0; /* colour or texture groups: the facets' appearance is kept */
+    for (size_t k = 0; k < r->ids.n; ++k) appearance |= r->res[k].kind == R_COLOR || r->res[k].kind == R_TEXTURE;
+    if (appearance) {
+        b.corner = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.corner);
+        b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
+        b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
+    }
+    hv_status s = bodies && items && b.soup && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
     size_t nb = 0;
     for (size_t i = 0; i < r->nitems && s == HV_OK; ++i) {
         const object *o = &r->objs[r->items[i].obj];
+        items[i].body = -1;
+        items[i].object_id = o->id;
+        items[i].object_name = o->name ? o->name : "";
+        memcpy(items[i].transform, r->items[i].t, sizeof items[i].transform);
         if (o->type == T_SUPPORT || o->type == T_OTHER) continue;
         size_t first = b.nf;
         int32_t mat; /* its object's default (named first), else its facets' majority */
         if ((s = material_of(&b, o->dres, o->dentry, &mat)) != HV_OK) break;
         s = place(&b, r->items[i].obj, r->items[i].t);
         if (s != HV_OK || b.nf == first) continue; /* an item placing no triangle is no body */
+        items[i].body = (int64_t)nb;
         hv_mesh_body *body = &bodies[nb++];
         body->name = o->name ? o->name : "";
         body->material = mat;
@@ -796,7 +1011,17 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     }
     if (s == HV_OK)
         s = hv_mesh_build(b.soup, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n, b.any_material ? b.fmat : NULL, out);
+    if (s == HV_OK && (b.any_colour || b.any_texture)) s = set_appearance(&b, *out);
+    if (s == HV_OK) s = hv_mesh_set_file_info(*out, r->unit_name ? r->unit_name : "millimeter", items, r->nitems);
+    if (s != HV_OK && *out) {
+        hv_mesh_destroy(*out);
+        *out = NULL;
+    }
+    free(b.corner);
+    free(b.uv);
+    free(b.ftex);
     free(mats);
+    free(items);
     free(bodies);
     free(b.soup);
     free(b.fmat);
@@ -822,7 +1047,6 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     hv_names_init(&r.ids);
     tmf_xml_handler h = {on_start, on_end};
     s = tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &r);
-    tmf_pkg_close(&pk);
     if (s == HV_OK && !r.resources_seen) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: the model has no <resources>", name, pk.model);
     uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / 128);
     if (s == HV_OK) s = expand_counts(&r, name, max_tri);
@@ -840,5 +1064,6 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
         }
     }
     reader_free(&r);
+    tmf_pkg_close(&pk);
     return s;
 }

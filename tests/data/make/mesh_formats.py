@@ -109,6 +109,13 @@ package('tests/data/bad/3mf_beam_lattice.3mf', model(
     '<object id="1" name="lattice" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="0" y="0" z="10"/>'
     '</vertices><triangles/><b:beamlattice xmlns:b="http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02" '
     'minlength="0.1" radius="1"><b:beams><b:beam v1="0" v2="1"/></b:beams></b:beamlattice></mesh></object>'))
+# issue 27 item 4: info reports the unit, the build items and their transforms (a support item
+# is no body; an item of components is one)
+package('tests/data/good/3mf_items_inch.3mf', model(
+    tet() + tet(oid=2, name='brace') + '<object id="3" name="pair" type="model"><components><component objectid="1"/>'
+    '<component objectid="1" transform="1 0 0 0 1 0 0 0 1 2 0 0"/></components></object>',
+    '<item objectid="3" transform="0 1 0 -1 0 0 0 0 1 5 0 0"/><item objectid="2" transform="1 0 0 0 1 0 0 0 1 0 0 3"/>',
+    unit='inch').replace('name="brace" type="model"', 'name="brace" type="support"'))
 buf = io.BytesIO()
 package(buf, model(tet()))
 good = buf.getvalue()

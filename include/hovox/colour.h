@@ -1,0 +1,98 @@
+/* hovox/colour.h - colour management for full-colour printing (issue 29): an sRGB colour (or one
+ * in a picture's own ICC profile) turned into fractions of the printer's six colour resins
+ * (cyan, magenta, yellow, black, white, clear) through an output ICC profile (LittleCMS), and
+ * back into the colour those fractions print, for the manifest's dE2000. */
+#ifndef HOVOX_COLOUR_H
+#define HOVOX_COLOUR_H
+
+#include "hovox/core.h"
+#include "hovox/options.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The six colour slots, in this order everywhere (fractions, resin maps, manifests). */
+enum { HV_COLOUR_C = 0, HV_COLOUR_M, HV_COLOUR_Y, HV_COLOUR_K, HV_COLOUR_W, HV_COLOUR_CLEAR, HV_COLOUR_SLOTS };
+
+/* ICC rendering intents (ICC.1:2010 section 6.2.2; the values are the ICC's). */
+typedef enum hv_intent {
+    HV_INTENT_PERCEPTUAL = 0,
+    HV_INTENT_RELATIVE = 1, /* relative colorimetric */
+    HV_INTENT_SATURATION = 2,
+    HV_INTENT_ABSOLUTE = 3  /* absolute colorimetric */
+} hv_intent;
+
+/* The output profile hovox uses without --icc: Ghostscript's default_cmyk.icc ("Artifex CMYK SWOP
+ * Profile", Debian package libgs-common), a generic offset-press CMYK. A printer's own profile
+ * (Stratasys supplies them for the J-series) gives truer colour. Static. */
+HV_API const char *hv_colour_default_icc(void);
+
+/* The resin of each slot on a Stratasys J750/J850: VeroCyan-V, VeroMagenta-V, VeroYellow-V,
+ * VeroBlackPlus, VeroPureWhite, VeroClear. Static; slot < HV_COLOUR_SLOTS. */
+HV_API const char *hv_colour_j750_resin(int slot);
+
+/* "perceptual", "relative", "saturation", "absolute" (and back: 0, or -1 for another name). */
+HV_API const char *hv_intent_name(hv_intent intent);
+HV_API int hv_intent_parse(const char *name, hv_intent *out);
+
+typedef struct hv_colour_options {
+    const char *icc;    /* output profile file; NULL: hv_colour_default_icc() */
+    hv_intent intent;   /* default HV_INTENT_PERCEPTUAL */
+    const char *resins; /* "C,M,Y,K,W,CLEAR": six resin names, comma-separated; NULL: the J750's */
+} hv_colour_options;
+
+/* Defaults: the default profile, perceptual, the J750 resins. */
+HV_API void hv_colour_options_init(hv_colour_options *opt);
+/* The options as one table for the CLI (--icc, --intent, --resins), job files and Lua. Static. */
+HV_API const hv_option_set *hv_colour_option_set(void);
+
+typedef struct hv_colour_map hv_colour_map;
+
+/* A colour map: sRGB (LittleCMS's built-in sRGB) to the output profile's CMYK with the intent,
+ * then to the six fractions:
+ *   the ink coverages c, m, y, k in [0, 1] from the profile; with T = c + m + y + k, the colour's
+ *   remaining lightness is white, W = max(0, 1 - T), and coverage beyond 100 % (a rich black) is
+ *   scaled to fit (each ink / T, W = 0), so the colour part sums to 1; alpha a then scales the
+ *   colour part and Clear = 1 - a.
+ * Errors: HV_ERR_IO (the profile file cannot be read), HV_ERR_BAD_INPUT ("FILE: not an ICC
+ * profile", "FILE: an RGB profile where a CMYK output profile is needed", another colour space
+ * or class; an intent the profile cannot serve), HV_ERR_INVALID (an intent out of range, resins
+ * that are not six non-empty names), HV_ERR_NOMEM. *out is freed with hv_colour_map_destroy. */
+HV_API hv_status hv_colour_map_create(const hv_colour_options *opt, hv_colour_map **out);
+HV_API void hv_colour_map_destroy(hv_colour_map *map);
+
+/* The profile's file, its description ("Artifex CMYK SWOP Profile"), the intent, the resin of a
+ * slot. Owned by the map. */
+HV_API const char *hv_colour_map_icc(const hv_colour_map *map);
+HV_API const char *hv_colour_map_description(const hv_colour_map *map);
+HV_API hv_intent hv_colour_map_intent(const hv_colour_map *map);
+HV_API const char *hv_colour_map_resin(const hv_colour_map *map, int slot);
+
+/* The fractions (C, M, Y, K, W, Clear; each in [0, 1], summing to 1) of an sRGB colour with
+ * straight alpha. Cached per distinct colour: safe to call from many threads at once. */
+HV_API void hv_colour_map_fractions(hv_colour_map *map, const uint8_t rgba[4], float out[HV_COLOUR_SLOTS]);
+
+/* An input profile for colours that are not sRGB (a texture's embedded profile): *id receives a
+ * number for hv_colour_map_fractions_in (0 is sRGB). Errors: HV_ERR_BAD_INPUT (`name`: not an
+ * ICC profile, or not an RGB or grey one), HV_ERR_LIMIT (more than 255 input profiles),
+ * HV_ERR_NOMEM. Not thread-safe with the calls below: add inputs first. */
+HV_API hv_status hv_colour_map_add_input(hv_colour_map *map, const void *icc, size_t size, const char *name,
+                                         int *id);
+/* As hv_colour_map_fractions for a colour in input profile `id` (0: sRGB). */
+HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t rgba[4],
+                                       float out[HV_COLOUR_SLOTS]);
+
+/* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
+ * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by
+ * 1 - Clear). Clear-only fractions give the paper white. */
+HV_API void hv_colour_map_lab_of_srgb(const hv_colour_map *map, const uint8_t rgb[3], double lab[3]);
+HV_API void hv_colour_map_lab_of_fractions(const hv_colour_map *map, const float fractions[HV_COLOUR_SLOTS],
+                                           double lab[3]);
+/* CIEDE2000 colour difference (Sharma, Wu, Dalal 2005) of two Lab colours. */
+HV_API double hv_colour_delta_e2000(const double lab1[3], const double lab2[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

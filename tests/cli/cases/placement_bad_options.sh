@@ -1,0 +1,16 @@
+# Placement options refused with one message naming the option and the value (exit 2); --unit on
+# a 3MF (it states its own unit) is refused too, and nothing is written.
+m="$SHARED/meshes/bunny_1500.stl"
+$HOVOX voxelize "$m" --unit parsec -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --up x -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --scale 1,0,1 -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --scale 2,2 -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --rotate w:90 -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --rotate 30@0,0,0 -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --rotate x:nan -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --translate 1,2 -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --translate 1,2,inf -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$m" --unit m --unit cm -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX voxelize "$SHARED/good/two_boxes.3mf" --unit in -o "$TMP/a.vdb"; echo "rc $?"
+$HOVOX layers "$SHARED/good/volumetric_box.3mf" --rotate z:90 -o "$TMP/s"; echo "rc $?"
+ls "$TMP"

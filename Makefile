@@ -327,7 +327,7 @@ layering-tests:
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory layering-tests header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests python-tests browser-tests
+	@$(MAKE) --no-print-directory layering-tests header-tests unit-tests fuzz-tests cli-tests sample-tests readme-tests vdb-tests mpi-tests python-tests browser-tests
 
 # intercept_tls_get_addr=0: GCC 12's LeakSanitizer misreads glibc 2.36's dynamic TLS blocks of
 # dlopen'd plugins (a "DTLS" range of garbage) and its tracer crashes at exit ("Tracer caught

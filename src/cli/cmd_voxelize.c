@@ -21,7 +21,21 @@ typedef struct vox_cli {
     const char *labels;
     int keep_largest, fill_holes;
     hv_placement place;
+    const char *material[64]; /* "BODY=NAME" */
+    int nmaterial;
 } vox_cli;
+
+static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    vox_cli *c = opts;
+    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
+    if (!eq || eq == v->text || !eq[1])
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=MATERIAL, got '%s'", o->key,
+                               v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
+    if (c->nmaterial == 64) return hv_error_option(HV_ERR_INVALID, "at most 64 {%s} options", o->key);
+    c->material[c->nmaterial++] = v->text;
+    return HV_OK;
+}
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(vox_cli, "MODEL.vdb", "the .vdb to write (atomically)", 0),
@@ -30,6 +44,10 @@ static const hv_option k_local_opts[] = {
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, dry_run),
      .help = "print the plan and its memory estimate, write nothing", .section = "Output"},
     CLI_JSON(vox_cli, "print the summary as JSON"),
+    {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+     .parse = add_material, .section = "Assemblies",
+     .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
+             "says; repeatable"},
     HV_PLACEMENT_OPTIONS(vox_cli, place),
     {.key = "iso", .kind = HV_OPT_NUMBER, .offset = offsetof(vox_cli, iso), .meta = "VALUE",
      .help = "a scanned volume's solid: where its trilinearly interpolated value is at least VALUE (e.g. 300 HU for bone)",
@@ -189,6 +207,12 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_mesh *mesh = NULL, *raw = NULL;
     hv_status s = hv_mesh_load(path, &raw);
     if (s == HV_OK) cli_mesh_notes(raw);
+    for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
+        const char *eq = strchr(c->material[i], '=');
+        char body[1024];
+        snprintf(body, sizeof body, "%.*s", (int)(eq - c->material[i]), c->material[i]);
+        s = hv_mesh_body_material_set(raw, body, eq + 1);
+    }
     if (s == HV_OK && hv_placement_given(&c->place)) s = hv_placement_transform(&c->place, raw, &mesh);
     else if (s == HV_OK) {
         mesh = raw;
@@ -268,7 +292,7 @@ static int parse_labels(const char *text, int32_t **out, size_t *n)
 
 static int run_scan(const cli_args *args, const char *path, const hv_voxelize_options *vopt, const vox_cli *c)
 {
-    static const char *const mesh_only[] = {"adjacency", "fill", "dims", "like"};
+    static const char *const mesh_only[] = {"adjacency", "fill", "dims", "like", "material"};
     for (size_t i = 0; i < sizeof mesh_only / sizeof *mesh_only; ++i)
         if (cli_given(args, mesh_only[i]))
             return cli_usage_error("voxelize", "%s is for meshes; a scanned volume takes --iso, --range or --labels",

@@ -13,6 +13,7 @@
 #include "core/json.h"
 #include "hovox/material.h"
 #include "hovox/image.h"
+#include "hovox/solid.h"
 #include "hovox/voxelize.h"
 #include "layers_internal.h"
 
@@ -79,7 +80,9 @@ typedef struct worker {
 typedef struct job {
     const hv_layers_options *o;
     const hv_volume *model;
-    hv_slicer *slicer;
+    hv_solid *solid; /* the model's exact shape (hovox/solid.h), or the mesh given */
+    char *shape_name; /* what the manifest calls the shape: the mesh given, else the recorded mesh's
+                         name (a plain record) or its leaves' names joined by the tree's ops */
     hv_layer_plan *plan;
     const hv_layer *layers;
     size_t nlayers, first, last;
@@ -168,7 +171,8 @@ static void job_free(job *J)
     hv_object_destroy(J->obj);
     hv_material_table_destroy(J->table);
     hv_layer_plan_destroy(J->plan);
-    hv_slicer_destroy(J->slicer);
+    hv_solid_close(J->solid);
+    free(J->shape_name);
     free(J->st_pixels);
     free(J->st_count);
     free(J->st_fallback);
@@ -203,6 +207,41 @@ static uint64_t worker_bytes(const job *J)
 
 static void mesh_warning(job *J);
 
+/* The manifest's "mesh": the mesh given; without one, the recorded shape's leaves ("plate.stl",
+ * "plate.stl subtract rod.stl"), so a plain model cut without its mesh writes the same manifest. */
+static void node_text(const hv_geometry *g, size_t i, int top, hv_buf *b)
+{
+    const hv_geometry_node *nd = hv_geometry_node_at(g, i);
+    if (nd->op < 0) {
+        hv_buf_puts(b, hv_geometry_leaf_at(g, nd->leaf)->name);
+        return;
+    }
+    if (!top) hv_buf_puts(b, "(");
+    node_text(g, nd->a, 0, b);
+    hv_buf_printf(b, " %s ", hv_geometry_op_name((hv_geometry_op)nd->op));
+    node_text(g, nd->b, 0, b);
+    if (!top) hv_buf_puts(b, ")");
+}
+
+static hv_status shape_name(job *J, const hv_volume *model, const hv_layers_options *o)
+{
+    if (o->mesh_name || !model || !hv_geometry_present(model)) return J->shape_name = NULL, HV_OK;
+    hv_geometry *g;
+    hv_status st = hv_geometry_read(model, &g);
+    if (st != HV_OK) return st;
+    hv_buf b;
+    hv_buf_init(&b);
+    if (hv_geometry_shape_is_leaf(g)) hv_buf_puts(&b, hv_geometry_leaf_at(g, 0)->name);
+    else node_text(g, hv_geometry_node_count(g) - 1, 1, &b);
+    hv_geometry_destroy(g);
+    if (b.failed) {
+        hv_buf_free(&b);
+        return HV_ERR_NOMEM;
+    }
+    J->shape_name = b.data;
+    return HV_OK;
+}
+
 /* The grid, range, window and operators; everything except the output. */
 static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
                           const hv_layers_options *o, const hv_progress *progress, const hv_layers_place *pl)
@@ -213,20 +252,24 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     J->progress = progress;
     hv_status st = hv_layers_options_check(o);
     if (st != HV_OK) return st;
-    if (!mesh) return hv_error_set(HV_ERR_INVALID, "layers: no mesh");
+    if (!mesh && !model) return hv_error_set(HV_ERR_INVALID, "layers: no model and no mesh");
     if (uses_model(o) && !model)
         return hv_error_set(HV_ERR_INVALID, "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
                             o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
-    st = hv_slicer_create(mesh, NULL, &J->slicer);
+    /* the shape: the model's own (issue 28), a mesh given only as an override that must match */
+    st = hv_solid_for_model(model, mesh, "layers", o->model_name, o->mesh_name, NULL, &J->solid);
     if (st != HV_OK) return st;
-    hv_slicer_info info;
-    hv_slicer_get_info(J->slicer, &info);
+    struct {
+        double bbox_min[3], bbox_max[3];
+    } info;
+    hv_solid_bbox(J->solid, info.bbox_min, info.bbox_max);
     memcpy(J->bbox_min, info.bbox_min, sizeof J->bbox_min);
     memcpy(J->bbox_max, info.bbox_max, sizeof J->bbox_max);
-    mesh_warning(J);
+    if (mesh) mesh_warning(J);
+    if ((st = shape_name(J, model, o)) != HV_OK) return st;
     hv_slice_options_init(&J->sopt);
     J->sopt.close_gap = o->close_gap;
-    st = hv_slicer_plan_uniform(J->slicer, 0, o->layer_height, &J->plan);
+    st = hv_layer_plan_uniform(info.bbox_min[2], info.bbox_max[2], 0, o->layer_height, &J->plan);
     if (st != HV_OK) return st;
     J->nlayers = hv_layer_plan_count(J->plan);
     J->layers = hv_layer_plan_layers(J->plan);
@@ -818,7 +861,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
     const hv_layer *L = &J->layers[index];
     size_t li = write ? index - J->first : SIZE_MAX;
     hv_slice *slice = NULL;
-    hv_status st = hv_slicer_slice(J->slicer, L->z, &J->sopt, &slice);
+    hv_status st = hv_solid_slice(J->solid, L->z, &J->sopt, &slice);
     if (st != HV_OK) return st;
     st = hv_slice_rasterize(slice, &J->grid, J->o->fill_rule, J->o->threshold, w->mask, 0);
     if (write) J->st_open[li] = hv_slice_get_stats(slice)->open;
@@ -989,7 +1032,7 @@ static json_t *manifest_doc(const job *J, const hv_layers_report *r)
     failed |= hv_json_set(doc, "fill_rule", json_string(o->fill_rule == HV_FILL_EVENODD ? "evenodd" : "nonzero"));
     failed |= hv_json_set(doc, "threshold_mm", hv_json_number(o->threshold));
     if (uses_model(o)) failed |= hv_json_set(doc, "poi_step", hv_json_number(o->poi_step));
-    failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name));
+    failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name ? o->mesh_name : J->shape_name));
     if (J->model) failed |= hv_json_set(doc, "model", name_or_null(o->model_name));
     failed |= hv_json_set(doc, "bbox_mm", json_pack("{s:o, s:o}", "min", hv_json_numbers(J->bbox_min, 3), "max",
                                                     hv_json_numbers(J->bbox_max, 3)));
@@ -1146,7 +1189,7 @@ static hv_status cost_range(void *ctx, size_t b, size_t e, int t)
     double px = J->grid.pixel[0] * -J->grid.pixel[1];
     for (size_t i = b; i < e; ++i) {
         hv_slice *slice = NULL;
-        hv_status st = hv_slicer_slice(J->slicer, J->layers[J->first + i].z, &J->sopt, &slice);
+        hv_status st = hv_solid_slice(J->solid, J->layers[J->first + i].z, &J->sopt, &slice);
         if (st != HV_OK) return st;
         c->cost[i] = hv_slice_get_stats(slice)->area / px + 0.02 * (double)J->plane;
         hv_slice_destroy(slice);

@@ -411,8 +411,9 @@ static hv_status volume_quarter(const hv_volume *v, hv_volume **out)
     free(masks);
     for (int i = 0; i < hv_volume_meta_count(v) && s == HV_OK; ++i) {
         const char *key = hv_volume_meta_key(v, i);
+        /* the geometry record (issue 28) is in the unrotated frame too: the rotated mesh is the shape */
         if (strcmp(key, "hovox.voxelize.json") == 0 || strcmp(key, "hovox.mesh.json") == 0 ||
-            strcmp(key, "hovox.object.json") == 0)
+            strcmp(key, "hovox.object.json") == 0 || strncmp(key, "hovox.geometry.", 15) == 0)
             continue;
         const char *str = hv_volume_meta_string(v, key);
         double num;

@@ -179,6 +179,10 @@ def test_layers_and_one_layer_as_an_array(graded_gear, gear_mesh, tmp_path):
     g = graded_gear["graded"]
     rep = g.layers(gear_mesh, tmp_path / "stack", layers=(700, 703))
     assert rep["first"] == 700 and rep["last"] == 703 and set(rep["materials"]) == {"A", "B", "C"}
+    # the model records its mesh (issue 28): cut without it, the same bytes
+    g.layers(tmp_path / "own", layers=(700, 703))
+    for f in ("manifest.json", "layer-00701.png"):
+        assert (tmp_path / "own" / f).read_bytes() == (tmp_path / "stack" / f).read_bytes()
     png = hovox.read_png(tmp_path / "stack" / "layer-00701.png", indices=True)
     rgb = hovox.read_png(tmp_path / "stack" / "layer-00701.png")
     assert rgb.shape == png.shape + (3,)

@@ -67,7 +67,7 @@ const hv_leaf_ops hv_leaf_mesh_ops = {HV_LEAF_MESH, mesh_open, mesh_close, mesh_
 
 static const hv_leaf_ops *const k_kinds[] = {
     [HV_LEAF_MESH] = &hv_leaf_mesh_ops,
-    [HV_LEAF_FIELD_ISO] = NULL, /* the scanned-volume module plugs its kind in here */
+    [HV_LEAF_FIELD_ISO] = &hv_leaf_field_ops, /* the scanned-volume module's (field_leaf.c) */
 };
 
 int hv_slice_point_inside(const hv_slice *slice, double x, double y)

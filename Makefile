@@ -62,7 +62,7 @@ VTK_LIBS  := -lvtkIOXML-9.1 -lvtkIOCore-9.1 -lvtkFiltersCore-9.1 -lvtkCommonExec
              -lvtkCommonDataModel-9.1 -lvtkCommonCore-9.1
 LIB3MF_CFLAGS := -isystem /usr/include/lib3mf
 LIB3MF_LIBS   := -l3MF
-PLUGINS   := $(PLUGDIR)/hovox-vdb.so
+PLUGINS   := $(PLUGDIR)/hovox-vdb.so $(PLUGDIR)/hovox-clipper.so
 ifneq ($(wildcard src/image/oiio_bridge.cpp),)
 PLUGINS   += $(PLUGDIR)/hovox-oiio.so
 endif
@@ -167,6 +167,11 @@ $(PLUGDIR)/hovox-oiio.so: EXTRA_CXXFLAGS = $(OIIO_CFLAGS)
 $(PLUGDIR)/hovox-oiio.so: $(BUILD)/obj/src/image/oiio_bridge.pic.o
 	@mkdir -p $(dir $@)
 	$(CXX) -shared -o $@ $^ $(OIIO_LIBS) $(SANFLAGS)
+
+# Clipper (Debian libpolyclipping): the polygon Booleans of a model's Boolean tree
+$(PLUGDIR)/hovox-clipper.so: $(BUILD)/obj/src/geometry/clipper_bridge.pic.o
+	@mkdir -p $(dir $@)
+	$(CXX) -shared -o $@ $^ -lpolyclipping $(SANFLAGS)
 
 $(BUILD)/obj/src/io/vtk/vtk_bridge.pic.o: EXTRA_CXXFLAGS = $(VTK_INC)
 $(PLUGDIR)/hovox-vtk.so: $(BUILD)/obj/src/io/vtk/vtk_bridge.pic.o
@@ -327,7 +332,7 @@ layering-tests:
 
 test: $(BUILD)/.deps-test
 	@$(MAKE) --no-print-directory all
-	@$(MAKE) --no-print-directory layering-tests header-tests unit-tests fuzz-tests cli-tests sample-tests vdb-tests mpi-tests python-tests browser-tests
+	@$(MAKE) --no-print-directory layering-tests header-tests unit-tests fuzz-tests cli-tests sample-tests readme-tests vdb-tests mpi-tests python-tests browser-tests
 
 # intercept_tls_get_addr=0: GCC 12's LeakSanitizer misreads glibc 2.36's dynamic TLS blocks of
 # dlopen'd plugins (a "DTLS" range of garbage) and its tracer crashes at exit ("Tracer caught

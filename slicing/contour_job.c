@@ -7,6 +7,7 @@
 
 #include "core/internal.h"
 #include "hovox/slice.h"
+#include "hovox/solid.h"
 
 typedef struct job {
     hv_contour_writer *writer;
@@ -102,6 +103,78 @@ hv_status hv_contours_write(const hv_mesh *mesh, const hv_contours_options *o, c
     hv_layer_plan_destroy(plan);
     hv_slicer_destroy(slicer);
     free(bodies);
+    if (s == HV_OK && summary) *summary = j.sum;
+    return s;
+}
+
+/* The shape a model records (issue 28): a plain record is its mesh's job above; a Boolean tree is
+ * cut layer by layer (hv_solid_slice: every leaf's loops combined by Clipper) on uniform layers. */
+hv_status hv_contours_write_model(const hv_volume *model, const hv_contours_options *o, const char *name,
+                                  hv_contours_layer_fn layer, void *user, const hv_progress *progress,
+                                  hv_contours_summary *summary)
+{
+    static const char *const svg_files[] = {"layer-*.svg", NULL};
+    static const hv_outdir_rules svg_dir = {"per-layer SVG directory", NULL, NULL, svg_files, 0, 0};
+    if (!model || !o) return hv_error_set(HV_ERR_INVALID, "hv_contours_write_model: model and options are required");
+    hv_status s = hv_contours_options_check(o);
+    if (s != HV_OK) return s;
+    hv_solid *solid = NULL;
+    if ((s = hv_solid_for_model(model, NULL, "contours", name, NULL, progress, &solid)) != HV_OK)
+        return name && s == HV_ERR_BAD_INPUT ? hv_error_prefix(s, "%s: ", name) : s;
+    if (hv_solid_is_plain(solid) && hv_leaf_mesh(hv_solid_leaf(solid, 0))) {
+        s = hv_contours_write(hv_leaf_mesh(hv_solid_leaf(solid, 0)), o, name, layer, user, progress, summary);
+        hv_solid_close(solid);
+        return s;
+    }
+    if (o->adaptive[0] > 0) {
+        hv_solid_close(solid);
+        return hv_error_option(HV_ERR_INVALID, "%s: {adaptive} layers follow one mesh's facets; this model records a Boolean of "
+                               "several: give {layer_height}", name ? name : "contours");
+    }
+    job j = {NULL, NULL, name ? hv_basename(name) : "hovox", NULL, 0, NULL, NULL, layer, user, {0}};
+    double lo[3], hi[3];
+    hv_solid_bbox(solid, lo, hi);
+    j.lo = lo;
+    j.hi = hi;
+    hv_layer_plan *plan = NULL;
+    char *tmpdir = NULL;
+    s = hv_layer_plan_uniform(lo[2], hi[2], o->first_layer, o->layer_height, &plan);
+    if (s == HV_OK) {
+        j.sum.layers = hv_layer_plan_count(plan);
+        for (int a = 0; a < 3; ++a) {
+            j.sum.bbox_min[a] = lo[a];
+            j.sum.bbox_max[a] = hi[a];
+        }
+        if (j.sum.layers == 0)
+            s = hv_error_set(HV_ERR_INVALID, "%s%sthe part is %g mm high: no layer of %g mm has its middle inside it",
+                             name ? name : "", name ? ": " : "", hi[2] - lo[2], o->layer_height);
+    }
+    hv_contour_format fmt;
+    if (s == HV_OK && o->output && (s = hv_contour_format_for_path(o->output, o->binary, &fmt)) == HV_OK)
+        s = hv_contour_writer_open(o->output, fmt, j.sum.layers, lo, hi, j.label, &j.writer);
+    if (s == HV_OK && o->per_layer) s = hv_outdir_begin(o->per_layer, &svg_dir, 0, &tmpdir);
+    j.dir = tmpdir;
+    hv_slice_options so;
+    hv_slice_options_init(&so);
+    so.close_gap = o->close_gap;
+    const hv_layer *L = plan ? hv_layer_plan_layers(plan) : NULL;
+    for (size_t i = 0; s == HV_OK && i < j.sum.layers; ++i) {
+        hv_slice *sl = NULL;
+        s = hv_solid_slice(solid, L[i].z, &so, &sl);
+        if (s == HV_OK) s = sink(&j, i, &L[i], &sl);
+        hv_slice_destroy(sl);
+        if (s == HV_OK && progress && progress->fn &&
+            progress->fn(progress->user, "contours", (double)(i + 1) / (double)j.sum.layers))
+            s = hv_error_set(HV_ERR_CANCELLED, "cancelled");
+    }
+    if (s == HV_OK) s = hv_contour_writer_close(j.writer);
+    else hv_contour_writer_abort(j.writer);
+    if (s == HV_OK && tmpdir && (s = hv_outdir_commit(tmpdir, o->per_layer, &svg_dir, 0)) != HV_OK && o->output)
+        remove(o->output);
+    if (s != HV_OK && tmpdir) hv_outdir_abort(tmpdir);
+    free(tmpdir);
+    hv_layer_plan_destroy(plan);
+    hv_solid_close(solid);
     if (s == HV_OK && summary) *summary = j.sum;
     return s;
 }

@@ -13,6 +13,7 @@
 #include "core/json.h"
 #include "hovox/material.h"
 #include "hovox/image.h"
+#include "hovox/solid.h"
 #include "hovox/voxelize.h"
 #include "layers_internal.h"
 
@@ -79,7 +80,9 @@ typedef struct worker {
 typedef struct job {
     const hv_layers_options *o;
     const hv_volume *model;
-    hv_slicer *slicer;
+    hv_solid *solid; /* the model's exact shape (hovox/solid.h), or the mesh given */
+    char *shape_name; /* what the manifest calls the shape: the mesh given, else the recorded mesh's
+                         name (a plain record) or its leaves' names joined by the tree's ops */
     hv_layer_plan *plan;
     const hv_layer *layers;
     size_t nlayers, first, last;
@@ -110,12 +113,11 @@ typedef struct job {
     uint8_t palette[3 * (HV_MAX_MATERIALS + 1)];
     int palette_size, bit_depth;
     /* output */
-    char *tmp;
     int no_files;       /* a tray's part: layers are rendered into the worker, not written */
     size_t run_lo, run_hi; /* the layers this process renders (all of [first, last) alone) */
     int placed, c0, r0; /* on a plate: the image's first column and row on the plate's grid */
     size_t lift;        /* on a plate: tray layers below the part's first layer */
-    hv_zip *zip; /* the GCVF archive being made (gcvf_path), NULL otherwise */
+    hv_stack_out out; /* the stack being written (hv_layers_write) */
     /* per-layer statistics, indexed by layer - first */
     uint64_t *st_pixels, *st_count, *st_fallback;
     double *st_target, *st_dsum, *st_dmax;
@@ -137,8 +139,8 @@ static int needs_object(const hv_layers_options *o)
 
 static void job_free(job *J)
 {
-    hv_zip_abort(J->zip);
-    J->zip = NULL;
+    hv_zip_abort(J->out.zip);
+    J->out.zip = NULL;
     if (J->workers) {
         for (int t = 0; t < J->threads; ++t) {
             worker *w = &J->workers[t];
@@ -169,7 +171,8 @@ static void job_free(job *J)
     hv_object_destroy(J->obj);
     hv_material_table_destroy(J->table);
     hv_layer_plan_destroy(J->plan);
-    hv_slicer_destroy(J->slicer);
+    hv_solid_close(J->solid);
+    free(J->shape_name);
     free(J->st_pixels);
     free(J->st_count);
     free(J->st_fallback);
@@ -177,7 +180,7 @@ static void job_free(job *J)
     free(J->st_dsum);
     free(J->st_dmax);
     free(J->st_open);
-    free(J->tmp);
+    free(J->out.tmp);
     memset(J, 0, sizeof *J);
 }
 
@@ -204,6 +207,41 @@ static uint64_t worker_bytes(const job *J)
 
 static void mesh_warning(job *J);
 
+/* The manifest's "mesh": the mesh given; without one, the recorded shape's leaves ("plate.stl",
+ * "plate.stl subtract rod.stl"), so a plain model cut without its mesh writes the same manifest. */
+static void node_text(const hv_geometry *g, size_t i, int top, hv_buf *b)
+{
+    const hv_geometry_node *nd = hv_geometry_node_at(g, i);
+    if (nd->op < 0) {
+        hv_buf_puts(b, hv_geometry_leaf_at(g, nd->leaf)->name);
+        return;
+    }
+    if (!top) hv_buf_puts(b, "(");
+    node_text(g, nd->a, 0, b);
+    hv_buf_printf(b, " %s ", hv_geometry_op_name((hv_geometry_op)nd->op));
+    node_text(g, nd->b, 0, b);
+    if (!top) hv_buf_puts(b, ")");
+}
+
+static hv_status shape_name(job *J, const hv_volume *model, const hv_layers_options *o)
+{
+    if (o->mesh_name || !model || !hv_geometry_present(model)) return J->shape_name = NULL, HV_OK;
+    hv_geometry *g;
+    hv_status st = hv_geometry_read(model, &g);
+    if (st != HV_OK) return st;
+    hv_buf b;
+    hv_buf_init(&b);
+    if (hv_geometry_shape_is_leaf(g)) hv_buf_puts(&b, hv_geometry_leaf_at(g, 0)->name);
+    else node_text(g, hv_geometry_node_count(g) - 1, 1, &b);
+    hv_geometry_destroy(g);
+    if (b.failed) {
+        hv_buf_free(&b);
+        return HV_ERR_NOMEM;
+    }
+    J->shape_name = b.data;
+    return HV_OK;
+}
+
 /* The grid, range, window and operators; everything except the output. */
 static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
                           const hv_layers_options *o, const hv_progress *progress, const hv_layers_place *pl)
@@ -214,20 +252,24 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     J->progress = progress;
     hv_status st = hv_layers_options_check(o);
     if (st != HV_OK) return st;
-    if (!mesh) return hv_error_set(HV_ERR_INVALID, "layers: no mesh");
+    if (!mesh && !model) return hv_error_set(HV_ERR_INVALID, "layers: no model and no mesh");
     if (uses_model(o) && !model)
         return hv_error_set(HV_ERR_INVALID, "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
                             o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
-    st = hv_slicer_create(mesh, NULL, &J->slicer);
+    /* the shape: the model's own (issue 28), a mesh given only as an override that must match */
+    st = hv_solid_for_model(model, mesh, "layers", o->model_name, o->mesh_name, NULL, &J->solid);
     if (st != HV_OK) return st;
-    hv_slicer_info info;
-    hv_slicer_get_info(J->slicer, &info);
+    struct {
+        double bbox_min[3], bbox_max[3];
+    } info;
+    hv_solid_bbox(J->solid, info.bbox_min, info.bbox_max);
     memcpy(J->bbox_min, info.bbox_min, sizeof J->bbox_min);
     memcpy(J->bbox_max, info.bbox_max, sizeof J->bbox_max);
-    mesh_warning(J);
+    if (mesh) mesh_warning(J);
+    if ((st = shape_name(J, model, o)) != HV_OK) return st;
     hv_slice_options_init(&J->sopt);
     J->sopt.close_gap = o->close_gap;
-    st = hv_slicer_plan_uniform(J->slicer, 0, o->layer_height, &J->plan);
+    st = hv_layer_plan_uniform(info.bbox_min[2], info.bbox_max[2], 0, o->layer_height, &J->plan);
     if (st != HV_OK) return st;
     J->nlayers = hv_layer_plan_count(J->plan);
     J->layers = hv_layer_plan_layers(J->plan);
@@ -808,10 +850,9 @@ static hv_status write_png(job *J, const char *path, const uint8_t *px, int pale
     return hv_png_write(path, px, J->W, J->H, 1, 0, &po);
 }
 
-static void layer_file(char *buf, size_t size, const char *dir, const char *sub, size_t index)
+static void layer_file(const job *J, char *buf, size_t size, const char *sub, size_t index)
 {
-    if (sub) snprintf(buf, size, "%s/%s/layer-%05zu.png", dir, sub, index);
-    else snprintf(buf, size, "%s/layer-%05zu.png", dir, index);
+    hv_stack_layer_path(&J->out, sub, index, buf, size);
 }
 
 /* Process global layer `index`; write it unless it is a pre-roll layer of error diffusion. */
@@ -820,7 +861,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
     const hv_layer *L = &J->layers[index];
     size_t li = write ? index - J->first : SIZE_MAX;
     hv_slice *slice = NULL;
-    hv_status st = hv_slicer_slice(J->slicer, L->z, &J->sopt, &slice);
+    hv_status st = hv_solid_slice(J->solid, L->z, &J->sopt, &slice);
     if (st != HV_OK) return st;
     st = hv_slice_rasterize(slice, &J->grid, J->o->fill_rule, J->o->threshold, w->mask, 0);
     if (write) J->st_open[li] = hv_slice_get_stats(slice)->open;
@@ -847,7 +888,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
     char path[4200];
     if (J->o->mode == HV_LAYERS_MASK) {
         if (!write || J->no_files) return HV_OK;
-        layer_file(path, sizeof path, J->tmp, NULL, index);
+        layer_file(J, path, sizeof path, NULL, index);
         return write_png(J, path, w->mask, 0);
     }
     if (pixels) {
@@ -871,7 +912,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
                 }
             }
             tg[g] = sum;
-            layer_file(path, sizeof path, J->tmp, hv_material_name(J->table, g), index);
+            layer_file(J, path, sizeof path, hv_material_name(J->table, g), index);
             st = write_png(J, path, w->gray, 0);
         }
         return st;
@@ -895,7 +936,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
     memcpy(J->st_count + li * (size_t)J->m, counts, (size_t)J->m * sizeof *counts);
     memcpy(J->st_target + li * (size_t)J->m, tsum, (size_t)J->m * sizeof *tsum);
     if (J->no_files) return HV_OK;
-    layer_file(path, sizeof path, J->tmp, NULL, index);
+    layer_file(J, path, sizeof path, NULL, index);
     return write_png(J, path, w->out, 1);
 }
 
@@ -956,11 +997,12 @@ static void color_hex(char out[8], const uint8_t *rgb) { snprintf(out, 8, "#%02x
 /* A name, or null when the caller gave none (the Lua API). */
 static json_t *name_or_null(const char *s) { return s ? hv_json_text(s) : json_null(); }
 
-static hv_status write_manifest(job *J, const hv_layers_report *r)
+/* The manifest's document (NULL: out of memory). */
+static json_t *manifest_doc(const job *J, const hv_layers_report *r)
 {
     const hv_layers_options *o = J->o;
     json_t *doc = json_object();
-    if (!doc) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
+    if (!doc) return NULL;
     char gen[64], hex[8];
     snprintf(gen, sizeof gen, "hovox %s", hv_version());
     int failed = hv_json_set(doc, "generator", json_string(gen));
@@ -990,7 +1032,7 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
     failed |= hv_json_set(doc, "fill_rule", json_string(o->fill_rule == HV_FILL_EVENODD ? "evenodd" : "nonzero"));
     failed |= hv_json_set(doc, "threshold_mm", hv_json_number(o->threshold));
     if (uses_model(o)) failed |= hv_json_set(doc, "poi_step", hv_json_number(o->poi_step));
-    failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name));
+    failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name ? o->mesh_name : J->shape_name));
     if (J->model) failed |= hv_json_set(doc, "model", name_or_null(o->model_name));
     failed |= hv_json_set(doc, "bbox_mm", json_pack("{s:o, s:o}", "min", hv_json_numbers(J->bbox_min, 3), "max",
                                                     hv_json_numbers(J->bbox_max, 3)));
@@ -1054,50 +1096,25 @@ static hv_status write_manifest(job *J, const hv_layers_report *r)
         failed |= json_array_append_new(layers, L);
     }
     failed |= hv_json_set(doc, "layers", layers);
-    char *text = failed ? NULL : hv_json_dump_lines(doc);
-    json_decref(doc);
-    if (!text) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
-    char path[4200];
-    snprintf(path, sizeof path, "%s/manifest.json", J->tmp);
-    hv_status st = hv_atomic_write(path, text, strlen(text));
-    free(text);
-    return st;
+    return hv_stack_manifest_done(doc, failed);
 }
 
-/* GCVF: ConfigFile.xml (the layout third-party GCVF writers use for GrabCAD Voxel Print:
- * resolution, slice size and range, materials with their RGBA and voxel counts) and the
- * layers as layer_<index>.png, stored (PNG data is deflated already). */
-static hv_status write_gcvf(job *J, const hv_layers_report *r, hv_zip *z)
+/* GCVF: ConfigFile.xml's materials with their RGBA and voxel counts (stack.c writes the rest). */
+static void gcvf_of(const job *J, const hv_layers_report *r, hv_gcvf *g)
 {
     const hv_layers_options *o = J->o;
-    hv_status st = HV_OK;
-    hv_buf x;
-    hv_buf_init(&x);
-    const uint8_t *bg = o->mode == HV_LAYERS_HALFTONE ? o->background : (const uint8_t *)"\0\0\0";
-    hv_gcvf_config_begin(&x, o->dpi, o->layer_height, J->W, J->H, J->first, J->last - J->first, J->bit_depth,
-                         o->mode == HV_LAYERS_MASK ? 2 : J->palette_size, bg);
+    hv_gcvf_init(g, o->dpi, o->layer_height, J->W, J->H, J->first, J->last, J->bit_depth,
+                 o->mode == HV_LAYERS_MASK ? 2 : J->palette_size);
+    if (o->mode == HV_LAYERS_HALFTONE) memcpy(g->background, o->background, 3);
     if (o->mode == HV_LAYERS_MASK) {
-        hv_gcvf_config_material(&x, "model", (const uint8_t *)"\xff\xff\xff", r->object_pixels);
-    } else {
-        for (int g = 0; g < J->m; ++g) {
-            uint64_t cnt = 0;
-            for (size_t li = 0; li < J->last - J->first; ++li) cnt += J->st_count[li * (size_t)J->m + (size_t)g];
-            hv_gcvf_config_material(&x, hv_material_name(J->table, g), J->palette + 3 * (g + 1), cnt);
-        }
+        hv_gcvf_add(g, "model", (const uint8_t *)"\xff\xff\xff", r->object_pixels);
+        return;
     }
-    hv_buf_puts(&x, "    </MaterialList>\n</GCVF>\n");
-    if (x.failed) st = hv_error_set(HV_ERR_NOMEM, "out of memory");
-    if (st == HV_OK) st = hv_zip_add_data(z, "ConfigFile.xml", x.data, x.len, 1);
-    hv_buf_free(&x);
-    /* the layers are copied from the stack's files while the archive is written */
-    for (size_t i = J->first; i < J->last && st == HV_OK; ++i) {
-        char path[4200], name[64];
-        layer_file(path, sizeof path, J->tmp, NULL, i);
-        snprintf(name, sizeof name, "layer_%zu.png", i);
-        st = hv_zip_add_file(z, name, path, 0);
+    for (int k = 0; k < J->m; ++k) {
+        uint64_t cnt = 0;
+        for (size_t li = 0; li < J->last - J->first; ++li) cnt += J->st_count[li * (size_t)J->m + (size_t)k];
+        hv_gcvf_add(g, hv_material_name(J->table, k), J->palette + 3 * (k + 1), cnt);
     }
-    if (st == HV_OK) st = hv_zip_write(z, J->progress, "gcvf");
-    return st;
 }
 
 /* ---- the job ---------------------------------------------------------------------------------- */
@@ -1172,7 +1189,7 @@ static hv_status cost_range(void *ctx, size_t b, size_t e, int t)
     double px = J->grid.pixel[0] * -J->grid.pixel[1];
     for (size_t i = b; i < e; ++i) {
         hv_slice *slice = NULL;
-        hv_status st = hv_slicer_slice(J->slicer, J->layers[J->first + i].z, &J->sopt, &slice);
+        hv_status st = hv_solid_slice(J->solid, J->layers[J->first + i].z, &J->sopt, &slice);
         if (st != HV_OK) return st;
         c->cost[i] = hv_slice_get_stats(slice)->area / px + 0.02 * (double)J->plane;
         hv_slice_destroy(slice);
@@ -1299,34 +1316,13 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
         fill_plan_report(&J, &rep);
         st = job_prepare_output(&J);
     }
-    if (st == HV_OK && o->gcvf_path && !o->force && !hv_path_is_special(o->gcvf_path)) {
-        /* like the stack: an existing archive is replaced only when asked */
-        struct stat sb;
-        if (stat(o->gcvf_path, &sb) == 0)
-            st = hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);
-    }
-    /* the archive's temporary is created before the layers run: an unwritable place fails now */
-    if (st == HV_OK && o->gcvf_path && (!o->dist || o->dist->rank == 0)) st = hv_zip_open(o->gcvf_path, &J.zip);
     const hv_dist *D = o->dist;
-    int root = !D || D->rank == 0;
-    if (st == HV_OK && root) st = hv_stack_begin(dir, o->force, &J.tmp);
-    if (st == HV_OK && root && o->mode == HV_LAYERS_FRACTIONS) {
-        for (int g = 0; g < J.m && st == HV_OK; ++g) {
-            char path[4200];
-            snprintf(path, sizeof path, "%s/%s", J.tmp, hv_material_name(J.table, g));
-            if (mkdir(path, 0777) != 0) st = hv_error_set(HV_ERR_IO, "%s: cannot create directory", path);
-        }
-    }
+    const char *subs[HV_MAX_MATERIALS + 1] = {NULL};
+    for (int g = 0; o->mode == HV_LAYERS_FRACTIONS && st == HV_OK && g < J.m; ++g) subs[g] = hv_material_name(J.table, g);
+    st = hv_stack_open(&J.out, st, dir, o->force, o->gcvf_path, subs, D);
     J.run_lo = J.first;
     J.run_hi = J.last;
-    if (D) { /* every process has planned; rank 0 made the directory; each takes its share */
-        st = hv_dist_agree(D, st);
-        char tmp[4200] = "";
-        if (root && J.tmp) snprintf(tmp, sizeof tmp, "%s", J.tmp);
-        if (st == HV_OK) hv_dist_bcast_string(D, tmp, sizeof tmp);
-        if (st == HV_OK && !root && !(J.tmp = hv_strdup(tmp))) st = HV_ERR_NOMEM;
-        if (st == HV_OK) st = dist_share(&J, D);
-    }
+    if (D && st == HV_OK) st = dist_share(&J, D); /* each process takes its share of the layers */
     if (st == HV_OK) st = hv_progress_report(progress, "layers", 0.0);
     if (st == HV_OK && J.run_hi > J.run_lo) {
         size_t units = ed_mode(&J) ? (J.run_hi - 1) / HV_HALFTONE_BLOCK - J.run_lo / HV_HALFTONE_BLOCK + 1
@@ -1339,15 +1335,7 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
         st = hv_dist_agree(D, st);
         if (st == HV_OK) st = dist_gather(&J, D);
     }
-    if (!root) { /* rank 0 writes the manifest and the zip and commits; the others wait for it */
-        st = hv_dist_agree(D, st);
-        if (report) *report = rep;
-        free(J.tmp);
-        J.tmp = NULL;
-        job_free(&J);
-        return st;
-    }
-    if (st == HV_OK) {
+    if (st == HV_OK && J.out.root) {
         /* statistics, summed in layer order so they do not depend on the threads */
         size_t count = J.last - J.first;
         double dsum = 0;
@@ -1382,17 +1370,13 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
         }
         st = hv_progress_report(progress, "layers", 1.0);
     }
-    if (st == HV_OK) st = write_manifest(&J, &rep);
-    if (st == HV_OK && J.zip) st = write_gcvf(&J, &rep, J.zip);
-    if (st == HV_OK && o->finish) st = o->finish(o->finish_user, J.tmp, dir, progress);
-    if (st == HV_OK) st = hv_stack_commit(J.tmp, dir, o->force);
-    if (J.zip) {
-        if (st == HV_OK) st = hv_zip_commit(J.zip);
-        else hv_zip_abort(J.zip);
-        J.zip = NULL;
-    }
-    if (st != HV_OK && J.tmp) hv_stack_abort(J.tmp);
-    if (D) st = hv_dist_agree(D, st);
+    /* rank 0 writes the manifest and the zip and renames; the others wait for it */
+    json_t *doc = st == HV_OK && J.out.root ? manifest_doc(&J, &rep) : NULL;
+    if (st == HV_OK && J.out.root && !doc) st = hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the manifest");
+    hv_gcvf g;
+    gcvf_of(&J, &rep, &g);
+    st = hv_stack_close(&J.out, st, dir, o->force, doc, o->manifest, o->manifest_user, &g, o->finish, o->finish_user,
+                        progress);
     if (report) *report = rep;
     job_free(&J);
     return name_model(model, o, st);

@@ -82,14 +82,6 @@ void hv_halftone_diffuse_start(const float *frac, int m, int w, int h, const uin
 
 /* ---- the stack on disk (stack.c) ------------------------------------------------------------ */
 
-/* Create "<parent>/.<name>.tmp-<pid>" for dir (fresh, mode 0777 & umask); *tmp is malloc'd.
- * Errors: HV_ERR_IO naming the path. Also checks up front that dir is absent, an empty
- * directory, or (force) a hovox stack. */
-hv_status hv_stack_begin(const char *dir, int force, char **tmp);
-/* Move tmp to dir (replacing an empty dir or, with force, a hovox stack). */
-hv_status hv_stack_commit(const char *tmp, const char *dir, int force);
-/* Remove the temporary directory and everything in it (best effort). */
-void hv_stack_abort(const char *tmp);
 /* Is `text` (size bytes) the manifest.json of a hovox stack: a JSON object whose "generator"
  * is a string starting with "hovox"? HV_OK when it is; else HV_ERR_BAD_INPUT saying why
  * ("manifest.json: line 3, column 1: ...", "manifest.json: generator is \"slic3r\", not
@@ -154,13 +146,56 @@ hv_status hv_dist_same_plan(const hv_dist *d, uint64_t hash, hv_status local);
 struct hv_tray;
 const char *hv_tray_keep(struct hv_tray *t, const char *s);
 
-/* GCVF ConfigFile.xml (slicing/stack.c): the header up to <MaterialList> and the background,
- * then one call per material; the caller closes with "    </MaterialList>\n</GCVF>\n". */
 #include "core/internal.h"
-void hv_gcvf_config_begin(hv_buf *x, const double dpi[2], double layer_height, int W, int H, size_t start,
-                          size_t count, int bit_depth, int colors, const uint8_t bg[3]);
-void hv_gcvf_config_material(hv_buf *x, const char *name, const uint8_t rgb[3], uint64_t voxels);
-
 #include "core/zip.h"
+#include "core/json.h"
+
+/* ---- the one stack writer (stack.c), for layers and trays -------------------------------------
+ * hv_stack_open, the layers' files (hv_stack_layer_path), hv_stack_close: the temporary
+ * directory renamed into place when complete, manifest.json, the GCVF zip, several processes. */
+typedef struct hv_stack_out {
+    char *tmp;           /* the temporary directory, on every process once open */
+    hv_zip *zip;         /* the GCVF archive's temporary (rank 0, when asked) */
+    const hv_dist *dist; /* several processes, or NULL */
+    int root;            /* this process writes the manifest and the zip and renames */
+} hv_stack_out;
+
+/* What ConfigFile.xml says: the slices and one entry per material (or resin). */
+typedef struct hv_gcvf {
+    double dpi[2], layer_height;
+    int width, height;
+    size_t first, last;
+    int bit_depth, colors;
+    uint8_t background[3];
+    int materials;
+    const char *name[HV_MAX_MATERIALS + 1];
+    uint8_t rgb[HV_MAX_MATERIALS + 1][3];
+    uint64_t voxels[HV_MAX_MATERIALS + 1];
+} hv_gcvf;
+
+/* The header of ConfigFile.xml (no materials yet; black background); then one hv_gcvf_add per
+ * material, in palette order (at most HV_MAX_MATERIALS + 1). */
+void hv_gcvf_init(hv_gcvf *g, const double dpi[2], double layer_height, int width, int height, size_t first,
+                  size_t last, int bit_depth, int colors);
+void hv_gcvf_add(hv_gcvf *g, const char *name, const uint8_t rgb[3], uint64_t voxels);
+/* A manifest document built with `failed` set by any member that could not be added: the
+ * document, or NULL (freed) when something failed. */
+json_t *hv_stack_manifest_done(json_t *doc, int failed);
+
+/* Open `dir` for writing a stack: an existing gcvf_path is refused without force; rank 0 makes
+ * the zip's temporary, the stack's temporary directory and its subdirectories `subs` (NULL, or
+ * NULL-terminated); several processes agree on the status and share the directory's name. `st`
+ * is the caller's status so far (a failure is agreed and returned, nothing is made). */
+hv_status hv_stack_open(hv_stack_out *s, hv_status st, const char *dir, int force, const char *gcvf_path,
+                        const char *const *subs, const hv_dist *d);
+/* "<tmp>[/<sub>]/layer-NNNNN.png" */
+void hv_stack_layer_path(const hv_stack_out *s, const char *sub, size_t index, char *buf, size_t size);
+/* Finish (every process calls it with its status): rank 0 lets `hook` add to the manifest, writes
+ * manifest.json (the document is taken over), the GCVF zip (gcvf, when the zip is open), runs
+ * `finish`, renames the directory into place and commits the zip; on failure removes both.
+ * Returns the status every process agrees on. */
+hv_status hv_stack_close(hv_stack_out *s, hv_status st, const char *dir, int force, json_t *manifest,
+                         hv_stack_manifest_fn hook, void *hook_user, const hv_gcvf *gcvf,
+                         hv_stack_finish_fn finish, void *finish_user, const hv_progress *progress);
 
 #endif

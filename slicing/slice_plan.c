@@ -78,12 +78,19 @@ hv_status hv_slicer_plan_uniform(const hv_slicer *s, double first, double height
     if (!out) return hv_error_set(HV_ERR_INVALID, "hv_slicer_plan_uniform: out is NULL");
     *out = NULL;
     if (!s) return hv_error_set(HV_ERR_INVALID, "hv_slicer_plan_uniform: slicer is NULL");
+    return hv_layer_plan_uniform(s->info.bbox_min[2], s->info.bbox_max[2], first, height, out);
+}
+
+hv_status hv_layer_plan_uniform(double zlo, double zhi, double first, double height, hv_layer_plan **out)
+{
+    *out = NULL;
+    if (!isfinite(zlo) || !isfinite(zhi) || zhi < zlo)
+        return hv_error_set(HV_ERR_INVALID, "layers: the part's height range %g to %g is not one", zlo, zhi);
     if (!(height > 0) || !isfinite(height))
         return hv_error_set(HV_ERR_INVALID, "layers: layer height %g must be finite and > 0", height);
     if (!isfinite(first))
         return hv_error_set(HV_ERR_INVALID, "layers: first layer height %g is not finite", first);
     if (first <= 0) first = height;
-    double zlo = s->info.bbox_min[2], zhi = s->info.bbox_max[2];
     /* layer i >= 1 spans [zlo + first + (i-1) h, zlo + first + i h]; it exists while its
      * mid-height is below zhi */
     size_t n = 0;

@@ -411,8 +411,9 @@ static hv_status volume_quarter(const hv_volume *v, hv_volume **out)
     free(masks);
     for (int i = 0; i < hv_volume_meta_count(v) && s == HV_OK; ++i) {
         const char *key = hv_volume_meta_key(v, i);
+        /* the geometry record (issue 28) is in the unrotated frame too: the rotated mesh is the shape */
         if (strcmp(key, "hovox.voxelize.json") == 0 || strcmp(key, "hovox.mesh.json") == 0 ||
-            strcmp(key, "hovox.object.json") == 0)
+            strcmp(key, "hovox.object.json") == 0 || strncmp(key, "hovox.geometry.", 15) == 0)
             continue;
         const char *str = hv_volume_meta_string(v, key);
         double num;
@@ -1132,8 +1133,8 @@ static json_t *num2(double a, double b)
     return x;
 }
 
-static hv_status write_manifest(hv_tray *t, const hv_tray_options *o, const char *tmp, const hv_tray_report *rep,
-                                const uint64_t *obj_px)
+/* The manifest's document (NULL: out of memory). */
+static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_report *rep, const uint64_t *obj_px)
 {
     json_t *doc = json_object();
     int failed = 0;
@@ -1213,41 +1214,19 @@ static hv_status write_manifest(hv_tray *t, const hv_tray_options *o, const char
         failed |= json_array_append_new(parts, p);
     }
     failed |= hv_json_set(doc, "parts", parts);
-    char *text = failed ? NULL : hv_json_dump_lines(doc);
-    json_decref(doc);
-    if (!text) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory for the manifest");
-    char path[4200];
-    snprintf(path, sizeof path, "%s/manifest.json", tmp);
-    hv_status st = hv_atomic_write(path, text, strlen(text));
-    free(text);
-    return st;
+    return hv_stack_manifest_done(doc, failed);
 }
 
-static hv_status write_gcvf(hv_tray *t, const hv_tray_options *o, const char *tmp, const hv_tray_report *rep,
-                            hv_zip *z, const hv_progress *progress)
+/* GCVF: ConfigFile.xml's resins (or the mask's one material); stack.c writes the rest. */
+static void gcvf_of(const hv_tray *t, const hv_tray_options *o, const hv_tray_report *rep, hv_gcvf *g)
 {
-    hv_buf x;
-    hv_buf_init(&x);
-    hv_gcvf_config_begin(&x, t->profile->dpi, t->profile->layer_height, t->W, t->H, rep->first,
-                         rep->last - rep->first, t->bit_depth, o->mode == HV_LAYERS_MASK ? 2 : t->palette_size,
-                         (const uint8_t *)"\0\0\0");
+    hv_gcvf_init(g, t->profile->dpi, t->profile->layer_height, t->W, t->H, rep->first, rep->last, t->bit_depth,
+                 o->mode == HV_LAYERS_MASK ? 2 : t->palette_size);
     if (o->mode == HV_LAYERS_MASK) {
-        hv_gcvf_config_material(&x, "model", (const uint8_t *)"\xff\xff\xff", rep->object_pixels);
-    } else {
-        for (int k = 1; k < t->palette_size; ++k)
-            hv_gcvf_config_material(&x, t->resins[t->pal_resin[k]].name, t->palette + 3 * k, 0);
+        hv_gcvf_add(g, "model", (const uint8_t *)"\xff\xff\xff", rep->object_pixels);
+        return;
     }
-    hv_buf_puts(&x, "    </MaterialList>\n</GCVF>\n");
-    hv_status st = x.failed ? HV_ERR_NOMEM : hv_zip_add_data(z, "ConfigFile.xml", x.data, x.len, 1);
-    hv_buf_free(&x);
-    for (size_t i = rep->first; i < rep->last && st == HV_OK; ++i) {
-        char path[4200], name[64];
-        snprintf(path, sizeof path, "%s/layer-%05zu.png", tmp, i);
-        snprintf(name, sizeof name, "layer_%zu.png", i);
-        st = hv_zip_add_file(z, name, path, 0);
-    }
-    if (st == HV_OK) st = hv_zip_write(z, progress, "gcvf");
-    return st;
+    for (int k = 1; k < t->palette_size; ++k) hv_gcvf_add(g, t->resins[t->pal_resin[k]].name, t->palette + 3 * k, 0);
 }
 
 /* Layer costs: the boxes of the parts a layer holds, and a fiftieth of the plate (its empty
@@ -1360,16 +1339,8 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     if ((st = hv_output_check(dir, 1)) != HV_OK || (o->stl_path && (st = hv_output_check(o->stl_path, 0)) != HV_OK) ||
         (o->gcvf_path && (st = hv_output_check(o->gcvf_path, 0)) != HV_OK))
         return st;
-    if (o->gcvf_path && !o->force && !hv_path_is_special(o->gcvf_path)) {
-        struct stat sb;
-        if (stat(o->gcvf_path, &sb) == 0) return hv_error_option(HV_ERR_IO, "%s: exists ({force} replaces it)", o->gcvf_path);
-    }
     const hv_dist *D = o->dist;
-    int root = !D || D->rank == 0;
-    hv_zip *zip = NULL;
-    char *tmp = NULL;
-    if (o->gcvf_path && root) st = hv_zip_open(o->gcvf_path, &zip);
-    if (st == HV_OK && root) st = hv_stack_begin(dir, o->force, &tmp);
+    hv_stack_out out;
     wjob J;
     memset(&J, 0, sizeof J);
     J.t = t;
@@ -1382,13 +1353,9 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     J.w = hv_calloc((size_t)threads, sizeof *J.w);
     J.st_bytes = hv_calloc(rep.last - rep.first, sizeof *J.st_bytes);
     if (st == HV_OK && (!J.w || !J.st_bytes)) st = HV_ERR_NOMEM;
+    st = hv_stack_open(&out, st, dir, o->force, o->gcvf_path, NULL, D);
     if (D) { /* rank 0 made the directory; each process takes a share of the layers by cost */
-        st = hv_dist_agree(D, st);
         const hv_status agreed = st; /* the same on every process: the collectives below match */
-        char name[4200] = "";
-        if (root && tmp) snprintf(name, sizeof name, "%s", tmp);
-        if (st == HV_OK) hv_dist_bcast_string(D, name, sizeof name);
-        if (st == HV_OK && !root && !(tmp = hv_strdup(name))) st = HV_ERR_NOMEM;
         size_t *ranges = hv_malloc_array((size_t)D->size * 2, sizeof *ranges);
         if (st == HV_OK && !ranges) st = HV_ERR_NOMEM;
         if (st == HV_OK) st = tray_partition(t, rep.first, rep.last, D->size, ranges, NULL);
@@ -1399,7 +1366,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         }
         free(ranges);
     }
-    J.tmp = tmp;
+    J.tmp = out.tmp;
     if (st == HV_OK) st = hv_progress_report(progress, "tray", 0.0);
     if (st == HV_OK && J.run_hi > J.run_lo)
         st = hv_parallel_for((J.run_hi - J.run_lo + RUN - 1) / RUN, 1, tray_units, &J, NULL, "tray");
@@ -1411,24 +1378,15 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
         if (st == HV_OK && !b) st = HV_ERR_NOMEM; /* NOTE: agreed below */
         for (size_t i = 0; b && i < n; ++i) b[i] = (double)J.st_bytes[i];
         if (b) D->sum_to_root(D->ctx, b, n);
-        for (size_t i = 0; b && root && i < n; ++i) J.st_bytes[i] = (uint64_t)b[i];
+        for (size_t i = 0; b && out.root && i < n; ++i) J.st_bytes[i] = (uint64_t)b[i];
         free(b);
-        if (!root) {
-            st = hv_dist_agree(D, st);
-            for (int i = 0; i < threads && J.w; ++i) {
-                free(J.w[i].rows);
-                free(J.w[i].span);
-            }
-            free(J.w);
-            free(J.st_bytes);
-            free(tmp);
-            if (report) *report = rep;
-            return st;
-        }
     }
-    uint64_t *obj_px = hv_calloc((size_t)t->ninst + 1, sizeof *obj_px);
-    if (st == HV_OK && !obj_px) st = HV_ERR_NOMEM;
-    if (st == HV_OK) {
+    /* rank 0 writes the manifest, the zip and the STL and renames; the others wait for it */
+    uint64_t *obj_px = out.root ? hv_calloc((size_t)t->ninst + 1, sizeof *obj_px) : NULL;
+    if (st == HV_OK && out.root && !obj_px) st = HV_ERR_NOMEM;
+    json_t *doc = NULL;
+    hv_gcvf g;
+    if (st == HV_OK && out.root) {
         for (size_t i = 0; i < rep.last - rep.first; ++i) rep.bytes += J.st_bytes[i];
         for (int i = 0; i < t->ninst; ++i) {
             hv_layers_report pr;
@@ -1436,18 +1394,12 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
             obj_px[i] = pr.object_pixels;
             rep.object_pixels += pr.object_pixels;
         }
-        st = write_manifest(t, o, tmp, &rep, obj_px);
+        if (!(doc = manifest_doc(t, o, &rep, obj_px))) st = hv_error_set(HV_ERR_NOMEM, "tray: out of memory for the manifest");
     }
-    if (st == HV_OK && zip) st = write_gcvf(t, o, tmp, &rep, zip, progress);
-    if (st == HV_OK && o->stl_path) st = write_stl(t, o->stl_path);
-    if (st == HV_OK && o->finish) st = o->finish(o->finish_user, tmp, dir, progress);
-    if (st == HV_OK) st = hv_stack_commit(tmp, dir, o->force);
-    if (zip) {
-        if (st == HV_OK) st = hv_zip_commit(zip);
-        else hv_zip_abort(zip);
-    }
-    if (st != HV_OK && tmp) hv_stack_abort(tmp);
-    if (D) st = hv_dist_agree(D, st);
+    if (st == HV_OK && out.root && o->stl_path) st = write_stl(t, o->stl_path);
+    gcvf_of(t, o, &rep, &g);
+    st = hv_stack_close(&out, st, dir, o->force, doc, o->manifest, o->manifest_user, &g, o->finish, o->finish_user,
+                        progress);
     for (int i = 0; i < threads && J.w; ++i) {
         free(J.w[i].rows);
         free(J.w[i].span);
@@ -1455,7 +1407,6 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     free(J.w);
     free(J.st_bytes);
     free(obj_px);
-    free(tmp);
     if (report) *report = rep;
     return st;
 }

@@ -6,7 +6,9 @@
 #define HOVOX_COLOUR_H
 
 #include "hovox/core.h"
+#include "hovox/mesh.h"
 #include "hovox/options.h"
+#include "hovox/volume.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -82,6 +84,19 @@ HV_API hv_status hv_colour_map_add_input(hv_colour_map *map, const void *icc, si
 /* As hv_colour_map_fractions for a colour in input profile `id` (0: sRGB). */
 HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t rgba[4],
                                        float out[HV_COLOUR_SLOTS]);
+
+/* Colour carried into a part: every voxel of `model`'s "occupancy" within `depth` mm of `mesh`'s
+ * surface takes the colour of its nearest point on the mesh (exact point-triangle distance; the
+ * colour by hv_mesh_colour_at) as the map's six fractions; a voxel deeper, or nearest to a facet
+ * without colour, takes the core: 100 % of resin `core` (one of the map's six, or a seventh
+ * material), or when core_rgba is given the fractions of that colour (straight RGBA in [0, 1]).
+ * Adds the float grids "material.<resin>" and stores the material table (the six resins with
+ * display colours, then the core). The mesh must be the one the model was voxelized from, in the
+ * same coordinates. Errors: HV_ERR_INVALID (depth not > 0, neither core nor core_rgba),
+ * HV_ERR_NOT_FOUND (no occupancy grid), those of hv_volume_grid_set and hv_material_add (a grid
+ * or material already there), HV_ERR_NOMEM. Not yet behind a command (issue 29 item 1). */
+HV_API hv_status hv_colour_paint(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
+                                 const char *core, const float *core_rgba);
 
 /* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
  * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by

@@ -87,6 +87,9 @@ HV_API size_t hv_geometry_node_count(const hv_geometry *g);
 HV_API const hv_geometry_node *hv_geometry_node_at(const hv_geometry *g, size_t i);
 /* 1 when the record is one leaf and no Boolean (a model voxelized from one mesh). */
 HV_API int hv_geometry_is_plain(const hv_geometry *g);
+/* 1 when the shape is its one leaf's: a single leaf combined only with itself by ops other than
+ * subtract (X n X = X u X = X; Wu's union of two gradings of one part, as in his gear example). */
+HV_API int hv_geometry_shape_is_leaf(const hv_geometry *g);
 
 /* MESH leaf i unpacked: the raw mesh (bodies, materials and facet order as read; named after the
  * leaf), and placed: moved by the leaf's transform (the raw mesh itself when that is the

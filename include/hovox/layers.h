@@ -186,6 +186,9 @@ typedef enum hv_halftone_method {
  * --view page of the CLI, hovox/viewer.h). A status other than HV_OK (its message set) fails the
  * job and nothing is left. `progress` is the job's. */
 typedef hv_status (*hv_stack_finish_fn)(void *user, const char *tmp, const char *dir, const hv_progress *progress);
+/* Adds to a stack's manifest before it is written: `manifest` is the manifest.json document, a
+ * jansson `json_t *` object (add members; do not take it over). Errors stop the stack. */
+typedef hv_status (*hv_stack_manifest_fn)(void *user, void *manifest);
 
 typedef struct hv_layers_options {
     hv_layers_mode mode;           /* default HALFTONE */
@@ -224,6 +227,8 @@ typedef struct hv_layers_options {
                                       (row 0 at the plate's far edge y = build[1]), as in a tray */
     hv_stack_finish_fn finish;     /* run before the stack is renamed into place; NULL: none */
     void *finish_user;
+    hv_stack_manifest_fn manifest; /* adds to manifest.json (colour, scan data source); NULL: none */
+    void *manifest_user;
 } hv_layers_options;
 
 /* Defaults as noted above; dpi and layer height from the j750 profile. */

@@ -174,6 +174,13 @@ HV_API const int32_t *hv_mesh_facet_materials(const hv_mesh *mesh);
  * HV_ERR_NOMEM. */
 HV_API hv_status hv_mesh_body_extract(const hv_mesh *mesh, size_t i, hv_mesh **out);
 
+/* Give the body named `body` the material `material` (the mesh's material of that name, else a
+ * new one without a colour), whatever it had: `--material BODY=NAME` of voxelize, Lua's
+ * mesh:set_material. A mesh read without bodies has one, named after its file. Errors:
+ * HV_ERR_NOT_FOUND ("gear.obj: no body 'hub' (bodies: rim, spokes)"), HV_ERR_INVALID (an empty
+ * material name), HV_ERR_NOMEM; the mesh is unchanged on failure. */
+HV_API hv_status hv_mesh_body_material_set(hv_mesh *mesh, const char *body, const char *material);
+
 /* Body i's own report: its facets as a mesh of their own (hv_mesh_body_extract), or the
  * whole mesh's report when it has one body. Errors: HV_ERR_INVALID (i out of range),
  * HV_ERR_NOMEM. */

@@ -15,6 +15,7 @@
 
 #include "hovox/core.h"
 #include "hovox/options.h"
+#include "hovox/volume.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -91,6 +92,59 @@ HV_API void hv_scan_affine(const hv_scan *scan, double m[12]);
 HV_API const hv_scan_info *hv_scan_get_info(const hv_scan *scan);
 /* The path (or name) it was read from; owned by the scan. */
 HV_API const char *hv_scan_name(const hv_scan *scan);
+
+/* ==== the shape of a scan ======================================================================
+ * Which part of the field is solid: the level function g >= 0, evaluated by trilinear
+ * interpolation of the samples at any world point (not blocky thresholding), so the surface sits
+ * between samples where the data says. */
+typedef enum hv_scan_select {
+    HV_SCAN_SELECT_ISO = 0,   /* value >= iso */
+    HV_SCAN_SELECT_RANGE = 1, /* lo <= value <= hi */
+    HV_SCAN_SELECT_LABELS = 2 /* a segmentation's labels: the interpolated indicator of "the
+                                 sample's label is in the set" >= 1/2 (labels never average) */
+} hv_scan_select;
+
+typedef struct hv_scan_shape {
+    hv_scan_select select;
+    double iso;
+    double range[2];
+    const int32_t *labels; /* label_count of them (1..65536); the caller's */
+    size_t label_count;
+} hv_scan_shape;
+
+/* ==== a model from a scan, no mesh (src/voxel/scan_voxelize.c) ==================================== */
+typedef struct hv_scan_voxelize_options {
+    hv_scan_shape shape;
+    double voxel_size[3]; /* mm; voxel_size[0] == 0: cubic voxels of the scan's smallest spacing */
+    int keep_largest;     /* keep the largest 6-connected part only */
+    int fill_holes;       /* fill every cavity (empty parts that do not reach the grid's border) */
+    double min_feature;   /* mm (0: none): parts and cavities smaller than a ball of this
+                             diameter are dropped and filled */
+    uint64_t max_memory;  /* bytes (0: hv_memory_budget's default) */
+    const hv_progress *progress;
+} hv_scan_voxelize_options;
+
+typedef struct hv_scan_voxelize_report {
+    int64_t first[3], dims[3]; /* the lattice box (voxel index space) */
+    double voxel[3];
+    uint64_t occupied, surface;
+    double volume;             /* occupied voxels times the voxel volume, mm^3 */
+    uint64_t dropped_parts, dropped_voxels, filled_cavities, filled_voxels;
+} hv_scan_voxelize_report;
+
+/* Defaults: iso 0, the scan's smallest spacing, nothing cleaned. */
+HV_API void hv_scan_voxelize_options_init(hv_scan_voxelize_options *opts);
+
+/* The model: a voxel (on the global lattice of hv_voxelize with a voxel size: centres at
+ * (n + 1/2) L, world RAS mm) is occupied when g >= 0 at its centre; then min_feature, keep_largest
+ * and fill_holes in that order. Bool grids "occupancy" and "surface" (occupied voxels with an
+ * empty 6-neighbour), and the geometry record (hovox/geometry.h): one FIELD_ISO leaf holding the
+ * samples and the shape, its transform the scan's affine, so layers, trays and contours cut the
+ * iso-surface itself (hovox/solid.h). report may be NULL. Errors: HV_ERR_INVALID (shape or
+ * options out of range, naming the option), HV_ERR_LIMIT (over max_memory, saying how much),
+ * HV_ERR_NOMEM, HV_ERR_CANCELLED. Free the volume with hv_volume_destroy. */
+HV_API hv_status hv_scan_voxelize(const hv_scan *scan, const hv_scan_voxelize_options *opts, hv_volume **out,
+                                  hv_scan_voxelize_report *report);
 
 #ifdef __cplusplus
 }

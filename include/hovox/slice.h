@@ -204,6 +204,10 @@ typedef struct hv_layer_plan hv_layer_plan;
  * *out is freed with hv_layer_plan_destroy. */
 HV_API hv_status hv_slicer_plan_uniform(const hv_slicer *slicer, double first_height,
                                         double height, hv_layer_plan **out);
+/* The same over the height range [zmin, zmax] of any part (a solid's, hovox/solid.h).
+ * Errors: as hv_slicer_plan_uniform; HV_ERR_INVALID (zmin, zmax not finite or zmax < zmin). */
+HV_API hv_status hv_layer_plan_uniform(double zmin, double zmax, double first_height, double height,
+                                       hv_layer_plan **out);
 
 /* Adaptive layers by the cusp-height criterion (Dolenc & Makela 1994; Wu 2.4.1 "adaptive
  * slicing"): a facet with unit normal n tolerates a layer of height cusp / |n_z| (the

@@ -61,6 +61,43 @@ HV_API const hv_leaf *hv_solid_leaf(const hv_solid *solid, size_t i);
 HV_API int hv_solid_is_plain(const hv_solid *solid);
 HV_API void hv_solid_bbox(const hv_solid *solid, double min[3], double max[3]);
 HV_API int hv_solid_inside(const hv_solid *solid, const double p[3]);
+/* The closed outlines at height z: a plain solid's are its leaf's (hv_leaf_slice, unchanged: a
+ * model cut without its mesh gives the same bytes as with it); a tree's are its leaves' closed
+ * loops combined node by node with Clipper's polygon Booleans (plugins/hovox-clipper.so;
+ * nonzero fill; coordinates rounded to 1 nm), outers counter-clockwise, holes clockwise, nested
+ * (hv_slice_from_loops; all of body 0; open polylines of a leaf take no part). Thread-safe.
+ * Errors: those of hv_leaf_slice, HV_ERR_UNSUPPORTED (no Clipper plugin), HV_ERR_NOMEM. */
+HV_API hv_status hv_solid_slice(const hv_solid *solid, double z, const hv_slice_options *options, hv_slice **out);
+
+/* A plain solid over the caller's mesh as it is (not copied: the mesh must outlive the solid).
+ * Errors: those of hv_slicer_create. */
+HV_API hv_status hv_solid_from_mesh(const hv_mesh *mesh, const hv_progress *progress, hv_solid **out);
+
+/* The solid a stage (layers, tray, contours, export) cuts for a model (issue 28: the model is the
+ * one truth of its shape; a mesh is an override that must match):
+ *   - no mesh: the model's record (hv_geometry_read, hv_solid_open);
+ *   - a mesh, and a model without a record (or none): the mesh (hv_solid_from_mesh);
+ *   - both: the mesh must be the one the record holds (one mesh leaf whose placed mesh has the
+ *     same vertices, facets and bodies); it is then cut as given.
+ * `stage` ("layers"), `model_name` and `mesh_name` name them in messages (NULL: generic words).
+ * The mesh is borrowed. Errors: HV_ERR_INVALID ("layers: holed.vdb records no geometry ...: give
+ * its mesh", neither given), HV_ERR_BAD_INPUT ("layers: plate.stl differs from the shape the model
+ * records (a Boolean of plate.stl, rod.stl): leave the mesh out to cut it"; a damaged record, the
+ * message prefixed with the stage: the caller names the model, as for its other errors), those
+ * of hv_solid_open. */
+HV_API hv_status hv_solid_for_model(const hv_volume *model, const hv_mesh *mesh, const char *stage,
+                                    const char *model_name, const char *mesh_name, const hv_progress *progress,
+                                    hv_solid **out);
+
+
+/* hv_contours_write (hovox/slice.h) for the shape a model records (issue 28): a model voxelized
+ * from one mesh gives exactly hv_contours_write of that mesh; a Boolean tree is cut on uniform layers
+ * (adaptive layers need one mesh: HV_ERR_INVALID), each layer's loops those of hv_solid_slice
+ * (body 0). `name` is the model's file. Errors: those of hv_contours_write and
+ * hv_solid_for_model (a model that records no shape: HV_ERR_INVALID). */
+HV_API hv_status hv_contours_write_model(const hv_volume *model, const hv_contours_options *o, const char *name,
+                                         hv_contours_layer_fn layer, void *user, const hv_progress *progress,
+                                         hv_contours_summary *summary);
 
 #ifdef __cplusplus
 }

@@ -80,6 +80,8 @@ typedef struct hv_tray_options {
     hv_stack_finish_fn finish;                   /* run before the stack is renamed into place
                                                     (see hovox/layers.h); NULL: none */
     void *finish_user;
+    hv_stack_manifest_fn manifest;               /* adds to manifest.json; NULL: none */
+    void *manifest_user;
 } hv_tray_options;
 HV_API void hv_tray_options_init(hv_tray_options *o);
 HV_API const hv_option_set *hv_tray_option_set(void);

@@ -5,6 +5,7 @@
 #include "hvpy.h"
 
 #include "hovox/generate.h"
+#include "hovox/placement.h"
 
 static int mesh_clear(PyObject *self)
 {
@@ -223,6 +224,27 @@ static PyObject *mesh_transform(PyObject *self, PyObject *arg)
     return s != HV_OK ? hvpy_fail(s) : hvpy_new_mesh(out);
 }
 
+/* place(unit=, up=, scale=, rotate=, translate=) -> Mesh placed as `hovox voxelize --unit ...` places
+ * it (hovox/placement.h: unit, up, scale, rotations in order, translate, whatever the keys' order) */
+static PyObject *mesh_place(PyObject *self, PyObject *args, PyObject *kw)
+{
+    if (PyTuple_GET_SIZE(args) != 0)
+        return PyErr_Format(PyExc_TypeError, "place() takes keywords only: unit, up, scale, rotate, translate");
+    hvpy_arena a;
+    if (hvpy_arena_init(&a) != 0) return NULL;
+    hv_placement p;
+    if (hvpy_read_options(kw, hv_placement_option_set(), &p, NULL, &a) != 0) {
+        hvpy_arena_free(&a);
+        return NULL;
+    }
+    hv_mesh *m = HVPY_MESH(self); /* after reading the options: they may have run Python code */
+    hv_mesh *out = NULL;
+    hv_status s = m ? hv_placement_transform(&p, m, &out) : HV_ERR_INVALID;
+    hvpy_arena_free(&a);
+    if (!m) return NULL;
+    return s != HV_OK ? hvpy_fail(s) : hvpy_new_mesh(out);
+}
+
 static PyObject *mesh_vertices(PyObject *self, void *unused)
 {
     (void)unused;
@@ -262,6 +284,10 @@ static PyMethodDef mesh_methods[] = {
     {"transform", mesh_transform, METH_O,
      "transform(matrix) -> Mesh moved by x' = A x + t (matrix 3x4 [A | t] or 4x4 affine), bodies kept; a mirror "
      "keeps facets outward."},
+    {"place", (PyCFunction)(void (*)(void))mesh_place, METH_VARARGS | METH_KEYWORDS,
+     "place(unit='m', up='y', scale=S or (SX, SY, SZ), rotate='x:90' or ['x:90', '30@1,1,0'], translate=(X, Y, Z)) "
+     "-> Mesh placed as `hovox voxelize --unit ... --translate` places it: unit, up, scale, rotations in order, "
+     "translate."},
     HVPY_HANDLE_METHODS,
     {NULL, NULL, 0, NULL},
 };

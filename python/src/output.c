@@ -135,7 +135,7 @@ done:
     return res;
 }
 
-/* model.layers(mesh, dir, *, progress=None, **options of `hovox layers`) -> report */
+/* model.layers([mesh,] dir, *, progress=None, **options of `hovox layers`) -> report */
 static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
 {
     static const char *const extra[] = {"mesh", "dir", NULL};
@@ -153,19 +153,22 @@ static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
         PyErr_SetString(PyExc_TypeError, "mesh given twice");
         goto done;
     }
-    if (!mo) {
-        hvpy_raise(HV_ERR_INVALID, "mesh is required (the mesh the model was voxelized from)");
-        goto done;
+    /* the mesh is optional (issue 28): the model records its shape; model.layers(dir=...),
+     * model.layers(None, dir) and model.layers("dir") cut that, a mesh given must match it */
+    if (mo && !pos && (PyUnicode_Check(mo) || PyBytes_Check(mo) || PyObject_HasAttrString(mo, "__fspath__"))) {
+        pos = mo;
+        mo = NULL;
     }
-    hv_mesh *mesh = HVPY_MESH(mo);
-    if (!mesh) goto done;
+    if (mo == Py_None) mo = NULL;
+    hv_mesh *mesh = mo ? HVPY_MESH(mo) : NULL;
+    if (mo && !mesh) goto done;
     const char *dir = out_path(&oc, pos, "dir", "the stack's directory");
     if (!dir) goto done;
     hvpy_call c;
     hv_layers_report rep;
     PyObject *pins[2] = {self, mo};
-    hvpy_begin(&c, oc.progress, pins, 2);
-    hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, &c.prog, &rep);
+    hvpy_begin(&c, oc.progress, pins, mo ? 2 : 1);
+    hv_status s = hv_layers_write(mesh, vol, dir, &o, &c.prog, &rep);
     hvpy_end(&c);
     if (s != HV_OK) {
         hvpy_call_fail(&c, s);

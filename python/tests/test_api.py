@@ -179,6 +179,10 @@ def test_layers_and_one_layer_as_an_array(graded_gear, gear_mesh, tmp_path):
     g = graded_gear["graded"]
     rep = g.layers(gear_mesh, tmp_path / "stack", layers=(700, 703))
     assert rep["first"] == 700 and rep["last"] == 703 and set(rep["materials"]) == {"A", "B", "C"}
+    # the model records its mesh (issue 28): cut without it, the same bytes
+    g.layers(tmp_path / "own", layers=(700, 703))
+    for f in ("manifest.json", "layer-00701.png"):
+        assert (tmp_path / "own" / f).read_bytes() == (tmp_path / "stack" / f).read_bytes()
     png = hovox.read_png(tmp_path / "stack" / "layer-00701.png", indices=True)
     rgb = hovox.read_png(tmp_path / "stack" / "layer-00701.png")
     assert rgb.shape == png.shape + (3,)
@@ -245,3 +249,17 @@ def test_a_call_is_one_command(graded_gear, tmp_path):
     with pytest.raises(hovox.InvalidError, match="is an input of this command"):
         t.layers(tmp_path / "stack", layers=(0, 1), arrange="all", stl=pin)  # the parts over a part's mesh
     assert hovox.load_mesh(pin).count()[0] > 0 and not (tmp_path / "stack").exists()
+
+
+def test_mesh_place_as_the_command_line(tmp_path):
+    """issue 27 item 3: Mesh.place takes voxelize's placement options as keywords."""
+    box = hovox.generate.box(min=(0, 0, 0), max=(30, 20, 10))
+    r = box.place(unit="cm", up="y").report()["bbox"]
+    assert tuple(r["min"]) == pytest.approx((0, -100, 0)) and tuple(r["max"]) == pytest.approx((300, 0, 200))
+    # the keys' order does not matter; rotations compose in list order
+    p = box.place(translate=(1, 2, 3), rotate=["z:90", "x:90"], scale=2).report()["bbox"]
+    assert tuple(p["min"]) == pytest.approx((-39, -18, 3)) and tuple(p["max"]) == pytest.approx((1, 2, 63))
+    with pytest.raises(hovox.InvalidError, match="unit must be one of mm, cm, m, in, ft, um, got 'parsec'"):
+        box.place(unit="parsec")
+    with pytest.raises(TypeError):
+        box.place("x:90")

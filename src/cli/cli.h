@@ -155,7 +155,7 @@ hv_status cli_mesh_load_placed(const char *path, const hv_placement *place, cons
 void cli_warn_mesh_size(const hv_mesh *mesh, const double build[3]);
 
 /* Commands */
-extern const cli_spec cmd_info, cmd_generate, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
+extern const cli_spec cmd_info, cmd_generate, cmd_boolean, cmd_voxelize, cmd_grade, cmd_probe, cmd_profile, cmd_run,
     cmd_render, cmd_contours, cmd_layers, cmd_tray, cmd_view, cmd_export, cmd_colour;
 
 #endif

@@ -9,7 +9,9 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/model.h"
 #include "hovox/slice.h"
+#include "hovox/solid.h"
 
 typedef struct contours_cli {
     int json;
@@ -66,7 +68,7 @@ static hv_status layer_json(void *user, size_t index, const hv_layer *layer, con
 static int report(const char *mesh_path, const hv_mesh *mesh, const hv_contours_options *o, const hv_contours_summary *r,
                   const hv_buf *js)
 {
-    size_t nb = hv_mesh_body_count(mesh);
+    size_t nb = mesh ? hv_mesh_body_count(mesh) : 1;
     if (!js) {
         printf("%s: %zu layers, %zu loops (%zu holes), %zu open polylines, %zu gaps closed", mesh_path, r->layers,
                r->loops, r->holes, r->open, r->gaps_closed);
@@ -123,25 +125,36 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     hv_buf_init(&js.b);
     hv_contours_summary sum;
     hv_mesh *mesh = NULL;
-    hv_status s = cli_mesh_load_placed(mesh_path, &c->place, NULL, &mesh);
-    js.nbodies = mesh ? hv_mesh_body_count(mesh) : 0;
-    if (s == HV_OK) s = hv_contours_write(mesh, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
+    hv_volume *model = NULL;
+    hv_status s;
+    if (hv_has_extension(mesh_path, ".vdb")) { /* a model: the shape it records (issue 28) */
+        s = hv_model_load(mesh_path, &model);
+        js.nbodies = 1;
+        if (s == HV_OK) s = hv_contours_write_model(model, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
+    } else {
+        s = cli_mesh_load_placed(mesh_path, &c->place, NULL, &mesh);
+        js.nbodies = mesh ? hv_mesh_body_count(mesh) : 0;
+        if (s == HV_OK) s = hv_contours_write(mesh, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
+    }
     cli_progress_done(&bar);
     int rc = s == HV_OK ? report(mesh_path, mesh, o, &sum, c->json ? &js.b : NULL) : cli_fail(s);
     hv_mesh_destroy(mesh);
+    hv_volume_destroy(model);
     hv_buf_free(&js.b);
     return rc;
 }
 
 const cli_spec cmd_contours = {
-    "contours", "slice a mesh into contour loops (SVG, CLI)",
-    "MESH (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
+    "contours", "slice a mesh or a model's shape into contour loops (SVG, CLI)",
+    "MESH|MODEL.vdb (--layer-height H | --adaptive MIN,MAX[,CUSP])\n"
     "                      [-o OUT.svg|OUT.cli] [--per-layer DIR] [--json] [options]",
     "Slice a mesh into closed contour loops per layer with Wu's weighted directed graph:\n"
     "facets are nodes, shared edges arcs; each plane touches only the facets crossing it and\n"
     "the loops come out in order. Layers start at the mesh's lowest z and each layer\n"
     "[bottom, top] is cut at its mid-height; the last layer is the one whose mid-height is\n"
     "below the mesh top. A vertex exactly on a cutting plane counts as above it. Loops are\n"
-    "oriented (outer counter-clockwise, holes clockwise, seen from +z) and nested. Units: mm.\n",
+    "oriented (outer counter-clockwise, holes clockwise, seen from +z) and nested. Units: mm.\n"
+    "A model (.vdb) is cut as the shape it records: the meshes it was voxelized from combined by\n"
+    "its Booleans (Clipper), on uniform layers when it holds a Boolean of several meshes.\n",
     hv_contours_option_set, &k_local, "Files are written atomically. Without --json a one-line summary goes to stdout.\n",
     1, 1, "MESH", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

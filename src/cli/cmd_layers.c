@@ -61,7 +61,8 @@ static void warn(const hv_layers_report *r, size_t from)
 static void report(const hv_layers_report *r, const hv_layers_options *o, const layers_cli *c, const hv_mesh *mesh,
                    const hv_volume *model)
 {
-    printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
+    if (mesh) printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
+    else printf("shape       the one %s records\n", o->model_name);
     char placed[1024];
     if (hv_placement_given(&c->place))
         printf("placed      %s\n", hv_placement_describe(&c->place, placed, sizeof placed));
@@ -96,13 +97,14 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
     hv_status s;
-    if (!c->mesh) { /* a 3MF Volumetric model: its mesh and its model in one read */
+    if (!c->mesh && hv_3mf_sniff(o->model_name)) { /* a 3MF Volumetric model: its mesh and its model in one read */
         s = hv_3mf_load(o->model_name, &model, &mesh);
         o->mesh_name = o->model_name;
     } else {
+        /* without --mesh the shape is the one the model records (issue 28) */
         const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
-        s = cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh);
-        if (s == HV_OK && o->model_name && o->mode != HV_LAYERS_MASK) s = hv_model_load(o->model_name, &model);
+        s = c->mesh ? cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh) : HV_OK;
+        if (s == HV_OK && o->model_name) s = hv_model_load(o->model_name, &model);
     }
     hv_layers_report r;
     memset(&r, 0, sizeof r);
@@ -152,11 +154,10 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (!c->output && !c->dry_run) return cli_usage_error("layers", "missing -o DIR");
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
-    if (!c->mesh && (args->npos == 0 || !hv_3mf_sniff(args->pos[0])))
-        return cli_usage_error("layers", "--mesh is required (a .3mf model brings its own)");
+    if (!c->mesh && args->npos == 0) return cli_usage_error("layers", "missing MODEL.vdb or --mesh");
     if (!c->mesh && hv_placement_given(&c->place))
-        return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a .3mf "
-                                         "model is sliced where it is");
+        return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
+                                         "sliced where its recorded shape is");
     o->mesh_name = c->mesh;
     o->model_name = args->npos ? args->pos[0] : NULL;
     o->dist = cli_dist;
@@ -164,13 +165,15 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 }
 
 const cli_spec cmd_layers = {
-    "layers", "printer slice stacks (PNG) from a model and its mesh",
-    "MODEL.vdb --mesh MESH -o DIR [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
+    "layers", "printer slice stacks (PNG) from a model",
+    "MODEL.vdb -o DIR [--mesh MESH] [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
     "       hovox layers --mesh MESH -o DIR --mode mask [options]",
-    "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the mesh's\n"
-    "lowest z; each is cut at its mid-height z. Per layer the mesh's contour (WDG slicer) is\n"
-    "rasterised at printer resolution by pixel centres: that decides object and background,\n"
-    "as sharp as the contour. Inside, the material comes from the graded model: the two voxel\n"
+    "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the part's\n"
+    "lowest z; each is cut at its mid-height z. Per layer the part's contour is rasterised at\n"
+    "printer resolution by pixel centres: that decides object and background, as sharp as the\n"
+    "contour. The contour is the shape the model records: the WDG contours of the meshes it was\n"
+    "voxelized from, combined by its Booleans (Clipper); --mesh is an override that must be the\n"
+    "recorded mesh (needed only for models made before hovox recorded their shape). Inside, the material comes from the graded model: the two voxel\n"
     "layers around z interpolated in z over occupied voxels, extended outwards to pixels the\n"
     "voxels miss, then resampled to printer pixels by pixel overlap interpolation (exact area\n"
     "weights, in steps of at most --poi-step) -- or, with --method direct, the grading\n"

@@ -1,19 +1,41 @@
 /* src/cli/cmd_voxelize.c - `hovox voxelize MESH -o MODEL.vdb`: surface + interior voxels (Wu 2.1).
- * The options are the library's (hv_voxelize_option_set). */
+ * The options are the library's (hv_voxelize_option_set); a scanned volume (hovox/scan.h) takes
+ * its shape options (--iso, --range, --labels, --keep-largest, --fill-holes, --min-feature). */
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "cli.h"
 #include "core/internal.h"
 #include "core/json.h"
 #include "hovox/geometry.h"
 #include "hovox/model.h"
+#include "hovox/scan.h"
 #include "hovox/voxelize.h"
 
 typedef struct vox_cli {
     const char *output, *like;
     int dry_run, json;
+    double iso, range[2], min_feature;
+    const char *labels;
+    int keep_largest, fill_holes;
     hv_placement place;
+    const char *material[64]; /* "BODY=NAME" */
+    int nmaterial;
 } vox_cli;
+
+static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    vox_cli *c = opts;
+    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
+    if (!eq || eq == v->text || !eq[1])
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=MATERIAL, got '%s'", o->key,
+                               v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
+    if (c->nmaterial == 64) return hv_error_option(HV_ERR_INVALID, "at most 64 {%s} options", o->key);
+    c->material[c->nmaterial++] = v->text;
+    return HV_OK;
+}
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(vox_cli, "MODEL.vdb", "the .vdb to write (atomically)", 0),
@@ -22,7 +44,24 @@ static const hv_option k_local_opts[] = {
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, dry_run),
      .help = "print the plan and its memory estimate, write nothing", .section = "Output"},
     CLI_JSON(vox_cli, "print the summary as JSON"),
+    {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+     .parse = add_material, .section = "Assemblies",
+     .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
+             "says; repeatable"},
     HV_PLACEMENT_OPTIONS(vox_cli, place),
+    {.key = "iso", .kind = HV_OPT_NUMBER, .offset = offsetof(vox_cli, iso), .meta = "VALUE",
+     .help = "a scanned volume's solid: where its trilinearly interpolated value is at least VALUE (e.g. 300 HU for bone)",
+     .section = "Scanned volumes (NIfTI, NRRD, MetaImage, DICOM series: one of --iso, --range, --labels)"},
+    {.key = "range", .kind = HV_OPT_NUMBER, .count = 2, .offset = offsetof(vox_cli, range), .meta = "LO,HI",
+     .help = "the solid where the interpolated value lies in [LO, HI]"},
+    {.key = "labels", .kind = HV_OPT_STRING, .offset = offsetof(vox_cli, labels), .meta = "A,B,...",
+     .help = "a segmentation's labels (integers): the solid where the interpolated indicator of those labels is at least 1/2"},
+    {.key = "keep_largest", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, keep_largest),
+     .help = "keep the largest connected part only"},
+    {.key = "fill_holes", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, fill_holes),
+     .help = "fill every enclosed cavity"},
+    {.key = "min_feature", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = offsetof(vox_cli, min_feature), .meta = "MM",
+     .unit = "mm", .help = "drop parts and fill cavities smaller than a ball of this diameter"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
@@ -168,6 +207,12 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_mesh *mesh = NULL, *raw = NULL;
     hv_status s = hv_mesh_load(path, &raw);
     if (s == HV_OK) cli_mesh_notes(raw);
+    for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
+        const char *eq = strchr(c->material[i], '=');
+        char body[1024];
+        snprintf(body, sizeof body, "%.*s", (int)(eq - c->material[i]), c->material[i]);
+        s = hv_mesh_body_material_set(raw, body, eq + 1);
+    }
     if (s == HV_OK && hv_placement_given(&c->place)) s = hv_placement_transform(&c->place, raw, &mesh);
     else if (s == HV_OK) {
         mesh = raw;
@@ -222,20 +267,154 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     return rc;
 }
 
+/* "1,2,5" -> labels (malloc'd). */
+static int parse_labels(const char *text, int32_t **out, size_t *n)
+{
+    *out = NULL;
+    *n = 0;
+    size_t cap = 0;
+    const char *p = text;
+    while (*p) {
+        char *e;
+        long v = strtol(p, &e, 10);
+        if (e == p || v < INT32_MIN || v > INT32_MAX || (*e && *e != ',')) {
+            free(*out);
+            *out = NULL;
+            return cli_usage_error("voxelize", "--labels must be integers A,B,..., got '%s'", text);
+        }
+        if (hv_grow((void **)out, &cap, *n + 1, sizeof **out) != HV_OK) return cli_fail(HV_ERR_NOMEM);
+        (*out)[(*n)++] = (int32_t)v;
+        p = *e ? e + 1 : e;
+    }
+    if (!*n) return cli_usage_error("voxelize", "--labels must name at least one label");
+    return -1;
+}
+
+static int run_scan(const cli_args *args, const char *path, const hv_voxelize_options *vopt, const vox_cli *c)
+{
+    static const char *const mesh_only[] = {"adjacency", "fill", "dims", "like", "material"};
+    for (size_t i = 0; i < sizeof mesh_only / sizeof *mesh_only; ++i)
+        if (cli_given(args, mesh_only[i]))
+            return cli_usage_error("voxelize", "%s is for meshes; a scanned volume takes --iso, --range or --labels",
+                                   cli_spell(mesh_only[i]));
+    int picks = cli_given(args, "iso") + cli_given(args, "range") + cli_given(args, "labels");
+    if (picks != 1) return cli_usage_error("voxelize", "a scanned volume needs one of --iso, --range or --labels");
+    hv_scan_voxelize_options o;
+    hv_scan_voxelize_options_init(&o);
+    int32_t *labels = NULL;
+    if (cli_given(args, "iso")) {
+        o.shape.select = HV_SCAN_SELECT_ISO;
+        o.shape.iso = c->iso;
+    } else if (cli_given(args, "range")) {
+        o.shape.select = HV_SCAN_SELECT_RANGE;
+        o.shape.range[0] = c->range[0];
+        o.shape.range[1] = c->range[1];
+    } else {
+        int rc = parse_labels(c->labels, &labels, &o.shape.label_count);
+        if (rc >= 0) return rc;
+        o.shape.select = HV_SCAN_SELECT_LABELS;
+        o.shape.labels = labels;
+    }
+    if (cli_given(args, "voxel_size")) memcpy(o.voxel_size, vopt->voxel_size, sizeof o.voxel_size);
+    o.keep_largest = c->keep_largest;
+    o.fill_holes = c->fill_holes;
+    o.min_feature = c->min_feature;
+    hv_scan *scan = NULL;
+    hv_status s = hv_scan_load(path, NULL, &scan);
+    hv_volume *vol = NULL;
+    hv_scan_voxelize_report r;
+    if (s == HV_OK) {
+        cli_progress bar;
+        cli_progress_init(&bar, args->quiet);
+        hv_progress prog = {cli_progress_fn, &bar};
+        o.progress = &prog;
+        s = hv_scan_voxelize(scan, &o, &vol, &r);
+        cli_progress_done(&bar);
+    }
+    if (s == HV_OK && !c->dry_run) s = hv_volume_save(vol, c->output);
+    if (s != HV_OK) {
+        free(labels);
+        hv_volume_destroy(vol);
+        hv_scan_destroy(scan);
+        return cli_fail(s);
+    }
+    const hv_scan_info *in = hv_scan_get_info(scan);
+    size_t d[3];
+    hv_scan_dims(scan, d);
+    char shape[160];
+    if (o.shape.select == HV_SCAN_SELECT_ISO) snprintf(shape, sizeof shape, "value >= %.6g", o.shape.iso);
+    else if (o.shape.select == HV_SCAN_SELECT_RANGE)
+        snprintf(shape, sizeof shape, "%.6g <= value <= %.6g", o.shape.range[0], o.shape.range[1]);
+    else snprintf(shape, sizeof shape, "labels %s", c->labels);
+    int rc = EXIT_OK;
+    if (c->json) {
+        cli_json j;
+        cli_json_begin(&j);
+        cli_json_str(&j, "volume", path);
+        cli_json_str(&j, "format", in->format_name);
+        cli_json_str(&j, "shape", shape);
+        cli_json_ints(&j, "dims", r.dims, 3);
+        cli_json_ints(&j, "first", r.first, 3);
+        cli_json_nums(&j, "voxel", r.voxel, 3);
+        cli_json_int(&j, "occupied", (long long)r.occupied);
+        cli_json_int(&j, "surface", (long long)r.surface);
+        cli_json_num(&j, "voxel_volume", r.volume);
+        cli_json_int(&j, "dropped_parts", (long long)r.dropped_parts);
+        cli_json_int(&j, "filled_cavities", (long long)r.filled_cavities);
+        if (!c->dry_run) cli_json_str(&j, "output", c->output);
+        rc = cli_json_end(&j, NULL, NULL);
+    } else {
+        printf("volume      %s (%s, %zu x %zu x %zu samples)\n", path, in->format_name, d[0], d[1], d[2]);
+        printf("shape       %s, trilinear%s%s%s\n", shape, o.keep_largest ? ", largest part" : "",
+               o.fill_holes ? ", holes filled" : "", o.min_feature > 0 ? ", minimum feature" : "");
+        printf("grid        %lld x %lld x %lld voxels of %.6g x %.6g x %.6g\n", (long long)r.dims[0], (long long)r.dims[1],
+               (long long)r.dims[2], r.voxel[0], r.voxel[1], r.voxel[2]);
+        if (r.dropped_parts || r.filled_cavities)
+            printf("cleaned     dropped %llu parts (%llu voxels), filled %llu cavities (%llu voxels)\n",
+                   (unsigned long long)r.dropped_parts, (unsigned long long)r.dropped_voxels,
+                   (unsigned long long)r.filled_cavities, (unsigned long long)r.filled_voxels);
+        printf("occupied    %llu voxels (%llu surface), volume %.6g\n", (unsigned long long)r.occupied,
+               (unsigned long long)r.surface, r.volume);
+        if (!c->dry_run) printf("wrote       %s\n", c->output);
+    }
+    free(labels);
+    hv_volume_destroy(vol);
+    hv_scan_destroy(scan);
+    return rc;
+}
+
 static int run_cli(const cli_args *args, void *lib, void *local)
 {
     const vox_cli *c = local;
     if (!c->output && !c->dry_run) return cli_usage_error("voxelize", "missing -o MODEL.vdb");
+    if (hv_scan_path_is_scan(args->pos[0])) {
+        if (hv_placement_given(&c->place))
+            return cli_usage_error("voxelize", "placement options are for meshes; a scanned volume is placed by its own "
+                                   "affine (world RAS millimetres)");
+        return run_scan(args, args->pos[0], lib, c);
+    }
+    static const char *const scan_only[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature"};
+    for (size_t i = 0; i < sizeof scan_only / sizeof *scan_only; ++i)
+        if (cli_given(args, scan_only[i]))
+            return cli_usage_error("voxelize", "%s is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM "
+                                   "directory), not meshes", cli_spell(scan_only[i]));
     return run(args->pos[0], lib, c, args->quiet);
 }
 
 const cli_spec cmd_voxelize = {
-    "voxelize", "voxelize a mesh into a .vdb model (surface + interior)", "MESH -o MODEL.vdb [options]",
+    "voxelize", "voxelize a mesh or a scanned volume into a .vdb model (surface + interior)",
+    "MESH -o MODEL.vdb [options]\n       VOLUME (--iso V | --range LO,HI | --labels A,B,...) -o MODEL.vdb [options]",
     "Voxelize a mesh (Wu 2.1; Huang et al. 1998): triangles mark the voxels in their face\n"
     "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
     "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"
     "origin + (i*Lx, j*Ly, k*Lz). A mesh of several bodies (an assembly) gives a bool grid\n"
     "'region.<body name>' per body: a voxel goes to the body that holds its centre; where\n"
     "bodies overlap, the first in file order keeps the voxels, and the summary reports the\n"
-    "overlap.\n",
+    "overlap.\n"
+    "A scanned volume (NIfTI, NRRD, MetaImage, a DICOM series directory; see 'hovox info')\n"
+    "gives a model without a mesh: a voxel is occupied where the volume's trilinearly\n"
+    "interpolated value passes --iso, --range or --labels at its centre (world RAS mm,\n"
+    "cubic voxels of the smallest sample spacing unless --voxel-size), and the model\n"
+    "records the samples and the shape as its geometry, so layers, trays and contours cut\n"
+    "the iso-surface itself.\n",
     hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

@@ -4,10 +4,10 @@
 
 #include "cli.h"
 
-static const cli_spec *const g_commands[] = {&cmd_info,   &cmd_voxelize, &cmd_grade,  &cmd_probe,
-                                             &cmd_profile, &cmd_run,      &cmd_render, &cmd_contours,
-                                             &cmd_layers,  &cmd_tray,     &cmd_view,    &cmd_export,
-                                             &cmd_generate, &cmd_colour};
+static const cli_spec *const g_commands[] = {&cmd_info,     &cmd_voxelize, &cmd_grade,  &cmd_boolean,
+                                             &cmd_probe,    &cmd_profile,  &cmd_run,    &cmd_render,
+                                             &cmd_contours, &cmd_layers,   &cmd_tray,   &cmd_view,
+                                             &cmd_export,   &cmd_generate, &cmd_colour};
 
 static void print_help(FILE *out)
 {

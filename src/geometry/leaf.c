@@ -1,6 +1,6 @@
 /* src/geometry/leaf.c - the leaf interface (hovox/solid.h): a leaf of a geometry record opened
  * through its kind's table entry, and the MESH kind: the placed mesh cut by the WDG slicer
- * (Wu 2.4.1). Layer 9 of README's Layout (it uses the slicer). */
+ * (Wu 2.4.1). Layer 3 of README's Layout, above the WDG slicer it cuts meshes with. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,7 +16,8 @@ struct hv_leaf {
 /* ---- MESH ------------------------------------------------------------------------------------- */
 
 typedef struct mesh_leaf {
-    hv_mesh *mesh;
+    const hv_mesh *mesh;
+    int owned; /* 0: the caller's mesh (hv_leaf_wrap_mesh) */
     hv_slicer *slicer;
 } mesh_leaf;
 
@@ -25,7 +26,7 @@ static void mesh_close(void *state)
     mesh_leaf *m = state;
     if (!m) return;
     hv_slicer_destroy(m->slicer);
-    hv_mesh_destroy(m->mesh);
+    if (m->owned) hv_mesh_destroy((hv_mesh *)m->mesh);
     free(m);
 }
 
@@ -34,7 +35,10 @@ static hv_status mesh_open(const hv_geometry *g, size_t i, const hv_progress *pr
     *state = NULL;
     mesh_leaf *m = hv_calloc(1, sizeof *m);
     if (!m) return HV_ERR_NOMEM;
-    hv_status s = hv_geometry_leaf_mesh(g, i, &m->mesh);
+    hv_mesh *mesh = NULL;
+    hv_status s = hv_geometry_leaf_mesh(g, i, &mesh);
+    m->mesh = mesh;
+    m->owned = 1;
     if (s == HV_OK) s = hv_slicer_create(m->mesh, progress, &m->slicer);
     if (s != HV_OK) {
         mesh_close(m);
@@ -63,7 +67,7 @@ const hv_leaf_ops hv_leaf_mesh_ops = {HV_LEAF_MESH, mesh_open, mesh_close, mesh_
 
 static const hv_leaf_ops *const k_kinds[] = {
     [HV_LEAF_MESH] = &hv_leaf_mesh_ops,
-    [HV_LEAF_FIELD_ISO] = NULL, /* the scanned-volume module plugs its kind in here */
+    [HV_LEAF_FIELD_ISO] = &hv_leaf_field_ops, /* the scanned-volume module's (field_leaf.c) */
 };
 
 int hv_slice_point_inside(const hv_slice *slice, double x, double y)
@@ -101,6 +105,24 @@ hv_status hv_leaf_open(const hv_geometry *g, size_t i, const hv_progress *progre
         free(l);
         return s;
     }
+    *out = l;
+    return HV_OK;
+}
+
+hv_status hv_leaf_wrap_mesh(const hv_mesh *mesh, const hv_progress *progress, hv_leaf **out)
+{
+    *out = NULL;
+    hv_leaf *l = hv_calloc(1, sizeof *l);
+    mesh_leaf *m = hv_calloc(1, sizeof *m);
+    hv_status s = l && m ? hv_slicer_create(mesh, progress, &m->slicer) : HV_ERR_NOMEM;
+    if (s != HV_OK) {
+        free(l);
+        free(m);
+        return s;
+    }
+    m->mesh = mesh;
+    l->ops = &hv_leaf_mesh_ops;
+    l->state = m;
     *out = l;
     return HV_OK;
 }

@@ -1,7 +1,8 @@
 /* src/geometry/record.c - a model's geometry record (hovox/geometry.h; DESIGN.md "Geometry
  * truth", issue 28): leaves (a mesh packed and deflated, or a kind's own data) with their
  * placement, and the Boolean tree of Wu's eq. 27-30 and CSG subtract over them, kept in the
- * model's metadata. Layer 2 of README's Layout: it knows meshes and the volume store only. */
+ * model's metadata. Layer 3 of README's Layout: it knows meshes and the volume store only, so
+ * the voxelizer and the Booleans above it write it. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -293,7 +294,11 @@ hv_status hv_geometry_leaf_mesh_raw(const hv_geometry *g, size_t i, hv_mesh **ou
         mats[k].has_color = take_u32(&r) != 0;
         mats[k].name = take_str(&r, &nomem);
     }
-    const int32_t *fm = flags & 1 && !nomem ? take(&r, 4 * (size_t)nf) : NULL;
+    /* the facets' materials follow the names, at any byte offset: copied out to be read as int32 */
+    const void *fm_bytes = flags & 1 && !nomem ? take(&r, 4 * (size_t)nf) : NULL;
+    int32_t *fm = NULL;
+    if (fm_bytes && !(fm = hv_malloc_array(nf, sizeof *fm))) nomem = 1;
+    if (fm) memcpy(fm, fm_bytes, 4 * (size_t)nf);
     hv_status s = HV_OK;
     if (nomem) s = HV_ERR_NOMEM;
     else if (r.bad || total != nf || r.at != r.n)
@@ -326,6 +331,7 @@ hv_status hv_geometry_leaf_mesh_raw(const hv_geometry *g, size_t i, hv_mesh **ou
     free(bodies);
     free(mats);
     free(soup);
+    free(fm);
     if (s != HV_OK) {
         hv_mesh_destroy(m);
         return s;
@@ -355,6 +361,14 @@ const uint8_t *hv_geometry_leaf_data(const hv_geometry *g, size_t i) { return i 
 size_t hv_geometry_node_count(const hv_geometry *g) { return g->nnode; }
 const hv_geometry_node *hv_geometry_node_at(const hv_geometry *g, size_t i) { return i < g->nnode ? &g->node[i] : NULL; }
 int hv_geometry_is_plain(const hv_geometry *g) { return g->nleaf == 1 && g->nnode == 1; }
+
+int hv_geometry_shape_is_leaf(const hv_geometry *g)
+{
+    if (g->nleaf != 1) return 0;
+    for (size_t i = 0; i < g->nnode; ++i)
+        if (g->node[i].op == HV_GEOMETRY_SUBTRACT) return 0;
+    return 1;
+}
 
 /* ---- Booleans ---------------------------------------------------------------------------------- */
 
@@ -456,7 +470,8 @@ static hv_status leaf_store(const leaf_rec *l, hv_volume *model)
     uLongf zn = compressBound((uLong)l->info.size);
     uint8_t *z = hv_malloc(zn);
     if (!z) return HV_ERR_NOMEM;
-    if (compress2(z, &zn, l->data, (uLong)l->info.size, 9) != Z_OK) {
+    /* level 1: level 9 takes ten times as long (1.3 s against 0.09 s for a 200k-facet mesh) to save 2% */
+    if (compress2(z, &zn, l->data, (uLong)l->info.size, 1) != Z_OK) {
         free(z);
         return hv_error_set(HV_ERR_NOMEM, "geometry: zlib failed on leaf '%s'", l->info.name);
     }

@@ -45,6 +45,17 @@ static int mesh_transform(lua_State *L)
     return 1;
 }
 
+/* mesh:set_material(body, material) -> the mesh: the body's material, whatever the file said
+ * (hv_mesh_body_material_set; `hovox voxelize --material BODY=MATERIAL`) */
+static int mesh_set_material(lua_State *L)
+{
+    const char *body = luaL_checkstring(L, 2), *material = luaL_checkstring(L, 3);
+    hv_status s = hv_mesh_body_material_set(hv_lua_mesh(L, 1), body, material); /* the mesh after the strings */
+    if (s != HV_OK) return fail(L, s);
+    lua_settop(L, 1);
+    return 1;
+}
+
 static void push_report(lua_State *L, const hv_mesh_report *r)
 {
     lua_createtable(L, 0, 14);
@@ -290,6 +301,7 @@ void hv_lua_open_mesh(lua_State *L, int module)
     static const luaL_Reg methods[] = {{"report", mesh_report},       {"save", mesh_save},     {"count", mesh_count},
                                        {"bodies", mesh_bodies},       {"materials", mesh_materials},
                                        {"free", mesh_gc},             {"transform", mesh_transform},
+                                       {"set_material", mesh_set_material},
                                        {NULL, NULL}};
     static const luaL_Reg fns[] = {{"load_mesh", l_load_mesh}, {"contours", l_contours}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MESH, methods, mesh_gc, mesh_tostring);

@@ -120,7 +120,7 @@ static int model_render(lua_State *L)
     return s != HV_OK ? fail(L, s) : 0;
 }
 
-/* model:layers{mesh = Mesh, dir = "stack", <the options of `hovox layers`: profile, dpi,
+/* model:layers{[mesh = Mesh,] dir = "stack", <the options of `hovox layers`: profile, dpi,
  *   layer_height, mode, method, halftone, seed, layers = {first, last}, threshold, fill_rule,
  *   background, compare, gcvf, force, max_memory, ...>}
  *   -> {width, height, layers, first, last, object_pixels, materials = {name = {target,
@@ -133,14 +133,18 @@ static int model_layers(lua_State *L)
     int holder = hv_lua_read(L, 2, hv_layers_option_set(), &o, extra);
     const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");
     hv_lua_check_paths(L, 2, hv_layers_option_set(), &o);
-    hv_mesh *mesh = ((l_mesh *)hv_lua_option_object(L, 2, "mesh", MT_MESH, "hovox mesh"))->p; /* anchored */
+    /* mesh: optional, an override that must be the one the model records (issue 28) */
+    lua_getfield(L, 2, "mesh");
+    int has_mesh = !lua_isnil(L, -1);
+    lua_pop(L, 1);
+    hv_mesh *mesh = has_mesh ? ((l_mesh *)hv_lua_option_object(L, 2, "mesh", MT_MESH, "hovox mesh"))->p : NULL; /* anchored */
     lua_getfield(L, 2, "view"); /* view = true: the stack's page, DIR/index.html (hovox view) */
     if (!lua_isnil(L, -1) && !lua_isboolean(L, -1)) return luaL_error(L, "view must be true or false");
     if (lua_toboolean(L, -1)) o.finish = hv_viewer_stack_finish;
     lua_pop(L, 1);
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
-    hv_status s = hv_layers_write(mesh, o.mode == HV_LAYERS_MASK ? NULL : vol, dir, &o, hv_lua_progress(L), &rep);
+    hv_status s = hv_layers_write(mesh, vol, dir, &o, hv_lua_progress(L), &rep);
     if (s != HV_OK) return fail(L, s);
     lua_createtable(L, 0, 10);
     SET_INT("width", rep.width);

@@ -134,6 +134,45 @@ nomem:
     return HV_ERR_NOMEM;
 }
 
+hv_status hv_mesh_body_material_set(hv_mesh *m, const char *body, const char *material)
+{
+    if (!material || !*material) return hv_error_set(HV_ERR_INVALID, "%s: body '%s': empty material name", hv_mesh_name(m), body);
+    if (m->nbodies == 0) {
+        hv_status s = hv_mesh_default_body(m);
+        if (s != HV_OK) return s;
+    }
+    size_t b = 0;
+    while (b < m->nbodies && strcmp(m->bodies[b].name, body) != 0) ++b;
+    if (b == m->nbodies) {
+        hv_buf list;
+        hv_buf_init(&list);
+        for (size_t i = 0; i < m->nbodies && i < 20; ++i) hv_buf_printf(&list, "%s%s", i ? ", " : "", m->bodies[i].name);
+        if (m->nbodies > 20) hv_buf_printf(&list, ", ... (%zu in all)", m->nbodies);
+        hv_status s = hv_error_set(HV_ERR_NOT_FOUND, "%s: no body '%s' (bodies: %s)", hv_mesh_name(m), body,
+                                   list.data && !list.failed ? list.data : "?");
+        hv_buf_free(&list);
+        return s;
+    }
+    size_t k = 0;
+    while (k < m->nmats && strcmp(m->mats[k].name, material) != 0) ++k;
+    hv_mesh_body *bodies = hv_malloc_array(m->nbodies, sizeof *bodies);
+    hv_mesh_material *mats = hv_malloc_array(m->nmats + 1, sizeof *mats);
+    if (!bodies || !mats) {
+        free(bodies);
+        free(mats);
+        return HV_ERR_NOMEM;
+    }
+    memcpy(bodies, m->bodies, m->nbodies * sizeof *bodies);
+    if (m->nmats) memcpy(mats, m->mats, m->nmats * sizeof *mats);
+    size_t nmats = m->nmats;
+    if (k == nmats) mats[nmats++] = (hv_mesh_material){material, 0, 0};
+    bodies[b].material = (int32_t)k;
+    hv_status s = hv_mesh_set_bodies(m, bodies, m->nbodies, mats, nmats, m->facet_mat);
+    free(bodies);
+    free(mats);
+    return s;
+}
+
 /* The single body of a mesh built without bodies: named after the file (its base name without
  * the extension), or "body 1". */
 hv_status hv_mesh_default_body(hv_mesh *m)

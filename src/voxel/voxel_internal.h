@@ -27,6 +27,11 @@ hv_status hv_fill_centres(const hv_mesh *mesh, const double *P, hv_bitgrid *in, 
  * covers by Huang's tests (adjacency 26 when adj26, else 6). Thread-safe (atomic OR). */
 void hv_voxel_mark_triangle(const double *p[3], int adj26, hv_bitgrid *S);
 
+/* A volume on lattice xf from bit grids: the topology and bool grid "occupancy" are occ's voxels,
+ * "surface" those of surf among them (voxelize.c; also the scan voxelizer's). */
+hv_status hv_voxel_store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_transform *xf,
+                         const hv_progress *progress, hv_volume **out);
+
 /* Approximate bytes of a mesh in memory (for planning). */
 size_t mesh_bytes(const hv_mesh *m);
 

@@ -514,7 +514,7 @@ done:
     return st;
 }
 
-static hv_status store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_transform *xf,
+hv_status hv_voxel_store(const hv_bitgrid *occ, const hv_bitgrid *surf, const hv_transform *xf,
                        const hv_progress *progress, hv_volume **out)
 {
     *out = NULL;
@@ -998,7 +998,7 @@ static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options 
         hv_bitgrid_free(&u.IU);
         hv_bitgrid_free(&u.CU);
         hv_bitgrid_free(&u.C2);
-        s = store(&u.U, &u.SU, &plan->xf, opt->progress, &vol);
+        s = hv_voxel_store(&u.U, &u.SU, &plan->xf, opt->progress, &vol);
     }
     for (size_t b = 0; b < nb && s == HV_OK; ++b) {
         int g;
@@ -1072,7 +1072,7 @@ hv_status hv_voxelize(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_vo
     free(P);
     P = NULL;
     hv_volume *vol = NULL;
-    s = store(&occ, &S, &plan.xf, opt->progress, &vol);
+    s = hv_voxel_store(&occ, &S, &plan.xf, opt->progress, &vol);
     if (s != HV_OK) goto done;
     s = set_metadata(vol, mesh, &plan, opt->adjacency);
     if (s != HV_OK) {

@@ -158,6 +158,20 @@ Test(geometry, combine_shares_leaves_and_orders_the_tree)
     cr_assert_eq(root->b, 3);
     cr_assert_eq(hv_geometry_node_at(g2, 3)->leaf, 1);
     cr_assert_str_eq(hv_geometry_op_name(HV_GEOMETRY_DIFFERENCE), "difference");
+    /* one part combined with itself (Wu's union of two gradings of his gear) is that part */
+    hv_geometry *self_u = NULL, *self_s = NULL;
+    cr_assert_eq(hv_geometry_combine(gp, gp, HV_GEOMETRY_UNITE, &self_u), HV_OK);
+    cr_assert_eq(hv_geometry_combine(gp, gp, HV_GEOMETRY_SUBTRACT, &self_s), HV_OK);
+    cr_assert_eq(hv_geometry_leaf_count(self_u), 1);
+    cr_assert(hv_geometry_shape_is_leaf(self_u) && !hv_geometry_is_plain(self_u));
+    cr_assert_not(hv_geometry_shape_is_leaf(self_s));
+    cr_assert_not(hv_geometry_shape_is_leaf(g1));
+    hv_solid *su = NULL;
+    cr_assert_eq(hv_solid_open(self_u, NULL, &su), HV_OK);
+    cr_assert(hv_solid_is_plain(su));
+    hv_solid_close(su);
+    hv_geometry_destroy(self_u);
+    hv_geometry_destroy(self_s);
     /* in a model, and through a .vdb file */
     hv_volume *v = empty_model(), *back = NULL;
     int lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};

@@ -95,4 +95,11 @@ assert(bodies.core == 16 and bodies.shell == 100)
 local rep = g:layers{mesh = a, dir = tmp .. "/stack", dpi = {50, 50}, layer_height = 1, layers = {4, 6}}
 assert(rep.materials.Agilus.achieved > 0 and rep.materials.Vero.achieved > 0)
 
+-- a body's material given in the script (issue 27 item 2), as voxelize --material BODY=MATERIAL
+local named = hovox.join_meshes{{mesh = inner, name = "core"}, {mesh = outer, name = "shell", material = "Vero"}}
+assert(named:set_material("core", "Agilus") == named)
+local bm = named:bodies()
+assert(bm[1].material == "Agilus" and bm[2].material == "Vero")
+fails("no body 'hub' (bodies: core, shell)", named.set_material, named, "hub", "Vero")
+
 print("test_assembly.lua: all checks passed")

@@ -94,3 +94,32 @@ Test(bodies, join_without_names_or_materials)
     cr_assert_null(j);
     hv_mesh_destroy(a);
 }
+
+/* Issue 27 item 2: a body's material from the command line (voxelize --material BODY=NAME). */
+Test(bodies, a_body_takes_a_material_by_name_new_or_existing)
+{
+    hv_mesh *a = box(0, 1), *b = box(2, 3), *j = NULL;
+    hv_mesh_part parts[2] = {{a, "core", NULL}, {b, "shell", "Vero"}};
+    cr_assert_eq(hv_mesh_join(parts, 2, &j), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_material_count(j), 1);
+    cr_assert_eq(hv_mesh_body_material_set(j, "core", "Agilus"), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_material_count(j), 2); /* a new material */
+    cr_assert_str_eq(hv_mesh_material_at(j, (size_t)hv_mesh_body_at(j, 0)->material)->name, "Agilus");
+    cr_assert_eq(hv_mesh_body_material_set(j, "core", "Vero"), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_material_count(j), 2); /* an existing one is reused */
+    cr_assert_eq(hv_mesh_body_at(j, 0)->material, hv_mesh_body_at(j, 1)->material);
+    cr_assert_str_eq(hv_mesh_body_at(j, 1)->name, "shell"); /* the rest unchanged */
+    cr_assert_eq(hv_mesh_body_at(j, 1)->facet_count, hv_mesh_facet_count(b));
+    cr_assert_eq(hv_mesh_body_material_set(j, "hub", "Vero"), HV_ERR_NOT_FOUND);
+    cr_assert(strstr(hv_last_error(), "no body 'hub' (bodies: core, shell)"), "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_body_material_set(j, "core", ""), HV_ERR_INVALID);
+    hv_mesh_destroy(j);
+    /* a file's one body, by the file's name */
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_load(t_mesh_path("helical_gear.stl"), &m), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_body_material_set(m, "helical_gear", "VeroCyan-V"), HV_OK, "%s", hv_last_error());
+    cr_assert_str_eq(hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 0)->material)->name, "VeroCyan-V");
+    hv_mesh_destroy(m);
+    hv_mesh_destroy(a);
+    hv_mesh_destroy(b);
+}

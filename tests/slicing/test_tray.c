@@ -400,6 +400,29 @@ Test(tray, cancelled_leaves_nothing, .timeout = 60)
     hv_tray_destroy(t);
 }
 
+/* The tray goes through the same stack writer: its manifest hook adds members. */
+static hv_status add_source(void *user, void *manifest)
+{
+    return json_object_set_new(manifest, "source", json_string(user)) ? HV_ERR_NOMEM : HV_OK;
+}
+
+Test(tray, manifest_hook_adds_to_the_manifest, .timeout = 60)
+{
+    char model[4200], mesh[4200];
+    make_part(t_tmpdir(), model, mesh, sizeof model);
+    hv_tray *t = one_part_tray(model, mesh, 60, 60, 0);
+    hv_tray_options o;
+    tray_opts(&o);
+    o.manifest = add_source;
+    o.manifest_user = "scanner.nii";
+    cr_assert_eq(hv_tray_write(t, t_tmpfile("hooked_tray"), &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    json_t *doc = manifest(t_tmpfile("hooked_tray"));
+    cr_expect_str_eq(json_string_value(json_object_get(doc, "source")), "scanner.nii");
+    cr_expect_str_eq(json_string_value(json_object_get(doc, "kind")), "tray");
+    json_decref(doc);
+    hv_tray_destroy(t);
+}
+
 /* Mask mode: graded and plain parts in one 1-bit stack, the manifest naming their materials. */
 Test(tray, mask_mode_manifest_names_materials, .timeout = 60)
 {

@@ -924,9 +924,12 @@ static hv_status load_texture(reader *r, const char *name, tex2d *t, hv_mesh *m)
         int shift = px.bit_depth == 16 ? 8 : 0;
         uint8_t g = (uint8_t)(p[0] >> shift);
         rgba[4 * i] = g;
-        rgba[4 * i + 1] = px.channels >= 3 ? (uint8_t)(p[1] >> shift) : g;
-        rgba[4 * i + 2] = px.channels >= 3 ? (uint8_t)(p[2] >> shift) : g;
-        rgba[4 * i + 3] = px.channels == 4 ? (uint8_t)(p[3] >> shift) : px.channels == 2 ? (uint8_t)(p[1] >> shift) : 255;
+        uint8_t a = 255;
+        if (px.channels == 4) a = (uint8_t)(p[3] >> shift);
+        else if (px.channels == 2) a = (uint8_t)(p[1] >> shift);
+        rgba[4 * i + 1] = (uint8_t)(px.channels >= 3 ? p[1] >> shift : g);
+        rgba[4 * i + 2] = (uint8_t)(px.channels >= 3 ? p[2] >> shift : g);
+        rgba[4 * i + 3] = a;
     }
     if (s == HV_OK)
         s = hv_mesh_add_texture(m, t->path, rgba, (uint32_t)px.width, (uint32_t)px.height, t->tile_u, t->tile_v, t->filter,

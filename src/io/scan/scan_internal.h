@@ -101,4 +101,28 @@ char *scan_sibling(const char *header_path, const char *file);
 /* For reports: the spacing along each index axis, the nearest anatomical code of each axis
  * ("RAS", "LPS", ...) and the world box of the voxel cells (RAS, mm). */
 void hv_scan_geometry(const hv_scan *scan, double spacing[3], char axes[4], double lo[3], double hi[3]);
+/* ---- the level function (level.c) --------------------------------------------------------------- */
+typedef struct hv_scan_level {
+    const hv_scan *scan;
+    hv_scan_shape shape;
+    int32_t *labels; /* sorted copy */
+    int64_t n[3];
+    double inv[9];   /* the affine's 3x3 part inverted */
+} hv_scan_level;
+/* Errors: HV_ERR_INVALID naming {iso}, {range} or {labels}; HV_ERR_NOMEM. Free with _free. */
+hv_status hv_scan_level_init(const hv_scan *scan, const hv_scan_shape *shape, hv_scan_level *lv);
+void hv_scan_level_free(hv_scan_level *lv);
+/* World -> continuous sample index. */
+void hv_scan_level_index(const hv_scan_level *lv, const double world[3], double idx[3]);
+/* g at a sample index / a world point: >= 0 inside; -INFINITY outside the samples' cells. */
+double hv_scan_level_at_index(const hv_scan_level *lv, const double idx[3]);
+double hv_scan_level_at(const hv_scan_level *lv, const double world[3]);
+
+/* ---- a FIELD_ISO leaf's raw data (pack.c) --------------------------------------------------------- */
+hv_status hv_scan_pack(const hv_scan *scan, const hv_scan_shape *shape, uint8_t **data, size_t *size);
+/* A scan (samples and affine) and its shape from packed data; *labels holds the labels shape
+ * points at (free it after the scan). Errors: HV_ERR_BAD_INPUT naming `name`, HV_ERR_NOMEM. */
+hv_status hv_scan_unpack(const uint8_t *data, size_t size, const char *name, const double affine[12], hv_scan **out,
+                         hv_scan_shape *shape, int32_t **labels);
+
 #endif

@@ -1,0 +1,128 @@
+/* tests/colour/test_paint.c - colour carried into the part (hv_colour_paint, src/colour/paint.c):
+ * a 10 mm cube whose six faces carry six flat corner colours, voxelized at 0.5 mm and painted 1 mm
+ * deep: a voxel near a face holds the colour map's fractions of that face's colour, a voxel deeper
+ * than 1 mm the core resin, and the change is sharp at the depth (the voxels' exact distance to
+ * the nearest face decides); with a core colour, deep voxels hold its fractions. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hovox/colour.h"
+#include "hovox/material.h"
+#include "hovox/voxelize.h"
+#include "support/support.h"
+
+
+static const uint32_t k_face[6] = {0xFF0000FFu, 0x00FF00FFu, 0x0000FFFFu, 0xFFFF00FFu, 0x00FFFFFFu, 0xFF00FFFFu};
+
+/* The face a facet lies on: its normal's axis and sign, 0..5. */
+static int face_of(const hv_mesh *m, size_t f)
+{
+    const float *v = hv_mesh_vertices(m);
+    const uint32_t *t = hv_mesh_facets(m) + 3 * f;
+    double e1[3], e2[3], n[3];
+    for (int k = 0; k < 3; ++k) {
+        e1[k] = v[3 * t[1] + k] - v[3 * t[0] + k];
+        e2[k] = v[3 * t[2] + k] - v[3 * t[0] + k];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    int a = fabs(n[0]) > fabs(n[1]) ? (fabs(n[0]) > fabs(n[2]) ? 0 : 2) : (fabs(n[1]) > fabs(n[2]) ? 1 : 2);
+    return 2 * a + (n[a] > 0);
+}
+
+Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
+{
+    hv_mesh *m = t_cube_mesh(0, 10);
+    size_t nf = hv_mesh_facet_count(m);
+    uint32_t *c = malloc(3 * nf * sizeof *c);
+    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = k_face[face_of(m, f)];
+    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
+    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_load(v, &t), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_material_count(t), 7);
+    int grid[7];
+    for (int k = 0; k < 7; ++k) grid[k] = hv_material_grid(v, t, k);
+    double *xyz = NULL;
+    size_t n = 0;
+    cr_assert_eq(hv_volume_centres(v, "occupancy", &xyz, &n), HV_OK);
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    size_t skin = 0, deep = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double *p = xyz + 3 * i;
+        double dmin = INFINITY;
+        int face = -1;
+        for (int a = 0; a < 3; ++a)
+            for (int s = 0; s < 2; ++s) {
+                double d = s ? 10 - p[a] : p[a];
+                if (p[0] < 0 || p[0] > 10 || p[1] < 0 || p[1] > 10 || p[2] < 0 || p[2] > 10) d = fabs(d);
+                if (d < dmin - 1e-9) {
+                    dmin = d;
+                    face = 2 * a + s;
+                }
+            }
+        /* a voxel at equal distance from two faces (an edge) may take either: skip those */
+        int tie = 0;
+        for (int a = 0; a < 3; ++a)
+            for (int s = 0; s < 2; ++s)
+                if (2 * a + s != face && fabs((s ? 10 - p[a] : p[a]) - dmin) < 1e-9) tie = 1;
+        double idx[3];
+        hv_volume_world_to_index(v, p, idx);
+        float got[7];
+        for (int k = 0; k < 7; ++k)
+            got[k] = hv_accessor_float(&acc, grid[k], (int32_t)lrint(idx[0]), (int32_t)lrint(idx[1]), (int32_t)lrint(idx[2]));
+        if (fabs(dmin) <= 1.0 - 1e-9 && p[0] > 0 && p[0] < 10 && p[1] > 0 && p[1] < 10 && p[2] > 0 && p[2] < 10) {
+            if (tie) continue;
+            uint8_t rgba[4] = {(uint8_t)(k_face[face] >> 24), (uint8_t)(k_face[face] >> 16), (uint8_t)(k_face[face] >> 8), 255};
+            float want[HV_COLOUR_SLOTS];
+            hv_colour_map_fractions(map, rgba, want);
+            for (int k = 0; k < HV_COLOUR_SLOTS; ++k)
+                cr_assert(fabs(got[k] - want[k]) < 0.01, "voxel at %g,%g,%g (face %d): slot %d %g, want %g", p[0], p[1], p[2], face, k, (double)got[k], (double)want[k]);
+            cr_assert_eq(got[6], 0);
+            ++skin;
+        } else if (dmin > 1.0 + 1e-9) {
+            cr_assert_eq(got[6], 1, "voxel at %g,%g,%g, %g deep: core %g", p[0], p[1], p[2], dmin, (double)got[6]);
+            ++deep;
+        }
+    }
+    cr_assert_gt(skin, 1000);
+    cr_assert_gt(deep, 1000);
+    /* a core colour: the deep voxels hold its fractions; refusals */
+    hv_volume *v2 = NULL;
+    cr_assert_eq(hv_voxelize(m, &o, &v2), HV_OK);
+    const float grey[4] = {0.5f, 0.5f, 0.5f, 1};
+    cr_assert_eq(hv_colour_paint(v2, m, map, 1.0, NULL, grey), HV_OK, "%s", hv_last_error());
+    float gf[HV_COLOUR_SLOTS];
+    hv_colour_map_fractions(map, (const uint8_t[4]){128, 128, 128, 255}, gf);
+    double centre[3] = {5.25, 5.25, 5.25}, ci[3];
+    hv_volume_world_to_index(v2, centre, ci);
+    hv_accessor acc2;
+    hv_accessor_init(&acc2, v2);
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        int gk = hv_volume_grid_find(v2, k == 0 ? "material.VeroCyan-V" : k == 4 ? "material.VeroPureWhite" : "material.VeroBlackPlus");
+        int slot = k == 0 ? 0 : k == 4 ? 4 : 3;
+        cr_assert_geq(gk, 0);
+        cr_assert_float_eq(hv_accessor_float(&acc2, gk, (int32_t)lrint(ci[0]), (int32_t)lrint(ci[1]), (int32_t)lrint(ci[2])), gf[slot], 1e-6);
+    }
+    cr_assert_eq(hv_colour_paint(v2, m, map, 0, "Agilus30", NULL), HV_ERR_INVALID);
+    cr_assert_eq(hv_colour_paint(v2, m, map, 1, NULL, NULL), HV_ERR_INVALID);
+    cr_assert_neq(hv_colour_paint(v2, m, map, 1, "Agilus30", NULL), HV_OK); /* the grids are there already */
+    hv_volume_destroy(v2);
+    free(xyz);
+    free(c);
+    hv_material_table_destroy(t);
+    hv_colour_map_destroy(map);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+}

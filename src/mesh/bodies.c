@@ -148,7 +148,8 @@ hv_status hv_mesh_body_material_set(hv_mesh *m, const char *body, const char *ma
         hv_buf_init(&list);
         for (size_t i = 0; i < m->nbodies && i < 20; ++i) hv_buf_printf(&list, "%s%s", i ? ", " : "", m->bodies[i].name);
         if (m->nbodies > 20) hv_buf_printf(&list, ", ... (%zu in all)", m->nbodies);
-        hv_status s = hv_error_set(HV_ERR_NOT_FOUND, "%s: no body '%s' (bodies: %s)", hv_mesh_name(m), body,
+        const char *name = hv_mesh_name(m);
+        hv_status s = hv_error_set(HV_ERR_NOT_FOUND, "%s: no body '%s' (bodies: %s)", *name ? name : "the mesh", body,
                                    list.data && !list.failed ? list.data : "?");
         hv_buf_free(&list);
         return s;

@@ -47,4 +47,22 @@ const hv_mtl_material *hv_mtl_find(const hv_mtl *t, const char *name);
  * directory of `name` (hv_mesh_load), else skipped (hv_mesh_parse_obj, from memory). */
 hv_status hv_obj_parse(const void *data, size_t size, const char *name, int read_files, hv_mesh **out);
 
+/* Wavefront text (OBJ and its MTL libraries): the next blank-separated token of [*p, e) into
+ * [*ts, *te); 0 at the end of the statement or at a comment ('#'). */
+static inline int hv_io_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+static inline int hv_io_next_token(const char **p, const char *e, const char **ts, const char **te)
+{
+    const char *s = *p;
+    while (s < e && hv_io_blank(*s)) ++s;
+    if (s == e || *s == '#') {
+        *p = e;
+        return 0;
+    }
+    *ts = s;
+    while (s < e && !hv_io_blank(*s)) ++s;
+    *te = s;
+    *p = s;
+    return 1;
+}
+
 #endif

@@ -22,22 +22,6 @@ void hv_mtl_free(hv_mtl *t)
     memset(t, 0, sizeof *t);
 }
 
-static int blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-static int tok(const char **p, const char *e, const char **ts, const char **te)
-{
-    const char *s = *p;
-    while (s < e && blank(*s)) ++s;
-    if (s == e || *s == '#') {
-        *p = e;
-        return 0;
-    }
-    *ts = s;
-    while (s < e && !blank(*s)) ++s;
-    *te = s;
-    *p = s;
-    return 1;
-}
 
 static int is(const char *s, const char *e, const char *w)
 {
@@ -92,7 +76,7 @@ static hv_status kd(mtl_reader *r, const char *p, const char *e)
     int k = 0;
     float v[3];
     hv_status s;
-    for (; tok(&p, e, &ts, &te); ++k) {
+    for (; hv_io_next_token(&p, e, &ts, &te); ++k) {
         if (k == 0 && (is(ts, te, "spectral") || is(ts, te, "xyz")))
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: Kd %s is not supported (give r g b)", r->name,
                                 r->line, is(ts, te, "xyz") ? "xyz" : "spectral");
@@ -116,9 +100,9 @@ static hv_status opacity(mtl_reader *r, const char *p, const char *e, int transp
     hv_mtl_material *m = current(r, key);
     if (!m) return HV_ERR_BAD_INPUT;
     const char *ts, *te;
-    if (!tok(&p, e, &ts, &te))
+    if (!hv_io_next_token(&p, e, &ts, &te))
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: %s has no value", r->name, r->line, key);
-    if (!transparency && is(ts, te, "-halo") && !tok(&p, e, &ts, &te))
+    if (!transparency && is(ts, te, "-halo") && !hv_io_next_token(&p, e, &ts, &te))
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: d -halo has no value", r->name, r->line);
     float v;
     hv_status s = number(r, key, ts, te, 0, 1, &v);
@@ -147,14 +131,14 @@ static hv_status map_kd(mtl_reader *r, const char *p, const char *e)
     m->scale[0] = m->scale[1] = 1;
     for (;;) {
         const char *save = p;
-        if (!tok(&p, e, &ts, &te))
+        if (!hv_io_next_token(&p, e, &ts, &te))
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: map_Kd names no file", r->name, r->line);
         if (*ts != '-' || te - ts < 2) {
             p = save;
             break;
         }
         if (is(ts, te, "-clamp")) {
-            if (!tok(&p, e, &ts, &te) || !(is(ts, te, "on") || is(ts, te, "off")))
+            if (!hv_io_next_token(&p, e, &ts, &te) || !(is(ts, te, "on") || is(ts, te, "off")))
                 return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: map_Kd -clamp takes on or off", r->name,
                                     r->line);
             m->tile = is(ts, te, "on") ? HV_TILE_CLAMP : HV_TILE_WRAP;
@@ -167,7 +151,7 @@ static hv_status map_kd(mtl_reader *r, const char *p, const char *e)
             int k = 0;
             for (; k < 3; ++k) {
                 const char *s0 = p, *as, *ae;
-                if (!tok(&p, e, &as, &ae)) break;
+                if (!hv_io_next_token(&p, e, &as, &ae)) break;
                 char *endp;
                 char buf[64];
                 size_t n = (size_t)(ae - as);
@@ -194,7 +178,7 @@ static hv_status map_kd(mtl_reader *r, const char *p, const char *e)
                                 hv_quote(q, sizeof q, ts, (size_t)(te - ts)));
         for (int k = 0; k < skip[i].nmax; ++k) {
             const char *s0 = p, *as, *ae;
-            if (!tok(&p, e, &as, &ae) || (k >= skip[i].nmin && *as == '-' && ae - as > 1 &&
+            if (!hv_io_next_token(&p, e, &as, &ae) || (k >= skip[i].nmin && *as == '-' && ae - as > 1 &&
                                           !(as[1] >= '0' && as[1] <= '9'))) {
                 if (k < skip[i].nmin)
                     return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: map_Kd %s needs %d value%s", r->name,
@@ -205,10 +189,10 @@ static hv_status map_kd(mtl_reader *r, const char *p, const char *e)
         }
     }
     /* the file: the rest of the line, a comment cut off, blanks trimmed */
-    while (p < e && blank(*p)) ++p;
+    while (p < e && hv_io_blank(*p)) ++p;
     const char *fe = p;
-    while (fe < e && !(*fe == '#' && (fe == p || blank(fe[-1])))) ++fe;
-    while (fe > p && blank(fe[-1])) --fe;
+    while (fe < e && !(*fe == '#' && (fe == p || hv_io_blank(fe[-1])))) ++fe;
+    while (fe > p && hv_io_blank(fe[-1])) --fe;
     if (fe == p) return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: map_Kd names no file", r->name, r->line);
     if (memchr(p, '\0', (size_t)(fe - p)))
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: map_Kd file name holds a NUL byte", r->name, r->line);
@@ -223,10 +207,10 @@ static hv_status map_kd(mtl_reader *r, const char *p, const char *e)
 
 static hv_status newmtl(mtl_reader *r, const char *p, const char *e)
 {
-    while (p < e && blank(*p)) ++p;
+    while (p < e && hv_io_blank(*p)) ++p;
     const char *ne = p;
-    while (ne < e && !(*ne == '#' && (ne == p || blank(ne[-1])))) ++ne;
-    while (ne > p && blank(ne[-1])) --ne;
+    while (ne < e && !(*ne == '#' && (ne == p || hv_io_blank(ne[-1])))) ++ne;
+    while (ne > p && hv_io_blank(ne[-1])) --ne;
     if (ne == p) return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: newmtl without a name", r->name, r->line);
     hv_status s = hv_grow((void **)&r->out->m, &r->out->cap, r->out->n + 1, sizeof *r->out->m);
     if (s != HV_OK) return s;
@@ -256,7 +240,7 @@ hv_status hv_mtl_parse(const void *data, size_t size, const char *name, hv_mtl *
         const char *ls = p, *le = eol ? eol : end;
         p = eol ? eol + 1 : end;
         const char *ks, *ke;
-        if (!tok(&ls, le, &ks, &ke)) continue;
+        if (!hv_io_next_token(&ls, le, &ks, &ke)) continue;
         if (is(ks, ke, "newmtl")) s = newmtl(&r, ls, le);
         else if (is(ks, ke, "Kd")) s = kd(&r, ls, le);
         else if (is(ks, ke, "d")) s = opacity(&r, ls, le, 0);

@@ -43,31 +43,14 @@ typedef struct obj_reader {
     size_t pcap;
 } obj_reader;
 
-static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-/* The next token of [*p, e) into [*ts, *te); 0 at the end of the statement (or a comment). */
-static int next_tok(const char **p, const char *e, const char **ts, const char **te)
-{
-    const char *s = *p;
-    while (s < e && is_blank(*s)) ++s;
-    if (s == e || *s == '#') {
-        *p = e;
-        return 0;
-    }
-    *ts = s;
-    while (s < e && !is_blank(*s)) ++s;
-    *te = s;
-    *p = s;
-    return 1;
-}
 
 /* The rest of the statement, trimmed, a comment cut off: a name (o, g, usemtl). */
 static void rest_of(const char *p, const char *e, const char **rs, const char **re)
 {
-    while (p < e && is_blank(*p)) ++p;
+    while (p < e && hv_io_blank(*p)) ++p;
     const char *q = p;
-    while (q < e && !(*q == '#' && (q == p || is_blank(q[-1])))) ++q;
-    while (q > p && is_blank(q[-1])) --q;
+    while (q < e && !(*q == '#' && (q == p || hv_io_blank(q[-1])))) ++q;
+    while (q > p && hv_io_blank(q[-1])) --q;
     *rs = p;
     *re = q;
 }
@@ -107,7 +90,7 @@ static hv_status tex_coord(obj_reader *r, const char *p, const char *e)
     const char *ts, *te;
     int k = 0;
     float uv[3] = {0, 0, 0};
-    for (; next_tok(&p, e, &ts, &te); ++k) {
+    for (; hv_io_next_token(&p, e, &ts, &te); ++k) {
         if (k == 3)
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: texture coordinate has more than 3 values (u v w)",
                                 r->name, r->line);
@@ -142,7 +125,7 @@ static hv_status vertex(obj_reader *r, const char *p, const char *e)
         return hv_error_set(HV_ERR_LIMIT, "%s: line %zu: more than %u vertices", r->name, r->line, UINT32_MAX);
     const char *ts, *te;
     int k = 0;
-    for (; next_tok(&p, e, &ts, &te); ++k) {
+    for (; hv_io_next_token(&p, e, &ts, &te); ++k) {
         if (k == 7)
             return hv_error_set(HV_ERR_BAD_INPUT,
                                 "%s: line %zu: vertex has more than 7 values (x y z [w], or x y z and a "
@@ -245,7 +228,7 @@ static hv_status face(obj_reader *r, const char *p, const char *e)
     const char *ts, *te;
     size_t n = 0;
     hv_status s;
-    while (next_tok(&p, e, &ts, &te)) {
+    while (hv_io_next_token(&p, e, &ts, &te)) {
         if ((s = hv_grow((void **)&r->poly, &r->pcap, n + 1, sizeof *r->poly)) != HV_OK ||
             (s = hv_grow((void **)&r->poly_vt, &r->pvcap, n + 1, sizeof *r->poly_vt)) != HV_OK)
             return s;
@@ -297,7 +280,7 @@ static hv_status statement(obj_reader *r, const char *p, const char *e)
     static const char *const freeform[] = {"vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf",
                                            "parm", "trim", "hole", "scrv", "sp", "end", "con", NULL};
     const char *ks, *ke;
-    if (!next_tok(&p, e, &ks, &ke)) return HV_OK; /* blank or comment */
+    if (!hv_io_next_token(&p, e, &ks, &ke)) return HV_OK; /* blank or comment */
     if (word_is(ks, ke, "v")) return vertex(r, p, e);
     if (word_is(ks, ke, "f")) return face(r, p, e);
     if (word_is(ks, ke, "vt")) return tex_coord(r, p, e);
@@ -341,7 +324,7 @@ static hv_status statement(obj_reader *r, const char *p, const char *e)
 /* End of the line [s, e) without trailing blanks; 1 when it ends in a continuation '\'. */
 static int continued(const char *s, const char *e)
 {
-    while (e > s && is_blank(e[-1])) --e;
+    while (e > s && hv_io_blank(e[-1])) --e;
     return e > s && e[-1] == '\\';
 }
 
@@ -382,7 +365,7 @@ static hv_status read_mtllibs(obj_reader *r, hv_mtl *lib)
         beside(&path, r->name, rest);
         int whole = !path.failed && access(path.data, F_OK) == 0;
         const char *p = rest, *e = rest + strlen(rest), *ts, *te;
-        while (s == HV_OK && (whole ? p < e : next_tok(&p, e, &ts, &te))) {
+        while (s == HV_OK && (whole ? p < e : hv_io_next_token(&p, e, &ts, &te))) {
             if (whole) {
                 ts = p;
                 te = p = e;
@@ -616,7 +599,7 @@ hv_status hv_obj_parse(const void *data, size_t size, const char *name, int read
             joined.len = 0;
             for (;;) {
                 const char *bs = le;
-                while (bs > ls && is_blank(bs[-1])) --bs;
+                while (bs > ls && hv_io_blank(bs[-1])) --bs;
                 hv_buf_append(&joined, ls, (size_t)(bs - 1 - ls));
                 hv_buf_append(&joined, " ", 1);
                 if (p >= end) break;

@@ -12,6 +12,7 @@
 #include "hovox/colour.h"
 #include "hovox/geometry.h"
 #include "hovox/model.h"
+#include "hovox/lut.h"
 #include "hovox/scan.h"
 #include "hovox/voxelize.h"
 
@@ -19,7 +20,7 @@ typedef struct vox_cli {
     const char *output, *like;
     int dry_run, json;
     double iso, range[2], min_feature;
-    const char *labels;
+    const char *labels, *lut;
     int keep_largest, fill_holes;
     hv_placement place;
     const char *material[64]; /* "BODY=NAME" */
@@ -77,7 +78,7 @@ static const hv_option k_local_opts[] = {
      .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
              "says; repeatable"},
     {.key = "colour", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=COLOUR",
-     .parse = add_colour, .section = "Colour (paints the part in six colour resins; see hovox colour)",
+     .parse = add_colour, .section = "Colour (a mesh painted in its colours; --icc, --intent, --resins also for a scan's colour --lut)",
      .help = "the colour of a body (#rrggbb, #rrggbbaa or r,g,b[,a]), whatever its texture or file colours; "
              "repeatable"},
     {.key = "colour_depth", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
@@ -104,6 +105,9 @@ static const hv_option k_local_opts[] = {
      .help = "fill every enclosed cavity"},
     {.key = "min_feature", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = offsetof(vox_cli, min_feature), .meta = "MM",
      .unit = "mm", .help = "drop parts and fill cavities smaller than a ball of this diameter"},
+    {.key = "lut", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(vox_cli, lut), .meta = "TABLE.csv",
+     .help = "materials from the volume's values: a lookup table of value -> material fractions or an sRGB colour "
+             "(README 'Lookup tables')"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
@@ -387,14 +391,40 @@ static int parse_labels(const char *text, int32_t **out, size_t *n)
     return -1;
 }
 
+/* The lookup table, and for a colour table the colour map its colours print through. */
+static hv_status load_lut(const vox_cli *c, hv_lut **lut, hv_colour_map **map)
+{
+    hv_status s = hv_lut_load(c->lut, lut);
+    if (s != HV_OK || hv_lut_kind_of(*lut) != HV_LUT_COLOUR) return s;
+    return hv_colour_map_create(&c->cmap, map); /* --icc, --intent, --resins as for painting a mesh */
+}
+
+static void print_lut(const char *path, const hv_lut *lut, hv_colour_map *map)
+{
+    double lo, hi;
+    hv_lut_range(lut, &lo, &hi);
+    printf("materials   %s: %zu rows, %s %.6g to %.6g ->", path, hv_lut_rows(lut), hv_lut_value_name(lut), lo, hi);
+    if (map) {
+        printf(" colour through %s:", hv_colour_map_description(map));
+        for (int k = 0; k < HV_COLOUR_SLOTS; ++k) printf(" %s", hv_colour_map_resin(map, k));
+    } else {
+        for (int k = 0; k < hv_lut_columns(lut); ++k) printf(" %s", hv_lut_material(lut, k));
+    }
+    printf("\n");
+}
+
 static int run_scan(const cli_args *args, const char *path, const hv_voxelize_options *vopt, const vox_cli *c)
 {
     static const char *const mesh_only[] = {"adjacency", "fill", "dims", "like", "material", "colour",
-                                            "colour_depth", "core", "icc", "intent", "resins"};
+                                            "colour_depth", "core"};
     for (size_t i = 0; i < sizeof mesh_only / sizeof *mesh_only; ++i)
         if (cli_given(args, mesh_only[i]))
             return cli_usage_error("voxelize", "%s is for meshes; a scanned volume takes --iso, --range or --labels",
                                    cli_spell(mesh_only[i]));
+    static const char *const map_only[] = {"icc", "intent", "resins"};
+    for (size_t i = 0; i < sizeof map_only / sizeof *map_only && !c->lut; ++i)
+        if (cli_given(args, map_only[i]))
+            return cli_usage_error("voxelize", "%s is for a colour lookup table (--lut)", cli_spell(map_only[i]));
     int picks = cli_given(args, "iso") + cli_given(args, "range") + cli_given(args, "labels");
     if (picks != 1) return cli_usage_error("voxelize", "a scanned volume needs one of --iso, --range or --labels");
     hv_scan_voxelize_options o;
@@ -417,8 +447,12 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
     o.keep_largest = c->keep_largest;
     o.fill_holes = c->fill_holes;
     o.min_feature = c->min_feature;
+    o.max_memory = vopt->max_memory;
     hv_scan *scan = NULL;
-    hv_status s = hv_scan_load(path, NULL, &scan);
+    hv_lut *lut = NULL;
+    hv_colour_map *map = NULL;
+    hv_status s = c->lut ? load_lut(c, &lut, &map) : HV_OK;
+    if (s == HV_OK) s = hv_scan_load(path, NULL, &scan);
     hv_volume *vol = NULL;
     hv_scan_voxelize_report r;
     if (s == HV_OK) {
@@ -427,9 +461,14 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
         hv_progress prog = {cli_progress_fn, &bar};
         o.progress = &prog;
         s = hv_scan_voxelize(scan, &o, &vol, &r);
+        if (s == HV_OK && lut) s = hv_lut_paint_scan(vol, scan, lut, map, vopt->max_memory, &prog);
         cli_progress_done(&bar);
     }
     if (s == HV_OK && !c->dry_run) s = hv_volume_save(vol, c->output);
+    if (s != HV_OK || !lut) {
+        hv_lut_destroy(lut);
+        hv_colour_map_destroy(map);
+    }
     if (s != HV_OK) {
         free(labels);
         hv_volume_destroy(vol);
@@ -459,6 +498,7 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
         cli_json_num(&j, "voxel_volume", r.volume);
         cli_json_int(&j, "dropped_parts", (long long)r.dropped_parts);
         cli_json_int(&j, "filled_cavities", (long long)r.filled_cavities);
+        if (lut) cli_json_str(&j, "lut", c->lut);
         if (!c->dry_run) cli_json_str(&j, "output", c->output);
         rc = cli_json_end(&j, NULL, NULL);
     } else {
@@ -473,9 +513,12 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
                    (unsigned long long)r.filled_cavities, (unsigned long long)r.filled_voxels);
         printf("occupied    %llu voxels (%llu surface), volume %.6g\n", (unsigned long long)r.occupied,
                (unsigned long long)r.surface, r.volume);
+        if (lut) print_lut(c->lut, lut, map);
         if (!c->dry_run) printf("wrote       %s\n", c->output);
     }
     free(labels);
+    hv_lut_destroy(lut);
+    hv_colour_map_destroy(map);
     hv_volume_destroy(vol);
     hv_scan_destroy(scan);
     return rc;
@@ -491,7 +534,8 @@ static int run_cli(const cli_args *args, void *lib, void *local)
                                    "affine (world RAS millimetres)");
         return run_scan(args, args->pos[0], lib, c);
     }
-    static const char *const scan_only[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature"};
+    static const char *const scan_only[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature",
+                                            "lut"};
     for (size_t i = 0; i < sizeof scan_only / sizeof *scan_only; ++i)
         if (cli_given(args, scan_only[i]))
             return cli_usage_error("voxelize", "%s is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM "
@@ -520,6 +564,8 @@ const cli_spec cmd_voxelize = {
     "interpolated value passes --iso, --range or --labels at its centre (world RAS mm,\n"
     "cubic voxels of the smallest sample spacing unless --voxel-size), and the model\n"
     "records the samples and the shape as its geometry, so layers, trays and contours cut\n"
-    "the iso-surface itself.\n",
+    "the iso-surface itself. --lut gives it materials from the volume's values: each voxel\n"
+    "takes the table at the trilinearly interpolated value at its centre (fractions of the\n"
+    "table's materials, or a colour as the six colour resins' fractions through --icc).\n",
     hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL,
     hv_colour_option_set};

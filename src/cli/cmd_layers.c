@@ -104,7 +104,7 @@ static hv_status scan_model(const hv_layers_options *o, const layers_cli *c, hv_
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
     hv_scan_options sopt = {o->max_memory};
-    hv_status s = cli_scan_lut(&c->scan, &lut, &map);
+    hv_status s = cli_scan_lut(&c->scan, NULL, &lut, &map); /* colours through the default profile */
     if (s == HV_OK) s = hv_scan_load(o->model_name, &sopt, &scan);
     if (s == HV_OK) {
         cli_progress bar;

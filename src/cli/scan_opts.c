@@ -1,5 +1,5 @@
 /* src/cli/scan_opts.c - what `voxelize` and `layers` share for a scanned volume (issue 30): the
- * shape options (--iso, --range, --labels, the clean-ups), the lookup table (--lut, --icc) and
+ * shape options (--iso, --range, --labels, the clean-ups), the lookup table (--lut) and
  * their summary line, read in one place so both commands take and refuse them alike. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,7 +36,6 @@ int cli_scan_shape(const cli_args *args, const char *cmd, const cli_scan *c, hv_
                    int32_t **labels)
 {
     *labels = NULL;
-    if (c->icc && !c->lut) return cli_usage_error(cmd, "--icc is for a colour lookup table (--lut)");
     int picks = cli_given(args, "iso") + cli_given(args, "range") + cli_given(args, "labels");
     if (picks != 1) return cli_usage_error(cmd, "a scanned volume needs one of --iso, --range or --labels");
     if (cli_given(args, "iso")) {
@@ -60,24 +59,22 @@ int cli_scan_shape(const cli_args *args, const char *cmd, const cli_scan *c, hv_
 
 int cli_scan_refuse(const cli_args *args, const char *cmd, const char *why)
 {
-    static const char *const keys[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature", "lut",
-                                       "icc"};
+    static const char *const keys[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature", "lut"};
     for (size_t i = 0; i < sizeof keys / sizeof *keys; ++i)
         if (cli_given(args, keys[i])) return cli_usage_error(cmd, "%s %s", cli_spell(keys[i]), why);
     return -1;
 }
 
-hv_status cli_scan_lut(const cli_scan *c, hv_lut **lut, hv_colour_map **map)
+hv_status cli_scan_lut(const cli_scan *c, const hv_colour_options *co, hv_lut **lut, hv_colour_map **map)
 {
     *lut = NULL;
     *map = NULL;
     if (!c->lut) return HV_OK;
     hv_status s = hv_lut_load(c->lut, lut);
     if (s != HV_OK || hv_lut_kind_of(*lut) != HV_LUT_COLOUR) return s;
-    hv_colour_options co;
-    hv_colour_options_init(&co);
-    if (c->icc) co.icc = c->icc;
-    return hv_colour_map_create(&co, map);
+    hv_colour_options defaults;
+    hv_colour_options_init(&defaults);
+    return hv_colour_map_create(co ? co : &defaults, map);
 }
 
 void cli_scan_describe_lut(hv_buf *b, const char *path, const hv_lut *lut, hv_colour_map *map)

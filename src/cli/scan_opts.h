@@ -12,7 +12,7 @@
 
 typedef struct cli_scan {
     double iso, range[2], min_feature;
-    const char *labels, *lut, *icc;
+    const char *labels, *lut;
     int keep_largest, fill_holes;
 } cli_scan;
 
@@ -36,10 +36,7 @@ typedef struct cli_scan {
     {.key = "lut", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(type, member.lut),           \
      .meta = "TABLE.csv",                                                                                           \
      .help = "materials from the volume's values: a lookup table of value -> material fractions or an sRGB "       \
-             "colour (README 'Lookup tables')"},                                                                   \
-    {.key = "icc", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(type, member.icc),           \
-     .meta = "PROFILE.icc",                                                                                         \
-     .help = "the output profile a colour lookup table's colours print through (default: hovox colour's)"}
+             "colour (README 'Lookup tables')"}
 
 /* The shape and clean-ups into o (*labels: the label list o points at; free it after). Returns -1
  * when they are right, else the exit code (the usage error printed). */
@@ -47,8 +44,9 @@ int cli_scan_shape(const cli_args *args, const char *cmd, const cli_scan *c, hv_
                    int32_t **labels);
 /* -1 when no scan option was given, else the usage error's exit code: "--iso <why>". */
 int cli_scan_refuse(const cli_args *args, const char *cmd, const char *why);
-/* The lookup table of --lut (NULL without it) and for a colour table its colour map (--icc). */
-hv_status cli_scan_lut(const cli_scan *c, hv_lut **lut, hv_colour_map **map);
+/* The lookup table of --lut (NULL without it) and for a colour table its colour map, made with
+ * `co` (the command's --icc, --intent, --resins; NULL: the defaults). */
+hv_status cli_scan_lut(const cli_scan *c, const hv_colour_options *co, hv_lut **lut, hv_colour_map **map);
 /* "materials   TABLE: N rows, HU LO to HI -> names\n", appended to b or printed. */
 void cli_scan_describe_lut(hv_buf *b, const char *path, const hv_lut *lut, hv_colour_map *map);
 void cli_scan_print_lut(const char *path, const hv_lut *lut, hv_colour_map *map);

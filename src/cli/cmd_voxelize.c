@@ -153,7 +153,11 @@ static void print_regions(const hv_mesh *mesh, const hv_regions *rg, double vv)
     for (size_t i = 0; i < hv_mesh_body_count(mesh); ++i) {
         const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
         const char *mat = b->material == HV_MESH_NO_MATERIAL ? NULL : hv_mesh_material_at(mesh, (size_t)b->material)->name;
-        printf("region      %s (%s)", b->name, mat ? mat : "no material");
+        printf("region      %s (%s", b->name, mat ? mat : "no material");
+        const hv_mesh_material *mm = mat ? hv_mesh_material_at(mesh, (size_t)b->material) : NULL;
+        for (size_t q = 0; mm && q < mm->nparts; ++q) /* a mixture: its base materials' fractions */
+            printf("%s%s %.4g", q ? " + " : " = ", mm->parts[q].material, mm->parts[q].fraction);
+        printf(")");
         const hv_region_info *g = hv_regions_at(rg, i);
         if (g) {
             printf(": %llu voxels, fill %s", (unsigned long long)g->voxels, hv_fill_mode_name(g->fill));

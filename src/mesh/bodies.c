@@ -48,7 +48,11 @@ static char *unique_name(hv_names *taken, const char *want, size_t index)
 static void bodies_free(hv_mesh *m)
 {
     for (size_t i = 0; i < m->nbodies; ++i) free((char *)m->bodies[i].name);
-    for (size_t i = 0; i < m->nmats; ++i) free((char *)m->mats[i].name);
+    for (size_t i = 0; i < m->nmats; ++i) {
+        free((char *)m->mats[i].name);
+        for (size_t k = 0; k < m->mats[i].nparts; ++k) free((char *)m->mats[i].parts[k].material);
+        free((hv_mesh_mix_part *)m->mats[i].parts);
+    }
     free(m->bodies);
     free(m->mats);
     free(m->facet_mat);
@@ -56,6 +60,21 @@ static void bodies_free(hv_mesh *m)
     m->mats = NULL;
     m->facet_mat = NULL;
     m->nbodies = m->nmats = 0;
+}
+
+/* A mixture's parts copied into dst (dst->nparts counts those copied, for bodies_free). */
+static hv_status mix_copy(hv_mesh_material *dst, const hv_mesh_material *src)
+{
+    if (!src->nparts) return HV_OK;
+    hv_mesh_mix_part *p = hv_calloc(src->nparts, sizeof *p);
+    if (!p) return HV_ERR_NOMEM;
+    dst->parts = p;
+    for (size_t k = 0; k < src->nparts; ++k) {
+        if (!(p[k].material = hv_strdup(src->parts[k].material))) return HV_ERR_NOMEM;
+        p[k].fraction = src->parts[k].fraction;
+        dst->nparts = k + 1;
+    }
+    return HV_OK;
 }
 
 void hv_mesh_bodies_free(hv_mesh *m) { bodies_free(m); }
@@ -93,8 +112,10 @@ hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
     for (size_t i = 0; i < nmats; ++i) {
         tmp.mats[i] = mats[i];
         tmp.mats[i].name = hv_strdup(mats[i].name ? mats[i].name : "");
+        tmp.mats[i].nparts = 0;
+        tmp.mats[i].parts = NULL;
         tmp.nmats = i + 1;
-        if (!tmp.mats[i].name) goto nomem;
+        if (!tmp.mats[i].name || mix_copy(&tmp.mats[i], &mats[i]) != HV_OK) goto nomem;
     }
     if (facet_mat) memcpy(tmp.facet_mat, facet_mat, m->nf * sizeof *facet_mat);
     size_t first = 0;
@@ -175,7 +196,7 @@ hv_status hv_mesh_body_material_set(hv_mesh *m, const char *body, const char *ma
     memcpy(bodies, m->bodies, m->nbodies * sizeof *bodies);
     if (m->nmats) memcpy(mats, m->mats, m->nmats * sizeof *mats);
     size_t nmats = m->nmats;
-    if (k == nmats) mats[nmats++] = (hv_mesh_material){material, 0, 0};
+    if (k == nmats) mats[nmats++] = (hv_mesh_material){material, 0, 0, 0, NULL};
     bodies[b].material = (int32_t)k;
     hv_status s = hv_mesh_set_bodies(m, bodies, m->nbodies, mats, nmats, m->facet_mat);
     free(bodies);

@@ -905,3 +905,98 @@ Test(threemf, load_reads_a_file_by_its_extension)
     free(data);
     hv_mesh_destroy(unit);
 }
+
+/* Materials 1.2, chapters 4 and 5: composites are mixtures (their values normalised, their display
+ * colour the bases' mixed by them); a multi takes its material layer's material and its colour
+ * layer's colour. lib3mf 1.8 reads the geometry (the oracle); it has no composites. */
+#define COMPOSITES "<m:compositematerials id=\"6\" matid=\"5\" matindices=\"1 0\"><m:composite values=\"0.75 0.25\"/>" \
+                   "<m:composite values=\"0 1\"/></m:compositematerials>"                                           \
+                   "<m:colorgroup id=\"7\"><m:color color=\"#3060C0\"/><m:color color=\"#102030\"/></m:colorgroup>"   \
+                   "<m:multiproperties id=\"8\" pids=\"6 7\"><m:multi pindices=\"0 1\"/><m:multi/></m:multiproperties>"
+
+Test(threemf, composites_are_mixtures_and_multis_take_their_material_layer)
+{
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                           MODEL_HEAD "<resources>" MATS COMPOSITES
+                                      TET_OBJECT(" pid=\"6\" pindex=\"0\"", " pid=\"8\" p1=\"0\" p2=\"1\" p3=\"0\"")
+                                      "</resources>" BUILD};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "mix.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(data, len, m);
+    const hv_mesh_material *body = hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 0)->material);
+    cr_assert_str_eq(body->name, "composite 6#0");
+    cr_assert_eq(body->nparts, 2);
+    cr_assert_str_eq(body->parts[0].material, "Agilus");
+    cr_assert_float_eq(body->parts[0].fraction, 0.75, 1e-12);
+    cr_assert_str_eq(body->parts[1].material, "Vero");
+    cr_assert_float_eq(body->parts[1].fraction, 0.25, 1e-12);
+    /* #FF0000 * 0.25 + #00FF00 * 0.75, alpha FF */
+    cr_assert_eq(body->rgba, 0x40BF00FFu, "%08x", body->rgba);
+    /* triangle 0: multi 0 -> composite 6#0 (its material layer); its corners the colour layer's */
+    const int32_t *fm = hv_mesh_facet_materials(m);
+    cr_assert_str_eq(hv_mesh_material_at(m, (size_t)fm[0])->name, "composite 6#0");
+    const uint32_t *cc = hv_mesh_corner_colours(m);
+    cr_assert_not_null(cc);
+    cr_assert_eq(cc[0], 0x102030FFu, "%08x", cc[0]); /* multi 0: colour 1 */
+    cr_assert_eq(cc[1], 0x3060C0FFu, "%08x", cc[1]); /* multi 1 (no pindices: all 0): colour 0 */
+    cr_assert_eq(cc[2], 0x102030FFu, "%08x", cc[2]);
+    hv_mesh_destroy(m);
+    free(data);
+    /* a composite of value 0 for one base: a mixture of one part */
+    const char *one[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                         MODEL_HEAD "<resources>" MATS COMPOSITES TET_OBJECT(" pid=\"6\" pindex=\"1\"", "") "</resources>" BUILD};
+    data = zip_parts(one, 3, &len);
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "one.3mf", &m), HV_OK, "%s", hv_last_error());
+    body = hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 0)->material);
+    cr_assert_eq(body->nparts, 1);
+    cr_assert_str_eq(body->parts[0].material, "Vero");
+    cr_assert_float_eq(body->parts[0].fraction, 1, 0);
+    /* a body extracted keeps the mixture */
+    hv_mesh *b = NULL;
+    cr_assert_eq(hv_mesh_body_extract(m, 0, &b), HV_OK);
+    cr_assert_eq(hv_mesh_material_at(b, (size_t)hv_mesh_body_at(b, 0)->material)->nparts, 1);
+    hv_mesh_destroy(b);
+    hv_mesh_destroy(m);
+    free(data);
+}
+
+Test(threemf, bad_composites_and_multiproperties_are_refused_naming_the_element)
+{
+    static const char *const cases[][2] = {
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 1\"><m:composite values=\"0.5 0.4\"/></m:compositematerials>",
+         "line 2, column 401: compositematerials 6: composite 0: values '0.5 0.4' sum to 0.9, not 1"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 1\"><m:composite values=\"1\"/></m:compositematerials>",
+         "compositematerials 6: composite 0: values '1' are not 2 non-negative numbers (one per matindices entry)"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 1\"><m:composite values=\"1.5 -0.5\"/></m:compositematerials>",
+         "composite 0: values '1.5 -0.5' are not 2 non-negative numbers"},
+        {"<m:compositematerials id=\"6\" matid=\"9\" matindices=\"0\"/>",
+         "compositematerials 6: matid '9' names no basematerials defined above it"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 2\"/>",
+         "compositematerials 6: matindices: 2 is past the end of basematerials 5 (2 entries)"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 x\"/>",
+         "compositematerials 6: matindices '0 x' is not a list of indices"},
+        {"<m:colorgroup id=\"7\"><m:color color=\"#3060C0\"/></m:colorgroup><m:multiproperties id=\"8\" pids=\"7 5\"/>",
+         "multiproperties 8: pids: basematerials 5 is layer 2; a material layer may only be the first"},
+        {"<m:multiproperties id=\"8\" pids=\"5 9\"/>",
+         "multiproperties 8: pids: 9 names no basematerials, compositematerials, colorgroup or texture2dgroup"},
+        {"<m:multiproperties id=\"8\" pids=\"5\"><m:multi pindices=\"2\"/></m:multiproperties>",
+         "multiproperties 8: multi 0: pindices: 2 is past the end of basematerials 5 (2 entries)"},
+        {"<m:multiproperties id=\"8\" pids=\"5\"><m:multi pindices=\"0 0\"/></m:multiproperties>",
+         "multiproperties 8: multi 0: pindices has 2 entries, pids 1"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        char model[4096];
+        snprintf(model, sizeof model, "%s<resources>%s%s%s</resources>%s", MODEL_HEAD, MATS, cases[k][0], TET_OBJECT("", ""), BUILD);
+        const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", model};
+        size_t len;
+        unsigned char *data = zip_parts(parts, 3, &len);
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "bad.3mf", &m), HV_ERR_BAD_INPUT, "case %zu", k);
+        cr_assert_null(m);
+        cr_assert(strstr(hv_last_error(), cases[k][1]), "case %zu: %s", k, hv_last_error());
+        cr_assert(strncmp(hv_last_error(), "bad.3mf: 3D/3dmodel.model: line ", 32) == 0, "%s", hv_last_error());
+        free(data);
+    }
+}

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <zip.h>
+#include <jpeglib.h>
 
 #include "hovox/generate.h"
 #include "hovox/image.h"
@@ -999,4 +1000,81 @@ Test(threemf, bad_composites_and_multiproperties_are_refused_naming_the_element)
         cr_assert(strncmp(hv_last_error(), "bad.3mf: 3D/3dmodel.model: line ", 32) == 0, "%s", hv_last_error());
         free(data);
     }
+}
+
+/* A JPEG texture (Materials 6 allows image/jpeg) is decoded by the same decoder as OBJ textures
+ * (hv_rgba8_decode): an 8 x 8 JPEG of one flat colour, written here by libjpeg, reaches the mesh
+ * as that colour (a flat block survives JPEG within a step or two). */
+static unsigned char *flat_jpeg(uint8_t r, uint8_t g, uint8_t b, size_t *len)
+{
+    struct jpeg_compress_struct c;
+    struct jpeg_error_mgr err;
+    c.err = jpeg_std_error(&err);
+    jpeg_create_compress(&c);
+    unsigned char *out = NULL;
+    unsigned long n = 0;
+    jpeg_mem_dest(&c, &out, &n);
+    c.image_width = 8;
+    c.image_height = 8;
+    c.input_components = 3;
+    c.in_color_space = JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, 100, TRUE);
+    jpeg_start_compress(&c, TRUE);
+    uint8_t row[24];
+    for (int x = 0; x < 8; ++x) row[3 * x] = r, row[3 * x + 1] = g, row[3 * x + 2] = b;
+    for (int y = 0; y < 8; ++y) {
+        JSAMPROW p = row;
+        jpeg_write_scanlines(&c, &p, 1);
+    }
+    jpeg_finish_compress(&c);
+    jpeg_destroy_compress(&c);
+    *len = (size_t)n;
+    return out;
+}
+
+Test(threemf, a_jpeg_texture_is_decoded)
+{
+    size_t jpg_size = 0;
+    unsigned char *jpg = flat_jpeg(200, 100, 50, &jpg_size);
+    static const char types[] = "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+                                "<Default Extension=\"rels\" ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
+                                "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/>"
+                                "<Default Extension=\"jpg\" ContentType=\"image/jpeg\"/></Types>";
+    static const char model[] =
+        MODEL_HEAD "<resources><m:texture2d id=\"3\" path=\"/3D/Textures/flat.jpg\" contenttype=\"image/jpeg\"/>"
+        "<m:texture2dgroup id=\"4\" texid=\"3\"><m:tex2coord u=\"0\" v=\"0\"/><m:tex2coord u=\"1\" v=\"0\"/>"
+        "<m:tex2coord u=\"0.5\" v=\"1\"/></m:texture2dgroup>"
+        "<object id=\"1\" name=\"tet\" type=\"model\" pid=\"4\" pindex=\"0\"><mesh>" TET_VERTICES
+        "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\" p1=\"0\" p2=\"1\" p3=\"2\"/>"
+        "<triangle v1=\"0\" v2=\"1\" v3=\"3\" p1=\"0\" p2=\"1\" p3=\"2\"/><triangle v1=\"1\" v2=\"2\" v3=\"3\" p1=\"0\" p2=\"1\" p3=\"2\"/>"
+        "<triangle v1=\"0\" v2=\"3\" v3=\"2\" p1=\"0\" p2=\"1\" p3=\"2\"/></triangles></mesh></object></resources>" BUILD;
+    static const char model_rels[] = "<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
+                                     "<Relationship Target=\"/3D/Textures/flat.jpg\" Id=\"rel1\" Type=\"http://schemas."
+                                     "microsoft.com/3dmanufacturing/2013/01/3dtexture\"/></Relationships>";
+    const char *names[] = {"[Content_Types].xml", "_rels/.rels", "3D/3dmodel.model", "3D/_rels/3dmodel.model.rels",
+                           "3D/Textures/flat.jpg"};
+    const void *data[] = {types, k_rels, model, model_rels, jpg};
+    size_t sizes[] = {strlen(types), strlen(k_rels), strlen(model), strlen(model_rels), jpg_size}, len;
+    unsigned char *pkg = zip_bin(names, data, sizes, 5, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(pkg, len, "jpeg.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(pkg, len, m);
+    cr_assert_eq(hv_mesh_note_count(m), 0);
+    cr_assert_eq(hv_mesh_texture_count(m), 1);
+    const hv_mesh_texture *tx = hv_mesh_texture_at(m, 0);
+    cr_assert_eq(tx->width, 8);
+    cr_assert_eq(tx->height, 8);
+    static const int want[4] = {200, 100, 50, 255};
+    for (size_t i = 0; i < 64; ++i)
+        for (int k = 0; k < 4; ++k) cr_assert_leq(abs((int)tx->rgba[4 * i + (size_t)k] - want[k]), 2, "pixel %zu, %d", i, k);
+    const int32_t *ft = hv_mesh_facet_textures(m);
+    for (size_t f = 0; f < 4; ++f) cr_assert_eq(ft[f], 0);
+    float rgba[4];
+    const double bary[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    cr_assert(hv_mesh_colour_at(m, 0, bary, rgba));
+    cr_assert_float_eq(rgba[0], 200.0f / 255, 0.01);
+    hv_mesh_destroy(m);
+    free(pkg);
+    free(jpg);
 }

@@ -49,7 +49,6 @@ typedef struct entry {
 /* A <texture2d>: its image part and how it is addressed (Materials 6). */
 typedef struct tex2d {
     char *path; /* the part, without the leading '/' */
-    int png;    /* contenttype image/png (else image/jpeg, not decoded) */
     hv_tile tile_u, tile_v;
     hv_filter filter;
     int32_t mesh_index; /* the mesh texture, once added; -1 before, -2 not decodable */
@@ -752,7 +751,6 @@ static hv_status on_texture2d(reader *r, tmf_xml *x, uint64_t id, const tmf_attr
     if (s != HV_OK) return s;
     tex2d *t = &r->texs[r->ntex];
     memset(t, 0, sizeof *t);
-    t->png = png;
     t->mesh_index = -1;
     static const char *const tiles[] = {"wrap", "mirror", "clamp", "none"};
     static const char *const filters[] = {"auto", "linear", "nearest"};
@@ -1165,6 +1163,8 @@ static hv_status place(build *b, size_t obj, const double *t)
 }
 
 /* A texture's image as 8-bit RGBA, row 0 the top (PNG's order). */
+/* A <texture2d>'s picture, PNG or JPEG (by its bytes; the one decoder of OBJ textures too,
+ * hv_rgba8_decode), as a texture of the mesh. */
 static hv_status load_texture(reader *r, const char *name, tex2d *t, hv_mesh *m)
 {
     uint8_t *data = NULL;
@@ -1172,47 +1172,27 @@ static hv_status load_texture(reader *r, const char *name, tex2d *t, hv_mesh *m)
     char label[TMF_MAX_PART_NAME + 64];
     snprintf(label, sizeof label, "%s: texture /%s", name, t->path);
     hv_status s = tmf_pkg_read(r->pk, t->path, r->budget / 4, &data, &size);
-    hv_png_pixels px;
-    memset(&px, 0, sizeof px);
-    if (s == HV_OK) s = hv_png_decode(data, size, label, r->budget / 16, &px);
+    hv_rgba8 img;
+    memset(&img, 0, sizeof img);
+    if (s == HV_OK) s = hv_rgba8_decode(data, size, label, r->budget / 32, &img);
     free(data);
-    uint8_t *rgba = s == HV_OK ? hv_malloc_array((size_t)px.width * (size_t)px.height, 4) : NULL;
-    if (s == HV_OK && !rgba) s = HV_ERR_NOMEM;
-    for (size_t i = 0; s == HV_OK && i < (size_t)px.width * (size_t)px.height; ++i) {
-        const uint16_t *p = px.samples + i * (size_t)px.channels;
-        int shift = px.bit_depth == 16 ? 8 : 0;
-        uint8_t g = (uint8_t)(p[0] >> shift);
-        rgba[4 * i] = g;
-        uint8_t a = 255;
-        if (px.channels == 4) a = (uint8_t)(p[3] >> shift);
-        else if (px.channels == 2) a = (uint8_t)(p[1] >> shift);
-        rgba[4 * i + 1] = (uint8_t)(px.channels >= 3 ? p[1] >> shift : g);
-        rgba[4 * i + 2] = (uint8_t)(px.channels >= 3 ? p[2] >> shift : g);
-        rgba[4 * i + 3] = a;
-    }
     if (s == HV_OK)
-        s = hv_mesh_add_texture(m, t->path, rgba, (uint32_t)px.width, (uint32_t)px.height, t->tile_u, t->tile_v, t->filter,
-                                &t->mesh_index);
-    free(rgba);
-    hv_png_pixels_free(&px);
+        s = hv_mesh_add_texture(m, t->path, img.rgba, (uint32_t)img.width, (uint32_t)img.height, t->tile_u, t->tile_v,
+                                t->filter, &t->mesh_index);
+    hv_rgba8_free(&img);
     return s;
 }
 
 /* The colours and textures the facets carry, given to the mesh (hovox/mesh.h, appearance).
- * Facets of a colour-less property keep their material's display colour as corner colours; a
- * JPEG texture is not decoded (a note says so) and its facets fall back likewise. */
+ * Facets of a colour-less property keep their material's display colour as corner colours. */
 static hv_status set_appearance(build *b, hv_mesh *m)
 {
     reader *r = b->r;
     hv_status s = HV_OK;
-    size_t jpeg = 0;
     for (size_t f = 0; f < b->nf && s == HV_OK; ++f) {
         int32_t t = b->ftex[f];
         if (t < 0) continue;
-        if (r->texs[t].mesh_index == -1) {
-            if (r->texs[t].png) s = load_texture(r, b->name, &r->texs[t], m);
-            else r->texs[t].mesh_index = -2, ++jpeg;
-        }
+        if (r->texs[t].mesh_index == -1) s = load_texture(r, b->name, &r->texs[t], m);
         b->ftex[f] = r->texs[t].mesh_index >= 0 ? r->texs[t].mesh_index : -1;
     }
     const hv_mesh_material *mats = NULL;
@@ -1227,12 +1207,6 @@ static hv_status set_appearance(build *b, hv_mesh *m)
     }
     if (s == HV_OK) s = hv_mesh_set_corner_colours(m, b->corner);
     if (s == HV_OK && (hv_mesh_texture_count(m) || no_colour)) s = hv_mesh_set_corner_uvs(m, b->uv, b->ftex);
-    if (s == HV_OK && jpeg) {
-        char note[512];
-        snprintf(note, sizeof note, "%s: %zu JPEG texture%s not decoded (hovox reads PNG textures): their facets show "
-                 "their material's colour", b->name, jpeg, jpeg == 1 ? " is" : "s are");
-        s = hv_mesh_add_note(m, note);
-    }
     return s;
 }
 

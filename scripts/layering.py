@@ -32,7 +32,7 @@ PUBLIC = {
     'core.h': 'src/core', 'options.h': 'src/core', 'volume.h': 'volumes', 'image.h': 'src/image',
     'mesh.h': 'src/mesh', 'generate.h': 'src/mesh', 'threemf.h': 'src/io', 'scan.h': 'src/io',
     'model.h': 'src/model', 'voxelize.h': 'src/voxel', 'field.h': 'src/field',
-    'material.h': 'src/material', 'profile.h': 'src/material', 'colour.h': 'src/colour',
+    'material.h': 'src/material', 'profile.h': 'src/material', 'colour.h': 'src/colour', 'lut.h': 'src/colour',
     'geometry.h': 'src/geometry', 'solid.h': 'src/geometry', 'export.h': 'src/export', 'slice.h': 'WDG slicer',
     'layers.h': 'slicing', 'tray.h': 'slicing', 'dist.h': 'slicing', 'render.h': 'renderer',
     'plot.h': 'src/plot', 'viewer.h': 'src/viewer', 'placement.h': 'src/mesh',

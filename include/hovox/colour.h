@@ -94,7 +94,7 @@ HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t
  * display colours, then the core). The mesh must be the one the model was voxelized from, in the
  * same coordinates. Errors: HV_ERR_INVALID (depth not > 0, neither core nor core_rgba),
  * HV_ERR_NOT_FOUND (no occupancy grid), those of hv_volume_grid_set and hv_material_add (a grid
- * or material already there), HV_ERR_NOMEM. Not yet behind a command (issue 29 item 1). */
+ * or material already there), HV_ERR_NOMEM. `hovox voxelize --colour-depth` calls it. */
 HV_API hv_status hv_colour_paint(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
                                  const char *core, const float *core_rgba);
 

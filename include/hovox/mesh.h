@@ -249,6 +249,13 @@ HV_API const int32_t *hv_mesh_facet_textures(const hv_mesh *mesh);
  * (hv_mesh_join gives it to the facets of parts without colour). */
 #define HV_MESH_NO_COLOUR (-2)
 
+/* Give the body named `body` one flat colour (0xRRGGBBAA, straight alpha), whatever its texture,
+ * corner or material colours said (`--colour BODY=COLOUR` of voxelize);
+ * the other facets keep their colours (a material's colour moves into corner colours). Errors:
+ * HV_ERR_NOT_FOUND ("gear.obj: no body 'hub' (bodies: rim, spokes)"), HV_ERR_NOMEM; the mesh is
+ * unchanged on failure. */
+HV_API hv_status hv_mesh_body_colour_set(hv_mesh *mesh, const char *body, uint32_t rgba);
+
 /* Does any facet have a colour (by the rule above: a texture, corner colours, a material with a
  * display colour)? */
 HV_API int hv_mesh_has_colour(const hv_mesh *mesh);

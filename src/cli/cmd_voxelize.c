@@ -9,8 +9,10 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/colour.h"
 #include "hovox/geometry.h"
 #include "hovox/model.h"
+#include "hovox/lut.h"
 #include "hovox/scan.h"
 #include "hovox/voxelize.h"
 
@@ -18,11 +20,16 @@ typedef struct vox_cli {
     const char *output, *like;
     int dry_run, json;
     double iso, range[2], min_feature;
-    const char *labels;
+    const char *labels, *lut;
     int keep_largest, fill_holes;
     hv_placement place;
     const char *material[64]; /* "BODY=NAME" */
     int nmaterial;
+    const char *colour[64]; /* "BODY=COLOUR" */
+    int ncolour;
+    double colour_depth;
+    const char *core;
+    hv_colour_options cmap; /* --icc, --intent, --resins (hv_colour_option_set's) */
 } vox_cli;
 
 static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
@@ -37,6 +44,28 @@ static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value
     return HV_OK;
 }
 
+static hv_status add_colour(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    vox_cli *c = opts;
+    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
+    float rgba[4];
+    if (!eq || eq == v->text || hv_color_parse(eq + 1, rgba) != HV_OK)
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=COLOUR (#rrggbb, #rrggbbaa or r,g,b[,a]), got '%s'",
+                               o->key, v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
+    if (c->ncolour == 64) return hv_error_option(HV_ERR_INVALID, "at most 64 {%s} options", o->key);
+    c->colour[c->ncolour++] = v->text;
+    return HV_OK;
+}
+
+/* --icc, --intent, --resins: the colour map's own options (hv_colour_option_set), their help too. */
+static hv_status colour_map_option(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    vox_cli *c = opts;
+    return hv_option_set_value(hv_option_find(hv_colour_option_set(), o->key), &c->cmap, v);
+}
+
+#define COLOUR_MAP_OPTION(key_) {.key = key_, .kind = HV_OPT_CUSTOM, .parse = colour_map_option}
+
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(vox_cli, "MODEL.vdb", "the .vdb to write (atomically)", 0),
     {.key = "like", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(vox_cli, like), .meta = "MODEL.vdb",
@@ -48,6 +77,20 @@ static const hv_option k_local_opts[] = {
      .parse = add_material, .section = "Assemblies",
      .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
              "says; repeatable"},
+    {.key = "colour", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=COLOUR",
+     .parse = add_colour, .section = "Colour (a mesh painted in its colours; --icc, --intent, --resins also for a scan's colour --lut)",
+     .help = "the colour of a body (#rrggbb, #rrggbbaa or r,g,b[,a]), whatever its texture or file colours; "
+             "repeatable"},
+    {.key = "colour_depth", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
+     .offset = offsetof(vox_cli, colour_depth), .meta = "MM", .unit = "mm",
+     .help = "paint the part in its colours (textures, vertex, face and material colours, --colour) this deep "
+             "from the surface (default 1 mm when painting)"},
+    {.key = "core", .kind = HV_OPT_STRING, .offset = offsetof(vox_cli, core), .meta = "RESIN|COLOUR",
+     .help = "what lies deeper than the colour, and under uncoloured facets: a resin (one of the six, or "
+             "another such as Agilus30) or a colour (default the white resin)"},
+    COLOUR_MAP_OPTION("icc"),
+    COLOUR_MAP_OPTION("intent"),
+    COLOUR_MAP_OPTION("resins"),
     HV_PLACEMENT_OPTIONS(vox_cli, place),
     {.key = "iso", .kind = HV_OPT_NUMBER, .offset = offsetof(vox_cli, iso), .meta = "VALUE",
      .help = "a scanned volume's solid: where its trilinearly interpolated value is at least VALUE (e.g. 300 HU for bone)",
@@ -62,9 +105,16 @@ static const hv_option k_local_opts[] = {
      .help = "fill every enclosed cavity"},
     {.key = "min_feature", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = offsetof(vox_cli, min_feature), .meta = "MM",
      .unit = "mm", .help = "drop parts and fill cavities smaller than a ball of this diameter"},
+    {.key = "lut", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(vox_cli, lut), .meta = "TABLE.csv",
+     .help = "materials from the volume's values: a lookup table of value -> material fractions or an sRGB colour "
+             "(README 'Lookup tables')"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
+
+/* Painting is asked for by any of --colour, --colour-depth, --core. */
+static int painting(const vox_cli *c) { return c->ncolour > 0 || c->colour_depth > 0 || c->core; }
+static double colour_depth(const vox_cli *c) { return c->colour_depth > 0 ? c->colour_depth : 1.0; }
 
 /* An assembly's regions as JSON records, one per line (for cli_json_end). */
 static char *region_lines(const hv_regions *rg)
@@ -122,7 +172,7 @@ static void print_regions(const hv_mesh *mesh, const hv_regions *rg, double vv)
 }
 
 static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *plan, const hv_voxelize_options *opt,
-                   const vox_cli *c, const hv_volume *vol)
+                   const vox_cli *c, const hv_volume *vol, const hv_colour_map *map)
 {
     const hv_mesh_report *r = hv_mesh_get_report(mesh);
     double vv = plan->xf.voxel[0] * plan->xf.voxel[1] * plan->xf.voxel[2];
@@ -159,6 +209,12 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
             cli_json_num(&j, "mesh_volume", r->volume);
             cli_json_str(&j, "output", c->output);
         }
+        if (map) {
+            cli_json_num(&j, "colour_depth", colour_depth(c));
+            cli_json_str(&j, "core", c->core ? c->core : hv_colour_map_resin(map, HV_COLOUR_W));
+            cli_json_str(&j, "icc", hv_colour_map_icc(map));
+            cli_json_str(&j, "intent", hv_intent_name(hv_colour_map_intent(map)));
+        }
         if (rg) {
             cli_json_int(&j, "overlap", (long long)hv_regions_overlap(rg));
             cli_json_num(&j, "overlap_volume", (double)hv_regions_overlap(rg) * vv);
@@ -186,9 +242,46 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
         printf("occupied    %llu voxels (%llu surface), volume %.6g (mesh %.6g)\n", (unsigned long long)occupied,
                (unsigned long long)surface, (double)occupied * vv, r->volume);
     if (nbodies > 1) print_regions(mesh, rg, vv);
+    if (map) {
+        printf("colour      %.6g mm deep, core %s, in", colour_depth(c), c->core ? c->core : hv_colour_map_resin(map, HV_COLOUR_W));
+        for (int k = 0; k < HV_COLOUR_SLOTS; ++k) printf("%s%s", k ? ", " : " ", hv_colour_map_resin(map, k));
+        printf("\nprofile     %s (%s), intent %s\n", hv_colour_map_icc(map), hv_colour_map_description(map),
+               hv_intent_name(hv_colour_map_intent(map)));
+    }
     if (vol) printf("wrote       %s\n", c->output);
     hv_regions_destroy(rg);
     return EXIT_OK;
+}
+
+
+/* The --colour BODY=COLOUR options on the mesh as read; then it must have some colour to paint. */
+static hv_status set_colours(hv_mesh *raw, const vox_cli *c, const char *path)
+{
+    for (int i = 0; i < c->ncolour; ++i) {
+        const char *eq = strchr(c->colour[i], '=');
+        char body[1024];
+        snprintf(body, sizeof body, "%.*s", (int)(eq - c->colour[i]), c->colour[i]);
+        float f[4];
+        hv_color_parse(eq + 1, f); /* checked by add_colour */
+        uint32_t v = 0;
+        for (int k = 0; k < 4; ++k) v = v << 8 | (uint32_t)lrintf(f[k] * 255.0f);
+        hv_status s = hv_mesh_body_colour_set(raw, body, v);
+        if (s != HV_OK) return s;
+    }
+    if (!hv_mesh_has_colour(raw))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: no colour to paint (no texture, vertex, face or material colour); "
+                            "give one with %s BODY=COLOUR", path, cli_spell("colour"));
+    return HV_OK;
+}
+
+/* The core: a colour when the text reads as one, else a resin; default the map's white resin. */
+static hv_status paint(hv_volume *vol, const hv_mesh *mesh, const vox_cli *c, hv_colour_map *map)
+{
+    float rgba[4];
+    if (c->core && hv_color_parse(c->core, rgba) == HV_OK)
+        return hv_colour_paint(vol, mesh, map, colour_depth(c), NULL, rgba);
+    return hv_colour_paint(vol, mesh, map, colour_depth(c), c->core ? c->core : hv_colour_map_resin(map, HV_COLOUR_W),
+                           NULL);
 }
 
 static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int quiet)
@@ -207,6 +300,9 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_mesh *mesh = NULL, *raw = NULL;
     hv_status s = hv_mesh_load(path, &raw);
     if (s == HV_OK) cli_mesh_notes(raw);
+    hv_colour_map *map = NULL;
+    if (s == HV_OK && painting(c)) s = set_colours(raw, c, path);
+    if (s == HV_OK && painting(c)) s = hv_colour_map_create(&c->cmap, &map);
     for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
         const char *eq = strchr(c->material[i], '=');
         char body[1024];
@@ -219,6 +315,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         raw = NULL;
     }
     if (s != HV_OK) {
+        hv_colour_map_destroy(map);
         hv_mesh_destroy(raw);
         return cli_fail(s);
     }
@@ -226,6 +323,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_voxel_plan plan;
     s = hv_voxelize_plan(mesh, opt, &plan);
     if (s != HV_OK) {
+        hv_colour_map_destroy(map);
         hv_mesh_destroy(mesh);
         hv_mesh_destroy(raw);
         return cli_fail(s);
@@ -244,6 +342,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         s = hv_voxelize(mesh, opt, &vol);
         cli_progress_done(&bar);
         opt->progress = NULL;
+        if (s == HV_OK && map) s = paint(vol, mesh, c, map);
         if (s == HV_OK && raw) { /* the leaf: the raw mesh and the placement's matrix */
             double m[12];
             hv_geometry *g = NULL;
@@ -254,13 +353,15 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
         }
         if (s == HV_OK) s = hv_volume_save(vol, c->output);
         if (s != HV_OK) {
+            hv_colour_map_destroy(map);
             hv_volume_destroy(vol);
             hv_mesh_destroy(mesh);
             hv_mesh_destroy(raw);
             return cli_fail(s);
         }
     }
-    int rc = report(path, mesh, &plan, opt, c, vol);
+    int rc = report(path, mesh, &plan, opt, c, vol, map);
+    hv_colour_map_destroy(map);
     hv_volume_destroy(vol);
     hv_mesh_destroy(mesh);
     hv_mesh_destroy(raw);
@@ -290,13 +391,40 @@ static int parse_labels(const char *text, int32_t **out, size_t *n)
     return -1;
 }
 
+/* The lookup table, and for a colour table the colour map its colours print through. */
+static hv_status load_lut(const vox_cli *c, hv_lut **lut, hv_colour_map **map)
+{
+    hv_status s = hv_lut_load(c->lut, lut);
+    if (s != HV_OK || hv_lut_kind_of(*lut) != HV_LUT_COLOUR) return s;
+    return hv_colour_map_create(&c->cmap, map); /* --icc, --intent, --resins as for painting a mesh */
+}
+
+static void print_lut(const char *path, const hv_lut *lut, hv_colour_map *map)
+{
+    double lo, hi;
+    hv_lut_range(lut, &lo, &hi);
+    printf("materials   %s: %zu rows, %s %.6g to %.6g ->", path, hv_lut_rows(lut), hv_lut_value_name(lut), lo, hi);
+    if (map) {
+        printf(" colour through %s:", hv_colour_map_description(map));
+        for (int k = 0; k < HV_COLOUR_SLOTS; ++k) printf(" %s", hv_colour_map_resin(map, k));
+    } else {
+        for (int k = 0; k < hv_lut_columns(lut); ++k) printf(" %s", hv_lut_material(lut, k));
+    }
+    printf("\n");
+}
+
 static int run_scan(const cli_args *args, const char *path, const hv_voxelize_options *vopt, const vox_cli *c)
 {
-    static const char *const mesh_only[] = {"adjacency", "fill", "dims", "like", "material"};
+    static const char *const mesh_only[] = {"adjacency", "fill", "dims", "like", "material", "colour",
+                                            "colour_depth", "core"};
     for (size_t i = 0; i < sizeof mesh_only / sizeof *mesh_only; ++i)
         if (cli_given(args, mesh_only[i]))
             return cli_usage_error("voxelize", "%s is for meshes; a scanned volume takes --iso, --range or --labels",
                                    cli_spell(mesh_only[i]));
+    static const char *const map_only[] = {"icc", "intent", "resins"};
+    for (size_t i = 0; i < sizeof map_only / sizeof *map_only && !c->lut; ++i)
+        if (cli_given(args, map_only[i]))
+            return cli_usage_error("voxelize", "%s is for a colour lookup table (--lut)", cli_spell(map_only[i]));
     int picks = cli_given(args, "iso") + cli_given(args, "range") + cli_given(args, "labels");
     if (picks != 1) return cli_usage_error("voxelize", "a scanned volume needs one of --iso, --range or --labels");
     hv_scan_voxelize_options o;
@@ -319,8 +447,12 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
     o.keep_largest = c->keep_largest;
     o.fill_holes = c->fill_holes;
     o.min_feature = c->min_feature;
+    o.max_memory = vopt->max_memory;
     hv_scan *scan = NULL;
-    hv_status s = hv_scan_load(path, NULL, &scan);
+    hv_lut *lut = NULL;
+    hv_colour_map *map = NULL;
+    hv_status s = c->lut ? load_lut(c, &lut, &map) : HV_OK;
+    if (s == HV_OK) s = hv_scan_load(path, NULL, &scan);
     hv_volume *vol = NULL;
     hv_scan_voxelize_report r;
     if (s == HV_OK) {
@@ -329,9 +461,14 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
         hv_progress prog = {cli_progress_fn, &bar};
         o.progress = &prog;
         s = hv_scan_voxelize(scan, &o, &vol, &r);
+        if (s == HV_OK && lut) s = hv_lut_paint_scan(vol, scan, lut, map, vopt->max_memory, &prog);
         cli_progress_done(&bar);
     }
     if (s == HV_OK && !c->dry_run) s = hv_volume_save(vol, c->output);
+    if (s != HV_OK || !lut) {
+        hv_lut_destroy(lut);
+        hv_colour_map_destroy(map);
+    }
     if (s != HV_OK) {
         free(labels);
         hv_volume_destroy(vol);
@@ -361,6 +498,7 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
         cli_json_num(&j, "voxel_volume", r.volume);
         cli_json_int(&j, "dropped_parts", (long long)r.dropped_parts);
         cli_json_int(&j, "filled_cavities", (long long)r.filled_cavities);
+        if (lut) cli_json_str(&j, "lut", c->lut);
         if (!c->dry_run) cli_json_str(&j, "output", c->output);
         rc = cli_json_end(&j, NULL, NULL);
     } else {
@@ -375,9 +513,12 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
                    (unsigned long long)r.filled_cavities, (unsigned long long)r.filled_voxels);
         printf("occupied    %llu voxels (%llu surface), volume %.6g\n", (unsigned long long)r.occupied,
                (unsigned long long)r.surface, r.volume);
+        if (lut) print_lut(c->lut, lut, map);
         if (!c->dry_run) printf("wrote       %s\n", c->output);
     }
     free(labels);
+    hv_lut_destroy(lut);
+    hv_colour_map_destroy(map);
     hv_volume_destroy(vol);
     hv_scan_destroy(scan);
     return rc;
@@ -393,11 +534,18 @@ static int run_cli(const cli_args *args, void *lib, void *local)
                                    "affine (world RAS millimetres)");
         return run_scan(args, args->pos[0], lib, c);
     }
-    static const char *const scan_only[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature"};
+    static const char *const scan_only[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature",
+                                            "lut"};
     for (size_t i = 0; i < sizeof scan_only / sizeof *scan_only; ++i)
         if (cli_given(args, scan_only[i]))
             return cli_usage_error("voxelize", "%s is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM "
                                    "directory), not meshes", cli_spell(scan_only[i]));
+    static const char *const map_only[] = {"icc", "intent", "resins"};
+    for (size_t i = 0; i < sizeof map_only / sizeof *map_only && !painting(c); ++i)
+        if (cli_given(args, map_only[i]))
+            return cli_usage_error("voxelize", "%s is for painting the part in colour: give %s, %s or %s too",
+                                   cli_spell(map_only[i]), cli_spell("colour_depth"), cli_spell("colour"),
+                                   cli_spell("core"));
     return run(args->pos[0], lib, c, args->quiet);
 }
 
@@ -416,5 +564,8 @@ const cli_spec cmd_voxelize = {
     "interpolated value passes --iso, --range or --labels at its centre (world RAS mm,\n"
     "cubic voxels of the smallest sample spacing unless --voxel-size), and the model\n"
     "records the samples and the shape as its geometry, so layers, trays and contours cut\n"
-    "the iso-surface itself.\n",
-    hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};
+    "the iso-surface itself. --lut gives it materials from the volume's values: each voxel\n"
+    "takes the table at the trilinearly interpolated value at its centre (fractions of the\n"
+    "table's materials, or a colour as the six colour resins' fractions through --icc).\n",
+    hv_voxelize_option_set, &k_local, NULL, 1, 1, "MESH argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL,
+    hv_colour_option_set};

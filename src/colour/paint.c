@@ -203,13 +203,15 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
         }
         for (int k = 0; k < nmat; ++k) val[(size_t)k * n + i] = fr[k];
     }
+    /* display colours of slots whose resins the resin table does not know (it colours the J750's) */
     static const float k_show[HV_COLOUR_SLOTS][4] = {{0, 0.6f, 0.9f, 1}, {0.9f, 0, 0.5f, 1}, {1, 0.9f, 0, 1},
                                                       {0.1f, 0.1f, 0.1f, 1}, {1, 1, 1, 1}, {0.8f, 0.9f, 1, 0.3f}};
     hv_material_table *tab = NULL;
     s = hv_material_table_create(&tab);
     for (int k = 0; k < nmat && s == HV_OK; ++k)
         s = hv_material_add(tab, k < HV_COLOUR_SLOTS ? hv_colour_map_resin(map, k) : core,
-                            k < HV_COLOUR_SLOTS ? k_show[k] : NULL, NULL);
+                            k < HV_COLOUR_SLOTS && !hv_resin_find(hv_colour_map_resin(map, k)) ? k_show[k] : NULL,
+                            NULL);
     for (int k = 0; k < nmat && s == HV_OK; ++k) {
         char name[160];
         snprintf(name, sizeof name, "material.%s", k < HV_COLOUR_SLOTS ? hv_colour_map_resin(map, k) : core);

@@ -1,7 +1,8 @@
-/* src/core/csv_table.c - two-column CSV tables (internal.h hv_csv_table_parse): a header line
- * and rows "x,value", as read by calibration tables (material/calibration.c, "t,<property>")
+/* src/core/csv_table.c - CSV text cut into rows of trimmed fields (internal.h hv_csv_each_row),
+ * and on it two-column tables (hv_csv_table_parse): a header line and rows "x,value", as read by calibration tables (material/calibration.c, "t,<property>")
  * and linearization tables (export/properties.c, "fraction.<material>,<property>"). One
- * reader, so both refuse the same damaged text with the same words; each checks its header. */
+ * reader, so both refuse the same damaged text with the same words; each checks its header. The
+ * lookup tables of scans (src/colour/lut.c) read their rows with hv_csv_each_row too. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -66,57 +67,89 @@ static hv_status add_row(hv_csv_table *t, size_t *cap, double x, double v, int l
     return HV_OK;
 }
 
-hv_status hv_csv_table_parse(const char *text, size_t len, const hv_csv_table_form *form, hv_csv_table *t)
+hv_status hv_csv_each_row(const char *text, size_t len, const char *name, hv_csv_row_fn fn, void *user)
 {
-    memset(t, 0, sizeof *t);
     char *buf = hv_malloc(len + 1);
     if (!buf) return HV_ERR_NOMEM;
     memcpy(buf, text, len);
     buf[len] = '\0';
     hv_status s = HV_OK;
     int line = 0;
-    size_t cap = 0;
     if (strlen(buf) != len) {
         int at = 1;
         for (size_t i = 0; i < strlen(buf); ++i) at += buf[i] == '\n';
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: NUL byte in text", form->name, at);
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: NUL byte in text", name, at);
     }
     for (char *p = buf; s == HV_OK && *p;) {
         char *nl = strchr(p, '\n');
         if (nl) *nl = '\0';
         ++line;
-        char *l = trim(p), raw[160];
+        char *l = trim(p), raw[160], *field[HV_CSV_MAX_FIELDS];
         p = nl ? nl + 1 : p + strlen(p);
         if (*l == '\0' || *l == '#') continue;
         snprintf(raw, sizeof raw, "%s", l);
-        char *comma = strchr(l, ',');
-        if (!comma || strchr(comma + 1, ',')) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: expected 2 comma-separated fields, got '%s'", form->name,
-                             line, raw);
-            break;
+        int n = 0;
+        for (char *f = l;; ++n) {
+            char *comma = strchr(f, ',');
+            if (n == HV_CSV_MAX_FIELDS) {
+                s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: more than %d comma-separated fields", name, line,
+                                 HV_CSV_MAX_FIELDS);
+                break;
+            }
+            if (comma) *comma = '\0';
+            field[n] = trim(f);
+            if (!comma) {
+                ++n;
+                break;
+            }
+            f = comma + 1;
         }
-        *comma = '\0';
-        char *a = trim(l), *b = trim(comma + 1);
-        double x, v;
-        if (!t->header_line) {
-            snprintf(t->first, sizeof t->first, "%s", a);
-            t->header_line = line;
-            if (strlen(a) >= sizeof t->first || !form->first_ok(a) || !split_property(b, t))
-                s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: header '%s' is not %s (property: 1-64 characters "
-                                 "of [A-Za-z0-9_-]; unit: at most 32 bytes)", form->name, line, raw, form->header);
-        } else if (!parse_number(a, &x)) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: %s '%s' is not a finite number", form->name, line,
-                             form->xname, a);
-        } else if (!parse_number(b, &v)) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: %s '%s' is not a finite number", form->name, line,
-                             t->property, b);
-        } else if (t->n >= (size_t)form->max_rows) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: more than %d rows", form->name, line, form->max_rows);
-        } else {
-            s = add_row(t, &cap, x, v, line);
-        }
+        if (s == HV_OK) s = fn(user, line, field, n, raw);
     }
     free(buf);
+    return s;
+}
+
+typedef struct table_ctx {
+    const hv_csv_table_form *form;
+    hv_csv_table *t;
+    size_t cap;
+} table_ctx;
+
+static hv_status table_row(void *user, int line, char **field, int n, const char *raw)
+{
+    table_ctx *c = user;
+    const hv_csv_table_form *form = c->form;
+    hv_csv_table *t = c->t;
+    if (n != 2)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: expected 2 comma-separated fields, got '%s'", form->name,
+                            line, raw);
+    char *a = field[0], *b = field[1];
+    double x, v;
+    if (!t->header_line) {
+        snprintf(t->first, sizeof t->first, "%s", a);
+        t->header_line = line;
+        if (strlen(a) >= sizeof t->first || !form->first_ok(a) || !split_property(b, t))
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: header '%s' is not %s (property: 1-64 characters "
+                                "of [A-Za-z0-9_-]; unit: at most 32 bytes)", form->name, line, raw, form->header);
+        return HV_OK;
+    }
+    if (!parse_number(a, &x))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: %s '%s' is not a finite number", form->name, line,
+                            form->xname, a);
+    if (!parse_number(b, &v))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: %s '%s' is not a finite number", form->name, line,
+                            t->property, b);
+    if (t->n >= (size_t)form->max_rows)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d: more than %d rows", form->name, line, form->max_rows);
+    return add_row(t, &c->cap, x, v, line);
+}
+
+hv_status hv_csv_table_parse(const char *text, size_t len, const hv_csv_table_form *form, hv_csv_table *t)
+{
+    memset(t, 0, sizeof *t);
+    table_ctx c = {form, t, 0};
+    hv_status s = hv_csv_each_row(text, len, form->name, table_row, &c);
     if (s == HV_OK && !t->header_line)
         s = hv_error_set(HV_ERR_BAD_INPUT, "%s: empty: no header line %s", form->name, form->header);
     if (s == HV_OK && t->n == 0)

@@ -132,6 +132,17 @@ int hv_path_is_special(const char *path);
  * part is "." or ".." is refused. A sandbox's rule; checked on the text the writer then uses. */
 int hv_path_below(const char *root, const char *path);
 
+/* ---- CSV text (csv_table.c) ------------------------------------------------------------------
+ * Rows of comma-separated fields: blank lines and lines starting with '#' skipped, spaces and
+ * tabs around each field trimmed, CRLF accepted, a NUL byte refused ("f.csv: line 3: NUL byte in
+ * text"), at most HV_CSV_MAX_FIELDS fields a row. fn gets each row's line number, its fields
+ * (NUL-terminated, writable) and the trimmed line (cut to 159 bytes, for messages); a status
+ * other than HV_OK stops the reading and is returned. Errors: those, HV_ERR_BAD_INPUT,
+ * HV_ERR_NOMEM. */
+#define HV_CSV_MAX_FIELDS 80
+typedef hv_status (*hv_csv_row_fn)(void *user, int line, char **field, int n, const char *raw);
+hv_status hv_csv_each_row(const char *text, size_t len, const char *name, hv_csv_row_fn fn, void *user);
+
 /* ---- two-column CSV tables (csv_table.c) -----------------------------------------------------
  * A header line "<first>,<property>[<unit>]" then rows "x,value": blank lines and lines starting
  * with '#' skipped, spaces trimmed, CRLF accepted, a NUL byte refused, numbers finite. The

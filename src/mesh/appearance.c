@@ -348,3 +348,60 @@ hv_status hv_mesh_appearance_join(hv_mesh *dst, const hv_mesh *const *parts, siz
     }
     return HV_OK;
 }
+
+/* ---- a body's colour given by the user ------------------------------------------------------- */
+
+/* Facet f's flat colour from its material as 0xRRGGBBAA; 0 with *none set when it has none. */
+static uint32_t material_colour(const hv_mesh *m, size_t f, int *none)
+{
+    float col[4];
+    double one[3] = {1, 0, 0};
+    *none = !hv_mesh_colour_at(m, f, one, col);
+    uint32_t v = 0;
+    for (int k = 0; k < 4 && !*none; ++k) v = v << 8 | (uint32_t)lrintf(col[k] * 255.0f);
+    return v;
+}
+
+hv_status hv_mesh_body_colour_set(hv_mesh *m, const char *body, uint32_t rgba)
+{
+    size_t b = 0;
+    hv_status s = hv_mesh_body_index(m, body, &b);
+    if (s != HV_OK) return s;
+    const hv_mesh_body *bd = hv_mesh_body_at(m, b);
+    uint32_t *c = hv_malloc_array(m->nf, 3 * sizeof *c);
+    float *uv = hv_calloc(m->nf, 6 * sizeof *uv);
+    int32_t *ft = hv_malloc_array(m->nf, sizeof *ft);
+    if (!c || !uv || !ft) {
+        free(c);
+        free(uv);
+        free(ft);
+        return HV_ERR_NOMEM;
+    }
+    if (m->corner_uv) memcpy(uv, m->corner_uv, m->nf * 6 * sizeof *uv);
+    /* Corner colours now hold every flat colour: the other facets' material colours move into
+     * them, facets without any are marked HV_MESH_NO_COLOUR, textured facets keep their texture. */
+    for (size_t f = 0; f < m->nf; ++f) {
+        int32_t t = m->facet_tex ? m->facet_tex[f] : -1;
+        uint32_t *cf = c + 3 * f;
+        if (f >= bd->first_facet && f - bd->first_facet < bd->facet_count) {
+            cf[0] = cf[1] = cf[2] = rgba;
+            ft[f] = -1;
+            continue;
+        }
+        ft[f] = t;
+        if (m->corner_rgba) {
+            memcpy(cf, m->corner_rgba + 3 * f, 3 * sizeof *cf);
+            continue;
+        }
+        int none = 1;
+        cf[0] = cf[1] = cf[2] = t == -1 ? material_colour(m, f, &none) : 0;
+        if (t == -1 && none) ft[f] = HV_MESH_NO_COLOUR;
+    }
+    free(m->corner_rgba);
+    free(m->corner_uv);
+    free(m->facet_tex);
+    m->corner_rgba = c;
+    m->corner_uv = uv;
+    m->facet_tex = ft;
+    return HV_OK;
+}

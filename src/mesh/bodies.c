@@ -134,9 +134,8 @@ nomem:
     return HV_ERR_NOMEM;
 }
 
-hv_status hv_mesh_body_material_set(hv_mesh *m, const char *body, const char *material)
+hv_status hv_mesh_body_index(hv_mesh *m, const char *body, size_t *out)
 {
-    if (!material || !*material) return hv_error_set(HV_ERR_INVALID, "%s: body '%s': empty material name", hv_mesh_name(m), body);
     if (m->nbodies == 0) {
         hv_status s = hv_mesh_default_body(m);
         if (s != HV_OK) return s;
@@ -154,6 +153,16 @@ hv_status hv_mesh_body_material_set(hv_mesh *m, const char *body, const char *ma
         hv_buf_free(&list);
         return s;
     }
+    *out = b;
+    return HV_OK;
+}
+
+hv_status hv_mesh_body_material_set(hv_mesh *m, const char *body, const char *material)
+{
+    if (!material || !*material) return hv_error_set(HV_ERR_INVALID, "%s: body '%s': empty material name", hv_mesh_name(m), body);
+    size_t b = 0;
+    hv_status found = hv_mesh_body_index(m, body, &b);
+    if (found != HV_OK) return found;
     size_t k = 0;
     while (k < m->nmats && strcmp(m->mats[k].name, material) != 0) ++k;
     hv_mesh_body *bodies = hv_malloc_array(m->nbodies, sizeof *bodies);

@@ -78,6 +78,9 @@ const char *hv_mesh_material_color_text(const hv_mesh_material *mat, char buf[10
 /* The one body of a mesh built from a soup: named after the file (base name without the
  * extension) or "body 1". Called by hv_mesh_from_soup. */
 hv_status hv_mesh_default_body(hv_mesh *m);
+/* The index of the body named `body` (a mesh without bodies gets its default one first). Errors:
+ * HV_ERR_NOT_FOUND ("gear.obj: no body 'hub' (bodies: rim, spokes)"), HV_ERR_NOMEM. */
+hv_status hv_mesh_body_index(hv_mesh *m, const char *body, size_t *out);
 void hv_mesh_bodies_free(hv_mesh *m);
 
 /* hovox.mesh.json (report_json.c; volumes/schema.h): also the object of `hovox info --json`.

@@ -351,3 +351,43 @@ Test(appearance, join_keeps_a_material_colour_as_corner_colours)
     hv_mesh_destroy(plain);
     hv_mesh_destroy(j);
 }
+
+Test(appearance, body_colour_overrides_its_texture_and_keeps_the_others_colours)
+{
+    /* three bodies: "tex" textured, "red" coloured by its material, "plain" without colour; the
+     * user colours "tex" blue: its facets turn blue, "red" keeps its red (now as corner colours),
+     * "plain" stays without colour; a body that is not there is named with those there are */
+    hv_mesh *a = t_cube_mesh(0, 1), *b = t_cube_mesh(2, 3), *c = t_cube_mesh(4, 5), *j = NULL;
+    add_tex(a, HV_TILE_CLAMP, HV_TILE_CLAMP, HV_FILTER_NEAREST);
+    uv_everywhere(a, 0, 0.1f, 0.9f);
+    size_t nb = hv_mesh_facet_count(b);
+    hv_mesh_body body = {"red", HV_MESH_NO_MATERIAL, 0, nb};
+    hv_mesh_material mat = {"Red", 0xFF0000FFu, 1};
+    int32_t *fm = calloc(nb, sizeof *fm);
+    cr_assert_eq(hv_mesh_set_bodies(b, &body, 1, &mat, 1, fm), HV_OK);
+    hv_mesh_part parts[3] = {{a, "tex", NULL}, {b, "red", "Red"}, {c, "plain", NULL}};
+    cr_assert_eq(hv_mesh_join(parts, 3, &j), HV_OK, "%s", hv_last_error());
+    float col[4];
+    colour_at(j, 0, col);
+    expect(col, 1, 0, 0, 1); /* the texture's top-left texel */
+    cr_assert_eq(hv_mesh_body_colour_set(j, "tex", 0x0000FFFFu), HV_OK, "%s", hv_last_error());
+    size_t na = hv_mesh_facet_count(a);
+    for (size_t f = 0; f < na; ++f) {
+        colour_at(j, f, col);
+        expect(col, 0, 0, 1, 1);
+    }
+    colour_at(j, na + 3, col);
+    expect(col, 1, 0, 0, 1);
+    cr_assert_not(hv_mesh_colour_at(j, na + nb + 1, (double[3]){1, 0, 0}, col));
+    cr_assert_eq(hv_mesh_body_colour_set(j, "hub", 0x000000FFu), HV_ERR_NOT_FOUND);
+    cr_assert_str_eq(hv_last_error(), "the mesh: no body 'hub' (bodies: tex, red, plain)");
+    /* a mesh coloured by its material alone: the body's colour replaces it */
+    cr_assert_eq(hv_mesh_body_colour_set(b, "red", 0x00FF0080u), HV_OK);
+    colour_at(b, 2, col);
+    expect(col, 0, 1, 0, 128 / 255.0);
+    free(fm);
+    hv_mesh_destroy(a);
+    hv_mesh_destroy(b);
+    hv_mesh_destroy(c);
+    hv_mesh_destroy(j);
+}

@@ -59,8 +59,9 @@ echo "  threads  estimate      peak RSS   (layers 256:512; goal: a plate and one
 for th in 2 8 16; do
     est=$("$HOVOX" tray "$tw/tray.json" -o "$tw/mem" --layers 256:512 --threads "$th" --dry-run 2>/dev/null |
         sed -n 's/^memory *about //p')
-    r=$( { /usr/bin/time -f "%M" "$HOVOX" tray "$tw/tray.json" -o "$tw/mem$th" --layers 256:512 --threads "$th" \
-        --force -q >/dev/null 2>/dev/null; } 2>&1 | tail -n 1)
+    /usr/bin/time -o "$tw/mem.rss" -f "%M" "$HOVOX" tray "$tw/tray.json" -o "$tw/mem$th" --layers 256:512 \
+        --threads "$th" --force -q >/dev/null 2>&1
+    r=$(tail -n 1 "$tw/mem.rss")
     printf "  %7s  %-12s %8.1f MiB\n" "$th" "$est" "$(awk -v k="$r" 'BEGIN { printf "%.1f", k / 1024 }')"
 done
 diff -r "$tw/mem2" "$tw/mem16" >/dev/null && echo "  the stacks of 2 and 16 threads are the same bytes" ||

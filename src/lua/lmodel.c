@@ -9,6 +9,7 @@
 
 #include "core/internal.h"
 #include "hovox/model.h"
+#include "hovox/colour.h"
 #include "hovox/voxelize.h"
 #include "lhovox.h"
 
@@ -201,6 +202,37 @@ static int model_probe(lua_State *L)
 static void destroy_volume(void *p) { hv_volume_destroy(p); }
 static void destroy_mats(void *p) { hv_material_table_destroy(p); }
 
+/* model:paint(mesh, {colour_depth = MM (default 1), core = RESIN | COLOUR, icc = FILE, intent =
+ * NAME, resins = "C,M,Y,K,W,CLEAR"}) -> the model: painted in the mesh's colours, as `hovox
+ * voxelize --colour-depth` (hv_colour_paint_text); the mesh is the one it was voxelized from */
+static int model_paint(lua_State *L)
+{
+    static const char *const extra[] = {"colour_depth", "core", NULL};
+    hv_lua_mesh(L, 2);
+    hv_colour_options co;
+    int holder = hv_lua_read(L, 3, hv_colour_option_set(), &co, extra);
+    double depth = 1.0;
+    if (hv_lua_field(L, 3, "colour_depth") != LUA_TNIL) {
+        if (lua_type(L, -1) != LUA_TNUMBER) return arg_error(L, 3, "colour_depth must be a number (mm)");
+        depth = lua_tonumber(L, -1);
+    }
+    lua_pop(L, 1);
+    if (!(depth > 0 && depth <= 1e6)) return arg_error(L, 3, "colour_depth must be in (0, 1e6] mm, got %g", depth);
+    const char *core = hv_lua_string_field(L, 3, "core", holder);
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL); /* again: reading the options may have run a finalizer */
+    hv_mesh *mesh = hv_lua_mesh(L, 2);
+    hv_colour_map *map = NULL;
+    hv_status s = hv_colour_map_create(&co, &map);
+    if (s == HV_OK) s = hv_colour_paint_text(u->p, mesh, map, depth, core);
+    hv_colour_map_destroy(map);
+    if (s != HV_OK) return fail(L, s);
+    hv_material_table *t = u->mats; /* the table changed */
+    u->mats = NULL;
+    hv_lua_release(L, destroy_mats, t);
+    lua_settop(L, 1);
+    return 1;
+}
+
 int hv_lua_model_free(lua_State *L)
 {
     l_model *u = luaL_checkudata(L, 1, MT_MODEL);
@@ -228,7 +260,8 @@ void hv_lua_open_model(lua_State *L, int module)
 {
     static const luaL_Reg methods[] = {{"save", model_save},     {"grids", model_grids}, {"voxels", model_voxels},
                                        {"transform", model_transform}, {"meta", model_meta},   {"probe", model_probe},
-                                       {"add_grid", model_add_grid}, {"free", hv_lua_model_free}, {NULL, NULL}};
+                                       {"add_grid", model_add_grid}, {"paint", model_paint},
+                                       {"free", hv_lua_model_free}, {NULL, NULL}};
     static const luaL_Reg fns[] = {{"voxelize", l_voxelize}, {"load", l_load}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MODEL, methods, hv_lua_model_free, model_tostring);
     lua_pushvalue(L, module);

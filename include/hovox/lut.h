@@ -78,6 +78,13 @@ HV_API void hv_lut_eval(const hv_lut *lut, double value, float *out);
 HV_API hv_status hv_lut_paint_scan(hv_volume *model, const hv_scan *scan, const hv_lut *lut, hv_colour_map *map,
                                    uint64_t max_memory, const hv_progress *progress);
 
+/* A scan's model with materials: hv_scan_voxelize with `opts` (the shape, voxel size, clean-ups,
+ * max_memory, progress), then, when `lut` is given, hv_lut_paint_scan with it and `map` under the
+ * same memory limit. What `hovox voxelize VOLUME --lut` writes and `hovox layers VOLUME` prints
+ * from. report may be NULL. Errors: those of the two. */
+HV_API hv_status hv_lut_scan_model(const hv_scan *scan, const hv_scan_voxelize_options *opts, const hv_lut *lut,
+                                   hv_colour_map *map, hv_volume **out, hv_scan_voxelize_report *report);
+
 #ifdef __cplusplus
 }
 #endif

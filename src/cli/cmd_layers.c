@@ -15,11 +15,13 @@
 #include "hovox/layers.h"
 #include "hovox/material.h"
 #include "hovox/threemf.h"
+#include "scan_opts.h"
 
 typedef struct layers_cli {
     const char *output, *mesh;
     int dry_run, view;
     hv_placement place;
+    cli_scan scan;
 } layers_cli;
 
 static const hv_option k_local_opts[] = {
@@ -34,6 +36,7 @@ static const hv_option k_local_opts[] = {
      .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
      .section = "Geometry"},
     HV_PLACEMENT_OPTIONS(layers_cli, place),
+    CLI_SCAN_OPTIONS(layers_cli, scan),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("layers", k_local_opts, layers_cli);
 
@@ -124,12 +127,50 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
            (unsigned long long)r->object_pixels, how, o->gcvf_path ? ", " : "", o->gcvf_path ? o->gcvf_path : "");
 }
 
-static int run(hv_layers_options *o, const layers_cli *c, int quiet)
+/* A scanned volume's model (issue 30): its iso-surface as the shape, its materials from the lookup
+ * table, made in memory under --max-memory and cut like any model. */
+static hv_status scan_model(const hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_options *so,
+                            int quiet, hv_volume **model, hv_buf *said)
+{
+    hv_scan *scan = NULL;
+    hv_lut *lut = NULL;
+    hv_colour_map *map = NULL;
+    hv_scan_options sopt = {o->max_memory};
+    hv_status s = cli_scan_lut(&c->scan, NULL, &lut, &map); /* colours through the default profile */
+    if (s == HV_OK) s = hv_scan_load(o->model_name, &sopt, &scan);
+    if (s == HV_OK) {
+        cli_progress bar;
+        cli_progress_init(&bar, quiet);
+        hv_progress prog = {cli_progress_fn, &bar};
+        so->progress = &prog;
+        so->max_memory = o->max_memory;
+        s = hv_lut_scan_model(scan, so, lut, map, model, NULL);
+        so->progress = NULL;
+        cli_progress_done(&bar);
+    }
+    if (s == HV_OK) {
+        size_t d[3];
+        hv_scan_dims(scan, d);
+        hv_buf_printf(said, "volume      %s (%s, %zu x %zu x %zu samples)\n", o->model_name,
+                      hv_scan_get_info(scan)->format_name, d[0], d[1], d[2]);
+        if (lut) cli_scan_describe_lut(said, c->scan.lut, lut, map);
+    }
+    hv_lut_destroy(lut);
+    hv_colour_map_destroy(map);
+    hv_scan_destroy(scan);
+    return s;
+}
+
+static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_options *so, int quiet)
 {
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
     hv_status s;
-    if (!c->mesh && hv_3mf_sniff(o->model_name)) { /* a 3MF Volumetric model: its mesh and its model in one read */
+    hv_buf said; /* what making a scan's model has to say, printed when the job succeeds */
+    hv_buf_init(&said);
+    if (so) {
+        s = scan_model(o, c, so, quiet, &model, &said);
+    } else if (!c->mesh && hv_3mf_sniff(o->model_name)) { /* a 3MF Volumetric model: its mesh and its model in one read */
         s = hv_3mf_load(o->model_name, &model, &mesh);
         o->mesh_name = o->model_name;
     } else {
@@ -146,6 +187,7 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
     }
     size_t seen = strlen(r.warnings);
     if (s == HV_OK && c->dry_run) {
+        if (said.data) fputs(said.data, stdout);
         print_plan(&r, o);
         if (cli_dist) { /* hovox-mpi: how the ranks share the layers */
             int n = cli_dist->size;
@@ -173,10 +215,12 @@ static int run(hv_layers_options *o, const layers_cli *c, int quiet)
         s = hv_layers_write(mesh, model, c->output, o, &prog, &r);
         cli_progress_done(&bar);
         if (s == HV_OK) warn(&r, HV_MIN(seen, strlen(r.warnings)));
+        if (s == HV_OK && said.data) fputs(said.data, stdout);
         if (s == HV_OK) report(&r, o, c, mesh, model, &skin);
         hv_colour_map_destroy(skin.map);
         if (s == HV_OK) cli_view_report(&page, c->output);
     }
+    hv_buf_free(&said);
     hv_volume_destroy(model);
     hv_mesh_destroy(mesh);
     return s == HV_OK ? EXIT_OK : cli_fail(s);
@@ -196,13 +240,29 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     o->mesh_name = c->mesh;
     o->model_name = args->npos ? args->pos[0] : NULL;
     o->dist = cli_dist;
-    return run(o, c, args->quiet);
+    if (!o->model_name || !hv_scan_path_is_scan(o->model_name)) {
+        int rc = cli_scan_refuse(args, "layers", "is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a "
+                                               "DICOM directory)");
+        return rc >= 0 ? rc : run(o, c, NULL, args->quiet);
+    }
+    if (c->mesh) return cli_usage_error("layers", "--mesh is for models; a scanned volume is cut at its own iso-surface");
+    if (!c->scan.lut && o->mode != HV_LAYERS_MASK)
+        return cli_usage_error("layers", "a scanned volume's materials come from --lut TABLE.csv (or print its shape "
+                                         "alone with --mode mask)");
+    hv_scan_voxelize_options so;
+    hv_scan_voxelize_options_init(&so);
+    int32_t *labels = NULL;
+    int rc = cli_scan_shape(args, "layers", &c->scan, &so, &labels);
+    if (rc < 0) rc = run(o, c, &so, args->quiet);
+    free(labels);
+    return rc;
 }
 
 const cli_spec cmd_layers = {
     "layers", "printer slice stacks (PNG) from a model",
     "MODEL.vdb -o DIR [--mesh MESH] [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
-    "       hovox layers --mesh MESH -o DIR --mode mask [options]",
+    "       hovox layers --mesh MESH -o DIR --mode mask [options]\n"
+    "       hovox layers VOLUME (--iso V | --range LO,HI | --labels A,B,...) --lut TABLE.csv -o DIR [options]",
     "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the part's\n"
     "lowest z; each is cut at its mid-height z. Per layer the part's contour is rasterised at\n"
     "printer resolution by pixel centres: that decides object and background, as sharp as the\n"
@@ -212,7 +272,11 @@ const cli_spec cmd_layers = {
     "layers around z interpolated in z over occupied voxels, extended outwards to pixels the\n"
     "voxels miss, then resampled to printer pixels by pixel overlap interpolation (exact area\n"
     "weights, in steps of at most --poi-step) -- or, with --method direct, the grading\n"
-    "definition evaluated at every pixel centre.\n",
+    "definition evaluated at every pixel centre.\n"
+    "A scanned volume (NIfTI, NRRD, MetaImage, a DICOM series directory) prints straight from its\n"
+    "data: its model is made in memory as 'hovox voxelize VOLUME --lut' makes it (voxels of the\n"
+    "smallest sample spacing), the contours are marching squares on the interpolated field at\n"
+    "printer resolution, the materials the lookup table's at the voxels, resampled as above.\n",
     hv_layers_option_set, &k_local,
     "DIR/manifest.json: profile, dpi, layer height, materials with palette colours, pixel_mm\n"
     "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"

@@ -12,16 +12,13 @@
 #include "hovox/colour.h"
 #include "hovox/geometry.h"
 #include "hovox/model.h"
-#include "hovox/lut.h"
-#include "hovox/scan.h"
+#include "scan_opts.h"
 #include "hovox/voxelize.h"
 
 typedef struct vox_cli {
     const char *output, *like;
     int dry_run, json;
-    double iso, range[2], min_feature;
-    const char *labels, *lut;
-    int keep_largest, fill_holes;
+    cli_scan scan;
     hv_placement place;
     const char *material[64]; /* "BODY=NAME" */
     int nmaterial;
@@ -92,22 +89,7 @@ static const hv_option k_local_opts[] = {
     COLOUR_MAP_OPTION("intent"),
     COLOUR_MAP_OPTION("resins"),
     HV_PLACEMENT_OPTIONS(vox_cli, place),
-    {.key = "iso", .kind = HV_OPT_NUMBER, .offset = offsetof(vox_cli, iso), .meta = "VALUE",
-     .help = "a scanned volume's solid: where its trilinearly interpolated value is at least VALUE (e.g. 300 HU for bone)",
-     .section = "Scanned volumes (NIfTI, NRRD, MetaImage, DICOM series: one of --iso, --range, --labels)"},
-    {.key = "range", .kind = HV_OPT_NUMBER, .count = 2, .offset = offsetof(vox_cli, range), .meta = "LO,HI",
-     .help = "the solid where the interpolated value lies in [LO, HI]"},
-    {.key = "labels", .kind = HV_OPT_STRING, .offset = offsetof(vox_cli, labels), .meta = "A,B,...",
-     .help = "a segmentation's labels (integers): the solid where the interpolated indicator of those labels is at least 1/2"},
-    {.key = "keep_largest", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, keep_largest),
-     .help = "keep the largest connected part only"},
-    {.key = "fill_holes", .kind = HV_OPT_FLAG, .offset = offsetof(vox_cli, fill_holes),
-     .help = "fill every enclosed cavity"},
-    {.key = "min_feature", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = offsetof(vox_cli, min_feature), .meta = "MM",
-     .unit = "mm", .help = "drop parts and fill cavities smaller than a ball of this diameter"},
-    {.key = "lut", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(vox_cli, lut), .meta = "TABLE.csv",
-     .help = "materials from the volume's values: a lookup table of value -> material fractions or an sRGB colour "
-             "(README 'Lookup tables')"},
+    CLI_SCAN_OPTIONS(vox_cli, scan),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("voxelize", k_local_opts, vox_cli);
 
@@ -364,51 +346,6 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     return rc;
 }
 
-/* "1,2,5" -> labels (malloc'd). */
-static int parse_labels(const char *text, int32_t **out, size_t *n)
-{
-    *out = NULL;
-    *n = 0;
-    size_t cap = 0;
-    const char *p = text;
-    while (*p) {
-        char *e;
-        long v = strtol(p, &e, 10);
-        if (e == p || v < INT32_MIN || v > INT32_MAX || (*e && *e != ',')) {
-            free(*out);
-            *out = NULL;
-            return cli_usage_error("voxelize", "--labels must be integers A,B,..., got '%s'", text);
-        }
-        if (hv_grow((void **)out, &cap, *n + 1, sizeof **out) != HV_OK) return cli_fail(HV_ERR_NOMEM);
-        (*out)[(*n)++] = (int32_t)v;
-        p = *e ? e + 1 : e;
-    }
-    if (!*n) return cli_usage_error("voxelize", "--labels must name at least one label");
-    return -1;
-}
-
-/* The lookup table, and for a colour table the colour map its colours print through. */
-static hv_status load_lut(const vox_cli *c, hv_lut **lut, hv_colour_map **map)
-{
-    hv_status s = hv_lut_load(c->lut, lut);
-    if (s != HV_OK || hv_lut_kind_of(*lut) != HV_LUT_COLOUR) return s;
-    return hv_colour_map_create(&c->cmap, map); /* --icc, --intent, --resins as for painting a mesh */
-}
-
-static void print_lut(const char *path, const hv_lut *lut, hv_colour_map *map)
-{
-    double lo, hi;
-    hv_lut_range(lut, &lo, &hi);
-    printf("materials   %s: %zu rows, %s %.6g to %.6g ->", path, hv_lut_rows(lut), hv_lut_value_name(lut), lo, hi);
-    if (map) {
-        printf(" colour through %s:", hv_colour_map_description(map));
-        for (int k = 0; k < HV_COLOUR_SLOTS; ++k) printf(" %s", hv_colour_map_resin(map, k));
-    } else {
-        for (int k = 0; k < hv_lut_columns(lut); ++k) printf(" %s", hv_lut_material(lut, k));
-    }
-    printf("\n");
-}
-
 static int run_scan(const cli_args *args, const char *path, const hv_voxelize_options *vopt, const vox_cli *c)
 {
     static const char *const mesh_only[] = {"adjacency", "fill", "dims", "like", "material", "colour",
@@ -418,36 +355,20 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
             return cli_usage_error("voxelize", "%s is for meshes; a scanned volume takes --iso, --range or --labels",
                                    cli_spell(mesh_only[i]));
     static const char *const map_only[] = {"icc", "intent", "resins"};
-    for (size_t i = 0; i < sizeof map_only / sizeof *map_only && !c->lut; ++i)
+    for (size_t i = 0; i < sizeof map_only / sizeof *map_only && !c->scan.lut; ++i)
         if (cli_given(args, map_only[i]))
             return cli_usage_error("voxelize", "%s is for a colour lookup table (--lut)", cli_spell(map_only[i]));
-    int picks = cli_given(args, "iso") + cli_given(args, "range") + cli_given(args, "labels");
-    if (picks != 1) return cli_usage_error("voxelize", "a scanned volume needs one of --iso, --range or --labels");
     hv_scan_voxelize_options o;
     hv_scan_voxelize_options_init(&o);
     int32_t *labels = NULL;
-    if (cli_given(args, "iso")) {
-        o.shape.select = HV_SCAN_SELECT_ISO;
-        o.shape.iso = c->iso;
-    } else if (cli_given(args, "range")) {
-        o.shape.select = HV_SCAN_SELECT_RANGE;
-        o.shape.range[0] = c->range[0];
-        o.shape.range[1] = c->range[1];
-    } else {
-        int rc = parse_labels(c->labels, &labels, &o.shape.label_count);
-        if (rc >= 0) return rc;
-        o.shape.select = HV_SCAN_SELECT_LABELS;
-        o.shape.labels = labels;
-    }
+    int rc = cli_scan_shape(args, "voxelize", &c->scan, &o, &labels);
+    if (rc >= 0) return rc;
     if (cli_given(args, "voxel_size")) memcpy(o.voxel_size, vopt->voxel_size, sizeof o.voxel_size);
-    o.keep_largest = c->keep_largest;
-    o.fill_holes = c->fill_holes;
-    o.min_feature = c->min_feature;
     o.max_memory = vopt->max_memory;
     hv_scan *scan = NULL;
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
-    hv_status s = c->lut ? load_lut(c, &lut, &map) : HV_OK;
+    hv_status s = cli_scan_lut(&c->scan, &c->cmap, &lut, &map); /* --icc, --intent, --resins as for painting */
     if (s == HV_OK) s = hv_scan_load(path, NULL, &scan);
     hv_volume *vol = NULL;
     hv_scan_voxelize_report r;
@@ -456,16 +377,13 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
         cli_progress_init(&bar, args->quiet);
         hv_progress prog = {cli_progress_fn, &bar};
         o.progress = &prog;
-        s = hv_scan_voxelize(scan, &o, &vol, &r);
-        if (s == HV_OK && lut) s = hv_lut_paint_scan(vol, scan, lut, map, vopt->max_memory, &prog);
+        s = hv_lut_scan_model(scan, &o, lut, map, &vol, &r);
         cli_progress_done(&bar);
     }
     if (s == HV_OK && !c->dry_run) s = hv_volume_save(vol, c->output);
-    if (s != HV_OK || !lut) {
+    if (s != HV_OK) {
         hv_lut_destroy(lut);
         hv_colour_map_destroy(map);
-    }
-    if (s != HV_OK) {
         free(labels);
         hv_volume_destroy(vol);
         hv_scan_destroy(scan);
@@ -478,8 +396,8 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
     if (o.shape.select == HV_SCAN_SELECT_ISO) snprintf(shape, sizeof shape, "value >= %.6g", o.shape.iso);
     else if (o.shape.select == HV_SCAN_SELECT_RANGE)
         snprintf(shape, sizeof shape, "%.6g <= value <= %.6g", o.shape.range[0], o.shape.range[1]);
-    else snprintf(shape, sizeof shape, "labels %s", c->labels);
-    int rc = EXIT_OK;
+    else snprintf(shape, sizeof shape, "labels %s", c->scan.labels);
+    rc = EXIT_OK;
     if (c->json) {
         cli_json j;
         cli_json_begin(&j);
@@ -494,7 +412,7 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
         cli_json_num(&j, "voxel_volume", r.volume);
         cli_json_int(&j, "dropped_parts", (long long)r.dropped_parts);
         cli_json_int(&j, "filled_cavities", (long long)r.filled_cavities);
-        if (lut) cli_json_str(&j, "lut", c->lut);
+        if (lut) cli_json_str(&j, "lut", c->scan.lut);
         if (!c->dry_run) cli_json_str(&j, "output", c->output);
         rc = cli_json_end(&j, NULL, NULL);
     } else {
@@ -509,7 +427,7 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
                    (unsigned long long)r.filled_cavities, (unsigned long long)r.filled_voxels);
         printf("occupied    %llu voxels (%llu surface), volume %.6g\n", (unsigned long long)r.occupied,
                (unsigned long long)r.surface, r.volume);
-        if (lut) print_lut(c->lut, lut, map);
+        if (lut) cli_scan_print_lut(c->scan.lut, lut, map);
         if (!c->dry_run) printf("wrote       %s\n", c->output);
     }
     free(labels);
@@ -530,12 +448,9 @@ static int run_cli(const cli_args *args, void *lib, void *local)
                                    "affine (world RAS millimetres)");
         return run_scan(args, args->pos[0], lib, c);
     }
-    static const char *const scan_only[] = {"iso", "range", "labels", "keep_largest", "fill_holes", "min_feature",
-                                            "lut"};
-    for (size_t i = 0; i < sizeof scan_only / sizeof *scan_only; ++i)
-        if (cli_given(args, scan_only[i]))
-            return cli_usage_error("voxelize", "%s is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM "
-                                   "directory), not meshes", cli_spell(scan_only[i]));
+    int rc = cli_scan_refuse(args, "voxelize", "is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a "
+                                               "DICOM directory), not meshes");
+    if (rc >= 0) return rc;
     static const char *const map_only[] = {"icc", "intent", "resins"};
     for (size_t i = 0; i < sizeof map_only / sizeof *map_only && !painting(c); ++i)
         if (cli_given(args, map_only[i]))

@@ -308,3 +308,18 @@ hv_status hv_lut_paint_scan(hv_volume *model, const hv_scan *scan, const hv_lut 
     free(val);
     return s;
 }
+
+hv_status hv_lut_scan_model(const hv_scan *scan, const hv_scan_voxelize_options *opts, const hv_lut *lut,
+                            hv_colour_map *map, hv_volume **out, hv_scan_voxelize_report *report)
+{
+    *out = NULL;
+    hv_volume *vol = NULL;
+    hv_status s = hv_scan_voxelize(scan, opts, &vol, report);
+    if (s == HV_OK && lut) s = hv_lut_paint_scan(vol, scan, lut, map, opts->max_memory, opts->progress);
+    if (s != HV_OK) {
+        hv_volume_destroy(vol);
+        return s;
+    }
+    *out = vol;
+    return HV_OK;
+}

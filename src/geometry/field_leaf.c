@@ -31,13 +31,14 @@ static void field_close(void *state)
     free(f);
 }
 
-/* The box of the inside: the index box of the samples with g >= 0, widened along each axis to
- * where the field crosses toward the outside neighbours (edge crossings), through the affine. */
+/* The box of the inside in world coordinates: every sample with g >= 0 and, toward each outside
+ * neighbour, the point where the field crosses (edge crossings), each taken through the affine (so
+ * a rotated grid gives the box of the shape, not of its index box turned). */
 static void inside_box(field_leaf *f)
 {
     const hv_scan *s = f->scan;
     int64_t n[3] = {(int64_t)s->dims[0], (int64_t)s->dims[1], (int64_t)s->dims[2]};
-    double ilo[3] = {INFINITY, INFINITY, INFINITY}, ihi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int r = 0; r < 3; ++r) f->lo[r] = INFINITY, f->hi[r] = -INFINITY;
     for (int64_t k = 0; k < n[2]; ++k)
         for (int64_t j = 0; j < n[1]; ++j)
             for (int64_t i = 0; i < n[0]; ++i) {
@@ -50,26 +51,19 @@ static void inside_box(field_leaf *f)
                         e[a] += dir;
                         double ge = e[a] < 0 || e[a] > (double)(n[a] - 1) ? -INFINITY : hv_scan_level_at_index(&f->lv, e);
                         double reach = ge >= 0 ? 1.0 : isinf(ge) ? 0.5 : g / (g - ge);
-                        double x = idx[a] + dir * reach;
-                        ilo[a] = fmin(ilo[a], x);
-                        ihi[a] = fmax(ihi[a], x);
+                        double x[3] = {idx[0], idx[1], idx[2]};
+                        x[a] += dir * reach;
+                        for (int r = 0; r < 3; ++r) {
+                            double w = s->m[4 * r] * x[0] + s->m[4 * r + 1] * x[1] + s->m[4 * r + 2] * x[2] + s->m[4 * r + 3];
+                            f->lo[r] = fmin(f->lo[r], w);
+                            f->hi[r] = fmax(f->hi[r], w);
+                        }
                     }
                 }
             }
-    for (int r = 0; r < 3; ++r) f->lo[r] = INFINITY, f->hi[r] = -INFINITY;
-    if (!(ilo[0] <= ihi[0])) { /* empty */
+    if (!(f->lo[0] <= f->hi[0])) { /* empty */
         memset(f->lo, 0, sizeof f->lo);
         memset(f->hi, 0, sizeof f->hi);
-        return;
-    }
-    for (int c = 0; c < 8; ++c) {
-        double idx[3];
-        for (int a = 0; a < 3; ++a) idx[a] = (c >> a & 1) ? ihi[a] : ilo[a];
-        for (int r = 0; r < 3; ++r) {
-            double w = s->m[4 * r] * idx[0] + s->m[4 * r + 1] * idx[1] + s->m[4 * r + 2] * idx[2] + s->m[4 * r + 3];
-            f->lo[r] = fmin(f->lo[r], w);
-            f->hi[r] = fmax(f->hi[r], w);
-        }
     }
 }
 

@@ -3,6 +3,7 @@
  * saving, inspection and probing. Outputs are in loutput.c, features made from a model in
  * lsource.c. */
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 
 #include <lauxlib.h>
@@ -199,6 +200,36 @@ static int model_probe(lua_State *L)
     return 2;
 }
 
+/* hovox.colour(colour, {icc = FILE, intent = NAME, resins = "C,M,Y,K,W,CLEAR"}) -> {<resin> =
+ * fraction, ... (six), de2000 = dE}: what `hovox colour` prints for one colour */
+static int l_colour(lua_State *L)
+{
+    const char *text = luaL_checkstring(L, 1);
+    float f[4];
+    if (hv_color_parse(text, f) != HV_OK) return arg_error(L, 1, "%s", hv_last_error());
+    hv_colour_options co;
+    hv_lua_read(L, 2, hv_colour_option_set(), &co, NULL);
+    hv_colour_map *map = NULL;
+    hv_status s = hv_colour_map_create(&co, &map);
+    if (s != HV_OK) return fail(L, s);
+    uint8_t rgba[4];
+    for (int k = 0; k < 4; ++k) rgba[k] = (uint8_t)lrintf(f[k] * 255.0f);
+    float fr[HV_COLOUR_SLOTS];
+    double want[3], got[3];
+    hv_colour_map_fractions(map, rgba, fr);
+    hv_colour_map_lab_of_srgb(map, rgba, want);
+    hv_colour_map_lab_of_fractions(map, fr, got);
+    lua_createtable(L, 0, HV_COLOUR_SLOTS + 1);
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        lua_pushnumber(L, fr[k]);
+        lua_setfield(L, -2, hv_colour_map_resin(map, k));
+    }
+    lua_pushnumber(L, hv_colour_delta_e2000(want, got));
+    hv_colour_map_destroy(map); /* after the names were copied into the table */
+    lua_setfield(L, -2, "de2000");
+    return 1;
+}
+
 static void destroy_volume(void *p) { hv_volume_destroy(p); }
 static void destroy_mats(void *p) { hv_material_table_destroy(p); }
 
@@ -262,7 +293,7 @@ void hv_lua_open_model(lua_State *L, int module)
                                        {"transform", model_transform}, {"meta", model_meta},   {"probe", model_probe},
                                        {"add_grid", model_add_grid}, {"paint", model_paint},
                                        {"free", hv_lua_model_free}, {NULL, NULL}};
-    static const luaL_Reg fns[] = {{"voxelize", l_voxelize}, {"load", l_load}, {NULL, NULL}};
+    static const luaL_Reg fns[] = {{"voxelize", l_voxelize}, {"load", l_load}, {"colour", l_colour}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MODEL, methods, hv_lua_model_free, model_tostring);
     lua_pushvalue(L, module);
     hv_lua_set_funcs(L, fns);

@@ -36,4 +36,13 @@ fails("already", model.paint, model, box, {colour_depth = 1, core = "Agilus30"})
 -- the stack reports the skin's dE2000
 local st = model:layers{mesh = box, dir = tmp .. "/stack", profile = "j750", layers = {40, 41}}
 assert(st.colour and st.colour.skin_voxels > 0 and st.colour.mean_de2000_target > 1, "stack colour report")
+-- hovox.colour: what `hovox colour` prints (red through the default profile: half magenta, half
+-- yellow, dE2000 20.97)
+local red = hovox.colour("#ff0000")
+assert(math.abs(red["VeroMagenta-V"] - 0.5) < 0.01 and math.abs(red["VeroYellow-V"] - 0.5) < 0.01, "red's fractions")
+assert(math.abs(red.de2000 - 20.97) < 0.01, "red's dE2000 " .. red.de2000)
+local rel = hovox.colour("1,1,0", {resins = "C1,M1,Y1,K1,W1,Clear1", intent = "relative"})
+assert(rel.Y1 > 0.5 and rel["VeroYellow-V"] == nil, "another resin map")
+fails("is not #rrggbb", hovox.colour, "#ff00")
+fails("not an ICC profile", hovox.colour, "#ff0000", {icc = tmp .. "/x.icc"})
 print("colour: ok")

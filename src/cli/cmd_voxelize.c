@@ -263,11 +263,7 @@ static hv_status set_colours(hv_mesh *raw, const vox_cli *c, const char *path)
 /* The core: a colour when the text reads as one, else a resin; default the map's white resin. */
 static hv_status paint(hv_volume *vol, const hv_mesh *mesh, const vox_cli *c, hv_colour_map *map)
 {
-    float rgba[4];
-    if (c->core && hv_color_parse(c->core, rgba) == HV_OK)
-        return hv_colour_paint(vol, mesh, map, colour_depth(c), NULL, rgba);
-    return hv_colour_paint(vol, mesh, map, colour_depth(c), c->core ? c->core : hv_colour_map_resin(map, HV_COLOUR_W),
-                           NULL);
+    return hv_colour_paint_text(vol, mesh, map, colour_depth(c), c->core);
 }
 
 static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int quiet)

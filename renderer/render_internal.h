@@ -79,6 +79,8 @@ struct hv_render_scene {
     size_t nocc;
     int grids[HV_MAX_MATERIALS];
     float colour[HV_MAX_MATERIALS][4];
+    int paint[4];  /* a painted model's grids colour.r, .g, .b, .mask (hovox/colour.h) */
+    int painted;   /* all four are there: voxels show the colour asked for */
 };
 
 /* Fill brick b (or wait for the thread filling it); returns its slot. */

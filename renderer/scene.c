@@ -345,6 +345,35 @@ static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64
     }
 }
 
+/* A painted model's requested colours (hv_colour_paint's grids colour.r, .g, .b where colour.mask
+ * is set) replace the composition's colour of brick bi's occupied voxels: the preview shows the
+ * part in the sRGB colours asked for, not in a mixture of the resins' display colours (issue 29);
+ * the alpha stays the composition's. A uniform brick that the colours make varied becomes solid. */
+static void paint_brick(const hv_render_scene *s, size_t bi, rvox *out, uint8_t *kind)
+{
+    const int32_t *B = s->brick_block + 3 * bi;
+    const float *c[2][2][2][4];
+    for (int d = 0; d < 8; ++d) {
+        int32_t o = occ_at(s, B[0] + (d >> 2), B[1] + ((d >> 1) & 1), B[2] + (d & 1));
+        for (int k = 0; k < 4; ++k)
+            c[d >> 2][(d >> 1) & 1][d & 1][k] = o >= 0 ? hv_volume_leaf_float_c(s->vol, s->paint[k], s->occ[o].leaf) : NULL;
+    }
+    for (int x = 0; x < RB_DIM; ++x)
+        for (int y = 0; y < RB_DIM; ++y)
+            for (int z = 0; z < RB_DIM; ++z) {
+                rvox *v = &out[RB_INDEX(x, y, z)];
+                const float *const *g = c[x >> 3][y >> 3][z >> 3];
+                unsigned n = HV_LEAF_OFFSET(x & 7, y & 7, z & 7);
+                if (!v->occ || !g[3] || !(g[3][n] > 0.5f)) continue;
+                v->r = to_u8(g[0][n]);
+                v->g = to_u8(g[1][n]);
+                v->b = to_u8(g[2][n]);
+            }
+    if (*kind == RB_UNIFORM)
+        for (int i = 1; i < RB_VOX && *kind == RB_UNIFORM; ++i)
+            if (memcmp(&out[i], &out[0], sizeof *out) != 0) *kind = RB_SOLID;
+}
+
 int32_t r_brick_fill(const hv_render_scene *cs, int32_t b)
 {
     /* the lazy part of a scene is shared state under brick_slot: filling is not a change a
@@ -355,6 +384,7 @@ int32_t r_brick_fill(const hv_render_scene *cs, int32_t b)
                                                 memory_order_acquire)) {
         size_t at = atomic_fetch_add_explicit(&s->nslots, 1, memory_order_relaxed);
         s->brick_kind[b] = fill_brick(s, (size_t)b, s->bricks + at * RB_VOX, s->cells + at * RC_WORDS, &s->brick_alpha[b]);
+        if (s->painted) paint_brick(s, (size_t)b, s->bricks + at * RB_VOX, &s->brick_kind[b]);
         atomic_store_explicit(&s->brick_slot[b], (int32_t)at, memory_order_release);
         return (int32_t)at;
     }
@@ -375,12 +405,24 @@ static hv_status fill_range(void *vctx, size_t begin, size_t end, int thread)
     hv_render_scene *s = vctx;
     for (size_t b = begin; b < end; ++b) {
         s->brick_kind[b] = fill_brick(s, b, s->bricks + b * RB_VOX, s->cells + b * RC_WORDS, &s->brick_alpha[b]);
+        if (s->painted) paint_brick(s, b, s->bricks + b * RB_VOX, &s->brick_kind[b]);
         atomic_store_explicit(&s->brick_slot[b], (int32_t)b, memory_order_relaxed);
     }
     return HV_OK;
 }
 
 
+
+/* A painted model's colour grids (paint_brick). */
+static void find_paint(hv_render_scene *s, const hv_volume *vol)
+{
+    static const char *const k_paint[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    s->painted = s->materials > 0;
+    for (int k = 0; k < 4; ++k) {
+        s->paint[k] = hv_volume_grid_find(vol, k_paint[k]);
+        s->painted &= s->paint[k] >= 0 && hv_volume_grid_type(vol, s->paint[k]) == HV_GRID_FLOAT;
+    }
+}
 
 /* The block table of vol's occupied voxels; every brick filled (lazy == 0, progress "prepare")
  * or none. */
@@ -412,6 +454,7 @@ static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progre
         }
         hv_material_table_destroy(t);
     }
+    find_paint(s, vol);
 
     /* occupied leaves: active voxels where "occupancy" (when present) is true */
     int g_occ = hv_volume_grid_find(vol, "occupancy");
@@ -589,9 +632,10 @@ hv_status hv_render_scene_create_lazy(const hv_volume *vol, const hv_progress *p
 
 hv_status hv_render_volume_load(const char *path, hv_volume **out)
 {
-    /* what build() reads: the occupancy, the material table's grids (hv_material_grid) */
-    static const char *const k_grids[] = {"occupancy", "material.*"};
-    hv_status st = hv_model_load_grids(path, k_grids, 2, out);
+    /* what build() reads: the occupancy, the material table's grids (hv_material_grid), a painted
+     * model's colours */
+    static const char *const k_grids[] = {"occupancy", "material.*", "colour.*"};
+    hv_status st = hv_model_load_grids(path, k_grids, 3, out);
     int g = st == HV_OK ? hv_volume_grid_find(*out, "occupancy") : 0;
     if (g < 0 || (st == HV_OK && hv_volume_grid_type(*out, g) != HV_GRID_BOOL)) {
         hv_volume_destroy(*out);

@@ -128,7 +128,7 @@ typedef struct job {
     const hv_progress *progress;
     atomic_size_t done;
     atomic_int cancel;
-    uint64_t memory;
+    uint64_t memory, fixed_memory; /* planned peak; its part besides the workers */
 } job;
 
 static int uses_model(const hv_layers_options *o) { return o->mode != HV_LAYERS_MASK; }
@@ -189,19 +189,50 @@ static int ed_mode(const job *J)
     return J->o->mode == HV_LAYERS_HALFTONE && J->o->halftone == HV_HALFTONE_ERROR_DIFFUSION;
 }
 
-static uint64_t worker_bytes(const job *J)
+/* A worker's buffers (error diffusion's two carried planes aside) and their bytes for job J. */
+enum { WB_MASK, WB_OUT, WB_GRAY, WB_FRAC, WB_XTMP, WB_OCC0, WB_OCC1, WB_MAT0, WB_MAT1, WB_VIMG, WB_VSTATE, WB_FRONT,
+       WB_FRONT2, WB_COUNT };
+
+static void worker_sizes(const job *J, uint64_t sz[WB_COUNT])
 {
     uint64_t px = (uint64_t)J->W * (uint64_t)J->H, m = (uint64_t)J->m;
-    uint64_t b = px * 3;                  /* mask, out, gray */
-    b += (uint64_t)1 << 20;              /* libpng and zlib state, contour crossings */
-    if (uses_model(J->o)) {
-        uint64_t vox = (uint64_t)J->vw * (uint64_t)J->vh;
-        b += px * m * 4;                  /* fractions */
-        if (ed_mode(J)) b += 2 * px * m * 4;
-        b += (uint64_t)J->vh * (uint64_t)J->W * 4; /* the x pass */
-        b += 2 * vox * (1 + 4 * m);       /* two voxel slabs */
-        b += vox * (4 * m + 1 + 8);       /* filled image, state, fronts */
-    }
+    memset(sz, 0, WB_COUNT * sizeof *sz);
+    sz[WB_MASK] = sz[WB_OUT] = sz[WB_GRAY] = px;
+    if (!uses_model(J->o)) return;
+    uint64_t vox = (uint64_t)J->vw * (uint64_t)J->vh;
+    sz[WB_FRAC] = px * m * 4;                          /* fractions */
+    sz[WB_XTMP] = (uint64_t)J->vh * (uint64_t)J->W * 4; /* the x pass */
+    sz[WB_OCC0] = sz[WB_OCC1] = vox;                    /* two voxel slabs */
+    sz[WB_MAT0] = sz[WB_MAT1] = vox * m * 4;
+    sz[WB_VIMG] = vox * m * 4; /* filled image, state, fronts */
+    sz[WB_VSTATE] = vox;
+    sz[WB_FRONT] = sz[WB_FRONT2] = vox * 4;
+}
+
+/* Point w's buffers at buf (as worker_sizes orders them). */
+static void worker_point(worker *w, void *const buf[WB_COUNT])
+{
+    w->mask = buf[WB_MASK];
+    w->out = buf[WB_OUT];
+    w->gray = buf[WB_GRAY];
+    w->frac = buf[WB_FRAC];
+    w->xtmp = buf[WB_XTMP];
+    w->slab_occ[0] = buf[WB_OCC0];
+    w->slab_occ[1] = buf[WB_OCC1];
+    w->slab_mat[0] = buf[WB_MAT0];
+    w->slab_mat[1] = buf[WB_MAT1];
+    w->vimg = buf[WB_VIMG];
+    w->vstate = buf[WB_VSTATE];
+    w->front = buf[WB_FRONT];
+    w->front2 = buf[WB_FRONT2];
+}
+
+static uint64_t worker_bytes(const job *J)
+{
+    uint64_t sz[WB_COUNT], b = (uint64_t)1 << 20; /* libpng and zlib state, contour crossings */
+    worker_sizes(J, sz);
+    for (int k = 0; k < WB_COUNT; ++k) b += sz[k];
+    if (ed_mode(J)) b += 2 * (uint64_t)J->W * (uint64_t)J->H * (uint64_t)J->m * 4;
     return b;
 }
 
@@ -426,7 +457,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
         J->bit_depth = o->mode == HV_LAYERS_MASK ? 1 : 8;
     }
     /* memory: the workers plus the per-layer statistics */
-    J->threads = HV_MAX(hv_threads(), 1);
+    J->threads = pl && pl->tray ? 1 : HV_MAX(hv_threads(), 1);
     size_t count = J->last - J->first;
     uint64_t stats = (uint64_t)count * (uint64_t)(J->m * 16 + 56);
     uint64_t fixed = stats;
@@ -436,6 +467,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
         fixed += (uint64_t)HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ * 4 + weights * 8 +
                  (uint64_t)(J->ax.n_out + J->ay.n_out) * 16 + (uint64_t)J->W * (uint64_t)(J->axl + 1) * 4;
     }
+    J->fixed_memory = fixed;
     J->memory = (uint64_t)J->threads * worker_bytes(J) + fixed;
     uint64_t budget = hv_memory_budget(o->max_memory);
     char what[32];
@@ -512,6 +544,7 @@ static const hv_layers_place *options_place(const hv_layers_options *o, hv_layer
     pl->plate_x = p->build[0];
     pl->plate = p->name;
     pl->lift = 0;
+    pl->tray = 0;
     return pl;
 }
 
@@ -535,27 +568,16 @@ hv_status hv_layers_plan(const hv_mesh *mesh, const hv_volume *model, const hv_l
 static hv_status worker_ready(job *J, worker *w)
 {
     if (w->ready) return HV_OK;
-    size_t px = J->plane, m = (size_t)J->m;
-    w->mask = hv_malloc(px);
-    w->out = hv_malloc(px);
-    w->gray = hv_malloc(px);
-    int ok = w->mask && w->out && w->gray;
+    uint64_t sz[WB_COUNT];
+    void *buf[WB_COUNT] = {0};
+    worker_sizes(J, sz);
+    int ok = 1;
+    for (int k = 0; k < WB_COUNT; ++k) ok &= !sz[k] || (buf[k] = hv_malloc((size_t)sz[k])) != NULL;
+    worker_point(w, buf);
+    w->slab_ok[0] = w->slab_ok[1] = 0;
     if (ok && uses_model(J->o)) {
-        size_t vox = (size_t)J->vw * (size_t)J->vh;
-        w->frac = hv_malloc_array(px * m, sizeof *w->frac);
-        w->xtmp = hv_malloc_array((size_t)J->vh * (size_t)J->W, sizeof *w->xtmp);
-        for (int s = 0; s < 2; ++s) {
-            w->slab_occ[s] = hv_malloc(vox);
-            w->slab_mat[s] = hv_malloc_array(vox * m, sizeof(float));
-            w->slab_ok[s] = 0;
-        }
-        w->vimg = hv_malloc_array(vox * m, sizeof *w->vimg);
-        w->vstate = hv_malloc(vox);
-        w->front = hv_malloc_array(vox, sizeof *w->front);
-        w->front2 = hv_malloc_array(vox, sizeof *w->front2);
-        ok = w->frac && w->xtmp && w->slab_occ[0] && w->slab_occ[1] && w->slab_mat[0] && w->slab_mat[1] && w->vimg &&
-             w->vstate && w->front && w->front2;
-        if (ok && ed_mode(J)) {
+        size_t px = J->plane, m = (size_t)J->m;
+        if (ed_mode(J)) {
             w->err = hv_calloc(px * m, sizeof *w->err);
             w->next = hv_calloc(px * m, sizeof *w->next);
             ok = w->err && w->next;
@@ -1430,16 +1452,130 @@ void hv_layers_part_geometry(const hv_layers_part *p, int *c0, int *r0, int *w, 
 
 int hv_layers_part_materials(const hv_layers_part *p) { return p->J.m; }
 const hv_material_table *hv_layers_part_table(const hv_layers_part *p) { return p->J.table; }
-uint64_t hv_layers_part_memory(const hv_layers_part *p) { return p->J.memory; }
+uint64_t hv_layers_part_memory(const hv_layers_part *p) { return p->J.fixed_memory; }
 hv_status hv_layers_part_gather(hv_layers_part *p, const hv_dist *d) { return dist_gather(&p->J, d); }
 
-hv_status hv_layers_part_render(hv_layers_part *p, int t, size_t index, const uint8_t **pixels)
+/* The voxel slabs of one part in a scratch, kept between its layers (a part's layer reads the
+ * two voxel layers around it; about 20 printer layers share them). */
+typedef struct scratch_slabs {
+    const job *owner;
+    uint8_t *occ[2];
+    float *mat[2];
+    int k[2], ok[2], any[2];
+    hv_accessor acc;
+} scratch_slabs;
+
+struct hv_layers_scratch {
+    worker w;
+    void *buf[WB_COUNT]; /* shared by the parts (the slabs' entries unused) */
+    uint64_t cap[WB_COUNT];
+    scratch_slabs *slot;
+    size_t nslot;
+};
+
+static int is_slab(int k) { return k == WB_OCC0 || k == WB_OCC1 || k == WB_MAT0 || k == WB_MAT1; }
+
+hv_layers_scratch *hv_layers_scratch_create(void) { return hv_calloc(1, sizeof(hv_layers_scratch)); }
+
+static void slabs_free(scratch_slabs *e)
+{
+    for (int i = 0; i < 2; ++i) {
+        free(e->occ[i]);
+        free(e->mat[i]);
+    }
+    memset(e, 0, sizeof *e);
+}
+
+void hv_layers_scratch_destroy(hv_layers_scratch *s)
+{
+    if (!s) return;
+    for (int k = 0; k < WB_COUNT; ++k) free(s->buf[k]);
+    for (size_t i = 0; i < s->nslot; ++i) slabs_free(&s->slot[i]);
+    free(s->slot);
+    free(s);
+}
+
+_Static_assert(WB_COUNT <= (int)HV_COUNT(((hv_layers_scratch_need *)0)->bytes), "hv_layers_scratch_need too small");
+
+void hv_layers_scratch_need_add(hv_layers_scratch_need *n, const hv_layers_part *p)
+{
+    uint64_t sz[WB_COUNT];
+    worker_sizes(&p->J, sz);
+    for (int k = 0; k < WB_COUNT; ++k) n->bytes[k] = is_slab(k) ? n->bytes[k] + sz[k] : HV_MAX(n->bytes[k], sz[k]);
+}
+
+uint64_t hv_layers_scratch_need_total(const hv_layers_scratch_need *n)
+{
+    uint64_t b = (uint64_t)1 << 20; /* contour crossings (as worker_bytes) */
+    for (int k = 0; k < WB_COUNT; ++k) b += n->bytes[k];
+    return b;
+}
+
+static hv_status scratch_nomem(const job *J)
+{
+    return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the buffers of a %d x %d layer", J->W, J->H);
+}
+
+/* s's shared buffers grown to J's sizes (never shrunk), slot's slabs J's, and w pointing at them. */
+static hv_status scratch_ready(hv_layers_scratch *s, size_t slot, const job *J)
+{
+    uint64_t sz[WB_COUNT];
+    worker_sizes(J, sz);
+    for (int k = 0; k < WB_COUNT; ++k) {
+        if (is_slab(k) || sz[k] <= s->cap[k]) continue;
+        free(s->buf[k]);
+        s->cap[k] = (s->buf[k] = hv_malloc((size_t)sz[k])) ? sz[k] : 0;
+        if (!s->buf[k]) return scratch_nomem(J);
+    }
+    if (slot >= s->nslot) {
+        size_t n = HV_MAX(slot + 1, 2 * s->nslot);
+        scratch_slabs *g = hv_realloc(s->slot, n * sizeof *g); /* n: at most the tray's parts */
+        if (!g) return scratch_nomem(J);
+        memset(g + s->nslot, 0, (n - s->nslot) * sizeof *g);
+        s->slot = g;
+        s->nslot = n;
+    }
+    scratch_slabs *e = &s->slot[slot];
+    if (e->owner != J) {
+        slabs_free(e);
+        for (int i = 0; i < 2 && uses_model(J->o); ++i) {
+            e->occ[i] = hv_malloc((size_t)sz[WB_OCC0]);
+            e->mat[i] = hv_malloc((size_t)sz[WB_MAT0]);
+            if (!e->occ[i] || !e->mat[i]) return scratch_nomem(J);
+        }
+        if (uses_model(J->o)) hv_accessor_init(&e->acc, J->model);
+        e->owner = J;
+    }
+    worker_point(&s->w, s->buf);
+    for (int i = 0; i < 2; ++i) {
+        s->w.slab_occ[i] = e->occ[i];
+        s->w.slab_mat[i] = e->mat[i];
+        s->w.slab_k[i] = e->k[i];
+        s->w.slab_ok[i] = e->ok[i];
+        s->w.slab_any[i] = e->any[i];
+    }
+    s->w.acc = e->acc;
+    return HV_OK;
+}
+
+hv_status hv_layers_part_render(hv_layers_part *p, hv_layers_scratch *s, size_t slot, size_t index,
+                                const uint8_t **pixels)
 {
     job *J = &p->J;
-    worker *w = &J->workers[t];
-    hv_status st = worker_ready(J, w);
-    if (st == HV_OK) st = do_layer(J, w, index, 1);
-    *pixels = J->o->mode == HV_LAYERS_MASK ? w->mask : w->out;
+    hv_status st = scratch_ready(s, slot, J);
+    *pixels = NULL;
+    if (st != HV_OK) return st;
+    st = do_layer(J, &s->w, index, 1);
+    scratch_slabs *e = &s->slot[slot]; /* the slabs now held (slab_get may swap slots' roles) */
+    for (int i = 0; i < 2; ++i) {
+        e->occ[i] = s->w.slab_occ[i];
+        e->mat[i] = s->w.slab_mat[i];
+        e->k[i] = s->w.slab_k[i];
+        e->ok[i] = s->w.slab_ok[i];
+        e->any[i] = s->w.slab_any[i];
+    }
+    e->acc = s->w.acc;
+    *pixels = J->o->mode == HV_LAYERS_MASK ? s->w.mask : s->w.out;
     return st;
 }
 

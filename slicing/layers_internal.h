@@ -97,11 +97,27 @@ typedef struct hv_layers_place {
     size_t lift;
     double plate_x;     /* the plate's width (mm): the part's box must lie on the plate */
     const char *plate;  /* the plate's name in messages ("j750") */
+    int tray;           /* a tray's part: rendered in its threads' scratch (hv_layers_scratch),
+                           which the tray counts; the part's plan counts one worker */
 } hv_layers_place;
 
-/* One part of a tray: the single-part job planned on the plate, rendering layers into its
- * workers instead of files. Thread t of the caller uses worker t (t < hv_threads()). */
+/* One part of a tray: the single-part job planned on the plate, rendering layers into a
+ * caller's scratch instead of files. */
 typedef struct hv_layers_part hv_layers_part;
+/* A thread's buffers for rendering parts one after another (a tray thread renders every part of
+ * its layer in turn): the printer-resolution buffers grow to the largest part's need and are
+ * shared, so a thread holds one part's images, not one set per part; only each part's two voxel
+ * slabs are kept per part. Not thread-safe: one per thread. */
+typedef struct hv_layers_scratch hv_layers_scratch;
+hv_layers_scratch *hv_layers_scratch_create(void);
+void hv_layers_scratch_destroy(hv_layers_scratch *s);
+/* Planning one scratch for a set of parts: per shared buffer the largest part's bytes, the
+ * parts' slabs added up. */
+typedef struct hv_layers_scratch_need {
+    uint64_t bytes[16];
+} hv_layers_scratch_need;
+void hv_layers_scratch_need_add(hv_layers_scratch_need *n, const hv_layers_part *p);
+uint64_t hv_layers_scratch_need_total(const hv_layers_scratch_need *n);
 hv_status hv_layers_part_open(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o,
                               const hv_layers_place *pl, const hv_progress *progress, hv_layers_part **out);
 void hv_layers_part_close(hv_layers_part *p);
@@ -110,14 +126,17 @@ void hv_layers_part_close(hv_layers_part *p);
 void hv_layers_part_geometry(const hv_layers_part *p, int *c0, int *r0, int *w, int *h, size_t *layers);
 int hv_layers_part_materials(const hv_layers_part *p);
 const hv_material_table *hv_layers_part_table(const hv_layers_part *p);
-/* Render the part's own layer `index` on thread `t`: *pixels (w*h bytes, row 0 at the top) holds
- * palette indices (0: background). Statistics are kept per layer, as hv_layers_write keeps them. */
-hv_status hv_layers_part_render(hv_layers_part *p, int t, size_t index, const uint8_t **pixels);
+/* Render the part's own layer `index` in scratch `s` (the calling thread's): *pixels (w*h bytes,
+ * row 0 at the top, valid until s renders again) holds palette indices (0: background). `slot`
+ * numbers the part among those s renders (0, 1, ...): its voxel slabs stay in s between its
+ * layers. Statistics are kept per layer, as hv_layers_write keeps them. */
+hv_status hv_layers_part_render(hv_layers_part *p, hv_layers_scratch *s, size_t slot, size_t index,
+                                const uint8_t **pixels);
 /* The part's totals over the layers rendered (object pixels, target and achieved fractions). */
 void hv_layers_part_report(const hv_layers_part *p, hv_layers_report *r);
 /* Several processes: every part's per-layer statistics into rank 0's (a collective). */
 hv_status hv_layers_part_gather(hv_layers_part *p, const hv_dist *d);
-/* Memory the part's workers will need (bytes), from its plan. */
+/* Memory the part needs besides the scratch that renders it (bytes), from its plan. */
 uint64_t hv_layers_part_memory(const hv_layers_part *p);
 /* OR n pixels' values lut[sp[k]] into a row packed at `bits` (1, 2 or 4) bits per pixel from
  * pixel x0 on, the first pixel of a byte in its high bits (PNG's order). */

@@ -937,12 +937,14 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
     /* each instance as a part job on the plate: its box, its layers, its memory */
     t->nlayers = 0;
     t->memory = 0;
+    hv_layers_scratch_need need;
+    memset(&need, 0, sizeof need);
     for (int i = 0; i < t->ninst && st == HV_OK; ++i) {
         instance *in = &t->inst[i];
         const source *s = &t->src[in->src];
         hv_layers_options lo;
         part_options(t, o, s, &lo);
-        hv_layers_place pl = {in->x, in->y, t->profile->build[1], in->lift, t->profile->build[0], t->profile->name};
+        hv_layers_place pl = {in->x, in->y, t->profile->build[1], in->lift, t->profile->build[0], t->profile->name, 1};
         st = hv_layers_part_open(s->mesh, s->model, &lo, &pl, progress, &in->part);
         if (st != HV_OK) {
             char nb[256];
@@ -952,9 +954,13 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         hv_layers_part_geometry(in->part, &in->c0, &in->r0, &in->w, &in->h, &in->layers);
         t->nlayers = HV_MAX(t->nlayers, in->lift + in->layers);
         t->memory += hv_layers_part_memory(in->part);
+        hv_layers_scratch_need_add(&need, in->part);
     }
+    /* each thread: one layer in flight (the packed plate image, its spans, the PNG) and one
+     * scratch for the parts it renders in turn (the largest part's buffers) */
     size_t stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
-    t->memory += (uint64_t)HV_MAX(hv_threads(), 1) * ((uint64_t)stride * (uint64_t)t->H + (uint64_t)t->H * 8);
+    t->memory += (uint64_t)HV_MAX(hv_threads(), 1) *
+                 ((uint64_t)stride * (uint64_t)t->H + (uint64_t)t->H * 8 + hv_layers_scratch_need_total(&need));
     uint64_t budget = hv_memory_budget(o->max_memory);
     if (st == HV_OK && budget && t->memory > budget) {
         char a[32], b[32];
@@ -1001,6 +1007,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
 typedef struct tworker {
     uint8_t *rows;     /* packed plate image */
     int32_t *span;     /* 2 per row, in bytes */
+    hv_layers_scratch *scratch; /* the parts' buffers, shared by the parts in turn */
 } tworker;
 
 typedef struct wjob {
@@ -1033,7 +1040,7 @@ void hv_tray_or_packed(uint8_t *row, int bits, int x0, const uint8_t *sp, int n,
         row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - bits - bits * (x % per)));
 }
 
-static hv_status tray_layer(wjob *J, tworker *w, int thread, size_t li)
+static hv_status tray_layer(wjob *J, tworker *w, size_t li)
 {
     hv_tray *t = J->t;
     int bits = t->bit_depth;
@@ -1045,7 +1052,7 @@ static hv_status tray_layer(wjob *J, tworker *w, int thread, size_t li)
         instance *in = &t->inst[i];
         if (li < in->lift || li >= in->lift + in->layers) continue;
         const uint8_t *px;
-        hv_status st = hv_layers_part_render(in->part, thread, li - in->lift, &px);
+        hv_status st = hv_layers_part_render(in->part, w->scratch, (size_t)i, li - in->lift, &px);
         if (st != HV_OK) return st;
         const source *s = &t->src[in->src];
         uint8_t lut[HV_MAX_MATERIALS + 2];
@@ -1110,13 +1117,14 @@ static hv_status tray_units(void *ctx, size_t b, size_t e, int thread)
     if (!w->rows) {
         w->rows = hv_calloc((size_t)J->t->H, J->stride);
         w->span = hv_calloc((size_t)J->t->H * 2, sizeof *w->span);
-        if (!w->rows || !w->span) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory for a plate image");
+        w->scratch = hv_layers_scratch_create();
+        if (!w->rows || !w->span || !w->scratch) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory for a plate image");
     }
     hv_status st = HV_OK;
     for (size_t u = b; u < e && st == HV_OK; ++u)
         for (size_t li = J->run_lo + u * RUN; li < HV_MIN(J->run_lo + (u + 1) * RUN, J->run_hi) && st == HV_OK; ++li) {
             if (atomic_load(&J->cancel) || hv_cancel_requested()) return hv_error_set(HV_ERR_CANCELLED, "tray: cancelled");
-            st = tray_layer(J, w, thread, li);
+            st = tray_layer(J, w, li);
             size_t d = atomic_fetch_add(&J->done, 1) + 1;
             if (st == HV_OK && thread == 0 && J->progress)
                 st = hv_progress_report(J->progress, "tray", (double)d / (double)(J->run_hi - J->run_lo));
@@ -1403,6 +1411,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     for (int i = 0; i < threads && J.w; ++i) {
         free(J.w[i].rows);
         free(J.w[i].span);
+        hv_layers_scratch_destroy(J.w[i].scratch);
     }
     free(J.w);
     free(J.st_bytes);

@@ -98,6 +98,47 @@ HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t
 HV_API hv_status hv_colour_paint(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
                                  const char *core, const float *core_rgba);
 
+/* What painting keeps beside the fractions (issue 29): float grids "colour.r", "colour.g",
+ * "colour.b" (the requested sRGB colour, in [0, 1]) and "colour.mask" (1 where a colour was asked
+ * for: the skin, and a colour core; 0 under a resin core), and metadata hovox.colour.json (the
+ * profile, intent, resins, depth and core). The render shows those colours; the stack manifest
+ * their dE2000.
+ * The colour map painting used, made again from the model's record. Errors: HV_ERR_NOT_FOUND
+ * (the model is not painted), HV_ERR_BAD_INPUT (a damaged record), those of
+ * hv_colour_map_create (the profile no longer readable). *out is freed with
+ * hv_colour_map_destroy. */
+HV_API hv_status hv_colour_map_for_model(const hv_volume *model, hv_colour_map **out);
+
+typedef struct hv_colour_skin_report {
+    uint64_t voxels;                /* occupied voxels with a requested colour */
+    double mean_de2000, max_de2000; /* over them */
+} hv_colour_skin_report;
+/* CIEDE2000 between each such voxel's requested colour and what its six fractions print (each
+ * multiplied by scale[k] when scale is given, then normalised: a halftone's achieved over target
+ * share per resin), both through `map` (hv_colour_map_lab_of_srgb, _of_fractions). Errors:
+ * HV_ERR_NOT_FOUND (no colour grids). */
+HV_API hv_status hv_colour_skin_error(const hv_volume *model, const hv_colour_map *map,
+                                      const double scale[HV_COLOUR_SLOTS], hv_colour_skin_report *out);
+
+/* A stack manifest hook (hv_stack_manifest_fn of hovox/layers.h; user an hv_colour_skin whose
+ * model and map the caller sets): adds "colour" {icc, description, intent, skin_voxels,
+ * mean_de2000_target, max_de2000_target, and mean_de2000_achieved when the manifest's materials
+ * have "achieved" (halftone): the fractions scaled per resin by achieved / target}, and fills
+ * target, achieved and has_achieved. */
+typedef struct hv_colour_skin {
+    const hv_volume *model;
+    hv_colour_map *map;
+    hv_colour_skin_report target, achieved;
+    int has_achieved;
+} hv_colour_skin;
+HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
+
+/* hv_colour_paint with the core as text, as the CLI (--core) and Lua give it: a colour when it
+ * reads as one (hv_color_parse), else a resin; NULL: the map's white resin. Also refuses a mesh
+ * without any colour (HV_ERR_BAD_INPUT "NAME: no colour to paint ..."). */
+HV_API hv_status hv_colour_paint_text(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
+                                      const char *core);
+
 /* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
  * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by
  * 1 - Clear). Clear-only fractions give the paper white. */

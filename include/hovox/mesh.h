@@ -144,10 +144,24 @@ HV_API hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *na
  * (ties: the lowest index), or the object's default in 3MF. */
 #define HV_MESH_NO_MATERIAL (-1)
 
+/* One base material of a mixture and its volume fraction; a mixture has at most
+ * HV_MAX_MIX_PARTS of them. */
+#define HV_MAX_MIX_PARTS 64
+typedef struct hv_mesh_mix_part {
+    const char *material; /* the base material's name; owned by the mesh */
+    double fraction;      /* in (0, 1] */
+} hv_mesh_mix_part;
+
+/* A material is either one of its own (nparts 0) or a mixture of base materials (a 3MF
+ * composite: nparts >= 1, distinct names, fractions summing to 1 within 1e-4, normalised to
+ * exactly 1 when read). A mixture's name is its own ("composite ID#I", or the file's); voxelize
+ * gives a mixture's voxels the base materials' fractions, never the mixture's name. */
 typedef struct hv_mesh_material {
     const char *name;  /* owned by the mesh */
     uint32_t rgba;     /* display colour 0xRRGGBBAA when has_color */
     int has_color;
+    size_t nparts;                 /* 0: not a mixture */
+    const hv_mesh_mix_part *parts; /* nparts of them; owned by the mesh */
 } hv_mesh_material;
 
 typedef struct hv_mesh_body {

@@ -134,6 +134,11 @@ typedef struct hv_scan_voxelize_report {
 
 /* Defaults: iso 0, the scan's smallest spacing, nothing cleaned. */
 HV_API void hv_scan_voxelize_options_init(hv_scan_voxelize_options *opts);
+/* The options as one table for Lua (hovox.voxelize_scan) and job files: keys iso, range (the
+ * selection follows which one is given: range makes it RANGE; both given are refused),
+ * voxel_size (L or X,Y,Z mm), keep_largest, fill_holes, min_feature (mm), max_memory. Labels
+ * (a list) are read by the front end. Static data. */
+HV_API const hv_option_set *hv_scan_voxelize_option_set(void);
 
 /* The model: a voxel (on the global lattice of hv_voxelize with a voxel size: centres at
  * (n + 1/2) L, world RAS mm) is occupied when g >= 0 at its centre; then min_feature, keep_largest

@@ -115,7 +115,9 @@ typedef struct hv_tray_report {
     int parts;                  /* placed instances (copies counted) */
     int resins, bit_depth;
     double utilisation;         /* footprint area / plate area */
-    uint64_t memory;            /* bytes the workers and parts need */
+    uint64_t memory;            /* bytes planned: the parts' statistics and tables, and per
+                                   thread one plate image and one part's buffers (shared by
+                                   the parts in turn) plus every part's two voxel slabs */
     uint64_t object_pixels;     /* over the layers written */
     uint64_t bytes;             /* the stack's PNG bytes (after writing) */
     double est_seconds;         /* rough estimates (plan), from the bench tray on 2 cores: */

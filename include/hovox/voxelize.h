@@ -142,6 +142,8 @@ typedef struct hv_region_info {
     const char *name;      /* the body's name */
     const char *grid;      /* "region.<name>" */
     const char *material;  /* the body's material as the file names it; NULL: none */
+    size_t nparts;         /* the material a mixture (a 3MF composite): its base materials and */
+    const hv_mesh_mix_part *parts; /* fractions (summing to 1), which the graded model takes */
     int has_color;
     float rgba[4];         /* the material's display colour in [0,1] when has_color */
     hv_fill_mode fill;     /* as resolved for this body (flood, vote or none) */

@@ -52,6 +52,21 @@ print("  object voxels/s                %10.3g  (%.3g object voxels)" % (obj / s
 print("  tray voxels/s                  %10.3g" % (tray / secs))
 print("  output                         %8.1f MiB (%d parts, %.1f%% of the plate)" % (size / 1048576, len(m["parts"]), 100 * m["utilisation"]))
 PY
+# issue 32 item 21: memory against threads. Layers 256 to 512 (32 runs of 8 layers, so 16
+# threads all work; every part is in them), one run each: the dry run's estimate and the peak RSS.
+# Threads beyond the cores change only the memory here, not the work.
+echo "  threads  estimate      peak RSS   (layers 256:512; goal: a plate and one part's images a thread)"
+for th in 2 8 16; do
+    est=$("$HOVOX" tray "$tw/tray.json" -o "$tw/mem" --layers 256:512 --threads "$th" --dry-run 2>/dev/null |
+        sed -n 's/^memory *about //p')
+    /usr/bin/time -o "$tw/mem.rss" -f "%M" "$HOVOX" tray "$tw/tray.json" -o "$tw/mem$th" --layers 256:512 \
+        --threads "$th" --force -q >/dev/null 2>&1
+    r=$(tail -n 1 "$tw/mem.rss")
+    printf "  %7s  %-12s %8.1f MiB\n" "$th" "$est" "$(awk -v k="$r" 'BEGIN { printf "%.1f", k / 1024 }')"
+done
+diff -r "$tw/mem2" "$tw/mem16" >/dev/null && echo "  the stacks of 2 and 16 threads are the same bytes" ||
+    echo "  the stacks of 2 and 16 threads DIFFER"
+rm -rf "$tw/mem2" "$tw/mem8" "$tw/mem16"
 t_pin=$(median tray_empty "$HOVOX" tray -o "$tw/pin_stack" --part "$tw/pin.stl:VeroPureWhite@245,195" --force -q)
 echo "  empty plate (one 1 mm pin)     $t_pin s  $(awk -v t="$t_pin" 'BEGIN { printf "%.3g", 11575 * 4606 * 2037 / t }') voxels/s"
 

@@ -100,7 +100,10 @@ static void print_text(const char *path, const hv_mesh *m, const hv_mesh_report 
         for (size_t k = 0; k < nm; ++k) {
             const hv_mesh_material *mt = hv_mesh_material_at(m, k);
             char col[10];
-            printf("  %-*s  %s\n", w, mt->name, mt->has_color ? hv_mesh_material_color_text(mt, col) : "-");
+            printf("  %-*s  %s", w, mt->name, mt->has_color ? hv_mesh_material_color_text(mt, col) : "-");
+            for (size_t q = 0; q < mt->nparts; ++q) /* a mixture: its base materials' fractions */
+                printf("%s%s %.4g", q ? " + " : "  = ", mt->parts[q].material, mt->parts[q].fraction);
+            printf("\n");
         }
     }
     /* appearance: textures with the facets that use them, corner colours */

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "hovox/colour.h"
 #include "core/internal.h"
 #include "hovox/model.h"
 #include "hovox/dist.h"
@@ -61,8 +62,38 @@ static void warn(const hv_layers_report *r, size_t from)
     }
 }
 
+/* A model painted in colour (hovox/colour.h): the manifest gets the skin's dE2000 through the
+ * profile painting used; a profile no longer there is a warning, not a failure. */
+static void colour_hook(hv_layers_options *o, const hv_volume *model, hv_colour_skin *sk)
+{
+    memset(sk, 0, sizeof *sk);
+    if (!model) return;
+    hv_status s = hv_colour_map_for_model(model, &sk->map);
+    if (s == HV_ERR_NOT_FOUND) {
+        hv_error_clear();
+        return;
+    }
+    if (s != HV_OK) {
+        cli_warn("%s: %s; the manifest leaves out the colour's dE2000", o->model_name, hv_last_error());
+        return;
+    }
+    sk->model = model;
+    o->manifest = hv_colour_manifest_hook;
+    o->manifest_user = sk;
+}
+
+static void report_colour(const hv_colour_skin *sk)
+{
+    if (!sk->map) return;
+    printf("colour      mean dE2000 ");
+    if (sk->has_achieved) printf("%.2f achieved, ", sk->achieved.mean_de2000);
+    printf("%.2f target (max %.2f) over %llu skin voxels; %s, intent %s\n", sk->target.mean_de2000,
+           sk->target.max_de2000, (unsigned long long)sk->target.voxels, hv_colour_map_description(sk->map),
+           hv_intent_name(hv_colour_map_intent(sk->map)));
+}
+
 static void report(const hv_layers_report *r, const hv_layers_options *o, const layers_cli *c, const hv_mesh *mesh,
-                   const hv_volume *model)
+                   const hv_volume *model, const hv_colour_skin *sk)
 {
     if (mesh) printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
     else printf("shape       the one %s records\n", o->model_name);
@@ -88,6 +119,7 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
         printf("compare     resample vs direct: mean %.6f, max %.6f (max over materials per pixel; %llu pixels "
                "outside the definition)\n",
                r->diff_mean, r->diff_max, (unsigned long long)r->direct_fallback);
+    report_colour(sk);
     char how[64];
     if (o->mode == HV_LAYERS_HALFTONE) snprintf(how, sizeof how, "halftone %s", o->halftone == HV_HALFTONE_BLUE_NOISE ? "blue-noise" : "error-diffusion");
     else snprintf(how, sizeof how, "%s", hv_layers_mode_name(o->mode));
@@ -178,11 +210,14 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
             o->finish = hv_viewer_stack_finish;
             o->finish_user = &page;
         }
+        hv_colour_skin skin;
+        colour_hook(o, model, &skin);
         s = hv_layers_write(mesh, model, c->output, o, &prog, &r);
         cli_progress_done(&bar);
         if (s == HV_OK) warn(&r, HV_MIN(seen, strlen(r.warnings)));
         if (s == HV_OK && said.data) fputs(said.data, stdout);
-        if (s == HV_OK) report(&r, o, c, mesh, model);
+        if (s == HV_OK) report(&r, o, c, mesh, model, &skin);
+        hv_colour_map_destroy(skin.map);
         if (s == HV_OK) cli_view_report(&page, c->output);
     }
     hv_buf_free(&said);

@@ -135,7 +135,11 @@ static void print_regions(const hv_mesh *mesh, const hv_regions *rg, double vv)
     for (size_t i = 0; i < hv_mesh_body_count(mesh); ++i) {
         const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
         const char *mat = b->material == HV_MESH_NO_MATERIAL ? NULL : hv_mesh_material_at(mesh, (size_t)b->material)->name;
-        printf("region      %s (%s)", b->name, mat ? mat : "no material");
+        printf("region      %s (%s", b->name, mat ? mat : "no material");
+        const hv_mesh_material *mm = mat ? hv_mesh_material_at(mesh, (size_t)b->material) : NULL;
+        for (size_t q = 0; mm && q < mm->nparts; ++q) /* a mixture: its base materials' fractions */
+            printf("%s%s %.4g", q ? " + " : " = ", mm->parts[q].material, mm->parts[q].fraction);
+        printf(")");
         const hv_region_info *g = hv_regions_at(rg, i);
         if (g) {
             printf(": %llu voxels, fill %s", (unsigned long long)g->voxels, hv_fill_mode_name(g->fill));
@@ -259,11 +263,7 @@ static hv_status set_colours(hv_mesh *raw, const vox_cli *c, const char *path)
 /* The core: a colour when the text reads as one, else a resin; default the map's white resin. */
 static hv_status paint(hv_volume *vol, const hv_mesh *mesh, const vox_cli *c, hv_colour_map *map)
 {
-    float rgba[4];
-    if (c->core && hv_color_parse(c->core, rgba) == HV_OK)
-        return hv_colour_paint(vol, mesh, map, colour_depth(c), NULL, rgba);
-    return hv_colour_paint(vol, mesh, map, colour_depth(c), c->core ? c->core : hv_colour_map_resin(map, HV_COLOUR_W),
-                           NULL);
+    return hv_colour_paint_text(vol, mesh, map, colour_depth(c), c->core);
 }
 
 static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int quiet)

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "core/json.h"
 #include "hovox/colour.h"
 #include "hovox/material.h"
 #include "hovox/mesh.h"
@@ -160,6 +161,33 @@ static double nearest(const bins *g, const hv_mesh *m, const double p[3], size_t
     return sqrt(best);
 }
 
+/* What painting used, for the manifest's dE2000 with the same profile (hv_colour_map_for_model). */
+static hv_status record(hv_volume *vol, const hv_colour_map *map, double depth, const char *core, const float *core_rgba)
+{
+    char hex[10];
+    if (!core) {
+        unsigned c[3];
+        for (int k = 0; k < 3; ++k) c[k] = (unsigned)lrintf(core_rgba[k] * 255.0f);
+        snprintf(hex, sizeof hex, "#%02x%02x%02x", c[0] & 255u, c[1] & 255u, c[2] & 255u);
+    }
+    json_t *doc = json_object(), *resins = json_array();
+    int bad = !doc || !resins;
+    for (int k = 0; k < HV_COLOUR_SLOTS && !bad; ++k)
+        bad |= json_array_append_new(resins, hv_json_text(hv_colour_map_resin(map, k)));
+    bad |= hv_json_set(doc, "icc", hv_json_text(hv_colour_map_icc(map)));
+    bad |= hv_json_set(doc, "description", hv_json_text(hv_colour_map_description(map)));
+    bad |= hv_json_set(doc, "intent", json_string(hv_intent_name(hv_colour_map_intent(map))));
+    bad |= hv_json_set(doc, "resins", resins);
+    bad |= hv_json_set(doc, "depth_mm", hv_json_number(depth));
+    bad |= hv_json_set(doc, "core", hv_json_text(core ? core : hex));
+    char *text = bad ? NULL : hv_json_dump(doc);
+    json_decref(doc);
+    if (!text) return hv_error_set(HV_ERR_NOMEM, "out of memory");
+    hv_status s = hv_volume_meta_set_json(vol, "hovox.colour.json", text);
+    free(text);
+    return s;
+}
+
 hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *map, double depth, const char *core,
                           const float *core_rgba)
 {
@@ -176,7 +204,8 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
     for (int k = 0; core && k < HV_COLOUR_SLOTS; ++k)
         if (strcmp(core, hv_colour_map_resin(map, k)) == 0) core_slot = k;
     int nmat = HV_COLOUR_SLOTS + (core && core_slot < 0 ? 1 : 0);
-    float *val = hv_malloc_array(n, (size_t)nmat * sizeof *val);
+    /* the fractions, then the requested colour: r, g, b and the mask of voxels that have one */
+    float *val = hv_malloc_array(n, (size_t)(nmat + 4) * sizeof *val);
     if (!val) {
         s = HV_ERR_NOMEM;
         goto done;
@@ -190,18 +219,23 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
     for (size_t i = 0; i < n; ++i) {
         size_t f = 0;
         double bary[3];
-        float fr[HV_COLOUR_SLOTS + 1] = {0}, rgba[4];
+        float fr[HV_COLOUR_SLOTS + 1] = {0}, rgba[4], want[4] = {0, 0, 0, 0};
         double d = nearest(&g, mesh, xyz + 3 * i, &f, bary);
         if (d <= depth && hv_mesh_colour_at(mesh, f, bary, rgba)) {
             uint8_t c8[4];
             for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(rgba[k] * 255.0f);
             hv_colour_map_fractions(map, c8, fr);
+            for (int k = 0; k < 3; ++k) want[k] = c8[k] / 255.0f;
+            want[3] = 1;
         } else if (core_rgba) {
             memcpy(fr, corefr, sizeof corefr);
+            memcpy(want, core_rgba, 3 * sizeof *want);
+            want[3] = 1;
         } else {
             fr[core_slot >= 0 ? core_slot : HV_COLOUR_SLOTS] = 1;
         }
         for (int k = 0; k < nmat; ++k) val[(size_t)k * n + i] = fr[k];
+        for (int k = 0; k < 4; ++k) val[(size_t)(nmat + k) * n + i] = want[k];
     }
     /* display colours of slots whose resins the resin table does not know (it colours the J750's) */
     static const float k_show[HV_COLOUR_SLOTS][4] = {{0, 0.6f, 0.9f, 1}, {0.9f, 0, 0.5f, 1}, {1, 0.9f, 0, 1},
@@ -217,7 +251,10 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
         snprintf(name, sizeof name, "material.%s", k < HV_COLOUR_SLOTS ? hv_colour_map_resin(map, k) : core);
         s = hv_volume_grid_set(vol, name, "occupancy", val + (size_t)k * n, n);
     }
+    static const char *const k_want[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    for (int k = 0; k < 4 && s == HV_OK; ++k) s = hv_volume_grid_set(vol, k_want[k], "occupancy", val + (size_t)(nmat + k) * n, n);
     if (s == HV_OK) s = hv_material_table_store(vol, tab);
+    if (s == HV_OK) s = record(vol, map, depth, core, core_rgba);
     hv_material_table_destroy(tab);
     free(val);
 done:
@@ -225,4 +262,15 @@ done:
     free(g.tri);
     free(xyz);
     return s;
+}
+
+hv_status hv_colour_paint_text(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *map, double depth, const char *core)
+{
+    if (!hv_mesh_has_colour(mesh))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: no colour to paint (no texture, vertex, face or material colour)",
+                            *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "the mesh");
+    float rgba[4];
+    if (core && hv_color_parse(core, rgba) == HV_OK) return hv_colour_paint(vol, mesh, map, depth, NULL, rgba);
+    hv_error_clear();
+    return hv_colour_paint(vol, mesh, map, depth, core ? core : hv_colour_map_resin(map, HV_COLOUR_W), NULL);
 }

@@ -248,6 +248,34 @@ static hv_status build_grid_props(ex_model *md, const char *grids, size_t *cap)
     return HV_OK;
 }
 
+/* A model painted in colour (hovox/colour.h) carries the colours asked for: its grids colour.r,
+ * colour.g, colour.b (sRGB in [0, 1]; 0 under a resin core, where colour.mask is 0) become arrays
+ * of those names unless --grids named them already. */
+static hv_status build_colour_props(ex_model *md, size_t *cap)
+{
+    static const char *const k_rgb[3] = {"colour.r", "colour.g", "colour.b"};
+    int g[3], mask = hv_volume_grid_find(md->vol, "colour.mask");
+    for (int c = 0; c < 3; ++c) {
+        g[c] = hv_volume_grid_find(md->vol, k_rgb[c]);
+        if (g[c] < 0 || hv_volume_grid_type(md->vol, g[c]) != HV_GRID_FLOAT) return HV_OK;
+    }
+    if (mask < 0) return HV_OK;
+    for (int c = 0; c < 3; ++c) {
+        int named = 0;
+        for (int q = 0; q < md->nprops && !named; ++q) named = strcmp(md->props[q].name, k_rgb[c]) == 0;
+        if (named) continue;
+        ex_prop p;
+        memset(&p, 0, sizeof p);
+        p.kind = EX_GRID;
+        p.grid = g[c];
+        snprintf(p.name, sizeof p.name, "%s", k_rgb[c]);
+        hv_status st = add_prop(md, cap, &p);
+        if (st != HV_OK) return st;
+        md->ngrids++;
+    }
+    return HV_OK;
+}
+
 /* ---- the model: materials, occupancy, box ----------------------------------------------- */
 
 void ex_model_free(ex_model *md)
@@ -291,6 +319,7 @@ hv_status ex_model_init(ex_model *md, const hv_volume *vol, const hv_export_opti
     if (md->table && opt->mix) s = build_mix_props(md, opt->mix, &cap);
     if (s == HV_OK) s = build_table_props(md, opt, &cap);
     if (s == HV_OK) s = build_grid_props(md, opt->grids, &cap);
+    if (s == HV_OK) s = build_colour_props(md, &cap);
     if (s != HV_OK) return s;
 
     /* occupied voxels per leaf */

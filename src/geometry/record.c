@@ -272,6 +272,11 @@ hv_status hv_geometry_leaf_mesh_raw(const hv_geometry *g, size_t i, hv_mesh **ou
     const float *xyz = take(&r, 12 * (size_t)nv);
     const uint32_t *tri = take(&r, 12 * (size_t)nf);
     if (r.bad) return hv_error_set(HV_ERR_BAD_INPUT, "recorded mesh '%s': ends inside its facets", name);
+    /* each material takes at least 12 bytes (colour, flag, name length): no table larger than the
+     * bytes left can be filled, so none is allocated (a count of 2^32 asked for 17 GB) */
+    if (nm > (r.n - r.at) / 12)
+        return hv_error_set(HV_ERR_BAD_INPUT, "recorded mesh '%s': %u materials in the %zu bytes left", name, nm,
+                            r.n - r.at);
     hv_mesh_body *bodies = hv_calloc(nb, sizeof *bodies);
     hv_mesh_material *mats = hv_calloc(nm ? nm : 1, sizeof *mats);
     float *soup = hv_malloc_array(nf, 9 * sizeof(float));

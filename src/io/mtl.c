@@ -212,6 +212,8 @@ static hv_status newmtl(mtl_reader *r, const char *p, const char *e)
     while (ne < e && !(*ne == '#' && (ne == p || hv_io_blank(ne[-1])))) ++ne;
     while (ne > p && hv_io_blank(ne[-1])) --ne;
     if (ne == p) return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: newmtl without a name", r->name, r->line);
+    if (memchr(p, '\0', (size_t)(ne - p))) /* the name would end there (found by fuzz_mtl: an empty name) */
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: newmtl name holds a NUL byte", r->name, r->line);
     hv_status s = hv_grow((void **)&r->out->m, &r->out->cap, r->out->n + 1, sizeof *r->out->m);
     if (s != HV_OK) return s;
     hv_mtl_material *m = &r->out->m[r->out->n];

@@ -350,6 +350,7 @@ int luaopen_hovox(lua_State *L)
     hv_lua_open_output(L, module); /* before objects: they borrow the model's output methods */
     hv_lua_open_object(L, module);
     hv_lua_open_tray(L, module);
+    hv_lua_open_scan(L, module);
     hv_lua_open_assembly(L, module);
     static const luaL_Reg fns[] = {{"set_threads", l_set_threads}, {"mkdir", l_mkdir}, {NULL, NULL}};
     hv_lua_set_funcs(L, fns);

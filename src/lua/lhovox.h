@@ -4,7 +4,7 @@
  * lmesh.c (meshes, generators, contours), lassembly.c (joining meshes into assemblies, a model's
  * regions), lmodel.c (models, voxelizing, probing), lsource.c
  * (material tables, reference features, grading sources), lobject.c (heterogeneous objects),
- * loutput.c (a model's outputs: render, export, layers, profile) and lopts.c (option tables
+ * loutput.c (a model's outputs: render, export, layers, profile), lscan.c (scanned volumes) and lopts.c (option tables
  * read through the library's option sets).
  *
  * Rules every binding follows: it is entered through hv_lua_enter (the registration helpers do
@@ -168,6 +168,7 @@ void hv_lua_open_sources(lua_State *L, int module);
 void hv_lua_open_output(lua_State *L, int module);
 void hv_lua_open_object(lua_State *L, int module);
 void hv_lua_open_tray(lua_State *L, int module);
+void hv_lua_open_scan(lua_State *L, int module);
 void hv_lua_open_assembly(lua_State *L, int module); /* after the model's class */
 
 #endif

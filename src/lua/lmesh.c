@@ -1,6 +1,7 @@
 /* src/lua/lmesh.c - Lua: the Mesh class (STL in and out, the mesh report), the parametric
  * generators (hovox.generate.SHAPE{...}, the keys of hv_shape_option_set, as `hovox generate
  * SHAPE key=value`) and contour slicing (hovox.contours, the options of `hovox contours`). */
+#include <math.h>
 #include <string.h>
 
 #include <lauxlib.h>
@@ -51,6 +52,22 @@ static int mesh_set_material(lua_State *L)
 {
     const char *body = luaL_checkstring(L, 2), *material = luaL_checkstring(L, 3);
     hv_status s = hv_mesh_body_material_set(hv_lua_mesh(L, 1), body, material); /* the mesh after the strings */
+    if (s != HV_OK) return fail(L, s);
+    lua_settop(L, 1);
+    return 1;
+}
+
+/* mesh:set_colour(body, colour) -> the mesh: the body in one colour ("#rrggbb", "#rrggbbaa",
+ * "r,g,b[,a]"), whatever its texture or file colours said (hv_mesh_body_colour_set; `hovox
+ * voxelize --colour BODY=COLOUR`) */
+static int mesh_set_colour(lua_State *L)
+{
+    const char *body = luaL_checkstring(L, 2), *text = luaL_checkstring(L, 3);
+    float f[4];
+    if (hv_color_parse(text, f) != HV_OK) return arg_error(L, 3, "%s", hv_last_error());
+    uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v = v << 8 | (uint32_t)lrintf(f[k] * 255.0f);
+    hv_status s = hv_mesh_body_colour_set(hv_lua_mesh(L, 1), body, v); /* the mesh after the strings */
     if (s != HV_OK) return fail(L, s);
     lua_settop(L, 1);
     return 1;
@@ -301,7 +318,7 @@ void hv_lua_open_mesh(lua_State *L, int module)
     static const luaL_Reg methods[] = {{"report", mesh_report},       {"save", mesh_save},     {"count", mesh_count},
                                        {"bodies", mesh_bodies},       {"materials", mesh_materials},
                                        {"free", mesh_gc},             {"transform", mesh_transform},
-                                       {"set_material", mesh_set_material},
+                                       {"set_material", mesh_set_material}, {"set_colour", mesh_set_colour},
                                        {NULL, NULL}};
     static const luaL_Reg fns[] = {{"load_mesh", l_load_mesh}, {"contours", l_contours}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MESH, methods, mesh_gc, mesh_tostring);

@@ -3,12 +3,14 @@
  * saving, inspection and probing. Outputs are in loutput.c, features made from a model in
  * lsource.c. */
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 
 #include <lauxlib.h>
 
 #include "core/internal.h"
 #include "hovox/model.h"
+#include "hovox/colour.h"
 #include "hovox/voxelize.h"
 #include "lhovox.h"
 
@@ -198,8 +200,69 @@ static int model_probe(lua_State *L)
     return 2;
 }
 
+/* hovox.colour(colour, {icc = FILE, intent = NAME, resins = "C,M,Y,K,W,CLEAR"}) -> {<resin> =
+ * fraction, ... (six), de2000 = dE}: what `hovox colour` prints for one colour */
+static int l_colour(lua_State *L)
+{
+    const char *text = luaL_checkstring(L, 1);
+    float f[4];
+    if (hv_color_parse(text, f) != HV_OK) return arg_error(L, 1, "%s", hv_last_error());
+    hv_colour_options co;
+    hv_lua_read(L, 2, hv_colour_option_set(), &co, NULL);
+    hv_colour_map *map = NULL;
+    hv_status s = hv_colour_map_create(&co, &map);
+    if (s != HV_OK) return fail(L, s);
+    uint8_t rgba[4];
+    for (int k = 0; k < 4; ++k) rgba[k] = (uint8_t)lrintf(f[k] * 255.0f);
+    float fr[HV_COLOUR_SLOTS];
+    double want[3], got[3];
+    hv_colour_map_fractions(map, rgba, fr);
+    hv_colour_map_lab_of_srgb(map, rgba, want);
+    hv_colour_map_lab_of_fractions(map, fr, got);
+    lua_createtable(L, 0, HV_COLOUR_SLOTS + 1);
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        lua_pushnumber(L, fr[k]);
+        lua_setfield(L, -2, hv_colour_map_resin(map, k));
+    }
+    lua_pushnumber(L, hv_colour_delta_e2000(want, got));
+    hv_colour_map_destroy(map); /* after the names were copied into the table */
+    lua_setfield(L, -2, "de2000");
+    return 1;
+}
+
 static void destroy_volume(void *p) { hv_volume_destroy(p); }
 static void destroy_mats(void *p) { hv_material_table_destroy(p); }
+
+/* model:paint(mesh, {colour_depth = MM (default 1), core = RESIN | COLOUR, icc = FILE, intent =
+ * NAME, resins = "C,M,Y,K,W,CLEAR"}) -> the model: painted in the mesh's colours, as `hovox
+ * voxelize --colour-depth` (hv_colour_paint_text); the mesh is the one it was voxelized from */
+static int model_paint(lua_State *L)
+{
+    static const char *const extra[] = {"colour_depth", "core", NULL};
+    hv_lua_mesh(L, 2);
+    hv_colour_options co;
+    int holder = hv_lua_read(L, 3, hv_colour_option_set(), &co, extra);
+    double depth = 1.0;
+    if (hv_lua_field(L, 3, "colour_depth") != LUA_TNIL) {
+        if (lua_type(L, -1) != LUA_TNUMBER) return arg_error(L, 3, "colour_depth must be a number (mm)");
+        depth = lua_tonumber(L, -1);
+    }
+    lua_pop(L, 1);
+    if (!(depth > 0 && depth <= 1e6)) return arg_error(L, 3, "colour_depth must be in (0, 1e6] mm, got %g", depth);
+    const char *core = hv_lua_string_field(L, 3, "core", holder);
+    l_model *u = CHECK(L, 1, l_model, MT_MODEL); /* again: reading the options may have run a finalizer */
+    hv_mesh *mesh = hv_lua_mesh(L, 2);
+    hv_colour_map *map = NULL;
+    hv_status s = hv_colour_map_create(&co, &map);
+    if (s == HV_OK) s = hv_colour_paint_text(u->p, mesh, map, depth, core);
+    hv_colour_map_destroy(map);
+    if (s != HV_OK) return fail(L, s);
+    hv_material_table *t = u->mats; /* the table changed */
+    u->mats = NULL;
+    hv_lua_release(L, destroy_mats, t);
+    lua_settop(L, 1);
+    return 1;
+}
 
 int hv_lua_model_free(lua_State *L)
 {
@@ -228,8 +291,9 @@ void hv_lua_open_model(lua_State *L, int module)
 {
     static const luaL_Reg methods[] = {{"save", model_save},     {"grids", model_grids}, {"voxels", model_voxels},
                                        {"transform", model_transform}, {"meta", model_meta},   {"probe", model_probe},
-                                       {"add_grid", model_add_grid}, {"free", hv_lua_model_free}, {NULL, NULL}};
-    static const luaL_Reg fns[] = {{"voxelize", l_voxelize}, {"load", l_load}, {NULL, NULL}};
+                                       {"add_grid", model_add_grid}, {"paint", model_paint},
+                                       {"free", hv_lua_model_free}, {NULL, NULL}};
+    static const luaL_Reg fns[] = {{"voxelize", l_voxelize}, {"load", l_load}, {"colour", l_colour}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MODEL, methods, hv_lua_model_free, model_tostring);
     lua_pushvalue(L, module);
     hv_lua_set_funcs(L, fns);

@@ -9,6 +9,7 @@
 
 #include "core/internal.h"
 #include "hovox/export.h"
+#include "hovox/colour.h"
 #include "hovox/layers.h"
 #include "hovox/plot.h"
 #include "hovox/profile.h"
@@ -144,9 +145,27 @@ static int model_layers(lua_State *L)
     lua_pop(L, 1);
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
+    hv_colour_skin skin; /* a painted model: the skin's dE2000 in the manifest (hovox/colour.h) */
+    memset(&skin, 0, sizeof skin);
+    if (hv_colour_map_for_model(vol, &skin.map) == HV_OK) {
+        skin.model = vol;
+        o.manifest = hv_colour_manifest_hook;
+        o.manifest_user = &skin;
+    } else {
+        hv_error_clear();
+    }
     hv_status s = hv_layers_write(mesh, vol, dir, &o, hv_lua_progress(L), &rep);
+    int coloured = skin.map != NULL;
+    hv_colour_map_destroy(skin.map);
     if (s != HV_OK) return fail(L, s);
-    lua_createtable(L, 0, 10);
+    lua_createtable(L, 0, 11);
+    if (coloured) {
+        lua_createtable(L, 0, 3);
+        SET_INT("skin_voxels", skin.target.voxels);
+        SET_NUM("mean_de2000_target", skin.target.mean_de2000);
+        if (skin.has_achieved) SET_NUM("mean_de2000_achieved", skin.achieved.mean_de2000);
+        lua_setfield(L, -2, "colour");
+    }
     SET_INT("width", rep.width);
     SET_INT("height", rep.height);
     SET_INT("layers", rep.layers_total);

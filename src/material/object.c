@@ -280,6 +280,26 @@ static const char *table_list(const hv_material_table *t, char *buf, size_t n)
     return buf;
 }
 
+/* Material `material` of region g in table t: found, else added with the region's colour (only
+ * when the region's material is that one, not a mixture's part), else refused when the table was
+ * given. */
+static hv_status region_material(hv_material_table *t, const hv_material_table *given, const hv_region_info *g,
+                                 const char *material, int *k)
+{
+    char name[65];
+    hv_material_name_from(material, name);
+    *k = hv_material_find(t, name);
+    if (*k >= 0) return HV_OK;
+    if (given) {
+        char list[1024], as[400];
+        if (strcmp(name, material) == 0) snprintf(as, sizeof as, "%s", name);
+        else snprintf(as, sizeof as, "%s (in the file: %s)", name, material);
+        return hv_error_set(HV_ERR_INVALID, "region '%s' is %s %s, which the materials given (%s) do not name", g->name,
+                            g->nparts ? "in part material" : "material", as, table_list(t, list, sizeof list));
+    }
+    return hv_material_add(t, name, g->has_color && !g->nparts ? g->rgba : NULL, k);
+}
+
 hv_status hv_object_from_regions(const hv_volume *vol, const hv_material_table *given, hv_material_table **table,
                                  hv_object **out)
 {
@@ -291,32 +311,21 @@ hv_status hv_object_from_regions(const hv_volume *vol, const hv_material_table *
     size_t n = hv_regions_count(rg);
     hv_material_table *t = NULL;
     hv_object *o = NULL;
-    int *mat = hv_calloc(n, sizeof *mat);
+    int *mat = hv_calloc(n ? n * HV_MAX_MIX_PARTS : 1, sizeof *mat); /* per region: its materials' indices */
     if (!mat) s = HV_ERR_NOMEM;
     else s = given ? hv_material_table_clone(given, &t) : hv_material_table_create(&t);
     /* each region's material in the table */
     for (size_t i = 0; i < n && s == HV_OK; ++i) {
         const hv_region_info *g = hv_regions_at(rg, i);
         if (!g->material) {
-            if (given) mat[i] = 0;
+            if (given) mat[i * HV_MAX_MIX_PARTS] = 0;
             else
                 s = hv_error_option(HV_ERR_INVALID, "region '%s' has no material (the mesh names none): give the {materials}",
                                     g->name);
             continue;
         }
-        char name[65];
-        hv_material_name_from(g->material, name);
-        int k = hv_material_find(t, name);
-        if (k < 0 && given) {
-            char list[1024], as[400];
-            if (strcmp(name, g->material) == 0) snprintf(as, sizeof as, "%s", name);
-            else snprintf(as, sizeof as, "%s (in the file: %s)", name, g->material);
-            s = hv_error_set(HV_ERR_INVALID, "region '%s' is material %s, which the materials given (%s) do not name",
-                             g->name, as, table_list(t, list, sizeof list));
-        } else if (k < 0) {
-            s = hv_material_add(t, name, g->has_color ? g->rgba : NULL, &k);
-        }
-        mat[i] = k;
+        for (size_t q = 0; q < HV_MAX(g->nparts, 1) && s == HV_OK; ++q)
+            s = region_material(t, given, g, g->nparts ? g->parts[q].material : g->material, &mat[i * HV_MAX_MIX_PARTS + q]);
     }
     hv_transform xf = hv_volume_get_transform(vol);
     int m = t ? hv_material_count(t) : 0;
@@ -334,7 +343,10 @@ hv_status hv_object_from_regions(const hv_volume *vol, const hv_material_table *
         region like;
         memset(&like, 0, sizeof like);
         like.name = (char *)g->name;
-        like.base[mat[i]] = 1.0;
+        if (g->nparts)
+            for (size_t q = 0; q < g->nparts; ++q) like.base[mat[i * HV_MAX_MIX_PARTS + q]] += g->parts[q].fraction;
+        else
+            like.base[mat[i * HV_MAX_MIX_PARTS]] = 1.0;
         if (hv_object_region_find(o, g->name) >= 0) {
             hv_volume_destroy(mask);
             s = hv_error_set(HV_ERR_BAD_INPUT, "%s: region '%s' is named twice", hv_schema_key(HV_DOC_REGIONS), g->name);

@@ -119,6 +119,12 @@ void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_m
         if (failed) break;
         failed |= hv_json_set(o, "name", hv_json_text(mt->name));
         failed |= hv_json_set(o, "color", mt->has_color ? json_string(hv_mesh_material_color_text(mt, col)) : json_null());
+        if (mt->nparts) { /* a mixture: {"BASE": fraction, ...} */
+            json_t *mix = json_object();
+            failed |= !mix || hv_json_set(o, "mixture", mix);
+            for (size_t q = 0; !failed && q < mt->nparts; ++q)
+                failed |= hv_json_set(mix, mt->parts[q].material, hv_json_number(mt->parts[q].fraction));
+        }
     }
     for (size_t i = 0; !failed && i < hv_mesh_body_count(m); ++i) {
         const hv_mesh_body *bd = hv_mesh_body_at(m, i);

@@ -2,6 +2,7 @@
  * with its material, fill, voxels, the voxels it lost and those of them earlier bodies kept where
  * they overlap, and the overlap (centres inside two or more bodies); the
  * "hovox.regions.json" document that records them in a model. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -16,6 +17,8 @@ void hv_regions_destroy(hv_regions *r)
         free((char *)r->info[i].name);
         free((char *)r->info[i].grid);
         free((char *)r->info[i].material);
+        for (size_t k = 0; k < r->info[i].nparts; ++k) free((char *)r->info[i].parts[k].material);
+        free((hv_mesh_mix_part *)r->info[i].parts);
         free((hv_region_loss *)r->info[i].lost_to);
     }
     free(r->info);
@@ -63,6 +66,54 @@ static int64_t find_before(const hv_regions *r, size_t end, const char *name)
     return -1;
 }
 
+/* A mixture as [{"material": NAME, "fraction": F}, ...] (NULL: out of memory). */
+static json_t *mixture_doc(const hv_region_info *g)
+{
+    json_t *a = json_array();
+    for (size_t k = 0; a && k < g->nparts; ++k) {
+        json_t *x = json_object();
+        if (!x || hv_json_set(x, "material", hv_json_text(g->parts[k].material)) ||
+            hv_json_set(x, "fraction", hv_json_number(g->parts[k].fraction)) || json_array_append_new(a, x)) {
+            json_decref(a);
+            return NULL;
+        }
+    }
+    return a;
+}
+
+/* A region's "mixture": distinct material names, fractions in (0, 1] summing to 1 within 1e-4. */
+static hv_status mixture_from_doc(const json_t *e, const char *place, hv_region_info *g)
+{
+    const json_t *a = json_object_get(e, "mixture");
+    if (!a) return HV_OK;
+    size_t n = json_array_size(a);
+    if (!json_is_array(a) || n == 0 || n > HV_MAX_MIX_PARTS)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: mixture is not a list of 1 to %d parts", place, HV_MAX_MIX_PARTS);
+    hv_mesh_mix_part *p = hv_calloc(n, sizeof *p);
+    if (!p) return HV_ERR_NOMEM;
+    g->parts = p;
+    double sum = 0;
+    char where[340];
+    for (size_t k = 0; k < n; ++k) {
+        const json_t *x = json_array_get(a, k);
+        const char *m;
+        double f;
+        snprintf(where, sizeof where, "%s: mixture[%zu]", place, k);
+        hv_status s = hv_json_get_string(x, "material", where, &m);
+        if (s == HV_OK) s = hv_json_get_number(x, "fraction", where, &f);
+        if (s != HV_OK) return s;
+        if (!(f > 0 && f <= 1)) return hv_error_set(HV_ERR_BAD_INPUT, "%s: fraction %g is not in (0, 1]", where, f);
+        for (size_t j = 0; j < k; ++j)
+            if (strcmp(p[j].material, m) == 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: material '%s' is named twice", where, m);
+        if (!(p[k].material = hv_strdup(m))) return HV_ERR_NOMEM;
+        p[k].fraction = f;
+        g->nparts = k + 1;
+        sum += f;
+    }
+    if (!(fabs(sum - 1) <= 1e-4)) return hv_error_set(HV_ERR_BAD_INPUT, "%s: the mixture's fractions sum to %.9g, not 1", place, sum);
+    return HV_OK;
+}
+
 json_t *hv_regions_to_doc(const hv_regions *r, double vv)
 {
     json_t *list = json_array();
@@ -81,6 +132,7 @@ json_t *hv_regions_to_doc(const hv_regions *r, double vv)
             failed |= hv_json_set(e, "name", hv_json_text(g->name));
             failed |= hv_json_set(e, "grid", hv_json_text(g->grid));
             failed |= hv_json_set(e, "material", g->material ? hv_json_text(g->material) : json_null());
+            if (g->nparts) failed |= hv_json_set(e, "mixture", mixture_doc(g));
             if (g->has_color) {
                 json_t *c = json_array();
                 for (int k = 0; k < 4 && c; ++k)
@@ -164,6 +216,7 @@ hv_status hv_regions_from_doc(const json_t *doc, const char *what, hv_regions **
                 break;
             }
         }
+        if ((s = mixture_from_doc(e, place, g)) != HV_OK) break;
         if (json_object_get(e, "color")) {
             double c[4];
             if ((s = hv_json_get_numbers(e, "color", place, c, 4)) != HV_OK) break;

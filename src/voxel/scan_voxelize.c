@@ -5,6 +5,7 @@
  * the largest component kept, every cavity filled (6-connected components, breadth first). The
  * model records the shape as its geometry: one FIELD_ISO leaf (hovox/geometry.h). */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,6 +22,39 @@ void hv_scan_voxelize_options_init(hv_scan_voxelize_options *o)
     memset(o, 0, sizeof *o);
     o->shape.select = HV_SCAN_SELECT_ISO;
 }
+
+#define OFF(m) offsetof(hv_scan_voxelize_options, m)
+static const hv_option k_opts[] = {
+    {.key = "iso", .kind = HV_OPT_NUMBER, .offset = OFF(shape.iso), .meta = "VALUE",
+     .help = "the solid: where the trilinearly interpolated value is at least VALUE (e.g. 300 HU for bone)"},
+    {.key = "range", .kind = HV_OPT_NUMBER, .count = 2, .offset = OFF(shape.range), .meta = "LO,HI",
+     .help = "the solid where the interpolated value lies in [LO, HI]"},
+    {.key = "voxel_size", .kind = HV_OPT_NUMBER, .count = 3, .flags = HV_OPT_SCALAR | HV_OPT_LO_OPEN, .lo = 0,
+     .hi = 1e6, .offset = OFF(voxel_size), .meta = "L|X,Y,Z", .unit = "mm",
+     .help = "voxels of size L (or per axis) on the global lattice (default: the smallest sample spacing)"},
+    {.key = "keep_largest", .kind = HV_OPT_FLAG, .offset = OFF(keep_largest), .help = "keep the largest part only"},
+    {.key = "fill_holes", .kind = HV_OPT_FLAG, .offset = OFF(fill_holes), .help = "fill every enclosed cavity"},
+    {.key = "min_feature", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = OFF(min_feature), .meta = "MM",
+     .unit = "mm", .help = "drop parts and fill cavities smaller than a ball of this diameter"},
+    {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",
+     .help = "refuse jobs that would need more (default: half of RAM)"},
+};
+#undef OFF
+static const hv_opt_rule k_rules[] = {{HV_RULE_EXCLUDES, "iso", "range", NULL, "one shape"}};
+
+static void set_init(void *o) { hv_scan_voxelize_options_init(o); }
+
+static hv_status set_finish(const hv_optargs *a)
+{
+    hv_scan_voxelize_options *o = a->opts;
+    if (hv_optargs_given(a, "range")) o->shape.select = HV_SCAN_SELECT_RANGE;
+    return HV_OK;
+}
+
+static const hv_option_set k_set = {"voxelize_scan", k_opts, (int)HV_COUNT(k_opts), sizeof(hv_scan_voxelize_options),
+                                    set_init, k_rules, (int)HV_COUNT(k_rules), set_finish, NULL, NULL, 0};
+
+const hv_option_set *hv_scan_voxelize_option_set(void) { return &k_set; }
 
 typedef struct eval_ctx {
     const hv_scan_level *lv;

@@ -841,6 +841,14 @@ static hv_status body_run(const hv_mesh *mesh, size_t b, const hv_voxelize_optio
         const hv_mesh_material *mm = hv_mesh_material_at(mesh, (size_t)body->material);
         if ((g->has_color = mm->has_color))
             for (int k = 0; k < 4; ++k) g->rgba[k] = (float)((mm->rgba >> (24 - 8 * k)) & 0xFFu) / 255.0f;
+        hv_mesh_mix_part *p = mm->nparts ? hv_calloc(mm->nparts, sizeof *p) : NULL;
+        if (mm->nparts && !p) return HV_ERR_NOMEM;
+        g->parts = p;
+        for (size_t k = 0; k < mm->nparts; ++k) {
+            if (!(p[k].material = hv_strdup(mm->parts[k].material))) return HV_ERR_NOMEM;
+            p[k].fraction = mm->parts[k].fraction;
+            g->nparts = k + 1;
+        }
     }
     g->fill = opt->fill == HV_FILL_AUTO ? hv_fill_auto(hv_mesh_get_report(j->bm)) : opt->fill;
     body_box(j->bm, plan, lo, n, j->blo, j->bn);

@@ -281,6 +281,15 @@ Test(geometry, damaged_packed_meshes_are_refused)
     cr_assert_eq(hv_geometry_leaf_mesh(h, 0, &m), HV_ERR_BAD_INPUT);
     cr_assert(strstr(hv_last_error(), "names vertex 1000"), "%s", hv_last_error());
     hv_geometry_destroy(h);
+    /* a material count of 2^32 - 1 is refused before its table is allocated (found by
+     * fuzz_geometry: calloc of 17 GB; corpus entry mesh_material_count_2e32) */
+    memcpy(d, hv_geometry_leaf_data(g, 0), n);
+    uint32_t many = UINT32_MAX;
+    memcpy(d + 16, &many, 4); /* after the magic and the vertex, facet and body counts */
+    cr_assert_eq(hv_geometry_from_leaf(HV_LEAF_MESH, "mats", d, n, NULL, 1, &h), HV_OK);
+    cr_assert_eq(hv_geometry_leaf_mesh(h, 0, &m), HV_ERR_BAD_INPUT, "%s", hv_last_error());
+    cr_assert(strstr(hv_last_error(), "4294967295 materials in the"), "%s", hv_last_error());
+    hv_geometry_destroy(h);
     free(d);
     hv_geometry_destroy(g);
     hv_mesh_destroy(p);

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <zip.h>
+#include <jpeglib.h>
 
 #include "hovox/generate.h"
 #include "hovox/image.h"
@@ -904,4 +905,176 @@ Test(threemf, load_reads_a_file_by_its_extension)
     hv_mesh_destroy(m);
     free(data);
     hv_mesh_destroy(unit);
+}
+
+/* Materials 1.2, chapters 4 and 5: composites are mixtures (their values normalised, their display
+ * colour the bases' mixed by them); a multi takes its material layer's material and its colour
+ * layer's colour. lib3mf 1.8 reads the geometry (the oracle); it has no composites. */
+#define COMPOSITES "<m:compositematerials id=\"6\" matid=\"5\" matindices=\"1 0\"><m:composite values=\"0.75 0.25\"/>" \
+                   "<m:composite values=\"0 1\"/></m:compositematerials>"                                           \
+                   "<m:colorgroup id=\"7\"><m:color color=\"#3060C0\"/><m:color color=\"#102030\"/></m:colorgroup>"   \
+                   "<m:multiproperties id=\"8\" pids=\"6 7\"><m:multi pindices=\"0 1\"/><m:multi/></m:multiproperties>"
+
+Test(threemf, composites_are_mixtures_and_multis_take_their_material_layer)
+{
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                           MODEL_HEAD "<resources>" MATS COMPOSITES
+                                      TET_OBJECT(" pid=\"6\" pindex=\"0\"", " pid=\"8\" p1=\"0\" p2=\"1\" p3=\"0\"")
+                                      "</resources>" BUILD};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "mix.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(data, len, m);
+    const hv_mesh_material *body = hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 0)->material);
+    cr_assert_str_eq(body->name, "composite 6#0");
+    cr_assert_eq(body->nparts, 2);
+    cr_assert_str_eq(body->parts[0].material, "Agilus");
+    cr_assert_float_eq(body->parts[0].fraction, 0.75, 1e-12);
+    cr_assert_str_eq(body->parts[1].material, "Vero");
+    cr_assert_float_eq(body->parts[1].fraction, 0.25, 1e-12);
+    /* #FF0000 * 0.25 + #00FF00 * 0.75, alpha FF */
+    cr_assert_eq(body->rgba, 0x40BF00FFu, "%08x", body->rgba);
+    /* triangle 0: multi 0 -> composite 6#0 (its material layer); its corners the colour layer's */
+    const int32_t *fm = hv_mesh_facet_materials(m);
+    cr_assert_str_eq(hv_mesh_material_at(m, (size_t)fm[0])->name, "composite 6#0");
+    const uint32_t *cc = hv_mesh_corner_colours(m);
+    cr_assert_not_null(cc);
+    cr_assert_eq(cc[0], 0x102030FFu, "%08x", cc[0]); /* multi 0: colour 1 */
+    cr_assert_eq(cc[1], 0x3060C0FFu, "%08x", cc[1]); /* multi 1 (no pindices: all 0): colour 0 */
+    cr_assert_eq(cc[2], 0x102030FFu, "%08x", cc[2]);
+    hv_mesh_destroy(m);
+    free(data);
+    /* a composite of value 0 for one base: a mixture of one part */
+    const char *one[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                         MODEL_HEAD "<resources>" MATS COMPOSITES TET_OBJECT(" pid=\"6\" pindex=\"1\"", "") "</resources>" BUILD};
+    data = zip_parts(one, 3, &len);
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "one.3mf", &m), HV_OK, "%s", hv_last_error());
+    body = hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 0)->material);
+    cr_assert_eq(body->nparts, 1);
+    cr_assert_str_eq(body->parts[0].material, "Vero");
+    cr_assert_float_eq(body->parts[0].fraction, 1, 0);
+    /* a body extracted keeps the mixture */
+    hv_mesh *b = NULL;
+    cr_assert_eq(hv_mesh_body_extract(m, 0, &b), HV_OK);
+    cr_assert_eq(hv_mesh_material_at(b, (size_t)hv_mesh_body_at(b, 0)->material)->nparts, 1);
+    hv_mesh_destroy(b);
+    hv_mesh_destroy(m);
+    free(data);
+}
+
+Test(threemf, bad_composites_and_multiproperties_are_refused_naming_the_element)
+{
+    static const char *const cases[][2] = {
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 1\"><m:composite values=\"0.5 0.4\"/></m:compositematerials>",
+         "line 2, column 401: compositematerials 6: composite 0: values '0.5 0.4' sum to 0.9, not 1"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 1\"><m:composite values=\"1\"/></m:compositematerials>",
+         "compositematerials 6: composite 0: values '1' are not 2 non-negative numbers (one per matindices entry)"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 1\"><m:composite values=\"1.5 -0.5\"/></m:compositematerials>",
+         "composite 0: values '1.5 -0.5' are not 2 non-negative numbers"},
+        {"<m:compositematerials id=\"6\" matid=\"9\" matindices=\"0\"/>",
+         "compositematerials 6: matid '9' names no basematerials defined above it"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 2\"/>",
+         "compositematerials 6: matindices: 2 is past the end of basematerials 5 (2 entries)"},
+        {"<m:compositematerials id=\"6\" matid=\"5\" matindices=\"0 x\"/>",
+         "compositematerials 6: matindices '0 x' is not a list of indices"},
+        {"<m:colorgroup id=\"7\"><m:color color=\"#3060C0\"/></m:colorgroup><m:multiproperties id=\"8\" pids=\"7 5\"/>",
+         "multiproperties 8: pids: basematerials 5 is layer 2; a material layer may only be the first"},
+        {"<m:multiproperties id=\"8\" pids=\"5 9\"/>",
+         "multiproperties 8: pids: 9 names no basematerials, compositematerials, colorgroup or texture2dgroup"},
+        {"<m:multiproperties id=\"8\" pids=\"5\"><m:multi pindices=\"2\"/></m:multiproperties>",
+         "multiproperties 8: multi 0: pindices: 2 is past the end of basematerials 5 (2 entries)"},
+        {"<m:multiproperties id=\"8\" pids=\"5\"><m:multi pindices=\"0 0\"/></m:multiproperties>",
+         "multiproperties 8: multi 0: pindices has 2 entries, pids 1"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        char model[4096];
+        snprintf(model, sizeof model, "%s<resources>%s%s%s</resources>%s", MODEL_HEAD, MATS, cases[k][0], TET_OBJECT("", ""), BUILD);
+        const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", model};
+        size_t len;
+        unsigned char *data = zip_parts(parts, 3, &len);
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "bad.3mf", &m), HV_ERR_BAD_INPUT, "case %zu", k);
+        cr_assert_null(m);
+        cr_assert(strstr(hv_last_error(), cases[k][1]), "case %zu: %s", k, hv_last_error());
+        cr_assert(strncmp(hv_last_error(), "bad.3mf: 3D/3dmodel.model: line ", 32) == 0, "%s", hv_last_error());
+        free(data);
+    }
+}
+
+/* A JPEG texture (Materials 6 allows image/jpeg) is decoded by the same decoder as OBJ textures
+ * (hv_rgba8_decode): an 8 x 8 JPEG of one flat colour, written here by libjpeg, reaches the mesh
+ * as that colour (a flat block survives JPEG within a step or two). */
+static unsigned char *flat_jpeg(uint8_t r, uint8_t g, uint8_t b, size_t *len)
+{
+    struct jpeg_compress_struct c;
+    struct jpeg_error_mgr err;
+    c.err = jpeg_std_error(&err);
+    jpeg_create_compress(&c);
+    unsigned char *out = NULL;
+    unsigned long n = 0;
+    jpeg_mem_dest(&c, &out, &n);
+    c.image_width = 8;
+    c.image_height = 8;
+    c.input_components = 3;
+    c.in_color_space = JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, 100, TRUE);
+    jpeg_start_compress(&c, TRUE);
+    uint8_t row[24];
+    for (int x = 0; x < 8; ++x) row[3 * x] = r, row[3 * x + 1] = g, row[3 * x + 2] = b;
+    for (int y = 0; y < 8; ++y) {
+        JSAMPROW p = row;
+        jpeg_write_scanlines(&c, &p, 1);
+    }
+    jpeg_finish_compress(&c);
+    jpeg_destroy_compress(&c);
+    *len = (size_t)n;
+    return out;
+}
+
+Test(threemf, a_jpeg_texture_is_decoded)
+{
+    size_t jpg_size = 0;
+    unsigned char *jpg = flat_jpeg(200, 100, 50, &jpg_size);
+    static const char types[] = "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+                                "<Default Extension=\"rels\" ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
+                                "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/>"
+                                "<Default Extension=\"jpg\" ContentType=\"image/jpeg\"/></Types>";
+    static const char model[] =
+        MODEL_HEAD "<resources><m:texture2d id=\"3\" path=\"/3D/Textures/flat.jpg\" contenttype=\"image/jpeg\"/>"
+        "<m:texture2dgroup id=\"4\" texid=\"3\"><m:tex2coord u=\"0\" v=\"0\"/><m:tex2coord u=\"1\" v=\"0\"/>"
+        "<m:tex2coord u=\"0.5\" v=\"1\"/></m:texture2dgroup>"
+        "<object id=\"1\" name=\"tet\" type=\"model\" pid=\"4\" pindex=\"0\"><mesh>" TET_VERTICES
+        "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\" p1=\"0\" p2=\"1\" p3=\"2\"/>"
+        "<triangle v1=\"0\" v2=\"1\" v3=\"3\" p1=\"0\" p2=\"1\" p3=\"2\"/><triangle v1=\"1\" v2=\"2\" v3=\"3\" p1=\"0\" p2=\"1\" p3=\"2\"/>"
+        "<triangle v1=\"0\" v2=\"3\" v3=\"2\" p1=\"0\" p2=\"1\" p3=\"2\"/></triangles></mesh></object></resources>" BUILD;
+    static const char model_rels[] = "<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
+                                     "<Relationship Target=\"/3D/Textures/flat.jpg\" Id=\"rel1\" Type=\"http://schemas."
+                                     "microsoft.com/3dmanufacturing/2013/01/3dtexture\"/></Relationships>";
+    const char *names[] = {"[Content_Types].xml", "_rels/.rels", "3D/3dmodel.model", "3D/_rels/3dmodel.model.rels",
+                           "3D/Textures/flat.jpg"};
+    const void *data[] = {types, k_rels, model, model_rels, jpg};
+    size_t sizes[] = {strlen(types), strlen(k_rels), strlen(model), strlen(model_rels), jpg_size}, len;
+    unsigned char *pkg = zip_bin(names, data, sizes, 5, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(pkg, len, "jpeg.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(pkg, len, m);
+    cr_assert_eq(hv_mesh_note_count(m), 0);
+    cr_assert_eq(hv_mesh_texture_count(m), 1);
+    const hv_mesh_texture *tx = hv_mesh_texture_at(m, 0);
+    cr_assert_eq(tx->width, 8);
+    cr_assert_eq(tx->height, 8);
+    static const int want[4] = {200, 100, 50, 255};
+    for (size_t i = 0; i < 64; ++i)
+        for (int k = 0; k < 4; ++k) cr_assert_leq(abs((int)tx->rgba[4 * i + (size_t)k] - want[k]), 2, "pixel %zu, %d", i, k);
+    const int32_t *ft = hv_mesh_facet_textures(m);
+    for (size_t f = 0; f < 4; ++f) cr_assert_eq(ft[f], 0);
+    float rgba[4];
+    const double bary[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    cr_assert(hv_mesh_colour_at(m, 0, bary, rgba));
+    cr_assert_float_eq(rgba[0], 200.0f / 255, 0.01);
+    hv_mesh_destroy(m);
+    free(pkg);
+    free(jpg);
 }

@@ -11,6 +11,7 @@
 
 #include "hovox/image.h"
 #include "hovox/mesh.h"
+#include "io/io_internal.h"
 #include "reader_check.h"
 #include "support/support.h"
 
@@ -236,6 +237,13 @@ Test(obj_colour, a_missing_or_bad_library_or_texture_is_one_message)
                 "DIR/look.mtl: line 2: map_Kd: unknown option '-zoom'");
     mtl_refused("newmtl skin\nmap_Kd -clamp\n", HV_ERR_BAD_INPUT, "DIR/look.mtl: line 2: map_Kd -clamp takes on or off");
     mtl_refused("newmtl skin\nmap_Kd -clamp on\n", HV_ERR_BAD_INPUT, "DIR/look.mtl: line 2: map_Kd names no file");
+    /* a name that a NUL byte would cut short (to nothing: found by fuzz_mtl, corpus newmtl_nul_name) */
+    static const char nul_name[] = "newmtl \0skin\nKd 1 0 0\n";
+    hv_mtl lib;
+    memset(&lib, 0, sizeof lib);
+    cr_assert_eq(hv_mtl_parse(nul_name, sizeof nul_name - 1, "nul.mtl", &lib), HV_ERR_BAD_INPUT);
+    cr_assert_str_eq(hv_last_error(), "nul.mtl: line 1: newmtl name holds a NUL byte");
+    hv_mtl_free(&lib);
 
     /* a library that is not there leaves the materials names only */
     const char *path = t_tmpfile("lost.obj");

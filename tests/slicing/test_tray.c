@@ -9,6 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "hovox/generate.h"
 #include "hovox/layers.h"
@@ -20,12 +23,13 @@
 
 /* A small graded part on disk: a box 12 x 8 x 1.2 mm, 0.4 mm voxels, two materials graded
  * along x (axis feature), and its mesh. */
-static void make_part(const char *dir, char *model, char *mesh, size_t n)
+static void make_box_part(const char *dir, const char *stem, double x, double y, double z, char *model, char *mesh,
+                          size_t n)
 {
-    snprintf(mesh, n, "%s/part.stl", dir);
-    snprintf(model, n, "%s/part.vdb", dir);
+    snprintf(mesh, n, "%s/%s.stl", dir, stem);
+    snprintf(model, n, "%s/%s.vdb", dir, stem);
     if (t_exists(model)) return;
-    double lo[3] = {0, 0, 0}, hi[3] = {12, 8, 1.2};
+    double lo[3] = {0, 0, 0}, hi[3] = {x, y, z};
     hv_mesh *m = NULL;
     cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
     cr_assert_eq(hv_mesh_write_stl(m, mesh, 0), HV_OK, "%s", hv_last_error());
@@ -43,7 +47,7 @@ static void make_part(const char *dir, char *model, char *mesh, size_t n)
     cr_assert_eq(hv_frf_plane(o, d, &frf), HV_OK);
     hv_dfn *f = NULL;
     cr_assert_eq(hv_dfn_expr("d/dg", &f), HV_OK);
-    hv_ags_desc ad = {frf, 0, 12, 0, f, ms, me, 2, NULL};
+    hv_ags_desc ad = {frf, 0, x, 0, f, ms, me, 2, NULL};
     hv_ags *a = NULL;
     cr_assert_eq(hv_ags_create(&ad, &a), HV_OK, "%s", hv_last_error());
     hv_object *obj = NULL;
@@ -60,6 +64,11 @@ static void make_part(const char *dir, char *model, char *mesh, size_t n)
     hv_material_table_destroy(t);
     hv_volume_destroy(v);
     hv_mesh_destroy(m);
+}
+
+static void make_part(const char *dir, char *model, char *mesh, size_t n)
+{
+    make_box_part(dir, "part", 12, 8, 1.2, model, mesh, n);
 }
 
 /* A box from the origin to (x, y, z) written as t_tmpfile(name). */
@@ -479,4 +488,132 @@ Test(tray, packed_rows_match_pixel_by_pixel)
                                  want[b]);
             }
     }
+}
+
+/* ---- memory does not grow with the parts per thread (issue 32 item 21) ---------------------- */
+
+/* A tray of `copies` arranged copies of the 40 x 30 x 2 mm graded box. */
+static hv_tray *copies_tray(int copies, hv_tray_options *o)
+{
+    char model[4200], mesh[4200];
+    make_box_part(t_tmpdir(), "slab", 40, 30, 2, model, mesh, sizeof model);
+    hv_tray *t = NULL;
+    cr_assert_eq(hv_tray_create(&t), HV_OK);
+    hv_tray_part p;
+    hv_tray_part_init(&p);
+    p.model = model;
+    p.mesh = mesh;
+    p.copies = copies;
+    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK, "%s", hv_last_error());
+    tray_opts(o);
+    o->arrange = 1;
+    return t;
+}
+
+static uint64_t planned_memory(hv_tray *t, const hv_tray_options *o, int threads)
+{
+    hv_tray_report r;
+    hv_set_threads(threads);
+    cr_assert_eq(hv_tray_plan(t, o, NULL, &r), HV_OK, "%s", hv_last_error());
+    hv_set_threads(0);
+    return r.memory;
+}
+
+/* Each thread holds one plate image and ONE part's printer-resolution buffers, whatever the
+ * number of parts: the plan grows linearly in threads by at most the packed plate plus what the
+ * part alone needs (its own `layers --place` plan on one thread, an independent figure) plus the
+ * parts' voxel slabs. Before, each thread held every part's buffers (the bench tray: about 350
+ * MiB a thread). */
+Test(tray, memory_per_thread_is_one_plate_and_one_part, .timeout = 120)
+{
+    hv_tray_options o;
+    hv_tray *t = copies_tray(10, &o);
+    uint64_t m1 = planned_memory(t, &o, 1), m2 = planned_memory(t, &o, 2), m16 = planned_memory(t, &o, 16);
+    cr_expect_eq(m16 - m1, 15 * (m2 - m1), "not linear in threads: %llu, %llu, %llu", (unsigned long long)m1,
+                 (unsigned long long)m2, (unsigned long long)m16);
+    hv_tray_report r;
+    cr_assert_eq(hv_tray_plan(t, &o, NULL, &r), HV_OK);
+    uint64_t plate = ((uint64_t)r.width * (uint64_t)r.bit_depth + 7) / 8 * (uint64_t)r.height + 8 * (uint64_t)r.height;
+    /* the part alone, placed on the same printer, one thread */
+    char model[4200], mesh[4200];
+    make_box_part(t_tmpdir(), "slab", 40, 30, 2, model, mesh, sizeof model);
+    hv_mesh *m = NULL;
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_mesh_load_stl(mesh, &m), HV_OK);
+    cr_assert_eq(hv_volume_load(model, &v), HV_OK, "%s", hv_last_error());
+    hv_layers_options lo;
+    hv_layers_options_init(&lo);
+    lo.placed = 1; /* the defaults are the J750's, as one_part_has_the_pixels_of_layers_placed */
+    lo.place[0] = 100;
+    lo.place[1] = 100;
+    lo.cache_dir = o.cache_dir;
+    hv_layers_report lr;
+    hv_set_threads(1);
+    cr_assert_eq(hv_layers_plan(m, v, &lo, &lr), HV_OK, "%s", hv_last_error());
+    hv_set_threads(0);
+    /* and each part's two voxel slabs kept between its layers: 100 x 75 voxels of 0.4 mm with
+     * the window's 3-voxel pad (8 allowed), occupancy and two fractions */
+    uint64_t slabs = 10 * 2 * (uint64_t)(100 + 8) * (75 + 8) * (1 + 4 * 2);
+    cr_expect_leq(m2 - m1, plate + lr.memory_bytes + slabs,
+                  "a thread needs %llu bytes: more than the plate (%llu), one part (%llu) and the slabs (%llu)",
+                  (unsigned long long)(m2 - m1), (unsigned long long)plate, (unsigned long long)lr.memory_bytes,
+                  (unsigned long long)slabs);
+    cr_expect_gt(m2 - m1, plate, "a thread's plate image is not counted");
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+    hv_tray_destroy(t);
+}
+
+/* Peak RSS (KiB) of `hovox tray JOB -o DIR --threads N` (the binary, as a user runs it: a
+ * forked copy of this process could not start OpenMP's threads again), or -1. */
+static long tray_peak_kib(const char *job, const char *dir, int threads)
+{
+    const char *build = getenv("HOVOX_BUILD");
+    char exe[1024], th[16];
+    snprintf(exe, sizeof exe, "%s/hovox", build ? build : "build");
+    cr_assert(t_exists(exe), "%s is not built", exe);
+    snprintf(th, sizeof th, "%d", threads);
+    fflush(NULL);
+    pid_t pid = fork();
+    cr_assert_geq(pid, 0);
+    if (pid == 0) {
+        char *argv[] = {exe, "tray", (char *)job, "-o", (char *)dir, "--threads", th, "--force", "-q", NULL};
+        if (!freopen("/dev/null", "w", stdout)) _exit(126);
+        execv(exe, argv);
+        _exit(127);
+    }
+    int status = 0;
+    struct rusage ru;
+    cr_assert_eq(wait4(pid, &status, 0, &ru), pid);
+    cr_assert(WIFEXITED(status) && WEXITSTATUS(status) == 0, "hovox tray on %d threads failed", threads);
+    return ru.ru_maxrss;
+}
+
+/* Measured: 10 parts, 1 thread against 8 (every thread gets layers: 10 runs of 8 layers). The
+ * peak grows by no more than the plan's 7 extra threads (a plate and one part each) and 32 MiB
+ * of allocator slack; holding every part per thread it grew by about 7 x 10 parts' buffers. The
+ * stacks are the same bytes. */
+Test(tray, peak_rss_follows_the_plan_not_the_parts, .timeout = 300)
+{
+    hv_tray_options o;
+    hv_tray *t = copies_tray(10, &o);
+    uint64_t per_thread = planned_memory(t, &o, 2) - planned_memory(t, &o, 1);
+    hv_tray_destroy(t);
+    const char *job = t_tmpfile("slabs.json");
+    FILE *f = fopen(job, "w");
+    cr_assert(f);
+    fprintf(f, "{\"schema\": 1, \"profile\": \"j750\", \"arrange\": \"all\",\n"
+               " \"resin\": {\"A\": \"VeroCyan-V\", \"B\": \"VeroMagenta-V\"},\n"
+               " \"parts\": [{\"model\": \"slab.vdb\", \"mesh\": \"slab.stl\", \"copies\": 10}]}\n");
+    cr_assert_eq(fclose(f), 0);
+    const char *a = t_tmpfile("rss1"), *b = t_tmpfile("rss8");
+    long k1 = tray_peak_kib(job, a, 1), k8 = tray_peak_kib(job, b, 8);
+    double grew = (double)(k8 - k1) * 1024.0, allowed = 7.0 * (double)per_thread + 32.0 * 1048576.0;
+    cr_log_info("peak RSS: 1 thread %ld KiB, 8 threads %ld KiB (plan: %.1f MiB a thread)", k1, k8,
+                (double)per_thread / 1048576.0);
+    cr_expect_leq(grew, allowed, "peak RSS 1 thread %ld KiB, 8 threads %ld KiB: grew %.0f MiB, the plan allows %.0f MiB",
+                  k1, k8, grew / 1048576.0, allowed / 1048576.0);
+    char cmd[9000];
+    snprintf(cmd, sizeof cmd, "diff -r '%s' '%s' >/dev/null", a, b);
+    cr_expect_eq(t_run(cmd, NULL), 0, "1 and 8 threads wrote different stacks");
 }

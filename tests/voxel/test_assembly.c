@@ -458,6 +458,15 @@ Test(assembly, damaged_regions_documents_are_refused_naming_the_member)
          "\"lost_to\": [], \"color\": [1, 2, 0, 1]}]}",
          "color[1]"},
         {"{\"schema\": 2, \"regions\": []}", "newer"},
+        /* a region's mixture (a 3MF composite): distinct materials, fractions in (0, 1] summing to 1 */
+        {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, \"lost_to\": [], \"mixture\": [{\"material\": \"A\", \"fraction\": 0.5}, {\"material\": \"B\", \"fraction\": 0.4}]}]}",
+         "regions[0]: the mixture's fractions sum to 0.9, not 1"},
+        {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, \"lost_to\": [], \"mixture\": [{\"material\": \"A\", \"fraction\": 0.5}, {\"material\": \"A\", \"fraction\": 0.5}]}]}",
+         "mixture[1]: material 'A' is named twice"},
+        {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, \"lost_to\": [], \"mixture\": [{\"material\": \"A\", \"fraction\": 1.5}, {\"material\": \"B\", \"fraction\": -0.5}]}]}",
+         "mixture[0]: fraction 1.5 is not in (0, 1]"},
+        {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, \"lost_to\": [], \"mixture\": []}]}", "mixture is not a list of 1 to 64 parts"},
+        {"{\"regions\": [{\"name\": \"a\", \"grid\": \"region.a\", \"fill\": \"flood\", \"voxels\": 1, \"lost\": 0, \"lost_to\": [], \"mixture\": [{\"fraction\": 1}]}]}", "mixture[0]: material"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         cr_assert_eq(hv_volume_meta_set_string(v, "hovox.regions.json", cases[i].doc), HV_OK);

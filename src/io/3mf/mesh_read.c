@@ -20,6 +20,8 @@
 #define TMF_TRIANGLE_BYTES 128     /* a placed triangle's cost, read and welded (measured: about 100) */
 #define TMF_AMPLIFY_FLOOR ((uint64_t)512 << 20)
 #define TMF_AMPLIFY_RATIO 256
+#define TMF_MAX_LIST HV_MAX_MIX_PARTS /* a composite's base materials, a multiproperties' layers */
+#define TMF_MIX_TOLERANCE 1e-4     /* a composite's values sum to 1 within this */
 
 enum { R_OBJECT = 1, R_BASE, R_COLOR, R_TEXTURE, R_COMPOSITE, R_MULTI, R_OTHER, R_TEX2D };
 static const char *const k_group_tags[] = {"", "object", "basematerials", "colorgroup", "texture2dgroup",
@@ -32,19 +34,21 @@ enum { T_MODEL = 0, T_SOLIDSUPPORT, T_SUPPORT, T_SURFACE, T_OTHER };
 typedef struct resource {
     int kind;
     uint64_t count; /* entries of a property group */
-    size_t first;   /* base materials and colours: their first entry; objects: their index */
+    size_t first;   /* property groups: their first entry; objects, texture2d: their index */
+    int32_t sub;    /* a composite group's base materials (index into res) */
+    size_t sfirst, sn; /* in the reader's idx: a composite group's matindices, a multiproperties' layers */
 } resource;
 
 typedef struct entry {
     char *name; /* a base material's (NULL: a colour, named by its value) */
-    uint32_t rgba;
+    uint32_t rgba; /* a composite's: its bases' display colours mixed by its values */
     int32_t mat; /* the mesh material, once used; -2 before */
+    size_t vfirst; /* a composite's values (in vals), a multi's pindices (in idx) */
 } entry;
 
 /* A <texture2d>: its image part and how it is addressed (Materials 6). */
 typedef struct tex2d {
     char *path; /* the part, without the leading '/' */
-    int png;    /* contenttype image/png (else image/jpeg, not decoded) */
     hv_tile tile_u, tile_v;
     hv_filter filter;
     int32_t mesh_index; /* the mesh texture, once added; -1 before, -2 not decodable */
@@ -93,6 +97,10 @@ typedef struct reader {
     size_t rfcap;
     tex2d *texs;   /* <texture2d> resources (resource.first indexes them) */
     size_t ntex, txcap;
+    double *vals;  /* the values of every composite (normalised to sum 1) */
+    size_t nvals, vcap;
+    uint32_t *idx; /* matindices of composite groups, layers of multiproperties, pindices of multis */
+    size_t nidx, idcap;
     float *uvs;    /* 2 per <tex2coord> of every texture group */
     size_t nuv, uvcap;
     int32_t *texgroup_tex; /* per resource: a texture group's texture (index into texs), else -1 */
@@ -137,6 +145,8 @@ static void reader_free(reader *r)
     for (size_t i = 0; i < r->nobj; ++i) free(r->objs[i].name);
     for (size_t i = 0; i < r->ntex; ++i) free(r->texs[i].path);
     free(r->texs);
+    free(r->vals);
+    free(r->idx);
     free(r->uvs);
     free(r->texgroup_tex);
     free(r->entries);
@@ -253,6 +263,9 @@ static char *copy_text(const tmf_attr *a)
     return s;
 }
 
+static hv_status on_composite(reader *r, tmf_xml *x, const tmf_attr *a, int n, entry *e);
+static hv_status on_multi(reader *r, tmf_xml *x, const tmf_attr *a, int n, entry *e);
+
 /* An entry of a property group (base materials and colours keep theirs). */
 static hv_status on_entry(reader *r, tmf_xml *x, const tmf_attr *a, int n)
 {
@@ -269,6 +282,18 @@ static hv_status on_entry(reader *r, tmf_xml *x, const tmf_attr *a, int n)
         r->uvs[r->nuv++] = (float)uv[0];
         r->uvs[r->nuv++] = (float)uv[1];
         g->count++;
+        return HV_OK;
+    }
+    if (g->kind == R_COMPOSITE || g->kind == R_MULTI) {
+        hv_status s = grow(r, x, (void **)&r->entries, &r->ecap, r->nent + 1, sizeof *r->entries);
+        if (s != HV_OK) return s;
+        entry *e = &r->entries[r->nent];
+        memset(e, 0, sizeof *e);
+        e->mat = -2;
+        s = g->kind == R_COMPOSITE ? on_composite(r, x, a, n, e) : on_multi(r, x, a, n, e);
+        if (s != HV_OK) return s;
+        r->nent++;
+        r->res[r->group].count++;
         return HV_OK;
     }
     if (g->kind != R_BASE && g->kind != R_COLOR) {
@@ -288,12 +313,172 @@ static hv_status on_entry(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     if (s != HV_OK) return s;
     entry *e = &r->entries[r->nent];
     e->name = NULL;
+    e->vfirst = 0;
     e->rgba = rgba;
     e->mat = -2;
     const tmf_attr *nm = g->kind == R_BASE ? tmf_attr_find(a, n, "name", NULL) : NULL;
     if (nm && nm->len && !(e->name = copy_text(nm))) return HV_ERR_NOMEM;
+    if (g->kind == R_BASE && !e->name) { /* named by its colour, as a colour is */
+        char col[10];
+        if ((rgba & 0xFF) == 0xFF) snprintf(col, sizeof col, "#%06x", (unsigned)(rgba >> 8));
+        else snprintf(col, sizeof col, "#%08x", (unsigned)rgba);
+        if (!(e->name = hv_strdup(col))) return HV_ERR_NOMEM;
+    }
     r->nent++;
     g->count++;
+    return HV_OK;
+}
+
+/* A space-separated list of at most TMF_MAX_LIST finite numbers (whole ones in [0, UINT32_MAX] when
+ * `whole`): their count, -1 absent or empty or not such numbers, -2 too many. */
+static int num_list(const tmf_attr *a, double *out, int whole)
+{
+    if (!a) return -1;
+    int k = 0;
+    for (size_t i = 0; i < a->len;) {
+        while (i < a->len && (a->value[i] == ' ' || a->value[i] == '\t' || a->value[i] == '\r' || a->value[i] == '\n')) ++i;
+        if (i == a->len) break;
+        char buf[64];
+        size_t j = i;
+        while (j < a->len && !(a->value[j] == ' ' || a->value[j] == '\t' || a->value[j] == '\r' || a->value[j] == '\n')) ++j;
+        if (j - i >= sizeof buf) return -1;
+        if (k == TMF_MAX_LIST) return -2;
+        memcpy(buf, a->value + i, j - i);
+        buf[j - i] = '\0';
+        char *end;
+        double v = strtod(buf, &end);
+        if (*end || !isfinite(v) || (whole && (v < 0 || v > UINT32_MAX || v != floor(v) || buf[0] == '-'))) return -1;
+        out[k++] = v;
+        i = j;
+    }
+    return k ? k : -1;
+}
+
+/* The whole-number list attribute `key` of element `place` into r->idx: *first, *count. */
+static hv_status idx_list(reader *r, tmf_xml *x, const char *place, const tmf_attr *a, int n, const char *key,
+                          size_t *first, size_t *count)
+{
+    double v[TMF_MAX_LIST];
+    const tmf_attr *at = tmf_attr_find(a, n, key, NULL);
+    int k = num_list(at, v, 1);
+    char q[96];
+    if (k == -2)
+        return tmf_xml_bad(x, HV_ERR_LIMIT, "%s: %s lists more than the %d entries hovox reads", place, key, TMF_MAX_LIST);
+    if (k < 0)
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: %s '%s' is not a list of indices", place, key,
+                           at ? tmf_attr_quote(at, q, sizeof q) : "");
+    hv_status s = grow(r, x, (void **)&r->idx, &r->idcap, r->nidx + (size_t)k, sizeof *r->idx);
+    if (s != HV_OK) return s;
+    *first = r->nidx;
+    *count = (size_t)k;
+    for (int i = 0; i < k; ++i) r->idx[r->nidx++] = (uint32_t)v[i];
+    return HV_OK;
+}
+
+/* A <compositematerials>' matid (base materials defined above) and matindices (within them), or
+ * a <multiproperties>' pids (property groups defined above, a material layer only first). */
+static hv_status group_header(reader *r, tmf_xml *x, uint64_t id, const tmf_attr *a, int n)
+{
+    resource *g = &r->res[r->ids.n - 1];
+    char place[80];
+    snprintf(place, sizeof place, "%s %llu", k_group_tags[g->kind], (unsigned long long)id);
+    if (g->kind == R_COMPOSITE) {
+        uint64_t mid = 0;
+        const tmf_attr *m = tmf_attr_find(a, n, "matid", NULL);
+        int64_t k = tmf_attr_uint(m, UINT32_MAX, &mid) > 0 ? lookup(r, mid) : -1;
+        if (k < 0 || r->res[k].kind != R_BASE) {
+            char q[72];
+            return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: matid '%s' names no basematerials defined above it", place,
+                               m ? tmf_attr_quote(m, q, sizeof q) : "");
+        }
+        hv_status s = idx_list(r, x, place, a, n, "matindices", &g->sfirst, &g->sn);
+        g = &r->res[r->ids.n - 1];
+        g->sub = (int32_t)k;
+        for (size_t i = 0; i < g->sn && s == HV_OK; ++i)
+            if (r->idx[g->sfirst + i] >= r->res[k].count)
+                return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: matindices: %u is past the end of basematerials %llu (%llu entries)",
+                                   place, r->idx[g->sfirst + i], (unsigned long long)mid,
+                                   (unsigned long long)r->res[k].count);
+        return s;
+    }
+    if (g->kind != R_MULTI) return HV_OK;
+    size_t first, cnt;
+    hv_status s = idx_list(r, x, place, a, n, "pids", &first, &cnt);
+    for (size_t i = 0; i < cnt && s == HV_OK; ++i) {
+        int64_t k = lookup(r, r->idx[first + i]);
+        int kind = k >= 0 ? r->res[k].kind : 0;
+        if (kind != R_BASE && kind != R_COMPOSITE && kind != R_COLOR && kind != R_TEXTURE)
+            return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: pids: %u names no basematerials, compositematerials, colorgroup or "
+                               "texture2dgroup defined above it", place, r->idx[first + i]);
+        if (i > 0 && (kind == R_BASE || kind == R_COMPOSITE))
+            return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: pids: %s %u is layer %zu; a material layer may only be the first "
+                               "(Materials 5.1)", place, k_group_tags[kind], r->idx[first + i], i + 1);
+        r->idx[first + i] = (uint32_t)k; /* kept as the resource's index */
+    }
+    g = &r->res[r->ids.n - 1];
+    g->sfirst = first;
+    g->sn = cnt;
+    return s;
+}
+
+/* A <composite>: its values, one per base material of its group, non-negative, summing to 1
+ * (normalised); its display colour the bases' mixed by them. */
+static hv_status on_composite(reader *r, tmf_xml *x, const tmf_attr *a, int n, entry *e)
+{
+    const resource *g = &r->res[r->group];
+    double v[TMF_MAX_LIST], sum = 0;
+    const tmf_attr *at = tmf_attr_find(a, n, "values", NULL);
+    int k = num_list(at, v, 0);
+    char q[96];
+    for (int i = 0; i < k; ++i) {
+        if (v[i] < 0) k = -1;
+        else sum += v[i];
+    }
+    if (k != (int)g->sn)
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "compositematerials %s: composite %llu: values '%s' are not %zu non-negative numbers "
+                           "(one per matindices entry)", r->ids.names[r->group], (unsigned long long)g->count,
+                           at ? tmf_attr_quote(at, q, sizeof q) : "", g->sn);
+    if (!(fabs(sum - 1) <= TMF_MIX_TOLERANCE))
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "compositematerials %s: composite %llu: values '%s' sum to %.9g, not 1",
+                           r->ids.names[r->group], (unsigned long long)g->count, tmf_attr_quote(at, q, sizeof q), sum);
+    hv_status s = grow(r, x, (void **)&r->vals, &r->vcap, r->nvals + (size_t)k, sizeof *r->vals);
+    if (s != HV_OK) return s;
+    e->vfirst = r->nvals;
+    double c[4] = {0, 0, 0, 0};
+    for (int i = 0; i < k; ++i) {
+        double f = v[i] / sum;
+        r->vals[r->nvals++] = f;
+        uint32_t b = r->entries[r->res[g->sub].first + r->idx[g->sfirst + (size_t)i]].rgba;
+        for (int ch = 0; ch < 4; ++ch) c[ch] += f * (double)((b >> (24 - 8 * ch)) & 0xFFu);
+    }
+    e->rgba = 0;
+    for (int ch = 0; ch < 4; ++ch) e->rgba = e->rgba << 8 | (uint32_t)HV_MIN(255.0, floor(c[ch] + 0.5));
+    return HV_OK;
+}
+
+/* A <multi>: its pindices (absent ones 0), each within its layer's group. */
+static hv_status on_multi(reader *r, tmf_xml *x, const tmf_attr *a, int n, entry *e)
+{
+    const resource *g = &r->res[r->group];
+    char place[80];
+    snprintf(place, sizeof place, "multiproperties %s: multi %llu", r->ids.names[r->group], (unsigned long long)g->count);
+    size_t first = r->nidx, cnt = 0;
+    hv_status s = tmf_attr_find(a, n, "pindices", NULL) ? idx_list(r, x, place, a, n, "pindices", &first, &cnt) : HV_OK;
+    g = &r->res[r->group];
+    if (s == HV_OK && cnt > g->sn)
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: pindices has %zu entries, pids %zu", place, cnt, g->sn);
+    if (s == HV_OK) s = grow(r, x, (void **)&r->idx, &r->idcap, first + g->sn, sizeof *r->idx);
+    if (s != HV_OK) return s;
+    for (size_t i = 0; i < g->sn; ++i) {
+        if (i >= cnt) r->idx[first + i] = 0;
+        const resource *layer = &r->res[r->idx[g->sfirst + i]];
+        if (r->idx[first + i] >= layer->count)
+            return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: pindices: %u is past the end of %s %s (%llu entries)", place,
+                               r->idx[first + i], k_group_tags[layer->kind], r->ids.names[r->idx[g->sfirst + i]],
+                               (unsigned long long)layer->count);
+    }
+    r->nidx = first + g->sn;
+    e->vfirst = first;
     return HV_OK;
 }
 
@@ -566,7 +751,6 @@ static hv_status on_texture2d(reader *r, tmf_xml *x, uint64_t id, const tmf_attr
     if (s != HV_OK) return s;
     tex2d *t = &r->texs[r->ntex];
     memset(t, 0, sizeof *t);
-    t->png = png;
     t->mesh_index = -1;
     static const char *const tiles[] = {"wrap", "mirror", "clamp", "none"};
     static const char *const filters[] = {"auto", "linear", "nearest"};
@@ -623,6 +807,7 @@ static hv_status on_resource(reader *r, tmf_xml *x, const char *local, const cha
     if (strcmp(local, "texture2d") == 0) return on_texture2d(r, x, id, a, n);
     hv_status s = define(r, x, id, kind ? kind : R_OTHER);
     if (s == HV_OK && kind == R_TEXTURE) s = texgroup_texture(r, x, id, a, n);
+    if (s == HV_OK && (kind == R_COMPOSITE || kind == R_MULTI)) s = group_header(r, x, id, a, n);
     if (s == HV_OK && kind) {
         r->skip = 0;
         r->at = W_GROUP;
@@ -781,23 +966,83 @@ typedef struct build {
     hv_names mats;
     uint32_t *rgba;
     size_t rcap;
+    size_t *mixat; /* per material: its first part in mix and their count (0: not a mixture) */
+    size_t mxcap;
+    hv_mesh_mix_part *mix;
+    size_t nmix, mixcap;
 } build;
 
-/* The mesh material of a property reference (-1: none, or a property that is not a material). */
+/* A multiproperties' entry as the layer that gives what is asked: its material layer (the
+ * first, when base materials or composites), else its first colour layer, else its first texture
+ * layer (Materials 5: blending several colour layers is not done); *res -1 when none gives it. */
+static void multi_layer(const reader *r, int32_t *res, int32_t *ent, int material)
+{
+    const resource *g = &r->res[*res];
+    const entry *e = &r->entries[g->first + (size_t)*ent];
+    int32_t best = -1, at = 0;
+    int rank = 0; /* material: 1 a material layer; appearance: 2 a colour layer, 1 a texture layer */
+    for (size_t i = 0; i < g->sn; ++i) {
+        int32_t k = (int32_t)r->idx[g->sfirst + i];
+        int kind = r->res[k].kind;
+        int q = material ? kind == R_BASE || kind == R_COMPOSITE : kind == R_COLOR ? 2 : kind == R_TEXTURE ? 1 : 0;
+        if (q > rank) {
+            rank = q;
+            best = k;
+            at = (int32_t)r->idx[e->vfirst + i];
+        }
+    }
+    *res = best;
+    *ent = at;
+}
+
+/* Material k of the build a mixture: the composite's base materials (distinct names, their
+ * fractions added) and values. */
+static hv_status mix_record(build *b, const resource *g, const entry *e, int32_t k)
+{
+    const reader *r = b->r;
+    hv_status s = hv_grow((void **)&b->mixat, &b->mxcap, 2 * ((size_t)k + 1), sizeof *b->mixat);
+    if (s == HV_OK) s = hv_grow((void **)&b->mix, &b->mixcap, b->nmix + g->sn, sizeof *b->mix);
+    if (s != HV_OK) return s;
+    size_t first = b->nmix;
+    for (size_t i = 0; i < g->sn; ++i) {
+        const entry *base = &r->entries[r->res[g->sub].first + r->idx[g->sfirst + i]];
+        const char *name = base->name;
+        double f = r->vals[e->vfirst + i];
+        size_t j = first;
+        while (j < b->nmix && strcmp(b->mix[j].material, name) != 0) ++j;
+        if (j == b->nmix) b->mix[b->nmix++] = (hv_mesh_mix_part){name, 0};
+        b->mix[j].fraction += f;
+    }
+    size_t w = first; /* parts of fraction 0 are no parts */
+    for (size_t j = first; j < b->nmix; ++j)
+        if (b->mix[j].fraction > 0) b->mix[w++] = b->mix[j];
+    b->nmix = w;
+    b->mixat[2 * k] = first;
+    b->mixat[2 * k + 1] = w - first;
+    return HV_OK;
+}
+
+/* The mesh material of a property reference (-1: none, or a property that is not a material):
+ * a base material, a colour, a composite (a mixture named "composite ID#INDEX"), a multi's
+ * material layer. */
 static hv_status material_of(build *b, int32_t res, int32_t ent, int32_t *mat)
 {
     *mat = -1;
+    if (res >= 0 && b->r->res[res].kind == R_MULTI) multi_layer(b->r, &res, &ent, 1);
     if (res < 0) return HV_OK;
     const resource *g = &b->r->res[res];
-    if (g->kind != R_BASE && g->kind != R_COLOR) return HV_OK;
+    if (g->kind != R_BASE && g->kind != R_COLOR && g->kind != R_COMPOSITE) return HV_OK;
     entry *e = &b->r->entries[g->first + (size_t)ent];
     if (e->mat >= 0) {
         *mat = e->mat;
         return HV_OK;
     }
-    char col[10];
+    char col[48];
     const char *name = e->name;
-    if (!name) { /* a colour is named by its value */
+    if (g->kind == R_COMPOSITE) {
+        snprintf(col, sizeof col, "composite %s#%d", b->r->ids.names[res], (int)ent);
+        name = col;
+    } else if (!name) { /* a colour is named by its value */
         if ((e->rgba & 0xFF) == 0xFF) snprintf(col, sizeof col, "#%06x", (unsigned)(e->rgba >> 8));
         else snprintf(col, sizeof col, "#%08x", (unsigned)e->rgba);
         name = col;
@@ -806,12 +1051,18 @@ static hv_status material_of(build *b, int32_t res, int32_t ent, int32_t *mat)
     hv_status s = hv_names_intern(&b->mats, name, strlen(name), &e->mat);
     if (s == HV_OK && b->mats.n != before && (s = hv_grow((void **)&b->rgba, &b->rcap, b->mats.n, sizeof *b->rgba)) == HV_OK)
         b->rgba[e->mat] = e->rgba; /* base materials of the same name are one material: the first colour */
+    if (s == HV_OK && b->mats.n != before && (s = hv_grow((void **)&b->mixat, &b->mxcap, 2 * b->mats.n, sizeof *b->mixat)) == HV_OK) {
+        b->mixat[2 * (size_t)e->mat] = b->mixat[2 * (size_t)e->mat + 1] = 0;
+        if (g->kind == R_COMPOSITE) s = mix_record(b, g, e, e->mat);
+    }
     *mat = e->mat;
     return s;
 }
 
-/* Facet b->nf's colours (a colour group: one per corner) and texture coordinates (a texture
- * group), corners 1 and 2 swapped as the placement swapped them. */
+/* Facet b->nf's colours (a colour group: one per corner; base materials and composites: their
+ * display colours; a multi: its colour layer, else its texture layer, else its material layer)
+ * and texture coordinates (a texture group), corners 1 and 2 swapped as the placement swapped
+ * them. */
 static void appearance_of(build *b, const int32_t *ref, int flip)
 {
     const reader *r = b->r;
@@ -821,15 +1072,21 @@ static void appearance_of(build *b, const int32_t *ref, int flip)
     memset(b->corner + 3 * f, 0, 3 * sizeof *b->corner);
     memset(b->uv + 6 * f, 0, 6 * sizeof *b->uv);
     if (ref[0] < 0) return;
-    const resource *g = &r->res[ref[0]];
     for (int c = 0; c < 3; ++c) {
-        int32_t e = ref[1 + (flip && c ? 3 - c : c)];
-        if (g->kind == R_COLOR || g->kind == R_BASE) {
+        int32_t res = ref[0], e = ref[1 + (flip && c ? 3 - c : c)];
+        if (r->res[res].kind == R_MULTI) {
+            int32_t mres = res, me = e;
+            multi_layer(r, &res, &e, 0);
+            if (res < 0) multi_layer(r, &mres, &me, 1), res = mres, e = me;
+            if (res < 0) return;
+        }
+        const resource *g = &r->res[res];
+        if (g->kind == R_COLOR || g->kind == R_BASE || g->kind == R_COMPOSITE) {
             b->corner[3 * f + (size_t)c] = r->entries[g->first + (size_t)e].rgba;
             b->any_colour |= g->kind == R_COLOR;
         } else if (g->kind == R_TEXTURE) {
             memcpy(b->uv + 6 * f + 2 * (size_t)c, r->uvs + 2 * (g->first + (size_t)e), 2 * sizeof(float));
-            b->ftex[f] = r->texgroup_tex[ref[0]];
+            b->ftex[f] = r->texgroup_tex[res];
             b->any_texture = 1;
         }
     }
@@ -906,6 +1163,8 @@ static hv_status place(build *b, size_t obj, const double *t)
 }
 
 /* A texture's image as 8-bit RGBA, row 0 the top (PNG's order). */
+/* A <texture2d>'s picture, PNG or JPEG (by its bytes; the one decoder of OBJ textures too,
+ * hv_rgba8_decode), as a texture of the mesh. */
 static hv_status load_texture(reader *r, const char *name, tex2d *t, hv_mesh *m)
 {
     uint8_t *data = NULL;
@@ -913,47 +1172,27 @@ static hv_status load_texture(reader *r, const char *name, tex2d *t, hv_mesh *m)
     char label[TMF_MAX_PART_NAME + 64];
     snprintf(label, sizeof label, "%s: texture /%s", name, t->path);
     hv_status s = tmf_pkg_read(r->pk, t->path, r->budget / 4, &data, &size);
-    hv_png_pixels px;
-    memset(&px, 0, sizeof px);
-    if (s == HV_OK) s = hv_png_decode(data, size, label, r->budget / 16, &px);
+    hv_rgba8 img;
+    memset(&img, 0, sizeof img);
+    if (s == HV_OK) s = hv_rgba8_decode(data, size, label, r->budget / 32, &img);
     free(data);
-    uint8_t *rgba = s == HV_OK ? hv_malloc_array((size_t)px.width * (size_t)px.height, 4) : NULL;
-    if (s == HV_OK && !rgba) s = HV_ERR_NOMEM;
-    for (size_t i = 0; s == HV_OK && i < (size_t)px.width * (size_t)px.height; ++i) {
-        const uint16_t *p = px.samples + i * (size_t)px.channels;
-        int shift = px.bit_depth == 16 ? 8 : 0;
-        uint8_t g = (uint8_t)(p[0] >> shift);
-        rgba[4 * i] = g;
-        uint8_t a = 255;
-        if (px.channels == 4) a = (uint8_t)(p[3] >> shift);
-        else if (px.channels == 2) a = (uint8_t)(p[1] >> shift);
-        rgba[4 * i + 1] = (uint8_t)(px.channels >= 3 ? p[1] >> shift : g);
-        rgba[4 * i + 2] = (uint8_t)(px.channels >= 3 ? p[2] >> shift : g);
-        rgba[4 * i + 3] = a;
-    }
     if (s == HV_OK)
-        s = hv_mesh_add_texture(m, t->path, rgba, (uint32_t)px.width, (uint32_t)px.height, t->tile_u, t->tile_v, t->filter,
-                                &t->mesh_index);
-    free(rgba);
-    hv_png_pixels_free(&px);
+        s = hv_mesh_add_texture(m, t->path, img.rgba, (uint32_t)img.width, (uint32_t)img.height, t->tile_u, t->tile_v,
+                                t->filter, &t->mesh_index);
+    hv_rgba8_free(&img);
     return s;
 }
 
 /* The colours and textures the facets carry, given to the mesh (hovox/mesh.h, appearance).
- * Facets of a colour-less property keep their material's display colour as corner colours; a
- * JPEG texture is not decoded (a note says so) and its facets fall back likewise. */
+ * Facets of a colour-less property keep their material's display colour as corner colours. */
 static hv_status set_appearance(build *b, hv_mesh *m)
 {
     reader *r = b->r;
     hv_status s = HV_OK;
-    size_t jpeg = 0;
     for (size_t f = 0; f < b->nf && s == HV_OK; ++f) {
         int32_t t = b->ftex[f];
         if (t < 0) continue;
-        if (r->texs[t].mesh_index == -1) {
-            if (r->texs[t].png) s = load_texture(r, b->name, &r->texs[t], m);
-            else r->texs[t].mesh_index = -2, ++jpeg;
-        }
+        if (r->texs[t].mesh_index == -1) s = load_texture(r, b->name, &r->texs[t], m);
         b->ftex[f] = r->texs[t].mesh_index >= 0 ? r->texs[t].mesh_index : -1;
     }
     const hv_mesh_material *mats = NULL;
@@ -968,12 +1207,6 @@ static hv_status set_appearance(build *b, hv_mesh *m)
     }
     if (s == HV_OK) s = hv_mesh_set_corner_colours(m, b->corner);
     if (s == HV_OK && (hv_mesh_texture_count(m) || no_colour)) s = hv_mesh_set_corner_uvs(m, b->uv, b->ftex);
-    if (s == HV_OK && jpeg) {
-        char note[512];
-        snprintf(note, sizeof note, "%s: %zu JPEG texture%s not decoded (hovox reads PNG textures): their facets show "
-                 "their material's colour", b->name, jpeg, jpeg == 1 ? " is" : "s are");
-        s = hv_mesh_add_note(m, note);
-    }
     return s;
 }
 
@@ -1031,6 +1264,8 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         mats[k].name = b.mats.names[k];
         mats[k].rgba = b.rgba[k];
         mats[k].has_color = 1;
+        mats[k].nparts = b.mixat[2 * k + 1];
+        mats[k].parts = b.mix + b.mixat[2 * k];
     }
     if (s == HV_OK)
         s = hv_mesh_build(b.soup, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n, b.any_material ? b.fmat : NULL, out);
@@ -1049,6 +1284,8 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     free(b.soup);
     free(b.fmat);
     free(b.rgba);
+    free(b.mixat);
+    free(b.mix);
     hv_names_free(&b.mats);
     return s;
 }

@@ -1407,6 +1407,45 @@ static hv_status build_table(rd *r, const used *u, hv_material_table **out)
     return HV_OK;
 }
 
+/* the hovox lattice of an image stack: voxel size and origin in mm, and OFF with hovox index = lattice
+   index + OFF (with the origin hovox wrote, its own lattice comes back) */
+static hv_status lattice_transform(rd *r, const used *u, const lattice *lat, hv_transform *xf, int64_t off[3])
+{
+    const double *t = lat->t;
+    for (int a = 0; a < 3; ++a) {
+        double L = 1.0 / (t[4 * a] * (double)lat->n[a]);           /* object units */
+        double c0 = (-t[9 + a] / t[4 * a] + 0.5 * L + u->shift[a]) * r->unit; /* centre of s = 0, mm */
+        xf->voxel[a] = L * r->unit;
+        if (!(xf->voxel[a] > 0 && isfinite(xf->voxel[a]) && isfinite(c0)))
+            return bad_at(r, HV_ERR_BAD_INPUT, u->vd->maps[0].line,
+                          "<v:materialmapping> transform gives voxels of %g mm", xf->voxel[a]);
+        double k = r->has_origin ? floor((c0 - r->origin_meta[a]) / xf->voxel[a] + 0.5) : floor(c0 / xf->voxel[a]);
+        if (r->has_origin && fabs((c0 - r->origin_meta[a]) / xf->voxel[a] - k) > 1e-6) k = floor(c0 / xf->voxel[a]);
+        if (!(fabs(k) < 1e9)) k = 0;
+        off[a] = (int64_t)k;
+        xf->origin[a] = r->has_origin && fabs((c0 - r->origin_meta[a]) / xf->voxel[a] - k) <= 1e-6
+                           ? r->origin_meta[a]
+                            : c0 - k * xf->voxel[a];
+    }
+    return HV_OK;
+}
+
+/* object O's mesh, in millimetres */
+static hv_status object_mesh(rd *r, const used *u, hv_mesh **mesh)
+{
+    const object *o = u->obj;
+    hv_status s = HV_OK;
+    float *xyz = hv_malloc_array(o->nv, 3 * sizeof(float));
+    if (!xyz) s = HV_ERR_NOMEM;
+    for (size_t k = 0; s == HV_OK && k < o->nv; ++k)
+        for (int a = 0; a < 3; ++a)
+            xyz[3 * k + (size_t)a] = (float)((r->xyz[3 * (o->v0 + k) + (size_t)a] + u->shift[a]) * r->unit);
+    if (s == HV_OK) s = hv_mesh_create(xyz, o->nv, r->tri + 3 * o->t0, o->nt, mesh);
+    if (s != HV_OK && s != HV_ERR_NOMEM) s = bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh>: %s", hv_last_error());
+    free(xyz);
+    return s;
+}
+
 static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume **vol, hv_mesh **mesh)
 {
     const object *o = u->obj;
@@ -1426,24 +1465,7 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
         }
     hv_transform xf;
     int64_t off[3] = {0, 0, 0};
-    for (int a = 0; a < 3 && s == HV_OK; ++a) {
-        double L = 1.0 / (t[4 * a] * (double)lat->n[a]);           /* object units */
-        double c0 = (-t[9 + a] / t[4 * a] + 0.5 * L + u->shift[a]) * r->unit; /* centre of s = 0, mm */
-        xf.voxel[a] = L * r->unit;
-        if (!(xf.voxel[a] > 0 && isfinite(xf.voxel[a]) && isfinite(c0))) {
-            s = bad_at(r, HV_ERR_BAD_INPUT, u->vd->maps[0].line, "<v:materialmapping> transform gives voxels of %g mm",
-                       xf.voxel[a]);
-            break;
-        }
-        /* hovox index = s + off; with the origin hovox wrote, its own lattice comes back */
-        double k = r->has_origin ? floor((c0 - r->origin_meta[a]) / xf.voxel[a] + 0.5) : floor(c0 / xf.voxel[a]);
-        if (r->has_origin && fabs((c0 - r->origin_meta[a]) / xf.voxel[a] - k) > 1e-6) k = floor(c0 / xf.voxel[a]);
-        if (!(fabs(k) < 1e9)) k = 0;
-        off[a] = (int64_t)k;
-        xf.origin[a] = r->has_origin && fabs((c0 - r->origin_meta[a]) / xf.voxel[a] - k) <= 1e-6
-                           ? r->origin_meta[a]
-                           : c0 - k * xf.voxel[a];
-    }
+    if (s == HV_OK) s = lattice_transform(r, u, lat, &xf, off);
     leafmap lm;
     memset(&lm, 0, sizeof lm);
     uint64_t voxels = 0;
@@ -1517,17 +1539,7 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
     for (int j = 0; j < m; ++j) hv_png_pixels_free(&cache[j].px);
     if (s == HV_OK) s = hv_material_table_store(v, table);
     hv_material_table_destroy(table);
-    /* the mesh, in millimetres */
-    if (s == HV_OK && mesh) {
-        float *xyz = hv_malloc_array(o->nv, 3 * sizeof(float));
-        if (!xyz) s = HV_ERR_NOMEM;
-        for (size_t k = 0; s == HV_OK && k < o->nv; ++k)
-            for (int a = 0; a < 3; ++a)
-                xyz[3 * k + (size_t)a] = (float)((r->xyz[3 * (o->v0 + k) + (size_t)a] + u->shift[a]) * r->unit);
-        if (s == HV_OK) s = hv_mesh_create(xyz, o->nv, r->tri + 3 * o->t0, o->nt, mesh);
-        if (s != HV_OK && s != HV_ERR_NOMEM) s = bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh>: %s", hv_last_error());
-        free(xyz);
-    }
+    if (s == HV_OK && mesh) s = object_mesh(r, u, mesh); /* the mesh, in millimetres */
     free(s3);
     if (s != HV_OK) {
         hv_volume_destroy(v);

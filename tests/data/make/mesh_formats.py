@@ -116,6 +116,22 @@ package('tests/data/good/3mf_items_inch.3mf', model(
     '<component objectid="1" transform="1 0 0 0 1 0 0 0 1 2 0 0"/></components></object>',
     '<item objectid="3" transform="0 1 0 -1 0 0 0 0 1 5 0 0"/><item objectid="2" transform="1 0 0 0 1 0 0 0 1 0 0 3"/>',
     unit='inch').replace('name="brace" type="model"', 'name="brace" type="support"'))
+# issue 27: composite materials are material fractions; a multiproperties' material layer gives
+# the material, its colour layer the colour. The Vero shell and its core of 25 % Vero, 75 % Agilus
+# (composite 6#0), and a tab beside them of a multi (8#0: composite 6#1, half and half, in the
+# colour #3060C0 of colour group 7)
+tv, tt = box(12, 14)
+COMPOSITES = ('<m:compositematerials id="6" matid="5" matindices="0 1"><m:composite values="0.25 0.75"/>'
+              '<m:composite values="0.5 0.5"/></m:compositematerials>\n'
+              '<m:colorgroup id="7"><m:color color="#3060C0"/></m:colorgroup>\n'
+              '<m:multiproperties id="8" pids="6 7"><m:multi pindices="1 0"/></m:multiproperties>\n')
+package('tests/data/good/composite_core.3mf', model(
+    MATS + COMPOSITES + '<object id="2" name="shell" type="model" pid="5" pindex="0">' + mesh_xml(sv, st) + '</object>'
+    '<object id="3" name="core" type="model" pid="6" pindex="0">' + mesh_xml(iv, it) + '</object>'
+    '<object id="4" name="tab" type="model" pid="8" pindex="0">' + mesh_xml(tv, tt) + '</object>',
+    '<item objectid="2"/><item objectid="3"/><item objectid="4"/>'))
+package('tests/data/bad/3mf_composite_sum.3mf', model(
+    MATS + COMPOSITES.replace('"0.5 0.5"', '"0.5 0.4"') + tet(attrs=' pid="6" pindex="0"')))
 buf = io.BytesIO()
 package(buf, model(tet()))
 good = buf.getvalue()

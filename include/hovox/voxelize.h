@@ -178,6 +178,12 @@ HV_API void hv_regions_destroy(hv_regions *regions); /* NULL allowed */
  * bodies their materials first with hv_mesh_body_material_set. Errors: HV_ERR_INVALID (a body
  * without a material, naming it and the option {material}), those of hv_voxelize and
  * hv_object_evaluate. Free *out with hv_volume_destroy. */
+/* The voxels for hv_mesh_model: opt->voxel_size set to `pitch` (say the printer's coarsest pitch),
+ * coarsened by 5/4 until the plan (filled in) needs at most `budget` bytes (at most 60 times).
+ * Errors: HV_ERR_INVALID (pitch not positive and finite), HV_ERR_LIMIT (nothing fits), those of
+ * hv_voxelize_plan. */
+HV_API hv_status hv_mesh_model_voxels(const hv_mesh *mesh, double pitch, uint64_t budget, hv_voxelize_options *opt,
+                                      hv_voxel_plan *plan);
 HV_API hv_status hv_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *opt, const hv_progress *progress,
                                hv_volume **out);
 

@@ -213,22 +213,18 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
     hv_voxelize_options vo;
     hv_voxelize_options_init(&vo);
     vo.max_memory = o->max_memory;
-    double v = c->voxel_size;
-    if (v <= 0) v = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
-    uint64_t budget = hv_memory_budget(o->max_memory) / 2;
+    double pitch = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
     hv_voxel_plan plan;
-    for (int tries = 0;; ++tries) {
-        vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = v;
+    if (c->voxel_size > 0) {
+        vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = c->voxel_size;
         s = hv_voxelize_plan(*mesh, &vo, &plan);
-        int fits = s == HV_OK && plan.memory_bytes <= budget;
-        if (fits || c->voxel_size > 0 || tries == 60 || (s != HV_OK && s != HV_ERR_LIMIT)) break;
-        v *= 1.25;
+    } else {
+        s = hv_mesh_model_voxels(*mesh, pitch, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
     }
     if (s != HV_OK) return s;
-    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", v,
+    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", vo.voxel_size[0],
                   (long long)plan.dims[0], (long long)plan.dims[1], (long long)plan.dims[2],
-                  c->voxel_size > 0 || v <= HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height) * 1.0001
-                      ? "" : " (coarsened to fit the memory budget)");
+                  c->voxel_size > 0 || vo.voxel_size[0] <= pitch ? "" : " (coarsened to fit the memory budget)");
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};

@@ -69,3 +69,21 @@ hv_status hv_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *vopt, co
     hv_volume_destroy(vox);
     return s;
 }
+
+hv_status hv_mesh_model_voxels(const hv_mesh *mesh, double pitch, uint64_t budget, hv_voxelize_options *opt,
+                               hv_voxel_plan *plan)
+{
+    if (!(pitch > 0) || !(pitch < 1e6)) return hv_error_set(HV_ERR_INVALID, "the voxel pitch must be positive, got %g", pitch);
+    double v = pitch;
+    hv_status s = HV_OK;
+    for (int tries = 0; tries <= 60; ++tries, v *= 1.25) {
+        opt->voxel_size[0] = opt->voxel_size[1] = opt->voxel_size[2] = v;
+        s = hv_voxelize_plan(mesh, opt, plan);
+        if (s == HV_OK && plan->memory_bytes <= budget) return HV_OK;
+        if (s != HV_OK && s != HV_ERR_LIMIT) return s;
+    }
+    if (s == HV_OK)
+        s = hv_error_set(HV_ERR_LIMIT, "%s: no voxel size from %g mm to %g mm fits %.1f MiB", hv_mesh_name(mesh), pitch,
+                         v / 1.25, (double)budget / 1048576.0);
+    return s;
+}

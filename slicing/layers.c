@@ -6,7 +6,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 
 #include "core/internal.h"
@@ -16,46 +15,6 @@
 #include "hovox/solid.h"
 #include "hovox/voxelize.h"
 #include "layers_internal.h"
-
-/* ---- profiles ------------------------------------------------------------------------------ */
-
-static const hv_printer_profile g_profiles[] = {
-    /* build volumes and material slots from Stratasys' public J750/J850 spec sheets */
-    {"j750", "Stratasys J750 voxel printing: 600 x 300 dpi, 0.027 mm layers", {600, 300}, 0.027, {490, 390, 200}, 6},
-    {"j850", "Stratasys J850 voxel printing (High Mix mode): 600 x 300 dpi, 0.027 mm layers",
-     {600, 300}, 0.027, {490, 390, 200}, 7},
-};
-
-int hv_printer_profile_count(void) { return (int)HV_COUNT(g_profiles); }
-
-const hv_printer_profile *hv_printer_profile_at(int i)
-{
-    return i >= 0 && i < (int)HV_COUNT(g_profiles) ? &g_profiles[i] : NULL;
-}
-
-const hv_printer_profile *hv_printer_profile_find(const char *name)
-{
-    for (size_t i = 0; name && i < HV_COUNT(g_profiles); ++i)
-        if (strcasecmp(name, g_profiles[i].name) == 0) return &g_profiles[i];
-    return NULL;
-}
-
-void hv_layers_options_init(hv_layers_options *o)
-{
-    memset(o, 0, sizeof *o);
-    o->mode = HV_LAYERS_HALFTONE;
-    o->method = HV_LAYERS_RESAMPLE;
-    o->halftone = HV_HALFTONE_BLUE_NOISE;
-    o->profile = g_profiles[0].name;
-    o->dpi[0] = g_profiles[0].dpi[0];
-    o->dpi[1] = g_profiles[0].dpi[1];
-    o->layer_height = g_profiles[0].layer_height;
-    o->fill_rule = HV_FILL_NONZERO;
-    o->margin = 2;
-    o->poi_step = HV_POI_DEFAULT_STEP;
-    o->close_gap = HV_SLICE_DEFAULT_CLOSE_GAP;
-    o->compression = 1;
-}
 
 /* ---- the job -------------------------------------------------------------------------------- */
 
@@ -582,7 +541,7 @@ static const hv_layers_place *options_place(const hv_layers_options *o, hv_layer
     const hv_printer_profile *p = hv_printer_profile_find(o->profile);
     pl->x = o->place[0];
     pl->y = o->place[1];
-    p = p ? p : &g_profiles[0];
+    p = p ? p : hv_printer_profile_at(0);
     pl->plate_y = p->build[1];
     pl->plate_x = p->build[0];
     pl->plate = p->name;

@@ -199,7 +199,7 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 
 # The 3MF tests and the mesh-format bench write their packages with lib3mf itself
 # (tests/support/lib3mf_c.h)
-$(BUILD)/tests/io/test_3mf: private LIBS += $(LIB3MF_LIBS)
+$(BUILD)/tests/io/3mf/test_mesh_read: private LIBS += $(LIB3MF_LIBS)
 $(BUILD)/bench-tools/bench_mesh_formats: private LIBS += $(LIB3MF_LIBS)
 # The lib3mf test reads hovox's 3MF Volumetric packages with the 3MF Consortium's library
 $(BUILD)/tests/io/3mf/test_lib3mf: private LIBS += $(LIB3MF_LIBS)

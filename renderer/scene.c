@@ -207,142 +207,166 @@ static void fill_cells(const rvox *out, uint64_t *cells, int16_t *alpha)
     }
 }
 
+/* A brick's neighbourhood: the occupancy rows cover local -(KR + 1) .. 8 + KR + 1 (FB_N), the
+ * smoothed occupancy local -1..9 (FB_M), padded along z to whole vectors (FB_MZ). */
+enum { FB_N = 9 + 2 * (KR + 1), FB_M = 9 + 2, FB_MZ = 12 };
+#define FB_FULL ((1u << FB_N) - 1)
+
+/* The occupied-leaf indices of the 3^3 blocks around brick bi's first block (nb, -1 where
+ * none); whether all 27 are full leaves. */
+static int brick_neighbours(const hv_render_scene *s, size_t bi, int32_t nb[3][3][3])
+{
+    const int32_t *B = s->brick_block + 3 * bi;
+    int full = 1;
+    for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz) {
+                int32_t o = occ_at(s, B[0] + dx, B[1] + dy, B[2] + dz);
+                nb[dx + 1][dy + 1][dz + 1] = o;
+                full &= o >= 0 && s->occ[o].full;
+            }
+    return full;
+}
+
+/* Occupancy bits of the FB_N^3 neighbourhood as rows along z (bit z: local z - (KR + 1));
+ * *any when a bit is set, *all when every bit is. */
+static void brick_rows(const hv_render_scene *s, const int32_t nb[3][3][3], uint32_t rows[FB_N][FB_N], int *any,
+                       int *all)
+{
+    const r_occ *occ = s->occ;
+    /* row (x, y) of a block along z is byte y of its mask word x */
+    for (int x = 0; x < FB_N; ++x) {
+        int lx = x - (KR + 1), bx = lx < 0 ? 0 : lx > 7 ? 2 : 1;
+        for (int y = 0; y < FB_N; ++y) {
+            int ly = y - (KR + 1), by = ly < 0 ? 0 : ly > 7 ? 2 : 1;
+            uint32_t row = 0;
+            for (int bz = 0; bz < 3; ++bz) {
+                int32_t o = nb[bx][by][bz];
+                if (o < 0) continue;
+                uint32_t byte = (uint32_t)(occ[o].mask[lx & 7] >> (8 * (ly & 7))) & 0xFFu;
+                row |= bz == 0 ? byte >> (8 - (KR + 1)) : bz == 1 ? byte << (KR + 1) : byte << (KR + 9);
+            }
+            row &= FB_FULL;
+            rows[x][y] = row;
+            *any |= row != 0;
+            *all &= row == FB_FULL;
+        }
+    }
+}
+
+/* The occupancy rows smoothed separably by the binomial kernel (GRAD_SCALE's comment): z by
+ * the 7-bit window table, then y, then x, into S over local -1..9. */
+static void brick_smooth(const uint32_t rows[FB_N][FB_N], int32_t S[FB_M][FB_M][FB_MZ])
+{
+    int32_t T1[FB_N][FB_N][FB_MZ] __attribute__((aligned(16))), T2[FB_N][FB_M][FB_MZ] __attribute__((aligned(16)));
+    for (int x = 0; x < FB_N; ++x)
+        for (int y = 0; y < FB_N; ++y) {
+            uint32_t row = rows[x][y];
+            int32_t *t = T1[x][y];
+            if (row == 0 || row == FB_FULL) {
+                for (int z = 0; z < FB_MZ; ++z) t[z] = row ? 64 : 0;
+            } else {
+                for (int z = 0; z < FB_M; ++z) t[z] = g_window[(row >> z) & 127u];
+                t[FB_M] = 0;
+            }
+        }
+    for (int x = 0; x < FB_N; ++x)
+        for (int y = 0; y < FB_M; ++y) {
+            int32_t *t = T2[x][y];
+            const int32_t *a0 = T1[x][y], *a1 = T1[x][y + 1], *a2 = T1[x][y + 2], *a3 = T1[x][y + 3],
+                          *a4 = T1[x][y + 4], *a5 = T1[x][y + 5], *a6 = T1[x][y + 6];
+            for (int z = 0; z < FB_MZ; ++z)
+                t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) + 20 * a3[z];
+        }
+    for (int x = 0; x < FB_M; ++x)
+        for (int y = 0; y < FB_M; ++y) {
+            int32_t *t = S[x][y];
+            const int32_t *a0 = T2[x][y], *a1 = T2[x + 1][y], *a2 = T2[x + 2][y], *a3 = T2[x + 3][y],
+                          *a4 = T2[x + 4][y], *a5 = T2[x + 5][y], *a6 = T2[x + 6][y];
+            for (int z = 0; z < FB_MZ; ++z)
+                t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) + 20 * a3[z];
+        }
+}
+
+/* Per voxel of the 9^3 brick: the composition colour (grey without a table) where occupied, and
+ * the central differences of S (128s when flat: then every row is `fill`, all set or none). */
+static void brick_voxels(const hv_render_scene *s, const int32_t nb[3][3][3], const uint32_t rows[FB_N][FB_N],
+                         int flat, uint32_t fill, const int32_t S[FB_M][FB_M][FB_MZ], rvox *out)
+{
+    /* material buffers of the (up to) 8 leaves the brick's voxels lie in */
+    const float *mat[2][2][2][HV_MAX_MATERIALS];
+    for (int d = 0; d < 8; ++d) {
+        int32_t o = nb[1 + (d >> 2)][1 + ((d >> 1) & 1)][1 + (d & 1)];
+        for (int j = 0; j < s->materials && o >= 0; ++j)
+            mat[d >> 2][(d >> 1) & 1][d & 1][j] = hv_volume_leaf_float_c(s->vol, s->grids[j], s->occ[o].leaf);
+    }
+    for (int x = 0; x < RB_DIM; ++x)
+        for (int y = 0; y < RB_DIM; ++y) {
+            uint32_t row = flat ? fill : rows[x + KR + 1][y + KR + 1];
+            /* the row's colours: z 0-7 from the block's leaf four at a time, z 8 from the next */
+            uint32_t col[RB_DIM];
+            const int32_t o0 = nb[1 + (x >> 3)][1 + (y >> 3)][1], o8 = nb[1 + (x >> 3)][1 + (y >> 3)][2];
+            if (s->materials && o0 >= 0 && ((row >> (KR + 1)) & 0xFFu)) {
+                colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 0), col);
+                colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 4), col + 4);
+            }
+            if (s->materials && o8 >= 0 && ((row >> (KR + 9)) & 1u)) {
+                rvox c8;
+                voxel_colour(s, mat[x >> 3][y >> 3][1], HV_LEAF_OFFSET(x, y, 8), &c8);
+                memcpy(&col[8], &c8, 4);
+            }
+            for (int z = 0; z < RB_DIM; ++z) {
+                rvox *v = &out[RB_INDEX(x, y, z)];
+                int32_t o = z < 8 ? o0 : o8;
+                if (((row >> (z + KR + 1)) & 1u) && o >= 0) {
+                    if (s->materials) {
+                        memcpy(v, &col[z], 4);
+                    } else { /* no table: grey */
+                        v->r = v->g = v->b = to_u8(0.7f);
+                        v->a = 255;
+                    }
+                    v->occ = 255;
+                } else {
+                    v->r = v->g = v->b = v->a = 0;
+                    v->occ = 0;
+                }
+                if (flat) {
+                    v->gx = v->gy = v->gz = 128;
+                    continue;
+                }
+                v->gx = grad_u8(S[x + 2][y + 1][z + 1] - S[x][y + 1][z + 1]);
+                v->gy = grad_u8(S[x + 1][y + 2][z + 1] - S[x + 1][y][z + 1]);
+                v->gz = grad_u8(S[x + 1][y + 1][z + 2] - S[x + 1][y + 1][z]);
+            }
+        }
+}
+
 /* Fill brick bi into out: occupancy bits of the 17^3 neighbourhood (local -4..12) as rows
  * along z, smoothed separably into S over local -1..9, then per voxel of the 9^3 brick the
  * composition colour and the central differences of S. Returns its kind. */
 static uint8_t fill_brick(const hv_render_scene *s, size_t bi, rvox *out, uint64_t *cells, int16_t *alpha)
 {
-    enum { N = 9 + 2 * (KR + 1), M = 9 + 2, MZ = 12 /* M padded to whole vectors */ };
-    const uint32_t FULL = (1u << N) - 1;
-    uint32_t rows[N][N]; /* bit z: local z - (KR + 1) */
-    int32_t T1[N][N][MZ] __attribute__((aligned(16))), T2[N][M][MZ] __attribute__((aligned(16))),
-        S[M][M][MZ] __attribute__((aligned(16)));
-    {
-        const int32_t *B = s->brick_block + 3 * bi;
-        const r_occ *occ = s->occ;
-        int32_t nb[3][3][3];
-        int full = 1;
-        for (int dx = -1; dx <= 1; ++dx)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dz = -1; dz <= 1; ++dz) {
-                    int32_t o = occ_at(s, B[0] + dx, B[1] + dy, B[2] + dz);
-                    nb[dx + 1][dy + 1][dz + 1] = o;
-                    full &= o >= 0 && occ[o].full;
-                }
-        /* deep inside a solid: all occupied, zero gradient */
-        int flat = full, any = 0, all = 1;
-        if (!full) {
-            /* row (x, y) of a block along z is byte y of its mask word x */
-            for (int x = 0; x < N; ++x) {
-                int lx = x - (KR + 1), bx = lx < 0 ? 0 : lx > 7 ? 2 : 1;
-                for (int y = 0; y < N; ++y) {
-                    int ly = y - (KR + 1), by = ly < 0 ? 0 : ly > 7 ? 2 : 1;
-                    uint32_t row = 0;
-                    for (int bz = 0; bz < 3; ++bz) {
-                        int32_t o = nb[bx][by][bz];
-                        if (o < 0) continue;
-                        uint32_t byte =
-                            (uint32_t)(occ[o].mask[lx & 7] >> (8 * (ly & 7))) & 0xFFu;
-                        row |= bz == 0 ? byte >> (8 - (KR + 1)) : bz == 1 ? byte << (KR + 1)
-                                                                         : byte << (KR + 9);
-                    }
-                    row &= FULL;
-                    rows[x][y] = row;
-                    any |= row != 0;
-                    all &= row == FULL;
-                }
-            }
-            flat = !any || all;
-        }
-        int solid = flat && (full || all);
-        if (!flat) {
-            for (int x = 0; x < N; ++x)
-                for (int y = 0; y < N; ++y) {
-                    uint32_t row = rows[x][y];
-                    int32_t *t = T1[x][y];
-                    if (row == 0 || row == FULL) {
-                        for (int z = 0; z < MZ; ++z) t[z] = row ? 64 : 0;
-                    } else {
-                        for (int z = 0; z < M; ++z) t[z] = g_window[(row >> z) & 127u];
-                        t[M] = 0;
-                    }
-                }
-            for (int x = 0; x < N; ++x)
-                for (int y = 0; y < M; ++y) {
-                    int32_t *t = T2[x][y];
-                    const int32_t *a0 = T1[x][y], *a1 = T1[x][y + 1], *a2 = T1[x][y + 2],
-                                  *a3 = T1[x][y + 3], *a4 = T1[x][y + 4], *a5 = T1[x][y + 5],
-                                  *a6 = T1[x][y + 6];
-                    for (int z = 0; z < MZ; ++z)
-                        t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
-                               20 * a3[z];
-                }
-            for (int x = 0; x < M; ++x)
-                for (int y = 0; y < M; ++y) {
-                    int32_t *t = S[x][y];
-                    const int32_t *a0 = T2[x][y], *a1 = T2[x + 1][y], *a2 = T2[x + 2][y],
-                                  *a3 = T2[x + 3][y], *a4 = T2[x + 4][y], *a5 = T2[x + 5][y],
-                                  *a6 = T2[x + 6][y];
-                    for (int z = 0; z < MZ; ++z)
-                        t[z] = a0[z] + a6[z] + 6 * (a1[z] + a5[z]) + 15 * (a2[z] + a4[z]) +
-                               20 * a3[z];
-                }
-        }
-        /* material buffers of the (up to) 8 leaves the brick's voxels lie in */
-        const float *mat[2][2][2][HV_MAX_MATERIALS];
-        for (int d = 0; d < 8; ++d) {
-            int32_t o = nb[1 + (d >> 2)][1 + ((d >> 1) & 1)][1 + (d & 1)];
-            for (int j = 0; j < s->materials && o >= 0; ++j)
-                mat[d >> 2][(d >> 1) & 1][d & 1][j] = hv_volume_leaf_float_c(s->vol, s->grids[j], occ[o].leaf);
-        }
-        for (int x = 0; x < RB_DIM; ++x)
-            for (int y = 0; y < RB_DIM; ++y) {
-                uint32_t row = flat ? ((full || all) ? FULL : 0) : rows[x + KR + 1][y + KR + 1];
-                /* the row's colours: z 0-7 from the block's leaf four at a time, z 8 from the next */
-                uint32_t col[RB_DIM];
-                const int32_t o0 = nb[1 + (x >> 3)][1 + (y >> 3)][1], o8 = nb[1 + (x >> 3)][1 + (y >> 3)][2];
-                if (s->materials && o0 >= 0 && ((row >> (KR + 1)) & 0xFFu)) {
-                    colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 0), col);
-                    colour4(s, mat[x >> 3][y >> 3][0], HV_LEAF_OFFSET(x, y, 4), col + 4);
-                }
-                if (s->materials && o8 >= 0 && ((row >> (KR + 9)) & 1u)) {
-                    rvox c8;
-                    voxel_colour(s, mat[x >> 3][y >> 3][1], HV_LEAF_OFFSET(x, y, 8), &c8);
-                    memcpy(&col[8], &c8, 4);
-                }
-                for (int z = 0; z < RB_DIM; ++z) {
-                    rvox *v = &out[RB_INDEX(x, y, z)];
-                    int32_t o = z < 8 ? o0 : o8;
-                    if (((row >> (z + KR + 1)) & 1u) && o >= 0) {
-                        if (s->materials) {
-                            memcpy(v, &col[z], 4);
-                        } else { /* no table: grey */
-                            v->r = v->g = v->b = to_u8(0.7f);
-                            v->a = 255;
-                        }
-                        v->occ = 255;
-                    } else {
-                        v->r = v->g = v->b = v->a = 0;
-                        v->occ = 0;
-                    }
-                    if (flat) {
-                        v->gx = v->gy = v->gz = 128;
-                        continue;
-                    }
-                    v->gx = grad_u8(S[x + 2][y + 1][z + 1] - S[x][y + 1][z + 1]);
-                    v->gy = grad_u8(S[x + 1][y + 2][z + 1] - S[x + 1][y][z + 1]);
-                    v->gz = grad_u8(S[x + 1][y + 1][z + 2] - S[x + 1][y + 1][z]);
-                }
-            }
-        uint8_t kind = RB_GENERAL;
-        if (solid) {
-            kind = RB_UNIFORM;
-            for (int i = 1; i < RB_VOX && kind == RB_UNIFORM; ++i)
-                if (memcmp(&out[i], &out[0], sizeof *out) != 0) kind = RB_SOLID;
-        }
-        fill_cells(out, cells, alpha);
-        return kind;
+    uint32_t rows[FB_N][FB_N];
+    int32_t S[FB_M][FB_M][FB_MZ] __attribute__((aligned(16)));
+    int32_t nb[3][3][3];
+    int full = brick_neighbours(s, bi, nb);
+    /* deep inside a solid: all occupied, zero gradient */
+    int flat = full, any = 0, all = 1;
+    if (!full) {
+        brick_rows(s, nb, rows, &any, &all);
+        flat = !any || all;
     }
+    int solid = flat && (full || all);
+    if (!flat) brick_smooth(rows, S);
+    brick_voxels(s, nb, rows, flat, (full || all) ? FB_FULL : 0, S, out);
+    uint8_t kind = RB_GENERAL;
+    if (solid) {
+        kind = RB_UNIFORM;
+        for (int i = 1; i < RB_VOX && kind == RB_UNIFORM; ++i)
+            if (memcmp(&out[i], &out[0], sizeof *out) != 0) kind = RB_SOLID;
+    }
+    fill_cells(out, cells, alpha);
+    return kind;
 }
 
 /* A painted model's requested colours (hv_colour_paint's grids colour.r, .g, .b where colour.mask
@@ -424,64 +448,72 @@ static void find_paint(hv_render_scene *s, const hv_volume *vol)
     }
 }
 
-/* The block table of vol's occupied voxels; every brick filled (lazy == 0, progress "prepare")
- * or none. */
-static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progress, hv_render_scene **out)
+/* The material colours and grids of vol's table (s->materials, grids, colour); a model without
+ * a table is grey (no materials). */
+static hv_status scene_materials(hv_render_scene *s, const hv_volume *vol)
 {
-    *out = NULL;
-    hv_render_scene *s = hv_calloc(1, sizeof *s);
-    if (!s) return HV_ERR_NOMEM;
-    s->xf = hv_volume_get_transform(vol);
-    s->vol = vol;
-    atomic_init(&s->nslots, 0);
-    hv_status st = HV_OK;
-    r_occ *occ = NULL;
-    size_t pcap = 0;
-
-    /* material colours; a model without a table is grey */
     hv_material_table *t = NULL;
-    st = hv_material_table_load(vol, &t);
+    hv_status st = hv_material_table_load(vol, &t);
     if (st == HV_ERR_NOT_FOUND) {
         hv_error_clear();
-        st = HV_OK;
+        return HV_OK;
     }
-    if (st != HV_OK) goto fail;
-    if (t) {
-        s->materials = hv_material_count(t);
-        for (int j = 0; j < s->materials; ++j) {
-            s->grids[j] = hv_material_grid(vol, t, j);
-            hv_material_color(t, j, s->colour[j]);
-        }
-        hv_material_table_destroy(t);
+    if (st != HV_OK) return st;
+    s->materials = hv_material_count(t);
+    for (int j = 0; j < s->materials; ++j) {
+        s->grids[j] = hv_material_grid(vol, t, j);
+        hv_material_color(t, j, s->colour[j]);
     }
-    find_paint(s, vol);
+    hv_material_table_destroy(t);
+    return HV_OK;
+}
 
-    /* occupied leaves: active voxels where "occupancy" (when present) is true */
-    int g_occ = hv_volume_grid_find(vol, "occupancy");
-    if (g_occ >= 0 && hv_volume_grid_type(vol, g_occ) != HV_GRID_BOOL) g_occ = -1;
-    size_t nl = hv_volume_leaf_count(vol), nocc = 0;
-    {
-        /* planned before anything is built: bricks and tables of every block that holds or
-         * touches occupied voxels (at most 8 per leaf) */
-        double need = (double)nl * (8.0 * 5.9e3 + 2.1e3);
-        uint64_t budget = hv_memory_budget(0);
-        if (budget && need > (double)budget) {
-            char a[32], b[32];
-            st = hv_error_set(HV_ERR_LIMIT, "render: the scene of %zu voxel blocks needs up to %s, more than the budget of %s",
-                              nl, hv_size_text(a, sizeof a, need), hv_size_text(b, sizeof b, (double)budget));
-            goto fail;
+/* Planned before anything is built: bricks and tables of every block that holds or touches
+ * occupied voxels (at most 8 per leaf of nl) within the memory budget. */
+static hv_status scene_budget(size_t nl)
+{
+    double need = (double)nl * (8.0 * 5.9e3 + 2.1e3);
+    uint64_t budget = hv_memory_budget(0);
+    if (budget && need > (double)budget) {
+        char a[32], b[32];
+        return hv_error_set(HV_ERR_LIMIT, "render: the scene of %zu voxel blocks needs up to %s, more than the budget of %s",
+                            nl, hv_size_text(a, sizeof a, need), hv_size_text(b, sizeof b, (double)budget));
+    }
+    return HV_OK;
+}
+
+/* Widen s's tight voxel bounds by the occupied voxels of leaf o at origin org. */
+static void leaf_bounds(hv_render_scene *s, const r_occ *o, const int32_t org[3])
+{
+    if (o->full) {
+        for (int a = 0; a < 3; ++a) {
+            s->lo[a] = HV_MIN(s->lo[a], org[a]);
+            s->hi[a] = HV_MAX(s->hi[a], org[a] + 7);
         }
+        return;
     }
+    for (unsigned w = 0; w < 8; ++w)
+        for (uint64_t bits = o->mask[w]; bits; bits &= bits - 1) {
+            unsigned n = 64 * w + (unsigned)__builtin_ctzll(bits);
+            int32_t p[3] = {org[0] + (int32_t)(n >> 6), org[1] + (int32_t)((n >> 3) & 7), org[2] + (int32_t)(n & 7)};
+            for (int a = 0; a < 3; ++a) {
+                s->lo[a] = HV_MIN(s->lo[a], p[a]);
+                s->hi[a] = HV_MAX(s->hi[a], p[a]);
+            }
+        }
+}
+
+/* The occupied leaves of vol, in leaf order, into occ (room for every leaf): active voxels where
+ * grid g_occ (when >= 0) is true. Returns their count; sets their block range [blo, bhi] and s's
+ * occupied voxel count and tight voxel bounds. */
+static size_t scene_occupied(hv_render_scene *s, const hv_volume *vol, int g_occ, r_occ *occ, int32_t blo[3],
+                             int32_t bhi[3])
+{
     const int32_t *org = hv_volume_leaf_origins(vol);
-    occ = hv_malloc_array(nl ? nl : 1, sizeof *occ);
-    if (!occ) {
-        st = HV_ERR_NOMEM;
-        goto fail;
-    }
-    int32_t blo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, bhi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    size_t nl = hv_volume_leaf_count(vol), nocc = 0;
     for (int a = 0; a < 3; ++a) {
-        s->lo[a] = INT32_MAX;
-        s->hi[a] = INT32_MIN;
+        blo[a] = s->lo[a] = INT32_MAX;
+        bhi[a] = s->hi[a] = INT32_MIN;
     }
     for (size_t l = 0; l < nl; ++l) {
         const uint64_t *m = hv_volume_leaf_mask(vol, l);
@@ -501,86 +533,55 @@ static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progre
             blo[a] = HV_MIN(blo[a], o->blk[a]);
             bhi[a] = HV_MAX(bhi[a], o->blk[a]);
         }
-        /* count and tight voxel bounds */
         for (int w = 0; w < 8; ++w) s->occupied += (uint64_t)__builtin_popcountll(o->mask[w]);
-        if (o->full) {
-            for (int a = 0; a < 3; ++a) {
-                s->lo[a] = HV_MIN(s->lo[a], org[3 * l + a]);
-                s->hi[a] = HV_MAX(s->hi[a], org[3 * l + a] + 7);
-            }
-        } else {
-            for (unsigned w = 0; w < 8; ++w)
-                for (uint64_t bits = o->mask[w]; bits; bits &= bits - 1) {
-                    unsigned n = 64 * w + (unsigned)__builtin_ctzll(bits);
-                    int32_t p[3] = {org[3 * l] + (int32_t)(n >> 6),
-                                    org[3 * l + 1] + (int32_t)((n >> 3) & 7),
-                                    org[3 * l + 2] + (int32_t)(n & 7)};
-                    for (int a = 0; a < 3; ++a) {
-                        s->lo[a] = HV_MIN(s->lo[a], p[a]);
-                        s->hi[a] = HV_MAX(s->hi[a], p[a]);
-                    }
-                }
-        }
+        leaf_bounds(s, o, org + 3 * l);
         ++nocc;
     }
-    if (nocc == 0) {
-        s->empty = 1;
-        for (int a = 0; a < 3; ++a) s->lo[a] = s->hi[a] = 0;
-        free(occ);
-        *out = s;
-        return hv_progress_report(progress, "prepare", 1.0);
-    }
+    return nocc;
+}
 
-    /* block table over blocks blo-1 .. bhi+1 */
+/* The block table over blocks blo-1 .. bhi+1: its dense top level of macro cells and a page
+ * for each cell that holds an occupied block, where the block's index in occ is entered. */
+static hv_status scene_table(hv_render_scene *s, const r_occ *occ, size_t nocc, const int32_t blo[3],
+                             const int32_t bhi[3], size_t *pcap)
+{
     uint64_t cells = 1;
     for (int a = 0; a < 3; ++a) {
         s->mlo[a] = r_floor_shift(blo[a] - 1, 3);
         s->mdims[a] = r_floor_shift(bhi[a] + 1, 3) - s->mlo[a] + 1;
         cells *= (uint64_t)s->mdims[a];
     }
-    if (cells > MAX_TOP_CELLS) {
-        st = hv_error_set(HV_ERR_LIMIT,
-                          "render: the model spans %d x %d x %d macro cells of 64^3 voxels "
-                          "(more than %u): too spread out to render",
-                          s->mdims[0], s->mdims[1], s->mdims[2], MAX_TOP_CELLS);
-        goto fail;
-    }
+    if (cells > MAX_TOP_CELLS)
+        return hv_error_set(HV_ERR_LIMIT,
+                            "render: the model spans %d x %d x %d macro cells of 64^3 voxels "
+                            "(more than %u): too spread out to render",
+                            s->mdims[0], s->mdims[1], s->mdims[2], MAX_TOP_CELLS);
     s->top = hv_malloc_array((size_t)cells, sizeof(int32_t));
-    if (!s->top) {
-        st = HV_ERR_NOMEM;
-        goto fail;
-    }
+    if (!s->top) return HV_ERR_NOMEM;
     for (uint64_t i = 0; i < cells; ++i) s->top[i] = -1;
     for (size_t i = 0; i < nocc; ++i) {
-        rpage *p = page_of(s, &pcap, occ[i].blk);
-        if (!p) {
-            st = HV_ERR_NOMEM;
-            goto fail;
-        }
+        rpage *p = page_of(s, pcap, occ[i].blk);
+        if (!p) return HV_ERR_NOMEM;
         p->occ[RP_INDEX(occ[i].blk[0], occ[i].blk[1], occ[i].blk[2])] = (int32_t)i;
     }
-    /* bricks at B - {0,1}^3 of every occupied block B, numbered in leaf order */
+    return HV_OK;
+}
+
+/* The bricks at B - {0,1}^3 of every occupied block B, numbered in leaf order (s->nbricks,
+ * brick_block, the pages' brick entries), and their storage, none filled yet. */
+static hv_status scene_bricks(hv_render_scene *s, const r_occ *occ, size_t nocc, size_t *pcap)
+{
     size_t bcap = 0;
     for (size_t i = 0; i < nocc; ++i)
         for (int d = 0; d < 8; ++d) {
-            int32_t b[3] = {occ[i].blk[0] - (d >> 2), occ[i].blk[1] - ((d >> 1) & 1),
-                            occ[i].blk[2] - (d & 1)};
-            rpage *p = page_of(s, &pcap, b);
-            if (!p) {
-                st = HV_ERR_NOMEM;
-                goto fail;
-            }
+            int32_t b[3] = {occ[i].blk[0] - (d >> 2), occ[i].blk[1] - ((d >> 1) & 1), occ[i].blk[2] - (d & 1)};
+            rpage *p = page_of(s, pcap, b);
+            if (!p) return HV_ERR_NOMEM;
             int32_t *slot = &p->brick[RP_INDEX(b[0], b[1], b[2])];
             if (*slot >= 0) continue;
-            if (s->nbricks >= (size_t)INT32_MAX) {
-                st = hv_error_set(HV_ERR_LIMIT, "render: more than 2^31 bricks");
-                goto fail;
-            }
-            if (hv_grow((void **)&s->brick_block, &bcap, 3 * (s->nbricks + 1), sizeof(int32_t)) !=
-                HV_OK) {
-                st = HV_ERR_NOMEM;
-                goto fail;
-            }
+            if (s->nbricks >= (size_t)INT32_MAX) return hv_error_set(HV_ERR_LIMIT, "render: more than 2^31 bricks");
+            if (hv_grow((void **)&s->brick_block, &bcap, 3 * (s->nbricks + 1), sizeof(int32_t)) != HV_OK)
+                return HV_ERR_NOMEM;
             memcpy(s->brick_block + 3 * s->nbricks, b, sizeof b);
             *slot = (int32_t)s->nbricks++;
         }
@@ -590,12 +591,50 @@ static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progre
     s->brick_kind = hv_malloc(s->nbricks);
     s->brick_alpha = hv_malloc_array(s->nbricks, sizeof *s->brick_alpha);
     s->brick_slot = hv_malloc_array(s->nbricks, sizeof *s->brick_slot);
-    if (!s->bricks || !s->cells || !s->brick_kind || !s->brick_alpha || !s->brick_slot) {
-        st = hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)",
-                          s->nbricks, (double)s->nbricks * RB_VOX * sizeof(rvox) / 1048576.0);
+    if (!s->bricks || !s->cells || !s->brick_kind || !s->brick_alpha || !s->brick_slot)
+        return hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)", s->nbricks,
+                            (double)s->nbricks * RB_VOX * sizeof(rvox) / 1048576.0);
+    for (size_t b = 0; b < s->nbricks; ++b) atomic_init(&s->brick_slot[b], -1);
+    return HV_OK;
+}
+
+/* The block table of vol's occupied voxels; every brick filled (lazy == 0, progress "prepare")
+ * or none. */
+static hv_status build(const hv_volume *vol, int lazy, const hv_progress *progress, hv_render_scene **out)
+{
+    *out = NULL;
+    hv_render_scene *s = hv_calloc(1, sizeof *s);
+    if (!s) return HV_ERR_NOMEM;
+    s->xf = hv_volume_get_transform(vol);
+    s->vol = vol;
+    atomic_init(&s->nslots, 0);
+    r_occ *occ = NULL;
+    size_t pcap = 0, nl = hv_volume_leaf_count(vol), nocc;
+    int32_t blo[3], bhi[3];
+    hv_status st = scene_materials(s, vol);
+    if (st != HV_OK) goto fail;
+    find_paint(s, vol);
+
+    /* occupied leaves: active voxels where "occupancy" (when present) is true */
+    int g_occ = hv_volume_grid_find(vol, "occupancy");
+    if (g_occ >= 0 && hv_volume_grid_type(vol, g_occ) != HV_GRID_BOOL) g_occ = -1;
+    if ((st = scene_budget(nl)) != HV_OK) goto fail;
+    occ = hv_malloc_array(nl ? nl : 1, sizeof *occ);
+    if (!occ) {
+        st = HV_ERR_NOMEM;
         goto fail;
     }
-    for (size_t b = 0; b < s->nbricks; ++b) atomic_init(&s->brick_slot[b], -1);
+    nocc = scene_occupied(s, vol, g_occ, occ, blo, bhi);
+    if (nocc == 0) {
+        s->empty = 1;
+        for (int a = 0; a < 3; ++a) s->lo[a] = s->hi[a] = 0;
+        free(occ);
+        *out = s;
+        return hv_progress_report(progress, "prepare", 1.0);
+    }
+    st = scene_table(s, occ, nocc, blo, bhi, &pcap);
+    if (st == HV_OK) st = scene_bricks(s, occ, nocc, &pcap);
+    if (st != HV_OK) goto fail;
     s->occ = occ;
     s->nocc = nocc;
     occ = NULL;

@@ -61,9 +61,45 @@ def resolve(src, inc, root):
     return None
 
 
+def readme_layout(root):
+    """Where README.md's Layout table (layer | stage | folder | public headers) and this file
+    disagree: a row's folder not at its layer, a public header in another module's row, a module
+    or a public header in no row."""
+    path = os.path.join(root, 'README.md')
+    if not os.path.exists(path):
+        return []
+    m = re.search(r'^### Layout\n(.*?)(?=^#|\Z)', open(path, encoding='utf-8').read(), re.M | re.S)
+    if not m:
+        return ['README.md: no "### Layout" section (the map stage -> folder -> header)']
+    problems, seen, listed = [], set(), set()
+    for line in m.group(1).split('\n'):
+        cells = [c.strip() for c in line.strip().strip('|').split('|')]
+        if len(cells) != 4 or not cells[0].isdigit():
+            continue
+        layer, folder = int(cells[0]), cells[2].strip('`').rstrip('/')
+        mod = module_of(folder)
+        if mod in (None, '?'):
+            problems.append(f'README.md Layout: layer {layer}: {folder} is no module of scripts/layering.py')
+            continue
+        seen.add(mod)
+        if ORDER.index(mod) != layer:
+            problems.append(f'README.md Layout: {folder} ({mod}) is at layer {layer}, '
+                            f'scripts/layering.py has it at {ORDER.index(mod)}')
+        for h in re.findall(r'`(\w+\.h)`', cells[3]):
+            listed.add(h)
+            if PUBLIC.get(h) != mod:
+                problems.append(f'README.md Layout: layer {layer} lists {h}, which belongs to {PUBLIC.get(h, "no module")}')
+    problems += [f'README.md Layout: no row for {mod}' for mod in ORDER if mod not in seen]
+    problems += [f'README.md Layout: no row lists {h} ({mod})' for h, mod in sorted(PUBLIC.items()) if h not in listed]
+    return problems
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else '.'
     bad = unknown = 0
+    for p in readme_layout(root):
+        print(p)
+        bad += 1
     rank = {m: i for i, m in enumerate(ORDER)}
     files = []
     for top in [m for m in ORDER if m not in ('model formats', 'WDG slicer')] + ['include/hovox']:
@@ -88,7 +124,7 @@ def main():
                 line = text.count('\n', 0, m.start()) + 1
                 print(f'{f}:{line}: includes "{m.group(1)}" ({them}), above {me}')
                 bad += 1
-    print(f'layering: {bad} include(s) pointing up, {unknown} unclaimed header(s)')
+    print(f'layering: {bad} include(s) pointing up or README Layout rows out of step, {unknown} unclaimed header(s)')
     return 1 if bad or unknown else 0
 
 

@@ -85,25 +85,16 @@ static void body_measure(const hv_mesh *m, const hv_mesh_body *b, double *area, 
     *vol = v;
 }
 
-hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_voxel_plan *p)
+/* The voxel size (p->xf.voxel), from the first of: a target lattice, a voxel size, dims along
+ * the longest axis, dims on all three axes. With a lattice or a size, *snapped is 1 and phase
+ * holds the lattice's origin (a size: half a voxel, so the box's corner is a cell's corner);
+ * with dims, *snapped is 0 and p->dims is set (the grid is then centred on the box). */
+static hv_status plan_spacing(const char *name, const double ext[3], const hv_voxelize_options *opt, hv_voxel_plan *p,
+                              double phase[3], int *snapped)
 {
-    memset(p, 0, sizeof *p);
-    const hv_mesh_report *r = hv_mesh_get_report(mesh);
-    const char *name = *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "mesh";
-    hv_status st = hv_voxelize_options_check(opt);
-    if (st != HV_OK) return st;
     int64_t dims0 = opt->dims[0] || opt->dims[1] || opt->dims[2] ? opt->dims[0] : HV_VOXELIZE_DEFAULT_DIMS;
-    double ext[3], ctr[3];
-    for (int a = 0; a < 3; ++a) {
-        ext[a] = r->bbox_max[a] - r->bbox_min[a];
-        ctr[a] = 0.5 * (r->bbox_max[a] + r->bbox_min[a]);
-    }
     double longest = HV_MAX(ext[0], HV_MAX(ext[1], ext[2]));
-    /* a mesh that is one point has nothing to voxelize, whatever the resolution (issue 32 item 12:
-     * --voxel-size and --like took it) */
-    if (!(longest > 0)) return hv_error_set(HV_ERR_INVALID, "%s: the mesh has no extent", name);
-    int snapped = 0; /* origin set below from a lattice phase instead of centring */
-    double phase[3] = {0, 0, 0};
+    *snapped = 0;
     if (opt->lattice) {
         for (int a = 0; a < 3; ++a) {
             double v = opt->lattice->voxel[a];
@@ -112,7 +103,7 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
             p->xf.voxel[a] = v;
             phase[a] = opt->lattice->origin[a];
         }
-        snapped = 1;
+        *snapped = 1;
     } else if (opt->voxel_size[0] != 0 || opt->voxel_size[1] != 0 || opt->voxel_size[2] != 0) {
         for (int a = 0; a < 3; ++a) {
             double v = opt->voxel_size[a];
@@ -124,11 +115,10 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
                 return hv_error_set(HV_ERR_LIMIT,
                                     "%s: voxel size %g gives %.0f voxels on axis %c (limit 2^31)",
                                     name, v, d, "xyz"[a]);
-            (void)d;
             p->xf.voxel[a] = v;
             phase[a] = 0.5 * v;
         }
-        snapped = 1;
+        *snapped = 1;
     } else if (dims0 > 0 && opt->dims[1] == 0 && opt->dims[2] == 0) {
         if (!(longest > 0))
             return hv_error_set(HV_ERR_INVALID, "%s: the mesh has no extent", name);
@@ -154,31 +144,45 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
                             (long long)opt->dims[0], (long long)opt->dims[1],
                             (long long)opt->dims[2]);
     }
-    if (snapped) {
-        /* the lattice's voxels (centres at phase + n v) that cover the box */
-        for (int a = 0; a < 3; ++a) {
-            double v = p->xf.voxel[a];
-            /* the voxels whose cells [c - v/2, c + v/2) meet the box */
-            double n0 = floor((r->bbox_min[a] - phase[a]) / v + 0.5);
-            double n1 = HV_MAX(n0, ceil((r->bbox_max[a] - phase[a]) / v - 0.5));
-            if (n1 - n0 + 1 > 2147483647.0 || fabs(n0) > 1e15)
-                return hv_error_set(HV_ERR_LIMIT, "%s: voxel size %g gives %.0f voxels on axis %c (limit 2^31)",
-                                    name, v, n1 - n0 + 1, "xyz"[a]);
-            p->dims[a] = (int64_t)(n1 - n0) + 1;
-            p->first[a] = (int64_t)n0;
-            /* index 0 is the lattice's point nearest the phase origin, not the box corner */
-            p->xf.origin[a] = phase[a];
-        }
-    } else {
+    return HV_OK;
+}
+
+/* The grid's origin, dims and first index: snapped, the lattice's voxels (centres at
+ * phase + n v) that cover the mesh box r; else the dims' grid centred on the box. */
+static hv_status plan_place(const char *name, const hv_mesh_report *r, int snapped, const double phase[3],
+                            hv_voxel_plan *p)
+{
+    if (!snapped) {
         /* centre the grid on the mesh box: voxel i covers [c + (i - d/2) v, c + (i + 1 - d/2) v] */
-        for (int a = 0; a < 3; ++a)
-            p->xf.origin[a] = ctr[a] - 0.5 * (double)(p->dims[a] - 1) * p->xf.voxel[a];
+        for (int a = 0; a < 3; ++a) {
+            double ctr = 0.5 * (r->bbox_max[a] + r->bbox_min[a]);
+            p->xf.origin[a] = ctr - 0.5 * (double)(p->dims[a] - 1) * p->xf.voxel[a];
+        }
+        return HV_OK;
     }
+    for (int a = 0; a < 3; ++a) {
+        double v = p->xf.voxel[a];
+        /* the voxels whose cells [c - v/2, c + v/2) meet the box */
+        double n0 = floor((r->bbox_min[a] - phase[a]) / v + 0.5);
+        double n1 = HV_MAX(n0, ceil((r->bbox_max[a] - phase[a]) / v - 0.5));
+        if (n1 - n0 + 1 > 2147483647.0 || fabs(n0) > 1e15)
+            return hv_error_set(HV_ERR_LIMIT, "%s: voxel size %g gives %.0f voxels on axis %c (limit 2^31)",
+                                name, v, n1 - n0 + 1, "xyz"[a]);
+        p->dims[a] = (int64_t)(n1 - n0) + 1;
+        p->first[a] = (int64_t)n0;
+        /* index 0 is the lattice's point nearest the phase origin, not the box corner */
+        p->xf.origin[a] = phase[a];
+    }
+    return HV_OK;
+}
 
-    p->fill = opt->fill == HV_FILL_AUTO ? hv_fill_auto(r) : opt->fill;
-
-    /* memory: working bit grids (surface, outside or three parity grids), flood queue or
-     * crossing lists, and the volume's leaves (estimated from the mesh volume and area) */
+/* The planned peak memory (p->memory_bytes): working bit grids (surface, outside or three
+ * parity grids), flood queue or crossing lists, and the volume's leaves (estimated from the mesh
+ * volume and area). An assembly's plan counts its bodies instead and leaves p->fill as asked
+ * (AUTO is decided per body); a body name too long for a region's grid is an error. */
+static hv_status plan_memory(const hv_mesh *mesh, const char *name, const hv_voxelize_options *opt, hv_voxel_plan *p)
+{
+    const hv_mesh_report *r = hv_mesh_get_report(mesh);
     int64_t n[3], lo[3];
     grid_box(p, lo, n);
     uint64_t grid = hv_bitgrid_bytes(n);
@@ -195,36 +199,56 @@ hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, 
     uint64_t leaves = (uint64_t)HV_MIN(blocks, all_blocks) + 1;
     p->memory_bytes = work + hv_volume_memory_estimate(leaves, 0, 2) + (uint64_t)mesh_bytes(mesh);
     size_t nbodies = hv_mesh_body_count(mesh);
-    if (nbodies > 1) {
-        /* an assembly: AUTO is decided per body when it is voxelized; one body's working set at a
-         * time (at most the whole grid's: surface, occupancy, centres and the vote's three parity
-         * grids), the union's five grids, each body's two leaf-block lists kept until the second
-         * pass (first-pass voxels and skin candidates, each at most the body's leaves, from its own
-         * area and volume) and one bool grid per region */
-        p->fill = opt->fill;
-        uint64_t region_leaves = 0;
-        size_t biggest = 0;
-        for (size_t b = 0; b < nbodies; ++b) {
-            const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
-            size_t len = strlen(body->name);
-            if (len > HV_REGION_NAME_MAX)
-                return hv_error_set(HV_ERR_BAD_INPUT, "%s: body %zu ('%.40s...'): its name is %zu bytes long, more "
-                                                      "than the %d a region's grid name allows",
-                                    name, b + 1, body->name, len, HV_REGION_NAME_MAX);
-            double area, vol;
-            body_measure(mesh, body, &area, &vol);
-            double bb = fabs(vol) / (cell * cell * cell) + 3.0 * area / (cell * cell);
-            region_leaves += (uint64_t)HV_MIN(bb, all_blocks) + 1;
-            biggest = HV_MAX(biggest, body->facet_count);
-        }
-        double vv = p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2];
-        double cross = r->area / cbrt(vv) / cbrt(vv) * 3.0;
-        uint64_t body_work = 6 * grid + (uint64_t)(cross * 12.0) + rows * 8u;
-        p->memory_bytes = body_work + 5 * grid + 2 * region_leaves * (8 * sizeof(uint64_t) + 3 * sizeof(int32_t)) +
-                          hv_volume_memory_estimate(leaves, 0, 2 + (int)HV_MIN(nbodies, (size_t)INT32_MAX - 2)) +
-                          (uint64_t)mesh_bytes(mesh) + (uint64_t)biggest * 100u;
+    if (nbodies <= 1) return HV_OK;
+    /* an assembly: AUTO is decided per body when it is voxelized; one body's working set at a
+     * time (at most the whole grid's: surface, occupancy, centres and the vote's three parity
+     * grids), the union's five grids, each body's two leaf-block lists kept until the second
+     * pass (first-pass voxels and skin candidates, each at most the body's leaves, from its own
+     * area and volume) and one bool grid per region */
+    p->fill = opt->fill;
+    uint64_t region_leaves = 0;
+    size_t biggest = 0;
+    for (size_t b = 0; b < nbodies; ++b) {
+        const hv_mesh_body *body = hv_mesh_body_at(mesh, b);
+        size_t len = strlen(body->name);
+        if (len > HV_REGION_NAME_MAX)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: body %zu ('%.40s...'): its name is %zu bytes long, more "
+                                                  "than the %d a region's grid name allows",
+                                name, b + 1, body->name, len, HV_REGION_NAME_MAX);
+        double area, vol;
+        body_measure(mesh, body, &area, &vol);
+        double bb = fabs(vol) / (cell * cell * cell) + 3.0 * area / (cell * cell);
+        region_leaves += (uint64_t)HV_MIN(bb, all_blocks) + 1;
+        biggest = HV_MAX(biggest, body->facet_count);
     }
+    double vv = p->xf.voxel[0] * p->xf.voxel[1] * p->xf.voxel[2];
+    double cross = r->area / cbrt(vv) / cbrt(vv) * 3.0;
+    uint64_t body_work = 6 * grid + (uint64_t)(cross * 12.0) + rows * 8u;
+    p->memory_bytes = body_work + 5 * grid + 2 * region_leaves * (8 * sizeof(uint64_t) + 3 * sizeof(int32_t)) +
+                      hv_volume_memory_estimate(leaves, 0, 2 + (int)HV_MIN(nbodies, (size_t)INT32_MAX - 2)) +
+                      (uint64_t)mesh_bytes(mesh) + (uint64_t)biggest * 100u;
+    return HV_OK;
+}
 
+hv_status hv_voxelize_plan(const hv_mesh *mesh, const hv_voxelize_options *opt, hv_voxel_plan *p)
+{
+    memset(p, 0, sizeof *p);
+    const hv_mesh_report *r = hv_mesh_get_report(mesh);
+    const char *name = *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "mesh";
+    hv_status st = hv_voxelize_options_check(opt);
+    if (st != HV_OK) return st;
+    double ext[3];
+    for (int a = 0; a < 3; ++a) ext[a] = r->bbox_max[a] - r->bbox_min[a];
+    double longest = HV_MAX(ext[0], HV_MAX(ext[1], ext[2]));
+    /* a mesh that is one point has nothing to voxelize, whatever the resolution (issue 32 item 12:
+     * --voxel-size and --like took it) */
+    if (!(longest > 0)) return hv_error_set(HV_ERR_INVALID, "%s: the mesh has no extent", name);
+    int snapped; /* origin set from a lattice phase instead of centring */
+    double phase[3] = {0, 0, 0};
+    if ((st = plan_spacing(name, ext, opt, p, phase, &snapped)) != HV_OK) return st;
+    if ((st = plan_place(name, r, snapped, phase, p)) != HV_OK) return st;
+    p->fill = opt->fill == HV_FILL_AUTO ? hv_fill_auto(r) : opt->fill;
+    if ((st = plan_memory(mesh, name, opt, p)) != HV_OK) return st;
     uint64_t budget = hv_memory_budget(opt->max_memory);
     if (budget && p->memory_bytes > budget) {
         char need[32], have[32];
@@ -896,6 +920,73 @@ static hv_status body_fold(body_job *j, size_t b, union_grids *u, region_work *r
     return s;
 }
 
+/* Pass 2 of voxelize_bodies, after every body's pass 1: the union's surface (surface voxels
+ * inside no body's interior), then each body's candidates (rk) not in the union of centres nor
+ * given to an earlier body become its voxels; regs gets each body's voxels and loss and the
+ * overlap. Frees the grids only this pass needs (IU, CU, C2). */
+static void bodies_second_pass(union_grids *u, region_work *rk, const uint64_t *nocc, hv_regions *regs,
+                               const int64_t lo[3], const int64_t n[3])
+{
+    size_t words = (size_t)(n[0] * n[1] * u->SU.words);
+    for (size_t w = 0; w < words; ++w) u->SU.bits[w] &= ~u->IU.bits[w];
+    /* the second pass, IU now holding the voxels it gave away */
+    memset(u->IU.bits, 0, words * sizeof *u->IU.bits);
+    for (size_t b = 0; b < regs->n; ++b) {
+        for (size_t k = 0; k < rk[b].n; ++k) {
+            const int32_t *o = rk[b].origins + 3 * k;
+            uint64_t *m = rk[b].masks + 8 * k, cu[8], taken[8];
+            int64_t bx = (o[0] - lo[0]) / 8, by = (o[1] - lo[1]) / 8, bz = (o[2] - lo[2]) / 8;
+            block_words(&u->CU, bx, by, bz, cu);
+            block_words(&u->IU, bx, by, bz, taken);
+            for (int q = 0; q < 8; ++q) {
+                m[q] &= ~cu[q] & ~taken[q];
+                regs->info[b].voxels += (uint64_t)__builtin_popcountll(m[q]);
+            }
+            block_or(&u->IU, bx, by, bz, m);
+        }
+        regs->info[b].lost = nocc[b] - regs->info[b].voxels;
+    }
+    regs->overlap = grid_count(&u->C2);
+    hv_bitgrid_free(&u->IU);
+    hv_bitgrid_free(&u->CU);
+    hv_bitgrid_free(&u->C2);
+}
+
+/* The assembly's volume records: a bool grid per region (its pass 1 voxels rw and pass 2 voxels
+ * rk), the voxelize metadata with the fill as resolved (when every body resolved alike, the bits
+ * of fills) and the regions document. */
+static hv_status bodies_write(hv_volume *vol, const hv_mesh *mesh, const hv_voxelize_options *opt,
+                              const hv_voxel_plan *plan, const hv_regions *regs, const region_work *rw,
+                              const region_work *rk, int fills)
+{
+    hv_status s = HV_OK;
+    for (size_t b = 0; b < regs->n && s == HV_OK; ++b) {
+        int g;
+        s = hv_volume_grid_add(vol, regs->info[b].grid, HV_GRID_BOOL, &g);
+        if (s == HV_OK) s = region_write(vol, g, &rw[b], regs->info[b].grid);
+        if (s == HV_OK) s = region_write(vol, g, &rk[b], regs->info[b].grid);
+    }
+    if (s != HV_OK) return s;
+    hv_voxel_plan rec = *plan; /* the fill as resolved, when every body resolved alike */
+    rec.fill = (fills & (fills - 1)) == 0 ? (hv_fill_mode)__builtin_ctz((unsigned)fills) : HV_FILL_AUTO;
+    s = set_metadata(vol, mesh, &rec, opt->adjacency);
+    if (s == HV_OK)
+        s = hv_schema_doc_write(vol, HV_DOC_REGIONS,
+                                hv_regions_to_doc(regs, plan->xf.voxel[0] * plan->xf.voxel[1] * plan->xf.voxel[2]));
+    return s;
+}
+
+/* Free nb region works' blocks and the array (NULL is fine). */
+static void region_works_free(region_work *w, size_t nb)
+{
+    if (!w) return;
+    for (size_t b = 0; b < nb; ++b) {
+        free(w[b].origins);
+        free(w[b].masks);
+    }
+    free(w);
+}
+
 /* The bodies of an assembly on one lattice. A voxel belongs to the body that contains its centre,
  * in two passes in file order: (1) a voxel whose centre is inside one or more bodies goes to the
  * first of them; (2) a voxel left (the outer skin: in some body's occupancy, its centre in none)
@@ -975,63 +1066,17 @@ static hv_status voxelize_bodies(const hv_mesh *mesh, const hv_voxelize_options 
         s = hv_progress_report(opt->progress, "bodies", (double)b / (double)nb);
     }
     if (s == HV_OK) {
-        /* the surface of the union: surface voxels inside no body's interior */
-        size_t words = (size_t)(n[0] * n[1] * u.SU.words);
-        for (size_t w = 0; w < words; ++w) u.SU.bits[w] &= ~u.IU.bits[w];
-        /* the second pass, IU now holding the voxels it gave away */
-        memset(u.IU.bits, 0, words * sizeof *u.IU.bits);
-        for (size_t b = 0; b < nb; ++b) {
-            for (size_t k = 0; k < rk[b].n; ++k) {
-                const int32_t *o = rk[b].origins + 3 * k;
-                uint64_t *m = rk[b].masks + 8 * k, cu[8], taken[8];
-                int64_t bx = (o[0] - lo[0]) / 8, by = (o[1] - lo[1]) / 8, bz = (o[2] - lo[2]) / 8;
-                block_words(&u.CU, bx, by, bz, cu);
-                block_words(&u.IU, bx, by, bz, taken);
-                for (int q = 0; q < 8; ++q) {
-                    m[q] &= ~cu[q] & ~taken[q];
-                    regs->info[b].voxels += (uint64_t)__builtin_popcountll(m[q]);
-                }
-                block_or(&u.IU, bx, by, bz, m);
-            }
-            regs->info[b].lost = nocc[b] - regs->info[b].voxels;
-        }
-        regs->overlap = grid_count(&u.C2);
-        hv_bitgrid_free(&u.IU);
-        hv_bitgrid_free(&u.CU);
-        hv_bitgrid_free(&u.C2);
+        bodies_second_pass(&u, rk, nocc, regs, lo, n);
         s = hv_voxel_store(&u.U, &u.SU, &plan->xf, opt->progress, &vol);
     }
-    for (size_t b = 0; b < nb && s == HV_OK; ++b) {
-        int g;
-        s = hv_volume_grid_add(vol, regs->info[b].grid, HV_GRID_BOOL, &g);
-        if (s == HV_OK) s = region_write(vol, g, &rw[b], regs->info[b].grid);
-        if (s == HV_OK) s = region_write(vol, g, &rk[b], regs->info[b].grid);
-    }
-    if (s == HV_OK) {
-        hv_voxel_plan rec = *plan; /* the fill as resolved, when every body resolved alike */
-        rec.fill = (fills & (fills - 1)) == 0 ? (hv_fill_mode)__builtin_ctz((unsigned)fills) : HV_FILL_AUTO;
-        s = set_metadata(vol, mesh, &rec, opt->adjacency);
-        if (s == HV_OK)
-            s = hv_schema_doc_write(vol, HV_DOC_REGIONS,
-                                    hv_regions_to_doc(regs, plan->xf.voxel[0] * plan->xf.voxel[1] * plan->xf.voxel[2]));
-    }
+    if (s == HV_OK) s = bodies_write(vol, mesh, opt, plan, regs, rw, rk, fills);
     if (s == HV_OK) {
         *out = vol;
         vol = NULL;
     }
     hv_volume_destroy(vol);
-    for (size_t b = 0; b < nb; ++b) {
-        if (rw) {
-            free(rw[b].origins);
-            free(rw[b].masks);
-        }
-        if (rk) {
-            free(rk[b].origins);
-            free(rk[b].masks);
-        }
-    }
-    free(rw);
-    free(rk);
+    region_works_free(rw, nb);
+    region_works_free(rk, nb);
     free(nocc);
     hv_regions_destroy(regs);
     union_free(&u);

@@ -4,7 +4,7 @@
  * the same ABI: every handle is a pointer, results are int (0: success), DWORD is unsigned,
  * a vertex is 3 floats, a triangle 3 unsigned, a transform 3 rows of 4 floats (x' = row . (x,
  * y, z, 1)). Link with -l3MF. The reading functions at the end make lib3mf the test oracle of
- * hovox's own 3MF reader (tests/io/test_3mf.c). */
+ * hovox's own 3MF reader (tests/io/3mf/test_mesh_read.c). */
 #ifndef HOVOX_TEST_LIB3MF_C_H
 #define HOVOX_TEST_LIB3MF_C_H
 

@@ -505,6 +505,165 @@ static void color_text(char *buf, size_t size, const float rgba[4])
     else snprintf(buf, size, "#%02X%02X%02X%02X", c[0], c[1], c[2], c[3]);
 }
 
+/* The model part's document start, its <model> element and metadata: the application, the
+ * material table as JSON (skipped when it cannot be made: that status is returned, and the
+ * part is then not finished) and the model's origin. */
+static hv_status part_metadata(xw *x, const ex_model *md, const hv_transform *xf)
+{
+    char *json = NULL;
+    hv_status s = hv_material_table_to_json(md->table, &json);
+    xmlTextWriterSetIndent(x->w, 1);
+    xmlTextWriterSetIndentString(x->w, BAD_CAST " ");
+    x->bad |= xmlTextWriterStartDocument(x->w, "1.0", "UTF-8", NULL) < 0;
+    x_start(x, "model");
+    x_attr(x, "unit", "millimeter");
+    x_attr(x, "xml:lang", "en-US");
+    x_attr(x, "xmlns", TMF_NS_CORE);
+    x_attr(x, "xmlns:v", TMF_NS_VOLUMETRIC);
+    x_attr(x, "xmlns:hovox", TMF_NS_HOVOX);
+    char text[256];
+    snprintf(text, sizeof text, "hovox %s", hv_version());
+    x_text_element(x, "metadata", "name", "Application", text);
+    if (s == HV_OK) x_text_element(x, "metadata", "name", "hovox:materials", json);
+    snprintf(text, sizeof text, "%.17g %.17g %.17g", xf->origin[0], xf->origin[1], xf->origin[2]);
+    x_text_element(x, "metadata", "name", "hovox:origin", text);
+    free(json);
+    return s;
+}
+
+/* <basematerials id="1">: each material's name and display colour. */
+static void part_materials(xw *x, const ex_model *md)
+{
+    char text[256];
+    x_start(x, "basematerials");
+    x_attr(x, "id", "1");
+    for (int j = 0; j < md->m; ++j) {
+        float rgba[4];
+        hv_material_color(md->table, j, rgba);
+        color_text(text, sizeof text, rgba);
+        x_start(x, "base");
+        x_attr(x, "name", hv_material_name(md->table, j));
+        x_attr(x, "displaycolor", text);
+        x_end(x);
+    }
+    x_end(x);
+}
+
+/* Per stack t: its image3d (id 2 + 2t, the sheets in order) and the function reading it (id
+ * 3 + 2t; a property stack's values scaled back from [0, 1] to [lo, hi]). */
+static void part_functions(xw *x, const plan3 *p)
+{
+    for (int t = 0; t < p->nstacks; ++t) {
+        const stack *st = &p->stacks[t];
+        x_start(x, "v:image3d");
+        x_attr_int(x, "id", 2 + 2 * t);
+        x_attr(x, "name", st->name);
+        x_start(x, "v:imagestack");
+        x_attr_int(x, "rowcount", p->n[1]);
+        x_attr_int(x, "columncount", p->n[0]);
+        x_attr_int(x, "sheetcount", p->n[2]);
+        for (int64_t k = 0; k < p->n[2]; ++k) {
+            char part[200];
+            sheet_part(part, sizeof part, st, k);
+            x_start(x, "v:imagesheet");
+            x_attr(x, "path", part);
+            x_end(x);
+        }
+        x_end(x);
+        x_end(x);
+        x_start(x, "v:functionfromimage3d");
+        x_attr_int(x, "id", 3 + 2 * t);
+        x_attr(x, "displayname", st->name);
+        x_attr_int(x, "image3did", 2 + 2 * t);
+        x_attr(x, "filter", "linear");
+        x_attr_num(x, "valueoffset", st->mat >= 0 ? 0.0 : st->lo);
+        x_attr_num(x, "valuescale", st->mat >= 0 ? 1.0 : st->hi - st->lo);
+        x_attr(x, "tilestyleu", "clamp");
+        x_attr(x, "tilestylev", "clamp");
+        x_attr(x, "tilestylew", "clamp");
+        x_end(x);
+    }
+}
+
+/* <v:volumedata id=volume_id>: the composite of the material stacks and a property per other
+ * stack, each through the transform from object millimetres to the images' UVW. */
+static void part_volumedata(xw *x, const plan3 *p, const hv_transform *xf, int volume_id)
+{
+    /* object millimetres to UVW: u = (x - x0) / (columns * Lx) with x0 the image's lowest face,
+     * so voxel centres land on pixel centres (v: rows from the highest y, spec 3.2 Figure 3-1) */
+    char matrix[512];
+    double sc[3], tr[3];
+    for (int a = 0; a < 3; ++a) {
+        sc[a] = 1.0 / ((double)p->n[a] * xf->voxel[a]);
+        tr[a] = -(xf->origin[a] + ((double)p->lo[a] - 0.5) * xf->voxel[a]) * sc[a];
+    }
+    snprintf(matrix, sizeof matrix, "%.17g 0 0 0 %.17g 0 0 0 %.17g %.17g %.17g %.17g", sc[0], sc[1], sc[2],
+             tr[0] == 0 ? 0.0 : tr[0], tr[1] == 0 ? 0.0 : tr[1], tr[2] == 0 ? 0.0 : tr[2]);
+    x_start(x, "v:volumedata");
+    x_attr_int(x, "id", volume_id);
+    x_start(x, "v:composite");
+    x_attr(x, "basematerialid", "1");
+    for (int t = 0; t < p->nstacks; ++t) {
+        if (p->stacks[t].mat < 0) continue;
+        x_start(x, "v:materialmapping");
+        x_attr_int(x, "functionid", 3 + 2 * t);
+        x_attr(x, "channel", "red");
+        x_attr(x, "transform", matrix);
+        x_end(x);
+    }
+    x_end(x);
+    for (int t = 0; t < p->nstacks; ++t) {
+        const stack *st = &p->stacks[t];
+        if (st->mat >= 0) continue;
+        char qname[128];
+        snprintf(qname, sizeof qname, "hovox:%s", st->name);
+        x_start(x, "v:property");
+        x_attr_int(x, "functionid", 3 + 2 * t);
+        x_attr(x, "channel", "red");
+        x_attr(x, "transform", matrix);
+        x_attr(x, "name", qname);
+        x_attr(x, "required", "false");
+        if (st->unit[0]) x_attr(x, "hovox:unit", st->unit);
+        x_end(x);
+    }
+    x_end(x);
+}
+
+/* The boundary mesh's <vertices> (voxel corners in millimetres) and <triangles>, reporting
+ * progress; stops at the first failing status s (given or from the progress callback). */
+static hv_status part_mesh(xw *x, const tmf_boundary *mesh, const hv_transform *xf, const hv_progress *progress,
+                           hv_status s)
+{
+    x_start(x, "vertices");
+    for (size_t v = 0; v < mesh->nv && !x->bad && s == HV_OK; ++v) {
+        const int32_t *c = mesh->corner + 3 * v;
+        static const char *const xyz[3] = {"x", "y", "z"};
+        x_start(x, "vertex");
+        for (int a = 0; a < 3; ++a) {
+            char b[40];
+            double w = xf->origin[a] + ((double)c[a] - 0.5) * xf->voxel[a];
+            snprintf(b, sizeof b, "%.9g", w == 0 ? 0.0 : w);
+            x_attr(x, xyz[a], b);
+        }
+        x_end(x);
+        if ((v & 0xffff) == 0xffff)
+            s = hv_progress_report(progress, "export write", 0.5 * (double)v / (double)(mesh->nv + mesh->nt));
+    }
+    x_end(x);
+    x_start(x, "triangles");
+    for (size_t t = 0; t < mesh->nt && !x->bad && s == HV_OK; ++t) {
+        static const char *const vn[3] = {"v1", "v2", "v3"};
+        x_start(x, "triangle");
+        for (int k = 0; k < 3; ++k) x_attr_int(x, vn[k], mesh->tri[3 * t + (size_t)k]);
+        x_end(x);
+        if ((t & 0xffff) == 0xffff)
+            s = hv_progress_report(progress, "export write",
+                                   0.5 * (double)(mesh->nv + t) / (double)(mesh->nv + mesh->nt));
+    }
+    x_end(x);
+    return s;
+}
+
 /* The model part (spec Part I; ids: 1 base materials, 2 + 2t image3d and 3 + 2t function of
  * stack t, then the volume data and the object). */
 static hv_status model_part(const ex_model *md, const plan3 *p, const tmf_boundary *mesh, const char *file,
@@ -522,142 +681,18 @@ static hv_status model_part(const ex_model *md, const plan3 *p, const tmf_bounda
         return HV_ERR_NOMEM;
     }
     hv_transform xf = hv_volume_get_transform(md->vol);
-    char *json = NULL;
-    hv_status s = hv_material_table_to_json(md->table, &json);
-    xmlTextWriterSetIndent(x.w, 1);
-    xmlTextWriterSetIndentString(x.w, BAD_CAST " ");
-    x.bad |= xmlTextWriterStartDocument(x.w, "1.0", "UTF-8", NULL) < 0;
-    x_start(&x, "model");
-    x_attr(&x, "unit", "millimeter");
-    x_attr(&x, "xml:lang", "en-US");
-    x_attr(&x, "xmlns", TMF_NS_CORE);
-    x_attr(&x, "xmlns:v", TMF_NS_VOLUMETRIC);
-    x_attr(&x, "xmlns:hovox", TMF_NS_HOVOX);
-    char text[256];
-    snprintf(text, sizeof text, "hovox %s", hv_version());
-    x_text_element(&x, "metadata", "name", "Application", text);
-    if (s == HV_OK) x_text_element(&x, "metadata", "name", "hovox:materials", json);
-    snprintf(text, sizeof text, "%.17g %.17g %.17g", xf.origin[0], xf.origin[1], xf.origin[2]);
-    x_text_element(&x, "metadata", "name", "hovox:origin", text);
-    free(json);
-
+    hv_status s = part_metadata(&x, md, &xf);
     x_start(&x, "resources");
-    x_start(&x, "basematerials");
-    x_attr(&x, "id", "1");
-    for (int j = 0; j < md->m; ++j) {
-        float rgba[4];
-        hv_material_color(md->table, j, rgba);
-        color_text(text, sizeof text, rgba);
-        x_start(&x, "base");
-        x_attr(&x, "name", hv_material_name(md->table, j));
-        x_attr(&x, "displaycolor", text);
-        x_end(&x);
-    }
-    x_end(&x);
-
-    for (int t = 0; t < p->nstacks; ++t) {
-        const stack *st = &p->stacks[t];
-        x_start(&x, "v:image3d");
-        x_attr_int(&x, "id", 2 + 2 * t);
-        x_attr(&x, "name", st->name);
-        x_start(&x, "v:imagestack");
-        x_attr_int(&x, "rowcount", p->n[1]);
-        x_attr_int(&x, "columncount", p->n[0]);
-        x_attr_int(&x, "sheetcount", p->n[2]);
-        for (int64_t k = 0; k < p->n[2]; ++k) {
-            char part[200];
-            sheet_part(part, sizeof part, st, k);
-            x_start(&x, "v:imagesheet");
-            x_attr(&x, "path", part);
-            x_end(&x);
-        }
-        x_end(&x);
-        x_end(&x);
-        x_start(&x, "v:functionfromimage3d");
-        x_attr_int(&x, "id", 3 + 2 * t);
-        x_attr(&x, "displayname", st->name);
-        x_attr_int(&x, "image3did", 2 + 2 * t);
-        x_attr(&x, "filter", "linear");
-        x_attr_num(&x, "valueoffset", st->mat >= 0 ? 0.0 : st->lo);
-        x_attr_num(&x, "valuescale", st->mat >= 0 ? 1.0 : st->hi - st->lo);
-        x_attr(&x, "tilestyleu", "clamp");
-        x_attr(&x, "tilestylev", "clamp");
-        x_attr(&x, "tilestylew", "clamp");
-        x_end(&x);
-    }
-
-    /* object millimetres to UVW: u = (x - x0) / (columns * Lx) with x0 the image's lowest face,
-     * so voxel centres land on pixel centres (v: rows from the highest y, spec 3.2 Figure 3-1) */
-    char matrix[512];
-    double sc[3], tr[3];
-    for (int a = 0; a < 3; ++a) {
-        sc[a] = 1.0 / ((double)p->n[a] * xf.voxel[a]);
-        tr[a] = -(xf.origin[a] + ((double)p->lo[a] - 0.5) * xf.voxel[a]) * sc[a];
-    }
-    snprintf(matrix, sizeof matrix, "%.17g 0 0 0 %.17g 0 0 0 %.17g %.17g %.17g %.17g", sc[0], sc[1], sc[2],
-             tr[0] == 0 ? 0.0 : tr[0], tr[1] == 0 ? 0.0 : tr[1], tr[2] == 0 ? 0.0 : tr[2]);
+    part_materials(&x, md);
+    part_functions(&x, p);
     int volume_id = 2 + 2 * p->nstacks, object_id = volume_id + 1;
-    x_start(&x, "v:volumedata");
-    x_attr_int(&x, "id", volume_id);
-    x_start(&x, "v:composite");
-    x_attr(&x, "basematerialid", "1");
-    for (int t = 0; t < p->nstacks; ++t) {
-        if (p->stacks[t].mat < 0) continue;
-        x_start(&x, "v:materialmapping");
-        x_attr_int(&x, "functionid", 3 + 2 * t);
-        x_attr(&x, "channel", "red");
-        x_attr(&x, "transform", matrix);
-        x_end(&x);
-    }
-    x_end(&x);
-    for (int t = 0; t < p->nstacks; ++t) {
-        const stack *st = &p->stacks[t];
-        if (st->mat >= 0) continue;
-        char qname[128];
-        snprintf(qname, sizeof qname, "hovox:%s", st->name);
-        x_start(&x, "v:property");
-        x_attr_int(&x, "functionid", 3 + 2 * t);
-        x_attr(&x, "channel", "red");
-        x_attr(&x, "transform", matrix);
-        x_attr(&x, "name", qname);
-        x_attr(&x, "required", "false");
-        if (st->unit[0]) x_attr(&x, "hovox:unit", st->unit);
-        x_end(&x);
-    }
-    x_end(&x);
-
+    part_volumedata(&x, p, &xf, volume_id);
     x_start(&x, "object");
     x_attr_int(&x, "id", object_id);
     x_attr(&x, "type", "model");
     x_start(&x, "mesh");
     x_attr_int(&x, "v:volumeid", volume_id);
-    x_start(&x, "vertices");
-    for (size_t v = 0; v < mesh->nv && !x.bad && s == HV_OK; ++v) {
-        const int32_t *c = mesh->corner + 3 * v;
-        static const char *const xyz[3] = {"x", "y", "z"};
-        x_start(&x, "vertex");
-        for (int a = 0; a < 3; ++a) {
-            char b[40];
-            double w = xf.origin[a] + ((double)c[a] - 0.5) * xf.voxel[a];
-            snprintf(b, sizeof b, "%.9g", w == 0 ? 0.0 : w);
-            x_attr(&x, xyz[a], b);
-        }
-        x_end(&x);
-        if ((v & 0xffff) == 0xffff)
-            s = hv_progress_report(progress, "export write", 0.5 * (double)v / (double)(mesh->nv + mesh->nt));
-    }
-    x_end(&x);
-    x_start(&x, "triangles");
-    for (size_t t = 0; t < mesh->nt && !x.bad && s == HV_OK; ++t) {
-        static const char *const vn[3] = {"v1", "v2", "v3"};
-        x_start(&x, "triangle");
-        for (int k = 0; k < 3; ++k) x_attr_int(&x, vn[k], mesh->tri[3 * t + (size_t)k]);
-        x_end(&x);
-        if ((t & 0xffff) == 0xffff)
-            s = hv_progress_report(progress, "export write",
-                                   0.5 * (double)(mesh->nv + t) / (double)(mesh->nv + mesh->nt));
-    }
-    x_end(&x);
+    s = part_mesh(&x, mesh, &xf, progress, s);
     x_end(&x); /* mesh */
     x_end(&x); /* object */
     x_end(&x); /* resources */

@@ -2,7 +2,7 @@
 """tests/data/make/mesh_formats.py - writes the 3MF, OBJ and PLY files of tests/data/good and
 tests/data/bad (run from the repository root; the output is deterministic: fixed ZIP dates).
 The 3MF packages are written by hand here, not by lib3mf, so that they can be wrong in exactly
-one way each; the unit tests (tests/mesh/test_3mf.c) also read packages lib3mf writes."""
+one way each; the unit tests (tests/io/3mf/test_mesh_read.c) also read packages lib3mf writes."""
 import io
 import struct
 import zipfile

@@ -1,4 +1,4 @@
-/* tests/io/test_scan.c - the scan readers (src/io/scan) against independent writers: the head
+/* tests/io/scan/test_scan.c - the scan readers (src/io/scan) against independent writers: the head
  * phantom of tests/io/scan/make_phantom.py written by nibabel (NIfTI-1/2), pydicom (a DICOM
  * series) and as NRRD and MetaImage from their specifications. Every format gives the same samples
  * and affine; a rotated or flipped grid puts each sample where the analytic phantom has its value;

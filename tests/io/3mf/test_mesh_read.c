@@ -1,4 +1,4 @@
-/* tests/io/test_3mf.c - the 3MF reader: packages written in the test by lib3mf's own writer
+/* tests/io/3mf/test_mesh_read.c - the 3MF reader: packages written in the test by lib3mf's own writer
  * (an independent implementation) read back against the STL reader on the same mesh;
  * components and build transforms; two nested boxes with two base materials; colours; units;
  * support objects; and damaged packages (made with libzip here), each refused with one message
@@ -15,7 +15,7 @@
 #include "hovox/generate.h"
 #include "hovox/image.h"
 #include "hovox/mesh.h"
-#include "reader_check.h"
+#include "io/reader_check.h"
 #include "support/lib3mf_c.h"
 #include "support/support.h"
 

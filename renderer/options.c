@@ -28,6 +28,12 @@ const char *hv_view_name(hv_view view)
 
 const hv_enum_def *hv_view_enum(void) { return &k_view; }
 
+const char *hv_render_mode_name(hv_render_mode mode)
+{
+    const char *n = hv_enum_name(&k_mode, (int)mode);
+    return n ? n : "?";
+}
+
 /* clip: an expression, added to the list */
 static hv_status parse_clip(const hv_option *o, void *opts, const hv_opt_value *v)
 {

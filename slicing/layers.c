@@ -256,7 +256,7 @@ static hv_status job_plan_shape(job *J, const hv_mesh *mesh, const hv_volume *mo
         if (uses_model(o) && !model)
             return hv_error_set(HV_ERR_INVALID,
                                 "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
-                                o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
+                                hv_layers_mode_name(o->mode));
         /* the shape: the model's own (issue 28), a mesh given only as an override that must match */
         st = hv_solid_for_model(model, mesh, "layers", o->model_name, o->mesh_name, NULL, &J->solid);
         if (st != HV_OK) return st;
@@ -1039,11 +1039,6 @@ static hv_status unit_range(void *ctx, size_t b, size_t e, int t)
 
 /* ---- manifest and GCVF ------------------------------------------------------------------------ */
 
-static const char *mode_name(hv_layers_mode m)
-{
-    return m == HV_LAYERS_HALFTONE ? "halftone" : m == HV_LAYERS_FRACTIONS ? "fractions" : "mask";
-}
-
 static json_t *pair(double x, double y)
 {
     double v[2] = {x, y};
@@ -1064,12 +1059,11 @@ static json_t *manifest_doc(const job *J, const hv_layers_report *r)
     char gen[64], hex[8];
     snprintf(gen, sizeof gen, "hovox %s", hv_version());
     int failed = hv_json_set(doc, "generator", json_string(gen));
-    failed |= hv_json_set(doc, "mode", json_string(mode_name(o->mode)));
+    failed |= hv_json_set(doc, "mode", json_string(hv_layers_mode_name(o->mode)));
     if (uses_model(o))
-        failed |= hv_json_set(doc, "method", json_string(o->method == HV_LAYERS_DIRECT || J->src ? "direct" : "resample"));
+        failed |= hv_json_set(doc, "method", json_string(hv_layers_method_name(J->src ? HV_LAYERS_DIRECT : o->method)));
     if (o->mode == HV_LAYERS_HALFTONE) {
-        failed |= hv_json_set(doc, "halftone",
-                              json_string(o->halftone == HV_HALFTONE_ERROR_DIFFUSION ? "error-diffusion" : "blue-noise"));
+        failed |= hv_json_set(doc, "halftone", json_string(hv_halftone_method_name(o->halftone)));
         /* JSON integers are 64-bit signed in jansson: larger seeds are written as reals */
         failed |= hv_json_set(doc, "seed", o->seed <= INT64_MAX ? json_integer((json_int_t)o->seed)
                                                                 : json_real((double)o->seed));
@@ -1088,7 +1082,7 @@ static json_t *manifest_doc(const job *J, const hv_layers_report *r)
         failed |= hv_json_set(pl, "row", json_integer(J->r0));
         failed |= hv_json_set(doc, "plate", pl);
     }
-    failed |= hv_json_set(doc, "fill_rule", json_string(o->fill_rule == HV_FILL_EVENODD ? "evenodd" : "nonzero"));
+    failed |= hv_json_set(doc, "fill_rule", json_string(hv_fill_rule_name(o->fill_rule)));
     failed |= hv_json_set(doc, "threshold_mm", hv_json_number(o->threshold));
     if (uses_model(o)) failed |= hv_json_set(doc, "poi_step", hv_json_number(o->poi_step));
     failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name ? o->mesh_name : J->shape_name));

@@ -69,9 +69,21 @@ const char *hv_layers_mode_name(hv_layers_mode m)
     return n ? n : "?";
 }
 
+const char *hv_layers_method_name(hv_layers_method m)
+{
+    const char *n = hv_enum_name(&k_method, (int)m);
+    return n ? n : "?";
+}
+
 const char *hv_halftone_method_name(hv_halftone_method m)
 {
     const char *n = hv_enum_name(&k_halftone, (int)m);
+    return n ? n : "?";
+}
+
+const char *hv_fill_rule_name(hv_fill_rule r)
+{
+    const char *n = hv_enum_name(&k_rule, (int)r);
     return n ? n : "?";
 }
 

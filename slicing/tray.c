@@ -1176,7 +1176,7 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
     failed |= hv_json_set(doc, "width", json_integer(t->W));
     failed |= hv_json_set(doc, "height", json_integer(t->H));
     failed |= hv_json_set(doc, "bit_depth", json_integer(t->bit_depth));
-    failed |= hv_json_set(doc, "mode", hv_json_text(o->mode == HV_LAYERS_MASK ? "mask" : "halftone"));
+    failed |= hv_json_set(doc, "mode", hv_json_text(hv_layers_mode_name(o->mode)));
     failed |= hv_json_set(doc, "layers_total", json_integer((json_int_t)t->nlayers));
     failed |= hv_json_set(doc, "first", json_integer((json_int_t)rep->first));
     failed |= hv_json_set(doc, "last", json_integer((json_int_t)rep->last));

@@ -1,8 +1,8 @@
 /* slicing/tray_job.c - tray job files (hovox/tray.h, README "Tray jobs"): JSON read by jansson,
  * every key through the tray's and the parts' option sets, so a job file takes what the CLI
- * and Lua take. jansson keeps no positions for values, so a small scanner over the (already
- * valid) text records where each key and value starts: every refusal names file, line and
- * column. A parser of files from others: fuzzed (tests/fuzz/fuzz_tray_job.c). */
+ * and Lua take. Every refusal names file, line and column: of a syntax error from jansson, of a
+ * value or key from the position index of src/core/json.c. A parser of files from others: fuzzed
+ * (tests/fuzz/fuzz_tray_job.c). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,141 +14,24 @@
 
 #define MAX_JOB (16u << 20)
 
-/* ---- positions ------------------------------------------------------------------------------ */
-
-typedef struct pos {
-    char path[160]; /* "parts[2].rotation", "" for the document */
-    int line, col;
-} pos;
-
-typedef struct scanner {
-    const char *s, *end;
-    int line;
-    const char *line_start;
-    pos *v;
-    size_t n, cap;
-    int failed;
-} scanner;
-
-static void skip_ws(scanner *sc)
-{
-    while (sc->s < sc->end && (*sc->s == ' ' || *sc->s == '\t' || *sc->s == '\n' || *sc->s == '\r')) {
-        if (*sc->s == '\n') {
-            sc->line++;
-            sc->line_start = sc->s + 1;
-        }
-        sc->s++;
-    }
-}
-
-static void record(scanner *sc, const char *path)
-{
-    if (hv_grow((void **)&sc->v, &sc->cap, sc->n + 1, sizeof *sc->v) != HV_OK) {
-        sc->failed = 1;
-        return;
-    }
-    pos *p = &sc->v[sc->n++];
-    snprintf(p->path, sizeof p->path, "%s", path);
-    p->line = sc->line;
-    p->col = (int)(sc->s - sc->line_start) + 1;
-}
-
-/* a string token starting at sc->s (the quote); its raw bytes into buf (escapes kept) */
-static void scan_string(scanner *sc, char *buf, size_t size)
-{
-    size_t k = 0;
-    sc->s++;
-    while (sc->s < sc->end && *sc->s != '"') {
-        if (*sc->s == '\\' && sc->s + 1 < sc->end) {
-            if (k + 1 < size) buf[k++] = *sc->s;
-            sc->s++;
-        }
-        if (k + 1 < size) buf[k++] = *sc->s;
-        sc->s++;
-    }
-    if (sc->s < sc->end) sc->s++;
-    if (size) buf[HV_MIN(k, size - 1)] = '\0';
-}
-
-static void scan_value(scanner *sc, const char *path, int depth)
-{
-    skip_ws(sc);
-    record(sc, path);
-    if (sc->s >= sc->end || depth > 64) return;
-    char sub[160], key[128];
-    if (*sc->s == '{') {
-        sc->s++;
-        for (;;) {
-            skip_ws(sc);
-            if (sc->s >= sc->end || *sc->s == '}') break;
-            if (*sc->s == ',') {
-                sc->s++;
-                continue;
-            }
-            char kpath[170];
-            const char *kstart = sc->s;
-            scan_string(sc, key, sizeof key);
-            snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
-            snprintf(kpath, sizeof kpath, "%s#key", sub);
-            const char *save = sc->s;
-            sc->s = kstart;
-            record(sc, kpath);
-            sc->s = save;
-            skip_ws(sc);
-            if (sc->s < sc->end && *sc->s == ':') sc->s++;
-            scan_value(sc, sub, depth + 1);
-        }
-        if (sc->s < sc->end) sc->s++;
-    } else if (*sc->s == '[') {
-        sc->s++;
-        for (int i = 0;; ++i) {
-            skip_ws(sc);
-            if (sc->s >= sc->end || *sc->s == ']') break;
-            if (*sc->s == ',') {
-                sc->s++;
-                --i;
-                continue;
-            }
-            snprintf(sub, sizeof sub, "%s[%d]", path, i);
-            scan_value(sc, sub, depth + 1);
-        }
-        if (sc->s < sc->end) sc->s++;
-    } else if (*sc->s == '"') {
-        scan_string(sc, key, sizeof key);
-    } else {
-        /* a number or a literal; always at least one byte, so every loop above advances
-         * (found by fuzzing: a NUL byte once stopped this scanner, which recorded forever) */
-        do
-            sc->s++;
-        while (sc->s < sc->end && *sc->s && !strchr(",]} \t\r\n", *sc->s));
-    }
-}
-
-static const pos *find_pos(const scanner *sc, const char *path)
-{
-    for (size_t i = 0; i < sc->n; ++i)
-        if (strcmp(sc->v[i].path, path) == 0) return &sc->v[i];
-    return NULL;
-}
-
 /* ---- reading ------------------------------------------------------------------------------- */
 
 typedef struct reader {
     const char *name, *base;
-    scanner sc;
+    hv_json_where *where; /* positions of the values */
     hv_tray *tray;
 } reader;
 
-/* "name: line L, column C: <path>: " + the message already set */
-static hv_status at(const reader *r, const char *path, hv_status s)
+/* "name: line L, column C: " + the message already set; the position of value v (of its key) */
+static hv_status at(const reader *r, int v, int of_key, hv_status s)
 {
     if (s == HV_ERR_NOMEM) return s;
     char msg[1024];
     snprintf(msg, sizeof msg, "%s", hv_last_error()); /* plain: options spelt as the file's keys */
-    const pos *p = find_pos(&r->sc, path);
+    int line, col;
     hv_status code = s == HV_ERR_LIMIT ? HV_ERR_LIMIT : HV_ERR_BAD_INPUT; /* a limit stays one (exit 3) */
-    if (!p) return hv_error_set(code, "%s: %s: %s", r->name, path, msg);
-    return hv_error_set(code, "%s: line %d, column %d: %s", r->name, p->line, p->col, msg);
+    if (hv_json_where_at(r->where, v, of_key, &line, &col) != 0) return hv_error_set(code, "%s: %s", r->name, msg);
+    return hv_error_set(code, "%s: line %d, column %d: %s", r->name, line, col, msg);
 }
 
 static const char *type_name(const json_t *v)
@@ -174,8 +57,8 @@ static const char *keep(reader *r, const char *s, int is_path)
     return hv_tray_keep(r->tray, buf);
 }
 
-/* One JSON value into option `key` of `args` (set through the option set). */
-static hv_status set_value(reader *r, hv_optargs *args, const char *key, const json_t *v, const char *path)
+/* One JSON value (value `node` of the index) into option `key` of `args` (set through the option set). */
+static hv_status set_value(reader *r, hv_optargs *args, const char *key, const json_t *v, int node)
 {
     const hv_option *o = hv_option_find(args->set, key);
     hv_opt_value ov = {HV_VALUE_TEXT, NULL, NULL, 0, 0};
@@ -189,9 +72,7 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
             n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", args->set->options[i].key);
         s = hv_error_set(HV_ERR_INVALID, "unknown key '%s' (keys: %s%s)", key, list,
                          args->set == hv_tray_option_set() ? ", parts, schema" : "");
-        char kp[220];
-        snprintf(kp, sizeof kp, "%s#key", path);
-        return at(r, kp, s);
+        return at(r, node, 1, s);
     }
     int is_path = o->kind == HV_OPT_STRING && (strcmp(key, "model") == 0 || strcmp(key, "mesh") == 0 ||
                                                (o->flags & HV_OPT_OUT_PATH));
@@ -221,22 +102,18 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
     case JSON_ARRAY: {
         size_t n = json_array_size(v);
         if (n > 0 && json_is_string(json_array_get(v, 0)) && (o->flags & HV_OPT_REPEAT)) {
-            for (size_t i = 0; i < n; ++i) {
-                char sub[200];
-                snprintf(sub, sizeof sub, "%s[%zu]", path, i);
-                if ((s = set_value(r, args, key, json_array_get(v, i), sub)) != HV_OK) return s;
-            }
+            for (size_t i = 0; i < n; ++i)
+                if ((s = set_value(r, args, key, json_array_get(v, i), hv_json_where_element(r->where, node, i))) != HV_OK)
+                    return s;
             return HV_OK;
         }
-        if (n > 64) return at(r, path, hv_error_set(HV_ERR_INVALID, "%s has %zu values (at most 64)", key, n));
+        if (n > 64) return at(r, node, 0, hv_error_set(HV_ERR_INVALID, "%s has %zu values (at most 64)", key, n));
         for (size_t i = 0; i < n; ++i) {
             const json_t *e = json_array_get(v, i);
-            if (!json_is_number(e)) {
-                char sub[200];
-                snprintf(sub, sizeof sub, "%s[%zu]", path, i);
-                return at(r, sub, hv_error_set(HV_ERR_INVALID, "%s must be a list of numbers; item %zu is %s", key,
-                                               i + 1, type_name(e)));
-            }
+            if (!json_is_number(e))
+                return at(r, hv_json_where_element(r->where, node, i), 0,
+                          hv_error_set(HV_ERR_INVALID, "%s must be a list of numbers; item %zu is %s", key, i + 1,
+                                       type_name(e)));
             nums[i] = json_number_value(e);
         }
         ov.type = HV_VALUE_NUMBERS;
@@ -249,46 +126,42 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
             const char *k;
             json_t *e;
             json_object_foreach((json_t *)v, k, e) {
-                char sub[200], pair[512];
-                snprintf(sub, sizeof sub, "%s.%s", path, k);
+                char pair[512];
+                int sub = hv_json_where_member(r->where, node, k);
                 if (!json_is_string(e))
-                    return at(r, sub, hv_error_set(HV_ERR_INVALID, "%s.%s must be a string, got %s", key, k, type_name(e)));
+                    return at(r, sub, 0, hv_error_set(HV_ERR_INVALID, "%s.%s must be a string, got %s", key, k, type_name(e)));
                 snprintf(pair, sizeof pair, "%s=%s", k, json_string_value(e));
                 hv_opt_value pv = {HV_VALUE_TEXT, keep(r, pair, 0), NULL, 0, 0};
                 if (!pv.text) return HV_ERR_NOMEM;
-                if ((s = hv_optargs_set(args, key, &pv)) != HV_OK) return at(r, sub, s);
+                if ((s = hv_optargs_set(args, key, &pv)) != HV_OK) return at(r, sub, 0, s);
             }
             return HV_OK;
         }
         /* fall through */
     default:
-        return at(r, path, hv_error_set(HV_ERR_INVALID, "%s cannot be %s", key, type_name(v)));
+        return at(r, node, 0, hv_error_set(HV_ERR_INVALID, "%s cannot be %s", key, type_name(v)));
     }
     s = hv_optargs_set(args, key, &ov);
-    return s == HV_OK ? s : at(r, path, s);
+    return s == HV_OK ? s : at(r, node, 0, s);
 }
 
-static hv_status read_part(reader *r, const json_t *v, int index)
+static hv_status read_part(reader *r, const json_t *v, int node)
 {
-    char path[64];
-    snprintf(path, sizeof path, "parts[%d]", index);
     if (!json_is_object(v))
-        return at(r, path, hv_error_set(HV_ERR_INVALID, "a part must be an object, got %s", type_name(v)));
+        return at(r, node, 0, hv_error_set(HV_ERR_INVALID, "a part must be an object, got %s", type_name(v)));
     hv_tray_part p;
     hv_optargs args;
     hv_optargs_begin(&args, hv_tray_part_option_set(), &p);
     const char *k;
     json_t *e;
     hv_status s = HV_OK;
-    json_object_foreach((json_t *)v, k, e) {
-        char sub[200];
-        snprintf(sub, sizeof sub, "%s.%s", path, k);
-        if ((s = set_value(r, &args, k, e, sub)) != HV_OK) return s;
-    }
-    if ((s = hv_optargs_finish(&args)) != HV_OK) return at(r, path, s);
-    const pos *ps = find_pos(&r->sc, path);
+    json_object_foreach((json_t *)v, k, e)
+        if ((s = set_value(r, &args, k, e, hv_json_where_member(r->where, node, k))) != HV_OK) return s;
+    if ((s = hv_optargs_finish(&args)) != HV_OK) return at(r, node, 0, s);
+    int line, col;
     char where[300];
-    if (ps) snprintf(where, sizeof where, "%s: line %d, column %d", r->name, ps->line, ps->col);
+    if (hv_json_where_at(r->where, node, 0, &line, &col) == 0)
+        snprintf(where, sizeof where, "%s: line %d, column %d", r->name, line, col);
     else snprintf(where, sizeof where, "%s", r->name);
     return hv_tray_add(r->tray, &p, where);
 }
@@ -313,42 +186,39 @@ hv_status hv_tray_parse_job(const char *text, size_t size, const char *name, con
     memset(&r, 0, sizeof r);
     r.name = name;
     r.base = base;
-    r.sc.s = text;
-    r.sc.end = text + size;
-    r.sc.line = 1;
-    r.sc.line_start = text;
-    scan_value(&r.sc, "", 0);
-    if (r.sc.failed) s = HV_ERR_NOMEM;
+    s = hv_json_where_index(text, size, &r.where);
     if (s == HV_OK && !json_is_object(doc))
-        s = at(&r, "", hv_error_set(HV_ERR_INVALID, "a tray job is a JSON object, got %s", type_name(doc)));
+        s = at(&r, 0, 0, hv_error_set(HV_ERR_INVALID, "a tray job is a JSON object, got %s", type_name(doc)));
     if (s == HV_OK) s = hv_tray_create(&r.tray);
     hv_optargs args;
     hv_optargs_begin(&args, hv_tray_option_set(), o);
     const json_t *parts = s == HV_OK ? json_object_get(doc, "parts") : NULL;
     const json_t *schema = s == HV_OK ? json_object_get(doc, "schema") : NULL;
     if (s == HV_OK && schema && !(json_is_integer(schema) && json_integer_value(schema) == 1))
-        s = at(&r, "schema", hv_error_set(HV_ERR_BAD_INPUT, "schema must be 1 (this hovox reads tray jobs of schema 1)"));
+        s = at(&r, hv_json_where_member(r.where, 0, "schema"), 0, hv_error_set(HV_ERR_BAD_INPUT, "schema must be 1 (this hovox reads tray jobs of schema 1)"));
     const char *k;
     json_t *e;
     if (s == HV_OK) {
         json_object_foreach(doc, k, e) {
             if (strcmp(k, "parts") == 0 || strcmp(k, "schema") == 0) continue;
-            if ((s = set_value(&r, &args, k, e, k)) != HV_OK) break;
+            if ((s = set_value(&r, &args, k, e, hv_json_where_member(r.where, 0, k))) != HV_OK) break;
         }
     }
-    if (s == HV_OK && (s = hv_optargs_finish(&args)) != HV_OK) s = at(&r, "", s);
-    if (s == HV_OK && !parts) s = at(&r, "", hv_error_set(HV_ERR_INVALID, "a tray job needs \"parts\": [...]"));
+    int pn = hv_json_where_member(r.where, 0, "parts");
+    if (s == HV_OK && (s = hv_optargs_finish(&args)) != HV_OK) s = at(&r, 0, 0, s);
+    if (s == HV_OK && !parts) s = at(&r, 0, 0, hv_error_set(HV_ERR_INVALID, "a tray job needs \"parts\": [...]"));
     if (s == HV_OK && !json_is_array(parts))
-        s = at(&r, "parts", hv_error_set(HV_ERR_INVALID, "parts must be an array, got %s", type_name(parts)));
-    if (s == HV_OK && json_array_size(parts) == 0) s = at(&r, "parts", hv_error_set(HV_ERR_INVALID, "parts is empty"));
+        s = at(&r, pn, 0, hv_error_set(HV_ERR_INVALID, "parts must be an array, got %s", type_name(parts)));
+    if (s == HV_OK && json_array_size(parts) == 0) s = at(&r, pn, 0, hv_error_set(HV_ERR_INVALID, "parts is empty"));
     /* a tray holds at most HV_TRAY_MAX_PARTS placed parts: a longer list is refused before any part
      * is read (20,000 parts took 18 s to be refused) */
     if (s == HV_OK && json_array_size(parts) > HV_TRAY_MAX_PARTS)
-        s = at(&r, "parts",
+        s = at(&r, pn, 0,
                hv_error_set(HV_ERR_LIMIT, "%zu parts, more than a tray holds (%d)", json_array_size(parts), HV_TRAY_MAX_PARTS));
-    for (size_t i = 0; s == HV_OK && i < json_array_size(parts); ++i) s = read_part(&r, json_array_get(parts, i), (int)i);
+    for (size_t i = 0; s == HV_OK && i < json_array_size(parts); ++i)
+        s = read_part(&r, json_array_get(parts, i), hv_json_where_element(r.where, pn, i));
     json_decref(doc);
-    free(r.sc.v);
+    hv_json_where_destroy(r.where);
     if (s != HV_OK) {
         hv_tray_destroy(r.tray);
         return s;

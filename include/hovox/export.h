@@ -108,6 +108,9 @@ typedef enum hv_coarsen_rule {
     HV_COARSEN_ANY = 1       /* any voxel occupied: covers every feature, grows the volume */
 } hv_coarsen_rule;
 
+/* Name of a coarsen rule ("majority", "any"), as the option takes it. Static text. */
+HV_API const char *hv_coarsen_rule_name(hv_coarsen_rule rule);
+
 #define HV_EXPORT_MAX_TABLES 64
 
 typedef struct hv_export_options {

@@ -245,9 +245,12 @@ HV_API void hv_layers_options_init(hv_layers_options *o);
 HV_API const hv_option_set *hv_layers_option_set(void);
 /* Every option's domain. Errors: HV_ERR_INVALID naming the option. */
 HV_API hv_status hv_layers_options_check(const hv_layers_options *o);
-/* Names of the enum values ("halftone", "bluenoise"). */
+/* Names of the enum values, the one spelling options take and manifests and messages print
+ * ("halftone", "resample", "bluenoise", "evenodd"); "?" for a value without one. Static text. */
 HV_API const char *hv_layers_mode_name(hv_layers_mode mode);
+HV_API const char *hv_layers_method_name(hv_layers_method method);
 HV_API const char *hv_halftone_method_name(hv_halftone_method method);
+HV_API const char *hv_fill_rule_name(hv_fill_rule rule);
 
 /* What a job does or did. Filled by hv_layers_plan (plan fields) and hv_layers_write (all). */
 typedef struct hv_layers_report {

@@ -606,7 +606,7 @@ HV_API hv_status hv_model_probe_csv(const hv_volume *vol, const double *xyz, siz
 
 /* Points from CSV text of x,y,z rows (`path` names it in messages): a header line (three
  * non-numeric fields before any row) allowed, blank lines and lines starting with '#' skipped,
- * CRLF accepted. Appends to *xyz (3 doubles per point, grown with realloc; the caller frees)
+ * CRLF accepted, a NUL byte refused (the CSV rows of every hovox table). Appends to *xyz (3 doubles per point, grown with realloc; the caller frees)
  * and counts them in *n. Errors: HV_ERR_BAD_INPUT ("p.csv: line 4: expected 3 values x,y,z,
  * found 2", "p.csv: line 5: y = 'abc' is not a finite number"), HV_ERR_NOMEM; the points read
  * before an error stay appended. read_csv reads the file first (at most 256 MiB; HV_ERR_IO,

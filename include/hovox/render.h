@@ -57,6 +57,8 @@ typedef enum hv_view {
 /* Name <-> view ("iso", "front", ...). hv_view_parse errors: HV_ERR_INVALID. */
 HV_API hv_status hv_view_parse(const char *name, hv_view *out);
 HV_API const char *hv_view_name(hv_view view);
+/* Name of a render mode ("volume", "surface"), as the option takes it. Static text. */
+HV_API const char *hv_render_mode_name(hv_render_mode mode);
 
 /* Camera model. fwd = unit(target - eye), right = unit(fwd x up), up' = right x fwd. Pixel
  * (x, y) (y downwards) is sampled at image position (x + 0.5, y + 0.5) (a regular n x n grid

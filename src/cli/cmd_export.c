@@ -83,7 +83,7 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
                (long long)rep->dims[2]);
     else if (opt->coarsen > 1)
         printf("mesh        %llu hexahedra (%d^3 blocks, keep %s), %llu points\n", (unsigned long long)rep->cells,
-               opt->coarsen, opt->coarsen_rule == HV_COARSEN_ANY ? "any" : "majority", (unsigned long long)rep->points);
+               opt->coarsen, hv_coarsen_rule_name(opt->coarsen_rule), (unsigned long long)rep->points);
     else
         printf("mesh        %llu hexahedra, %llu points\n", (unsigned long long)rep->cells,
                (unsigned long long)rep->points);

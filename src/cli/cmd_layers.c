@@ -151,7 +151,7 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
                r->diff_mean, r->diff_max, (unsigned long long)r->direct_fallback);
     report_colour(sk);
     char how[64];
-    if (o->mode == HV_LAYERS_HALFTONE) snprintf(how, sizeof how, "halftone %s", o->halftone == HV_HALFTONE_BLUE_NOISE ? "blue-noise" : "error-diffusion");
+    if (o->mode == HV_LAYERS_HALFTONE) snprintf(how, sizeof how, "halftone %s", hv_halftone_method_name(o->halftone));
     else snprintf(how, sizeof how, "%s", hv_layers_mode_name(o->mode));
     printf("wrote       %s (%zu layers, %llu object pixels, %s%s%s)\n", c->output, r->last - r->first,
            (unsigned long long)r->object_pixels, how, o->gcvf_path ? ", " : "", o->gcvf_path ? o->gcvf_path : "");

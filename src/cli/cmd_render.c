@@ -37,7 +37,7 @@ static int report(const char *path, const char *output, const hv_render_options 
 {
     if (materials) printf("model       %s (%d material%s)\n", path, materials, materials == 1 ? "" : "s");
     else printf("model       %s (no material table: grey)\n", path);
-    printf("image       %d x %d, %s, %s%s\n", o->width, o->height, o->mode == HV_RENDER_SURFACE ? "surface" : "volume",
+    printf("image       %d x %d, %s, %s%s\n", o->width, o->height, hv_render_mode_name(o->mode),
            o->camera.use_eye ? "eye" : hv_view_name(o->camera.view), o->camera.ortho ? ", orthographic" : "");
     if (o->clips) printf("clips       %d\n", o->clips);
     printf("wrote       %s\n", output);

@@ -120,7 +120,7 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
 static void print_plan(const hv_tray_report *r, const hv_tray_options *o)
 {
     char mem[32];
-    printf("printer     %s, %s\n", o->profile ? o->profile : "j750", o->mode == HV_LAYERS_MASK ? "mask" : "halftone");
+    printf("printer     %s, %s\n", o->profile ? o->profile : "j750", hv_layers_mode_name(o->mode));
     printf("plate       %d x %d pixels, %d-bit, %d resin%s\n", r->width, r->height, r->bit_depth, r->resins,
            r->resins == 1 ? "" : "s");
     printf("parts       %d, %.1f%% of the plate\n", r->parts, 100.0 * r->utilisation);

@@ -1,6 +1,8 @@
 /* src/core/json.c - JSON through jansson (see json.h): positioned parse errors, typed members
  * with messages naming the key, and the one serialisation every writer uses. */
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -16,6 +18,168 @@ hv_status hv_json_parse(const char *text, size_t len, const char *what, json_t *
     if (json_error_code(&e) == json_error_out_of_memory)
         return hv_error_set(HV_ERR_NOMEM, "%s: out of memory while reading JSON", what);
     return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %d, column %d: %s", what, e.line, e.column, e.text);
+}
+
+/* ---- positions ------------------------------------------------------------------------------ */
+
+typedef struct where_value {
+    int line, col;   /* the value */
+    int kline, kcol; /* its key (members) */
+    int first, last, next; /* children in order; the next sibling; -1: none */
+    size_t key;      /* offset of the member's key in keys, or SIZE_MAX */
+} where_value;
+
+struct hv_json_where {
+    where_value *v;
+    size_t n, cap;
+    char *keys;
+    size_t nkeys, capkeys;
+};
+
+typedef struct walker {
+    hv_json_where *w;
+    const char *s;
+    size_t len, at;
+    int line, col;
+} walker;
+
+static void walk_to(walker *k, size_t to)
+{
+    for (; k->at < to; ++k->at) {
+        unsigned char c = (unsigned char)k->s[k->at];
+        if (c == '\n') {
+            k->line++;
+            k->col = 1;
+        } else if ((c & 0xC0) != 0x80) {
+            k->col++; /* a character starts: columns as jansson counts them */
+        }
+    }
+}
+
+static char walk_ws(walker *k)
+{
+    size_t i = k->at;
+    while (i < k->len && (k->s[i] == ' ' || k->s[i] == '\t' || k->s[i] == '\n' || k->s[i] == '\r')) ++i;
+    walk_to(k, i);
+    return i < k->len ? k->s[i] : '\0';
+}
+
+static hv_status walk_bad(const walker *k)
+{
+    return hv_error_set(HV_ERR_BAD_INPUT, "line %d, column %d: not JSON", k->line, k->col);
+}
+
+/* A string, number or literal, read by jansson; *out (if asked) the value, a new reference. */
+static hv_status walk_token(walker *k, json_t **out)
+{
+    json_error_t e;
+    json_t *j = json_loadb(k->s + k->at, k->len - k->at, JSON_DECODE_ANY | JSON_DISABLE_EOF_CHECK, &e);
+    if (!j) return json_error_code(&e) == json_error_out_of_memory ? HV_ERR_NOMEM : walk_bad(k);
+    walk_to(k, k->at + (size_t)e.position);
+    if (out) *out = j;
+    else json_decref(j);
+    return HV_OK;
+}
+
+static hv_status walk_value(walker *k, int parent, size_t key, int kline, int kcol, int depth)
+{
+    hv_json_where *w = k->w;
+    char c = walk_ws(k);
+    if (depth > 2048 || w->n >= INT_MAX) return walk_bad(k); /* jansson's own depth limit */
+    if (hv_grow((void **)&w->v, &w->cap, w->n + 1, sizeof *w->v) != HV_OK) return HV_ERR_NOMEM;
+    int me = (int)w->n++;
+    w->v[me] = (where_value){k->line, k->col, kline, kcol, -1, -1, -1, key};
+    if (parent >= 0) {
+        if (w->v[parent].last >= 0) w->v[w->v[parent].last].next = me;
+        else w->v[parent].first = me;
+        w->v[parent].last = me;
+    }
+    if (c != '{' && c != '[') return c ? walk_token(k, NULL) : walk_bad(k);
+    char close = c == '{' ? '}' : ']';
+    walk_to(k, k->at + 1);
+    if (walk_ws(k) == close) {
+        walk_to(k, k->at + 1);
+        return HV_OK;
+    }
+    for (;;) {
+        hv_status s;
+        size_t at = SIZE_MAX;
+        int kl = 0, kc = 0;
+        if (c == '{') { /* "key": the key decoded, kept for lookups */
+            json_t *name = NULL;
+            kl = k->line;
+            kc = k->col;
+            if (walk_ws(k) != '"') return walk_bad(k);
+            if ((s = walk_token(k, &name)) != HV_OK) return s;
+            size_t n = strlen(json_string_value(name)) + 1;
+            if (hv_grow((void **)&w->keys, &w->capkeys, w->nkeys + n, 1) != HV_OK) {
+                json_decref(name);
+                return HV_ERR_NOMEM;
+            }
+            memcpy(w->keys + w->nkeys, json_string_value(name), n);
+            json_decref(name);
+            at = w->nkeys;
+            w->nkeys += n;
+            if (walk_ws(k) != ':') return walk_bad(k);
+            walk_to(k, k->at + 1);
+        }
+        if ((s = walk_value(k, me, at, kl, kc, depth + 1)) != HV_OK) return s;
+        char after = walk_ws(k);
+        walk_to(k, k->at + 1);
+        if (after == close) return HV_OK;
+        if (after != ',') return walk_bad(k);
+        walk_ws(k);
+    }
+}
+
+hv_status hv_json_where_index(const char *text, size_t len, hv_json_where **out)
+{
+    *out = NULL;
+    hv_json_where *w = calloc(1, sizeof *w);
+    if (!w) return HV_ERR_NOMEM;
+    walker k = {w, text, len, 0, 1, 1};
+    hv_status s = walk_value(&k, -1, SIZE_MAX, 0, 0, 0);
+    if (s == HV_OK && walk_ws(&k)) s = walk_bad(&k);
+    if (s != HV_OK) {
+        hv_json_where_destroy(w);
+        return s;
+    }
+    *out = w;
+    return HV_OK;
+}
+
+void hv_json_where_destroy(hv_json_where *w)
+{
+    if (!w) return;
+    free(w->v);
+    free(w->keys);
+    free(w);
+}
+
+int hv_json_where_member(const hv_json_where *w, int v, const char *key)
+{
+    if (!w || v < 0 || (size_t)v >= w->n) return -1;
+    for (int c = w->v[v].first; c >= 0; c = w->v[c].next)
+        if (w->v[c].key != SIZE_MAX && strcmp(w->keys + w->v[c].key, key) == 0) return c;
+    return -1;
+}
+
+int hv_json_where_element(const hv_json_where *w, int v, size_t i)
+{
+    if (!w || v < 0 || (size_t)v >= w->n) return -1;
+    int c = w->v[v].first;
+    for (; c >= 0 && i > 0; --i) c = w->v[c].next;
+    return c >= 0 && w->v[c].key == SIZE_MAX ? c : -1;
+}
+
+int hv_json_where_at(const hv_json_where *w, int v, int of_key, int *line, int *column)
+{
+    if (!w || v < 0 || (size_t)v >= w->n) return -1;
+    const where_value *x = &w->v[v];
+    int key = of_key && x->key != SIZE_MAX;
+    *line = key ? x->kline : x->line;
+    *column = key ? x->kcol : x->col;
+    return 0;
 }
 
 static const char *type_name(const json_t *j)

@@ -41,6 +41,28 @@ hv_status hv_json_get_numbers(const json_t *obj, const char *key, const char *wh
  * malformed document: HV_ERR_BAD_INPUT) with the list of valid ones. */
 hv_status hv_json_get_name(const json_t *obj, const char *key, const char *what, const hv_enum_def *e, int *out);
 
+/* ---- positions ---------------------------------------------------------------------------- */
+
+/* jansson keeps no positions for the values it reads; files whose every value is checked after
+ * parsing (tray jobs) still want "line L, column C" in each refusal. An index of a text that
+ * hv_json_parse accepted: where each value, and each object member's key, starts. jansson reads
+ * every string, number and literal (JSON_DECODE_ANY | JSON_DISABLE_EOF_CHECK), so keys are
+ * matched decoded; the index itself only steps over whitespace, brackets, commas and colons.
+ * Lines and columns are 1-based, columns count characters as jansson's own messages do. Values
+ * are numbered in document order, the document itself 0. */
+typedef struct hv_json_where hv_json_where;
+
+/* Errors: HV_ERR_BAD_INPUT when the text is not one JSON value (parse it first), HV_ERR_NOMEM. */
+hv_status hv_json_where_index(const char *text, size_t len, hv_json_where **out);
+void hv_json_where_destroy(hv_json_where *w); /* NULL is fine */
+/* The value of member `key` of object value v, or the i-th element of array value v; -1 when
+ * there is none (also for v = -1, so lookups chain). */
+int hv_json_where_member(const hv_json_where *w, int v, const char *key);
+int hv_json_where_element(const hv_json_where *w, int v, size_t i);
+/* Line and column of value v (of its key when of_key and v is an object member). Returns 0, or -1
+ * when v is not a value of the index. */
+int hv_json_where_at(const hv_json_where *w, int v, int of_key, int *line, int *column);
+
 /* ---- writing ------------------------------------------------------------------------------ */
 
 /* A double: integral values below 2^53 as JSON integers ("2", not "2.0"), other finite values

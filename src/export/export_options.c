@@ -13,6 +13,12 @@ static const char *const k_mix_names[] = {"both", "voigt", "reuss", "none", NULL
 static const int k_mix_values[] = {HV_MIX_VOIGT | HV_MIX_REUSS, HV_MIX_VOIGT, HV_MIX_REUSS, 0};
 static const hv_enum_def k_mix = {"mixing rules", k_mix_names, k_mix_values, NULL};
 
+const char *hv_coarsen_rule_name(hv_coarsen_rule rule)
+{
+    const char *n = hv_enum_name(&k_keep, (int)rule);
+    return n ? n : "?";
+}
+
 /* box: two corners, either first */
 static hv_status parse_box(const hv_option *o, void *opts, const hv_opt_value *v)
 {

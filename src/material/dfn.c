@@ -232,7 +232,9 @@ hv_status hv_dfn_from_options(const hv_dfn_options *o, hv_dfn **out)
     case HV_DFN_SINE: return hv_dfn_sine(o->k, o->amplitude, o->phase, o->offset, out);
     case HV_DFN_POWER: return hv_dfn_power(o->p, out);
     case HV_DFN_SMOOTHSTEP: return hv_dfn_smoothstep(out);
-    default: return hv_error_set(HV_ERR_INVALID, "f of kind %s is made from its points (hv_dfn_table)",
-                                 o->kind == HV_DFN_TABLE ? "table" : "?");
+    default: {
+        const char *kind = hv_enum_name(&k_kind, (int)o->kind);
+        return hv_error_set(HV_ERR_INVALID, "f of kind %s is made from its points (hv_dfn_table)", kind ? kind : "?");
+    }
     }
 }

@@ -68,6 +68,55 @@ Test(json, parses_documents)
     json_decref(j);
 }
 
+/* The position index (issue 26 item 5: the tray job reader's own tokenizer replaced): every value
+ * and key where it starts, keys matched decoded, columns in characters as jansson counts them
+ * (the same column jansson gives for a syntax error there). */
+Test(json, positions_of_values_and_keys)
+{
+    const char *t = "{\"parts\": [\n  {\"mesh\": \"b.stl\", \"at\": [40, 4e1]},\n  {\"a\\u0062\": true, "
+                    "\"\xc3\xa9\xc3\xa9\": null}],\n \"x\": {}, \"y\": [] }";
+    json_t *j;
+    cr_assert_eq(hv_json_parse(t, strlen(t), "job.json", &j), HV_OK, "%s", hv_last_error());
+    json_decref(j);
+    hv_json_where *w;
+    cr_assert_eq(hv_json_where_index(t, strlen(t), &w), HV_OK, "%s", hv_last_error());
+    int line, col;
+    cr_assert_eq(hv_json_where_at(w, 0, 0, &line, &col), 0);
+    cr_expect(line == 1 && col == 1);
+    int parts = hv_json_where_member(w, 0, "parts");
+    cr_assert_eq(hv_json_where_at(w, parts, 1, &line, &col), 0);
+    cr_expect(line == 1 && col == 2, "key at %d:%d", line, col);
+    hv_json_where_at(w, parts, 0, &line, &col);
+    cr_expect(line == 1 && col == 11, "value at %d:%d", line, col);
+    int p0 = hv_json_where_element(w, parts, 0), p1 = hv_json_where_element(w, parts, 1);
+    hv_json_where_at(w, p0, 0, &line, &col);
+    cr_expect(line == 2 && col == 3, "parts[0] at %d:%d", line, col);
+    int at1 = hv_json_where_element(w, hv_json_where_member(w, p0, "at"), 1);
+    hv_json_where_at(w, at1, 0, &line, &col);
+    cr_expect(line == 2 && col == 32, "at[1] at %d:%d", line, col);
+    int ab = hv_json_where_member(w, p1, "ab"); /* the key "a\u0062", decoded */
+    cr_assert_geq(ab, 0);
+    hv_json_where_at(w, ab, 1, &line, &col);
+    cr_expect(line == 3 && col == 4, "ab's key at %d:%d", line, col);
+    hv_json_where_at(w, hv_json_where_member(w, p1, "\xc3\xa9\xc3\xa9"), 0, &line, &col);
+    cr_expect(line == 3 && col == 27, "null at %d:%d (characters, not bytes)", line, col);
+    hv_json_where_at(w, hv_json_where_member(w, 0, "y"), 0, &line, &col);
+    cr_expect(line == 4 && col == 16, "y at %d:%d", line, col);
+    cr_expect_eq(hv_json_where_member(w, 0, "z"), -1);
+    cr_expect_eq(hv_json_where_element(w, parts, 2), -1);
+    cr_expect_eq(hv_json_where_member(w, -1, "parts"), -1);
+    cr_expect_eq(hv_json_where_element(w, hv_json_where_member(w, 0, "x"), 0), -1);
+    cr_expect_eq(hv_json_where_at(w, -1, 0, &line, &col), -1);
+    hv_json_where_destroy(w);
+    /* jansson puts a syntax error after the same characters in the same column */
+    const char *bad = "{\"\xc3\xa9\xc3\xa9\": 1,, }";
+    cr_expect_eq(hv_json_parse(bad, strlen(bad), "b.json", &j), HV_ERR_BAD_INPUT);
+    cr_expect(strstr(hv_last_error(), "line 1, column 10"), "%s", hv_last_error());
+    cr_expect_eq(hv_json_where_index("[1, 2", 5, &w), HV_ERR_BAD_INPUT);
+    cr_expect_eq(hv_json_where_index("1 2", 3, &w), HV_ERR_BAD_INPUT);
+    hv_json_where_destroy(NULL);
+}
+
 Test(json, typed_members_name_the_key)
 {
     const char *t = "{\"a\": [1, \"x\"], \"s\": \"bogus\", \"n\": 2.5, \"big\": 70}";

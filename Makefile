@@ -111,6 +111,9 @@ $(BUILD)/.flags: FORCE
 	@mkdir -p $(BUILD)
 	@echo '$(FLAGS_NOW)' | cmp -s - $@ || echo '$(FLAGS_NOW)' > $@
 FORCE:
+# Test and fuzz objects come from chained pattern rules, so make would delete them as
+# intermediates after every run and rebuild them all (minutes) in the next: keep them.
+.SECONDARY:
 
 $(BUILD)/obj/%.o: %.c $(BUILD)/.flags
 	@mkdir -p $(dir $@)

@@ -29,34 +29,6 @@
 typedef float v4f __attribute__((vector_size(16)));
 typedef uint8_t v4u8 __attribute__((vector_size(4)));
 
-/* ---- options ---------------------------------------------------------------------------- */
-
-void hv_render_options_init(hv_render_options *o)
-{
-    memset(o, 0, sizeof *o);
-    o->width = o->height = 512;
-    o->mode = HV_RENDER_VOLUME;
-    o->camera.view = HV_VIEW_ISO;
-    o->camera.up[2] = 1;
-    o->camera.fov = 30;
-    o->camera.margin = 0.05;
-    o->step = 0;
-    o->density = 0;
-    o->tf_low = 0;
-    o->tf_high = 1;
-    o->iso = 0.5;
-    o->ambient = 0.3;
-    o->diffuse = 0.7;
-    o->specular = 0.15;
-    o->shininess = 40;
-    o->light[0] = -0.35;
-    o->light[1] = 0.5;
-    o->light[2] = 1;
-    for (int k = 0; k < 4; ++k) o->background[k] = 1.0f;
-    o->cut_opacity = 1;
-    o->samples = 1;
-}
-
 /* ---- per-render context ----------------------------------------------------------------- */
 
 typedef struct cplane {

@@ -75,6 +75,11 @@ static hv_status validate(const void *opts)
     return HV_OK;
 }
 
+void hv_slice_options_init(hv_slice_options *o)
+{
+    if (o) o->close_gap = HV_SLICE_DEFAULT_CLOSE_GAP;
+}
+
 void hv_contours_options_init(hv_contours_options *o)
 {
     memset(o, 0, sizeof *o);

@@ -15,11 +15,6 @@ struct hv_slice {
     double *xy;
 };
 
-void hv_slice_options_init(hv_slice_options *o)
-{
-    if (o) o->close_gap = HV_SLICE_DEFAULT_CLOSE_GAP;
-}
-
 void hv_slice_destroy(hv_slice *sl)
 {
     if (!sl) return;

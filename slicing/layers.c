@@ -6,7 +6,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 
 #include "core/internal.h"
@@ -16,46 +15,6 @@
 #include "hovox/solid.h"
 #include "hovox/voxelize.h"
 #include "layers_internal.h"
-
-/* ---- profiles ------------------------------------------------------------------------------ */
-
-static const hv_printer_profile g_profiles[] = {
-    /* build volumes and material slots from Stratasys' public J750/J850 spec sheets */
-    {"j750", "Stratasys J750 voxel printing: 600 x 300 dpi, 0.027 mm layers", {600, 300}, 0.027, {490, 390, 200}, 6},
-    {"j850", "Stratasys J850 voxel printing (High Mix mode): 600 x 300 dpi, 0.027 mm layers",
-     {600, 300}, 0.027, {490, 390, 200}, 7},
-};
-
-int hv_printer_profile_count(void) { return (int)HV_COUNT(g_profiles); }
-
-const hv_printer_profile *hv_printer_profile_at(int i)
-{
-    return i >= 0 && i < (int)HV_COUNT(g_profiles) ? &g_profiles[i] : NULL;
-}
-
-const hv_printer_profile *hv_printer_profile_find(const char *name)
-{
-    for (size_t i = 0; name && i < HV_COUNT(g_profiles); ++i)
-        if (strcasecmp(name, g_profiles[i].name) == 0) return &g_profiles[i];
-    return NULL;
-}
-
-void hv_layers_options_init(hv_layers_options *o)
-{
-    memset(o, 0, sizeof *o);
-    o->mode = HV_LAYERS_HALFTONE;
-    o->method = HV_LAYERS_RESAMPLE;
-    o->halftone = HV_HALFTONE_BLUE_NOISE;
-    o->profile = g_profiles[0].name;
-    o->dpi[0] = g_profiles[0].dpi[0];
-    o->dpi[1] = g_profiles[0].dpi[1];
-    o->layer_height = g_profiles[0].layer_height;
-    o->fill_rule = HV_FILL_NONZERO;
-    o->margin = 2;
-    o->poi_step = HV_POI_DEFAULT_STEP;
-    o->close_gap = HV_SLICE_DEFAULT_CLOSE_GAP;
-    o->compression = 1;
-}
 
 /* ---- the job -------------------------------------------------------------------------------- */
 
@@ -80,6 +39,7 @@ typedef struct worker {
 typedef struct job {
     const hv_layers_options *o;
     const hv_volume *model;
+    const hv_layers_source *src; /* the shape and materials from data at each pixel (a scan), or NULL */
     hv_solid *solid; /* the model's exact shape (hovox/solid.h), or the mesh given */
     char *shape_name; /* what the manifest calls the shape: the mesh given, else the recorded mesh's
                          name (a plain record) or its leaves' names joined by the tree's ops */
@@ -134,8 +94,10 @@ typedef struct job {
 static int uses_model(const hv_layers_options *o) { return o->mode != HV_LAYERS_MASK; }
 static int needs_object(const hv_layers_options *o)
 {
-    return uses_model(o) && (o->method == HV_LAYERS_DIRECT || o->compare);
+    return uses_model(o) && !o->source && (o->method == HV_LAYERS_DIRECT || o->compare);
 }
+/* the materials come from voxels (slabs, POI), not from a source at the pixels */
+static int uses_voxels(const job *J) { return uses_model(J->o) && !J->src; }
 
 static void job_free(job *J)
 {
@@ -198,7 +160,8 @@ static void worker_sizes(const job *J, uint64_t sz[WB_COUNT])
     uint64_t px = (uint64_t)J->W * (uint64_t)J->H, m = (uint64_t)J->m;
     memset(sz, 0, WB_COUNT * sizeof *sz);
     sz[WB_MASK] = sz[WB_OUT] = sz[WB_GRAY] = px;
-    if (!uses_model(J->o)) return;
+    if (J->src && uses_model(J->o)) sz[WB_FRAC] = px * m * 4;
+    if (!uses_voxels(J)) return;
     uint64_t vox = (uint64_t)J->vw * (uint64_t)J->vh;
     sz[WB_FRAC] = px * m * 4;                          /* fractions */
     sz[WB_XTMP] = (uint64_t)J->vh * (uint64_t)J->W * 4; /* the x pass */
@@ -273,67 +236,77 @@ static hv_status shape_name(job *J, const hv_volume *model, const hv_layers_opti
     return HV_OK;
 }
 
-/* The grid, range, window and operators; everything except the output. */
-static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
-                          const hv_layers_options *o, const hv_progress *progress, const hv_layers_place *pl)
+/* Planning a job, in the order its checks report: the shape and the layer range, the printer
+ * grid (alone or on a plate), the model's grids, the voxel window and its operators, the palette
+ * and the memory budget. Each step reads what the ones before it set in J; the first failing
+ * step's status is the plan's. */
+
+/* The shape (the model's own, or the mesh given as an override that must match), the manifest's
+ * name for it, the uniform layer plan over its z box and the layer range [first, last). */
+static hv_status job_plan_shape(job *J, const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o)
 {
-    memset(J, 0, sizeof *J);
-    J->o = o;
-    J->model = model;
-    J->progress = progress;
-    hv_status st = hv_layers_options_check(o);
-    if (st != HV_OK) return st;
-    if (!mesh && !model) return hv_error_set(HV_ERR_INVALID, "layers: no model and no mesh");
-    if (uses_model(o) && !model)
-        return hv_error_set(HV_ERR_INVALID, "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
-                            o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
-    /* the shape: the model's own (issue 28), a mesh given only as an override that must match */
-    st = hv_solid_for_model(model, mesh, "layers", o->model_name, o->mesh_name, NULL, &J->solid);
-    if (st != HV_OK) return st;
-    struct {
-        double bbox_min[3], bbox_max[3];
-    } info;
-    hv_solid_bbox(J->solid, info.bbox_min, info.bbox_max);
-    memcpy(J->bbox_min, info.bbox_min, sizeof J->bbox_min);
-    memcpy(J->bbox_max, info.bbox_max, sizeof J->bbox_max);
-    if (mesh) mesh_warning(J);
-    if ((st = shape_name(J, model, o)) != HV_OK) return st;
+    hv_status st = HV_OK;
+    if (J->src) { /* a source brings its box and its name (a scan, issue 30) */
+        if (mesh || model) return hv_error_set(HV_ERR_INVALID, "layers: a source and a model or mesh");
+        memcpy(J->bbox_min, J->src->bbox_min, sizeof J->bbox_min);
+        memcpy(J->bbox_max, J->src->bbox_max, sizeof J->bbox_max);
+        if (J->src->name && !(J->shape_name = hv_strdup(J->src->name))) return HV_ERR_NOMEM;
+    } else {
+        if (!mesh && !model) return hv_error_set(HV_ERR_INVALID, "layers: no model and no mesh");
+        if (uses_model(o) && !model)
+            return hv_error_set(HV_ERR_INVALID,
+                                "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
+                                o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
+        /* the shape: the model's own (issue 28), a mesh given only as an override that must match */
+        st = hv_solid_for_model(model, mesh, "layers", o->model_name, o->mesh_name, NULL, &J->solid);
+        if (st != HV_OK) return st;
+        hv_solid_bbox(J->solid, J->bbox_min, J->bbox_max);
+        if (mesh) mesh_warning(J);
+        if ((st = shape_name(J, model, o)) != HV_OK) return st;
+    }
     hv_slice_options_init(&J->sopt);
     J->sopt.close_gap = o->close_gap;
-    st = hv_layer_plan_uniform(info.bbox_min[2], info.bbox_max[2], 0, o->layer_height, &J->plan);
+    st = hv_layer_plan_uniform(J->bbox_min[2], J->bbox_max[2], 0, o->layer_height, &J->plan);
     if (st != HV_OK) return st;
     J->nlayers = hv_layer_plan_count(J->plan);
     J->layers = hv_layer_plan_layers(J->plan);
     if (J->nlayers == 0)
         return hv_error_set(HV_ERR_INVALID, "%s: the mesh is %g mm high: no layer of %g mm has its middle inside it",
-                            o->mesh_name ? o->mesh_name : "layers", info.bbox_max[2] - info.bbox_min[2],
+                            o->mesh_name ? o->mesh_name : "layers", J->bbox_max[2] - J->bbox_min[2],
                             o->layer_height);
     J->first = o->first;
     J->last = o->last ? o->last : J->nlayers;
     if (J->first >= J->nlayers || J->last > J->nlayers || J->first >= J->last)
         return hv_error_set(HV_ERR_INVALID, "layers: range %zu:%zu is outside the %zu layers of the plan (0:%zu)",
                             o->first, J->last, J->nlayers, J->nlayers);
+    return HV_OK;
+}
 
-    /* the printer grid over the mesh's xy box plus the margin (and the threshold band) */
+/* The printer grid (J->W, H, plane, grid) over the shape's xy box plus the margin and the
+ * threshold band; on a plate (pl), the part's box on the plate's pixel grid, which must lie on
+ * the plate (J->placed, c0, r0, lift). */
+static hv_status job_plan_grid(job *J, const hv_layers_options *o, const hv_layers_place *pl)
+{
+    const double *bmin = J->bbox_min, *bmax = J->bbox_max;
     double sx = 25.4 / o->dpi[0], py = 25.4 / o->dpi[1];
     double mx = (double)o->margin + ceil(o->threshold / sx), my = (double)o->margin + ceil(o->threshold / py);
-    double wd = ceil((info.bbox_max[0] - info.bbox_min[0]) / sx - 1e-9) + 2 * mx;
-    double hd = ceil((info.bbox_max[1] - info.bbox_min[1]) / py - 1e-9) + 2 * my;
-    double gx = info.bbox_min[0] - mx * sx, gy = info.bbox_max[1] + my * py;
+    double wd = ceil((bmax[0] - bmin[0]) / sx - 1e-9) + 2 * mx;
+    double hd = ceil((bmax[1] - bmin[1]) / py - 1e-9) + 2 * my;
+    double gx = bmin[0] - mx * sx, gy = bmax[1] + my * py;
     if (pl) {
         /* the part's box on the plate's pixel grid: pixel (c, r) of the plate covers x in
          * [c sx, (c+1) sx) and y in (plate_y - (r+1) py, plate_y - r py] */
-        double tx = pl->x - 0.5 * (info.bbox_min[0] + info.bbox_max[0]);
-        double ty = pl->y - 0.5 * (info.bbox_min[1] + info.bbox_max[1]);
-        double bx0 = info.bbox_min[0] + tx, bx1 = info.bbox_max[0] + tx;
-        double by0 = info.bbox_min[1] + ty, by1 = info.bbox_max[1] + ty;
+        double tx = pl->x - 0.5 * (bmin[0] + bmax[0]);
+        double ty = pl->y - 0.5 * (bmin[1] + bmax[1]);
+        double bx0 = bmin[0] + tx, bx1 = bmax[0] + tx;
+        double by0 = bmin[1] + ty, by1 = bmax[1] + ty;
         if (bx0 < -1e-9 || by0 < -1e-9 || bx1 > pl->plate_x + 1e-9 || by1 > pl->plate_y + 1e-9)
             return hv_error_option(HV_ERR_INVALID, "{place} %g,%g puts the part off the %s plate: its box spans x %.4g..%.4g, "
                                    "y %.4g..%.4g mm (the plate is %g x %g mm)", pl->x, pl->y, pl->plate, bx0, bx1,
                                    by0, by1, pl->plate_x, pl->plate_y);
-        double c0 = floor((info.bbox_min[0] + tx) / sx + 1e-9) - mx, c1 = ceil((info.bbox_max[0] + tx) / sx - 1e-9) + mx;
-        double r0 = floor((pl->plate_y - (info.bbox_max[1] + ty)) / py + 1e-9) - my;
-        double r1 = ceil((pl->plate_y - (info.bbox_min[1] + ty)) / py - 1e-9) + my;
+        double c0 = floor((bmin[0] + tx) / sx + 1e-9) - mx, c1 = ceil((bmax[0] + tx) / sx - 1e-9) + mx;
+        double r0 = floor((pl->plate_y - (bmax[1] + ty)) / py + 1e-9) - my;
+        double r1 = ceil((pl->plate_y - (bmin[1] + ty)) / py - 1e-9) + my;
         if (fabs(c0) > 1e9 || fabs(r0) > 1e9) return hv_error_set(HV_ERR_INVALID, "layers: the placement is off any plate");
         wd = HV_MAX(c1 - c0, 1.0);
         hd = HV_MAX(r1 - r0, 1.0);
@@ -357,111 +330,148 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     J->grid.pixel[1] = -py;
     J->grid.origin[0] = gx;
     J->grid.origin[1] = gy;
+    return HV_OK;
+}
 
-    if (uses_model(o)) {
-        st = hv_material_table_load(model, &J->table);
-        if (st == HV_ERR_NOT_FOUND)
-            return hv_error_option(HV_ERR_BAD_INPUT, "the model has no materials (grade it first with 'hovox grade'; "
-                                                  "{mode} mask needs none)");
-        if (st != HV_OK) return st;
-        J->m = hv_material_count(J->table);
-        if (J->m < 1 || J->m > HV_MAX_MATERIALS)
-            return hv_error_set(HV_ERR_BAD_INPUT, "the model's material table holds %d materials", J->m);
-        J->occ_grid = hv_volume_grid_find(model, "occupancy");
-        if (J->occ_grid < 0 || hv_volume_grid_type(model, J->occ_grid) != HV_GRID_BOOL)
-            return hv_error_set(HV_ERR_BAD_INPUT, "the model has no bool grid 'occupancy'");
-        for (int j = 0; j < J->m; ++j) {
-            J->mat_grid[j] = hv_material_grid(model, J->table, j);
-            if (J->mat_grid[j] < 0)
-                return hv_error_set(HV_ERR_BAD_INPUT, "the model has no grid 'material.%s'", hv_material_name(J->table, j));
-        }
-        if (hv_volume_mask_count(model, J->occ_grid) == 0)
-            return hv_error_set(HV_ERR_BAD_INPUT, "the model has no occupied voxel");
+/* The model's material table and its grids (J->table, m, occ_grid, mat_grid): a graded model
+ * with an occupied voxel. Only for the modes that read the model. */
+static hv_status job_plan_materials(job *J, const hv_volume *model)
+{
+    hv_status st = hv_material_table_load(model, &J->table);
+    if (st == HV_ERR_NOT_FOUND)
+        return hv_error_option(HV_ERR_BAD_INPUT, "the model has no materials (grade it first with 'hovox grade'; "
+                                              "{mode} mask needs none)");
+    if (st != HV_OK) return st;
+    J->m = hv_material_count(J->table);
+    if (J->m < 1 || J->m > HV_MAX_MATERIALS)
+        return hv_error_set(HV_ERR_BAD_INPUT, "the model's material table holds %d materials", J->m);
+    J->occ_grid = hv_volume_grid_find(model, "occupancy");
+    if (J->occ_grid < 0 || hv_volume_grid_type(model, J->occ_grid) != HV_GRID_BOOL)
+        return hv_error_set(HV_ERR_BAD_INPUT, "the model has no bool grid 'occupancy'");
+    for (int j = 0; j < J->m; ++j) {
+        J->mat_grid[j] = hv_material_grid(model, J->table, j);
+        if (J->mat_grid[j] < 0)
+            return hv_error_set(HV_ERR_BAD_INPUT, "the model has no grid 'material.%s'", hv_material_name(J->table, j));
     }
-    if (model) {
-        /* the mesh must lie inside the model's voxels (one voxel of tolerance) */
-        hv_transform xf = hv_volume_get_transform(model);
-        J->xf = xf;
-        int32_t lo[3], hi[3];
-        if (!hv_volume_index_bbox(model, lo, hi)) return hv_error_set(HV_ERR_BAD_INPUT, "the model is empty");
-        J->klo = lo[2];
-        J->khi = hi[2];
-        for (int a = 0; a < 3; ++a) {
-            double wlo = xf.origin[a] + ((double)lo[a] - 1.5) * xf.voxel[a];
-            double whi = xf.origin[a] + ((double)hi[a] + 1.5) * xf.voxel[a];
-            if (info.bbox_min[a] < wlo || info.bbox_max[a] > whi)
-                return hv_error_set(HV_ERR_BAD_INPUT,
-                                    "the mesh (%c from %g to %g) is not inside the model's voxels (%c from %g to %g): "
-                                    "mesh and model do not match",
-                                    "xyz"[a], info.bbox_min[a], info.bbox_max[a], "xyz"[a], wlo + xf.voxel[a],
-                                    whi - xf.voxel[a]);
-        }
+    if (hv_volume_mask_count(model, J->occ_grid) == 0)
+        return hv_error_set(HV_ERR_BAD_INPUT, "the model has no occupied voxel");
+    return HV_OK;
+}
+
+/* A source's material table (no grids: it gives the fractions at the pixels itself). */
+static hv_status job_plan_source_materials(job *J)
+{
+    if (!J->src->table) return hv_error_set(HV_ERR_INVALID, "layers: the source has no materials");
+    hv_status st = hv_material_table_clone(J->src->table, &J->table);
+    if (st != HV_OK) return st;
+    J->m = hv_material_count(J->table);
+    if (J->m < 1 || J->m > HV_MAX_MATERIALS)
+        return hv_error_set(HV_ERR_BAD_INPUT, "the source's material table holds %d materials", J->m);
+    return HV_OK;
+}
+
+/* The model's transform and z index range (J->xf, klo, khi); the shape must lie inside the
+ * model's voxels, one voxel of tolerance. */
+static hv_status job_plan_fit(job *J, const hv_volume *model)
+{
+    hv_transform xf = hv_volume_get_transform(model);
+    J->xf = xf;
+    int32_t lo[3], hi[3];
+    if (!hv_volume_index_bbox(model, lo, hi)) return hv_error_set(HV_ERR_BAD_INPUT, "the model is empty");
+    J->klo = lo[2];
+    J->khi = hi[2];
+    for (int a = 0; a < 3; ++a) {
+        double wlo = xf.origin[a] + ((double)lo[a] - 1.5) * xf.voxel[a];
+        double whi = xf.origin[a] + ((double)hi[a] + 1.5) * xf.voxel[a];
+        if (J->bbox_min[a] < wlo || J->bbox_max[a] > whi)
+            return hv_error_set(HV_ERR_BAD_INPUT,
+                                "the mesh (%c from %g to %g) is not inside the model's voxels (%c from %g to %g): "
+                                "mesh and model do not match",
+                                "xyz"[a], J->bbox_min[a], J->bbox_max[a], "xyz"[a], wlo + xf.voxel[a],
+                                whi - xf.voxel[a]);
     }
-    if (uses_model(o)) {
-        /* the voxel window under the printer image and the composed POI operators */
-        const hv_transform *xf = &J->xf;
-        double a = (J->grid.origin[0] - xf->origin[0]) / xf->voxel[0];
-        double b = (J->grid.origin[0] + J->W * sx - xf->origin[0]) / xf->voxel[0];
-        double i0 = floor(a + 0.5) - WINDOW_PAD, i1 = floor(b + 0.5) + WINDOW_PAD;
-        double c = (J->grid.origin[1] - J->H * py - xf->origin[1]) / xf->voxel[1];
-        double d = (J->grid.origin[1] - xf->origin[1]) / xf->voxel[1];
-        double j0 = floor(c + 0.5) - WINDOW_PAD, j1 = floor(d + 0.5) + WINDOW_PAD;
-        if (i1 - i0 + 1 > (double)(1 << 24) || j1 - j0 + 1 > (double)(1 << 24) || fabs(i0) > 2e9 || fabs(j0) > 2e9)
-            return hv_error_set(HV_ERR_LIMIT, "%s: the voxel window is %.0f x %.0f voxels (at most 2^24 a side)",
-                                o->model_name ? o->model_name : "layers", i1 - i0 + 1, j1 - j0 + 1);
-        J->vi0 = (int)i0;
-        J->vj0 = (int)j0;
-        J->vw = (int)(i1 - i0 + 1);
-        J->vh = (int)(j1 - j0 + 1);
-        st = hv_poi_axis_chain(xf->origin[0] + (i0 - 0.5) * xf->voxel[0], xf->voxel[0], J->vw, J->grid.origin[0], sx,
-                               J->W, o->poi_step, &J->ax);
-        if (st == HV_OK)
-            st = hv_poi_axis_chain(xf->origin[1] + (j0 - 0.5) * xf->voxel[1], xf->voxel[1], J->vh, J->grid.origin[1],
-                                   -py, J->H, o->poi_step, &J->ay);
-        if (st != HV_OK) return hv_error_prefix(st, "%s: ", o->model_name ? o->model_name : "layers");
-        size_t nx = J->ax.off[J->ax.n_out - 1] + (size_t)J->ax.len[J->ax.n_out - 1];
-        size_t ny = J->ay.off[J->ay.n_out - 1] + (size_t)J->ay.len[J->ay.n_out - 1];
-        J->axw = hv_malloc_array(nx, sizeof *J->axw);
-        J->ayw = hv_malloc_array(ny, sizeof *J->ayw);
-        if (!J->axw || !J->ayw) return HV_ERR_NOMEM;
-        for (size_t i = 0; i < nx; ++i) J->axw[i] = (float)J->ax.w[i];
-        for (size_t i = 0; i < ny; ++i) J->ayw[i] = (float)J->ay.w[i];
-        int L = 0;
-        for (int x = 0; x < J->W; ++x) L = HV_MAX(L, J->ax.len[x]);
-        if (L <= J->vw) {
-            J->axs = hv_malloc_array((size_t)J->W, sizeof *J->axs);
-            J->axp = hv_malloc_array((size_t)J->W * (size_t)L, sizeof *J->axp);
-            if (!J->axs || !J->axp) return HV_ERR_NOMEM;
-            J->axl = L;
-            for (int x = 0; x < J->W; ++x) {
-                int from = HV_MIN(J->ax.start[x], J->vw - L), at = J->ax.start[x] - from;
-                J->axs[x] = from;
-                float *wp = J->axp + (size_t)x * (size_t)L;
-                for (int k = 0; k < L; ++k)
-                    wp[k] = k >= at && k - at < J->ax.len[x] ? J->axw[J->ax.off[x] + (size_t)(k - at)] : 0.0f;
-            }
-        }
+    return HV_OK;
+}
+
+/* The voxel window under the printer image (J->vi0, vj0, vw, vh, WINDOW_PAD around it) and the
+ * composed POI operators from it to the printer grid (J->ax, ay, their float weights axw, ayw
+ * and the x operator padded to a fixed tap count axl, axs, axp when the row is long enough). */
+static hv_status job_plan_window(job *J, const hv_layers_options *o)
+{
+    const hv_transform *xf = &J->xf;
+    double sx = 25.4 / o->dpi[0], py = 25.4 / o->dpi[1];
+    double a = (J->grid.origin[0] - xf->origin[0]) / xf->voxel[0];
+    double b = (J->grid.origin[0] + J->W * sx - xf->origin[0]) / xf->voxel[0];
+    double i0 = floor(a + 0.5) - WINDOW_PAD, i1 = floor(b + 0.5) + WINDOW_PAD;
+    double c = (J->grid.origin[1] - J->H * py - xf->origin[1]) / xf->voxel[1];
+    double d = (J->grid.origin[1] - xf->origin[1]) / xf->voxel[1];
+    double j0 = floor(c + 0.5) - WINDOW_PAD, j1 = floor(d + 0.5) + WINDOW_PAD;
+    if (i1 - i0 + 1 > (double)(1 << 24) || j1 - j0 + 1 > (double)(1 << 24) || fabs(i0) > 2e9 || fabs(j0) > 2e9)
+        return hv_error_set(HV_ERR_LIMIT, "%s: the voxel window is %.0f x %.0f voxels (at most 2^24 a side)",
+                            o->model_name ? o->model_name : "layers", i1 - i0 + 1, j1 - j0 + 1);
+    J->vi0 = (int)i0;
+    J->vj0 = (int)j0;
+    J->vw = (int)(i1 - i0 + 1);
+    J->vh = (int)(j1 - j0 + 1);
+    hv_status st = hv_poi_axis_chain(xf->origin[0] + (i0 - 0.5) * xf->voxel[0], xf->voxel[0], J->vw, J->grid.origin[0],
+                                     sx, J->W, o->poi_step, &J->ax);
+    if (st == HV_OK)
+        st = hv_poi_axis_chain(xf->origin[1] + (j0 - 0.5) * xf->voxel[1], xf->voxel[1], J->vh, J->grid.origin[1], -py,
+                               J->H, o->poi_step, &J->ay);
+    if (st != HV_OK) return hv_error_prefix(st, "%s: ", o->model_name ? o->model_name : "layers");
+    size_t nx = J->ax.off[J->ax.n_out - 1] + (size_t)J->ax.len[J->ax.n_out - 1];
+    size_t ny = J->ay.off[J->ay.n_out - 1] + (size_t)J->ay.len[J->ay.n_out - 1];
+    J->axw = hv_malloc_array(nx, sizeof *J->axw);
+    J->ayw = hv_malloc_array(ny, sizeof *J->ayw);
+    if (!J->axw || !J->ayw) return HV_ERR_NOMEM;
+    for (size_t i = 0; i < nx; ++i) J->axw[i] = (float)J->ax.w[i];
+    for (size_t i = 0; i < ny; ++i) J->ayw[i] = (float)J->ay.w[i];
+    int L = 0;
+    for (int x = 0; x < J->W; ++x) L = HV_MAX(L, J->ax.len[x]);
+    if (L > J->vw) return HV_OK;
+    J->axs = hv_malloc_array((size_t)J->W, sizeof *J->axs);
+    J->axp = hv_malloc_array((size_t)J->W * (size_t)L, sizeof *J->axp);
+    if (!J->axs || !J->axp) return HV_ERR_NOMEM;
+    J->axl = L;
+    for (int x = 0; x < J->W; ++x) {
+        int from = HV_MIN(J->ax.start[x], J->vw - L), at = J->ax.start[x] - from;
+        J->axs[x] = from;
+        float *wp = J->axp + (size_t)x * (size_t)L;
+        for (int k = 0; k < L; ++k)
+            wp[k] = k >= at && k - at < J->ax.len[x] ? J->axw[J->ax.off[x] + (size_t)(k - at)] : 0.0f;
     }
-    /* palette and bit depth */
-    if (o->mode == HV_LAYERS_HALFTONE) {
-        J->palette_size = J->m + 1;
-        memcpy(J->palette, o->background, 3);
-        for (int j = 0; j < J->m; ++j) {
-            float rgba[4];
-            hv_material_color(J->table, j, rgba);
-            for (int k = 0; k < 3; ++k)
-                J->palette[3 * (j + 1) + k] = (uint8_t)lround(HV_CLAMP(rgba[k], 0.0f, 1.0f) * 255.0f);
-        }
-        J->bit_depth = J->palette_size <= 2 ? 1 : J->palette_size <= 4 ? 2 : J->palette_size <= 16 ? 4 : 8;
-    } else {
+    return HV_OK;
+}
+
+/* The palette (background, then the materials' colours) and the PNG bit depth. */
+static void job_plan_palette(job *J, const hv_layers_options *o)
+{
+    if (o->mode != HV_LAYERS_HALFTONE) {
         J->bit_depth = o->mode == HV_LAYERS_MASK ? 1 : 8;
+        return;
     }
-    /* memory: the workers plus the per-layer statistics */
+    J->palette_size = J->m + 1;
+    memcpy(J->palette, o->background, 3);
+    for (int j = 0; j < J->m; ++j) {
+        float rgba[4];
+        hv_material_color(J->table, j, rgba);
+        for (int k = 0; k < 3; ++k)
+            J->palette[3 * (j + 1) + k] = (uint8_t)lround(HV_CLAMP(rgba[k], 0.0f, 1.0f) * 255.0f);
+    }
+    J->bit_depth = J->palette_size <= 2 ? 1 : J->palette_size <= 4 ? 2 : J->palette_size <= 16 ? 4 : 8;
+}
+
+/* The threads and the planned peak memory (J->memory, fixed_memory): the workers plus the
+ * per-layer statistics, the blue-noise table and the operators; over the budget, HV_ERR_LIMIT. */
+static hv_status job_plan_memory(job *J, const hv_layers_options *o, const hv_layers_place *pl)
+{
     J->threads = pl && pl->tray ? 1 : HV_MAX(hv_threads(), 1);
     size_t count = J->last - J->first;
     uint64_t stats = (uint64_t)count * (uint64_t)(J->m * 16 + 56);
-    uint64_t fixed = stats;
-    if (uses_model(o)) {
+    uint64_t fixed = stats + (J->src ? J->src->memory : 0);
+    if (o->mode == HV_LAYERS_HALFTONE && J->src)
+        fixed += (uint64_t)HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ * 4;
+    if (uses_voxels(J)) {
         uint64_t weights = (uint64_t)J->ax.off[J->ax.n_out - 1] + (uint64_t)J->ax.len[J->ax.n_out - 1] +
                            (uint64_t)J->ay.off[J->ay.n_out - 1] + (uint64_t)J->ay.len[J->ay.n_out - 1];
         fixed += (uint64_t)HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ * 4 + weights * 8 +
@@ -482,6 +492,26 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
                             hv_size_text(bt, sizeof bt, (double)budget));
     }
     return HV_OK;
+}
+
+/* The grid, range, window and operators; everything except the output. */
+static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
+                          const hv_layers_options *o, const hv_progress *progress, const hv_layers_place *pl)
+{
+    memset(J, 0, sizeof *J);
+    J->o = o;
+    J->model = model;
+    J->src = o->source;
+    J->progress = progress;
+    hv_status st = hv_layers_options_check(o);
+    if (st == HV_OK) st = job_plan_shape(J, mesh, model, o);
+    if (st == HV_OK) st = job_plan_grid(J, o, pl);
+    if (st == HV_OK && uses_model(o)) st = J->src ? job_plan_source_materials(J) : job_plan_materials(J, model);
+    if (st == HV_OK && model) st = job_plan_fit(J, model);
+    if (st == HV_OK && uses_voxels(J)) st = job_plan_window(J, o);
+    if (st != HV_OK) return st;
+    job_plan_palette(J, o);
+    return job_plan_memory(J, o, pl);
 }
 
 /* The voxelizer records the mesh it was given: a mesh whose box differs from that one by more
@@ -539,7 +569,7 @@ static const hv_layers_place *options_place(const hv_layers_options *o, hv_layer
     const hv_printer_profile *p = hv_printer_profile_find(o->profile);
     pl->x = o->place[0];
     pl->y = o->place[1];
-    p = p ? p : &g_profiles[0];
+    p = p ? p : hv_printer_profile_at(0);
     pl->plate_y = p->build[1];
     pl->plate_x = p->build[0];
     pl->plate = p->name;
@@ -582,7 +612,7 @@ static hv_status worker_ready(job *J, worker *w)
             w->next = hv_calloc(px * m, sizeof *w->next);
             ok = w->err && w->next;
         }
-        hv_accessor_init(&w->acc, J->model);
+        if (J->model) hv_accessor_init(&w->acc, J->model);
     }
     if (!ok) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the buffers of a %d x %d layer", J->W, J->H);
     w->ready = 1;
@@ -882,13 +912,19 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
 {
     const hv_layer *L = &J->layers[index];
     size_t li = write ? index - J->first : SIZE_MAX;
-    hv_slice *slice = NULL;
-    hv_status st = hv_solid_slice(J->solid, L->z, &J->sopt, &slice);
-    if (st != HV_OK) return st;
-    st = hv_slice_rasterize(slice, &J->grid, J->o->fill_rule, J->o->threshold, w->mask, 0);
-    if (write) J->st_open[li] = hv_slice_get_stats(slice)->open;
-    hv_slice_destroy(slice);
-    if (st != HV_OK) return st;
+    hv_status st;
+    if (J->src) { /* the mask and the fractions at the pixel centres at once */
+        st = J->src->layer(J->src, L->z, &J->grid, w->mask, uses_model(J->o) ? w->frac : NULL, J->plane);
+        if (st != HV_OK) return st;
+    } else {
+        hv_slice *slice = NULL;
+        st = hv_solid_slice(J->solid, L->z, &J->sopt, &slice);
+        if (st != HV_OK) return st;
+        st = hv_slice_rasterize(slice, &J->grid, J->o->fill_rule, J->o->threshold, w->mask, 0);
+        if (write) J->st_open[li] = hv_slice_get_stats(slice)->open;
+        hv_slice_destroy(slice);
+        if (st != HV_OK) return st;
+    }
     /* bounding box of the object pixels */
     int r0 = J->H, r1 = -1, c0 = J->W, c1 = -1;
     uint64_t pixels = 0;
@@ -913,7 +949,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
         layer_file(J, path, sizeof path, NULL, index);
         return write_png(J, path, w->mask, 0);
     }
-    if (pixels) {
+    if (pixels && !J->src) {
         st = voxel_image(J, w, index, L->z);
         if (st != HV_OK) return st;
         resample_layer(J, w, r0, r1, c0, c1);
@@ -1029,7 +1065,8 @@ static json_t *manifest_doc(const job *J, const hv_layers_report *r)
     snprintf(gen, sizeof gen, "hovox %s", hv_version());
     int failed = hv_json_set(doc, "generator", json_string(gen));
     failed |= hv_json_set(doc, "mode", json_string(mode_name(o->mode)));
-    if (uses_model(o)) failed |= hv_json_set(doc, "method", json_string(o->method == HV_LAYERS_DIRECT ? "direct" : "resample"));
+    if (uses_model(o))
+        failed |= hv_json_set(doc, "method", json_string(o->method == HV_LAYERS_DIRECT || J->src ? "direct" : "resample"));
     if (o->mode == HV_LAYERS_HALFTONE) {
         failed |= hv_json_set(doc, "halftone",
                               json_string(o->halftone == HV_HALFTONE_ERROR_DIFFUSION ? "error-diffusion" : "blue-noise"));
@@ -1055,7 +1092,7 @@ static json_t *manifest_doc(const job *J, const hv_layers_report *r)
     failed |= hv_json_set(doc, "threshold_mm", hv_json_number(o->threshold));
     if (uses_model(o)) failed |= hv_json_set(doc, "poi_step", hv_json_number(o->poi_step));
     failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name ? o->mesh_name : J->shape_name));
-    if (J->model) failed |= hv_json_set(doc, "model", name_or_null(o->model_name));
+    if (J->model || J->src) failed |= hv_json_set(doc, "model", name_or_null(o->model_name));
     failed |= hv_json_set(doc, "bbox_mm", json_pack("{s:o, s:o}", "min", hv_json_numbers(J->bbox_min, 3), "max",
                                                     hv_json_numbers(J->bbox_max, 3)));
     if (o->mode == HV_LAYERS_HALFTONE) {
@@ -1210,6 +1247,10 @@ static hv_status cost_range(void *ctx, size_t b, size_t e, int t)
     job *J = c->J;
     double px = J->grid.pixel[0] * -J->grid.pixel[1];
     for (size_t i = b; i < e; ++i) {
+        if (J->src) { /* no contours: every layer alike */
+            c->cost[i] = (double)J->plane;
+            continue;
+        }
         hv_slice *slice = NULL;
         hv_status st = hv_solid_slice(J->solid, J->layers[J->first + i].z, &J->sopt, &slice);
         if (st != HV_OK) return st;
@@ -1538,12 +1579,12 @@ static hv_status scratch_ready(hv_layers_scratch *s, size_t slot, const job *J)
     scratch_slabs *e = &s->slot[slot];
     if (e->owner != J) {
         slabs_free(e);
-        for (int i = 0; i < 2 && uses_model(J->o); ++i) {
+        for (int i = 0; i < 2 && uses_voxels(J); ++i) {
             e->occ[i] = hv_malloc((size_t)sz[WB_OCC0]);
             e->mat[i] = hv_malloc((size_t)sz[WB_MAT0]);
             if (!e->occ[i] || !e->mat[i]) return scratch_nomem(J);
         }
-        if (uses_model(J->o)) hv_accessor_init(&e->acc, J->model);
+        if (uses_voxels(J)) hv_accessor_init(&e->acc, J->model);
         e->owner = J;
     }
     worker_point(&s->w, s->buf);

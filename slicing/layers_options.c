@@ -1,12 +1,55 @@
 /* slicing/layers_options.c - the options of printer slice stacks (hovox/layers.h,
- * hovox/options.h): names, domains, defaults and the rules between them, read by the CLI, Lua
- * and job files alike. */
+ * hovox/options.h): the printer profiles, names, domains, defaults and the rules between them,
+ * read by the CLI, Lua and job files alike. */
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/internal.h"
 #include "hovox/layers.h"
+
+/* ---- profiles ------------------------------------------------------------------------------ */
+
+static const hv_printer_profile g_profiles[] = {
+    /* build volumes and material slots from Stratasys' public J750/J850 spec sheets */
+    {"j750", "Stratasys J750 voxel printing: 600 x 300 dpi, 0.027 mm layers", {600, 300}, 0.027, {490, 390, 200}, 6},
+    {"j850", "Stratasys J850 voxel printing (High Mix mode): 600 x 300 dpi, 0.027 mm layers",
+     {600, 300}, 0.027, {490, 390, 200}, 7},
+};
+
+int hv_printer_profile_count(void) { return (int)HV_COUNT(g_profiles); }
+
+const hv_printer_profile *hv_printer_profile_at(int i)
+{
+    return i >= 0 && i < (int)HV_COUNT(g_profiles) ? &g_profiles[i] : NULL;
+}
+
+const hv_printer_profile *hv_printer_profile_find(const char *name)
+{
+    for (size_t i = 0; name && i < HV_COUNT(g_profiles); ++i)
+        if (strcasecmp(name, g_profiles[i].name) == 0) return &g_profiles[i];
+    return NULL;
+}
+
+void hv_layers_options_init(hv_layers_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->mode = HV_LAYERS_HALFTONE;
+    o->method = HV_LAYERS_RESAMPLE;
+    o->halftone = HV_HALFTONE_BLUE_NOISE;
+    o->profile = g_profiles[0].name;
+    o->dpi[0] = g_profiles[0].dpi[0];
+    o->dpi[1] = g_profiles[0].dpi[1];
+    o->layer_height = g_profiles[0].layer_height;
+    o->fill_rule = HV_FILL_NONZERO;
+    o->margin = 2;
+    o->poi_step = HV_POI_DEFAULT_STEP;
+    o->close_gap = HV_SLICE_DEFAULT_CLOSE_GAP;
+    o->compression = 1;
+}
+
+/* ---- the option table ---------------------------------------------------------------------- */
 
 static const char *const k_mode_names[] = {"halftone", "fractions", "mask", NULL};
 static const char *const k_method_names[] = {"resample", "direct", NULL};

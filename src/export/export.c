@@ -15,15 +15,6 @@
 
 #define FRACTION_TOL 1e-4
 
-void hv_export_options_init(hv_export_options *opt)
-{
-    memset(opt, 0, sizeof *opt);
-    opt->format = HV_EXPORT_AUTO;
-    opt->coarsen = 1;
-    opt->coarsen_rule = HV_COARSEN_MAJORITY;
-    opt->mix = HV_MIX_VOIGT | HV_MIX_REUSS;
-}
-
 hv_export_format hv_export_format_from_path(const char *path)
 {
     if (hv_has_extension(path, ".vti")) return HV_EXPORT_VTI;

@@ -108,6 +108,15 @@ static hv_status validate(const void *opts)
     return HV_OK;
 }
 
+void hv_export_options_init(hv_export_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->format = HV_EXPORT_AUTO;
+    opt->coarsen = 1;
+    opt->coarsen_rule = HV_COARSEN_MAJORITY;
+    opt->mix = HV_MIX_VOIGT | HV_MIX_REUSS;
+}
+
 static void init(void *o) { hv_export_options_init(o); }
 
 static const hv_option_set k_set = {"export", k_opts, (int)HV_COUNT(k_opts), sizeof(hv_export_options), init,

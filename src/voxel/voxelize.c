@@ -22,13 +22,6 @@
 
 #define PAD 8 /* empty voxels around the mesh box, so the grid border is outside */
 
-void hv_voxelize_options_init(hv_voxelize_options *o)
-{
-    memset(o, 0, sizeof *o);
-    o->adjacency = 26;
-    o->fill = HV_FILL_AUTO;
-}
-
 /* ---- bit grids ------------------------------------------------------------------------- */
 
 uint64_t hv_bitgrid_bytes(const int64_t n[3])

@@ -1,6 +1,7 @@
 /* src/voxel/voxelize_options.c - the voxelizer's options (hovox/voxelize.h, hovox/options.h):
  * names, domains and defaults in one table for the library, the CLI and Lua. */
 #include <stddef.h>
+#include <string.h>
 
 #include "core/internal.h"
 #include "hovox/voxelize.h"
@@ -70,6 +71,13 @@ static hv_status validate(const void *opts)
     if (o->lattice && dims) return hv_error_option(HV_ERR_INVALID, "{like} and {dims} exclude each other");
     if (o->lattice && size) return hv_error_option(HV_ERR_INVALID, "{like} and {voxel_size} exclude each other");
     return HV_OK;
+}
+
+void hv_voxelize_options_init(hv_voxelize_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->adjacency = 26;
+    o->fill = HV_FILL_AUTO;
 }
 
 static void init(void *o) { hv_voxelize_options_init(o); }

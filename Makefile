@@ -38,7 +38,7 @@ CFLAGS_ALL   := -std=c11 $(OPT) -g -fPIC -fvisibility=hidden -fopenmp -fno-math-
 CXXFLAGS_ALL := -std=c++17 $(OPT) -g -fPIC -Wall -Wextra -Wshadow \
                 $(if $(filter 1,$(WERROR)),-Werror) $(SANFLAGS)
 PKG_CFLAGS   := $(shell pkg-config --cflags libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc libjpeg lcms2 2>/dev/null)
-PKG_LIBS     := $(shell pkg-config --libs libpng zlib lua5.4 cairo jansson libzip libxml-2.0 blosc libjpeg lcms2 2>/dev/null)
+PKG_LIBS     := $(shell pkg-config --libs libpng libdeflate zlib lua5.4 cairo jansson libzip libxml-2.0 blosc libjpeg lcms2 2>/dev/null)
 LIBS         := $(PKG_LIBS) -lm -ldl -lpthread -fopenmp $(SANFLAGS)
 
 # ---- sources ------------------------------------------------------------------------------
@@ -202,6 +202,8 @@ $(BUILD)/tests/%: tests/%.cpp $(TEST_SUPPORT_OBJ) $(BUILD)/libhovox.a
 # (tests/support/lib3mf_c.h)
 $(BUILD)/tests/io/3mf/test_mesh_read: private LIBS += $(LIB3MF_LIBS)
 $(BUILD)/bench-tools/bench_mesh_formats: private LIBS += $(LIB3MF_LIBS)
+# The PNG bench compares hovox's encoder with libspng's (libpng is linked already)
+$(BUILD)/bench-tools/bench_png: private LIBS += -lspng
 # The lib3mf test reads hovox's 3MF Volumetric packages with the 3MF Consortium's library
 $(BUILD)/tests/io/3mf/test_lib3mf: private LIBS += $(LIB3MF_LIBS)
 

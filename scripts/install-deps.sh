@@ -8,12 +8,12 @@
 set -eu
 
 BUILD_PKGS="make gcc g++ pkg-config libopenvdb-dev libtbb-dev libopenimageio-dev libvtk9-dev \
-libpng-dev zlib1g-dev liblua5.4-dev libcairo2-dev libjansson-dev libzip-dev libblosc-dev libxml2-dev libjpeg-dev liblcms2-dev libgs-common libpolyclipping-dev fonts-dejavu-core"
+libpng-dev libdeflate-dev zlib1g-dev liblua5.4-dev libcairo2-dev libjansson-dev libzip-dev libblosc-dev libxml2-dev libjpeg-dev liblcms2-dev libgs-common libpolyclipping-dev fonts-dejavu-core"
 TEST_PKGS="libcriterion-dev libopenvdb-tools openimageio-tools libopenmpi-dev openmpi-bin python3 python3-numpy \
 python3-scipy python3-openvdb python3-vtk9 libxml2-utils unzip lib3mf-dev time bsdutils \
 python3-dev python3-setuptools python3-wheel python3-pip python3-venv python3-pytest \
 python3-nibabel python3-pydicom"
-BENCH_PKGS="admesh prusa-slicer hyperfine time lib3mf-dev"
+BENCH_PKGS="admesh prusa-slicer hyperfine time lib3mf-dev libspng-dev"
 # the browser tests of hovox view's pages (make browser-tests): CI installs and requires them;
 # without them `make test` skips those tests with a message
 BROWSER_PKGS="chromium python3-pil"

@@ -13,11 +13,11 @@
 
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/image.h"
 #include "hovox/model.h"
 #include "hovox/tray.h"
 #include "hovox/volume.h"
 #include "hovox/voxelize.h"
-#include "image/png_fast.h"
 #include "layers_internal.h"
 
 #define CELL 0.5        /* footprint grid (mm) */
@@ -1109,15 +1109,23 @@ static hv_status tray_layer(wjob *J, tworker *w, size_t li)
             }
         }
     }
-    hv_png_fast_image img = {t->W, t->H, bits, w->rows, J->stride, w->span,
-                             J->o->mode == HV_LAYERS_MASK ? NULL : t->palette,
-                             J->o->mode == HV_LAYERS_MASK ? 0 : t->palette_size,
-                             {t->profile->dpi[0], t->profile->dpi[1]}};
+    /* the plate in PNG's packing, through the one PNG encoder at the stack's zlib level */
+    hv_png_options po;
+    hv_png_options_init(&po);
+    po.compression = 1; /* layers' default level: halftone noise gains little above it */
+    po.dpi[0] = t->profile->dpi[0];
+    po.dpi[1] = t->profile->dpi[1];
+    po.bit_depth = bits;
+    po.packed = bits < 8;
+    if (J->o->mode != HV_LAYERS_MASK) {
+        po.palette = t->palette;
+        po.palette_size = t->palette_size;
+    }
     char path[4200];
     snprintf(path, sizeof path, "%s/layer-%05zu.png", J->tmp, li);
     uint8_t *png = NULL;
     size_t size = 0;
-    hv_status st = hv_png_fast_encode(&img, &png, &size);
+    hv_status st = hv_png_encode(w->rows, t->W, t->H, 1, J->stride, &po, &png, &size);
     /* in the stack's temporary directory, synced once and renamed whole (as layers writes) */
     if (st == HV_OK) st = hv_write_in_place(path, png, size);
     free(png);

@@ -57,12 +57,16 @@ typedef struct hv_png_options {
     int in_place;           /* 1: hv_png_write writes the file under its name, unsynced, and
                                removes it on failure: for files inside a directory that is
                                itself written whole and renamed (a slice stack) */
-    int filter_sub;         /* 1: every row with the Sub filter (PNG spec 9.2) instead of
-                               libpng's choice among the five per row: a third of the time to
-                               encode a render, files a few per cent larger */
+    int filter_sub;         /* 1: every row with the Sub filter (PNG spec 9.2) instead of the
+                               choice among the five per row: a third of the time to encode a
+                               render, files a few per cent larger */
+    int packed;             /* 1, with bit_depth 1, 2 or 4: rows come as PNG stores them,
+                               ceil(width * bit_depth / 8) bytes, the first pixel in the most
+                               significant bits (stride 0 means that many bytes) */
 } hv_png_options;
 
-/* Defaults: compression -1, no pHYs, no palette, no text, bit depth 8, libpng's filters. */
+/* Defaults: compression -1, no pHYs, no palette, no text, bit depth 8, one pixel a byte, the
+ * filter of least cost per row (None for indexed and sub-byte images). */
 HV_API void hv_png_options_init(hv_png_options *opt);
 
 /* Encode pixels as PNG. channels: 1 grey (indexed when opt->palette is set; values must
@@ -71,9 +75,12 @@ HV_API void hv_png_options_init(hv_png_options *opt);
  * hv_png_write writes the file atomically (temporary name, sync, rename; opt->in_place: see
  * there). hv_png_encode returns a
  * malloc'd buffer in *data (free() it) of *size bytes.
+ * One encoder writes every PNG: rows filtered, deflated by libdeflate at opt->compression (zlib's
+ * scale, -1 meaning 6), one zlib stream cut into IDAT chunks of 1 MiB.
  * Errors: HV_ERR_INVALID (size 0, channels, stride, compression level, palette, an index
- * beyond the palette, bit depth, a value beyond the bit depth, bad text key), HV_ERR_IO (path
- * not writable, disk full), HV_ERR_NOMEM, HV_ERR_INTERNAL (libpng refused, with its message). */
+ * beyond the palette, bit depth, a value beyond the bit depth, packed rows of 8 bits or more,
+ * bad text key), HV_ERR_IO (path not writable, disk full), HV_ERR_NOMEM, HV_ERR_LIMIT (an image
+ * of more than 2^40 bytes). */
 HV_API hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int height,
                               int channels, size_t stride, const hv_png_options *opt);
 HV_API hv_status hv_png_encode(const uint8_t *pixels, int width, int height, int channels,

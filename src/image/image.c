@@ -1,17 +1,16 @@
-/* src/image/image.c - the image module (hovox/image.h): float RGBA images, PNG through libpng
- * (grey, grey+alpha, RGB, RGBA, indexed, 1 to 16 bits; pHYs resolution; to a file atomically or
- * to memory; decoding untrusted PNGs from memory), and EXR/TIFF through the OpenImageIO bridge
+/* src/image/image.c - the image module (hovox/image.h): float RGBA images, PNG written through
+ * libdeflate (grey, grey+alpha, RGB, RGBA, indexed, 1 to 16 bits; pHYs resolution; to a file
+ * atomically or to memory) and read through libpng (untrusted PNGs from memory), and EXR/TIFF through the OpenImageIO bridge
  * plugin, loaded only when asked for. */
 #include <errno.h>
+#include <libdeflate.h>
 #include <png.h>
-#include <pthread.h>
 #include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include "core/internal.h"
 #include "core/plugin.h"
@@ -77,41 +76,26 @@ void hv_png_options_init(hv_png_options *o)
     o->compression = -1;
 }
 
-typedef struct png_sink {
-    FILE *fp;          /* file output, or */
-    uint8_t *mem;      /* memory output */
-    size_t len, cap;
-    hv_status status;  /* of the failure that longjmp'd */
-    char msg[256];
-} png_sink;
-
-static void sink_error(png_structp png, png_const_charp msg)
-{
-    png_sink *s = png_get_error_ptr(png);
-    if (s->status == HV_OK) {
-        s->status = HV_ERR_INTERNAL;
-        snprintf(s->msg, sizeof s->msg, "libpng: %s", msg);
-    }
-    png_longjmp(png, 1);
-}
-
+/* libpng's decoder never prints either */
 static void sink_warning(png_structp png, png_const_charp msg)
 {
     (void)png;
-    (void)msg; /* the library never prints */
+    (void)msg;
 }
 
-static int put(png_sink *s, const void *p, size_t n);
-
-static void sink_write(png_structp png, png_bytep data, size_t n)
+/* Bytes in one row of PNG samples: width pixels of `channels` samples of `depth` bits, packed
+ * (PNG spec 7.2). */
+static size_t png_rowbytes(int width, int channels, int depth)
 {
-    png_sink *s = png_get_io_ptr(png);
-    if (!put(s, data, n)) png_error(png, s->status == HV_ERR_IO ? "write failed" : "out of memory");
+    return ((size_t)width * (size_t)channels * (size_t)depth + 7) / 8;
 }
 
-static void sink_flush(png_structp png)
+/* The sample (index or grey value) of pixel x in a row packed at `depth` bits, most significant
+ * bits first. */
+static unsigned packed_at(const uint8_t *row, int x, int depth)
 {
-    (void)png;
+    int per = 8 / depth;
+    return (unsigned)(row[x / per] >> (8 - depth - depth * (x % per))) & ((1u << depth) - 1);
 }
 
 static hv_status check_png_args(const uint8_t *pixels, int width, int height, int channels,
@@ -123,9 +107,11 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
     if (channels < 1 || channels > 4)
         return hv_error_set(HV_ERR_INVALID, "PNG: %d channels (1 to 4)", channels);
     size_t bps = o && o->bit_depth == 16 ? 2 : 1; /* bytes per sample */
-    if (stride && stride < (size_t)width * (size_t)channels * bps)
-        return hv_error_set(HV_ERR_INVALID, "PNG: row stride %zu is less than %d x %d x %zu bytes",
-                            stride, width, channels, bps);
+    int packed = o && o->packed && o->bit_depth > 0 && o->bit_depth < 8;
+    size_t minrow = packed ? png_rowbytes(width, channels, o->bit_depth) : (size_t)width * (size_t)channels * bps;
+    if (stride && stride < minrow)
+        return hv_error_set(HV_ERR_INVALID, "PNG: row stride %zu is less than the %zu bytes of a row",
+                            stride, minrow);
     if (!o) return HV_OK;
     if (o->compression < -1 || o->compression > 9)
         return hv_error_set(HV_ERR_INVALID, "PNG: compression level %d (0..9 or -1)",
@@ -140,19 +126,30 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
         if (o->palette_size < 1 || o->palette_size > 256)
             return hv_error_set(HV_ERR_INVALID, "PNG: palette of %d colours (1..256)",
                                 o->palette_size);
-        size_t st = stride ? stride : (size_t)width;
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x)
-                if (pixels[(size_t)y * st + (size_t)x] >= o->palette_size)
-                    return hv_error_set(
-                        HV_ERR_INVALID, "PNG: pixel (%d, %d) has index %d beyond the %d-colour palette",
-                        x, y, pixels[(size_t)y * st + (size_t)x], o->palette_size);
+        size_t st = stride ? stride : minrow;
+        /* packed rows: every index fits the depth, so only a palette shorter than 2^depth is checked */
+        if (!packed || o->palette_size < (1 << o->bit_depth))
+            for (int y = 0; y < height; ++y)
+                for (int x = 0; x < width; ++x) {
+                    const uint8_t *row = pixels + (size_t)y * st;
+                    if (packed && !row[x / (8 / o->bit_depth)]) { /* a zero byte: indices 0 (the plate) */
+                        x += 8 / o->bit_depth - 1 - x % (8 / o->bit_depth);
+                        continue;
+                    }
+                    unsigned v = packed ? packed_at(row, x, o->bit_depth) : row[x];
+                    if (v >= (unsigned)o->palette_size)
+                        return hv_error_set(HV_ERR_INVALID,
+                                            "PNG: pixel (%d, %d) has index %u beyond the %d-colour palette", x, y,
+                                            v, o->palette_size);
+                }
     }
     int depth = o->bit_depth ? o->bit_depth : 8;
     if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16)
         return hv_error_set(HV_ERR_INVALID, "PNG: bit depth %d (1, 2, 4, 8 or 16)", o->bit_depth);
     if (depth == 16 && o->palette)
         return hv_error_set(HV_ERR_INVALID, "PNG: a palette needs at most 8 bits (got 16)");
+    if (o->packed && depth >= 8)
+        return hv_error_set(HV_ERR_INVALID, "PNG: packed rows need a bit depth of 1, 2 or 4 (got %d)", depth);
     if (depth < 8) {
         if (channels != 1)
             return hv_error_set(HV_ERR_INVALID, "PNG: bit depth %d needs 1 channel (got %d)", depth,
@@ -161,7 +158,7 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
             return hv_error_set(HV_ERR_INVALID, "PNG: a %d-colour palette needs more than %d bits",
                                 o->palette_size, depth);
         size_t st = stride ? stride : (size_t)width;
-        for (int y = 0; y < height; ++y)
+        for (int y = 0; y < height && !packed; ++y)
             for (int x = 0; x < width; ++x)
                 if (pixels[(size_t)y * st + (size_t)x] >> depth)
                     return hv_error_set(HV_ERR_INVALID,
@@ -176,42 +173,16 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
     return HV_OK;
 }
 
-/* ---- PNG on all threads: 8-bit images with the Sub filter on every row ----------------------
- * What libpng writes for them (PNG spec 9.2: each row a filter byte 1, then each byte less the
- * one a pixel before it), but the zlib stream made as pigz makes it: the filtered rows cut into
- * bands, each band deflated on its own thread as raw deflate primed with the 32 KiB before it
- * (deflateSetDictionary), every band but the last ending in a sync flush (a byte-aligned empty
- * stored block), so the bands joined are one deflate stream (RFC 1951); the zlib header before
- * it and the Adler-32 of all the rows after it (adler32_combine, RFC 1950). Chunks: IHDR, pHYs,
- * tEXt, one IDAT, IEND, each with its CRC-32. Any PNG decoder reads it as it reads libpng's. */
+/* ---- PNG out: the one encoder --------------------------------------------------------------
+ * Every PNG hovox writes (slice stacks, trays, renders, the viewer's pages, 3MF image stacks)
+ * comes from here: rows filtered (PNG spec 9), the whole image deflated in one call by libdeflate
+ * into a zlib stream (RFC 1950), chunks IHDR, PLTE, pHYs, tEXt, IDAT (in 1 MiB pieces), IEND with
+ * their CRC-32. Chosen by `make bench` (scripts/bench/98-png.sh: libpng, libspng, this writer and
+ * a hand-written Huffman coder on the bench tray's layers). Filters: None for indexed and sub-byte
+ * images (PNG spec 12.8: filtering does not help them), Sub on every row with opt->filter_sub,
+ * otherwise per row the filter of least sum of absolute differences (libpng's heuristic). */
 
-enum { PAR_MIN_PIXELS = 1 << 18, PAR_DICT = 32768 };
-
-/* n bytes to the file or the memory buffer; 0 (status and message set) on failure. */
-static int put(png_sink *s, const void *p, size_t n)
-{
-    if (s->fp) {
-        if (fwrite(p, 1, n, s->fp) == n) return 1;
-        s->status = HV_ERR_IO;
-        snprintf(s->msg, sizeof s->msg, "write failed: %s", strerror(errno));
-        return 0;
-    }
-    if (s->len + n > s->cap) {
-        size_t cap = s->cap ? s->cap : 65536;
-        while (cap < s->len + n) cap *= 2;
-        uint8_t *m = realloc(s->mem, cap);
-        if (!m) {
-            s->status = HV_ERR_NOMEM;
-            snprintf(s->msg, sizeof s->msg, "out of memory for a %zu-byte PNG", cap);
-            return 0;
-        }
-        s->mem = m;
-        s->cap = cap;
-    }
-    memcpy(s->mem + s->len, p, n);
-    s->len += n;
-    return 1;
-}
+enum { IDAT_PIECE = 1 << 20 };
 
 static void be32(uint8_t *b, uint32_t v)
 {
@@ -221,231 +192,150 @@ static void be32(uint8_t *b, uint32_t v)
     b[3] = (uint8_t)v;
 }
 
-/* A chunk whose data is the nparts pieces of `parts`, one after the other. */
-static int put_chunk(png_sink *s, const char *type, const uint8_t *const *parts, const size_t *sizes, int nparts)
+/* Frames the n data bytes already at at + 8 as a chunk (length, type, data, CRC-32 of type and
+ * data); returns the end. */
+static uint8_t *frame_chunk(uint8_t *at, const char *type, size_t n)
 {
-    uint8_t head[8], tail[4];
-    size_t n = 0;
-    for (int i = 0; i < nparts; ++i) n += sizes[i];
-    be32(head, (uint32_t)n);
-    memcpy(head + 4, type, 4);
-    uLong crc = crc32(0L, head + 4, 4);
-    for (int i = 0; i < nparts; ++i) crc = crc32_z(crc, parts[i], sizes[i]);
-    be32(tail, (uint32_t)crc);
-    if (!put(s, head, 8)) return 0;
-    for (int i = 0; i < nparts; ++i)
-        if (!put(s, parts[i], sizes[i])) return 0;
-    return put(s, tail, 4);
+    be32(at, (uint32_t)n);
+    memcpy(at + 4, type, 4);
+    be32(at + 8 + n, (uint32_t)libdeflate_crc32(0, at + 4, 4 + n));
+    return at + 12 + n;
 }
 
-typedef struct par_ctx {
-    const uint8_t *pixels;
-    size_t stride, rowbytes; /* source stride; filtered row: 1 + width * channels */
-    int channels, height, bands, level;
-    uint8_t *filtered;       /* height * rowbytes */
-    uint8_t **out;           /* per band: its deflate output */
-    size_t *len;
-    size_t *in;              /* per band: its filtered bytes */
-    uLong *adler;
-} par_ctx;
-
-static hv_status par_filter(void *vctx, size_t b, size_t e, int thread)
+static uint8_t *put_chunk(uint8_t *at, const char *type, const uint8_t *data, size_t n)
 {
-    (void)thread;
-    const par_ctx *c = vctx;
-    for (size_t y = b; y < e; ++y) {
-        const uint8_t *src = c->pixels + y * c->stride;
-        uint8_t *dst = c->filtered + y * c->rowbytes;
-        dst[0] = 1; /* Sub */
-        size_t n = c->rowbytes - 1, bpp = (size_t)c->channels;
-        memcpy(dst + 1, src, bpp);
-        for (size_t i = bpp; i < n; ++i) dst[1 + i] = (uint8_t)(src[i] - src[i - bpp]);
-    }
-    return HV_OK;
+    if (n) memcpy(at + 8, data, n);
+    return frame_chunk(at, type, n);
 }
 
-static hv_status par_deflate(void *vctx, size_t b, size_t e, int thread)
+static inline int paeth(int a, int b, int c)
 {
-    (void)thread;
-    const par_ctx *c = vctx;
-    for (size_t k = b; k < e; ++k) {
-        size_t y0 = (size_t)c->height * k / (size_t)c->bands, y1 = (size_t)c->height * (k + 1) / (size_t)c->bands;
-        const uint8_t *in = c->filtered + y0 * c->rowbytes;
-        size_t n = (y1 - y0) * c->rowbytes;
-        z_stream z;
-        memset(&z, 0, sizeof z);
-        /* libpng's settings for filtered rows: 32 KiB window, memLevel 8, Z_FILTERED */
-        if (deflateInit2(&z, c->level, Z_DEFLATED, -15, 8, Z_FILTERED) != Z_OK)
-            return hv_error_set(HV_ERR_NOMEM, "PNG: out of memory for zlib");
-        size_t cap = deflateBound(&z, (uLong)n) + 16;
-        c->out[k] = hv_malloc(cap);
-        int ok = c->out[k] != NULL;
-        if (ok && k > 0) { /* the window the band before leaves */
-            size_t d = y0 * c->rowbytes < PAR_DICT ? y0 * c->rowbytes : PAR_DICT;
-            ok = deflateSetDictionary(&z, in - d, (uInt)d) == Z_OK;
-        }
-        z.next_in = (Bytef *)(uintptr_t)in;
-        z.avail_in = (uInt)n;
-        z.next_out = c->out[k];
-        z.avail_out = (uInt)cap;
-        int flush = k + 1 == (size_t)c->bands ? Z_FINISH : Z_SYNC_FLUSH;
-        int r = ok ? deflate(&z, flush) : Z_MEM_ERROR;
-        ok = flush == Z_FINISH ? r == Z_STREAM_END : r == Z_OK && z.avail_in == 0;
-        c->len[k] = cap - z.avail_out;
-        c->in[k] = n;
-        c->adler[k] = adler32_z(1L, in, n);
-        deflateEnd(&z);
-        if (!ok) return hv_error_set(HV_ERR_NOMEM, "PNG: zlib failed on rows %zu to %zu", y0, y1);
-    }
-    return HV_OK;
+    int p = a + b - c, pa = abs(p - a), pb = abs(p - b), pc = abs(p - c);
+    return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
-static int par_suits(int width, int height, int channels, const hv_png_options *o)
+/* Row `cur` (n bytes, bpp bytes a pixel, `prev` the row above or NULL) filtered with filter f
+ * into out[0..n]: the filter byte, then the filtered bytes. Returns libpng's cost, the sum of
+ * the filtered bytes read as signed. */
+static unsigned long filter_row(int f, const uint8_t *cur, const uint8_t *prev, size_t n, size_t bpp, uint8_t *out)
 {
-    return o && o->filter_sub && (!o->bit_depth || o->bit_depth == 8) && !o->palette && hv_threads() > 1 &&
-           (int64_t)width * height >= PAR_MIN_PIXELS && (uint64_t)height * (1 + (uint64_t)width * (uint64_t)channels) < (1u << 31) &&
-           (!o->text_key || strlen(o->text_value) < (1u << 20));
+    out[0] = (uint8_t)f;
+    uint8_t *d = out + 1;
+    unsigned long cost = 0;
+    for (size_t i = 0; i < n; ++i) {
+        int a = i >= bpp ? cur[i - bpp] : 0, b = prev ? prev[i] : 0, c = prev && i >= bpp ? prev[i - bpp] : 0;
+        int p = f == 0 ? 0 : f == 1 ? a : f == 2 ? b : f == 3 ? (a + b) / 2 : paeth(a, b, c);
+        d[i] = (uint8_t)(cur[i] - p);
+        cost += (unsigned long)(d[i] < 128 ? d[i] : 256 - d[i]);
+    }
+    return cost;
 }
 
-static hv_status encode_parallel(png_sink *s, const uint8_t *pixels, int width, int height, int channels,
-                                 size_t stride, const hv_png_options *o)
+/* Row y of the image in PNG's packing (sub-byte samples packed from one a byte unless
+ * opt->packed), into row[0..rowbytes). */
+static const uint8_t *png_row(const uint8_t *pixels, size_t stride, int y, int width, int depth, int packed,
+                              uint8_t *row, size_t rowbytes)
 {
-    par_ctx c;
-    memset(&c, 0, sizeof c);
-    c.pixels = pixels;
-    c.channels = channels;
-    c.height = height;
-    c.rowbytes = 1 + (size_t)width * (size_t)channels;
-    c.stride = stride ? stride : (size_t)width * (size_t)channels;
-    c.level = o->compression >= 0 ? o->compression : Z_DEFAULT_COMPRESSION;
-    c.bands = 2 * hv_threads();
-    if (c.bands > height / 16) c.bands = height / 16 > 0 ? height / 16 : 1;
-    c.filtered = hv_malloc_array((size_t)height, c.rowbytes);
-    c.out = hv_calloc((size_t)c.bands, sizeof *c.out);
-    c.len = hv_calloc((size_t)c.bands, sizeof *c.len);
-    c.in = hv_calloc((size_t)c.bands, sizeof *c.in);
-    /* the IDAT's pieces: the zlib header, the bands, the Adler-32 */
-    const uint8_t **parts = hv_calloc((size_t)c.bands + 2, sizeof *parts);
-    size_t *sizes = hv_calloc((size_t)c.bands + 2, sizeof *sizes);
-    c.adler = hv_calloc((size_t)c.bands, sizeof *c.adler);
-    hv_status st = c.filtered && c.out && c.len && c.in && c.adler && parts && sizes ? HV_OK : HV_ERR_NOMEM;
-    if (st == HV_OK) st = hv_parallel_for((size_t)height, 64, par_filter, &c, NULL, NULL);
-    if (st == HV_OK) st = hv_parallel_for((size_t)c.bands, 1, par_deflate, &c, NULL, NULL);
-    if (st == HV_OK) {
-        static const uint8_t sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
-        uint8_t ihdr[13], phys[9], zhead[2], ztail[4];
-        be32(ihdr, (uint32_t)width);
-        be32(ihdr + 4, (uint32_t)height);
-        ihdr[8] = 8;
-        ihdr[9] = channels == 1 ? 0 : channels == 2 ? 4 : channels == 3 ? 2 : 6;
-        ihdr[10] = ihdr[11] = ihdr[12] = 0;
-        /* zlib header: deflate with a 32 KiB window, the level class, no dictionary */
-        int flevel = c.level == Z_DEFAULT_COMPRESSION ? 2 : c.level < 2 ? 0 : c.level < 6 ? 1 : c.level == 6 ? 2 : 3;
-        zhead[0] = 0x78;
-        zhead[1] = (uint8_t)(flevel << 6);
-        zhead[1] = (uint8_t)(zhead[1] + 31 - (zhead[0] * 256 + zhead[1]) % 31);
-        uLong adler = c.adler[0];
-        for (int k = 1; k < c.bands; ++k) adler = adler32_combine(adler, c.adler[k], (z_off_t)c.in[k]);
-        be32(ztail, (uint32_t)adler);
-        const uint8_t *p1[1] = {ihdr};
-        size_t n1[1] = {13};
-        int ok = put(s, sig, 8) && put_chunk(s, "IHDR", p1, n1, 1);
-        if (ok && (o->dpi[0] > 0 || o->dpi[1] > 0)) {
-            double dx = o->dpi[0] > 0 ? o->dpi[0] : o->dpi[1], dy = o->dpi[1] > 0 ? o->dpi[1] : o->dpi[0];
-            be32(phys, (uint32_t)(dx / 0.0254 + 0.5));
-            be32(phys + 4, (uint32_t)(dy / 0.0254 + 0.5));
-            phys[8] = 1; /* metres */
-            const uint8_t *pp[1] = {phys};
-            size_t np[1] = {9};
-            ok = put_chunk(s, "pHYs", pp, np, 1);
-        }
-        if (ok && o->text_key) {
-            const uint8_t *pt[3] = {(const uint8_t *)o->text_key, (const uint8_t *)"", (const uint8_t *)o->text_value};
-            size_t nt[3] = {strlen(o->text_key), 1, strlen(o->text_value)};
-            ok = put_chunk(s, "tEXt", pt, nt, 3);
-        }
-        parts[0] = zhead;
-        sizes[0] = 2;
-        for (int k = 0; k < c.bands; ++k) {
-            parts[k + 1] = c.out[k];
-            sizes[k + 1] = c.len[k];
-        }
-        parts[c.bands + 1] = ztail;
-        sizes[c.bands + 1] = 4;
-        ok = ok && put_chunk(s, "IDAT", parts, sizes, c.bands + 2);
-        ok = ok && put_chunk(s, "IEND", NULL, NULL, 0);
-        if (!ok) st = hv_error_set(s->status, "PNG: %s", s->msg);
-    }
-    for (int k = 0; c.out && k < c.bands; ++k) free(c.out[k]);
-    free(c.out);
-    free(c.len);
-    free(c.in);
-    free(c.adler);
-    free(parts);
-    free(sizes);
-    free(c.filtered);
-    return st;
+    const uint8_t *src = pixels + (size_t)y * stride;
+    if (depth >= 8 || packed) return src;
+    memset(row, 0, rowbytes);
+    int per = 8 / depth;
+    for (int x = 0; x < width; ++x) row[x / per] |= (uint8_t)(src[x] << (8 - depth - depth * (x % per)));
+    return row;
 }
 
-/* libpng reports errors by longjmp; everything it needs to clean up lives in *s and the two
- * structs, which are not modified between setjmp and the jump. */
-static hv_status encode(png_sink *s, const uint8_t *pixels, int width, int height, int channels,
-                        size_t stride, const hv_png_options *o)
+static hv_status encode(const uint8_t *pixels, int width, int height, int channels, size_t stride,
+                        const hv_png_options *o, uint8_t **data, size_t *size)
 {
-    if (par_suits(width, height, channels, o)) return encode_parallel(s, pixels, width, height, channels, stride, o);
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, s, sink_error, sink_warning);
-    if (!png) return hv_error_set(HV_ERR_NOMEM, "PNG: out of memory");
-    png_infop info = png_create_info_struct(png);
-    if (!info) {
-        png_destroy_write_struct(&png, NULL);
-        return hv_error_set(HV_ERR_NOMEM, "PNG: out of memory");
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        return hv_error_set(s->status, "PNG: %s", s->msg);
-    }
-    png_set_user_limits(png, 0x7fffffff, 0x7fffffff);
-    png_set_write_fn(png, s, sink_write, sink_flush);
-    int type = channels == 1 ? (o && o->palette ? PNG_COLOR_TYPE_PALETTE : PNG_COLOR_TYPE_GRAY)
-               : channels == 2 ? PNG_COLOR_TYPE_GRAY_ALPHA
-               : channels == 3 ? PNG_COLOR_TYPE_RGB
-                               : PNG_COLOR_TYPE_RGB_ALPHA;
     int depth = o && o->bit_depth ? o->bit_depth : 8;
-    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, depth, type,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    if (o && o->palette) {
-        png_color pal[256];
-        for (int i = 0; i < o->palette_size; ++i) {
-            pal[i].red = o->palette[3 * i];
-            pal[i].green = o->palette[3 * i + 1];
-            pal[i].blue = o->palette[3 * i + 2];
+    int packed = o && o->packed && depth < 8;
+    size_t rowbytes = png_rowbytes(width, channels, depth);
+    size_t bpp = depth < 8 ? 1 : (size_t)channels * (size_t)depth / 8;
+    if (!stride) stride = depth < 8 && !packed ? (size_t)width : rowbytes;
+    int fixed = o && o->palette ? 0 : depth < 8 ? 0 : o && o->filter_sub ? 1 : -1; /* -1: per row */
+    uint64_t nraw = (uint64_t)height * (1 + (uint64_t)rowbytes);
+    if (nraw > ((uint64_t)1 << 40))
+        return hv_error_set(HV_ERR_LIMIT, "PNG: an image of %d x %d pixels is too large to write", width, height);
+    uint8_t *raw = hv_malloc_big((size_t)nraw, 1);
+    uint8_t *tmp = hv_malloc(5 * (rowbytes + 1) + rowbytes);
+    int level = o && o->compression >= 0 ? o->compression : 6;
+    struct libdeflate_compressor *z = libdeflate_alloc_compressor(level);
+    hv_status st = raw && tmp && z ? HV_OK : hv_error_set(HV_ERR_NOMEM, "PNG: out of memory for a %d x %d image", width, height);
+    uint8_t *out = NULL;
+    if (st == HV_OK) {
+        uint8_t *unpacked = tmp + 5 * (rowbytes + 1);
+        const uint8_t *prev = NULL; /* the row above (only filters other than None read it: 8 bits and up) */
+        for (int y = 0; y < height; ++y) {
+            uint8_t *dst = raw + (size_t)y * (1 + rowbytes);
+            const uint8_t *cur = png_row(pixels, stride, y, width, depth, packed, unpacked, rowbytes);
+            if (fixed == 0) {
+                dst[0] = 0;
+                memcpy(dst + 1, cur, rowbytes);
+            } else if (fixed == 1) {
+                filter_row(1, cur, prev, rowbytes, bpp, dst);
+            } else { /* the least sum of absolute differences among the five */
+                unsigned long best = (unsigned long)-1;
+                int bf = 0;
+                for (int f = 0; f < 5; ++f) {
+                    unsigned long c = filter_row(f, cur, prev, rowbytes, bpp, tmp + (size_t)f * (rowbytes + 1));
+                    if (c < best) best = c, bf = f;
+                }
+                memcpy(dst, tmp + (size_t)bf * (rowbytes + 1), rowbytes + 1);
+            }
+            prev = cur;
         }
-        png_set_PLTE(png, info, pal, o->palette_size);
+        size_t zcap = libdeflate_zlib_compress_bound(z, (size_t)nraw);
+        size_t npieces = zcap / IDAT_PIECE + 1;
+        size_t textn = o && o->text_key ? strlen(o->text_key) + 1 + strlen(o->text_value) : 0;
+        size_t cap = 8 + 25 + (12 + 768) + 21 + (12 + textn) + zcap + 12 * npieces + 12;
+        out = hv_malloc_big(cap, 1);
+        size_t zlen = out ? libdeflate_zlib_compress(z, raw, (size_t)nraw, out + cap - zcap, zcap) : 0;
+        if (!out) st = hv_error_set(HV_ERR_NOMEM, "PNG: out of memory for a %zu-byte PNG", cap);
+        else if (!zlen) st = hv_error_set(HV_ERR_INTERNAL, "PNG: libdeflate could not compress the image");
+        else {
+            static const uint8_t sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+            uint8_t ihdr[13], phys[9], *at = out + 8;
+            memcpy(out, sig, 8);
+            be32(ihdr, (uint32_t)width);
+            be32(ihdr + 4, (uint32_t)height);
+            ihdr[8] = (uint8_t)depth;
+            ihdr[9] = o && o->palette ? 3 : channels == 1 ? 0 : channels == 2 ? 4 : channels == 3 ? 2 : 6;
+            ihdr[10] = ihdr[11] = ihdr[12] = 0;
+            at = put_chunk(at, "IHDR", ihdr, 13);
+            if (o && o->palette) at = put_chunk(at, "PLTE", o->palette, 3 * (size_t)o->palette_size);
+            if (o && (o->dpi[0] > 0 || o->dpi[1] > 0)) {
+                double dx = o->dpi[0] > 0 ? o->dpi[0] : o->dpi[1], dy = o->dpi[1] > 0 ? o->dpi[1] : o->dpi[0];
+                be32(phys, (uint32_t)(dx / 0.0254 + 0.5));
+                be32(phys + 4, (uint32_t)(dy / 0.0254 + 0.5));
+                phys[8] = 1; /* metres */
+                at = put_chunk(at, "pHYs", phys, 9);
+            }
+            if (textn) { /* key, a zero byte, the text (Latin-1, not terminated) */
+                size_t kn = strlen(o->text_key);
+                memcpy(at + 8, o->text_key, kn);
+                at[8 + kn] = 0;
+                memcpy(at + 9 + kn, o->text_value, textn - kn - 1);
+                at = frame_chunk(at, "tEXt", textn);
+            }
+            /* the zlib stream sits at the end of the buffer; its IDAT pieces move down in order,
+             * each to a place before its source (12 bytes of chunk framing a piece behind) */
+            const uint8_t *zs = out + cap - zcap;
+            for (size_t done = 0; done < zlen;) {
+                size_t n = zlen - done < IDAT_PIECE ? zlen - done : IDAT_PIECE;
+                memmove(at + 8, zs + done, n);
+                at = frame_chunk(at, "IDAT", n);
+                done += n;
+            }
+            at = put_chunk(at, "IEND", NULL, 0);
+            *size = (size_t)(at - out);
+        }
     }
-    if (o && (o->dpi[0] > 0 || o->dpi[1] > 0)) {
-        double dx = o->dpi[0] > 0 ? o->dpi[0] : o->dpi[1];
-        double dy = o->dpi[1] > 0 ? o->dpi[1] : o->dpi[0];
-        png_set_pHYs(png, info, (png_uint_32)(dx / 0.0254 + 0.5), (png_uint_32)(dy / 0.0254 + 0.5),
-                     PNG_RESOLUTION_METER);
-    }
-    if (o && o->text_key) {
-        png_text t;
-        memset(&t, 0, sizeof t);
-        t.compression = PNG_TEXT_COMPRESSION_NONE;
-        t.key = (png_charp)(uintptr_t)o->text_key;
-        t.text = (png_charp)(uintptr_t)o->text_value;
-        png_set_text(png, info, &t, 1);
-    }
-    if (o && o->compression >= 0) png_set_compression_level(png, o->compression);
-    if (o && o->filter_sub) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
-    png_write_info(png, info);
-    /* rows stay one pixel per byte; set after png_write_info, which resets the user depth */
-    if (depth < 8) png_set_packing(png);
-    size_t st = stride ? stride : (size_t)width * (size_t)channels * (depth == 16 ? 2u : 1u);
-    for (int y = 0; y < height; ++y) png_write_row(png, pixels + (size_t)y * st);
-    png_write_end(png, info);
-    png_destroy_write_struct(&png, &info);
-    return HV_OK;
+    libdeflate_free_compressor(z);
+    free(raw);
+    free(tmp);
+    if (st != HV_OK) free(out);
+    else *data = out;
+    return st;
 }
 
 hv_status hv_png_encode(const uint8_t *pixels, int width, int height, int channels, size_t stride,
@@ -455,45 +345,22 @@ hv_status hv_png_encode(const uint8_t *pixels, int width, int height, int channe
     *size = 0;
     hv_status st = check_png_args(pixels, width, height, channels, stride, opt);
     if (st != HV_OK) return st;
-    png_sink s;
-    memset(&s, 0, sizeof s);
-    st = encode(&s, pixels, width, height, channels, stride, opt);
-    if (st != HV_OK) {
-        free(s.mem);
-        return st;
-    }
-    *data = s.mem;
-    *size = s.len;
-    return HV_OK;
+    return encode(pixels, width, height, channels, stride, opt, data, size);
 }
 
 hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int height, int channels,
                        size_t stride, const hv_png_options *opt)
 {
+    uint8_t *png = NULL;
+    size_t size = 0;
     hv_status st = check_png_args(pixels, width, height, channels, stride, opt);
-    if (st != HV_OK) return st;
-    png_sink s;
-    memset(&s, 0, sizeof s);
-    if (opt && opt->in_place) { /* inside a directory renamed whole: no temporary, no sync */
-        if (!(s.fp = fopen(path, "wb"))) return hv_error_set(HV_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-        st = encode(&s, pixels, width, height, channels, stride, opt);
-        int e = errno, bad = st == HV_OK && (ferror(s.fp) || fflush(s.fp) != 0);
-        bad |= fclose(s.fp) != 0 && st == HV_OK;
-        if (st == HV_OK && bad) st = hv_error_set(HV_ERR_IO, "%s: write failed: %s", path, strerror(e ? e : errno));
-        else if (st != HV_OK) hv_error_prefix(st, "%s: ", path);
-        if (st != HV_OK) remove(path);
-        return st;
-    }
-    hv_atomic_file af;
-    st = hv_atomic_open(&af, path, "wb");
-    if (st != HV_OK) return st;
-    s.fp = af.fp;
-    st = encode(&s, pixels, width, height, channels, stride, opt);
-    if (st != HV_OK) {
-        hv_atomic_abort(&af);
+    if (st == HV_OK && (st = encode(pixels, width, height, channels, stride, opt, &png, &size)) != HV_OK)
         return hv_error_prefix(st, "%s: ", path);
-    }
-    return hv_atomic_commit(&af);
+    if (st != HV_OK) return st;
+    /* in_place: inside a directory renamed whole, so no temporary and no sync */
+    st = opt && opt->in_place ? hv_write_in_place(path, png, size) : hv_atomic_write(path, png, size);
+    free(png);
+    return st;
 }
 
 /* ---- PNG in ------------------------------------------------------------------------------- */

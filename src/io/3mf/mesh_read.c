@@ -535,14 +535,10 @@ static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     for (int k = 0; k < 3; ++k) {
         const tmf_attr *v = k < n && strcmp(a[k].local, axis[k]) == 0 ? &a[k] : tmf_attr_find(a, n, axis[k], NULL);
         if (!v) return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex %zu has no %s", r->label, o->nv, axis[k]);
-        char buf[80], q[72], *end = buf;
+        char q[72];
         float f = 0;
-        if (v->len < sizeof buf) {
-            memcpy(buf, v->value, v->len);
-            buf[v->len] = '\0';
-            f = strtof(buf, &end);
-        }
-        if (v->len >= sizeof buf || v->len == 0 || end != buf + v->len || !isfinite(f))
+        /* not strtof: a decimal parser that gives its floats several times faster (issue 26 item 2) */
+        if (v->len >= 80 || !hv_parse_float(v->value, v->len, &f) || !isfinite(f))
             return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex %zu: %s is not a finite number ('%s')", r->label, o->nv,
                                axis[k], tmf_attr_quote(v, q, sizeof q));
         r->xyz[r->nxyz + (size_t)k] = f;

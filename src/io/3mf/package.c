@@ -244,6 +244,24 @@ static void stop(tmf_xml *x, hv_status s)
     xmlStopParser(x->ctxt);
 }
 
+/* The element's qualified name, [prefix:]local, cut to the buffer: copied, since two snprintf a
+ * element took 5-7% of a 1M-facet model's read (issue 26 item 2). */
+static void set_qname(tmf_xml *x, const xmlChar *prefix, const xmlChar *local)
+{
+    size_t cap = sizeof x->qname - 1, at = 0;
+    if (prefix) {
+        size_t n = strlen((const char *)prefix);
+        n = n < cap ? n : cap;
+        memcpy(x->qname, prefix, n);
+        at = n;
+        if (at < cap) x->qname[at++] = ':';
+    }
+    size_t n = strlen((const char *)local);
+    n = n < cap - at ? n : cap - at;
+    memcpy(x->qname + at, local, n);
+    x->qname[at + n] = 0;
+}
+
 static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
                      const xmlChar **ns, int nattrs, int ndefaulted, const xmlChar **attrs)
 {
@@ -259,8 +277,7 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
                             PKG_MAX_ATTRS));
         return;
     }
-    if (prefix) snprintf(x->qname, sizeof x->qname, "%s:%s", (const char *)prefix, (const char *)local);
-    else snprintf(x->qname, sizeof x->qname, "%s", (const char *)local);
+    set_qname(x, prefix, local);
     x->collect = 0;
     tmf_attr a[PKG_MAX_ATTRS];
     for (int i = 0; i < nattrs; ++i) {
@@ -279,8 +296,7 @@ static void on_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const
     tmf_xml *x = ctx;
     if (x->status != HV_OK) return;
     x->depth--;
-    if (prefix) snprintf(x->qname, sizeof x->qname, "%s:%s", (const char *)prefix, (const char *)local);
-    else snprintf(x->qname, sizeof x->qname, "%s", (const char *)local);
+    set_qname(x, prefix, local);
     hv_status s = x->h->end ? x->h->end(x->ctx, x, (const char *)local, (const char *)uri) : HV_OK;
     x->collect = 0;
     if (s != HV_OK) stop(x, s);

@@ -117,6 +117,19 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
     return HV_OK;
 }
 
+/* A --part whose mesh, as placed, is under 1 mm or fits no orientation of the build volume is
+ * warned about naming the likely unit, as voxelize and layers warn (issue 27 item 3). Read here
+ * once more: the tray reads its parts when it plans. A mesh that does not read says nothing here
+ * (the tray names what is wrong). */
+static void warn_size(const hv_tray_part *p, const hv_tray_options *o)
+{
+    const hv_printer_profile *pp = hv_printer_profile_find(o->profile ? o->profile : "j750");
+    hv_mesh *m = NULL;
+    if (hv_mesh_load(p->mesh, &m) == HV_OK && hv_placement_apply(&p->place, &m) == HV_OK)
+        cli_warn_mesh_size(m, pp ? pp->build : NULL);
+    hv_mesh_destroy(m);
+}
+
 static void print_plan(const hv_tray_report *r, const hv_tray_options *o)
 {
     char mem[32];
@@ -172,6 +185,7 @@ static int run(const cli_args *args, void *lib, void *local)
         hv_tray_part p;
         s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
         p.place = c->place[i];
+        if (s == HV_OK) warn_size(&p, o);
         if (s == HV_OK) s = hv_tray_add(t, &p, NULL); /* "part N", counted after the job file's */
     }
     if (s == HV_OK && hv_tray_part_count(t) == 0) {

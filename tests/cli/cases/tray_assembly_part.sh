@@ -19,3 +19,7 @@ printf '{"parts": [{"mesh": "tet.obj", "at": [40, 40]}]}\n' >"$TMP/job.json"
 $HOVOX tray "$TMP/job.json" -o "$TMP/none" -q
 echo "rc=$?"
 ls "$TMP"
+# a --part whose mesh is under 1 mm is warned about naming the likely unit, as voxelize warns
+$HOVOX generate box min=0,0,0 max=0.2,0.1,0.05 -o "$TMP/tiny.stl" >/dev/null
+$HOVOX tray -o "$TMP/tt" --part "$TMP/tiny.stl:VeroPureWhite@40,40" --dry-run >/dev/null
+echo "rc=$?"

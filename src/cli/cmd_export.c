@@ -55,9 +55,14 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
     }
     if (rep->format == HV_EXPORT_STL || rep->format == HV_EXPORT_OBJ) {
         printf("model       %s\n", model);
-        printf("shape       %s, the recorded mesh (exact)\n", rep->names);
-        printf("mesh        %llu triangles, %llu vertices\n", (unsigned long long)rep->cells,
-               (unsigned long long)rep->points);
+        printf("shape       %s\n", rep->names);
+        if (rep->cells)
+            printf("mesh        %llu triangles, %llu vertices\n", (unsigned long long)rep->cells,
+                   (unsigned long long)rep->points);
+        else
+            printf("mesh        counted when made\n");
+        char mem[32];
+        printf("memory      about %s\n", hv_size_text(mem, sizeof mem, (double)rep->memory_bytes));
         if (!c->dry_run) printf("wrote       %s (%llu bytes)\n", c->output, (unsigned long long)rep->file_bytes);
         return;
     }
@@ -139,5 +144,7 @@ const cli_spec cmd_export = {
     "fraction and per derived property (8 or 16 bits, --bits), a volumedata whose composite\n"
     "maps the fractions to the base materials; hovox reads it back as a graded model.\n"
     ".stl, .obj: the shape the model records, not its voxels: a model voxelized from one mesh\n"
-    "writes that mesh placed as recorded (exact, no stair steps); the other options do not apply.\n",
+    "writes that mesh placed as recorded (exact, no stair steps); a Boolean of meshes, a\n"
+    "narrow-band level set of 0.05 mm voxels per mesh combined by the model's Booleans and\n"
+    "meshed at adaptivity 0 (OpenVDB), watertight. Only --max-memory applies.\n",
     hv_export_option_set, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

@@ -580,7 +580,7 @@ static hv_status plan_all(const hv_volume *vol, const char *path, const hv_expor
     hv_status s = check_options(path, opt, &fmt);
     if (s != HV_OK) return s;
     r->format = fmt;
-    if (fmt == HV_EXPORT_STL || fmt == HV_EXPORT_OBJ) return ex_shape_plan(vol, r);
+    if (fmt == HV_EXPORT_STL || fmt == HV_EXPORT_OBJ) return ex_shape_plan(vol, opt, r);
     s = ex_model_init(md, vol, opt);
     if (s != HV_OK) return s;
     report_names(md, r);
@@ -656,7 +656,7 @@ static hv_status write_impl(const hv_volume *vol, const char *path, const hv_exp
     if (s == HV_OK && (fmt == HV_EXPORT_STL || fmt == HV_EXPORT_OBJ)) {
         memset(r, 0, sizeof *r); /* the shape, not the voxels: nothing of md is needed */
         r->format = fmt;
-        return ex_shape_write(vol, path, r);
+        return ex_shape_write(vol, path, opt, r);
     }
     if (s == HV_OK) s = plan_all(vol, path, opt, &md, &h, r);
     if (s == HV_OK) s = check_budget(opt, r);

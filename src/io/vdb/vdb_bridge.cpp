@@ -208,7 +208,10 @@ HV_CHECKED_ROOT(hv_vec3i)
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 #include <openvdb/math/Maps.h>
+#include <openvdb/tools/Composite.h>
+#include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/Prune.h>
+#include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -1060,9 +1063,97 @@ int b_load(const char *path, const char *const *want, int nwant, int threads, vo
     catch (...) { delete v; return fail(E_BAD_INPUT, "unknown exception reading VDB file"); }
 }
 
+
+/* ---- surfaces of a Boolean tree (issue 28): a narrow-band level set per leaf mesh, OpenVDB's CSG
+ * per node, volumeToMesh (adaptivity 0) of the root ---------------------------------------- */
+struct CancelPoll : openvdb::util::NullInterrupter {
+    hv_vdb_cancel_fn cancel;
+    explicit CancelPoll(hv_vdb_cancel_fn c) : cancel(c) {}
+    bool wasInterrupted(int = -1) override { return cancel && cancel(); }
+};
+
+int b_surface(int nleaf, const float *const *xyz, const size_t *nv, const uint32_t *const *tri, const size_t *nt,
+              int nnode, const int *ops, const uint32_t *leaf, const uint32_t *na, const uint32_t *nb, double voxel,
+              float **out_xyz, size_t *out_nv, uint32_t **out_tri, size_t *out_nt, hv_vdb_cancel_fn cancel)
+{
+    using openvdb::FloatGrid;
+    *out_xyz = nullptr;
+    *out_tri = nullptr;
+    *out_nv = *out_nt = 0;
+    try {
+        CancelPoll poll(cancel);
+        auto xf = openvdb::math::Transform::createLinearTransform(voxel);
+        std::vector<int> uses((size_t)nnode, 0);
+        for (int i = 0; i < nnode; ++i)
+            if (ops[i] >= 0) {
+                if (na[i] >= (uint32_t)i || nb[i] >= (uint32_t)i) return fail(E_BAD_INPUT, "tree node out of order");
+                uses[na[i]]++;
+                uses[nb[i]]++;
+            } else if (leaf[i] >= (uint32_t)nleaf) {
+                return fail(E_BAD_INPUT, "tree refers to a missing leaf");
+            }
+        std::vector<FloatGrid::Ptr> node((size_t)nnode);
+        /* a child's grid: moved out at its last use, else a copy (CSG empties its operands) */
+        auto take = [&](uint32_t k) {
+            return --uses[k] == 0 ? std::move(node[k]) : node[k]->deepCopy();
+        };
+        for (int i = 0; i < nnode; ++i) {
+            if (ops[i] < 0) {
+                uint32_t l = leaf[i];
+                std::vector<openvdb::Vec3s> pts(nv[l]);
+                std::vector<openvdb::Vec3I> tris(nt[l]);
+                for (size_t v = 0; v < nv[l]; ++v) pts[v] = openvdb::Vec3s(xyz[l][3 * v], xyz[l][3 * v + 1], xyz[l][3 * v + 2]);
+                for (size_t t = 0; t < nt[l]; ++t) tris[t] = openvdb::Vec3I(tri[l][3 * t], tri[l][3 * t + 1], tri[l][3 * t + 2]);
+                node[i] = openvdb::tools::meshToLevelSet<FloatGrid>(poll, *xf, pts, tris, 3.0f);
+            } else {
+                FloatGrid::Ptr a = take(na[i]), b = take(nb[i]);
+                switch (ops[i]) {
+                case 0: openvdb::tools::csgIntersection(*a, *b); break;
+                case 1:
+                case 3: openvdb::tools::csgUnion(*a, *b); break;
+                case 2: break; /* Wu's difference keeps O1's shape */
+                case 4: openvdb::tools::csgDifference(*a, *b); break;
+                default: return fail(E_BAD_INPUT, "unknown Boolean " + std::to_string(ops[i]));
+                }
+                node[i] = std::move(a);
+            }
+            if (poll.wasInterrupted()) return fail(E_CANCELLED, "cancelled");
+        }
+        std::vector<openvdb::Vec3s> points;
+        std::vector<openvdb::Vec3I> tris;
+        std::vector<openvdb::Vec4I> quads;
+        openvdb::tools::volumeToMesh(*node[(size_t)nnode - 1], points, tris, quads, 0.0, 0.0);
+        size_t n = tris.size() + 2 * quads.size();
+        float *p = static_cast<float *>(std::malloc(3 * sizeof(float) * (points.size() ? points.size() : 1)));
+        uint32_t *t = static_cast<uint32_t *>(std::malloc(3 * sizeof(uint32_t) * (n ? n : 1)));
+        if (!p || !t) {
+            std::free(p);
+            std::free(t);
+            return fail(E_NOMEM, "out of memory");
+        }
+        for (size_t v = 0; v < points.size(); ++v)
+            for (int k = 0; k < 3; ++k) p[3 * v + k] = points[v][k];
+        size_t m = 0;
+        for (const auto &q : tris)
+            for (int k = 0; k < 3; ++k) t[m++] = q[k];
+        for (const auto &q : quads) {
+            const uint32_t c[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+            for (uint32_t k : c) t[m++] = k;
+        }
+        *out_xyz = p;
+        *out_nv = points.size();
+        *out_tri = t;
+        *out_nt = n;
+        return 0;
+    }
+    catch (const std::bad_alloc &) { return fail(E_NOMEM, "out of memory"); }
+    catch (const std::exception &e) { return fail(E_BAD_INPUT, one_line(e.what())); }
+    catch (...) { return fail(E_BAD_INPUT, "unknown exception making the surface"); }
+}
+
 const hv_vdb_api g_api = {
     HV_VDB_ABI,   b_last_error,    b_save,         b_load,      b_leaf_count,
-    b_leaf_topology, b_leaf_buffers, b_grid_free, b_destroy,
+    b_leaf_topology, b_leaf_buffers, b_grid_free, b_destroy, b_surface,
 };
 
 } // namespace

@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-#define HV_VDB_ABI 5
+#define HV_VDB_ABI 6
 
 enum { HV_META_STRING = 0, HV_META_NUMBER = 1 };
 
@@ -56,6 +56,11 @@ typedef struct hv_vdb_api {
     int (*leaf_buffers)(void *impl, int g, void **buffers);
     void (*grid_free)(void *impl, int g);
     void (*destroy)(void *impl);
+    /* the surface of a Boolean tree of meshes (hv_vdb_surface, vdb_internal.h): level sets, CSG,
+     * volumeToMesh; the outputs malloc'd */
+    int (*surface)(int nleaf, const float *const *xyz, const size_t *nv, const uint32_t *const *tri, const size_t *nt,
+                   int nnode, const int *ops, const uint32_t *leaf, const uint32_t *a, const uint32_t *b, double voxel,
+                   float **out_xyz, size_t *out_nv, uint32_t **out_tri, size_t *out_nt, hv_vdb_cancel_fn cancel);
 } hv_vdb_api;
 
 /* The plugin's one exported symbol. */

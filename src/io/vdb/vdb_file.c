@@ -352,3 +352,19 @@ hv_status hv_volume_load_grids(const char *path, const char *const *names, int n
     return load(path, names, n, 0, out);
 }
 
+
+/* ---- surfaces (issue 28) ------------------------------------------------------------------- */
+
+hv_status hv_vdb_surface(int nleaf, const float *const *xyz, const size_t *nv, const uint32_t *const *tri,
+                         const size_t *nt, int nnode, const int *ops, const uint32_t *leaf, const uint32_t *a,
+                         const uint32_t *b, double voxel, float **out_xyz, size_t *out_nv, uint32_t **out_tri,
+                         size_t *out_nt)
+{
+    hv_status s = api();
+    if (s != HV_OK) return s;
+    int rc = g_api->surface(nleaf, xyz, nv, tri, nt, nnode, ops, leaf, a, b, voxel, out_xyz, out_nv, out_tri, out_nt,
+                            cancel_poll);
+    if (rc == HV_ERR_CANCELLED) return hv_error_set(HV_ERR_CANCELLED, "export: surface cancelled");
+    if (rc) return hv_error_set((hv_status)rc, "export: the level set of the shape: %s", g_api->last_error());
+    return HV_OK;
+}

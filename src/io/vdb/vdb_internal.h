@@ -21,4 +21,18 @@ hv_status hv_vdb_read(const char *path, const char *const *want, int nwant, uint
  * the native reader skipped. */
 hv_status hv_volume_load_openvdb(const char *path, const char *const *names, int n, hv_volume **out);
 
+/* The surface of a Boolean tree of triangle meshes (issue 28, export .stl/.obj): each of the nleaf
+ * meshes (vertices in mm, nv[i] of them, nt[i] triangles) a narrow-band level set of `voxel` mm
+ * (OpenVDB meshToLevelSet, 3 voxels each side), combined by the nnode nodes of the tree (ops[i] < 0:
+ * leaf leaf[i]; else an hv_geometry_op of earlier nodes a[i], b[i]; the root last) with OpenVDB's
+ * csgUnion / csgIntersection / csgDifference (Wu's difference keeps a), meshed by volumeToMesh at
+ * adaptivity 0, quads split in two. *out_xyz and *out_tri are malloc'd; the caller frees them.
+ * Errors: HV_ERR_UNSUPPORTED (no OpenVDB plugin), HV_ERR_BAD_INPUT (a malformed tree),
+ * HV_ERR_NOMEM, HV_ERR_CANCELLED. */
+#include <stdint.h>
+hv_status hv_vdb_surface(int nleaf, const float *const *xyz, const size_t *nv, const uint32_t *const *tri,
+                         const size_t *nt, int nnode, const int *ops, const uint32_t *leaf, const uint32_t *a,
+                         const uint32_t *b, double voxel, float **out_xyz, size_t *out_nv, uint32_t **out_tri,
+                         size_t *out_nt);
+
 #endif

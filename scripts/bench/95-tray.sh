@@ -12,21 +12,7 @@ echo
 echo "== tray: 6 gears, 3 shafts, 3 knots, graded, arranged on the J750 plate (goals: <= 180 s, <= 2 GiB, >= 2e8 object vox/s, >= 2e9 empty vox/s)"
 tw="$work/tray"
 mkdir -p "$tw"
-if [ ! -f "$tw/knot.vdb" ]; then
-    "$HOVOX" generate gear -o "$tw/gear.stl" >/dev/null
-    "$HOVOX" voxelize "$tw/gear.stl" --dims 128 -o "$tw/gear_occ.vdb" -q >/dev/null
-    "$HOVOX" grade "$tw/gear_occ.vdb" -o "$tw/gear.vdb" --materials A,B,C --frf axis:0,0,0:0,0,1 \
-        --ranges 9.54,9.54,20.37 --ms 0,0.9,0.1 --me 0.9,0,0.1 -q
-    "$HOVOX" generate cylinder -o "$tw/shaft.stl" >/dev/null
-    "$HOVOX" voxelize "$tw/shaft.stl" --dims 256,97,97 -o "$tw/shaft_occ.vdb" -q >/dev/null
-    "$HOVOX" grade "$tw/shaft_occ.vdb" -o "$tw/shaft.vdb" --materials A,B,C --frf contour --ranges 0,20.416,0 \
-        --f 'sin(0.1538*d)' --ms 0,0,1 --me 0,0.2,0.8 -q
-    "$HOVOX" generate knot -o "$tw/knot.stl" >/dev/null
-    "$HOVOX" voxelize "$tw/knot.stl" --dims 160 -o "$tw/knot_occ.vdb" -q >/dev/null
-    "$HOVOX" grade "$tw/knot_occ.vdb" -o "$tw/knot.vdb" --materials A,B,C --frf contour --ranges 0,4,0 \
-        --ms 1,0,0 --me 0,0.5,0.5 -q
-    "$HOVOX" generate box max=1,1,55 -o "$tw/pin.stl" >/dev/null
-fi
+bench_tray_parts "$tw"
 cat >"$tw/tray.json" <<'EOF'
 {"schema": 1, "profile": "j750", "arrange": "all",
  "resin": {"A": "VeroCyan-V", "B": "VeroMagenta-V", "C": "VeroYellow-V"},

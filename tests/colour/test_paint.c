@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "hovox/colour.h"
+#include "hovox/generate.h"
 #include "hovox/material.h"
 #include "hovox/voxelize.h"
 #include "support/support.h"
@@ -124,5 +125,100 @@ Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
     hv_material_table_destroy(t);
     hv_colour_map_destroy(map);
     hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+}
+
+/* Squared distance from p to triangle abc (Ericson 5.1.5, written again here as the oracle). */
+static double tri_d2(const double p[3], const float *a, const float *b, const float *c)
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
+    for (int k = 0; k < 3; ++k) {
+        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
+    }
+#define D(u, w) ((u)[0] * (w)[0] + (u)[1] * (w)[1] + (u)[2] * (w)[2])
+    double d1 = D(ab, ap), d2 = D(ac, ap), d3 = D(ab, bp), d4 = D(ac, bp), d5 = D(ab, cp), d6 = D(ac, cp);
+#undef D
+    double u = 0, v = 0, w = 0, vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+    if (d1 <= 0 && d2 <= 0) u = 1;
+    else if (d3 >= 0 && d4 <= d3) v = 1;
+    else if (d6 >= 0 && d5 <= d6) w = 1;
+    else if (vc <= 0 && d1 >= 0 && d3 <= 0) v = d1 / (d1 - d3), u = 1 - v;
+    else if (vb <= 0 && d2 >= 0 && d6 <= 0) w = d2 / (d2 - d6), u = 1 - w;
+    else if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) w = (d4 - d3) / ((d4 - d3) + (d5 - d6)), v = 1 - w;
+    else v = vb / (va + vb + vc), w = vc / (va + vb + vc), u = 1 - v - w;
+    double d = 0;
+    for (int k = 0; k < 3; ++k) {
+        q[k] = u * a[k] + v * b[k] + w * c[k] - p[k];
+        d += q[k] * q[k];
+    }
+    return d;
+}
+
+/* The facet search (a bounding volume hierarchy) against every facet tried, and threads: a sphere
+ * of 1,152 facets, each its own colour, all skin; every voxel holds the colour of its nearest facet
+ * (voxels with a second facet within 1e-6 mm skipped), and 1 and 3 threads give the same grids. */
+Test(paint, nearest_facet_exact_and_the_same_on_any_threads)
+{
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_generate_sphere((const double[3]){0, 0, 0}, 5, 48, 13, &m), HV_OK);
+    size_t nf = hv_mesh_facet_count(m);
+    cr_assert_gt(nf, 1000);
+    uint32_t *c = malloc(3 * nf * sizeof *c);
+    for (size_t f = 0; f < nf; ++f)
+        c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = (uint32_t)((f * 2654435761u) & 0xFFFFFF00u) | 0xFFu;
+    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.4;
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
+    hv_volume *v[2] = {NULL, NULL};
+    for (int r = 0; r < 2; ++r) {
+        hv_set_threads(r ? 3 : 1);
+        cr_assert_eq(hv_voxelize(m, &o, &v[r]), HV_OK, "%s", hv_last_error());
+        cr_assert_eq(hv_colour_paint(v[r], m, map, 20.0, "VeroPureWhite", NULL), HV_OK, "%s", hv_last_error());
+    }
+    hv_set_threads(0);
+    double *xyz = NULL;
+    size_t n = 0;
+    cr_assert_eq(hv_volume_centres(v[0], "occupancy", &xyz, &n), HV_OK);
+    const float *vert = hv_mesh_vertices(m);
+    const uint32_t *t = hv_mesh_facets(m);
+    hv_accessor acc[2];
+    hv_accessor_init(&acc[0], v[0]);
+    hv_accessor_init(&acc[1], v[1]);
+    static const char *const names[HV_COLOUR_SLOTS] = {"material.VeroCyan-V", "material.VeroMagenta-V", "material.VeroYellow-V",
+                                                       "material.VeroBlackPlus", "material.VeroPureWhite", "material.VeroClear"};
+    size_t checked = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double *p = xyz + 3 * i;
+        double best = INFINITY, second = INFINITY;
+        size_t bf = 0;
+        for (size_t f = 0; f < nf; ++f) {
+            double d = tri_d2(p, vert + 3 * t[3 * f], vert + 3 * t[3 * f + 1], vert + 3 * t[3 * f + 2]);
+            if (d < best) second = best, best = d, bf = f;
+            else if (d < second) second = d;
+        }
+        double idx[3];
+        hv_volume_world_to_index(v[0], p, idx);
+        int32_t I = (int32_t)lrint(idx[0]), J = (int32_t)lrint(idx[1]), K = (int32_t)lrint(idx[2]);
+        float want[HV_COLOUR_SLOTS];
+        uint8_t rgba[4] = {(uint8_t)(c[3 * bf] >> 24), (uint8_t)(c[3 * bf] >> 16), (uint8_t)(c[3 * bf] >> 8), 255};
+        hv_colour_map_fractions(map, rgba, want);
+        int close = sqrt(second) - sqrt(best) < 1e-6;
+        for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+            float a = hv_accessor_float(&acc[0], hv_volume_grid_find(v[0], names[k]), I, J, K);
+            float b = hv_accessor_float(&acc[1], hv_volume_grid_find(v[1], names[k]), I, J, K);
+            cr_assert_eq(a, b, "voxel %d,%d,%d slot %d: %g on 1 thread, %g on 3", I, J, K, k, (double)a, (double)b);
+            if (!close) cr_assert_eq(a, want[k], "voxel at %g,%g,%g: slot %d %g, want %g (facet %zu)", p[0], p[1], p[2], k, (double)a, (double)want[k], bf);
+        }
+        checked += !close;
+    }
+    cr_assert_gt(checked, n / 2);
+    free(xyz);
+    free(c);
+    hv_volume_destroy(v[0]);
+    hv_volume_destroy(v[1]);
+    hv_colour_map_destroy(map);
     hv_mesh_destroy(m);
 }

@@ -27,6 +27,7 @@ typedef struct layers_cli {
     const char *material[64]; /* "BODY=MATERIAL", for a mesh sliced in one step */
     int nmaterial;
     double voxel_size;
+    hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut */
 } layers_cli;
 
 static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
@@ -62,6 +63,7 @@ static const hv_option k_local_opts[] = {
              "coarsened until the model fits half of --max-memory)"},
     HV_PLACEMENT_OPTIONS(layers_cli, place),
     CLI_SCAN_OPTIONS(layers_cli, scan),
+    CLI_COLOUR_MAP_OPTIONS(layers_cli, cmap),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("layers", k_local_opts, layers_cli);
 
@@ -166,7 +168,7 @@ static hv_status scan_model(const hv_layers_options *o, const layers_cli *c, hv_
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
     hv_scan_options sopt = {o->max_memory};
-    hv_status s = cli_scan_lut(&c->scan, NULL, &lut, &map); /* colours through the default profile */
+    hv_status s = cli_scan_lut(&c->scan, &c->cmap, &lut, &map); /* colours through --icc, --intent, --resins */
     if (s == HV_OK) s = hv_scan_load(o->model_name, &sopt, &scan);
     if (s == HV_OK) {
         cli_progress bar;
@@ -252,7 +254,7 @@ static hv_status scan_source(hv_layers_options *o, const layers_cli *c, const hv
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
     hv_scan_options sopt = {o->max_memory};
-    hv_status s = cli_scan_lut(&c->scan, NULL, &lut, &map); /* colours through the default profile */
+    hv_status s = cli_scan_lut(&c->scan, &c->cmap, &lut, &map); /* colours through --icc, --intent, --resins */
     if (s == HV_OK) s = hv_scan_load(o->model_name, &sopt, scan);
     if (s == HV_OK) s = hv_scan_source_open(*scan, &so->shape, o->mode == HV_LAYERS_MASK ? NULL : lut, map, src);
     if (s == HV_OK) {
@@ -365,6 +367,11 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (!o->model_name || !hv_scan_path_is_scan(o->model_name)) {
         int rc = cli_scan_refuse(args, "layers", "is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a "
                                                "DICOM directory)");
+        static const char *const colour[] = {"icc", "intent", "resins"};
+        for (int k = 0; k < 3 && rc < 0; ++k)
+            if (cli_given(args, colour[k]))
+                rc = cli_usage_error("layers", "%s is for a scanned volume's colour --lut (a model's colours were "
+                                               "mapped to resins when it was painted)", cli_spell(colour[k]));
         return rc >= 0 ? rc : run(o, c, NULL, args->quiet);
     }
     if (c->mesh) return cli_usage_error("layers", "--mesh is for models; a scanned volume is cut at its own iso-surface");
@@ -413,4 +420,4 @@ const cli_spec cmd_layers = {
     "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"
     "y0 + (r+0.5) sy; sy < 0: rows run down in y), and layers [{index, file, z_mm}] with z_mm\n"
     "the height of the cutting plane.\n",
-    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};
+    0, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, hv_colour_option_set};

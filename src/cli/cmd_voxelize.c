@@ -54,15 +54,6 @@ static hv_status add_colour(const hv_option *o, void *opts, const hv_opt_value *
     return HV_OK;
 }
 
-/* --icc, --intent, --resins: the colour map's own options (hv_colour_option_set), their help too. */
-static hv_status colour_map_option(const hv_option *o, void *opts, const hv_opt_value *v)
-{
-    vox_cli *c = opts;
-    return hv_option_set_value(hv_option_find(hv_colour_option_set(), o->key), &c->cmap, v);
-}
-
-#define COLOUR_MAP_OPTION(key_) {.key = key_, .kind = HV_OPT_CUSTOM, .parse = colour_map_option}
-
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(vox_cli, "MODEL.vdb", "the .vdb to write (atomically)", 0),
     {.key = "like", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(vox_cli, like), .meta = "MODEL.vdb",
@@ -85,9 +76,7 @@ static const hv_option k_local_opts[] = {
     {.key = "core", .kind = HV_OPT_STRING, .offset = offsetof(vox_cli, core), .meta = "RESIN|COLOUR",
      .help = "what lies deeper than the colour, and under uncoloured facets: a resin (one of the six, or "
              "another such as Agilus30) or a colour (default the white resin)"},
-    COLOUR_MAP_OPTION("icc"),
-    COLOUR_MAP_OPTION("intent"),
-    COLOUR_MAP_OPTION("resins"),
+    CLI_COLOUR_MAP_OPTIONS(vox_cli, cmap),
     HV_PLACEMENT_OPTIONS(vox_cli, place),
     CLI_SCAN_OPTIONS(vox_cli, scan),
 };

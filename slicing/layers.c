@@ -39,6 +39,7 @@ typedef struct worker {
 typedef struct job {
     const hv_layers_options *o;
     const hv_volume *model;
+    const hv_layers_source *src; /* the shape and materials from data at each pixel (a scan), or NULL */
     hv_solid *solid; /* the model's exact shape (hovox/solid.h), or the mesh given */
     char *shape_name; /* what the manifest calls the shape: the mesh given, else the recorded mesh's
                          name (a plain record) or its leaves' names joined by the tree's ops */
@@ -93,8 +94,10 @@ typedef struct job {
 static int uses_model(const hv_layers_options *o) { return o->mode != HV_LAYERS_MASK; }
 static int needs_object(const hv_layers_options *o)
 {
-    return uses_model(o) && (o->method == HV_LAYERS_DIRECT || o->compare);
+    return uses_model(o) && !o->source && (o->method == HV_LAYERS_DIRECT || o->compare);
 }
+/* the materials come from voxels (slabs, POI), not from a source at the pixels */
+static int uses_voxels(const job *J) { return uses_model(J->o) && !J->src; }
 
 static void job_free(job *J)
 {
@@ -157,7 +160,8 @@ static void worker_sizes(const job *J, uint64_t sz[WB_COUNT])
     uint64_t px = (uint64_t)J->W * (uint64_t)J->H, m = (uint64_t)J->m;
     memset(sz, 0, WB_COUNT * sizeof *sz);
     sz[WB_MASK] = sz[WB_OUT] = sz[WB_GRAY] = px;
-    if (!uses_model(J->o)) return;
+    if (J->src && uses_model(J->o)) sz[WB_FRAC] = px * m * 4;
+    if (!uses_voxels(J)) return;
     uint64_t vox = (uint64_t)J->vw * (uint64_t)J->vh;
     sz[WB_FRAC] = px * m * 4;                          /* fractions */
     sz[WB_XTMP] = (uint64_t)J->vh * (uint64_t)J->W * 4; /* the x pass */
@@ -241,16 +245,25 @@ static hv_status shape_name(job *J, const hv_volume *model, const hv_layers_opti
  * name for it, the uniform layer plan over its z box and the layer range [first, last). */
 static hv_status job_plan_shape(job *J, const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o)
 {
-    if (!mesh && !model) return hv_error_set(HV_ERR_INVALID, "layers: no model and no mesh");
-    if (uses_model(o) && !model)
-        return hv_error_set(HV_ERR_INVALID, "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
-                            o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
-    /* the shape: the model's own (issue 28), a mesh given only as an override that must match */
-    hv_status st = hv_solid_for_model(model, mesh, "layers", o->model_name, o->mesh_name, NULL, &J->solid);
-    if (st != HV_OK) return st;
-    hv_solid_bbox(J->solid, J->bbox_min, J->bbox_max);
-    if (mesh) mesh_warning(J);
-    if ((st = shape_name(J, model, o)) != HV_OK) return st;
+    hv_status st = HV_OK;
+    if (J->src) { /* a source brings its box and its name (a scan, issue 30) */
+        if (mesh || model) return hv_error_set(HV_ERR_INVALID, "layers: a source and a model or mesh");
+        memcpy(J->bbox_min, J->src->bbox_min, sizeof J->bbox_min);
+        memcpy(J->bbox_max, J->src->bbox_max, sizeof J->bbox_max);
+        if (J->src->name && !(J->shape_name = hv_strdup(J->src->name))) return HV_ERR_NOMEM;
+    } else {
+        if (!mesh && !model) return hv_error_set(HV_ERR_INVALID, "layers: no model and no mesh");
+        if (uses_model(o) && !model)
+            return hv_error_set(HV_ERR_INVALID,
+                                "layers: %s mode needs a graded model (only mask mode works from the mesh alone)",
+                                o->mode == HV_LAYERS_HALFTONE ? "halftone" : "fractions");
+        /* the shape: the model's own (issue 28), a mesh given only as an override that must match */
+        st = hv_solid_for_model(model, mesh, "layers", o->model_name, o->mesh_name, NULL, &J->solid);
+        if (st != HV_OK) return st;
+        hv_solid_bbox(J->solid, J->bbox_min, J->bbox_max);
+        if (mesh) mesh_warning(J);
+        if ((st = shape_name(J, model, o)) != HV_OK) return st;
+    }
     hv_slice_options_init(&J->sopt);
     J->sopt.close_gap = o->close_gap;
     st = hv_layer_plan_uniform(J->bbox_min[2], J->bbox_max[2], 0, o->layer_height, &J->plan);
@@ -342,6 +355,18 @@ static hv_status job_plan_materials(job *J, const hv_volume *model)
     }
     if (hv_volume_mask_count(model, J->occ_grid) == 0)
         return hv_error_set(HV_ERR_BAD_INPUT, "the model has no occupied voxel");
+    return HV_OK;
+}
+
+/* A source's material table (no grids: it gives the fractions at the pixels itself). */
+static hv_status job_plan_source_materials(job *J)
+{
+    if (!J->src->table) return hv_error_set(HV_ERR_INVALID, "layers: the source has no materials");
+    hv_status st = hv_material_table_clone(J->src->table, &J->table);
+    if (st != HV_OK) return st;
+    J->m = hv_material_count(J->table);
+    if (J->m < 1 || J->m > HV_MAX_MATERIALS)
+        return hv_error_set(HV_ERR_BAD_INPUT, "the source's material table holds %d materials", J->m);
     return HV_OK;
 }
 
@@ -443,8 +468,10 @@ static hv_status job_plan_memory(job *J, const hv_layers_options *o, const hv_la
     J->threads = pl && pl->tray ? 1 : HV_MAX(hv_threads(), 1);
     size_t count = J->last - J->first;
     uint64_t stats = (uint64_t)count * (uint64_t)(J->m * 16 + 56);
-    uint64_t fixed = stats;
-    if (uses_model(o)) {
+    uint64_t fixed = stats + (J->src ? J->src->memory : 0);
+    if (o->mode == HV_LAYERS_HALFTONE && J->src)
+        fixed += (uint64_t)HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ * 4;
+    if (uses_voxels(J)) {
         uint64_t weights = (uint64_t)J->ax.off[J->ax.n_out - 1] + (uint64_t)J->ax.len[J->ax.n_out - 1] +
                            (uint64_t)J->ay.off[J->ay.n_out - 1] + (uint64_t)J->ay.len[J->ay.n_out - 1];
         fixed += (uint64_t)HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ * 4 + weights * 8 +
@@ -474,13 +501,14 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     memset(J, 0, sizeof *J);
     J->o = o;
     J->model = model;
+    J->src = o->source;
     J->progress = progress;
     hv_status st = hv_layers_options_check(o);
     if (st == HV_OK) st = job_plan_shape(J, mesh, model, o);
     if (st == HV_OK) st = job_plan_grid(J, o, pl);
-    if (st == HV_OK && uses_model(o)) st = job_plan_materials(J, model);
+    if (st == HV_OK && uses_model(o)) st = J->src ? job_plan_source_materials(J) : job_plan_materials(J, model);
     if (st == HV_OK && model) st = job_plan_fit(J, model);
-    if (st == HV_OK && uses_model(o)) st = job_plan_window(J, o);
+    if (st == HV_OK && uses_voxels(J)) st = job_plan_window(J, o);
     if (st != HV_OK) return st;
     job_plan_palette(J, o);
     return job_plan_memory(J, o, pl);
@@ -584,7 +612,7 @@ static hv_status worker_ready(job *J, worker *w)
             w->next = hv_calloc(px * m, sizeof *w->next);
             ok = w->err && w->next;
         }
-        hv_accessor_init(&w->acc, J->model);
+        if (J->model) hv_accessor_init(&w->acc, J->model);
     }
     if (!ok) return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the buffers of a %d x %d layer", J->W, J->H);
     w->ready = 1;
@@ -884,13 +912,19 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
 {
     const hv_layer *L = &J->layers[index];
     size_t li = write ? index - J->first : SIZE_MAX;
-    hv_slice *slice = NULL;
-    hv_status st = hv_solid_slice(J->solid, L->z, &J->sopt, &slice);
-    if (st != HV_OK) return st;
-    st = hv_slice_rasterize(slice, &J->grid, J->o->fill_rule, J->o->threshold, w->mask, 0);
-    if (write) J->st_open[li] = hv_slice_get_stats(slice)->open;
-    hv_slice_destroy(slice);
-    if (st != HV_OK) return st;
+    hv_status st;
+    if (J->src) { /* the mask and the fractions at the pixel centres at once */
+        st = J->src->layer(J->src, L->z, &J->grid, w->mask, uses_model(J->o) ? w->frac : NULL, J->plane);
+        if (st != HV_OK) return st;
+    } else {
+        hv_slice *slice = NULL;
+        st = hv_solid_slice(J->solid, L->z, &J->sopt, &slice);
+        if (st != HV_OK) return st;
+        st = hv_slice_rasterize(slice, &J->grid, J->o->fill_rule, J->o->threshold, w->mask, 0);
+        if (write) J->st_open[li] = hv_slice_get_stats(slice)->open;
+        hv_slice_destroy(slice);
+        if (st != HV_OK) return st;
+    }
     /* bounding box of the object pixels */
     int r0 = J->H, r1 = -1, c0 = J->W, c1 = -1;
     uint64_t pixels = 0;
@@ -915,7 +949,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
         layer_file(J, path, sizeof path, NULL, index);
         return write_png(J, path, w->mask, 0);
     }
-    if (pixels) {
+    if (pixels && !J->src) {
         st = voxel_image(J, w, index, L->z);
         if (st != HV_OK) return st;
         resample_layer(J, w, r0, r1, c0, c1);
@@ -1031,7 +1065,8 @@ static json_t *manifest_doc(const job *J, const hv_layers_report *r)
     snprintf(gen, sizeof gen, "hovox %s", hv_version());
     int failed = hv_json_set(doc, "generator", json_string(gen));
     failed |= hv_json_set(doc, "mode", json_string(mode_name(o->mode)));
-    if (uses_model(o)) failed |= hv_json_set(doc, "method", json_string(o->method == HV_LAYERS_DIRECT ? "direct" : "resample"));
+    if (uses_model(o))
+        failed |= hv_json_set(doc, "method", json_string(o->method == HV_LAYERS_DIRECT || J->src ? "direct" : "resample"));
     if (o->mode == HV_LAYERS_HALFTONE) {
         failed |= hv_json_set(doc, "halftone",
                               json_string(o->halftone == HV_HALFTONE_ERROR_DIFFUSION ? "error-diffusion" : "blue-noise"));
@@ -1057,7 +1092,7 @@ static json_t *manifest_doc(const job *J, const hv_layers_report *r)
     failed |= hv_json_set(doc, "threshold_mm", hv_json_number(o->threshold));
     if (uses_model(o)) failed |= hv_json_set(doc, "poi_step", hv_json_number(o->poi_step));
     failed |= hv_json_set(doc, "mesh", name_or_null(o->mesh_name ? o->mesh_name : J->shape_name));
-    if (J->model) failed |= hv_json_set(doc, "model", name_or_null(o->model_name));
+    if (J->model || J->src) failed |= hv_json_set(doc, "model", name_or_null(o->model_name));
     failed |= hv_json_set(doc, "bbox_mm", json_pack("{s:o, s:o}", "min", hv_json_numbers(J->bbox_min, 3), "max",
                                                     hv_json_numbers(J->bbox_max, 3)));
     if (o->mode == HV_LAYERS_HALFTONE) {
@@ -1212,6 +1247,10 @@ static hv_status cost_range(void *ctx, size_t b, size_t e, int t)
     job *J = c->J;
     double px = J->grid.pixel[0] * -J->grid.pixel[1];
     for (size_t i = b; i < e; ++i) {
+        if (J->src) { /* no contours: every layer alike */
+            c->cost[i] = (double)J->plane;
+            continue;
+        }
         hv_slice *slice = NULL;
         hv_status st = hv_solid_slice(J->solid, J->layers[J->first + i].z, &J->sopt, &slice);
         if (st != HV_OK) return st;
@@ -1540,12 +1579,12 @@ static hv_status scratch_ready(hv_layers_scratch *s, size_t slot, const job *J)
     scratch_slabs *e = &s->slot[slot];
     if (e->owner != J) {
         slabs_free(e);
-        for (int i = 0; i < 2 && uses_model(J->o); ++i) {
+        for (int i = 0; i < 2 && uses_voxels(J); ++i) {
             e->occ[i] = hv_malloc((size_t)sz[WB_OCC0]);
             e->mat[i] = hv_malloc((size_t)sz[WB_MAT0]);
             if (!e->occ[i] || !e->mat[i]) return scratch_nomem(J);
         }
-        if (uses_model(J->o)) hv_accessor_init(&e->acc, J->model);
+        if (uses_voxels(J)) hv_accessor_init(&e->acc, J->model);
         e->owner = J;
     }
     worker_point(&s->w, s->buf);

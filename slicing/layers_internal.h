@@ -88,6 +88,22 @@ void hv_halftone_diffuse_start(const float *frac, int m, int w, int h, const uin
  * hovox"), HV_ERR_NOMEM. */
 hv_status hv_stack_manifest_check(const char *text, size_t size);
 
+/* ---- a source in place of a model (issue 30) ------------------------------------------------
+ * The shape and the materials evaluated straight at the printer's pixel centres, layer by layer,
+ * with no model: a scanned volume printed from its data (slicing/scan_source.c). The job takes
+ * its box, materials and name from it; per layer `layer` fills the object mask (W*H bytes, 1 =
+ * object, every byte written) and, when frac is not NULL, the materials' fractions at the object
+ * pixels (m planes of `plane` floats). Called from several threads at once. */
+typedef struct hv_layers_source {
+    double bbox_min[3], bbox_max[3]; /* the shape's box (mm) */
+    const hv_material_table *table;  /* its materials (NULL: mask only) */
+    const char *name;                /* the shape's name in the manifest */
+    uint64_t memory;                 /* bytes it holds (the data) */
+    hv_status (*layer)(const struct hv_layers_source *src, double z, const hv_raster_grid *grid, uint8_t *mask,
+                       float *frac, size_t plane);
+    void *user;
+} hv_layers_source;
+
 /* ---- parts on a plate (trays) ---------------------------------------------------------------- */
 
 /* Where a part's image sits: the centre of its mesh's xy box at (x, y) mm on a plate whose far

@@ -229,6 +229,9 @@ typedef struct hv_layers_options {
     void *finish_user;
     hv_stack_manifest_fn manifest; /* adds to manifest.json (colour, scan data source); NULL: none */
     void *manifest_user;
+    const struct hv_layers_source *source; /* the shape and materials straight from data at every
+                                      pixel (a scanned volume, slicing/layers_internal.h) instead of
+                                      a model and its shape; NULL: the model */
 } hv_layers_options;
 
 /* Defaults as noted above; dpi and layer height from the j750 profile. */

@@ -16,6 +16,7 @@
 #include "hovox/material.h"
 #include "hovox/threemf.h"
 #include "scan_opts.h"
+#include "slicing/scan_source.h"
 
 typedef struct layers_cli {
     const char *output, *mesh;
@@ -96,6 +97,7 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
                    const hv_volume *model, const hv_colour_skin *sk)
 {
     if (mesh) printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
+    else if (o->source) printf("shape       the data of %s at every pixel (no model)\n", o->model_name);
     else printf("shape       the one %s records\n", o->model_name);
     char placed[1024];
     if (hv_placement_given(&c->place))
@@ -103,6 +105,8 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
     hv_material_table *t = NULL;
     if (model && hv_material_table_load(model, &t) == HV_OK)
         printf("model       %s (%d materials)\n", o->model_name, hv_material_count(t));
+    else if (hv_layers_source_table(o->source) && hv_material_table_clone(hv_layers_source_table(o->source), &t) != HV_OK)
+        t = NULL;
     print_plan(r, o);
     if (o->mode != HV_LAYERS_MASK && t) {
         int w = 9; /* the names' column, as wide as the longest name */
@@ -161,14 +165,49 @@ static hv_status scan_model(const hv_layers_options *o, const layers_cli *c, hv_
     return s;
 }
 
+/* A scan printed straight from its data (issue 30 item 4): no model, the shape and the table's
+ * materials evaluated at every printer pixel (slicing/scan_source.c). Needs no whole-volume
+ * clean-up (--keep-largest, --fill-holes, --min-feature make the model first). */
+static int scan_direct(const hv_layers_options *o, const hv_scan_voxelize_options *so)
+{
+    return !so->keep_largest && !so->fill_holes && so->min_feature == 0 && o->threshold == 0 &&
+           o->method == HV_LAYERS_RESAMPLE && !o->compare;
+}
+
+static hv_status scan_source(hv_layers_options *o, const layers_cli *c, const hv_scan_voxelize_options *so,
+                             hv_scan **scan, hv_scan_source **src, hv_buf *said)
+{
+    hv_lut *lut = NULL;
+    hv_colour_map *map = NULL;
+    hv_scan_options sopt = {o->max_memory};
+    hv_status s = cli_scan_lut(&c->scan, NULL, &lut, &map); /* colours through the default profile */
+    if (s == HV_OK) s = hv_scan_load(o->model_name, &sopt, scan);
+    if (s == HV_OK) s = hv_scan_source_open(*scan, &so->shape, o->mode == HV_LAYERS_MASK ? NULL : lut, map, src);
+    if (s == HV_OK) {
+        o->source = hv_scan_source_layers(*src);
+        size_t d[3];
+        hv_scan_dims(*scan, d);
+        hv_buf_printf(said, "volume      %s (%s, %zu x %zu x %zu samples)\n", o->model_name,
+                      hv_scan_get_info(*scan)->format_name, d[0], d[1], d[2]);
+        if (lut) cli_scan_describe_lut(said, c->scan.lut, lut, map);
+    }
+    hv_lut_destroy(lut);
+    hv_colour_map_destroy(map);
+    return s;
+}
+
 static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_options *so, int quiet)
 {
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
+    hv_scan *scan = NULL;
+    hv_scan_source *src = NULL;
     hv_status s;
     hv_buf said; /* what making a scan's model has to say, printed when the job succeeds */
     hv_buf_init(&said);
-    if (so) {
+    if (so && scan_direct(o, so)) {
+        s = scan_source(o, c, so, &scan, &src, &said);
+    } else if (so) {
         s = scan_model(o, c, so, quiet, &model, &said);
     } else if (!c->mesh && hv_3mf_sniff(o->model_name)) { /* a 3MF Volumetric model: its mesh and its model in one read */
         s = hv_3mf_load(o->model_name, &model, &mesh);
@@ -223,6 +262,9 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
     hv_buf_free(&said);
     hv_volume_destroy(model);
     hv_mesh_destroy(mesh);
+    o->source = NULL;
+    hv_scan_source_close(src);
+    hv_scan_destroy(scan);
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 
@@ -274,9 +316,12 @@ const cli_spec cmd_layers = {
     "weights, in steps of at most --poi-step) -- or, with --method direct, the grading\n"
     "definition evaluated at every pixel centre.\n"
     "A scanned volume (NIfTI, NRRD, MetaImage, a DICOM series directory) prints straight from its\n"
-    "data: its model is made in memory as 'hovox voxelize VOLUME --lut' makes it (voxels of the\n"
-    "smallest sample spacing), the contours are marching squares on the interpolated field at\n"
-    "printer resolution, the materials the lookup table's at the voxels, resampled as above.\n",
+    "data, with no model: at every printer pixel centre of a layer the samples are interpolated\n"
+    "trilinearly, the pixel is object where the shape's test holds (--iso, --range, --labels) and\n"
+    "its materials are the lookup table's at the interpolated value. With --keep-largest,\n"
+    "--fill-holes or --min-feature (which need the whole volume), --threshold, --method direct or\n"
+    "--compare, its model is made in memory as 'hovox voxelize VOLUME --lut' makes it and cut as\n"
+    "above (marching squares on the interpolated field, materials resampled from the voxels).\n",
     hv_layers_option_set, &k_local,
     "DIR/manifest.json: profile, dpi, layer height, materials with palette colours, pixel_mm\n"
     "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"

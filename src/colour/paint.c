@@ -1,8 +1,9 @@
 /* src/colour/paint.c - colour carried into the part (issue 29, item 1): every occupied voxel within
  * `depth` of the surface takes the colour of its nearest point on the mesh (exact point-triangle
- * distance, Ericson, Real-Time Collision Detection 5.1.5, over a uniform grid of triangle bins of
- * cell size >= depth, so the 27 cells around a voxel hold every triangle within depth), turned into
- * the six resin fractions by the colour map; deeper voxels take the core (a resin, or a colour). */
+ * distance, Ericson, Real-Time Collision Detection 5.1.5, found through a bounding volume hierarchy
+ * of the facets, Ericson 6.2, searched from the last voxel's facet), turned into the six resin
+ * fractions by the colour map (cached per distinct colour); deeper voxels take the core (a resin,
+ * or a colour). Voxels are painted in parallel; the result does not depend on the threads. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -59,106 +60,193 @@ static void closest_on_triangle(const double p[3], const double a[3], const doub
     bary[2] = w;
 }
 
-typedef struct bins {
-    double lo[3], cell;
-    int64_t n[3];
-    uint32_t *start; /* n0*n1*n2 + 1 */
-    uint32_t *tri;
-} bins;
+/* A bounding volume hierarchy over the facets (median split of centroids along the longest
+ * axis, leaves of up to 4 facets), each facet's corners copied as doubles in leaf order. */
+typedef struct bvh_node {
+    double lo[3], hi[3];
+    uint32_t first, count; /* a leaf: facets first..first+count-1; else count 0, children first, first+1 */
+} bvh_node;
 
-static int64_t cell_of(const bins *g, double x, int a)
+typedef struct bvh {
+    bvh_node *node;
+    size_t nnode;
+    uint32_t *facet; /* leaf order -> mesh facet */
+    double *corner;  /* 9 per leaf-order facet */
+} bvh;
+
+enum { BVH_LEAF = 4, BVH_DEPTH = 64 };
+
+static void bvh_free(bvh *b)
 {
-    int64_t c = (int64_t)floor((x - g->lo[a]) / g->cell);
-    return c < 0 ? 0 : c >= g->n[a] ? g->n[a] - 1 : c;
+    free(b->node);
+    free(b->facet);
+    free(b->corner);
 }
 
-/* Every triangle in each cell its bounding box touches (counting sort). */
-static hv_status bins_build(bins *g, const hv_mesh *m, double cell)
+/* Partition ids[lo..hi) so the k-th smallest centroid coordinate on axis a sits at k (quickselect). */
+static void select_kth(uint32_t *ids, const float *cen, int a, size_t lo, size_t hi, size_t k)
 {
-    const hv_mesh_report *r = hv_mesh_get_report(m);
+    while (hi - lo > 1) {
+        float pivot = cen[3 * (size_t)ids[lo + (hi - lo) / 2] + (size_t)a];
+        size_t i = lo, j = hi - 1;
+        while (i <= j) {
+            while (cen[3 * (size_t)ids[i] + (size_t)a] < pivot) ++i;
+            while (cen[3 * (size_t)ids[j] + (size_t)a] > pivot) --j;
+            if (i <= j) {
+                uint32_t t = ids[i];
+                ids[i] = ids[j];
+                ids[j] = t;
+                ++i;
+                if (j == 0) break;
+                --j;
+            }
+        }
+        if (k <= j) hi = j + 1;
+        else if (k >= i) lo = i;
+        else return;
+    }
+}
+
+static hv_status bvh_build(bvh *b, const hv_mesh *m)
+{
     size_t nf = hv_mesh_facet_count(m);
     const float *v = hv_mesh_vertices(m);
     const uint32_t *t = hv_mesh_facets(m);
-    g->cell = cell;
-    for (int a = 0; a < 3; ++a) {
-        g->lo[a] = r->bbox_min[a];
-        g->n[a] = (int64_t)ceil((r->bbox_max[a] - r->bbox_min[a]) / cell) + 1;
-        if (g->n[a] > 1024) { /* a coarser grid for large parts: still exact, slower */
-            g->cell = (r->bbox_max[a] - r->bbox_min[a]) / 1023;
-        }
+    memset(b, 0, sizeof *b);
+    if (nf == 0) return HV_OK;
+    float *cen = hv_malloc_array(nf, 3 * sizeof *cen);
+    b->facet = hv_malloc_array(nf, sizeof *b->facet);
+    b->node = hv_malloc_array(2 * nf, sizeof *b->node);
+    b->corner = hv_malloc_array(nf, 9 * sizeof *b->corner);
+    if (!cen || !b->facet || !b->node || !b->corner) {
+        free(cen);
+        return HV_ERR_NOMEM;
     }
-    for (int a = 0; a < 3; ++a) g->n[a] = (int64_t)ceil((r->bbox_max[a] - r->bbox_min[a]) / g->cell) + 1;
-    size_t ncell = (size_t)(g->n[0] * g->n[1] * g->n[2]);
-    g->start = hv_calloc(ncell + 1, sizeof *g->start);
-    if (!g->start) return HV_ERR_NOMEM;
-    for (int pass = 0; pass < 2; ++pass) {
-        for (size_t f = 0; f < nf; ++f) {
-            int64_t lo[3], hi[3];
+    for (size_t f = 0; f < nf; ++f) {
+        b->facet[f] = (uint32_t)f;
+        for (int a = 0; a < 3; ++a)
+            cen[3 * f + (size_t)a] = (v[3 * (size_t)t[3 * f] + (size_t)a] + v[3 * (size_t)t[3 * f + 1] + (size_t)a] +
+                                      v[3 * (size_t)t[3 * f + 2] + (size_t)a]) / 3.0f;
+    }
+    /* nodes in preorder-ish: a node's two children are made together, so they sit side by side */
+    struct { size_t node, lo, hi; } stack[BVH_DEPTH * 2 + 2];
+    int top = 0;
+    b->nnode = 1;
+    stack[top].node = 0;
+    stack[top].lo = 0;
+    stack[top++].hi = nf;
+    while (top > 0) {
+        --top;
+        size_t ni = stack[top].node, lo = stack[top].lo, hi = stack[top].hi;
+        bvh_node *n = &b->node[ni];
+        double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int a = 0; a < 3; ++a) {
+            n->lo[a] = INFINITY;
+            n->hi[a] = -INFINITY;
+        }
+        for (size_t q = lo; q < hi; ++q) {
+            size_t f = b->facet[q];
             for (int a = 0; a < 3; ++a) {
-                double mn = INFINITY, mx = -INFINITY;
                 for (int k = 0; k < 3; ++k) {
                     double x = v[3 * (size_t)t[3 * f + (size_t)k] + (size_t)a];
-                    mn = x < mn ? x : mn;
-                    mx = x > mx ? x : mx;
+                    n->lo[a] = x < n->lo[a] ? x : n->lo[a];
+                    n->hi[a] = x > n->hi[a] ? x : n->hi[a];
                 }
-                lo[a] = cell_of(g, mn, a);
-                hi[a] = cell_of(g, mx, a);
+                double c = cen[3 * f + (size_t)a];
+                clo[a] = c < clo[a] ? c : clo[a];
+                chi[a] = c > chi[a] ? c : chi[a];
             }
-            for (int64_t i = lo[0]; i <= hi[0]; ++i)
-                for (int64_t j = lo[1]; j <= hi[1]; ++j)
-                    for (int64_t k = lo[2]; k <= hi[2]; ++k) {
-                        size_t c = (size_t)((i * g->n[1] + j) * g->n[2] + k);
-                        if (pass == 0) g->start[c + 1]++;
-                        else g->tri[g->start[c]++] = (uint32_t)f;
-                    }
         }
-        if (pass == 0) {
-            for (size_t c = 0; c < ncell; ++c) g->start[c + 1] += g->start[c];
-            g->tri = hv_malloc_array(g->start[ncell] ? g->start[ncell] : 1, sizeof *g->tri);
-            if (!g->tri) return HV_ERR_NOMEM;
-        } else {
-            for (size_t c = ncell; c > 0; --c) g->start[c] = g->start[c - 1];
-            g->start[0] = 0;
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (chi[a] - clo[a] > chi[axis] - clo[axis]) axis = a;
+        /* a leaf when small, or when the centroids cannot be told apart, or the stack would overflow */
+        if (hi - lo <= BVH_LEAF || !(chi[axis] > clo[axis]) || top >= BVH_DEPTH * 2) {
+            n->first = (uint32_t)lo;
+            n->count = (uint32_t)(hi - lo);
+            continue;
         }
+        size_t mid = lo + (hi - lo) / 2;
+        select_kth(b->facet, cen, axis, lo, hi, mid);
+        n->first = (uint32_t)b->nnode;
+        n->count = 0;
+        b->nnode += 2;
+        stack[top].node = n->first;
+        stack[top].lo = lo;
+        stack[top++].hi = mid;
+        stack[top].node = n->first + 1u;
+        stack[top].lo = mid;
+        stack[top++].hi = hi;
     }
+    free(cen);
+    for (size_t q = 0; q < nf; ++q)
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a)
+                b->corner[9 * q + (size_t)(3 * k + a)] = v[3 * (size_t)t[3 * (size_t)b->facet[q] + (size_t)k] + (size_t)a];
     return HV_OK;
 }
 
-/* The nearest point of the mesh to p among the triangles of the 27 cells around p: its facet and
- * weights; returns the distance (INFINITY when no triangle is there). */
-static double nearest(const bins *g, const hv_mesh *m, const double p[3], size_t *facet, double bary[3])
+static double box_d2(const bvh_node *n, const double p[3])
 {
-    const float *v = hv_mesh_vertices(m);
-    const uint32_t *t = hv_mesh_facets(m);
-    int64_t c[3];
+    double d2 = 0;
     for (int a = 0; a < 3; ++a) {
-        double x = floor((p[a] - g->lo[a]) / g->cell);
-        c[a] = (int64_t)x;
+        double e = p[a] < n->lo[a] ? n->lo[a] - p[a] : p[a] > n->hi[a] ? p[a] - n->hi[a] : 0;
+        d2 += e * e;
     }
-    double best = INFINITY;
-    for (int64_t i = c[0] - 1; i <= c[0] + 1; ++i)
-        for (int64_t j = c[1] - 1; j <= c[1] + 1; ++j)
-            for (int64_t k = c[2] - 1; k <= c[2] + 1; ++k) {
-                if (i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] || k >= g->n[2]) continue;
-                size_t cell = (size_t)((i * g->n[1] + j) * g->n[2] + k);
-                for (uint32_t q = g->start[cell]; q < g->start[cell + 1]; ++q) {
-                    size_t f = g->tri[q];
-                    double a[3], b[3], cc[3], x[3], w[3];
-                    for (int d = 0; d < 3; ++d) {
-                        a[d] = v[3 * (size_t)t[3 * f] + (size_t)d];
-                        b[d] = v[3 * (size_t)t[3 * f + 1] + (size_t)d];
-                        cc[d] = v[3 * (size_t)t[3 * f + 2] + (size_t)d];
-                    }
-                    closest_on_triangle(p, a, b, cc, x, w);
-                    double d2 = (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]);
-                    if (d2 < best) {
-                        best = d2;
-                        *facet = f;
-                        memcpy(bary, w, sizeof w);
-                    }
-                }
-            }
-    return sqrt(best);
+    return d2;
+}
+
+typedef struct hit {
+    double d2;     /* squared distance; the bound while searching */
+    size_t q;      /* leaf-order facet, SIZE_MAX for none */
+    double bary[3];
+} hit;
+
+/* Facet q (leaf order) against p: kept when nearer, or as near with a smaller mesh facet number,
+ * so the answer is the minimum of (distance, facet) whatever the order facets were tried in. */
+static void try_facet(const bvh *b, size_t q, const double p[3], hit *h)
+{
+    const double *c = b->corner + 9 * q;
+    double x[3], w[3];
+    closest_on_triangle(p, c, c + 3, c + 6, x, w);
+    double d2 = (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]);
+    if (d2 < h->d2 || (d2 == h->d2 && (h->q == SIZE_MAX || b->facet[q] < b->facet[h->q]))) {
+        h->d2 = d2;
+        h->q = q;
+        memcpy(h->bary, w, sizeof w);
+    }
+}
+
+/* The nearest facet to p no farther than sqrt(h->d2) (h->q SIZE_MAX: none); `guess` (a facet near
+ * the last voxel, or SIZE_MAX) tightens the bound first. Boxes farther than the bound are skipped;
+ * as near are kept, so ties resolve by try_facet's rule. */
+static void bvh_nearest(const bvh *b, const double p[3], size_t guess, hit *h)
+{
+    if (b->nnode == 0) return;
+    if (guess != SIZE_MAX) try_facet(b, guess, p, h);
+    uint32_t stack[BVH_DEPTH * 2 + 4];
+    int top = 0;
+    if (box_d2(&b->node[0], p) > h->d2) return;
+    stack[top++] = 0;
+    while (top > 0) {
+        const bvh_node *n = &b->node[stack[--top]];
+        if (n->count) {
+            for (uint32_t q = n->first; q < n->first + n->count; ++q)
+                if (q != guess) try_facet(b, q, p, h);
+            continue;
+        }
+        double dl = box_d2(&b->node[n->first], p), dr = box_d2(&b->node[n->first + 1], p);
+        uint32_t near = n->first, far = n->first + 1;
+        if (dr < dl) {
+            double t = dl;
+            dl = dr;
+            dr = t;
+            near = n->first + 1;
+            far = n->first;
+        }
+        if (dr <= h->d2) stack[top++] = far;
+        if (dl <= h->d2) stack[top++] = near;
+    }
 }
 
 /* What painting used, for the manifest's dE2000 with the same profile (hv_colour_map_for_model). */
@@ -188,6 +276,68 @@ static hv_status record(hv_volume *vol, const hv_colour_map *map, double depth, 
     return s;
 }
 
+/* A thread's cache in front of the map's (which locks): the last fractions of each of 1024
+ * colour slots, so a texture's texels convert once and most look-ups take no lock. */
+enum { FRONT = 1024 };
+typedef struct front {
+    uint32_t key[FRONT]; /* the rgba bytes; valid[] says whether the slot holds one */
+    uint8_t valid[FRONT];
+    float f[FRONT][HV_COLOUR_SLOTS];
+} front;
+
+typedef struct paint_job {
+    const bvh *tree;
+    const hv_mesh *mesh;
+    hv_colour_map *map;
+    const double *xyz;
+    size_t n;
+    double depth2;
+    int nmat, core_slot;
+    const float *core_rgba, *corefr;
+    float *val;
+    front *cache; /* one per thread */
+} paint_job;
+
+static void fractions(front *c, hv_colour_map *map, const uint8_t c8[4], float out[HV_COLOUR_SLOTS])
+{
+    uint32_t key = (uint32_t)c8[0] << 24 | (uint32_t)c8[1] << 16 | (uint32_t)c8[2] << 8 | c8[3];
+    size_t j = (size_t)((key * 2654435761u) >> 22) & (FRONT - 1);
+    if (!c->valid[j] || c->key[j] != key) {
+        hv_colour_map_fractions(map, c8, c->f[j]);
+        c->key[j] = key;
+        c->valid[j] = 1;
+    }
+    memcpy(out, c->f[j], sizeof c->f[j]);
+}
+
+static hv_status paint_range(void *ctx, size_t begin, size_t end, int thread)
+{
+    const paint_job *J = ctx;
+    size_t guess = SIZE_MAX, n = J->n;
+    for (size_t i = begin; i < end; ++i) {
+        float fr[HV_COLOUR_SLOTS + 1] = {0}, rgba[4], want[4] = {0, 0, 0, 0};
+        hit h = {J->depth2, SIZE_MAX, {0, 0, 0}};
+        bvh_nearest(J->tree, J->xyz + 3 * i, guess, &h);
+        if (h.q != SIZE_MAX) guess = h.q;
+        if (h.q != SIZE_MAX && hv_mesh_colour_at(J->mesh, J->tree->facet[h.q], h.bary, rgba)) {
+            uint8_t c8[4];
+            for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(rgba[k] * 255.0f);
+            fractions(&J->cache[thread], J->map, c8, fr);
+            for (int k = 0; k < 3; ++k) want[k] = c8[k] / 255.0f;
+            want[3] = 1;
+        } else if (J->core_rgba) {
+            memcpy(fr, J->corefr, HV_COLOUR_SLOTS * sizeof *fr);
+            memcpy(want, J->core_rgba, 3 * sizeof *want);
+            want[3] = 1;
+        } else {
+            fr[J->core_slot >= 0 ? J->core_slot : HV_COLOUR_SLOTS] = 1;
+        }
+        for (int k = 0; k < J->nmat; ++k) J->val[(size_t)k * n + i] = fr[k];
+        for (int k = 0; k < 4; ++k) J->val[(size_t)(J->nmat + k) * n + i] = want[k];
+    }
+    return HV_OK;
+}
+
 hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *map, double depth, const char *core,
                           const float *core_rgba)
 {
@@ -195,18 +345,20 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
     if (!core && !core_rgba) return hv_error_set(HV_ERR_INVALID, "colour paint: no core resin or colour");
     double *xyz = NULL;
     size_t n = 0;
+    float *val = NULL;
+    front *cache = NULL;
     hv_status s = hv_volume_centres(vol, "occupancy", &xyz, &n);
     if (s != HV_OK) return s;
-    bins g;
-    memset(&g, 0, sizeof g);
-    if ((s = bins_build(&g, mesh, depth)) != HV_OK) goto done;
+    bvh tree;
+    if ((s = bvh_build(&tree, mesh)) != HV_OK) goto done;
     int core_slot = -1; /* core a resin among the six */
     for (int k = 0; core && k < HV_COLOUR_SLOTS; ++k)
         if (strcmp(core, hv_colour_map_resin(map, k)) == 0) core_slot = k;
     int nmat = HV_COLOUR_SLOTS + (core && core_slot < 0 ? 1 : 0);
     /* the fractions, then the requested colour: r, g, b and the mask of voxels that have one */
-    float *val = hv_malloc_array(n, (size_t)(nmat + 4) * sizeof *val);
-    if (!val) {
+    val = hv_malloc_array(n ? n : 1, (size_t)(nmat + 4) * sizeof *val);
+    cache = hv_calloc((size_t)hv_threads(), sizeof *cache);
+    if (!val || !cache) {
         s = HV_ERR_NOMEM;
         goto done;
     }
@@ -216,27 +368,9 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
         for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(core_rgba[k] * 255.0f);
         hv_colour_map_fractions(map, c8, corefr);
     }
-    for (size_t i = 0; i < n; ++i) {
-        size_t f = 0;
-        double bary[3];
-        float fr[HV_COLOUR_SLOTS + 1] = {0}, rgba[4], want[4] = {0, 0, 0, 0};
-        double d = nearest(&g, mesh, xyz + 3 * i, &f, bary);
-        if (d <= depth && hv_mesh_colour_at(mesh, f, bary, rgba)) {
-            uint8_t c8[4];
-            for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(rgba[k] * 255.0f);
-            hv_colour_map_fractions(map, c8, fr);
-            for (int k = 0; k < 3; ++k) want[k] = c8[k] / 255.0f;
-            want[3] = 1;
-        } else if (core_rgba) {
-            memcpy(fr, corefr, sizeof corefr);
-            memcpy(want, core_rgba, 3 * sizeof *want);
-            want[3] = 1;
-        } else {
-            fr[core_slot >= 0 ? core_slot : HV_COLOUR_SLOTS] = 1;
-        }
-        for (int k = 0; k < nmat; ++k) val[(size_t)k * n + i] = fr[k];
-        for (int k = 0; k < 4; ++k) val[(size_t)(nmat + k) * n + i] = want[k];
-    }
+    paint_job job = {&tree, mesh, map, xyz, n, depth * depth, nmat, core_slot, core_rgba, corefr, val, cache};
+    /* voxels come in leaf order, so a chunk is a compact block and the last voxel's facet a close bound */
+    if (n && (s = hv_parallel_for(n, 4096, paint_range, &job, NULL, NULL)) != HV_OK) goto done;
     /* display colours of slots whose resins the resin table does not know (it colours the J750's) */
     static const float k_show[HV_COLOUR_SLOTS][4] = {{0, 0.6f, 0.9f, 1}, {0.9f, 0, 0.5f, 1}, {1, 0.9f, 0, 1},
                                                       {0.1f, 0.1f, 0.1f, 1}, {1, 1, 1, 1}, {0.8f, 0.9f, 1, 0.3f}};
@@ -256,10 +390,10 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
     if (s == HV_OK) s = hv_material_table_store(vol, tab);
     if (s == HV_OK) s = record(vol, map, depth, core, core_rgba);
     hv_material_table_destroy(tab);
-    free(val);
 done:
-    free(g.start);
-    free(g.tri);
+    free(val);
+    free(cache);
+    bvh_free(&tree);
     free(xyz);
     return s;
 }

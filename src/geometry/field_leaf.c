@@ -31,42 +31,6 @@ static void field_close(void *state)
     free(f);
 }
 
-/* The box of the inside in world coordinates: every sample with g >= 0 and, toward each outside
- * neighbour, the point where the field crosses (edge crossings), each taken through the affine (so
- * a rotated grid gives the box of the shape, not of its index box turned). */
-static void inside_box(field_leaf *f)
-{
-    const hv_scan *s = f->scan;
-    int64_t n[3] = {(int64_t)s->dims[0], (int64_t)s->dims[1], (int64_t)s->dims[2]};
-    for (int r = 0; r < 3; ++r) f->lo[r] = INFINITY, f->hi[r] = -INFINITY;
-    for (int64_t k = 0; k < n[2]; ++k)
-        for (int64_t j = 0; j < n[1]; ++j)
-            for (int64_t i = 0; i < n[0]; ++i) {
-                double idx[3] = {(double)i, (double)j, (double)k};
-                double g = hv_scan_level_at_index(&f->lv, idx);
-                if (g < 0) continue;
-                for (int a = 0; a < 3; ++a) {
-                    for (int dir = -1; dir <= 1; dir += 2) {
-                        double e[3] = {idx[0], idx[1], idx[2]};
-                        e[a] += dir;
-                        double ge = e[a] < 0 || e[a] > (double)(n[a] - 1) ? -INFINITY : hv_scan_level_at_index(&f->lv, e);
-                        double reach = ge >= 0 ? 1.0 : isinf(ge) ? 0.5 : g / (g - ge);
-                        double x[3] = {idx[0], idx[1], idx[2]};
-                        x[a] += dir * reach;
-                        for (int r = 0; r < 3; ++r) {
-                            double w = s->m[4 * r] * x[0] + s->m[4 * r + 1] * x[1] + s->m[4 * r + 2] * x[2] + s->m[4 * r + 3];
-                            f->lo[r] = fmin(f->lo[r], w);
-                            f->hi[r] = fmax(f->hi[r], w);
-                        }
-                    }
-                }
-            }
-    if (!(f->lo[0] <= f->hi[0])) { /* empty */
-        memset(f->lo, 0, sizeof f->lo);
-        memset(f->hi, 0, sizeof f->hi);
-    }
-}
-
 static hv_status field_open(const hv_geometry *g, size_t i, const hv_progress *progress, void **state)
 {
     (void)progress;
@@ -86,7 +50,11 @@ static hv_status field_open(const hv_geometry *g, size_t i, const hv_progress *p
     char axes[4];
     hv_scan_geometry(f->scan, sp, axes, lo, hi);
     f->h = fmin(sp[0], fmin(sp[1], sp[2])) / 2;
-    inside_box(f);
+    st = hv_scan_inside_box(&f->lv, f->lo, f->hi);
+    if (st != HV_OK) {
+        field_close(f);
+        return st;
+    }
     *state = f;
     return HV_OK;
 }

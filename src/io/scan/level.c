@@ -133,3 +133,83 @@ void hv_scan_level_box(const hv_scan_level *lv, double lo[3], double hi[3])
     char axes[4];
     hv_scan_geometry(lv->scan, sp, axes, lo, hi);
 }
+
+/* ---- the inside's box ------------------------------------------------------------------------ */
+
+/* g at sample (i, j, k): the sample's own level (trilinear interpolation at a sample centre is the
+ * sample), through the interpolation itself on the last sample of an axis, where it weighs the
+ * last two samples by 0 and 1. */
+static inline double level_at_sample(const hv_scan_level *lv, int64_t i, int64_t j, int64_t k)
+{
+    if (i == lv->n[0] - 1 || j == lv->n[1] - 1 || k == lv->n[2] - 1) {
+        double idx[3] = {(double)i, (double)j, (double)k};
+        return hv_scan_level_at_index(lv, idx);
+    }
+    float v = lv->scan->data[(size_t)i + (size_t)lv->n[0] * ((size_t)j + (size_t)lv->n[1] * (size_t)k)];
+    return to_level(lv, lv->shape.select == HV_SCAN_SELECT_LABELS ? member(lv, v) : (double)v);
+}
+
+typedef struct box_ctx {
+    const hv_scan_level *lv;
+    double *box; /* 6 per k: lo[3], hi[3] */
+} box_ctx;
+
+/* Samples of layers k in [b, e): every inside sample toward each outside neighbour, the point
+ * where the field crosses (half a sample beyond the last sample of the data), through the affine.
+ * Toward an inside neighbour the point would be that neighbour, which lies between its own
+ * crossings: those bound the box already. */
+static hv_status box_range(void *vctx, size_t b, size_t e, int thread)
+{
+    (void)thread;
+    box_ctx *c = vctx;
+    const hv_scan_level *lv = c->lv;
+    const int64_t *n = lv->n;
+    const double *m = lv->scan->m;
+    for (size_t kk = b; kk < e; ++kk) {
+        int64_t k = (int64_t)kk;
+        double *lo = c->box + 6 * kk, *hi = lo + 3;
+        for (int r = 0; r < 3; ++r) lo[r] = INFINITY, hi[r] = -INFINITY;
+        for (int64_t j = 0; j < n[1]; ++j)
+            for (int64_t i = 0; i < n[0]; ++i) {
+                double g = level_at_sample(lv, i, j, k);
+                if (g < 0) continue;
+                int64_t at[3] = {i, j, k};
+                for (int a = 0; a < 3; ++a)
+                    for (int dir = -1; dir <= 1; dir += 2) {
+                        int64_t q[3] = {i, j, k};
+                        q[a] += dir;
+                        double ge = q[a] < 0 || q[a] > n[a] - 1 ? -INFINITY : level_at_sample(lv, q[0], q[1], q[2]);
+                        if (ge >= 0) continue;
+                        double reach = isinf(ge) ? 0.5 : g / (g - ge);
+                        double x[3] = {(double)at[0], (double)at[1], (double)at[2]};
+                        x[a] += dir * reach;
+                        for (int r = 0; r < 3; ++r) {
+                            double w = m[4 * r] * x[0] + m[4 * r + 1] * x[1] + m[4 * r + 2] * x[2] + m[4 * r + 3];
+                            lo[r] = fmin(lo[r], w);
+                            hi[r] = fmax(hi[r], w);
+                        }
+                    }
+            }
+    }
+    return HV_OK;
+}
+
+hv_status hv_scan_inside_box(const hv_scan_level *lv, double lo[3], double hi[3])
+{
+    for (int r = 0; r < 3; ++r) lo[r] = INFINITY, hi[r] = -INFINITY;
+    size_t nk = (size_t)lv->n[2];
+    box_ctx c = {lv, hv_malloc_array(nk, 6 * sizeof(double))};
+    if (!c.box) return HV_ERR_NOMEM;
+    hv_status st = hv_parallel_for(nk, 1, box_range, &c, NULL, "box");
+    for (size_t k = 0; k < nk && st == HV_OK; ++k)
+        for (int r = 0; r < 3; ++r) {
+            lo[r] = fmin(lo[r], c.box[6 * k + r]);
+            hi[r] = fmax(hi[r], c.box[6 * k + 3 + r]);
+        }
+    free(c.box);
+    if (st == HV_OK && !(lo[0] <= hi[0])) { /* empty */
+        memset(lo, 0, 3 * sizeof *lo);
+        memset(hi, 0, 3 * sizeof *hi);
+    }
+    return st;
+}

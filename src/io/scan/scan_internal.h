@@ -118,6 +118,12 @@ void hv_scan_level_index(const hv_scan_level *lv, const double world[3], double 
 double hv_scan_level_at_index(const hv_scan_level *lv, const double idx[3]);
 double hv_scan_level_at(const hv_scan_level *lv, const double world[3]);
 
+/* The box (world, mm) of the inside g >= 0: every inside sample's crossings toward its outside
+ * neighbours (half a sample beyond the data's last samples) through the affine, so a rotated grid
+ * gives the box of the shape, not of its index box turned; all 0 when nothing is inside. On
+ * hv_threads() threads. Errors: HV_ERR_NOMEM. */
+hv_status hv_scan_inside_box(const hv_scan_level *lv, double lo[3], double hi[3]);
+
 /* ---- a FIELD_ISO leaf's raw data (pack.c) --------------------------------------------------------- */
 hv_status hv_scan_pack(const hv_scan *scan, const hv_scan_shape *shape, uint8_t **data, size_t *size);
 /* A scan (samples and affine) and its shape from packed data; *labels holds the labels shape

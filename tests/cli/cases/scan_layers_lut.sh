@@ -1,4 +1,4 @@
-# direct printing of a scan (issue 30): the phantom's skin iso-surface as the contour, materials from
+# direct printing of a scan (issue 30 item 4): the phantom's skin iso-surface evaluated at every pixel, materials from
 # the Hounsfield lookup table, halftoned; the manifest names the table's materials
 /usr/bin/python3 tests/io/scan/make_phantom.py "$TMP/ph" --size 40,48,36 --spacing 2,2,3 --formats nii || exit 9
 printf 'HU,VeroClear,Agilus30,VeroWhite\n-1000,1,0,0\n0,0,1,0\n300,0,1,0\n1000,0,0,1\n' > "$TMP/bone.csv"

@@ -1536,7 +1536,7 @@ void hv_layers_scratch_need_add(hv_layers_scratch_need *n, const hv_layers_part 
 {
     uint64_t sz[WB_COUNT];
     worker_sizes(&p->J, sz);
-    for (int k = 0; k < WB_COUNT; ++k) n->bytes[k] = is_slab(k) ? n->bytes[k] + sz[k] : HV_MAX(n->bytes[k], sz[k]);
+    for (int k = 0; k < WB_COUNT; ++k) n->bytes[k] = HV_MAX(n->bytes[k], sz[k]);
 }
 
 uint64_t hv_layers_scratch_need_total(const hv_layers_scratch_need *n)

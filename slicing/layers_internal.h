@@ -127,8 +127,8 @@ typedef struct hv_layers_part hv_layers_part;
 typedef struct hv_layers_scratch hv_layers_scratch;
 hv_layers_scratch *hv_layers_scratch_create(void);
 void hv_layers_scratch_destroy(hv_layers_scratch *s);
-/* Planning one scratch for a set of parts: per shared buffer the largest part's bytes, the
- * parts' slabs added up. */
+/* Planning one scratch for a set of parts rendered in one slot in turn (a tray's threads): per
+ * buffer, slabs included, the largest part's bytes. */
 typedef struct hv_layers_scratch_need {
     uint64_t bytes[16];
 } hv_layers_scratch_need;

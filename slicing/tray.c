@@ -4,6 +4,7 @@
  * and its pixels are the ones `hovox layers --place` gives it. Footprints (the xy shadow of a
  * part's facets, on a 0.5 mm grid, as row spans) decide spacing and arrangement. */
 #include <math.h>
+#include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,7 +22,9 @@
 #include "layers_internal.h"
 
 #define CELL 0.5        /* footprint grid (mm) */
-#define RUN 8           /* consecutive tray layers per work unit */
+#define RUN 8           /* consecutive tray layers per share of a process (MPI) */
+#define INFLIGHT 4      /* plate images in flight at most (fewer under the budget or threads) */
+#define ROW_LOCKS 256   /* plate rows guarded in stripes while threads draw parts into them */
 #define MAX_PARTS HV_TRAY_MAX_PARTS /* placed instances */
 
 /* ---- resins -------------------------------------------------------------------------------- */
@@ -202,6 +205,7 @@ struct hv_tray {
     int palette_size;
     double utilisation;
     uint64_t memory;
+    int inflight; /* plate images (layers) in flight while writing */
     char **pool; /* strings kept for the tray's life (job files) */
     size_t npool, cap_pool;
 };
@@ -975,18 +979,18 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         t->memory += hv_layers_part_memory(in->part);
         hv_layers_scratch_need_add(&need, in->part);
     }
-    /* each thread: one layer in flight (the packed plate image, its spans, the PNG) and one
-     * scratch for the parts it renders in turn (the largest part's buffers) */
+    /* issue 32 item 21: a bounded number of layers in flight (packed plate images and their
+     * spans), which the threads share by drawing parts into them, and per thread only the buffers
+     * of the one part it renders (the largest part's). The plates are as many as the budget
+     * holds, at most INFLIGHT and the threads; memory no longer grows a plate per thread. */
     size_t stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
-    t->memory += (uint64_t)HV_MAX(hv_threads(), 1) *
-                 ((uint64_t)stride * (uint64_t)t->H + (uint64_t)t->H * 8 + hv_layers_scratch_need_total(&need));
+    uint64_t plate = (uint64_t)stride * (uint64_t)t->H + (uint64_t)t->H * 8;
+    int threads = HV_MAX(hv_threads(), 1);
+    uint64_t scratch = (uint64_t)threads * hv_layers_scratch_need_total(&need);
     uint64_t budget = hv_memory_budget(o->max_memory);
-    if (st == HV_OK && budget && t->memory > budget) {
-        char a[32], b[32];
-        st = hv_error_option(HV_ERR_LIMIT, "tray: the job needs about %s (%d parts, %d x %d plate pixels), more than "
-                             "the budget of %s ({max_memory})", hv_size_text(a, sizeof a, (double)t->memory), t->ninst,
-                             t->W, t->H, hv_size_text(b, sizeof b, (double)budget));
-    }
+    t->inflight = HV_MIN(INFLIGHT, threads);
+    while (t->inflight > 1 && budget && t->memory + scratch + (uint64_t)t->inflight * plate > budget) --t->inflight;
+    t->memory += scratch + (uint64_t)t->inflight * plate;
     if (st == HV_OK && (o->first >= t->nlayers || (o->last && o->last > t->nlayers)))
         st = hv_error_option(HV_ERR_INVALID, "tray: {layers} %zu:%zu is outside the tray's %zu layers", o->first,
                              o->last, t->nlayers);
@@ -1023,11 +1027,10 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
 
 /* ---- writing ------------------------------------------------------------------------------------ */
 
-typedef struct tworker {
-    uint8_t *rows;     /* packed plate image */
-    int32_t *span;     /* 2 per row, in bytes */
-    hv_layers_scratch *scratch; /* the parts' buffers, shared by the parts in turn */
-} tworker;
+typedef struct tplate {
+    uint8_t *rows; /* packed plate image */
+    int32_t *span; /* 2 per row, in bytes: the drawn columns (empty when span[0] >= span[1]) */
+} tplate;
 
 typedef struct wjob {
     hv_tray *t;
@@ -1035,11 +1038,13 @@ typedef struct wjob {
     const char *tmp;
     size_t first, last;
     size_t run_lo, run_hi; /* the layers this process writes */
+    size_t lo, hi;         /* the layers in flight: plate[li - lo] */
     size_t stride;
-    tworker *w;
+    tplate *plate;
+    int *task; /* the instances the layers in flight meet */
+    hv_layers_scratch **scratch; /* per thread: the buffers of the part it renders */
+    pthread_mutex_t lock[ROW_LOCKS];
     uint64_t *st_bytes;
-    const hv_progress *progress;
-    atomic_size_t done;
     atomic_int cancel;
 } wjob;
 
@@ -1059,104 +1064,157 @@ void hv_tray_or_packed(uint8_t *row, int bits, int x0, const uint8_t *sp, int n,
         row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - bits - bits * (x % per)));
 }
 
-static hv_status tray_layer(wjob *J, tworker *w, size_t li)
+/* Part i's layer li drawn into its plate (threads draw parts of one layer at once: OR and the
+ * span's min/max are order-free, so the bytes do not depend on the threads). */
+static hv_status draw_part(wjob *J, hv_layers_scratch *sc, int i, size_t li)
 {
     hv_tray *t = J->t;
     int bits = t->bit_depth;
-    for (int r = 0; r < t->H; ++r) {
-        w->span[2 * r] = 0;
-        w->span[2 * r + 1] = 0;
+    tplate *pl = &J->plate[li - J->lo];
+    instance *in = &t->inst[i];
+    const uint8_t *px;
+    /* slot 0: the scratch keeps one part's slabs, kept while the thread renders it in turn */
+    hv_status st = hv_layers_part_render(in->part, sc, 0, li - in->lift, &px);
+    if (st != HV_OK) return st;
+    const source *s = &t->src[in->src];
+    uint8_t lut[HV_MAX_MATERIALS + 2];
+    lut[0] = 0;
+    for (int j = 0; j < s->m; ++j) lut[j + 1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[j]);
+    if (!s->model) lut[1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[0]);
+    /* the columns of the part's image that fall on the plate */
+    int ca = HV_MAX(0, -in->c0), cb = HV_MIN(in->w, t->W - in->c0);
+    for (int r = 0; r < in->h && ca < cb; ++r) {
+        int y = in->r0 + r;
+        if (y < 0 || y >= t->H) continue;
+        const uint8_t *src = px + (size_t)r * (size_t)in->w;
+        int a = ca, b = cb;
+        while (a < b && !src[a]) ++a;
+        if (a == b) continue;
+        while (!src[b - 1]) --b;
+        uint8_t *row = pl->rows + (size_t)y * J->stride;
+        int x0 = in->c0 + a;
+        const uint8_t *sp = src + a;
+        int n = b - a;
+        int32_t b0 = (int32_t)((size_t)x0 * (size_t)bits / 8);
+        int32_t b1 = (int32_t)((size_t)(x0 + n - 1) * (size_t)bits / 8 + 1);
+        pthread_mutex_t *lk = &J->lock[y % ROW_LOCKS];
+        pthread_mutex_lock(lk);
+        /* OR the packed values in (background stays 0, so parts never erase each other) */
+        if (bits == 8)
+            for (int k = 0; k < n; ++k) row[x0 + k] |= lut[sp[k]];
+        else
+            hv_tray_or_packed(row, bits, x0, sp, n, lut);
+        int32_t *spn = pl->span + 2 * y;
+        if (spn[0] >= spn[1]) {
+            spn[0] = b0;
+            spn[1] = b1;
+        } else {
+            spn[0] = HV_MIN(spn[0], b0);
+            spn[1] = HV_MAX(spn[1], b1);
+        }
+        pthread_mutex_unlock(lk);
     }
-    for (int i = 0; i < t->ninst; ++i) {
-        instance *in = &t->inst[i];
-        if (li < in->lift || li >= in->lift + in->layers) continue;
-        const uint8_t *px;
-        hv_status st = hv_layers_part_render(in->part, w->scratch, (size_t)i, li - in->lift, &px);
-        if (st != HV_OK) return st;
-        const source *s = &t->src[in->src];
-        uint8_t lut[HV_MAX_MATERIALS + 2];
-        lut[0] = 0;
-        for (int j = 0; j < s->m; ++j) lut[j + 1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[j]);
-        if (!s->model) lut[1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[0]);
-        /* the columns of the part's image that fall on the plate */
-        int ca = HV_MAX(0, -in->c0), cb = HV_MIN(in->w, t->W - in->c0);
-        for (int r = 0; r < in->h && ca < cb; ++r) {
-            int y = in->r0 + r;
-            if (y < 0 || y >= t->H) continue;
-            const uint8_t *src = px + (size_t)r * (size_t)in->w;
-            int a = ca, b = cb;
-            while (a < b && !src[a]) ++a;
-            if (a == b) continue;
-            while (!src[b - 1]) --b;
-            uint8_t *row = w->rows + (size_t)y * J->stride;
-            int x0 = in->c0 + a;
-            const uint8_t *sp = src + a;
-            int n = b - a;
-            /* OR the packed values in (background stays 0, so parts never erase each other) */
-            if (bits == 8)
-                for (int k = 0; k < n; ++k) row[x0 + k] |= lut[sp[k]];
-            else
-                hv_tray_or_packed(row, bits, x0, sp, n, lut);
-            int32_t b0 = (int32_t)((size_t)x0 * (size_t)bits / 8);
-            int32_t b1 = (int32_t)((size_t)(x0 + n - 1) * (size_t)bits / 8 + 1);
-            int32_t *spn = w->span + 2 * y;
-            if (spn[0] >= spn[1]) {
-                spn[0] = b0;
-                spn[1] = b1;
-            } else {
-                spn[0] = HV_MIN(spn[0], b0);
-                spn[1] = HV_MAX(spn[1], b1);
-            }
+    return HV_OK;
+}
+
+/* work units: the instances that meet the layers in flight, each drawn into all of them */
+static hv_status tray_parts(void *ctx, size_t b, size_t e, int thread)
+{
+    wjob *J = ctx;
+    hv_layers_scratch **sc = &J->scratch[thread];
+    if (!*sc && !(*sc = hv_layers_scratch_create())) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory");
+    hv_status st = HV_OK;
+    for (size_t u = b; u < e && st == HV_OK; ++u) {
+        const instance *in = &J->t->inst[J->task[u]];
+        size_t l0 = HV_MAX(J->lo, in->lift), l1 = HV_MIN(J->hi, in->lift + in->layers);
+        for (size_t li = l0; li < l1 && st == HV_OK; ++li) {
+            if (atomic_load(&J->cancel) || hv_cancel_requested()) return hv_error_set(HV_ERR_CANCELLED, "tray: cancelled");
+            st = draw_part(J, *sc, J->task[u], li);
         }
     }
-    /* the plate in PNG's packing, through the one PNG encoder at the stack's zlib level */
-    hv_png_options po;
-    hv_png_options_init(&po);
-    po.compression = 1; /* layers' default level: halftone noise gains little above it */
-    po.dpi[0] = t->profile->dpi[0];
-    po.dpi[1] = t->profile->dpi[1];
-    po.bit_depth = bits;
-    po.packed = bits < 8;
-    if (J->o->mode != HV_LAYERS_MASK) {
-        po.palette = t->palette;
-        po.palette_size = t->palette_size;
-    }
-    char path[4200];
-    snprintf(path, sizeof path, "%s/layer-%05zu.png", J->tmp, li);
-    uint8_t *png = NULL;
-    size_t size = 0;
-    hv_status st = hv_png_encode(w->rows, t->W, t->H, 1, J->stride, &po, &png, &size);
-    /* in the stack's temporary directory, synced once and renamed whole (as layers writes) */
-    if (st == HV_OK) st = hv_write_in_place(path, png, size);
-    free(png);
-    J->st_bytes[li - J->first] = size;
-    /* clear what was drawn */
-    for (int r = 0; r < t->H; ++r)
-        if (w->span[2 * r] < w->span[2 * r + 1])
-            memset(w->rows + (size_t)r * J->stride + w->span[2 * r], 0, (size_t)(w->span[2 * r + 1] - w->span[2 * r]));
+    if (st != HV_OK) atomic_store(&J->cancel, 1);
     return st;
 }
 
-static hv_status tray_units(void *ctx, size_t b, size_t e, int thread)
+/* work units: the layers in flight, each encoded, written and its plate cleared */
+static hv_status tray_encode(void *ctx, size_t b, size_t e, int thread)
 {
+    (void)thread;
     wjob *J = ctx;
-    tworker *w = &J->w[thread];
-    if (!w->rows) {
-        w->rows = hv_calloc((size_t)J->t->H, J->stride);
-        w->span = hv_calloc((size_t)J->t->H * 2, sizeof *w->span);
-        w->scratch = hv_layers_scratch_create();
-        if (!w->rows || !w->span || !w->scratch) return hv_error_set(HV_ERR_NOMEM, "tray: out of memory for a plate image");
-    }
+    hv_tray *t = J->t;
     hv_status st = HV_OK;
-    for (size_t u = b; u < e && st == HV_OK; ++u)
-        for (size_t li = J->run_lo + u * RUN; li < HV_MIN(J->run_lo + (u + 1) * RUN, J->run_hi) && st == HV_OK; ++li) {
-            if (atomic_load(&J->cancel) || hv_cancel_requested()) return hv_error_set(HV_ERR_CANCELLED, "tray: cancelled");
-            st = tray_layer(J, w, li);
-            size_t d = atomic_fetch_add(&J->done, 1) + 1;
-            if (st == HV_OK && thread == 0 && J->progress)
-                st = hv_progress_report(J->progress, "tray", (double)d / (double)(J->run_hi - J->run_lo));
+    for (size_t u = b; u < e && st == HV_OK; ++u) {
+        size_t li = J->lo + u;
+        tplate *pl = &J->plate[u];
+        /* the plate in PNG's packing, through the one PNG encoder at the stack's zlib level */
+        hv_png_options po;
+        hv_png_options_init(&po);
+        po.compression = 1; /* layers' default level: halftone noise gains little above it */
+        po.dpi[0] = t->profile->dpi[0];
+        po.dpi[1] = t->profile->dpi[1];
+        po.bit_depth = t->bit_depth;
+        po.packed = t->bit_depth < 8;
+        if (J->o->mode != HV_LAYERS_MASK) {
+            po.palette = t->palette;
+            po.palette_size = t->palette_size;
         }
+        char path[4200];
+        snprintf(path, sizeof path, "%s/layer-%05zu.png", J->tmp, li);
+        uint8_t *png = NULL;
+        size_t size = 0;
+        st = hv_png_encode(pl->rows, t->W, t->H, 1, J->stride, &po, &png, &size);
+        /* in the stack's temporary directory, synced once and renamed whole (as layers writes) */
+        if (st == HV_OK) st = hv_write_in_place(path, png, size);
+        free(png);
+        J->st_bytes[li - J->first] = size;
+        /* clear what was drawn */
+        for (int r = 0; r < t->H; ++r) {
+            int32_t *spn = pl->span + 2 * r;
+            if (spn[0] < spn[1]) memset(pl->rows + (size_t)r * J->stride + spn[0], 0, (size_t)(spn[1] - spn[0]));
+            spn[0] = spn[1] = 0;
+        }
+    }
     if (st != HV_OK) atomic_store(&J->cancel, 1);
+    return st;
+}
+
+/* The layers run_lo..run_hi, `inflight` at a time: the threads draw the parts into them, then
+ * encode them. */
+static hv_status tray_run(wjob *J, const hv_progress *progress)
+{
+    hv_tray *t = J->t;
+    int threads = HV_MAX(hv_threads(), 1), k = HV_MAX(t->inflight, 1);
+    hv_status st = HV_OK;
+    J->plate = hv_calloc((size_t)k, sizeof *J->plate);
+    J->scratch = hv_calloc((size_t)threads, sizeof *J->scratch);
+    J->task = hv_calloc((size_t)HV_MAX(t->ninst, 1), sizeof *J->task);
+    if (!J->plate || !J->scratch || !J->task) st = HV_ERR_NOMEM;
+    for (int i = 0; i < k && st == HV_OK; ++i) {
+        J->plate[i].rows = hv_calloc((size_t)t->H, J->stride);
+        J->plate[i].span = hv_calloc((size_t)t->H * 2, sizeof *J->plate[i].span);
+        if (!J->plate[i].rows || !J->plate[i].span) st = hv_error_set(HV_ERR_NOMEM, "tray: out of memory for a plate image");
+    }
+    for (int i = 0; i < ROW_LOCKS; ++i) pthread_mutex_init(&J->lock[i], NULL);
+    for (size_t lo = J->run_lo; lo < J->run_hi && st == HV_OK; lo += (size_t)k) {
+        J->lo = lo;
+        J->hi = HV_MIN(lo + (size_t)k, J->run_hi);
+        size_t n = 0;
+        for (int i = 0; i < t->ninst; ++i)
+            if (t->inst[i].lift < J->hi && t->inst[i].lift + t->inst[i].layers > J->lo) J->task[n++] = i;
+        if (n) st = hv_parallel_for(n, 1, tray_parts, J, NULL, "tray");
+        if (st == HV_OK) st = hv_parallel_for(J->hi - J->lo, 1, tray_encode, J, NULL, "tray");
+        if (st == HV_OK)
+            st = hv_progress_report(progress, "tray", (double)(J->hi - J->run_lo) / (double)(J->run_hi - J->run_lo));
+    }
+    for (int i = 0; i < ROW_LOCKS; ++i) pthread_mutex_destroy(&J->lock[i]);
+    for (int i = 0; i < k && J->plate; ++i) {
+        free(J->plate[i].rows);
+        free(J->plate[i].span);
+    }
+    for (int i = 0; i < threads && J->scratch; ++i) hv_layers_scratch_destroy(J->scratch[i]);
+    free(J->plate);
+    free(J->scratch);
+    free(J->task);
     return st;
 }
 
@@ -1383,11 +1441,8 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     J.first = J.run_lo = rep.first;
     J.last = J.run_hi = rep.last;
     J.stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
-    J.progress = progress;
-    int threads = HV_MAX(hv_threads(), 1);
-    J.w = hv_calloc((size_t)threads, sizeof *J.w);
     J.st_bytes = hv_calloc(rep.last - rep.first, sizeof *J.st_bytes);
-    if (st == HV_OK && (!J.w || !J.st_bytes)) st = HV_ERR_NOMEM;
+    if (st == HV_OK && !J.st_bytes) st = HV_ERR_NOMEM;
     st = hv_stack_open(&out, st, dir, o->force, o->gcvf_path, NULL, D);
     if (D) { /* rank 0 made the directory; each process takes a share of the layers by cost */
         const hv_status agreed = st; /* the same on every process: the collectives below match */
@@ -1403,8 +1458,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     }
     J.tmp = out.tmp;
     if (st == HV_OK) st = hv_progress_report(progress, "tray", 0.0);
-    if (st == HV_OK && J.run_hi > J.run_lo)
-        st = hv_parallel_for((J.run_hi - J.run_lo + RUN - 1) / RUN, 1, tray_units, &J, NULL, "tray");
+    if (st == HV_OK && J.run_hi > J.run_lo) st = tray_run(&J, progress);
     if (D) { /* rank 0 gets every part's statistics and the layers' sizes */
         st = hv_dist_agree(D, st);
         for (int i = 0; i < t->ninst && st == HV_OK; ++i) st = hv_layers_part_gather(t->inst[i].part, D);
@@ -1435,12 +1489,6 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     gcvf_of(t, o, &rep, &g);
     st = hv_stack_close(&out, st, dir, o->force, doc, o->manifest, o->manifest_user, &g, o->finish, o->finish_user,
                         progress);
-    for (int i = 0; i < threads && J.w; ++i) {
-        free(J.w[i].rows);
-        free(J.w[i].span);
-        hv_layers_scratch_destroy(J.w[i].scratch);
-    }
-    free(J.w);
     free(J.st_bytes);
     free(obj_px);
     if (report) *report = rep;

@@ -41,7 +41,7 @@ PY
 # issue 32 item 21: memory against threads. Layers 256 to 512 (32 runs of 8 layers, so 16
 # threads all work; every part is in them), one run each: the dry run's estimate and the peak RSS.
 # Threads beyond the cores change only the memory here, not the work.
-echo "  threads  estimate      peak RSS   (layers 256:512; goal: a plate and one part's images a thread)"
+echo "  threads  estimate      peak RSS   (layers 256:512; goal: at most 4 plates, one part's buffers a thread)"
 for th in 2 8 16; do
     est=$("$HOVOX" tray "$tw/tray.json" -o "$tw/mem" --layers 256:512 --threads "$th" --dry-run 2>/dev/null |
         sed -n 's/^memory *about //p')

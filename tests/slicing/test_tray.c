@@ -519,18 +519,21 @@ static uint64_t planned_memory(hv_tray *t, const hv_tray_options *o, int threads
     return r.memory;
 }
 
-/* Each thread holds one plate image and ONE part's printer-resolution buffers, whatever the
- * number of parts: the plan grows linearly in threads by at most the packed plate plus what the
- * part alone needs (its own `layers --place` plan on one thread, an independent figure) plus the
- * parts' voxel slabs. Before, each thread held every part's buffers (the bench tray: about 350
- * MiB a thread). */
-Test(tray, memory_per_thread_is_one_plate_and_one_part, .timeout = 120)
+/* At most 4 layers in flight (packed plate images, fewer with fewer threads or a smaller budget),
+ * shared by the threads, and per thread ONE part's buffers (slabs included), whatever the number
+ * of parts: past 4 threads the plan grows by that scratch alone, bounded by what the part alone
+ * needs (its own `layers --place` plan on one thread, an independent figure) plus its slabs.
+ * Before, each thread held a plate and every part's slabs (the bench tray: about 55 MiB a thread;
+ * earlier every part's buffers, about 350 MiB). */
+Test(tray, memory_per_thread_is_one_part, .timeout = 120)
 {
     hv_tray_options o;
     hv_tray *t = copies_tray(10, &o);
-    uint64_t m1 = planned_memory(t, &o, 1), m2 = planned_memory(t, &o, 2), m16 = planned_memory(t, &o, 16);
-    cr_expect_eq(m16 - m1, 15 * (m2 - m1), "not linear in threads: %llu, %llu, %llu", (unsigned long long)m1,
-                 (unsigned long long)m2, (unsigned long long)m16);
+    uint64_t m1 = planned_memory(t, &o, 1), m2 = planned_memory(t, &o, 2), m4 = planned_memory(t, &o, 4),
+             m5 = planned_memory(t, &o, 5), m16 = planned_memory(t, &o, 16);
+    uint64_t sc = m5 - m4; /* a thread past the plates in flight: its scratch alone */
+    cr_expect_eq(m16 - m4, 12 * sc, "not linear past 4 threads: %llu, %llu, %llu", (unsigned long long)m4,
+                 (unsigned long long)m5, (unsigned long long)m16);
     hv_tray_report r;
     cr_assert_eq(hv_tray_plan(t, &o, NULL, &r), HV_OK);
     uint64_t plate = ((uint64_t)r.width * (uint64_t)r.bit_depth + 7) / 8 * (uint64_t)r.height + 8 * (uint64_t)r.height;
@@ -553,12 +556,18 @@ Test(tray, memory_per_thread_is_one_plate_and_one_part, .timeout = 120)
     hv_set_threads(0);
     /* and each part's two voxel slabs kept between its layers: 100 x 75 voxels of 0.4 mm with
      * the window's 3-voxel pad (8 allowed), occupancy and two fractions */
-    uint64_t slabs = 10 * 2 * (uint64_t)(100 + 8) * (75 + 8) * (1 + 4 * 2);
-    cr_expect_leq(m2 - m1, plate + lr.memory_bytes + slabs,
-                  "a thread needs %llu bytes: more than the plate (%llu), one part (%llu) and the slabs (%llu)",
-                  (unsigned long long)(m2 - m1), (unsigned long long)plate, (unsigned long long)lr.memory_bytes,
-                  (unsigned long long)slabs);
-    cr_expect_gt(m2 - m1, plate, "a thread's plate image is not counted");
+    uint64_t slabs = 2 * (uint64_t)(100 + 8) * (75 + 8) * (1 + 4 * 2);
+    cr_expect_gt(sc, 0, "a thread's scratch is not counted");
+    cr_expect_leq(sc, lr.memory_bytes + slabs,
+                  "a thread needs %llu bytes: more than one part (%llu) and its slabs (%llu)", (unsigned long long)sc,
+                  (unsigned long long)lr.memory_bytes, (unsigned long long)slabs);
+    /* up to 4 threads each adds a plate in flight too */
+    cr_expect_eq(m2 - m1, sc + plate, "2 threads: %llu more than 1, want %llu + %llu", (unsigned long long)(m2 - m1),
+                 (unsigned long long)sc, (unsigned long long)plate);
+    cr_expect_eq(m4 - m1, 3 * (sc + plate));
+    /* the budget picks the layers in flight: one byte short of 4 plates leaves 3 */
+    o.max_memory = m4 - 1;
+    cr_expect_eq(planned_memory(t, &o, 4), m4 - plate, "under a budget of %llu", (unsigned long long)o.max_memory);
     hv_volume_destroy(v);
     hv_mesh_destroy(m);
     hv_tray_destroy(t);

@@ -112,8 +112,9 @@ $(BUILD)/.flags: FORCE
 	@echo '$(FLAGS_NOW)' | cmp -s - $@ || echo '$(FLAGS_NOW)' > $@
 FORCE:
 # Test and fuzz objects come from chained pattern rules, so make would delete them as
-# intermediates after every run and rebuild them all (minutes) in the next: keep them.
-.SECONDARY:
+# intermediates after every run and rebuild them all (minutes) in the next: keep them (only
+# them: .SECONDARY would also stop a missing library object from being rebuilt).
+.PRECIOUS: $(BUILD)/obj/tests/%.o
 
 $(BUILD)/obj/%.o: %.c $(BUILD)/.flags
 	@mkdir -p $(dir $@)

@@ -17,6 +17,7 @@
 #include "hovox/model.h"
 #include "hovox/tray.h"
 #include "hovox/volume.h"
+#include "hovox/voxelize.h"
 #include "image/png_fast.h"
 #include "layers_internal.h"
 
@@ -62,8 +63,6 @@ static hv_status part_finish(const hv_optargs *args)
     hv_tray_part *p = args->opts;
     p->placed = hv_optargs_given(args, "at");
     if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
-    if (!p->model && !p->material)
-        return hv_error_option(HV_ERR_INVALID, "a part needs a {model} or, for a plain mesh, a {material}");
     if (p->model && p->material)
         return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
     return HV_OK;
@@ -315,8 +314,6 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     if (st == HV_OK && part->rotation % 90)
         st = hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", part->rotation);
     if (st == HV_OK && !part->mesh) st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh}");
-    if (st == HV_OK && !part->model && !part->material)
-        st = hv_error_option(HV_ERR_INVALID, "a part needs a {model} or, for a plain mesh, a {material}");
     if (st != HV_OK) return where ? hv_error_prefix(st, "%s: part %d: ", where, t->nsrc + 1) : st;
     size_t cap = (size_t)t->cap;
     if ((st = hv_grow((void **)&t->src, &cap, (size_t)t->nsrc + 1, sizeof *t->src)) != HV_OK) return st;
@@ -603,6 +600,27 @@ static const char *where_of(const hv_tray *t, const instance *in)
 }
 #define WHERE_SEP(t, in) (t->src[(in)->src].where ? ": " : "")
 
+/* A mesh part without a model or a material: an assembly in its bodies' materials (issue 27 item
+ * 2), its model made in memory (hv_mesh_model) on voxels of the printer's coarsest pitch,
+ * coarsened until the voxelization fits a quarter of the budget. */
+static hv_status bodies_model(const hv_tray *t, const hv_mesh *mesh, const hv_tray_options *o, hv_volume **model)
+{
+    for (size_t i = 0; i < hv_mesh_body_count(mesh); ++i) {
+        const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
+        if (b->material == HV_MESH_NO_MATERIAL)
+            return hv_error_option(HV_ERR_INVALID, "body '%s' has no material (the mesh names none): give the part a "
+                                   "{material} (MESH:MATERIAL) or one per body in the file", b->name);
+    }
+    const hv_printer_profile *pp = t->profile;
+    double pitch = HV_MAX(HV_MAX(25.4 / pp->dpi[0], 25.4 / pp->dpi[1]), pp->layer_height);
+    hv_voxelize_options vo;
+    hv_voxelize_options_init(&vo);
+    vo.max_memory = o->max_memory;
+    hv_voxel_plan plan;
+    hv_status st = hv_mesh_model_voxels(mesh, pitch, hv_memory_budget(o->max_memory) / 4, &vo, &plan);
+    return st == HV_OK ? hv_mesh_model(mesh, &vo, NULL, model) : st;
+}
+
 static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
 {
     hv_mesh *mesh = NULL;
@@ -610,6 +628,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
     if (st == HV_OK) st = hv_placement_apply(&s->p.place, &mesh);
     if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
+    else if (st == HV_OK && !s->p.material) st = bodies_model(t, mesh, o, &model);
     int q = (s->p.rotation / 90) % 4;
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;

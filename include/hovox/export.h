@@ -85,9 +85,12 @@ typedef enum hv_export_format {
     HV_EXPORT_VTI = 1,  /* vtkImageData: one point per voxel centre over a box, point data */
     HV_EXPORT_VTU = 2,  /* vtkUnstructuredGrid: one VTK_HEXAHEDRON per occupied voxel (or
                            coarse block), points shared between neighbours, cell data */
-    HV_EXPORT_3MF = 3   /* 3MF package with the Volumetric extension: the exact voxel boundary
+    HV_EXPORT_3MF = 3,  /* 3MF package with the Volumetric extension: the exact voxel boundary
                            as the mesh, the materials as base materials, one image3d stack of
                            PNG sheets per material fraction and per derived property */
+    HV_EXPORT_STL = 4,  /* the shape the model records (issue 28), binary STL: a model made from
+                           one mesh writes that mesh, placed by its recorded transform */
+    HV_EXPORT_OBJ = 5   /* the same as Wavefront OBJ (hv_mesh_write_obj) */
 } hv_export_format;
 
 /* The 3MF Volumetric extension's limits on an image stack (spec 3.2): rows, columns and
@@ -153,7 +156,7 @@ typedef struct hv_export_report {
                                 image stack (x, y, z voxels); .vtu: 0 */
     uint64_t points;         /* .vti: dims product; .vtu: hexahedron corner points; .3mf: mesh
                                 vertices (0 for a plan: known once the mesh is welded) */
-    uint64_t cells;          /* .vtu: hexahedra; .3mf: mesh triangles; .vti: 0 */
+    uint64_t cells;          /* .vtu: hexahedra; .3mf, .stl, .obj: mesh triangles; .vti: 0 */
     uint64_t occupied;       /* occupied voxels inside the box */
     int materials;           /* 0 when the model has no material table (occupancy only) */
     int arrays;              /* data arrays written (occupancy, fractions, properties); .3mf:
@@ -237,8 +240,8 @@ HV_API hv_status hv_export_write(const hv_volume *vol, const char *path,
 HV_API hv_status hv_export_plan(const hv_volume *vol, const char *path,
                                 const hv_export_options *opt, hv_export_report *report);
 
-/* Format named by a path's extension: HV_EXPORT_VTI, HV_EXPORT_VTU, HV_EXPORT_3MF or
- * HV_EXPORT_AUTO (none of them). */
+/* Format named by a path's extension: HV_EXPORT_VTI, HV_EXPORT_VTU, HV_EXPORT_3MF,
+ * HV_EXPORT_STL, HV_EXPORT_OBJ or HV_EXPORT_AUTO (none of them). */
 HV_API hv_export_format hv_export_format_from_path(const char *path);
 
 #ifdef __cplusplus

@@ -76,6 +76,11 @@ HV_API hv_status hv_mesh_create(const float *xyz, size_t vertex_count, const uin
  * extension, listing the supported ones. */
 HV_API hv_status hv_mesh_load(const char *path, hv_mesh **out);
 
+/* 1 when hv_mesh_load would take the file for a mesh (a ZIP package, a PLY header, a binary STL
+ * whose facet count matches its size, a mesh extension, text starting like ASCII STL or OBJ),
+ * else 0. Reads the first 4 KiB. */
+HV_API int hv_mesh_sniff(const char *path);
+
 /* The extensions hv_mesh_load reads, "stl, 3mf, obj, ply". Static. */
 HV_API const char *hv_mesh_load_extensions(void);
 

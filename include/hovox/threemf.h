@@ -52,6 +52,11 @@ HV_API hv_status hv_3mf_parse(const void *data, size_t size, const char *name, h
 /* 1 when the file starts like a ZIP archive (a 3MF package), else 0. */
 HV_API int hv_3mf_sniff(const char *path);
 
+/* 1 when the file is a 3MF package whose first object uses the Volumetric extension (a graded
+ * model for hv_3mf_load), else 0 (a mesh package for hv_mesh_load, or not a package at all).
+ * Reads the model part only up to its first <v:volumedata> or <object>. */
+HV_API int hv_3mf_is_volumetric(const char *path);
+
 #ifdef __cplusplus
 }
 #endif

@@ -38,7 +38,10 @@ extern "C" {
 HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
 
 /* A part as options (hv_tray_part_option_set): model (a graded .vdb; absent for a plain mesh),
- * mesh (.stl, required), material (a plain mesh's material, required without a model), name,
+ * mesh (.stl, .obj, .ply, .3mf; required), material (a plain mesh's one material; without a model
+ * and a material, the mesh's bodies in their own materials: its model is made in memory as
+ * hv_mesh_model makes it, on voxels of the printer's coarsest pitch coarsened until they fit a
+ * quarter of max_memory; a body without a material is refused naming it), name,
  * at = X,Y (plate position of the centre of its xy box; absent: arranged), z (lift, mm, >= 0),
  * rotation (0, 90, 180, 270 degrees about z), copies (>= 1, placed in a row along +x), and the
  * placement of the mesh (hovox/placement.h: unit, up, scale, rotate, translate; applied to the mesh

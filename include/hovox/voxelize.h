@@ -170,6 +170,23 @@ HV_API int64_t hv_regions_find(const hv_regions *regions, const char *name);
 HV_API uint64_t hv_regions_overlap(const hv_regions *regions);
 HV_API void hv_regions_destroy(hv_regions *regions); /* NULL allowed */
 
+/* A graded model straight from a mesh, in its bodies' materials (one step from a part to a stack,
+ * issue 27): the mesh voxelized by `opt` (an assembly into a region per body, as above), then
+ * every region 100% its body's material, or its body's mixture (a 3MF composite), evaluated as
+ * hovox/material.h's hv_object_from_regions and hv_object_evaluate would (under opt->max_memory;
+ * materials named by hv_material_name_from, in first-use order, in the file's colours). Give
+ * bodies their materials first with hv_mesh_body_material_set. Errors: HV_ERR_INVALID (a body
+ * without a material, naming it and the option {material}), those of hv_voxelize and
+ * hv_object_evaluate. Free *out with hv_volume_destroy. */
+/* The voxels for hv_mesh_model: opt->voxel_size set to `pitch` (say the printer's coarsest pitch),
+ * coarsened by 5/4 until the plan (filled in) needs at most `budget` bytes (at most 60 times).
+ * Errors: HV_ERR_INVALID (pitch not positive and finite), HV_ERR_LIMIT (nothing fits), those of
+ * hv_voxelize_plan. */
+HV_API hv_status hv_mesh_model_voxels(const hv_mesh *mesh, double pitch, uint64_t budget, hv_voxelize_options *opt,
+                                      hv_voxel_plan *plan);
+HV_API hv_status hv_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *opt, const hv_progress *progress,
+                               hv_volume **out);
+
 #ifdef __cplusplus
 }
 #endif

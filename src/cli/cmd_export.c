@@ -1,7 +1,7 @@
-/* src/cli/cmd_export.c - `hovox export MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf`: a graded model to
- * VTK image data or a hexahedral mesh, with derived properties, for ParaView and FEA codes, or to
- * a 3MF Volumetric package for the 3MF ecosystem. The options are the library's
- * (hv_export_option_set). */
+/* src/cli/cmd_export.c - `hovox export MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf|OUT.stl|OUT.obj`: a
+ * graded model to VTK image data or a hexahedral mesh, with derived properties, for ParaView and
+ * FEA codes, to a 3MF Volumetric package for the 3MF ecosystem, or the shape the model records as
+ * a surface (.stl, .obj). The options are the library's (hv_export_option_set). */
 #include <stdio.h>
 #include <string.h>
 
@@ -19,13 +19,13 @@ static hv_status check_vtk_path(const hv_option *o, const void *opts)
 {
     const char *path = *(const char *const *)((const char *)opts + o->offset);
     if (hv_export_format_from_path(path) != HV_EXPORT_AUTO) return HV_OK;
-    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .vti, .vtu or .3mf)", path);
+    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .vti, .vtu, .3mf, .stl or .obj)", path);
 }
 
 static const hv_option k_local_opts[] = {
     {.key = "output", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED | HV_OPT_OUT_PATH,
      .offset = offsetof(export_cli, output), .meta = "FILE", .check = check_vtk_path,
-     .help = ".vti, .vtu or .3mf, written atomically", .section = "Output"},
+     .help = ".vti, .vtu, .3mf, .stl or .obj, written atomically", .section = "Output"},
     {.key = "dry_run", .kind = HV_OPT_FLAG, .offset = offsetof(export_cli, dry_run),
      .help = "print the plan (arrays, sizes, memory), write nothing"},
 };
@@ -52,6 +52,14 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
         size_t n = nl ? (size_t)(nl - p) : strlen(p);
         fprintf(stderr, "hovox: note: %.*s\n", (int)n, p);
         p += n + (nl ? 1 : 0);
+    }
+    if (rep->format == HV_EXPORT_STL || rep->format == HV_EXPORT_OBJ) {
+        printf("model       %s\n", model);
+        printf("shape       %s, the recorded mesh (exact)\n", rep->names);
+        printf("mesh        %llu triangles, %llu vertices\n", (unsigned long long)rep->cells,
+               (unsigned long long)rep->points);
+        if (!c->dry_run) printf("wrote       %s (%llu bytes)\n", c->output, (unsigned long long)rep->file_bytes);
+        return;
     }
     hv_transform xf = hv_volume_get_transform(vol);
     if (rep->materials)
@@ -116,8 +124,8 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
 static int run_cli(const cli_args *args, void *lib, void *local) { return run(args->pos[0], lib, local, args->quiet); }
 
 const cli_spec cmd_export = {
-    "export", "export a model to VTK (.vti image data, .vtu hexahedra) or 3MF (.3mf)",
-    "MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf [options]",
+    "export", "export a model to VTK (.vti image data, .vtu hexahedra), 3MF (.3mf) or its shape (.stl, .obj)",
+    "MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf|OUT.stl|OUT.obj [options]",
     "Export a model to VTK XML (appended raw binary, zlib, 64-bit headers) for ParaView and\n"
     "FEA codes. .vti: image data over the occupied voxels' bounding box (or --box), one point\n"
     "per voxel centre. .vtu: one hexahedron per occupied voxel (or NxNxN block), corner points\n"
@@ -129,5 +137,7 @@ const cli_spec cmd_export = {
     ".3mf: a 3MF package with the Volumetric extension: the exact voxel boundary as the mesh\n"
     "(mm), the materials as base materials, one image3d stack of PNG sheets per material\n"
     "fraction and per derived property (8 or 16 bits, --bits), a volumedata whose composite\n"
-    "maps the fractions to the base materials; hovox reads it back as a graded model.\n",
+    "maps the fractions to the base materials; hovox reads it back as a graded model.\n"
+    ".stl, .obj: the shape the model records, not its voxels: a model voxelized from one mesh\n"
+    "writes that mesh placed as recorded (exact, no stair steps); the other options do not apply.\n",
     hv_export_option_set, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

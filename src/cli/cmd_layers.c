@@ -15,6 +15,7 @@
 #include "hovox/layers.h"
 #include "hovox/material.h"
 #include "hovox/threemf.h"
+#include "hovox/voxelize.h"
 #include "scan_opts.h"
 #include "slicing/scan_source.h"
 
@@ -23,7 +24,22 @@ typedef struct layers_cli {
     int dry_run, view;
     hv_placement place;
     cli_scan scan;
+    const char *material[64]; /* "BODY=MATERIAL", for a mesh sliced in one step */
+    int nmaterial;
+    double voxel_size;
 } layers_cli;
+
+static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    layers_cli *c = opts;
+    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
+    if (!eq || eq == v->text || !eq[1])
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=MATERIAL, got '%s'", o->key,
+                               v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
+    if (c->nmaterial == 64) return hv_error_option(HV_ERR_INVALID, "at most 64 {%s} options", o->key);
+    c->material[c->nmaterial++] = v->text;
+    return HV_OK;
+}
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(layers_cli, "DIR",
@@ -36,6 +52,14 @@ static const hv_option k_local_opts[] = {
     {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = offsetof(layers_cli, mesh),
      .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
      .section = "Geometry"},
+    {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+     .parse = add_material, .section = "A mesh in one step (MESH.stl|.obj|.ply|.3mf instead of a model)",
+     .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
+             "says; repeatable"},
+    {.key = "voxel_size", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
+     .offset = offsetof(layers_cli, voxel_size), .meta = "MM", .unit = "mm",
+     .help = "the voxels the bodies' materials are evaluated on (default: the printer's coarsest pitch, "
+             "coarsened until the model fits half of --max-memory)"},
     HV_PLACEMENT_OPTIONS(layers_cli, place),
     CLI_SCAN_OPTIONS(layers_cli, scan),
 };
@@ -96,7 +120,9 @@ static void report_colour(const hv_colour_skin *sk)
 static void report(const hv_layers_report *r, const hv_layers_options *o, const layers_cli *c, const hv_mesh *mesh,
                    const hv_volume *model, const hv_colour_skin *sk)
 {
-    if (mesh) printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->model_name, hv_mesh_facet_count(mesh));
+    if (mesh)
+        printf("mesh        %s (%zu facets)\n", c->mesh ? c->mesh : o->mesh_name ? o->mesh_name : o->model_name,
+               hv_mesh_facet_count(mesh));
     else if (o->source) printf("shape       the data of %s at every pixel (no model)\n", o->model_name);
     else printf("shape       the one %s records\n", o->model_name);
     char placed[1024];
@@ -165,6 +191,52 @@ static hv_status scan_model(const hv_layers_options *o, const layers_cli *c, hv_
     return s;
 }
 
+/* A mesh file given where a model goes: a mesh (STL, OBJ, PLY) or a 3MF package without volume data. */
+static int is_mesh_input(const char *path)
+{
+    return hv_3mf_sniff(path) ? !hv_3mf_is_volumetric(path) : hv_mesh_sniff(path);
+}
+
+/* A mesh in one step (issue 27 item 2): the mesh placed, its bodies given their --material, and
+ * (unless only the mask is printed) its model made in memory: voxelized at the printer's coarsest
+ * pitch (or --voxel-size), coarsened by 5/4 until the plan fits half the memory budget, each body
+ * 100% its material or mixture (hv_mesh_model). The contours come from the mesh itself, so the
+ * outline is exact; the voxels only place the interfaces between bodies. */
+static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int quiet, hv_mesh **mesh,
+                            hv_volume **model, hv_buf *said)
+{
+    const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
+    hv_status s = cli_mesh_load_placed(o->model_name, &c->place, pp ? pp->build : NULL, mesh);
+    for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
+        const char *eq = strchr(c->material[i], '=');
+        char body[1024];
+        snprintf(body, sizeof body, "%.*s", (int)(eq - c->material[i]), c->material[i]);
+        s = hv_mesh_body_material_set(*mesh, body, eq + 1);
+    }
+    if (s != HV_OK || o->mode == HV_LAYERS_MASK) return s;
+    hv_voxelize_options vo;
+    hv_voxelize_options_init(&vo);
+    vo.max_memory = o->max_memory;
+    double pitch = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
+    hv_voxel_plan plan;
+    if (c->voxel_size > 0) {
+        vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = c->voxel_size;
+        s = hv_voxelize_plan(*mesh, &vo, &plan);
+    } else {
+        s = hv_mesh_model_voxels(*mesh, pitch, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
+    }
+    if (s != HV_OK) return s;
+    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", vo.voxel_size[0],
+                  (long long)plan.dims[0], (long long)plan.dims[1], (long long)plan.dims[2],
+                  c->voxel_size > 0 || vo.voxel_size[0] <= pitch ? "" : " (coarsened to fit the memory budget)");
+    cli_progress bar;
+    cli_progress_init(&bar, quiet);
+    hv_progress prog = {cli_progress_fn, &bar};
+    s = hv_mesh_model(*mesh, &vo, &prog, model);
+    cli_progress_done(&bar);
+    return s;
+}
+
 /* A scan printed straight from its data (issue 30 item 4): no model, the shape and the table's
  * materials evaluated at every printer pixel (slicing/scan_source.c). Needs no whole-volume
  * clean-up (--keep-largest, --fill-holes, --min-feature make the model first). */
@@ -209,6 +281,10 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         s = scan_source(o, c, so, &scan, &src, &said);
     } else if (so) {
         s = scan_model(o, c, so, quiet, &model, &said);
+    } else if (!c->mesh && o->model_name && is_mesh_input(o->model_name)) {
+        s = mesh_model(o, c, quiet, &mesh, &model, &said);
+        o->mesh_name = o->model_name;
+        if (o->mode == HV_LAYERS_MASK) o->model_name = NULL;
     } else if (!c->mesh && hv_3mf_sniff(o->model_name)) { /* a 3MF Volumetric model: its mesh and its model in one read */
         s = hv_3mf_load(o->model_name, &model, &mesh);
         o->mesh_name = o->model_name;
@@ -276,9 +352,13 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
     if (!c->mesh && args->npos == 0) return cli_usage_error("layers", "missing MODEL.vdb or --mesh");
-    if (!c->mesh && hv_placement_given(&c->place))
+    int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && is_mesh_input(args->pos[0]);
+    if (!c->mesh && !mesh_in && hv_placement_given(&c->place))
         return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
                                          "sliced where its recorded shape is");
+    if (!mesh_in && (c->nmaterial || c->voxel_size > 0))
+        return cli_usage_error("layers", "--material and --voxel-size are for a mesh sliced in one step (MESH.stl, "
+                               ".obj, .ply or a 3MF without volume data in place of MODEL.vdb)");
     o->mesh_name = c->mesh;
     o->model_name = args->npos ? args->pos[0] : NULL;
     o->dist = cli_dist;
@@ -303,6 +383,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 const cli_spec cmd_layers = {
     "layers", "printer slice stacks (PNG) from a model",
     "MODEL.vdb -o DIR [--mesh MESH] [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
+    "       hovox layers PART.stl|.obj|.ply|.3mf -o DIR [--material BODY=MATERIAL]... [options]\n"
     "       hovox layers --mesh MESH -o DIR --mode mask [options]\n"
     "       hovox layers VOLUME (--iso V | --range LO,HI | --labels A,B,...) --lut TABLE.csv -o DIR [options]",
     "Printer slice stacks after Wu 2.4.2. Layers of the printer's height start at the part's\n"
@@ -321,7 +402,12 @@ const cli_spec cmd_layers = {
     "its materials are the lookup table's at the interpolated value. With --keep-largest,\n"
     "--fill-holes or --min-feature (which need the whole volume), --threshold, --method direct or\n"
     "--compare, its model is made in memory as 'hovox voxelize VOLUME --lut' makes it and cut as\n"
-    "above (marching squares on the interpolated field, materials resampled from the voxels).\n",
+    "above (marching squares on the interpolated field, materials resampled from the voxels).\n"
+    "A mesh (STL, OBJ, PLY, a 3MF package without volume data: an assembly of bodies) prints in\n"
+    "one step: its model is made in memory as 'hovox voxelize' then 'hovox grade' without sources\n"
+    "make it (each body 100% its material or its 3MF composite's mixture; --material BODY=NAME\n"
+    "names or overrides one), on voxels of the printer's coarsest pitch (--voxel-size to choose);\n"
+    "the outline is the mesh's contours, exact; the voxels only place the interfaces between bodies.\n",
     hv_layers_option_set, &k_local,
     "DIR/manifest.json: profile, dpi, layer height, materials with palette colours, pixel_mm\n"
     "[sx, sy] and origin_mm [x0, y0] (pixel column c, row r has its centre at x0 + (c+0.5) sx,\n"

@@ -1,6 +1,7 @@
 /* src/cli/cmd_tray.c - `hovox tray [JOB.json] -o DIR [--part SPEC ...]`: a build tray of parts in
  * one stack (hovox/tray.h). The options are the library's (hv_tray_option_set); this file
- * reads the --part shorthand MODEL.vdb,MESH[@X,Y[,ROT]][xN] or MESH:MATERIAL[@...]. */
+ * reads the --part shorthand MODEL.vdb,MESH[@X,Y[,ROT]][xN], MESH:MATERIAL[@...] or MESH[@...] (an
+ * assembly in its bodies' materials). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,7 +59,7 @@ static const hv_option k_local_opts[] = {
      .help = "also DIR/index.html, a page to look through the tray in a web browser (see hovox view)"},
     {.key = "part", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "SPEC", .parse = add_part,
      .section = "Parts (besides those of JOB.json)",
-     .help = "MODEL.vdb,MESH or MESH:MATERIAL (MESH: .stl, .3mf, .obj or .ply), then @X,Y[,ROT] (plate position of the part's box centre, "
+     .help = "MODEL.vdb,MESH, MESH:MATERIAL or MESH alone, its bodies in their own materials (MESH: .stl, .3mf, .obj or .ply), then @X,Y[,ROT] (plate position of the part's box centre, "
              "rotation 0/90/180/270; absent: arranged) and xN for N copies"},
     PLACE_OPT("unit", "mm|cm|m|in", "the unit of the part before it, a file without one (also um, ft)",
               "Placement of the --part before them (as in voxelize; job files: the part's keys)"),
@@ -107,10 +108,11 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
         p->mesh = comma + 1;
     } else {
         char *colon = strrchr(buf, ':');
-        if (!colon) return hv_error_option(HV_ERR_INVALID, "{part} '%s': give MODEL.vdb,MESH or MESH:MATERIAL", spec);
-        *colon = '\0';
         p->mesh = buf;
-        p->material = colon + 1;
+        if (colon) { /* without: a mesh in its bodies' materials (an assembly) */
+            *colon = '\0';
+            p->material = colon + 1;
+        }
     }
     return HV_OK;
 }

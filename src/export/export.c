@@ -20,6 +20,8 @@ hv_export_format hv_export_format_from_path(const char *path)
     if (hv_has_extension(path, ".vti")) return HV_EXPORT_VTI;
     if (hv_has_extension(path, ".vtu")) return HV_EXPORT_VTU;
     if (hv_has_extension(path, ".3mf")) return HV_EXPORT_3MF;
+    if (hv_has_extension(path, ".stl")) return HV_EXPORT_STL;
+    if (hv_has_extension(path, ".obj")) return HV_EXPORT_OBJ;
     return HV_EXPORT_AUTO;
 }
 
@@ -554,9 +556,9 @@ static hv_status check_options(const char *path, const hv_export_options *opt,
     if (*fmt == HV_EXPORT_AUTO) {
         *fmt = hv_export_format_from_path(path);
         if (*fmt == HV_EXPORT_AUTO)
-            return hv_error_set(HV_ERR_INVALID, "%s: unknown extension (use .vti, .vtu or .3mf)", path);
+            return hv_error_set(HV_ERR_INVALID, "%s: unknown extension (use .vti, .vtu, .3mf, .stl or .obj)", path);
     }
-    if (*fmt != HV_EXPORT_VTI && *fmt != HV_EXPORT_VTU && *fmt != HV_EXPORT_3MF)
+    if (*fmt < HV_EXPORT_VTI || *fmt > HV_EXPORT_OBJ)
         return hv_error_set(HV_ERR_INVALID, "export: unknown format %d", (int)*fmt);
     hv_status s = hv_export_options_check(opt);
     if (s != HV_OK) return s;
@@ -564,6 +566,9 @@ static hv_status check_options(const char *path, const hv_export_options *opt,
         return hv_error_option(HV_ERR_INVALID, "{coarsen} applies to .vtu output only");
     if (opt->bits && *fmt != HV_EXPORT_3MF)
         return hv_error_option(HV_ERR_INVALID, "{bits} applies to .3mf output only");
+    if (opt->use_box && (*fmt == HV_EXPORT_STL || *fmt == HV_EXPORT_OBJ))
+        return hv_error_option(HV_ERR_INVALID, "{box} cuts voxel exports (.vti, .vtu, .3mf); .stl and .obj write the "
+                               "whole shape");
     return HV_OK;
 }
 
@@ -575,6 +580,7 @@ static hv_status plan_all(const hv_volume *vol, const char *path, const hv_expor
     hv_status s = check_options(path, opt, &fmt);
     if (s != HV_OK) return s;
     r->format = fmt;
+    if (fmt == HV_EXPORT_STL || fmt == HV_EXPORT_OBJ) return ex_shape_plan(vol, r);
     s = ex_model_init(md, vol, opt);
     if (s != HV_OK) return s;
     report_names(md, r);
@@ -645,7 +651,14 @@ static hv_status write_impl(const hv_volume *vol, const char *path, const hv_exp
     void *conn = NULL;
     int created = 0;
 
-    hv_status s = plan_all(vol, path, opt, &md, &h, r);
+    hv_export_format fmt;
+    hv_status s = check_options(path, opt, &fmt);
+    if (s == HV_OK && (fmt == HV_EXPORT_STL || fmt == HV_EXPORT_OBJ)) {
+        memset(r, 0, sizeof *r); /* the shape, not the voxels: nothing of md is needed */
+        r->format = fmt;
+        return ex_shape_write(vol, path, r);
+    }
+    if (s == HV_OK) s = plan_all(vol, path, opt, &md, &h, r);
     if (s == HV_OK) s = check_budget(opt, r);
     if (s == HV_OK && r->format == HV_EXPORT_3MF) {
         s = ex_3mf_write(&md, path, opt, r);

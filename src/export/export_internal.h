@@ -48,6 +48,13 @@ void ex_model_free(ex_model *md);
 hv_status ex_3mf_plan(const ex_model *md, const hv_export_options *opt, hv_export_report *r);
 hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_options *opt, hv_export_report *r);
 
+/* .stl and .obj (shape.c): the shape the model records as a surface; r->format set by the caller.
+ * cells: triangles, points: vertices, names: the recorded mesh. Errors: HV_ERR_INVALID (no shape
+ * recorded), HV_ERR_UNSUPPORTED (a shape this writer cannot surface), those of hv_geometry_read
+ * and the mesh writers. */
+hv_status ex_shape_plan(const hv_volume *vol, hv_export_report *r);
+hv_status ex_shape_write(const hv_volume *vol, const char *path, hv_export_report *r);
+
 /* Material fractions at an occupied voxel must be finite, in [0,1] and sum to 1 (within
  * 1e-4: they are stored as floats). HV_ERR_BAD_INPUT naming the voxel otherwise. */
 /* "12.3 MiB" and the like, into buf. */

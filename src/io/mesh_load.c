@@ -3,6 +3,7 @@
  * bytes), else by the extension, else by the text ("solid" starts an ASCII STL, OBJ statements an
  * OBJ file); and the one mesh writer choice (OBJ or STL by extension). */
 #include <ctype.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -92,6 +93,25 @@ hv_status hv_mesh_load(const char *path, hv_mesh **out)
     s = k_readers[r].parse(data, size, path, out);
     free(data);
     return s;
+}
+
+int hv_mesh_sniff(const char *path)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return 0;
+    unsigned char d[4096];
+    size_t n = fread(d, 1, sizeof d, fp);
+    long size = fseek(fp, 0, SEEK_END) == 0 ? ftell(fp) : -1;
+    fclose(fp);
+    if (n >= 4 && d[0] == 'P' && d[1] == 'K' && d[2] == 3 && d[3] == 4) return 1;
+    if (n >= 4 && memcmp(d, "ply", 3) == 0 && (d[3] == '\n' || d[3] == '\r')) return 1;
+    if (n >= 84 && size > 0) {
+        uint64_t count = (uint64_t)d[80] | (uint64_t)d[81] << 8 | (uint64_t)d[82] << 16 | (uint64_t)d[83] << 24;
+        if (84 + 50 * count == (uint64_t)size) return 1;
+    }
+    for (size_t i = 0; i < HV_COUNT(k_readers); ++i)
+        if (hv_has_extension(path, k_readers[i].ext)) return 1;
+    return looks_like(d, n) >= 0;
 }
 
 hv_status hv_mesh_save(const hv_mesh *m, const char *path, int ascii)

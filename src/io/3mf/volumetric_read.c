@@ -1620,3 +1620,30 @@ int hv_3mf_sniff(const char *path)
     fclose(fp);
     return n == 4 && m[0] == 'P' && m[1] == 'K' && (m[2] == 3 || m[2] == 5) && (m[3] == 4 || m[3] == 6);
 }
+
+/* Which reader a package needs: its model's resources are read up to the first <v:volumedata>
+ * (Volumetric: 1) or the first <object> (resources come before what uses them, so a volumedata
+ * after an object belongs to no first object: 0). The parse stops there; a mesh package of a
+ * million facets costs its first lines only. */
+static hv_status vol_sniff_start(void *ctx, tmf_xml *x, const char *local, const char *uri, const tmf_attr *attrs,
+                                 int nattrs)
+{
+    (void)x, (void)attrs, (void)nattrs;
+    int *found = ctx;
+    if (uri && strcmp(uri, TMF_NS_VOLUMETRIC) == 0 && strcmp(local, "volumedata") == 0) *found = 1;
+    else if (strcmp(local, "object") == 0) *found = 0;
+    else return HV_OK;
+    return HV_ERR_CANCELLED; /* enough read */
+}
+
+int hv_3mf_is_volumetric(const char *path)
+{
+    if (!hv_3mf_sniff(path)) return 0;
+    tmf_pkg pk;
+    if (tmf_pkg_open(&pk, NULL, 0, path, path) != HV_OK) return 0;
+    int found = 0;
+    tmf_xml_handler h = {vol_sniff_start, NULL};
+    tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &found);
+    tmf_pkg_close(&pk);
+    return found;
+}

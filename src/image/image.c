@@ -127,21 +127,37 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
             return hv_error_set(HV_ERR_INVALID, "PNG: palette of %d colours (1..256)",
                                 o->palette_size);
         size_t st = stride ? stride : minrow;
-        /* packed rows: every index fits the depth, so only a palette shorter than 2^depth is checked */
-        if (!packed || o->palette_size < (1 << o->bit_depth))
-            for (int y = 0; y < height; ++y)
-                for (int x = 0; x < width; ++x) {
-                    const uint8_t *row = pixels + (size_t)y * st;
-                    if (packed && !row[x / (8 / o->bit_depth)]) { /* a zero byte: indices 0 (the plate) */
-                        x += 8 / o->bit_depth - 1 - x % (8 / o->bit_depth);
-                        continue;
-                    }
-                    unsigned v = packed ? packed_at(row, x, o->bit_depth) : row[x];
+        /* packed rows: every index fits the depth, so only a palette shorter than 2^depth is checked;
+         * a whole byte at a time through a table of the byte values whose indices all lie in the
+         * palette (a J750 plate is 53 M pixels a layer), pixel by pixel only to name the first bad
+         * one and for a packed row's last, partial byte */
+        if (!packed || o->palette_size < (1 << o->bit_depth)) {
+            int bd = packed ? o->bit_depth : 8, per = 8 / bd;
+            if (8 % bd) /* not a PNG depth: refused below, before a row is read */
+                per = 0;
+            unsigned mask = (1u << bd) - 1u;
+            uint8_t ok[256];
+            for (unsigned b = 0; b < 256; ++b) {
+                ok[b] = 1;
+                for (int k = 0; k < per; ++k)
+                    if (((b >> (k * bd)) & mask) >= (unsigned)o->palette_size) ok[b] = 0;
+            }
+            size_t whole = per ? (size_t)width / (size_t)per : 0; /* bytes whose every index is a pixel */
+            for (int y = 0; y < height && per; ++y) {
+                const uint8_t *row = pixels + (size_t)y * st;
+                int x0 = -1;
+                for (size_t i = 0; i < whole && x0 < 0; ++i)
+                    if (!ok[row[i]]) x0 = (int)(i * (size_t)per);
+                if (x0 < 0) x0 = (int)(whole * (size_t)per);
+                for (int x = x0; x < width && x < x0 + per; ++x) {
+                    unsigned v = packed ? packed_at(row, x, bd) : row[x];
                     if (v >= (unsigned)o->palette_size)
                         return hv_error_set(HV_ERR_INVALID,
                                             "PNG: pixel (%d, %d) has index %u beyond the %d-colour palette", x, y,
                                             v, o->palette_size);
                 }
+            }
+        }
     }
     int depth = o->bit_depth ? o->bit_depth : 8;
     if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16)

@@ -9,6 +9,8 @@ usage: long_functions.py [LIMIT] [--roots DIR ...]   list them; exit 1 when ther
 import os, re, sys, tempfile
 
 HEAD = re.compile(r'^(?!static\s+const\b)[A-Za-z_][\w \*\(\),\[\]]*?\b(\w+)\s*\([^;]*$')
+CHARS = re.compile(r"'(?:[^'\\]|\\.)+'")     # character literals
+STRINGS = re.compile(r'"(?:[^"\\]|\\.)*"')   # string literals
 EXCUSE = re.compile(r'long-function:\s*(\w+):\s*[A-Za-z]')  # a name and a reason in words
 
 
@@ -45,8 +47,9 @@ def file_functions(p, text, limit):
             continue
         depth, k, started = 0, j, False
         while k < len(lines):
-            depth += lines[k].count('{') - lines[k].count('}')
-            started |= '{' in lines[k]
+            code = CHARS.sub("' '", STRINGS.sub('""', lines[k]))  # braces in '{' and "{" are not blocks
+            depth += code.count('{') - code.count('}')
+            started |= '{' in code
             if started and depth <= 0:
                 break
             k += 1

@@ -33,13 +33,7 @@ typedef struct layers_cli {
 static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
 {
     layers_cli *c = opts;
-    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
-    if (!eq || eq == v->text || !eq[1])
-        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=MATERIAL, got '%s'", o->key,
-                               v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
-    if (c->nmaterial == 64) return hv_error_option(HV_ERR_INVALID, "at most 64 {%s} options", o->key);
-    c->material[c->nmaterial++] = v->text;
-    return HV_OK;
+    return cli_add_body_material(o, v, c->material, &c->nmaterial, 64);
 }
 
 static const hv_option k_local_opts[] = {

@@ -3,6 +3,7 @@
  * from the voxel layers around the cut (eq. 31-32, z part) resampled by pixel overlap
  * interpolation, or the grading definition evaluated directly; halftoning; PNG stack. */
 #include <math.h>
+#include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,7 @@ typedef struct worker {
     int slab_k[2], slab_ok[2], slab_any[2];
     uint8_t *slab_occ[2];
     float *slab_mat[2];
+    const struct slab_store *store; /* a tray part's layer: the part's shared voxel slabs (else the two above) */
     float *vimg;
     uint8_t *vstate;
     int32_t *front, *front2;
@@ -621,27 +623,32 @@ static hv_status worker_ready(job *J, worker *w)
 
 /* ---- material: z interpolation, extension, POI (Wu 2.4.2) ---------------------------------- */
 
-/* Decode voxel layer k of the window into slab s. */
-static void slab_load(job *J, worker *w, int s, int32_t k)
+/* Decode voxel layer k of the window into occ (vw * vh) and mat (m planes of them); 1 when any
+ * voxel of it is occupied. */
+static int slab_decode(const job *J, hv_accessor *acc, int32_t k, uint8_t *occ, float *mat)
 {
     size_t vox = (size_t)J->vw * (size_t)J->vh;
-    uint8_t *occ = w->slab_occ[s];
-    float *mat = w->slab_mat[s];
     int any = 0;
     for (int j = 0; j < J->vh; ++j) {
         for (int i = 0; i < J->vw; ++i) {
             size_t p = (size_t)j * (size_t)J->vw + (size_t)i;
             int32_t vi = J->vi0 + i, vj = J->vj0 + j;
-            int o = k >= J->klo && k <= J->khi && hv_accessor_bool(&w->acc, J->occ_grid, vi, vj, k);
+            int o = k >= J->klo && k <= J->khi && hv_accessor_bool(acc, J->occ_grid, vi, vj, k);
             occ[p] = (uint8_t)o;
             any |= o;
             for (int g = 0; g < J->m; ++g)
-                mat[(size_t)g * vox + p] = o ? hv_accessor_float(&w->acc, J->mat_grid[g], vi, vj, k) : 0.0f;
+                mat[(size_t)g * vox + p] = o ? hv_accessor_float(acc, J->mat_grid[g], vi, vj, k) : 0.0f;
         }
     }
+    return any;
+}
+
+/* Decode voxel layer k of the window into the worker's slab s. */
+static void slab_load(job *J, worker *w, int s, int32_t k)
+{
+    w->slab_any[s] = slab_decode(J, &w->acc, k, w->slab_occ[s], w->slab_mat[s]);
     w->slab_k[s] = k;
     w->slab_ok[s] = 1;
-    w->slab_any[s] = any;
 }
 
 static int slab_find(const worker *w, int32_t k)
@@ -659,6 +666,91 @@ static int slab_get(job *J, worker *w, int32_t k, int32_t keep)
     s = slab_find(w, keep) == 0 ? 1 : 0;
     slab_load(J, w, s, k);
     return s;
+}
+
+/* A decoded voxel layer of the window (`id` names it to its store), and where a layer's voxel
+ * image comes from: two of them and their weights (one, `single`, when the nearest occupied voxel
+ * layer stands in for both). */
+typedef struct slab_ref {
+    const uint8_t *occ;
+    const float *mat;
+    int any;
+    size_t id;
+} slab_ref;
+typedef struct slab_pick {
+    slab_ref s0, s1;
+    double w0, w1;
+    int single;
+} slab_pick;
+
+/* Who holds the decoded voxel layers: `get` gives layer k and holds it until `put` (keeping
+ * `keep` if it holds it; HV_ERR_NOMEM when it cannot). A worker keeps two slabs of its own; a
+ * tray part's are shared by the threads that render its layers (part_slab_get). */
+typedef struct slab_store {
+    hv_status (*get)(job *J, void *ctx, int32_t k, int32_t keep, slab_ref *out);
+    void (*put)(void *ctx, const slab_ref *r);
+    void *ctx;
+} slab_store;
+
+static hv_status worker_slab_get(job *J, void *ctx, int32_t k, int32_t keep, slab_ref *out)
+{
+    worker *w = ctx;
+    int s = slab_get(J, w, k, keep);
+    *out = (slab_ref){w->slab_occ[s], w->slab_mat[s], w->slab_any[s], (size_t)s};
+    return HV_OK;
+}
+static void worker_slab_put(void *ctx, const slab_ref *r) { (void)ctx, (void)r; }
+
+static hv_status no_voxel(size_t index, double z)
+{
+    return hv_error_set(HV_ERR_BAD_INPUT, "layer %zu (z = %g): the model has no occupied voxel under the mesh's section",
+                        index, z);
+}
+
+static void slabs_put(const slab_store *S, const slab_pick *p)
+{
+    S->put(S->ctx, &p->s0);
+    if (!p->single) S->put(S->ctx, &p->s1);
+}
+
+/* The voxel layers around height z and their weights; when neither has an occupied voxel in the
+ * window, the nearest voxel layer that has one. Held until slabs_put. */
+static hv_status slabs_pick(job *J, const slab_store *S, size_t index, double z, slab_pick *p)
+{
+    double kz = (z - J->xf.origin[2]) / J->xf.voxel[2];
+    double kf = floor(kz);
+    int32_t k0 = (int32_t)HV_CLAMP(kf, -2e9, 2e9);
+    double t = kz - kf;
+    hv_status st = S->get(J, S->ctx, k0, k0 + 1, &p->s0);
+    if (st != HV_OK) return st;
+    if ((st = S->get(J, S->ctx, k0 + 1, k0, &p->s1)) != HV_OK) {
+        S->put(S->ctx, &p->s0);
+        return st;
+    }
+    p->w0 = 1 - t;
+    p->w1 = t;
+    p->single = 0;
+    if ((p->s0.any && p->w0 > 0) || (p->s1.any && p->w1 > 0)) return HV_OK;
+    slabs_put(S, p);
+    int32_t span = J->khi - J->klo + 2;
+    for (int32_t d = 0; d <= span; ++d) {
+        int32_t cand[2] = {k0 - d, k0 + 1 + d};
+        for (int c = 0; c < 2; ++c) {
+            if (cand[c] < J->klo || cand[c] > J->khi) continue;
+            slab_ref r;
+            if ((st = S->get(J, S->ctx, cand[c], k0, &r)) != HV_OK) return st;
+            if (!r.any) {
+                S->put(S->ctx, &r);
+                continue;
+            }
+            p->s0 = p->s1 = r;
+            p->w0 = 1;
+            p->w1 = 0;
+            p->single = 1;
+            return HV_OK;
+        }
+    }
+    return no_voxel(index, z);
 }
 
 /* The 8-neighbours of window pixel p inside the window: their indices in nb, the count
@@ -719,42 +811,21 @@ static void extend(job *J, worker *w)
     }
 }
 
-/* The window image at height z: linear in z between the voxel layers around it over the
- * occupied voxels (renormalised by the coverage), then extended. */
+/* The window image at height z: linear in z between the voxel layers around it (from the
+ * worker's own slabs, or w->store's) over the occupied voxels (renormalised by the coverage), then
+ * extended. */
 static hv_status voxel_image(job *J, worker *w, size_t index, double z)
 {
     size_t vox = (size_t)J->vw * (size_t)J->vh;
     int m = J->m;
-    double kz = (z - J->xf.origin[2]) / J->xf.voxel[2];
-    double kf = floor(kz);
-    int32_t k0 = (int32_t)HV_CLAMP(kf, -2e9, 2e9);
-    double t = kz - kf;
-    int s0 = slab_get(J, w, k0, k0 + 1);
-    int s1 = slab_get(J, w, k0 + 1, k0);
-    double w0 = 1 - t, w1 = t;
-    if (!(w->slab_any[s0] && w0 > 0) && !(w->slab_any[s1] && w1 > 0)) {
-        /* no occupied voxel around the cut in the window: the nearest voxel layer that has one */
-        int found = 0;
-        int32_t span = J->khi - J->klo + 2;
-        for (int32_t d = 0; d <= span && !found; ++d) {
-            int32_t cand[2] = {k0 - d, k0 + 1 + d};
-            for (int c = 0; c < 2 && !found; ++c) {
-                if (cand[c] < J->klo || cand[c] > J->khi) continue;
-                s0 = slab_get(J, w, cand[c], k0);
-                if (w->slab_any[s0]) {
-                    found = 1;
-                    s1 = s0;
-                    w0 = 1;
-                    w1 = 0;
-                }
-            }
-        }
-        if (!found)
-            return hv_error_set(HV_ERR_BAD_INPUT, "layer %zu (z = %g): the model has no occupied voxel under the mesh's section",
-                                index, z);
-    }
-    const uint8_t *o0 = w->slab_occ[s0], *o1 = w->slab_occ[s1];
-    const float *m0 = w->slab_mat[s0], *m1 = w->slab_mat[s1];
+    slab_store own = {worker_slab_get, worker_slab_put, w};
+    const slab_store *S = w->store ? w->store : &own;
+    slab_pick pk;
+    hv_status st = slabs_pick(J, S, index, z, &pk);
+    if (st != HV_OK) return st;
+    double w0 = pk.w0, w1 = pk.w1;
+    const uint8_t *o0 = pk.s0.occ, *o1 = pk.s1.occ;
+    const float *m0 = pk.s0.mat, *m1 = pk.s1.mat;
     for (size_t p = 0; p < vox; ++p) {
         double c0 = o0[p] ? w0 : 0, c1 = o1[p] ? w1 : 0, cov = c0 + c1;
         if (cov > 0) {
@@ -766,6 +837,7 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
             w->vstate[p] = 0;
         }
     }
+    slabs_put(S, &pk);
     extend(J, w);
     return HV_OK;
 }
@@ -1441,10 +1513,30 @@ hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, const cha
 
 /* ---- parts of a tray ---------------------------------------------------------------------------- */
 
+/* A decoded voxel layer held by a tray part: the threads that render its layers read it at once
+ * (decoded once, kept while later layers read it). */
+typedef struct part_slab {
+    int32_t k;
+    int any, valid;
+    int refs;      /* layers being rendered that read it */
+    uint64_t used; /* when last taken (the least recently used unread slab is decoded over) */
+    uint8_t *occ;
+    float *mat;
+} part_slab;
+
 struct hv_layers_part {
     job J;
     hv_layers_options o; /* the job's options (J.o points here) */
+    pthread_mutex_t lock; /* the slabs and the accessor */
+    hv_accessor acc;
+    part_slab *slab;
+    size_t nslab;
+    uint64_t tick;
+    slab_store store;
 };
+
+static hv_status part_slab_get(job *J, void *ctx, int32_t k, int32_t keep, slab_ref *out);
+static void part_slab_put(void *ctx, const slab_ref *r);
 
 hv_status hv_layers_part_open(const hv_mesh *mesh, const hv_volume *model, const hv_layers_options *o,
                               const hv_layers_place *pl, const hv_progress *progress, hv_layers_part **out)
@@ -1456,7 +1548,10 @@ hv_status hv_layers_part_open(const hv_mesh *mesh, const hv_volume *model, const
     hv_layers_part *p = hv_calloc(1, sizeof *p);
     if (!p) return HV_ERR_NOMEM;
     p->o = *o;
+    pthread_mutex_init(&p->lock, NULL);
+    p->store = (slab_store){part_slab_get, part_slab_put, p};
     hv_status st = job_plan(&p->J, mesh, model, &p->o, progress, pl);
+    if (st == HV_OK && uses_voxels(&p->J)) hv_accessor_init(&p->acc, model);
     if (st == HV_OK) {
         p->J.no_files = 1;
         st = job_prepare_output(&p->J);
@@ -1473,6 +1568,12 @@ void hv_layers_part_close(hv_layers_part *p)
 {
     if (!p) return;
     job_free(&p->J);
+    for (size_t i = 0; i < p->nslab; ++i) {
+        free(p->slab[i].occ);
+        free(p->slab[i].mat);
+    }
+    free(p->slab);
+    pthread_mutex_destroy(&p->lock);
     free(p);
 }
 
@@ -1490,43 +1591,88 @@ const hv_material_table *hv_layers_part_table(const hv_layers_part *p) { return 
 uint64_t hv_layers_part_memory(const hv_layers_part *p) { return p->J.fixed_memory; }
 hv_status hv_layers_part_gather(hv_layers_part *p, const hv_dist *d) { return dist_gather(&p->J, d); }
 
-/* The voxel slabs of one part in a scratch, kept between its layers (a part's layer reads the
- * two voxel layers around it; about 20 printer layers share them). */
-typedef struct scratch_slabs {
-    const job *owner;
-    uint8_t *occ[2];
-    float *mat[2];
-    int k[2], ok[2], any[2];
-    hv_accessor acc;
-} scratch_slabs;
+uint64_t hv_layers_part_slab_bytes(const hv_layers_part *p)
+{
+    const job *J = &p->J;
+    return uses_voxels(J) ? (uint64_t)J->vw * (uint64_t)J->vh * (1 + 4 * (uint64_t)J->m) : 0;
+}
 
+static hv_status part_nomem(const job *J)
+{
+    return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the buffers of a %d x %d layer", J->W, J->H);
+}
+
+/* Voxel layer k from the part's slabs; when missing, decoded over the least recently used slab no
+ * layer reads, or into a new one (so a part holds at most the slabs its layers being rendered read
+ * at once: two each, three while one looks for the nearest occupied voxel layer). */
+static hv_status part_slab_get(job *J, void *ctx, int32_t k, int32_t keep, slab_ref *out)
+{
+    (void)keep; /* a slab being read is never decoded over */
+    hv_layers_part *p = ctx;
+    pthread_mutex_lock(&p->lock);
+    part_slab *e = NULL;
+    for (size_t i = 0; i < p->nslab && !e; ++i)
+        if (p->slab[i].valid && p->slab[i].k == k) e = &p->slab[i];
+    for (size_t i = 0; i < p->nslab && !e; ++i)
+        if (!p->slab[i].refs) e = &p->slab[i];
+    if (e && !(e->valid && e->k == k))
+        for (size_t i = 0; i < p->nslab; ++i)
+            if (!p->slab[i].refs && p->slab[i].used < e->used) e = &p->slab[i];
+    if (!e) {
+        part_slab *g = hv_realloc(p->slab, (p->nslab + 1) * sizeof *g);
+        size_t vox = (size_t)J->vw * (size_t)J->vh;
+        if (g) {
+            p->slab = g;
+            e = &p->slab[p->nslab];
+            memset(e, 0, sizeof *e);
+            e->occ = hv_malloc(vox);
+            e->mat = hv_malloc_array(vox * (size_t)HV_MAX(J->m, 1), sizeof *e->mat);
+        }
+        if (!g || !e->occ || !e->mat) {
+            if (e) {
+                free(e->occ);
+                free(e->mat);
+            }
+            pthread_mutex_unlock(&p->lock);
+            return part_nomem(J);
+        }
+        ++p->nslab;
+    }
+    if (!(e->valid && e->k == k)) {
+        e->any = slab_decode(J, &p->acc, k, e->occ, e->mat);
+        e->k = k;
+        e->valid = 1;
+    }
+    e->refs++;
+    e->used = ++p->tick;
+    *out = (slab_ref){e->occ, e->mat, e->any, (size_t)(e - p->slab)};
+    pthread_mutex_unlock(&p->lock);
+    return HV_OK;
+}
+
+static void part_slab_put(void *ctx, const slab_ref *r)
+{
+    hv_layers_part *p = ctx;
+    pthread_mutex_lock(&p->lock);
+    p->slab[r->id].refs--;
+    pthread_mutex_unlock(&p->lock);
+}
+
+/* A tray thread's buffers: the printer-resolution ones of the largest part it rendered. */
 struct hv_layers_scratch {
     worker w;
-    void *buf[WB_COUNT]; /* shared by the parts (the slabs' entries unused) */
+    void *buf[WB_COUNT];
     uint64_t cap[WB_COUNT];
-    scratch_slabs *slot;
-    size_t nslot;
 };
 
 static int is_slab(int k) { return k == WB_OCC0 || k == WB_OCC1 || k == WB_MAT0 || k == WB_MAT1; }
 
 hv_layers_scratch *hv_layers_scratch_create(void) { return hv_calloc(1, sizeof(hv_layers_scratch)); }
 
-static void slabs_free(scratch_slabs *e)
-{
-    for (int i = 0; i < 2; ++i) {
-        free(e->occ[i]);
-        free(e->mat[i]);
-    }
-    memset(e, 0, sizeof *e);
-}
-
 void hv_layers_scratch_destroy(hv_layers_scratch *s)
 {
     if (!s) return;
     for (int k = 0; k < WB_COUNT; ++k) free(s->buf[k]);
-    for (size_t i = 0; i < s->nslot; ++i) slabs_free(&s->slot[i]);
-    free(s->slot);
     free(s);
 }
 
@@ -1536,7 +1682,8 @@ void hv_layers_scratch_need_add(hv_layers_scratch_need *n, const hv_layers_part 
 {
     uint64_t sz[WB_COUNT];
     worker_sizes(&p->J, sz);
-    for (int k = 0; k < WB_COUNT; ++k) n->bytes[k] = HV_MAX(n->bytes[k], sz[k]);
+    for (int k = 0; k < WB_COUNT; ++k)
+        if (!is_slab(k)) n->bytes[k] = HV_MAX(n->bytes[k], sz[k]);
 }
 
 uint64_t hv_layers_scratch_need_total(const hv_layers_scratch_need *n)
@@ -1546,13 +1693,8 @@ uint64_t hv_layers_scratch_need_total(const hv_layers_scratch_need *n)
     return b;
 }
 
-static hv_status scratch_nomem(const job *J)
-{
-    return hv_error_set(HV_ERR_NOMEM, "layers: out of memory for the buffers of a %d x %d layer", J->W, J->H);
-}
-
-/* s's shared buffers grown to J's sizes (never shrunk), slot's slabs J's, and w pointing at them. */
-static hv_status scratch_ready(hv_layers_scratch *s, size_t slot, const job *J)
+/* s's buffers grown to J's sizes (never shrunk; the slabs are the part's), w pointing at them. */
+static hv_status scratch_ready(hv_layers_scratch *s, const job *J)
 {
     uint64_t sz[WB_COUNT];
     worker_sizes(J, sz);
@@ -1560,56 +1702,21 @@ static hv_status scratch_ready(hv_layers_scratch *s, size_t slot, const job *J)
         if (is_slab(k) || sz[k] <= s->cap[k]) continue;
         free(s->buf[k]);
         s->cap[k] = (s->buf[k] = hv_malloc((size_t)sz[k])) ? sz[k] : 0;
-        if (!s->buf[k]) return scratch_nomem(J);
-    }
-    if (slot >= s->nslot) {
-        size_t n = HV_MAX(slot + 1, 2 * s->nslot);
-        scratch_slabs *g = hv_realloc(s->slot, n * sizeof *g); /* n: at most the tray's parts */
-        if (!g) return scratch_nomem(J);
-        memset(g + s->nslot, 0, (n - s->nslot) * sizeof *g);
-        s->slot = g;
-        s->nslot = n;
-    }
-    scratch_slabs *e = &s->slot[slot];
-    if (e->owner != J) {
-        slabs_free(e);
-        for (int i = 0; i < 2 && uses_voxels(J); ++i) {
-            e->occ[i] = hv_malloc((size_t)sz[WB_OCC0]);
-            e->mat[i] = hv_malloc((size_t)sz[WB_MAT0]);
-            if (!e->occ[i] || !e->mat[i]) return scratch_nomem(J);
-        }
-        if (uses_voxels(J)) hv_accessor_init(&e->acc, J->model);
-        e->owner = J;
+        if (!s->buf[k]) return part_nomem(J);
     }
     worker_point(&s->w, s->buf);
-    for (int i = 0; i < 2; ++i) {
-        s->w.slab_occ[i] = e->occ[i];
-        s->w.slab_mat[i] = e->mat[i];
-        s->w.slab_k[i] = e->k[i];
-        s->w.slab_ok[i] = e->ok[i];
-        s->w.slab_any[i] = e->any[i];
-    }
-    s->w.acc = e->acc;
     return HV_OK;
 }
 
-hv_status hv_layers_part_render(hv_layers_part *p, hv_layers_scratch *s, size_t slot, size_t index,
-                                const uint8_t **pixels)
+hv_status hv_layers_part_render(hv_layers_part *p, hv_layers_scratch *s, size_t index, const uint8_t **pixels)
 {
     job *J = &p->J;
-    hv_status st = scratch_ready(s, slot, J);
     *pixels = NULL;
+    hv_status st = scratch_ready(s, J);
     if (st != HV_OK) return st;
+    s->w.store = &p->store;
     st = do_layer(J, &s->w, index, 1);
-    scratch_slabs *e = &s->slot[slot]; /* the slabs now held (slab_get may swap slots' roles) */
-    for (int i = 0; i < 2; ++i) {
-        e->occ[i] = s->w.slab_occ[i];
-        e->mat[i] = s->w.slab_mat[i];
-        e->k[i] = s->w.slab_k[i];
-        e->ok[i] = s->w.slab_ok[i];
-        e->any[i] = s->w.slab_any[i];
-    }
-    e->acc = s->w.acc;
+    s->w.store = NULL;
     *pixels = J->o->mode == HV_LAYERS_MASK ? s->w.mask : s->w.out;
     return st;
 }

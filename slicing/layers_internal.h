@@ -120,15 +120,15 @@ typedef struct hv_layers_place {
 /* One part of a tray: the single-part job planned on the plate, rendering layers into a
  * caller's scratch instead of files. */
 typedef struct hv_layers_part hv_layers_part;
-/* A thread's buffers for rendering parts one after another (a tray thread renders every part of
- * its layer in turn): the printer-resolution buffers grow to the largest part's need and are
- * shared, so a thread holds one part's images, not one set per part; only each part's two voxel
- * slabs are kept per part. Not thread-safe: one per thread. */
+/* A thread's buffers for rendering parts one after another (a tray thread renders the parts' layers
+ * in flight in turn): the printer-resolution buffers grow to the largest part's need and are
+ * shared, so a thread holds one part's images, not one set per part; the voxel slabs are the
+ * parts' own (hv_layers_part_prepare). Not thread-safe: one per thread. */
 typedef struct hv_layers_scratch hv_layers_scratch;
 hv_layers_scratch *hv_layers_scratch_create(void);
 void hv_layers_scratch_destroy(hv_layers_scratch *s);
-/* Planning one scratch for a set of parts rendered in one slot in turn (a tray's threads): per
- * buffer, slabs included, the largest part's bytes. */
+/* Planning one scratch for a set of parts rendered in turn (a tray's threads): per buffer the
+ * largest part's bytes. */
 typedef struct hv_layers_scratch_need {
     uint64_t bytes[16];
 } hv_layers_scratch_need;
@@ -142,12 +142,14 @@ void hv_layers_part_close(hv_layers_part *p);
 void hv_layers_part_geometry(const hv_layers_part *p, int *c0, int *r0, int *w, int *h, size_t *layers);
 int hv_layers_part_materials(const hv_layers_part *p);
 const hv_material_table *hv_layers_part_table(const hv_layers_part *p);
+/* The bytes of one decoded voxel layer the part holds; it holds as many as the layers being
+ * rendered at once read (two each, three while one looks for the nearest occupied voxel layer). */
+uint64_t hv_layers_part_slab_bytes(const hv_layers_part *p);
 /* Render the part's own layer `index` in scratch `s` (the calling thread's): *pixels (w*h bytes,
- * row 0 at the top, valid until s renders again) holds palette indices (0: background). `slot`
- * numbers the part among those s renders (0, 1, ...): its voxel slabs stay in s between its
+ * row 0 at the top, valid until s renders again) holds palette indices (0: background). Several
+ * threads render layers of one part at once, each its own layer, sharing the part's decoded voxel
  * layers. Statistics are kept per layer, as hv_layers_write keeps them. */
-hv_status hv_layers_part_render(hv_layers_part *p, hv_layers_scratch *s, size_t slot, size_t index,
-                                const uint8_t **pixels);
+hv_status hv_layers_part_render(hv_layers_part *p, hv_layers_scratch *s, size_t index, const uint8_t **pixels);
 /* The part's totals over the layers rendered (object pixels, target and achieved fractions). */
 void hv_layers_part_report(const hv_layers_part *p, hv_layers_report *r);
 /* Several processes: every part's per-layer statistics into rank 0's (a collective). */

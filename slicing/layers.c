@@ -21,6 +21,7 @@
 
 #define RUN_LAYERS 8 /* consecutive layers per work unit outside error diffusion */
 #define WINDOW_PAD 3 /* voxels around the printer image in the resampling window */
+#define BAND_ROWS 128 /* rows of fractions a worker holds while it halftones a model's layer by blue noise */
 
 typedef struct worker {
     int ready;
@@ -100,6 +101,9 @@ static int needs_object(const hv_layers_options *o)
 }
 /* the materials come from voxels (slabs, POI), not from a source at the pixels */
 static int uses_voxels(const job *J) { return uses_model(J->o) && !J->src; }
+static int ed_mode(const job *J);
+/* a model's layer halftoned by blue noise, band by band (banded_layer) */
+static int banded(const job *J) { return uses_voxels(J) && J->o->mode == HV_LAYERS_HALFTONE && !ed_mode(J); }
 
 static void job_free(job *J)
 {
@@ -161,11 +165,14 @@ static void worker_sizes(const job *J, uint64_t sz[WB_COUNT])
 {
     uint64_t px = (uint64_t)J->W * (uint64_t)J->H, m = (uint64_t)J->m;
     memset(sz, 0, WB_COUNT * sizeof *sz);
-    sz[WB_MASK] = sz[WB_OUT] = sz[WB_GRAY] = px;
+    sz[WB_MASK] = px;
+    sz[WB_OUT] = J->o->mode == HV_LAYERS_MASK ? 0 : px;       /* halftoned */
+    sz[WB_GRAY] = J->o->mode == HV_LAYERS_FRACTIONS ? px : 0; /* a fraction's image */
     if (J->src && uses_model(J->o)) sz[WB_FRAC] = px * m * 4;
     if (!uses_voxels(J)) return;
     uint64_t vox = (uint64_t)J->vw * (uint64_t)J->vh;
-    sz[WB_FRAC] = px * m * 4;                          /* fractions */
+    /* fractions: a band of rows (banded_layer), else the layer's */
+    sz[WB_FRAC] = (banded(J) ? (uint64_t)J->W * (uint64_t)HV_MIN(J->H, BAND_ROWS) : px) * m * 4;
     sz[WB_XTMP] = (uint64_t)J->vh * (uint64_t)J->W * 4; /* the x pass */
     sz[WB_OCC0] = sz[WB_OCC1] = vox;                    /* two voxel slabs */
     sz[WB_MAT0] = sz[WB_MAT1] = vox * m * 4;
@@ -852,9 +859,10 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
         t[c] = acc;                                                                                                \
     }
 
-/* POI of the window image onto the object pixels of the layer (rows r0..r1, columns c0..c1 hold
- * all of them). */
-HV_HOT_CLONES static void resample_layer(job *J, worker *w, int r0, int r1, int c0, int c1)
+/* POI of the window image onto the object pixels of rows r0..r1 (columns c0..c1 hold all of
+ * them): into frac, m planes of `plane` floats whose row 0 is layer row rbase. */
+HV_HOT_CLONES static void resample_layer(job *J, worker *w, float *frac, size_t plane, int rbase, int r0, int r1,
+                                         int c0, int c1)
 {
     size_t vox = (size_t)J->vw * (size_t)J->vh, W = (size_t)J->W, n = (size_t)(c1 - c0 + 1);
     const hv_poi_axis *ax = &J->ax, *ay = &J->ay;
@@ -865,7 +873,7 @@ HV_HOT_CLONES static void resample_layer(job *J, worker *w, int r0, int r1, int 
     }
     for (int g = 0; g < J->m; ++g) {
         const float *src = w->vimg + (size_t)g * vox;
-        float *dst = w->frac + (size_t)g * J->plane;
+        float *dst = frac + (size_t)g * plane;
         /* x pass over the voxel rows the object rows need */
         for (int j = jlo; j <= jhi; ++j) {
             const float *s = src + (size_t)j * (size_t)J->vw;
@@ -892,7 +900,7 @@ HV_HOT_CLONES static void resample_layer(job *J, worker *w, int r0, int r1, int 
             if (!memchr(mrow + c0, 1, n)) continue;
             const float *wt = J->ayw + ay->off[r];
             const float *restrict b0 = w->xtmp + (size_t)ay->start[r] * W + (size_t)c0;
-            float *restrict d = dst + (size_t)r * W + (size_t)c0;
+            float *restrict d = dst + (size_t)(r - rbase) * W + (size_t)c0;
             float w0 = wt[0];
             int len = ay->len[r];
             if (len == 2) {
@@ -923,37 +931,45 @@ HV_HOT_CLONES static void resample_layer(job *J, worker *w, int r0, int r1, int 
      * sum to 1 up to float rounding: no renormalisation pass */
 }
 
-/* Direct evaluation at the object pixel centres; compares with (and with DIRECT replaces) the
- * resampled fractions. */
-static void direct_layer(job *J, worker *w, size_t li, double z, int r0, int r1, int c0, int c1)
+/* How far the resampled fractions are from the direct evaluation over a layer, summed row by row. */
+typedef struct direct_sums {
+    double dsum, dmax;
+    uint64_t fallback;
+} direct_sums;
+
+/* Direct evaluation at the object pixel centres of rows r0..r1; compares with (and with DIRECT
+ * replaces) the resampled fractions in frac (m planes of `plane` floats, row 0 layer row rbase). */
+static void direct_rows(job *J, worker *w, float *frac, size_t plane, int rbase, double z, int r0, int r1, int c0,
+                        int c1, direct_sums *ds)
 {
     size_t W = (size_t)J->W;
-    double dsum = 0, dmax = 0;
-    uint64_t fallback = 0;
     for (int r = r0; r <= r1; ++r)
         for (int c = c0; c <= c1; ++c) {
-            size_t p = (size_t)r * W + (size_t)c;
+            size_t p = (size_t)r * W + (size_t)c, q = (size_t)(r - rbase) * W + (size_t)c;
             if (!w->mask[p]) continue;
             double pt[3] = {J->grid.origin[0] + ((double)c + 0.5) * J->grid.pixel[0],
                             J->grid.origin[1] + ((double)r + 0.5) * J->grid.pixel[1], z};
             int inside = 0;
             hv_object_sample(J->obj, pt, &inside, w->fd);
             if (!inside) {
-                ++fallback;
+                ++ds->fallback;
                 continue;
             }
             double d = 0;
-            for (int g = 0; g < J->m; ++g) d = HV_MAX(d, fabs(w->fd[g] - (double)w->frac[(size_t)g * J->plane + p]));
-            dsum += d;
-            dmax = HV_MAX(dmax, d);
+            for (int g = 0; g < J->m; ++g) d = HV_MAX(d, fabs(w->fd[g] - (double)frac[(size_t)g * plane + q]));
+            ds->dsum += d;
+            ds->dmax = HV_MAX(ds->dmax, d);
             if (J->o->method == HV_LAYERS_DIRECT)
-                for (int g = 0; g < J->m; ++g) w->frac[(size_t)g * J->plane + p] = (float)w->fd[g];
+                for (int g = 0; g < J->m; ++g) frac[(size_t)g * plane + q] = (float)w->fd[g];
         }
-    if (li != SIZE_MAX) {
-        J->st_dsum[li] = dsum;
-        J->st_dmax[li] = dmax;
-        J->st_fallback[li] = fallback;
-    }
+}
+
+static void direct_store(job *J, size_t li, const direct_sums *ds)
+{
+    if (li == SIZE_MAX) return;
+    J->st_dsum[li] = ds->dsum;
+    J->st_dmax[li] = ds->dmax;
+    J->st_fallback[li] = ds->fallback;
 }
 
 /* ---- one layer ------------------------------------------------------------------------------ */
@@ -977,6 +993,51 @@ static hv_status write_png(job *J, const char *path, const uint8_t *px, int pale
 static void layer_file(const job *J, char *buf, size_t size, const char *sub, size_t index)
 {
     hv_stack_layer_path(&J->out, sub, index, buf, size);
+}
+
+/* The statistics of layer li (SIZE_MAX: none), then its file unless a tray renders it. */
+static hv_status halftone_done(job *J, worker *w, size_t index, size_t li, const uint64_t *counts, const double *tsum)
+{
+    if (li == SIZE_MAX) return HV_OK;
+    memcpy(J->st_count + li * (size_t)J->m, counts, (size_t)J->m * sizeof *counts);
+    memcpy(J->st_target + li * (size_t)J->m, tsum, (size_t)J->m * sizeof *tsum);
+    if (J->no_files) return HV_OK;
+    char path[4200];
+    layer_file(J, path, sizeof path, NULL, index);
+    return write_png(J, path, w->out, 1);
+}
+
+/* A model's layer halftoned by blue noise BAND_ROWS rows at a time (issue 32 item 21): a band's
+ * fractions resampled, compared with the direct evaluation and halftoned, so a worker holds a band
+ * of fractions, not the layer's (12 bytes a pixel with three materials, against the mask's and the
+ * output's one each). Every sum runs row by row in the same order as over the whole layer, and a
+ * band's noise rows are the layer's: the same pixels and statistics. */
+static hv_status banded_layer(job *J, worker *w, size_t index, size_t li, int r0, int r1, int c0, int c1,
+                              uint64_t pixels)
+{
+    const hv_layer *L = &J->layers[index];
+    size_t W = (size_t)J->W;
+    uint64_t counts[HV_MAX_MATERIALS] = {0};
+    double tsum[HV_MAX_MATERIALS] = {0};
+    direct_sums ds = {0, 0, 0};
+    if (pixels) {
+        hv_status st = voxel_image(J, w, index, L->z);
+        if (st != HV_OK) return st;
+    }
+    /* the rows without object pixels (every row of an empty layer) */
+    memset(w->out, 0, (size_t)HV_MIN(r0, J->H) * W);
+    if (r1 >= r0) memset(w->out + (size_t)(r1 + 1) * W, 0, (size_t)(J->H - 1 - r1) * W);
+    for (int rb = r0; rb <= r1; rb += BAND_ROWS) {
+        int re = HV_MIN(rb + BAND_ROWS - 1, r1), n = re - rb + 1;
+        size_t plane = W * (size_t)n;
+        resample_layer(J, w, w->frac, plane, rb, rb, re, c0, c1);
+        if (J->obj) direct_rows(J, w, w->frac, plane, rb, L->z, rb, re, c0, c1, &ds);
+        int off[3] = {J->bn_off[0], J->bn_off[1] + rb, J->bn_off[2]};
+        hv_halftone_bluenoise(w->frac, J->m, J->W, n, w->mask + (size_t)rb * W, J->ranks, off, index,
+                              w->out + (size_t)rb * W, counts, tsum);
+    }
+    if (J->obj) direct_store(J, li, &ds);
+    return halftone_done(J, w, index, li, counts, tsum);
 }
 
 /* Process global layer `index`; write it unless it is a pre-roll layer of error diffusion. */
@@ -1021,11 +1082,16 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
         layer_file(J, path, sizeof path, NULL, index);
         return write_png(J, path, w->mask, 0);
     }
+    if (banded(J)) return banded_layer(J, w, index, li, r0, r1, c0, c1, pixels);
     if (pixels && !J->src) {
         st = voxel_image(J, w, index, L->z);
         if (st != HV_OK) return st;
-        resample_layer(J, w, r0, r1, c0, c1);
-        if (J->obj) direct_layer(J, w, li, L->z, r0, r1, c0, c1);
+        resample_layer(J, w, w->frac, J->plane, 0, r0, r1, c0, c1);
+        if (J->obj) {
+            direct_sums ds = {0, 0, 0};
+            direct_rows(J, w, w->frac, J->plane, 0, L->z, r0, r1, c0, c1, &ds);
+            direct_store(J, li, &ds);
+        }
     }
     if (J->o->mode == HV_LAYERS_FRACTIONS) {
         if (!write || J->no_files) return HV_OK;
@@ -1062,12 +1128,7 @@ static hv_status do_layer(job *J, worker *w, size_t index, int write)
         w->err = w->next;
         w->next = t;
     }
-    if (!write) return HV_OK;
-    memcpy(J->st_count + li * (size_t)J->m, counts, (size_t)J->m * sizeof *counts);
-    memcpy(J->st_target + li * (size_t)J->m, tsum, (size_t)J->m * sizeof *tsum);
-    if (J->no_files) return HV_OK;
-    layer_file(J, path, sizeof path, NULL, index);
-    return write_png(J, path, w->out, 1);
+    return halftone_done(J, w, index, li, counts, tsum);
 }
 
 static hv_status layer_done(job *J, int t)

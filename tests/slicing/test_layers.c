@@ -842,3 +842,42 @@ Test(layers, bad_input)
     hv_mesh_destroy(m);
     hv_mesh_destroy(far);
 }
+
+/* Bytes a worker adds to the plan of Wu's shaft at dpi x dpi_y (16 workers against 1), and the
+ * layer's pixels. */
+static double per_worker(const hv_mesh *m, const hv_volume *g, double dpi_y, hv_halftone_method method, double *px)
+{
+    hv_layers_options o = opts(HV_LAYERS_HALFTONE, 600, dpi_y, 0.5);
+    o.halftone = method;
+    hv_layers_report r1, r16;
+    hv_set_threads(1);
+    cr_assert_eq(hv_layers_plan(m, g, &o, &r1), HV_OK, "%s", hv_last_error());
+    hv_set_threads(16);
+    cr_assert_eq(hv_layers_plan(m, g, &o, &r16), HV_OK, "%s", hv_last_error());
+    hv_set_threads(0);
+    cr_assert_eq(r16.threads, 16);
+    *px = (double)r1.width * r1.height;
+    return (double)(r16.memory_bytes - r1.memory_bytes) / 15;
+}
+
+/* issue 32 item 21: a worker holds a band of fractions, not the layer's. Wu's shaft (three
+ * materials) at 600 x 300 dpi is 3,543 x 650 pixels, at 600 x 600 twice as tall: a worker that
+ * held the layer's fractions grew by 12 bytes a pixel more (15 with the mask, the halftoned and a
+ * gray image); with bands it grows by the mask and the halftoned image, 2 bytes a pixel, and the
+ * x pass's voxel rows. The plan is what --dry-run prints and --max-memory checks; the blue-noise
+ * split tests and test_tray pin the bytes. */
+Test(layers, memory_per_worker_is_a_band, .timeout = 120)
+{
+    hv_mesh *m = shaft_mesh();
+    hv_volume *g = shaft_model(m);
+    double pa, pb, pe;
+    double a = per_worker(m, g, 300, HV_HALFTONE_BLUE_NOISE, &pa), b = per_worker(m, g, 600, HV_HALFTONE_BLUE_NOISE, &pb);
+    cr_expect_gt(pa, 2e6);
+    cr_expect_lt(a, 6 * pa, "a worker needs %.0f bytes for %.0f pixels (%.1f a pixel)", a, pa, a / pa);
+    cr_expect_lt((b - a) / (pb - pa), 3, "a worker grows by %.1f bytes a pixel", (b - a) / (pb - pa));
+    /* error diffusion carries the layer's error planes: there a worker keeps the whole layer */
+    double e = per_worker(m, g, 300, HV_HALFTONE_ERROR_DIFFUSION, &pe);
+    cr_expect_gt(e, 12 * pe);
+    hv_volume_destroy(g);
+    hv_mesh_destroy(m);
+}

@@ -7,6 +7,7 @@
 
 #include "hovox/generate.h"
 #include "hovox/mesh.h"
+#include "mesh/mesh_internal.h"
 #include "support/support.h"
 
 #ifndef M_PI
@@ -258,6 +259,56 @@ Test(report, welding_is_exact_and_merges_signed_zero)
     /* -0 welds with 0; 1e-7 does not weld with 0 */
     cr_assert_eq(hv_mesh_vertex_count(m), 5);
     hv_mesh_destroy(m);
+}
+
+/* Issue 26 item 2: a reader of indexed facets (3MF) welds its points, not the corners they
+ * expand to; the mesh must be the soup's, vertex for vertex: points repeated under other indices
+ * (one spelt -0), unused, in any order, degenerate and non-manifold facets; small (one weld
+ * partition) and large (several, when threads > 1). */
+static void indexed_matches_soup(size_t npts, size_t nf, unsigned seed)
+{
+    float *xyz = malloc(3 * npts * sizeof *xyz), *soup = malloc(9 * nf * sizeof *soup);
+    uint32_t *tri = malloc(3 * nf * sizeof *tri);
+    cr_assert(xyz && soup && tri);
+    uint32_t x = seed;
+    for (size_t i = 0; i < npts; ++i) {
+        x = x * 1664525u + 1013904223u;
+        size_t src = i > 0 && (x >> 28) < 5 ? (x >> 8) % i : i; /* about a third repeat an earlier point */
+        for (int k = 0; k < 3; ++k) {
+            x = x * 1664525u + 1013904223u;
+            xyz[3 * i + (size_t)k] = src != i ? xyz[3 * src + (size_t)k] : (x >> 29) == 0 ? 0.0f : (float)(x >> 20) / 64.0f;
+        }
+        if (src != i && xyz[3 * i] == 0.0f) xyz[3 * i] = -0.0f;
+    }
+    for (size_t r = 0; r < 3 * nf; ++r) {
+        x = x * 1664525u + 1013904223u;
+        tri[r] = (uint32_t)((x >> 4) % (npts - npts / 8)); /* the last eighth unused */
+        memcpy(soup + 3 * r, xyz + 3 * (size_t)tri[r], 3 * sizeof *soup);
+    }
+    hv_mesh *a, *b;
+    cr_assert_eq(hv_mesh_from_soup(soup, NULL, nf, "m", HV_MESH_3MF, &a), HV_OK);
+    cr_assert_eq(hv_mesh_from_indexed(xyz, npts, tri, nf, "m", HV_MESH_3MF, &b), HV_OK);
+    size_t nv = hv_mesh_vertex_count(a);
+    cr_assert_eq(hv_mesh_vertex_count(b), nv);
+    cr_assert_lt(nv, npts - npts / 8);
+    cr_assert_eq(memcmp(hv_mesh_vertices(a), hv_mesh_vertices(b), 3 * nv * sizeof(float)), 0, "same bits, signs of zero too");
+    cr_assert_eq(memcmp(hv_mesh_facets(a), hv_mesh_facets(b), 12 * nf), 0);
+    cr_assert_eq(memcmp(hv_mesh_neighbors(a), hv_mesh_neighbors(b), 12 * nf), 0);
+    cr_assert_eq(memcmp(hv_mesh_edge_flags(a), hv_mesh_edge_flags(b), nf), 0);
+    cr_assert_eq(memcmp(hv_mesh_get_report(a), hv_mesh_get_report(b), sizeof(hv_mesh_report)), 0);
+    hv_mesh_destroy(a);
+    hv_mesh_destroy(b);
+    free(xyz);
+    free(soup);
+    free(tri);
+}
+
+Test(report, welding_points_gives_the_soup_mesh)
+{
+    indexed_matches_soup(40, 60, 1);
+    hv_set_threads(4);
+    indexed_matches_soup(300000, 200000, 2);
+    hv_set_threads(0);
 }
 
 Test(report, deterministic_across_thread_counts)

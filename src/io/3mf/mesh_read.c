@@ -951,7 +951,11 @@ static hv_status check_amplification(const reader *r, const char *name, size_t s
 typedef struct build {
     reader *r;
     const char *name;
-    float *soup;
+    float *pts;    /* the points placed: each placement's vertices its triangles use, placed */
+    size_t npts;
+    uint32_t *tri; /* 3 per facet: indices into pts */
+    uint32_t *stamp, *slot; /* per vertex of an object: the placement that placed it, and where */
+    uint32_t placement;
     int32_t *fmat;
     size_t nf;
     int any_material;
@@ -1096,24 +1100,35 @@ static void compose(const double *a, const double *b, double *out) /* out = a af
     }
 }
 
+/* The object's triangles placed by t: a vertex is placed once per placement, when a triangle
+ * first uses it (vertices no triangle uses cost nothing), so the points never outnumber the
+ * corners; hv_mesh_build_indexed welds them into the mesh the corners would give. */
 static hv_status place_mesh(build *b, const object *o, const double *t)
 {
     reader *r = b->r;
     double det = t[0] * (t[5] * t[10] - t[6] * t[9]) - t[1] * (t[4] * t[10] - t[6] * t[8]) + t[2] * (t[4] * t[9] - t[5] * t[8]);
     int flip = det < 0; /* Core 4.1: a mirror keeps the sign of the volume */
+    uint32_t mark = ++b->placement; /* placements are at most TMF_MAX_PLACEMENTS */
     for (size_t f = 0; f < o->nt; ++f) {
         const uint32_t *tri = r->tri + 3 * (o->t0 + f);
-        float *dst = b->soup + 9 * b->nf;
+        uint32_t *dst = b->tri + 3 * b->nf;
         for (int c = 0; c < 3; ++c) {
-            const float *p = r->xyz + 3 * (o->v0 + tri[flip && c ? 3 - c : c]);
-            for (int k = 0; k < 3; ++k) {
-                double v = (t[4 * k] * p[0] + t[4 * k + 1] * p[1] + t[4 * k + 2] * p[2] + t[4 * k + 3]) * r->unit;
-                float fv = (float)v;
-                if (!isfinite(fv))
-                    return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: triangle %zu leaves the float range once placed (%g)",
-                                        b->name, o->name ? o->name : "an object", f, v);
-                dst[3 * c + k] = fv;
+            uint32_t i = tri[flip && c ? 3 - c : c];
+            if (b->stamp[i] != mark) {
+                const float *p = r->xyz + 3 * (o->v0 + i);
+                float *q = b->pts + 3 * b->npts;
+                for (int k = 0; k < 3; ++k) {
+                    double v = (t[4 * k] * p[0] + t[4 * k + 1] * p[1] + t[4 * k + 2] * p[2] + t[4 * k + 3]) * r->unit;
+                    float fv = (float)v;
+                    if (!isfinite(fv))
+                        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: triangle %zu leaves the float range once placed (%g)",
+                                            b->name, o->name ? o->name : "an object", f, v);
+                    q[k] = fv;
+                }
+                b->stamp[i] = mark;
+                b->slot[i] = (uint32_t)b->npts++;
             }
+            dst[c] = b->slot[i];
         }
         int32_t mat;
         const int32_t *ref = r->refs + 4 * (o->t0 + f);
@@ -1214,6 +1229,8 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     b.name = name;
     hv_names_init(&b.mats);
     uint64_t nf = 0, skipped = 0;
+    size_t maxv = 1;
+    for (size_t i = 0; i < r->nobj; ++i) maxv = HV_MAX(maxv, r->objs[i].nv);
     for (size_t i = 0; i < r->nitems; ++i) {
         const object *o = &r->objs[r->items[i].obj];
         if (o->type == T_SUPPORT || o->type == T_OTHER) skipped++;
@@ -1221,7 +1238,10 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     }
     hv_mesh_body *bodies = hv_calloc(r->nitems + 1, sizeof *bodies);
     hv_mesh_item *items = hv_calloc(r->nitems + 1, sizeof *items);
-    b.soup = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.soup);
+    b.pts = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.pts); /* pages touched as placed */
+    b.tri = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.tri);
+    b.stamp = hv_calloc(maxv, sizeof *b.stamp);
+    b.slot = hv_malloc_array(maxv, sizeof *b.slot);
     b.fmat = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.fmat);
     int appearance = 0; /* colour or texture groups: the facets' appearance is kept */
     for (size_t k = 0; k < r->ids.n; ++k) appearance |= r->res[k].kind == R_COLOR || r->res[k].kind == R_TEXTURE;
@@ -1230,7 +1250,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
         b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
     }
-    hv_status s = bodies && items && b.soup && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
+    hv_status s = bodies && items && b.pts && b.tri && b.stamp && b.slot && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
     size_t nb = 0;
     for (size_t i = 0; i < r->nitems && s == HV_OK; ++i) {
         const object *o = &r->objs[r->items[i].obj];
@@ -1264,7 +1284,8 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         mats[k].parts = b.mix + b.mixat[2 * k];
     }
     if (s == HV_OK)
-        s = hv_mesh_build(b.soup, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n, b.any_material ? b.fmat : NULL, out);
+        s = hv_mesh_build_indexed(b.pts, b.npts, b.tri, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n,
+                                  b.any_material ? b.fmat : NULL, out);
     if (s == HV_OK && (b.any_colour || b.any_texture)) s = set_appearance(&b, *out);
     if (s == HV_OK) s = hv_mesh_set_file_info(*out, r->unit_name ? r->unit_name : "millimeter", items, r->nitems);
     if (s != HV_OK && *out) {
@@ -1277,7 +1298,10 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     free(mats);
     free(items);
     free(bodies);
-    free(b.soup);
+    free(b.pts);
+    free(b.tri);
+    free(b.stamp);
+    free(b.slot);
     free(b.fmat);
     free(b.rgba);
     free(b.mixat);

@@ -113,6 +113,7 @@ typedef struct reader {
     int skip;  /* depth inside an element hovox does not read */
     int group; /* the property group being read (index into res) */
     int has_model, resources_seen, builds;
+    const char *vertex_name, *triangle_name; /* "vertex", "triangle" as the parser's dictionary spells them */
     char label[200]; /* "object 3 'name'" */
     uint64_t loose_props;  /* triangles with a pid in objects without a default one */
     char loose_first[1400]; /* where the first is */
@@ -526,6 +527,16 @@ static hv_status on_object(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     return HV_OK;
 }
 
+/* local is `want`: the parser hands out a name from its dictionary, the same pointer each time,
+ * so a million vertices compare a pointer, not a string (issue 26 item 2). */
+static inline int named(const char *local, const char **seen, const char *want)
+{
+    if (local == *seen) return 1;
+    if (strcmp(local, want) != 0) return 0;
+    *seen = local;
+    return 1;
+}
+
 static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
 {
     static const char *const axis[] = {"x", "y", "z"};
@@ -533,7 +544,7 @@ static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     if (s != HV_OK) return s;
     object *o = &r->objs[r->nobj - 1];
     for (int k = 0; k < 3; ++k) {
-        const tmf_attr *v = k < n && strcmp(a[k].local, axis[k]) == 0 ? &a[k] : tmf_attr_find(a, n, axis[k], NULL);
+        const tmf_attr *v = k < n && a[k].local[0] == axis[k][0] && !a[k].local[1] ? &a[k] : tmf_attr_find(a, n, axis[k], NULL);
         if (!v) return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex %zu has no %s", r->label, o->nv, axis[k]);
         char q[72];
         float f = 0;
@@ -559,7 +570,8 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     if (s == HV_OK) s = grow(r, x, (void **)&r->refs, &r->rfcap, 4 * (r->ntri + 1), sizeof *r->refs);
     if (s != HV_OK) return s;
     for (int c = 0; c < 3; ++c) {
-        const tmf_attr *v = c < n && strcmp(a[c].local, corner[c]) == 0 ? &a[c] : tmf_attr_find(a, n, corner[c], NULL);
+        const char *l = c < n ? a[c].local : "";
+        const tmf_attr *v = l[0] == 'v' && l[1] == '1' + c && !l[2] ? &a[c] : tmf_attr_find(a, n, corner[c], NULL);
         uint64_t i = 0;
         int rc = tmf_attr_uint(v, UINT32_MAX, &i);
         if (rc > 0 && i < o->nv) {
@@ -822,10 +834,10 @@ static hv_status on_start(void *ctx, tmf_xml *x, const char *local, const char *
     }
     switch (r->at) {
     case W_VERTICES:
-        if (strcmp(local, "vertex") == 0) return on_vertex(r, x, a, n);
+        if (named(local, &r->vertex_name, "vertex")) return on_vertex(r, x, a, n);
         break;
     case W_TRIANGLES:
-        if (strcmp(local, "triangle") == 0) return on_triangle(r, x, a, n);
+        if (named(local, &r->triangle_name, "triangle")) return on_triangle(r, x, a, n);
         break;
     case W_TOP:
         if (!r->has_model) {
@@ -887,7 +899,8 @@ static hv_status on_end(void *ctx, tmf_xml *x, const char *local, const char *ur
                                [W_OBJECT] = W_RESOURCES, [W_MESH] = W_OBJECT,   [W_VERTICES] = W_MESH,
                                [W_TRIANGLES] = W_MESH, [W_COMPONENTS] = W_OBJECT, [W_BUILD] = W_TOP};
     /* the end of an element read at this level (vertex, triangle, entry, component, item) stays */
-    if ((r->at == W_VERTICES && strcmp(local, "vertex") == 0) || (r->at == W_TRIANGLES && strcmp(local, "triangle") == 0) ||
+    if ((r->at == W_VERTICES && named(local, &r->vertex_name, "vertex")) ||
+        (r->at == W_TRIANGLES && named(local, &r->triangle_name, "triangle")) ||
         (r->at == W_COMPONENTS && strcmp(local, "component") == 0) || (r->at == W_BUILD && strcmp(local, "item") == 0) ||
         (r->at == W_GROUP && strcmp(local, k_child_tags[r->res[r->group].kind]) == 0) || (r->at == W_TOP))
         return HV_OK;

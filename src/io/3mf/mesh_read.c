@@ -93,7 +93,8 @@ typedef struct reader {
     size_t nxyz, xcap;
     uint32_t *tri; /* 3 per triangle, object-local vertex indices */
     size_t ntri, tcap;
-    int32_t *refs; /* 4 per triangle: resource (-1: none) and the entries of its three corners */
+    int32_t *refs; /* 4 per triangle: resource (-1: none) and the entries of its three corners; NULL
+                    * while no triangle has properties of its own (each has its object's default) */
     size_t rfcap;
     tex2d *texs;   /* <texture2d> resources (resource.first indexes them) */
     size_t ntex, txcap;
@@ -559,6 +560,24 @@ static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     return HV_OK;
 }
 
+/* Room for triangle r->ntri's properties; the first time, the triangles before it get their
+ * objects' defaults (a million triangles without properties of their own write no 16 MB of
+ * them: issue 26 item 2). */
+static hv_status own_refs(reader *r, tmf_xml *x)
+{
+    int first = r->refs == NULL;
+    hv_status s = grow(r, x, (void **)&r->refs, &r->rfcap, 4 * (r->ntri + 1), sizeof *r->refs);
+    for (size_t i = 0; first && s == HV_OK && i < r->nobj; ++i) {
+        const object *o = &r->objs[i];
+        for (size_t t = o->t0; t < o->t0 + o->nt; ++t) {
+            int32_t *ref = r->refs + 4 * t;
+            ref[0] = o->dres;
+            ref[1] = ref[2] = ref[3] = o->dentry;
+        }
+    }
+    return s;
+}
+
 /* A triangle: corner indices within its object's vertices; its property (pid/p1, else the
  * object's default; a gradient's material is its first corner's). */
 static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
@@ -567,7 +586,7 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     object *o = &r->objs[r->nobj - 1];
     char place[240]; /* written when a message needs it (a million triangles need none) */
     hv_status s = grow(r, x, (void **)&r->tri, &r->tcap, 3 * (r->ntri + 1), sizeof *r->tri);
-    if (s == HV_OK) s = grow(r, x, (void **)&r->refs, &r->rfcap, 4 * (r->ntri + 1), sizeof *r->refs);
+    if (s == HV_OK && (r->refs || n > 3)) s = own_refs(r, x);
     if (s != HV_OK) return s;
     for (int c = 0; c < 3; ++c) {
         const char *l = c < n ? a[c].local : "";
@@ -612,9 +631,11 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
             return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s sets pid %llu without p1", place, (unsigned long long)pid);
     }
     (void)ent;
-    int32_t *ref = r->refs + 4 * r->ntri;
-    ref[0] = res;
-    memcpy(ref + 1, ec, sizeof ec);
+    if (r->refs) {
+        int32_t *ref = r->refs + 4 * r->ntri;
+        ref[0] = res;
+        memcpy(ref + 1, ec, sizeof ec);
+    }
     r->ntri++;
     o->nt++;
     return HV_OK;
@@ -1122,6 +1143,7 @@ static hv_status place_mesh(build *b, const object *o, const double *t)
     double det = t[0] * (t[5] * t[10] - t[6] * t[9]) - t[1] * (t[4] * t[10] - t[6] * t[8]) + t[2] * (t[4] * t[9] - t[5] * t[8]);
     int flip = det < 0; /* Core 4.1: a mirror keeps the sign of the volume */
     uint32_t mark = ++b->placement; /* placements are at most TMF_MAX_PLACEMENTS */
+    const int32_t dflt[4] = {o->dres, o->dentry, o->dentry, o->dentry}; /* no triangle has properties of its own */
     for (size_t f = 0; f < o->nt; ++f) {
         const uint32_t *tri = r->tri + 3 * (o->t0 + f);
         uint32_t *dst = b->tri + 3 * b->nf;
@@ -1144,7 +1166,7 @@ static hv_status place_mesh(build *b, const object *o, const double *t)
             dst[c] = b->slot[i];
         }
         int32_t mat;
-        const int32_t *ref = r->refs + 4 * (o->t0 + f);
+        const int32_t *ref = r->refs ? r->refs + 4 * (o->t0 + f) : dflt;
         hv_status s = material_of(b, ref[0], ref[1], &mat);
         if (s != HV_OK) return s;
         appearance_of(b, ref, flip);

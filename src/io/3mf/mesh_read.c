@@ -1316,7 +1316,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         mats[k].rgba = b.rgba[k];
         mats[k].has_color = 1;
         mats[k].nparts = b.mixat[2 * k + 1];
-        mats[k].parts = b.mix + b.mixat[2 * k];
+        mats[k].parts = b.mix ? b.mix + b.mixat[2 * k] : NULL; /* no composite: no mix (NULL + 0 is undefined) */
     }
     if (s == HV_OK)
         s = hv_mesh_build_indexed(b.pts, b.npts, b.tri, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n,

@@ -69,6 +69,14 @@ const char *hv_layers_mode_name(hv_layers_mode m)
     return n ? n : "?";
 }
 
+hv_status hv_layers_mode_parse(const char *name, hv_layers_mode *out)
+{
+    int v;
+    hv_status s = hv_enum_parse(&k_mode, name, &v);
+    if (s == HV_OK) *out = (hv_layers_mode)v;
+    return s;
+}
+
 const char *hv_layers_method_name(hv_layers_method m)
 {
     const char *n = hv_enum_name(&k_method, (int)m);

@@ -327,6 +327,15 @@ const char *hv_volume_grid_name(const hv_volume *v, int g)
     return g >= 0 && g < v->ngrids ? v->grids[g].name : NULL;
 }
 
+const char *hv_grid_type_name(hv_grid_type type)
+{
+    switch (type) {
+    case HV_GRID_FLOAT: return "float";
+    case HV_GRID_BOOL: return "bool";
+    }
+    return "?";
+}
+
 hv_grid_type hv_volume_grid_type(const hv_volume *v, int g)
 {
     return g >= 0 && g < v->ngrids ? v->grids[g].type : (hv_grid_type)0;

@@ -248,6 +248,9 @@ HV_API hv_status hv_layers_options_check(const hv_layers_options *o);
 /* Names of the enum values, the one spelling options take and manifests and messages print
  * ("halftone", "resample", "bluenoise", "evenodd"); "?" for a value without one. Static text. */
 HV_API const char *hv_layers_mode_name(hv_layers_mode mode);
+/* The mode of that name (the spelling above; a manifest's "mode", as `hovox view` reads it).
+ * Errors: HV_ERR_INVALID ("layers mode must be halftone, fractions or mask, got 'x'"). */
+HV_API hv_status hv_layers_mode_parse(const char *name, hv_layers_mode *out);
 HV_API const char *hv_layers_method_name(hv_layers_method method);
 HV_API const char *hv_halftone_method_name(hv_halftone_method method);
 HV_API const char *hv_fill_rule_name(hv_fill_rule rule);

@@ -14,6 +14,9 @@ extern "C" {
 typedef struct hv_volume hv_volume;
 
 typedef enum hv_grid_type { HV_GRID_FLOAT = 1, HV_GRID_BOOL = 2 } hv_grid_type;
+/* The one spelling of a grid type ("float", "bool"; "?" for a value not of the enum), used by
+ * `hovox info`, Lua and Python; a static string. */
+HV_API const char *hv_grid_type_name(hv_grid_type type);
 
 /* Leaf blocks: 8x8x8 voxels, origin a multiple of 8 in index space. Inside a block the
  * voxel (x,y,z) (any integers) sits at offset HV_LEAF_OFFSET(x,y,z), z fastest (as OpenVDB).

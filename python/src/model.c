@@ -141,7 +141,7 @@ static PyObject *model_grids(PyObject *self, PyObject *unused)
     PyObject *list = PyList_New(n);
     for (int g = 0; list && g < n; ++g) {
         PyObject *d = Py_BuildValue("{s:s,s:s}", "name", hv_volume_grid_name(v, g), "type",
-                                    hv_volume_grid_type(v, g) == HV_GRID_BOOL ? "bool" : "float");
+                                    hv_grid_type_name(hv_volume_grid_type(v, g)));
         if (!d) Py_CLEAR(list);
         else PyList_SET_ITEM(list, g, d);
     }

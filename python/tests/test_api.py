@@ -242,6 +242,8 @@ def test_a_call_is_one_command(graded_gear, tmp_path):
     m.add_grid("z", lambda c: c[:, 2])
     m.save(p)
     assert "z" in [g["name"] for g in hovox.load(p).grids()]
+    types = {g["name"]: g["type"] for g in hovox.load(p).grids()}  # hv_grid_type_name's spellings
+    assert types["z"] == "float" and types["occupancy"] == "bool"
     pin = tmp_path / "pin.stl"
     hovox.generate.cylinder(base=(0, 0, 0), axis=2, length=3, radius=2).save(pin)
     t = hovox.tray(profile="j750")

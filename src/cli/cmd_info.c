@@ -274,7 +274,6 @@ static hv_status model_info_get(const char *path, const hv_volume *vol, model_in
     return HV_OK;
 }
 
-static const char *grid_type_text(hv_grid_type t) { return t == HV_GRID_BOOL ? "bool" : "float"; }
 
 static const char *json_str_or(const json_t *o, const char *key, const char *dflt)
 {
@@ -306,7 +305,7 @@ static void print_model_text(const char *path, const model_info *mi)
     printf("grids               %d\n", ng);
     for (int g = 0; g < ng; ++g) {
         hv_grid_type t = hv_volume_grid_type(vol, g);
-        printf("  %-*s  %s", w, hv_volume_grid_name(vol, g), grid_type_text(t));
+        printf("  %-*s  %s", w, hv_volume_grid_name(vol, g), hv_grid_type_name(t));
         if (t == HV_GRID_BOOL) printf("  %llu set", (unsigned long long)hv_volume_mask_count(vol, g));
         printf("\n");
     }
@@ -362,7 +361,7 @@ static hv_status model_json(hv_buf *b, const char *path, const model_info *mi)
     for (int g = 0; g < hv_volume_grid_count(vol) && !fail; ++g) {
         json_t *x = json_object();
         fail = !x || hv_json_set(x, "name", hv_json_text(hv_volume_grid_name(vol, g))) |
-                         hv_json_set(x, "type", json_string(grid_type_text(hv_volume_grid_type(vol, g))));
+                         hv_json_set(x, "type", json_string(hv_grid_type_name(hv_volume_grid_type(vol, g))));
         if (!fail && hv_volume_grid_type(vol, g) == HV_GRID_BOOL)
             fail = hv_json_set(x, "set", json_integer((json_int_t)hv_volume_mask_count(vol, g)));
         if (!fail) fail = json_array_append_new(grids, x) != 0;

@@ -15,6 +15,12 @@ hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_
                         const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
                         size_t nmats, const int32_t *facet_mat, hv_mesh **out);
 
+/* The same from facets over points (3 indices per facet, each below npts): the mesh is the one
+ * hv_mesh_build makes of the soup they expand to (hv_mesh_from_indexed), welded faster. */
+hv_status hv_mesh_build_indexed(const float *xyz, size_t npts, const uint32_t *tri, size_t nf, const char *name,
+                                hv_mesh_format format, const hv_mesh_body *bodies, size_t nbodies,
+                                const hv_mesh_material *mats, size_t nmats, const int32_t *facet_mat, hv_mesh **out);
+
 /* ---- Wavefront material libraries (mtl.c) ------------------------------------------------ */
 
 typedef struct hv_mtl_material {

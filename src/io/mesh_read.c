@@ -8,14 +8,11 @@
 
 /* ---- the last step of a reader ----------------------------------------------------------- */
 
-hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_format format,
-                        const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
-                        size_t nmats, const int32_t *facet_mat, hv_mesh **out)
+/* Bodies and materials given to a mesh just built (destroyed on failure). */
+static hv_status with_bodies(hv_mesh *m, size_t nf, const char *name, const hv_mesh_body *bodies, size_t nbodies,
+                             const hv_mesh_material *mats, size_t nmats, const int32_t *facet_mat, hv_mesh **out)
 {
-    *out = NULL;
-    hv_mesh *m = NULL;
-    hv_status s = hv_mesh_from_soup(soup, NULL, nf, name, format, &m);
-    if (s != HV_OK) return s;
+    hv_status s = HV_OK;
     if (nbodies > 0 || nmats > 0) {
         hv_mesh_body whole = {NULL, HV_MESH_NO_MATERIAL, 0, nf};
         char *stem = NULL;
@@ -38,4 +35,26 @@ hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_
     }
     *out = m;
     return HV_OK;
+}
+
+hv_status hv_mesh_build(const float *soup, size_t nf, const char *name, hv_mesh_format format,
+                        const hv_mesh_body *bodies, size_t nbodies, const hv_mesh_material *mats,
+                        size_t nmats, const int32_t *facet_mat, hv_mesh **out)
+{
+    *out = NULL;
+    hv_mesh *m = NULL;
+    hv_status s = hv_mesh_from_soup(soup, NULL, nf, name, format, &m);
+    if (s != HV_OK) return s;
+    return with_bodies(m, nf, name, bodies, nbodies, mats, nmats, facet_mat, out);
+}
+
+hv_status hv_mesh_build_indexed(const float *xyz, size_t npts, const uint32_t *tri, size_t nf, const char *name,
+                                hv_mesh_format format, const hv_mesh_body *bodies, size_t nbodies,
+                                const hv_mesh_material *mats, size_t nmats, const int32_t *facet_mat, hv_mesh **out)
+{
+    *out = NULL;
+    hv_mesh *m = NULL;
+    hv_status s = hv_mesh_from_indexed(xyz, npts, tri, nf, name, format, &m);
+    if (s != HV_OK) return s;
+    return with_bodies(m, nf, name, bodies, nbodies, mats, nmats, facet_mat, out);
 }

@@ -75,7 +75,7 @@ static int model_grids(lua_State *L)
         lua_createtable(L, 0, 2);
         lua_pushstring(L, hv_volume_grid_name(vol, g));
         lua_setfield(L, -2, "name");
-        lua_pushstring(L, hv_volume_grid_type(vol, g) == HV_GRID_BOOL ? "bool" : "float");
+        lua_pushstring(L, hv_grid_type_name(hv_volume_grid_type(vol, g)));
         lua_setfield(L, -2, "type");
         lua_rawseti(L, -2, g + 1);
     }

@@ -34,7 +34,7 @@ static inline int same_xyz(const float *a, const float *b)
 }
 
 typedef struct weld_ctx {
-    const float *soup;
+    const float *pts; /* 3 floats per point: a soup's corners, or an indexed mesh's points */
     size_t nrefs;
     uint64_t *hash;
     uint32_t *rep; /* first ref with the same position */
@@ -45,7 +45,7 @@ static hv_status weld_hash(void *c, size_t b, size_t e, int t)
 {
     (void)t;
     weld_ctx *w = c;
-    for (size_t r = b; r < e; ++r) w->hash[r] = hash_xyz(w->soup + 3 * r);
+    for (size_t r = b; r < e; ++r) w->hash[r] = hash_xyz(w->pts + 3 * r);
     return HV_OK;
 }
 
@@ -68,7 +68,7 @@ static hv_status weld_part(void *c, size_t b, size_t e, int t)
         for (size_t r = 0; r < w->nrefs; ++r) {
             uint64_t h = w->hash[r];
             if ((size_t)(w->parts_log2 ? h >> shift : 0) != part) continue;
-            const float *p = w->soup + 3 * r;
+            const float *p = w->pts + 3 * r;
             for (size_t i = (size_t)h & (cap - 1);; i = (i + 1) & (cap - 1)) {
                 uint32_t s = table[i];
                 if (s == UINT32_MAX) {
@@ -76,7 +76,7 @@ static hv_status weld_part(void *c, size_t b, size_t e, int t)
                     w->rep[r] = (uint32_t)r;
                     break;
                 }
-                if (w->hash[s] == h && same_xyz(w->soup + 3 * (size_t)s, p)) {
+                if (w->hash[s] == h && same_xyz(w->pts + 3 * (size_t)s, p)) {
                     w->rep[r] = s;
                     break;
                 }
@@ -441,8 +441,8 @@ done:
     return s;
 }
 
-hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, const char *name,
-                            hv_mesh_format format, hv_mesh **out)
+/* A new mesh of nf facets, its tri array allocated (filled by the caller). */
+static hv_status mesh_new(size_t nf, const char *name, hv_mesh_format format, hv_mesh **out)
 {
     *out = NULL;
     if (nf == 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: contains no facets", name);
@@ -455,23 +455,53 @@ hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, 
     m->nf = nf;
     m->report.format = format;
     m->report.facets = nf;
+    m->tri = hv_malloc_array(3 * nf, sizeof *m->tri);
+    if (!m->name || !m->tri) {
+        hv_mesh_destroy(m);
+        return HV_ERR_NOMEM;
+    }
+    *out = m;
+    return HV_OK;
+}
+
+/* w->rep[i]: the first of the w->nrefs points at the same position as point i (w->hash is
+ * scratch of the same length, free for the caller's use afterwards). */
+static hv_status weld(weld_ctx *w)
+{
+    hv_status s = hv_parallel_for(w->nrefs, CHUNK, weld_hash, w, NULL, "weld");
+    if (s != HV_OK) return s;
+    /* one partition per thread and a few more for balance; a single one when small */
+    int threads = hv_threads();
+    w->parts_log2 = w->nrefs < 200000 || threads == 1 ? 0 : 3;
+    while ((1 << w->parts_log2) < 2 * threads && w->parts_log2 > 0 && w->parts_log2 < 6)
+        ++w->parts_log2;
+    return hv_parallel_for((size_t)1 << w->parts_log2, 1, weld_part, w, NULL, "weld");
+}
+
+/* Adjacency, the report and the default body of a mesh whose vertices and facets are set. */
+static hv_status finish(hv_mesh *m, const float *normals, hv_mesh **out)
+{
+    hv_status s = build_topology(m, normals);
+    if (s == HV_OK) s = hv_mesh_default_body(m);
+    if (s != HV_OK) {
+        hv_mesh_destroy(m);
+        return s;
+    }
+    *out = m;
+    return HV_OK;
+}
+
+hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, const char *name,
+                            hv_mesh_format format, hv_mesh **out)
+{
+    hv_mesh *m;
+    hv_status s = mesh_new(nf, name, format, &m);
+    if (s != HV_OK) return s;
     size_t nrefs = 3 * nf;
     weld_ctx w = {soup, nrefs, hv_malloc_array(nrefs, sizeof(uint64_t)),
                   hv_malloc_array(nrefs, sizeof(uint32_t)), 0};
-    m->tri = hv_malloc_array(nrefs, sizeof *m->tri);
-    hv_status s = HV_OK;
-    if (!m->name || !w.hash || !w.rep || !m->tri) {
-        s = HV_ERR_NOMEM;
-        goto fail;
-    }
-    s = hv_parallel_for(nrefs, CHUNK, weld_hash, &w, NULL, "weld");
-    if (s != HV_OK) goto fail;
-    /* one partition per thread and a few more for balance; a single one when small */
-    int threads = hv_threads();
-    w.parts_log2 = nrefs < 200000 || threads == 1 ? 0 : 3;
-    while ((1 << w.parts_log2) < 2 * threads && w.parts_log2 > 0 && w.parts_log2 < 6)
-        ++w.parts_log2;
-    s = hv_parallel_for((size_t)1 << w.parts_log2, 1, weld_part, &w, NULL, "weld");
+    if (!w.hash || !w.rep) s = HV_ERR_NOMEM;
+    if (s == HV_OK) s = weld(&w);
     if (s != HV_OK) goto fail;
     /* number vertices by first appearance; reuse hash[] as the ref -> vertex map */
     size_t nv = 0;
@@ -490,13 +520,49 @@ hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, 
         if (w.rep[r] == r) memcpy(m->xyz + 3 * w.hash[r], soup + 3 * r, 3 * sizeof(float));
     free(w.hash);
     free(w.rep);
-    w.hash = NULL;
-    w.rep = NULL;
-    s = build_topology(m, normals);
-    if (s == HV_OK) s = hv_mesh_default_body(m);
+    return finish(m, normals, out);
+fail:
+    free(w.hash);
+    free(w.rep);
+    hv_mesh_destroy(m);
+    return s;
+}
+
+/* The mesh hv_mesh_from_soup makes of the soup these facets expand to, welding the npts points
+ * (3MF, issue 26 item 2: a million-facet mesh has half a million points, not three million
+ * corners): vertices are the points welded, numbered by the first corner that uses them, each
+ * with that corner's coordinates (-0 and +0 weld; the first one's sign is kept, as there). */
+hv_status hv_mesh_from_indexed(const float *xyz, size_t npts, const uint32_t *tri, size_t nf,
+                               const char *name, hv_mesh_format format, hv_mesh **out)
+{
+    hv_mesh *m;
+    hv_status s = mesh_new(nf, name, format, &m);
+    if (s != HV_OK) return s;
+    size_t nrefs = 3 * nf;
+    weld_ctx w = {xyz, npts, hv_malloc_array(HV_MAX(npts, 1), sizeof(uint64_t)),
+                  hv_malloc_array(HV_MAX(npts, 1), sizeof(uint32_t)), 0};
+    m->xyz = hv_malloc_array(3 * HV_MIN(npts, nrefs), sizeof *m->xyz);
+    if (!w.hash || !w.rep || !m->xyz) s = HV_ERR_NOMEM;
+    if (s == HV_OK) s = weld(&w);
     if (s != HV_OK) goto fail;
-    *out = m;
-    return HV_OK;
+    /* hash[] becomes the point -> vertex map */
+    memset(w.hash, 0xFF, npts * sizeof *w.hash);
+    size_t nv = 0;
+    for (size_t r = 0; r < nrefs; ++r) {
+        uint32_t p = tri[r], g = w.rep[p];
+        if (w.hash[g] == UINT64_MAX) {
+            memcpy(m->xyz + 3 * nv, xyz + 3 * (size_t)p, 3 * sizeof(float));
+            w.hash[g] = nv++;
+        }
+        m->tri[r] = (uint32_t)w.hash[g];
+    }
+    m->nv = nv;
+    m->report.vertices = nv;
+    float *fit = nv < HV_MIN(npts, nrefs) ? realloc(m->xyz, 3 * nv * sizeof *m->xyz) : NULL;
+    if (fit) m->xyz = fit;
+    free(w.hash);
+    free(w.rep);
+    return finish(m, NULL, out);
 fail:
     free(w.hash);
     free(w.rep);

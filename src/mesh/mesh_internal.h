@@ -61,6 +61,12 @@ hv_status hv_mesh_set_bodies(hv_mesh *m, const hv_mesh_body *bodies, size_t n,
 hv_status hv_mesh_from_soup(const float *soup, const float *normals, size_t nf, const char *name,
                             hv_mesh_format format, hv_mesh **out);
 
+/* The mesh hv_mesh_from_soup makes of the soup that facets `tri` (3 indices per facet, each below
+ * npts) over the points `xyz` (3 floats per point, finite) expand to, vertex for vertex, but
+ * welding the points, not the corners. Points no facet uses are dropped. Takes no ownership. */
+hv_status hv_mesh_from_indexed(const float *xyz, size_t npts, const uint32_t *tri, size_t nf,
+                               const char *name, hv_mesh_format format, hv_mesh **out);
+
 /* Append the report as a JSON object (keys of `hovox info --json`; hv_mesh_report_to_doc, see
  * volumes/schema.h); sets b->failed when out of memory. */
 void hv_mesh_report_json(hv_buf *b, const char *file, const hv_mesh_report *r);

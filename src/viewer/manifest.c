@@ -91,10 +91,9 @@ static hv_status read_sizes(vw_stack *S, const char *name)
     const char *mode;
     hv_status s = hv_json_get_string(d, "mode", name, &mode);
     if (s != HV_OK) return s;
-    if (strcmp(mode, "halftone") == 0) S->mode = VW_HALFTONE;
-    else if (strcmp(mode, "fractions") == 0 && !S->tray) S->mode = VW_FRACTIONS;
-    else if (strcmp(mode, "mask") == 0) S->mode = VW_MASK;
-    else return hv_error_set(HV_ERR_BAD_INPUT, "%s: mode \"%s\" is not %s", name, mode,
+    /* the names hovox layers and tray write (hv_layers_mode_name), read by the same enum */
+    if (hv_layers_mode_parse(mode, &S->mode) != HV_OK || (S->mode == HV_LAYERS_FRACTIONS && S->tray))
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: mode \"%s\" is not %s", name, mode,
                              S->tray ? "halftone or mask" : "halftone, fractions or mask");
     if ((s = get_int(d, "width", name, 1, VW_MAX_SIDE, &S->width)) != HV_OK) return s;
     if ((s = get_int(d, "height", name, 1, VW_MAX_SIDE, &S->height)) != HV_OK) return s;
@@ -102,7 +101,7 @@ static hv_status read_sizes(vw_stack *S, const char *name)
     int bd = S->bit_depth;
     if (bd != 1 && bd != 2 && bd != 4 && bd != 8)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: bit_depth %d is not 1, 2, 4 or 8", name, bd);
-    if ((S->mode == VW_MASK && bd != 1) || (S->mode == VW_FRACTIONS && bd != 8))
+    if ((S->mode == HV_LAYERS_MASK && bd != 1) || (S->mode == HV_LAYERS_FRACTIONS && bd != 8))
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: bit_depth %d does not suit mode %s (mask: 1, fractions: 8)", name,
                             bd, mode);
     if ((s = hv_json_get_number(d, "layer_height_mm", name, &S->layer_height)) != HV_OK) return s;
@@ -141,12 +140,12 @@ static hv_status read_layers_stack(vw_stack *S, const char *name)
         if ((s = hv_json_get_string(e, "name", what, &nm)) != HV_OK) return s;
         if ((s = hv_json_get_string(e, "color", what, &col)) != HV_OK) return s;
         if (!vw_color_parse(col, rgb)) return bad(what, "color \"", col, "\" is not #rrggbb");
-        if (S->mode == VW_HALFTONE) {
+        if (S->mode == HV_LAYERS_HALFTONE) {
             int pi;
             if ((s = get_int(e, "palette_index", what, 1, 255, &pi)) != HV_OK) return s;
         }
     }
-    if (S->mode == VW_FRACTIONS) {
+    if (S->mode == HV_LAYERS_FRACTIONS) {
         if (m == 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: a fractions stack without materials", name);
         S->channels = (int)m;
         S->channel = hv_calloc(m, sizeof *S->channel);
@@ -163,7 +162,7 @@ static hv_status read_layers_stack(vw_stack *S, const char *name)
     } else {
         S->channels = 1;
     }
-    S->nchannel_names = S->mode == VW_FRACTIONS ? (int)m : 0;
+    S->nchannel_names = S->mode == HV_LAYERS_FRACTIONS ? (int)m : 0;
 
     const json_t *layers;
     if ((s = hv_json_need(d, "layers", JSON_ARRAY, name, &layers)) != HV_OK) return s;
@@ -185,7 +184,7 @@ static hv_status read_layers_stack(vw_stack *S, const char *name)
         S->index[i] = (size_t)idx;
         if ((s = hv_json_get_number(e, "z_mm", what, &S->z[i])) != HV_OK) return s;
         if (!(fabs(S->z[i]) < 1e9)) return hv_error_set(HV_ERR_BAD_INPUT, "%s: z_mm %g out of range", what, S->z[i]);
-        if (S->mode != VW_FRACTIONS) {
+        if (S->mode != HV_LAYERS_FRACTIONS) {
             if ((s = get_path(e, "file", what, &S->files[i])) != HV_OK) return s;
             continue;
         }

@@ -329,7 +329,7 @@ static hv_status read_layer(job *J, int t, size_t li, int ch)
     png_uint_32 w = 0, h = 0;
     int bd = 0, ct = 0, il = 0;
     png_get_IHDR(png, info, &w, &h, &bd, &ct, &il, NULL, NULL);
-    int want_ct = S->mode == VW_HALFTONE ? PNG_COLOR_TYPE_PALETTE : PNG_COLOR_TYPE_GRAY;
+    int want_ct = S->mode == HV_LAYERS_HALFTONE ? PNG_COLOR_TYPE_PALETTE : PNG_COLOR_TYPE_GRAY;
     const char *why = NULL;
     if (w != (png_uint_32)S->width || h != (png_uint_32)S->height) why = "size";
     else if (ct != want_ct) why = "colour type";
@@ -470,7 +470,7 @@ static json_t *palette_doc(const vw_stack *S, const struct tinfo *ti)
     json_t *a = json_array();
     if (!a) return NULL;
     int fail = 0;
-    if (S->mode == VW_HALFTONE) {
+    if (S->mode == HV_LAYERS_HALFTONE) {
         const json_t *tp = S->tray ? json_object_get(S->doc, "palette") : NULL;
         const json_t *mats = S->tray ? NULL : json_object_get(S->doc, "materials");
         for (int i = 0; i < ti->plte_n; ++i) {
@@ -491,7 +491,7 @@ static json_t *palette_doc(const vw_stack *S, const struct tinfo *ti)
             fail |= hv_json_set(e, "name", name ? hv_json_text(name) : json_null());
             fail |= hv_json_set(e, "color", color_text(ti->plte[i]));
         }
-    } else if (S->mode == VW_MASK) {
+    } else if (S->mode == HV_LAYERS_MASK) {
         static const uint8_t k[2][3] = {{0, 0, 0}, {255, 255, 255}};
         for (int i = 0; i < 2; ++i) {
             json_t *e = json_object();
@@ -534,7 +534,7 @@ static hv_status encode_cut(const job *J, const struct tinfo *ti, const cut *c, 
     po.compression = 9;
     po.bit_depth = S->bit_depth;
     uint8_t pal[256 * 3];
-    if (S->mode == VW_HALFTONE) { /* the layers' palette, padded to the bit depth (a value past it shows black) */
+    if (S->mode == HV_LAYERS_HALFTONE) { /* the layers' palette, padded to the bit depth (a value past it shows black) */
         int n = 1 << S->bit_depth;
         memset(pal, 0, sizeof pal);
         memcpy(pal, ti->plte, (size_t)ti->plte_n * 3);
@@ -644,7 +644,7 @@ static hv_status build_doc(const job *J, const struct tinfo *ti, const char *tit
     }
     for (int ch = 0; !fail && ch < S->channels; ++ch)
         fail |= json_array_append_new(files, str_array(S->files + ch, S->nlayers, (size_t)S->channels)) != 0;
-    if (S->mode == VW_FRACTIONS) {
+    if (S->mode == HV_LAYERS_FRACTIONS) {
         json_t *chs = json_array();
         fail |= hv_json_set(d, "channels", chs);
         for (int ch = 0; !fail && ch < S->channels; ++ch) {

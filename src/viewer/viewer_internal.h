@@ -9,11 +9,10 @@
 
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/layers.h"
 #include "hovox/viewer.h"
 
 /* ---- a stack's manifest (manifest.c) ---------------------------------------------------------- */
-
-enum { VW_HALFTONE = 0, VW_FRACTIONS = 1, VW_MASK = 2 };
 
 /* A part: a tray's placed instance, or the whole image of a `hovox layers` stack. */
 typedef struct vw_part {
@@ -27,7 +26,7 @@ typedef struct vw_part {
 typedef struct vw_stack {
     json_t *doc;           /* the manifest (owns the strings below) */
     int tray;              /* kind "tray" */
-    int mode;              /* VW_* */
+    hv_layers_mode mode;   /* halftone, fractions (not in a tray) or mask */
     int width, height;     /* pixels of every layer */
     int bit_depth;         /* of the layer PNGs: 1, 2, 4 or 8 */
     double pixel_mm[2];    /* x pitch > 0, y pitch != 0 (negative: rows run down in y) */

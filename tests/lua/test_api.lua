@@ -440,6 +440,9 @@ fails("no calibration table for youngs_modulus in the model's grading definition
       bg.profile, bg, {from = {-5, 0, 0}, to = {5, 0, 0}, property = "youngs_modulus"})
 -- a field the script computes goes out through the export path and comes back as a feature
 assert(bar:add_grid("x2y", function(x, y, z) return x + 2 * y end) == bar:voxels("occupancy"))
+for _, grid in ipairs(bar:grids()) do -- one spelling per type, hv_grid_type_name's (issue 26 item 5)
+  if grid.name == "x2y" then assert(grid.type == "float", grid.type) end
+end
 bar:export{path = tmp .. "/x2y.vti", grids = "x2y", properties = "none"}
 local xf = bar:field{file = tmp .. "/x2y.vti", array = "x2y"}
 assert(math.abs(xf:distance({1.25, 0.75, 0.25}, bar) - (1.25 + 1.5)) < 1e-5)

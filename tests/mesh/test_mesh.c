@@ -1,5 +1,5 @@
-/* tests/mesh/test_mesh.c - STL reading (format detection, hostile files), welding,
- * adjacency and the report, checked on hand-made and analytic meshes. */
+/* tests/mesh/test_mesh.c - mesh construction (src/mesh/mesh.c): welding, adjacency and the
+ * report, checked on hand-made and analytic meshes. (The STL reader: tests/io/test_stl.c.) */
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include <math.h>
@@ -7,140 +7,12 @@
 
 #include "hovox/generate.h"
 #include "hovox/mesh.h"
+#include "mesh/mesh_internal.h"
 #include "support/support.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
-
-static hv_mesh *load(const char *path)
-{
-    hv_mesh *m = NULL;
-    hv_status s = hv_mesh_load_stl(path, &m);
-    cr_assert_eq(s, HV_OK, "%s: %s", path, hv_last_error());
-    return m;
-}
-
-Test(stl, shared_meshes_load_with_expected_reports)
-{
-    hv_mesh *g = load(t_mesh_path("helical_gear.stl"));
-    const hv_mesh_report *r = hv_mesh_get_report(g);
-    cr_assert_eq(r->format, HV_MESH_STL_ASCII);
-    cr_assert_eq(r->facets, 17790);
-    cr_assert_eq(r->open_edges, 0);
-    cr_assert_eq(r->nonmanifold_edges, 0);
-    cr_assert_eq(r->degenerate_facets, 1);
-    cr_assert_eq(r->flipped_facets, 0);
-    cr_assert_eq(r->normal_mismatch, 15); /* stored normals disagree with the winding */
-    cr_assert_eq(r->shells, 1);
-    cr_assert_gt(r->volume, 0);
-    hv_mesh_destroy(g);
-
-    /* binary whose header starts with COLOR=: detected by size, not by "solid" */
-    hv_mesh *b = load(t_mesh_path("bolt_colored_header.stl"));
-    cr_assert_eq(hv_mesh_get_report(b)->format, HV_MESH_STL_BINARY);
-    cr_assert_eq(hv_mesh_get_report(b)->facets, 3000);
-    cr_assert_eq(hv_mesh_get_report(b)->open_edges, 0);
-    hv_mesh_destroy(b);
-
-    hv_mesh *u = load(t_mesh_path("bunny_1500.stl"));
-    cr_assert_eq(hv_mesh_get_report(u)->facets, 1500);
-    cr_assert_eq(hv_mesh_get_report(u)->shells, 1);
-    hv_mesh_destroy(u);
-}
-
-Test(stl, binary_with_solid_header_is_binary)
-{
-    hv_mesh *m = load("tests/data/good/tet_binary_solid_header.stl");
-    cr_assert_eq(hv_mesh_get_report(m)->format, HV_MESH_STL_BINARY);
-    cr_assert_eq(hv_mesh_facet_count(m), 4);
-    cr_assert_eq(hv_mesh_vertex_count(m), 4);
-    hv_mesh_destroy(m);
-    m = load("tests/data/good/tet_ascii_upper_crlf.stl");
-    cr_assert_eq(hv_mesh_get_report(m)->format, HV_MESH_STL_ASCII);
-    cr_assert_float_eq(hv_mesh_get_report(m)->volume, 1.0 / 6.0, 1e-9);
-    hv_mesh_destroy(m);
-}
-
-Test(stl, every_bad_file_fails_cleanly)
-{
-    static const struct { const char *file; hv_status status; const char *needle; } cases[] = {
-        {"empty.stl", HV_ERR_BAD_INPUT, "empty file"},
-        {"header_only.stl", HV_ERR_BAD_INPUT, "no facets"},
-        {"header_only_count5.stl", HV_ERR_BAD_INPUT, "declares 5 facets"},
-        {"count_too_large.stl", HV_ERR_BAD_INPUT, "declares 3 facets (234 bytes)"},
-        {"count_absurd.stl", HV_ERR_BAD_INPUT, "declares 4000000000 facets"},
-        {"trailing_garbage.stl", HV_ERR_BAD_INPUT, "7 bytes of trailing data"},
-        {"binary_nan.stl", HV_ERR_BAD_INPUT, "facet 1 (byte 158): vertex 1 has a non-finite x"},
-        {"binary_inf.stl", HV_ERR_BAD_INPUT, "facet 3"},
-        {"ascii_nan.stl", HV_ERR_BAD_INPUT, "line 5: facet 0: vertex 1 has a non-finite x"},
-        {"ascii_inf.stl", HV_ERR_BAD_INPUT, "(-inf)"},
-        {"ascii_missing_endloop.stl", HV_ERR_BAD_INPUT, "expected 'endloop', got 'endfacet'"},
-        {"ascii_missing_endfacet.stl", HV_ERR_BAD_INPUT, "expected 'endfacet', got 'facet'"},
-        {"ascii_missing_vertex.stl", HV_ERR_BAD_INPUT, "expected 'vertex', got 'endloop'"},
-        {"ascii_non_numeric.stl", HV_ERR_BAD_INPUT, "is not a number: 'abc'"},
-        {"ascii_truncated.stl", HV_ERR_BAD_INPUT, "unexpected end of file inside facet 1"},
-        {"ascii_no_facets.stl", HV_ERR_BAD_INPUT, "no facets"},
-        {"ascii_trailing_garbage.stl", HV_ERR_BAD_INPUT, "after 'endsolid'"},
-        {"ascii_missing_endsolid.stl", HV_ERR_BAD_INPUT, "expected 'facet' or 'endsolid'"},
-        {"too_short.stl", HV_ERR_BAD_INPUT, "not an STL file"},
-        {"a_directory.stl", HV_ERR_IO, "is a directory"},
-        {"no_such_file.stl", HV_ERR_IO, "No such file"},
-    };
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        char path[256];
-        snprintf(path, sizeof path, "tests/data/bad/%s", cases[i].file);
-        hv_mesh *m = (hv_mesh *)0x1;
-        hv_status s = hv_mesh_load_stl(path, &m);
-        cr_assert_eq(s, cases[i].status, "%s: got %s (%s)", path, hv_status_name(s), hv_last_error());
-        cr_assert_null(m, "%s: out not cleared", path);
-        cr_assert(strstr(hv_last_error(), cases[i].needle) != NULL, "%s: message '%s' lacks '%s'",
-                  path, hv_last_error(), cases[i].needle);
-        cr_assert(strstr(hv_last_error(), path) != NULL, "%s: message does not name the file", path);
-    }
-}
-
-/* Truncating a valid file at every length must never crash or succeed falsely. */
-Test(stl, every_truncation_of_a_valid_file_fails_cleanly)
-{
-    static const char *files[] = {"tests/data/good/tet_ascii.stl",
-                                  "tests/data/good/tet_binary_solid_header.stl"};
-    for (int f = 0; f < 2; ++f) {
-        FILE *fp = fopen(files[f], "rb");
-        cr_assert_not_null(fp);
-        char buf[4096];
-        size_t n = fread(buf, 1, sizeof buf - 1, fp);
-        fclose(fp);
-        buf[n] = '\0';
-        /* an ASCII file stays valid once its "endsolid" keyword is complete */
-        char *end = strstr(buf, "endsolid");
-        size_t valid_from = f == 0 ? (size_t)(end - buf) + 8 : n;
-        for (size_t len = 0; len < valid_from; ++len) {
-            hv_mesh *m = NULL;
-            hv_status s = hv_mesh_parse_stl(buf, len, "cut.stl", &m);
-            cr_assert_neq(s, HV_OK, "%s cut at %zu accepted", files[f], len);
-            cr_assert_null(m);
-        }
-    }
-}
-
-Test(stl, write_read_round_trip)
-{
-    hv_mesh *m = load(t_mesh_path("bunny_1500.stl"));
-    for (int ascii = 0; ascii < 2; ++ascii) {
-        const char *p = t_tmpfile(ascii ? "b.ascii.stl" : "b.bin.stl");
-        cr_assert_eq(hv_mesh_write_stl(m, p, ascii), HV_OK, "%s", hv_last_error());
-        hv_mesh *r = load(p);
-        cr_assert_eq(hv_mesh_facet_count(r), hv_mesh_facet_count(m));
-        cr_assert_eq(hv_mesh_vertex_count(r), hv_mesh_vertex_count(m));
-        cr_assert_eq(memcmp(hv_mesh_vertices(r), hv_mesh_vertices(m),
-                            3 * sizeof(float) * hv_mesh_vertex_count(m)),
-                     0, "coordinates changed (ascii=%d)", ascii);
-        cr_assert_eq(hv_mesh_get_report(r)->normal_mismatch, 0);
-        hv_mesh_destroy(r);
-    }
-    hv_mesh_destroy(m);
-}
 
 Test(report, analytic_volumes_and_areas)
 {
@@ -260,6 +132,56 @@ Test(report, welding_is_exact_and_merges_signed_zero)
     hv_mesh_destroy(m);
 }
 
+/* Issue 26 item 2: a reader of indexed facets (3MF) welds its points, not the corners they
+ * expand to; the mesh must be the soup's, vertex for vertex: points repeated under other indices
+ * (one spelt -0), unused, in any order, degenerate and non-manifold facets; small (one weld
+ * partition) and large (several, when threads > 1). */
+static void indexed_matches_soup(size_t npts, size_t nf, unsigned seed)
+{
+    float *xyz = malloc(3 * npts * sizeof *xyz), *soup = malloc(9 * nf * sizeof *soup);
+    uint32_t *tri = malloc(3 * nf * sizeof *tri);
+    cr_assert(xyz && soup && tri);
+    uint32_t x = seed;
+    for (size_t i = 0; i < npts; ++i) {
+        x = x * 1664525u + 1013904223u;
+        size_t src = i > 0 && (x >> 28) < 5 ? (x >> 8) % i : i; /* about a third repeat an earlier point */
+        for (int k = 0; k < 3; ++k) {
+            x = x * 1664525u + 1013904223u;
+            xyz[3 * i + (size_t)k] = src != i ? xyz[3 * src + (size_t)k] : (x >> 29) == 0 ? 0.0f : (float)(x >> 20) / 64.0f;
+        }
+        if (src != i && xyz[3 * i] == 0.0f) xyz[3 * i] = -0.0f;
+    }
+    for (size_t r = 0; r < 3 * nf; ++r) {
+        x = x * 1664525u + 1013904223u;
+        tri[r] = (uint32_t)((x >> 4) % (npts - npts / 8)); /* the last eighth unused */
+        memcpy(soup + 3 * r, xyz + 3 * (size_t)tri[r], 3 * sizeof *soup);
+    }
+    hv_mesh *a, *b;
+    cr_assert_eq(hv_mesh_from_soup(soup, NULL, nf, "m", HV_MESH_3MF, &a), HV_OK);
+    cr_assert_eq(hv_mesh_from_indexed(xyz, npts, tri, nf, "m", HV_MESH_3MF, &b), HV_OK);
+    size_t nv = hv_mesh_vertex_count(a);
+    cr_assert_eq(hv_mesh_vertex_count(b), nv);
+    cr_assert_lt(nv, npts - npts / 8);
+    cr_assert_eq(memcmp(hv_mesh_vertices(a), hv_mesh_vertices(b), 3 * nv * sizeof(float)), 0, "same bits, signs of zero too");
+    cr_assert_eq(memcmp(hv_mesh_facets(a), hv_mesh_facets(b), 12 * nf), 0);
+    cr_assert_eq(memcmp(hv_mesh_neighbors(a), hv_mesh_neighbors(b), 12 * nf), 0);
+    cr_assert_eq(memcmp(hv_mesh_edge_flags(a), hv_mesh_edge_flags(b), nf), 0);
+    cr_assert_eq(memcmp(hv_mesh_get_report(a), hv_mesh_get_report(b), sizeof(hv_mesh_report)), 0);
+    hv_mesh_destroy(a);
+    hv_mesh_destroy(b);
+    free(xyz);
+    free(soup);
+    free(tri);
+}
+
+Test(report, welding_points_gives_the_soup_mesh)
+{
+    indexed_matches_soup(40, 60, 1);
+    hv_set_threads(4);
+    indexed_matches_soup(300000, 200000, 2);
+    hv_set_threads(0);
+}
+
 Test(report, deterministic_across_thread_counts)
 {
     hv_mesh *m1, *m2;
@@ -288,23 +210,6 @@ Test(generate, rejects_bad_parameters)
 
 /* A number is its whole token: a NUL byte inside one ("1\0" "2"; past the first KiB, where
  * the format check looks for binary bytes) is not the number 1. */
-Test(stl, a_nul_byte_inside_a_number_is_refused)
-{
-    static const char tail[] = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1\0" "2 0 0\n"
-                               "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
-    char text[2048];
-    memset(text, 'x', 1200);
-    memcpy(text, "solid ", 6);
-    text[1200] = '\n';
-    memcpy(text + 1201, tail, sizeof tail - 1);
-    hv_mesh *m = NULL;
-    hv_status s = hv_mesh_parse_stl(text, 1201 + sizeof tail - 1, "nul.stl", &m);
-    cr_assert_eq(s, HV_ERR_BAD_INPUT, "accepted");
-    cr_assert_null(m);
-    cr_assert(strstr(hv_last_error(), "line 5") && strstr(hv_last_error(), "is not a number: '1?2'"), "%s",
-              hv_last_error());
-}
-
 /* The pairing of half-edges around a non-manifold edge (hv_mesh_neighbors), against the rule
  * written out by brute force: in facet order, each unpaired half-edge takes the next unpaired one
  * of opposite direction, else the next unpaired one; a last odd one stays open. Facets fan around

@@ -308,7 +308,7 @@ Test(viewer, manifest_good)
 {
     vw_stack s;
     cr_assert_eq(parse_with(NULL, NULL, &s), HV_OK, "%s", hv_last_error());
-    cr_expect(s.mode == VW_HALFTONE && s.width == 4 && s.height == 3 && s.nlayers == 2 && s.channels == 1);
+    cr_expect(s.mode == HV_LAYERS_HALFTONE && s.width == 4 && s.height == 3 && s.nlayers == 2 && s.channels == 1);
     cr_expect_str_eq(s.files[1], "layer-00001.png");
     cr_expect(s.nparts == 1 && s.parts[0].box[2] == 4 && s.parts[0].l1 == 2);
     cr_expect_str_eq(s.parts[0].name, "b.stl");
@@ -348,14 +348,14 @@ Test(viewer, manifest_damaged)
     cr_expect_eq(vw_stack_parse("[1, 2]", 6, "a.json", &s), HV_ERR_BAD_INPUT);
     cr_expect(strstr(hv_last_error(), "a.json: not a JSON object"), "%s", hv_last_error());
     char tray[1024];
-#define TRAY_FMT "{\"generator\": \"hovox\", \"kind\": \"tray\", \"mode\": \"halftone\", \"width\": 10," \
+#define TRAY_FMT "{\"generator\": \"hovox\", \"kind\": \"tray\", \"mode\": \"%s\", \"width\": 10," \
                       " \"height\": 10, \"bit_depth\": 2, \"dpi\": [600, 300], \"layer_height_mm\": 0.027," \
                       " \"plate_mm\": [490, 390], \"layers_total\": 9, \"first\": 2, \"last\": 5," \
                       " \"palette\": [{\"index\": 0, \"resin\": null, \"color\": \"#000000\"}," \
                       " {\"index\": 1, \"resin\": \"X\", \"color\": \"#ffffff\"}]," \
                       " \"parts\": [{\"name\": \"p\", \"copy\": 1, \"image_px\": [%d, 5, 6, 2]," \
                       " \"box_mm\": [0, 0, 1, 1], \"layers\": [3, 9], \"materials\": {}}]}"
-    snprintf(tray, sizeof tray, TRAY_FMT, 4);
+    snprintf(tray, sizeof tray, TRAY_FMT, "halftone", 4);
     cr_assert_eq(vw_stack_parse(tray, strlen(tray), "t.json", &s), HV_OK, "%s", hv_last_error());
     cr_expect(s.tray && s.nlayers == 3 && s.index[0] == 2 && s.nparts == 1);
     cr_expect_str_eq(s.files[2], "layer-00004.png");
@@ -363,10 +363,21 @@ Test(viewer, manifest_damaged)
     cr_expect(fabs(s.pixel_mm[0] - 25.4 / 600) < 1e-12 && fabs(s.pixel_mm[1] + 25.4 / 300) < 1e-12 &&
               s.origin_mm[1] == 390);
     vw_stack_free(&s);
-    snprintf(tray, sizeof tray, TRAY_FMT, 5);
-#undef TRAY_FMT
+    snprintf(tray, sizeof tray, TRAY_FMT, "halftone", 5);
     cr_expect_eq(vw_stack_parse(tray, strlen(tray), "t.json", &s), HV_ERR_BAD_INPUT);
     cr_expect(strstr(hv_last_error(), "not inside the 10 x 10 plate"), "%s", hv_last_error());
+    /* a tray is halftone or mask: fractions, a mode of layers, is refused (issue 26 item 5: the
+     * modes are read by hv_layers_mode_parse, the spelling hv_layers_mode_name writes) */
+    snprintf(tray, sizeof tray, TRAY_FMT, "fractions", 4);
+#undef TRAY_FMT
+    cr_expect_eq(vw_stack_parse(tray, strlen(tray), "t.json", &s), HV_ERR_BAD_INPUT);
+    cr_expect(strstr(hv_last_error(), "t.json: mode \"fractions\" is not halftone or mask"), "%s", hv_last_error());
+    for (int m = HV_LAYERS_HALFTONE; m <= HV_LAYERS_MASK; ++m) {
+        hv_layers_mode back = (hv_layers_mode)-1;
+        cr_expect_eq(hv_layers_mode_parse(hv_layers_mode_name((hv_layers_mode)m), &back), HV_OK);
+        cr_expect_eq(back, m);
+    }
+    cr_expect_eq(hv_layers_mode_parse("blue-noise", &(hv_layers_mode){0}), HV_ERR_INVALID);
 }
 
 /* ---- a stack's page ------------------------------------------------------------------------------------ */

@@ -93,7 +93,8 @@ typedef struct reader {
     size_t nxyz, xcap;
     uint32_t *tri; /* 3 per triangle, object-local vertex indices */
     size_t ntri, tcap;
-    int32_t *refs; /* 4 per triangle: resource (-1: none) and the entries of its three corners */
+    int32_t *refs; /* 4 per triangle: resource (-1: none) and the entries of its three corners; NULL
+                    * while no triangle has properties of its own (each has its object's default) */
     size_t rfcap;
     tex2d *texs;   /* <texture2d> resources (resource.first indexes them) */
     size_t ntex, txcap;
@@ -113,6 +114,7 @@ typedef struct reader {
     int skip;  /* depth inside an element hovox does not read */
     int group; /* the property group being read (index into res) */
     int has_model, resources_seen, builds;
+    const char *vertex_name, *triangle_name; /* "vertex", "triangle" as the parser's dictionary spells them */
     char label[200]; /* "object 3 'name'" */
     uint64_t loose_props;  /* triangles with a pid in objects without a default one */
     char loose_first[1400]; /* where the first is */
@@ -526,6 +528,16 @@ static hv_status on_object(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     return HV_OK;
 }
 
+/* local is `want`: the parser hands out a name from its dictionary, the same pointer each time,
+ * so a million vertices compare a pointer, not a string (issue 26 item 2). */
+static inline int named(const char *local, const char **seen, const char *want)
+{
+    if (local == *seen) return 1;
+    if (strcmp(local, want) != 0) return 0;
+    *seen = local;
+    return 1;
+}
+
 static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
 {
     static const char *const axis[] = {"x", "y", "z"};
@@ -533,7 +545,7 @@ static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     if (s != HV_OK) return s;
     object *o = &r->objs[r->nobj - 1];
     for (int k = 0; k < 3; ++k) {
-        const tmf_attr *v = k < n && strcmp(a[k].local, axis[k]) == 0 ? &a[k] : tmf_attr_find(a, n, axis[k], NULL);
+        const tmf_attr *v = k < n && a[k].local[0] == axis[k][0] && !a[k].local[1] ? &a[k] : tmf_attr_find(a, n, axis[k], NULL);
         if (!v) return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex %zu has no %s", r->label, o->nv, axis[k]);
         char q[72];
         float f = 0;
@@ -548,6 +560,24 @@ static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     return HV_OK;
 }
 
+/* Room for triangle r->ntri's properties; the first time, the triangles before it get their
+ * objects' defaults (a million triangles without properties of their own write no 16 MB of
+ * them: issue 26 item 2). */
+static hv_status own_refs(reader *r, tmf_xml *x)
+{
+    int first = r->refs == NULL;
+    hv_status s = grow(r, x, (void **)&r->refs, &r->rfcap, 4 * (r->ntri + 1), sizeof *r->refs);
+    for (size_t i = 0; first && s == HV_OK && i < r->nobj; ++i) {
+        const object *o = &r->objs[i];
+        for (size_t t = o->t0; t < o->t0 + o->nt; ++t) {
+            int32_t *ref = r->refs + 4 * t;
+            ref[0] = o->dres;
+            ref[1] = ref[2] = ref[3] = o->dentry;
+        }
+    }
+    return s;
+}
+
 /* A triangle: corner indices within its object's vertices; its property (pid/p1, else the
  * object's default; a gradient's material is its first corner's). */
 static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
@@ -556,10 +586,11 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     object *o = &r->objs[r->nobj - 1];
     char place[240]; /* written when a message needs it (a million triangles need none) */
     hv_status s = grow(r, x, (void **)&r->tri, &r->tcap, 3 * (r->ntri + 1), sizeof *r->tri);
-    if (s == HV_OK) s = grow(r, x, (void **)&r->refs, &r->rfcap, 4 * (r->ntri + 1), sizeof *r->refs);
+    if (s == HV_OK && (r->refs || n > 3)) s = own_refs(r, x);
     if (s != HV_OK) return s;
     for (int c = 0; c < 3; ++c) {
-        const tmf_attr *v = c < n && strcmp(a[c].local, corner[c]) == 0 ? &a[c] : tmf_attr_find(a, n, corner[c], NULL);
+        const char *l = c < n ? a[c].local : "";
+        const tmf_attr *v = l[0] == 'v' && l[1] == '1' + c && !l[2] ? &a[c] : tmf_attr_find(a, n, corner[c], NULL);
         uint64_t i = 0;
         int rc = tmf_attr_uint(v, UINT32_MAX, &i);
         if (rc > 0 && i < o->nv) {
@@ -600,9 +631,11 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
             return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s sets pid %llu without p1", place, (unsigned long long)pid);
     }
     (void)ent;
-    int32_t *ref = r->refs + 4 * r->ntri;
-    ref[0] = res;
-    memcpy(ref + 1, ec, sizeof ec);
+    if (r->refs) {
+        int32_t *ref = r->refs + 4 * r->ntri;
+        ref[0] = res;
+        memcpy(ref + 1, ec, sizeof ec);
+    }
     r->ntri++;
     o->nt++;
     return HV_OK;
@@ -822,10 +855,10 @@ static hv_status on_start(void *ctx, tmf_xml *x, const char *local, const char *
     }
     switch (r->at) {
     case W_VERTICES:
-        if (strcmp(local, "vertex") == 0) return on_vertex(r, x, a, n);
+        if (named(local, &r->vertex_name, "vertex")) return on_vertex(r, x, a, n);
         break;
     case W_TRIANGLES:
-        if (strcmp(local, "triangle") == 0) return on_triangle(r, x, a, n);
+        if (named(local, &r->triangle_name, "triangle")) return on_triangle(r, x, a, n);
         break;
     case W_TOP:
         if (!r->has_model) {
@@ -887,7 +920,8 @@ static hv_status on_end(void *ctx, tmf_xml *x, const char *local, const char *ur
                                [W_OBJECT] = W_RESOURCES, [W_MESH] = W_OBJECT,   [W_VERTICES] = W_MESH,
                                [W_TRIANGLES] = W_MESH, [W_COMPONENTS] = W_OBJECT, [W_BUILD] = W_TOP};
     /* the end of an element read at this level (vertex, triangle, entry, component, item) stays */
-    if ((r->at == W_VERTICES && strcmp(local, "vertex") == 0) || (r->at == W_TRIANGLES && strcmp(local, "triangle") == 0) ||
+    if ((r->at == W_VERTICES && named(local, &r->vertex_name, "vertex")) ||
+        (r->at == W_TRIANGLES && named(local, &r->triangle_name, "triangle")) ||
         (r->at == W_COMPONENTS && strcmp(local, "component") == 0) || (r->at == W_BUILD && strcmp(local, "item") == 0) ||
         (r->at == W_GROUP && strcmp(local, k_child_tags[r->res[r->group].kind]) == 0) || (r->at == W_TOP))
         return HV_OK;
@@ -951,7 +985,11 @@ static hv_status check_amplification(const reader *r, const char *name, size_t s
 typedef struct build {
     reader *r;
     const char *name;
-    float *soup;
+    float *pts;    /* the points placed: each placement's vertices its triangles use, placed */
+    size_t npts;
+    uint32_t *tri; /* 3 per facet: indices into pts */
+    uint32_t *stamp, *slot; /* per vertex of an object: the placement that placed it, and where */
+    uint32_t placement;
     int32_t *fmat;
     size_t nf;
     int any_material;
@@ -1096,27 +1134,39 @@ static void compose(const double *a, const double *b, double *out) /* out = a af
     }
 }
 
+/* The object's triangles placed by t: a vertex is placed once per placement, when a triangle
+ * first uses it (vertices no triangle uses cost nothing), so the points never outnumber the
+ * corners; hv_mesh_build_indexed welds them into the mesh the corners would give. */
 static hv_status place_mesh(build *b, const object *o, const double *t)
 {
     reader *r = b->r;
     double det = t[0] * (t[5] * t[10] - t[6] * t[9]) - t[1] * (t[4] * t[10] - t[6] * t[8]) + t[2] * (t[4] * t[9] - t[5] * t[8]);
     int flip = det < 0; /* Core 4.1: a mirror keeps the sign of the volume */
+    uint32_t mark = ++b->placement; /* placements are at most TMF_MAX_PLACEMENTS */
+    const int32_t dflt[4] = {o->dres, o->dentry, o->dentry, o->dentry}; /* no triangle has properties of its own */
     for (size_t f = 0; f < o->nt; ++f) {
         const uint32_t *tri = r->tri + 3 * (o->t0 + f);
-        float *dst = b->soup + 9 * b->nf;
+        uint32_t *dst = b->tri + 3 * b->nf;
         for (int c = 0; c < 3; ++c) {
-            const float *p = r->xyz + 3 * (o->v0 + tri[flip && c ? 3 - c : c]);
-            for (int k = 0; k < 3; ++k) {
-                double v = (t[4 * k] * p[0] + t[4 * k + 1] * p[1] + t[4 * k + 2] * p[2] + t[4 * k + 3]) * r->unit;
-                float fv = (float)v;
-                if (!isfinite(fv))
-                    return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: triangle %zu leaves the float range once placed (%g)",
-                                        b->name, o->name ? o->name : "an object", f, v);
-                dst[3 * c + k] = fv;
+            uint32_t i = tri[flip && c ? 3 - c : c];
+            if (b->stamp[i] != mark) {
+                const float *p = r->xyz + 3 * (o->v0 + i);
+                float *q = b->pts + 3 * b->npts;
+                for (int k = 0; k < 3; ++k) {
+                    double v = (t[4 * k] * p[0] + t[4 * k + 1] * p[1] + t[4 * k + 2] * p[2] + t[4 * k + 3]) * r->unit;
+                    float fv = (float)v;
+                    if (!isfinite(fv))
+                        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: triangle %zu leaves the float range once placed (%g)",
+                                            b->name, o->name ? o->name : "an object", f, v);
+                    q[k] = fv;
+                }
+                b->stamp[i] = mark;
+                b->slot[i] = (uint32_t)b->npts++;
             }
+            dst[c] = b->slot[i];
         }
         int32_t mat;
-        const int32_t *ref = r->refs + 4 * (o->t0 + f);
+        const int32_t *ref = r->refs ? r->refs + 4 * (o->t0 + f) : dflt;
         hv_status s = material_of(b, ref[0], ref[1], &mat);
         if (s != HV_OK) return s;
         appearance_of(b, ref, flip);
@@ -1214,6 +1264,8 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     b.name = name;
     hv_names_init(&b.mats);
     uint64_t nf = 0, skipped = 0;
+    size_t maxv = 1;
+    for (size_t i = 0; i < r->nobj; ++i) maxv = HV_MAX(maxv, r->objs[i].nv);
     for (size_t i = 0; i < r->nitems; ++i) {
         const object *o = &r->objs[r->items[i].obj];
         if (o->type == T_SUPPORT || o->type == T_OTHER) skipped++;
@@ -1221,7 +1273,10 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     }
     hv_mesh_body *bodies = hv_calloc(r->nitems + 1, sizeof *bodies);
     hv_mesh_item *items = hv_calloc(r->nitems + 1, sizeof *items);
-    b.soup = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.soup);
+    b.pts = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.pts); /* pages touched as placed */
+    b.tri = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.tri);
+    b.stamp = hv_calloc(maxv, sizeof *b.stamp);
+    b.slot = hv_malloc_array(maxv, sizeof *b.slot);
     b.fmat = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.fmat);
     int appearance = 0; /* colour or texture groups: the facets' appearance is kept */
     for (size_t k = 0; k < r->ids.n; ++k) appearance |= r->res[k].kind == R_COLOR || r->res[k].kind == R_TEXTURE;
@@ -1230,7 +1285,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
         b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
     }
-    hv_status s = bodies && items && b.soup && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
+    hv_status s = bodies && items && b.pts && b.tri && b.stamp && b.slot && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
     size_t nb = 0;
     for (size_t i = 0; i < r->nitems && s == HV_OK; ++i) {
         const object *o = &r->objs[r->items[i].obj];
@@ -1261,10 +1316,11 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         mats[k].rgba = b.rgba[k];
         mats[k].has_color = 1;
         mats[k].nparts = b.mixat[2 * k + 1];
-        mats[k].parts = b.mix + b.mixat[2 * k];
+        mats[k].parts = b.mix ? b.mix + b.mixat[2 * k] : NULL; /* no composite: no mix (NULL + 0 is undefined) */
     }
     if (s == HV_OK)
-        s = hv_mesh_build(b.soup, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n, b.any_material ? b.fmat : NULL, out);
+        s = hv_mesh_build_indexed(b.pts, b.npts, b.tri, b.nf, name, HV_MESH_3MF, bodies, nb, mats, b.mats.n,
+                                  b.any_material ? b.fmat : NULL, out);
     if (s == HV_OK && (b.any_colour || b.any_texture)) s = set_appearance(&b, *out);
     if (s == HV_OK) s = hv_mesh_set_file_info(*out, r->unit_name ? r->unit_name : "millimeter", items, r->nitems);
     if (s != HV_OK && *out) {
@@ -1277,7 +1333,10 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     free(mats);
     free(items);
     free(bodies);
-    free(b.soup);
+    free(b.pts);
+    free(b.tri);
+    free(b.stamp);
+    free(b.slot);
     free(b.fmat);
     free(b.rgba);
     free(b.mixat);

@@ -22,6 +22,8 @@
 #define PKG_MAX_ATTRS 64
 #define PKG_MAX_DEPTH 256
 #define PKG_CHUNK 65536
+#define PKG_RING 4                       /* chunks the inflater thread may run ahead */
+#define PKG_THREAD_FLOOR ((uint64_t)1 << 20) /* parts smaller than this inflate on the parser's thread */
 
 /* ---- opening ------------------------------------------------------------------------------ */
 
@@ -175,6 +177,117 @@ hv_status tmf_pkg_read(tmf_pkg *pk, const char *part, uint64_t limit, uint8_t **
     return HV_OK;
 }
 
+/* ---- chunks for the parser: a large part inflates on a thread of its own ---------------------
+ * Inflating took a quarter of a 1M-facet model's read, parsing the rest: the inflater thread
+ * fills a ring of PKG_RING chunks while the parser reads the one before (issue 26 item 2). The
+ * parser sees the same chunks, and an error of the inflater (its message carried over from its
+ * thread) at the same place, as when it inflates them itself. */
+typedef struct feed {
+    inflater *in;
+    char *buf[PKG_RING];
+    size_t len[PKG_RING];
+    size_t head, tail; /* chunks filled and not yet parsed: [head, tail) */
+    int threaded, started, stop, end; /* end: no chunk will follow tail */
+    hv_status status;                 /* the inflater's, at the end */
+    char msg[1024];
+    pthread_t thread;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+} feed;
+
+static void *feed_main(void *arg)
+{
+    feed *f = arg;
+    for (;;) {
+        pthread_mutex_lock(&f->mu);
+        while (f->tail - f->head == PKG_RING && !f->stop) pthread_cond_wait(&f->cv, &f->mu);
+        int stop = f->stop;
+        size_t slot = f->tail % PKG_RING;
+        pthread_mutex_unlock(&f->mu);
+        if (stop) return NULL;
+        size_t got = 0;
+        hv_status s = inflate_read(f->in, f->buf[slot], PKG_CHUNK, &got);
+        pthread_mutex_lock(&f->mu);
+        if (s != HV_OK) {
+            f->status = s;
+            snprintf(f->msg, sizeof f->msg, "%s", hv_last_error());
+            f->end = 1;
+        } else {
+            f->len[slot] = got;
+            f->tail++;
+            f->end = got == 0;
+        }
+        pthread_cond_signal(&f->cv);
+        pthread_mutex_unlock(&f->mu);
+        if (f->end) return NULL;
+    }
+}
+
+/* A thread only for a part of PKG_THREAD_FLOOR bytes or more, when hovox may use two threads. */
+static hv_status feed_open(feed *f, inflater *in)
+{
+    memset(f, 0, sizeof *f);
+    f->in = in;
+    int n = in->declared >= PKG_THREAD_FLOOR && in->declared != UINT64_MAX && hv_threads() > 1 ? PKG_RING : 1;
+    for (int i = 0; i < n; ++i)
+        if (!(f->buf[i] = hv_malloc(PKG_CHUNK))) return HV_ERR_NOMEM;
+    if (n == 1 || pthread_mutex_init(&f->mu, NULL) != 0) return HV_OK;
+    if (pthread_cond_init(&f->cv, NULL) != 0) {
+        pthread_mutex_destroy(&f->mu);
+        return HV_OK;
+    }
+    f->threaded = 1;
+    f->started = pthread_create(&f->thread, NULL, feed_main, f) == 0;
+    if (!f->started) { /* inflate on this thread, then */
+        pthread_cond_destroy(&f->cv);
+        pthread_mutex_destroy(&f->mu);
+        f->threaded = 0;
+    }
+    return HV_OK;
+}
+
+/* The next chunk (*len 0: the part's end); feed_done once it is parsed. */
+static hv_status feed_next(feed *f, const char **data, size_t *len)
+{
+    if (!f->threaded) {
+        *data = f->buf[0];
+        return inflate_read(f->in, f->buf[0], PKG_CHUNK, len);
+    }
+    pthread_mutex_lock(&f->mu);
+    while (f->head == f->tail && !f->end) pthread_cond_wait(&f->cv, &f->mu);
+    hv_status s = HV_OK;
+    if (f->head == f->tail) s = hv_error_set(f->status, "%s", f->msg);
+    else {
+        *data = f->buf[f->head % PKG_RING];
+        *len = f->len[f->head % PKG_RING];
+    }
+    pthread_mutex_unlock(&f->mu);
+    return s;
+}
+
+static void feed_done(feed *f)
+{
+    if (!f->threaded) return;
+    pthread_mutex_lock(&f->mu);
+    f->head++;
+    pthread_cond_signal(&f->cv);
+    pthread_mutex_unlock(&f->mu);
+}
+
+static void feed_close(feed *f)
+{
+    if (f->threaded) {
+        pthread_mutex_lock(&f->mu);
+        f->stop = 1;
+        pthread_cond_signal(&f->cv);
+        pthread_mutex_unlock(&f->mu);
+        pthread_join(f->thread, NULL);
+        pthread_cond_destroy(&f->cv);
+        pthread_mutex_destroy(&f->mu);
+    }
+    for (int i = 0; i < PKG_RING; ++i) free(f->buf[i]);
+}
+
 /* ---- XML ---------------------------------------------------------------------------------- */
 
 struct tmf_xml {
@@ -185,7 +298,9 @@ struct tmf_xml {
     void *ctx;
     hv_status status;
     int depth;
-    char qname[160]; /* the element being read, as written (prefix:local) */
+    const xmlChar *prefix, *local; /* the element being read (the parser's dictionary holds them) */
+    int qname_stale; /* qname is not yet theirs */
+    char qname[160]; /* the element being read, as written (prefix:local), made when asked */
     int collect;     /* its text is wanted (tmf_xml_collect_text) */
     hv_buf text;
     char xml_error[400];
@@ -194,7 +309,6 @@ struct tmf_xml {
 
 tmf_pkg *tmf_xml_pkg(tmf_xml *x) { return x->pk; }
 
-const char *tmf_xml_qname(const tmf_xml *x) { return x->qname; }
 
 const char *tmf_xml_lookup_ns(const tmf_xml *x, const char *prefix)
 {
@@ -206,9 +320,19 @@ const char *tmf_xml_lookup_ns(const tmf_xml *x, const char *prefix)
     return NULL;
 }
 
+static void on_text(void *ctx, const xmlChar *ch, int len);
+
+/* Text is handed to on_text only while an element's text is wanted: the blanks between a
+ * million elements otherwise cost a call each (issue 26 item 2). */
+static void want_text(tmf_xml *x, int on)
+{
+    x->collect = on;
+    if (x->ctxt && x->ctxt->sax) x->ctxt->sax->characters = x->ctxt->sax->cdataBlock = on ? on_text : NULL;
+}
+
 void tmf_xml_collect_text(tmf_xml *x)
 {
-    x->collect = 1;
+    want_text(x, 1);
     x->text.len = 0;
 }
 
@@ -244,10 +368,20 @@ static void stop(tmf_xml *x, hv_status s)
     xmlStopParser(x->ctxt);
 }
 
-/* The element's qualified name, [prefix:]local, cut to the buffer: copied, since two snprintf a
- * element took 5-7% of a 1M-facet model's read (issue 26 item 2). */
+/* The element's qualified name, [prefix:]local, cut to the buffer, made only when asked (for a
+ * message): made for every element, copies took 5-8% of a 1M-facet model's read (issue 26 item 2). */
 static void set_qname(tmf_xml *x, const xmlChar *prefix, const xmlChar *local)
 {
+    x->prefix = prefix;
+    x->local = local;
+    x->qname_stale = 1;
+}
+
+const char *tmf_xml_qname(tmf_xml *x)
+{
+    if (!x->qname_stale) return x->qname;
+    x->qname_stale = 0;
+    const xmlChar *prefix = x->prefix, *local = x->local ? x->local : (const xmlChar *)"";
     size_t cap = sizeof x->qname - 1, at = 0;
     if (prefix) {
         size_t n = strlen((const char *)prefix);
@@ -260,6 +394,7 @@ static void set_qname(tmf_xml *x, const xmlChar *prefix, const xmlChar *local)
     n = n < cap - at ? n : cap - at;
     memcpy(x->qname + at, local, n);
     x->qname[at + n] = 0;
+    return x->qname;
 }
 
 static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
@@ -278,7 +413,7 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
         return;
     }
     set_qname(x, prefix, local);
-    x->collect = 0;
+    if (x->collect) want_text(x, 0);
     tmf_attr a[PKG_MAX_ATTRS];
     for (int i = 0; i < nattrs; ++i) {
         const xmlChar **t = attrs + 5 * i;
@@ -298,7 +433,7 @@ static void on_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const
     x->depth--;
     set_qname(x, prefix, local);
     hv_status s = x->h->end ? x->h->end(x->ctx, x, (const char *)local, (const char *)uri) : HV_OK;
-    x->collect = 0;
+    if (x->collect) want_text(x, 0);
     if (s != HV_OK) stop(x, s);
 }
 
@@ -309,7 +444,7 @@ static void on_text(void *ctx, const xmlChar *ch, int len)
     tmf_xml *x = ctx;
     if (x->status != HV_OK || !x->collect || len <= 0) return;
     if (x->text.len + (size_t)len > PKG_MAX_TEXT) {
-        stop(x, tmf_xml_bad(x, HV_ERR_LIMIT, "<%s> holds more than 64 MiB of text", x->qname));
+        stop(x, tmf_xml_bad(x, HV_ERR_LIMIT, "<%s> holds more than 64 MiB of text", tmf_xml_qname(x)));
         return;
     }
     hv_buf_append(&x->text, (const char *)ch, (size_t)len);
@@ -371,8 +506,7 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     sax.endElementNs = on_end;
     sax.internalSubset = on_doctype;
     sax.serror = on_error;
-    sax.characters = on_text;
-    sax.cdataBlock = on_text;
+    sax.characters = sax.cdataBlock = NULL; /* want_text sets them */
     tmf_xml x;
     memset(&x, 0, sizeof x);
     x.pk = pk;
@@ -380,10 +514,11 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     x.h = h;
     x.ctx = ctx;
     hv_buf_init(&x.text);
-    char *buf = hv_malloc(PKG_CHUNK);
-    if (!buf) {
+    feed f;
+    if ((s = feed_open(&f, &in)) != HV_OK) {
+        feed_close(&f);
         inflate_close(&in);
-        return HV_ERR_NOMEM;
+        return s;
     }
     tmf_xml_quiet quiet;
     tmf_xml_quiet_begin(&quiet);
@@ -393,9 +528,11 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     size_t got = 0;
     int done = 0;
     while (s == HV_OK && !done) {
-        if ((s = inflate_read(&in, buf, PKG_CHUNK, &got)) != HV_OK) break;
+        const char *chunk = NULL;
+        if ((s = feed_next(&f, &chunk, &got)) != HV_OK) break;
         done = got == 0;
-        int rc = xmlParseChunk(x.ctxt, buf, (int)got, done);
+        int rc = xmlParseChunk(x.ctxt, chunk, (int)got, done);
+        feed_done(&f);
         if (x.status != HV_OK) s = x.status;
         else if (rc != 0 || x.xml_error[0] || x.ctxt->disableSAX) {
             s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", pk->name, part,
@@ -408,7 +545,7 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     }
     tmf_xml_quiet_end(&quiet);
     hv_buf_free(&x.text);
-    free(buf);
+    feed_close(&f);
     inflate_close(&in);
     return s;
 }

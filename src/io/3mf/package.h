@@ -78,7 +78,7 @@ hv_status tmf_xml_vbad(tmf_xml *x, hv_status code, const char *fmt, va_list ap);
 /* The package being parsed. */
 tmf_pkg *tmf_xml_pkg(tmf_xml *x);
 /* The element being read as written ("v:imagesheet"). */
-const char *tmf_xml_qname(const tmf_xml *x);
+const char *tmf_xml_qname(tmf_xml *x);
 /* The namespace URI a prefix is bound to where the parser is, or NULL. */
 const char *tmf_xml_lookup_ns(const tmf_xml *x, const char *prefix);
 /* Called from a start callback: collect the element's text (at most 64 MiB), which the end

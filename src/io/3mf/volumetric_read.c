@@ -954,6 +954,7 @@ static hv_status sax_end(void *ctx, tmf_xml *x, const char *local, const char *u
     (void)local, (void)uri;
     rd *r = ctx;
     r->x = x;
+    r->qname = tmf_xml_qname(x); /* the element ending, for messages */
     return r->depth > 0 ? on_end(r, (kind)r->stack[--r->depth]) : HV_OK;
 }
 

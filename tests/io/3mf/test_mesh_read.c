@@ -15,6 +15,7 @@
 #include "hovox/generate.h"
 #include "hovox/image.h"
 #include "hovox/mesh.h"
+#include "core/internal.h"
 #include "io/reader_check.h"
 #include "support/lib3mf_c.h"
 #include "support/support.h"
@@ -588,6 +589,77 @@ Test(threemf, damaged_packages_are_refused_naming_the_place)
     refused(hv_mesh_parse_3mf, "bad.3mf", "solid x\n", 8, HV_ERR_BAD_INPUT,
             "bad.3mf: not a 3MF package: not a readable ZIP archive (libzip: Not a zip archive; truncated?)");
     refused(hv_mesh_parse_3mf, "bad.3mf", "", 0, HV_ERR_BAD_INPUT, "bad.3mf: empty file (0 bytes)");
+}
+
+/* The entry `name` of a package in memory: its local header's and its central directory
+ * record's CRC-32 flipped (libzip checks it once the part is inflated). */
+static void damage_crc(unsigned char *data, size_t len, const char *name)
+{
+    size_t n = strlen(name), hits = 0;
+    for (size_t i = 0; i + 46 + n <= len; ++i) {
+        int local = memcmp(data + i, "PK\3\4", 4) == 0 && memcmp(data + i + 30, name, n) == 0;
+        int central = memcmp(data + i, "PK\1\2", 4) == 0 && memcmp(data + i + 46, name, n) == 0;
+        if (local || central) data[i + (local ? 14 : 16)] ^= 1, ++hits;
+    }
+    cr_assert_eq(hits, 2);
+}
+
+/* Issue 26 item 2: a part of a MiB or more inflates on a thread of its own while the parser
+ * reads the chunk before; the mesh, a late XML error and an inflate error (a bad CRC, found
+ * at the part's end on that thread) are the same as on one thread. */
+Test(threemf, a_large_part_inflates_on_its_own_thread_with_the_same_result)
+{
+    hv_mesh *knot = NULL;
+    cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 400, 40, &knot), HV_OK); /* 32,000 facets */
+    size_t nv = hv_mesh_vertex_count(knot), nf = hv_mesh_facet_count(knot);
+    hv_buf xml;
+    hv_buf_init(&xml);
+    hv_buf_printf(&xml, "%s<resources><object id=\"1\" name=\"knot\" type=\"model\"><mesh><vertices>", MODEL_HEAD);
+    for (size_t i = 0; i < nv; ++i) {
+        const float *v = hv_mesh_vertices(knot) + 3 * i;
+        hv_buf_printf(&xml, "\n<vertex x=\"%.9g\" y=\"%.9g\" z=\"%.9g\"/>", (double)v[0], (double)v[1], (double)v[2]);
+    }
+    hv_buf_printf(&xml, "</vertices><triangles>");
+    for (size_t f = 0; f < nf; ++f) {
+        const uint32_t *t = hv_mesh_facets(knot) + 3 * f;
+        hv_buf_printf(&xml, "\n<triangle v1=\"%u\" v2=\"%u\" v3=\"%u\"/>", t[0], t[1], t[2]);
+    }
+    hv_buf_printf(&xml, "</triangles></mesh></object></resources>%s", BUILD);
+    cr_assert(!xml.failed && xml.len > ((size_t)2 << 20), "%zu bytes: past the 1 MiB a thread needs", xml.len);
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", xml.data};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k) {
+        hv_set_threads(k + 1);
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "knot.3mf", &m[k]), HV_OK, "%s", hv_last_error());
+    }
+    cr_assert_eq(hv_mesh_vertex_count(m[0]), nv);
+    cr_assert_eq(hv_mesh_facet_count(m[1]), nf);
+    cr_assert_eq(memcmp(hv_mesh_vertices(m[0]), hv_mesh_vertices(knot), 3 * nv * sizeof(float)), 0);
+    cr_assert_eq(memcmp(hv_mesh_vertices(m[0]), hv_mesh_vertices(m[1]), 3 * nv * sizeof(float)), 0);
+    cr_assert_eq(memcmp(hv_mesh_facets(m[0]), hv_mesh_facets(m[1]), 3 * nf * sizeof(uint32_t)), 0);
+    damage_crc(data, len, "3D/3dmodel.model");
+    for (int k = 0; k < 2; ++k) { /* two threads first: one must not leave its message for the other */
+        hv_set_threads(2 - k);
+        hv_error_clear();
+        refused(hv_mesh_parse_3mf, "knot.3mf", data, len, HV_ERR_BAD_INPUT,
+                "knot.3mf: part '/3D/3dmodel.model' is damaged (libzip: CRC error)");
+    }
+    free(data);
+    memcpy(xml.data + xml.len - 200, "&bogus;", 7); /* in the last triangle but one */
+    data = zip_parts(parts, 3, &len);
+    for (int k = 0; k < 2; ++k) { /* two threads first: one must not leave its message for the other */
+        hv_set_threads(2 - k);
+        hv_error_clear();
+        refused(hv_mesh_parse_3mf, "knot.3mf", data, len, HV_ERR_BAD_INPUT,
+                "knot.3mf: 3D/3dmodel.model: line 48000, column 4: malformed XML: error parsing attribute name");
+    }
+    hv_set_threads(0);
+    free(data);
+    hv_buf_free(&xml);
+    for (int k = 0; k < 2; ++k) hv_mesh_destroy(m[k]);
+    hv_mesh_destroy(knot);
 }
 
 Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)

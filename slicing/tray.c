@@ -19,7 +19,6 @@
 #include "hovox/tray.h"
 #include "hovox/volume.h"
 #include "hovox/voxelize.h"
-#include "image/png_fast.h"
 #include "layers_internal.h"
 
 #define CELL 0.5        /* footprint grid (mm) */
@@ -1151,35 +1150,21 @@ static hv_status tray_encode(void *ctx, size_t b, size_t e, int thread)
         snprintf(path, sizeof path, "%s/layer-%05zu.png", J->tmp, li);
         uint8_t *png = NULL;
         size_t size = 0;
-        /* A sparse plate (parts cover under a quarter of its bytes: small parts on a J750 plate,
-         * the tops of tall parts) goes through png_fast, whose cost is the drawn spans (a blank row
-         * is a few fixed bytes): the README's tray took 9 times as long through libdeflate, which
-         * deflates every byte of the 11,575 x 4,606 plate. A denser plate goes through the one
-         * general encoder (libdeflate: 4.8 times smaller files, faster on the bench tray's dense
-         * layers). Both are lossless PNG of the same pixels, palette and pHYs. */
-        size_t drawn = 0;
-        for (int r = 0; r < t->H; ++r)
-            if (pl->span[2 * r] < pl->span[2 * r + 1]) drawn += (size_t)(pl->span[2 * r + 1] - pl->span[2 * r]);
-        if (drawn * 4 < (size_t)t->H * J->stride) {
-            hv_png_fast_image img = {t->W, t->H, t->bit_depth, pl->rows, J->stride, pl->span,
-                                     J->o->mode == HV_LAYERS_MASK ? NULL : t->palette,
-                                     J->o->mode == HV_LAYERS_MASK ? 0 : t->palette_size,
-                                     {t->profile->dpi[0], t->profile->dpi[1]}};
-            st = hv_png_fast_encode(&img, &png, &size);
-        } else {
-            hv_png_options po;
-            hv_png_options_init(&po);
-            po.compression = 1; /* layers' default level: halftone noise gains little above it */
-            po.dpi[0] = t->profile->dpi[0];
-            po.dpi[1] = t->profile->dpi[1];
-            po.bit_depth = t->bit_depth;
-            po.packed = t->bit_depth < 8;
-            if (J->o->mode != HV_LAYERS_MASK) {
-                po.palette = t->palette;
-                po.palette_size = t->palette_size;
-            }
-            st = hv_png_encode(pl->rows, t->W, t->H, 1, J->stride, &po, &png, &size);
+        /* the one encoder; the drawn spans tell it where the nonzero bytes are, so a sparse plate
+         * (small parts on a J750 plate, the tops of tall parts) costs its parts, not its 26 MB */
+        hv_png_options po;
+        hv_png_options_init(&po);
+        po.compression = 1; /* layers' default level: halftone noise gains little above it */
+        po.dpi[0] = t->profile->dpi[0];
+        po.dpi[1] = t->profile->dpi[1];
+        po.bit_depth = t->bit_depth;
+        po.packed = t->bit_depth < 8;
+        po.row_spans = pl->span;
+        if (J->o->mode != HV_LAYERS_MASK) {
+            po.palette = t->palette;
+            po.palette_size = t->palette_size;
         }
+        st = hv_png_encode(pl->rows, t->W, t->H, 1, J->stride, &po, &png, &size);
         /* in the stack's temporary directory, synced once and renamed whole (as layers writes) */
         if (st == HV_OK) st = hv_write_in_place(path, png, size);
         free(png);

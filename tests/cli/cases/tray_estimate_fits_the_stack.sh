@@ -1,13 +1,14 @@
 # The dry run's PNG estimate against the stack written (issue 26 item 3: the one encoder sends
 # sparse layers to its span coder, dense ones to libdeflate; the estimate follows it layer by
 # layer and was 2.3 to 10 times high before). A sparse tray (graded boxes, plain pins) in
-# halftone and mask mode, and a dense one (a graded plate across the J750's width): within 25%.
+# halftone and mask mode, and a dense one (a graded plate across the J750 plate, 120 mm deep: over
+# a quarter of its bytes): within 25%.
 cd "$TMP"
 "$HOVOX" generate box max=12,8,1 -o g.stl >/dev/null
 "$HOVOX" voxelize g.stl --voxel-size 0.4 -o o.vdb -q >/dev/null
 "$HOVOX" grade o.vdb -o g.vdb --materials A,B --frf plane:0,0,0:1,0,0 --ranges 0,12,0 --ms 1,0 --me 0,1 -q
 "$HOVOX" generate box max=6,6,0.5 -o p.stl >/dev/null
-"$HOVOX" generate box max=480,40,0.3 -o w.stl >/dev/null
+"$HOVOX" generate box max=480,120,0.3 -o w.stl >/dev/null
 "$HOVOX" voxelize w.stl --voxel-size 0.4 -o wo.vdb -q >/dev/null
 "$HOVOX" grade wo.vdb -o w.vdb --materials A,B --frf plane:0,0,0:1,0,0 --ranges 0,480,0 --ms 1,0 --me 0,1 -q
 check() {

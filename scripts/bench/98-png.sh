@@ -20,7 +20,8 @@ else
     rw="$work/readme_tray"
     mkdir -p "$rw"
     inputs=$(cd "$here/.." && pwd)/tests/readme/stack_inputs.sh
-    (cd "$rw" && PATH="$(cd "$(dirname "$HOVOX")" && pwd):$PATH" sh "$inputs")
+    hv_dir=$(cd "$(dirname "$HOVOX")" && pwd)
+    (cd "$rw" && PATH="$hv_dir:$PATH" sh "$inputs")
     echo "  the bench tray (dense)"
     "$HOVOX" tray "$tw/tray.json" -o "$tw/png_layers" --layers 400:416 --force -q >/dev/null
     for level in 1 6; do

@@ -3,6 +3,7 @@
  * job planned on the plate (layers.c, hv_layers_part_*): it is evaluated only inside its own box
  * and its pixels are the ones `hovox layers --place` gives it. Footprints (the xy shadow of a
  * part's facets, on a 0.5 mm grid, as row spans) decide spacing and arrangement. */
+#include <limits.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -19,7 +20,6 @@
 #include "hovox/tray.h"
 #include "hovox/volume.h"
 #include "hovox/voxelize.h"
-#include "image/png_fast.h"
 #include "layers_internal.h"
 
 #define CELL 0.5        /* footprint grid (mm) */
@@ -930,6 +930,65 @@ static void part_options(const hv_tray *t, const hv_tray_options *o, const sourc
     lo->max_memory = o->max_memory;
 }
 
+/* Bytes of a drawn layer as png.c encodes it, per part-box pixel and per plate row, measured
+ * (scripts/bench/98-png.sh) on the README's tray (sparse layers: the span coder) and the bench
+ * tray (dense layers: libdeflate at level 1). Box pixels count about twice the parts' own. */
+/* span coder, halftone: 0.106 on the README tray (well filled gear boxes), 0.048 on the bench
+ * tray's sparse tops (a knot's box is mostly empty); box pixels do not tell how full a box is,
+ * so a rate between them: both trays within 25% (0.80 and 1.24 of the bytes written) */
+#define EST_SPAN_HALFTONE 0.084
+#define EST_SPAN_MASK 0.0162 /* the same in mask mode, 1 bit: 83.9 MiB */
+#define EST_DEFLATE_HALFTONE 0.0158 /* bench tray: 0.0147 over its 1,461 dense layers */
+#define EST_DEFLATE_MASK 0.0031
+#define EST_DEFLATE_ROW 1.5 /* a blank row of a dense layer, bytes */
+
+/* The stack's PNG bytes, layer by layer: png.c sends a layer whose drawn spans (here the part
+ * boxes' extent row by row) hold under a quarter of the plate's bytes to its span coder, which
+ * writes each blank stretch as 258-byte copies of 2 bits, the others to libdeflate. */
+static double est_png_bytes(const hv_tray *t, int mask, size_t first, size_t last)
+{
+    size_t rowbytes = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
+    double plate = (double)rowbytes * t->H, blank = t->H * (double)(rowbytes + 1) / 258.0 * 0.25;
+    int n = t->ninst;
+    int *on = hv_malloc((size_t)(n ? n : 1) * 3 * sizeof *on), *edge = on + n;
+    if (!on) return 0;
+    double total = 0;
+    for (size_t li = first; li < last; ++li) {
+        int k = 0, ne = 0;
+        double box = 0;
+        for (int i = 0; i < n; ++i)
+            if (t->inst[i].lift <= li && li < t->inst[i].lift + t->inst[i].layers) {
+                on[k++] = i;
+                box += (double)t->inst[i].w * t->inst[i].h;
+                edge[ne++] = t->inst[i].r0;
+                edge[ne++] = t->inst[i].r0 + t->inst[i].h;
+            }
+        /* the drawn bytes: between the row bands' edges, from the leftmost box to the rightmost */
+        double drawn = 0;
+        for (int a = 0; a < ne && k <= 32; ++a) { /* many parts: the boxes' own bytes below */
+            int y0 = edge[a], y1 = INT_MAX;
+            for (int b = 0; b < ne; ++b)
+                if (edge[b] > y0 && edge[b] < y1) y1 = edge[b];
+            int dup = 0;
+            for (int b = 0; b < a; ++b) dup |= edge[b] == y0;
+            if (dup || y1 == INT_MAX) continue;
+            int x0 = INT_MAX, x1 = 0;
+            for (int j = 0; j < k; ++j) {
+                const instance *in = &t->inst[on[j]];
+                if (in->r0 <= y0 && y0 < in->r0 + in->h) x0 = HV_MIN(x0, in->c0), x1 = HV_MAX(x1, in->c0 + in->w);
+            }
+            if (x1 > x0) drawn += (double)(x1 - x0) * t->bit_depth / 8.0 * (y1 - y0);
+        }
+        if (k > 32) drawn = box * t->bit_depth / 8.0;
+        if (drawn * 4 < plate)
+            total += box * (mask ? EST_SPAN_MASK : EST_SPAN_HALFTONE) + blank;
+        else
+            total += box * (mask ? EST_DEFLATE_MASK : EST_DEFLATE_HALFTONE) + EST_DEFLATE_ROW * t->H;
+    }
+    free(on);
+    return total;
+}
+
 hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *progress, hv_tray_report *rep)
 {
     hv_status st = hv_options_check(&k_tray_set, o);
@@ -1019,10 +1078,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         /* the bench tray's rates on 2 cores (box voxels 3.7e10 of a 1.09e11 plate: 72 s halftone,
          * 16 s mask; an empty plate 1.9 s), a little under */
         rep->est_seconds = obj / (o->mode == HV_LAYERS_MASK ? 2e9 : 4.5e8) + all / 4e10;
-        /* measured on the bench tray: about one bit per part pixel in halftone (noise), a
-         * tenth of that in mask mode, and some 40 bytes per empty row and layer (box pixels count
-         * about twice the part's own) */
-        rep->est_bytes = obj * (o->mode == HV_LAYERS_MASK ? 0.0065 : 0.065) + 40.0 * t->H * (double)(rep->last - rep->first);
+        rep->est_bytes = est_png_bytes(t, o->mode == HV_LAYERS_MASK, rep->first, rep->last);
     }
     return HV_OK;
 }
@@ -1156,35 +1212,21 @@ static hv_status encode_layer(wjob *J, size_t li)
         snprintf(path, sizeof path, "%s/layer-%05zu.png", J->tmp, li);
         uint8_t *png = NULL;
         size_t size = 0;
-        /* A sparse plate (parts cover under a quarter of its bytes: small parts on a J750 plate,
-         * the tops of tall parts) goes through png_fast, whose cost is the drawn spans (a blank row
-         * is a few fixed bytes): the README's tray took 9 times as long through libdeflate, which
-         * deflates every byte of the 11,575 x 4,606 plate. A denser plate goes through the one
-         * general encoder (libdeflate: 4.8 times smaller files, faster on the bench tray's dense
-         * layers). Both are lossless PNG of the same pixels, palette and pHYs. */
-        size_t drawn = 0;
-        for (int r = 0; r < t->H; ++r)
-            if (pl->span[2 * r] < pl->span[2 * r + 1]) drawn += (size_t)(pl->span[2 * r + 1] - pl->span[2 * r]);
-        if (drawn * 4 < (size_t)t->H * J->stride) {
-            hv_png_fast_image img = {t->W, t->H, t->bit_depth, pl->rows, J->stride, pl->span,
-                                     J->o->mode == HV_LAYERS_MASK ? NULL : t->palette,
-                                     J->o->mode == HV_LAYERS_MASK ? 0 : t->palette_size,
-                                     {t->profile->dpi[0], t->profile->dpi[1]}};
-            st = hv_png_fast_encode(&img, &png, &size);
-        } else {
-            hv_png_options po;
-            hv_png_options_init(&po);
-            po.compression = 1; /* layers' default level: halftone noise gains little above it */
-            po.dpi[0] = t->profile->dpi[0];
-            po.dpi[1] = t->profile->dpi[1];
-            po.bit_depth = t->bit_depth;
-            po.packed = t->bit_depth < 8;
-            if (J->o->mode != HV_LAYERS_MASK) {
-                po.palette = t->palette;
-                po.palette_size = t->palette_size;
-            }
-            st = hv_png_encode(pl->rows, t->W, t->H, 1, J->stride, &po, &png, &size);
+        /* the one encoder; the drawn spans tell it where the nonzero bytes are, so a sparse plate
+         * (small parts on a J750 plate, the tops of tall parts) costs its parts, not its 26 MB */
+        hv_png_options po;
+        hv_png_options_init(&po);
+        po.compression = 1; /* layers' default level: halftone noise gains little above it */
+        po.dpi[0] = t->profile->dpi[0];
+        po.dpi[1] = t->profile->dpi[1];
+        po.bit_depth = t->bit_depth;
+        po.packed = t->bit_depth < 8;
+        po.row_spans = pl->span;
+        if (J->o->mode != HV_LAYERS_MASK) {
+            po.palette = t->palette;
+            po.palette_size = t->palette_size;
         }
+        st = hv_png_encode(pl->rows, t->W, t->H, 1, J->stride, &po, &png, &size);
         /* in the stack's temporary directory, synced once and renamed whole (as layers writes) */
         if (st == HV_OK) st = hv_write_in_place(path, png, size);
         free(png);

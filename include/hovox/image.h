@@ -63,6 +63,11 @@ typedef struct hv_png_options {
     int packed;             /* 1, with bit_depth 1, 2 or 4: rows come as PNG stores them,
                                ceil(width * bit_depth / 8) bytes, the first pixel in the most
                                significant bits (stride 0 means that many bytes) */
+    const int32_t *row_spans; /* optional, 2 per row: every byte of row y (as given: pixels for
+                               one a byte, bytes for packed rows) outside [row_spans[2y],
+                               row_spans[2y+1]) is zero (lo >= hi: the row is all zero); the
+                               encoder then reads no byte outside them. Without it the encoder
+                               finds them itself for indexed and sub-byte images. */
 } hv_png_options;
 
 /* Defaults: compression -1, no pHYs, no palette, no text, bit depth 8, one pixel a byte, the
@@ -76,7 +81,9 @@ HV_API void hv_png_options_init(hv_png_options *opt);
  * there). hv_png_encode returns a
  * malloc'd buffer in *data (free() it) of *size bytes.
  * One encoder writes every PNG: rows filtered, deflated by libdeflate at opt->compression (zlib's
- * scale, -1 meaning 6), one zlib stream cut into IDAT chunks of 1 MiB.
+ * scale, -1 meaning 6), one zlib stream cut into IDAT chunks of 1 MiB; a sparse indexed or
+ * sub-byte image (nonzero bytes under a quarter of it, level above 0) goes through a coder whose
+ * cost is its nonzero bytes instead (one Huffman block; environment HOVOX_PNG_SPARSE=0: never).
  * Errors: HV_ERR_INVALID (size 0, channels, stride, compression level, palette, an index
  * beyond the palette, bit depth, a value beyond the bit depth, packed rows of 8 bits or more,
  * bad text key), HV_ERR_IO (path not writable, disk full), HV_ERR_NOMEM, HV_ERR_LIMIT (an image

@@ -125,7 +125,9 @@ typedef struct hv_tray_report {
     uint64_t bytes;             /* the stack's PNG bytes (after writing) */
     double est_seconds;         /* rough estimates (plan), from the bench tray on 2 cores: */
     double est_bytes;           /* part-box voxels/s 4.5e8 (halftone) or 2e9 (mask), plate
-                                 * voxels/s 4e10; about a bit per part pixel of halftone */
+                                 * voxels/s 4e10; PNG bytes layer by layer as the encoder
+                                 * writes them (sparse or dense), within ~25% on the bench and
+                                 * README trays */
 } hv_tray_report;
 
 /* Load every part's files, place them (arranging when asked), and check the tray: every part

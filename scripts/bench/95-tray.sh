@@ -56,6 +56,7 @@ rm -rf "$tw/mem2" "$tw/mem8" "$tw/mem16"
 t_pin=$(median tray_empty "$HOVOX" tray -o "$tw/pin_stack" --part "$tw/pin.stl:VeroPureWhite@245,195" --force -q)
 echo "  empty plate (one 1 mm pin)     $t_pin s  $(awk -v t="$t_pin" 'BEGIN { printf "%.3g", 11575 * 4606 * 2037 / t }') voxels/s"
 
+if [ "${BENCH_PRUSA:-1}" = 1 ]; then
 echo
 echo "== tray in mask mode vs prusa-slicer --export-sla, same placed parts, pixels and layers (goal: <= 0.3x)"
 # prusa-slicer takes minutes here: the two run alternately, at most 2 runs each, no warm-up
@@ -83,6 +84,7 @@ case "$tp" in
     echo "  ratio hovox / prusa            $(ratio "$t_tm" "$t_pt")x"
     ;;
 esac
+fi # BENCH_PRUSA=0: no prusa-slicer comparison (it takes minutes a run)
 
 if [ "${BENCH_FULL_TRAY:-1}" = 1 ]; then
     echo

@@ -4,7 +4,9 @@
  * median time of all layers and the bytes per encoder, and checks that every output decodes
  * (libpng) to the layer's pixels.
  *   bench_png RUNS LEVEL LAYER.png...
- * Encoders: hovox (hv_png_encode, the one encoder: libdeflate), libpng and libspng as anchors. */
+ * Encoders: hovox (hv_png_encode, the one encoder: the span coder on sparse layers, libdeflate on
+ * the others), the same with the span coder off (HOVOX_PNG_SPARSE=0: libdeflate on every layer),
+ * libpng and libspng as anchors. */
 #include <png.h>
 #include <spng.h>
 #include <stdio.h>
@@ -175,6 +177,15 @@ static int enc_spng(const layer *L, int level, uint8_t **out, size_t *size)
     return !r && !err && *out;
 }
 
+/* hovox's encoder with its span path off: libdeflate on every image */
+static int enc_libdeflate(const layer *L, int level, uint8_t **out, size_t *size)
+{
+    setenv("HOVOX_PNG_SPARSE", "0", 1);
+    int ok = enc_hovox(L, level, out, size);
+    unsetenv("HOVOX_PNG_SPARSE");
+    return ok;
+}
+
 typedef int (*encoder)(const layer *, int, uint8_t **, size_t *);
 
 int main(int argc, char **argv)
@@ -190,12 +201,12 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_png: cannot read %s as a 1-channel PNG\n", argv[3 + i]);
             return 1;
         }
-    static const char *names[] = {"hovox (libdeflate)", "libpng", "libspng"};
-    static const encoder enc[] = {enc_hovox, enc_libpng, enc_spng};
+    static const char *names[] = {"hovox", "hovox libdeflate only", "libpng", "libspng"};
+    static const encoder enc[] = {enc_hovox, enc_libdeflate, enc_libpng, enc_spng};
     double *t = calloc((size_t)runs, sizeof *t);
     printf("  %d layers of %d x %d, %d-bit %s, zlib level %d; median of %d runs (one thread)\n", nl, L[0].w, L[0].h,
            L[0].depth, L[0].indexed ? "indexed" : "grey", level, runs);
-    for (int e = 0; e < 3; ++e) {
+    for (int e = 0; e < 4; ++e) {
         size_t bytes = 0;
         int ok = 1;
         for (int r = 0; r < runs; ++r) {
@@ -223,7 +234,7 @@ int main(int argc, char **argv)
             }
         }
         double m = median(t, runs);
-        printf("  %-20s %8.3f s  %8.1f ms/layer  %8.2f MiB  %s\n", names[e], m, 1e3 * m / nl, bytes / 1048576.0,
+        printf("  %-22s %8.3f s  %8.1f ms/layer  %8.2f MiB  %s\n", names[e], m, 1e3 * m / nl, bytes / 1048576.0,
                ok ? "pixels identical" : "PIXELS DIFFER or failed");
     }
     return 0;

@@ -156,14 +156,13 @@ hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3])
     return s;
 }
 
-void t_png_load(const char *path, t_png *im)
+/* libpng reads the file or the buffer; `what` names it in failures */
+static void png_read_all(FILE *fp, const char *what, t_png *im)
 {
     memset(im, 0, sizeof *im);
-    FILE *fp = fopen(path, "rb");
-    cr_assert(fp, "cannot open %s", path);
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
     png_infop info = png_create_info_struct(png);
-    cr_assert(!setjmp(png_jmpbuf(png)), "libpng failed on %s", path);
+    cr_assert(!setjmp(png_jmpbuf(png)), "libpng failed on %s", what);
     png_init_io(png, fp);
     png_read_info(png, info);
     im->w = (int)png_get_image_width(png, info);
@@ -171,7 +170,7 @@ void t_png_load(const char *path, t_png *im)
     im->bit_depth = png_get_bit_depth(png, info);
     im->color_type = png_get_color_type(png, info);
     cr_assert(im->color_type == PNG_COLOR_TYPE_GRAY || im->color_type == PNG_COLOR_TYPE_PALETTE, "%s: colour type %d",
-              path, im->color_type);
+              what, im->color_type);
     png_colorp pal;
     if (png_get_PLTE(png, info, &pal, &im->npal))
         for (int i = 0; i < im->npal; ++i) {
@@ -191,9 +190,34 @@ void t_png_load(const char *path, t_png *im)
     for (int y = 0; y < im->h; ++y) png_read_row(png, im->px + (size_t)y * im->w, NULL);
     png_read_end(png, NULL);
     png_destroy_read_struct(&png, &info, NULL);
+}
+
+void t_png_load(const char *path, t_png *im)
+{
+    FILE *fp = fopen(path, "rb");
+    cr_assert(fp, "cannot open %s", path);
+    png_read_all(fp, path, im);
     fclose(fp);
 }
 
+void t_png_load_mem(const uint8_t *data, size_t size, t_png *im)
+{
+    FILE *fp = fmemopen((void *)data, size, "rb");
+    cr_assert(fp, "fmemopen");
+    png_read_all(fp, "a PNG in memory", im);
+    fclose(fp);
+}
+
+void t_pack_rows(const uint8_t *px, int w, int h, int depth, uint8_t *rows, size_t stride)
+{
+    int per = 8 / depth;
+    for (int r = 0; r < h; ++r) {
+        uint8_t *o = rows + (size_t)r * stride;
+        memset(o, 0, stride);
+        for (int c = 0; c < w; ++c)
+            o[c / per] |= (uint8_t)(px[(size_t)r * (size_t)w + (size_t)c] << (8 - depth * (c % per + 1)));
+    }
+}
 
 size_t t_png_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n)
 {

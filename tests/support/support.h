@@ -40,6 +40,11 @@ typedef struct t_png {
     unsigned long ppm_x, ppm_y;
 } t_png;
 void t_png_load(const char *path, t_png *im);
+/* The same from a PNG in memory. */
+void t_png_load_mem(const uint8_t *data, size_t size, t_png *im);
+/* Pixels of 1, 2 or 4 bits (w x h, one a byte) in PNG's packing, the first pixel in the most
+ * significant bits, rows `stride` bytes apart (padding zeroed). */
+void t_pack_rows(const uint8_t *px, int w, int h, int depth, uint8_t *rows, size_t stride);
 /* A PNG chunk (length, type, n bytes of data, CRC) written at b; returns its size (12 + n). For tests
  * that build damaged PNGs by hand. */
 size_t t_png_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n);

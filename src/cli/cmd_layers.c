@@ -126,7 +126,8 @@ static void report(const hv_layers_report *r, const hv_layers_options *o, const 
         printf("placed      %s\n", hv_placement_describe(&c->place, placed, sizeof placed));
     hv_material_table *t = NULL;
     if (model && hv_material_table_load(model, &t) == HV_OK)
-        printf("model       %s (%d materials)\n", o->model_name, hv_material_count(t));
+        printf("model       %s (%d material%s)\n", o->model_name, hv_material_count(t),
+               hv_material_count(t) == 1 ? "" : "s");
     else if (hv_layers_source_table(o->source) && hv_material_table_clone(hv_layers_source_table(o->source), &t) != HV_OK)
         t = NULL;
     print_plan(r, o);

@@ -1,6 +1,6 @@
 # issue 28, bad input: a model whose Boolean tree refers to a mesh the model does not hold, and
 # one whose recorded mesh is damaged. Every stage that takes the shape from the model (layers,
-# contours, export, boolean) refuses with one message naming the model and the operation, exit 1,
+# contours, export, boolean, tray) refuses with one message naming the model and the operation, exit 1,
 # and writes nothing
 cd "$TMP" || exit 1
 $HOVOX generate box min=0,0,0 max=8,4,2 -o plate.stl >/dev/null &&
@@ -27,5 +27,7 @@ for m in missing damaged; do
     $HOVOX contours $m.vdb -o $m.svg --layer-height 1; echo "contours rc=$?"
     $HOVOX export $m.vdb -o $m.stl -q; echo "export rc=$?"
     $HOVOX boolean $m.vdb union a.vdb -o $m-u.vdb -q; echo "boolean rc=$?"
+    $HOVOX tray --part $m.vdb@20,370 -o tray-$m --mode mask --resin A=VeroCyan-V --resin B=VeroMagenta-V -q
+    echo "tray rc=$?"
 done
 echo "files besides the inputs: $(ls | grep -v -c -E '^(plate|rod|a|b|holed|missing|damaged)\.(stl|vdb)$')"

@@ -215,8 +215,8 @@ typedef struct hv_export_report {
  * one object of that mesh; with a material table, the materials as <basematerials id="1">
  * (names, display colours), each triangle's material the one with the largest fraction at the
  * point half a voxel inside it (hv_model_probe; where that point is outside the model, at the
- * triangle's centroid), the object's default the one most triangles have. Only max_memory and
- * level apply; a model that records no shape is refused (HV_ERR_INVALID).
+ * triangle's centroid), the object's default the one most triangles have; the model part
+ * deflated at opt->zlib_level (0: 1). Only max_memory and level apply; a model that records no shape is refused (HV_ERR_INVALID).
  *
  * .3mf with opt->volumetric (HV_EXPORT_3MF; 3MF Core 1.3 with the Volumetric extension 0.8,
  * namespaces and names as its spec): an

@@ -5,14 +5,9 @@
 # triangles B only on the top and bottom faces inside the rod's circle (1.5 voxels of slack: the
 # material boundary is the voxels'). Lua writes the same bytes; --volumetric gives the Volumetric
 # package of the voxels as before
+here=$(pwd)
 cd "$TMP" || exit 1
-$HOVOX generate box min=0,0,0 max=8,4,2 -o plate.stl >/dev/null &&
-$HOVOX generate cylinder base=4,2,-1 axis=2 length=4 radius=1 segments=32 -o rod.stl >/dev/null &&
-$HOVOX voxelize plate.stl --voxel-size 0.25 -o plate.vdb -q >/dev/null &&
-$HOVOX voxelize rod.stl --voxel-size 0.25 -o rod.vdb -q >/dev/null &&
-$HOVOX grade plate.vdb -o a.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 1,0 --me 1,0 >/dev/null &&
-$HOVOX grade rod.vdb -o b.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 0,1 --me 0,1 >/dev/null &&
-$HOVOX boolean a.vdb difference b.vdb -o wd.vdb -q >/dev/null || exit 1
+/usr/bin/python3 "$here/tests/cli/cases/holed_plate.py" 8,4,2 1 32 0.25 difference wd.vdb || exit 1
 $HOVOX export wd.vdb -o wd.3mf > report.txt; echo "rc=$?"; sed -E "s/\([0-9]+ bytes\)/(N bytes)/" report.txt
 $HOVOX export wd.vdb -o wd.stl -q >/dev/null || exit 1
 $HOVOX info wd.3mf > 3mf.txt && $HOVOX info wd.stl > stl.txt || exit 1

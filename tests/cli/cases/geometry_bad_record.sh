@@ -2,14 +2,9 @@
 # one whose recorded mesh is damaged. Every stage that takes the shape from the model (layers,
 # contours, export, boolean, tray) refuses with one message naming the model and the operation, exit 1,
 # and writes nothing
+here=$(pwd)
 cd "$TMP" || exit 1
-$HOVOX generate box min=0,0,0 max=8,4,2 -o plate.stl >/dev/null &&
-$HOVOX generate cylinder base=4,2,-1 axis=2 length=4 radius=1 segments=32 -o rod.stl >/dev/null &&
-$HOVOX voxelize plate.stl --voxel-size 0.5 -o plate.vdb -q >/dev/null &&
-$HOVOX voxelize rod.stl --voxel-size 0.5 -o rod.vdb -q >/dev/null &&
-$HOVOX grade plate.vdb -o a.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 1,0 --me 1,0 >/dev/null &&
-$HOVOX grade rod.vdb -o b.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 0,1 --me 0,1 >/dev/null &&
-$HOVOX boolean a.vdb subtract b.vdb -o holed.vdb -q >/dev/null || exit 1
+/usr/bin/python3 "$here/tests/cli/cases/holed_plate.py" 8,4,2 1 32 0.5 subtract holed.vdb || exit 1
 /usr/bin/python3 -c "
 import json, pyopenvdb as vdb
 g, meta = vdb.readAll('holed.vdb')

@@ -3,14 +3,9 @@
 # (--part MODEL@X,Y,90), and from a job file without "mesh". Every layer keeps the hole: the 1-bit
 # mask of each part's box at 50 dpi, drawn (the first layer). A model that records no shape is
 # refused naming the part, nothing written; so are the placement options, which move a mesh
+here=$(pwd)
 cd "$TMP" || exit 1
-$HOVOX generate box min=0,0,0 max=8,4,2 -o plate.stl >/dev/null &&
-$HOVOX generate cylinder base=4,2,-1 axis=2 length=4 radius=1 segments=32 -o rod.stl >/dev/null &&
-$HOVOX voxelize plate.stl --voxel-size 0.25 -o plate.vdb -q >/dev/null &&
-$HOVOX voxelize rod.stl --voxel-size 0.25 -o rod.vdb -q >/dev/null &&
-$HOVOX grade plate.vdb -o a.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 1,0 --me 1,0 >/dev/null &&
-$HOVOX grade rod.vdb -o b.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 0,1 --me 0,1 >/dev/null &&
-$HOVOX boolean a.vdb subtract b.vdb -o holed.vdb -q >/dev/null || exit 1
+/usr/bin/python3 "$here/tests/cli/cases/holed_plate.py" 8,4,2 1 32 0.25 subtract holed.vdb || exit 1
 $HOVOX tray --part holed.vdb@20,370 --part holed.vdb@40,370,90 -o tray --mode mask --resin A=VeroCyan-V \
     --resin B=VeroMagenta-V --layers 0:74 -q; echo "rc=$?"
 /usr/bin/python3 - <<'PY'

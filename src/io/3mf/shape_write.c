@@ -11,19 +11,6 @@
 #include "hovox/material.h"
 #include "threemf_internal.h"
 
-/* text with XML's five special characters as entities */
-static void xml_text(hv_buf *b, const char *s)
-{
-    for (; *s; ++s) switch (*s) {
-        case '&': hv_buf_puts(b, "&amp;"); break;
-        case '<': hv_buf_puts(b, "&lt;"); break;
-        case '>': hv_buf_puts(b, "&gt;"); break;
-        case '"': hv_buf_puts(b, "&quot;"); break;
-        case '\'': hv_buf_puts(b, "&apos;"); break;
-        default: hv_buf_append(b, s, 1);
-        }
-}
-
 static void base_materials(hv_buf *b, const hv_material_table *t)
 {
     hv_buf_puts(b, "  <basematerials id=\"1\">\n");
@@ -33,7 +20,7 @@ static void base_materials(hv_buf *b, const hv_material_table *t)
         hv_material_color(t, j, rgba);
         for (int i = 0; i < 4; ++i) c[i] = (int)HV_CLAMP(floor(rgba[i] * 255.0f + 0.5f), 0.0, 255.0);
         hv_buf_puts(b, "   <base name=\"");
-        xml_text(b, hv_material_name(t, j));
+        hv_buf_put_escaped(b, hv_material_name(t, j));
         hv_buf_printf(b, "\" displaycolor=\"#%02X%02X%02X%02X\"/>\n", c[0], c[1], c[2], c[3]);
     }
     hv_buf_puts(b, "  </basematerials>\n");
@@ -53,11 +40,11 @@ static hv_status model_part(hv_buf *b, const char *name, const hv_mesh *m, const
                      " <metadata name=\"Application\">hovox %s</metadata>\n"
                      " <metadata name=\"Title\">",
                   TMF_NS_CORE, hv_version());
-    xml_text(b, name);
+    hv_buf_put_escaped(b, name);
     hv_buf_puts(b, "</metadata>\n <resources>\n");
     if (t) base_materials(b, t);
     hv_buf_puts(b, "  <object id=\"2\" type=\"model\" name=\"");
-    xml_text(b, name);
+    hv_buf_put_escaped(b, name);
     hv_buf_puts(b, "\"");
     if (t) hv_buf_printf(b, " pid=\"1\" pindex=\"%d\"", (int)def);
     hv_buf_puts(b, ">\n   <mesh>\n    <vertices>\n");

@@ -21,8 +21,9 @@ ORDER = [
 # the formats wing holds mesh and volume formats (low: the store and the mesh below them) and
 # model formats, which read and write whole graded models: 3MF Volumetric voxelizes through
 # src/voxel and writes the export's property stacks, so it sits above them, below the one model
-# loader (src/model) that picks a model reader by content
-MODEL_FORMATS = ('src/io/3mf/volumetric_',)
+# loader (src/model) that picks a model reader by content; the shape's 3MF core package (issue 28)
+# writes a model's materials the same way, so it sits there too
+MODEL_FORMATS = ('src/io/3mf/volumetric_', 'src/io/3mf/shape_write')
 # the WDG slicer (a mesh's closed outlines at a height; Wu 2.4.1) is what the geometry record's
 # mesh leaves answer with, so it sits below it; the rest of slicing/ (resampling, halftoning, the
 # stack writer) is above everything that makes models

@@ -15,8 +15,11 @@
 
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/generate.h"
+#include "hovox/geometry.h"
 #include "hovox/image.h"
 #include "hovox/model.h"
+#include "hovox/solid.h"
 #include "hovox/tray.h"
 #include "hovox/volume.h"
 #include "hovox/voxelize.h"
@@ -42,8 +45,9 @@ const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n)
 static const hv_option k_part[] = {
     {.key = "model", .kind = HV_OPT_STRING, .offset = POFF(model), .meta = "MODEL.vdb",
      .help = "a graded model (absent: a plain mesh in `material`)"},
-    {.key = "mesh", .kind = HV_OPT_STRING, .flags = HV_OPT_REQUIRED, .offset = POFF(mesh), .meta = "MESH.stl",
-     .help = "the part's mesh (the model's, when there is a model)"},
+    {.key = "mesh", .kind = HV_OPT_STRING, .offset = POFF(mesh), .meta = "MESH.stl",
+     .help = "the part's mesh (with a model: an override that must be the one it records; absent: the shape "
+             "the model records)"},
     {.key = "material", .kind = HV_OPT_STRING, .offset = POFF(material), .meta = "NAME",
      .help = "a plain mesh's material"},
     {.key = "name", .kind = HV_OPT_STRING, .offset = POFF(name), .meta = "NAME", .help = "for messages and the manifest"},
@@ -165,8 +169,9 @@ typedef struct source {   /* one part as given (copies share it) */
     hv_tray_part p;       /* strings owned (strdup) */
     char *where;          /* "job.json: line 7, column 5", or NULL */
     int number;           /* part N, in the order added */
-    hv_mesh *mesh;        /* rotated */
+    hv_mesh *mesh;        /* rotated; from_model: the leaves that bound the shape */
     hv_volume *model;     /* rotated; NULL for plain meshes */
+    int from_model;       /* no mesh given: the shape the model records (issue 28) */
     double bmin[3], bmax[3];
     footprint fp, dil;    /* dil: dilated by the spacing */
     int resin[HV_MAX_MATERIALS]; /* palette entry of each material (plain meshes: [0]) */
@@ -246,6 +251,7 @@ static void unplan(hv_tray *t)
         hv_volume_destroy(s->model);
         s->mesh = NULL;
         s->model = NULL;
+        s->from_model = 0;
         fp_free(&s->fp);
         fp_free(&s->dil);
     }
@@ -314,7 +320,10 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     hv_status st = hv_options_check(&k_part_set, part);
     if (st == HV_OK && part->rotation % 90)
         st = hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", part->rotation);
-    if (st == HV_OK && !part->mesh) st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh}");
+    if (st == HV_OK && !part->mesh && !part->model) st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh} or a {model}");
+    if (st == HV_OK && !part->mesh && hv_placement_given(&part->place))
+        st = hv_error_set(HV_ERR_INVALID, "%s: a part from a model alone is placed as the model records it: the "
+                                          "placement options move a mesh", part->model);
     if (st != HV_OK) return where ? hv_error_prefix(st, "%s: part %d: ", where, t->nsrc + 1) : st;
     size_t cap = (size_t)t->cap;
     if ((st = hv_grow((void **)&t->src, &cap, (size_t)t->nsrc + 1, sizeof *t->src)) != HV_OK) return st;
@@ -326,7 +335,7 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     s->p.model = dup_or_null(part->model, &bad);
     s->p.mesh = dup_or_null(part->mesh, &bad);
     s->p.material = dup_or_null(part->material, &bad);
-    s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh), &bad);
+    s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh ? part->mesh : part->model), &bad);
     s->where = dup_or_null(where, &bad);
     s->number = t->nsrc + 1;
     t->nsrc++;
@@ -339,10 +348,17 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
 
 /* The mesh turned q quarter turns about z, (x, y) -> (-y, x) each; an assembly keeps its bodies
  * (hv_mesh_transform). */
-static hv_status mesh_rotated(const hv_mesh *m, int q, hv_mesh **out)
+static void quarter_matrix(int q, double a[12])
 {
     static const double c[4] = {1, 0, -1, 0}, sn[4] = {0, 1, 0, -1};
-    const double a[12] = {c[q & 3], -sn[q & 3], 0, 0, sn[q & 3], c[q & 3], 0, 0, 0, 0, 1, 0};
+    const double m[12] = {c[q & 3], -sn[q & 3], 0, 0, sn[q & 3], c[q & 3], 0, 0, 0, 0, 1, 0};
+    memcpy(a, m, sizeof m);
+}
+
+static hv_status mesh_rotated(const hv_mesh *m, int q, hv_mesh **out)
+{
+    double a[12];
+    quarter_matrix(q, a);
     return hv_mesh_transform(m, a, out);
 }
 
@@ -622,15 +638,116 @@ static hv_status bodies_model(const hv_tray *t, const hv_mesh *mesh, const hv_tr
     return st == HV_OK ? hv_mesh_model(mesh, &vo, NULL, model) : st;
 }
 
+/* ---- a part from a model alone (issue 28) ------------------------------------------------------
+ * Its shape is the one the model records, which its layers cut (hv_layers_part_open without a
+ * mesh). The tray's box is the shape's (hv_solid_bbox, as the layers take it); the footprint, the
+ * plan's fingerprint and the tray's STL take the leaves that can bound the shape, joined: every
+ * leaf but those a difference or a subtract takes away (a scanned field's leaf as its box). A
+ * quarter turn turns the record with the voxels. */
+static void bounding_leaves(const hv_geometry *g, size_t node, uint8_t *use)
+{
+    const hv_geometry_node *n = hv_geometry_node_at(g, node);
+    if (n->op < 0) {
+        use[n->leaf] = 1;
+        return;
+    }
+    bounding_leaves(g, n->a, use);
+    if (n->op != HV_GEOMETRY_DIFFERENCE && n->op != HV_GEOMETRY_SUBTRACT) bounding_leaves(g, n->b, use);
+}
+
+static hv_status footprint_mesh(const hv_geometry *g, const hv_solid *solid, hv_mesh **out)
+{
+    size_t nl = hv_geometry_leaf_count(g), n = 0;
+    uint8_t *use = hv_calloc(nl ? nl : 1, 1);
+    hv_mesh_part *parts = hv_calloc(nl ? nl : 1, sizeof *parts);
+    hv_mesh **boxes = hv_calloc(nl ? nl : 1, sizeof *boxes);
+    hv_status st = use && parts && boxes ? HV_OK : HV_ERR_NOMEM;
+    if (st == HV_OK) bounding_leaves(g, hv_geometry_node_count(g) - 1, use);
+    for (size_t i = 0; i < nl && st == HV_OK; ++i) {
+        if (!use[i]) continue;
+        const hv_leaf *leaf = hv_solid_leaf(solid, i);
+        parts[n].mesh = hv_leaf_mesh(leaf);
+        if (!parts[n].mesh) {
+            double lo[3], hi[3];
+            hv_leaf_bbox(leaf, lo, hi);
+            st = hv_generate_box(lo, hi, &boxes[i]);
+            parts[n].mesh = boxes[i];
+        }
+        parts[n++].name = hv_geometry_leaf_at(g, i)->name;
+    }
+    if (st == HV_OK) st = hv_mesh_join(parts, n, out);
+    for (size_t i = 0; boxes && i < nl; ++i) hv_mesh_destroy(boxes[i]);
+    free(use);
+    free(parts);
+    free(boxes);
+    return st;
+}
+
+/* The model turned q quarter turns with its record (*model replaced), the shape's box and the
+ * footprint mesh. */
+static hv_status model_shape(const source *s, int q, hv_volume **model, hv_mesh **mesh, double bmin[3], double bmax[3])
+{
+    hv_geometry *g = NULL, *r = NULL;
+    hv_solid *solid = NULL;
+    hv_status st = HV_OK;
+    if (!hv_geometry_present(*model)) { /* its message: no record, give the mesh */
+        st = hv_solid_for_model(*model, NULL, "tray", s->p.model, NULL, NULL, &solid);
+        hv_solid_close(solid);
+        solid = NULL;
+        if (st == HV_OK) st = hv_error_set(HV_ERR_INTERNAL, "tray: %s: no geometry record", s->p.model);
+    }
+    if (st == HV_OK && (st = hv_geometry_read(*model, &g)) != HV_OK) st = hv_error_prefix(st, "tray: ");
+    if (st == HV_OK && q) {
+        double a[12];
+        quarter_matrix(q, a);
+        st = hv_geometry_transformed(g, a, &r);
+        for (int i = 0; i < q && st == HV_OK; ++i) {
+            hv_volume *turned = NULL;
+            st = volume_quarter(*model, &turned);
+            hv_volume_destroy(*model);
+            *model = turned;
+        }
+        if (st == HV_OK) st = hv_geometry_write(r, *model);
+    }
+    if (st == HV_OK) st = hv_solid_for_model(*model, NULL, "tray", s->p.model, NULL, NULL, &solid);
+    if (st == HV_OK) {
+        hv_solid_bbox(solid, bmin, bmax);
+        st = footprint_mesh(r ? r : g, solid, mesh);
+    }
+    hv_solid_close(solid);
+    hv_geometry_destroy(g);
+    hv_geometry_destroy(r);
+    return st;
+}
+
 static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
 {
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
+    int q = (s->p.rotation / 90) % 4;
+    if (!s->p.mesh) {
+        double bmin[3], bmax[3];
+        hv_status st = hv_model_load(s->p.model, &model);
+        if (st == HV_OK) st = model_shape(s, q, &model, &mesh, bmin, bmax);
+        if (st == HV_OK) {
+            s->mesh = mesh;
+            s->model = model;
+            s->from_model = 1;
+            memcpy(s->bmin, bmin, sizeof s->bmin);
+            memcpy(s->bmax, bmax, sizeof s->bmax);
+            st = fp_from_mesh(mesh, s->bmin, s->bmax, &s->fp);
+            if (st == HV_OK) st = fp_dilate(&s->fp, o->spacing, &s->dil);
+            return st;
+        }
+        hv_mesh_destroy(mesh);
+        hv_volume_destroy(model);
+        return s->where ? hv_error_prefix(st, "%s: part %d (%s): ", s->where, s->number, s->p.name)
+                        : hv_error_prefix(st, "part %d (%s): ", s->number, s->p.name);
+    }
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
     if (st == HV_OK) st = hv_placement_apply(&s->p.place, &mesh);
     if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
     else if (st == HV_OK && !s->p.material) st = bodies_model(t, mesh, o, &model);
-    int q = (s->p.rotation / 90) % 4;
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;
         st = volume_quarter(model, &r);
@@ -1028,7 +1145,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         hv_layers_options lo;
         part_options(t, o, s, &lo);
         hv_layers_place pl = {in->x, in->y, t->profile->build[1], in->lift, t->profile->build[0], t->profile->name, 1};
-        st = hv_layers_part_open(s->mesh, s->model, &lo, &pl, progress, &in->part);
+        st = hv_layers_part_open(s->from_model ? NULL : s->mesh, s->model, &lo, &pl, progress, &in->part);
         if (st != HV_OK) {
             char nb[256];
             st = hv_error_prefix(st, "%s%s%s: ", where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb));
@@ -1413,7 +1530,7 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
         json_t *p = json_object();
         failed |= hv_json_set(p, "name", hv_json_text(s->p.name));
         failed |= hv_json_set(p, "copy", json_integer(in->copy + 1));
-        failed |= hv_json_set(p, "mesh", hv_json_text(s->p.mesh));
+        failed |= hv_json_set(p, "mesh", s->p.mesh ? hv_json_text(s->p.mesh) : json_null()); /* null: the model's own */
         failed |= hv_json_set(p, "model", s->p.model ? hv_json_text(s->p.model) : json_null());
         failed |= hv_json_set(p, "at_mm", num2(in->x, in->y));
         failed |= hv_json_set(p, "lift_layers", json_integer((json_int_t)in->lift));

@@ -81,7 +81,8 @@ HV_API int hv_linearization_count(const hv_linearization *lin);
 /* ==== export ============================================================================ */
 
 typedef enum hv_export_format {
-    HV_EXPORT_AUTO = 0, /* by the extension of the path: .vti, .vtu or .3mf (any case) */
+    HV_EXPORT_AUTO = 0, /* by the extension of the path (any case): .vti, .vtu, .stl, .obj, and
+                           .3mf: HV_EXPORT_3MF_SHAPE, or HV_EXPORT_3MF when opt->volumetric */
     HV_EXPORT_VTI = 1,  /* vtkImageData: one point per voxel centre over a box, point data */
     HV_EXPORT_VTU = 2,  /* vtkUnstructuredGrid: one VTK_HEXAHEDRON per occupied voxel (or
                            coarse block), points shared between neighbours, cell data */
@@ -90,7 +91,10 @@ typedef enum hv_export_format {
                            PNG sheets per material fraction and per derived property */
     HV_EXPORT_STL = 4,  /* the shape the model records (issue 28), binary STL: a model made from
                            one mesh writes that mesh, placed by its recorded transform */
-    HV_EXPORT_OBJ = 5   /* the same as Wavefront OBJ (hv_mesh_write_obj) */
+    HV_EXPORT_OBJ = 5,  /* the same as Wavefront OBJ (hv_mesh_write_obj) */
+    HV_EXPORT_3MF_SHAPE = 6 /* the same surface as a 3MF core package (what slicers read): one
+                               object, the model's materials as <basematerials>, each triangle in
+                               the material that dominates the model just inside it */
 } hv_export_format;
 
 /* The 3MF Volumetric extension's limits on an image stack (spec 3.2): rows, columns and
@@ -137,7 +141,9 @@ typedef struct hv_export_options {
                                        field a script computed (hv_volume_grid_set) */
     uint64_t max_memory;            /* budget for the export's buffers; 0: half of RAM */
     int zlib_level;                 /* 1 (fastest) - 9 (smallest); 0: 1 */
-    int bits;                       /* .3mf: bits per PNG sample, 8 or 16; 0: 8 */
+    int bits;                       /* .3mf --volumetric: bits per PNG sample, 8 or 16; 0: 8 */
+    int volumetric;                 /* a .3mf path (format AUTO or HV_EXPORT_3MF_SHAPE) writes the
+                                       Volumetric package (HV_EXPORT_3MF) instead of the shape */
     const hv_progress *progress;    /* may be NULL */
 } hv_export_options;
 
@@ -145,7 +151,8 @@ typedef struct hv_export_options {
 HV_API void hv_export_options_init(hv_export_options *opt);
 
 /* The export options as an option set (hovox/options.h): keys box, coarsen, keep, properties,
- * linearize (PROPERTY=FILE.csv, repeatable), grids, level, bits, max_memory. Static data. */
+ * linearize (PROPERTY=FILE.csv, repeatable), grids, level, bits, volumetric, max_memory. Static
+ * data. */
 HV_API const hv_option_set *hv_export_option_set(void);
 /* Every option's domain. Errors: HV_ERR_INVALID naming the option. */
 HV_API hv_status hv_export_options_check(const hv_export_options *opt);
@@ -201,7 +208,18 @@ typedef struct hv_export_report {
  * NULL) is filled. Multi-threaded; the file does not depend on the thread count. Progress
  * stages: "export cells", "export points" (.vtu), "export fill", "export write".
  *
- * .3mf (3MF Core 1.3 with the Volumetric extension 0.8, namespaces and names as its spec): an
+ * .stl, .obj, .3mf (HV_EXPORT_STL, _OBJ, _3MF_SHAPE): the shape the model records, not its
+ * voxels (issue 28): a model made from one mesh writes that mesh placed by its recorded transform;
+ * a Boolean of meshes, a narrow-band level set of 0.05 mm voxels per mesh combined by the tree
+ * and meshed (OpenVDB), watertight. The 3MF core package (3MF Core 1.3, unit millimeter) holds
+ * one object of that mesh; with a material table, the materials as <basematerials id="1">
+ * (names, display colours), each triangle's material the one with the largest fraction at the
+ * point half a voxel inside it (hv_model_probe; where that point is outside the model, at the
+ * triangle's centroid), the object's default the one most triangles have; the model part
+ * deflated at opt->zlib_level (0: 1). Only max_memory and level apply; a model that records no shape is refused (HV_ERR_INVALID).
+ *
+ * .3mf with opt->volumetric (HV_EXPORT_3MF; 3MF Core 1.3 with the Volumetric extension 0.8,
+ * namespaces and names as its spec): an
  * OPC package ([Content_Types].xml, _rels/.rels, 3D/3dmodel.model and its relationships
  * 3D/_rels/3dmodel.model.rels to every PNG sheet, type 3dtexture) holding
  *   - one object whose mesh is the exact boundary of the exported occupied voxels (the faces
@@ -243,9 +261,13 @@ HV_API hv_status hv_export_write(const hv_volume *vol, const char *path,
 HV_API hv_status hv_export_plan(const hv_volume *vol, const char *path,
                                 const hv_export_options *opt, hv_export_report *report);
 
-/* Format named by a path's extension: HV_EXPORT_VTI, HV_EXPORT_VTU, HV_EXPORT_3MF,
+/* Format named by a path's extension: HV_EXPORT_VTI, HV_EXPORT_VTU, HV_EXPORT_3MF_SHAPE (.3mf),
  * HV_EXPORT_STL, HV_EXPORT_OBJ or HV_EXPORT_AUTO (none of them). */
 HV_API hv_export_format hv_export_format_from_path(const char *path);
+
+/* The extensions hv_export_format_from_path knows, as a person reads them (".vti, .vtu, .3mf, .stl
+ * or .obj"): the one list the CLI's and Lua's messages name. Static text. */
+HV_API const char *hv_export_format_list(void);
 
 #ifdef __cplusplus
 }

@@ -75,6 +75,10 @@ HV_API hv_status hv_geometry_from_leaf(hv_leaf_kind kind, const char *name, cons
  * transform), and the node op(a's root, b's root). Errors: HV_ERR_INVALID (op), HV_ERR_NOMEM. */
 HV_API hv_status hv_geometry_combine(const hv_geometry *a, const hv_geometry *b, hv_geometry_op op,
                                      hv_geometry **out);
+/* The record moved by m (row-major 3x4, as hv_mesh_transform): every leaf's transform becomes m
+ * applied after it; data and tree unchanged (a tray's quarter turn of a part). Errors:
+ * HV_ERR_INVALID (m or a product not finite, singular), HV_ERR_NOMEM. */
+HV_API hv_status hv_geometry_transformed(const hv_geometry *g, const double m[12], hv_geometry **out);
 HV_API void hv_geometry_destroy(hv_geometry *g); /* NULL allowed */
 
 HV_API size_t hv_geometry_leaf_count(const hv_geometry *g);

@@ -38,7 +38,9 @@ extern "C" {
 HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
 
 /* A part as options (hv_tray_part_option_set): model (a graded .vdb; absent for a plain mesh),
- * mesh (.stl, .obj, .ply, .3mf; required), material (a plain mesh's one material; without a model
+ * mesh (.stl, .obj, .ply, .3mf; with a model an override that must be the mesh it records; absent:
+ * the shape the model records, its Booleans included, cut as hv_layers_write cuts it, and no
+ * placement options; a model without a record is refused naming the part), material (a plain mesh's one material; without a model
  * and a material, the mesh's bodies in their own materials: its model is made in memory as
  * hv_mesh_model makes it, on voxels of the printer's coarsest pitch coarsened until they fit a
  * quarter of max_memory; a body without a material is refused naming it), name,

@@ -113,7 +113,7 @@ static PyObject *model_export(PyObject *self, PyObject *args, PyObject *kw)
     if (out_begin(&oc, kw) < 0) goto done;
     hv_export_options o;
     if (hvpy_read_options(oc.rest, hv_export_option_set(), &o, extra, &oc.a) < 0) goto done;
-    const char *path = out_path(&oc, pos, "path", ".vti, .vtu or .3mf");
+    const char *path = out_path(&oc, pos, "path", hv_export_format_list());
     if (!path) goto done;
     o.format = hv_export_format_from_path(path);
     hvpy_call c;

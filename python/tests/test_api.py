@@ -203,7 +203,7 @@ def test_export(graded_gear, tmp_path):
     g = graded_gear["graded"]
     r = g.export(tmp_path / "g.vti")
     assert r["occupied"] == g.voxels("occupancy") and r["bytes"] == os.path.getsize(tmp_path / "g.vti")
-    r3 = g.export(str(tmp_path / "g.3mf"), bits=8)
+    r3 = g.export(str(tmp_path / "g.3mf"), bits=8, volumetric=True)
     back = hovox.load(tmp_path / "g.3mf")
     assert back.voxels("occupancy") == g.voxels("occupancy")
     assert np.max(np.abs(back.fractions() - g.fractions())) <= 1 / 255 + 1e-6

@@ -115,6 +115,9 @@ int cli_fail(hv_status status);
 /* A repeatable BODY=MATERIAL option (voxelize, layers): the text kept in list[*n] (it lives as
  * long as argv); refused when it has no BODY or no MATERIAL, or past `cap` options. */
 hv_status cli_add_body_material(const hv_option *o, const hv_opt_value *v, const char **list, int *n, int cap);
+/* 1 when a file given where a model goes is a mesh (STL, OBJ, PLY, or a 3MF package without volume
+ * data), by its content (layers MESH, tray --part MESH). */
+int cli_is_mesh_input(const char *path);
 /* Print "hovox <cmd>: <message> (see 'hovox <cmd> --help')" on one line; returns EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, ...) HV_PRINTF(2, 3);
 /* Several processes (hovox-mpi): the collectives the stack commands pass to the library, and

@@ -1,7 +1,8 @@
 /* src/cli/cmd_export.c - `hovox export MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf|OUT.stl|OUT.obj`: a
  * graded model to VTK image data or a hexahedral mesh, with derived properties, for ParaView and
- * FEA codes, to a 3MF Volumetric package for the 3MF ecosystem, or the shape the model records as
- * a surface (.stl, .obj). The options are the library's (hv_export_option_set). */
+ * FEA codes, the shape the model records as a surface (.stl, .obj, a 3MF core .3mf), or a 3MF
+ * Volumetric package (.3mf --volumetric) of its voxels. The options are the library's
+ * (hv_export_option_set). */
 #include <stdio.h>
 #include <string.h>
 
@@ -19,7 +20,8 @@ static hv_status check_vtk_path(const hv_option *o, const void *opts)
 {
     const char *path = *(const char *const *)((const char *)opts + o->offset);
     if (hv_export_format_from_path(path) != HV_EXPORT_AUTO) return HV_OK;
-    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use .vti, .vtu, .3mf, .stl or .obj)", path);
+    return hv_error_option(HV_ERR_INVALID, "{output} '%s' has an unknown extension (use %s)", path,
+                           hv_export_format_list());
 }
 
 static const hv_option k_local_opts[] = {
@@ -53,7 +55,7 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
         fprintf(stderr, "hovox: note: %.*s\n", (int)n, p);
         p += n + (nl ? 1 : 0);
     }
-    if (rep->format == HV_EXPORT_STL || rep->format == HV_EXPORT_OBJ) {
+    if (rep->format == HV_EXPORT_STL || rep->format == HV_EXPORT_OBJ || rep->format == HV_EXPORT_3MF_SHAPE) {
         printf("model       %s\n", model);
         printf("shape       %s\n", rep->names);
         if (rep->cells)
@@ -102,6 +104,7 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
 {
     /* the format and the tables are checked before the model is read */
     opt->format = hv_export_format_from_path(c->output);
+    if (opt->format == HV_EXPORT_3MF_SHAPE && opt->volumetric) opt->format = HV_EXPORT_3MF;
     hv_status s = hv_export_options_check(opt);
     for (int i = 0; i < opt->nlinearize && s == HV_OK; ++i) {
         hv_linearization *t = NULL;
@@ -129,8 +132,8 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
 static int run_cli(const cli_args *args, void *lib, void *local) { return run(args->pos[0], lib, local, args->quiet); }
 
 const cli_spec cmd_export = {
-    "export", "export a model to VTK (.vti image data, .vtu hexahedra), 3MF (.3mf) or its shape (.stl, .obj)",
-    "MODEL.vdb -o OUT.vti|OUT.vtu|OUT.3mf|OUT.stl|OUT.obj [options]",
+    "export", "export a model to VTK (.vti image data, .vtu hexahedra), its shape (.stl, .obj, .3mf) or 3MF Volumetric",
+    "MODEL.vdb -o OUT.vti|OUT.vtu|OUT.stl|OUT.obj|OUT.3mf [--volumetric] [options]",
     "Export a model to VTK XML (appended raw binary, zlib, 64-bit headers) for ParaView and\n"
     "FEA codes. .vti: image data over the occupied voxels' bounding box (or --box), one point\n"
     "per voxel centre. .vtu: one hexahedron per occupied voxel (or NxNxN block), corner points\n"
@@ -139,12 +142,14 @@ const cli_spec cmd_export = {
     "mixtures, sum p_j X_j) and <property>.reuss[<unit>] (inverse rule, 1 / sum p_j / X_j),\n"
     "plus <property>.table[<unit>] per --linearize table. A model without materials is\n"
     "exported as occupancy only.\n"
-    ".3mf: a 3MF package with the Volumetric extension: the exact voxel boundary as the mesh\n"
-    "(mm), the materials as base materials, one image3d stack of PNG sheets per material\n"
-    "fraction and per derived property (8 or 16 bits, --bits), a volumedata whose composite\n"
-    "maps the fractions to the base materials; hovox reads it back as a graded model.\n"
-    ".stl, .obj: the shape the model records, not its voxels: a model voxelized from one mesh\n"
-    "writes that mesh placed as recorded (exact, no stair steps); a Boolean of meshes, a\n"
+    ".stl, .obj, .3mf: the shape the model records, not its voxels: a model voxelized from one\n"
+    "mesh writes that mesh placed as recorded (exact, no stair steps); a Boolean of meshes, a\n"
     "narrow-band level set of 0.05 mm voxels per mesh combined by the model's Booleans and\n"
-    "meshed at adaptivity 0 (OpenVDB), watertight. Only --max-memory applies.\n",
+    "meshed at adaptivity 0 (OpenVDB), watertight. .3mf is a 3MF core package for slicers: the\n"
+    "materials as base materials, each triangle in the material that dominates the model just\n"
+    "inside it. Only --max-memory and --level apply.\n"
+    ".3mf --volumetric: a 3MF package with the Volumetric extension: the exact voxel boundary\n"
+    "as the mesh (mm), the materials as base materials, one image3d stack of PNG sheets per\n"
+    "material fraction and per derived property (8 or 16 bits, --bits), a volumedata whose\n"
+    "composite maps the fractions to the base materials; hovox reads it back as a graded model.\n",
     hv_export_option_set, &k_local, NULL, 1, 1, "MODEL argument", CLI_THREADS | CLI_QUIET | CLI_POS_FILES, run_cli, NULL, NULL};

@@ -188,12 +188,6 @@ static hv_status scan_model(const hv_layers_options *o, const layers_cli *c, hv_
     return s;
 }
 
-/* A mesh file given where a model goes: a mesh (STL, OBJ, PLY) or a 3MF package without volume data. */
-static int is_mesh_input(const char *path)
-{
-    return hv_3mf_sniff(path) ? !hv_3mf_is_volumetric(path) : hv_mesh_sniff(path);
-}
-
 /* A mesh in one step (issue 27 item 2): the mesh placed, its bodies given their --material, and
  * (unless only the mask is printed) its model made in memory: voxelized at the printer's coarsest
  * pitch (or --voxel-size), coarsened by 5/4 until the plan fits half the memory budget, each body
@@ -278,7 +272,7 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         s = scan_source(o, c, so, &scan, &src, &said);
     } else if (so) {
         s = scan_model(o, c, so, quiet, &model, &said);
-    } else if (!c->mesh && o->model_name && is_mesh_input(o->model_name)) {
+    } else if (!c->mesh && o->model_name && cli_is_mesh_input(o->model_name)) {
         s = mesh_model(o, c, quiet, &mesh, &model, &said);
         o->mesh_name = o->model_name;
         if (o->mode == HV_LAYERS_MASK) o->model_name = NULL;
@@ -349,7 +343,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
     if (!c->mesh && args->npos == 0) return cli_usage_error("layers", "missing MODEL.vdb or --mesh");
-    int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && is_mesh_input(args->pos[0]);
+    int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && cli_is_mesh_input(args->pos[0]);
     if (!c->mesh && !mesh_in && hv_placement_given(&c->place))
         return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
                                          "sliced where its recorded shape is");

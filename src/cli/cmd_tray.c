@@ -1,10 +1,11 @@
 /* src/cli/cmd_tray.c - `hovox tray [JOB.json] -o DIR [--part SPEC ...]`: a build tray of parts in
  * one stack (hovox/tray.h). The options are the library's (hv_tray_option_set); this file
- * reads the --part shorthand MODEL.vdb,MESH[@X,Y[,ROT]][xN], MESH:MATERIAL[@...] or MESH[@...] (an
- * assembly in its bodies' materials). */
+ * reads the --part shorthand MODEL.vdb[@X,Y[,ROT]][xN] (the shape the model records),
+ * MODEL.vdb,MESH[@...], MESH:MATERIAL[@...] or MESH[@...] (an assembly in its bodies' materials). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "core/internal.h"
@@ -59,7 +60,7 @@ static const hv_option k_local_opts[] = {
      .help = "also DIR/index.html, a page to look through the tray in a web browser (see hovox view)"},
     {.key = "part", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = "SPEC", .parse = add_part,
      .section = "Parts (besides those of JOB.json)",
-     .help = "MODEL.vdb,MESH, MESH:MATERIAL or MESH alone, its bodies in their own materials (MESH: .stl, .3mf, .obj or .ply), then @X,Y[,ROT] (plate position of the part's box centre, "
+     .help = "MODEL.vdb alone (the shape it records), MODEL.vdb,MESH, MESH:MATERIAL or MESH alone, its bodies in their own materials (MESH: .stl, .3mf, .obj or .ply), then @X,Y[,ROT] (plate position of the part's box centre, "
              "rotation 0/90/180/270; absent: arranged) and xN for N copies"},
     PLACE_OPT("unit", "mm|cm|m|in", "the unit of the part before it, a file without one (also um, ft)",
               "Placement of the --part before them (as in voxelize; job files: the part's keys)"),
@@ -106,6 +107,8 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
         *comma = '\0';
         p->model = buf;
         p->mesh = comma + 1;
+    } else if (access(buf, F_OK) == 0 && !cli_is_mesh_input(buf)) {
+        p->model = buf; /* a model alone: its recorded shape (issue 28) */
     } else {
         char *colon = strrchr(buf, ':');
         p->mesh = buf;
@@ -185,7 +188,7 @@ static int run(const cli_args *args, void *lib, void *local)
         hv_tray_part p;
         s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
         p.place = c->place[i];
-        if (s == HV_OK) warn_size(&p, o);
+        if (s == HV_OK && p.mesh) warn_size(&p, o);
         if (s == HV_OK) s = hv_tray_add(t, &p, NULL); /* "part N", counted after the job file's */
     }
     if (s == HV_OK && hv_tray_part_count(t) == 0) {
@@ -243,7 +246,8 @@ static int run(const cli_args *args, void *lib, void *local)
 const cli_spec cmd_tray = {
     "tray", "a build tray of parts in one printer stack",
     "[JOB.json] -o DIR [--part SPEC ...] [options]",
-    "Slice a tray: graded models with their meshes, or plain meshes in one material, placed on\n"
+    "Slice a tray: graded models (the shape each records, Booleans included, or a mesh given as\n"
+    "an override that must match), or plain meshes in one material, placed on\n"
     "the printer's plate (positions in mm of each part's box centre, rotations in quarter\n"
     "turns, copies in a row), checked (inside the build volume, --spacing apart, materials\n"
     "within the printer's slots and mapped to resins), then written as one stack: indexed PNG\n"

@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "hovox/mesh.h"
+#include "hovox/threemf.h"
 
 int cli_exit_code(hv_status s)
 {
@@ -111,4 +113,9 @@ hv_status cli_add_body_material(const hv_option *o, const hv_opt_value *v, const
     if (*n == cap) return hv_error_option(HV_ERR_INVALID, "at most %d {%s} options", cap, o->key);
     list[(*n)++] = v->text;
     return HV_OK;
+}
+
+int cli_is_mesh_input(const char *path)
+{
+    return hv_3mf_sniff(path) ? !hv_3mf_is_volumetric(path) : hv_mesh_sniff(path);
 }

@@ -65,6 +65,8 @@ void hv_buf_append(hv_buf *b, const char *s, size_t n);
 void hv_buf_puts(hv_buf *b, const char *s);
 void hv_buf_printf(hv_buf *b, const char *fmt, ...) HV_PRINTF(2, 3);
 void hv_buf_vprintf(hv_buf *b, const char *fmt, va_list ap);
+/* Append s with the five characters XML and HTML reserve as entities (&amp; &lt; &gt; &quot; &#39;). */
+void hv_buf_put_escaped(hv_buf *b, const char *s);
 /* Base64 (RFC 4648, '=' padding; base64.c): append the encoding of size bytes to b (b->failed on
  * no memory), and decode len characters into a new buffer (*out: free; *size its bytes).
  * decode errors: HV_ERR_BAD_INPUT (a length not a multiple of 4, a character not base64),

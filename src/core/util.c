@@ -115,6 +115,20 @@ void hv_buf_free(hv_buf *b)
     hv_buf_init(b);
 }
 
+void hv_buf_put_escaped(hv_buf *b, const char *s)
+{
+    for (; *s; ++s) {
+        switch (*s) {
+        case '&': hv_buf_puts(b, "&amp;"); break;
+        case '<': hv_buf_puts(b, "&lt;"); break;
+        case '>': hv_buf_puts(b, "&gt;"); break;
+        case '"': hv_buf_puts(b, "&quot;"); break;
+        case '\'': hv_buf_puts(b, "&#39;"); break;
+        default: hv_buf_append(b, s, 1);
+        }
+    }
+}
+
 void hv_buf_append(hv_buf *b, const char *s, size_t n)
 {
     if (b->failed) return;

@@ -15,11 +15,13 @@
 
 #define FRACTION_TOL 1e-4
 
+const char *hv_export_format_list(void) { return ".vti, .vtu, .3mf, .stl or .obj"; }
+
 hv_export_format hv_export_format_from_path(const char *path)
 {
     if (hv_has_extension(path, ".vti")) return HV_EXPORT_VTI;
     if (hv_has_extension(path, ".vtu")) return HV_EXPORT_VTU;
-    if (hv_has_extension(path, ".3mf")) return HV_EXPORT_3MF;
+    if (hv_has_extension(path, ".3mf")) return HV_EXPORT_3MF_SHAPE;
     if (hv_has_extension(path, ".stl")) return HV_EXPORT_STL;
     if (hv_has_extension(path, ".obj")) return HV_EXPORT_OBJ;
     return HV_EXPORT_AUTO;
@@ -556,19 +558,24 @@ static hv_status check_options(const char *path, const hv_export_options *opt,
     if (*fmt == HV_EXPORT_AUTO) {
         *fmt = hv_export_format_from_path(path);
         if (*fmt == HV_EXPORT_AUTO)
-            return hv_error_set(HV_ERR_INVALID, "%s: unknown extension (use .vti, .vtu, .3mf, .stl or .obj)", path);
+            return hv_error_set(HV_ERR_INVALID, "%s: unknown extension (use %s)", path, hv_export_format_list());
     }
-    if (*fmt < HV_EXPORT_VTI || *fmt > HV_EXPORT_OBJ)
+    if (*fmt < HV_EXPORT_VTI || *fmt > HV_EXPORT_3MF_SHAPE)
         return hv_error_set(HV_ERR_INVALID, "export: unknown format %d", (int)*fmt);
     hv_status s = hv_export_options_check(opt);
     if (s != HV_OK) return s;
+    if (opt->volumetric && *fmt == HV_EXPORT_3MF_SHAPE) *fmt = HV_EXPORT_3MF;
+    if (opt->volumetric && *fmt != HV_EXPORT_3MF)
+        return hv_error_option(HV_ERR_INVALID, "{volumetric} applies to .3mf output only");
     if (opt->coarsen > 1 && *fmt != HV_EXPORT_VTU)
         return hv_error_option(HV_ERR_INVALID, "{coarsen} applies to .vtu output only");
+    if (opt->bits && *fmt == HV_EXPORT_3MF_SHAPE)
+        return hv_error_option(HV_ERR_INVALID, "{bits} applies to the Volumetric package only (.3mf with {volumetric})");
     if (opt->bits && *fmt != HV_EXPORT_3MF)
         return hv_error_option(HV_ERR_INVALID, "{bits} applies to .3mf output only");
-    if (opt->use_box && (*fmt == HV_EXPORT_STL || *fmt == HV_EXPORT_OBJ))
-        return hv_error_option(HV_ERR_INVALID, "{box} cuts voxel exports (.vti, .vtu, .3mf); .stl and .obj write the "
-                               "whole shape");
+    if (opt->use_box && ex_format_is_shape(*fmt))
+        return hv_error_option(HV_ERR_INVALID, "{box} cuts voxel exports (.vti, .vtu, .3mf with {volumetric}); .stl, "
+                               ".obj and .3mf write the whole shape");
     return HV_OK;
 }
 
@@ -580,7 +587,7 @@ static hv_status plan_all(const hv_volume *vol, const char *path, const hv_expor
     hv_status s = check_options(path, opt, &fmt);
     if (s != HV_OK) return s;
     r->format = fmt;
-    if (fmt == HV_EXPORT_STL || fmt == HV_EXPORT_OBJ) return ex_shape_plan(vol, opt, r);
+    if (ex_format_is_shape(fmt)) return ex_shape_plan(vol, opt, r);
     s = ex_model_init(md, vol, opt);
     if (s != HV_OK) return s;
     report_names(md, r);
@@ -653,7 +660,7 @@ static hv_status write_impl(const hv_volume *vol, const char *path, const hv_exp
 
     hv_export_format fmt;
     hv_status s = check_options(path, opt, &fmt);
-    if (s == HV_OK && (fmt == HV_EXPORT_STL || fmt == HV_EXPORT_OBJ)) {
+    if (s == HV_OK && ex_format_is_shape(fmt)) {
         memset(r, 0, sizeof *r); /* the shape, not the voxels: nothing of md is needed */
         r->format = fmt;
         return ex_shape_write(vol, path, opt, r);

@@ -5,6 +5,7 @@
 
 #include "core/internal.h"
 #include "hovox/export.h"
+#include "hovox/mesh.h"
 
 typedef enum ex_kind { EX_VOIGT, EX_REUSS, EX_TABLE, EX_GRID } ex_kind;
 
@@ -48,7 +49,20 @@ void ex_model_free(ex_model *md);
 hv_status ex_3mf_plan(const ex_model *md, const hv_export_options *opt, hv_export_report *r);
 hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_options *opt, hv_export_report *r);
 
-/* .stl and .obj (shape.c): the shape the model records as a surface; r->format set by the caller.
+/* 1 for the formats that write the shape the model records (.stl, .obj, .3mf without volumetric). */
+static inline int ex_format_is_shape(hv_export_format f)
+{
+    return f == HV_EXPORT_STL || f == HV_EXPORT_OBJ || f == HV_EXPORT_3MF_SHAPE;
+}
+
+/* The 3MF core package of a shape (src/io/3mf/shape_write.c): mesh `m` as one object named `name`
+ * (also the package's Title), unit millimeter; with a table t (may be NULL), its materials as <basematerials id="1"> and facet f
+ * in material fmat[f] (the object's default: `def`); the model part deflated at `level`. Written
+ * to a temporary and renamed. Errors: HV_ERR_IO, HV_ERR_NOMEM, HV_ERR_CANCELLED. */
+hv_status ex_3mf_shape_write(const char *name, const hv_mesh *m, const hv_material_table *t, const int32_t *fmat,
+                             int32_t def, const char *path, int level, const hv_progress *progress);
+
+/* .stl, .obj and .3mf (shape.c): the shape the model records as a surface; r->format set by the caller.
  * cells: triangles, points: vertices, names: the recorded mesh. Errors: HV_ERR_INVALID (no shape
  * recorded), HV_ERR_UNSUPPORTED (a scanned field's shape), HV_ERR_LIMIT (a Boolean's level sets over
  * opt->max_memory), those of hv_geometry_read

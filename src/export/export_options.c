@@ -84,7 +84,10 @@ static const hv_option k_opts[] = {
      .offset = OFF(zlib_level), .meta = "N", .help = "zlib level: 1 (fastest, default) to 9 (smallest)"},
     {.key = "bits", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 8, .hi = 16, .flags = HV_OPT_UNSET0,
      .offset = OFF(bits), .meta = "N", .check = check_bits,
-     .help = ".3mf: bits per PNG sample of the image stacks, 8 (default) or 16"},
+     .help = ".3mf --volumetric: bits per PNG sample of the image stacks, 8 (default) or 16"},
+    {.key = "volumetric", .kind = HV_OPT_FLAG, .offset = OFF(volumetric),
+     .help = ".3mf: the 3MF Volumetric package of the voxels (the grading as image stacks, the voxel "
+             "boundary as mesh) instead of the shape's mesh"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = OFF(max_memory), .meta = "SIZE",
      .help = "refuse exports whose buffers need more (default: half of RAM), e.g. 2G"},
 };
@@ -106,6 +109,9 @@ static hv_status validate(const void *opts)
         return hv_error_option(HV_ERR_INVALID, "{coarsen} applies to .vtu output only");
     if ((o->format == HV_EXPORT_VTI || o->format == HV_EXPORT_VTU) && o->bits)
         return hv_error_option(HV_ERR_INVALID, "{bits} applies to .3mf output only");
+    if (o->format != HV_EXPORT_AUTO && o->format != HV_EXPORT_3MF && o->format != HV_EXPORT_3MF_SHAPE &&
+        o->volumetric)
+        return hv_error_option(HV_ERR_INVALID, "{volumetric} applies to .3mf output only");
     if (o->use_box)
         for (int a = 0; a < 3; ++a)
             if (!isfinite(o->box_lo[a]) || !isfinite(o->box_hi[a]) || o->box_lo[a] > o->box_hi[a])

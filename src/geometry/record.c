@@ -432,6 +432,33 @@ hv_status hv_geometry_combine(const hv_geometry *a, const hv_geometry *b, hv_geo
     return HV_OK;
 }
 
+hv_status hv_geometry_transformed(const hv_geometry *g, const double m[12], hv_geometry **out)
+{
+    *out = NULL;
+    hv_status s = check_transform(m);
+    if (s != HV_OK) return s;
+    hv_geometry *r = geometry_new(g->nleaf, g->nnode);
+    if (!r) return HV_ERR_NOMEM;
+    for (size_t i = 0; i < g->nleaf && s == HV_OK; ++i) {
+        leaf_rec moved = g->leaf[i];
+        const double *t = g->leaf[i].info.transform;
+        for (int row = 0; row < 3; ++row)
+            for (int c = 0; c < 4; ++c)
+                moved.info.transform[4 * row + c] = m[4 * row] * t[c] + m[4 * row + 1] * t[4 + c] +
+                                                    m[4 * row + 2] * t[8 + c] + (c == 3 ? m[4 * row + 3] : 0.0);
+        if ((s = check_transform(moved.info.transform)) == HV_OK && (s = leaf_copy(&r->leaf[i], &moved)) == HV_OK)
+            ++r->nleaf;
+    }
+    if (s == HV_OK) {
+        memcpy(r->node, g->node, g->nnode * sizeof *r->node);
+        r->nnode = g->nnode;
+        *out = r;
+    } else {
+        hv_geometry_destroy(r);
+    }
+    return s;
+}
+
 /* ---- in a model -------------------------------------------------------------------------------- */
 
 static void leaf_key(const hv_geometry_leaf *l, char *buf, size_t n)

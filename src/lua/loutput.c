@@ -78,7 +78,7 @@ static int model_profile(lua_State *L)
     return 1;
 }
 
-/* model:export{path = "x.vti" | "x.vtu", <box, coarsen, keep, properties, linearize = {property
+/* model:export{path = "x.vti" | "x.vtu" | "x.3mf" | "x.stl" | "x.obj", <box, coarsen, keep, properties, linearize = {property
  *   = "table.csv", ...}, level, max_memory>} -> {points, cells, occupied, arrays, notes, bytes} */
 static int model_export(lua_State *L)
 {
@@ -86,7 +86,7 @@ static int model_export(lua_State *L)
     hv_volume *vol = hv_lua_model(L, 1);
     hv_export_options o;
     int holder = hv_lua_read(L, 2, hv_export_option_set(), &o, extra);
-    const char *path = hv_lua_out_path(L, 2, "path", holder, ".vti or .vtu");
+    const char *path = hv_lua_out_path(L, 2, "path", holder, hv_export_format_list());
     o.format = hv_export_format_from_path(path);
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_export_report rep;

@@ -65,20 +65,6 @@ char *vw_json_for_script(const json_t *doc)
     return out;
 }
 
-static void put_escaped(hv_buf *b, const char *s)
-{
-    for (; *s; ++s) {
-        switch (*s) {
-        case '&': hv_buf_puts(b, "&amp;"); break;
-        case '<': hv_buf_puts(b, "&lt;"); break;
-        case '>': hv_buf_puts(b, "&gt;"); break;
-        case '"': hv_buf_puts(b, "&quot;"); break;
-        case '\'': hv_buf_puts(b, "&#39;"); break;
-        default: hv_buf_append(b, s, 1);
-        }
-    }
-}
-
 hv_status vw_page_write(const char *path, const char *title, const char *data_json, uint64_t *bytes)
 {
     hv_buf b;
@@ -98,7 +84,7 @@ hv_status vw_page_write(const char *path, const char *title, const char *data_js
             break;
         }
         size_t n = (size_t)(e - m - 2);
-        if (n == 5 && !strncmp(m + 2, "title", 5)) put_escaped(&b, title);
+        if (n == 5 && !strncmp(m + 2, "title", 5)) hv_buf_put_escaped(&b, title);
         else if (n == 5 && !strncmp(m + 2, "style", 5)) hv_buf_puts(&b, (const char *)vw_asset_viewer_css);
         else if (n == 4 && !strncmp(m + 2, "data", 4)) hv_buf_puts(&b, data_json);
         else if (n == 6 && !strncmp(m + 2, "script", 6)) hv_buf_puts(&b, (const char *)vw_asset_viewer_js);

@@ -64,6 +64,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_export: bad run count\n");
         return 2;
     }
+    /* the .3mf figures are the Volumetric package's (the shape's .3mf has its own) */
+    opt.volumetric = hv_export_format_from_path(out) == HV_EXPORT_3MF_SHAPE;
     double t0 = now();
     hv_volume *vol;
     hv_status s = hv_volume_load(model, &vol);

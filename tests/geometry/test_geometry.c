@@ -113,6 +113,53 @@ Test(geometry, transform_places_the_leaf)
     hv_mesh_destroy(p);
 }
 
+/* hv_geometry_transformed: every leaf moved by the matrix after its own transform, the tree and
+ * the data kept; the placed mesh equals the leaf's placed mesh transformed by the matrix */
+Test(geometry, transformed_moves_every_leaf)
+{
+    hv_mesh *p = plate(), *r = rod();
+    hv_geometry *a = record_of(p, k_move), *b = record_of(r, NULL), *g = NULL, *t = NULL;
+    cr_assert_eq(hv_geometry_combine(a, b, HV_GEOMETRY_SUBTRACT, &g), HV_OK);
+    const double quarter[12] = {0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1, 3};
+    cr_assert_eq(hv_geometry_transformed(g, quarter, &t), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_geometry_leaf_count(t), 2);
+    cr_assert_eq(hv_geometry_node_count(t), hv_geometry_node_count(g));
+    for (size_t i = 0; i < hv_geometry_node_count(g); ++i)
+        cr_assert(memcmp(hv_geometry_node_at(g, i), hv_geometry_node_at(t, i), sizeof(hv_geometry_node)) == 0);
+    for (size_t i = 0; i < 2; ++i) {
+        hv_mesh *before = NULL, *moved = NULL, *after = NULL;
+        cr_assert_eq(hv_geometry_leaf_mesh(g, i, &before), HV_OK);
+        cr_assert_eq(hv_mesh_transform(before, quarter, &moved), HV_OK);
+        cr_assert_eq(hv_geometry_leaf_mesh(t, i, &after), HV_OK);
+        cr_assert_eq(hv_geometry_leaf_at(t, i)->hash, hv_geometry_leaf_at(g, i)->hash);
+        const hv_mesh_report *x = hv_mesh_get_report(moved), *y = hv_mesh_get_report(after);
+        for (int k = 0; k < 3; ++k) {
+            cr_expect_float_eq(x->bbox_min[k], y->bbox_min[k], 1e-5);
+            cr_expect_float_eq(x->bbox_max[k], y->bbox_max[k], 1e-5);
+        }
+        hv_mesh_destroy(before);
+        hv_mesh_destroy(moved);
+        hv_mesh_destroy(after);
+    }
+    /* the plate (moved by k_move: x 5..45, y -2..18) turned: x -18..2, y 5..45, z 4..14 */
+    hv_mesh *pm = NULL;
+    cr_assert_eq(hv_geometry_leaf_mesh(t, 0, &pm), HV_OK);
+    cr_expect_float_eq(hv_mesh_get_report(pm)->bbox_min[0], -18, 1e-5);
+    cr_expect_float_eq(hv_mesh_get_report(pm)->bbox_max[1], 45, 1e-5);
+    cr_expect_float_eq(hv_mesh_get_report(pm)->bbox_min[2], 4, 1e-5);
+    hv_mesh_destroy(pm);
+    const double singular[12] = {0};
+    hv_geometry *none = NULL;
+    cr_expect_eq(hv_geometry_transformed(g, singular, &none), HV_ERR_INVALID);
+    cr_expect_null(none);
+    hv_geometry_destroy(t);
+    hv_geometry_destroy(g);
+    hv_geometry_destroy(a);
+    hv_geometry_destroy(b);
+    hv_mesh_destroy(p);
+    hv_mesh_destroy(r);
+}
+
 static hv_volume *empty_model(void)
 {
     hv_transform xf = {{1, 1, 1}, {0, 0, 0}};

@@ -3,7 +3,8 @@
  * cut by hv_layers_write without a mesh: every layer's object mask against the exact raster of
  * the analytic shape (pixel centres in the plate and the disc) has IoU >= 0.999, and the hole is
  * empty in every layer of the plate minus the rod. A plain model cut without its mesh gives the
- * same bytes as with it; another mesh is refused naming both, and nothing is written. */
+ * same bytes as with it; another mesh is refused naming both, and nothing is written. A tray of the
+ * Booleaned model alone (turned and not) keeps the hole too, IoU >= 0.999 per part and layer. */
 #include <criterion/criterion.h>
 #include <dirent.h>
 #include <math.h>
@@ -15,6 +16,7 @@
 #include "hovox/layers.h"
 #include "hovox/material.h"
 #include "hovox/solid.h"
+#include "hovox/tray.h"
 #include "hovox/voxelize.h"
 #include "support/support.h"
 
@@ -184,6 +186,88 @@ Test(solid_layers, a_plain_model_cuts_the_same_without_its_mesh, .timeout = 120)
     cr_assert_not(t_exists(other));
     hv_volume_destroy(v);
     hv_object_destroy(obj);
+    hv_mesh_destroy(p);
+    hv_mesh_destroy(r);
+}
+
+/* A tray of the plate minus the rod from the model alone (no mesh: the shape it records), once as
+ * it is and once turned a quarter: in every layer of three windows (bottom, middle, top) each
+ * part's pixels against the exact raster of the plate minus the disc, turned and moved as the
+ * tray placed it: IoU >= 0.999, and nothing in the hole. */
+Test(solid_layers, a_boolean_in_a_tray_keeps_its_hole, .timeout = 300)
+{
+    hv_mesh *p = plate(), *r = rod();
+    hv_object *op = object_of(p), *orod = object_of(r), *h = NULL;
+    cr_assert_eq(hv_object_boolean(op, orod, HV_OP_SUBTRACT, &h), HV_OK, "%s", hv_last_error());
+    hv_volume *v = evaluate(h);
+    const char *model = t_tmpfile("holed.vdb");
+    cr_assert_eq(hv_volume_save(v, model), HV_OK, "%s", hv_last_error());
+    hv_tray *t = NULL;
+    cr_assert_eq(hv_tray_create(&t), HV_OK);
+    const double at[2][2] = {{100, 100}, {200, 150}};
+    for (int k = 0; k < 2; ++k) {
+        hv_tray_part tp;
+        hv_tray_part_init(&tp);
+        tp.model = model;
+        tp.at[0] = at[k][0];
+        tp.at[1] = at[k][1];
+        tp.placed = 1;
+        tp.rotation = 90 * k;
+        cr_assert_eq(hv_tray_add(t, &tp, NULL), HV_OK, "%s", hv_last_error());
+    }
+    hv_tray_options o;
+    hv_tray_options_init(&o);
+    o.mode = HV_LAYERS_MASK;
+    o.resin[o.nresin++] = "A=VeroCyan-V";
+    o.resin[o.nresin++] = "B=VeroMagenta-V";
+    const hv_printer_profile *pp = hv_printer_profile_find("j750");
+    double sx = 25.4 / pp->dpi[0], py = 25.4 / pp->dpi[1], lh = pp->layer_height;
+    size_t windows[3][2] = {{0, 4}, {183, 187}, {366, 370}};
+    double worst = 1;
+    long hole = 0;
+    for (int w = 0; w < 3; ++w) {
+        o.first = windows[w][0];
+        o.last = windows[w][1];
+        char dir[64];
+        snprintf(dir, sizeof dir, "tray%d", w);
+        hv_tray_report rep;
+        cr_assert_eq(hv_tray_write(t, t_tmpfile(dir), &o, NULL, &rep), HV_OK, "%s", hv_last_error());
+        cr_assert_eq(rep.layers, 370);
+        for (size_t l = o.first; l < o.last; ++l) {
+            char path[4096];
+            snprintf(path, sizeof path, "%s/layer-%05zu.png", t_tmpfile(dir), l);
+            t_png im;
+            t_png_load(path, &im);
+            double z = ((double)l + 0.5) * lh;
+            for (int k = 0; k < 2; ++k) {
+                hv_tray_placement tp;
+                hv_tray_instance_get(t, k, &tp);
+                long both = 0, either = 0;
+                int c0 = (int)floor((tp.box[0] - 1) / sx), c1 = (int)ceil((tp.box[2] + 1) / sx);
+                int r0 = (int)floor((pp->build[1] - tp.box[3] - 1) / py), r1 = (int)ceil((pp->build[1] - tp.box[1] + 1) / py);
+                for (int row = r0; row < r1; ++row)
+                    for (int c = c0; c < c1; ++c) {
+                        double X = (c + 0.5) * sx - tp.at[0], Y = pp->build[1] - (row + 0.5) * py - tp.at[1];
+                        /* back to the part's frame: the box centre (20, 10), turned (x, y) -> (-y, x) for k = 1 */
+                        double x = k ? Y + 20 : X + 20, y = k ? -X + 10 : Y + 10;
+                        int got = im.px[(size_t)row * im.w + c] != 0, want = in_analytic(HV_OP_SUBTRACT, x, y, z);
+                        both += got && want;
+                        either += got || want;
+                        if (got && hypot(x - 20, y - 10) < 4.9) ++hole;
+                    }
+                double iou = either ? (double)both / (double)either : 0;
+                if (iou < worst) worst = iou;
+            }
+            free(im.px);
+        }
+    }
+    cr_expect_geq(worst, 0.999, "worst layer IoU %.6f", worst);
+    cr_expect_eq(hole, 0, "the hole holds %ld object pixels", hole);
+    hv_tray_destroy(t);
+    hv_volume_destroy(v);
+    hv_object_destroy(h);
+    hv_object_destroy(op);
+    hv_object_destroy(orod);
     hv_mesh_destroy(p);
     hv_mesh_destroy(r);
 }

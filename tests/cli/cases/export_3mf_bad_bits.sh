@@ -1,2 +1,2 @@
 # --bits is 8 or 16
-$HOVOX export "$TMP/m.vdb" -o "$TMP/m.3mf" --bits 12
+$HOVOX export "$TMP/m.vdb" -o "$TMP/m.3mf" --volumetric --bits 12

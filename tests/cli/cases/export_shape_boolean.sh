@@ -3,14 +3,9 @@
 # level set per mesh, OpenVDB CSG, volumeToMesh: bbox within 0.05 mm of 0..40 x 0..20 x 0..10,
 # volume within 0.5% of 8000 - 250 pi (hovox info and admesh as oracles), every edge shared by two
 # facets, one part; Lua's model:export gives the same bytes
+here=$(pwd)
 cd "$TMP" || exit 1
-$HOVOX generate box min=0,0,0 max=40,20,10 -o plate.stl >/dev/null &&
-$HOVOX generate cylinder base=20,10,-1 axis=2 length=12 radius=5 segments=64 -o rod.stl >/dev/null &&
-$HOVOX voxelize plate.stl --voxel-size 0.25 -o plate.vdb -q >/dev/null &&
-$HOVOX voxelize rod.stl --voxel-size 0.25 -o rod.vdb -q >/dev/null &&
-$HOVOX grade plate.vdb -o a.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 1,0 --me 1,0 >/dev/null &&
-$HOVOX grade rod.vdb -o b.vdb --materials A,B --frf point:0,0,0 --ranges 0,0,0 --ms 0,1 --me 0,1 >/dev/null &&
-$HOVOX boolean a.vdb subtract b.vdb -o holed.vdb -q || exit 1
+/usr/bin/python3 "$here/tests/cli/cases/holed_plate.py" 40,20,10 5 64 0.25 subtract holed.vdb || exit 1
 $HOVOX export holed.vdb -o holed.stl --dry-run; echo "rc=$?"
 $HOVOX export holed.vdb -o holed.stl -q >/dev/null; echo "rc=$?"
 $HOVOX info holed.stl > info.txt

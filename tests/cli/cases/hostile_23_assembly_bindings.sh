@@ -49,7 +49,7 @@ local sw = setmetatable({}, {__index = function(t, k)
   return nil end})
 try("3mf options metatable", g.export, g, sw)
 try("3mf bits 12", g.export, g, {path = out .. "/b.3mf", bits = 12})
-try("3mf ok", g.export, g, {path = out .. "/good.3mf", bits = 16})
+try("3mf ok", g.export, g, {path = out .. "/good.3mf", bits = 16, volumetric = true})
 -- 8. reading a 3MF outside the output dir, and the one just written
 try("load outside 3mf", hovox.load, "outside/a.3mf")
 try("load_mesh outside 3mf", hovox.load_mesh, "outside/a.3mf")

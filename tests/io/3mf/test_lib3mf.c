@@ -98,6 +98,7 @@ Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials)
     const char *path = t_tmpfile("box.3mf");
     hv_export_options o;
     hv_export_options_init(&o);
+    o.volumetric = 1;
     o.bits = 16;
     hv_export_report r;
     cr_assert_eq(hv_export_write(v, path, &o, &r), HV_OK, "%s", hv_last_error());
@@ -164,4 +165,172 @@ Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials)
     lib3mf_release(it);
     lib3mf_release(model);
     hv_volume_destroy(v);
+}
+
+/* ---- the shape's 3MF core package (issue 28) ------------------------------------------------------
+ * A plate 8 x 4 x 2 and a rod of radius 1 (64 sides) through it, voxelized at 0.25 mm, the rod in
+ * material B. CSG subtract exported as .3mf: lib3mf reads one mesh, every edge in two triangles
+ * (once each way), bounding box within 0.05 mm of 0..8 x 0..4 x 0..2, volume within 0.5% of
+ * 64 - 2 x the 64-gon's area. Wu's difference keeps the plate's shape and puts B in the overlap:
+ * the triangles lib3mf reads as B are those on the top and bottom faces inside the disc. */
+extern LIB3MFRESULT lib3mf_meshobject_createpropertyhandler(L3 *mesh, L3 **handler);
+extern LIB3MFRESULT lib3mf_propertyhandler_getbasematerial(L3 *handler, unsigned index, unsigned *group,
+                                                           unsigned *material);
+
+#include "hovox/generate.h"
+#include "hovox/voxelize.h"
+
+static hv_object *part(hv_mesh *m, double b)
+{
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.25;
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
+    hv_object *obj = NULL;
+    cr_assert_eq(hv_object_create(v, "occupancy", 2, &obj), HV_OK);
+    double p[2] = {1 - b, b};
+    cr_assert_eq(hv_object_set_base(obj, p), HV_OK, "%s", hv_last_error());
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+    return obj;
+}
+
+typedef struct shape_read {
+    unsigned nv, nt;
+    l3_vertex *vx;
+    l3_triangle *tri;
+    unsigned *mat; /* per triangle: base material index, or ~0u without one */
+} shape_read;
+
+static void read_shape(hv_bool_op op, const char *name, shape_read *out)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {8, 4, 2}, base[3] = {4, 2, -1};
+    hv_mesh *pm = NULL, *rm = NULL;
+    cr_assert_eq(hv_generate_box(lo, hi, &pm), HV_OK);
+    cr_assert_eq(hv_generate_cylinder(base, 2, 4, 1, 64, &rm), HV_OK);
+    hv_object *a = part(pm, 0), *b = part(rm, 1), *h = NULL;
+    cr_assert_eq(hv_object_boolean(a, b, op, &h), HV_OK, "%s", hv_last_error());
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_parse("A,B", NULL, NULL, 0, &t), HV_OK, "%s", hv_last_error());
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_object_evaluate(h, t, 0, NULL, &v), HV_OK, "%s", hv_last_error());
+    const char *path = t_tmpfile(name);
+    hv_export_report r;
+    cr_assert_eq(hv_export_write(v, path, NULL, &r), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(r.format, HV_EXPORT_3MF_SHAPE);
+    L3 *model = read_3mf(path), *it = NULL, *mesh = NULL, *ph = NULL;
+    cr_assert_eq(lib3mf_model_getmeshobjects(model, &it), 0);
+    int has = 0;
+    cr_assert(lib3mf_resourceiterator_movenext(it, &has) == 0 && has);
+    cr_assert_eq(lib3mf_resourceiterator_getcurrent(it, &mesh), 0);
+    lib3mf_meshobject_getvertexcount(mesh, &out->nv);
+    lib3mf_meshobject_gettrianglecount(mesh, &out->nt);
+    cr_expect_eq(out->nt, r.cells);
+    cr_expect_eq(out->nv, r.points);
+    out->vx = calloc(out->nv, sizeof *out->vx);
+    out->tri = calloc(out->nt, sizeof *out->tri);
+    out->mat = calloc(out->nt, sizeof *out->mat);
+    unsigned got = 0;
+    cr_assert_eq(lib3mf_meshobject_getvertices(mesh, out->vx, out->nv, &got), 0);
+    cr_assert_eq(lib3mf_meshobject_gettriangleindices(mesh, out->tri, out->nt, &got), 0);
+    cr_assert_eq(lib3mf_meshobject_createpropertyhandler(mesh, &ph), 0);
+    for (unsigned i = 0; i < out->nt; ++i) {
+        unsigned g = 0, k = 0;
+        cr_assert_eq(lib3mf_propertyhandler_getbasematerial(ph, i, &g, &k), 0);
+        out->mat[i] = g ? k : ~0u;
+    }
+    cr_expect_not(lib3mf_resourceiterator_movenext(it, &has) == 0 && has, "one mesh object");
+    lib3mf_release(ph);
+    lib3mf_release(mesh);
+    lib3mf_release(it);
+    lib3mf_release(model);
+    hv_volume_destroy(v);
+    hv_material_table_destroy(t);
+    hv_object_destroy(a);
+    hv_object_destroy(b);
+    hv_object_destroy(h);
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* every directed edge once and its reverse once: closed and consistently oriented */
+static void expect_watertight(const shape_read *s)
+{
+    size_t n = 3 * (size_t)s->nt;
+    uint64_t *e = malloc(n * sizeof *e);
+    for (unsigned i = 0; i < s->nt; ++i)
+        for (int k = 0; k < 3; ++k)
+            e[3 * i + k] = (uint64_t)s->tri[i].m_nIndices[k] << 32 | s->tri[i].m_nIndices[(k + 1) % 3];
+    qsort(e, n, sizeof *e, cmp_u64);
+    size_t twice = 0, unmatched = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (i + 1 < n && e[i + 1] == e[i]) ++twice;
+        uint64_t rev = e[i] << 32 | e[i] >> 32;
+        if (!bsearch(&rev, e, n, sizeof *e, cmp_u64)) ++unmatched;
+    }
+    cr_expect_eq(twice, 0, "%zu directed edges twice", twice);
+    cr_expect_eq(unmatched, 0, "%zu edges in one triangle only", unmatched);
+    free(e);
+}
+
+static double volume_and_box(const shape_read *s, double lo[3], double hi[3])
+{
+    for (int a = 0; a < 3; ++a) lo[a] = 1e30, hi[a] = -1e30;
+    for (unsigned i = 0; i < s->nv; ++i)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = fmin(lo[a], s->vx[i].m_fPosition[a]);
+            hi[a] = fmax(hi[a], s->vx[i].m_fPosition[a]);
+        }
+    double v6 = 0;
+    for (unsigned i = 0; i < s->nt; ++i) {
+        const float *p = s->vx[s->tri[i].m_nIndices[0]].m_fPosition, *q = s->vx[s->tri[i].m_nIndices[1]].m_fPosition,
+                    *r = s->vx[s->tri[i].m_nIndices[2]].m_fPosition;
+        v6 += (double)p[0] * ((double)q[1] * r[2] - (double)q[2] * r[1]) - (double)p[1] * ((double)q[0] * r[2] - (double)q[2] * r[0]) +
+              (double)p[2] * ((double)q[0] * r[1] - (double)q[1] * r[0]);
+    }
+    return v6 / 6;
+}
+
+Test(lib3mf, reads_the_shape_of_a_boolean_watertight_in_its_materials, .timeout = 120)
+{
+    const double gon = 0.5 * 64 * sin(2 * M_PI / 64); /* the rod's section, radius 1 */
+    for (int k = 0; k < 2; ++k) {
+        hv_bool_op op = k == 0 ? HV_OP_SUBTRACT : HV_OP_DIFFERENCE;
+        shape_read s;
+        read_shape(op, k == 0 ? "subtract.3mf" : "difference.3mf", &s);
+        expect_watertight(&s);
+        double lo[3], hi[3], want_hi[3] = {8, 4, 2};
+        double vol = volume_and_box(&s, lo, hi), want = k == 0 ? 64 - 2 * gon : 64;
+        for (int a = 0; a < 3; ++a) {
+            cr_expect(fabs(lo[a]) <= 0.05, "op %d: box min %g on axis %d", op, lo[a], a);
+            cr_expect(fabs(hi[a] - want_hi[a]) <= 0.05, "op %d: box max %g on axis %d", op, hi[a], a);
+        }
+        cr_expect(fabs(vol - want) <= 0.005 * want, "op %d: volume %g, want %g", op, vol, want);
+        /* materials: subtract keeps the plate's A everywhere; difference shows B where the rod met
+         * the top and bottom faces, A elsewhere. Where materials meet is the voxels' business (0.25 mm,
+         * the rod's surface voxels B): a band of 1.5 voxels about the circle is left unchecked */
+        const double band = 1.5 * 0.25;
+        size_t wrong = 0, b_tris = 0;
+        for (unsigned i = 0; i < s.nt; ++i) {
+            double c[3] = {0, 0, 0};
+            for (int v = 0; v < 3; ++v)
+                for (int a = 0; a < 3; ++a) c[a] += s.vx[s.tri[i].m_nIndices[v]].m_fPosition[a] / 3.0;
+            double d = hypot(c[0] - 4, c[1] - 2);
+            int cap = fabs(c[2]) < 1e-3 || fabs(c[2] - 2) < 1e-3;
+            cr_assert_neq(s.mat[i], ~0u, "triangle %u has no material", i);
+            b_tris += s.mat[i] == 1;
+            if (k == 0 ? s.mat[i] != 0 : cap && d < 1 - band ? s.mat[i] != 1 : d > 1 + band || !cap ? s.mat[i] != 0 : 0)
+                ++wrong;
+        }
+        cr_expect_eq(wrong, 0, "op %d: %zu triangles in the wrong material (%zu in B)", op, wrong, b_tris);
+        if (k == 1) cr_expect_gt(b_tris, 0);
+        free(s.vx);
+        free(s.tri);
+        free(s.mat);
+    }
 }

@@ -110,6 +110,7 @@ static hv_export_report export_3mf(hv_volume *v, const char *path, int bits)
 {
     hv_export_options o;
     hv_export_options_init(&o);
+    o.volumetric = 1;
     o.bits = bits;
     hv_export_report r;
     cr_assert_eq(hv_export_write(v, path, &o, &r), HV_OK, "%s", hv_last_error());
@@ -573,6 +574,7 @@ Test(threemf, voxels_touching_along_an_edge_or_a_corner_get_separate_vertices)
         const char *path = t_tmpfile("small.3mf");
         hv_export_options o;
         hv_export_options_init(&o);
+        o.volumetric = 1;
         o.mix = 0;
         hv_export_report r;
         cr_assert_eq(hv_export_write(v, path, &o, &r), HV_OK, "%s", hv_last_error());
@@ -628,6 +630,7 @@ Test(threemf, export_is_deterministic_atomic_and_planned)
     /* plan: nothing written, the same counts */
     hv_export_options o;
     hv_export_options_init(&o);
+    o.volumetric = 1;
     hv_export_report p;
     const char *planned = t_tmpfile("plan.3mf");
     cr_assert_eq(hv_export_plan(v, planned, &o, &p), HV_OK, "%s", hv_last_error());
@@ -641,6 +644,7 @@ Test(threemf, export_is_deterministic_atomic_and_planned)
     cr_expect(!t_exists(planned));
     /* unwritable: I/O, nothing left */
     hv_export_options_init(&o);
+    o.volumetric = 1;
     cr_expect_eq(hv_export_write(v, "/nonexistent-dir/x.3mf", &o, &q), HV_ERR_IO);
     hv_volume_destroy(v);
 }
@@ -665,6 +669,7 @@ Test(threemf, a_cancelled_or_failed_export_leaves_nothing)
     hv_progress prog = {cancel_at_sheets, &n};
     hv_export_options o;
     hv_export_options_init(&o);
+    o.volumetric = 1;
     o.progress = &prog;
     hv_export_report r;
     cr_expect_eq(hv_export_write(v, out, &o, &r), HV_ERR_CANCELLED);
@@ -676,6 +681,7 @@ Test(threemf, a_cancelled_or_failed_export_leaves_nothing)
     int lo[3] = {0, 0, 0}, hi[3] = {2, 2, 2};
     t_add_box(plain, lo, hi);
     hv_export_options_init(&o);
+    o.volumetric = 1;
     cr_expect_eq(hv_export_write(plain, out, &o, &r), HV_ERR_INVALID);
     cr_expect(strstr(hv_last_error(), "material table") != NULL, "%s", hv_last_error());
     cr_expect_eq(count_entries(dir, "."), 0);
@@ -685,8 +691,15 @@ Test(threemf, a_cancelled_or_failed_export_leaves_nothing)
     cr_expect(strstr(hv_last_error(), "bits must be 8 or 16, got 12") != NULL, "%s", hv_last_error());
     o.bits = 16;
     snprintf(out, sizeof out, "%s/c.vti", dir);
+    o.volumetric = 0;
     cr_expect_eq(hv_export_write(v, out, &o, &r), HV_ERR_INVALID);
     cr_expect(strstr(hv_last_error(), "bits applies to .3mf output only") != NULL, "%s", hv_last_error());
+    /* the shape's .3mf has no image stacks: bits is the Volumetric package's */
+    snprintf(out, sizeof out, "%s/c.3mf", dir);
+    cr_expect_eq(hv_export_write(v, out, &o, &r), HV_ERR_INVALID);
+    cr_expect(strstr(hv_last_error(), "bits applies to the Volumetric package only (.3mf with volumetric)") != NULL,
+              "%s", hv_last_error());
+    cr_expect_eq(count_entries(dir, "."), 0);
     hv_volume_destroy(plain);
     hv_volume_destroy(v);
 }
@@ -1045,6 +1058,7 @@ Test(threemf, sheets_through_temporary_files_give_the_same_package)
     const char *a = t_tmpfile("mem.3mf"), *b = t_tmpfile("files.3mf");
     hv_export_options o;
     hv_export_options_init(&o);
+    o.volumetric = 1;
     hv_export_report r;
     cr_assert_eq(hv_export_write(v, a, &o, &r), HV_OK, "%s", hv_last_error());
     /* 3 stacks of 64 x 64 x 96 bytes: more than a quarter of 3.5 MiB, so the sheets go through files */

@@ -112,9 +112,6 @@ int cli_json_end(cli_json *j, const char *lines_key, const char *lines);
  * option value (HV_ERR_INVALID naming an option) is a usage error instead (exit 2). */
 int cli_fail(hv_status status);
 
-/* A repeatable BODY=MATERIAL option (voxelize, layers): the text kept in list[*n] (it lives as
- * long as argv); refused when it has no BODY or no MATERIAL, or past `cap` options. */
-hv_status cli_add_body_material(const hv_option *o, const hv_opt_value *v, const char **list, int *n, int cap);
 /* Print "hovox <cmd>: <message> (see 'hovox <cmd> --help')" on one line; returns EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, ...) HV_PRINTF(2, 3);
 /* Several processes (hovox-mpi): the collectives the stack commands pass to the library, and

@@ -24,17 +24,10 @@ typedef struct layers_cli {
     int dry_run, view;
     hv_placement place;
     cli_scan scan;
-    const char *material[64]; /* "BODY=MATERIAL", for a mesh sliced in one step */
-    int nmaterial;
+    hv_body_materials materials; /* --material BODY=MATERIAL, for a mesh sliced in one step */
     double voxel_size;
     hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut */
 } layers_cli;
-
-static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
-{
-    layers_cli *c = opts;
-    return cli_add_body_material(o, v, c->material, &c->nmaterial, 64);
-}
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(layers_cli, "DIR",
@@ -48,7 +41,8 @@ static const hv_option k_local_opts[] = {
      .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
      .section = "Geometry"},
     {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
-     .parse = add_material, .section = "A mesh in one step (MESH.stl|.obj|.ply|.3mf instead of a model)",
+     .offset = offsetof(layers_cli, materials), .parse = hv_body_materials_option_parse,
+     .section = "A mesh in one step (MESH.stl|.obj|.ply|.3mf instead of a model)",
      .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
              "says; repeatable"},
     {.key = "voxel_size", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
@@ -203,12 +197,7 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
 {
     const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
     hv_status s = cli_mesh_load_placed(o->model_name, &c->place, pp ? pp->build : NULL, mesh);
-    for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
-        const char *eq = strchr(c->material[i], '=');
-        char body[1024];
-        snprintf(body, sizeof body, "%.*s", (int)(eq - c->material[i]), c->material[i]);
-        s = hv_mesh_body_material_set(*mesh, body, eq + 1);
-    }
+    if (s == HV_OK) s = hv_body_materials_apply(&c->materials, *mesh);
     if (s != HV_OK || o->mode == HV_LAYERS_MASK) return s;
     hv_voxelize_options vo;
     hv_voxelize_options_init(&vo);
@@ -352,7 +341,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (!c->mesh && !mesh_in && hv_placement_given(&c->place))
         return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
                                          "sliced where its recorded shape is");
-    if (!mesh_in && (c->nmaterial || c->voxel_size > 0))
+    if (!mesh_in && (c->materials.n || c->voxel_size > 0))
         return cli_usage_error("layers", "--material and --voxel-size are for a mesh sliced in one step (MESH.stl, "
                                ".obj, .ply or a 3MF without volume data in place of MODEL.vdb)");
     o->mesh_name = c->mesh;

@@ -199,25 +199,15 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
     hv_status s = cli_mesh_load_placed(o->model_name, &c->place, pp ? pp->build : NULL, mesh);
     if (s == HV_OK) s = hv_body_materials_apply(&c->materials, *mesh);
     if (s != HV_OK || o->mode == HV_LAYERS_MASK) return s;
-    hv_voxelize_options vo;
-    hv_voxelize_options_init(&vo);
-    vo.max_memory = o->max_memory;
-    double pitch = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
-    hv_voxel_plan plan;
-    if (c->voxel_size > 0) {
-        vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = c->voxel_size;
-        s = hv_voxelize_plan(*mesh, &vo, &plan);
-    } else {
-        s = hv_mesh_model_voxels(*mesh, pitch, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
-    }
-    if (s != HV_OK) return s;
-    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", vo.voxel_size[0],
-                  (long long)plan.dims[0], (long long)plan.dims[1], (long long)plan.dims[2],
-                  c->voxel_size > 0 || vo.voxel_size[0] <= pitch ? "" : " (coarsened to fit the memory budget)");
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};
-    s = hv_mesh_model(*mesh, &vo, &prog, model);
+    hv_layers_mesh_voxels v;
+    s = hv_layers_mesh_model(*mesh, o, c->voxel_size, &prog, model, &v);
+    if (s == HV_OK)
+        hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", v.size,
+                      (long long)v.dims[0], (long long)v.dims[1], (long long)v.dims[2],
+                      v.coarsened ? " (coarsened to fit the memory budget)" : "");
     cli_progress_done(&bar);
     return s;
 }

@@ -105,6 +105,10 @@ package('tests/data/bad/3mf_cyclic_component.3mf', model(
     tet() + '<object id="2" name="loop" type="model"><components><component objectid="2"/></components></object>',
     '<item objectid="2"/>'))
 package('tests/data/bad/3mf_unknown_unit.3mf', model(tet(), unit='furlong'))
+# a component's transform that is not finite (a producer's overflow): refused naming the object
+package('tests/data/bad/3mf_nonfinite_transform.3mf', model(
+    tet() + '<object id="2" name="pair" type="model"><components><component objectid="1"/>'
+    '<component objectid="1" transform="1 0 0 0 1 0 0 0 1 1e999 0 0"/></components></object>', '<item objectid="2"/>'))
 package('tests/data/bad/3mf_beam_lattice.3mf', model(
     '<object id="1" name="lattice" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="0" y="0" z="10"/>'
     '</vertices><triangles/><b:beamlattice xmlns:b="http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02" '

@@ -313,7 +313,10 @@ HV_API const char *hv_mesh_note_at(const hv_mesh *mesh, size_t i); /* i < count 
  * the file's unit; the identity when the item has none). Owned by the mesh; derived meshes
  * (extract, join, transform) carry none. */
 typedef struct hv_mesh_item {
-    int64_t body;
+    int64_t body;            /* its first body */
+    size_t bodies;           /* the bodies it became, from `body` on: 1, or for an item of
+                                components one per mesh object it places (each in its own
+                                material), 0 with body -1 */
     uint64_t object_id;
     const char *object_name; /* "" when the object has none */
     double transform[12];

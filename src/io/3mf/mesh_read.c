@@ -966,6 +966,11 @@ typedef struct build {
     size_t mxcap;
     hv_mesh_mix_part *mix;
     size_t nmix, mixcap;
+    hv_mesh_body *bodies; /* one per item of a mesh object, one per mesh object an item of
+                           * components places (issue 27: an assembly's parts keep their
+                           * materials) */
+    size_t nb, bcap;
+    int32_t item_mat; /* the item's object's default material: its parts' without their own */
 } build;
 
 /* A multiproperties' entry as the layer that gives what is asked: its material layer (the
@@ -1126,8 +1131,28 @@ static hv_status place_mesh(build *b, const object *o, const double *t)
     return HV_OK;
 }
 
-/* Depth-first over components with an explicit stack (depth is bounded by TMF_MAX_DEPTH). */
-static hv_status place(build *b, size_t obj, const double *t)
+/* The facets placed since `first` as a body of their own: named after the mesh object `o` (the
+ * mesh makes repeated names unique: "peg", "peg (2)"), in its default material, else the item's,
+ * else its facets' majority (hv_mesh_build). */
+static hv_status add_body(build *b, const object *o, size_t first)
+{
+    if (b->nf == first) return HV_OK; /* an object placing no triangle is no body */
+    hv_status s = hv_grow((void **)&b->bodies, &b->bcap, b->nb + 1, sizeof *b->bodies);
+    if (s != HV_OK) return s;
+    int32_t mat;
+    if ((s = material_of(b, o->dres, o->dentry, &mat)) != HV_OK) return s;
+    hv_mesh_body *body = &b->bodies[b->nb++];
+    memset(body, 0, sizeof *body);
+    body->name = o->name ? o->name : "";
+    body->material = mat >= 0 ? mat : b->item_mat;
+    body->first_facet = first;
+    body->facet_count = b->nf - first;
+    return HV_OK;
+}
+
+/* Depth-first over components with an explicit stack (depth is bounded by TMF_MAX_DEPTH); with
+ * `split`, each mesh object placed is a body of its own. */
+static hv_status place(build *b, size_t obj, const double *t, int split)
 {
     typedef struct frame {
         size_t obj, next;
@@ -1139,7 +1164,9 @@ static hv_status place(build *b, size_t obj, const double *t)
     stack[0].obj = obj;
     stack[0].next = 0;
     memcpy(stack[0].t, t, sizeof stack[0].t);
+    size_t first = b->nf;
     hv_status s = place_mesh(b, &b->r->objs[obj], t);
+    if (s == HV_OK && split) s = add_body(b, &b->r->objs[obj], first);
     while (s == HV_OK && top >= 0) {
         frame *f = &stack[top];
         const object *o = &b->r->objs[f->obj];
@@ -1152,7 +1179,9 @@ static hv_status place(build *b, size_t obj, const double *t)
         g->obj = c->obj;
         g->next = 0;
         compose(f->t, c->t, g->t);
+        first = b->nf;
         s = place_mesh(b, &b->r->objs[c->obj], g->t);
+        if (s == HV_OK && split) s = add_body(b, &b->r->objs[c->obj], first);
     }
     free(stack);
     return s;
@@ -1219,7 +1248,6 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         if (o->type == T_SUPPORT || o->type == T_OTHER) skipped++;
         else nf += o->tri;
     }
-    hv_mesh_body *bodies = hv_calloc(r->nitems + 1, sizeof *bodies);
     hv_mesh_item *items = hv_calloc(r->nitems + 1, sizeof *items);
     b.soup = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.soup);
     b.fmat = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.fmat);
@@ -1230,8 +1258,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
         b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
     }
-    hv_status s = bodies && items && b.soup && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
-    size_t nb = 0;
+    hv_status s = items && b.soup && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
     for (size_t i = 0; i < r->nitems && s == HV_OK; ++i) {
         const object *o = &r->objs[r->items[i].obj];
         items[i].body = -1;
@@ -1239,18 +1266,18 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         items[i].object_name = o->name ? o->name : "";
         memcpy(items[i].transform, r->items[i].t, sizeof items[i].transform);
         if (o->type == T_SUPPORT || o->type == T_OTHER) continue;
-        size_t first = b.nf;
-        int32_t mat; /* its object's default (named first), else its facets' majority */
-        if ((s = material_of(&b, o->dres, o->dentry, &mat)) != HV_OK) break;
-        s = place(&b, r->items[i].obj, r->items[i].t);
-        if (s != HV_OK || b.nf == first) continue; /* an item placing no triangle is no body */
+        size_t first = b.nf, nb = b.nb;
+        /* its object's default (named first), else its facets' majority; an item of components
+         * is a body per mesh object it places, each in its own default, else the item's */
+        if ((s = material_of(&b, o->dres, o->dentry, &b.item_mat)) != HV_OK) break;
+        s = place(&b, r->items[i].obj, r->items[i].t, o->nc > 0);
+        if (s == HV_OK && o->nc == 0) s = add_body(&b, o, first);
+        if (s != HV_OK || b.nb == nb) continue; /* an item placing no triangle is no body */
         items[i].body = (int64_t)nb;
-        hv_mesh_body *body = &bodies[nb++];
-        body->name = o->name ? o->name : "";
-        body->material = mat;
-        body->first_facet = first;
-        body->facet_count = b.nf - first;
+        items[i].bodies = b.nb - nb;
     }
+    size_t nb = b.nb;
+    hv_mesh_body *bodies = b.bodies;
     if (s == HV_OK && nb == 0)
         s = hv_error_set(HV_ERR_BAD_INPUT, "%s: no build item places a mesh (%zu items%s)", name, r->nitems,
                          skipped ? ", those of support and other objects not read" : "");

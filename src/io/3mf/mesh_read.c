@@ -653,6 +653,16 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
     char place[240];
     if (is_component) snprintf(place, sizeof place, "%s: component %zu", r->label, r->objs[r->nobj - 1].nc + 1);
     else snprintf(place, sizeof place, "build item %zu", r->nitems + 1);
+    /* Production extension: p:path names the model part holding the object; another part than
+     * this one is refused by name (its object ids are not this part's) */
+    const tmf_attr *pp = tmf_attr_find(a, n, "path", TMF_NS_PRODUCTION);
+    if (pp && !(pp->len == strlen(r->pk->model) + 1 && pp->value[0] == '/' &&
+                memcmp(pp->value + 1, r->pk->model, pp->len - 1) == 0)) {
+        char q[TMF_MAX_PART_NAME + 8], what[TMF_MAX_PART_NAME + 300];
+        snprintf(what, sizeof what, "%s names an object in the model part '%s' (p:path), which needs", place,
+                 tmf_attr_quote(pp, q, sizeof q));
+        return unsupported(x, what, TMF_NS_PRODUCTION);
+    }
     const tmf_attr *oa = tmf_attr_find(a, n, "objectid", NULL);
     uint64_t id = 0;
     int rc = tmf_attr_uint(oa, UINT32_MAX, &id);

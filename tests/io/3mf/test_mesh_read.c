@@ -703,6 +703,7 @@ Test(threemf, beam_lattice_slice_and_other_required_extensions_are_refused_by_na
 {
 #define BEAM_NS "http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02"
 #define SLICE_NS "http://schemas.microsoft.com/3dmanufacturing/slice/2015/07"
+#define PROD_NS "http://schemas.microsoft.com/3dmanufacturing/production/2015/06"
     const char *models[][2] = {
         {MODEL_HEAD "<resources><object id=\"1\"><mesh>" TET_VERTICES "<triangles/><b:beamlattice xmlns:b=\"" BEAM_NS
                     "\" minlength=\"0.1\" radius=\"1\"><b:beams><b:beam v1=\"0\" v2=\"1\"/></b:beams></b:beamlattice>"
@@ -715,8 +716,15 @@ Test(threemf, beam_lattice_slice_and_other_required_extensions_are_refused_by_na
          "<model> requires the 3MF Beam Lattice extension (" BEAM_NS "), which hovox does not read"},
         {"<?xml version=\"1.0\"?>\n<model requiredextensions=\"q\"><resources/><build/></model>",
          "<model> requiredextensions names prefix 'q', which is not declared"},
+        /* an object in another model part (Production p:path; a file not marking it required):
+         * refused by name, not looked up among this part's ids */
+        {MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\" name=\"asm\"><components><component "
+                    "xmlns:p=\"" PROD_NS "\" objectid=\"1\" p:path=\"/3D/Objects/object_1.model\"/></components></object>"
+                    "</resources><build><item objectid=\"2\"/></build></model>",
+         "object 2 'asm': component 1 names an object in the model part '/3D/Objects/object_1.model' (p:path), which "
+         "needs the 3MF Production extension (" PROD_NS "), which hovox does not read"},
     };
-    for (size_t k = 0; k < 4; ++k) {
+    for (size_t k = 0; k < 5; ++k) {
         const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", models[k][0]};
         size_t len;
         unsigned char *data = zip_parts(parts, 3, &len);
@@ -1122,6 +1130,24 @@ Test(threemf, a_jpeg_texture_is_decoded)
  * transform, two pegs in a component object turned by the assembly that holds them, the assembly
  * one build item. hovox reads what lib3mf reads (the oracle), each mesh object the item places a
  * body in its own material. */
+/* A Production p:path naming the root model part itself is the object of this part. */
+Test(threemf, a_production_path_to_the_root_part_reads)
+{
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                           MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\" name=\"asm\"><components>"
+                                      "<component xmlns:p=\"http://schemas.microsoft.com/3dmanufacturing/production/2015/06\" "
+                                      "objectid=\"1\" p:path=\"/3D/3dmodel.model\"/></components></object>"
+                                      "</resources><build><item objectid=\"2\"/></build></model>"};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "root.3mf", &m), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_facet_count(m), 4);
+    cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "tet");
+    hv_mesh_destroy(m);
+    free(data);
+}
+
 Test(threemf, a_slicers_assembly_of_texture_composite_and_nested_components)
 {
     char path[1024];

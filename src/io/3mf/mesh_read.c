@@ -116,7 +116,22 @@ typedef struct reader {
     char label[200]; /* "object 3 'name'" */
     uint64_t loose_props;  /* triangles with a pid in objects without a default one */
     char loose_first[1400]; /* where the first is */
+    /* Production extension: objects in other model parts (p:path). The part being read (NULL:
+     * the root; ids are then "part|id"), the references of the root waiting for their part, and
+     * the root's objects (the others are appended after them). */
+    const char *part;
+    struct pending *pend;
+    size_t npend, pcap;
+    size_t nroot;
 } reader;
+
+typedef struct pending {
+    int is_component;
+    size_t index;                  /* into comps or items */
+    uint64_t id;
+    char part[TMF_MAX_PART_NAME];  /* without the leading '/' */
+    char place[240];
+} pending;
 
 /* ---- memory: every array the reader grows is charged to half the memory budget --------------- */
 
@@ -141,6 +156,7 @@ static hv_status grow(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need,
 
 static void reader_free(reader *r)
 {
+    free(r->pend);
     for (size_t i = 0; i < r->nent; ++i) free(r->entries[i].name);
     for (size_t i = 0; i < r->nobj; ++i) free(r->objs[i].name);
     for (size_t i = 0; i < r->ntex; ++i) free(r->texs[i].path);
@@ -162,17 +178,26 @@ static void reader_free(reader *r)
 
 /* ---- resources and references ------------------------------------------------------------ */
 
-static int64_t lookup(const reader *r, uint64_t id)
+/* A resource's key: its id, prefixed by its model part when that is not the root. */
+static int id_key(const char *part, uint64_t id, char *key, size_t size)
 {
-    char key[24];
-    int n = snprintf(key, sizeof key, "%llu", (unsigned long long)id);
+    int n = part ? snprintf(key, size, "%s|%llu", part, (unsigned long long)id) : snprintf(key, size, "%llu", (unsigned long long)id);
+    return HV_MIN(n, (int)size - 1);
+}
+
+static int64_t lookup_in(const reader *r, const char *part, uint64_t id)
+{
+    char key[TMF_MAX_PART_NAME + 24];
+    int n = id_key(part, id, key, sizeof key);
     return hv_names_find(&r->ids, key, (size_t)n);
 }
 
+static int64_t lookup(const reader *r, uint64_t id) { return lookup_in(r, r->part, id); }
+
 static hv_status define(reader *r, tmf_xml *x, uint64_t id, int kind)
 {
-    char key[24];
-    int n = snprintf(key, sizeof key, "%llu", (unsigned long long)id);
+    char key[TMF_MAX_PART_NAME + 24];
+    int n = id_key(r->part, id, key, sizeof key);
     int32_t k;
     size_t before = r->ids.n;
     hv_status s = hv_names_intern(&r->ids, key, (size_t)n, &k);
@@ -656,30 +681,41 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
     /* Production extension: p:path names the model part holding the object; another part than
      * this one is refused by name (its object ids are not this part's) */
     const tmf_attr *pp = tmf_attr_find(a, n, "path", TMF_NS_PRODUCTION);
-    if (pp && !(pp->len == strlen(r->pk->model) + 1 && pp->value[0] == '/' &&
-                memcmp(pp->value + 1, r->pk->model, pp->len - 1) == 0)) {
-        char q[TMF_MAX_PART_NAME + 8], what[TMF_MAX_PART_NAME + 300];
-        snprintf(what, sizeof what, "%s names an object in the model part '%s' (p:path), which needs", place,
-                 tmf_attr_quote(pp, q, sizeof q));
-        return unsupported(x, what, TMF_NS_PRODUCTION);
-    }
+    const char *here = r->part ? r->part : r->pk->model;
+    int elsewhere = pp && !(pp->len == strlen(here) + 1 && pp->value[0] == '/' && memcmp(pp->value + 1, here, pp->len - 1) == 0);
+    char q[TMF_MAX_PART_NAME + 8];
+    if (elsewhere && (r->part || pp->len < 2 || pp->len >= TMF_MAX_PART_NAME || pp->value[0] != '/'))
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: p:path '%s' %s", place, tmf_attr_quote(pp, q, sizeof q),
+                           r->part ? "names another model part: only the root part's may (Production extension 2.1)"
+                                   : "is not a part name");
     const tmf_attr *oa = tmf_attr_find(a, n, "objectid", NULL);
     uint64_t id = 0;
     int rc = tmf_attr_uint(oa, UINT32_MAX, &id);
     if (rc <= 0)
         return rc < 0 ? not_index(x, place, oa) : tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s has no objectid", place);
-    int64_t k = lookup(r, id);
+    if (elsewhere) { /* an object of another model part: resolved once that part is read */
+        hv_status s = grow(r, x, (void **)&r->pend, &r->pcap, r->npend + 1, sizeof *r->pend);
+        if (s != HV_OK) return s;
+        pending *p = &r->pend[r->npend++];
+        p->is_component = is_component;
+        p->index = is_component ? r->ncomp : r->nitems;
+        p->id = id;
+        memcpy(p->part, pp->value + 1, pp->len - 1);
+        p->part[pp->len - 1] = '\0';
+        snprintf(p->place, sizeof p->place, "%s", place);
+    }
+    int64_t k = elsewhere ? -2 : lookup(r, id);
     /* a component names an object defined above its own: component graphs have no cycles */
     if (is_component && k >= 0 && r->res[k].kind == R_OBJECT && r->res[k].first == r->nobj - 1)
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s names object %llu, its own object: components may not form a cycle",
                            place, (unsigned long long)id);
-    if (k < 0 || r->res[k].kind != R_OBJECT)
+    if (k != -2 && (k < 0 || r->res[k].kind != R_OBJECT))
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s names object %llu, which is not %s", place, (unsigned long long)id,
                            is_component ? "an object defined above it" : "an object of the resources");
     double t[12];
     hv_status s = transform_attr(x, place, tmf_attr_find(a, n, "transform", NULL), t);
     if (s != HV_OK) return s;
-    size_t obj = r->res[k].first;
+    size_t obj = k == -2 ? SIZE_MAX : r->res[k].first;
     if (is_component) {
         if ((s = grow(r, x, (void **)&r->comps, &r->ccap, r->ncomp + 1, sizeof *r->comps)) != HV_OK) return s;
         r->comps[r->ncomp].obj = obj;
@@ -706,7 +742,8 @@ static hv_status required_extensions(tmf_xml *x, const tmf_attr *req)
             return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<model> requiredextensions names prefix '%s', which is not declared",
                                hv_quote(q, sizeof q, tok, strlen(tok)));
         /* materials are read; the Volumetric extension's mesh is read here, its volume by hv_3mf_load */
-        if (strcmp(ns, TMF_NS_MATERIAL) != 0 && strcmp(ns, TMF_NS_CORE) != 0 && strcmp(ns, TMF_NS_VOLUMETRIC) != 0)
+        if (strcmp(ns, TMF_NS_MATERIAL) != 0 && strcmp(ns, TMF_NS_CORE) != 0 && strcmp(ns, TMF_NS_VOLUMETRIC) != 0 &&
+            strcmp(ns, TMF_NS_PRODUCTION) != 0) /* Production: objects in other parts (p:path) are read */
             return unsupported(x, "<model> requires", ns);
     }
     return HV_OK;
@@ -911,7 +948,9 @@ static hv_status on_end(void *ctx, tmf_xml *x, const char *local, const char *ur
 static hv_status expand_counts(reader *r, const char *name, uint64_t max_tri, uint64_t *placed)
 {
     const uint64_t cap = UINT64_MAX / 4;
-    for (size_t i = 0; i < r->nobj; ++i) { /* components name objects above them */
+    /* components name objects above them, or (the root's) objects of other parts, read after it */
+    for (size_t j = 0; j < r->nobj; ++j) {
+        size_t i = j < r->nobj - r->nroot ? r->nroot + j : j - (r->nobj - r->nroot);
         object *o = &r->objs[i];
         o->tri = o->nt;
         o->nodes = 1;
@@ -1325,6 +1364,43 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
 
 /* ---- reading ------------------------------------------------------------------------------- */
 
+/* Production extension: the model parts the root's p:paths name, each read once (its ids its
+ * own, its build ignored, its unit the root's), then those references resolved. */
+static hv_status read_other_parts(reader *r, const char *name, const tmf_xml_handler *h)
+{
+    r->nroot = r->nobj;
+    double unit = r->unit;
+    hv_status s = HV_OK;
+    for (size_t i = 0; i < r->npend && s == HV_OK; ++i) {
+        const char *part = r->pend[i].part;
+        size_t j = 0;
+        while (j < i && strcmp(r->pend[j].part, part) != 0) ++j;
+        if (j < i) continue; /* read already */
+        size_t items = r->nitems;
+        r->part = part;
+        r->at = W_TOP;
+        r->skip = 0;
+        r->group = -1;
+        r->has_model = r->resources_seen = r->builds = 0;
+        s = tmf_xml_parse(r->pk, part, r->pk->inflate_cap, h, r);
+        r->nitems = items; /* a part's own build places nothing (Production 2.1) */
+        if (s == HV_OK && r->unit != unit)
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: its unit is not the root model's (%s)", name, part,
+                             r->unit_name ? r->unit_name : "millimeter");
+    }
+    r->part = NULL;
+    for (size_t i = 0; i < r->npend && s == HV_OK; ++i) {
+        const pending *p = &r->pend[i];
+        int64_t k = lookup_in(r, p->part, p->id);
+        if (k < 0 || r->res[k].kind != R_OBJECT)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s names object %llu of /%s, which that part does not define",
+                                name, r->pk->model, p->place, (unsigned long long)p->id, p->part);
+        if (p->is_component) r->comps[p->index].obj = r->res[k].first;
+        else r->items[p->index].obj = r->res[k].first;
+    }
+    return s;
+}
+
 hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out)
 {
     *out = NULL;
@@ -1341,6 +1417,7 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     tmf_xml_handler h = {on_start, on_end};
     s = tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &r);
     if (s == HV_OK && !r.resources_seen) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: the model has no <resources>", name, pk.model);
+    if (s == HV_OK) s = read_other_parts(&r, name, &h);
     uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / TMF_TRIANGLE_BYTES);
     uint64_t placed = 0;
     if (s == HV_OK) s = expand_counts(&r, name, max_tri, &placed);

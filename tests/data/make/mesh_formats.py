@@ -217,6 +217,30 @@ with zipfile.ZipFile('tests/data/good/slicer_assembly.3mf', 'w', zipfile.ZIP_DEF
                        ('3D/_rels/3dmodel.model.rels', MODEL_RELS), ('3D/Textures/checker.png', checker),
                        ('Metadata/thumbnail.png', thumb)):
         z.writestr(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), data, zipfile.ZIP_DEFLATED)
+# Production extension (as Bambu Studio and OrcaSlicer write projects): the root model requires
+# p and holds one object of components whose meshes are in another model part (p:path), with its
+# own ids (1 and 2, the root's assembly being 2 too) and its own base materials: core_in_shell's
+# VeroWhite shell and Agilus30 core, the assembly moved by (10, 0, 0)
+PROD = 'http://schemas.microsoft.com/3dmanufacturing/production/2015/06'
+U = '-81cb-4c03-9d28-80fed5dfa1dc"'
+parts_model = (HEAD % 'millimeter').replace('material/2015/02">', 'material/2015/02" xmlns:p="%s" requiredextensions="p">' % PROD, 1) + (
+    '<resources>' + MATS + '<object id="1" name="shell" type="model" pid="5" pindex="0" p:UUID="00000001' + U + '>' +
+    mesh_xml(sv, st) + '</object><object id="2" name="core" type="model" pid="5" pindex="1" p:UUID="00000002' + U +
+    '>' + mesh_xml(iv, it) + '</object></resources><build/></model>\n')
+root_model = (HEAD % 'millimeter').replace('material/2015/02">', 'material/2015/02" xmlns:p="%s" requiredextensions="p">' % PROD, 1) + (
+    '<metadata name="Application">BambuStudio-01.09</metadata><resources>'
+    '<object id="2" name="core_in_shell" type="model" p:UUID="00000003' + U + '><components>'
+    '<component p:path="/3D/Objects/object_1.model" objectid="1" p:UUID="00000004' + U + ' transform="1 0 0 0 1 0 0 0 1 10 0 0"/>'
+    '<component p:path="/3D/Objects/object_1.model" objectid="2" p:UUID="00000005' + U + ' transform="1 0 0 0 1 0 0 0 1 10 0 0"/>'
+    '</components></object></resources><build p:UUID="00000006' + U + '><item objectid="2" p:UUID="00000007' + U +
+    ' printable="1"/></build></model>\n')
+PARTS_RELS = ('<?xml version="1.0" encoding="UTF-8"?>\n<Relationships xmlns="http://schemas.openxmlformats.org/package/'
+              '2006/relationships"><Relationship Target="/3D/Objects/object_1.model" Id="rel1" Type="http://schemas.'
+              'microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>')
+with zipfile.ZipFile('tests/data/good/production_parts.3mf', 'w', zipfile.ZIP_DEFLATED) as z:
+    for name, data in (('[Content_Types].xml', CT), ('_rels/.rels', RELS), ('3D/3dmodel.model', root_model),
+                       ('3D/_rels/3dmodel.model.rels', PARTS_RELS), ('3D/Objects/object_1.model', parts_model)):
+        z.writestr(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), data, zipfile.ZIP_DEFLATED)
 buf = io.BytesIO()
 package(buf, model(tet()))
 good = buf.getvalue()

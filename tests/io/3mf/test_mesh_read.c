@@ -703,7 +703,6 @@ Test(threemf, beam_lattice_slice_and_other_required_extensions_are_refused_by_na
 {
 #define BEAM_NS "http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02"
 #define SLICE_NS "http://schemas.microsoft.com/3dmanufacturing/slice/2015/07"
-#define PROD_NS "http://schemas.microsoft.com/3dmanufacturing/production/2015/06"
     const char *models[][2] = {
         {MODEL_HEAD "<resources><object id=\"1\"><mesh>" TET_VERTICES "<triangles/><b:beamlattice xmlns:b=\"" BEAM_NS
                     "\" minlength=\"0.1\" radius=\"1\"><b:beams><b:beam v1=\"0\" v2=\"1\"/></b:beams></b:beamlattice>"
@@ -716,15 +715,8 @@ Test(threemf, beam_lattice_slice_and_other_required_extensions_are_refused_by_na
          "<model> requires the 3MF Beam Lattice extension (" BEAM_NS "), which hovox does not read"},
         {"<?xml version=\"1.0\"?>\n<model requiredextensions=\"q\"><resources/><build/></model>",
          "<model> requiredextensions names prefix 'q', which is not declared"},
-        /* an object in another model part (Production p:path; a file not marking it required):
-         * refused by name, not looked up among this part's ids */
-        {MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\" name=\"asm\"><components><component "
-                    "xmlns:p=\"" PROD_NS "\" objectid=\"1\" p:path=\"/3D/Objects/object_1.model\"/></components></object>"
-                    "</resources><build><item objectid=\"2\"/></build></model>",
-         "object 2 'asm': component 1 names an object in the model part '/3D/Objects/object_1.model' (p:path), which "
-         "needs the 3MF Production extension (" PROD_NS "), which hovox does not read"},
     };
-    for (size_t k = 0; k < 5; ++k) {
+    for (size_t k = 0; k < 4; ++k) {
         const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", models[k][0]};
         size_t len;
         unsigned char *data = zip_parts(parts, 3, &len);
@@ -1130,6 +1122,56 @@ Test(threemf, a_jpeg_texture_is_decoded)
  * transform, two pegs in a component object turned by the assembly that holds them, the assembly
  * one build item. hovox reads what lib3mf reads (the oracle), each mesh object the item places a
  * body in its own material. */
+/* Production extension (Bambu Studio, OrcaSlicer): the root's components name objects of another
+ * model part by p:path; that part's ids are its own (its object 2 is not the root's object 2), its
+ * materials too. tests/data/good/production_parts.3mf reads as lib3mf reads it, and as
+ * core_in_shell.3mf moved 10 mm; a missing part, an id the part does not define, a part naming a
+ * third part are refused by name. */
+#define PROD_NS "http://schemas.microsoft.com/3dmanufacturing/production/2015/06"
+Test(threemf, objects_in_other_model_parts_are_read_by_their_production_path)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/good/production_parts.3mf", t_shared());
+    size_t len = 0;
+    unsigned char *data = (unsigned char *)t_slurp(path, &len);
+    cr_assert_not_null(data, "%s", path);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "production_parts.3mf", &m), HV_OK, "%s", hv_last_error());
+    oracle_check(data, len, m);
+    cr_assert_eq(hv_mesh_body_count(m), 2);
+    cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "shell");
+    cr_assert_str_eq(hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 0)->material)->name, "VeroWhite");
+    cr_assert_str_eq(hv_mesh_body_at(m, 1)->name, "core");
+    cr_assert_str_eq(hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 1)->material)->name, "Agilus30");
+    const hv_mesh_report *r = hv_mesh_get_report(m);
+    cr_assert_float_eq(r->bbox_min[0], 10, 1e-6);
+    cr_assert_float_eq(r->bbox_max[0], 20, 1e-6);
+    cr_assert_float_eq(r->volume, 1000, 1e-6);
+    hv_mesh_destroy(m);
+    free(data);
+    /* refused: the part missing, an id it lacks, a part that names a third part */
+#define ROOT_OF(id) MODEL_HEAD "<resources><object id=\"2\" name=\"asm\"><components><component xmlns:p=\"" PROD_NS \
+    "\" objectid=\"" id "\" p:path=\"/3D/o.model\"/></components></object></resources><build><item objectid=\"2\"/></build></model>"
+    const char *cases[][3] = {
+        {ROOT_OF("1"), NULL, "part '/3D/o.model' is missing from the package"},
+        {ROOT_OF("7"), MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources><build/></model>",
+         "3D/3dmodel.model: object 2 'asm': component 1 names object 7 of /3D/o.model, which that part does not define"},
+        {ROOT_OF("2"), MODEL_HEAD "<resources>" TET_OBJECT("", "") "<object id=\"2\"><components><component xmlns:p=\""
+                       PROD_NS "\" objectid=\"1\" p:path=\"/3D/x.model\"/></components></object></resources><build/></model>",
+         "p:path '/3D/x.model' names another model part: only the root part's may"},
+    };
+    for (size_t k = 0; k < 3; ++k) {
+        const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", cases[k][0],
+                               "3D/o.model", cases[k][1]};
+        data = zip_parts(parts, cases[k][1] ? 4 : 3, &len);
+        m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "p.3mf", &m), HV_ERR_BAD_INPUT, "%zu", k);
+        cr_assert_null(m);
+        cr_assert(strstr(hv_last_error(), cases[k][2]), "%s", hv_last_error());
+        free(data);
+    }
+}
+
 /* A Production p:path naming the root model part itself is the object of this part. */
 Test(threemf, a_production_path_to_the_root_part_reads)
 {

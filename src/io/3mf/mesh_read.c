@@ -120,6 +120,7 @@ typedef struct reader {
      * the root; ids are then "part|id"), the references of the root waiting for their part, and
      * the root's objects (the others are appended after them). */
     const char *part;
+    hv_names parts; /* the other parts named, without the leading '/', in first-named order */
     struct pending *pend;
     size_t npend, pcap;
     size_t nroot;
@@ -127,9 +128,9 @@ typedef struct reader {
 
 typedef struct pending {
     int is_component;
-    size_t index;                  /* into comps or items */
+    int32_t part;   /* into parts */
+    size_t index;   /* into comps or items */
     uint64_t id;
-    char part[TMF_MAX_PART_NAME];  /* without the leading '/' */
     char place[240];
 } pending;
 
@@ -157,6 +158,7 @@ static hv_status grow(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need,
 static void reader_free(reader *r)
 {
     free(r->pend);
+    hv_names_free(&r->parts);
     for (size_t i = 0; i < r->nent; ++i) free(r->entries[i].name);
     for (size_t i = 0; i < r->nobj; ++i) free(r->objs[i].name);
     for (size_t i = 0; i < r->ntex; ++i) free(r->texs[i].path);
@@ -696,12 +698,12 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
     if (elsewhere) { /* an object of another model part: resolved once that part is read */
         hv_status s = grow(r, x, (void **)&r->pend, &r->pcap, r->npend + 1, sizeof *r->pend);
         if (s != HV_OK) return s;
-        pending *p = &r->pend[r->npend++];
+        pending *p = &r->pend[r->npend];
+        if ((s = hv_names_intern(&r->parts, pp->value + 1, pp->len - 1, &p->part)) != HV_OK) return s;
+        r->npend++;
         p->is_component = is_component;
         p->index = is_component ? r->ncomp : r->nitems;
         p->id = id;
-        memcpy(p->part, pp->value + 1, pp->len - 1);
-        p->part[pp->len - 1] = '\0';
         snprintf(p->place, sizeof p->place, "%s", place);
     }
     int64_t k = elsewhere ? -2 : lookup(r, id);
@@ -1371,11 +1373,8 @@ static hv_status read_other_parts(reader *r, const char *name, const tmf_xml_han
     r->nroot = r->nobj;
     double unit = r->unit;
     hv_status s = HV_OK;
-    for (size_t i = 0; i < r->npend && s == HV_OK; ++i) {
-        const char *part = r->pend[i].part;
-        size_t j = 0;
-        while (j < i && strcmp(r->pend[j].part, part) != 0) ++j;
-        if (j < i) continue; /* read already */
+    for (size_t i = 0; i < r->parts.n && s == HV_OK; ++i) {
+        const char *part = r->parts.names[i];
         size_t items = r->nitems;
         r->part = part;
         r->at = W_TOP;
@@ -1391,10 +1390,11 @@ static hv_status read_other_parts(reader *r, const char *name, const tmf_xml_han
     r->part = NULL;
     for (size_t i = 0; i < r->npend && s == HV_OK; ++i) {
         const pending *p = &r->pend[i];
-        int64_t k = lookup_in(r, p->part, p->id);
+        const char *part = r->parts.names[p->part];
+        int64_t k = lookup_in(r, part, p->id);
         if (k < 0 || r->res[k].kind != R_OBJECT)
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s names object %llu of /%s, which that part does not define",
-                                name, r->pk->model, p->place, (unsigned long long)p->id, p->part);
+                                name, r->pk->model, p->place, (unsigned long long)p->id, part);
         if (p->is_component) r->comps[p->index].obj = r->res[k].first;
         else r->items[p->index].obj = r->res[k].first;
     }
@@ -1414,6 +1414,7 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     r.unit = 1;
     r.group = -1;
     hv_names_init(&r.ids);
+    hv_names_init(&r.parts);
     tmf_xml_handler h = {on_start, on_end};
     s = tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &r);
     if (s == HV_OK && !r.resources_seen) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: the model has no <resources>", name, pk.model);

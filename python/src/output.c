@@ -135,6 +135,14 @@ done:
     return res;
 }
 
+/* A layers report's common keys: width, height, layers, first, last, object_pixels, warnings. */
+static PyObject *layers_report_dict(const hv_layers_report *rep)
+{
+    return Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep->width, "height", rep->height, "layers",
+                         (Py_ssize_t)rep->layers_total, "first", (Py_ssize_t)rep->first, "last", (Py_ssize_t)rep->last,
+                         "object_pixels", (unsigned long long)rep->object_pixels, "warnings", rep->warnings);
+}
+
 /* model.layers([mesh,] dir, *, progress=None, **options of `hovox layers`) -> report */
 static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
 {
@@ -174,10 +182,7 @@ static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
         hvpy_call_fail(&c, s);
         goto done;
     }
-    PyObject *d = Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep.width, "height", rep.height, "layers",
-                                (Py_ssize_t)rep.layers_total, "first", (Py_ssize_t)rep.first, "last",
-                                (Py_ssize_t)rep.last, "object_pixels", (unsigned long long)rep.object_pixels,
-                                "warnings", rep.warnings);
+    PyObject *d = layers_report_dict(&rep);
     PyObject *mats = d ? PyDict_New() : NULL;
     hv_material_table *t = NULL;
     if (mats && rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
@@ -440,10 +445,7 @@ static PyObject *mesh_layers(PyObject *self, PyObject *args, PyObject *kw)
         hvpy_call_fail(&c, s);
         goto done;
     }
-    PyObject *d = Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep.width, "height", rep.height, "layers",
-                                (Py_ssize_t)rep.layers_total, "first", (Py_ssize_t)rep.first, "last",
-                                (Py_ssize_t)rep.last, "object_pixels", (unsigned long long)rep.object_pixels,
-                                "warnings", rep.warnings);
+    PyObject *d = layers_report_dict(&rep);
     res = d ? hvpy_call_done(&c, d) : NULL;
 done:
     out_end(&oc);

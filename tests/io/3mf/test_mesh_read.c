@@ -1122,6 +1122,19 @@ Test(threemf, a_jpeg_texture_is_decoded)
  * transform, two pegs in a component object turned by the assembly that holds them, the assembly
  * one build item. hovox reads what lib3mf reads (the oracle), each mesh object the item places a
  * body in its own material. */
+/* tests/data/good/NAME read by hovox, checked against lib3mf's reading; the bytes in *data. */
+static hv_mesh *read_shared(const char *name, unsigned char **data, size_t *len)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/good/%s", t_shared(), name);
+    *data = (unsigned char *)t_slurp(path, len);
+    cr_assert_not_null(*data, "%s", path);
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(*data, *len, name, &m), HV_OK, "%s", hv_last_error());
+    oracle_check(*data, *len, m);
+    return m;
+}
+
 /* Production extension (Bambu Studio, OrcaSlicer): the root's components name objects of another
  * model part by p:path; that part's ids are its own (its object 2 is not the root's object 2), its
  * materials too. tests/data/good/production_parts.3mf reads as lib3mf reads it, and as
@@ -1130,14 +1143,9 @@ Test(threemf, a_jpeg_texture_is_decoded)
 #define PROD_NS "http://schemas.microsoft.com/3dmanufacturing/production/2015/06"
 Test(threemf, objects_in_other_model_parts_are_read_by_their_production_path)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/good/production_parts.3mf", t_shared());
     size_t len = 0;
-    unsigned char *data = (unsigned char *)t_slurp(path, &len);
-    cr_assert_not_null(data, "%s", path);
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_mesh_parse_3mf(data, len, "production_parts.3mf", &m), HV_OK, "%s", hv_last_error());
-    oracle_check(data, len, m);
+    unsigned char *data = NULL;
+    hv_mesh *m = read_shared("production_parts.3mf", &data, &len);
     cr_assert_eq(hv_mesh_body_count(m), 2);
     cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "shell");
     cr_assert_str_eq(hv_mesh_material_at(m, (size_t)hv_mesh_body_at(m, 0)->material)->name, "VeroWhite");
@@ -1192,14 +1200,9 @@ Test(threemf, a_production_path_to_the_root_part_reads)
 
 Test(threemf, a_slicers_assembly_of_texture_composite_and_nested_components)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/good/slicer_assembly.3mf", t_shared());
     size_t len = 0;
-    unsigned char *data = (unsigned char *)t_slurp(path, &len);
-    cr_assert_not_null(data, "%s", path);
-    hv_mesh *m = NULL;
-    cr_assert_eq(hv_mesh_parse_3mf(data, len, "slicer_assembly.3mf", &m), HV_OK, "%s", hv_last_error());
-    oracle_check(data, len, m);
+    unsigned char *data = NULL;
+    hv_mesh *m = read_shared("slicer_assembly.3mf", &data, &len);
     static const char *const names[] = {"plate", "core", "peg", "peg (2)"};
     static const char *const mats[] = {"VeroWhite", "composite 2#0", "Agilus30", "Agilus30"};
     static const double lo[4][3] = {{5, 5, 0}, {11, 11, 2}, {6, 6, 2}, {6, 22, 2}};

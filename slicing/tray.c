@@ -50,6 +50,10 @@ static const hv_option k_part[] = {
              "the model records)"},
     {.key = "material", .kind = HV_OPT_STRING, .offset = POFF(material), .meta = "NAME",
      .help = "a plain mesh's material"},
+    {.key = "materials", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .offset = POFF(materials),
+     .meta = "BODY=MATERIAL", .parse = hv_body_materials_option_parse,
+     .help = "the material of a body of the mesh, whatever the file says (repeatable; a job file's {\"BODY\": "
+             "\"MATERIAL\", ...})"},
     {.key = "name", .kind = HV_OPT_STRING, .offset = POFF(name), .meta = "NAME", .help = "for messages and the manifest"},
     {.key = "at", .kind = HV_OPT_NUMBER, .count = 2, .lo = -1e5, .hi = 1e5, .offset = POFF(at), .meta = "X,Y",
      .unit = "mm", .help = "plate position of the centre of the part's xy box (absent: arranged)"},
@@ -63,6 +67,18 @@ static const hv_option k_part[] = {
 };
 #undef POFF
 
+/* {materials} names the bodies' materials of a mesh made a model in memory: not beside a model
+ * (which brings its own) nor {material} (one material for the whole mesh). */
+static hv_status part_materials_check(const hv_tray_part *p)
+{
+    if (p->materials.n && p->model)
+        return hv_error_option(HV_ERR_INVALID, "{materials} is for a mesh's bodies; a model brings its own materials");
+    if (p->materials.n && p->material)
+        return hv_error_option(HV_ERR_INVALID, "{materials} gives each body its material, {material} the whole mesh "
+                                               "one: give one of them");
+    return HV_OK;
+}
+
 static hv_status part_finish(const hv_optargs *args)
 {
     hv_tray_part *p = args->opts;
@@ -70,7 +86,7 @@ static hv_status part_finish(const hv_optargs *args)
     if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
     if (p->model && p->material)
         return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
-    return HV_OK;
+    return part_materials_check(p);
 }
 
 void hv_tray_part_init(hv_tray_part *p)
@@ -214,6 +230,7 @@ struct hv_tray {
     int inflight; /* plate images (layers) in flight while writing */
     char **pool; /* strings kept for the tray's life (job files) */
     size_t npool, cap_pool;
+    char warnings[2048]; /* of the last plan, one line each */
 };
 
 const char *hv_tray_keep(hv_tray *t, const char *s)
@@ -268,6 +285,7 @@ void hv_tray_destroy(hv_tray *t)
         free((char *)s->p.mesh);
         free((char *)s->p.material);
         free((char *)s->p.name);
+        for (int k = 0; k < s->p.materials.n; ++k) free((char *)s->p.materials.pair[k]);
         free(s->where);
     }
     free(t->src);
@@ -324,6 +342,7 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     if (st == HV_OK && !part->mesh && hv_placement_given(&part->place))
         st = hv_error_set(HV_ERR_INVALID, "%s: a part from a model alone is placed as the model records it: the "
                                           "placement options move a mesh", part->model);
+    if (st == HV_OK) st = part_materials_check(part);
     if (st != HV_OK) return where ? hv_error_prefix(st, "%s: part %d: ", where, t->nsrc + 1) : st;
     size_t cap = (size_t)t->cap;
     if ((st = hv_grow((void **)&t->src, &cap, (size_t)t->nsrc + 1, sizeof *t->src)) != HV_OK) return st;
@@ -336,6 +355,7 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     s->p.mesh = dup_or_null(part->mesh, &bad);
     s->p.material = dup_or_null(part->material, &bad);
     s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh ? part->mesh : part->model), &bad);
+    for (int k = 0; k < part->materials.n; ++k) s->p.materials.pair[k] = dup_or_null(part->materials.pair[k], &bad);
     s->where = dup_or_null(where, &bad);
     s->number = t->nsrc + 1;
     t->nsrc++;
@@ -626,7 +646,8 @@ static hv_status bodies_model(const hv_tray *t, const hv_mesh *mesh, const hv_tr
         const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
         if (b->material == HV_MESH_NO_MATERIAL)
             return hv_error_option(HV_ERR_INVALID, "body '%s' has no material (the mesh names none): give the part a "
-                                   "{material} (MESH:MATERIAL) or one per body in the file", b->name);
+                                   "{material} (MESH:MATERIAL), the body one in {materials} (%s=MATERIAL) or "
+                                   "one per body in the file", b->name, b->name);
     }
     const hv_printer_profile *pp = t->profile;
     double pitch = HV_MAX(HV_MAX(25.4 / pp->dpi[0], 25.4 / pp->dpi[1]), pp->layer_height);
@@ -720,6 +741,31 @@ static hv_status model_shape(const source *s, int q, hv_volume **model, hv_mesh 
     return st;
 }
 
+/* A message about a job file's part names options as the file's keys ("unit m"), not as the front
+ * end reading the job spells its own options ("--unit m"). */
+static hv_status as_keys(const source *s, hv_status st)
+{
+    if (!s->where) return st;
+    char m[2048];
+    snprintf(m, sizeof m, "%s", hv_last_error());
+    return hv_error_set(st, "%s", m);
+}
+
+/* A part whose mesh, as placed, is under 1 mm or fits no orientation of the build volume: a
+ * warning naming the likely unit (issue 27 item 3; the rule of voxelize and layers,
+ * hv_placement_size_warning), for job files, --part, Lua and Python alike. */
+static void size_warning(hv_tray *t, const source *s, const hv_mesh *mesh, const hv_tray_options *o)
+{
+    if (!hv_placement_size_warning(mesh, t->profile->build)) return;
+    if (s->where) hv_error_prefix(HV_OK, "%s: part %d (%s): ", s->where, s->number, s->p.name);
+    else hv_error_prefix(HV_OK, "part %d (%s): ", s->number, s->p.name);
+    as_keys(s, HV_OK);
+    size_t n = strlen(t->warnings);
+    snprintf(t->warnings + n, sizeof t->warnings - n, "%s\n", hv_last_error());
+    if (o->warn) o->warn(o->warn_user);
+    hv_error_clear();
+}
+
 static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
 {
     hv_mesh *mesh = NULL;
@@ -746,6 +792,8 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     }
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
     if (st == HV_OK) st = hv_placement_apply(&s->p.place, &mesh);
+    if (st == HV_OK) size_warning(t, s, mesh, o);
+    if (st == HV_OK) st = hv_body_materials_apply(&s->p.materials, mesh);
     if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
     else if (st == HV_OK && !s->p.material) st = bodies_model(t, mesh, o, &model);
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
@@ -763,7 +811,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     if (st != HV_OK) {
         hv_mesh_destroy(mesh);
         hv_volume_destroy(model);
-        return s->where ? hv_error_prefix(st, "%s: part %d (%s): ", s->where, s->number, s->p.name)
+        return s->where ? as_keys(s, hv_error_prefix(st, "%s: part %d (%s): ", s->where, s->number, s->p.name))
                         : hv_error_prefix(st, "part %d (%s): ", s->number, s->p.name);
     }
     s->mesh = mesh;
@@ -1112,6 +1160,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
     if (st != HV_OK) return st;
     unplan(t);
     t->loaded = 1;
+    t->warnings[0] = '\0';
     if (t->nsrc == 0) return hv_error_set(HV_ERR_INVALID, "tray: no parts");
     t->profile = hv_printer_profile_find(o->profile ? o->profile : "j750");
     t->sx = 25.4 / t->profile->dpi[0];
@@ -1189,6 +1238,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         rep->bit_depth = t->bit_depth;
         rep->utilisation = t->utilisation;
         rep->memory = t->memory;
+        memcpy(rep->warnings, t->warnings, sizeof rep->warnings);
         double obj = 0;
         for (int i = 0; i < t->ninst; ++i) obj += (double)t->inst[i].w * t->inst[i].h * (double)t->inst[i].layers;
         double all = (double)t->W * t->H * (double)(rep->last - rep->first);

@@ -314,6 +314,45 @@ HV_API hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, co
                                  const hv_layers_options *opt, const hv_progress *progress,
                                  hv_layers_report *report);
 
+/* ==== one step from a mesh (issue 27) =======================================================
+ *
+ * A mesh (STL, OBJ, PLY, a 3MF without volume data: an assembly of bodies) printed with no model
+ * file, as `hovox layers PART.3mf -o DIR` prints it: its model made in memory as `hovox voxelize`
+ * then `hovox grade` without sources make it (hv_mesh_model: each body 100% its material or its
+ * 3MF composite's mixture) on voxels of the printer's coarsest pitch (the larger of 25.4/dpi and
+ * the layer height of `o`), coarsened by 5/4 until the voxelization fits half of o->max_memory's
+ * budget, or on voxels of `voxel_size` (> 0). The outline is the mesh's contours, exact; the
+ * voxels only place the interfaces between bodies. *voxels (may be NULL) gets the voxel size
+ * used, the lattice and whether it was coarsened. Errors: those of hv_mesh_model_voxels and
+ * hv_mesh_model (a body without a material, naming it). Free *model with hv_volume_destroy. */
+typedef struct hv_layers_mesh_voxels {
+    double size;     /* mm */
+    int64_t dims[3];
+    int coarsened;   /* 1: coarser than the printer's pitch, to fit the memory budget */
+} hv_layers_mesh_voxels;
+HV_API hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, double voxel_size,
+                                      const hv_progress *progress, hv_volume **model, hv_layers_mesh_voxels *voxels);
+
+/* The options of the one step besides the layers': materials (repeatable BODY=MATERIAL, a map
+ * {BODY = MATERIAL} in Lua, Python and job files: a body's material whatever the file says, as
+ * `hovox layers --material`) and voxel_size (mm; 0: the printer's pitch, coarsened to fit).
+ * Zero-initialised: none. hv_layers_mesh_option_set: those two keys (static data). */
+typedef struct hv_layers_mesh_options {
+    hv_body_materials materials;
+    double voxel_size;
+} hv_layers_mesh_options;
+HV_API const hv_option_set *hv_layers_mesh_option_set(void);
+
+/* The whole step for a front end (Lua mesh:layers, Python mesh.layers): a copy of `mesh` with
+ * each body in its material of mo->materials (hv_body_materials_apply; mo may be NULL), its model
+ * (hv_layers_mesh_model at mo->voxel_size; none in MASK mode), then hv_layers_write. The report's warnings begin
+ * with the size warning of hv_placement_size_warning against the profile's build volume (a mesh
+ * under 1 mm or larger than the printer, naming the likely unit). The manifest names the mesh
+ * (o->mesh_name, else the mesh's name) as mesh and model. Errors: those of
+ * hv_body_materials_apply, hv_layers_mesh_model and hv_layers_write. */
+HV_API hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options *mo, const char *dir, const hv_layers_options *o, const hv_progress *progress,
+                                      hv_layers_report *report);
+
 #ifdef __cplusplus
 }
 #endif

@@ -6,6 +6,7 @@
 #define HOVOX_MESH_H
 
 #include "hovox/core.h"
+#include "hovox/options.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -200,6 +201,23 @@ HV_API hv_status hv_mesh_body_extract(const hv_mesh *mesh, size_t i, hv_mesh **o
  * material name), HV_ERR_NOMEM; the mesh is unchanged on failure. */
 HV_API hv_status hv_mesh_body_material_set(hv_mesh *mesh, const char *body, const char *material);
 
+/* Bodies' materials as the options give them: "BODY=MATERIAL" texts (borrowed), in the order
+ * given. One rule for `--material BODY=MATERIAL` (voxelize, layers), a tray part's "materials":
+ * {"BODY": "MATERIAL"} (job files, Lua, Python) and Lua's and Python's materials = {BODY =
+ * MATERIAL}. Zero-initialised: none. */
+#define HV_BODY_MATERIALS_MAX 64
+typedef struct hv_body_materials {
+    int n;
+    const char *pair[HV_BODY_MATERIALS_MAX];
+} hv_body_materials;
+/* The options' parser (an hv_option of kind CUSTOM, flags REPEAT | PAIRS, whose offset is that of
+ * an hv_body_materials in the options struct): one BODY=MATERIAL value, both sides non-empty,
+ * at most HV_BODY_MATERIALS_MAX. Errors: HV_ERR_INVALID (set with hv_error_option). */
+HV_API hv_status hv_body_materials_option_parse(const hv_option *opt, void *opts, const hv_opt_value *value);
+/* Each body its material, in order (hv_mesh_body_material_set). Errors: those of
+ * hv_mesh_body_material_set (a body the mesh does not have, listing its bodies). */
+HV_API hv_status hv_body_materials_apply(const hv_body_materials *materials, hv_mesh *mesh);
+
 /* Body i's own report: its facets as a mesh of their own (hv_mesh_body_extract), or the
  * whole mesh's report when it has one body. Errors: HV_ERR_INVALID (i out of range),
  * HV_ERR_NOMEM. */
@@ -295,7 +313,10 @@ HV_API const char *hv_mesh_note_at(const hv_mesh *mesh, size_t i); /* i < count 
  * the file's unit; the identity when the item has none). Owned by the mesh; derived meshes
  * (extract, join, transform) carry none. */
 typedef struct hv_mesh_item {
-    int64_t body;
+    int64_t body;            /* its first body */
+    size_t bodies;           /* the bodies it became, from `body` on: 1, or for an item of
+                                components one per mesh object it places (each in its own
+                                material), 0 with body -1 */
     uint64_t object_id;
     const char *object_name; /* "" when the object has none */
     double transform[12];

@@ -43,7 +43,9 @@ HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
  * placement options; a model without a record is refused naming the part), material (a plain mesh's one material; without a model
  * and a material, the mesh's bodies in their own materials: its model is made in memory as
  * hv_mesh_model makes it, on voxels of the printer's coarsest pitch coarsened until they fit a
- * quarter of max_memory; a body without a material is refused naming it), name,
+ * quarter of max_memory; a body without a material is refused naming it), materials (repeatable
+ * BODY=MATERIAL, a job file's {"BODY": "MATERIAL", ...}: a body's material whatever the file
+ * says, as `hovox layers --material BODY=MATERIAL`; not with model or material), name,
  * at = X,Y (plate position of the centre of its xy box; absent: arranged), z (lift, mm, >= 0),
  * rotation (0, 90, 180, 270 degrees about z), copies (>= 1, placed in a row along +x), and the
  * placement of the mesh (hovox/placement.h: unit, up, scale, rotate, translate; applied to the mesh
@@ -57,6 +59,7 @@ typedef struct hv_tray_part {
     int copies;
     int placed; /* `at` given */
     hv_placement place;
+    hv_body_materials materials;
 } hv_tray_part;
 HV_API void hv_tray_part_init(hv_tray_part *p);
 HV_API const hv_option_set *hv_tray_part_option_set(void);
@@ -87,6 +90,11 @@ typedef struct hv_tray_options {
     void *finish_user;
     hv_stack_manifest_fn manifest;               /* adds to manifest.json; NULL: none */
     void *manifest_user;
+    void (*warn)(void *user);                    /* called as each warning arises (planning), the
+                                                    warning the thread's last message (hv_last_error,
+                                                    hv_error_spell); NULL: none. The report has them
+                                                    all. */
+    void *warn_user;
 } hv_tray_options;
 HV_API void hv_tray_options_init(hv_tray_options *o);
 HV_API const hv_option_set *hv_tray_option_set(void);
@@ -130,6 +138,10 @@ typedef struct hv_tray_report {
                                  * voxels/s 4e10; PNG bytes layer by layer as the encoder
                                  * writes them (sparse or dense), within ~25% on the bench and
                                  * README trays */
+    char warnings[2048];        /* what a person should know, one line each ("" if none): a part
+                                   whose mesh, as placed, is under 1 mm or fits no orientation of
+                                   the build volume, naming the likely unit
+                                   (hv_placement_size_warning) */
 } hv_tray_report;
 
 /* Load every part's files, place them (arranging when asked), and check the tray: every part

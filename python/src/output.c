@@ -135,6 +135,14 @@ done:
     return res;
 }
 
+/* A layers report's common keys: width, height, layers, first, last, object_pixels, warnings. */
+static PyObject *layers_report_dict(const hv_layers_report *rep)
+{
+    return Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep->width, "height", rep->height, "layers",
+                         (Py_ssize_t)rep->layers_total, "first", (Py_ssize_t)rep->first, "last", (Py_ssize_t)rep->last,
+                         "object_pixels", (unsigned long long)rep->object_pixels, "warnings", rep->warnings);
+}
+
 /* model.layers([mesh,] dir, *, progress=None, **options of `hovox layers`) -> report */
 static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
 {
@@ -174,10 +182,7 @@ static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
         hvpy_call_fail(&c, s);
         goto done;
     }
-    PyObject *d = Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep.width, "height", rep.height, "layers",
-                                (Py_ssize_t)rep.layers_total, "first", (Py_ssize_t)rep.first, "last",
-                                (Py_ssize_t)rep.last, "object_pixels", (unsigned long long)rep.object_pixels,
-                                "warnings", rep.warnings);
+    PyObject *d = layers_report_dict(&rep);
     PyObject *mats = d ? PyDict_New() : NULL;
     hv_material_table *t = NULL;
     if (mats && rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
@@ -403,8 +408,60 @@ PyMethodDef hvpy_output_functions[] = {
     {NULL, NULL, 0, NULL},
 };
 
+/* mesh.layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, progress=None, **options of
+ * `hovox layers`) -> {width, height, layers, first, last, object_pixels, warnings}: the mesh
+ * printed in one step, its bodies in their materials, as `hovox layers PART.3mf -o DIR --material
+ * BODY=MATERIAL` prints it, the same bytes (hv_layers_write_mesh) */
+static PyObject *mesh_layers(PyObject *self, PyObject *args, PyObject *kw)
+{
+    static const char *const own[] = {"dir", "materials", "voxel_size", NULL};
+    PyObject *pos = NULL;
+    if (!PyArg_ParseTuple(args, "|O:layers", &pos)) return NULL;
+    if (!HVPY_MESH(self)) return NULL;
+    out_call oc;
+    PyObject *res = NULL;
+    if (out_begin(&oc, kw) < 0) goto done;
+    const hv_option_set *ls = hv_layers_option_set();
+    hv_layers_options o;
+    if (hvpy_read_options(oc.rest, ls, &o, own, &oc.a) < 0) goto done;
+    const char *theirs[160]; /* the layers' keys, read above: known to the second read */
+    int n = 0;
+    for (int i = 0; i < ls->count && n < 150; ++i) theirs[n++] = ls->options[i].key;
+    for (int i = 0; i < ls->alias_count && n < 150; ++i) theirs[n++] = ls->aliases[i].name;
+    theirs[n++] = "dir";
+    theirs[n] = NULL;
+    hv_layers_mesh_options mo;
+    if (hvpy_read_options(oc.rest, hv_layers_mesh_option_set(), &mo, theirs, &oc.a) < 0) goto done;
+    const char *dir = out_path(&oc, pos, "dir", "the stack's directory");
+    if (!dir) goto done;
+    hv_mesh *mesh = HVPY_MESH(self); /* after reading the options: they may have run Python code */
+    if (!mesh) goto done;
+    hvpy_call c;
+    hv_layers_report rep;
+    hvpy_begin(&c, oc.progress, &self, 1);
+    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, &c.prog, &rep);
+    hvpy_end(&c);
+    if (s != HV_OK) {
+        hvpy_call_fail(&c, s);
+        goto done;
+    }
+    PyObject *d = layers_report_dict(&rep);
+    res = d ? hvpy_call_done(&c, d) : NULL;
+done:
+    out_end(&oc);
+    return res;
+}
+
+static PyMethodDef mesh_output_methods[] = {
+    {"layers", (PyCFunction)(void (*)(void))mesh_layers, METH_VARARGS | METH_KEYWORDS,
+     "layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, progress=None, **options of `hovox layers`) -> "
+     "{width, height, layers, first, last, object_pixels, warnings}: the mesh printed in one step, each body in its "
+     "material (as `hovox layers PART.3mf --material BODY=MATERIAL`); warnings begin with the size warning."},
+    {NULL, NULL, 0, NULL}};
+
 int hvpy_init_output(PyObject *m)
 {
     (void)m;
+    if (hvpy_add_methods(&hvpy_MeshType, mesh_output_methods) < 0) return -1;
     return hvpy_add_methods(&hvpy_ModelType, model_output_methods);
 }

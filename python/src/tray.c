@@ -46,11 +46,11 @@ static int read_over(hvpy_tray *t, PyObject *kw, const char *const *extra)
 
 static PyObject *report_dict(const hv_tray_report *r)
 {
-    return Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:i,s:i,s:K,s:K,s:K,s:d}", "width", r->width, "height", r->height, "layers",
+    return Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:i,s:i,s:K,s:K,s:K,s:d,s:s}", "width", r->width, "height", r->height, "layers",
                          (Py_ssize_t)r->layers, "first", (Py_ssize_t)r->first, "last", (Py_ssize_t)r->last, "parts",
                          r->parts, "resins", r->resins, "memory", (unsigned long long)r->memory, "object_pixels",
                          (unsigned long long)r->object_pixels, "bytes", (unsigned long long)r->bytes, "utilisation",
-                         r->utilisation);
+                         r->utilisation, "warnings", r->warnings);
 }
 
 /* tray(**options) -> Tray */

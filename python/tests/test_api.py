@@ -232,6 +232,39 @@ def test_tray(graded_gear, gear_mesh, tmp_path):
         t.add(mesh=pin, copies=0)
 
 
+def test_mesh_layers_in_one_step(cli, shared, tmp_path):
+    """issue 27 item 2: mesh.layers prints a mesh in its bodies' materials in one step, the bytes of
+    `hovox layers PART.3mf -o DIR --material BODY=MATERIAL`; the size warning names the unit."""
+    part = os.path.join(shared, "good", "core_in_shell.3mf")
+    r = cli("layers", part, "-o", tmp_path / "cli", "--layers", "180:184", "--material", "core=Agilus30Black", "-q")
+    assert r.returncode == 0, r.stderr
+    m = hovox.load_mesh(part)
+    rep = m.layers(tmp_path / "py", layers=(180, 184), materials={"core": "Agilus30Black"})
+    assert (rep["first"], rep["last"], rep["warnings"]) == (180, 184, "")
+    names = sorted(os.listdir(tmp_path / "cli"))
+    assert names == sorted(os.listdir(tmp_path / "py")) and "layer-00182.png" in names
+    for f in names:  # the layers and the manifest
+        assert (tmp_path / "py" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
+    man = json.load(open(tmp_path / "py" / "manifest.json"))
+    assert [x["name"] for x in man["materials"]] == ["VeroWhite", "Agilus30Black"]
+    assert m.bodies()[1]["material"] == "Agilus30"  # the mesh itself keeps its materials
+    tiny = hovox.generate.box(min=(0, 0, 0), max=(0.2, 0.1, 0.05))
+    rep = tiny.layers(tmp_path / "tiny", mode="mask")
+    assert "smaller than 1 mm: if its unit is metres, unit m makes it 200 mm across" in rep["warnings"]
+    with pytest.raises(hovox.Error, match="no body 'cor'"):
+        m.layers(tmp_path / "x", materials={"cor": "A"})
+    with pytest.raises(hovox.InvalidError, match="unknown option 'voxel_sise'"):
+        m.layers(tmp_path / "x", voxel_sise=1)
+    assert not os.path.exists(tmp_path / "x")
+    # a tray part's bodies take materials the same way, and its report warns about the size
+    tiny.save(tmp_path / "tiny.stl")
+    t = hovox.tray(profile="j750", mode="mask")
+    t.add(mesh=part, materials={"shell": "VeroCyan-V", "core": "Agilus30Black"}, at=(40, 40))
+    t.add(mesh=tmp_path / "tiny.stl", material="VeroPureWhite", at=(100, 100))
+    plan = t.arrange(arrange="no")
+    assert plan["parts"] == 2 and "part 2 (tiny.stl)" in plan["warnings"] and "unit m" in plan["warnings"]
+
+
 def test_a_call_is_one_command(graded_gear, tmp_path):
     """A model loaded by one call may be saved over its file by the next; a call never writes over
     what it reads (a field feature's file)."""

@@ -112,9 +112,6 @@ int cli_json_end(cli_json *j, const char *lines_key, const char *lines);
  * option value (HV_ERR_INVALID naming an option) is a usage error instead (exit 2). */
 int cli_fail(hv_status status);
 
-/* A repeatable BODY=MATERIAL option (voxelize, layers): the text kept in list[*n] (it lives as
- * long as argv); refused when it has no BODY or no MATERIAL, or past `cap` options. */
-hv_status cli_add_body_material(const hv_option *o, const hv_opt_value *v, const char **list, int *n, int cap);
 /* 1 when a file given where a model goes is a mesh (STL, OBJ, PLY, or a 3MF package without volume
  * data), by its content (layers MESH, tray --part MESH). */
 int cli_is_mesh_input(const char *path);

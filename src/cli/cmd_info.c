@@ -44,17 +44,30 @@ static int item_label(const hv_mesh_item *it, char *buf, size_t size)
     return snprintf(buf, size, "%llu", (unsigned long long)it->object_id);
 }
 
-/* The file's build items (3MF): object, the body it became, transform. */
+/* The bodies item `it` became: "plate, core, peg, peg (2)" (an item of components: one per mesh
+ * object it places), the first three and a count past five; "-" for none. */
+static const char *item_bodies(const hv_mesh *m, const hv_mesh_item *it, char *buf, size_t size)
+{
+    if (it->body < 0 || !it->bodies) return "-";
+    size_t n = 0, shown = it->bodies > 5 ? 3 : it->bodies;
+    buf[0] = '\0';
+    for (size_t k = 0; k < shown && n < size; ++k)
+        n += (size_t)snprintf(buf + n, size - n, "%s%s", k ? ", " : "", hv_mesh_body_at(m, (size_t)it->body + k)->name);
+    if (shown < it->bodies && n < size) snprintf(buf + n, size - n, " ... (%zu bodies)", it->bodies);
+    return buf;
+}
+
+/* The file's build items (3MF): object, the bodies it became, transform. */
 static void print_items(const hv_mesh *m)
 {
     size_t n = hv_mesh_item_count(m);
     if (!n) return;
     int wo = 6, wb = 4;
-    char label[192];
+    char label[192], names[800];
     for (size_t i = 0; i < n; ++i) {
         const hv_mesh_item *it = hv_mesh_item_at(m, i);
         wo = HV_MAX(wo, item_label(it, label, sizeof label));
-        if (it->body >= 0) wb = HV_MAX(wb, (int)strlen(hv_mesh_body_at(m, (size_t)it->body)->name));
+        wb = HV_MAX(wb, (int)strlen(item_bodies(m, it, names, sizeof names)));
     }
     printf("build items         %zu\n", n);
     printf("  %4s  %-*s  %-*s  %s\n", "item", wo, "object", wb, "body", "transform");
@@ -63,7 +76,7 @@ static void print_items(const hv_mesh *m)
         char t[320];
         transform_text(it->transform, t, sizeof t);
         item_label(it, label, sizeof label);
-        printf("  %4zu  %-*s  %-*s  %s\n", i + 1, wo, label, wb, it->body >= 0 ? hv_mesh_body_at(m, (size_t)it->body)->name : "-", t);
+        printf("  %4zu  %-*s  %-*s  %s\n", i + 1, wo, label, wb, item_bodies(m, it, names, sizeof names), t);
     }
 }
 

@@ -24,17 +24,10 @@ typedef struct layers_cli {
     int dry_run, view;
     hv_placement place;
     cli_scan scan;
-    const char *material[64]; /* "BODY=MATERIAL", for a mesh sliced in one step */
-    int nmaterial;
+    hv_body_materials materials; /* --material BODY=MATERIAL, for a mesh sliced in one step */
     double voxel_size;
     hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut */
 } layers_cli;
-
-static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
-{
-    layers_cli *c = opts;
-    return cli_add_body_material(o, v, c->material, &c->nmaterial, 64);
-}
 
 static const hv_option k_local_opts[] = {
     CLI_OUTPUT(layers_cli, "DIR",
@@ -48,7 +41,8 @@ static const hv_option k_local_opts[] = {
      .meta = "FILE", .help = "the mesh the model was made from (required, except for a .3mf model: its own mesh)",
      .section = "Geometry"},
     {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
-     .parse = add_material, .section = "A mesh in one step (MESH.stl|.obj|.ply|.3mf instead of a model)",
+     .offset = offsetof(layers_cli, materials), .parse = hv_body_materials_option_parse,
+     .section = "A mesh in one step (MESH.stl|.obj|.ply|.3mf instead of a model)",
      .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
              "says; repeatable"},
     {.key = "voxel_size", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
@@ -198,32 +192,17 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
 {
     const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
     hv_status s = cli_mesh_load_placed(o->model_name, &c->place, pp ? pp->build : NULL, mesh);
-    for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
-        const char *eq = strchr(c->material[i], '=');
-        char body[1024];
-        snprintf(body, sizeof body, "%.*s", (int)(eq - c->material[i]), c->material[i]);
-        s = hv_mesh_body_material_set(*mesh, body, eq + 1);
-    }
+    if (s == HV_OK) s = hv_body_materials_apply(&c->materials, *mesh);
     if (s != HV_OK || o->mode == HV_LAYERS_MASK) return s;
-    hv_voxelize_options vo;
-    hv_voxelize_options_init(&vo);
-    vo.max_memory = o->max_memory;
-    double pitch = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
-    hv_voxel_plan plan;
-    if (c->voxel_size > 0) {
-        vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = c->voxel_size;
-        s = hv_voxelize_plan(*mesh, &vo, &plan);
-    } else {
-        s = hv_mesh_model_voxels(*mesh, pitch, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
-    }
-    if (s != HV_OK) return s;
-    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", vo.voxel_size[0],
-                  (long long)plan.dims[0], (long long)plan.dims[1], (long long)plan.dims[2],
-                  c->voxel_size > 0 || vo.voxel_size[0] <= pitch ? "" : " (coarsened to fit the memory budget)");
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};
-    s = hv_mesh_model(*mesh, &vo, &prog, model);
+    hv_layers_mesh_voxels v;
+    s = hv_layers_mesh_model(*mesh, o, c->voxel_size, &prog, model, &v);
+    if (s == HV_OK)
+        hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", v.size,
+                      (long long)v.dims[0], (long long)v.dims[1], (long long)v.dims[2],
+                      v.coarsened ? " (coarsened to fit the memory budget)" : "");
     cli_progress_done(&bar);
     return s;
 }
@@ -347,7 +326,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (!c->mesh && !mesh_in && hv_placement_given(&c->place))
         return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
                                          "sliced where its recorded shape is");
-    if (!mesh_in && (c->nmaterial || c->voxel_size > 0))
+    if (!mesh_in && (c->materials.n || c->voxel_size > 0))
         return cli_usage_error("layers", "--material and --voxel-size are for a mesh sliced in one step (MESH.stl, "
                                ".obj, .ply or a 3MF without volume data in place of MODEL.vdb)");
     o->mesh_name = c->mesh;

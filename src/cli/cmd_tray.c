@@ -19,6 +19,7 @@ typedef struct tray_cli {
     const char *part[MAX_CLI_PARTS];
     hv_placement place[MAX_CLI_PARTS]; /* of each --part: the placement options after it */
     unsigned place_given[MAX_CLI_PARTS];
+    hv_body_materials materials[MAX_CLI_PARTS]; /* of each --part: the --materials after it */
     int nparts;
     int view;
 } tray_cli;
@@ -50,6 +51,17 @@ static hv_status place_part(const hv_option *o, void *opts, const hv_opt_value *
     return hv_placement_option_parse(&one, &c->place[c->nparts - 1], v);
 }
 
+/* --materials BODY=MATERIAL: a body of the --part given before it in that material (a job file's
+ * "materials"). */
+static hv_status part_materials(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    tray_cli *c = opts;
+    if (c->nparts == 0) return hv_error_option(HV_ERR_INVALID, "{%s} is for the {part} given before it; none is", o->key);
+    hv_option one = *o;
+    one.offset = 0;
+    return hv_body_materials_option_parse(&one, &c->materials[c->nparts - 1], v);
+}
+
 #define PLACE_OPT(key_, meta_, help_, section_)                                                                 \
     {.key = key_, .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = meta_, .help = help_, .section = section_, \
      .parse = place_part}
@@ -68,6 +80,10 @@ static const hv_option k_local_opts[] = {
     PLACE_OPT("scale", "S|SX,SY,SZ", "scale the part before it about the origin", NULL),
     PLACE_OPT("rotate", "AXIS:DEG|DEG@X,Y,Z", "turn the part before it (repeatable, in order), before ROT", NULL),
     PLACE_OPT("translate", "X,Y,Z", "move the part before it (mm), last", NULL),
+    {.key = "materials", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+     .parse = part_materials, .section = "Materials of the --part before them (job files: the part's \"materials\")",
+     .help = "a body of the part before it (an OBJ group, a 3MF item) in that material, whatever the file says; "
+             "repeatable"},
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("tray", k_local_opts, tray_cli);
 
@@ -120,17 +136,13 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
     return HV_OK;
 }
 
-/* A --part whose mesh, as placed, is under 1 mm or fits no orientation of the build volume is
- * warned about naming the likely unit, as voxelize and layers warn (issue 27 item 3). Read here
- * once more: the tray reads its parts when it plans. A mesh that does not read says nothing here
- * (the tray names what is wrong). */
-static void warn_size(const hv_tray_part *p, const hv_tray_options *o)
+/* The tray's warnings (a part's mesh whose size suggests a wrong unit) as they arise, spelt for
+ * the command line. */
+static void warn_now(void *user)
 {
-    const hv_printer_profile *pp = hv_printer_profile_find(o->profile ? o->profile : "j750");
-    hv_mesh *m = NULL;
-    if (hv_mesh_load(p->mesh, &m) == HV_OK && hv_placement_apply(&p->place, &m) == HV_OK)
-        cli_warn_mesh_size(m, pp ? pp->build : NULL);
-    hv_mesh_destroy(m);
+    (void)user;
+    char msg[2048];
+    cli_warn("%s", cli_message(msg, sizeof msg));
 }
 
 static void print_plan(const hv_tray_report *r, const hv_tray_options *o)
@@ -188,7 +200,7 @@ static int run(const cli_args *args, void *lib, void *local)
         hv_tray_part p;
         s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
         p.place = c->place[i];
-        if (s == HV_OK && p.mesh) warn_size(&p, o);
+        p.materials = c->materials[i];
         if (s == HV_OK) s = hv_tray_add(t, &p, NULL); /* "part N", counted after the job file's */
     }
     if (s == HV_OK && hv_tray_part_count(t) == 0) {
@@ -204,6 +216,7 @@ static int run(const cli_args *args, void *lib, void *local)
         cli_progress_init(&bar, args->quiet);
         hv_progress prog = {cli_progress_fn, &bar};
         o->dist = cli_dist;
+        o->warn = warn_now;
         if (c->view) {
             o->finish = hv_viewer_stack_finish;
             o->finish_user = &page;

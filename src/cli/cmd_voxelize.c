@@ -20,20 +20,13 @@ typedef struct vox_cli {
     int dry_run, json;
     cli_scan scan;
     hv_placement place;
-    const char *material[64]; /* "BODY=NAME" */
-    int nmaterial;
+    hv_body_materials materials; /* --material BODY=NAME */
     const char *colour[64]; /* "BODY=COLOUR" */
     int ncolour;
     double colour_depth;
     const char *core;
     hv_colour_options cmap; /* --icc, --intent, --resins (hv_colour_option_set's) */
 } vox_cli;
-
-static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
-{
-    vox_cli *c = opts;
-    return cli_add_body_material(o, v, c->material, &c->nmaterial, 64);
-}
 
 static hv_status add_colour(const hv_option *o, void *opts, const hv_opt_value *v)
 {
@@ -56,7 +49,7 @@ static const hv_option k_local_opts[] = {
      .help = "print the plan and its memory estimate, write nothing", .section = "Output"},
     CLI_JSON(vox_cli, "print the summary as JSON"),
     {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
-     .parse = add_material, .section = "Assemblies",
+     .offset = offsetof(vox_cli, materials), .parse = hv_body_materials_option_parse, .section = "Assemblies",
      .help = "the material of a body (an OBJ group, a 3MF item, a file's one body by its name), whatever the file "
              "says; repeatable"},
     {.key = "colour", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=COLOUR",
@@ -268,12 +261,7 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
     hv_colour_map *map = NULL;
     if (s == HV_OK && painting(c)) s = set_colours(raw, c, path);
     if (s == HV_OK && painting(c)) s = hv_colour_map_create(&c->cmap, &map);
-    for (int i = 0; i < c->nmaterial && s == HV_OK; ++i) {
-        const char *eq = strchr(c->material[i], '=');
-        char body[1024];
-        snprintf(body, sizeof body, "%.*s", (int)(eq - c->material[i]), c->material[i]);
-        s = hv_mesh_body_material_set(raw, body, eq + 1);
-    }
+    if (s == HV_OK) s = hv_body_materials_apply(&c->materials, raw);
     if (s == HV_OK && hv_placement_given(&c->place)) s = hv_placement_transform(&c->place, raw, &mesh);
     else if (s == HV_OK) {
         mesh = raw;

@@ -104,17 +104,6 @@ void cli_progress_done(cli_progress *p)
     p->stage[0] = '\0';
 }
 
-hv_status cli_add_body_material(const hv_option *o, const hv_opt_value *v, const char **list, int *n, int cap)
-{
-    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
-    if (!eq || eq == v->text || !eq[1])
-        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=MATERIAL, got '%s'", o->key,
-                               v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
-    if (*n == cap) return hv_error_option(HV_ERR_INVALID, "at most %d {%s} options", cap, o->key);
-    list[(*n)++] = v->text;
-    return HV_OK;
-}
-
 int cli_is_mesh_input(const char *path)
 {
     return hv_3mf_sniff(path) ? !hv_3mf_is_volumetric(path) : hv_mesh_sniff(path);

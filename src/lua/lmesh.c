@@ -8,7 +8,9 @@
 
 #include "core/internal.h"
 #include "hovox/generate.h"
+#include "hovox/layers.h"
 #include "hovox/placement.h"
+#include "hovox/viewer.h"
 #include "hovox/slice.h"
 #include "lhovox.h"
 #include "mesh/mesh_internal.h"
@@ -70,6 +72,52 @@ static int mesh_set_colour(lua_State *L)
     hv_status s = hv_mesh_body_colour_set(hv_lua_mesh(L, 1), body, v); /* the mesh after the strings */
     if (s != HV_OK) return fail(L, s);
     lua_settop(L, 1);
+    return 1;
+}
+
+/* mesh:layers{dir = "stack", materials = {BODY = "MATERIAL"}, voxel_size = MM, view = true, <the
+ *   options of `hovox layers`: profile, layer_height, mode, halftone, seed, layers = {first, last},
+ *   max_memory, ...>} -> {width, height, layers, first, last, object_pixels, warnings}: the mesh
+ *   printed in one step, its bodies in their materials, as `hovox layers PART.3mf -o DIR
+ *   --material BODY=MATERIAL` prints it, the same bytes (hv_layers_write_mesh); warnings begin
+ *   with the size warning (a mesh under 1 mm or larger than the printer, naming the likely unit) */
+static int mesh_layers(lua_State *L)
+{
+    static const char *const own[] = {"dir", "view", "materials", "voxel_size", NULL};
+    const hv_option_set *ls = hv_layers_option_set();
+    hv_lua_mesh(L, 1);
+    hv_layers_options o;
+    int holder = hv_lua_read(L, 2, ls, &o, own);
+    const char *theirs[160]; /* the layers' keys, read above: known to the second read */
+    int n = 0;
+    for (int i = 0; i < ls->count && n < 150; ++i) theirs[n++] = ls->options[i].key;
+    for (int i = 0; i < ls->alias_count && n < 150; ++i) theirs[n++] = ls->aliases[i].name;
+    theirs[n++] = "dir";
+    theirs[n++] = "view";
+    theirs[n] = NULL;
+    hv_layers_mesh_options mo;
+    hv_lua_read_options(L, 2, hv_layers_mesh_option_set(), &mo, theirs, holder);
+    const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");
+    lua_getfield(L, 2, "view"); /* view = true: the stack's page, DIR/index.html (hovox view) */
+    if (!lua_isnil(L, -1) && !lua_isboolean(L, -1)) return luaL_error(L, "view must be true or false");
+    if (lua_toboolean(L, -1)) o.finish = hv_viewer_stack_finish;
+    lua_pop(L, 1);
+    hv_lua_check_paths(L, 2, ls, &o); /* gcvf: where it is used */
+    hv_mesh *mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
+    hv_layers_report rep;
+    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, hv_lua_progress(L), &rep);
+    if (s != HV_OK) return fail(L, s);
+    lua_createtable(L, 0, 7);
+    const struct { const char *k; double v; } f[] = {{"width", rep.width}, {"height", rep.height},
+                                                     {"layers", (double)rep.layers_total}, {"first", (double)rep.first},
+                                                     {"last", (double)rep.last},
+                                                     {"object_pixels", (double)rep.object_pixels}};
+    for (size_t i = 0; i < HV_COUNT(f); ++i) {
+        lua_pushinteger(L, (lua_Integer)f[i].v);
+        lua_setfield(L, -2, f[i].k);
+    }
+    lua_pushstring(L, rep.warnings);
+    lua_setfield(L, -2, "warnings");
     return 1;
 }
 
@@ -319,7 +367,7 @@ void hv_lua_open_mesh(lua_State *L, int module)
                                        {"bodies", mesh_bodies},       {"materials", mesh_materials},
                                        {"free", mesh_gc},             {"transform", mesh_transform},
                                        {"set_material", mesh_set_material}, {"set_colour", mesh_set_colour},
-                                       {NULL, NULL}};
+                                       {"layers", mesh_layers},        {NULL, NULL}};
     static const luaL_Reg fns[] = {{"load_mesh", l_load_mesh}, {"contours", l_contours}, {NULL, NULL}};
     hv_lua_new_class(L, MT_MESH, methods, mesh_gc, mesh_tostring);
     lua_pushvalue(L, module);

@@ -65,6 +65,8 @@ static void push_report(lua_State *L, const hv_tray_report *r)
     }
     lua_pushnumber(L, r->utilisation);
     lua_setfield(L, -2, "utilisation");
+    lua_pushstring(L, r->warnings); /* a part whose size suggests a wrong unit, one line each */
+    lua_setfield(L, -2, "warnings");
 }
 
 /* hovox.tray{<tray options>} -> Tray */
@@ -82,7 +84,8 @@ static int l_tray_new(lua_State *L)
     return 1;
 }
 
-/* tray:add{model = "g.vdb", mesh = "g.stl", at = {x, y}, rotation = 90, copies = 2} -> parts */
+/* tray:add{model = "g.vdb", mesh = "g.stl", at = {x, y}, rotation = 90, copies = 2} or {mesh =
+ * "a.3mf", materials = {core = "Agilus30Black"}, ...} -> parts */
 static int tray_add(lua_State *L)
 {
     luaL_checktype(L, 2, LUA_TTABLE);

@@ -378,3 +378,29 @@ done:
     free(mats);
     return s;
 }
+
+/* ---- bodies' materials as options give them ---------------------------------------------------- */
+
+hv_status hv_body_materials_option_parse(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    hv_body_materials *m = (hv_body_materials *)((char *)opts + o->offset);
+    const char *eq = v->type == HV_VALUE_TEXT ? strchr(v->text, '=') : NULL;
+    if (!eq || eq == v->text || !eq[1])
+        return hv_error_option(HV_ERR_INVALID, "{%s} must be BODY=MATERIAL, got '%s'", o->key,
+                               v->type == HV_VALUE_TEXT ? v->text : "a non-text value");
+    if (m->n == HV_BODY_MATERIALS_MAX) return hv_error_option(HV_ERR_INVALID, "at most %d {%s} options", HV_BODY_MATERIALS_MAX, o->key);
+    m->pair[m->n++] = v->text;
+    return HV_OK;
+}
+
+hv_status hv_body_materials_apply(const hv_body_materials *materials, hv_mesh *mesh)
+{
+    hv_status s = HV_OK;
+    for (int i = 0; i < materials->n && s == HV_OK; ++i) {
+        const char *pair = materials->pair[i], *eq = strchr(pair, '=');
+        char body[1024];
+        snprintf(body, sizeof body, "%.*s", (int)(eq - pair), pair);
+        s = hv_mesh_body_material_set(mesh, body, eq + 1);
+    }
+    return s;
+}

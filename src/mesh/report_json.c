@@ -107,6 +107,10 @@ void hv_mesh_info_json(hv_buf *b, const char *file, const hv_mesh *m, const hv_m
             failed |= hv_json_set(o, "object", json_integer((json_int_t)it->object_id));
             failed |= hv_json_set(o, "name", hv_json_text(it->object_name));
             failed |= hv_json_set(o, "body", it->body >= 0 ? hv_json_text(hv_mesh_body_at(m, (size_t)it->body)->name) : json_null());
+            json_t *names = json_array(); /* an item of components: one body per mesh object it places */
+            for (size_t k = 0; names && it->body >= 0 && k < it->bodies; ++k)
+                failed |= json_array_append_new(names, hv_json_text(hv_mesh_body_at(m, (size_t)it->body + k)->name)) != 0;
+            failed |= !names || hv_json_set(o, "bodies", names);
             for (int k = 0; k < 12; ++k) failed |= json_array_append_new(t, json_real(it->transform[k])) != 0;
             failed |= hv_json_set(o, "transform", t);
         }

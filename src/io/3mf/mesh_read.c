@@ -118,7 +118,23 @@ typedef struct reader {
     char label[200]; /* "object 3 'name'" */
     uint64_t loose_props;  /* triangles with a pid in objects without a default one */
     char loose_first[1400]; /* where the first is */
+    /* Production extension: objects in other model parts (p:path). The part being read (NULL:
+     * the root; ids are then "part|id"), the references of the root waiting for their part, and
+     * the root's objects (the others are appended after them). */
+    const char *part;
+    hv_names parts; /* the other parts named, without the leading '/', in first-named order */
+    struct pending *pend;
+    size_t npend, pcap;
+    size_t nroot;
 } reader;
+
+typedef struct pending {
+    int is_component;
+    int32_t part;   /* into parts */
+    size_t index;   /* into comps or items */
+    uint64_t id;
+    char place[240];
+} pending;
 
 /* ---- memory: every array the reader grows is charged to half the memory budget --------------- */
 
@@ -143,6 +159,8 @@ static hv_status grow(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need,
 
 static void reader_free(reader *r)
 {
+    free(r->pend);
+    hv_names_free(&r->parts);
     for (size_t i = 0; i < r->nent; ++i) free(r->entries[i].name);
     for (size_t i = 0; i < r->nobj; ++i) free(r->objs[i].name);
     for (size_t i = 0; i < r->ntex; ++i) free(r->texs[i].path);
@@ -164,17 +182,26 @@ static void reader_free(reader *r)
 
 /* ---- resources and references ------------------------------------------------------------ */
 
-static int64_t lookup(const reader *r, uint64_t id)
+/* A resource's key: its id, prefixed by its model part when that is not the root. */
+static int id_key(const char *part, uint64_t id, char *key, size_t size)
 {
-    char key[24];
-    int n = snprintf(key, sizeof key, "%llu", (unsigned long long)id);
+    int n = part ? snprintf(key, size, "%s|%llu", part, (unsigned long long)id) : snprintf(key, size, "%llu", (unsigned long long)id);
+    return HV_MIN(n, (int)size - 1);
+}
+
+static int64_t lookup_in(const reader *r, const char *part, uint64_t id)
+{
+    char key[TMF_MAX_PART_NAME + 24];
+    int n = id_key(part, id, key, sizeof key);
     return hv_names_find(&r->ids, key, (size_t)n);
 }
 
+static int64_t lookup(const reader *r, uint64_t id) { return lookup_in(r, r->part, id); }
+
 static hv_status define(reader *r, tmf_xml *x, uint64_t id, int kind)
 {
-    char key[24];
-    int n = snprintf(key, sizeof key, "%llu", (unsigned long long)id);
+    char key[TMF_MAX_PART_NAME + 24];
+    int n = id_key(r->part, id, key, sizeof key);
     int32_t k;
     size_t before = r->ids.n;
     hv_status s = hv_names_intern(&r->ids, key, (size_t)n, &k);
@@ -686,23 +713,44 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
     char place[240];
     if (is_component) snprintf(place, sizeof place, "%s: component %zu", r->label, r->objs[r->nobj - 1].nc + 1);
     else snprintf(place, sizeof place, "build item %zu", r->nitems + 1);
+    /* Production extension: p:path names the model part holding the object; another part than
+     * this one is refused by name (its object ids are not this part's) */
+    const tmf_attr *pp = tmf_attr_find(a, n, "path", TMF_NS_PRODUCTION);
+    const char *here = r->part ? r->part : r->pk->model;
+    int elsewhere = pp && !(pp->len == strlen(here) + 1 && pp->value[0] == '/' && memcmp(pp->value + 1, here, pp->len - 1) == 0);
+    char q[TMF_MAX_PART_NAME + 8];
+    if (elsewhere && (r->part || pp->len < 2 || pp->len >= TMF_MAX_PART_NAME || pp->value[0] != '/'))
+        return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: p:path '%s' %s", place, tmf_attr_quote(pp, q, sizeof q),
+                           r->part ? "names another model part: only the root part's may (Production extension 2.1)"
+                                   : "is not a part name");
     const tmf_attr *oa = tmf_attr_find(a, n, "objectid", NULL);
     uint64_t id = 0;
     int rc = tmf_attr_uint(oa, UINT32_MAX, &id);
     if (rc <= 0)
         return rc < 0 ? not_index(x, place, oa) : tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s has no objectid", place);
-    int64_t k = lookup(r, id);
+    if (elsewhere) { /* an object of another model part: resolved once that part is read */
+        hv_status s = grow(r, x, (void **)&r->pend, &r->pcap, r->npend + 1, sizeof *r->pend);
+        if (s != HV_OK) return s;
+        pending *p = &r->pend[r->npend];
+        if ((s = hv_names_intern(&r->parts, pp->value + 1, pp->len - 1, &p->part)) != HV_OK) return s;
+        r->npend++;
+        p->is_component = is_component;
+        p->index = is_component ? r->ncomp : r->nitems;
+        p->id = id;
+        snprintf(p->place, sizeof p->place, "%s", place);
+    }
+    int64_t k = elsewhere ? -2 : lookup(r, id);
     /* a component names an object defined above its own: component graphs have no cycles */
     if (is_component && k >= 0 && r->res[k].kind == R_OBJECT && r->res[k].first == r->nobj - 1)
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s names object %llu, its own object: components may not form a cycle",
                            place, (unsigned long long)id);
-    if (k < 0 || r->res[k].kind != R_OBJECT)
+    if (k != -2 && (k < 0 || r->res[k].kind != R_OBJECT))
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s names object %llu, which is not %s", place, (unsigned long long)id,
                            is_component ? "an object defined above it" : "an object of the resources");
     double t[12];
     hv_status s = transform_attr(x, place, tmf_attr_find(a, n, "transform", NULL), t);
     if (s != HV_OK) return s;
-    size_t obj = r->res[k].first;
+    size_t obj = k == -2 ? SIZE_MAX : r->res[k].first;
     if (is_component) {
         if ((s = grow(r, x, (void **)&r->comps, &r->ccap, r->ncomp + 1, sizeof *r->comps)) != HV_OK) return s;
         r->comps[r->ncomp].obj = obj;
@@ -729,7 +777,8 @@ static hv_status required_extensions(tmf_xml *x, const tmf_attr *req)
             return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<model> requiredextensions names prefix '%s', which is not declared",
                                hv_quote(q, sizeof q, tok, strlen(tok)));
         /* materials are read; the Volumetric extension's mesh is read here, its volume by hv_3mf_load */
-        if (strcmp(ns, TMF_NS_MATERIAL) != 0 && strcmp(ns, TMF_NS_CORE) != 0 && strcmp(ns, TMF_NS_VOLUMETRIC) != 0)
+        if (strcmp(ns, TMF_NS_MATERIAL) != 0 && strcmp(ns, TMF_NS_CORE) != 0 && strcmp(ns, TMF_NS_VOLUMETRIC) != 0 &&
+            strcmp(ns, TMF_NS_PRODUCTION) != 0) /* Production: objects in other parts (p:path) are read */
             return unsupported(x, "<model> requires", ns);
     }
     return HV_OK;
@@ -935,7 +984,9 @@ static hv_status on_end(void *ctx, tmf_xml *x, const char *local, const char *ur
 static hv_status expand_counts(reader *r, const char *name, uint64_t max_tri, uint64_t *placed)
 {
     const uint64_t cap = UINT64_MAX / 4;
-    for (size_t i = 0; i < r->nobj; ++i) { /* components name objects above them */
+    /* components name objects above them, or (the root's) objects of other parts, read after it */
+    for (size_t j = 0; j < r->nobj; ++j) {
+        size_t i = j < r->nobj - r->nroot ? r->nroot + j : j - (r->nobj - r->nroot);
         object *o = &r->objs[i];
         o->tri = o->nt;
         o->nodes = 1;
@@ -1004,6 +1055,11 @@ typedef struct build {
     size_t mxcap;
     hv_mesh_mix_part *mix;
     size_t nmix, mixcap;
+    hv_mesh_body *bodies; /* one per item of a mesh object, one per mesh object an item of
+                           * components places (issue 27: an assembly's parts keep their
+                           * materials) */
+    size_t nb, bcap;
+    int32_t item_mat; /* the item's object's default material: its parts' without their own */
 } build;
 
 /* A multiproperties' entry as the layer that gives what is asked: its material layer (the
@@ -1176,8 +1232,28 @@ static hv_status place_mesh(build *b, const object *o, const double *t)
     return HV_OK;
 }
 
-/* Depth-first over components with an explicit stack (depth is bounded by TMF_MAX_DEPTH). */
-static hv_status place(build *b, size_t obj, const double *t)
+/* The facets placed since `first` as a body of their own: named after the mesh object `o` (the
+ * mesh makes repeated names unique: "peg", "peg (2)"), in its default material, else the item's,
+ * else its facets' majority (hv_mesh_build). */
+static hv_status add_body(build *b, const object *o, size_t first)
+{
+    if (b->nf == first) return HV_OK; /* an object placing no triangle is no body */
+    hv_status s = hv_grow((void **)&b->bodies, &b->bcap, b->nb + 1, sizeof *b->bodies);
+    if (s != HV_OK) return s;
+    int32_t mat;
+    if ((s = material_of(b, o->dres, o->dentry, &mat)) != HV_OK) return s;
+    hv_mesh_body *body = &b->bodies[b->nb++];
+    memset(body, 0, sizeof *body);
+    body->name = o->name ? o->name : "";
+    body->material = mat >= 0 ? mat : b->item_mat;
+    body->first_facet = first;
+    body->facet_count = b->nf - first;
+    return HV_OK;
+}
+
+/* Depth-first over components with an explicit stack (depth is bounded by TMF_MAX_DEPTH); with
+ * `split`, each mesh object placed is a body of its own. */
+static hv_status place(build *b, size_t obj, const double *t, int split)
 {
     typedef struct frame {
         size_t obj, next;
@@ -1189,7 +1265,9 @@ static hv_status place(build *b, size_t obj, const double *t)
     stack[0].obj = obj;
     stack[0].next = 0;
     memcpy(stack[0].t, t, sizeof stack[0].t);
+    size_t first = b->nf;
     hv_status s = place_mesh(b, &b->r->objs[obj], t);
+    if (s == HV_OK && split) s = add_body(b, &b->r->objs[obj], first);
     while (s == HV_OK && top >= 0) {
         frame *f = &stack[top];
         const object *o = &b->r->objs[f->obj];
@@ -1202,7 +1280,9 @@ static hv_status place(build *b, size_t obj, const double *t)
         g->obj = c->obj;
         g->next = 0;
         compose(f->t, c->t, g->t);
+        first = b->nf;
         s = place_mesh(b, &b->r->objs[c->obj], g->t);
+        if (s == HV_OK && split) s = add_body(b, &b->r->objs[c->obj], first);
     }
     free(stack);
     return s;
@@ -1271,7 +1351,6 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         if (o->type == T_SUPPORT || o->type == T_OTHER) skipped++;
         else nf += o->tri;
     }
-    hv_mesh_body *bodies = hv_calloc(r->nitems + 1, sizeof *bodies);
     hv_mesh_item *items = hv_calloc(r->nitems + 1, sizeof *items);
     b.pts = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.pts); /* pages touched as placed */
     b.tri = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.tri);
@@ -1285,8 +1364,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
         b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
     }
-    hv_status s = bodies && items && b.pts && b.tri && b.stamp && b.slot && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
-    size_t nb = 0;
+    hv_status s = items && b.pts && b.tri && b.stamp && b.slot && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
     for (size_t i = 0; i < r->nitems && s == HV_OK; ++i) {
         const object *o = &r->objs[r->items[i].obj];
         items[i].body = -1;
@@ -1294,18 +1372,18 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         items[i].object_name = o->name ? o->name : "";
         memcpy(items[i].transform, r->items[i].t, sizeof items[i].transform);
         if (o->type == T_SUPPORT || o->type == T_OTHER) continue;
-        size_t first = b.nf;
-        int32_t mat; /* its object's default (named first), else its facets' majority */
-        if ((s = material_of(&b, o->dres, o->dentry, &mat)) != HV_OK) break;
-        s = place(&b, r->items[i].obj, r->items[i].t);
-        if (s != HV_OK || b.nf == first) continue; /* an item placing no triangle is no body */
+        size_t first = b.nf, nb = b.nb;
+        /* its object's default (named first), else its facets' majority; an item of components
+         * is a body per mesh object it places, each in its own default, else the item's */
+        if ((s = material_of(&b, o->dres, o->dentry, &b.item_mat)) != HV_OK) break;
+        s = place(&b, r->items[i].obj, r->items[i].t, o->nc > 0);
+        if (s == HV_OK && o->nc == 0) s = add_body(&b, o, first);
+        if (s != HV_OK || b.nb == nb) continue; /* an item placing no triangle is no body */
         items[i].body = (int64_t)nb;
-        hv_mesh_body *body = &bodies[nb++];
-        body->name = o->name ? o->name : "";
-        body->material = mat;
-        body->first_facet = first;
-        body->facet_count = b.nf - first;
+        items[i].bodies = b.nb - nb;
     }
+    size_t nb = b.nb;
+    hv_mesh_body *bodies = b.bodies;
     if (s == HV_OK && nb == 0)
         s = hv_error_set(HV_ERR_BAD_INPUT, "%s: no build item places a mesh (%zu items%s)", name, r->nitems,
                          skipped ? ", those of support and other objects not read" : "");
@@ -1347,6 +1425,41 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
 
 /* ---- reading ------------------------------------------------------------------------------- */
 
+/* Production extension: the model parts the root's p:paths name, each read once (its ids its
+ * own, its build ignored, its unit the root's), then those references resolved. */
+static hv_status read_other_parts(reader *r, const char *name, const tmf_xml_handler *h)
+{
+    r->nroot = r->nobj;
+    double unit = r->unit;
+    hv_status s = HV_OK;
+    for (size_t i = 0; i < r->parts.n && s == HV_OK; ++i) {
+        const char *part = r->parts.names[i];
+        size_t items = r->nitems;
+        r->part = part;
+        r->at = W_TOP;
+        r->skip = 0;
+        r->group = -1;
+        r->has_model = r->resources_seen = r->builds = 0;
+        s = tmf_xml_parse(r->pk, part, r->pk->inflate_cap, h, r);
+        r->nitems = items; /* a part's own build places nothing (Production 2.1) */
+        if (s == HV_OK && r->unit != unit)
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: its unit is not the root model's (%s)", name, part,
+                             r->unit_name ? r->unit_name : "millimeter");
+    }
+    r->part = NULL;
+    for (size_t i = 0; i < r->npend && s == HV_OK; ++i) {
+        const pending *p = &r->pend[i];
+        const char *part = r->parts.names[p->part];
+        int64_t k = lookup_in(r, part, p->id);
+        if (k < 0 || r->res[k].kind != R_OBJECT)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: %s names object %llu of /%s, which that part does not define",
+                                name, r->pk->model, p->place, (unsigned long long)p->id, part);
+        if (p->is_component) r->comps[p->index].obj = r->res[k].first;
+        else r->items[p->index].obj = r->res[k].first;
+    }
+    return s;
+}
+
 hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out)
 {
     *out = NULL;
@@ -1360,9 +1473,11 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     r.unit = 1;
     r.group = -1;
     hv_names_init(&r.ids);
+    hv_names_init(&r.parts);
     tmf_xml_handler h = {on_start, on_end};
     s = tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &r);
     if (s == HV_OK && !r.resources_seen) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: the model has no <resources>", name, pk.model);
+    if (s == HV_OK) s = read_other_parts(&r, name, &h);
     uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / TMF_TRIANGLE_BYTES);
     uint64_t placed = 0;
     if (s == HV_OK) s = expand_counts(&r, name, max_tri, &placed);

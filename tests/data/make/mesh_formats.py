@@ -105,6 +105,10 @@ package('tests/data/bad/3mf_cyclic_component.3mf', model(
     tet() + '<object id="2" name="loop" type="model"><components><component objectid="2"/></components></object>',
     '<item objectid="2"/>'))
 package('tests/data/bad/3mf_unknown_unit.3mf', model(tet(), unit='furlong'))
+# a component's transform that is not finite (a producer's overflow): refused naming the object
+package('tests/data/bad/3mf_nonfinite_transform.3mf', model(
+    tet() + '<object id="2" name="pair" type="model"><components><component objectid="1"/>'
+    '<component objectid="1" transform="1 0 0 0 1 0 0 0 1 1e999 0 0"/></components></object>', '<item objectid="2"/>'))
 package('tests/data/bad/3mf_beam_lattice.3mf', model(
     '<object id="1" name="lattice" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="0" y="0" z="10"/>'
     '</vertices><triangles/><b:beamlattice xmlns:b="http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02" '
@@ -132,6 +136,111 @@ package('tests/data/good/composite_core.3mf', model(
     '<item objectid="2"/><item objectid="3"/><item objectid="4"/>'))
 package('tests/data/bad/3mf_composite_sum.3mf', model(
     MATS + COMPOSITES.replace('"0.5 0.5"', '"0.5 0.4"') + tet(attrs=' pid="6" pindex="0"')))
+
+
+# issue 27 item 4: texture, composite and nested components in one package, written the way a
+# slicer writes its projects: metadata, its own namespace's attributes, Production extension
+# UUIDs (declared, not required), no default pid on the textured object (its triangles name their
+# properties), a thumbnail, the texture related from the model part. A VeroWhite plate 20 x 20 x
+# 2 mm, its top textured; a core of composite 0.3 VeroWhite + 0.7 Agilus30 placed by a component
+# transform; two Agilus30 pegs, a component object of their own, turned 90 degrees about z by the
+# assembly that holds it; the assembly one build item, moved by (5, 5, 0).
+def cuboid(lo, hi):
+    v = [(x, y, z) for z in (lo[2], hi[2]) for y in (lo[1], hi[1]) for x in (lo[0], hi[0])]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (1, 3, 7, 5), (3, 2, 6, 7), (2, 0, 4, 6)]
+    t = []
+    for q in quads:
+        t += [(q[0], q[1], q[2]), (q[0], q[2], q[3])]
+    return [tuple('%g' % c for c in p) for p in v], t
+
+
+def png_rgb(w, h, pixel):
+    import zlib
+    raw = b''.join(b'\0' + bytes(c for x in range(w) for c in pixel(x, y)) for y in range(h))
+    def chunk(kind, data):
+        return struct.pack('>I', len(data)) + kind + data + struct.pack('>I', zlib.crc32(kind + data) & 0xFFFFFFFF)
+    return (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0)) +
+            chunk(b'IDAT', zlib.compress(raw, 9)) + chunk(b'IEND', b''))
+
+
+SLICER_HEAD = ('<?xml version="1.0" encoding="UTF-8"?>\n<model unit="millimeter" xml:lang="en-US" '
+               'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02" '
+               'xmlns:m="http://schemas.microsoft.com/3dmanufacturing/material/2015/02" '
+               'xmlns:p="http://schemas.microsoft.com/3dmanufacturing/production/2015/06" '
+               'xmlns:slic3rpe="http://schemas.slic3r.org/3mf/2017/06">\n'
+               '<metadata name="Application">a slicer 2.7</metadata>\n<metadata name="Title">textured assembly'
+               '</metadata>\n<metadata name="slic3rpe:Version3mf">1</metadata>\n')
+pv, pt = cuboid((0, 0, 0), (20, 20, 2))
+top = {2, 3}  # the plate's top face: textured, corners at the texture's corners
+plate_attrs = {}
+for i in range(len(pt)):
+    plate_attrs[i] = ' pid="4" p1="0" p2="1" p3="2"' if i == 2 else (' pid="4" p1="0" p2="2" p3="3"' if i == 3
+                                                                     else ' pid="1" p1="0"')
+cv, ct = cuboid((0, 0, 0), (8, 8, 4))
+gv, gt = cuboid((0, 0, 0), (2, 2, 3))
+slicer = (SLICER_HEAD + '<resources>\n'
+          '<m:basematerials id="1"><m:base name="VeroWhite" displaycolor="#F0F0F0"/>'
+          '<m:base name="Agilus30" displaycolor="#202020"/></m:basematerials>\n'
+          '<m:compositematerials id="2" matid="1" matindices="0 1"><m:composite values="0.3 0.7"/>'
+          '</m:compositematerials>\n'
+          '<m:texture2d id="3" path="/3D/Textures/checker.png" contenttype="image/png" tilestyleu="wrap" '
+          'tilestylev="wrap" filter="nearest"/>\n'
+          '<m:texture2dgroup id="4" texid="3"><m:tex2coord u="0" v="0"/><m:tex2coord u="0" v="1"/>'
+          '<m:tex2coord u="1" v="1"/><m:tex2coord u="1" v="0"/></m:texture2dgroup>\n'
+          '<object id="10" name="plate" type="model" p:UUID="00000010-81cb-4c03-9d28-80fed5dfa1dc">' +
+          mesh_xml(pv, pt, plate_attrs) + '</object>\n'
+          '<object id="11" name="core" type="model" pid="2" pindex="0" p:UUID="00000011-81cb-4c03-9d28-80fed5dfa1dc">' +
+          mesh_xml(cv, ct) + '</object>\n'
+          '<object id="12" name="peg" type="model" pid="1" pindex="1" p:UUID="00000012-81cb-4c03-9d28-80fed5dfa1dc">' +
+          mesh_xml(gv, gt) + '</object>\n'
+          '<object id="20" name="pegs" type="model" p:UUID="00000020-81cb-4c03-9d28-80fed5dfa1dc"><components>'
+          '<component objectid="12" p:UUID="00000021-81cb-4c03-9d28-80fed5dfa1dc"/>'
+          '<component objectid="12" transform="1 0 0 0 1 0 0 0 1 16 0 0"/></components></object>\n'
+          '<object id="21" name="assembly" type="model" p:UUID="00000022-81cb-4c03-9d28-80fed5dfa1dc"><components>'
+          '<component objectid="10"/>'
+          '<component objectid="11" transform="1 0 0 0 1 0 0 0 1 6 6 2"/>'
+          '<component objectid="20" transform="0 1 0 -1 0 0 0 0 1 3 1 2"/></components></object>\n'
+          '</resources>\n<build p:UUID="00000030-81cb-4c03-9d28-80fed5dfa1dc">'
+          '<item objectid="21" transform="1 0 0 0 1 0 0 0 1 5 5 0" printable="1" '
+          'p:UUID="00000031-81cb-4c03-9d28-80fed5dfa1dc"/></build>\n</model>\n')
+SLICER_CT = CT.replace('</Types>', '<Default Extension="png" ContentType="image/png"/></Types>')
+SLICER_RELS = RELS.replace('</Relationships>', '<Relationship Target="/Metadata/thumbnail.png" Id="rel1" '
+                           'Type="http://schemas.openxmlformats.org/package/2006/relationships/metadata/thumbnail"/>'
+                           '</Relationships>')
+MODEL_RELS = ('<?xml version="1.0" encoding="UTF-8"?>\n<Relationships xmlns="http://schemas.openxmlformats.org/'
+              'package/2006/relationships"><Relationship Target="/3D/Textures/checker.png" Id="rel2" '
+              'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dtexture"/></Relationships>')
+checker = png_rgb(8, 8, lambda x, y: (200, 40, 40) if (x + y) % 2 else (40, 40, 200))
+thumb = png_rgb(4, 4, lambda x, y: (128, 128, 128))
+with zipfile.ZipFile('tests/data/good/slicer_assembly.3mf', 'w', zipfile.ZIP_DEFLATED) as z:
+    for name, data in (('[Content_Types].xml', SLICER_CT), ('_rels/.rels', SLICER_RELS), ('3D/3dmodel.model', slicer),
+                       ('3D/_rels/3dmodel.model.rels', MODEL_RELS), ('3D/Textures/checker.png', checker),
+                       ('Metadata/thumbnail.png', thumb)):
+        z.writestr(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), data, zipfile.ZIP_DEFLATED)
+# Production extension (as Bambu Studio and OrcaSlicer write projects): the root model requires
+# p and holds one object of components whose meshes are in another model part (p:path), with its
+# own ids (1 and 2, the root's assembly being 2 too) and its own base materials: core_in_shell's
+# VeroWhite shell and Agilus30 core, the assembly moved by (10, 0, 0)
+PROD = 'http://schemas.microsoft.com/3dmanufacturing/production/2015/06'
+U = '-81cb-4c03-9d28-80fed5dfa1dc"'
+parts_model = (HEAD % 'millimeter').replace('material/2015/02">', 'material/2015/02" xmlns:p="%s" requiredextensions="p">' % PROD, 1) + (
+    '<resources>' + MATS + '<object id="1" name="shell" type="model" pid="5" pindex="0" p:UUID="00000001' + U + '>' +
+    mesh_xml(sv, st) + '</object><object id="2" name="core" type="model" pid="5" pindex="1" p:UUID="00000002' + U +
+    '>' + mesh_xml(iv, it) + '</object></resources><build/></model>\n')
+root_model = (HEAD % 'millimeter').replace('material/2015/02">', 'material/2015/02" xmlns:p="%s" requiredextensions="p">' % PROD, 1) + (
+    '<metadata name="Application">BambuStudio-01.09</metadata><resources>'
+    '<object id="2" name="core_in_shell" type="model" p:UUID="00000003' + U + '><components>'
+    '<component p:path="/3D/Objects/object_1.model" objectid="1" p:UUID="00000004' + U + ' transform="1 0 0 0 1 0 0 0 1 10 0 0"/>'
+    '<component p:path="/3D/Objects/object_1.model" objectid="2" p:UUID="00000005' + U + ' transform="1 0 0 0 1 0 0 0 1 10 0 0"/>'
+    '</components></object></resources><build p:UUID="00000006' + U + '><item objectid="2" p:UUID="00000007' + U +
+    ' printable="1"/></build></model>\n')
+PARTS_RELS = ('<?xml version="1.0" encoding="UTF-8"?>\n<Relationships xmlns="http://schemas.openxmlformats.org/package/'
+              '2006/relationships"><Relationship Target="/3D/Objects/object_1.model" Id="rel1" Type="http://schemas.'
+              'microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>')
+with zipfile.ZipFile('tests/data/good/production_parts.3mf', 'w', zipfile.ZIP_DEFLATED) as z:
+    for name, data in (('[Content_Types].xml', CT), ('_rels/.rels', RELS), ('3D/3dmodel.model', root_model),
+                       ('3D/_rels/3dmodel.model.rels', PARTS_RELS), ('3D/Objects/object_1.model', parts_model)):
+        z.writestr(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), data, zipfile.ZIP_DEFLATED)
 buf = io.BytesIO()
 package(buf, model(tet()))
 good = buf.getvalue()

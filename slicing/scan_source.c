@@ -324,6 +324,12 @@ hv_status hv_scan_source_open(const hv_scan *scan, const hv_scan_shape *shape, c
 
 const hv_layers_source *hv_scan_source_layers(const hv_scan_source *s) { return &s->src; }
 
+int hv_scan_prints_direct(const hv_layers_options *o, const hv_scan_voxelize_options *so)
+{
+    return !so->keep_largest && !so->fill_holes && so->min_feature == 0 && o->threshold == 0 &&
+           o->method == HV_LAYERS_RESAMPLE && !o->compare;
+}
+
 int hv_scan_source_colour(const hv_scan_source *s, size_t *n, const uint8_t **rgb, const float **fractions,
                           const uint64_t **weight)
 {

@@ -245,14 +245,8 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
 }
 
 /* A scan printed straight from its data (issue 30 item 4): no model, the shape and the table's
- * materials evaluated at every printer pixel (slicing/scan_source.c). Needs no whole-volume
- * clean-up (--keep-largest, --fill-holes, --min-feature make the model first). */
-static int scan_direct(const hv_layers_options *o, const hv_scan_voxelize_options *so)
-{
-    return !so->keep_largest && !so->fill_holes && so->min_feature == 0 && o->threshold == 0 &&
-           o->method == HV_LAYERS_RESAMPLE && !o->compare;
-}
-
+ * materials evaluated at every printer pixel (slicing/scan_source.c), when hv_scan_prints_direct
+ * says so (--keep-largest, --fill-holes, --min-feature make the model first). */
 static hv_status scan_source(hv_layers_options *o, const layers_cli *c, const hv_scan_voxelize_options *so,
                              hv_scan **scan, hv_scan_source **src, hv_colour_map **map_out, hv_buf *said)
 {
@@ -285,7 +279,7 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
     hv_status s;
     hv_buf said; /* what making a scan's model has to say, printed when the job succeeds */
     hv_buf_init(&said);
-    if (so && scan_direct(o, so)) {
+    if (so && hv_scan_prints_direct(o, so)) {
         s = scan_source(o, c, so, &scan, &src, &scan_map, &said);
     } else if (so) {
         s = scan_model(o, c, so, quiet, &model, &said);

@@ -324,6 +324,58 @@ hv_status hv_scan_source_open(const hv_scan *scan, const hv_scan_shape *shape, c
 
 const hv_layers_source *hv_scan_source_layers(const hv_scan_source *s) { return &s->src; }
 
+hv_status hv_layers_write_scan(const hv_scan *scan, const hv_scan_voxelize_options *shape, const hv_lut *lut,
+                               hv_colour_map *map, const char *dir, const hv_layers_options *opt,
+                               const hv_progress *progress, hv_layers_report *report, hv_colour_skin *colour,
+                               hv_material_table **table)
+{
+    hv_layers_options o = *opt;
+    hv_scan_voxelize_options so = *shape;
+    hv_colour_skin skin;
+    memset(&skin, 0, sizeof skin);
+    memset(report, 0, sizeof *report);
+    if (table) *table = NULL;
+    o.source = NULL;
+    o.manifest = NULL;
+    o.manifest_user = NULL;
+    hv_scan_source *src = NULL;
+    hv_volume *vol = NULL;
+    hv_status s;
+    if (hv_scan_prints_direct(&o, &so)) {
+        s = hv_scan_source_open(scan, &so.shape, o.mode == HV_LAYERS_MASK ? NULL : lut, map, &src);
+        if (s == HV_OK) o.source = hv_scan_source_layers(src);
+        if (s == HV_OK && map && o.mode == HV_LAYERS_HALFTONE &&
+            hv_scan_source_colour(src, &skin.samples, &skin.rgb, &skin.fractions, &skin.weight))
+            skin.map = map; /* the dE2000 of the colours asked for, as a painted mesh's */
+    } else {
+        so.progress = progress;
+        so.max_memory = o.max_memory;
+        /* (a scan's model records no requested colours: no dE2000, as the CLI's model path) */
+        s = hv_lut_scan_model(scan, &so, lut, map, &vol, NULL);
+    }
+    if (skin.map) {
+        o.manifest = hv_colour_manifest_hook;
+        o.manifest_user = &skin;
+    }
+    if (s == HV_OK) s = hv_layers_write(NULL, vol, dir, &o, progress, report);
+    if (s == HV_OK && table && report->materials > 0) {
+        const hv_material_table *t = src ? hv_layers_source_table(o.source) : NULL;
+        s = t ? hv_material_table_clone(t, table) : hv_material_table_load(vol, table);
+    }
+    if (colour) {
+        *colour = skin;
+        colour->model = NULL;
+        colour->map = s == HV_OK ? skin.map : NULL; /* `map` when the figures are there */
+        colour->samples = 0;
+        colour->rgb = NULL;
+        colour->fractions = NULL;
+        colour->weight = NULL;
+    }
+    hv_scan_source_close(src);
+    hv_volume_destroy(vol);
+    return s;
+}
+
 int hv_scan_prints_direct(const hv_layers_options *o, const hv_scan_voxelize_options *so)
 {
     return !so->keep_largest && !so->fill_holes && so->min_feature == 0 && o->threshold == 0 &&

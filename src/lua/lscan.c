@@ -17,7 +17,6 @@
 #include "hovox/viewer.h"
 #include "io/scan/scan_internal.h"
 #include "lhovox.h"
-#include "slicing/scan_source.h"
 
 /* A private copy of the path argument, in holder. */
 static const char *path_arg(lua_State *L, int arg, int holder)
@@ -203,48 +202,19 @@ static int l_layers_scan(lua_State *L)
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
     hv_scan *scan = NULL;
-    hv_scan_source *src = NULL;
-    hv_volume *vol = NULL;
-    hv_colour_skin skin;
-    memset(&skin, 0, sizeof skin);
     hv_scan_options sopt = {o.max_memory};
     hv_status s = lut_path ? hv_lut_load(lut_path, &lut) : HV_OK;
     if (s == HV_OK && lut && hv_lut_kind_of(lut) == HV_LUT_COLOUR) s = hv_colour_map_create(&co, &map);
     if (s == HV_OK) s = hv_scan_load(path, &sopt, &scan);
-    if (s == HV_OK && hv_scan_prints_direct(&o, &so)) {
-        s = hv_scan_source_open(scan, &so.shape, o.mode == HV_LAYERS_MASK ? NULL : lut, map, &src);
-        if (s == HV_OK) o.source = hv_scan_source_layers(src);
-        if (s == HV_OK && map && o.mode == HV_LAYERS_HALFTONE &&
-            hv_scan_source_colour(src, &skin.samples, &skin.rgb, &skin.fractions, &skin.weight)) {
-            skin.map = map; /* the manifest's dE2000, as the CLI's */
-            map = NULL;
-            o.manifest = hv_colour_manifest_hook;
-            o.manifest_user = &skin;
-        }
-    } else if (s == HV_OK) {
-        so.progress = hv_lua_progress(L);
-        so.max_memory = o.max_memory;
-        s = hv_lut_scan_model(scan, &so, lut, map, &vol, NULL);
-        so.progress = NULL;
-    }
     hv_layers_report rep;
-    memset(&rep, 0, sizeof rep);
-    if (s == HV_OK) s = hv_layers_write(NULL, vol, dir, &o, hv_lua_progress(L), &rep);
+    hv_colour_skin skin;
     hv_material_table *t = NULL;
-    const hv_material_table *st = o.source ? hv_layers_source_table(o.source) : NULL;
-    if (s == HV_OK && (st ? hv_material_table_clone(st, &t) : vol && rep.materials > 0 ? hv_material_table_load(vol, &t) : HV_OK) != HV_OK)
-        t = NULL;
-    int coloured = skin.map != NULL;
-    hv_colour_map_destroy(skin.map);
-    hv_scan_source_close(src);
-    hv_volume_destroy(vol);
+    if (s == HV_OK) s = hv_layers_write_scan(scan, &so, lut, map, dir, &o, hv_lua_progress(L), &rep, &skin, &t);
+    int coloured = s == HV_OK && skin.map != NULL;
     hv_scan_destroy(scan);
     hv_colour_map_destroy(map);
     hv_lut_destroy(lut);
-    if (s != HV_OK) {
-        hv_material_table_destroy(t);
-        return fail(L, s);
-    }
+    if (s != HV_OK) return fail(L, s);
     hv_lua_push_layers_report(L, &rep, t, coloured ? &skin : NULL); /* skin: its figures only */
     hv_material_table_destroy(t);
     return 1;

@@ -2,7 +2,7 @@
 -- written as an NRRD volume (as a scanner's export would be: Hounsfield units, left-posterior-
 -- superior space), read back, its skin iso-surface made a part with no mesh, its materials taken
 -- from a lookup table of Hounsfield units (air clear, soft tissue rubbery, bone rigid), then cut
--- open in a render, probed, and printed as a J750 stack straight from the data.
+-- open in a render, probed, and printed as a J750 stack straight from the data (hovox.layers_scan).
 -- Outputs: the volume (.nrrd), the table (.csv), the model (.vdb), probes (.csv), a render (.png),
 -- a J750 stack (PNG layers).
 -- usage: hovox run samples/scan_to_print.lua [OUTDIR] [LAYERS]
@@ -90,7 +90,10 @@ if stack ~= "none" then
         assert(a, "LAYERS must be A:B, all or none, not " .. stack)
         range = {tonumber(a), tonumber(b)}
     end
-    local st = head:layers{dir = out .. "/head_j750", profile = "j750", layers = range}
+    -- straight from the data, no model (as `hovox layers VOLUME` prints it): the shape and the table's
+    -- materials at every printer pixel
+    local st = hovox.layers_scan(volume, {iso = -480, lut = lut, dir = out .. "/head_j750", profile = "j750",
+                                          layers = range})
     print(string.format("J750 stack: layers %d to %d of %d, %d x %d pixels; achieved VeroPureWhite %.4f, Agilus30Clear %.4f",
                         st.first, st.last - 1, st.layers, st.width, st.height, st.materials.VeroPureWhite.achieved,
                         st.materials.Agilus30Clear.achieved))

@@ -505,7 +505,6 @@ void hv_halftone_bluenoise(const float *frac, int m, int w, int h, const uint8_t
     float rot[RUN + HV_BLUENOISE_NX];
     const float *f[HV_MAX_MATERIALS];
     uint32_t cnt[HV_MAX_MATERIALS];
-    float *mf = tsum ? malloc((size_t)w * sizeof *mf) : NULL;
     for (int r = 0; r < h; ++r) {
         size_t base = (size_t)r * (size_t)w;
         const uint8_t *mrow = mask + base;
@@ -537,27 +536,18 @@ void hv_halftone_bluenoise(const float *frac, int m, int w, int h, const uint8_t
         }
         for (int j = 0; j < m; ++j) counts[j] += cnt[j];
         if (!tsum) continue;
-        /* the target: the fractions summed over the object pixels; the mask is 0 or 1, so
-         * multiplying keeps the loop free of branches */
-        if (!mf) { /* out of memory for one row: the sums pixel by pixel */
-            for (int j = 0; j < m; ++j) {
-                float s = 0;
-                for (int c = c0; c <= c1; ++c) s += mrow[c] ? f[j][c] : 0.0f;
-                tsum[j] += s;
-            }
-            continue;
-        }
-#pragma omp simd
-        for (int c = c0; c <= c1; ++c) mf[c] = (float)mrow[c];
+        /* the target: the fractions summed over the object pixels, a select rather than a product
+         * with the mask (still branch-free): a source that writes fractions only at its object
+         * pixels (a scan, slicing/scan_source.c) leaves stale floats between them, and 0 times a stale
+         * NaN or infinity is NaN (the manifest's targets came out null in a reused heap) */
         for (int j = 0; j < m; ++j) {
             const float *fj = f[j];
             float s = 0;
 #pragma omp simd reduction(+ : s)
-            for (int c = c0; c <= c1; ++c) s += mf[c] * fj[c];
+            for (int c = c0; c <= c1; ++c) s += mrow[c] ? fj[c] : 0.0f;
             tsum[j] += s;
         }
     }
-    free(mf);
 }
 
 #define CARRY_Z 0.25f

@@ -9,6 +9,7 @@
  * colour table's colours through the colour map as hv_lut_paint_scan takes them). Memory: the
  * volume and the table; the job's per-thread images. */
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -36,13 +37,19 @@ struct hv_scan_source {
     float *tab; /* (LUT_BINS + 1) x cols */
     double t0, tscale; /* bin = (value - t0) * tscale */
     uint8_t *member; /* labels: per sample, its label is in the set (NULL otherwise) */
+    /* a colour table: per tabulated value its requested colour and the pixels that printed it (nearest
+     * value), for the manifest's dE2000 (hv_colour_samples_error) */
+    uint8_t *rgb;    /* (LUT_BINS + 1) x 3 */
+    uint64_t *hits;  /* LUT_BINS + 1 */
+    pthread_mutex_t lock;
+    int lock_ok;
 };
 
-static inline void paint(const hv_scan_source *s, double v, float *frac, size_t plane, size_t p);
+static inline void paint(const hv_scan_source *s, double v, float *frac, size_t plane, size_t p, uint32_t *hist);
 
 /* One row: columns [c0, c1] of row r at height z. */
 static void fill_row(const hv_scan_source *s, const hv_raster_grid *grid, double z, int r, uint8_t *mrow,
-                     float *frac, size_t plane, size_t rowoff)
+                     float *frac, size_t plane, size_t rowoff, uint32_t *hist)
 {
     const hv_scan_level *lv = &s->lv;
     const double *m = s->scan->m, *inv = lv->inv;
@@ -111,14 +118,16 @@ static void fill_row(const hv_scan_source *s, const hv_raster_grid *grid, double
         }
         if (!in) continue;
         mrow[c] = 1;
-        if (cols) paint(s, v, frac, plane, rowoff + (size_t)c);
+        if (cols) paint(s, v, frac, plane, rowoff + (size_t)c, hist);
     }
 }
 
-/* The materials of value v into pixel p's fractions. */
-static inline void paint(const hv_scan_source *s, double v, float *frac, size_t plane, size_t p)
+/* The materials of value v into pixel p's fractions; hist (a colour table's, or NULL) counts the
+ * nearest tabulated value. */
+static inline void paint(const hv_scan_source *s, double v, float *frac, size_t plane, size_t p, uint32_t *hist)
 {
     double b = HV_CLAMP((v - s->t0) * s->tscale, 0.0, (double)LUT_BINS);
+    if (hist) hist[(int)(b + 0.5)]++;
     int bi = (int)b, cols = s->cols;
     if (bi >= LUT_BINS) bi = LUT_BINS - 1;
     float w = (float)(b - (double)bi);
@@ -149,7 +158,7 @@ static inline int64_t axis_at(double x, int64_t n, double *t)
 }
 
 static hv_status aligned_layer(const hv_scan_source *s, double z, const hv_raster_grid *grid, uint8_t *mask,
-                               float *frac, size_t plane)
+                               float *frac, size_t plane, uint32_t *hist)
 {
     const hv_scan_level *lv = &s->lv;
     const double *m = s->scan->m, *inv = lv->inv;
@@ -204,7 +213,7 @@ static hv_status aligned_layer(const hv_scan_source *s, double z, const hv_raste
             int in = range ? fmin(v - sh->range[0], sh->range[1] - v) >= 0 : v - sh->iso >= 0;
             if (!in) continue;
             mrow[c] = 1;
-            if (frac) paint(s, v, frac, plane, rowoff + (size_t)c);
+            if (frac) paint(s, v, frac, plane, rowoff + (size_t)c, hist);
         }
     }
     free(ci);
@@ -216,15 +225,27 @@ static hv_status aligned_layer(const hv_scan_source *s, double z, const hv_raste
 static hv_status source_layer(const hv_layers_source *src, double z, const hv_raster_grid *grid, uint8_t *mask,
                               float *frac, size_t plane)
 {
-    const hv_scan_source *s = src->user;
+    hv_scan_source *s = src->user;
     memset(mask, 0, plane);
     if (!(z >= src->bbox_min[2] && z <= src->bbox_max[2])) return HV_OK;
-    if (aligned(s)) return aligned_layer(s, z, grid, mask, frac, plane);
-    for (int r = 0; r < grid->height; ++r) {
-        size_t rowoff = (size_t)r * (size_t)grid->width;
-        fill_row(s, grid, z, r, mask + rowoff, frac, plane, rowoff);
+    uint32_t *hist = NULL; /* this layer's count per tabulated value (a colour table's) */
+    if (frac && s->hits && !(hist = hv_calloc(LUT_BINS + 1, sizeof *hist))) return HV_ERR_NOMEM;
+    hv_status st = HV_OK;
+    if (aligned(s)) {
+        st = aligned_layer(s, z, grid, mask, frac, plane, hist);
+    } else {
+        for (int r = 0; r < grid->height; ++r) {
+            size_t rowoff = (size_t)r * (size_t)grid->width;
+            fill_row(s, grid, z, r, mask + rowoff, frac, plane, rowoff, hist);
+        }
     }
-    return HV_OK;
+    if (hist) {
+        pthread_mutex_lock(&s->lock);
+        for (int b = 0; b <= LUT_BINS; ++b) s->hits[b] += hist[b];
+        pthread_mutex_unlock(&s->lock);
+        free(hist);
+    }
+    return st;
 }
 
 /* The table at LUT_BINS + 1 values over its rows' range: materials as they are, colours as
@@ -240,12 +261,20 @@ static hv_status tabulate(hv_scan_source *s, const hv_lut *lut, hv_colour_map *m
     s->tscale = hi > lo ? LUT_BINS / (hi - lo) : 0;
     s->tab = hv_malloc_array(LUT_BINS + 1, (size_t)s->cols * sizeof *s->tab);
     if (!s->tab) return HV_ERR_NOMEM;
+    if (colour) {
+        s->rgb = hv_malloc_array(LUT_BINS + 1, 3);
+        s->hits = hv_calloc(LUT_BINS + 1, sizeof *s->hits);
+        if (!s->rgb || !s->hits) return HV_ERR_NOMEM;
+        s->lock_ok = pthread_mutex_init(&s->lock, NULL) == 0;
+        if (!s->lock_ok) return hv_error_set(HV_ERR_NOMEM, "scan: no mutex");
+    }
     for (int b = 0; b <= LUT_BINS; ++b) {
         float col[HV_MAX_MATERIALS];
         hv_lut_eval(lut, hi > lo ? lo + (hi - lo) * b / LUT_BINS : lo, col);
         if (colour) {
             uint8_t c8[4];
             for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(HV_CLAMP(col[k], 0.0f, 1.0f) * 255.0f);
+            memcpy(s->rgb + 3 * (size_t)b, c8, 3);
             hv_colour_map_fractions(map, c8, col);
         }
         memcpy(s->tab + (size_t)b * (size_t)s->cols, col, (size_t)s->cols * sizeof *col);
@@ -285,7 +314,8 @@ hv_status hv_scan_source_open(const hv_scan *scan, const hv_scan_shape *shape, c
     }
     s->src.table = s->table;
     s->src.name = s->name;
-    s->src.memory = (uint64_t)count * (4 + (s->member ? 1 : 0)) + (uint64_t)(LUT_BINS + 1) * (uint64_t)s->cols * 4;
+    s->src.memory = (uint64_t)count * (4 + (s->member ? 1 : 0)) + (uint64_t)(LUT_BINS + 1) * (uint64_t)s->cols * 4 +
+                    (s->hits ? (uint64_t)(LUT_BINS + 1) * 11 : 0);
     s->src.layer = source_layer;
     s->src.user = s;
     *out = s;
@@ -293,6 +323,75 @@ hv_status hv_scan_source_open(const hv_scan *scan, const hv_scan_shape *shape, c
 }
 
 const hv_layers_source *hv_scan_source_layers(const hv_scan_source *s) { return &s->src; }
+
+hv_status hv_layers_write_scan(const hv_scan *scan, const hv_scan_voxelize_options *shape, const hv_lut *lut,
+                               hv_colour_map *map, const char *dir, const hv_layers_options *opt,
+                               const hv_progress *progress, hv_layers_report *report, hv_colour_skin *colour,
+                               hv_material_table **table)
+{
+    hv_layers_options o = *opt;
+    hv_scan_voxelize_options so = *shape;
+    hv_colour_skin skin;
+    memset(&skin, 0, sizeof skin);
+    memset(report, 0, sizeof *report);
+    if (table) *table = NULL;
+    o.source = NULL;
+    o.manifest = NULL;
+    o.manifest_user = NULL;
+    hv_scan_source *src = NULL;
+    hv_volume *vol = NULL;
+    hv_status s;
+    if (hv_scan_prints_direct(&o, &so)) {
+        s = hv_scan_source_open(scan, &so.shape, o.mode == HV_LAYERS_MASK ? NULL : lut, map, &src);
+        if (s == HV_OK) o.source = hv_scan_source_layers(src);
+        if (s == HV_OK && map && o.mode == HV_LAYERS_HALFTONE &&
+            hv_scan_source_colour(src, &skin.samples, &skin.rgb, &skin.fractions, &skin.weight))
+            skin.map = map; /* the dE2000 of the colours asked for, as a painted mesh's */
+    } else {
+        so.progress = progress;
+        so.max_memory = o.max_memory;
+        /* (a scan's model records no requested colours: no dE2000, as the CLI's model path) */
+        s = hv_lut_scan_model(scan, &so, lut, map, &vol, NULL);
+    }
+    if (skin.map) {
+        o.manifest = hv_colour_manifest_hook;
+        o.manifest_user = &skin;
+    }
+    if (s == HV_OK) s = hv_layers_write(NULL, vol, dir, &o, progress, report);
+    if (s == HV_OK && table && report->materials > 0) {
+        const hv_material_table *t = src ? hv_layers_source_table(o.source) : NULL;
+        s = t ? hv_material_table_clone(t, table) : hv_material_table_load(vol, table);
+    }
+    if (colour) {
+        *colour = skin;
+        colour->model = NULL;
+        colour->map = s == HV_OK ? skin.map : NULL; /* `map` when the figures are there */
+        colour->samples = 0;
+        colour->rgb = NULL;
+        colour->fractions = NULL;
+        colour->weight = NULL;
+    }
+    hv_scan_source_close(src);
+    hv_volume_destroy(vol);
+    return s;
+}
+
+int hv_scan_prints_direct(const hv_layers_options *o, const hv_scan_voxelize_options *so)
+{
+    return !so->keep_largest && !so->fill_holes && so->min_feature == 0 && o->threshold == 0 &&
+           o->method == HV_LAYERS_RESAMPLE && !o->compare;
+}
+
+int hv_scan_source_colour(const hv_scan_source *s, size_t *n, const uint8_t **rgb, const float **fractions,
+                          const uint64_t **weight)
+{
+    if (!s || !s->hits) return 0;
+    *n = LUT_BINS + 1;
+    *rgb = s->rgb;
+    *fractions = s->tab;
+    *weight = s->hits;
+    return 1;
+}
 const hv_material_table *hv_layers_source_table(const hv_layers_source *src) { return src ? src->table : NULL; }
 
 void hv_scan_source_close(hv_scan_source *s)
@@ -302,6 +401,9 @@ void hv_scan_source_close(hv_scan_source *s)
     hv_material_table_destroy(s->table);
     free(s->tab);
     free(s->member);
+    free(s->rgb);
+    free(s->hits);
+    if (s->lock_ok) pthread_mutex_destroy(&s->lock);
     free(s->name);
     free(s);
 }

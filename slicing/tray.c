@@ -18,12 +18,15 @@
 #include "hovox/generate.h"
 #include "hovox/geometry.h"
 #include "hovox/image.h"
+#include "hovox/lut.h"
 #include "hovox/model.h"
+#include "hovox/scan.h"
 #include "hovox/solid.h"
 #include "hovox/tray.h"
 #include "hovox/volume.h"
 #include "hovox/voxelize.h"
 #include "layers_internal.h"
+#include "scan_source.h"
 
 #define CELL 0.5        /* footprint grid (mm) */
 #define RUN 8           /* consecutive tray layers per share of a process (MPI) */
@@ -47,7 +50,7 @@ static const hv_option k_part[] = {
      .help = "a graded model (absent: a plain mesh in `material`)"},
     {.key = "mesh", .kind = HV_OPT_STRING, .offset = POFF(mesh), .meta = "MESH.stl",
      .help = "the part's mesh (with a model: an override that must be the one it records; absent: the shape "
-             "the model records)"},
+             "the model records; none for a scan)"},
     {.key = "material", .kind = HV_OPT_STRING, .offset = POFF(material), .meta = "NAME",
      .help = "a plain mesh's material"},
     {.key = "materials", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .offset = POFF(materials),
@@ -64,6 +67,23 @@ static const hv_option k_part[] = {
     {.key = "copies", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = MAX_PARTS, .offset = POFF(copies),
      .meta = "N", .help = "copies in a row along +x"},
     HV_PLACEMENT_OPTIONS(hv_tray_part, place),
+    {.key = "scan", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = POFF(scan), .meta = "VOLUME",
+     .help = "a scanned volume (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM directory) in place of mesh and "
+             "model, printed from its data"},
+    {.key = "iso", .kind = HV_OPT_NUMBER, .offset = POFF(iso), .meta = "VALUE",
+     .help = "a scan's solid: where its trilinearly interpolated value is at least VALUE"},
+    {.key = "range", .kind = HV_OPT_NUMBER, .count = 2, .offset = POFF(range), .meta = "LO,HI",
+     .help = "a scan's solid where the interpolated value lies in [LO, HI]"},
+    {.key = "labels", .kind = HV_OPT_STRING, .offset = POFF(labels), .meta = "A,B,...",
+     .help = "a segmentation's labels: the solid where their interpolated indicator is at least 1/2"},
+    {.key = "lut", .kind = HV_OPT_STRING, .flags = HV_OPT_IN_PATH, .offset = POFF(lut), .meta = "TABLE.csv",
+     .help = "a scan's materials from its values (absent: the part prints in its material)"},
+    {.key = "keep_largest", .kind = HV_OPT_FLAG, .offset = POFF(keep_largest),
+     .help = "a scan's largest connected part only (its model is made in memory)"},
+    {.key = "fill_holes", .kind = HV_OPT_FLAG, .offset = POFF(fill_holes),
+     .help = "a scan's enclosed cavities filled (its model is made in memory)"},
+    {.key = "min_feature", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = POFF(min_feature), .meta = "MM",
+     .unit = "mm", .help = "a scan's parts and cavities smaller than a ball of this diameter dropped and filled"},
 };
 #undef POFF
 
@@ -79,14 +99,30 @@ static hv_status part_materials_check(const hv_tray_part *p)
     return HV_OK;
 }
 
+/* The scan keys besides `scan` itself: refused on a mesh part. */
+static const char *const k_scan_keys[] = {"iso", "range", "labels", "lut", "keep_largest", "fill_holes", "min_feature"};
+
 static hv_status part_finish(const hv_optargs *args)
 {
     hv_tray_part *p = args->opts;
-    p->placed = hv_optargs_given(args, "at");
+    p->placed = p->placed || hv_optargs_given(args, "at");
     if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
     if (p->model && p->material)
         return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
-    return part_materials_check(p);
+    hv_status st = part_materials_check(p);
+    if (st != HV_OK) return st;
+    if (!p->scan) {
+        for (size_t k = 0; k < HV_COUNT(k_scan_keys); ++k)
+            if (hv_optargs_given(args, k_scan_keys[k]))
+                return hv_error_option(HV_ERR_INVALID, "{%s} is for a scanned volume's part", k_scan_keys[k]);
+        return HV_OK;
+    }
+    /* a scan's shape: the key given picks it, as `hovox layers VOLUME` takes it */
+    int iso = hv_optargs_given(args, "iso"), range = hv_optargs_given(args, "range"), labels = hv_optargs_given(args, "labels");
+    if (iso + range + labels != 1)
+        return hv_error_option(HV_ERR_INVALID, "a scanned volume's part needs one of {iso}, {range} or {labels}");
+    p->select = iso ? HV_SCAN_SELECT_ISO : range ? HV_SCAN_SELECT_RANGE : HV_SCAN_SELECT_LABELS;
+    return HV_OK;
 }
 
 void hv_tray_part_init(hv_tray_part *p)
@@ -185,9 +221,13 @@ typedef struct source {   /* one part as given (copies share it) */
     hv_tray_part p;       /* strings owned (strdup) */
     char *where;          /* "job.json: line 7, column 5", or NULL */
     int number;           /* part N, in the order added */
-    hv_mesh *mesh;        /* rotated; from_model: the leaves that bound the shape */
-    hv_volume *model;     /* rotated; NULL for plain meshes */
+    hv_mesh *mesh;        /* rotated; from_model: the leaves that bound the shape; NULL for a scan */
+    hv_volume *model;     /* rotated; NULL for plain meshes and a scan printed from its data */
     int from_model;       /* no mesh given: the shape the model records (issue 28) */
+    hv_scan *scan;        /* a scan part's volume, placed and turned (NULL once its model is made) */
+    hv_scan_source *ssrc; /* a scan printed from its data (issue 30), or NULL */
+    int32_t *labels;      /* a scan's labels (its shape points at them) */
+    int graded;           /* materials from a table (a model's, a scan's lookup table), not one material */
     double bmin[3], bmax[3];
     footprint fp, dil;    /* dil: dilated by the spacing */
     int resin[HV_MAX_MATERIALS]; /* palette entry of each material (plain meshes: [0]) */
@@ -266,9 +306,15 @@ static void unplan(hv_tray *t)
         source *s = &t->src[i];
         hv_mesh_destroy(s->mesh);
         hv_volume_destroy(s->model);
+        hv_scan_source_close(s->ssrc);
+        hv_scan_destroy(s->scan);
+        free(s->labels);
         s->mesh = NULL;
         s->model = NULL;
         s->from_model = 0;
+        s->ssrc = NULL;
+        s->scan = NULL;
+        s->labels = NULL;
         fp_free(&s->fp);
         fp_free(&s->dil);
     }
@@ -286,6 +332,9 @@ void hv_tray_destroy(hv_tray *t)
         free((char *)s->p.material);
         free((char *)s->p.name);
         for (int k = 0; k < s->p.materials.n; ++k) free((char *)s->p.materials.pair[k]);
+        free((char *)s->p.scan);
+        free((char *)s->p.lut);
+        free((char *)s->p.labels);
         free(s->where);
     }
     free(t->src);
@@ -338,11 +387,20 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     hv_status st = hv_options_check(&k_part_set, part);
     if (st == HV_OK && part->rotation % 90)
         st = hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", part->rotation);
-    if (st == HV_OK && !part->mesh && !part->model) st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh} or a {model}");
-    if (st == HV_OK && !part->mesh && hv_placement_given(&part->place))
+    if (st == HV_OK && !part->mesh && !part->model && !part->scan)
+        st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh}, a {model} or a {scan}");
+    if (st == HV_OK && !part->mesh && !part->scan && hv_placement_given(&part->place))
         st = hv_error_set(HV_ERR_INVALID, "%s: a part from a model alone is placed as the model records it: the "
                                           "placement options move a mesh", part->model);
     if (st == HV_OK) st = part_materials_check(part);
+    if (st == HV_OK && part->scan && (part->mesh || part->model))
+        st = hv_error_option(HV_ERR_INVALID, "a scanned volume's part is printed from its data: it takes no {mesh} or {model}");
+    if (st == HV_OK && part->scan && part->lut && part->material)
+        st = hv_error_option(HV_ERR_INVALID, "a scanned volume's part takes its materials from its {lut} or prints "
+                             "in one {material}, not both");
+    if (st == HV_OK && part->scan && !part->lut && !part->material)
+        st = hv_error_option(HV_ERR_INVALID, "a scanned volume's part needs a {lut} (its materials from its values) "
+                             "or a {material} to print in");
     if (st != HV_OK) return where ? hv_error_prefix(st, "%s: part %d: ", where, t->nsrc + 1) : st;
     size_t cap = (size_t)t->cap;
     if ((st = hv_grow((void **)&t->src, &cap, (size_t)t->nsrc + 1, sizeof *t->src)) != HV_OK) return st;
@@ -354,7 +412,10 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     s->p.model = dup_or_null(part->model, &bad);
     s->p.mesh = dup_or_null(part->mesh, &bad);
     s->p.material = dup_or_null(part->material, &bad);
-    s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh ? part->mesh : part->model), &bad);
+    s->p.scan = dup_or_null(part->scan, &bad);
+    s->p.lut = dup_or_null(part->lut, &bad);
+    s->p.labels = dup_or_null(part->labels, &bad);
+    s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh ? part->mesh : part->scan ? part->scan : part->model), &bad);
     for (int k = 0; k < part->materials.n; ++k) s->p.materials.pair[k] = dup_or_null(part->materials.pair[k], &bad);
     s->where = dup_or_null(where, &bad);
     s->number = t->nsrc + 1;
@@ -766,8 +827,94 @@ static void size_warning(hv_tray *t, const source *s, const hv_mesh *mesh, const
     hv_error_clear();
 }
 
+/* A footprint that covers the box (a scan's: its shape's xy box). */
+static hv_status fp_box(const double bmin[3], const double bmax[3], footprint *f)
+{
+    int w = HV_MAX((int)ceil((bmax[0] - bmin[0]) / CELL - 1e-6), 1);
+    int h = HV_MAX((int)ceil((bmax[1] - bmin[1]) / CELL - 1e-6), 1);
+    hv_status s = fp_alloc(f, w, h);
+    if (s != HV_OK) return s;
+    f->x0 = bmin[0];
+    f->y0 = bmin[1];
+    for (int r = 0; r < h; ++r) {
+        f->lo[r] = 0;
+        f->hi[r] = w - 1;
+    }
+    f->area = w * h * CELL * CELL;
+    return HV_OK;
+}
+
+/* A scan's shape and materials (issue 30): the scan read under the budget, placed and turned (its
+ * affine moved), then printed from its data (hv_scan_source, as `layers VOLUME`), or, with a
+ * clean-up that needs the whole volume, its model made in memory (hv_lut_scan_model) and the scan
+ * let go. Its box is its shape's. */
+static hv_status load_scan(source *s, const hv_tray_options *o)
+{
+    const hv_tray_part *p = &s->p;
+    hv_scan_options so = {o->max_memory};
+    hv_status st = hv_scan_load(p->scan, &so, &s->scan);
+    double a[12];
+    if (st == HV_OK && hv_placement_given(&p->place) && (st = hv_placement_matrix(&p->place, a)) == HV_OK)
+        st = hv_scan_transform(s->scan, a);
+    if (st == HV_OK && (p->rotation / 90) % 4) {
+        quarter_matrix((p->rotation / 90) % 4, a);
+        st = hv_scan_transform(s->scan, a);
+    }
+    hv_scan_shape shape = {(hv_scan_select)p->select, p->iso, {p->range[0], p->range[1]}, NULL, 0};
+    if (st == HV_OK && p->select == HV_SCAN_SELECT_LABELS) {
+        st = hv_scan_labels_parse(p->labels, &s->labels, &shape.label_count);
+        shape.labels = s->labels;
+    }
+    hv_lut *lut = NULL;
+    hv_colour_map *map = NULL;
+    if (st == HV_OK && p->lut) st = hv_lut_load(p->lut, &lut);
+    if (st == HV_OK && lut && hv_lut_kind_of(lut) == HV_LUT_COLOUR) { /* the default map's resins */
+        hv_colour_options co;
+        hv_colour_options_init(&co);
+        st = hv_colour_map_create(&co, &map);
+    }
+    s->graded = lut != NULL;
+    if (st == HV_OK && (p->keep_largest || p->fill_holes || p->min_feature > 0)) {
+        hv_scan_voxelize_options vo;
+        hv_scan_voxelize_options_init(&vo);
+        vo.shape = shape;
+        vo.keep_largest = p->keep_largest;
+        vo.fill_holes = p->fill_holes;
+        vo.min_feature = p->min_feature;
+        vo.max_memory = o->max_memory;
+        st = hv_lut_scan_model(s->scan, &vo, lut, map, &s->model, NULL);
+        hv_solid *solid = NULL;
+        if (st == HV_OK) st = hv_solid_for_model(s->model, NULL, "tray", p->scan, NULL, NULL, &solid);
+        if (st == HV_OK) hv_solid_bbox(solid, s->bmin, s->bmax);
+        hv_solid_close(solid);
+        hv_scan_destroy(s->scan); /* the model's shape holds its samples */
+        s->scan = NULL;
+    } else if (st == HV_OK) {
+        st = hv_scan_source_open(s->scan, &shape, lut, map, &s->ssrc);
+        if (st == HV_OK) {
+            const hv_layers_source *ls = hv_scan_source_layers(s->ssrc);
+            memcpy(s->bmin, ls->bbox_min, sizeof s->bmin);
+            memcpy(s->bmax, ls->bbox_max, sizeof s->bmax);
+        }
+    }
+    hv_lut_destroy(lut);
+    hv_colour_map_destroy(map);
+    if (st == HV_OK && !(s->bmax[2] > s->bmin[2]))
+        st = hv_error_set(HV_ERR_INVALID, "%s: no sample is inside the shape (%s)", p->scan,
+                          p->select == HV_SCAN_SELECT_ISO ? "iso" : p->select == HV_SCAN_SELECT_RANGE ? "range" : "labels");
+    if (st == HV_OK) st = fp_box(s->bmin, s->bmax, &s->fp);
+    if (st == HV_OK) st = fp_dilate(&s->fp, o->spacing, &s->dil);
+    return st;
+}
+
 static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
 {
+    if (s->p.scan) {
+        hv_status st = load_scan(s, o);
+        return st == HV_OK ? st
+               : s->where ? hv_error_prefix(st, "%s: part %d (%s): ", s->where, s->number, s->p.name)
+                          : hv_error_prefix(st, "part %d (%s): ", s->number, s->p.name);
+    }
     hv_mesh *mesh = NULL;
     hv_volume *model = NULL;
     int q = (s->p.rotation / 90) % 4;
@@ -816,6 +963,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     }
     s->mesh = mesh;
     s->model = model;
+    s->graded = model != NULL;
     const hv_mesh_report *mr = hv_mesh_get_report(mesh);
     memcpy(s->bmin, mr->bbox_min, sizeof s->bmin);
     memcpy(s->bmax, mr->bbox_max, sizeof s->bmax);
@@ -893,13 +1041,14 @@ static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
     for (int i = 0; i < t->nsrc; ++i) {
         source *s = &t->src[i];
         hv_status st;
-        if (!s->model) {
+        if (!s->graded) {
             s->m = 1;
             s->mat_name[0] = s->p.material;
             if ((st = resin_of(t, o, s->p.material, src_label(s, lb, sizeof lb), &s->resin[0])) != HV_OK) return st;
         } else {
             hv_material_table *tab = NULL;
-            st = hv_material_table_load(s->model, &tab);
+            st = s->ssrc ? hv_material_table_clone(hv_layers_source_table(hv_scan_source_layers(s->ssrc)), &tab)
+                         : hv_material_table_load(s->model, &tab);
             if (st == HV_ERR_NOT_FOUND)
                 return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s has no materials (grade it first, or print the mesh "
                                                       "alone with a material)", src_label(s, lb, sizeof lb), s->p.model);
@@ -1086,12 +1235,13 @@ static void part_options(const hv_tray *t, const hv_tray_options *o, const sourc
     lo->dpi[0] = t->profile->dpi[0];
     lo->dpi[1] = t->profile->dpi[1];
     lo->layer_height = t->profile->layer_height;
-    lo->mode = o->mode == HV_LAYERS_MASK || !s->model ? HV_LAYERS_MASK : HV_LAYERS_HALFTONE;
+    lo->mode = o->mode == HV_LAYERS_MASK || !s->graded ? HV_LAYERS_MASK : HV_LAYERS_HALFTONE;
     lo->seed = o->seed;
     lo->margin = 0;
     lo->cache_dir = o->cache_dir;
     lo->mesh_name = s->p.mesh;
-    lo->model_name = s->p.model;
+    lo->model_name = s->p.scan ? s->p.scan : s->p.model;
+    lo->source = s->ssrc ? hv_scan_source_layers(s->ssrc) : NULL;
     lo->max_memory = o->max_memory;
 }
 
@@ -1173,7 +1323,14 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         total += t->src[i].p.copies;
         if (total > MAX_PARTS) st = hv_error_set(HV_ERR_LIMIT, "tray: more than %d parts", MAX_PARTS);
     }
-    for (int i = 0; i < t->nsrc && st == HV_OK; ++i) st = load_source(t, &t->src[i], o);
+    for (int i = 0; i < t->nsrc && st == HV_OK; ++i) {
+        if (o->stl_path && t->src[i].p.scan) {
+            char lb[512];
+            st = hv_error_option(HV_ERR_INVALID, "{stl} writes the parts' meshes; %s is a scan, which has none",
+                                 src_label(&t->src[i], lb, sizeof lb));
+        }
+        if (st == HV_OK) st = load_source(t, &t->src[i], o);
+    }
     if (st == HV_OK) st = setup_palette(t, o);
     if (st == HV_OK && !(t->inst = hv_calloc((size_t)total, sizeof *t->inst))) st = HV_ERR_NOMEM;
     for (int i = 0; i < t->nsrc && st == HV_OK; ++i)
@@ -1204,6 +1361,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         t->nlayers = HV_MAX(t->nlayers, in->lift + in->layers);
         /* the part's decoded voxel layers, which the threads read (hv_layers_part_prepare) */
         t->memory += hv_layers_part_memory(in->part) + (3 * INFLIGHT + 1) * hv_layers_part_slab_bytes(in->part);
+        if (in->copy && s->ssrc) t->memory -= hv_scan_source_layers(s->ssrc)->memory; /* copies share the data */
         hv_layers_scratch_need_add(&need, in->part);
     }
     /* issue 32 item 21: a bounded number of layers in flight (packed plate images and their
@@ -1218,6 +1376,13 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
     t->inflight = HV_MIN(INFLIGHT, threads);
     while (t->inflight > 1 && budget && t->memory + scratch + (uint64_t)t->inflight * plate > budget) --t->inflight;
     t->memory += scratch + (uint64_t)t->inflight * plate;
+    if (st == HV_OK && budget && t->memory > budget) { /* issue 30: a scan's data is most of it */
+        char nt[32], bt[32];
+        st = hv_error_option(HV_ERR_LIMIT, "tray: the job needs about %s (the parts' data and tables, %d worker%s' "
+                             "buffers, %d plate image%s), more than the budget of %s ({max_memory})",
+                             hv_size_text(nt, sizeof nt, (double)t->memory), threads, threads == 1 ? "" : "s",
+                             t->inflight, t->inflight == 1 ? "" : "s", hv_size_text(bt, sizeof bt, (double)budget));
+    }
     if (st == HV_OK && (o->first >= t->nlayers || (o->last && o->last > t->nlayers)))
         st = hv_error_option(HV_ERR_INVALID, "tray: {layers} %zu:%zu is outside the tray's %zu layers", o->first,
                              o->last, t->nlayers);
@@ -1321,7 +1486,7 @@ static hv_status draw_part(wjob *J, hv_layers_scratch *sc, int i, size_t li)
     uint8_t lut[HV_MAX_MATERIALS + 2];
     lut[0] = 0;
     for (int j = 0; j < s->m; ++j) lut[j + 1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[j]);
-    if (!s->model) lut[1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[0]);
+    if (!s->graded) lut[1] = (uint8_t)(J->o->mode == HV_LAYERS_MASK ? 1 : s->resin[0]);
     /* the columns of the part's image that fall on the plate */
     int ca = HV_MAX(0, -in->c0), cb = HV_MIN(in->w, t->W - in->c0);
     for (int r = 0; r < in->h && ca < cb; ++r) {
@@ -1581,6 +1746,7 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
         failed |= hv_json_set(p, "name", hv_json_text(s->p.name));
         failed |= hv_json_set(p, "copy", json_integer(in->copy + 1));
         failed |= hv_json_set(p, "mesh", s->p.mesh ? hv_json_text(s->p.mesh) : json_null()); /* null: the model's own */
+        if (s->p.scan) failed |= hv_json_set(p, "scan", hv_json_text(s->p.scan));
         failed |= hv_json_set(p, "model", s->p.model ? hv_json_text(s->p.model) : json_null());
         failed |= hv_json_set(p, "at_mm", num2(in->x, in->y));
         failed |= hv_json_set(p, "lift_layers", json_integer((json_int_t)in->lift));
@@ -1610,7 +1776,7 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
         for (int j = 0; j < s->m; ++j) {
             json_t *mj = json_object();
             failed |= hv_json_set(mj, "resin", hv_json_text(t->resins[t->pal_resin[s->resin[j]]].name));
-            if (s->model && o->mode == HV_LAYERS_HALFTONE) {
+            if (s->graded && o->mode == HV_LAYERS_HALFTONE) {
                 failed |= hv_json_set(mj, "target", hv_json_number(pr.target[j]));
                 failed |= hv_json_set(mj, "achieved", hv_json_number(pr.achieved[j]));
             }
@@ -1653,8 +1819,12 @@ static uint64_t tray_hash(const hv_tray *t, size_t first, size_t last)
     }
     for (int i = 0; i < t->nsrc; ++i) {
         const source *S = &t->src[i];
-        h = hv_plan_hash(h, hv_mesh_vertices(S->mesh), 3 * sizeof(float) * hv_mesh_vertex_count(S->mesh));
-        h = hv_plan_hash(h, hv_mesh_facets(S->mesh), 3 * sizeof(uint32_t) * hv_mesh_facet_count(S->mesh));
+        h = hv_plan_hash(h, S->bmin, sizeof S->bmin);
+        h = hv_plan_hash(h, S->bmax, sizeof S->bmax);
+        if (S->mesh) {
+            h = hv_plan_hash(h, hv_mesh_vertices(S->mesh), 3 * sizeof(float) * hv_mesh_vertex_count(S->mesh));
+            h = hv_plan_hash(h, hv_mesh_facets(S->mesh), 3 * sizeof(uint32_t) * hv_mesh_facet_count(S->mesh));
+        }
         if (S->model) {
             hv_transform xf = hv_volume_get_transform(S->model);
             uint64_t leaves = hv_volume_leaf_count(S->model);

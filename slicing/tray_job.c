@@ -75,7 +75,7 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
         return at(r, node, 1, s);
     }
     int is_path = o->kind == HV_OPT_STRING && (strcmp(key, "model") == 0 || strcmp(key, "mesh") == 0 ||
-                                               (o->flags & HV_OPT_OUT_PATH));
+                                               (o->flags & (HV_OPT_OUT_PATH | HV_OPT_IN_PATH)));
     switch (json_typeof(v)) {
     case JSON_STRING:
         ov.text = keep(r, json_string_value(v), is_path);
@@ -106,6 +106,25 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
                 if ((s = set_value(r, args, key, json_array_get(v, i), hv_json_where_element(r->where, node, i))) != HV_OK)
                     return s;
             return HV_OK;
+        }
+        if (o->kind == HV_OPT_STRING && n > 0) { /* a list of integers for a text option: "A,B,..." (labels) */
+            hv_buf b;
+            hv_buf_init(&b);
+            for (size_t i = 0; i < n; ++i) {
+                const json_t *e = json_array_get(v, i);
+                if (!json_is_integer(e)) {
+                    hv_buf_free(&b);
+                    return at(r, hv_json_where_element(r->where, node, i), 0,
+                              hv_error_set(HV_ERR_INVALID, "%s must be a list of integers; item %zu is %s", key, i + 1,
+                                           json_is_number(e) ? "not an integer" : type_name(e)));
+                }
+                hv_buf_printf(&b, "%s%lld", i ? "," : "", (long long)json_integer_value(e));
+            }
+            ov.text = b.failed ? NULL : keep(r, b.data, 0);
+            hv_buf_free(&b);
+            if (!ov.text) return HV_ERR_NOMEM;
+            s = hv_optargs_set(args, key, &ov);
+            return s == HV_OK ? s : at(r, node, 0, s);
         }
         if (n > 64) return at(r, node, 0, hv_error_set(HV_ERR_INVALID, "%s has %zu values (at most 64)", key, n));
         for (size_t i = 0; i < n; ++i) {

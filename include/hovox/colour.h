@@ -119,17 +119,30 @@ typedef struct hv_colour_skin_report {
  * HV_ERR_NOT_FOUND (no colour grids). */
 HV_API hv_status hv_colour_skin_error(const hv_volume *model, const hv_colour_map *map,
                                       const double scale[HV_COLOUR_SLOTS], hv_colour_skin_report *out);
+/* The same over weighted samples in place of a model's voxels (a scan printed from a colour lookup
+ * table, issue 30: its tabulated values): sample i asks for the sRGB colour rgb[3i .. 3i+2] and prints
+ * the fractions fractions[6i .. 6i+5] at weight[i] printer voxels (weight 0: left out); out->voxels
+ * sums the weights, the mean is weighted. Never fails (HV_OK). */
+HV_API hv_status hv_colour_samples_error(const hv_colour_map *map, size_t n, const uint8_t *rgb, const float *fractions,
+                                         const uint64_t *weight, const double scale[HV_COLOUR_SLOTS],
+                                         hv_colour_skin_report *out);
 
 /* A stack manifest hook (hv_stack_manifest_fn of hovox/layers.h; user an hv_colour_skin whose
- * model and map the caller sets): adds "colour" {icc, description, intent, skin_voxels,
- * mean_de2000_target, max_de2000_target, and mean_de2000_achieved when the manifest's materials
- * have "achieved" (halftone): the fractions scaled per resin by achieved / target}, and fills
- * target, achieved and has_achieved. */
+ * model and map the caller sets, or map and samples in place of the model): adds "colour" {icc,
+ * description, intent, skin_voxels (samples: printer_voxels), mean_de2000_target,
+ * max_de2000_target, and mean_de2000_achieved when the manifest's materials have "achieved"
+ * (halftone): the fractions scaled per resin by achieved / target}, and fills target, achieved
+ * and has_achieved. */
 typedef struct hv_colour_skin {
     const hv_volume *model;
     hv_colour_map *map;
     hv_colour_skin_report target, achieved;
     int has_achieved;
+    /* without a model: hv_colour_samples_error's samples (borrowed) */
+    size_t samples;
+    const uint8_t *rgb;
+    const float *fractions;
+    const uint64_t *weight;
 } hv_colour_skin;
 HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
 

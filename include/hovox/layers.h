@@ -5,8 +5,12 @@
 #ifndef HOVOX_LAYERS_H
 #define HOVOX_LAYERS_H
 
+#include "hovox/colour.h"
+#include "hovox/lut.h"
+#include "hovox/material.h"
 #include "hovox/mesh.h"
 #include "hovox/options.h"
+#include "hovox/scan.h"
 #include "hovox/slice.h"
 #include "hovox/volume.h"
 
@@ -314,7 +318,7 @@ HV_API hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, co
                                  const hv_layers_options *opt, const hv_progress *progress,
                                  hv_layers_report *report);
 
-/* ==== one step from a mesh (issue 27) =======================================================
+/* ==== one step from a mesh (issue 27) ================================================
  *
  * A mesh (STL, OBJ, PLY, a 3MF without volume data: an assembly of bodies) printed with no model
  * file, as `hovox layers PART.3mf -o DIR` prints it: its model made in memory as `hovox voxelize`
@@ -352,6 +356,24 @@ HV_API const hv_option_set *hv_layers_mesh_option_set(void);
  * hv_body_materials_apply, hv_layers_mesh_model and hv_layers_write. */
 HV_API hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options *mo, const char *dir, const hv_layers_options *o, const hv_progress *progress,
                                       hv_layers_report *report);
+=======
+/* A scanned volume printed as `hovox layers VOLUME` prints it (issue 30; the Lua and Python
+ * front ends' one path, the same bytes as the CLI's): straight from its data at the printer's
+ * pixel centres, no model (slicing/scan_source.c), or, with a clean-up in `shape` (keep_largest,
+ * fill_holes, min_feature), a threshold band, the direct method or a comparison in `opt`, through
+ * its model made in memory (hv_lut_scan_model) cut like any model. `shape` gives the shape (its
+ * progress and max_memory are set from these arguments); `lut` the materials (NULL: mode mask
+ * only), `map` a colour table's colour map (borrowed). opt's source and manifest hook are the
+ * function's own (a colour table adds the mean dE2000 to the manifest, hv_colour_manifest_hook).
+ * colour (may be NULL) gets a colour table's figures (target, achieved, has_achieved; voxels:
+ * printer voxels; map: `map` when they were computed, else NULL; model and samples NULL); *table (may be NULL) the stack's material
+ * table (NULL in mask mode; free with hv_material_table_destroy). Errors: those of
+ * hv_layers_write, hv_lut_scan_model and the scan source (HV_ERR_INVALID: a colour table
+ * without a map). */
+HV_API hv_status hv_layers_write_scan(const hv_scan *scan, const hv_scan_voxelize_options *shape, const hv_lut *lut,
+                                      hv_colour_map *map, const char *dir, const hv_layers_options *opt,
+                                      const hv_progress *progress, hv_layers_report *report, hv_colour_skin *colour,
+                                      hv_material_table **table);
 
 #ifdef __cplusplus
 }

@@ -93,6 +93,11 @@ HV_API const hv_scan_info *hv_scan_get_info(const hv_scan *scan);
 /* The path (or name) it was read from; owned by the scan. */
 HV_API const char *hv_scan_name(const hv_scan *scan);
 
+/* Move the scan in the world: x' = A x + t for every sample centre, `a` 3x4 row-major as
+ * hv_mesh_transform takes it (a placement's matrix, a quarter turn on a tray). The samples stay.
+ * Errors: HV_ERR_INVALID (a non-finite or singular map; the scan is unchanged). */
+HV_API hv_status hv_scan_transform(hv_scan *scan, const double a[12]);
+
 /* ==== the shape of a scan ======================================================================
  * Which part of the field is solid: the level function g >= 0, evaluated by trilinear
  * interpolation of the samples at any world point (not blocky thresholding), so the surface sits
@@ -111,6 +116,11 @@ typedef struct hv_scan_shape {
     const int32_t *labels; /* label_count of them (1..65536); the caller's */
     size_t label_count;
 } hv_scan_shape;
+
+/* A segmentation's label list as text, "1,2,5" (integers of 32 bits, 1 to 65536 of them), into
+ * *labels (malloc'd, *count of them; free() it). Errors: HV_ERR_INVALID naming {labels} ("{labels}
+ * must be integers A,B,..., got '1,x'", "{labels} must name at least one label"), HV_ERR_NOMEM. */
+HV_API hv_status hv_scan_labels_parse(const char *text, int32_t **labels, size_t *count);
 
 /* ==== a model from a scan, no mesh (src/voxel/scan_voxelize.c) ==================================== */
 typedef struct hv_scan_voxelize_options {

@@ -38,7 +38,8 @@ extern "C" {
 HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
 
 /* A part as options (hv_tray_part_option_set): model (a graded .vdb; absent for a plain mesh),
- * mesh (.stl, .obj, .ply, .3mf; with a model an override that must be the mesh it records; absent:
+ * mesh (.stl, .obj, .ply, .3mf; with a model an override that must be the mesh it records; absent for a
+ * scan; absent with a model:
  * the shape the model records, its Booleans included, cut as hv_layers_write cuts it, and no
  * placement options; a model without a record is refused naming the part), material (a plain mesh's one material; without a model
  * and a material, the mesh's bodies in their own materials: its model is made in memory as
@@ -50,7 +51,14 @@ HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
  * rotation (0, 90, 180, 270 degrees about z), copies (>= 1, placed in a row along +x), and the
  * placement of the mesh (hovox/placement.h: unit, up, scale, rotate, translate; applied to the mesh
  * when it is read, before `rotation`; a model must have been voxelized from the mesh so placed).
- * Paths are borrowed. */
+ * A scanned volume (issue 30) is a part with `scan` (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a
+ * DICOM directory) in place of mesh and model: its shape is one of iso, range or labels ("A,B,...";
+ * a job file may give a list), as `hovox layers VOLUME` takes them, its materials those of `lut`
+ * (a lookup table: materials, or a colour table's resins through the default colour map) or, without
+ * one, `material`. It is printed straight from its data at the printer's pixel centres as
+ * hv_scan_source prints `layers VOLUME` (no model); with keep_largest, fill_holes or min_feature
+ * its model is made in memory as hv_lut_scan_model makes it. The placement and `rotation` move its
+ * index-to-world affine; its footprint is its shape's xy box. Paths are borrowed. */
 typedef struct hv_tray_part {
     const char *model, *mesh, *material, *name;
     double at[2];
@@ -60,6 +68,10 @@ typedef struct hv_tray_part {
     int placed; /* `at` given */
     hv_placement place;
     hv_body_materials materials;
+    const char *scan, *lut, *labels; /* a scanned volume, its lookup table, its labels "A,B,..." */
+    int select;                      /* hv_scan_select: set by the key given (iso, range, labels) */
+    double iso, range[2], min_feature;
+    int keep_largest, fill_holes;
 } hv_tray_part;
 HV_API void hv_tray_part_init(hv_tray_part *p);
 HV_API const hv_option_set *hv_tray_part_option_set(void);

@@ -40,6 +40,7 @@ from ._hovox import (  # noqa: F401
     facets,
     halfspace,
     join_meshes,
+    layers_scan,
     line,
     load,
     load_mesh,

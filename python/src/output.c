@@ -9,7 +9,10 @@
 
 #include "hovox/export.h"
 #include "hovox/image.h"
+#include "hovox/colour.h"
 #include "hovox/layers.h"
+#include "hovox/lut.h"
+#include "hovox/scan.h"
 #include "hovox/plot.h"
 #include "hovox/profile.h"
 #include "hovox/render.h"
@@ -400,7 +403,151 @@ static PyMethodDef model_output_methods[] = {
     {NULL, NULL, 0, NULL},
 };
 
+/* The keys of sets a and b and of `more` (NULL-terminated) into keys (n entries), NULL-terminated: what
+ * a third set of the same keywords leaves to the others. */
+static void keys_but(const hv_option_set *a, const hv_option_set *b, const char *const *more, const char **keys, size_t n)
+{
+    size_t k = 0;
+    for (int i = 0; i < a->count && k + 1 < n; ++i) keys[k++] = a->options[i].key;
+    for (int i = 0; i < b->count && k + 1 < n; ++i) keys[k++] = b->options[i].key;
+    for (size_t i = 0; more[i] && k + 1 < n; ++i) keys[k++] = more[i];
+    keys[k] = NULL;
+}
+
+/* labels=[A, B, ...] into the shape (the array in *out, freed by the caller). */
+static int labels_kw(PyObject *v, hv_scan_voxelize_options *so, int32_t **out)
+{
+    PyObject *seq = PySequence_Fast(v, "labels must be a sequence of integers");
+    if (!seq) return -1;
+    Py_ssize_t n = PySequence_Fast_GET_SIZE(seq);
+    if (n < 1 || n > 65536) {
+        Py_DECREF(seq);
+        hvpy_raise(HV_ERR_INVALID, "labels must name 1 to 65536 labels, got %zd", n);
+        return -1;
+    }
+    *out = malloc((size_t)n * sizeof **out);
+    if (!*out) {
+        Py_DECREF(seq);
+        PyErr_NoMemory();
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < n; ++i) {
+        PyObject *x = PySequence_Fast_GET_ITEM(seq, i);
+        long long l = PyLong_Check(x) ? PyLong_AsLongLong(x) : INT64_MAX;
+        if (l < INT32_MIN || l > INT32_MAX) {
+            PyErr_Clear();
+            Py_DECREF(seq);
+            hvpy_raise(HV_ERR_INVALID, "labels[%zd] must be an integer of 32 bits", i);
+            return -1;
+        }
+        (*out)[i] = (int32_t)l;
+    }
+    Py_DECREF(seq);
+    so->shape.select = HV_SCAN_SELECT_LABELS;
+    so->shape.labels = *out;
+    so->shape.label_count = (size_t)n;
+    return 0;
+}
+
+/* hovox.layers_scan(path, dir, *, iso=V | range=(LO, HI) | labels=[A, B, ...], lut=None, icc, intent,
+ * resins, keep_largest, fill_holes, min_feature, voxel_size, progress=None, **options of `hovox layers`)
+ * -> the report of Model.layers: a scanned volume printed as `hovox layers VOLUME` prints it, the same
+ * bytes (hv_layers_write_scan: straight from its data, or through its model with a clean-up) */
+static PyObject *py_layers_scan(PyObject *self, PyObject *args, PyObject *kw)
+{
+    (void)self;
+    static const char *const own[] = {"dir", "labels", "lut", NULL};
+    PyObject *path_o = NULL, *pos = NULL;
+    if (!PyArg_ParseTuple(args, "O|O:layers_scan", &path_o, &pos)) return NULL;
+    out_call oc;
+    PyObject *res = NULL;
+    int32_t *labels = NULL;
+    hv_lut *lut = NULL;
+    hv_colour_map *map = NULL;
+    hv_scan *scan = NULL;
+    hv_material_table *t = NULL;
+    if (out_begin(&oc, kw) < 0) goto done;
+    const char *keys_l[192], *keys_s[192], *keys_c[192];
+    keys_but(hv_scan_voxelize_option_set(), hv_colour_option_set(), own, keys_l, sizeof keys_l / sizeof *keys_l);
+    keys_but(hv_layers_option_set(), hv_colour_option_set(), own, keys_s, sizeof keys_s / sizeof *keys_s);
+    keys_but(hv_layers_option_set(), hv_scan_voxelize_option_set(), own, keys_c, sizeof keys_c / sizeof *keys_c);
+    hv_layers_options o;
+    hv_scan_voxelize_options so;
+    hv_colour_options co;
+    if (hvpy_read_options(oc.rest, hv_layers_option_set(), &o, keys_l, &oc.a) < 0 ||
+        hvpy_read_options(oc.rest, hv_scan_voxelize_option_set(), &so, keys_s, &oc.a) < 0 ||
+        hvpy_read_options(oc.rest, hv_colour_option_set(), &co, keys_c, &oc.a) < 0)
+        goto done;
+    const char *path = hvpy_arena_str(&oc.a, path_o, "path");
+    if (!path) goto done;
+    const char *dir = out_path(&oc, pos, "dir", "the stack's directory");
+    if (!dir) goto done;
+    PyObject *lv = hvpy_kw(oc.rest, "lut");
+    const char *lut_path = lv ? hvpy_arena_str(&oc.a, lv, "lut") : NULL;
+    if (lv && !lut_path) goto done;
+    int picks = (hvpy_kw(oc.rest, "iso") != NULL) + (hvpy_kw(oc.rest, "range") != NULL) + (hvpy_kw(oc.rest, "labels") != NULL);
+    if (picks != 1) {
+        hvpy_raise(HV_ERR_INVALID, "a scanned volume needs one of iso, range or labels");
+        goto done;
+    }
+    if (hvpy_kw(oc.rest, "labels") && labels_kw(hvpy_kw(oc.rest, "labels"), &so, &labels) < 0) goto done;
+    if (!lut_path && o.mode != HV_LAYERS_MASK) {
+        hvpy_raise(HV_ERR_INVALID, "a scanned volume's materials come from lut=TABLE.csv (or print its shape alone with "
+                                   "mode=\"mask\")");
+        goto done;
+    }
+    o.model_name = path; /* as the CLI names it: the manifest's shape and model */
+    hvpy_call c;
+    hv_layers_report rep;
+    hv_colour_skin skin;
+    hvpy_begin(&c, oc.progress, NULL, 0);
+    hv_scan_options sopt = {o.max_memory};
+    hv_status s = lut_path ? hv_lut_load(lut_path, &lut) : HV_OK;
+    if (s == HV_OK && lut && hv_lut_kind_of(lut) == HV_LUT_COLOUR) s = hv_colour_map_create(&co, &map);
+    if (s == HV_OK) s = hv_scan_load(path, &sopt, &scan);
+    if (s == HV_OK) s = hv_layers_write_scan(scan, &so, lut, map, dir, &o, &c.prog, &rep, &skin, &t);
+    hvpy_end(&c);
+    if (s != HV_OK) {
+        hvpy_call_fail(&c, s);
+        goto done;
+    }
+    PyObject *d = Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep.width, "height", rep.height, "layers",
+                                (Py_ssize_t)rep.layers_total, "first", (Py_ssize_t)rep.first, "last",
+                                (Py_ssize_t)rep.last, "object_pixels", (unsigned long long)rep.object_pixels,
+                                "warnings", rep.warnings);
+    PyObject *mats = d ? PyDict_New() : NULL;
+    for (int j = 0; mats && t && j < rep.materials && j < hv_material_count(t); ++j) {
+        PyObject *x = Py_BuildValue("{s:d,s:d}", "target", rep.target[j], "achieved", rep.achieved[j]);
+        if (!x || PyDict_SetItemString(mats, hv_material_name(t, j), x) < 0) Py_CLEAR(mats);
+        Py_XDECREF(x);
+    }
+    if (!mats || PyDict_SetItemString(d, "materials", mats) < 0) Py_CLEAR(d);
+    Py_XDECREF(mats);
+    if (d && skin.map) {
+        PyObject *cd = Py_BuildValue("{s:K,s:d,s:d,s:d}", "printer_voxels", (unsigned long long)skin.target.voxels,
+                                     "mean_de2000_target", skin.target.mean_de2000, "max_de2000_target",
+                                     skin.target.max_de2000, "mean_de2000_achieved", skin.achieved.mean_de2000);
+        if (!cd || PyDict_SetItemString(d, "colour", cd) < 0) Py_CLEAR(d);
+        Py_XDECREF(cd);
+    }
+    res = d ? hvpy_call_done(&c, d) : NULL;
+done:
+    hv_material_table_destroy(t);
+    hv_scan_destroy(scan);
+    hv_colour_map_destroy(map);
+    hv_lut_destroy(lut);
+    free(labels);
+    out_end(&oc);
+    return res;
+}
+
 PyMethodDef hvpy_output_functions[] = {
+    {"layers_scan", (PyCFunction)(void (*)(void))py_layers_scan, METH_VARARGS | METH_KEYWORDS,
+     "layers_scan(path, dir, *, iso=V | range=(LO, HI) | labels=[A, B, ...], lut=None, icc, intent, resins, "
+     "keep_largest, fill_holes, min_feature, voxel_size, progress=None, **options of `hovox layers`) -> the report "
+     "of Model.layers (and colour={printer_voxels, mean_de2000_target, max_de2000_target, mean_de2000_achieved} for "
+     "a colour table): a scanned volume (NIfTI, NRRD, MetaImage, a DICOM directory) printed as `hovox layers "
+     "VOLUME` prints it, the same bytes: straight from its data, or through its model with a clean-up."},
     {"contours", (PyCFunction)(void (*)(void))py_contours, METH_VARARGS | METH_KEYWORDS,
      "contours(mesh, *, loops=True, progress=None, **options of `hovox contours` (layer_height, first_layer, "
      "adaptive, close_gap, binary, output, per_layer)) -> [{z, bottom, top, area, loops, holes, open, contours: "

@@ -79,9 +79,19 @@ static void warn(const hv_layers_report *r, size_t from)
 
 /* A model painted in colour (hovox/colour.h): the manifest gets the skin's dE2000 through the
  * profile painting used; a profile no longer there is a warning, not a failure. */
-static void colour_hook(hv_layers_options *o, const hv_volume *model, hv_colour_skin *sk)
+static void colour_hook(hv_layers_options *o, const hv_volume *model, const hv_scan_source *src,
+                        hv_colour_map **scan_map, hv_colour_skin *sk)
 {
     memset(sk, 0, sizeof *sk);
+    if (src && *scan_map && o->mode == HV_LAYERS_HALFTONE &&
+        hv_scan_source_colour(src, &sk->samples, &sk->rgb, &sk->fractions, &sk->weight)) {
+        /* a scan's colour table (issue 30 item 2): the same dE2000 over the printed voxels' values */
+        sk->map = *scan_map;
+        *scan_map = NULL; /* the skin's now */
+        o->manifest = hv_colour_manifest_hook;
+        o->manifest_user = sk;
+        return;
+    }
     if (!model) return;
     hv_status s = hv_colour_map_for_model(model, &sk->map);
     if (s == HV_ERR_NOT_FOUND) {
@@ -102,8 +112,9 @@ static void report_colour(const hv_colour_skin *sk)
     if (!sk->map) return;
     printf("colour      mean dE2000 ");
     if (sk->has_achieved) printf("%.2f achieved, ", sk->achieved.mean_de2000);
-    printf("%.2f target (max %.2f) over %llu skin voxels; %s, intent %s\n", sk->target.mean_de2000,
-           sk->target.max_de2000, (unsigned long long)sk->target.voxels, hv_colour_map_description(sk->map),
+    printf("%.2f target (max %.2f) over %llu %s voxels; %s, intent %s\n", sk->target.mean_de2000,
+           sk->target.max_de2000, (unsigned long long)sk->target.voxels, sk->model ? "skin" : "printer",
+           hv_colour_map_description(sk->map),
            hv_intent_name(hv_colour_map_intent(sk->map)));
 }
 
@@ -208,16 +219,10 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
 }
 
 /* A scan printed straight from its data (issue 30 item 4): no model, the shape and the table's
- * materials evaluated at every printer pixel (slicing/scan_source.c). Needs no whole-volume
- * clean-up (--keep-largest, --fill-holes, --min-feature make the model first). */
-static int scan_direct(const hv_layers_options *o, const hv_scan_voxelize_options *so)
-{
-    return !so->keep_largest && !so->fill_holes && so->min_feature == 0 && o->threshold == 0 &&
-           o->method == HV_LAYERS_RESAMPLE && !o->compare;
-}
-
+ * materials evaluated at every printer pixel (slicing/scan_source.c), when hv_scan_prints_direct
+ * says so (--keep-largest, --fill-holes, --min-feature make the model first). */
 static hv_status scan_source(hv_layers_options *o, const layers_cli *c, const hv_scan_voxelize_options *so,
-                             hv_scan **scan, hv_scan_source **src, hv_buf *said)
+                             hv_scan **scan, hv_scan_source **src, hv_colour_map **map_out, hv_buf *said)
 {
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
@@ -234,7 +239,7 @@ static hv_status scan_source(hv_layers_options *o, const layers_cli *c, const hv
         if (lut) cli_scan_describe_lut(said, c->scan.lut, lut, map);
     }
     hv_lut_destroy(lut);
-    hv_colour_map_destroy(map);
+    *map_out = map; /* a colour table's: the manifest's dE2000 */
     return s;
 }
 
@@ -244,11 +249,12 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
     hv_volume *model = NULL;
     hv_scan *scan = NULL;
     hv_scan_source *src = NULL;
+    hv_colour_map *scan_map = NULL;
     hv_status s;
     hv_buf said; /* what making a scan's model has to say, printed when the job succeeds */
     hv_buf_init(&said);
-    if (so && scan_direct(o, so)) {
-        s = scan_source(o, c, so, &scan, &src, &said);
+    if (so && hv_scan_prints_direct(o, so)) {
+        s = scan_source(o, c, so, &scan, &src, &scan_map, &said);
     } else if (so) {
         s = scan_model(o, c, so, quiet, &model, &said);
     } else if (!c->mesh && o->model_name && cli_is_mesh_input(o->model_name)) {
@@ -296,7 +302,7 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
             o->finish_user = &page;
         }
         hv_colour_skin skin;
-        colour_hook(o, model, &skin);
+        colour_hook(o, model, src, &scan_map, &skin);
         s = hv_layers_write(mesh, model, c->output, o, &prog, &r);
         cli_progress_done(&bar);
         if (s == HV_OK) warn(&r, HV_MIN(seen, strlen(r.warnings)));
@@ -311,6 +317,7 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
     o->source = NULL;
     hv_scan_source_close(src);
     hv_scan_destroy(scan);
+    hv_colour_map_destroy(scan_map);
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }
 

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "hovox/dist.h"
+#include "hovox/scan.h"
 #include "hovox/tray.h"
 
 #define MAX_CLI_PARTS 256
@@ -20,6 +21,8 @@ typedef struct tray_cli {
     hv_placement place[MAX_CLI_PARTS]; /* of each --part: the placement options after it */
     unsigned place_given[MAX_CLI_PARTS];
     hv_body_materials materials[MAX_CLI_PARTS]; /* of each --part: the --materials after it */
+    hv_tray_part scan[MAX_CLI_PARTS]; /* of each --part: the scan options after it (--iso, --lut, ...) */
+    uint64_t scan_given[MAX_CLI_PARTS]; /* their bits in hv_tray_part_option_set (hv_optargs.given) */
     int nparts;
     int view;
 } tray_cli;
@@ -62,6 +65,35 @@ static hv_status part_materials(const hv_option *o, void *opts, const hv_opt_val
     return hv_body_materials_option_parse(&one, &c->materials[c->nparts - 1], v);
 }
 
+/* --iso, --range, --labels, --lut, --keep-largest, --fill-holes, --min-feature: the scan of the
+ * --part given before them (each once per part), stored through the part's option set as a job
+ * file's keys are (one parser: hv_tray_part_option_set checks them when the part is made). */
+static hv_status scan_part(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    tray_cli *c = opts;
+    if (c->nparts == 0) return hv_error_option(HV_ERR_INVALID, "{%s} is for the {part} given before it; none is", o->key);
+    const hv_option_set *set = hv_tray_part_option_set();
+    const char *key = o->key;
+    hv_opt_value flag = {HV_VALUE_BOOL, NULL, NULL, 0, 1};
+    if (strcmp(key, "clean") == 0) { /* --keep-largest, --fill-holes: flags of the part's set */
+        if (v->type != HV_VALUE_TEXT || (strcmp(v->text, "keep_largest") != 0 && strcmp(v->text, "fill_holes") != 0))
+            return hv_error_option(HV_ERR_INVALID, "{clean} must be keep_largest or fill_holes");
+        key = v->text;
+        v = &flag;
+    }
+    const hv_option *po = hv_option_find(set, key);
+    uint64_t bit = 1ull << (po - set->options);
+    int n = c->nparts - 1;
+    if (c->scan_given[n] & bit)
+        return hv_error_option(HV_ERR_INVALID, "{%s} given twice for the {part} '%s'", key, c->part[n]);
+    c->scan_given[n] |= bit;
+    return hv_option_set_value(po, &c->scan[n], v);
+}
+
+#define SCAN_OPT(key_, kind_, meta_, help_, section_)                                                          \
+    {.key = key_, .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | (kind_), .meta = meta_, .help = help_,       \
+     .section = section_, .parse = scan_part}
+
 #define PLACE_OPT(key_, meta_, help_, section_)                                                                 \
     {.key = key_, .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT, .meta = meta_, .help = help_, .section = section_, \
      .parse = place_part}
@@ -84,13 +116,24 @@ static const hv_option k_local_opts[] = {
      .parse = part_materials, .section = "Materials of the --part before them (job files: the part's \"materials\")",
      .help = "a body of the part before it (an OBJ group, a 3MF item) in that material, whatever the file says; "
              "repeatable"},
+    SCAN_OPT("iso", 0, "VALUE", "the scan before it: solid where its interpolated value is at least VALUE",
+             "A scanned volume's --part (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM directory; job files: "
+             "the part's keys with \"scan\")"),
+    SCAN_OPT("range", 0, "LO,HI", "the scan before it: solid where the value lies in [LO, HI]", NULL),
+    SCAN_OPT("labels", 0, "A,B,...", "the scan before it: a segmentation's labels", NULL),
+    SCAN_OPT("lut", 0, "TABLE.csv", "the scan before it: materials from its values (absent: SCAN:MATERIAL)", NULL),
+    SCAN_OPT("clean", 0, "keep_largest|fill_holes",
+             "the scan before it: its largest connected part only, or its cavities filled (repeatable)", NULL),
+    SCAN_OPT("min_feature", 0, "MM", "the scan before it: parts and cavities smaller than MM dropped and filled",
+             NULL),
 };
-static const hv_option_set k_local = CLI_LOCAL_SET("tray", k_local_opts, tray_cli);
+static const hv_opt_alias k_aliases[] = {{"keep_largest", "clean", "keep_largest"}, {"fill_holes", "clean", "fill_holes"}};
+static const hv_option_set k_local = {"tray", k_local_opts, (int)HV_COUNT(k_local_opts), sizeof(tray_cli), NULL, NULL, 0,
+                                      NULL, NULL, k_aliases, (int)HV_COUNT(k_aliases)};
 
 /* The shorthand into a part; `buf` holds the pieces the part points into. */
 static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_part *p)
 {
-    hv_tray_part_init(p);
     snprintf(buf, size, "%s", spec);
     char *x = strrchr(buf, 'x');
     char *atp = strrchr(buf, '@');
@@ -198,10 +241,28 @@ static int run(const cli_args *args, void *lib, void *local)
     char bufs[MAX_CLI_PARTS][1024];
     for (int i = 0; i < c->nparts && s == HV_OK; ++i) {
         hv_tray_part p;
+        hv_optargs pa; /* through the part's option set, as a job file's part: its checks are the same */
+        hv_optargs_begin(&pa, hv_tray_part_option_set(), &p);
         s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
         p.place = c->place[i];
+        if (s == HV_OK && hv_scan_path_is_scan(p.mesh)) { /* a scanned volume: SCAN[:MATERIAL][@X,Y[,ROT]][xN] */
+            p.scan = p.mesh;
+            p.mesh = NULL;
+        }
+        const hv_tray_part *sc = &c->scan[i];
+        p.iso = sc->iso;
+        p.range[0] = sc->range[0];
+        p.range[1] = sc->range[1];
+        p.labels = sc->labels;
+        p.lut = sc->lut;
+        p.keep_largest = sc->keep_largest;
+        p.fill_holes = sc->fill_holes;
+        p.min_feature = sc->min_feature;
         p.materials = c->materials[i];
-        if (s == HV_OK) s = hv_tray_add(t, &p, NULL); /* "part N", counted after the job file's */
+        pa.given |= c->scan_given[i];
+        if (s == HV_OK && (s = hv_optargs_finish(&pa)) != HV_OK) s = hv_error_prefix(s, "--part '%s': ", c->part[i]);
+        if (s == HV_OK && (s = hv_tray_add(t, &p, NULL)) != HV_OK) /* "part N", counted after the job file's */
+            s = hv_error_prefix(s, "--part '%s': ", c->part[i]);
     }
     if (s == HV_OK && hv_tray_part_count(t) == 0) {
         hv_tray_destroy(t);

@@ -9,26 +9,15 @@
 #include "core/internal.h"
 #include "scan_opts.h"
 
-/* "1,2,5" -> labels (malloc'd). */
+/* "1,2,5" -> labels (malloc'd): the library's parser (job files read the same text). */
 static int parse_labels(const char *cmd, const char *text, int32_t **out, size_t *n)
 {
-    *out = NULL;
-    *n = 0;
-    size_t cap = 0;
-    const char *p = text;
-    while (*p) {
-        char *e;
-        long v = strtol(p, &e, 10);
-        if (e == p || v < INT32_MIN || v > INT32_MAX || (*e && *e != ',')) {
-            free(*out);
-            *out = NULL;
-            return cli_usage_error(cmd, "--labels must be integers A,B,..., got '%s'", text);
-        }
-        if (hv_grow((void **)out, &cap, *n + 1, sizeof **out) != HV_OK) return cli_fail(HV_ERR_NOMEM);
-        (*out)[(*n)++] = (int32_t)v;
-        p = *e ? e + 1 : e;
+    hv_status s = hv_scan_labels_parse(text, out, n);
+    if (s == HV_ERR_NOMEM) return cli_fail(s);
+    if (s != HV_OK) {
+        char msg[1024];
+        return cli_usage_error(cmd, "%s", cli_message(msg, sizeof msg));
     }
-    if (!*n) return cli_usage_error(cmd, "--labels must name at least one label");
     return -1;
 }
 

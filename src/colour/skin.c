@@ -58,6 +58,47 @@ static int slot_grid(const hv_volume *model, const hv_colour_map *map, int k)
     return hv_volume_grid_find(model, name);
 }
 
+/* Fractions scaled per resin (a halftone's achieved over target share; NULL: as they are),
+ * normalised. */
+static void scale_fractions(float fr[HV_COLOUR_SLOTS], const double *scale)
+{
+    double total = 0;
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        double v = (double)fr[k] * (scale ? scale[k] : 1.0);
+        fr[k] = (float)v;
+        total += v;
+    }
+    for (int k = 0; k < HV_COLOUR_SLOTS && total > 0; ++k) fr[k] = (float)(fr[k] / total);
+}
+
+/* CIEDE2000 between a requested colour and what fractions print (both through the map). */
+static double sample_de(const hv_colour_map *map, const uint8_t want[3], const float fr[HV_COLOUR_SLOTS], const double *scale)
+{
+    float f[HV_COLOUR_SLOTS];
+    memcpy(f, fr, sizeof f);
+    scale_fractions(f, scale);
+    double lw[3], lg[3];
+    hv_colour_map_lab_of_srgb(map, want, lw);
+    hv_colour_map_lab_of_fractions(map, f, lg);
+    return hv_colour_delta_e2000(lw, lg);
+}
+
+hv_status hv_colour_samples_error(const hv_colour_map *map, size_t n, const uint8_t *rgb, const float *fractions,
+                                  const uint64_t *weight, const double scale[HV_COLOUR_SLOTS], hv_colour_skin_report *out)
+{
+    memset(out, 0, sizeof *out);
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!weight[i]) continue;
+        double de = sample_de(map, rgb + 3 * i, fractions + HV_COLOUR_SLOTS * i, scale);
+        sum += de * (double)weight[i];
+        out->max_de2000 = fmax(out->max_de2000, de);
+        out->voxels += weight[i];
+    }
+    out->mean_de2000 = out->voxels ? sum / (double)out->voxels : 0;
+    return HV_OK;
+}
+
 hv_status hv_colour_skin_error(const hv_volume *model, const hv_colour_map *map, const double scale[HV_COLOUR_SLOTS],
                                hv_colour_skin_report *out)
 {
@@ -78,20 +119,10 @@ hv_status hv_colour_skin_error(const hv_volume *model, const hv_colour_map *map,
         for (unsigned n = 0; n < 512; ++n) {
             if (!((on[n >> 6] >> (n & 63)) & 1u) || !(m[n] > 0.5f)) continue;
             float fr[HV_COLOUR_SLOTS];
-            double total = 0;
-            for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
-                double v = f[k] ? (double)f[k][n] : 0;
-                v *= scale ? scale[k] : 1.0;
-                fr[k] = (float)v;
-                total += v;
-            }
-            for (int k = 0; k < HV_COLOUR_SLOTS && total > 0; ++k) fr[k] = (float)(fr[k] / total);
+            for (int k = 0; k < HV_COLOUR_SLOTS; ++k) fr[k] = f[k] ? f[k][n] : 0.0f;
             uint8_t want[3];
             for (int a = 0; a < 3; ++a) want[a] = (uint8_t)lrintf(fminf(fmaxf(c[a][n], 0.0f), 1.0f) * 255.0f);
-            double lw[3], lg[3];
-            hv_colour_map_lab_of_srgb(map, want, lw);
-            hv_colour_map_lab_of_fractions(map, fr, lg);
-            double de = hv_colour_delta_e2000(lw, lg);
+            double de = sample_de(map, want, fr, scale);
             sum += de;
             out->max_de2000 = fmax(out->max_de2000, de);
             out->voxels++;
@@ -120,8 +151,13 @@ hv_status hv_colour_manifest_hook(void *user, void *manifest)
             scale[k] = a && t > 0 ? json_number_value(a) / t : 1;
         }
     }
-    hv_status s = hv_colour_skin_error(sk->model, sk->map, NULL, &sk->target);
-    if (s == HV_OK && achieved) s = hv_colour_skin_error(sk->model, sk->map, scale, &sk->achieved);
+    hv_status s = sk->model ? hv_colour_skin_error(sk->model, sk->map, NULL, &sk->target)
+                            : hv_colour_samples_error(sk->map, sk->samples, sk->rgb, sk->fractions, sk->weight, NULL,
+                                                      &sk->target);
+    if (s == HV_OK && achieved)
+        s = sk->model ? hv_colour_skin_error(sk->model, sk->map, scale, &sk->achieved)
+                      : hv_colour_samples_error(sk->map, sk->samples, sk->rgb, sk->fractions, sk->weight, scale,
+                                                &sk->achieved);
     if (s != HV_OK) return s;
     sk->has_achieved = achieved;
     json_t *c = json_object();
@@ -129,7 +165,7 @@ hv_status hv_colour_manifest_hook(void *user, void *manifest)
     bad |= hv_json_set(c, "icc", hv_json_text(hv_colour_map_icc(sk->map)));
     bad |= hv_json_set(c, "description", hv_json_text(hv_colour_map_description(sk->map)));
     bad |= hv_json_set(c, "intent", json_string(hv_intent_name(hv_colour_map_intent(sk->map))));
-    bad |= hv_json_set(c, "skin_voxels", json_integer((json_int_t)sk->target.voxels));
+    bad |= hv_json_set(c, sk->model ? "skin_voxels" : "printer_voxels", json_integer((json_int_t)sk->target.voxels));
     bad |= hv_json_set(c, "mean_de2000_target", hv_json_number(sk->target.mean_de2000));
     bad |= hv_json_set(c, "max_de2000_target", hv_json_number(sk->target.max_de2000));
     if (achieved) bad |= hv_json_set(c, "mean_de2000_achieved", hv_json_number(sk->achieved.mean_de2000));

@@ -158,39 +158,44 @@ static int model_layers(lua_State *L)
     int coloured = skin.map != NULL;
     hv_colour_map_destroy(skin.map);
     if (s != HV_OK) return fail(L, s);
+    hv_material_table *t = NULL;
+    if (rep.materials > 0 && hv_material_table_load(vol, &t) != HV_OK) t = NULL;
+    hv_lua_push_layers_report(L, &rep, t, coloured ? &skin : NULL);
+    hv_material_table_destroy(t);
+    return 1;
+}
+
+void hv_lua_push_layers_report(lua_State *L, const hv_layers_report *r, const hv_material_table *t,
+                               const hv_colour_skin *skin)
+{
     lua_createtable(L, 0, 11);
-    if (coloured) {
+    if (skin) {
         lua_createtable(L, 0, 3);
-        SET_INT("skin_voxels", skin.target.voxels);
-        SET_NUM("mean_de2000_target", skin.target.mean_de2000);
-        if (skin.has_achieved) SET_NUM("mean_de2000_achieved", skin.achieved.mean_de2000);
+        SET_INT(skin->model ? "skin_voxels" : "printer_voxels", skin->target.voxels);
+        SET_NUM("mean_de2000_target", skin->target.mean_de2000);
+        if (skin->has_achieved) SET_NUM("mean_de2000_achieved", skin->achieved.mean_de2000);
         lua_setfield(L, -2, "colour");
     }
-    SET_INT("width", rep.width);
-    SET_INT("height", rep.height);
-    SET_INT("layers", rep.layers_total);
-    SET_INT("first", rep.first);
-    SET_INT("last", rep.last);
-    SET_INT("object_pixels", rep.object_pixels);
-    if (rep.compared) {
-        SET_NUM("diff_mean", rep.diff_mean);
-        SET_NUM("diff_max", rep.diff_max);
+    SET_INT("width", r->width);
+    SET_INT("height", r->height);
+    SET_INT("layers", r->layers_total);
+    SET_INT("first", r->first);
+    SET_INT("last", r->last);
+    SET_INT("object_pixels", r->object_pixels);
+    if (r->compared) {
+        SET_NUM("diff_mean", r->diff_mean);
+        SET_NUM("diff_max", r->diff_max);
     }
-    lua_pushstring(L, rep.warnings);
+    lua_pushstring(L, r->warnings);
     lua_setfield(L, -2, "warnings");
-    lua_createtable(L, 0, rep.materials);
-    hv_material_table *t = NULL;
-    if (rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
-        for (int j = 0; j < rep.materials && j < hv_material_count(t); ++j) {
-            lua_createtable(L, 0, 2);
-            SET_NUM("target", rep.target[j]);
-            SET_NUM("achieved", rep.achieved[j]);
-            lua_setfield(L, -2, hv_material_name(t, j));
-        }
+    lua_createtable(L, 0, r->materials);
+    for (int j = 0; t && j < r->materials && j < hv_material_count(t); ++j) {
+        lua_createtable(L, 0, 2);
+        SET_NUM("target", r->target[j]);
+        SET_NUM("achieved", r->achieved[j]);
+        lua_setfield(L, -2, hv_material_name(t, j));
     }
-    hv_material_table_destroy(t);
     lua_setfield(L, -2, "materials");
-    return 1;
 }
 
 void hv_lua_open_output(lua_State *L, int module)

@@ -2,15 +2,19 @@
  * hovox.scan_info(path) reports a volume as `hovox info` does; hovox.voxelize_scan(path, {...})
  * makes a model with no mesh, as `hovox voxelize VOLUME` does, its materials from a lookup table
  * (lut = TABLE.csv; a colour table through icc = PROFILE.icc). The model prints with
- * model:layers{...} (its contours from the data at printer resolution). */
+ * model:layers{...} (its contours from the data at printer resolution); hovox.layers_scan(path, {...})
+ * prints the volume straight from its data as `hovox layers VOLUME` does, the same bytes. */
 #include <stdlib.h>
 #include <string.h>
 
 #include <lauxlib.h>
 
 #include "core/internal.h"
+#include "hovox/colour.h"
+#include "hovox/layers.h"
 #include "hovox/lut.h"
 #include "hovox/scan.h"
+#include "hovox/viewer.h"
 #include "io/scan/scan_internal.h"
 #include "lhovox.h"
 
@@ -90,6 +94,26 @@ static int32_t *labels_arg(lua_State *L, int arg, size_t *n)
     return v;
 }
 
+/* The shape of option table 2: one of iso, range (read with the options) or labels (a list, pushed on
+ * the stack while C runs). */
+static void shape_arg(lua_State *L, hv_scan_voxelize_options *o)
+{
+    int picks = 0;
+    static const char *const shapes[] = {"iso", "range", "labels"};
+    for (int k = 0; k < 3; ++k) {
+        picks += hv_lua_field(L, 2, shapes[k]) != LUA_TNIL;
+        lua_pop(L, 1);
+    }
+    if (picks != 1) arg_error(L, 2, "a scanned volume needs one of iso, range or labels");
+    if (hv_lua_field(L, 2, "labels") != LUA_TNIL) {
+        lua_pop(L, 1);
+        o->shape.select = HV_SCAN_SELECT_LABELS;
+        o->shape.labels = labels_arg(L, 2, &o->shape.label_count);
+    } else {
+        lua_pop(L, 1);
+    }
+}
+
 /* hovox.voxelize_scan(path, {iso = V | range = {LO, HI} | labels = {A, B, ...}, voxel_size = L | {X, Y, Z},
  *   keep_largest, fill_holes, min_feature, max_memory, lut = TABLE.csv, icc = PROFILE.icc}) -> model */
 static int l_voxelize_scan(lua_State *L)
@@ -100,21 +124,8 @@ static int l_voxelize_scan(lua_State *L)
     const char *path = path_arg(L, 1, holder);
     const char *lut_path = hv_lua_string_field(L, 2, "lut", holder);
     const char *icc = hv_lua_string_field(L, 2, "icc", holder);
-    int picks = 0;
-    static const char *const shapes[] = {"iso", "range", "labels"};
-    for (int k = 0; k < 3; ++k) {
-        picks += hv_lua_field(L, 2, shapes[k]) != LUA_TNIL;
-        lua_pop(L, 1);
-    }
-    if (picks != 1) arg_error(L, 2, "a scanned volume needs one of iso, range or labels");
+    shape_arg(L, &o);
     if (icc && !lut_path) arg_error(L, 2, "icc is for a colour lookup table (lut)");
-    if (hv_lua_field(L, 2, "labels") != LUA_TNIL) {
-        lua_pop(L, 1);
-        o.shape.select = HV_SCAN_SELECT_LABELS;
-        o.shape.labels = labels_arg(L, 2, &o.shape.label_count);
-    } else {
-        lua_pop(L, 1);
-    }
     o.progress = hv_lua_progress(L);
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
@@ -138,9 +149,83 @@ static int l_voxelize_scan(lua_State *L)
     return 1;
 }
 
+/* The keys of `set` and then `more` (NULL-terminated) into keys (at most n - 1), NULL-terminated:
+ * the keys another set of the same table reads. */
+static void keys_of(const hv_option_set *set, const char *const *more, const char **keys, size_t n)
+{
+    size_t k = 0;
+    for (int i = 0; i < set->count && k + 1 < n; ++i) keys[k++] = set->options[i].key;
+    for (size_t i = 0; more[i] && k + 1 < n; ++i) keys[k++] = more[i];
+    keys[k] = NULL;
+}
+
+/* hovox.layers_scan(path, {iso = V | range = {LO, HI} | labels = {A, B, ...}, lut = TABLE.csv, icc, intent,
+ *   resins, keep_largest, fill_holes, min_feature, voxel_size, dir = "stack", view = true, <the options of
+ *   `hovox layers`>}) -> what model:layers returns: the volume printed as `hovox layers VOLUME` prints it
+ *   (issue 30 item 3): straight from its data (no model; hv_scan_source), or, with a clean-up, a
+ *   threshold, the direct method or a comparison, through its model made in memory. The same bytes as
+ *   the CLI: the same calls in the same order. */
+static int l_layers_scan(lua_State *L)
+{
+    static const char *const own[] = {"dir", "view", "labels", "lut", NULL};
+    const char *keys_l[160], *keys_s[160], *keys_c[160];
+    const char *const scan_more[] = {"icc", "intent", "resins", "dir", "view", "labels", "lut", NULL};
+    const char *const colour_more[] = {"dir", "view", "labels", "lut", NULL};
+    hv_layers_options o;
+    hv_scan_voxelize_options so;
+    hv_colour_options co;
+    {
+        const char *tmp[160];
+        keys_of(hv_scan_voxelize_option_set(), own, tmp, 80);
+        keys_of(hv_colour_option_set(), tmp, keys_l, HV_COUNT(keys_l));
+        keys_of(hv_layers_option_set(), scan_more, tmp, 120);
+        keys_of(hv_colour_option_set(), tmp, keys_s, HV_COUNT(keys_s));
+        keys_of(hv_layers_option_set(), colour_more, tmp, 120);
+        keys_of(hv_scan_voxelize_option_set(), tmp, keys_c, HV_COUNT(keys_c));
+    }
+    int holder = hv_lua_read(L, 2, hv_layers_option_set(), &o, keys_l);
+    hv_lua_read_options(L, 2, hv_scan_voxelize_option_set(), &so, keys_s, holder);
+    hv_lua_read_options(L, 2, hv_colour_option_set(), &co, keys_c, holder);
+    const char *path = path_arg(L, 1, holder);
+    const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");
+    hv_lua_check_paths(L, 2, hv_layers_option_set(), &o);
+    const char *lut_path = hv_lua_string_field(L, 2, "lut", holder);
+    shape_arg(L, &so);
+    if (!lut_path && o.mode != HV_LAYERS_MASK)
+        arg_error(L, 2, "a scanned volume's materials come from lut = TABLE.csv (or print its shape alone with "
+                        "mode = \"mask\")");
+    lua_getfield(L, 2, "view"); /* view = true: the stack's page, DIR/index.html (hovox view) */
+    if (!lua_isnil(L, -1) && !lua_isboolean(L, -1)) return luaL_error(L, "view must be true or false");
+    if (lua_toboolean(L, -1)) o.finish = hv_viewer_stack_finish;
+    lua_pop(L, 1);
+    o.model_name = path; /* as the CLI names it: the manifest's shape and model */
+    hv_lut *lut = NULL;
+    hv_colour_map *map = NULL;
+    hv_scan *scan = NULL;
+    hv_scan_options sopt = {o.max_memory};
+    hv_status s = lut_path ? hv_lut_load(lut_path, &lut) : HV_OK;
+    if (s == HV_OK && lut && hv_lut_kind_of(lut) == HV_LUT_COLOUR) s = hv_colour_map_create(&co, &map);
+    if (s == HV_OK) s = hv_scan_load(path, &sopt, &scan);
+    hv_layers_report rep;
+    hv_colour_skin skin;
+    hv_material_table *t = NULL;
+    if (s == HV_OK) s = hv_layers_write_scan(scan, &so, lut, map, dir, &o, hv_lua_progress(L), &rep, &skin, &t);
+    int coloured = s == HV_OK && skin.map != NULL;
+    hv_scan_destroy(scan);
+    hv_colour_map_destroy(map);
+    hv_lut_destroy(lut);
+    if (s != HV_OK) return fail(L, s);
+    hv_lua_push_layers_report(L, &rep, t, coloured ? &skin : NULL); /* skin: its figures only */
+    hv_material_table_destroy(t);
+    return 1;
+}
+
 void hv_lua_open_scan(lua_State *L, int module)
 {
-    static const luaL_Reg fns[] = {{"scan_info", l_scan_info}, {"voxelize_scan", l_voxelize_scan}, {NULL, NULL}};
+    static const luaL_Reg fns[] = {{"scan_info", l_scan_info},
+                                   {"voxelize_scan", l_voxelize_scan},
+                                   {"layers_scan", l_layers_scan},
+                                   {NULL, NULL}};
     lua_pushvalue(L, module);
     hv_lua_set_funcs(L, fns);
     lua_pop(L, 1);

@@ -470,6 +470,56 @@ void hv_scan_affine(const hv_scan *scan, double m[12]) { memcpy(m, scan->m, size
 const hv_scan_info *hv_scan_get_info(const hv_scan *scan) { return &scan->info; }
 const char *hv_scan_name(const hv_scan *scan) { return scan->name; }
 
+hv_status hv_scan_transform(hv_scan *scan, const double a[12])
+{
+    double m[12];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            m[4 * r + c] = a[4 * r] * scan->m[c] + a[4 * r + 1] * scan->m[4 + c] + a[4 * r + 2] * scan->m[8 + c] +
+                           (c == 3 ? a[4 * r + 3] : 0.0);
+    double keep[12];
+    memcpy(keep, scan->m, sizeof keep);
+    memcpy(scan->m, m, sizeof m);
+    hv_status st = scan_check_affine(scan, "the placed index-to-world transform");
+    if (st != HV_OK) {
+        memcpy(scan->m, keep, sizeof keep);
+        char msg[512];
+        snprintf(msg, sizeof msg, "%s", hv_last_error()); /* a value the caller gave, not the file's */
+        return hv_error_set(HV_ERR_INVALID, "%s", msg);
+    }
+    return HV_OK;
+}
+
+hv_status hv_scan_labels_parse(const char *text, int32_t **labels, size_t *count)
+{
+    *labels = NULL;
+    *count = 0;
+    size_t cap = 0;
+    for (const char *p = text; *p;) {
+        char *e;
+        errno = 0;
+        long long v = strtoll(p, &e, 10);
+        if (e == p || errno || v < INT32_MIN || v > INT32_MAX || (*e && (*e != ',' || !e[1])) || *count == 65536) {
+            int too_many = *count == 65536;
+            free(*labels);
+            *labels = NULL;
+            *count = 0;
+            return too_many ? hv_error_option(HV_ERR_INVALID, "{labels} must name at most 65536 labels")
+                                   : hv_error_option(HV_ERR_INVALID, "{labels} must be integers A,B,..., got '%s'", text);
+        }
+        if (hv_grow((void **)labels, &cap, *count + 1, sizeof **labels) != HV_OK) {
+            free(*labels);
+            *labels = NULL;
+            *count = 0;
+            return HV_ERR_NOMEM;
+        }
+        (*labels)[(*count)++] = (int32_t)v;
+        p = *e ? e + 1 : e;
+    }
+    if (!*count) return hv_error_option(HV_ERR_INVALID, "{labels} must name at least one label");
+    return HV_OK;
+}
+
 /* ---- reports ------------------------------------------------------------------------------------ */
 
 void hv_scan_geometry(const hv_scan *scan, double spacing[3], char axes[4], double lo[3], double hi[3])

@@ -187,3 +187,52 @@ Test(scan, bad_input_is_one_message, .timeout = 120)
     snprintf(p, sizeof p, "%s/gap", dir);
     refused(p, NULL, HV_ERR_BAD_INPUT, "a gap in the series: 6 mm between");
 }
+
+/* hv_scan_transform (a tray part's placement and quarter turns): every sample centre moves by the
+ * map, the samples stay; a singular map is refused and leaves the scan as it was. */
+Test(scan, a_transform_moves_every_sample_centre, .timeout = 120)
+{
+    const char *dir = make_phantom("rotated", "12,10,8", "2,2,3", "nii");
+    hv_scan *s = load(dir, "phantom.nii");
+    double m0[12], m1[12];
+    hv_scan_affine(s, m0);
+    const double turn[12] = {0, -1, 0, 10, 1, 0, 0, -5, 0, 0, 2, 1}; /* a quarter turn, z doubled, moved */
+    cr_assert_eq(hv_scan_transform(s, turn), HV_OK, "%s", hv_last_error());
+    hv_scan_affine(s, m1);
+    const double idx[4][3] = {{0, 0, 0}, {11, 0, 0}, {0, 9, 7}, {5.5, 4, 3}};
+    for (int t = 0; t < 4; ++t) {
+        double w0[3], w1[3];
+        for (int r = 0; r < 3; ++r) {
+            w0[r] = m0[4 * r] * idx[t][0] + m0[4 * r + 1] * idx[t][1] + m0[4 * r + 2] * idx[t][2] + m0[4 * r + 3];
+            w1[r] = m1[4 * r] * idx[t][0] + m1[4 * r + 1] * idx[t][1] + m1[4 * r + 2] * idx[t][2] + m1[4 * r + 3];
+        }
+        for (int r = 0; r < 3; ++r) {
+            double want = turn[4 * r] * w0[0] + turn[4 * r + 1] * w0[1] + turn[4 * r + 2] * w0[2] + turn[4 * r + 3];
+            cr_assert(fabs(w1[r] - want) < 1e-9, "sample %d axis %d: %g, want %g", t, r, w1[r], want);
+        }
+    }
+    const double flat[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0};
+    cr_assert_eq(hv_scan_transform(s, flat), HV_ERR_INVALID);
+    cr_assert(strstr(hv_last_error(), "singular"), "message: %s", hv_last_error());
+    double m2[12];
+    hv_scan_affine(s, m2);
+    cr_assert_eq(memcmp(m1, m2, sizeof m1), 0, "a refused map changed the scan");
+    hv_scan_destroy(s);
+}
+
+/* hv_scan_labels_parse: the one parser of "A,B,..." (the CLI's --labels, a tray job's labels). */
+Test(scan, labels_text_is_parsed_once)
+{
+    int32_t *l = NULL;
+    size_t n = 0;
+    cr_assert_eq(hv_scan_labels_parse("3,-1,2147483647", &l, &n), HV_OK);
+    cr_assert_eq(n, 3);
+    cr_assert(l[0] == 3 && l[1] == -1 && l[2] == INT32_MAX);
+    free(l);
+    static const char *const bad[] = {"", "1,x", "1,,2", "2147483648", "1.5", "1,"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; ++i) {
+        cr_assert_eq(hv_scan_labels_parse(bad[i], &l, &n), HV_ERR_INVALID, "'%s'", bad[i]);
+        cr_assert(l == NULL && n == 0, "'%s'", bad[i]);
+        cr_assert(strstr(hv_last_error(), "labels must"), "'%s': %s", bad[i], hv_last_error());
+    }
+}

@@ -356,7 +356,7 @@ HV_API const hv_option_set *hv_layers_mesh_option_set(void);
  * hv_body_materials_apply, hv_layers_mesh_model and hv_layers_write. */
 HV_API hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options *mo, const char *dir, const hv_layers_options *o, const hv_progress *progress,
                                       hv_layers_report *report);
-=======
+
 /* A scanned volume printed as `hovox layers VOLUME` prints it (issue 30; the Lua and Python
  * front ends' one path, the same bytes as the CLI's): straight from its data at the printer's
  * pixel centres, no model (slicing/scan_source.c), or, with a clean-up in `shape` (keep_largest,

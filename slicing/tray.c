@@ -56,17 +56,36 @@ static const hv_option k_part[] = {
     {.key = "copies", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = MAX_PARTS, .offset = POFF(copies),
      .meta = "N", .help = "copies in a row along +x"},
     HV_PLACEMENT_OPTIONS(hv_tray_part, place),
+    {.key = "colour_depth", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
+     .offset = POFF(colour_depth), .meta = "MM", .unit = "mm", .section = "Colour (a mesh painted in its colours)",
+     .help = "paint the mesh in its colours this deep (default 1 mm; a coloured mesh whose bodies name no 3MF "
+             "material is painted without it)"},
+    {.key = "core", .kind = HV_OPT_STRING, .offset = POFF(core), .meta = "RESIN|COLOUR",
+     .help = "what lies deeper than the colour: a resin or a colour (default the white resin)"},
 };
 #undef POFF
+
+/* What a part's keys say together (job files, the CLI's --part, Lua). */
+static hv_status part_check(const hv_tray_part *p)
+{
+    if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
+    if (p->model && p->material)
+        return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
+    const char *paint = p->core ? "core" : "colour_depth";
+    if (p->model && (p->colour_depth > 0 || p->core))
+        return hv_error_option(HV_ERR_INVALID, "{%s} is for a mesh painted in its colours; a {model} brings its own "
+                               "materials (paint it when it is voxelized)", paint);
+    if (p->material && (p->colour_depth > 0 || p->core))
+        return hv_error_option(HV_ERR_INVALID, "{%s} is for a mesh painted in its colours; a part with a {material} "
+                               "(MESH:MATERIAL) prints in that material", paint);
+    return HV_OK;
+}
 
 static hv_status part_finish(const hv_optargs *args)
 {
     hv_tray_part *p = args->opts;
     p->placed = hv_optargs_given(args, "at");
-    if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
-    if (p->model && p->material)
-        return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
-    return HV_OK;
+    return part_check(p);
 }
 
 void hv_tray_part_init(hv_tray_part *p)
@@ -125,6 +144,7 @@ static const hv_option k_tray[] = {
      .help = "add a resin to the profile's table, or change its display colour"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = TOFF(max_memory), .meta = "SIZE",
      .help = "refuse jobs that would need more (default: half of RAM)"},
+    HV_COLOUR_OPTIONS(hv_tray_options, colour, "Colour (the parts painted in their colours)"),
 };
 #undef TOFF
 
@@ -144,6 +164,7 @@ void hv_tray_options_init(hv_tray_options *o)
     o->profile = "j750";
     o->mode = HV_LAYERS_HALFTONE;
     o->spacing = 5;
+    hv_colour_options_init(&o->colour);
 }
 static void tray_init(void *o) { hv_tray_options_init(o); }
 static const hv_option_set k_tray_set = {"tray", k_tray, (int)HV_COUNT(k_tray), sizeof(hv_tray_options), tray_init,
@@ -262,6 +283,7 @@ void hv_tray_destroy(hv_tray *t)
         free((char *)s->p.mesh);
         free((char *)s->p.material);
         free((char *)s->p.name);
+        free((char *)s->p.core);
         free(s->where);
     }
     free(t->src);
@@ -312,8 +334,7 @@ static char *dup_or_null(const char *s, int *bad)
 hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
 {
     hv_status st = hv_options_check(&k_part_set, part);
-    if (st == HV_OK && part->rotation % 90)
-        st = hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", part->rotation);
+    if (st == HV_OK) st = part_check(part);
     if (st == HV_OK && !part->mesh) st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh}");
     if (st != HV_OK) return where ? hv_error_prefix(st, "%s: part %d: ", where, t->nsrc + 1) : st;
     size_t cap = (size_t)t->cap;
@@ -327,6 +348,7 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     s->p.mesh = dup_or_null(part->mesh, &bad);
     s->p.material = dup_or_null(part->material, &bad);
     s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh), &bad);
+    s->p.core = dup_or_null(part->core, &bad);
     s->where = dup_or_null(where, &bad);
     s->number = t->nsrc + 1;
     t->nsrc++;
@@ -603,10 +625,14 @@ static const char *where_of(const hv_tray *t, const instance *in)
 
 /* A mesh part without a model or a material: an assembly in its bodies' materials (issue 27 item
  * 2), its model made in memory (hv_mesh_model) on voxels of the printer's coarsest pitch,
- * coarsened until the voxelization fits a quarter of the budget. */
-static hv_status bodies_model(const hv_tray *t, const hv_mesh *mesh, const hv_tray_options *o, hv_volume **model)
+ * coarsened until the voxelization fits a quarter of the budget; or a mesh that prints in its
+ * colours (issue 29), its model painted as `layers MESH` paints it, on voxels a quarter of the
+ * colour's depth or the printer's pitch (hv_colour_mesh_voxels). */
+static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *mesh, const hv_tray_options *o,
+                              hv_volume **model)
 {
-    for (size_t i = 0; i < hv_mesh_body_count(mesh); ++i) {
+    int paint = s->p.colour_depth > 0 || s->p.core || hv_colour_mesh_paints(mesh);
+    for (size_t i = 0; i < hv_mesh_body_count(mesh) && !paint; ++i) {
         const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
         if (b->material == HV_MESH_NO_MATERIAL)
             return hv_error_option(HV_ERR_INVALID, "body '%s' has no material (the mesh names none): give the part a "
@@ -618,8 +644,18 @@ static hv_status bodies_model(const hv_tray *t, const hv_mesh *mesh, const hv_tr
     hv_voxelize_options_init(&vo);
     vo.max_memory = o->max_memory;
     hv_voxel_plan plan;
-    hv_status st = hv_mesh_model_voxels(mesh, pitch, hv_memory_budget(o->max_memory) / 4, &vo, &plan);
-    return st == HV_OK ? hv_mesh_model(mesh, &vo, NULL, model) : st;
+    uint64_t budget = hv_memory_budget(o->max_memory) / 4;
+    if (!paint) {
+        hv_status st = hv_mesh_model_voxels(mesh, pitch, budget, &vo, &plan);
+        return st == HV_OK ? hv_mesh_model(mesh, &vo, NULL, model) : st;
+    }
+    double depth = s->p.colour_depth > 0 ? s->p.colour_depth : HV_COLOUR_DEPTH_DEFAULT;
+    hv_colour_map *map = NULL;
+    hv_status st = hv_colour_mesh_voxels(mesh, pitch, depth, budget, &vo, &plan);
+    if (st == HV_OK) st = hv_colour_map_create(&o->colour, &map);
+    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, model);
+    hv_colour_map_destroy(map);
+    return st;
 }
 
 static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
@@ -629,7 +665,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
     if (st == HV_OK) st = hv_placement_apply(&s->p.place, &mesh);
     if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
-    else if (st == HV_OK && !s->p.material) st = bodies_model(t, mesh, o, &model);
+    else if (st == HV_OK && !s->p.material) st = bodies_model(t, s, mesh, o, &model);
     int q = (s->p.rotation / 90) % 4;
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;
@@ -1321,6 +1357,12 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
             failed |= hv_json_set(mats, s->mat_name[j], mj);
         }
         failed |= hv_json_set(p, "materials", mats);
+        void *colour = NULL;
+        if (s->model && o->mode == HV_LAYERS_HALFTONE) { /* a painted part: its skin's dE2000 (issue 29) */
+            hv_status st = hv_colour_part_manifest(s->model, s->m, s->mat_name, pr.target, pr.achieved, &colour);
+            failed |= st == HV_ERR_NOMEM; /* else a profile no longer readable: the part goes without */
+            if (colour) failed |= hv_json_set(p, "colour", colour);
+        }
         failed |= json_array_append_new(parts, p);
     }
     failed |= hv_json_set(doc, "parts", parts);

@@ -9,6 +9,7 @@
 #include "hovox/mesh.h"
 #include "hovox/options.h"
 #include "hovox/volume.h"
+#include "hovox/voxelize.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -48,6 +49,25 @@ typedef struct hv_colour_options {
 HV_API void hv_colour_options_init(hv_colour_options *opt);
 /* The options as one table for the CLI (--icc, --intent, --resins), job files and Lua. Static. */
 HV_API const hv_option_set *hv_colour_option_set(void);
+/* An option of hv_colour_option_set (the same key) over an hv_colour_options member of another
+ * options struct (its offset is the member's; see HV_COLOUR_OPTIONS): a tray's colour map. */
+HV_API hv_status hv_colour_option_parse(const hv_option *opt, void *opts, const hv_opt_value *value);
+#define HV_COLOUR_OPTION_(type, member, key_, meta_, flags_, help_, section_)                                    \
+    {.key = key_, .kind = HV_OPT_CUSTOM, .flags = flags_, .offset = offsetof(type, member), .meta = meta_,      \
+     .help = help_, .section = section_, .parse = hv_colour_option_parse}
+#define HV_COLOUR_OPTIONS(type, member, section_)                                                                \
+    HV_COLOUR_OPTION_(type, member, "icc", "FILE.icc", HV_OPT_IN_PATH,                                           \
+                      "the printer's output ICC profile (CMYK) the parts' colours go through (default: "        \
+                      "Ghostscript's default_cmyk.icc)", section_),                                             \
+    HV_COLOUR_OPTION_(type, member, "intent", "INTENT", 0,                                                       \
+                      "rendering intent: perceptual (default), relative, saturation or absolute", NULL),         \
+    HV_COLOUR_OPTION_(type, member, "resins", "C,M,Y,K,W,CLEAR", 0,                                              \
+                      "the resins that print cyan, magenta, yellow, black, white and clear (default the "       \
+                      "J750's)", NULL)
+
+/* How deep a part is painted when nothing says (mm): `voxelize --colour-depth`, a mesh sliced in
+ * one step by `layers`, a tray's part. */
+#define HV_COLOUR_DEPTH_DEFAULT 1.0
 
 typedef struct hv_colour_map hv_colour_map;
 
@@ -138,6 +158,39 @@ HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
  * without any colour (HV_ERR_BAD_INPUT "NAME: no colour to paint ..."). */
 HV_API hv_status hv_colour_paint_text(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
                                       const char *core);
+
+/* Does the mesh print in its colours when nothing else says (the one rule of `layers MESH` and a
+ * tray's mesh part)? 1 when it has colour (a texture, corner colours such as PLY vertex colours
+ * or 3MF colour groups, material colours) and no body is made of a material: a 3MF body whose
+ * material is a base material or a composite prints in it (an assembly in its materials, a
+ * composite under a colour), while an OBJ's materials are its MTL's appearances (Kd, map_Kd) and
+ * a 3MF colour group's entries ("#rrggbb") are colours. 0 also for a mesh without colour. */
+HV_API int hv_colour_mesh_paints(const hv_mesh *mesh);
+
+/* A model of `mesh` painted in its colours (one step from a coloured mesh to a stack): the mesh
+ * voxelized by `vopt`, then hv_colour_paint_text(depth, core). The model records no shape (the
+ * caller slices it with the mesh). Errors: those of hv_voxelize and hv_colour_paint_text. Free
+ * *out with hv_volume_destroy. */
+HV_API hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *vopt, hv_colour_map *map,
+                                      double depth, const char *core, hv_volume **out);
+
+/* The voxels for hv_colour_mesh_model: opt->voxel_size set to the coarser of `pitch` (say the
+ * printer's coarsest) and depth / 4 (the skin four voxels deep: colour is carried from the
+ * surface, so finer voxels add little but memory), coarsened by 5/4 until the plan (filled in)
+ * and the painting (about 112 bytes an occupied voxel, from the mesh's volume) need at most
+ * `budget` bytes (at most 60 times). Errors: HV_ERR_INVALID (pitch or depth not positive and
+ * finite), HV_ERR_LIMIT (nothing fits), those of hv_voxelize_plan. */
+HV_API hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double depth, uint64_t budget,
+                                       hv_voxelize_options *opt, hv_voxel_plan *plan);
+
+/* The "colour" object a stack manifest gives a painted model (jansson json_t *, owned by the
+ * caller; NULL in *out when the model is not painted, HV_OK): {icc, description, intent,
+ * skin_voxels, mean_de2000_target, max_de2000_target, and mean_de2000_achieved when `achieved`
+ * is given}. `names`, `target` and `achieved` are the model's m materials as a halftone printed
+ * them (achieved NULL: no halftone); each colour resin's fractions are scaled by its achieved /
+ * target. A tray gives one per painted part. Errors: those of hv_colour_map_for_model, NOMEM. */
+HV_API hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *const *names, const double *target,
+                                         const double *achieved, void **out);
 
 /* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
  * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by

@@ -27,7 +27,9 @@ typedef struct layers_cli {
     const char *material[64]; /* "BODY=MATERIAL", for a mesh sliced in one step */
     int nmaterial;
     double voxel_size;
-    hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut */
+    double colour_depth;    /* a mesh in one step painted in its colours */
+    const char *core;
+    hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut, a painted mesh's colours */
 } layers_cli;
 
 static hv_status add_material(const hv_option *o, void *opts, const hv_opt_value *v)
@@ -55,6 +57,12 @@ static const hv_option k_local_opts[] = {
      .offset = offsetof(layers_cli, voxel_size), .meta = "MM", .unit = "mm",
      .help = "the voxels the bodies' materials are evaluated on (default: the printer's coarsest pitch, "
              "coarsened until the model fits half of --max-memory)"},
+    {.key = "colour_depth", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
+     .offset = offsetof(layers_cli, colour_depth), .meta = "MM", .unit = "mm",
+     .help = "paint the mesh in its colours this deep (default 1 mm; a coloured mesh whose bodies name no 3MF "
+             "material is painted without it), through --icc, --intent, --resins"},
+    {.key = "core", .kind = HV_OPT_STRING, .offset = offsetof(layers_cli, core), .meta = "RESIN|COLOUR",
+     .help = "what lies deeper than the colour: a resin or a colour (default the white resin)"},
     HV_PLACEMENT_OPTIONS(layers_cli, place),
     CLI_SCAN_OPTIONS(layers_cli, scan),
     CLI_COLOUR_MAP_OPTIONS(layers_cli, cmap),
@@ -215,21 +223,41 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
     vo.max_memory = o->max_memory;
     double pitch = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
     hv_voxel_plan plan;
+    /* a mesh in its colours (issue 29): painted as a tray paints its mesh parts */
+    int paint = !c->nmaterial && (c->colour_depth > 0 || c->core || hv_colour_mesh_paints(*mesh));
+    double depth = c->colour_depth > 0 ? c->colour_depth : HV_COLOUR_DEPTH_DEFAULT;
     if (c->voxel_size > 0) {
         vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = c->voxel_size;
         s = hv_voxelize_plan(*mesh, &vo, &plan);
+    } else if (paint) {
+        s = hv_colour_mesh_voxels(*mesh, pitch, depth, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
+        pitch = HV_MAX(pitch, depth / 4);
     } else {
         s = hv_mesh_model_voxels(*mesh, pitch, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
     }
     if (s != HV_OK) return s;
-    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", vo.voxel_size[0],
-                  (long long)plan.dims[0], (long long)plan.dims[1], (long long)plan.dims[2],
+    char what[256];
+    if (paint)
+        snprintf(what, sizeof what, "painted in its colours %.6g mm deep over %s", depth,
+                 c->core ? c->core : "the white resin");
+    else
+        snprintf(what, sizeof what, "each body in its material");
+    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), %s%s\n", vo.voxel_size[0], (long long)plan.dims[0],
+                  (long long)plan.dims[1], (long long)plan.dims[2], what,
                   c->voxel_size > 0 || vo.voxel_size[0] <= pitch ? "" : " (coarsened to fit the memory budget)");
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};
-    s = hv_mesh_model(*mesh, &vo, &prog, model);
+    hv_colour_map *map = NULL;
+    if (paint) {
+        vo.progress = &prog;
+        s = hv_colour_map_create(&c->cmap, &map);
+        if (s == HV_OK) s = hv_colour_mesh_model(*mesh, &vo, map, depth, c->core, model);
+    } else {
+        s = hv_mesh_model(*mesh, &vo, &prog, model);
+    }
     cli_progress_done(&bar);
+    hv_colour_map_destroy(map);
     return s;
 }
 
@@ -361,14 +389,22 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (!o->model_name || !hv_scan_path_is_scan(o->model_name)) {
         int rc = cli_scan_refuse(args, "layers", "is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a "
                                                "DICOM directory)");
-        static const char *const colour[] = {"icc", "intent", "resins"};
-        for (int k = 0; k < 3 && rc < 0; ++k)
+        static const char *const colour[] = {"icc", "intent", "resins", "colour_depth", "core"};
+        for (int k = 0; k < 5 && rc < 0 && !mesh_in; ++k)
             if (cli_given(args, colour[k]))
-                rc = cli_usage_error("layers", "%s is for a scanned volume's colour --lut (a model's colours were "
-                                               "mapped to resins when it was painted)", cli_spell(colour[k]));
+                rc = cli_usage_error("layers", "%s is for a mesh painted in one step or a scanned volume's colour "
+                                               "--lut (a model's colours were mapped to resins when it was painted)",
+                                     cli_spell(colour[k]));
+        for (int k = 3; k < 5 && rc < 0 && c->nmaterial; ++k)
+            if (cli_given(args, colour[k]))
+                rc = cli_usage_error("layers", "%s paints the mesh in its colours; --material prints its bodies in "
+                                               "materials", cli_spell(colour[k]));
         return rc >= 0 ? rc : run(o, c, NULL, args->quiet);
     }
     if (c->mesh) return cli_usage_error("layers", "--mesh is for models; a scanned volume is cut at its own iso-surface");
+    if (cli_given(args, "colour_depth") || cli_given(args, "core"))
+        return cli_usage_error("layers", "%s is for a mesh painted in its colours; a scanned volume's colours come "
+                                         "from its --lut", cli_spell(cli_given(args, "core") ? "core" : "colour_depth"));
     if (!c->scan.lut && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "a scanned volume's materials come from --lut TABLE.csv (or print its shape "
                                          "alone with --mode mask)");

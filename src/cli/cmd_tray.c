@@ -18,6 +18,7 @@ typedef struct tray_cli {
     const char *part[MAX_CLI_PARTS];
     hv_placement place[MAX_CLI_PARTS]; /* of each --part: the placement options after it */
     unsigned place_given[MAX_CLI_PARTS];
+    hv_tray_part paint[MAX_CLI_PARTS]; /* of each --part: its --colour-depth and --core */
     int nparts;
     int view;
 } tray_cli;
@@ -35,15 +36,19 @@ static hv_status add_part(const hv_option *o, void *opts, const hv_opt_value *v)
 static hv_status place_part(const hv_option *o, void *opts, const hv_opt_value *v)
 {
     tray_cli *c = opts;
-    if (c->nparts == 0) return hv_error_option(HV_ERR_INVALID, "{%s} places the {part} given before it; none is", o->key);
-    static const char *const keys[] = {"unit", "up", "scale", "translate"};
-    for (unsigned k = 0; k < 4; ++k)
+    if (c->nparts == 0)
+        return hv_error_option(HV_ERR_INVALID, "{%s} %s the {part} given before it; none is", o->key,
+                               strncmp(o->key, "colour", 6) == 0 || strcmp(o->key, "core") == 0 ? "paints" : "places");
+    static const char *const keys[] = {"unit", "up", "scale", "translate", "colour_depth", "core"};
+    for (unsigned k = 0; k < 6; ++k)
         if (strcmp(o->key, keys[k]) == 0) {
             if (c->place_given[c->nparts - 1] & (1u << k))
                 return hv_error_option(HV_ERR_INVALID, "{%s} given twice for the {part} '%s'", o->key,
                                        c->part[c->nparts - 1]);
             c->place_given[c->nparts - 1] |= 1u << k;
         }
+    if (strcmp(o->key, "colour_depth") == 0 || strcmp(o->key, "core") == 0) /* the part's own keys */
+        return hv_option_set_value(hv_option_find(hv_tray_part_option_set(), o->key), &c->paint[c->nparts - 1], v);
     hv_option one = *o;
     one.offset = 0;
     return hv_placement_option_parse(&one, &c->place[c->nparts - 1], v);
@@ -67,6 +72,11 @@ static const hv_option k_local_opts[] = {
     PLACE_OPT("scale", "S|SX,SY,SZ", "scale the part before it about the origin", NULL),
     PLACE_OPT("rotate", "AXIS:DEG|DEG@X,Y,Z", "turn the part before it (repeatable, in order), before ROT", NULL),
     PLACE_OPT("translate", "X,Y,Z", "move the part before it (mm), last", NULL),
+    PLACE_OPT("colour_depth", "MM", "paint the mesh of the part before it in its colours this deep (default 1 mm; a "
+              "coloured mesh whose bodies name no 3MF material is painted without it)",
+              "Colour of the --part before them (job files: the part's keys)"),
+    PLACE_OPT("core", "RESIN|COLOUR", "what lies deeper than its colour: a resin or a colour (default the white resin)",
+              NULL),
 };
 static const hv_option_set k_local = CLI_LOCAL_SET("tray", k_local_opts, tray_cli);
 
@@ -171,6 +181,8 @@ static int run(const cli_args *args, void *lib, void *local)
             const char *key = set->options[i].key;
             if (!cli_given(args, key)) continue;
             if (set->options[i].kind != HV_OPT_CUSTOM) s = hv_option_copy(set, key, &job, o);
+            else if (set->options[i].parse == hv_colour_option_parse) /* --icc, --intent, --resins */
+                s = hv_option_copy(hv_colour_option_set(), key, &job.colour, &o->colour);
         }
         for (int i = 0; i < o->nresin && s == HV_OK && job.nresin < HV_TRAY_MAX_RESINS; ++i) job.resin[job.nresin++] = o->resin[i];
         for (int i = 0; i < o->ncolor && s == HV_OK && job.ncolor < HV_TRAY_MAX_RESINS; ++i)
@@ -185,6 +197,8 @@ static int run(const cli_args *args, void *lib, void *local)
         hv_tray_part p;
         s = parse_part(c->part[i], bufs[i], sizeof bufs[i], &p);
         p.place = c->place[i];
+        p.colour_depth = c->paint[i].colour_depth;
+        p.core = c->paint[i].core;
         if (s == HV_OK) warn_size(&p, o);
         if (s == HV_OK) s = hv_tray_add(t, &p, NULL); /* "part N", counted after the job file's */
     }

@@ -626,8 +626,8 @@ static const char *where_of(const hv_tray *t, const instance *in)
 /* A mesh part without a model or a material: an assembly in its bodies' materials (issue 27 item
  * 2), its model made in memory (hv_mesh_model) on voxels of the printer's coarsest pitch,
  * coarsened until the voxelization fits a quarter of the budget; or a mesh that prints in its
- * colours (issue 29), its model painted as `layers MESH` paints it, on voxels a quarter of the
- * colour's depth or the printer's pitch (hv_colour_mesh_voxels). */
+ * colours (issue 29), its model painted as `layers MESH` paints it, on voxels half the colour's
+ * depth or the printer's pitch (hv_colour_mesh_voxels). */
 static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *mesh, const hv_tray_options *o,
                               hv_volume **model)
 {

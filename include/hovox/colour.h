@@ -111,7 +111,11 @@ HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t
  * without colour, takes the core: 100 % of resin `core` (one of the map's six, or a seventh
  * material), or when core_rgba is given the fractions of that colour (straight RGBA in [0, 1]).
  * Adds the float grids "material.<resin>" and stores the material table (the six resins with
- * display colours, then the core). The mesh must be the one the model was voxelized from, in the
+ * display colours, then the core). The printer has six slots: a core resin that is not one of
+ * the six takes one, so a colour role gives way (Clear when no voxel uses it, else K when none
+ * does, else the lesser used of the two; clear folds into white, black into equal cyan, magenta
+ * and yellow) and the model has six materials (hv_colour_paint_note says which gave way). The
+ * mesh must be the one the model was voxelized from, in the
  * same coordinates. Errors: HV_ERR_INVALID (depth not > 0, neither core nor core_rgba),
  * HV_ERR_NOT_FOUND (no occupancy grid), those of hv_volume_grid_set and hv_material_add (a grid
  * or material already there), HV_ERR_NOMEM. `hovox voxelize --colour-depth` calls it. */
@@ -153,6 +157,12 @@ typedef struct hv_colour_skin {
 } hv_colour_skin;
 HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
 
+/* What painting had to give way for the six slots, as one line for a person ("VeroClear gave way
+ * to the core Agilus30 (six slots): no painted voxel used it; folded into VeroPureWhite"), into
+ * buf (size bytes). Returns 1 when a role gave way, 0 when none did or the model is not painted
+ * (buf then ""). */
+HV_API int hv_colour_paint_note(const hv_volume *model, char *buf, size_t size);
+
 /* hv_colour_paint with the core as text, as the CLI (--core) and Lua give it: a colour when it
  * reads as one (hv_color_parse), else a resin; NULL: the map's white resin. Also refuses a mesh
  * without any colour (HV_ERR_BAD_INPUT "NAME: no colour to paint ..."). */
@@ -175,8 +185,9 @@ HV_API hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_opt
                                       double depth, const char *core, hv_volume **out);
 
 /* The voxels for hv_colour_mesh_model: opt->voxel_size set to the coarser of `pitch` (say the
- * printer's coarsest) and depth / 4 (the skin four voxels deep: colour is carried from the
- * surface, so finer voxels add little but memory), coarsened by 5/4 until the plan (filled in)
+ * printer's coarsest) and depth / 2 (the skin two voxels deep: colour is carried from the
+ * surface, so finer voxels add memory and time, little colour; 0.5 mm for the default 1 mm, about
+ * the bench knot's texel), coarsened by 5/4 until the plan (filled in)
  * and the painting (about 112 bytes an occupied voxel, from the mesh's volume) need at most
  * `budget` bytes (at most 60 times). Errors: HV_ERR_INVALID (pitch or depth not positive and
  * finite), HV_ERR_LIMIT (nothing fits), those of hv_voxelize_plan. */

@@ -231,7 +231,7 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
         s = hv_voxelize_plan(*mesh, &vo, &plan);
     } else if (paint) {
         s = hv_colour_mesh_voxels(*mesh, pitch, depth, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
-        pitch = HV_MAX(pitch, depth / 4);
+        pitch = HV_MAX(pitch, depth / 2);
     } else {
         s = hv_mesh_model_voxels(*mesh, pitch, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
     }
@@ -258,6 +258,8 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
     }
     cli_progress_done(&bar);
     hv_colour_map_destroy(map);
+    char note[512];
+    if (s == HV_OK && paint && hv_colour_paint_note(*model, note, sizeof note)) hv_buf_printf(said, "slots       %s\n", note);
     return s;
 }
 

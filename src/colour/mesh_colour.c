@@ -48,7 +48,7 @@ hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double depth,
     if (!(pitch > 0) || !(pitch < 1e6) || !(depth > 0) || !(depth < 1e6))
         return hv_error_set(HV_ERR_INVALID, "the voxel pitch and colour depth must be positive, got %g and %g", pitch,
                             depth);
-    double v = fmax(pitch, depth / 4), volume = fabs(hv_mesh_get_report(mesh)->volume);
+    double v = fmax(pitch, depth / 2), volume = fabs(hv_mesh_get_report(mesh)->volume);
     hv_status s = HV_OK;
     for (int tries = 0; tries <= 60; ++tries, v *= 1.25) {
         opt->voxel_size[0] = opt->voxel_size[1] = opt->voxel_size[2] = v;
@@ -59,6 +59,6 @@ hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double depth,
     }
     if (s == HV_OK)
         s = hv_error_set(HV_ERR_LIMIT, "%s: no voxel size from %g mm to %g mm paints it within %.1f MiB",
-                         hv_mesh_name(mesh), fmax(pitch, depth / 4), v / 1.25, (double)budget / 1048576.0);
+                         hv_mesh_name(mesh), fmax(pitch, depth / 2), v / 1.25, (double)budget / 1048576.0);
     return s;
 }

@@ -147,6 +147,9 @@ hv_status hv_colour_manifest_hook(void *user, void *manifest)
     }
     json_t *c;
     hv_status s = skin_json(sk, achieved ? scale : NULL, &c);
+    char note[512];
+    if (s == HV_OK && hv_colour_paint_note(sk->model, note, sizeof note) && hv_json_set(c, "gives_way", hv_json_text(note)))
+        s = hv_error_set(HV_ERR_NOMEM, "out of memory");
     if (s == HV_OK && hv_json_set(doc, "colour", c)) s = hv_error_set(HV_ERR_NOMEM, "out of memory");
     return s;
 }
@@ -168,7 +171,30 @@ hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *con
     }
     json_t *c = NULL;
     if (s == HV_OK) s = skin_json(&sk, achieved ? scale : NULL, &c);
+    char note[512];
+    if (s == HV_OK && hv_colour_paint_note(model, note, sizeof note) && hv_json_set(c, "gives_way", hv_json_text(note)))
+        s = hv_error_set(HV_ERR_NOMEM, "out of memory");
     hv_colour_map_destroy(sk.map);
     *out = c;
     return s;
+}
+
+int hv_colour_paint_note(const hv_volume *model, char *buf, size_t size)
+{
+    if (size) buf[0] = '\0';
+    const char *text = hv_volume_meta_string(model, META);
+    json_t *doc = text ? json_loads(text, 0, NULL) : NULL;
+    json_t *g = json_object_get(doc, "gives_way");
+    const char *resin = json_string_value(json_object_get(g, "resin")), *into = json_string_value(json_object_get(g, "into"));
+    const char *core = json_string_value(json_object_get(doc, "core"));
+    int gave = resin && into && core;
+    if (gave) {
+        double share = json_number_value(json_object_get(g, "share"));
+        char used[64];
+        if (share > 0) snprintf(used, sizeof used, "%.2g%% of the colour's fractions", 100 * share);
+        snprintf(buf, size, "%s gave way to the core %s (six slots): %s; folded into %s", resin, core,
+                 share > 0 ? used : "no painted voxel used it", into);
+    }
+    json_decref(doc);
+    return gave;
 }

@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """tests/colour/check_tray_colour.py - a coloured mesh in a tray is painted as `layers` paints it
-(issue 29, tray colour): the six-colour cube of check_paint.py (OBJ + MTL Kd), 4 mm, printed in one
+(issue 29, tray colour): the six-colour cube of check_paint.py (OBJ + MTL Kd), 6 mm, printed in one
 step by `hovox layers cube.obj --place X,Y` and as `hovox tray --part cube.obj@X,Y` (no model: both
-voxelize and paint it 1 mm deep over the white resin). In a block inside each face's skin (0.2 to
-0.8 mm deep, 2 mm by 2 mm about the face's middle) the share of each resin's pixels
+voxelize and paint it 1 mm deep over the white resin, on 0.5 mm voxels). In a block inside each
+face's skin (0.2 to 0.6 mm deep: deeper, the resampling blends in the core; 2 mm by 2 mm about
+the face's middle) the share of each resin's pixels
   - in the tray equals the layers stack's within 0.01, and
   - equals Pillow ImageCms's sRGB -> CMYK transform of the face's colour (the rule of
     hovox/colour.h) within 0.02 (blue-noise averaged over the block);
@@ -19,14 +20,14 @@ from PIL import Image
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import check_paint  # noqa: E402  (the cube, the resins and the LittleCMS fractions)
 
-SIZE, AT = 4.0, (40.0, 30.0)
+SIZE, AT = 6.0, (40.0, 30.0)
 check_paint.SIZE = SIZE
 
 
 def face_box(axis, side):
     """(x0, x1, y0, y1, z0, z1) mm in the mesh's coordinates: the block in a face's skin."""
     box = [[SIZE / 2 - 1, SIZE / 2 + 1] for _ in range(3)]
-    box[axis] = [SIZE - 0.8, SIZE - 0.2] if side else [0.2, 0.8]
+    box[axis] = [SIZE - 0.6, SIZE - 0.2] if side else [0.2, 0.6]
     return [v for a in box for v in a]
 
 

@@ -80,20 +80,20 @@ Test(mesh_colour, voxels_a_quarter_of_the_depth_within_the_budget)
     hv_voxelize_options o;
     hv_voxelize_options_init(&o);
     hv_voxel_plan plan;
-    /* finer than the printer needs: a quarter of the depth */
+    /* coarser than the printer's pitch: half the depth */
     cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, 1ull << 40, &o, &plan), HV_OK, "%s", hv_last_error());
-    cr_assert_float_eq(o.voxel_size[0], 0.25, 1e-12);
+    cr_assert_float_eq(o.voxel_size[0], 0.5, 1e-12);
     /* a shallow skin: the printer's pitch */
-    cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 0.2, 1ull << 40, &o, &plan), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 0.1, 1ull << 40, &o, &plan), HV_OK, "%s", hv_last_error());
     cr_assert_float_eq(o.voxel_size[0], 0.0847, 1e-12);
     /* a smaller budget coarsens by 5/4 steps until the plan and the painting (112 bytes an
      * occupied voxel) fit */
     cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, 1ull << 40, &o, &plan), HV_OK);
-    double need = (double)plan.memory_bytes + 64000.0 / (0.25 * 0.25 * 0.25) * 112.0;
+    double need = (double)plan.memory_bytes + 64000.0 / (0.5 * 0.5 * 0.5) * 112.0;
     cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, (uint64_t)(0.6 * need), &o, &plan), HV_OK, "%s",
                  hv_last_error());
     double v = o.voxel_size[0];
-    cr_assert_float_eq(v, 0.3125, 1e-12);
+    cr_assert_float_eq(v, 0.625, 1e-12);
     cr_assert_leq((double)plan.memory_bytes + 64000.0 / (v * v * v) * 112.0, 0.6 * need);
     cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, 10, &o, &plan), HV_ERR_LIMIT);
     cr_assert_eq(hv_colour_mesh_voxels(m, 0, 1.0, 1u << 30, &o, &plan), HV_ERR_INVALID);

@@ -104,6 +104,9 @@ HV_API hv_status hv_colour_map_add_input(hv_colour_map *map, const void *icc, si
 /* As hv_colour_map_fractions for a colour in input profile `id` (0: sRGB). */
 HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t rgba[4],
                                        float out[HV_COLOUR_SLOTS]);
+/* A colour in input profile `id` as sRGB (relative colorimetric; 0 or an unknown id: as given):
+ * the colour asked for, which renders show and the dE2000 measures against. Thread-safe. */
+HV_API void hv_colour_map_srgb_in(const hv_colour_map *map, int id, const uint8_t rgba[4], uint8_t srgb[3]);
 
 /* Colour carried into a part: every voxel of `model`'s "occupancy" within `depth` mm of `mesh`'s
  * surface takes the colour of its nearest point on the mesh (exact point-triangle distance; the

@@ -290,7 +290,7 @@ static hv_status record(hv_volume *vol, const hv_colour_map *map, double depth, 
  * colour slots, so a texture's texels convert once and most look-ups take no lock. */
 enum { FRONT = 1024 };
 typedef struct front {
-    uint32_t key[FRONT]; /* the rgba bytes; valid[] says whether the slot holds one */
+    uint64_t key[FRONT]; /* the input profile and the rgba bytes; valid[] says whether the slot holds one */
     uint8_t valid[FRONT];
     float f[FRONT][HV_COLOUR_SLOTS];
 } front;
@@ -306,14 +306,16 @@ typedef struct paint_job {
     const float *core_rgba, *corefr;
     float *val;
     front *cache; /* one per thread */
+    const int *tex_input; /* per texture its input profile in the map (0: sRGB) */
 } paint_job;
 
-static void fractions(front *c, hv_colour_map *map, const uint8_t c8[4], float out[HV_COLOUR_SLOTS])
+static void fractions(front *c, hv_colour_map *map, int id, const uint8_t c8[4], float out[HV_COLOUR_SLOTS])
 {
-    uint32_t key = (uint32_t)c8[0] << 24 | (uint32_t)c8[1] << 16 | (uint32_t)c8[2] << 8 | c8[3];
-    size_t j = (size_t)((key * 2654435761u) >> 22) & (FRONT - 1);
+    uint32_t rgba = (uint32_t)c8[0] << 24 | (uint32_t)c8[1] << 16 | (uint32_t)c8[2] << 8 | c8[3];
+    uint64_t key = (uint64_t)id << 32 | rgba;
+    size_t j = (size_t)(((rgba ^ (uint32_t)id * 0x9E3779B9u) * 2654435761u) >> 22) & (FRONT - 1);
     if (!c->valid[j] || c->key[j] != key) {
-        hv_colour_map_fractions(map, c8, c->f[j]);
+        hv_colour_map_fractions_in(map, id, c8, c->f[j]);
         c->key[j] = key;
         c->valid[j] = 1;
     }
@@ -332,8 +334,14 @@ static hv_status paint_range(void *ctx, size_t begin, size_t end, int thread)
         if (h.q != SIZE_MAX && hv_mesh_colour_at(J->mesh, J->tree->facet[h.q], h.bary, rgba)) {
             uint8_t c8[4];
             for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(rgba[k] * 255.0f);
-            fractions(&J->cache[thread], J->map, c8, fr);
-            for (int k = 0; k < 3; ++k) want[k] = c8[k] / 255.0f;
+            /* a texture's colours are in its embedded profile, when it has one */
+            const int32_t *ft = hv_mesh_facet_textures(J->mesh);
+            int32_t tex = ft ? ft[J->tree->facet[h.q]] : -1;
+            int id = tex >= 0 && J->tex_input ? J->tex_input[tex] : 0;
+            fractions(&J->cache[thread], J->map, id, c8, fr);
+            uint8_t s8[3];
+            hv_colour_map_srgb_in(J->map, id, c8, s8);
+            for (int k = 0; k < 3; ++k) want[k] = s8[k] / 255.0f;
             want[3] = 1;
         } else if (J->core_rgba) {
             memcpy(fr, J->corefr, HV_COLOUR_SLOTS * sizeof *fr);
@@ -408,9 +416,26 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
         for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(core_rgba[k] * 255.0f);
         hv_colour_map_fractions(map, c8, corefr);
     }
-    paint_job job = {&tree, mesh, map, xyz, n, depth * depth, nmat, core_slot, core_rgba, corefr, val, cache};
+    /* textures with an embedded ICC profile: their colours go through it (inputs of the map) */
+    int *tex_input = NULL;
+    size_t ntex = hv_mesh_texture_count(mesh);
+    if (ntex && !(tex_input = hv_calloc(ntex, sizeof *tex_input))) {
+        s = HV_ERR_NOMEM;
+        goto done;
+    }
+    for (size_t t = 0; t < ntex && s == HV_OK; ++t) {
+        const hv_mesh_texture *tx = hv_mesh_texture_at(mesh, t);
+        if (tx->icc) s = hv_colour_map_add_input(map, tx->icc, tx->icc_size, tx->name, &tex_input[t]);
+    }
+    if (s != HV_OK) {
+        free(tex_input);
+        goto done;
+    }
+    paint_job job = {&tree, mesh, map, xyz, n, depth * depth, nmat, core_slot, core_rgba, corefr, val, cache, tex_input};
     /* voxels come in leaf order, so a chunk is a compact block and the last voxel's facet a close bound */
-    if (n && (s = hv_parallel_for(n, 4096, paint_range, &job, NULL, NULL)) != HV_OK) goto done;
+    if (n) s = hv_parallel_for(n, 4096, paint_range, &job, NULL, NULL);
+    free(tex_input);
+    if (s != HV_OK) goto done;
     double share = 0;
     int gives = nmat > HV_COLOUR_SLOTS ? give_way(val, n, val + (size_t)(nmat + 3) * n, &share) : -1;
     /* display colours of slots whose resins the resin table does not know (it colours the J750's) */

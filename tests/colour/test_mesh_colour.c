@@ -43,23 +43,20 @@ Test(mesh_colour, which_meshes_print_in_their_colours)
     m = t_cube_mesh(0, 4);
     cr_assert_eq(hv_colour_mesh_paints(m), 0);
     hv_mesh_destroy(m);
-    /* an OBJ whose MTL gives its materials colours (Kd): appearance, painted */
+    /* an OBJ whose MTL gives its materials colours (Kd): appearance, painted; the same OBJ
+     * without its library: materials are names only, no colour */
     FILE *f = fopen(t_tmpfile("k.mtl"), "w");
     fputs("newmtl red\nKd 1 0 0\n", f);
     fclose(f);
-    f = fopen(t_tmpfile("k.obj"), "w");
-    fputs("mtllib k.mtl\nv 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\nusemtl red\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n", f);
-    fclose(f);
-    m = load(t_tmpfile("k.obj"));
-    cr_assert_eq(hv_colour_mesh_paints(m), 1);
-    hv_mesh_destroy(m);
-    /* the same OBJ without its library: materials are names only, no colour */
-    f = fopen(t_tmpfile("k.obj"), "w");
-    fputs("mtllib none.mtl\nv 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\nusemtl red\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n", f);
-    fclose(f);
-    m = load(t_tmpfile("k.obj"));
-    cr_assert_eq(hv_colour_mesh_paints(m), 0);
-    hv_mesh_destroy(m);
+    for (int with = 1; with >= 0; --with) {
+        f = fopen(t_tmpfile("k.obj"), "w");
+        fprintf(f, "mtllib %s\nv 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\nusemtl red\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+                with ? "k.mtl" : "none.mtl");
+        fclose(f);
+        m = load(t_tmpfile("k.obj"));
+        cr_assert_eq(hv_colour_mesh_paints(m), with);
+        hv_mesh_destroy(m);
+    }
     /* 3MF: a Vero shell over an Agilus core (base materials with display colours), and base
      * materials and composites with a colour group on one body: printed in their materials */
     char path[4096];

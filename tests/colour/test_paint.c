@@ -34,18 +34,32 @@ static int face_of(const hv_mesh *m, size_t f)
     return 2 * a + (n[a] > 0);
 }
 
-Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
+/* The 10 mm cube, each face one flat colour (corner colours), and its voxels at 0.5 mm. */
+static hv_mesh *face_cube(const uint32_t face[6])
 {
     hv_mesh *m = t_cube_mesh(0, 10);
     size_t nf = hv_mesh_facet_count(m);
     uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = k_face[face_of(m, f)];
+    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = face[face_of(m, f)];
     cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
+    free(c);
+    return m;
+}
+
+static hv_volume *half_mm_voxels(const hv_mesh *m)
+{
     hv_voxelize_options o;
     hv_voxelize_options_init(&o);
     o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
     hv_volume *v = NULL;
     cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
+    return v;
+}
+
+Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
+{
+    hv_mesh *m = face_cube(k_face);
+    hv_volume *v = half_mm_voxels(m);
     hv_colour_map *map = NULL;
     cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
     cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
@@ -110,8 +124,7 @@ Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
     cr_assert_gt(skin, 1000);
     cr_assert_gt(deep, 1000);
     /* a core colour: the deep voxels hold its fractions; refusals */
-    hv_volume *v2 = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v2), HV_OK);
+    hv_volume *v2 = half_mm_voxels(m);
     const float grey[4] = {0.5f, 0.5f, 0.5f, 1};
     cr_assert_eq(hv_colour_paint(v2, m, map, 1.0, NULL, grey), HV_OK, "%s", hv_last_error());
     float gf[HV_COLOUR_SLOTS];
@@ -131,7 +144,6 @@ Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
     cr_assert_neq(hv_colour_paint(v2, m, map, 1, "Agilus30", NULL), HV_OK); /* the grids are there already */
     hv_volume_destroy(v2);
     free(xyz);
-    free(c);
     hv_material_table_destroy(t);
     hv_colour_map_destroy(map);
     hv_volume_destroy(v);
@@ -240,16 +252,8 @@ Test(paint, nearest_facet_exact_and_the_same_on_any_threads)
  * equal cyan, magenta, yellow; clear into white). */
 static void six_slots_case(const uint32_t face[6], const char *gives, const char *into)
 {
-    hv_mesh *m = t_cube_mesh(0, 10);
-    size_t nf = hv_mesh_facet_count(m);
-    uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = face[face_of(m, f)];
-    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
-    hv_voxelize_options o;
-    hv_voxelize_options_init(&o);
-    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
-    hv_volume *v = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK);
+    hv_mesh *m = face_cube(face);
+    hv_volume *v = half_mm_voxels(m);
     hv_colour_map *map = NULL;
     cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
     cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
@@ -276,7 +280,6 @@ static void six_slots_case(const uint32_t face[6], const char *gives, const char
         cr_assert_float_eq(sum, 1.0, 1e-5, "voxel %zu: fractions sum to %g", i, sum);
     }
     free(xyz);
-    free(c);
     hv_material_table_destroy(t);
     hv_colour_map_destroy(map);
     hv_volume_destroy(v);

@@ -3,8 +3,8 @@
 -- voxelized and painted 1 mm deep in its colours over a soft Agilus30 core: each colour goes
 -- through LittleCMS and the default CMYK profile (Ghostscript's default_cmyk.icc) into the J750's
 -- six colour resins (VeroCyan-V, VeroMagenta-V, VeroYellow-V, VeroBlackPlus, VeroPureWhite,
--- VeroClear). Outputs: the model (.vdb), the fractions at each face and the centre (.csv), a
--- render in the requested colours and a cut through the core (.png), a J750 blue-noise stack
+-- VeroClear; the printer has six slots, so Agilus30 takes VeroClear's, which no colour here
+-- uses). Outputs: the model (.vdb), the fractions at each face and the centre (.csv), a render in the requested colours and a cut through the core (.png), a J750 blue-noise stack
 -- whose manifest gives the skin's mean dE2000.
 -- usage: hovox run samples/colour_cube.lua [OUTDIR] [VOXEL] [LAYERS]
 --   VOXEL: voxel size in mm (default 0.25); LAYERS: the J750 layers to write, "A:B" (layers A to

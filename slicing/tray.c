@@ -84,6 +84,12 @@ static const hv_option k_part[] = {
      .help = "a scan's enclosed cavities filled (its model is made in memory)"},
     {.key = "min_feature", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .offset = POFF(min_feature), .meta = "MM",
      .unit = "mm", .help = "a scan's parts and cavities smaller than a ball of this diameter dropped and filled"},
+    {.key = "colour_depth", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
+     .offset = POFF(colour_depth), .meta = "MM", .unit = "mm", .section = "Colour (a mesh painted in its colours)",
+     .help = "paint the mesh in its colours this deep (default 1 mm; a coloured mesh whose bodies name no 3MF "
+             "material is painted without it)"},
+    {.key = "core", .kind = HV_OPT_STRING, .offset = POFF(core), .meta = "RESIN|COLOUR",
+     .help = "what lies deeper than the colour: a resin or a colour (default the white resin)"},
 };
 #undef POFF
 
@@ -102,14 +108,28 @@ static hv_status part_materials_check(const hv_tray_part *p)
 /* The scan keys besides `scan` itself: refused on a mesh part. */
 static const char *const k_scan_keys[] = {"iso", "range", "labels", "lut", "keep_largest", "fill_holes", "min_feature"};
 
+/* What a part's keys say together (job files, the CLI's --part, Lua). */
+static hv_status part_check(const hv_tray_part *p)
+{
+    if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
+    if (p->model && p->material)
+        return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
+    const char *paint = p->core ? "core" : "colour_depth";
+    if (p->model && (p->colour_depth > 0 || p->core))
+        return hv_error_option(HV_ERR_INVALID, "{%s} is for a mesh painted in its colours; a {model} brings its own "
+                               "materials (paint it when it is voxelized)", paint);
+    if (p->material && (p->colour_depth > 0 || p->core))
+        return hv_error_option(HV_ERR_INVALID, "{%s} is for a mesh painted in its colours; a part with a {material} "
+                               "(MESH:MATERIAL) prints in that material", paint);
+    return HV_OK;
+}
+
 static hv_status part_finish(const hv_optargs *args)
 {
     hv_tray_part *p = args->opts;
     p->placed = p->placed || hv_optargs_given(args, "at");
-    if (p->rotation % 90) return hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", p->rotation);
-    if (p->model && p->material)
-        return hv_error_option(HV_ERR_INVALID, "{material} is for plain meshes; a model brings its own materials");
-    hv_status st = part_materials_check(p);
+    hv_status st = part_check(p);
+    if (st == HV_OK) st = part_materials_check(p);
     if (st != HV_OK) return st;
     if (!p->scan) {
         for (size_t k = 0; k < HV_COUNT(k_scan_keys); ++k)
@@ -181,6 +201,7 @@ static const hv_option k_tray[] = {
      .help = "add a resin to the profile's table, or change its display colour"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = TOFF(max_memory), .meta = "SIZE",
      .help = "refuse jobs that would need more (default: half of RAM)"},
+    HV_COLOUR_OPTIONS(hv_tray_options, colour, "Colour (the parts painted in their colours)"),
 };
 #undef TOFF
 
@@ -200,6 +221,7 @@ void hv_tray_options_init(hv_tray_options *o)
     o->profile = "j750";
     o->mode = HV_LAYERS_HALFTONE;
     o->spacing = 5;
+    hv_colour_options_init(&o->colour);
 }
 static void tray_init(void *o) { hv_tray_options_init(o); }
 static const hv_option_set k_tray_set = {"tray", k_tray, (int)HV_COUNT(k_tray), sizeof(hv_tray_options), tray_init,
@@ -335,6 +357,7 @@ void hv_tray_destroy(hv_tray *t)
         free((char *)s->p.scan);
         free((char *)s->p.lut);
         free((char *)s->p.labels);
+        free((char *)s->p.core);
         free(s->where);
     }
     free(t->src);
@@ -385,8 +408,7 @@ static char *dup_or_null(const char *s, int *bad)
 hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
 {
     hv_status st = hv_options_check(&k_part_set, part);
-    if (st == HV_OK && part->rotation % 90)
-        st = hv_error_option(HV_ERR_INVALID, "{rotation} must be 0, 90, 180 or 270, got %d", part->rotation);
+    if (st == HV_OK) st = part_check(part);
     if (st == HV_OK && !part->mesh && !part->model && !part->scan)
         st = hv_error_option(HV_ERR_INVALID, "a part needs a {mesh}, a {model} or a {scan}");
     if (st == HV_OK && !part->mesh && !part->scan && hv_placement_given(&part->place))
@@ -417,6 +439,7 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     s->p.labels = dup_or_null(part->labels, &bad);
     s->p.name = dup_or_null(part->name ? part->name : hv_basename(part->mesh ? part->mesh : part->scan ? part->scan : part->model), &bad);
     for (int k = 0; k < part->materials.n; ++k) s->p.materials.pair[k] = dup_or_null(part->materials.pair[k], &bad);
+    s->p.core = dup_or_null(part->core, &bad);
     s->where = dup_or_null(where, &bad);
     s->number = t->nsrc + 1;
     t->nsrc++;
@@ -700,10 +723,14 @@ static const char *where_of(const hv_tray *t, const instance *in)
 
 /* A mesh part without a model or a material: an assembly in its bodies' materials (issue 27 item
  * 2), its model made in memory (hv_mesh_model) on voxels of the printer's coarsest pitch,
- * coarsened until the voxelization fits a quarter of the budget. */
-static hv_status bodies_model(const hv_tray *t, const hv_mesh *mesh, const hv_tray_options *o, hv_volume **model)
+ * coarsened until the voxelization fits a quarter of the budget; or a mesh that prints in its
+ * colours (issue 29), its model painted as `layers MESH` paints it, on voxels half the colour's
+ * depth or the printer's pitch (hv_colour_mesh_voxels). */
+static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *mesh, const hv_tray_options *o,
+                              hv_volume **model)
 {
-    for (size_t i = 0; i < hv_mesh_body_count(mesh); ++i) {
+    int paint = s->p.colour_depth > 0 || s->p.core || hv_colour_mesh_paints(mesh);
+    for (size_t i = 0; i < hv_mesh_body_count(mesh) && !paint; ++i) {
         const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
         if (b->material == HV_MESH_NO_MATERIAL)
             return hv_error_option(HV_ERR_INVALID, "body '%s' has no material (the mesh names none): give the part a "
@@ -716,8 +743,18 @@ static hv_status bodies_model(const hv_tray *t, const hv_mesh *mesh, const hv_tr
     hv_voxelize_options_init(&vo);
     vo.max_memory = o->max_memory;
     hv_voxel_plan plan;
-    hv_status st = hv_mesh_model_voxels(mesh, pitch, hv_memory_budget(o->max_memory) / 4, &vo, &plan);
-    return st == HV_OK ? hv_mesh_model(mesh, &vo, NULL, model) : st;
+    uint64_t budget = hv_memory_budget(o->max_memory) / 4;
+    if (!paint) {
+        hv_status st = hv_mesh_model_voxels(mesh, pitch, budget, &vo, &plan);
+        return st == HV_OK ? hv_mesh_model(mesh, &vo, NULL, model) : st;
+    }
+    double depth = s->p.colour_depth > 0 ? s->p.colour_depth : HV_COLOUR_DEPTH_DEFAULT;
+    hv_colour_map *map = NULL;
+    hv_status st = hv_colour_mesh_voxels(mesh, pitch, depth, budget, &vo, &plan);
+    if (st == HV_OK) st = hv_colour_map_create(&o->colour, &map);
+    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, model);
+    hv_colour_map_destroy(map);
+    return st;
 }
 
 /* ---- a part from a model alone (issue 28) ------------------------------------------------------
@@ -942,7 +979,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     if (st == HV_OK) size_warning(t, s, mesh, o);
     if (st == HV_OK) st = hv_body_materials_apply(&s->p.materials, mesh);
     if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
-    else if (st == HV_OK && !s->p.material) st = bodies_model(t, mesh, o, &model);
+    else if (st == HV_OK && !s->p.material) st = bodies_model(t, s, mesh, o, &model);
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;
         st = volume_quarter(model, &r);
@@ -1783,6 +1820,12 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
             failed |= hv_json_set(mats, s->mat_name[j], mj);
         }
         failed |= hv_json_set(p, "materials", mats);
+        void *colour = NULL;
+        if (s->model && o->mode == HV_LAYERS_HALFTONE) { /* a painted part: its skin's dE2000 (issue 29) */
+            hv_status st = hv_colour_part_manifest(s->model, s->m, s->mat_name, pr.target, pr.achieved, &colour);
+            failed |= st == HV_ERR_NOMEM; /* else a profile no longer readable: the part goes without */
+            if (colour) failed |= hv_json_set(p, "colour", colour);
+        }
         failed |= json_array_append_new(parts, p);
     }
     failed |= hv_json_set(doc, "parts", parts);

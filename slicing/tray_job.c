@@ -74,8 +74,8 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
                          args->set == hv_tray_option_set() ? ", parts, schema" : "");
         return at(r, node, 1, s);
     }
-    int is_path = o->kind == HV_OPT_STRING && (strcmp(key, "model") == 0 || strcmp(key, "mesh") == 0 ||
-                                               (o->flags & (HV_OPT_OUT_PATH | HV_OPT_IN_PATH)));
+    int is_path = (o->kind == HV_OPT_STRING && (strcmp(key, "model") == 0 || strcmp(key, "mesh") == 0)) ||
+                  (o->flags & (HV_OPT_OUT_PATH | HV_OPT_IN_PATH)); /* also a custom option's (icc) */
     switch (json_typeof(v)) {
     case JSON_STRING:
         ov.text = keep(r, json_string_value(v), is_path);

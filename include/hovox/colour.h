@@ -9,6 +9,7 @@
 #include "hovox/mesh.h"
 #include "hovox/options.h"
 #include "hovox/volume.h"
+#include "hovox/voxelize.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -48,6 +49,25 @@ typedef struct hv_colour_options {
 HV_API void hv_colour_options_init(hv_colour_options *opt);
 /* The options as one table for the CLI (--icc, --intent, --resins), job files and Lua. Static. */
 HV_API const hv_option_set *hv_colour_option_set(void);
+/* An option of hv_colour_option_set (the same key) over an hv_colour_options member of another
+ * options struct (its offset is the member's; see HV_COLOUR_OPTIONS): a tray's colour map. */
+HV_API hv_status hv_colour_option_parse(const hv_option *opt, void *opts, const hv_opt_value *value);
+#define HV_COLOUR_OPTION_(type, member, key_, meta_, flags_, help_, section_)                                    \
+    {.key = key_, .kind = HV_OPT_CUSTOM, .flags = flags_, .offset = offsetof(type, member), .meta = meta_,      \
+     .help = help_, .section = section_, .parse = hv_colour_option_parse}
+#define HV_COLOUR_OPTIONS(type, member, section_)                                                                \
+    HV_COLOUR_OPTION_(type, member, "icc", "FILE.icc", HV_OPT_IN_PATH,                                           \
+                      "the printer's output ICC profile (CMYK) the parts' colours go through (default: "        \
+                      "Ghostscript's default_cmyk.icc)", section_),                                             \
+    HV_COLOUR_OPTION_(type, member, "intent", "INTENT", 0,                                                       \
+                      "rendering intent: perceptual (default), relative, saturation or absolute", NULL),         \
+    HV_COLOUR_OPTION_(type, member, "resins", "C,M,Y,K,W,CLEAR", 0,                                              \
+                      "the resins that print cyan, magenta, yellow, black, white and clear (default the "       \
+                      "J750's)", NULL)
+
+/* How deep a part is painted when nothing says (mm): `voxelize --colour-depth`, a mesh sliced in
+ * one step by `layers`, a tray's part. */
+#define HV_COLOUR_DEPTH_DEFAULT 1.0
 
 typedef struct hv_colour_map hv_colour_map;
 
@@ -84,6 +104,9 @@ HV_API hv_status hv_colour_map_add_input(hv_colour_map *map, const void *icc, si
 /* As hv_colour_map_fractions for a colour in input profile `id` (0: sRGB). */
 HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t rgba[4],
                                        float out[HV_COLOUR_SLOTS]);
+/* A colour in input profile `id` as sRGB (relative colorimetric; 0 or an unknown id: as given):
+ * the colour asked for, which renders show and the dE2000 measures against. Thread-safe. */
+HV_API void hv_colour_map_srgb_in(const hv_colour_map *map, int id, const uint8_t rgba[4], uint8_t srgb[3]);
 
 /* Colour carried into a part: every voxel of `model`'s "occupancy" within `depth` mm of `mesh`'s
  * surface takes the colour of its nearest point on the mesh (exact point-triangle distance; the
@@ -91,7 +114,11 @@ HV_API void hv_colour_map_fractions_in(hv_colour_map *map, int id, const uint8_t
  * without colour, takes the core: 100 % of resin `core` (one of the map's six, or a seventh
  * material), or when core_rgba is given the fractions of that colour (straight RGBA in [0, 1]).
  * Adds the float grids "material.<resin>" and stores the material table (the six resins with
- * display colours, then the core). The mesh must be the one the model was voxelized from, in the
+ * display colours, then the core). The printer has six slots: a core resin that is not one of
+ * the six takes one, so a colour role gives way (Clear when no voxel uses it, else K when none
+ * does, else the lesser used of the two; clear folds into white, black into equal cyan, magenta
+ * and yellow) and the model has six materials (hv_colour_paint_note says which gave way). The
+ * mesh must be the one the model was voxelized from, in the
  * same coordinates. Errors: HV_ERR_INVALID (depth not > 0, neither core nor core_rgba),
  * HV_ERR_NOT_FOUND (no occupancy grid), those of hv_volume_grid_set and hv_material_add (a grid
  * or material already there), HV_ERR_NOMEM. `hovox voxelize --colour-depth` calls it. */
@@ -146,11 +173,51 @@ typedef struct hv_colour_skin {
 } hv_colour_skin;
 HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
 
+/* What painting had to give way for the six slots, as one line for a person ("VeroClear gave way
+ * to the core Agilus30 (six slots): no painted voxel used it; folded into VeroPureWhite"), into
+ * buf (size bytes). Returns 1 when a role gave way, 0 when none did or the model is not painted
+ * (buf then ""). */
+HV_API int hv_colour_paint_note(const hv_volume *model, char *buf, size_t size);
+
 /* hv_colour_paint with the core as text, as the CLI (--core) and Lua give it: a colour when it
  * reads as one (hv_color_parse), else a resin; NULL: the map's white resin. Also refuses a mesh
  * without any colour (HV_ERR_BAD_INPUT "NAME: no colour to paint ..."). */
 HV_API hv_status hv_colour_paint_text(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
                                       const char *core);
+
+/* Does the mesh print in its colours when nothing else says (the one rule of `layers MESH` and a
+ * tray's mesh part)? 1 when it has colour (a texture, corner colours such as PLY vertex colours
+ * or 3MF colour groups, material colours) and no body is made of a material: a 3MF body whose
+ * material is a base material or a composite prints in it (an assembly in its materials, a
+ * composite under a colour), while an OBJ's materials are its MTL's appearances (Kd, map_Kd) and
+ * a 3MF colour group's entries ("#rrggbb") are colours. 0 also for a mesh without colour. */
+HV_API int hv_colour_mesh_paints(const hv_mesh *mesh);
+
+/* A model of `mesh` painted in its colours (one step from a coloured mesh to a stack): the mesh
+ * voxelized by `vopt`, then hv_colour_paint_text(depth, core). The model records no shape (the
+ * caller slices it with the mesh). Errors: those of hv_voxelize and hv_colour_paint_text. Free
+ * *out with hv_volume_destroy. */
+HV_API hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *vopt, hv_colour_map *map,
+                                      double depth, const char *core, hv_volume **out);
+
+/* The voxels for hv_colour_mesh_model: opt->voxel_size set to the coarser of `pitch` (say the
+ * printer's coarsest) and depth / 2 (the skin two voxels deep: colour is carried from the
+ * surface, so finer voxels add memory and time, little colour; 0.5 mm for the default 1 mm, about
+ * the bench knot's texel), coarsened by 5/4 until the plan (filled in)
+ * and the painting (about 112 bytes an occupied voxel, from the mesh's volume) need at most
+ * `budget` bytes (at most 60 times). Errors: HV_ERR_INVALID (pitch or depth not positive and
+ * finite), HV_ERR_LIMIT (nothing fits), those of hv_voxelize_plan. */
+HV_API hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double depth, uint64_t budget,
+                                       hv_voxelize_options *opt, hv_voxel_plan *plan);
+
+/* The "colour" object a stack manifest gives a painted model (jansson json_t *, owned by the
+ * caller; NULL in *out when the model is not painted, HV_OK): {icc, description, intent,
+ * skin_voxels, mean_de2000_target, max_de2000_target, and mean_de2000_achieved when `achieved`
+ * is given}. `names`, `target` and `achieved` are the model's m materials as a halftone printed
+ * them (achieved NULL: no halftone); each colour resin's fractions are scaled by its achieved /
+ * target. A tray gives one per painted part. Errors: those of hv_colour_map_for_model, NOMEM. */
+HV_API hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *const *names, const double *target,
+                                         const double *achieved, void **out);
 
 /* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
  * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by

@@ -252,6 +252,9 @@ typedef struct hv_mesh_texture {
     uint32_t width, height;
     hv_tile tile_u, tile_v;
     hv_filter filter;
+    const uint8_t *icc;     /* the ICC profile the picture embeds (PNG iCCP, JPEG APP2), its colours'
+                               space; NULL: sRGB. Owned by the mesh */
+    size_t icc_size;
 } hv_mesh_texture;
 
 /* Per facet corner 0xRRGGBBAA (3 per facet, facet order), copied; NULL clears them.
@@ -268,6 +271,10 @@ HV_API hv_status hv_mesh_add_texture(hv_mesh *mesh, const char *name, const uint
                                      uint32_t width, uint32_t height, hv_tile tile_u,
                                      hv_tile tile_v, hv_filter filter, int32_t *index);
 HV_API size_t hv_mesh_texture_count(const hv_mesh *mesh);
+/* Texture i's colours are in the ICC profile `icc` (size bytes, copied; NULL clears it): the
+ * picture's embedded profile, which painting converts them through (hovox/colour.h). Errors:
+ * HV_ERR_INVALID (i out of range), HV_ERR_NOMEM. */
+HV_API hv_status hv_mesh_texture_set_icc(hv_mesh *mesh, size_t i, const void *icc, size_t size);
 /* Texture i < hv_mesh_texture_count (else NULL); owned by the mesh. */
 HV_API const hv_mesh_texture *hv_mesh_texture_at(const hv_mesh *mesh, size_t i);
 

@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "hovox/colour.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
 #include "hovox/options.h"
@@ -46,7 +47,11 @@ HV_API const hv_resin *hv_tray_resins(const hv_printer_profile *p, int *n);
  * hv_mesh_model makes it, on voxels of the printer's coarsest pitch coarsened until they fit a
  * quarter of max_memory; a body without a material is refused naming it), materials (repeatable
  * BODY=MATERIAL, a job file's {"BODY": "MATERIAL", ...}: a body's material whatever the file
- * says, as `hovox layers --material BODY=MATERIAL`; not with model or material), name,
+ * says, as `hovox layers --material BODY=MATERIAL`; not with model or material;
+ * a mesh that prints in
+ * its colours, hv_colour_mesh_paints, or a part given colour_depth or core, is painted instead:
+ * hv_colour_mesh_model through the tray's colour map, colour_depth mm deep, default
+ * HV_COLOUR_DEPTH_DEFAULT, over core, a resin or a colour, default the map's white resin), name,
  * at = X,Y (plate position of the centre of its xy box; absent: arranged), z (lift, mm, >= 0),
  * rotation (0, 90, 180, 270 degrees about z), copies (>= 1, placed in a row along +x), and the
  * placement of the mesh (hovox/placement.h: unit, up, scale, rotate, translate; applied to the mesh
@@ -72,6 +77,8 @@ typedef struct hv_tray_part {
     int select;                      /* hv_scan_select: set by the key given (iso, range, labels) */
     double iso, range[2], min_feature;
     int keep_largest, fill_holes;
+    double colour_depth; /* mm; 0: HV_COLOUR_DEPTH_DEFAULT when painted */
+    const char *core;    /* a painted part's core (resin or colour); NULL: the white resin */
 } hv_tray_part;
 HV_API void hv_tray_part_init(hv_tray_part *p);
 HV_API const hv_option_set *hv_tray_part_option_set(void);
@@ -80,7 +87,8 @@ HV_API const hv_option_set *hv_tray_part_option_set(void);
  * mask), seed, spacing (mm between footprints, default 5), arrange (place the parts without
  * `at`; with arrange = all, every part), layers (A:B of the tray's layers), gcvf (also a GCVF
  * zip), force, max_memory, dry_run, resin (repeatable MATERIAL=RESIN), resin_color (repeatable
- * RESIN=#rrggbb: add or override a resin). */
+ * RESIN=#rrggbb: add or override a resin), and the colour map of painted parts (icc, intent,
+ * resins: hovox/colour.h). */
 typedef struct hv_tray_options {
     const char *profile;
     hv_layers_mode mode;
@@ -95,6 +103,7 @@ typedef struct hv_tray_options {
     int nresin, ncolor;
     const char *resin[HV_TRAY_MAX_RESINS];       /* "MATERIAL=RESIN" (borrowed) */
     const char *resin_color[HV_TRAY_MAX_RESINS]; /* "RESIN=#rrggbb" (borrowed) */
+    hv_colour_options colour;                    /* painted parts' colour map */
     const char *cache_dir;                       /* blue-noise cache (see hv_layers_options) */
     const struct hv_dist *dist;                  /* several processes (hovox/dist.h); NULL: one */
     hv_stack_finish_fn finish;                   /* run before the stack is renamed into place

@@ -1,6 +1,8 @@
 # scripts/bench/98-colour.sh - issue 29: the bench tray with its three knots textured in colour
-# (scripts/bench/textured_knot.py: a 256 x 256 texture of 65,536 colours, painted 1 mm deep, white
-# core; six resins) against the same tray graded without colour (three resins). Goal: <= 1.5x.
+# (scripts/bench/textured_knot.py: a 256 x 256 texture of 65,536 colours; the part is the mesh
+# alone, which the tray voxelizes and paints 1 mm deep over a white core, as `layers MESH` would;
+# six resins) against the same tray graded without colour (three resins, graded models made
+# beforehand). Goal: <= 1.5x.
 # The two trays run alternately, BENCH_COLOUR_RUNS times each (default 1: a whole tray takes
 # minutes); BENCH_COLOUR_LAYERS=a:b cuts both to those layers. Painting the knot is timed against
 # voxelizing and grading it.
@@ -19,7 +21,7 @@ t_grade=$(median colour_grade "'$HOVOX' voxelize '$work/tray/knot.stl' --dims 16
 echo "  knot painted 1 mm deep         $t_paint s   voxelized and graded $t_grade s   ratio $(ratio "$t_paint" "$t_grade")x"
 for kind in graded colour; do
     if [ $kind = graded ]; then knot='"model": "../tray/knot.vdb", "mesh": "../tray/knot.stl"'
-    else knot='"model": "knot_colour.vdb", "mesh": "knotc.obj"'; fi
+    else knot='"mesh": "knotc.obj"'; fi # no model: the tray paints the textured mesh itself
     cat >"$cw/$kind.json" <<EOF
 {"schema": 1, "profile": "j750", "arrange": "all",
  "resin": {"A": "VeroCyan-V", "B": "VeroMagenta-V", "C": "VeroYellow-V"},

@@ -26,7 +26,9 @@ typedef struct layers_cli {
     cli_scan scan;
     hv_body_materials materials; /* --material BODY=MATERIAL, for a mesh sliced in one step */
     double voxel_size;
-    hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut */
+    double colour_depth;    /* a mesh in one step painted in its colours */
+    const char *core;
+    hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut, a painted mesh's colours */
 } layers_cli;
 
 static const hv_option k_local_opts[] = {
@@ -49,6 +51,12 @@ static const hv_option k_local_opts[] = {
      .offset = offsetof(layers_cli, voxel_size), .meta = "MM", .unit = "mm",
      .help = "the voxels the bodies' materials are evaluated on (default: the printer's coarsest pitch, "
              "coarsened until the model fits half of --max-memory)"},
+    {.key = "colour_depth", .kind = HV_OPT_NUMBER, .lo = 0, .hi = 1e6, .flags = HV_OPT_LO_OPEN | HV_OPT_UNSET0,
+     .offset = offsetof(layers_cli, colour_depth), .meta = "MM", .unit = "mm",
+     .help = "paint the mesh in its colours this deep (default 1 mm; a coloured mesh whose bodies name no 3MF "
+             "material is painted without it), through --icc, --intent, --resins"},
+    {.key = "core", .kind = HV_OPT_STRING, .offset = offsetof(layers_cli, core), .meta = "RESIN|COLOUR",
+     .help = "what lies deeper than the colour: a resin or a colour (default the white resin)"},
     HV_PLACEMENT_OPTIONS(layers_cli, place),
     CLI_SCAN_OPTIONS(layers_cli, scan),
     CLI_COLOUR_MAP_OPTIONS(layers_cli, cmap),
@@ -205,16 +213,46 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
     hv_status s = cli_mesh_load_placed(o->model_name, &c->place, pp ? pp->build : NULL, mesh);
     if (s == HV_OK) s = hv_body_materials_apply(&c->materials, *mesh);
     if (s != HV_OK || o->mode == HV_LAYERS_MASK) return s;
+    int paint = !c->materials.n && (c->colour_depth > 0 || c->core || hv_colour_mesh_paints(*mesh));
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};
-    hv_layers_mesh_voxels v;
-    s = hv_layers_mesh_model(*mesh, o, c->voxel_size, &prog, model, &v);
-    if (s == HV_OK)
-        hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", v.size,
-                      (long long)v.dims[0], (long long)v.dims[1], (long long)v.dims[2],
-                      v.coarsened ? " (coarsened to fit the memory budget)" : "");
+    hv_colour_map *map = NULL;
+    if (!paint) {
+        hv_layers_mesh_voxels v;
+        s = hv_layers_mesh_model(*mesh, o, c->voxel_size, &prog, model, &v);
+        if (s == HV_OK)
+            hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", v.size,
+                          (long long)v.dims[0], (long long)v.dims[1], (long long)v.dims[2],
+                          v.coarsened ? " (coarsened to fit the memory budget)" : "");
+    } else { /* a mesh in its colours (issue 29): painted as a tray paints its mesh parts */
+        hv_voxelize_options vo;
+        hv_voxelize_options_init(&vo);
+        vo.max_memory = o->max_memory;
+        double pitch = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
+        double depth = c->colour_depth > 0 ? c->colour_depth : HV_COLOUR_DEPTH_DEFAULT;
+        hv_voxel_plan plan;
+        if (c->voxel_size > 0) {
+            vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = c->voxel_size;
+            s = hv_voxelize_plan(*mesh, &vo, &plan);
+        } else {
+            s = hv_colour_mesh_voxels(*mesh, pitch, depth, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
+            pitch = HV_MAX(pitch, depth / 2);
+        }
+        if (s == HV_OK) {
+            hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), painted in its colours %.6g mm deep over %s%s\n",
+                          vo.voxel_size[0], (long long)plan.dims[0], (long long)plan.dims[1], (long long)plan.dims[2],
+                          depth, c->core ? c->core : "the white resin",
+                          c->voxel_size > 0 || vo.voxel_size[0] <= pitch ? "" : " (coarsened to fit the memory budget)");
+            vo.progress = &prog;
+            s = hv_colour_map_create(&c->cmap, &map);
+            if (s == HV_OK) s = hv_colour_mesh_model(*mesh, &vo, map, depth, c->core, model);
+        }
+    }
     cli_progress_done(&bar);
+    hv_colour_map_destroy(map);
+    char note[512];
+    if (s == HV_OK && paint && hv_colour_paint_note(*model, note, sizeof note)) hv_buf_printf(said, "slots       %s\n", note);
     return s;
 }
 
@@ -342,14 +380,22 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (!o->model_name || !hv_scan_path_is_scan(o->model_name)) {
         int rc = cli_scan_refuse(args, "layers", "is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a "
                                                "DICOM directory)");
-        static const char *const colour[] = {"icc", "intent", "resins"};
-        for (int k = 0; k < 3 && rc < 0; ++k)
+        static const char *const colour[] = {"icc", "intent", "resins", "colour_depth", "core"};
+        for (int k = 0; k < 5 && rc < 0 && !mesh_in; ++k)
             if (cli_given(args, colour[k]))
-                rc = cli_usage_error("layers", "%s is for a scanned volume's colour --lut (a model's colours were "
-                                               "mapped to resins when it was painted)", cli_spell(colour[k]));
+                rc = cli_usage_error("layers", "%s is for a mesh painted in one step or a scanned volume's colour "
+                                               "--lut (a model's colours were mapped to resins when it was painted)",
+                                     cli_spell(colour[k]));
+        for (int k = 3; k < 5 && rc < 0 && c->materials.n; ++k)
+            if (cli_given(args, colour[k]))
+                rc = cli_usage_error("layers", "%s paints the mesh in its colours; --material prints its bodies in "
+                                               "materials", cli_spell(colour[k]));
         return rc >= 0 ? rc : run(o, c, NULL, args->quiet);
     }
     if (c->mesh) return cli_usage_error("layers", "--mesh is for models; a scanned volume is cut at its own iso-surface");
+    if (cli_given(args, "colour_depth") || cli_given(args, "core"))
+        return cli_usage_error("layers", "%s is for a mesh painted in its colours; a scanned volume's colours come "
+                                         "from its --lut", cli_spell(cli_given(args, "core") ? "core" : "colour_depth"));
     if (!c->scan.lut && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "a scanned volume's materials come from --lut TABLE.csv (or print its shape "
                                          "alone with --mode mask)");

@@ -23,6 +23,7 @@ typedef struct tray_cli {
     hv_body_materials materials[MAX_CLI_PARTS]; /* of each --part: the --materials after it */
     hv_tray_part scan[MAX_CLI_PARTS]; /* of each --part: the scan options after it (--iso, --lut, ...) */
     uint64_t scan_given[MAX_CLI_PARTS]; /* their bits in hv_tray_part_option_set (hv_optargs.given) */
+    hv_tray_part paint[MAX_CLI_PARTS]; /* of each --part: its --colour-depth and --core */
     int nparts;
     int view;
 } tray_cli;
@@ -40,15 +41,19 @@ static hv_status add_part(const hv_option *o, void *opts, const hv_opt_value *v)
 static hv_status place_part(const hv_option *o, void *opts, const hv_opt_value *v)
 {
     tray_cli *c = opts;
-    if (c->nparts == 0) return hv_error_option(HV_ERR_INVALID, "{%s} places the {part} given before it; none is", o->key);
-    static const char *const keys[] = {"unit", "up", "scale", "translate"};
-    for (unsigned k = 0; k < 4; ++k)
+    if (c->nparts == 0)
+        return hv_error_option(HV_ERR_INVALID, "{%s} %s the {part} given before it; none is", o->key,
+                               strncmp(o->key, "colour", 6) == 0 || strcmp(o->key, "core") == 0 ? "paints" : "places");
+    static const char *const keys[] = {"unit", "up", "scale", "translate", "colour_depth", "core"};
+    for (unsigned k = 0; k < 6; ++k)
         if (strcmp(o->key, keys[k]) == 0) {
             if (c->place_given[c->nparts - 1] & (1u << k))
                 return hv_error_option(HV_ERR_INVALID, "{%s} given twice for the {part} '%s'", o->key,
                                        c->part[c->nparts - 1]);
             c->place_given[c->nparts - 1] |= 1u << k;
         }
+    if (strcmp(o->key, "colour_depth") == 0 || strcmp(o->key, "core") == 0) /* the part's own keys */
+        return hv_option_set_value(hv_option_find(hv_tray_part_option_set(), o->key), &c->paint[c->nparts - 1], v);
     hv_option one = *o;
     one.offset = 0;
     return hv_placement_option_parse(&one, &c->place[c->nparts - 1], v);
@@ -126,6 +131,11 @@ static const hv_option k_local_opts[] = {
              "the scan before it: its largest connected part only, or its cavities filled (repeatable)", NULL),
     SCAN_OPT("min_feature", 0, "MM", "the scan before it: parts and cavities smaller than MM dropped and filled",
              NULL),
+    PLACE_OPT("colour_depth", "MM", "paint the mesh of the part before it in its colours this deep (default 1 mm; a "
+              "coloured mesh whose bodies name no 3MF material is painted without it)",
+              "Colour of the --part before them (job files: the part's keys)"),
+    PLACE_OPT("core", "RESIN|COLOUR", "what lies deeper than its colour: a resin or a colour (default the white resin)",
+              NULL),
 };
 static const hv_opt_alias k_aliases[] = {{"keep_largest", "clean", "keep_largest"}, {"fill_holes", "clean", "fill_holes"}};
 static const hv_option_set k_local = {"tray", k_local_opts, (int)HV_COUNT(k_local_opts), sizeof(tray_cli), NULL, NULL, 0,
@@ -229,6 +239,8 @@ static int run(const cli_args *args, void *lib, void *local)
             const char *key = set->options[i].key;
             if (!cli_given(args, key)) continue;
             if (set->options[i].kind != HV_OPT_CUSTOM) s = hv_option_copy(set, key, &job, o);
+            else if (set->options[i].parse == hv_colour_option_parse) /* --icc, --intent, --resins */
+                s = hv_option_copy(hv_colour_option_set(), key, &job.colour, &o->colour);
         }
         for (int i = 0; i < o->nresin && s == HV_OK && job.nresin < HV_TRAY_MAX_RESINS; ++i) job.resin[job.nresin++] = o->resin[i];
         for (int i = 0; i < o->ncolor && s == HV_OK && job.ncolor < HV_TRAY_MAX_RESINS; ++i)
@@ -259,6 +271,8 @@ static int run(const cli_args *args, void *lib, void *local)
         p.fill_holes = sc->fill_holes;
         p.min_feature = sc->min_feature;
         p.materials = c->materials[i];
+        p.colour_depth = c->paint[i].colour_depth;
+        p.core = c->paint[i].core;
         pa.given |= c->scan_given[i];
         if (s == HV_OK && (s = hv_optargs_finish(&pa)) != HV_OK) s = hv_error_prefix(s, "--part '%s': ", c->part[i]);
         if (s == HV_OK && (s = hv_tray_add(t, &p, NULL)) != HV_OK) /* "part N", counted after the job file's */

@@ -176,6 +176,8 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
             cli_json_str(&j, "core", c->core ? c->core : hv_colour_map_resin(map, HV_COLOUR_W));
             cli_json_str(&j, "icc", hv_colour_map_icc(map));
             cli_json_str(&j, "intent", hv_intent_name(hv_colour_map_intent(map)));
+            char note[512];
+            if (vol && hv_colour_paint_note(vol, note, sizeof note)) cli_json_str(&j, "slots", note);
         }
         if (rg) {
             cli_json_int(&j, "overlap", (long long)hv_regions_overlap(rg));
@@ -209,6 +211,8 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
         for (int k = 0; k < HV_COLOUR_SLOTS; ++k) printf("%s%s", k ? ", " : " ", hv_colour_map_resin(map, k));
         printf("\nprofile     %s (%s), intent %s\n", hv_colour_map_icc(map), hv_colour_map_description(map),
                hv_intent_name(hv_colour_map_intent(map)));
+        char note[512];
+        if (vol && hv_colour_paint_note(vol, note, sizeof note)) printf("slots       %s\n", note);
     }
     if (vol) printf("wrote       %s\n", c->output);
     hv_regions_destroy(rg);

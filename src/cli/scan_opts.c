@@ -54,11 +54,6 @@ int cli_scan_refuse(const cli_args *args, const char *cmd, const char *why)
     return -1;
 }
 
-hv_status cli_colour_map_option(const hv_option *o, void *opts, const hv_opt_value *v)
-{
-    return hv_option_set_value(hv_option_find(hv_colour_option_set(), o->key), (char *)opts + o->offset, v);
-}
-
 hv_status cli_scan_lut(const cli_scan *c, const hv_colour_options *co, hv_lut **lut, hv_colour_map **map)
 {
     *lut = NULL;

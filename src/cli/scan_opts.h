@@ -41,11 +41,10 @@ typedef struct cli_scan {
 /* --icc, --intent, --resins: the colour map's own options (hv_colour_option_set's, their help
  * too), set in the hv_colour_options at `member` of a command's local struct: the colours of a
  * scan's colour --lut (voxelize: also a painted mesh's). */
-hv_status cli_colour_map_option(const hv_option *o, void *opts, const hv_opt_value *v);
 #define CLI_COLOUR_MAP_OPTIONS(type, member)                                                                        \
-    {.key = "icc", .kind = HV_OPT_CUSTOM, .offset = offsetof(type, member), .parse = cli_colour_map_option},      \
-    {.key = "intent", .kind = HV_OPT_CUSTOM, .offset = offsetof(type, member), .parse = cli_colour_map_option},   \
-    {.key = "resins", .kind = HV_OPT_CUSTOM, .offset = offsetof(type, member), .parse = cli_colour_map_option}
+    {.key = "icc", .kind = HV_OPT_CUSTOM, .offset = offsetof(type, member), .parse = hv_colour_option_parse},      \
+    {.key = "intent", .kind = HV_OPT_CUSTOM, .offset = offsetof(type, member), .parse = hv_colour_option_parse},   \
+    {.key = "resins", .kind = HV_OPT_CUSTOM, .offset = offsetof(type, member), .parse = hv_colour_option_parse}
 
 /* The shape and clean-ups into o (*labels: the label list o points at; free it after). Returns -1
  * when they are right, else the exit code (the usage error printed). */

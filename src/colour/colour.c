@@ -89,6 +89,7 @@ struct hv_colour_map {
     hv_intent intent;
     cmsHPROFILE out, lab;
     cmsHTRANSFORM to_cmyk[MAX_INPUTS]; /* per input profile: RGBA 8 -> CMYK 16 */
+    cmsHTRANSFORM to_srgb[MAX_INPUTS]; /* per input profile but sRGB's: RGBA 8 -> sRGB 8 */
     int ninputs;
     cmsHTRANSFORM cmyk_to_lab, srgb_to_lab;
     pthread_mutex_t lock;
@@ -101,6 +102,8 @@ void hv_colour_map_destroy(hv_colour_map *m)
     if (!m) return;
     for (int i = 0; i < m->ninputs; ++i)
         if (m->to_cmyk[i]) cmsDeleteTransform(m->to_cmyk[i]);
+    for (int i = 0; i < m->ninputs; ++i)
+        if (m->to_srgb[i]) cmsDeleteTransform(m->to_srgb[i]);
     if (m->cmyk_to_lab) cmsDeleteTransform(m->cmyk_to_lab);
     if (m->srgb_to_lab) cmsDeleteTransform(m->srgb_to_lab);
     if (m->out) cmsCloseProfile(m->out);
@@ -251,11 +254,22 @@ hv_status hv_colour_map_add_input(hv_colour_map *m, const void *icc, size_t size
                             space_name(cs));
     }
     cmsHTRANSFORM t = to_cmyk(m, in);
+    /* the colour asked for, as sRGB for the render and the dE2000 (relative colorimetric) */
+    cmsHPROFILE srgb = t ? cmsCreate_sRGBProfile() : NULL;
+    cmsHTRANSFORM ts = srgb ? cmsCreateTransform(in, cs == cmsSigGrayData ? TYPE_GRAYA_8 : TYPE_RGBA_8, srgb, TYPE_RGB_8,
+                                                 INTENT_RELATIVE_COLORIMETRIC, cmsFLAGS_NOCACHE)
+                            : NULL;
+    if (srgb) cmsCloseProfile(srgb);
     cmsCloseProfile(in);
+    if (t && !ts) {
+        cmsDeleteTransform(t);
+        t = NULL;
+    }
     if (!t)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: its embedded colour profile cannot be used%s%s", name,
                             t_lcms_msg[0] ? ": " : "", t_lcms_msg);
     m->to_cmyk[m->ninputs] = t;
+    m->to_srgb[m->ninputs] = ts;
     *id = m->ninputs++;
     return HV_OK;
 }
@@ -321,6 +335,16 @@ void hv_colour_map_fractions_in(hv_colour_map *m, int id, const uint8_t rgba[4],
     pthread_mutex_lock(&m->lock);
     cache_put(m, key, out);
     pthread_mutex_unlock(&m->lock);
+}
+
+void hv_colour_map_srgb_in(const hv_colour_map *m, int id, const uint8_t rgba[4], uint8_t srgb[3])
+{
+    if (id <= 0 || id >= m->ninputs || !m->to_srgb[id]) {
+        memcpy(srgb, rgba, 3);
+        return;
+    }
+    uint8_t px[4] = {rgba[0], rgba[1], rgba[2], 255};
+    cmsDoTransform(m->to_srgb[id], px, srgb, 1);
 }
 
 void hv_colour_map_fractions(hv_colour_map *m, const uint8_t rgba[4], float out[HV_COLOUR_SLOTS])

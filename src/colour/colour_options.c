@@ -52,3 +52,10 @@ static const hv_option_set k_set = {"colour", k_opts, (int)HV_COUNT(k_opts), siz
                                     NULL, 0, NULL, NULL, NULL, 0};
 
 const hv_option_set *hv_colour_option_set(void) { return &k_set; }
+
+hv_status hv_colour_option_parse(const hv_option *o, void *opts, const hv_opt_value *v)
+{
+    const hv_option *c = hv_option_find(&k_set, o->key);
+    if (!c) return hv_error_option(HV_ERR_INVALID, "{%s} is not a colour option", o->key);
+    return hv_option_set_value(c, (char *)opts + o->offset, v);
+}

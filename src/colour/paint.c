@@ -250,7 +250,8 @@ static void bvh_nearest(const bvh *b, const double p[3], size_t guess, hit *h)
 }
 
 /* What painting used, for the manifest's dE2000 with the same profile (hv_colour_map_for_model). */
-static hv_status record(hv_volume *vol, const hv_colour_map *map, double depth, const char *core, const float *core_rgba)
+static hv_status record(hv_volume *vol, const hv_colour_map *map, double depth, const char *core, const float *core_rgba,
+                        int gives, double share)
 {
     char hex[10];
     if (!core) {
@@ -268,6 +269,15 @@ static hv_status record(hv_volume *vol, const hv_colour_map *map, double depth, 
     bad |= hv_json_set(doc, "resins", resins);
     bad |= hv_json_set(doc, "depth_mm", hv_json_number(depth));
     bad |= hv_json_set(doc, "core", hv_json_text(core ? core : hex));
+    if (gives >= 0) { /* six slots: a role gave way to the core (see give_way) */
+        json_t *g = json_object();
+        bad |= !g;
+        bad |= hv_json_set(g, "resin", hv_json_text(hv_colour_map_resin(map, gives)));
+        bad |= hv_json_set(g, "into", hv_json_text(gives == HV_COLOUR_CLEAR ? hv_colour_map_resin(map, HV_COLOUR_W)
+                                                                              : "cyan, magenta and yellow"));
+        bad |= hv_json_set(g, "share", hv_json_number(share));
+        bad |= hv_json_set(doc, "gives_way", g);
+    }
     char *text = bad ? NULL : hv_json_dump(doc);
     json_decref(doc);
     if (!text) return hv_error_set(HV_ERR_NOMEM, "out of memory");
@@ -280,7 +290,7 @@ static hv_status record(hv_volume *vol, const hv_colour_map *map, double depth, 
  * colour slots, so a texture's texels convert once and most look-ups take no lock. */
 enum { FRONT = 1024 };
 typedef struct front {
-    uint32_t key[FRONT]; /* the rgba bytes; valid[] says whether the slot holds one */
+    uint64_t key[FRONT]; /* the input profile and the rgba bytes; valid[] says whether the slot holds one */
     uint8_t valid[FRONT];
     float f[FRONT][HV_COLOUR_SLOTS];
 } front;
@@ -296,14 +306,16 @@ typedef struct paint_job {
     const float *core_rgba, *corefr;
     float *val;
     front *cache; /* one per thread */
+    const int *tex_input; /* per texture its input profile in the map (0: sRGB) */
 } paint_job;
 
-static void fractions(front *c, hv_colour_map *map, const uint8_t c8[4], float out[HV_COLOUR_SLOTS])
+static void fractions(front *c, hv_colour_map *map, int id, const uint8_t c8[4], float out[HV_COLOUR_SLOTS])
 {
-    uint32_t key = (uint32_t)c8[0] << 24 | (uint32_t)c8[1] << 16 | (uint32_t)c8[2] << 8 | c8[3];
-    size_t j = (size_t)((key * 2654435761u) >> 22) & (FRONT - 1);
+    uint32_t rgba = (uint32_t)c8[0] << 24 | (uint32_t)c8[1] << 16 | (uint32_t)c8[2] << 8 | c8[3];
+    uint64_t key = (uint64_t)id << 32 | rgba;
+    size_t j = (size_t)(((rgba ^ (uint32_t)id * 0x9E3779B9u) * 2654435761u) >> 22) & (FRONT - 1);
     if (!c->valid[j] || c->key[j] != key) {
-        hv_colour_map_fractions(map, c8, c->f[j]);
+        hv_colour_map_fractions_in(map, id, c8, c->f[j]);
         c->key[j] = key;
         c->valid[j] = 1;
     }
@@ -322,8 +334,14 @@ static hv_status paint_range(void *ctx, size_t begin, size_t end, int thread)
         if (h.q != SIZE_MAX && hv_mesh_colour_at(J->mesh, J->tree->facet[h.q], h.bary, rgba)) {
             uint8_t c8[4];
             for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(rgba[k] * 255.0f);
-            fractions(&J->cache[thread], J->map, c8, fr);
-            for (int k = 0; k < 3; ++k) want[k] = c8[k] / 255.0f;
+            /* a texture's colours are in its embedded profile, when it has one */
+            const int32_t *ft = hv_mesh_facet_textures(J->mesh);
+            int32_t tex = ft ? ft[J->tree->facet[h.q]] : -1;
+            int id = tex >= 0 && J->tex_input ? J->tex_input[tex] : 0;
+            fractions(&J->cache[thread], J->map, id, c8, fr);
+            uint8_t s8[3];
+            hv_colour_map_srgb_in(J->map, id, c8, s8);
+            for (int k = 0; k < 3; ++k) want[k] = s8[k] / 255.0f;
             want[3] = 1;
         } else if (J->core_rgba) {
             memcpy(fr, J->corefr, HV_COLOUR_SLOTS * sizeof *fr);
@@ -336,6 +354,36 @@ static hv_status paint_range(void *ctx, size_t begin, size_t end, int thread)
         for (int k = 0; k < 4; ++k) J->val[(size_t)(J->nmat + k) * n + i] = want[k];
     }
     return HV_OK;
+}
+
+/* The printer's six slots (issue 29: a colour shares them with graded materials): a core resin
+ * that is not one of the six colour resins takes a slot, so one colour role gives way. Clear when
+ * no voxel uses it (opaque colours), else black when none uses it, else the lesser used of the
+ * two; its fractions fold into what prints nearest: clear into white (a translucent colour
+ * printed opaque), black into equal cyan, magenta and yellow (process black). Returns the slot,
+ * and in *share its mean fraction over the voxels that had a colour. */
+static int give_way(float *val, size_t n, const float *want_mask, double *share)
+{
+    double used[HV_COLOUR_SLOTS] = {0}, coloured = 0;
+    for (size_t i = 0; i < n; ++i) {
+        coloured += want_mask[i] > 0.5f;
+        for (int k = 0; k < HV_COLOUR_SLOTS; ++k) used[k] += val[(size_t)k * n + i];
+    }
+    int g = used[HV_COLOUR_CLEAR] == 0 ? HV_COLOUR_CLEAR
+            : used[HV_COLOUR_K] == 0   ? HV_COLOUR_K
+            : used[HV_COLOUR_CLEAR] <= used[HV_COLOUR_K] ? HV_COLOUR_CLEAR : HV_COLOUR_K;
+    *share = coloured > 0 ? used[g] / coloured : 0;
+    float *gv = val + (size_t)g * n;
+    for (size_t i = 0; i < n; ++i) {
+        if (gv[i] == 0) continue;
+        if (g == HV_COLOUR_CLEAR) {
+            val[(size_t)HV_COLOUR_W * n + i] += gv[i];
+        } else {
+            for (int k = HV_COLOUR_C; k <= HV_COLOUR_Y; ++k) val[(size_t)k * n + i] += gv[i] / 3.0f;
+        }
+        gv[i] = 0;
+    }
+    return g;
 }
 
 hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *map, double depth, const char *core,
@@ -368,19 +416,40 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
         for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(core_rgba[k] * 255.0f);
         hv_colour_map_fractions(map, c8, corefr);
     }
-    paint_job job = {&tree, mesh, map, xyz, n, depth * depth, nmat, core_slot, core_rgba, corefr, val, cache};
+    /* textures with an embedded ICC profile: their colours go through it (inputs of the map) */
+    int *tex_input = NULL;
+    size_t ntex = hv_mesh_texture_count(mesh);
+    if (ntex && !(tex_input = hv_calloc(ntex, sizeof *tex_input))) {
+        s = HV_ERR_NOMEM;
+        goto done;
+    }
+    for (size_t t = 0; t < ntex && s == HV_OK; ++t) {
+        const hv_mesh_texture *tx = hv_mesh_texture_at(mesh, t);
+        if (tx->icc) s = hv_colour_map_add_input(map, tx->icc, tx->icc_size, tx->name, &tex_input[t]);
+    }
+    if (s != HV_OK) {
+        free(tex_input);
+        goto done;
+    }
+    paint_job job = {&tree, mesh, map, xyz, n, depth * depth, nmat, core_slot, core_rgba, corefr, val, cache, tex_input};
     /* voxels come in leaf order, so a chunk is a compact block and the last voxel's facet a close bound */
-    if (n && (s = hv_parallel_for(n, 4096, paint_range, &job, NULL, NULL)) != HV_OK) goto done;
+    if (n) s = hv_parallel_for(n, 4096, paint_range, &job, NULL, NULL);
+    free(tex_input);
+    if (s != HV_OK) goto done;
+    double share = 0;
+    int gives = nmat > HV_COLOUR_SLOTS ? give_way(val, n, val + (size_t)(nmat + 3) * n, &share) : -1;
     /* display colours of slots whose resins the resin table does not know (it colours the J750's) */
     static const float k_show[HV_COLOUR_SLOTS][4] = {{0, 0.6f, 0.9f, 1}, {0.9f, 0, 0.5f, 1}, {1, 0.9f, 0, 1},
                                                       {0.1f, 0.1f, 0.1f, 1}, {1, 1, 1, 1}, {0.8f, 0.9f, 1, 0.3f}};
     hv_material_table *tab = NULL;
     s = hv_material_table_create(&tab);
     for (int k = 0; k < nmat && s == HV_OK; ++k)
-        s = hv_material_add(tab, k < HV_COLOUR_SLOTS ? hv_colour_map_resin(map, k) : core,
-                            k < HV_COLOUR_SLOTS && !hv_resin_find(hv_colour_map_resin(map, k)) ? k_show[k] : NULL,
-                            NULL);
+        if (k != gives)
+            s = hv_material_add(tab, k < HV_COLOUR_SLOTS ? hv_colour_map_resin(map, k) : core,
+                                k < HV_COLOUR_SLOTS && !hv_resin_find(hv_colour_map_resin(map, k)) ? k_show[k] : NULL,
+                                NULL);
     for (int k = 0; k < nmat && s == HV_OK; ++k) {
+        if (k == gives) continue;
         char name[160];
         snprintf(name, sizeof name, "material.%s", k < HV_COLOUR_SLOTS ? hv_colour_map_resin(map, k) : core);
         s = hv_volume_grid_set(vol, name, "occupancy", val + (size_t)k * n, n);
@@ -388,7 +457,7 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
     static const char *const k_want[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
     for (int k = 0; k < 4 && s == HV_OK; ++k) s = hv_volume_grid_set(vol, k_want[k], "occupancy", val + (size_t)(nmat + k) * n, n);
     if (s == HV_OK) s = hv_material_table_store(vol, tab);
-    if (s == HV_OK) s = record(vol, map, depth, core, core_rgba);
+    if (s == HV_OK) s = record(vol, map, depth, core, core_rgba, gives, share);
     hv_material_table_destroy(tab);
 done:
     free(val);

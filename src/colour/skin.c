@@ -132,6 +132,36 @@ hv_status hv_colour_skin_error(const hv_volume *model, const hv_colour_map *map,
     return HV_OK;
 }
 
+/* The manifest's "colour" object of sk (target and, with scale, achieved filled in). */
+static hv_status skin_json(hv_colour_skin *sk, const double *scale, json_t **out)
+{
+    *out = NULL;
+    hv_status s = sk->model ? hv_colour_skin_error(sk->model, sk->map, NULL, &sk->target)
+                            : hv_colour_samples_error(sk->map, sk->samples, sk->rgb, sk->fractions, sk->weight, NULL,
+                                                      &sk->target);
+    if (s == HV_OK && scale)
+        s = sk->model ? hv_colour_skin_error(sk->model, sk->map, scale, &sk->achieved)
+                      : hv_colour_samples_error(sk->map, sk->samples, sk->rgb, sk->fractions, sk->weight, scale,
+                                                &sk->achieved);
+    if (s != HV_OK) return s;
+    sk->has_achieved = scale != NULL;
+    json_t *c = json_object();
+    int bad = !c;
+    bad |= hv_json_set(c, "icc", hv_json_text(hv_colour_map_icc(sk->map)));
+    bad |= hv_json_set(c, "description", hv_json_text(hv_colour_map_description(sk->map)));
+    bad |= hv_json_set(c, "intent", json_string(hv_intent_name(hv_colour_map_intent(sk->map))));
+    bad |= hv_json_set(c, sk->model ? "skin_voxels" : "printer_voxels", json_integer((json_int_t)sk->target.voxels));
+    bad |= hv_json_set(c, "mean_de2000_target", hv_json_number(sk->target.mean_de2000));
+    bad |= hv_json_set(c, "max_de2000_target", hv_json_number(sk->target.max_de2000));
+    if (scale) bad |= hv_json_set(c, "mean_de2000_achieved", hv_json_number(sk->achieved.mean_de2000));
+    if (bad) {
+        json_decref(c);
+        return hv_error_set(HV_ERR_NOMEM, "out of memory");
+    }
+    *out = c;
+    return HV_OK;
+}
+
 hv_status hv_colour_manifest_hook(void *user, void *manifest)
 {
     hv_colour_skin *sk = user;
@@ -151,24 +181,56 @@ hv_status hv_colour_manifest_hook(void *user, void *manifest)
             scale[k] = a && t > 0 ? json_number_value(a) / t : 1;
         }
     }
-    hv_status s = sk->model ? hv_colour_skin_error(sk->model, sk->map, NULL, &sk->target)
-                            : hv_colour_samples_error(sk->map, sk->samples, sk->rgb, sk->fractions, sk->weight, NULL,
-                                                      &sk->target);
-    if (s == HV_OK && achieved)
-        s = sk->model ? hv_colour_skin_error(sk->model, sk->map, scale, &sk->achieved)
-                      : hv_colour_samples_error(sk->map, sk->samples, sk->rgb, sk->fractions, sk->weight, scale,
-                                                &sk->achieved);
-    if (s != HV_OK) return s;
-    sk->has_achieved = achieved;
-    json_t *c = json_object();
-    int bad = !c;
-    bad |= hv_json_set(c, "icc", hv_json_text(hv_colour_map_icc(sk->map)));
-    bad |= hv_json_set(c, "description", hv_json_text(hv_colour_map_description(sk->map)));
-    bad |= hv_json_set(c, "intent", json_string(hv_intent_name(hv_colour_map_intent(sk->map))));
-    bad |= hv_json_set(c, sk->model ? "skin_voxels" : "printer_voxels", json_integer((json_int_t)sk->target.voxels));
-    bad |= hv_json_set(c, "mean_de2000_target", hv_json_number(sk->target.mean_de2000));
-    bad |= hv_json_set(c, "max_de2000_target", hv_json_number(sk->target.max_de2000));
-    if (achieved) bad |= hv_json_set(c, "mean_de2000_achieved", hv_json_number(sk->achieved.mean_de2000));
-    bad |= hv_json_set(doc, "colour", c);
-    return bad ? hv_error_set(HV_ERR_NOMEM, "out of memory") : HV_OK;
+    json_t *c;
+    hv_status s = skin_json(sk, achieved ? scale : NULL, &c);
+    char note[512];
+    if (s == HV_OK && sk->model && hv_colour_paint_note(sk->model, note, sizeof note) && hv_json_set(c, "gives_way", hv_json_text(note)))
+        s = hv_error_set(HV_ERR_NOMEM, "out of memory");
+    if (s == HV_OK && hv_json_set(doc, "colour", c)) s = hv_error_set(HV_ERR_NOMEM, "out of memory");
+    return s;
+}
+
+hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *const *names, const double *target,
+                                  const double *achieved, void **out)
+{
+    *out = NULL;
+    if (!hv_volume_meta_string(model, META)) return HV_OK;
+    hv_colour_skin sk;
+    memset(&sk, 0, sizeof sk);
+    sk.model = model;
+    hv_status s = hv_colour_map_for_model(model, &sk.map);
+    double scale[HV_COLOUR_SLOTS];
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        scale[k] = 1;
+        for (int j = 0; j < m && achieved && s == HV_OK; ++j)
+            if (strcmp(names[j], hv_colour_map_resin(sk.map, k)) == 0 && target[j] > 0) scale[k] = achieved[j] / target[j];
+    }
+    json_t *c = NULL;
+    if (s == HV_OK) s = skin_json(&sk, achieved ? scale : NULL, &c);
+    char note[512];
+    if (s == HV_OK && hv_colour_paint_note(model, note, sizeof note) && hv_json_set(c, "gives_way", hv_json_text(note)))
+        s = hv_error_set(HV_ERR_NOMEM, "out of memory");
+    hv_colour_map_destroy(sk.map);
+    *out = c;
+    return s;
+}
+
+int hv_colour_paint_note(const hv_volume *model, char *buf, size_t size)
+{
+    if (size) buf[0] = '\0';
+    const char *text = hv_volume_meta_string(model, META);
+    json_t *doc = text ? json_loads(text, 0, NULL) : NULL;
+    json_t *g = json_object_get(doc, "gives_way");
+    const char *resin = json_string_value(json_object_get(g, "resin")), *into = json_string_value(json_object_get(g, "into"));
+    const char *core = json_string_value(json_object_get(doc, "core"));
+    int gave = resin && into && core;
+    if (gave) {
+        double share = json_number_value(json_object_get(g, "share"));
+        char used[64];
+        if (share > 0) snprintf(used, sizeof used, "%.2g%% of the colour's fractions", 100 * share);
+        snprintf(buf, size, "%s gave way to the core %s (six slots): %s; folded into %s", resin, core,
+                 share > 0 ? used : "no painted voxel used it", into);
+    }
+    json_decref(doc);
+    return gave;
 }

@@ -531,6 +531,8 @@ static hv_status finish(obj_reader *r, int read_files, hv_mesh **out)
         const hv_mtl_material *m = look.pic_mat[j];
         s = hv_mesh_add_texture(*out, look.pic_names[j], look.pics[j].rgba, (uint32_t)look.pics[j].width,
                                 (uint32_t)look.pics[j].height, m->tile, m->tile, HV_FILTER_AUTO, NULL);
+        if (s == HV_OK && look.pics[j].icc) /* its colours' space (painting converts through it) */
+            s = hv_mesh_texture_set_icc(*out, hv_mesh_texture_count(*out) - 1, look.pics[j].icc, look.pics[j].icc_size);
     }
     uv = hv_calloc(r->nt, 6 * sizeof *uv);
     ftex = hv_malloc_array(r->nt, sizeof *ftex);

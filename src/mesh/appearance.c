@@ -14,6 +14,7 @@ void hv_mesh_appearance_free(hv_mesh *m)
     for (size_t i = 0; i < m->ntex; ++i) {
         free((char *)m->tex[i].name);
         free((uint8_t *)m->tex[i].rgba);
+        free((uint8_t *)m->tex[i].icc);
     }
     free(m->tex);
     free(m->corner_rgba);
@@ -71,13 +72,27 @@ hv_status hv_mesh_add_texture(hv_mesh *m, const char *name, const uint8_t *rgba,
         return HV_ERR_NOMEM;
     }
     memcpy(px, rgba, bytes);
-    t[m->ntex] = (hv_mesh_texture){nm, px, width, height, tile_u, tile_v, filter};
+    t[m->ntex] = (hv_mesh_texture){nm, px, width, height, tile_u, tile_v, filter, NULL, 0};
     if (index) *index = (int32_t)m->ntex;
     m->ntex++;
     return HV_OK;
 }
 
 size_t hv_mesh_texture_count(const hv_mesh *m) { return m->ntex; }
+
+hv_status hv_mesh_texture_set_icc(hv_mesh *m, size_t i, const void *icc, size_t size)
+{
+    if (i >= m->ntex) return hv_error_set(HV_ERR_INVALID, "%s: texture %zu out of range (%zu)", hv_mesh_name(m), i, m->ntex);
+    uint8_t *c = NULL;
+    if (icc && size) {
+        if (!(c = hv_malloc(size))) return HV_ERR_NOMEM;
+        memcpy(c, icc, size);
+    }
+    free((uint8_t *)m->tex[i].icc);
+    m->tex[i].icc = c;
+    m->tex[i].icc_size = c ? size : 0;
+    return HV_OK;
+}
 const hv_mesh_texture *hv_mesh_texture_at(const hv_mesh *m, size_t i)
 {
     return i < m->ntex ? &m->tex[i] : NULL;
@@ -258,6 +273,7 @@ static hv_status copy_textures(hv_mesh *dst, const hv_mesh *src)
         const hv_mesh_texture *t = &src->tex[i];
         hv_status s = hv_mesh_add_texture(dst, t->name, t->rgba, t->width, t->height, t->tile_u,
                                           t->tile_v, t->filter, NULL);
+        if (s == HV_OK && t->icc) s = hv_mesh_texture_set_icc(dst, dst->ntex - 1, t->icc, t->icc_size);
         if (s != HV_OK) return s;
     }
     return HV_OK;

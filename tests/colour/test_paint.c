@@ -34,26 +34,48 @@ static int face_of(const hv_mesh *m, size_t f)
     return 2 * a + (n[a] > 0);
 }
 
-Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
+/* The 10 mm cube, each face one flat colour (corner colours), and its voxels at 0.5 mm. */
+static hv_mesh *face_cube(const uint32_t face[6])
 {
     hv_mesh *m = t_cube_mesh(0, 10);
     size_t nf = hv_mesh_facet_count(m);
     uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = k_face[face_of(m, f)];
+    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = face[face_of(m, f)];
     cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
+    free(c);
+    return m;
+}
+
+static hv_volume *half_mm_voxels(const hv_mesh *m)
+{
     hv_voxelize_options o;
     hv_voxelize_options_init(&o);
     o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
     hv_volume *v = NULL;
     cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
+    return v;
+}
+
+Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
+{
+    hv_mesh *m = face_cube(k_face);
+    hv_volume *v = half_mm_voxels(m);
     hv_colour_map *map = NULL;
     cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
     cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
     hv_material_table *t = NULL;
     cr_assert_eq(hv_material_table_load(v, &t), HV_OK, "%s", hv_last_error());
-    cr_assert_eq(hv_material_count(t), 7);
+    /* six slots: Agilus30 takes one; no colour here is translucent, so VeroClear gives way */
+    cr_assert_eq(hv_material_count(t), 6);
+    static const char *const k_names[7] = {"VeroCyan-V", "VeroMagenta-V", "VeroYellow-V", "VeroBlackPlus",
+                                           "VeroPureWhite", "VeroClear", "Agilus30"};
     int grid[7];
-    for (int k = 0; k < 7; ++k) grid[k] = hv_material_grid(v, t, k);
+    for (int k = 0; k < 7; ++k) grid[k] = hv_material_find(t, k_names[k]) < 0 ? -1 : hv_material_grid(v, t, hv_material_find(t, k_names[k]));
+    cr_assert_eq(grid[HV_COLOUR_CLEAR], -1);
+    char note[512];
+    cr_assert_eq(hv_colour_paint_note(v, note, sizeof note), 1);
+    cr_assert_str_eq(note, "VeroClear gave way to the core Agilus30 (six slots): no painted voxel used it; folded into "
+                           "VeroPureWhite");
     double *xyz = NULL;
     size_t n = 0;
     cr_assert_eq(hv_volume_centres(v, "occupancy", &xyz, &n), HV_OK);
@@ -82,7 +104,9 @@ Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
         hv_volume_world_to_index(v, p, idx);
         float got[7];
         for (int k = 0; k < 7; ++k)
-            got[k] = hv_accessor_float(&acc, grid[k], (int32_t)lrint(idx[0]), (int32_t)lrint(idx[1]), (int32_t)lrint(idx[2]));
+            got[k] = grid[k] < 0 ? 0.0f
+                                 : hv_accessor_float(&acc, grid[k], (int32_t)lrint(idx[0]), (int32_t)lrint(idx[1]),
+                                                     (int32_t)lrint(idx[2]));
         if (fabs(dmin) <= 1.0 - 1e-9 && p[0] > 0 && p[0] < 10 && p[1] > 0 && p[1] < 10 && p[2] > 0 && p[2] < 10) {
             if (tie) continue;
             uint8_t rgba[4] = {(uint8_t)(k_face[face] >> 24), (uint8_t)(k_face[face] >> 16), (uint8_t)(k_face[face] >> 8), 255};
@@ -100,8 +124,7 @@ Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
     cr_assert_gt(skin, 1000);
     cr_assert_gt(deep, 1000);
     /* a core colour: the deep voxels hold its fractions; refusals */
-    hv_volume *v2 = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v2), HV_OK);
+    hv_volume *v2 = half_mm_voxels(m);
     const float grey[4] = {0.5f, 0.5f, 0.5f, 1};
     cr_assert_eq(hv_colour_paint(v2, m, map, 1.0, NULL, grey), HV_OK, "%s", hv_last_error());
     float gf[HV_COLOUR_SLOTS];
@@ -121,7 +144,6 @@ Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
     cr_assert_neq(hv_colour_paint(v2, m, map, 1, "Agilus30", NULL), HV_OK); /* the grids are there already */
     hv_volume_destroy(v2);
     free(xyz);
-    free(c);
     hv_material_table_destroy(t);
     hv_colour_map_destroy(map);
     hv_volume_destroy(v);
@@ -221,4 +243,54 @@ Test(paint, nearest_facet_exact_and_the_same_on_any_threads)
     hv_volume_destroy(v[1]);
     hv_colour_map_destroy(map);
     hv_mesh_destroy(m);
+}
+
+/* The six slots (issue 29: a colour shares them with graded materials): a core resin beyond the
+ * six takes a slot and a colour role gives way, so the model has six materials whose fractions
+ * sum to 1 at every voxel. Translucent faces use Clear and no black: black gives way (nothing
+ * lost). Translucent and black faces: the lesser used of the two gives way, folded (black into
+ * equal cyan, magenta, yellow; clear into white). */
+static void six_slots_case(const uint32_t face[6], const char *gives, const char *into)
+{
+    hv_mesh *m = face_cube(face);
+    hv_volume *v = half_mm_voxels(m);
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
+    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_load(v, &t), HV_OK);
+    cr_assert_eq(hv_material_count(t), 6);
+    cr_assert_lt(hv_material_find(t, gives), 0, "%s should have given way", gives);
+    cr_assert_geq(hv_material_find(t, "Agilus30"), 0);
+    char note[512];
+    cr_assert_eq(hv_colour_paint_note(v, note, sizeof note), 1);
+    cr_assert(strstr(note, gives) == note && strstr(note, into), "%s", note);
+    double *xyz = NULL;
+    size_t n = 0;
+    cr_assert_eq(hv_volume_centres(v, "occupancy", &xyz, &n), HV_OK);
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    for (size_t i = 0; i < n; ++i) {
+        double idx[3];
+        hv_volume_world_to_index(v, xyz + 3 * i, idx);
+        double sum = 0;
+        for (int k = 0; k < 6; ++k)
+            sum += hv_accessor_float(&acc, hv_material_grid(v, t, k), (int32_t)lrint(idx[0]), (int32_t)lrint(idx[1]),
+                                     (int32_t)lrint(idx[2]));
+        cr_assert_float_eq(sum, 1.0, 1e-5, "voxel %zu: fractions sum to %g", i, sum);
+    }
+    free(xyz);
+    hv_material_table_destroy(t);
+    hv_colour_map_destroy(map);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+}
+
+Test(paint, six_slots_a_role_gives_way_to_a_seventh_resin)
+{
+    static const uint32_t translucent[6] = {0xFF000080u, 0x00FF0080u, 0x0000FFFFu, 0xFFFF00FFu, 0x00FFFFFFu, 0xFF00FFFFu};
+    six_slots_case(translucent, "VeroBlackPlus", "no painted voxel used it; folded into cyan, magenta and yellow");
+    /* one black face, two nearly opaque ones (alpha 240): black is used more than clear */
+    static const uint32_t both[6] = {0x000000FFu, 0x00FF00F0u, 0x0000FFF0u, 0xFFFF00FFu, 0x00FFFFFFu, 0xFF00FFFFu};
+    six_slots_case(both, "VeroClear", "folded into VeroPureWhite");
 }

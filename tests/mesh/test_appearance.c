@@ -391,3 +391,27 @@ Test(appearance, body_colour_overrides_its_texture_and_keeps_the_others_colours)
     hv_mesh_destroy(c);
     hv_mesh_destroy(j);
 }
+
+/* A texture's embedded ICC profile (issue 29 item 4) is kept, cleared, refused out of range and
+ * carried with the texture through a transform. */
+Test(appearance, a_textures_icc_profile_is_kept_and_carried)
+{
+    hv_mesh *m = t_cube_mesh(0, 1);
+    int32_t t = add_tex(m, HV_TILE_WRAP, HV_TILE_WRAP, HV_FILTER_AUTO);
+    uv_everywhere(m, t, 0.25f, 0.75f);
+    cr_assert_null(hv_mesh_texture_at(m, 0)->icc);
+    static const uint8_t icc[5] = {1, 2, 3, 4, 5};
+    cr_assert_eq(hv_mesh_texture_set_icc(m, 0, icc, sizeof icc), HV_OK);
+    cr_assert_eq(hv_mesh_texture_set_icc(m, 1, icc, sizeof icc), HV_ERR_INVALID);
+    hv_mesh *moved = NULL;
+    double xf[12] = {1, 0, 0, 5, 0, 1, 0, 0, 0, 0, 1, 0};
+    cr_assert_eq(hv_mesh_transform(m, xf, &moved), HV_OK, "%s", hv_last_error());
+    const hv_mesh_texture *tx = hv_mesh_texture_at(moved, 0);
+    cr_assert_eq(tx->icc_size, sizeof icc);
+    cr_assert_arr_eq(tx->icc, icc, sizeof icc);
+    cr_assert_eq(hv_mesh_texture_set_icc(m, 0, NULL, 0), HV_OK);
+    cr_assert_null(hv_mesh_texture_at(m, 0)->icc);
+    cr_assert_eq(hv_mesh_texture_at(m, 0)->icc_size, 0);
+    hv_mesh_destroy(moved);
+    hv_mesh_destroy(m);
+}

@@ -1305,6 +1305,8 @@ static hv_status load_texture(reader *r, const char *name, tex2d *t, hv_mesh *m)
     if (s == HV_OK)
         s = hv_mesh_add_texture(m, t->path, img.rgba, (uint32_t)img.width, (uint32_t)img.height, t->tile_u, t->tile_v,
                                 t->filter, &t->mesh_index);
+    if (s == HV_OK && img.icc) /* its colours' space (painting converts through it) */
+        s = hv_mesh_texture_set_icc(m, (size_t)t->mesh_index, img.icc, img.icc_size);
     hv_rgba8_free(&img);
     return s;
 }

@@ -1,0 +1,133 @@
+/* tests/colour/test_mesh_colour.c - a coloured mesh printed in one step (src/colour/mesh_colour.c):
+ * the rule that says when a mesh prints in its colours (hv_colour_mesh_paints: colour of its own,
+ * no body made of a 3MF material), the voxels painting takes (hv_colour_mesh_voxels) and the
+ * painted model (hv_colour_mesh_model), the same as voxelize then hv_colour_paint_text. */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hovox/colour.h"
+#include "hovox/material.h"
+#include "hovox/voxelize.h"
+#include "support/support.h"
+
+static hv_mesh *load(const char *path)
+{
+    hv_mesh *m = NULL;
+    cr_assert_eq(hv_mesh_load(path, &m), HV_OK, "%s: %s", path, hv_last_error());
+    return m;
+}
+
+static hv_mesh *red_cube(double size)
+{
+    hv_mesh *m = t_cube_mesh(0, size);
+    size_t nf = hv_mesh_facet_count(m);
+    uint32_t *c = malloc(3 * nf * sizeof *c);
+    for (size_t i = 0; i < 3 * nf; ++i) c[i] = 0xFF0000FFu;
+    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
+    free(c);
+    return m;
+}
+
+Test(mesh_colour, which_meshes_print_in_their_colours)
+{
+    /* corner colours (as PLY vertex colours and 3MF colour groups give them): painted */
+    hv_mesh *m = red_cube(4);
+    cr_assert_eq(hv_colour_mesh_paints(m), 1);
+    /* the same cube once its body is made of a material: printed in it */
+    cr_assert_eq(hv_mesh_body_material_set(m, hv_mesh_body_at(m, 0)->name, "VeroWhite"), HV_OK);
+    cr_assert_eq(hv_colour_mesh_paints(m), 0);
+    hv_mesh_destroy(m);
+    /* no colour at all */
+    m = t_cube_mesh(0, 4);
+    cr_assert_eq(hv_colour_mesh_paints(m), 0);
+    hv_mesh_destroy(m);
+    /* an OBJ whose MTL gives its materials colours (Kd): appearance, painted; the same OBJ
+     * without its library: materials are names only, no colour */
+    FILE *f = fopen(t_tmpfile("k.mtl"), "w");
+    fputs("newmtl red\nKd 1 0 0\n", f);
+    fclose(f);
+    for (int with = 1; with >= 0; --with) {
+        f = fopen(t_tmpfile("k.obj"), "w");
+        fprintf(f, "mtllib %s\nv 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\nusemtl red\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+                with ? "k.mtl" : "none.mtl");
+        fclose(f);
+        m = load(t_tmpfile("k.obj"));
+        cr_assert_eq(hv_colour_mesh_paints(m), with);
+        hv_mesh_destroy(m);
+    }
+    /* 3MF: a Vero shell over an Agilus core (base materials with display colours), and base
+     * materials and composites with a colour group on one body: printed in their materials */
+    char path[4096];
+    snprintf(path, sizeof path, "%s/good/core_in_shell.3mf", t_shared());
+    m = load(path);
+    cr_assert_eq(hv_colour_mesh_paints(m), 0);
+    hv_mesh_destroy(m);
+    snprintf(path, sizeof path, "%s/good/composite_core.3mf", t_shared());
+    m = load(path);
+    cr_assert_neq(hv_mesh_corner_colours(m), NULL);
+    cr_assert_eq(hv_colour_mesh_paints(m), 0);
+    hv_mesh_destroy(m);
+}
+
+Test(mesh_colour, voxels_a_quarter_of_the_depth_within_the_budget)
+{
+    hv_mesh *m = red_cube(40); /* only planned */
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    hv_voxel_plan plan;
+    /* coarser than the printer's pitch: half the depth */
+    cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, 1ull << 40, &o, &plan), HV_OK, "%s", hv_last_error());
+    cr_assert_float_eq(o.voxel_size[0], 0.5, 1e-12);
+    /* a shallow skin: the printer's pitch */
+    cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 0.1, 1ull << 40, &o, &plan), HV_OK, "%s", hv_last_error());
+    cr_assert_float_eq(o.voxel_size[0], 0.0847, 1e-12);
+    /* a smaller budget coarsens by 5/4 steps until the plan and the painting (112 bytes an
+     * occupied voxel) fit */
+    cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, 1ull << 40, &o, &plan), HV_OK);
+    double need = (double)plan.memory_bytes + 64000.0 / (0.5 * 0.5 * 0.5) * 112.0;
+    cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, (uint64_t)(0.6 * need), &o, &plan), HV_OK, "%s",
+                 hv_last_error());
+    double v = o.voxel_size[0];
+    cr_assert_float_eq(v, 0.625, 1e-12);
+    cr_assert_leq((double)plan.memory_bytes + 64000.0 / (v * v * v) * 112.0, 0.6 * need);
+    cr_assert_eq(hv_colour_mesh_voxels(m, 0.0847, 1.0, 10, &o, &plan), HV_ERR_LIMIT);
+    cr_assert_eq(hv_colour_mesh_voxels(m, 0, 1.0, 1u << 30, &o, &plan), HV_ERR_INVALID);
+    hv_mesh_destroy(m);
+}
+
+Test(mesh_colour, the_model_is_voxelize_then_paint)
+{
+    hv_mesh *m = red_cube(4);
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
+    hv_volume *a = NULL, *b = NULL;
+    cr_assert_eq(hv_colour_mesh_model(m, &o, map, 1.0, NULL, &a), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_voxelize(m, &o, &b), HV_OK);
+    cr_assert_eq(hv_colour_paint_text(b, m, map, 1.0, NULL), HV_OK);
+    hv_material_table *ta = NULL;
+    cr_assert_eq(hv_material_table_load(a, &ta), HV_OK);
+    cr_assert_eq(hv_material_count(ta), HV_COLOUR_SLOTS); /* the core is the white resin, one of six */
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        int ga = hv_material_grid(a, ta, k), gb = hv_material_grid(b, ta, k);
+        cr_assert(ga >= 0 && gb >= 0);
+        for (size_t l = 0; l < hv_volume_leaf_count(a); ++l)
+            cr_assert_eq(memcmp(hv_volume_leaf_float_c(a, ga, l), hv_volume_leaf_float_c(b, gb, l), 512 * sizeof(float)),
+                         0);
+    }
+    /* a mesh without colour is refused, nothing made */
+    hv_mesh *plain = t_cube_mesh(0, 4);
+    hv_volume *c = (hv_volume *)1;
+    cr_assert_eq(hv_colour_mesh_model(plain, &o, map, 1.0, NULL, &c), HV_ERR_BAD_INPUT);
+    cr_assert_eq(c, NULL);
+    hv_mesh_destroy(plain);
+    hv_material_table_destroy(ta);
+    hv_volume_destroy(a);
+    hv_volume_destroy(b);
+    hv_colour_map_destroy(map);
+    hv_mesh_destroy(m);
+}

@@ -963,6 +963,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
             s->mesh = mesh;
             s->model = model;
             s->from_model = 1;
+            s->graded = 1; /* its materials are the model's */
             memcpy(s->bmin, bmin, sizeof s->bmin);
             memcpy(s->bmax, bmax, sizeof s->bmax);
             st = fp_from_mesh(mesh, s->bmin, s->bmax, &s->fp);

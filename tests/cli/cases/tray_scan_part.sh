@@ -40,5 +40,5 @@ echo "rc=$?"
 "$HOVOX" tray -o s3 --part ph/phantom.nii:VeroPureWhite@60,60 --iso -480 --stl x.stl --dry-run; echo "rc=$?"
 printf '{"schema": 1, "parts": [{"scan": "../ph/phantom.nii", "labels": [1, 2.5], "material": "A", "at": [60, 60]}]}' >jobs/bad.json
 "$HOVOX" tray jobs/bad.json --dry-run; echo "rc=$?"
-"$HOVOX" tray -o s4 --part ph/phantom.nii@60,60 --iso -480 --lut bone.csv $R --threads 2 --max-memory 30M; rc=$?
+"$HOVOX" tray -o s4 --part ph/phantom.nii@60,60 --iso -480 --lut bone.csv $R --threads 2 --max-memory 25M; rc=$?
 ls | grep -c s4; exit $rc

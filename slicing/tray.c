@@ -577,14 +577,23 @@ static hv_status fp_alloc(footprint *f, int w, int h)
 static int cell_lo(double t, int n) { return HV_CLAMP((int)floor(t + 1e-6), 0, n - 1); }
 static int cell_hi(double t, int lo, int n) { return HV_CLAMP(HV_MAX((int)ceil(t - 1e-6) - 1, lo), 0, n - 1); }
 
-static hv_status fp_from_mesh(const hv_mesh *m, const double bmin[3], const double bmax[3], footprint *f)
+/* A footprint of cells over the xy box, rows empty, its corner at the box's (fp_from_mesh, fp_box). */
+static hv_status fp_start(const double bmin[3], const double bmax[3], footprint *f, int *w, int *h)
 {
-    int w = HV_MAX((int)ceil((bmax[0] - bmin[0]) / CELL - 1e-6), 1);
-    int h = HV_MAX((int)ceil((bmax[1] - bmin[1]) / CELL - 1e-6), 1);
-    hv_status s = fp_alloc(f, w, h);
+    *w = HV_MAX((int)ceil((bmax[0] - bmin[0]) / CELL - 1e-6), 1);
+    *h = HV_MAX((int)ceil((bmax[1] - bmin[1]) / CELL - 1e-6), 1);
+    hv_status s = fp_alloc(f, *w, *h);
     if (s != HV_OK) return s;
     f->x0 = bmin[0];
     f->y0 = bmin[1];
+    return HV_OK;
+}
+
+static hv_status fp_from_mesh(const hv_mesh *m, const double bmin[3], const double bmax[3], footprint *f)
+{
+    int w, h;
+    hv_status s = fp_start(bmin, bmax, f, &w, &h);
+    if (s != HV_OK) return s;
     const float *v = hv_mesh_vertices(m);
     const uint32_t *fc = hv_mesh_facets(m);
     size_t nf = hv_mesh_facet_count(m);
@@ -867,12 +876,9 @@ static void size_warning(hv_tray *t, const source *s, const hv_mesh *mesh, const
 /* A footprint that covers the box (a scan's: its shape's xy box). */
 static hv_status fp_box(const double bmin[3], const double bmax[3], footprint *f)
 {
-    int w = HV_MAX((int)ceil((bmax[0] - bmin[0]) / CELL - 1e-6), 1);
-    int h = HV_MAX((int)ceil((bmax[1] - bmin[1]) / CELL - 1e-6), 1);
-    hv_status s = fp_alloc(f, w, h);
+    int w, h;
+    hv_status s = fp_start(bmin, bmax, f, &w, &h);
     if (s != HV_OK) return s;
-    f->x0 = bmin[0];
-    f->y0 = bmin[1];
     for (int r = 0; r < h; ++r) {
         f->lo[r] = 0;
         f->hi[r] = w - 1;

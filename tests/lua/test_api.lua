@@ -307,14 +307,14 @@ assert(exu.cells > 0 and not exu.arrays:find("voigt", 1, true))
 fails("path is required", graded.export, graded, {})
 fails("keep must be majority or any", graded.export, graded, {path = tmp .. "/x.vtu", keep = "some"})
 -- export (3MF Volumetric) and read back: the same voxels, fractions within a 16-bit step
-local e3 = graded:export{path = tmp .. "/g.3mf", bits = 16, properties = "none"}
+local e3 = graded:export{path = tmp .. "/g.3mf", volumetric = true, bits = 16, properties = "none"}
 assert(e3.points > 0 and e3.cells > 0 and e3.arrays == "A,B,C" and e3.bytes > 0, e3.arrays)
 local back = hovox.load(tmp .. "/g.3mf")
 assert(back:voxels("occupancy") == graded:voxels("occupancy"))
 local bin, bfr = back:probe{5, 5, 5}
 local gin3, gfr3 = graded:probe{5, 5, 5}
 assert(bin == gin3 and math.abs(bfr.A - gfr3.A) <= 1 / 65535 + 1e-6, "3MF fractions back within a step")
-fails("bits must be 8 or 16, got 12", graded.export, graded, {path = tmp .. "/x.3mf", bits = 12})
+fails("bits must be 8 or 16, got 12", graded.export, graded, {path = tmp .. "/x.3mf", volumetric = true, bits = 12})
 fails("bits applies to .3mf output only", graded.export, graded, {path = tmp .. "/x.vti", bits = 16})
 
 -- render

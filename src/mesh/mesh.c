@@ -579,22 +579,12 @@ hv_status hv_mesh_create(const float *xyz, size_t nvert, const uint32_t *facets,
         if (!isfinite(xyz[v]))
             return hv_error_set(HV_ERR_INVALID, "vertex %zu has a non-finite coordinate (%g)",
                                 v / 3, (double)xyz[v]);
-    float *soup = hv_malloc_array(nf, 9 * sizeof(float));
-    if (!soup) return HV_ERR_NOMEM;
-    for (size_t f = 0; f < nf; ++f)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t i = facets[3 * f + (size_t)k];
-            if (i >= nvert) {
-                free(soup);
-                return hv_error_set(HV_ERR_INVALID,
-                                    "facet %zu: vertex index %u out of range (%zu vertices)", f,
-                                    i, nvert);
-            }
-            memcpy(soup + 9 * f + 3 * (size_t)k, xyz + 3 * (size_t)i, 3 * sizeof(float));
-        }
-    hv_status s = hv_mesh_from_soup(soup, NULL, nf, "", HV_MESH_GENERATED, out);
-    free(soup);
-    return s;
+    for (size_t r = 0; r < 3 * nf; ++r)
+        if (facets[r] >= nvert)
+            return hv_error_set(HV_ERR_INVALID, "facet %zu: vertex index %u out of range (%zu vertices)", r / 3,
+                                facets[r], nvert);
+    /* the mesh the expanded soup would weld to, welding the points, not the corners */
+    return hv_mesh_from_indexed(xyz, nvert, facets, nf, "", HV_MESH_GENERATED, out);
 }
 
 void hv_mesh_destroy(hv_mesh *m)

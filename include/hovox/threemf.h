@@ -12,8 +12,8 @@ extern "C" {
 #endif
 
 /* Read a 3MF package holding one object (one build item, translated at most) whose mesh carries
- * <v:volumedata> with a <v:composite>: the materials and their fractions. The result is a graded
- * model as hovox makes them:
+ * <v:volumedata> with a <v:composite> (the materials and their fractions) or a <v:color>. The
+ * result is a graded model as hovox makes them:
  *   - the lattice of the image stacks: voxel (i, j, k) is column i, row (rows - 1 - j), sheet k of
  *     the stacks (continued beyond them by each function's tile styles), voxel size and origin
  *     from the <v:materialmapping> transform (all mappings must give the same lattice: an axis-
@@ -36,7 +36,12 @@ extern "C" {
  *     valueoffset as spec 2.2 says), each channel truncated to [0, 1] and turned from linear sRGB
  *     (spec 5.2.1) into the sRGB the grids hold; mask 1 everywhere, or where hovox's property
  *     hovox:colour.mask (a scalar output) is above one half, the colour 0 elsewhere; with hovox's
- *     hovox:colour metadata, "hovox.colour.json" (the profile and resins it was painted with).
+ *     hovox:colour metadata, "hovox.colour.json" (the profile and resins it was painted with);
+ *   - with a <v:color> and no <v:composite> (a colour printer's package): the colour's stack gives
+ *     the lattice (its transform must then be axis-aligned, as a mapping's), and the model is
+ *     printed in the six colour resins of the default colour map (hv_colour_options_init): each
+ *     voxel's fractions those of its colour rounded to 8-bit sRGB (hv_colour_map_fractions; the
+ *     white resin where the mask says no colour), "hovox.colour.json" recording that map.
  * Image sheets are PNGs of any layout and depth (grey, grey+alpha, RGB, RGBA, palette; 1 to 16
  * bits), all of a stack alike in size. Other <v:property> elements in hovox's namespace are
  * derived arrays and skipped; others and elements of other extensions are ignored unless a

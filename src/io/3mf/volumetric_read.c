@@ -16,6 +16,8 @@
 #include <sys/stat.h>
 #include <zip.h>
 
+#include "core/json.h"
+#include "hovox/colour.h"
 #include "hovox/export.h"
 #include "hovox/image.h"
 #include "hovox/material.h"
@@ -1274,6 +1276,7 @@ typedef struct used {
     const func *cf, *mf; /* the colour's function and the colour mask's (NULL: none) */
     img3d *cim, *mim;
     int mask_channel;    /* the mask's output: 0 red, 1 green, 2 blue, 3 alpha */
+    int lattice_line;    /* the element whose transform gives the lattice */
     double shift[3];     /* the build item's translation */
 } used;
 
@@ -1357,6 +1360,38 @@ static hv_status resolve_field(rd *r, const fieldref *fr, const char *elem, int 
     return HV_OK;
 }
 
+/* A transform hovox can take a lattice from: an axis-aligned scale with positive diagonal and a
+ * translation. */
+static int axis_aligned(const double *t)
+{
+    double big = 0;
+    for (int k = 0; k < 12; ++k) big = HV_MAX(big, fabs(t[k]));
+    return t[0] > 0 && t[4] > 0 && t[8] > 0 && near_zero(t[1], big) && near_zero(t[2], big) && near_zero(t[3], big) &&
+           near_zero(t[5], big) && near_zero(t[6], big) && near_zero(t[7], big);
+}
+
+/* Volume data with a colour and no composite (another producer's colour): the colour's stack gives
+ * the lattice, and the model is printed in the six colour resins (colour_resins). */
+static hv_status resolve_colour_alone(rd *r, used *u, lattice *lat)
+{
+    const voldata *vd = u->vd;
+    int ch;
+    hv_status s = resolve_field(r, &vd->colour, "<v:color>", 1, &u->cf, &u->cim, &ch);
+    if (s == HV_OK && vd->mask.present)
+        s = resolve_field(r, &vd->mask, "<v:property> hovox:colour.mask", 0, &u->mf, &u->mim, &u->mask_channel);
+    if (s != HV_OK) return s;
+    if (!axis_aligned(vd->colour.t))
+        return bad_at_col(r, HV_ERR_UNSUPPORTED, vd->colour.line, vd->colour.col, "<v:color> transform is not an "
+                          "axis-aligned scale and translation: without a <v:composite> the colour's stack gives the "
+                          "voxels, and rotations, shears and mirrors are not supported");
+    memcpy(lat->t, vd->colour.t, sizeof lat->t);
+    lat->n[0] = u->cim->cols;
+    lat->n[1] = u->cim->rows;
+    lat->n[2] = u->cim->sheets;
+    u->lattice_line = vd->colour.line;
+    return HV_OK;
+}
+
 static hv_status resolve(rd *r, used *u, lattice *lat)
 {
     memset(u, 0, sizeof *u);
@@ -1397,9 +1432,11 @@ static hv_status resolve(rd *r, used *u, lattice *lat)
         return bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh> volumeid %u names no <v:volumedata>", o->volumeid);
     const voldata *vd = u->vd;
     if (vd->refuse_line) return bad_at(r, HV_ERR_UNSUPPORTED, vd->refuse_line, "%s", vd->refuse);
+    if (!vd->composites && vd->colour.present) return resolve_colour_alone(r, u, lat);
     if (!vd->composites)
-        return bad_at(r, HV_ERR_UNSUPPORTED, vd->line, "<v:volumedata> %u has no <v:composite>: hovox reads material "
-                      "compositions", vd->id);
+        return bad_at(r, HV_ERR_UNSUPPORTED, vd->line, "<v:volumedata> %u has no <v:composite> and no <v:color>: hovox "
+                      "reads material compositions and colours", vd->id);
+    u->lattice_line = vd->maps ? vd->maps[0].line : vd->line;
     u->bg = find_res(r->groups, r->ngroups, sizeof *r->groups, vd->basematerialid);
     if (!u->bg)
         return bad_at(r, HV_ERR_BAD_INPUT, vd->composite_line, "<v:composite> basematerialid %u names no "
@@ -1423,10 +1460,7 @@ static hv_status resolve(rd *r, used *u, lattice *lat)
         u->im[j] = im;
         /* the transform: an axis-aligned scale with positive diagonal, and a translation */
         const double *t = m->t;
-        double big = 0;
-        for (int k = 0; k < 12; ++k) big = HV_MAX(big, fabs(t[k]));
-        if (!(t[0] > 0 && t[4] > 0 && t[8] > 0) || !near_zero(t[1], big) || !near_zero(t[2], big) ||
-            !near_zero(t[3], big) || !near_zero(t[5], big) || !near_zero(t[6], big) || !near_zero(t[7], big))
+        if (!axis_aligned(t))
             return bad_at(r, HV_ERR_UNSUPPORTED, m->line, "<v:materialmapping> transform is not an axis-aligned scale "
                           "and translation (rotations, shears and mirrors are not supported)");
         uint64_t n[3] = {im->cols, im->rows, im->sheets};
@@ -1522,8 +1556,8 @@ static hv_status lattice_transform(rd *r, const used *u, const lattice *lat, hv_
         double c0 = (-t[9 + a] / t[4 * a] + 0.5 * L + u->shift[a]) * r->unit; /* centre of s = 0, mm */
         xf->voxel[a] = L * r->unit;
         if (!(xf->voxel[a] > 0 && isfinite(xf->voxel[a]) && isfinite(c0)))
-            return bad_at(r, HV_ERR_BAD_INPUT, u->vd->maps[0].line,
-                          "<v:materialmapping> transform gives voxels of %g mm", xf->voxel[a]);
+            return bad_at(r, HV_ERR_BAD_INPUT, u->lattice_line, "<%s> transform gives voxels of %g mm",
+                          u->bg ? "v:materialmapping" : "v:color", xf->voxel[a]);
         double k = r->has_origin ? floor((c0 - r->origin_meta[a]) / xf->voxel[a] + 0.5) : floor(c0 / xf->voxel[a]);
         if (r->has_origin && fabs((c0 - r->origin_meta[a]) / xf->voxel[a] - k) > 1e-6) k = floor(c0 / xf->voxel[a]);
         if (!(fabs(k) < 1e9)) k = 0;
@@ -1725,7 +1759,7 @@ static hv_status model_voxels(rd *r, const used *u, const lattice *lat, int64_t 
     leafmap lm;
     memset(&lm, 0, sizeof lm);
     uint64_t voxels = 0;
-    r->leaf_bytes = hv_volume_memory_estimate(1024, u->bg->n + (u->cf ? 4 : 0), 1) / 1024;
+    r->leaf_bytes = hv_volume_memory_estimate(1024, (u->bg ? u->bg->n : HV_COLOUR_SLOTS) + (u->cf ? 4 : 0), 1) / 1024;
     if (s == HV_OK) s = occupancy(r, s3, o->nv, r->tri + 3 * o->t0, o->nt, off, &lm, &voxels);
     free(s3);
     if (s == HV_OK && voxels == 0)
@@ -1752,7 +1786,7 @@ static hv_status model_voxels(rd *r, const used *u, const lattice *lat, int64_t 
 static hv_status sample_model(rd *r, const used *u, const lattice *lat, const int64_t off[3], hv_volume *v,
                               const hv_material_table *table)
 {
-    int m = u->bg->n, grid[HV_MAX_MATERIALS];
+    int m = u->bg ? u->bg->n : 0, grid[HV_MAX_MATERIALS];
     hv_status s = HV_OK;
     for (int j = 0; j < m && s == HV_OK; ++j) {
         char gname[80];
@@ -1802,7 +1836,7 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
                 s = load_sheet(r, u->im[j], &cache[j], sheet);
             }
             for (size_t li = b; li < e && s == HV_OK; ++li) {
-                fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
+                if (m) fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
                 if (u->cf) s = colour_layer(r, &cj, v, zl[li].leaf, z);
             }
         }
@@ -1813,16 +1847,82 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
     return s;
 }
 
+/* A colour without a composite, printed as hovox prints a painted part: in the six colour resins
+ * of hovox's default colour map (hovox/colour.h: Ghostscript's default_cmyk.icc, perceptual, the
+ * J750's resins), each voxel's fractions those of its colour rounded to 8-bit sRGB (the white
+ * resin where hovox:colour.mask says no colour was asked for), and the map recorded as a painted
+ * model's (hovox.colour.json), so layers measure the colour's dE2000 through it. */
+static hv_status colour_resins(hv_volume *v, hv_material_table **out)
+{
+    *out = NULL;
+    hv_colour_map *map = NULL;
+    hv_colour_options o;
+    hv_colour_options_init(&o);
+    hv_status s = hv_colour_map_create(&o, &map);
+    hv_material_table *t = NULL;
+    if (s == HV_OK) s = hv_material_table_create(&t);
+    int grid[HV_COLOUR_SLOTS], cg[4];
+    static const char *const k_colour[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    for (int c = 0; c < 4; ++c) cg[c] = hv_volume_grid_find(v, k_colour[c]);
+    for (int k = 0; k < HV_COLOUR_SLOTS && s == HV_OK; ++k) {
+        char gname[160];
+        snprintf(gname, sizeof gname, "material.%s", hv_colour_map_resin(map, k));
+        s = hv_material_add(t, hv_colour_map_resin(map, k), NULL, NULL);
+        if (s == HV_OK) s = hv_volume_grid_add(v, gname, HV_GRID_FLOAT, &grid[k]);
+    }
+    size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
+    for (size_t l = 0; l < nl; ++l) {
+        const uint64_t *on = hv_volume_leaf_mask(v, l);
+        const float *c[4];
+        for (int k = 0; k < 4; ++k) c[k] = hv_volume_leaf_float_c(v, cg[k], l);
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            if (!HV_BIT_GET(on, n)) continue;
+            float f[HV_COLOUR_SLOTS] = {0};
+            uint8_t rgba[4] = {0, 0, 0, 255};
+            for (int k = 0; k < 3; ++k) rgba[k] = (uint8_t)lrintf(c[k][n] * 255.0f);
+            if (c[3][n] > 0.5f) hv_colour_map_fractions(map, rgba, f);
+            else f[HV_COLOUR_W] = 1;
+            for (int k = 0; k < HV_COLOUR_SLOTS; ++k) hv_volume_leaf_float(v, grid[k], l)[n] = f[k];
+        }
+    }
+    json_t *doc = json_object(), *resins = json_array();
+    int bad = !doc || !resins;
+    for (int k = 0; k < HV_COLOUR_SLOTS && !bad && s == HV_OK; ++k)
+        bad |= json_array_append_new(resins, hv_json_text(hv_colour_map_resin(map, k)));
+    if (s == HV_OK) {
+        bad |= hv_json_set(doc, "icc", hv_json_text(hv_colour_map_icc(map)));
+        bad |= hv_json_set(doc, "description", hv_json_text(hv_colour_map_description(map)));
+        bad |= hv_json_set(doc, "intent", json_string(hv_intent_name(hv_colour_map_intent(map))));
+        bad |= hv_json_set(doc, "resins", resins);
+        resins = NULL;
+        bad |= hv_json_set(doc, "source", json_string("3MF <v:color>"));
+    }
+    char *text = s == HV_OK && !bad ? hv_json_dump(doc) : NULL;
+    if (s == HV_OK && !text) s = HV_ERR_NOMEM;
+    if (s == HV_OK) s = hv_volume_meta_set_json(v, "hovox.colour.json", text);
+    free(text);
+    json_decref(resins);
+    json_decref(doc);
+    hv_colour_map_destroy(map);
+    if (s != HV_OK) {
+        hv_material_table_destroy(t);
+        return s;
+    }
+    *out = t;
+    return HV_OK;
+}
+
 static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume **vol, hv_mesh **mesh)
 {
     int64_t off[3] = {0, 0, 0};
     hv_volume *v = NULL;
     hv_status s = model_voxels(r, u, lat, off, &v);
-    /* the materials */
+    /* the materials: the composite's, or the colour's resins */
     hv_material_table *table = NULL;
-    if (s == HV_OK && (s = build_table(r, u, &table)) != HV_OK && s != HV_ERR_NOMEM)
+    if (s == HV_OK && u->bg && (s = build_table(r, u, &table)) != HV_OK && s != HV_ERR_NOMEM)
         s = bad_at(r, HV_ERR_BAD_INPUT, u->bg->line, "<basematerials> %u: %s", u->bg->id, hv_last_error());
     if (s == HV_OK) s = sample_model(r, u, lat, off, v, table);
+    if (s == HV_OK && !u->bg) s = colour_resins(v, &table);
     if (s == HV_OK) s = hv_material_table_store(v, table);
     hv_material_table_destroy(table);
     /* a painted model's record, with its colour */

@@ -1474,6 +1474,68 @@ Test(threemf_colour, a_foreign_colour_reads_through_its_own_function_and_lattice
     free(model);
 }
 
+/* Volume data with a colour and no composite (a colour printer's package): the colour's stack gives
+ * the voxels, and the model prints in the six colour resins of the default colour map, each voxel
+ * the fractions of its colour (as 8-bit sRGB), recorded so the colour map is made again. */
+Test(threemf_colour, a_colour_without_a_composite_prints_in_the_colour_resins)
+{
+    char *model = foreign_model();
+    model = replace(model, "   <v:composite basematerialid=\"5\">\n"
+                           "    <v:materialmapping functionid=\"8\" channel=\"red\" transform=\"" T_MAP "\"/>\n"
+                           "    <v:materialmapping functionid=\"8\" channel=\"green\" transform=\"" T_MAP "\"/>\n"
+                           "    <v:materialmapping functionid=\"8\" channel=\"blue\" transform=\"" T_MAP "\"/>\n"
+                           "   </v:composite>\n", "");
+    char *turned = hv_strdup(model);
+    model = replace(model, "<v:color functionid=\"8\" channel=\"color\"/>",
+                    "<v:color functionid=\"8\" channel=\"color\" transform=\"" T_MAP "\"/>");
+    hv_volume *v = NULL;
+    cr_assert_eq(load_tinted(model, "colour_alone.3mf", &v), HV_OK, "%s", hv_last_error());
+    static const int rgb_n[3] = {3, 2, 2}, rgb_tile[3] = {0, 1, 2};
+    static const double T[12] = {3.3333333333333335, 0, 0, 0, 5, 0, 0, 0, 5, 0, 0, 0};
+    check_foreign_colour(v, rgb8_texel, rgb_n, rgb_tile, 1, T, 2, -0.5);
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_for_model(v, &map), HV_OK, "%s", hv_last_error());
+    cr_expect_str_eq(hv_colour_map_icc(map), hv_colour_default_icc());
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_load(v, &t), HV_OK);
+    cr_assert_eq(hv_material_count(t), HV_COLOUR_SLOTS);
+    int g[HV_COLOUR_SLOTS], cg[3] = {hv_volume_grid_find(v, "colour.r"), hv_volume_grid_find(v, "colour.g"),
+                                     hv_volume_grid_find(v, "colour.b")};
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        cr_expect_str_eq(hv_material_name(t, k), hv_colour_j750_resin(k));
+        g[k] = hv_material_grid(v, t, k);
+    }
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    int og = hv_volume_grid_find(v, "occupancy"), n = 0;
+    for (int i = -2; i < 20; ++i)
+        for (int j = -2; j < 20; ++j)
+            for (int k = -2; k < 20; ++k) {
+                if (!hv_accessor_bool(&acc, og, i, j, k)) continue;
+                uint8_t rgba[4] = {0, 0, 0, 255};
+                for (int c = 0; c < 3; ++c) rgba[c] = (uint8_t)lrintf(hv_accessor_float(&acc, cg[c], i, j, k) * 255.0f);
+                float want[HV_COLOUR_SLOTS];
+                hv_colour_map_fractions(map, rgba, want);
+                for (int q = 0; q < HV_COLOUR_SLOTS; ++q)
+                    cr_assert_float_eq(hv_accessor_float(&acc, g[q], i, j, k), want[q], 1e-6, "voxel %d %d %d resin %d", i, j,
+                                       k, q);
+                ++n;
+            }
+    cr_expect_eq(n, 6 * 4 * 3);
+    hv_material_table_destroy(t);
+    hv_colour_map_destroy(map);
+    hv_volume_destroy(v);
+    /* turned, the colour gives no lattice */
+    turned = replace(turned, "<v:color functionid=\"8\" channel=\"color\"/>", TINT_COLOR);
+    turned = replace(turned, "  <v:volumedata id=\"9\">", TINT);
+    cr_expect_eq(load_tinted(turned, "colour_turned.3mf", &v), HV_ERR_UNSUPPORTED);
+    cr_expect(strstr(hv_last_error(), "<v:color> transform is not an axis-aligned scale and translation: without a "
+                     "<v:composite>"), "%s", hv_last_error());
+    cr_expect_null(v);
+    free(turned);
+    free(model);
+}
+
 /* A bad colour is refused with one message naming the file, the element, its line and column. */
 static void expect_colour_refused(const char *from, const char *to, hv_status want, const char *words)
 {

@@ -860,6 +860,19 @@ static hv_status load_foreign(const char *model, int sheets, const char *name, h
     return s;
 }
 
+/* A load that must have failed with `want`, one message holding `words` and starting with the
+ * package's path (file `name`), and no model. */
+static void check_refused(hv_status s, hv_volume *v, const char *from, const char *to, const char *name, hv_status want,
+                          const char *words)
+{
+    cr_expect_eq(s, want, "'%s' -> '%s': %s (%s)", from, to, hv_status_name(s), hv_last_error());
+    cr_expect(strstr(hv_last_error(), words) != NULL, "message: %s (want '%s')", hv_last_error(), words);
+    cr_expect(strncmp(hv_last_error(), t_tmpfile(name), strlen(t_tmpfile(name))) == 0, "names the file: %s",
+              hv_last_error());
+    cr_expect_null(v);
+    hv_volume_destroy(v);
+}
+
 static int64_t tile(int64_t s, int64_t n, int style)
 {
     if (style == 2) return s < 0 ? 0 : s >= n ? n - 1 : s;
@@ -1546,12 +1559,7 @@ static void expect_colour_refused(const char *from, const char *to, hv_status wa
     hv_volume *v = NULL;
     hv_status s = load_tinted(model, "bad_colour.3mf", &v);
     free(model);
-    cr_expect_eq(s, want, "'%s' -> '%s': %s (%s)", from, to, hv_status_name(s), hv_last_error());
-    cr_expect(strstr(hv_last_error(), words) != NULL, "message: %s (want '%s')", hv_last_error(), words);
-    cr_expect(strncmp(hv_last_error(), t_tmpfile("bad_colour.3mf"), strlen(t_tmpfile("bad_colour.3mf"))) == 0,
-              "names the file: %s", hv_last_error());
-    cr_expect_null(v);
-    hv_volume_destroy(v);
+    check_refused(s, v, from, to, "bad_colour.3mf", want, words);
 }
 
 Test(threemf_colour, a_bad_colour_is_refused_naming_the_place)
@@ -1589,12 +1597,7 @@ static void expect_refused(const char *from, const char *to, hv_status want, con
     hv_volume *v = NULL;
     hv_status s = load_foreign(model, 2, "refused.3mf", &v, NULL);
     free(model);
-    cr_expect_eq(s, want, "'%s' -> '%s': %s (%s)", from, to, hv_status_name(s), hv_last_error());
-    cr_expect(strstr(hv_last_error(), words) != NULL, "message: %s (want '%s')", hv_last_error(), words);
-    cr_expect(strncmp(hv_last_error(), t_tmpfile("refused.3mf"), strlen(t_tmpfile("refused.3mf"))) == 0,
-              "names the file: %s", hv_last_error());
-    cr_expect_null(v);
-    hv_volume_destroy(v);
+    check_refused(s, v, from, to, "refused.3mf", want, words);
 }
 
 /* Issue 26: the reader voxelizes through src/voxel (its centre vote, the winding number where the

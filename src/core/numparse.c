@@ -4,6 +4,7 @@
  * rounded double operation; that double rounds to the same float as the decimal unless it sits
  * on a midpoint between two floats, which, like every other form, goes to strtof. */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,29 +14,30 @@ static const double k_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7
                                    1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
 /* [+-]digits[.digits][(e|E)[+-]digits] with at least one mantissa digit; 0 when it is not that
- * form or outside the fast path. */
+ * form or outside the fast path. The digits run in tight loops (leading zeros apart, every digit
+ * significant), so lib3mf's "-1.969596" costs no test a digit beyond its value (issue 26). */
 static int fast_path(const char *p, const char *e, double *out)
 {
-    int neg = 0, nd = 0, any = 0, exp10 = 0;
-    uint64_t w = 0;
+    int neg = 0, exp10 = 0;
+    uint64_t w = 0; /* wraps past 19 digits, which are refused below */
     if (p < e && (*p == '-' || *p == '+')) neg = *p++ == '-';
-    for (; p < e && *p >= '0' && *p <= '9'; ++p) {
-        any = 1;
-        if (w || *p != '0') {
-            if (++nd > 19) return 0;
-            w = w * 10 + (uint64_t)(*p - '0');
-        }
+    const char *m = p;
+    while (p < e && *p == '0') ++p; /* leading zeros count for nothing */
+    const char *q = p;
+    for (unsigned d; p < e && (d = (unsigned)(unsigned char)*p - '0') < 10; ++p) w = w * 10 + d;
+    ptrdiff_t nd = p - q;
+    int any = p > m;
+    if (p < e && *p == '.') {
+        const char *f = ++p;
+        if (nd == 0)
+            while (p < e && *p == '0') ++p; /* 0.000123: zeros before the first significant digit */
+        const char *g = p;
+        for (unsigned d; p < e && (d = (unsigned)(unsigned char)*p - '0') < 10; ++p) w = w * 10 + d;
+        nd += p - g;
+        exp10 = -(int)HV_MIN(p - f, (ptrdiff_t)100000);
+        any |= p > f;
     }
-    if (p < e && *p == '.')
-        for (++p; p < e && *p >= '0' && *p <= '9'; ++p) {
-            any = 1;
-            if (w || *p != '0') {
-                if (++nd > 19) return 0;
-                w = w * 10 + (uint64_t)(*p - '0');
-            }
-            --exp10;
-        }
-    if (!any) return 0;
+    if (!any || nd > 19) return 0;
     if (p < e && (*p == 'e' || *p == 'E')) {
         int eneg = 0, en = 0, edig = 0;
         ++p;

@@ -699,6 +699,111 @@ Test(threemf, a_large_part_inflates_on_its_own_thread_with_the_same_result)
     hv_mesh_destroy(knot);
 }
 
+/* The local header of `name` in a package in memory: its offset (asserted present). */
+static size_t local_header(const unsigned char *data, size_t len, const char *name)
+{
+    size_t n = strlen(name);
+    for (size_t i = 0; i + 30 + n <= len; ++i)
+        if (memcmp(data + i, "PK\3\4", 4) == 0 && memcmp(data + i + 30, name, n) == 0) return i;
+    cr_assert_fail("no local header for %s", name);
+    return 0;
+}
+
+/* The uncompressed size `name` declares, in its local header and its central directory record. */
+static void declare_size(unsigned char *data, size_t len, const char *name, uint32_t size)
+{
+    size_t n = strlen(name), hits = 0;
+    for (size_t i = 0; i + 46 + n <= len; ++i) {
+        int local = memcmp(data + i, "PK\3\4", 4) == 0 && memcmp(data + i + 30, name, n) == 0;
+        int central = memcmp(data + i, "PK\1\2", 4) == 0 && memcmp(data + i + 46, name, n) == 0;
+        if (!local && !central) continue;
+        unsigned char *at = data + i + (local ? 22 : 24);
+        for (int k = 0; k < 4; ++k) at[k] = (unsigned char)(size >> (8 * k));
+        hits++;
+    }
+    cr_assert_eq(hits, 2);
+}
+
+/* Issue 26 item 2: on one thread a deflated part of a MiB or more inflates in one libdeflate call,
+ * on two it streams through zlib beside the parser, stored parts through libzip: the same mesh
+ * each way; a part that is damaged or inflates past its declared size streams again from its
+ * start on one thread, so both give the same message (zlib's and libzip's words, as before). */
+Test(threemf, a_large_part_inflated_in_one_call_reads_and_fails_as_streamed)
+{
+    hv_mesh *knot = NULL;
+    cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 300, 30, &knot), HV_OK); /* 18,000 facets */
+    size_t nv = hv_mesh_vertex_count(knot), nf = hv_mesh_facet_count(knot);
+    hv_buf xml;
+    hv_buf_init(&xml);
+    hv_buf_printf(&xml, "%s<resources><object id=\"1\" name=\"knot\" type=\"model\"><mesh><vertices>", MODEL_HEAD);
+    for (size_t i = 0; i < nv; ++i) {
+        const float *v = hv_mesh_vertices(knot) + 3 * i;
+        hv_buf_printf(&xml, "\n\t<vertex x=\"%.6f\" y=\"%.6f\" z=\"%.6f\" />", (double)v[0], (double)v[1], (double)v[2]);
+    }
+    hv_buf_printf(&xml, "</vertices><triangles>");
+    for (size_t f = 0; f < nf; ++f) {
+        const uint32_t *t = hv_mesh_facets(knot) + 3 * f;
+        hv_buf_printf(&xml, "\n\t<triangle v1=\"%u\" v2=\"%u\" v3=\"%u\" />", t[0], t[1], t[2]);
+    }
+    hv_buf_printf(&xml, "</triangles></mesh></object></resources>%s", BUILD);
+    cr_assert(!xml.failed && xml.len > ((size_t)1 << 20), "%zu bytes: past the 1 MiB of the one-call path", xml.len);
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", xml.data};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    /* the same part stored, not deflated (libzip reads it) */
+    const char *path = t_tmpfile("stored.3mf");
+    remove(path);
+    int err = 0;
+    zip_t *z = zip_open(path, ZIP_CREATE | ZIP_TRUNCATE, &err);
+    cr_assert_not_null(z);
+    for (int i = 0; i < 3; ++i) {
+        zip_int64_t at = zip_file_add(z, parts[2 * i], zip_source_buffer(z, parts[2 * i + 1], strlen(parts[2 * i + 1]), 0), 0);
+        cr_assert(at >= 0);
+        cr_assert_eq(zip_set_file_compression(z, (zip_uint64_t)at, ZIP_CM_STORE, 0), 0);
+    }
+    cr_assert_eq(zip_close(z), 0);
+    size_t slen = 0;
+    unsigned char *stored = (unsigned char *)t_slurp(path, &slen);
+    hv_mesh *m[3] = {NULL, NULL, NULL};
+    for (int k = 0; k < 3; ++k) {
+        hv_set_threads(k == 1 ? 2 : 1);
+        cr_assert_eq(hv_mesh_parse_3mf(k == 2 ? stored : data, k == 2 ? slen : len, "knot.3mf", &m[k]), HV_OK, "%s",
+                     hv_last_error());
+        cr_assert_eq(hv_mesh_facet_count(m[k]), nf);
+        cr_assert_eq(hv_mesh_vertex_count(m[k]), hv_mesh_vertex_count(m[0]));
+        cr_assert_eq(memcmp(hv_mesh_vertices(m[k]), hv_mesh_vertices(m[0]), 3 * hv_mesh_vertex_count(m[0]) * sizeof(float)), 0);
+        cr_assert_eq(memcmp(hv_mesh_facets(m[k]), hv_mesh_facets(m[0]), 3 * nf * sizeof(uint32_t)), 0);
+    }
+    for (int k = 0; k < 3; ++k) hv_mesh_destroy(m[k]);
+    free(stored);
+    /* declared 100 bytes short: one-call inflate runs out of room, streaming says where */
+    unsigned char *shorted = malloc(len);
+    memcpy(shorted, data, len);
+    declare_size(shorted, len, "3D/3dmodel.model", (uint32_t)(xml.len - 100));
+    char want[256];
+    snprintf(want, sizeof want, "knot.3mf: part '/3D/3dmodel.model' inflates past the %zu bytes the ZIP declares", xml.len - 100);
+    for (int k = 0; k < 2; ++k) {
+        hv_set_threads(2 - k);
+        hv_error_clear();
+        refused(hv_mesh_parse_3mf, "knot.3mf", shorted, len, HV_ERR_BAD_INPUT, want);
+    }
+    free(shorted);
+    /* the deflate stream's first block of the reserved type 3: zlib's data error before a byte */
+    size_t at = local_header(data, len, "3D/3dmodel.model");
+    at += 30 + strlen("3D/3dmodel.model") + (size_t)(data[at + 28] | data[at + 29] << 8);
+    data[at] = 0x07; /* BFINAL 1, BTYPE 11 */
+    for (int k = 0; k < 2; ++k) {
+        hv_set_threads(2 - k);
+        hv_error_clear();
+        refused(hv_mesh_parse_3mf, "knot.3mf", data, len, HV_ERR_BAD_INPUT,
+                "knot.3mf: part '/3D/3dmodel.model' is damaged (libzip: Zlib error: data error)");
+    }
+    hv_set_threads(0);
+    free(data);
+    hv_buf_free(&xml);
+    hv_mesh_destroy(knot);
+}
+
 Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)
 {
     /* a DOCTYPE (entities: XXE, billion laughs) never reaches its subset */

@@ -299,7 +299,7 @@ static int run(const cli_args *args, void *lib, void *local)
         s = hv_tray_write(t, c->output, o, &prog, &r);
         cli_progress_done(&bar);
     }
-    if (s == HV_OK) {
+    if (s == HV_OK && (!args->quiet || o->dry_run)) { /* -q: no summary; a dry run's plan is what was asked for */
         print_plan(&r, o);
         if (o->dry_run) {
             char sz[32];
@@ -325,8 +325,8 @@ static int run(const cli_args *args, void *lib, void *local)
             printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
                    (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",
                    o->gcvf_path ? o->gcvf_path : "");
-        if (!o->dry_run) cli_view_report(&page, c->output);
     }
+    if (s == HV_OK && !o->dry_run) cli_view_report(&page, c->output, args->quiet);
     hv_tray_destroy(t);
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }

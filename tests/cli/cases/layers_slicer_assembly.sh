@@ -7,7 +7,7 @@
 # 0.3 x 64 mm^2 of the 72 mm^2 cut (0.267), printed 0.27.
 m=tests/data/good/slicer_assembly.3mf
 $HOVOX info $m 2>/dev/null | sed -n '/^build items/,$p'
-$HOVOX layers $m -o "$TMP/s" -q | grep -v '^memory'
+$HOVOX layers $m -o "$TMP/s" | grep -v '^memory'
 echo "rc=$?"
 /usr/bin/python3 - "$TMP/s" <<'PY'
 import json, struct, sys, zlib

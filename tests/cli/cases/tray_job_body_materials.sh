@@ -10,7 +10,7 @@ cat >"$TMP/job.json" <<'JOB'
  "parts": [{"mesh": "cis.3mf", "at": [40, 40],
             "materials": {"shell": "VeroCyan-V", "core": "Agilus30Black"}}]}
 JOB
-$HOVOX tray "$TMP/job.json" -o "$TMP/a" -q | grep -v '^memory'
+$HOVOX tray "$TMP/job.json" -o "$TMP/a" | grep -v '^memory'
 echo "rc=$?"
 $HOVOX tray -o "$TMP/b" --part "$TMP/cis.3mf@40,40" --materials shell=VeroCyan-V --materials core=Agilus30Black \
     --layers 185:186 -q >/dev/null
@@ -24,7 +24,7 @@ for p in json.load(open(sys.argv[1]))["parts"]:
 PY
 printf 'v 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\no tip\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$TMP/tet.obj"
 printf '{"mode": "mask", "parts": [{"mesh": "tet.obj", "at": [40, 40], "materials": {"tip": "VeroCyan-V"}}]}\n' >"$TMP/tet.json"
-$HOVOX tray "$TMP/tet.json" -o "$TMP/c" -q | grep '^parts'
+$HOVOX tray "$TMP/tet.json" -o "$TMP/c" | grep '^parts'
 echo "rc=$?"
 # refused, naming file, line and column: a material that is not a string, an empty body name, a
 # body the mesh does not have (at the part), "materials" beside "material" or a model; and

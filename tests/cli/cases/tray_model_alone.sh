@@ -7,7 +7,7 @@ here=$(pwd)
 cd "$TMP" || exit 1
 /usr/bin/python3 "$here/tests/cli/cases/holed_plate.py" 8,4,2 1 32 0.25 subtract holed.vdb || exit 1
 $HOVOX tray --part holed.vdb@20,370 --part holed.vdb@40,370,90 -o tray --mode mask --resin A=VeroCyan-V \
-    --resin B=VeroMagenta-V --layers 0:74 -q; echo "rc=$?"
+    --resin B=VeroMagenta-V --layers 0:74; echo "rc=$?"
 /usr/bin/python3 - <<'PY'
 import json, struct, zlib
 m = json.load(open("tray/manifest.json"))
@@ -40,7 +40,7 @@ print("object pixels at the rod's axis over 74 layers:", holes)
 PY
 printf '{"resin": {"A": "VeroCyan-V", "B": "VeroMagenta-V"}, "parts": [{"model": "holed.vdb", "at": [20, 370]},
  {"model": "holed.vdb", "at": [40, 370], "rotation": 90}]}\n' > j.json
-$HOVOX tray j.json -o job --mode mask --layers 0:74 -q; echo "rc=$?"
+$HOVOX tray j.json -o job --mode mask --layers 0:74; echo "rc=$?"
 for l in 00000 00037 00073; do cmp -s tray/layer-$l.png job/layer-$l.png && echo "layer $l: the job's bytes"; done
 cp $SHARED/models/ungraded.vdb old.vdb
 $HOVOX tray --part old.vdb@20,370 -o refused --mode mask; echo "rc=$?"

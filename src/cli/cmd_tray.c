@@ -117,10 +117,13 @@ static const hv_option k_local_opts[] = {
     PLACE_OPT("scale", "S|SX,SY,SZ", "scale the part before it about the origin", NULL),
     PLACE_OPT("rotate", "AXIS:DEG|DEG@X,Y,Z", "turn the part before it (repeatable, in order), before ROT", NULL),
     PLACE_OPT("translate", "X,Y,Z", "move the part before it (mm), last", NULL),
-    {.key = "materials", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+    /* --material as in layers and voxelize; --materials, the job file's key, the same */
+    {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
      .parse = part_materials, .section = "Materials of the --part before them (job files: the part's \"materials\")",
      .help = "a body of the part before it (an OBJ group, a 3MF item) in that material, whatever the file says; "
-             "repeatable"},
+             "repeatable (as layers and voxelize --material)"},
+    {.key = "materials", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+     .parse = part_materials, .help = "the same as --material (the job file's key)"},
     SCAN_OPT("iso", 0, "VALUE", "the scan before it: solid where its interpolated value is at least VALUE",
              "A scanned volume's --part (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM directory; job files: "
              "the part's keys with \"scan\")"),

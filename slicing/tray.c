@@ -1465,8 +1465,11 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         rep->utilisation = t->utilisation;
         rep->memory = t->memory;
         memcpy(rep->warnings, t->warnings, sizeof rep->warnings);
-        double obj = 0;
-        for (int i = 0; i < t->ninst; ++i) obj += (double)t->inst[i].w * t->inst[i].h * (double)t->inst[i].layers;
+        double obj = 0; /* the part boxes' voxels in the window's layers only */
+        for (int i = 0; i < t->ninst; ++i) {
+            size_t lo = HV_MAX(rep->first, t->inst[i].lift), hi = HV_MIN(rep->last, t->inst[i].lift + t->inst[i].layers);
+            if (hi > lo) obj += (double)t->inst[i].w * t->inst[i].h * (double)(hi - lo);
+        }
         double all = (double)t->W * t->H * (double)(rep->last - rep->first);
         /* the bench tray's rates on 2 cores (box voxels 3.7e10 of a 1.09e11 plate: 72 s halftone,
          * 16 s mask; an empty plate 1.9 s), a little under */

@@ -20,7 +20,9 @@ ifeq ($(origin CC),default)
 CC := gcc
 endif
 
-WARN    := -Wall -Wextra -Wshadow -Wconversion -Wno-sign-conversion -Wformat=2 -Wundef
+# -Wmissing-prototypes: a function that is not static is declared in a header (an unused export
+# declared nowhere, as hv_layers_mode_enum was, fails the build)
+WARN    := -Wall -Wextra -Wshadow -Wconversion -Wno-sign-conversion -Wformat=2 -Wundef -Wmissing-prototypes
 ifeq ($(WERROR),1)
 WARN    += -Werror
 endif

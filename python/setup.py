@@ -45,6 +45,9 @@ class BuildExt(build_ext):
         for ext in self.extensions:
             ext.extra_objects = [os.path.join(BUILD, "libhovox.a")]
             ext.extra_link_args = libs
+            # build_ext relinks only when a source or a dependency is newer than the extension, and
+            # extra_objects are not among them: a library changed alone left a stale extension
+            ext.depends = list(ext.depends) + ext.extra_objects
         super().run()
         for ext in self.extensions:
             dest = os.path.join(os.path.dirname(self.get_ext_fullpath(ext.name)), "plugins")

@@ -26,8 +26,6 @@ const char *hv_view_name(hv_view view)
     return n ? n : "?";
 }
 
-const hv_enum_def *hv_view_enum(void) { return &k_view; }
-
 const char *hv_render_mode_name(hv_render_mode mode)
 {
     const char *n = hv_enum_name(&k_mode, (int)mode);

@@ -182,6 +182,12 @@ hv_status hv_dist_same_plan(const hv_dist *d, uint64_t hash, hv_status local);
 /* A copy of s kept as long as tray t (job files' strings); NULL when out of memory. */
 struct hv_tray;
 const char *hv_tray_keep(struct hv_tray *t, const char *s);
+/* hv_tray_add, with where each of the part's "materials" pairs was given (a job file's "job.json:
+ * line 3, column 40", strings kept by the tray; pair_where NULL, or an entry NULL: at the part's
+ * `where`): a body the mesh lacks is reported at its entry. */
+struct hv_tray_part;
+hv_status hv_tray_add_at(struct hv_tray *t, const struct hv_tray_part *part, const char *where,
+                         const char *const *pair_where);
 
 #include "core/internal.h"
 #include "core/zip.h"

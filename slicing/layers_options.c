@@ -60,9 +60,6 @@ static const hv_enum_def k_method = {"layers method", k_method_names, NULL, NULL
 static const hv_enum_def k_halftone = {"halftone method", k_halftone_names, NULL, NULL};
 static const hv_enum_def k_rule = {"fill rule", k_rule_names, NULL, NULL};
 
-const hv_enum_def *hv_layers_mode_enum(void) { return &k_mode; }
-const hv_enum_def *hv_fill_rule_enum(void) { return &k_rule; }
-
 const char *hv_layers_mode_name(hv_layers_mode m)
 {
     const char *n = hv_enum_name(&k_mode, (int)m);

@@ -242,6 +242,7 @@ typedef struct footprint {
 typedef struct source {   /* one part as given (copies share it) */
     hv_tray_part p;       /* strings owned (strdup) */
     char *where;          /* "job.json: line 7, column 5", or NULL */
+    const char **pair_where; /* where each p.materials pair was given (kept by the tray), or NULL */
     int number;           /* part N, in the order added */
     hv_mesh *mesh;        /* rotated; from_model: the leaves that bound the shape; NULL for a scan */
     hv_volume *model;     /* rotated; NULL for plain meshes and a scan printed from its data */
@@ -367,6 +368,7 @@ void hv_tray_destroy(hv_tray *t)
         free((char *)s->p.labels);
         free((char *)s->p.core);
         free(s->where);
+        free(s->pair_where);
     }
     free(t->src);
     for (size_t i = 0; i < t->npool; ++i) free(t->pool[i]);
@@ -415,6 +417,11 @@ static char *dup_or_null(const char *s, int *bad)
 
 hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
 {
+    return hv_tray_add_at(t, part, where, NULL);
+}
+
+hv_status hv_tray_add_at(hv_tray *t, const hv_tray_part *part, const char *where, const char *const *pair_where)
+{
     hv_status st = hv_options_check(&k_part_set, part);
     if (st == HV_OK) st = part_check(part);
     if (st == HV_OK && !part->mesh && !part->model && !part->scan)
@@ -449,6 +456,11 @@ hv_status hv_tray_add(hv_tray *t, const hv_tray_part *part, const char *where)
     for (int k = 0; k < part->materials.n; ++k) s->p.materials.pair[k] = dup_or_null(part->materials.pair[k], &bad);
     s->p.core = dup_or_null(part->core, &bad);
     s->where = dup_or_null(where, &bad);
+    if (pair_where && part->materials.n && !bad) {
+        s->pair_where = hv_calloc((size_t)part->materials.n, sizeof *s->pair_where);
+        if (s->pair_where) memcpy(s->pair_where, pair_where, (size_t)part->materials.n * sizeof *s->pair_where);
+        else bad = 1;
+    }
     s->number = t->nsrc + 1;
     t->nsrc++;
     unplan(t);
@@ -990,7 +1002,12 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     hv_status st = hv_mesh_load(s->p.mesh, &mesh);
     if (st == HV_OK) st = hv_placement_apply(&s->p.place, &mesh);
     if (st == HV_OK) size_warning(t, s, mesh, o);
-    if (st == HV_OK) st = hv_body_materials_apply(&s->p.materials, mesh);
+    const char *where = s->where; /* a body the mesh lacks: at its "materials" entry */
+    for (int k = 0; k < s->p.materials.n && st == HV_OK; ++k) {
+        hv_body_materials one = {1, {s->p.materials.pair[k]}};
+        st = hv_body_materials_apply(&one, mesh);
+        if (st != HV_OK && s->pair_where && s->pair_where[k]) where = s->pair_where[k];
+    }
     if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
     else if (st == HV_OK && !s->p.material) st = bodies_model(t, s, mesh, o, &model);
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
@@ -1008,8 +1025,8 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     if (st != HV_OK) {
         hv_mesh_destroy(mesh);
         hv_volume_destroy(model);
-        return s->where ? as_keys(s, hv_error_prefix(st, "%s: part %d (%s): ", s->where, s->number, s->p.name))
-                        : hv_error_prefix(st, "part %d (%s): ", s->number, s->p.name);
+        return where ? as_keys(s, hv_error_prefix(st, "%s: part %d (%s): ", where, s->number, s->p.name))
+                     : hv_error_prefix(st, "part %d (%s): ", s->number, s->p.name);
     }
     s->mesh = mesh;
     s->model = model;
@@ -1454,8 +1471,11 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
         rep->utilisation = t->utilisation;
         rep->memory = t->memory;
         memcpy(rep->warnings, t->warnings, sizeof rep->warnings);
-        double obj = 0;
-        for (int i = 0; i < t->ninst; ++i) obj += (double)t->inst[i].w * t->inst[i].h * (double)t->inst[i].layers;
+        double obj = 0; /* the part boxes' voxels in the window's layers only */
+        for (int i = 0; i < t->ninst; ++i) {
+            size_t lo = HV_MAX(rep->first, t->inst[i].lift), hi = HV_MIN(rep->last, t->inst[i].lift + t->inst[i].layers);
+            if (hi > lo) obj += (double)t->inst[i].w * t->inst[i].h * (double)(hi - lo);
+        }
         double all = (double)t->W * t->H * (double)(rep->last - rep->first);
         /* the bench tray's rates on 2 cores (box voxels 3.7e10 of a 1.09e11 plate: 72 s halftone,
          * 16 s mask; an empty plate 1.9 s), a little under */

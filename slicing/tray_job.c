@@ -164,6 +164,37 @@ static hv_status set_value(reader *r, hv_optargs *args, const char *key, const j
     return s == HV_OK ? s : at(r, node, 0, s);
 }
 
+/* "name: line L, column C" of value v (of its key), kept by the tray; NULL when not known */
+static const char *place_of(reader *r, int v, int of_key)
+{
+    int line, col;
+    char buf[300];
+    if (v < 0 || hv_json_where_at(r->where, v, of_key, &line, &col) != 0) return NULL;
+    snprintf(buf, sizeof buf, "%s: line %d, column %d", r->name, line, col);
+    return keep(r, buf, 0);
+}
+
+/* Where each of the part's "materials" pairs is (an object's keys, an array's elements, a string),
+ * in the order they were set: a body the mesh lacks is reported there. */
+static void pair_places(reader *r, const json_t *v, int node, int n, const char **out)
+{
+    const json_t *m = json_object_get(v, "materials");
+    int mn = hv_json_where_member(r->where, node, "materials");
+    int k = 0;
+    if (json_is_object(m)) {
+        const char *key;
+        json_t *e;
+        json_object_foreach((json_t *)m, key, e) {
+            if (k < n) out[k] = place_of(r, hv_json_where_member(r->where, mn, key), 1);
+            ++k;
+        }
+    } else if (json_is_array(m)) {
+        for (; k < n && (size_t)k < json_array_size(m); ++k) out[k] = place_of(r, hv_json_where_element(r->where, mn, (size_t)k), 0);
+    } else if (m && n > 0) {
+        out[0] = place_of(r, mn, 0);
+    }
+}
+
 static hv_status read_part(reader *r, const json_t *v, int node)
 {
     if (!json_is_object(v))
@@ -182,7 +213,9 @@ static hv_status read_part(reader *r, const json_t *v, int node)
     if (hv_json_where_at(r->where, node, 0, &line, &col) == 0)
         snprintf(where, sizeof where, "%s: line %d, column %d", r->name, line, col);
     else snprintf(where, sizeof where, "%s", r->name);
-    return hv_tray_add(r->tray, &p, where);
+    const char *pair_where[HV_BODY_MATERIALS_MAX] = {NULL};
+    pair_places(r, v, node, p.materials.n, pair_where);
+    return hv_tray_add_at(r->tray, &p, where, pair_where);
 }
 
 hv_status hv_tray_parse_job(const char *text, size_t size, const char *name, const char *base, hv_tray **out,

@@ -45,3 +45,14 @@ def test_readme_install_commands_verbatim(root, tmp_path):
     assert r.returncode == 0, r.stderr
     assert int(r.stdout) > 0
     shutil.rmtree(home / ".venvs")
+
+
+def test_extension_not_older_than_the_library(cli):
+    """`make python` relinks the extension when only libhovox.a changed (setup.py lists the library
+    among the extension's dependencies): an extension older than the library it links is stale and
+    makes false differences between the CLI and Python."""
+    import hovox._hovox
+    lib = os.path.join(os.path.dirname(cli.exe), "libhovox.a")
+    if not os.path.exists(lib):
+        pytest.skip("no libhovox.a beside %s" % cli.exe)
+    assert os.path.getmtime(hovox._hovox.__file__) >= os.path.getmtime(lib), (hovox._hovox.__file__, lib)

@@ -27,7 +27,7 @@ typedef struct common_opts {
 static const hv_option k_common_opts[] = {
     {.key = "threads", .kind = HV_OPT_NUMBER, .elem = HV_ELEM_INT, .lo = 1, .hi = 1024,
      .offset = offsetof(common_opts, threads), .meta = "N", .help = "worker threads (default: the processors this process may run on)"},
-    {.key = "quiet", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, quiet), .help = "no progress bar"},
+    {.key = "quiet", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, quiet), .help = "no progress bar and no summary; --json and --dry-run still print, warnings and errors too"},
     {.key = "help", .kind = HV_OPT_FLAG, .offset = offsetof(common_opts, help), .help = "this text"},
     {.key = "max_memory", .kind = HV_OPT_BYTES, .offset = offsetof(common_opts, max_memory), .meta = "SIZE",
      .help = "memory the command may use, its readers included (default: half of RAM); a file or job that needs "

@@ -145,9 +145,9 @@ int cli_out_of_time(void);
 
 /* --view of layers and tray: hv_viewer_stack_finish writes the page into the report given as its
  * user pointer; this prints its warnings and a "page" line once the stack is written (nothing when
- * no page was written). */
+ * no page was written; no "page" line when quiet, -q). */
 #include "hovox/viewer.h"
-void cli_view_report(const hv_viewer_report *r, const char *dir);
+void cli_view_report(const hv_viewer_report *r, const char *dir, int quiet);
 
 /* ---- placement (place.c) ---------------------------------------------------------------------
  * Load a mesh and place it (hovox/placement.h), then warn when its size suggests a wrong unit

@@ -78,7 +78,7 @@ static int run(const cli_args *args, void *lib, void *local)
         cli_progress_done(&bar);
     }
     if (s == HV_OK && (s = hv_volume_save(out, c->output)) != HV_OK) hv_error_prefix(s, "%s: ", c->output);
-    if (s == HV_OK) {
+    if (s == HV_OK && !args->quiet) {
         hv_geometry *g = NULL;
         int leaves = hv_geometry_read(out, &g) == HV_OK ? (int)hv_geometry_leaf_count(g) : 0;
         printf("%s = %s %s %s: %llu voxels, %d materials, shape from %d recorded mesh%s\n", c->output, pa, opname, pb,

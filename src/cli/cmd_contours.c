@@ -137,7 +137,9 @@ static int run_cli(const cli_args *args, void *lib, void *local)
         if (s == HV_OK) s = hv_contours_write(mesh, o, mesh_path, c->json ? layer_json : NULL, &js, &prog, &sum);
     }
     cli_progress_done(&bar);
-    int rc = s == HV_OK ? report(mesh_path, mesh, o, &sum, c->json ? &js.b : NULL) : cli_fail(s);
+    int rc = s != HV_OK                 ? cli_fail(s)
+             : args->quiet && !c->json ? EXIT_OK
+                                       : report(mesh_path, mesh, o, &sum, c->json ? &js.b : NULL);
     hv_mesh_destroy(mesh);
     hv_volume_destroy(model);
     hv_buf_free(&js.b);

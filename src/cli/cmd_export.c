@@ -46,8 +46,8 @@ static void print_list(const char *label, const char *csv)
     printf("\n");
 }
 
-static void report(const char *model, const hv_volume *vol, const hv_export_options *opt, const export_cli *c,
-                   const hv_export_report *rep)
+/* The library's notes, on stderr (also with -q) */
+static void notes(const hv_export_report *rep)
 {
     for (const char *p = rep->notes; *p;) {
         const char *nl = strchr(p, '\n');
@@ -55,6 +55,11 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
         fprintf(stderr, "hovox: note: %.*s\n", (int)n, p);
         p += n + (nl ? 1 : 0);
     }
+}
+
+static void report(const char *model, const hv_volume *vol, const hv_export_options *opt, const export_cli *c,
+                   const hv_export_report *rep)
+{
     if (rep->format == HV_EXPORT_STL || rep->format == HV_EXPORT_OBJ || rep->format == HV_EXPORT_3MF_SHAPE) {
         printf("model       %s\n", model);
         printf("shape       %s\n", rep->names);
@@ -126,7 +131,8 @@ static int run(const char *model, hv_export_options *opt, const export_cli *c, i
     s = c->dry_run ? hv_export_plan(vol, c->output, opt, &rep) : hv_export_write(vol, c->output, opt, &rep);
     cli_progress_done(&bar);
     opt->progress = NULL;
-    if (s == HV_OK) report(model, vol, opt, c, &rep);
+    if (s == HV_OK) notes(&rep);
+    if (s == HV_OK && (!quiet || c->dry_run)) report(model, vol, opt, c, &rep);
     hv_volume_destroy(vol);
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }

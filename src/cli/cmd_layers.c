@@ -337,10 +337,10 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         s = hv_layers_write(mesh, model, c->output, o, &prog, &r);
         cli_progress_done(&bar);
         if (s == HV_OK) warn(&r, HV_MIN(seen, strlen(r.warnings)));
-        if (s == HV_OK && said.data) fputs(said.data, stdout);
-        if (s == HV_OK) report(&r, o, c, mesh, model, &skin);
+        if (s == HV_OK && said.data && !quiet) fputs(said.data, stdout);
+        if (s == HV_OK && !quiet) report(&r, o, c, mesh, model, &skin);
         hv_colour_map_destroy(skin.map);
-        if (s == HV_OK) cli_view_report(&page, c->output);
+        if (s == HV_OK) cli_view_report(&page, c->output, quiet);
     }
     hv_buf_free(&said);
     hv_volume_destroy(model);

@@ -70,7 +70,7 @@ static int run(const cli_args *args, void *lib, void *local)
     if (s == HV_OK) s = hv_image_write(img, c->output);
     hv_image_destroy(img);
     if (s != HV_OK) return cli_fail(s);
-    return report(path, c->output, o, materials);
+    return args->quiet ? EXIT_OK : report(path, c->output, o, materials);
 }
 
 const cli_spec cmd_render = {

@@ -117,10 +117,13 @@ static const hv_option k_local_opts[] = {
     PLACE_OPT("scale", "S|SX,SY,SZ", "scale the part before it about the origin", NULL),
     PLACE_OPT("rotate", "AXIS:DEG|DEG@X,Y,Z", "turn the part before it (repeatable, in order), before ROT", NULL),
     PLACE_OPT("translate", "X,Y,Z", "move the part before it (mm), last", NULL),
-    {.key = "materials", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+    /* --material as in layers and voxelize; --materials, the job file's key, the same */
+    {.key = "material", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
      .parse = part_materials, .section = "Materials of the --part before them (job files: the part's \"materials\")",
      .help = "a body of the part before it (an OBJ group, a 3MF item) in that material, whatever the file says; "
-             "repeatable"},
+             "repeatable (as layers and voxelize --material)"},
+    {.key = "materials", .kind = HV_OPT_CUSTOM, .flags = HV_OPT_REPEAT | HV_OPT_PAIRS, .meta = "BODY=MATERIAL",
+     .parse = part_materials, .help = "the same as --material (the job file's key)"},
     SCAN_OPT("iso", 0, "VALUE", "the scan before it: solid where its interpolated value is at least VALUE",
              "A scanned volume's --part (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM directory; job files: "
              "the part's keys with \"scan\")"),
@@ -317,7 +320,7 @@ static int run(const cli_args *args, void *lib, void *local)
         s = hv_tray_write(t, c->output, o, &prog, &r);
         cli_progress_done(&bar);
     }
-    if (s == HV_OK) {
+    if (s == HV_OK && (!args->quiet || o->dry_run)) { /* -q: no summary; a dry run's plan is what was asked for */
         print_plan(&r, o);
         if (o->dry_run) {
             char sz[32];
@@ -344,8 +347,8 @@ static int run(const cli_args *args, void *lib, void *local)
             printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
                    (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",
                    o->gcvf_path ? o->gcvf_path : "");
-        if (!o->dry_run) cli_view_report(&page, c->output);
     }
+    if (s == HV_OK && !o->dry_run) cli_view_report(&page, c->output, args->quiet);
     hv_tray_destroy(t);
     return s == HV_OK ? EXIT_OK : cli_fail(s);
 }

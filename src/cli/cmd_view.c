@@ -63,14 +63,16 @@ static void report_model(const char *path, const char *page, const hv_viewer_rep
     printf("wrote       %s (%s)\n", page, hv_size_text(sz, sizeof sz, (double)r->bytes));
 }
 
-/* --view of layers and tray (hv_viewer_stack_finish wrote the page): its warnings and where it is */
-void cli_view_report(const hv_viewer_report *r, const char *dir)
+/* --view of layers and tray (hv_viewer_stack_finish wrote the page): its warnings and where it is
+ * (not with -q) */
+void cli_view_report(const hv_viewer_report *r, const char *dir, int quiet)
 {
     if (!r->bytes) return;
     char sz[32];
     size_t n = strlen(dir);
     while (n > 1 && dir[n - 1] == '/') --n;
     warn(r);
+    if (quiet) return;
     printf("page        %.*s/index.html (%s)\n", (int)n, dir, hv_size_text(sz, sizeof sz, (double)r->bytes));
 }
 
@@ -113,7 +115,7 @@ static int run(const cli_args *args, void *lib, void *local)
         cli_progress_done(&bar);
         if (s == HV_OK) {
             warn(&r);
-            report_stack(path, out, &r);
+            if (!args->quiet) report_stack(path, out, &r);
         }
         free(page);
     } else {
@@ -126,7 +128,7 @@ static int run(const cli_args *args, void *lib, void *local)
         cli_progress_done(&bar);
         if (s == HV_OK) {
             warn(&r);
-            report_model(path, out, &r);
+            if (!args->quiet) report_model(path, out, &r);
         }
         hv_volume_destroy(vol);
         free(page);

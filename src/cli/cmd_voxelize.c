@@ -317,7 +317,8 @@ static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int
             return cli_fail(s);
         }
     }
-    int rc = report(path, mesh, &plan, opt, c, vol, map);
+    /* -q: no summary (the plan of a dry run and --json are what was asked for) */
+    int rc = quiet && !c->json && !c->dry_run ? EXIT_OK : report(path, mesh, &plan, opt, c, vol, map);
     hv_colour_map_destroy(map);
     hv_volume_destroy(vol);
     hv_mesh_destroy(mesh);
@@ -394,7 +395,7 @@ static int run_scan(const cli_args *args, const char *path, const hv_voxelize_op
         if (lut) cli_json_str(&j, "lut", c->scan.lut);
         if (!c->dry_run) cli_json_str(&j, "output", c->output);
         rc = cli_json_end(&j, NULL, NULL);
-    } else {
+    } else if (!args->quiet || c->dry_run) {
         printf("volume      %s (%s, %zu x %zu x %zu samples)\n", path, in->format_name, d[0], d[1], d[2]);
         printf("shape       %s, trilinear%s%s%s\n", shape, o.keep_largest ? ", largest part" : "",
                o.fill_holes ? ", holes filled" : "", o.min_feature > 0 ? ", minimum feature" : "");

@@ -20,9 +20,20 @@
  * its flat faces where they are (the level set is exact there). */
 #define SHAPE_VOXEL 0.05
 
-/* bytes the level sets and the surface need: per voxel of the leaves' surfaces (area / v^2) a
- * narrow band of 6 voxels (8 bytes each with the tree), a copy for the CSG, and the mesh out
- * (2 triangles and a vertex, 48 bytes) */
+/* Bytes the level-set stage needs, as measured (peak RSS, /usr/bin/time -v; the holed plate
+ * of tests/cli/cases/holed_plate.py at 10 x 5 x 2.5, 20 x 10 x 5 and 40 x 20 x 10 mm, 88 k to
+ * 1.33 M voxels of the leaves' surfaces, on 1 and 2 cores by taskset): 67 / 123 / 376 MiB on one
+ * core, 74 / 138 / 408 MiB on two, where the narrow bands alone (6 voxels of 8 bytes, a copy for
+ * the CSG, the mesh out: 144 bytes a surface voxel) planned 13 / 48 / 184 MiB. The rest is
+ * meshToLevelSet's closest-triangle index grid and its per-thread voxelization grids (OpenVDB's
+ * TBB runs on every core of the affinity mask), volumeToMesh's own grids, the allocator's arenas,
+ * and the OpenVDB and TBB libraries themselves. Fitted a little over every measurement: per
+ * surface voxel (area / v^2) 250 bytes + 20 a thread, plus 40 MiB + 8 MiB a thread (the 8 x 4 x 2 mm
+ * plate of the CLI cases, 69 MiB peak, planned 72). */
+#define SURFACE_VOXEL_BYTES 250.0
+#define SURFACE_VOXEL_BYTES_THREAD 20.0
+#define SURFACE_FIXED_BYTES (40.0 * 1048576.0)
+#define SURFACE_FIXED_BYTES_THREAD (8.0 * 1048576.0)
 static uint64_t surface_bytes(hv_mesh *const *m, size_t n, double v)
 {
     double area = 0;
@@ -36,7 +47,9 @@ static uint64_t surface_bytes(hv_mesh *const *m, size_t n, double v)
             area += 0.5 * sqrt(x * x + y * y + z * z);
         }
     }
-    return (uint64_t)(area / (v * v) * (6 * 8 * 2 + 48)) + (1u << 20);
+    double threads = hv_cpus_allowed(); /* TBB's workers: the affinity mask's processors */
+    return (uint64_t)(area / (v * v) * (SURFACE_VOXEL_BYTES + SURFACE_VOXEL_BYTES_THREAD * threads) +
+                      SURFACE_FIXED_BYTES + SURFACE_FIXED_BYTES_THREAD * threads);
 }
 
 /* The surface of a Boolean tree of meshes: hv_vdb_surface, then outward facets (the signed volume

@@ -328,7 +328,7 @@ static int l_mkdir(lua_State *L)
         p[i] = '\0';
         struct stat st;
         if (stat(p, &st) != 0) {
-            hv_lua_check_write(L, 1, p);
+            hv_lua_check_write(L, 1, NULL, p);
             if (mkdir(p, 0777) != 0 && errno != EEXIST)
                 return luaL_error(L, "%s: cannot create the directory: %s", p, strerror(errno));
         } else if (!S_ISDIR(st.st_mode)) {

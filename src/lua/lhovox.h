@@ -37,9 +37,11 @@ void hv_lua_set_write_root(lua_State *L, const char *dir);
  * write root is set. */
 void hv_lua_sandbox(lua_State *L);
 /* Raise "bad argument" unless writing `path` is allowed: its directory resolves below the write
- * root, and when `path` itself is a symbolic link, its target does too. Call on a private copy
- * right before the C call that writes. Returns path. */
-const char *hv_lua_check_write(lua_State *L, int arg, const char *path);
+ * root, and when `path` itself is a symbolic link, its target does too. `field` names the option
+ * of table argument `arg` that holds the path ("dir": "bad argument #1 to 'layers' (dir: sandbox:
+ * ...)"), NULL when the argument is the path itself. Call on a private copy right before the C
+ * call that writes. Returns path. */
+const char *hv_lua_check_write(lua_State *L, int arg, const char *field, const char *path);
 
 /* ---- objects in use, the runner's hooks (lhovox.c) -----------------------------------------------
  * Any allocation may run finalizers, and a finalizer (or a callback) may free an object

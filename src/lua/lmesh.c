@@ -230,7 +230,7 @@ static int mesh_materials(lua_State *L)
 static int mesh_save(lua_State *L)
 {
     l_mesh *u = CHECK(L, 1, l_mesh, MT_MESH);
-    const char *path = hv_lua_check_write(L, 2, luaL_checkstring(L, 2));
+    const char *path = hv_lua_check_write(L, 2, NULL, luaL_checkstring(L, 2));
     int ascii = 0;
     if (!lua_isnoneornil(L, 3)) {
         hv_lua_check_plain_table(L, 3);

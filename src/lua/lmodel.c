@@ -61,7 +61,7 @@ static int l_load(lua_State *L)
 static int model_save(lua_State *L)
 {
     hv_volume *vol = hv_lua_model(L, 1); /* kept alive while this runs (hv_lua_release) */
-    const char *path = hv_lua_check_write(L, 2, luaL_checkstring(L, 2));
+    const char *path = hv_lua_check_write(L, 2, NULL, luaL_checkstring(L, 2));
     hv_status s = hv_volume_save(vol, path);
     return s != HV_OK ? fail(L, s) : 0;
 }

@@ -267,7 +267,7 @@ const char *hv_lua_out_path(lua_State *L, int arg, const char *key, int holder, 
 {
     const char *path = hv_lua_string_field(L, arg, key, holder);
     if (!path && what) hv_lua_arg_error(L, arg, "%s is required (%s)", key, what);
-    return path ? hv_lua_check_write(L, arg, path) : NULL;
+    return path ? hv_lua_check_write(L, arg, key, path) : NULL;
 }
 
 void hv_lua_check_paths(lua_State *L, int arg, const hv_option_set *set, const void *opts)
@@ -276,6 +276,6 @@ void hv_lua_check_paths(lua_State *L, int arg, const hv_option_set *set, const v
         const hv_option *o = &set->options[i];
         if (o->kind != HV_OPT_STRING || !(o->flags & HV_OPT_OUT_PATH)) continue;
         const char *path = *(const char *const *)((const char *)opts + o->offset);
-        if (path) hv_lua_check_write(L, arg, path);
+        if (path) hv_lua_check_write(L, arg, o->key, path);
     }
 }

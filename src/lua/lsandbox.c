@@ -37,20 +37,21 @@ static int write_allowed(lua_State *L, const char *path)
     return ok;
 }
 
-const char *hv_lua_check_write(lua_State *L, int arg, const char *path)
+const char *hv_lua_check_write(lua_State *L, int arg, const char *field, const char *path)
 {
     /* a call of a script is one command: what earlier calls read may be written now (a model
      * loaded, changed and saved in place), what this call reads may not */
     hv_inputs_reset();
     if (!write_allowed(L, path))
-        arg_error(L, arg, "sandbox: writing '%s' outside the output directory is not allowed", path);
+        arg_error(L, arg, "%s%ssandbox: writing '%s' outside the output directory is not allowed", field ? field : "",
+                  field ? ": " : "", path);
     return path;
 }
 
 static int sb_io_open(lua_State *L)
 {
     const char *path = luaL_checkstring(L, 1), *mode = luaL_optstring(L, 2, "r");
-    if (strpbrk(mode, "wa+")) hv_lua_check_write(L, 1, path);
+    if (strpbrk(mode, "wa+")) hv_lua_check_write(L, 1, NULL, path);
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
@@ -59,7 +60,7 @@ static int sb_io_open(lua_State *L)
 
 static int sb_io_output(lua_State *L)
 {
-    if (lua_type(L, 1) == LUA_TSTRING) hv_lua_check_write(L, 1, lua_tostring(L, 1));
+    if (lua_type(L, 1) == LUA_TSTRING) hv_lua_check_write(L, 1, NULL, lua_tostring(L, 1));
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
@@ -69,7 +70,7 @@ static int sb_io_output(lua_State *L)
 static int sb_os_path(lua_State *L)
 {
     int n = (int)lua_tointeger(L, lua_upvalueindex(2));
-    for (int i = 1; i <= n; ++i) hv_lua_check_write(L, i, luaL_checkstring(L, i));
+    for (int i = 1; i <= n; ++i) hv_lua_check_write(L, i, NULL, luaL_checkstring(L, i));
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);

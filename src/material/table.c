@@ -10,6 +10,7 @@
 
 #include "core/internal.h"
 #include "hovox/material.h"
+#include "material_internal.h"
 #include "volumes/schema.h"
 
 typedef struct property {

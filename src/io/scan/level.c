@@ -127,13 +127,6 @@ double hv_scan_level_at(const hv_scan_level *lv, const double world[3])
     return hv_scan_level_at_index(lv, idx);
 }
 
-void hv_scan_level_box(const hv_scan_level *lv, double lo[3], double hi[3])
-{
-    double sp[3];
-    char axes[4];
-    hv_scan_geometry(lv->scan, sp, axes, lo, hi);
-}
-
 /* ---- the inside's box ------------------------------------------------------------------------ */
 
 /* g at sample (i, j, k): the sample's own level (trilinear interpolation at a sample centre is the

@@ -21,7 +21,7 @@ end
 LUA
 $HOVOX run ops.lua &&
 for op in intersect union difference merge subtract; do
-  $HOVOX boolean red.vdb $op blue.vdb -o cli_$op.vdb -q || exit 1
+  $HOVOX boolean red.vdb $op blue.vdb -o cli_$op.vdb || exit 1
   if cmp -s cli_$op.vdb lua_$op.vdb; then echo "$op: identical with the UUID too?"; fi
   tail -c +59 cli_$op.vdb > a.bin; tail -c +59 lua_$op.vdb > b.bin
   cmp -s a.bin b.bin && echo "$op: the same model as Lua's" || echo "$op: DIFFERS from Lua's"

@@ -29,4 +29,4 @@ for t in re.finditer(r'<triangle v1="(\d+)" v2="(\d+)" v3="(\d+)"( pid="1" p1="(
 print("triangles in B: %s, in the wrong material: %d" % ("some" if b else "none", wrong))
 PY
 echo 'hovox.load("wd.vdb"):export{path = "lua.3mf"}' > e.lua && $HOVOX run e.lua && cmp wd.3mf lua.3mf && echo "Lua: the same bytes"
-$HOVOX export wd.vdb -o vol.3mf --volumetric -q | grep -E "^(mesh|images)"
+$HOVOX export wd.vdb -o vol.3mf --volumetric | grep -E "^(mesh|images)"

@@ -5,7 +5,7 @@ $HOVOX voxelize "$TMP/b.stl" -o "$TMP/b.vdb" --dims 4 >/dev/null
 $HOVOX grade "$TMP/b.vdb" -o "$TMP/g.vdb" --materials A,B --frf plane:0,0,0:1,0,0 --ranges 0,2,0 --f d/dg \
     --ms 1,0 --me 0,1 --property A:density=1.18:g/cm^3 --property B:density=1180 \
     --property A:youngs_modulus=2:GPa --property B:youngs_modulus=1e9:Pa >/dev/null || exit 9
-$HOVOX export "$TMP/g.vdb" -o "$TMP/g.vti" -q | grep arrays
+$HOVOX export "$TMP/g.vdb" -o "$TMP/g.vti" | grep arrays
 /usr/bin/python3 - "$TMP/g.vti" <<'PY'
 import sys
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader

@@ -3,7 +3,7 @@
 # fractions no longer sum to 1. Before, probe reported fractions summing to 0 or 0.5 and layers
 # and render used them.
 $HOVOX generate box -o "$TMP/b.stl" >/dev/null
-$HOVOX voxelize "$TMP/b.stl" --voxel-size 2 -o "$TMP/m.vdb" -q
+$HOVOX voxelize "$TMP/b.stl" --voxel-size 2 -o "$TMP/m.vdb"
 $HOVOX grade "$TMP/m.vdb" -o "$TMP/g.vdb" --materials A,B --frf plane:0,0,0:0,0,1 --ranges 0,5,0 --ms 1,0 --me 0,1 -q
 /usr/bin/python3 - "$TMP" <<'PY'
 import sys, pyopenvdb as vdb

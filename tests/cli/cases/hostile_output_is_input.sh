@@ -3,7 +3,7 @@
 # was and nothing is written. Before, each of these replaced its input.
 set -u
 $HOVOX generate box -o "$TMP/b.stl" >/dev/null
-$HOVOX voxelize "$TMP/b.stl" --voxel-size 2 -o "$TMP/m.vdb" -q
+$HOVOX voxelize "$TMP/b.stl" --voxel-size 2 -o "$TMP/m.vdb"
 $HOVOX grade "$TMP/m.vdb" -o "$TMP/g.vdb" --materials VeroCyan-V,VeroMagenta-V --frf plane:0,0,0:0,0,1 \
     --ranges 0,5,0 --ms 1,0 --me 0,1 -q
 cd "$TMP"

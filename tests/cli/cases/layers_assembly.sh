@@ -5,7 +5,7 @@
 # (tests/lua/test_assembly.lua), and the OBJ (assembly.obj) once hovox reads OBJ.
 $HOVOX run tests/lua/scripts/assembly.lua "$TMP" &&
 $HOVOX grade "$TMP/assembly.vdb" -o "$TMP/g.vdb" -q &&
-$HOVOX layers "$TMP/g.vdb" -o "$TMP/stack" --dpi 50,50 --layer-height 1 -q &&
+$HOVOX layers "$TMP/g.vdb" -o "$TMP/stack" --dpi 50,50 --layer-height 1 &&
 # the target is a mean of float fractions: its last digits follow the build's float contraction
 # (the sanitizer build differs past the 8th), so it is shown to 7 decimals
 sed -n '/"materials"/,/]/p' "$TMP/stack/manifest.json" | sed -E 's/("target": [0-9]+\.[0-9]{7})[0-9]*/\1/' &&

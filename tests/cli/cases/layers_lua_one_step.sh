@@ -4,7 +4,7 @@
 # it is refused (exit 1, nothing written).
 cp "$SHARED/good/core_in_shell.3mf" "$TMP/cis.3mf"
 cd "$TMP" || exit 1
-$HOVOX layers cis.3mf -o cli --layers 180:186 --material core=Agilus30Black -q | grep '^wrote'
+$HOVOX layers cis.3mf -o cli --layers 180:186 --material core=Agilus30Black | grep '^wrote'
 cat >one.lua <<'LUA'
 local r = hovox.load_mesh("cis.3mf"):layers{dir = arg[1], layers = {180, 186}, materials = {core = "Agilus30Black"}}
 print(r.layers, r.first, r.last, r.object_pixels)

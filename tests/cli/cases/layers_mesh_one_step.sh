@@ -9,7 +9,7 @@ m=tests/data/good/core_in_shell.3mf
 $HOVOX voxelize $m -o "$TMP/a.vdb" --voxel-size 0.5 >/dev/null &&
 $HOVOX grade "$TMP/a.vdb" -o "$TMP/g.vdb" -q &&
 $HOVOX layers "$TMP/g.vdb" --mesh $m -o "$TMP/three" --dpi 50,50 --layer-height 1 -q >/dev/null &&
-$HOVOX layers $m -o "$TMP/one" --dpi 50,50 --layer-height 1 --voxel-size 0.5 -q &&
+$HOVOX layers $m -o "$TMP/one" --dpi 50,50 --layer-height 1 --voxel-size 0.5 &&
 for f in "$TMP"/three/*.png; do cmp "$f" "$TMP/one/$(basename "$f")" || exit 1; done && echo "one step = three steps"
 echo "rc=$?"
 {
@@ -42,10 +42,10 @@ f 5 2 8
 f 5 8 11"
 } >"$TMP/two.obj"
 $HOVOX layers "$TMP/two.obj" -o "$TMP/two" --dpi 12.7,12.7 --layer-height 1 --material left=VeroCyan \
-    --material right=Agilus30 --voxel-size 0.5 -q | grep -v '^memory' &&
+    --material right=Agilus30 --voxel-size 0.5 | grep -v '^memory' &&
 /usr/bin/python3 tests/cli/png_palette_map.py "$TMP/two/layer-00002.png" '.CA'
 echo "rc=$?"
-$HOVOX layers tests/data/good/composite_core.3mf -o "$TMP/mix" --dpi 25.4,25.4 --layer-height 1 --mode fractions -q |
+$HOVOX layers tests/data/good/composite_core.3mf -o "$TMP/mix" --dpi 25.4,25.4 --layer-height 1 --mode fractions |
     sed -n '/^material/,$p'
 echo "rc=$?"
 $HOVOX layers "$TMP/two.obj" -o "$TMP/none" --dpi 50,50 --layer-height 1 --material left=VeroCyan

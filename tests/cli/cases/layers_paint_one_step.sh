@@ -6,8 +6,8 @@
 # written). (python/tests/test_api.py compares Python's bytes the same way.)
 /usr/bin/python3 tests/colour/textured_cube.py "$TMP" >/dev/null
 cd "$TMP" || exit 1
-$HOVOX layers cube.obj -o cli --layers 150:153 -q | sed -n '/^voxels/p;/^colour/p;/^wrote/p'
-$HOVOX layers cube.obj -o cli2 --layers 150:153 --colour-depth 0.5 --core '#808080' --intent relative -q \
+$HOVOX layers cube.obj -o cli --layers 150:153 | sed -n '/^voxels/p;/^colour/p;/^wrote/p'
+$HOVOX layers cube.obj -o cli2 --layers 150:153 --colour-depth 0.5 --core '#808080' --intent relative \
     | sed -n '/^voxels/p;/^colour/p'
 cat >one.lua <<'LUA'
 local cube = hovox.load_mesh("cube.obj")

@@ -1,7 +1,7 @@
 # --layers splits give the same files as one run (error diffusion restarts every 32 layers;
 # a range starting inside a block recomputes from the block start)
 $HOVOX generate box sx=6 sy=4 sz=20 -o "$TMP/b.stl" &&
-$HOVOX voxelize "$TMP/b.stl" --voxel-size 0.5 -o "$TMP/b.vdb" -q &&
+$HOVOX voxelize "$TMP/b.stl" --voxel-size 0.5 -o "$TMP/b.vdb" &&
 $HOVOX grade "$TMP/b.vdb" -o "$TMP/g.vdb" --materials A,B,C --frf plane:0,0,0:0,0,1 --ranges 0,20,0 \
     --ms 0.6,0.3,0.1 --me 0.1,0.3,0.6 -q &&
 for h in error bluenoise; do

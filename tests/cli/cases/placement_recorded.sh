@@ -10,7 +10,7 @@ f 1 2 4
 f 1 4 3
 f 2 3 4
 OBJ
-$HOVOX voxelize "$TMP/wedge.obj" --unit cm --up y --translate 1,2,3 --dims 16 -o "$TMP/w.vdb" -q | grep -E "^(placed|grid)"
+$HOVOX voxelize "$TMP/wedge.obj" --unit cm --up y --translate 1,2,3 --dims 16 -o "$TMP/w.vdb" | grep -E "^(placed|grid)"
 $HOVOX voxelize "$TMP/wedge.obj" --dims 16 -o "$TMP/raw.vdb" -q >/dev/null
 cat >"$TMP/show.lua" <<'LUA'
 for _, f in ipairs{arg[1] .. "/w.vdb", arg[1] .. "/raw.vdb"} do

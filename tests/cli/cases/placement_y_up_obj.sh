@@ -40,7 +40,7 @@ awk '$1 == "v" { z = -$3; if (z == 0) z = 0; print "v", $2, $4, z; next } { prin
 stack() { # NAME MESH [placement...]
     name=$1 mesh=$2
     shift 2
-    $HOVOX layers --mesh "$TMP/$mesh" --mode mask --profile j750 -q -o "$TMP/$name" "$@" | grep -E "^(placed|image|layers)"
+    $HOVOX layers --mesh "$TMP/$mesh" --mode mask --profile j750 -o "$TMP/$name" "$@" | grep -E "^(placed|image|layers)"
 }
 same() { # A B: every layer file the same bytes
     a=$(ls "$TMP/$1" | grep -c png) b=$(ls "$TMP/$2" | grep -c png) d=0

@@ -4,7 +4,7 @@
 # 4 x 4 mm in 10 x 10 mm). A body without a material is refused naming it (exit 1, nothing written).
 m=tests/data/good/core_in_shell.3mf
 $HOVOX tray -o "$TMP/t" --part $m@40,40 --resin VeroWhite=VeroPureWhite --resin Agilus30=Agilus30Black \
-    --layers 185:186 -q | grep -v '^memory'
+    --layers 185:186 | grep -v '^memory'
 echo "rc=$?"
 /usr/bin/python3 - "$TMP/t/manifest.json" <<'PY'
 import json, sys
@@ -16,7 +16,7 @@ for p in m["parts"]:
 PY
 printf 'v 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\no tip\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$TMP/tet.obj"
 printf '{"parts": [{"mesh": "tet.obj", "at": [40, 40]}]}\n' >"$TMP/job.json"
-$HOVOX tray "$TMP/job.json" -o "$TMP/none" -q
+$HOVOX tray "$TMP/job.json" -o "$TMP/none"
 echo "rc=$?"
 ls "$TMP"
 # a --part whose mesh is under 1 mm is warned about naming the likely unit, as voxelize warns

@@ -11,7 +11,7 @@ cd "$TMP"
 rm -rf layers tray
 printf '{"icc": "cmyk.icc", "parts": [{"mesh": "cube.obj", "at": [40, 30], "colour_depth": 0.5, "core": "#808080"}]}\n' >j.json
 cp /usr/share/color/icc/ghostscript/default_cmyk.icc cmyk.icc
-"$HOVOX" tray "$TMP/j.json" -o out -q --layers 30:32
+"$HOVOX" tray "$TMP/j.json" -o out --layers 30:32
 echo "rc=$?"
 /usr/bin/python3 -c "
 import json, sys

@@ -10,12 +10,18 @@ cat >"$TMP/job.json" <<'JOB'
  "parts": [{"mesh": "cis.3mf", "at": [40, 40],
             "materials": {"shell": "VeroCyan-V", "core": "Agilus30Black"}}]}
 JOB
-$HOVOX tray "$TMP/job.json" -o "$TMP/a" -q | grep -v '^memory'
+$HOVOX tray "$TMP/job.json" -o "$TMP/a" | grep -v '^memory'
 echo "rc=$?"
 $HOVOX tray -o "$TMP/b" --part "$TMP/cis.3mf@40,40" --materials shell=VeroCyan-V --materials core=Agilus30Black \
     --layers 185:186 -q >/dev/null
 echo "rc=$?"
 cmp "$TMP/a/layer-00185.png" "$TMP/b/layer-00185.png" && echo "job file and --materials: the same layer"
+# --material, as layers and voxelize spell it, is the same option (the help names both)
+$HOVOX tray -o "$TMP/b2" --part "$TMP/cis.3mf@40,40" --material shell=VeroCyan-V --material core=Agilus30Black \
+    --layers 185:186 -q
+echo "rc=$?"
+cmp "$TMP/a/layer-00185.png" "$TMP/b2/layer-00185.png" && echo "--material: the same layer"
+$HOVOX tray --help | grep -A1 -- '--materials\? BODY'
 /usr/bin/python3 - "$TMP/a/manifest.json" <<'PY'
 import json, sys
 for p in json.load(open(sys.argv[1]))["parts"]:
@@ -24,10 +30,11 @@ for p in json.load(open(sys.argv[1]))["parts"]:
 PY
 printf 'v 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\no tip\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$TMP/tet.obj"
 printf '{"mode": "mask", "parts": [{"mesh": "tet.obj", "at": [40, 40], "materials": {"tip": "VeroCyan-V"}}]}\n' >"$TMP/tet.json"
-$HOVOX tray "$TMP/tet.json" -o "$TMP/c" -q | grep '^parts'
+$HOVOX tray "$TMP/tet.json" -o "$TMP/c" | grep '^parts'
 echo "rc=$?"
 # refused, naming file, line and column: a material that is not a string, an empty body name, a
-# body the mesh does not have (at the part), "materials" beside "material" or a model; and
+# body the mesh does not have (at its entry: an object's key, a list's element), "materials" beside
+# "material" or a model; and
 # --materials before any --part (exit 1 or 2, nothing written)
 printf '{"parts": [{"mesh": "tet.obj",\n  "materials": {"tip": 3}}]}\n' >"$TMP/bad1.json"
 $HOVOX tray "$TMP/bad1.json" -o "$TMP/d"; echo "rc=$?"
@@ -35,6 +42,8 @@ printf '{"parts": [{"mesh": "tet.obj", "materials": {"": "VeroCyan-V"}}]}\n' >"$
 $HOVOX tray "$TMP/bad2.json" -o "$TMP/d"; echo "rc=$?"
 printf '{"parts": [{"mesh": "tet.obj", "materials": {"tap": "VeroCyan-V"}}]}\n' >"$TMP/bad3.json"
 $HOVOX tray "$TMP/bad3.json" -o "$TMP/d"; echo "rc=$?"
+printf '{"parts": [{"mesh": "tet.obj",\n  "materials": ["tip=VeroCyan-V",\n    "tap=VeroCyan-V"]}]}\n' >"$TMP/bad6.json"
+$HOVOX tray "$TMP/bad6.json" -o "$TMP/d"; echo "rc=$?"
 printf '{"parts": [{"mesh": "tet.obj", "material": "VeroCyan-V", "materials": ["tip=VeroCyan-V"]}]}\n' >"$TMP/bad4.json"
 $HOVOX tray "$TMP/bad4.json" -o "$TMP/d"; echo "rc=$?"
 printf '{"parts": [{"model": "m.vdb", "mesh": "tet.obj", "materials": {"tip": "VeroCyan-V"}}]}\n' >"$TMP/bad5.json"

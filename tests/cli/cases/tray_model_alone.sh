@@ -7,20 +7,17 @@ here=$(pwd)
 cd "$TMP" || exit 1
 /usr/bin/python3 "$here/tests/cli/cases/holed_plate.py" 8,4,2 1 32 0.25 subtract holed.vdb || exit 1
 $HOVOX tray --part holed.vdb@20,370 --part holed.vdb@40,370,90 -o tray --mode mask --resin A=VeroCyan-V \
-    --resin B=VeroMagenta-V --layers 0:74 -q; echo "rc=$?"
-/usr/bin/python3 - <<'PY'
-import json, struct, zlib
+    --resin B=VeroMagenta-V --layers 0:74; echo "rc=$?"
+/usr/bin/python3 - "$here/tests/support" <<'PY'
+import json, sys
+sys.path.insert(0, sys.argv[1])
+from png_read import pixel, read_png
 m = json.load(open("tray/manifest.json"))
 for p in m["parts"]:
     print(p["name"], "mesh", p["mesh"], "rotation", p["rotation"], "box_mm", p["box_mm"])
 def layer(path):
-    d = open(path, "rb").read(); w, h, bd = struct.unpack(">IIB", d[16:25]); pos = 8; idat = b""
-    while pos < len(d):
-        n, = struct.unpack(">I", d[pos:pos + 4])
-        if d[pos + 4:pos + 8] == b"IDAT": idat += d[pos + 8:pos + 8 + n]
-        pos += 12 + n
-    raw = zlib.decompress(idat); stride = (w * bd + 7) // 8
-    return lambda x, y: (raw[y * (stride + 1) + 1 + x * bd // 8] >> (8 - bd - x * bd % 8)) & ((1 << bd) - 1)
+    w, h, bd, ct, rows = read_png(path)
+    return lambda x, y: pixel(rows, bd, x, y)
 sx, py = 25.4 / 600, 25.4 / 300
 holes = 0
 for l in range(74):
@@ -40,7 +37,7 @@ print("object pixels at the rod's axis over 74 layers:", holes)
 PY
 printf '{"resin": {"A": "VeroCyan-V", "B": "VeroMagenta-V"}, "parts": [{"model": "holed.vdb", "at": [20, 370]},
  {"model": "holed.vdb", "at": [40, 370], "rotation": 90}]}\n' > j.json
-$HOVOX tray j.json -o job --mode mask --layers 0:74 -q; echo "rc=$?"
+$HOVOX tray j.json -o job --mode mask --layers 0:74; echo "rc=$?"
 for l in 00000 00037 00073; do cmp -s tray/layer-$l.png job/layer-$l.png && echo "layer $l: the job's bytes"; done
 cp $SHARED/models/ungraded.vdb old.vdb
 $HOVOX tray --part old.vdb@20,370 -o refused --mode mask; echo "rc=$?"

@@ -3,14 +3,14 @@
 # stood up (Y-up) is 20 mm tall (741 J750 layers) and turned 90 degrees, 10 x 30 mm on the plate.
 $HOVOX generate box size=30,20,10 -o "$TMP/box.stl" >/dev/null
 $HOVOX tray --part "$TMP/box.stl:VeroCyan-V@100,100" --up y --rotate z:90 \
-    --part "$TMP/box.stl:VeroCyan-V@200,100" --mode mask -q -o "$TMP/a"
+    --part "$TMP/box.stl:VeroCyan-V@200,100" --mode mask -o "$TMP/a"
 grep -o '"placement": "[^"]*"\|"box_mm": \[[^]]*\]' "$TMP/a/manifest.json"
 cat >"$TMP/job.json" <<'JOB'
 {"schema": 1, "profile": "j750", "mode": "mask",
  "parts": [{"mesh": "box.stl", "material": "VeroCyan-V", "at": [100, 100], "up": "y", "rotate": ["z:90"]},
            {"mesh": "box.stl", "material": "VeroCyan-V", "at": [200, 100], "scale": [0.5, 0.5, 2]}]}
 JOB
-$HOVOX tray "$TMP/job.json" -q -o "$TMP/b"
+$HOVOX tray "$TMP/job.json" -o "$TMP/b"
 grep -o '"placement": "[^"]*"\|"box_mm": \[[^]]*\]' "$TMP/b/manifest.json"
 # refused: a placement before any --part, one given twice for a part, a bad key value in a job
 $HOVOX tray --rotate z:90 --part "$TMP/box.stl:VeroCyan-V" -o "$TMP/c"; echo "rc $?"

@@ -9,7 +9,7 @@ printf 'HU,VeroClear,Agilus30,VeroWhite\n-1000,1,0,0\n0,0,1,0\n300,0,1,0\n1000,0
 "$HOVOX" generate box max=12,8,10 -o b.stl >/dev/null
 R="--resin Agilus30=Agilus30Clear --resin VeroWhite=VeroPureWhite"
 "$HOVOX" tray -o stack --part ph/phantom.nii@60,60 --iso -480 --lut bone.csv --part b.stl:VeroPureWhite@150,60 $R \
-    --layers 800:804 --threads 2 -q; echo "rc=$?"
+    --layers 800:804 --threads 2; echo "rc=$?"
 "$HOVOX" layers ph/phantom.nii --iso -480 --mode mask --profile j750 --place 60,60 --layers 800:804 -o lay -q >/dev/null
 /usr/bin/python3 - <<'PY'
 import json

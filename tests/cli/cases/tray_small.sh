@@ -10,7 +10,7 @@ cd "$TMP"
     --arrange yes --resin A=VeroCyan-V --resin B=VeroMagenta-V --dry-run
 echo "rc=$?"
 "$HOVOX" tray -o stack --part g.vdb,g.stl@40,30 --part g.vdb,g.stl@70,30,90 --part p.stl:VeroPureWhitex2 \
-    --arrange yes --resin A=VeroCyan-V --resin B=VeroMagenta-V --threads 2 -q
+    --arrange yes --resin A=VeroCyan-V --resin B=VeroMagenta-V --threads 2
 echo "rc=$?"
 ls stack | wc -l
 /usr/bin/python3 - <<'PY'
@@ -26,7 +26,7 @@ mkdir jobs && cat >jobs/job.json <<'JSON'
            {"model": "../g.vdb", "mesh": "../g.stl", "at": [70, 30], "rotation": 90},
            {"mesh": "../p.stl", "material": "VeroPureWhite", "copies": 2}]}
 JSON
-"$HOVOX" tray jobs/job.json -o stack2 --layers 10:14 --gcvf stack2.zip -q
+"$HOVOX" tray jobs/job.json -o stack2 --layers 10:14 --gcvf stack2.zip
 echo "rc=$?"
 unzip -tq stack2.zip | sed "s|$TMP/||"
 unzip -l stack2.zip | awk 'NR > 3 && $4 != "" { print $4 }' | head -6

@@ -25,5 +25,5 @@ print(len(d["parts"]), d["parts"][0]["name"], d["parts"][0]["box_px"], len(d["pa
 print("no network:", "http:" not in html and "https:" not in html.replace("https://", "") and "<link" not in html)
 PY
 mkdir pages
-"$HOVOX" view st -o pages/st.html -q | sed 's/([0-9.]* [KM]iB)/(SIZE)/'
+"$HOVOX" view st -o pages/st.html | sed 's/([0-9.]* [KM]iB)/(SIZE)/'
 grep -o '"base": "[^"]*"' pages/st.html

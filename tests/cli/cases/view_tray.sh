@@ -6,7 +6,7 @@ cd "$TMP"
 "$HOVOX" grade o.vdb -o g.vdb --materials A,B --frf plane:0,0,0:1,0,0 --ranges 0,12,0 --ms 1,0 --me 0,1 -q
 "$HOVOX" generate box max=6,6,0.5 -o p.stl >/dev/null
 "$HOVOX" tray -o t --part g.vdb,g.stl@40,30 --part p.stl:VeroPureWhitex2 --arrange yes --resin A=VeroCyan-V \
-    --resin B=VeroMagenta-V --layers 0:4 --view -q >"$TMP/.o"
+    --resin B=VeroMagenta-V --layers 0:4 --view >"$TMP/.o"
 echo "rc=$?"
 sed 's/([0-9.]* [KM]iB)/(SIZE)/' "$TMP/.o"
 /usr/bin/python3 - <<'PY'

@@ -4,9 +4,9 @@
 # shell; --json too; then the shell first (the core keeps nothing, still an overlap of 512); the
 # plan of --dry-run names the bodies
 $HOVOX run tests/lua/scripts/assembly.lua "$TMP" &&
-$HOVOX voxelize "$TMP/assembly.obj" -o "$TMP/a.vdb" --voxel-size 0.5 -q &&
-$HOVOX voxelize "$TMP/assembly.obj" -o "$TMP/a.vdb" --voxel-size 0.5 -q --json &&
+$HOVOX voxelize "$TMP/assembly.obj" -o "$TMP/a.vdb" --voxel-size 0.5 &&
+$HOVOX voxelize "$TMP/assembly.obj" -o "$TMP/a.vdb" --voxel-size 0.5 --json &&
 $HOVOX voxelize "$TMP/assembly.obj" --voxel-size 0.5 --dry-run &&
 $HOVOX run tests/lua/scripts/assembly.lua "$TMP" shell-first &&
-$HOVOX voxelize "$TMP/assembly.obj" -o "$TMP/b.vdb" --voxel-size 0.5 -q
+$HOVOX voxelize "$TMP/assembly.obj" -o "$TMP/b.vdb" --voxel-size 0.5
 echo "rc=$?"

@@ -22,7 +22,7 @@ f 5 6 8
 f 5 8 7
 f 6 7 8
 OBJ
-$HOVOX voxelize "$TMP/two.obj" --material left=Agilus --material right=Tango --voxel-size 0.5 -o "$TMP/a.vdb" -q | grep region
+$HOVOX voxelize "$TMP/two.obj" --material left=Agilus --material right=Tango --voxel-size 0.5 -o "$TMP/a.vdb" | grep region
 $HOVOX grade "$TMP/a.vdb" -o "$TMP/g.vdb" | grep -E "^(region|graded)"
 $HOVOX voxelize "$TMP/two.obj" --material middle=Agilus --voxel-size 0.5 -o "$TMP/b.vdb"; echo "rc $?"
 $HOVOX voxelize "$TMP/two.obj" --material left --voxel-size 0.5 -o "$TMP/b.vdb"; echo "rc $?"

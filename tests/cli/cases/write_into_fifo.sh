@@ -11,8 +11,8 @@ mkfifo out.vti out.tif out.png
 for ext in vti tif png; do
     (timeout 60 cat out.$ext >got.$ext) &
     case $ext in
-    vti) $HOVOX export g.vdb -o out.vti -q ;;
-    *) $HOVOX render g.vdb -o out.$ext --size 16x16 -q ;;
+    vti) $HOVOX export g.vdb -o out.vti ;;
+    *) $HOVOX render g.vdb -o out.$ext --size 16x16 ;;
     esac
     echo "$ext: exit $?"
     wait

@@ -45,8 +45,68 @@ static void row_range(const hv_png_options *o, int y, size_t n, size_t *lo, size
     *hi = (size_t)HV_CLAMP(o->row_spans[2 * y + 1], (int64_t)*lo, (int64_t)n);
 }
 
+/* ok[b]: whether every index in a byte b of the row as given (per indices of bd bits) lies in a
+ * palette of n colours. */
+static void palette_table(int bd, int per, int n, uint8_t ok[256])
+{
+    unsigned mask = (1u << bd) - 1u;
+    for (unsigned b = 0; b < 256; ++b) {
+        ok[b] = 1;
+        for (int k = 0; k < per; ++k)
+            if (((b >> (k * bd)) & mask) >= (unsigned)n) ok[b] = 0;
+    }
+}
+
+/* The first pixel of row y from x0 on (at most per of them, below width) whose index lies beyond
+ * the palette, named in the error; HV_OK if none. */
+static hv_status bad_index(const uint8_t *row, int y, int x0, int per, int bd, int packed, int width, int n)
+{
+    for (int x = x0; x < width && x < x0 + per; ++x) {
+        unsigned v = packed ? packed_at(row, x, bd) : row[x];
+        if (v >= (unsigned)n)
+            return hv_error_set(HV_ERR_INVALID, "PNG: pixel (%d, %d) has index %u beyond the %d-colour palette", x, y,
+                                v, n);
+    }
+    return HV_OK;
+}
+
+/* Every index in the rows (the bytes row_range gives) within opt->palette, a whole byte at a time
+ * through palette_table (a J750 plate is 53 M pixels a layer), pixel by pixel only to name the
+ * first bad one and for a packed row's last, partial byte. Packed rows: every index fits the depth,
+ * so only a palette shorter than 2^depth is checked. */
+static hv_status check_palette_pixels(const uint8_t *pixels, int width, int height, size_t stride,
+                                      const hv_png_options *o)
+{
+    int packed = o->packed && o->bit_depth > 0 && o->bit_depth < 8;
+    size_t minrow = packed ? png_rowbytes(width, 1, o->bit_depth) : (size_t)width;
+    size_t st = stride ? stride : minrow;
+    if (packed && o->palette_size >= (1 << o->bit_depth)) return HV_OK;
+    int bd = packed ? o->bit_depth : 8, per = 8 % bd ? 0 : 8 / bd; /* not a PNG depth: refused later */
+    uint8_t ok[256];
+    palette_table(bd, per, o->palette_size, ok);
+    size_t whole = per ? (size_t)width / (size_t)per : 0; /* bytes whose every index is a pixel */
+    for (int y = 0; y < height && per; ++y) {
+        const uint8_t *row = pixels + (size_t)y * st;
+        size_t lo, hi, i; /* bytes outside are zero: index 0 */
+        row_range(o, y, minrow, &lo, &hi);
+        for (i = lo; i < hi && i < whole && ok[row[i]]; ++i) {}
+        hv_status bad = bad_index(row, y, (int)(HV_MIN(i, whole) * (size_t)per), per, bd, packed, width, o->palette_size);
+        if (bad != HV_OK) return bad;
+    }
+    return HV_OK;
+}
+
+/* Whether encode checks the palette's indices (rows read as they are: packed, or 8 bits): the
+ * span coder on its literals (every other byte it writes is a zero or a copy of an earlier one),
+ * else a scan before libdeflate. A sparse layer's bytes are then read once, not twice. */
+static int check_here(const hv_png_options *o)
+{
+    return o && o->palette && (o->bit_depth == 0 || o->bit_depth == 8 || (o->packed && o->bit_depth > 0 && o->bit_depth < 8));
+}
+
+/* The arguments; the palette's indices in the pixels too unless !scan (encode checks them). */
 static hv_status check_png_args(const uint8_t *pixels, int width, int height, int channels,
-                                size_t stride, const hv_png_options *o)
+                                size_t stride, const hv_png_options *o, int scan)
 {
     if (width < 1 || height < 1)
         return hv_error_set(HV_ERR_INVALID, "PNG: image size %d x %d must be positive", width,
@@ -73,39 +133,9 @@ static hv_status check_png_args(const uint8_t *pixels, int width, int height, in
         if (o->palette_size < 1 || o->palette_size > 256)
             return hv_error_set(HV_ERR_INVALID, "PNG: palette of %d colours (1..256)",
                                 o->palette_size);
-        size_t st = stride ? stride : minrow;
-        /* packed rows: every index fits the depth, so only a palette shorter than 2^depth is checked;
-         * a whole byte at a time through a table of the byte values whose indices all lie in the
-         * palette (a J750 plate is 53 M pixels a layer), pixel by pixel only to name the first bad
-         * one and for a packed row's last, partial byte */
-        if (!packed || o->palette_size < (1 << o->bit_depth)) {
-            int bd = packed ? o->bit_depth : 8, per = 8 / bd;
-            if (8 % bd) /* not a PNG depth: refused below, before a row is read */
-                per = 0;
-            unsigned mask = (1u << bd) - 1u;
-            uint8_t ok[256];
-            for (unsigned b = 0; b < 256; ++b) {
-                ok[b] = 1;
-                for (int k = 0; k < per; ++k)
-                    if (((b >> (k * bd)) & mask) >= (unsigned)o->palette_size) ok[b] = 0;
-            }
-            size_t whole = per ? (size_t)width / (size_t)per : 0; /* bytes whose every index is a pixel */
-            for (int y = 0; y < height && per; ++y) {
-                const uint8_t *row = pixels + (size_t)y * st;
-                int x0 = -1;
-                size_t lo, hi; /* bytes outside are zero: index 0 */
-                row_range(o, y, packed ? minrow : (size_t)width, &lo, &hi);
-                for (size_t i = lo; i < hi && i < whole && x0 < 0; ++i)
-                    if (!ok[row[i]]) x0 = (int)(i * (size_t)per);
-                if (x0 < 0) x0 = (int)(whole * (size_t)per);
-                for (int x = x0; x < width && x < x0 + per; ++x) {
-                    unsigned v = packed ? packed_at(row, x, bd) : row[x];
-                    if (v >= (unsigned)o->palette_size)
-                        return hv_error_set(HV_ERR_INVALID,
-                                            "PNG: pixel (%d, %d) has index %u beyond the %d-colour palette", x, y,
-                                            v, o->palette_size);
-                }
-            }
+        if (scan) {
+            hv_status bad = check_palette_pixels(pixels, width, height, stride, o);
+            if (bad != HV_OK) return bad;
         }
     }
     int depth = o->bit_depth ? o->bit_depth : 8;
@@ -528,6 +558,12 @@ typedef struct walker {
     uint16_t *tok;            /* the symbols in order */
     size_t ntok, captok;
     int failed;               /* out of memory for them */
+    const uint8_t *ok;        /* palette_table of the bytes, or NULL: no check */
+    int bd, per, width, npal; /* bits an index, indices a byte, pixels a row, palette colours */
+    size_t whole;             /* bytes of a row whose every index is a pixel */
+    int row;                  /* the row being walked */
+    int bad_x, bad_y;         /* the first pixel beyond the palette (bad_x -1: none) */
+    unsigned bad_v;           /* and its index */
     uint64_t zeros;           /* pending zero bytes */
     int last_zero;            /* the last byte emitted is a zero */
     uint32_t a, b;            /* Adler-32 */
@@ -611,10 +647,24 @@ static size_t zero_run(const uint8_t *p, size_t n)
     return i;
 }
 
-/* The literals of a run of non-zero bytes. */
-static void literals(walker *w, const uint8_t *p, size_t n)
+/* The literals of a run of non-zero bytes, row[at..at+n). Checked against the palette here: every
+ * other byte of the stream is a zero or a copy of an earlier one, so the first byte in raster
+ * order beyond the palette is a literal, and the first such literal is it. */
+static void literals(walker *w, const uint8_t *row, size_t at, size_t n)
 {
+    const uint8_t *p = row + at;
     for (size_t i = 0; i < n; ++i) w->freq[p[i]]++;
+    for (size_t i = 0; i < n && w->ok && w->bad_x < 0; ++i)
+        if (!w->ok[p[i]] || at + i >= w->whole) /* a bad index, or a row's last, partial byte */
+            for (int k = 0, x = (int)(at + i) * w->per; k < w->per && x + k < w->width; ++k) {
+                unsigned v = (unsigned)(p[i] >> (8 - w->bd - w->bd * k)) & ((1u << w->bd) - 1u);
+                if (v >= (unsigned)w->npal) {
+                    w->bad_x = x + k;
+                    w->bad_y = w->row;
+                    w->bad_v = v;
+                    break;
+                }
+            }
     if (!tok_reserve(w, n)) return;
     uint16_t *t = w->tok + w->ntok;
     for (size_t i = 0; i < n; ++i) t[i] = p[i];
@@ -737,7 +787,7 @@ static void walk_span(walker *w, const uint8_t *row, size_t lo, size_t hi)
         size_t j = i + 1;
         while (j < hi && row[j] && !(j + 3 <= hi && copy_at(w, row, lo, j))) ++j;
         flush_zeros(w);
-        literals(w, row + i, j - i);
+        literals(w, row, i, j - i);
         w->last_zero = 0;
         i = j;
     }
@@ -753,6 +803,7 @@ static void walk(walker *w, const span_image *im)
     for (int r = 0; r < im->height; ++r) {
         size_t lo, hi;
         const uint8_t *row = span_row(im, r, im->scratch, &lo, &hi);
+        w->row = r;
         /* the filter byte (None) and the zeros before the span */
         w->zeros += 1 + lo;
         adler_zeros(w, 1 + lo);
@@ -879,7 +930,25 @@ static hv_status encode_spans(const span_image *im, const hv_png_options *o, uin
         w->dxbits[j] = (uint8_t)xb;
         w->dxval[j] = (uint16_t)xv;
     }
+    uint8_t ok[256];
+    w->bad_x = -1;
+    if (check_here(o) && !(im->depth < 8 && o->palette_size >= (1 << im->depth))) {
+        w->bd = im->depth;
+        w->per = 8 / im->depth;
+        w->width = im->width;
+        w->npal = o->palette_size;
+        w->whole = (size_t)im->width / (size_t)w->per;
+        palette_table(w->bd, w->per, w->npal, ok);
+        w->ok = ok;
+    }
     walk(w, im);
+    if (w->bad_x >= 0) {
+        hv_status bad = hv_error_set(HV_ERR_INVALID, "PNG: pixel (%d, %d) has index %u beyond the %d-colour palette",
+                                     w->bad_x, w->bad_y, w->bad_v, w->npal);
+        free(w->tok);
+        free(w);
+        return bad;
+    }
     int hlit = 286, hdist = 30;
     while (hlit > 257 && w->freq[hlit - 1] == 0) --hlit;
     complete_lengths(w->freq, hlit, 15, w->len);
@@ -1019,14 +1088,20 @@ static hv_status encode_sparse(const uint8_t *pixels, int width, int height, int
     return st;
 }
 
+/* encode: the image's bytes (pixels or packed rows as given, *bad 1 on an index beyond the palette) */
 static hv_status encode(const uint8_t *pixels, int width, int height, int channels, size_t stride,
-                        const hv_png_options *o, uint8_t **data, size_t *size)
+                        const hv_png_options *o, uint8_t **data, size_t *size, int *bad)
 {
+    *bad = 0;
     int depth = o && o->bit_depth ? o->bit_depth : 8;
     if (!stride) stride = depth < 8 && !(o && o->packed) ? (size_t)width : png_rowbytes(width, channels, depth);
     int done = 0;
     hv_status st = encode_sparse(pixels, width, height, channels, stride, o, data, size, &done);
-    if (st != HV_OK || done) return st;
+    if (st == HV_OK && !done && check_here(o)) st = check_palette_pixels(pixels, width, height, stride, o);
+    if (st != HV_OK || done) {
+        *bad = st == HV_ERR_INVALID;
+        return st;
+    }
     return encode_deflate(pixels, width, height, channels, stride, o, data, size);
 }
 
@@ -1035,9 +1110,10 @@ hv_status hv_png_encode(const uint8_t *pixels, int width, int height, int channe
 {
     *data = NULL;
     *size = 0;
-    hv_status st = check_png_args(pixels, width, height, channels, stride, opt);
+    int bad;
+    hv_status st = check_png_args(pixels, width, height, channels, stride, opt, !check_here(opt));
     if (st != HV_OK) return st;
-    return encode(pixels, width, height, channels, stride, opt, data, size);
+    return encode(pixels, width, height, channels, stride, opt, data, size, &bad);
 }
 
 hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int height, int channels,
@@ -1045,9 +1121,10 @@ hv_status hv_png_write(const char *path, const uint8_t *pixels, int width, int h
 {
     uint8_t *png = NULL;
     size_t size = 0;
-    hv_status st = check_png_args(pixels, width, height, channels, stride, opt);
-    if (st == HV_OK && (st = encode(pixels, width, height, channels, stride, opt, &png, &size)) != HV_OK)
-        return hv_error_prefix(st, "%s: ", path);
+    int bad = 0;
+    hv_status st = check_png_args(pixels, width, height, channels, stride, opt, !check_here(opt));
+    if (st == HV_OK && (st = encode(pixels, width, height, channels, stride, opt, &png, &size, &bad)) != HV_OK)
+        return bad ? st : hv_error_prefix(st, "%s: ", path);
     if (st != HV_OK) return st;
     /* in_place: inside a directory renamed whole, so no temporary and no sync */
     st = opt && opt->in_place ? hv_write_in_place(path, png, size) : hv_atomic_write(path, png, size);

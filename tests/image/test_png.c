@@ -5,6 +5,7 @@
  * with and without the caller's row spans, halftone-like layers whose copies the span coder finds;
  * palette and pHYs read back. */
 #include <criterion/criterion.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -280,6 +281,55 @@ Test(png, a_short_palette_is_checked_in_packed_rows)
     o.bit_depth = 8;
     cr_assert_eq(hv_png_encode(zero, 2, 1, 1, 0, &o, &data, &size), HV_ERR_INVALID, "packed rows of 8 bits");
     cr_assert(strstr(hv_last_error(), "packed rows need a bit depth of 1, 2 or 4"), "%s", hv_last_error());
+}
+
+/* The span coder checks the palette on its literals (every other byte is a zero or a copy of an
+ * earlier one): the first pixel beyond the palette is named as libdeflate's scan names it, inside
+ * a halftone's copies, in a row's last partial byte, packed or 8 bits a pixel. */
+Test(png, a_sparse_layer_names_the_first_index_beyond_the_palette)
+{
+    static const int at[][2] = {{1500, 60}, {1501, 61}, {2999, 150}, {3000, 150}, {0, 0}, {3000, 202}};
+    for (int depth = 2; depth <= 8; depth *= 2) /* (at 1 bit every drawn pixel would be beyond) */
+        for (size_t t = 0; t < sizeof at / sizeof at[0]; ++t) {
+            int w = 3001, h = 203, top = (1 << depth) - 1;
+            uint8_t *px = halftone(w, h, depth, 2);
+            if (depth > 1)
+                for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) /* palette of top colours: index top is beyond */
+                    if (px[i] == top) px[i] = (uint8_t)(top - 1);
+            px[(size_t)at[t][1] * (size_t)w + (size_t)at[t][0]] = (uint8_t)top;
+            if (at[t][1] + 1 < h) px[(size_t)(at[t][1] + 1) * (size_t)w + 7] = (uint8_t)top; /* a later one, not named */
+            uint8_t *own;
+            size_t stride;
+            int32_t *span;
+            shape s = {w, h, depth, 1, depth < 8, 0, 1};
+            const uint8_t *rows = rows_of(&s, px, &own, &stride, &span);
+            hv_png_options o;
+            hv_png_options_init(&o);
+            o.bit_depth = depth;
+            o.packed = depth < 8;
+            o.compression = 1;
+            o.palette = g_pal;
+            o.palette_size = top;
+            char msg[2][256];
+            for (int off = 0; off < 2; ++off) {
+                setenv("HOVOX_PNG_SPARSE", off ? "0" : "1", 1);
+                o.row_spans = off ? NULL : span;
+                uint8_t *data = NULL;
+                size_t size = 0;
+                cr_assert_eq(hv_png_encode(rows, w, h, 1, 0, &o, &data, &size), HV_ERR_INVALID, "%d bits, at %d, %d",
+                             depth, at[t][0], at[t][1]);
+                cr_assert_null(data);
+                snprintf(msg[off], sizeof msg[off], "%s", hv_last_error());
+            }
+            unsetenv("HOVOX_PNG_SPARSE");
+            char want[128];
+            snprintf(want, sizeof want, "pixel (%d, %d) has index %d beyond", at[t][0], at[t][1], top);
+            cr_assert(strstr(msg[0], want) && strcmp(msg[0], msg[1]) == 0, "%d bits: span coder '%s', scan '%s'", depth,
+                      msg[0], msg[1]);
+            free(own);
+            free(span);
+            free(px);
+        }
 }
 
 Test(png, an_empty_plate_costs_next_to_nothing)

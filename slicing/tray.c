@@ -1312,21 +1312,25 @@ static void part_options(const hv_tray *t, const hv_tray_options *o, const sourc
     lo->max_memory = o->max_memory;
 }
 
-/* Bytes of a drawn layer as png.c encodes it, per part-box pixel and per plate row, measured
- * (scripts/bench/98-png.sh) on the README's tray (sparse layers: the span coder) and the bench
- * tray (dense layers: libdeflate at level 1). Box pixels count about twice the parts' own. */
-/* span coder, halftone: 0.106 on the README tray (well filled gear boxes), 0.048 on the bench
- * tray's sparse tops (a knot's box is mostly empty); box pixels do not tell how full a box is,
- * so a rate between them: both trays within 25% (0.80 and 1.24 of the bytes written) */
-#define EST_SPAN_HALFTONE 0.084
-#define EST_SPAN_MASK 0.0162 /* the same in mask mode, 1 bit: 83.9 MiB */
+/* Bytes of a drawn layer as png.c encodes it, measured (scripts/bench/98-png.sh). Sparse layers
+ * (the span coder): a part's row costs about its first threshold tile's width of literals (64
+ * pixels; after it, copies one tile back or from the other copies of a part), so bytes per part
+ * row and bit of depth: fitted on the README's tray (4-bit, 1,461 layers), the bench tray's
+ * sparse tops (2-bit, its knots, layers 1700:1760) and the small graded boxes of the CLI case
+ * tray_estimate_fits_the_stack (2-bit): 0.91, 1.11 and 0.90 of the bytes written (box pixels,
+ * as before the copies, were 0.71 to 1.41: a knot's box is mostly empty, a gear's full). Mask
+ * mode (1 bit) adds a little per box pixel: the README's tray 0.94, the CLI case 1.00. Dense
+ * layers (libdeflate at level 1): per part-box pixel and per plate row, on the bench tray. */
+#define EST_SPAN_ROW_HALFTONE (60.4 / 8) /* per part row and bit of depth */
+#define EST_SPAN_ROW_MASK (35.0 / 8)
+#define EST_SPAN_BOX_MASK (0.01 / 8) /* per box pixel and bit of depth */
 #define EST_DEFLATE_HALFTONE 0.0158 /* bench tray: 0.0147 over its 1,461 dense layers */
 #define EST_DEFLATE_MASK 0.0031
 #define EST_DEFLATE_ROW 1.5 /* a blank row of a dense layer, bytes */
 
 /* The stack's PNG bytes, layer by layer: png.c sends a layer whose drawn spans (here the part
  * boxes' extent row by row) hold under a quarter of the plate's bytes to its span coder, which
- * writes each blank stretch as 258-byte copies of 2 bits, the others to libdeflate. */
+ * writes each blank stretch as 258-byte copies of about 2 bits, the others to libdeflate. */
 static double est_png_bytes(const hv_tray *t, int mask, size_t first, size_t last)
 {
     size_t rowbytes = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
@@ -1337,11 +1341,12 @@ static double est_png_bytes(const hv_tray *t, int mask, size_t first, size_t las
     double total = 0;
     for (size_t li = first; li < last; ++li) {
         int k = 0, ne = 0;
-        double box = 0;
+        double box = 0, rows = 0;
         for (int i = 0; i < n; ++i)
             if (t->inst[i].lift <= li && li < t->inst[i].lift + t->inst[i].layers) {
                 on[k++] = i;
                 box += (double)t->inst[i].w * t->inst[i].h;
+                rows += t->inst[i].h;
                 edge[ne++] = t->inst[i].r0;
                 edge[ne++] = t->inst[i].r0 + t->inst[i].h;
             }
@@ -1363,7 +1368,8 @@ static double est_png_bytes(const hv_tray *t, int mask, size_t first, size_t las
         }
         if (k > 32) drawn = box * t->bit_depth / 8.0;
         if (drawn * 4 < plate)
-            total += box * (mask ? EST_SPAN_MASK : EST_SPAN_HALFTONE) + blank;
+            total += (mask ? rows * EST_SPAN_ROW_MASK + box * EST_SPAN_BOX_MASK : rows * EST_SPAN_ROW_HALFTONE) *
+                         t->bit_depth + blank;
         else
             total += box * (mask ? EST_DEFLATE_MASK : EST_DEFLATE_HALFTONE) + EST_DEFLATE_ROW * t->H;
     }

@@ -83,7 +83,8 @@ HV_API void hv_png_options_init(hv_png_options *opt);
  * One encoder writes every PNG: rows filtered, deflated by libdeflate at opt->compression (zlib's
  * scale, -1 meaning 6), one zlib stream cut into IDAT chunks of 1 MiB; a sparse indexed or
  * sub-byte image (nonzero bytes under a quarter of it, level above 0) goes through a coder whose
- * cost is its nonzero bytes instead (one Huffman block; environment HOVOX_PNG_SPARSE=0: never).
+ * cost is its nonzero bytes instead (one Huffman block of copies at the distances the image repeats
+ * at and literals; environment HOVOX_PNG_SPARSE=0: never).
  * Errors: HV_ERR_INVALID (size 0, channels, stride, compression level, palette, an index
  * beyond the palette, bit depth, a value beyond the bit depth, packed rows of 8 bits or more,
  * bad text key), HV_ERR_IO (path not writable, disk full), HV_ERR_NOMEM, HV_ERR_LIMIT (an image

@@ -1,8 +1,9 @@
 # scripts/bench/98-png.sh - issue 26 item 3: one PNG encoder for stacks and renders, chosen here.
 # hv_png_encode (src/image/png.c) has two ways to the zlib stream: libdeflate, and a span coder
-# (one Huffman block; a blank row costs a few bits and no reading) that it takes for sparse
-# indexed or sub-byte layers. A hand-written coder stays only if it is at least 1.3x faster end to
-# end on a bench tray (issue 26), so:
+# (one Huffman block; a blank row costs a few bits and no reading; copies at the few distances the
+# drawn bytes repeat at, found per layer, and literals) that it takes for sparse indexed or
+# sub-byte layers. A hand-written coder stays only if it is at least 1.3x faster end to end on a
+# bench tray (issue 26), and its files should be within 1.15x libdeflate's (issue 26 follow-up), so:
 # 1. Encoders on real stack layers, one thread, medians of $runs runs, every output decoded by
 #    libpng and compared with the layer: hovox's encoder as it picks, the same with its span coder
 #    off (HOVOX_PNG_SPARSE=0: libdeflate on every layer), libpng and libspng. 16 layers of the

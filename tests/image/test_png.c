@@ -2,8 +2,10 @@
  * against libpng's own reader: both of its ways to the zlib stream (libdeflate, and the span coder
  * it picks for sparse indexed or sub-byte images), every bit depth, grey and indexed, one pixel a
  * byte and PNG's packing, padded and exact strides, odd widths, blank, full and random images,
- * with and without the caller's row spans; palette and pHYs read back. */
+ * with and without the caller's row spans, halftone-like layers whose copies the span coder finds;
+ * palette and pHYs read back. */
 #include <criterion/criterion.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,6 +31,32 @@ static uint8_t *plate(int w, int h, int depth, int parts)
         int r1 = parts < 0 ? h - 1 : r0 + (int)(rnd() % (unsigned)(h - r0));
         for (int r = r0; r <= r1; ++r)
             for (int c = c0; c <= c1; ++c) px[(size_t)r * (size_t)w + (size_t)c] = (uint8_t)(rnd() % nv);
+    }
+    return px;
+}
+
+/* w x h pixels below 2^depth, one a byte, as a halftoned tray layer looks: `copies` parts side by
+ * side, each a threshold tile of 64 x 64 (local to the part, so copies are equal) against a
+ * material fraction that drifts across the part (index 1 where the rank is below it, else the
+ * last index, or 0 at 1 bit: holes), one part a single material (runs of one byte), a part on the
+ * first and one on the last row. */
+static uint8_t *halftone(int w, int h, int depth, int copies)
+{
+    uint8_t *px = calloc((size_t)w * (size_t)h, 1);
+    uint16_t tile[64 * 64];
+    for (int i = 0; i < 64 * 64; ++i) tile[i] = (uint16_t)(rnd() % 4096);
+    int top = (1 << depth) - 1, pw = w / (2 * copies + 2), ph = h / 5;
+    for (int k = 0; k < copies; ++k)
+        for (int r = 0; r < ph; ++r)
+            for (int c = 0; c < pw; ++c) {
+                int frac = 600 + 2800 * c / pw + 300 * r / ph;
+                px[(size_t)(h / 3 + r) * (size_t)w + (size_t)(pw / 2 + k * (pw + pw / 3) + c)] =
+                    (uint8_t)(tile[(r % 64) * 64 + c % 64] < frac ? 1 : depth == 1 ? 0 : top);
+            }
+    for (int c = w / 2; c < w / 2 + 300 && c < w; ++c) { /* a single material, on the edges */
+        px[(size_t)c] = (uint8_t)top;
+        px[(size_t)(h - 1) * (size_t)w + (size_t)c] = (uint8_t)top;
+        for (int r = 2 * h / 3; r < 2 * h / 3 + 10; ++r) px[(size_t)r * (size_t)w + (size_t)c] = (uint8_t)top;
     }
     return px;
 }
@@ -121,9 +149,15 @@ static void check(const shape *s, const uint8_t *px, const uint8_t *data, size_t
 /* Every layout of one image through the encoder as it picks, then through libdeflate alone: the
  * same pixels every time; the bytes do not depend on the layout, nor on the spans when they are
  * the nonzero bytes' own. */
+static void round_trip_px(int w, int h, int depth, int indexed, uint8_t *px);
 static void round_trip(int w, int h, int depth, int indexed, int parts)
 {
-    uint8_t *px = plate(w, h, depth, parts), *first = NULL;
+    round_trip_px(w, h, depth, indexed, plate(w, h, depth, parts));
+}
+
+static void round_trip_px(int w, int h, int depth, int indexed, uint8_t *px)
+{
+    uint8_t *first = NULL;
     size_t first_size = 0;
     for (int off = 0; off < 2; ++off) {
         setenv("HOVOX_PNG_SPARSE", off ? "0" : "1", 1);
@@ -161,6 +195,31 @@ Test(png, every_depth_grey_and_indexed_blank_sparse_dense_and_full)
             round_trip(1000, 30, depth, indexed, 40);
             round_trip(333, 40, depth, indexed, -1); /* noise everywhere */
         }
+}
+
+/* The span coder's copies (one byte back, the tile's period and its multiples, the distance
+ * between copies of a part) on halftone-like layers at every depth: the same pixels and bytes
+ * whatever the layout, and files about as small as libdeflate's (3.4 times larger with literals
+ * only, before its copies). */
+Test(png, halftone_layers_take_copies_and_stay_small)
+{
+    for (int depth = 1; depth <= 8; depth *= 2) {
+        int w = 3001, h = 203;
+        round_trip_px(w, h, depth, 1, halftone(w, h, depth, 2));
+        uint8_t *px = halftone(w, h, depth, 3);
+        shape s = {w, h, depth, 1, depth < 8, 0, 1};
+        size_t a, b;
+        uint8_t *span = encode(&s, px, &a);
+        setenv("HOVOX_PNG_SPARSE", "0", 1);
+        uint8_t *deflate = encode(&s, px, &b);
+        unsetenv("HOVOX_PNG_SPARSE");
+        cr_assert(a != b || memcmp(span, deflate, a) != 0, "%d bits: the span coder was not used", depth);
+        check(&s, px, span, a);
+        cr_assert_leq((double)a, 1.15 * (double)b, "%d bits: the span coder's %zu bytes against libdeflate's %zu", depth, a, b);
+        free(span);
+        free(deflate);
+        free(px);
+    }
 }
 
 Test(png, eight_bit_grey_goes_through_libdeflate_with_filters)
@@ -222,6 +281,55 @@ Test(png, a_short_palette_is_checked_in_packed_rows)
     o.bit_depth = 8;
     cr_assert_eq(hv_png_encode(zero, 2, 1, 1, 0, &o, &data, &size), HV_ERR_INVALID, "packed rows of 8 bits");
     cr_assert(strstr(hv_last_error(), "packed rows need a bit depth of 1, 2 or 4"), "%s", hv_last_error());
+}
+
+/* The span coder checks the palette on its literals (every other byte is a zero or a copy of an
+ * earlier one): the first pixel beyond the palette is named as libdeflate's scan names it, inside
+ * a halftone's copies, in a row's last partial byte, packed or 8 bits a pixel. */
+Test(png, a_sparse_layer_names_the_first_index_beyond_the_palette)
+{
+    static const int at[][2] = {{1500, 60}, {1501, 61}, {2999, 150}, {3000, 150}, {0, 0}, {3000, 202}};
+    for (int depth = 2; depth <= 8; depth *= 2) /* (at 1 bit every drawn pixel would be beyond) */
+        for (size_t t = 0; t < sizeof at / sizeof at[0]; ++t) {
+            int w = 3001, h = 203, top = (1 << depth) - 1;
+            uint8_t *px = halftone(w, h, depth, 2);
+            if (depth > 1)
+                for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) /* palette of top colours: index top is beyond */
+                    if (px[i] == top) px[i] = (uint8_t)(top - 1);
+            px[(size_t)at[t][1] * (size_t)w + (size_t)at[t][0]] = (uint8_t)top;
+            if (at[t][1] + 1 < h) px[(size_t)(at[t][1] + 1) * (size_t)w + 7] = (uint8_t)top; /* a later one, not named */
+            uint8_t *own;
+            size_t stride;
+            int32_t *span;
+            shape s = {w, h, depth, 1, depth < 8, 0, 1};
+            const uint8_t *rows = rows_of(&s, px, &own, &stride, &span);
+            hv_png_options o;
+            hv_png_options_init(&o);
+            o.bit_depth = depth;
+            o.packed = depth < 8;
+            o.compression = 1;
+            o.palette = g_pal;
+            o.palette_size = top;
+            char msg[2][256];
+            for (int off = 0; off < 2; ++off) {
+                setenv("HOVOX_PNG_SPARSE", off ? "0" : "1", 1);
+                o.row_spans = off ? NULL : span;
+                uint8_t *data = NULL;
+                size_t size = 0;
+                cr_assert_eq(hv_png_encode(rows, w, h, 1, 0, &o, &data, &size), HV_ERR_INVALID, "%d bits, at %d, %d",
+                             depth, at[t][0], at[t][1]);
+                cr_assert_null(data);
+                snprintf(msg[off], sizeof msg[off], "%s", hv_last_error());
+            }
+            unsetenv("HOVOX_PNG_SPARSE");
+            char want[128];
+            snprintf(want, sizeof want, "pixel (%d, %d) has index %d beyond", at[t][0], at[t][1], top);
+            cr_assert(strstr(msg[0], want) && strcmp(msg[0], msg[1]) == 0, "%d bits: span coder '%s', scan '%s'", depth,
+                      msg[0], msg[1]);
+            free(own);
+            free(span);
+            free(px);
+        }
 }
 
 Test(png, an_empty_plate_costs_next_to_nothing)

@@ -4,8 +4,8 @@
 -- through LittleCMS and the default CMYK profile (Ghostscript's default_cmyk.icc) into the J750's
 -- six colour resins (VeroCyan-V, VeroMagenta-V, VeroYellow-V, VeroBlackPlus, VeroPureWhite,
 -- VeroClear; the printer has six slots, so Agilus30 takes VeroClear's, which no colour here
--- uses). Outputs: the model (.vdb), the fractions at each face and the centre (.csv), a render in the requested colours and a cut through the core (.png), a J750 blue-noise stack
--- whose manifest gives the skin's mean dE2000.
+-- uses). Outputs: the model (.vdb), the fractions at each face and the centre (.csv), a render in the requested colours and a cut through the core (.png), the model as a 3MF Volumetric
+-- package with its colours (.3mf), a J750 blue-noise stack whose manifest gives the skin's mean dE2000.
 -- usage: hovox run samples/colour_cube.lua [OUTDIR] [VOXEL] [LAYERS]
 --   VOXEL: voxel size in mm (default 0.25); LAYERS: the J750 layers to write, "A:B" (layers A to
 --   B-1), "all" (default: 370 layers) or "none"
@@ -46,6 +46,19 @@ csv:close()
 -- the part in the colours asked for, and cut open to show the core
 model:render{path = out .. "/colour_cube.png", surface = true, size = {480, 480}}
 model:render{path = out .. "/colour_cube_cut.png", surface = true, clip = "x>5&y<5", size = {480, 480}}
+
+-- the model as a 3MF Volumetric package: the resins as its composite, the colours asked for as its
+-- <v:color> (16-bit RGBA, linear sRGB); read back, the same fractions within 1/255
+local pkg = model:export{path = out .. "/colour_cube.3mf", volumetric = true}
+local back = hovox.load(out .. "/colour_cube.3mf")
+local worst = 0
+for _, p in ipairs(points) do
+    local _, fa = model:probe(p[2])
+    local _, fb = back:probe(p[2])
+    for _, r in ipairs(resins) do worst = math.max(worst, math.abs((fa[r] or 0) - (fb[r] or 0))) end
+end
+assert(worst <= 1 / 255 + 1e-6, "fractions read back from the package differ by " .. worst)
+print(string.format("3MF Volumetric: stacks %s; read back, fractions within %.4f", pkg.arrays, worst))
 
 if stack ~= "none" then
     local st = model:layers{mesh = mesh, dir = out .. "/colour_cube_j750", profile = "j750", layers = range}

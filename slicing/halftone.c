@@ -432,24 +432,33 @@ static inline __attribute__((always_inline)) void pick_row(int M, const float *c
                                                            const uint8_t *restrict mrow,
                                                            uint8_t *restrict orow, int n, uint32_t *cnt)
 {
-    /* the planes in restrict locals, so the stores to orow cannot be taken to change them */
+    /* the planes in restrict locals, so the stores to orow cannot be taken to change them; one
+     * step per material written out (no array, no inner loop: both kept gcc from vectorising past
+     * four materials), the steps past M dropped as M is a constant */
     const float *restrict f0 = f[0], *restrict f1 = f[M > 1 ? 1 : 0], *restrict f2 = f[M > 2 ? 2 : 0],
-                          *restrict f3 = f[M > 3 ? 3 : 0];
+                          *restrict f3 = f[M > 3 ? 3 : 0], *restrict f4 = f[M > 4 ? 4 : 0],
+                          *restrict f5 = f[M > 5 ? 5 : 0], *restrict f6 = f[M > 6 ? 6 : 0],
+                          *restrict f7 = f[M > 7 ? 7 : 0];
+#define PICK_STEP(j, fj)                                                                                           \
+    if ((j) < M - 1) {                                                                                             \
+        float vj = fj[c];                                                                                          \
+        cu += vj;                                                                                                  \
+        k += tc >= cu;                                                                                             \
+        last = vj > 0 ? (j) : last;                                                                                \
+    }
 #pragma omp simd
     for (int c = 0; c < n; ++c) {
-        float v[4] = {f0[c], f1[c], f2[c], f3[c]};
-        float cu = 0;
+        float cu = 0, tc = t[c];
         int k = 0, last = -1;
-        for (int j = 0; j < M - 1; ++j) {
-            cu += v[j];
-            k += t[c] >= cu;
-            last = v[j] > 0 ? j : last;
-        }
-        float fl = v[M - 1];
+        PICK_STEP(0, f0) PICK_STEP(1, f1) PICK_STEP(2, f2) PICK_STEP(3, f3)
+        PICK_STEP(4, f4) PICK_STEP(5, f5) PICK_STEP(6, f6)
+        float fl = M == 1 ? f0[c] : M == 2 ? f1[c] : M == 3 ? f2[c] : M == 4 ? f3[c] : M == 5 ? f4[c]
+                 : M == 6 ? f5[c] : M == 7 ? f6[c] : f7[c];
         last = fl > 0 ? M - 1 : last;
         k = (k == M - 1 && fl <= 0 && last >= 0) ? last : k;
         orow[c] = (uint8_t)(mrow[c] * (k + 1));
     }
+#undef PICK_STEP
     for (int j = 0; j < M; ++j) {
         uint32_t v = (uint32_t)j + 1, s = 0;
 #pragma omp simd reduction(+ : s)
@@ -478,8 +487,8 @@ static void pick_row_m(int m, const float *const *f, const float *t, const uint8
     }
 }
 
-/* The material picks of n pixels of one row (see pick_row); the common material counts are made
- * constant, so their loops unroll and vectorise. */
+/* The material picks of n pixels of one row (see pick_row); material counts up to 8 (three graded,
+ * the six colour resins) are made constant, so their loops unroll and vectorise. */
 HV_HOT_CLONES static void pick_row_any(int m, const float *const *f, const float *t, const uint8_t *mrow,
                                           uint8_t *orow, int n, uint32_t *cnt)
 {
@@ -488,7 +497,65 @@ HV_HOT_CLONES static void pick_row_any(int m, const float *const *f, const float
     case 2: pick_row(2, f, t, mrow, orow, n, cnt); break;
     case 3: pick_row(3, f, t, mrow, orow, n, cnt); break;
     case 4: pick_row(4, f, t, mrow, orow, n, cnt); break;
+    case 5: pick_row(5, f, t, mrow, orow, n, cnt); break;
+    case 6: pick_row(6, f, t, mrow, orow, n, cnt); break; /* the six colour resins (issue 29) */
+    case 7: pick_row(7, f, t, mrow, orow, n, cnt); break;
+    case 8: pick_row(8, f, t, mrow, orow, n, cnt); break;
     default: pick_row_m(m, f, t, mrow, orow, n, cnt); break;
+    }
+}
+
+/* The target of one row: each material's fractions summed over the object pixels, in float, pixel
+ * after pixel (the sums the manifest has always printed), then added to tsum. Only the object
+ * pixels are read: a source that writes fractions only at its object pixels (a scan,
+ * slicing/scan_source.c) leaves stale floats between them (a stale NaN once made the manifest's
+ * targets null). One pass over the pixels carries the M sums side by side: each is still a chain
+ * of dependent adds in pixel order (the same bits), but the M chains overlap, where one material
+ * after the other waited on every add (the sums were a third of a graded part's halftoning, and
+ * twice that with the six colour resins). */
+static inline __attribute__((always_inline)) void target_sums(int M, const float *const *f, const uint8_t *mrow,
+                                                              int c0, int c1, double *tsum)
+{
+    /* the sums in named locals, not an array, so they stay in registers */
+    const float *f0 = f[0], *f1 = f[M > 1 ? 1 : 0], *f2 = f[M > 2 ? 2 : 0], *f3 = f[M > 3 ? 3 : 0],
+                *f4 = f[M > 4 ? 4 : 0], *f5 = f[M > 5 ? 5 : 0], *f6 = f[M > 6 ? 6 : 0], *f7 = f[M > 7 ? 7 : 0];
+    float s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0;
+    for (int c = c0; c <= c1; ++c) {
+        if (!mrow[c]) continue;
+        s0 += f0[c];
+        if (M > 1) s1 += f1[c];
+        if (M > 2) s2 += f2[c];
+        if (M > 3) s3 += f3[c];
+        if (M > 4) s4 += f4[c];
+        if (M > 5) s5 += f5[c];
+        if (M > 6) s6 += f6[c];
+        if (M > 7) s7 += f7[c];
+    }
+    const float s[8] = {s0, s1, s2, s3, s4, s5, s6, s7};
+    for (int j = 0; j < M; ++j) tsum[j] += s[j];
+}
+
+static void target_row(int m, const float *const *f, const uint8_t *mrow, int c0, int c1, double *tsum)
+{
+    switch (m) {
+    case 1: target_sums(1, f, mrow, c0, c1, tsum); return;
+    case 2: target_sums(2, f, mrow, c0, c1, tsum); return;
+    case 3: target_sums(3, f, mrow, c0, c1, tsum); return;
+    case 4: target_sums(4, f, mrow, c0, c1, tsum); return;
+    case 5: target_sums(5, f, mrow, c0, c1, tsum); return;
+    case 6: target_sums(6, f, mrow, c0, c1, tsum); return;
+    case 7: target_sums(7, f, mrow, c0, c1, tsum); return;
+    case 8: target_sums(8, f, mrow, c0, c1, tsum); return;
+    default: break;
+    }
+    for (int j = 0; j < m; j += 8) { /* eight sums at a time */
+        int n = HV_MIN(8, m - j);
+        float s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+        for (int c = c0; c <= c1; ++c) {
+            if (!mrow[c]) continue;
+            for (int k = 0; k < n; ++k) s[k] += f[j + k][c];
+        }
+        for (int k = 0; k < n; ++k) tsum[j + k] += s[k];
     }
 }
 
@@ -535,18 +602,7 @@ void hv_halftone_bluenoise(const float *frac, int m, int w, int h, const uint8_t
             c += n;
         }
         for (int j = 0; j < m; ++j) counts[j] += cnt[j];
-        if (!tsum) continue;
-        /* the target: the fractions summed over the object pixels, a select rather than a product
-         * with the mask (still branch-free): a source that writes fractions only at its object
-         * pixels (a scan, slicing/scan_source.c) leaves stale floats between them, and 0 times a stale
-         * NaN or infinity is NaN (the manifest's targets came out null in a reused heap) */
-        for (int j = 0; j < m; ++j) {
-            const float *fj = f[j];
-            float s = 0;
-#pragma omp simd reduction(+ : s)
-            for (int c = c0; c <= c1; ++c) s += mrow[c] ? fj[c] : 0.0f;
-            tsum[j] += s;
-        }
+        if (tsum) target_row(m, f, mrow, c0, c1, tsum);
     }
 }
 

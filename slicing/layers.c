@@ -35,6 +35,7 @@ typedef struct worker {
     float *vimg;
     uint8_t *vstate;
     int32_t *front, *front2;
+    uint8_t live[HV_MAX_MATERIALS]; /* the window image's materials not zero everywhere (voxel_image) */
     double fd[HV_MAX_MATERIALS];
     hv_accessor acc;
 } worker;
@@ -788,10 +789,13 @@ static size_t queue_neighbours(const job *J, uint8_t *state, size_t p, int32_t *
 }
 
 /* Mean of the assigned 8-neighbours, ring by ring from the covered pixels outwards: every
- * window pixel gets a composition, the covered ones keep theirs. */
+ * window pixel gets a composition, the covered ones keep theirs (the live materials' planes only:
+ * a mean of zeros stays zero). */
 static void extend(job *J, worker *w)
 {
-    int m = J->m;
+    int m = J->m, g_of[HV_MAX_MATERIALS], nl = 0;
+    for (int g = 0; g < m; ++g)
+        if (w->live[g]) g_of[nl++] = g;
     size_t vox = (size_t)J->vw * (size_t)J->vh, nf = 0;
     uint8_t *state = w->vstate; /* 1 assigned, 2 queued, 0 untouched */
     for (size_t p = 0; p < vox; ++p)
@@ -804,9 +808,9 @@ static void extend(job *J, worker *w)
             for (int t = 0; t < k; ++t) {
                 if (state[nb[t]] != 1) continue;
                 ++n;
-                for (int g = 0; g < m; ++g) acc[g] += w->vimg[(size_t)g * vox + nb[t]];
+                for (int l = 0; l < nl; ++l) acc[l] += w->vimg[(size_t)g_of[l] * vox + nb[t]];
             }
-            for (int g = 0; g < m; ++g) w->vimg[(size_t)g * vox + p] = (float)(acc[g] / HV_MAX(n, 1));
+            for (int l = 0; l < nl; ++l) w->vimg[(size_t)g_of[l] * vox + p] = (float)(acc[l] / HV_MAX(n, 1));
         }
         size_t n2 = 0;
         for (size_t f = 0; f < nf; ++f) state[w->front[f]] = 1;
@@ -815,6 +819,24 @@ static void extend(job *J, worker *w)
         w->front = w->front2;
         w->front2 = t;
         nf = n2;
+    }
+}
+
+/* Which materials the covered window pixels hold anywhere (w->live): one that is zero at each is
+ * zero after the extension and the resampling too (means and sums of zeros with weights >= 0), so
+ * its fractions are written as zeros instead of computed (a painted part's clear resin under an
+ * opaque texture, its black outside the darkest colours, a graded part's materials where the
+ * layer holds none of them). -0 counts as zero: the halftone cannot tell the two apart. With no
+ * covered pixel every material is live, as before. */
+static void mark_live(job *J, worker *w)
+{
+    size_t vox = (size_t)J->vw * (size_t)J->vh;
+    int any = 0;
+    for (int g = 0; g < J->m; ++g) w->live[g] = 0;
+    for (size_t p = 0; p < vox; ++p) any |= w->vstate[p] == 1;
+    for (int g = 0; g < J->m; ++g) {
+        const float *v = w->vimg + (size_t)g * vox;
+        for (size_t p = 0; p < vox && !w->live[g]; ++p) w->live[g] = !any || (w->vstate[p] == 1 && v[p] != 0);
     }
 }
 
@@ -845,6 +867,7 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
         }
     }
     slabs_put(S, &pk);
+    mark_live(J, w);
     extend(J, w);
     return HV_OK;
 }
@@ -874,6 +897,12 @@ HV_HOT_CLONES static void resample_layer(job *J, worker *w, float *frac, size_t 
     for (int g = 0; g < J->m; ++g) {
         const float *src = w->vimg + (size_t)g * vox;
         float *dst = frac + (size_t)g * plane;
+        if (!w->live[g]) { /* zero in the window image: zero wherever the passes would write */
+            for (int r = r0; r <= r1; ++r)
+                if (memchr(w->mask + (size_t)r * W + (size_t)c0, 1, n))
+                    memset(dst + (size_t)(r - rbase) * W + (size_t)c0, 0, n * sizeof *dst);
+            continue;
+        }
         /* x pass over the voxel rows the object rows need */
         for (int j = jlo; j <= jhi; ++j) {
             const float *s = src + (size_t)j * (size_t)J->vw;

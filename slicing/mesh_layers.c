@@ -57,7 +57,8 @@ hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, 
     hv_colour_map *map = NULL;
     s = hv_colour_map_create(mo ? &mo->colour : &co, &map);
     vo.progress = progress;
-    if (s == HV_OK) s = hv_colour_mesh_model(mesh, &vo, map, depth, mo ? mo->core : NULL, model);
+    int asked = mo && (mo->colour_depth > 0 || mo->core);
+    if (s == HV_OK) s = hv_colour_mesh_model(mesh, &vo, map, depth, mo ? mo->core : NULL, asked, model);
     hv_colour_map_destroy(map);
     return s;
 }

@@ -769,7 +769,7 @@ static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *
     hv_colour_map *map = NULL;
     hv_status st = hv_colour_mesh_voxels(mesh, pitch, depth, budget, &vo, &plan);
     if (st == HV_OK) st = hv_colour_map_create(&o->colour, &map);
-    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, model);
+    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, s->p.colour_depth > 0 || s->p.core, model);
     hv_colour_map_destroy(map);
     return st;
 }

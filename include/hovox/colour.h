@@ -185,20 +185,39 @@ HV_API int hv_colour_paint_note(const hv_volume *model, char *buf, size_t size);
 HV_API hv_status hv_colour_paint_text(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
                                       const char *core);
 
-/* Does the mesh print in its colours when nothing else says (the one rule of `layers MESH` and a
- * tray's mesh part)? 1 when it has colour (a texture, corner colours such as PLY vertex colours
- * or 3MF colour groups, material colours) and no body is made of a material: a 3MF body whose
- * material is a base material or a composite prints in it (an assembly in its materials, a
- * composite under a colour), while an OBJ's materials are its MTL's appearances (Kd, map_Kd) and
- * a 3MF colour group's entries ("#rrggbb") are colours. 0 also for a mesh without colour. */
+/* Which bodies print in their colours (issue 29 item 2), one rule for `layers MESH`, a tray's
+ * mesh part, Lua and Python; paint[i] (may be NULL; one per body) is 1 for body i painted, 0 for
+ * one that prints in its material; returns how many are painted. After the 3MF specifications:
+ * a colour group's entries ("#rrggbb") are colour and nothing else (Materials extension ch. 2),
+ * and a body without a material takes colour: painted. A composite is a mixture of materials:
+ * printed in it. A base material is what its body is made of (the core specification keeps its
+ * displaycolor for rendering: "a producer MUST NOT assume that displaycolor has any effect on
+ * the printed part"): printed in it, unless `asked` (the user asked for colour: a colour depth
+ * or core given) and its name is no resin of the printer's table (hv_resin_find) - then its
+ * colours (its display colour, or a texture or colours on its facets) paint it. An OBJ's
+ * materials are its MTL's appearances (Kd, map_Kd): painted, unless one names a resin of the
+ * table. A body whose material names a resin of the table always stays in the resin. */
+HV_API size_t hv_colour_mesh_bodies(const hv_mesh *mesh, int asked, uint8_t *paint);
+
+/* Does the mesh print in its colours when nothing else says (the one rule of `layers MESH` and
+ * a tray's mesh part)? 1 when it has colour (a texture, corner colours such as PLY vertex colours
+ * or 3MF colour groups, material colours) and a body takes it unasked (hv_colour_mesh_bodies with
+ * asked 0): a coloured mesh, or an assembly with a colour-group body beside bodies of resins. 0
+ * for an assembly whose bodies are all made of materials (base materials, composites), and for a
+ * mesh without colour. */
 HV_API int hv_colour_mesh_paints(const hv_mesh *mesh);
 
 /* A model of `mesh` painted in its colours (one step from a coloured mesh to a stack): the mesh
- * voxelized by `vopt`, then hv_colour_paint_text(depth, core). The model records no shape (the
- * caller slices it with the mesh). Errors: those of hv_voxelize and hv_colour_paint_text. Free
- * *out with hv_volume_destroy. */
+ * voxelized by `vopt`, then hv_colour_paint_text(depth, core). In an assembly whose bodies do not
+ * all take colour (hv_colour_mesh_bodies with `asked`), the colour is carried from the painted
+ * bodies' facets alone and every voxel of a body that keeps its material (its region) is 100 %
+ * that material or its composite's mixture, with no colour asked for there; colour resins no
+ * voxel uses then leave the table while it holds more than six (the printer's slots). The model
+ * records no shape (the caller slices it with the mesh). Errors: HV_ERR_BAD_INPUT ("NAME: no body
+ * to paint in its colours: shell is VeroPureWhite, core is a composite ..."), those of
+ * hv_voxelize and hv_colour_paint_text. Free *out with hv_volume_destroy. */
 HV_API hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *vopt, hv_colour_map *map,
-                                      double depth, const char *core, hv_volume **out);
+                                      double depth, const char *core, int asked, hv_volume **out);
 
 /* The voxels for hv_colour_mesh_model: opt->voxel_size set to the coarser of `pitch` (say the
  * printer's coarsest) and depth / 2 (the skin two voxels deep: colour is carried from the

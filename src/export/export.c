@@ -245,7 +245,8 @@ static hv_status build_grid_props(ex_model *md, const char *grids, size_t *cap)
 
 /* A model painted in colour (hovox/colour.h) carries the colours asked for: its grids colour.r,
  * colour.g, colour.b (sRGB in [0, 1]; 0 under a resin core, where colour.mask is 0) become arrays
- * of those names unless --grids named them already. */
+ * of those names unless --grids named them already (VTK), and md->painted with md->colour the
+ * four grids (a 3MF Volumetric package's <v:color>, which writes them in place of the arrays). */
 static hv_status build_colour_props(ex_model *md, size_t *cap)
 {
     static const char *const k_rgb[3] = {"colour.r", "colour.g", "colour.b"};

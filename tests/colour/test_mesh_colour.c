@@ -1,8 +1,10 @@
 /* tests/colour/test_mesh_colour.c - a coloured mesh printed in one step (src/colour/mesh_colour.c):
  * the rule that says when a mesh prints in its colours (hv_colour_mesh_paints: colour of its own,
  * no body made of a 3MF material), the voxels painting takes (hv_colour_mesh_voxels) and the
- * painted model (hv_colour_mesh_model), the same as voxelize then hv_colour_paint_text. */
+ * painted model (hv_colour_mesh_model), the same as voxelize then hv_colour_paint_text, and an
+ * assembly painted by body (hv_colour_mesh_bodies: colour groups painted, resins kept). */
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,7 +108,7 @@ Test(mesh_colour, the_model_is_voxelize_then_paint)
     hv_colour_map *map = NULL;
     cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
     hv_volume *a = NULL, *b = NULL;
-    cr_assert_eq(hv_colour_mesh_model(m, &o, map, 1.0, NULL, &a), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_colour_mesh_model(m, &o, map, 1.0, NULL, 0, &a), HV_OK, "%s", hv_last_error());
     cr_assert_eq(hv_voxelize(m, &o, &b), HV_OK);
     cr_assert_eq(hv_colour_paint_text(b, m, map, 1.0, NULL), HV_OK);
     hv_material_table *ta = NULL;
@@ -122,7 +124,7 @@ Test(mesh_colour, the_model_is_voxelize_then_paint)
     /* a mesh without colour is refused, nothing made */
     hv_mesh *plain = t_cube_mesh(0, 4);
     hv_volume *c = (hv_volume *)1;
-    cr_assert_eq(hv_colour_mesh_model(plain, &o, map, 1.0, NULL, &c), HV_ERR_BAD_INPUT);
+    cr_assert_eq(hv_colour_mesh_model(plain, &o, map, 1.0, NULL, 1, &c), HV_ERR_BAD_INPUT);
     cr_assert_eq(c, NULL);
     hv_mesh_destroy(plain);
     hv_material_table_destroy(ta);
@@ -130,4 +132,86 @@ Test(mesh_colour, the_model_is_voxelize_then_paint)
     hv_volume_destroy(b);
     hv_colour_map_destroy(map);
     hv_mesh_destroy(m);
+}
+
+/* The value of material `name` (or grid `name` when no material has it) at the voxel nearest a
+ * world point; -1 when the model has neither. */
+static double at(const hv_volume *v, const char *name, double x, double y, double z)
+{
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_load(v, &t), HV_OK);
+    int m = hv_material_find(t, name);
+    int g = m >= 0 ? hv_material_grid(v, t, m) : hv_volume_grid_find(v, name);
+    hv_material_table_destroy(t);
+    if (g < 0) return -1;
+    double w[3] = {x, y, z}, ix[3];
+    hv_volume_world_to_index(v, w, ix);
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    return hv_accessor_float(&acc, g, (int32_t)lrint(ix[0]), (int32_t)lrint(ix[1]), (int32_t)lrint(ix[2]));
+}
+
+/* Issue 29 item 2: an assembly's bodies painted by body (tests/colour/colour_assembly.py, a
+ * Python-written 3MF): a colour group's body takes its colour unasked, a base material that is a
+ * resin of the table stays in it, one that is not ("PLA Blue") prints in its material unless
+ * colour is asked for, then in its displaycolor; resins alone with colour asked: refused. */
+Test(mesh_colour, an_assembly_is_painted_by_body, .timeout = 60)
+{
+    char cmd[4200];
+    snprintf(cmd, sizeof cmd, "/usr/bin/python3 tests/colour/colour_assembly.py %s", t_tmpdir());
+    cr_assert_eq(t_run(cmd, NULL), 0, "%s", cmd);
+    hv_mesh *m = load(t_tmpfile("badge.3mf")), *r = load(t_tmpfile("resins.3mf"));
+    uint8_t p[3];
+    cr_assert_eq(hv_colour_mesh_bodies(m, 0, p), 1);
+    cr_assert(!p[0] && p[1] && !p[2], "base, badge, grip: %d %d %d", p[0], p[1], p[2]);
+    cr_assert_eq(hv_colour_mesh_bodies(m, 1, p), 2);
+    cr_assert(!p[0] && p[1] && p[2]);
+    cr_assert_eq(hv_colour_mesh_paints(m), 1);
+    cr_assert_eq(hv_colour_mesh_bodies(r, 1, NULL), 0);
+    cr_assert_eq(hv_colour_mesh_paints(r), 0);
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
+    float red[6], blue[6];
+    hv_colour_map_fractions(map, (const uint8_t[4]){0xc0, 0x10, 0x10, 0xff}, red);
+    hv_colour_map_fractions(map, (const uint8_t[4]){0x20, 0x50, 0xc0, 0xff}, blue);
+    for (int asked = 0; asked <= 1; ++asked) {
+        hv_volume *v = NULL;
+        cr_assert_eq(hv_colour_mesh_model(m, &o, map, 1.0, NULL, asked, &v), HV_OK, "%s", hv_last_error());
+        /* the base: all Agilus30Black, no colour asked for there, even under the badge */
+        cr_assert_float_eq(at(v, "Agilus30Black", 10.25, 10.25, 2.25), 1.0, 1e-6);
+        cr_assert_float_eq(at(v, "Agilus30Black", 4.25, 10.25, 3.75), 1.0, 1e-6);
+        cr_assert_float_eq(at(v, "VeroMagenta-V", 4.25, 10.25, 3.75), 0.0, 1e-6);
+        cr_assert_float_eq(at(v, "colour.mask", 10.25, 10.25, 2.25), 0.0, 1e-6);
+        /* the badge: its colour's fractions in the skin, the white resin beneath */
+        cr_assert_float_eq(at(v, "VeroMagenta-V", 4.25, 10.25, 6.25), red[1], 1e-6);
+        cr_assert_float_eq(at(v, "VeroCyan-V", 4.25, 10.25, 6.25), red[0], 1e-6);
+        cr_assert_float_eq(at(v, "VeroPureWhite", 10.25, 10.25, 6.25), 1.0, 1e-6);
+        /* the grip: its material, or asked, painted in its displaycolor over the white core */
+        if (!asked) {
+            cr_assert_float_eq(at(v, "PLA_Blue", 26.25, 10.25, 2.25), 1.0, 1e-6);
+            cr_assert_float_eq(at(v, "PLA_Blue", 22.25, 10.25, 2.25), 1.0, 1e-6);
+        } else {
+            cr_assert_eq(at(v, "PLA_Blue", 26.25, 10.25, 2.25), -1);
+            cr_assert_float_eq(at(v, "VeroCyan-V", 22.25, 10.25, 2.25), blue[0], 1e-6);
+            cr_assert_float_eq(at(v, "VeroPureWhite", 26.25, 10.25, 2.25), 1.0, 1e-6);
+        }
+        /* more than six would take slots for nothing: the unused colour resins left (clear) */
+        hv_material_table *t = NULL;
+        cr_assert_eq(hv_material_table_load(v, &t), HV_OK);
+        cr_assert_eq(hv_material_find(t, "VeroClear"), -1);
+        cr_assert_eq(hv_material_count(t), asked ? 6 : 7);
+        hv_material_table_destroy(t);
+        hv_volume_destroy(v);
+    }
+    hv_volume *v = (hv_volume *)1;
+    cr_assert_eq(hv_colour_mesh_model(r, &o, map, 1.0, NULL, 1, &v), HV_ERR_BAD_INPUT);
+    cr_assert_eq(v, NULL);
+    cr_assert(strstr(hv_last_error(), "no body to paint in its colours: a is VeroCyan-V, b is Agilus30Black"), "%s",
+              hv_last_error());
+    hv_colour_map_destroy(map);
+    hv_mesh_destroy(m);
+    hv_mesh_destroy(r);
 }

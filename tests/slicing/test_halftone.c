@@ -222,14 +222,15 @@ Test(halftone, bluenoise_offsets_follow_the_seed)
 /* The blue-noise kernel (vectorised, in runs) against its definition pixel by pixel: material j
  * where p_0 + .. + p_{j-1} <= t < p_0 + .. + p_j, a zero last fraction skipped for the last
  * material present. Random fractions with zeros, a ragged mask, widths that are no multiple of
- * the tile or the vector, every material count up to 7 (the unrolled 1..4 and the general path). */
+ * the tile or the vector, every material count up to 9 (the unrolled 1..8 and the general path);
+ * the target sums to the bit as summed pixel after pixel. */
 Test(halftone, bluenoise_matches_its_definition_per_pixel, .timeout = 300)
 {
     const uint32_t *ranks = NULL;
     cr_assert_eq(hv_bluenoise_tile(t_tmpfile("cache"), NULL, &ranks, NULL), HV_OK);
     const float inv = 1.0f / (float)(HV_BLUENOISE_NX * HV_BLUENOISE_NY * HV_BLUENOISE_NZ);
     uint64_t rng = 12345;
-    for (int m = 1; m <= 7; ++m) {
+    for (int m = 1; m <= 9; ++m) {
         int w = 1100 + 37 * m, h = 23;
         size_t plane = (size_t)w * h;
         float *frac = malloc(sizeof(float) * plane * m);
@@ -238,7 +239,7 @@ Test(halftone, bluenoise_matches_its_definition_per_pixel, .timeout = 300)
             int y = (int)(p / (size_t)w), x = (int)(p % (size_t)w);
             /* rows empty, full, or a band whose ends move */
             mask[p] = y % 7 == 3 ? 0 : y % 5 == 0 ? 1 : (x > 3 * y && x < w - 11 * y);
-            double s = 0, v[8];
+            double s = 0, v[9];
             for (int j = 0; j < m; ++j) {
                 rng = rng * 6364136223846793005ull + 1442695040888963407ull;
                 v[j] = (rng >> 40) % 4 == 0 ? 0 : (double)(rng >> 11) / 9007199254740992.0;
@@ -249,8 +250,8 @@ Test(halftone, bluenoise_matches_its_definition_per_pixel, .timeout = 300)
         int off[3];
         hv_bluenoise_offsets((uint64_t)m, off);
         for (int z = 0; z < 3; ++z) {
-            uint64_t counts[8] = {0}, want[8] = {0};
-            double tsum[8] = {0}, wsum[8] = {0};
+            uint64_t counts[9] = {0}, want[9] = {0};
+            double tsum[9] = {0}, wsum[9] = {0};
             hv_halftone_bluenoise(frac, m, w, h, mask, ranks, off, (size_t)z, out, counts, tsum);
             int zz = (z + off[2]) % HV_BLUENOISE_NZ;
             for (size_t p = 0; p < plane; ++p) {
@@ -276,7 +277,18 @@ Test(halftone, bluenoise_matches_its_definition_per_pixel, .timeout = 300)
                 }
                 cr_assert_eq(out[p], k, "m %d layer %d pixel (%d, %d): %d, defined %d", m, z, x, y, out[p], k);
             }
+            /* the target to the bit: per row a float sum in pixel order, the rows' sums added in double */
+            double exact[9] = {0};
+            for (int y = 0; y < h; ++y)
+                for (int j = 0; j < m; ++j) {
+                    float s = 0;
+                    for (int x = 0; x < w; ++x)
+                        if (mask[(size_t)y * w + x]) s += frac[j * plane + (size_t)y * w + x];
+                    exact[j] += s;
+                }
             for (int j = 0; j < m; ++j) {
+                cr_expect(tsum[j] == exact[j], "m %d material %d: target %.17g, in pixel order %.17g", m, j, tsum[j],
+                          exact[j]);
                 cr_expect_eq(counts[j], want[j], "m %d material %d: count %llu, defined %llu", m, j,
                              (unsigned long long)counts[j], (unsigned long long)want[j]);
                 cr_expect(fabs(tsum[j] - wsum[j]) <= 1e-4 * wsum[j] + 1e-3, "m %d material %d: target %g vs %g", m, j,

@@ -331,6 +331,60 @@ Test(layers, analytic_feature_isolates_resampling_error, .timeout = 300)
     hv_mesh_destroy(m);
 }
 
+/* A material absent from a layer's voxels (layers.c writes its fractions as zeros there instead of
+ * resampling them) and present in others: the shaft graded by the height above its lowest point,
+ * M1 alone below z = 2.5 mm and half M1 half M2 above, 1 mm voxels and layers. Below, M2 is 0 at
+ * every pixel; above, it is 0.5 at the pixels both voxel layers around the cut give it, and the two
+ * fractions sum to 1 everywhere. */
+Test(layers, a_material_absent_from_a_layer_is_zero_there_and_resampled_elsewhere, .timeout = 300)
+{
+    hv_mesh *m = shaft_mesh();
+    hv_volume *v = voxelize(m, 1.0);
+    double p0[3] = {0, 0, -27.5}, up[3] = {0, 0, 1}, ms[2] = {1, 0}, me[2] = {0.5, 0.5};
+    hv_frf *plane = NULL;
+    cr_assert_eq(hv_frf_plane(p0, up, &plane), HV_OK);
+    hv_volume *g = grade(v, plane, 30, 0, "d", ms, me, 2);
+    hv_layers_options o = opts(HV_LAYERS_FRACTIONS, 50, 50, 1.0);
+    const char *dir = t_tmpfile("absent");
+    run(m, g, dir, &o, NULL);
+    json_t *j = manifest_load(dir);
+    const json_t *layers = json_object_get(j, "layers");
+    int below = 0, above = 0;
+    for (size_t l = 0; l < json_array_size(layers); ++l) {
+        const json_t *L = json_array_get(layers, l);
+        double z = jnum(L, "z_mm", -1);
+        if (!(z < 0.5 || z > 4.5)) continue; /* the voxel layers around the step mix the two */
+        const json_t *files = json_object_get(L, "files");
+        t_png im[2];
+        for (int k = 0; k < 2; ++k) {
+            char path[1024];
+            snprintf(path, sizeof path, "%s/%s", dir, json_string_value(jat(files, (size_t)k)));
+            t_png_load(path, &im[k]);
+        }
+        uint64_t n = 0, half = 0;
+        for (size_t p = 0; p < (size_t)im[0].w * (size_t)im[0].h; ++p) {
+            int a = im[0].px[p], b = im[1].px[p];
+            if (a + b == 0) continue; /* background */
+            ++n;
+            cr_assert(abs(a + b - 255) <= 2, "layer z %g: fractions sum to %d/255", z, a + b);
+            if (z < 0.5) cr_assert_eq(b, 0, "layer z %g: M2 %d/255 below the step", z, b);
+            else half += abs(b - 128) <= 1;
+        }
+        cr_assert(n > 1000, "layer z %g: %llu object pixels", z, (unsigned long long)n);
+        if (z > 4.5) cr_assert(half == n, "layer z %g: M2 0.5 at %llu of %llu pixels", z, (unsigned long long)half,
+                               (unsigned long long)n);
+        below += z < 0.5;
+        above += z > 4.5;
+        free(im[0].px);
+        free(im[1].px);
+    }
+    cr_assert(below >= 20 && above >= 20, "%d layers below the step, %d above", below, above);
+    json_decref(j);
+    hv_volume_destroy(g);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+}
+
 /* ---- format, manifest, determinism, splits ---------------------------------------------------- */
 
 static int same_file(const char *a, const char *b)

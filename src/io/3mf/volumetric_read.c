@@ -1605,7 +1605,9 @@ static hv_status sampler_init(rd *r, sampler *sp, const func *f, img3d *im, cons
     sp->im = im;
     sp->t = t;
     for (int i = 0; i < SAMPLER_SLOTS; ++i) sp->slot[i].sheet = -1;
-    return charge(r, (uint64_t)SAMPLER_SLOTS * im->rows * im->cols * 4 * sizeof(uint16_t), "image sheets");
+    uint64_t sheet = im->rows * im->cols; /* each at most 1024^3: below 2^60 */
+    if (sheet > UINT64_MAX / (SAMPLER_SLOTS * 4 * sizeof(uint16_t))) return over_budget(r, "image sheets");
+    return charge(r, sheet * SAMPLER_SLOTS * 4 * sizeof(uint16_t), "image sheets");
 }
 
 static void sampler_free(sampler *sp)

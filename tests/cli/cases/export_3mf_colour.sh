@@ -4,7 +4,8 @@
 # reader); `layers` of the package (its own outline, the voxels' boundary) measures the colour as
 # the model's does; cut by the model's own mesh (--mesh), the package prints what the model prints:
 # the targets within 0.01 and the same skin and dE2000 (the summaries side by side), and at every
-# printer pixel the six fractions within 1/255 plus the output's rounding (--mode fractions)
+# printer pixel the six fractions within 1/255 plus the output's rounding (--mode fractions); its
+# render shows the same pixels as the model's (the colours asked for)
 $HOVOX voxelize samples/colour_cube.obj --voxel-size 0.5 --colour-depth 1 --core Agilus30 -o "$TMP/c.vdb" >/dev/null || exit 9
 $HOVOX export "$TMP/c.vdb" -o "$TMP/c.3mf" --volumetric | sed -E "s/\([0-9]+ bytes\)/(N bytes)/"
 unzip -Z1 "$TMP/c.3mf" | grep -c '^3D/volumetric/colour/sheet....\.png$'
@@ -14,6 +15,8 @@ for src in c.vdb c.3mf; do
     $HOVOX layers "$TMP/$src" $mesh -o "$TMP/st_$src" --dpi 254,254 --layer-height 0.1 >"$TMP/$src.txt" || exit 8
     $HOVOX layers "$TMP/$src" $mesh -o "$TMP/fr_$src" --dpi 254,254 --layer-height 0.1 --mode fractions >/dev/null || exit 8
 done
+$HOVOX render "$TMP/c.vdb" -o "$TMP/c.vdb.png" >/dev/null || exit 7
+$HOVOX render "$TMP/c.3mf" -o "$TMP/c.3mf.png" >/dev/null || exit 7
 grep -E '^(  |colour)' "$TMP/c.vdb.txt" | cut -c1-80 >"$TMP/a"
 grep -E '^(  |colour)' "$TMP/c.3mf.txt" | cut -c1-80 >"$TMP/b"
 paste -d '|' "$TMP/a" "$TMP/b"
@@ -66,6 +69,9 @@ for zmm, a in la.items():
         n += int(both.sum())
 print('layers %d and %d; %d pixels in both: largest fraction difference %s 2/255' %
       (len(la), len(lb), n, 'within' if worst <= 2 / 255 + 1e-9 else 'beyond (%.4f)' % worst))
+ra, rb = png(open(d + '/c.vdb.png', 'rb').read()), png(open(d + '/c.3mf.png', 'rb').read())
+print('render of the package: %d x %d, %d pixels unlike the model\'s' % (ra[0], ra[1], int((ra[4] != rb[4]).any(axis=-1).sum())
+      if ra[:3] == rb[:3] else -1))
 def targets(name):
     return [float(l.split()[1]) for l in open(os.path.join(d, name)) if l.startswith('  ')]
 ta, tb = targets('c.vdb.txt'), targets('c.3mf.txt')

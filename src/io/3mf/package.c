@@ -369,7 +369,7 @@ static int feed_whole(feed *f)
         in->comp_size > in->declared + 1024)
         return 0;
     uint8_t *comp = hv_malloc((size_t)in->comp_size);
-    uint8_t *out = hv_malloc_big((size_t)in->declared, 1);
+    uint8_t *out = hv_malloc((size_t)in->declared);
     struct libdeflate_decompressor *d = comp && out ? libdeflate_alloc_decompressor() : NULL;
     int ok = d != NULL;
     zip_int64_t n = ok ? zip_fread(in->f, comp, in->comp_size) : -1;

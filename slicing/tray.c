@@ -248,6 +248,7 @@ typedef struct source {   /* one part as given (copies share it) */
     int from_model;       /* no mesh given: the shape the model records (issue 28) */
     hv_scan *scan;        /* a scan part's volume, placed and turned (NULL once its model is made) */
     hv_scan_source *ssrc; /* a scan printed from its data (issue 30), or NULL */
+    hv_colour_map *scan_map; /* a scan's colour table's map (the tray's icc, intent, resins), or NULL */
     int32_t *labels;      /* a scan's labels (its shape points at them) */
     int graded;           /* materials from a table (a model's, a scan's lookup table), not one material */
     double bmin[3], bmax[3];
@@ -266,6 +267,11 @@ typedef struct instance {
     size_t layers;
     int cx, cy;      /* the footprint's cell (0,0) on the plate's CELL grid */
     int arranged;    /* placed by arrange() */
+    int coloured;    /* written: its manifest entry has a "colour" (hv_tray_instance_colour) */
+    hv_colour_skin_report ctarget, cachieved;
+    int cprinter;    /* the colour's voxels are printer voxels (a scan's colour table) */
+    hv_intent cintent;
+    char cdesc[128];
 } instance;
 
 struct hv_tray {
@@ -329,6 +335,8 @@ static void unplan(hv_tray *t)
         hv_mesh_destroy(s->mesh);
         hv_volume_destroy(s->model);
         hv_scan_source_close(s->ssrc);
+        hv_colour_map_destroy(s->scan_map);
+        s->scan_map = NULL;
         hv_scan_destroy(s->scan);
         free(s->labels);
         s->mesh = NULL;
@@ -911,11 +919,8 @@ static hv_status load_scan(source *s, const hv_tray_options *o)
     hv_lut *lut = NULL;
     hv_colour_map *map = NULL;
     if (st == HV_OK && p->lut) st = hv_lut_load(p->lut, &lut);
-    if (st == HV_OK && lut && hv_lut_kind_of(lut) == HV_LUT_COLOUR) { /* the default map's resins */
-        hv_colour_options co;
-        hv_colour_options_init(&co);
-        st = hv_colour_map_create(&co, &map);
-    }
+    if (st == HV_OK && lut && hv_lut_kind_of(lut) == HV_LUT_COLOUR) /* the tray's --icc, --intent, --resins */
+        st = hv_colour_map_create(&o->colour, &map);
     s->graded = lut != NULL;
     if (st == HV_OK && (p->keep_largest || p->fill_holes || p->min_feature > 0)) {
         hv_scan_voxelize_options vo;
@@ -941,7 +946,8 @@ static hv_status load_scan(source *s, const hv_tray_options *o)
         }
     }
     hv_lut_destroy(lut);
-    hv_colour_map_destroy(map);
+    if (s->ssrc && map) s->scan_map = map; /* the manifest's dE2000 over the printed values */
+    else hv_colour_map_destroy(map);
     if (st == HV_OK && !(s->bmax[2] > s->bmin[2]))
         st = hv_error_set(HV_ERR_INVALID, "%s: no sample is inside the shape (%s)", p->scan,
                           p->select == HV_SCAN_SELECT_ISO ? "iso" : p->select == HV_SCAN_SELECT_RANGE ? "range" : "labels");
@@ -1761,6 +1767,53 @@ static json_t *num2(double a, double b)
 }
 
 /* The manifest's document (NULL: out of memory). */
+/* A painted part's skin dE2000 (issue 29), or a scan's colour table's over the values it printed
+ * (issue 30; copies share the source, so its figures are the copies' together): the part's
+ * "colour" in the manifest, kept for hv_tray_instance_colour. A profile no longer readable: the
+ * part goes without. Returns nonzero when out of memory. */
+static int part_colour(hv_tray *t, int i, const hv_layers_report *pr, json_t *p)
+{
+    instance *in = &t->inst[i];
+    const source *s = &t->src[in->src];
+    hv_colour_skin sk;
+    memset(&sk, 0, sizeof sk);
+    hv_status st = HV_OK;
+    if (s->model) {
+        st = hv_colour_map_for_model(s->model, &sk.map);
+        sk.model = s->model;
+    } else if (s->ssrc && s->scan_map && hv_scan_source_colour(s->ssrc, &sk.samples, &sk.rgb, &sk.fractions, &sk.weight)) {
+        sk.map = s->scan_map;
+    }
+    void *colour = NULL;
+    if (st == HV_OK && sk.map) st = hv_colour_skin_manifest(&sk, s->m, s->mat_name, pr->target, pr->achieved, &colour);
+    if (st != HV_OK && st != HV_ERR_NOMEM) hv_error_clear();
+    int failed = st == HV_ERR_NOMEM;
+    if (colour) {
+        failed |= hv_json_set(p, "colour", colour);
+        in->coloured = 1;
+        in->ctarget = sk.target;
+        in->cachieved = sk.achieved;
+        in->cprinter = !sk.model;
+        in->cintent = hv_colour_map_intent(sk.map);
+        snprintf(in->cdesc, sizeof in->cdesc, "%s", hv_colour_map_description(sk.map));
+    }
+    if (sk.model) hv_colour_map_destroy(sk.map);
+    return failed;
+}
+
+int hv_tray_instance_colour(const hv_tray *t, int i, hv_tray_colour *out)
+{
+    memset(out, 0, sizeof *out);
+    if (i < 0 || i >= t->ninst || !t->inst[i].coloured) return 0;
+    const instance *in = &t->inst[i];
+    out->description = in->cdesc;
+    out->intent = in->cintent;
+    out->printer_voxels = in->cprinter;
+    out->target = in->ctarget;
+    out->achieved = in->cachieved;
+    return 1;
+}
+
 static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_report *rep, const uint64_t *obj_px)
 {
     json_t *doc = json_object();
@@ -1839,12 +1892,8 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
             failed |= hv_json_set(mats, s->mat_name[j], mj);
         }
         failed |= hv_json_set(p, "materials", mats);
-        void *colour = NULL;
-        if (s->model && o->mode == HV_LAYERS_HALFTONE) { /* a painted part: its skin's dE2000 (issue 29) */
-            hv_status st = hv_colour_part_manifest(s->model, s->m, s->mat_name, pr.target, pr.achieved, &colour);
-            failed |= st == HV_ERR_NOMEM; /* else a profile no longer readable: the part goes without */
-            if (colour) failed |= hv_json_set(p, "colour", colour);
-        }
+        t->inst[i].coloured = 0;
+        if (o->mode == HV_LAYERS_HALFTONE) failed |= part_colour(t, i, &pr, p);
         failed |= json_array_append_new(parts, p);
     }
     failed |= hv_json_set(doc, "parts", parts);

@@ -219,6 +219,13 @@ HV_API hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double
 HV_API hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *const *names, const double *target,
                                          const double *achieved, void **out);
 
+/* The same "colour" object for sk's model or samples (sk->map set by the caller; model or
+ * samples as for hv_colour_manifest_hook), filling sk's target, achieved and has_achieved: a
+ * tray's painted part or scan printed from a colour table. Errors: those of
+ * hv_colour_skin_error, NOMEM. */
+HV_API hv_status hv_colour_skin_manifest(hv_colour_skin *sk, int m, const char *const *names, const double *target,
+                                         const double *achieved, void **out);
+
 /* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
  * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by
  * 1 - Clear). Clear-only fractions give the paper white. */

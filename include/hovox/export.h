@@ -171,7 +171,9 @@ typedef struct hv_export_report {
     int materials;           /* 0 when the model has no material table (occupancy only) */
     int arrays;              /* data arrays written (occupancy, fractions, properties); .3mf:
                                 image stacks (fractions, properties) */
-    int bits;                /* .3mf: bits per PNG sample */
+    int bits;                /* .3mf: bits per PNG sample (of the fraction and property stacks) */
+    int colour;              /* .3mf: 1 when the package carries a painted model's colours (a
+                                <v:color> over one more stack, "colour": 16-bit RGBA sheets) */
     uint64_t memory_bytes;   /* planned bytes of the export's buffers */
     uint64_t file_bytes;     /* size of the file written (0 for a plan) */
     char names[2048];        /* the data array names, comma-separated (.3mf: the image stacks) */
@@ -238,7 +240,15 @@ typedef struct hv_export_report {
  *     derived property array (name "hovox:<array>" in the namespace urn:hovox:3mf:2025, SI
  *     units, the unit in attribute hovox:unit; required="false"; the values scaled into the
  *     sheets by valueoffset and valuescale);
- *   - metadata Application, hovox:materials (the material table as JSON) and hovox:origin.
+ *   - a painted model's colours (hovox/colour.h: grids colour.r, .g, .b, .mask) as a
+ *     <v:color channel="color"> over one more stack, "colour": RGBA PNGs of 16 bits whatever
+ *     opt->bits, RGB the linear sRGB (spec 5.2.1) of the colour asked for, or under a resin
+ *     core (mask 0) of the composition's display colour, alpha the mask, read as the property
+ *     hovox:colour.mask (channel alpha); its function's filter is nearest (every point inside
+ *     the mesh takes its voxel's colour); report->colour is then 1 (the colour grids are not
+ *     written as properties);
+ *   - metadata Application, hovox:materials (the material table as JSON), hovox:origin and, for
+ *     a painted model, hovox:colour (hovox.colour.json: profile, intent, resins, depth, core).
  * The sheets are written to a temporary directory next to the file first and packed
  * (stored); the model part is deflated at opt->zlib_level. Progress stages: "export mesh",
  * "export sheets", "export write". A model without materials is refused (HV_ERR_INVALID).

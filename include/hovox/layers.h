@@ -321,41 +321,72 @@ HV_API hv_status hv_layers_write(const hv_mesh *mesh, const hv_volume *model, co
 /* ==== one step from a mesh (issue 27) ================================================
  *
  * A mesh (STL, OBJ, PLY, a 3MF without volume data: an assembly of bodies) printed with no model
- * file, as `hovox layers PART.3mf -o DIR` prints it: its model made in memory as `hovox voxelize`
- * then `hovox grade` without sources make it (hv_mesh_model: each body 100% its material or its
- * 3MF composite's mixture) on voxels of the printer's coarsest pitch (the larger of 25.4/dpi and
- * the layer height of `o`), coarsened by 5/4 until the voxelization fits half of o->max_memory's
- * budget, or on voxels of `voxel_size` (> 0). The outline is the mesh's contours, exact; the
- * voxels only place the interfaces between bodies. *voxels (may be NULL) gets the voxel size
- * used, the lattice and whether it was coarsened. Errors: those of hv_mesh_model_voxels and
- * hv_mesh_model (a body without a material, naming it). Free *model with hv_volume_destroy. */
-typedef struct hv_layers_mesh_voxels {
-    double size;     /* mm */
-    int64_t dims[3];
-    int coarsened;   /* 1: coarser than the printer's pitch, to fit the memory budget */
-} hv_layers_mesh_voxels;
-HV_API hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, double voxel_size,
-                                      const hv_progress *progress, hv_volume **model, hv_layers_mesh_voxels *voxels);
-
-/* The options of the one step besides the layers': materials (repeatable BODY=MATERIAL, a map
- * {BODY = MATERIAL} in Lua, Python and job files: a body's material whatever the file says, as
- * `hovox layers --material`) and voxel_size (mm; 0: the printer's pitch, coarsened to fit).
- * Zero-initialised: none. hv_layers_mesh_option_set: those two keys (static data). */
+ * file, as `hovox layers PART.3mf -o DIR` prints it. The options of the step besides the layers'
+ * (zero-initialised: none; hv_layers_mesh_option_set: their keys, static data):
+ *   materials     repeatable BODY=MATERIAL (a map {BODY = MATERIAL} in Lua, Python and job files):
+ *                 a body's material whatever the file says, as `hovox layers --material`;
+ *   voxel_size    mm; 0: the printer's pitch, coarsened to fit;
+ *   colour_depth  mm; paint the mesh in its colours this deep (0: HV_COLOUR_DEPTH_DEFAULT when it
+ *                 is painted), core what lies deeper (a resin or a colour; NULL: the white
+ *                 resin), colour the colour map (icc, intent, resins; zero: the defaults); not
+ *                 with materials (HV_ERR_INVALID). */
 typedef struct hv_layers_mesh_options {
     hv_body_materials materials;
     double voxel_size;
+    double colour_depth;
+    const char *core;
+    hv_colour_options colour;
 } hv_layers_mesh_options;
 HV_API const hv_option_set *hv_layers_mesh_option_set(void);
 
+/* The model a mesh prints with, made in memory. One rule for the CLI, Lua, Python (issue 29):
+ * the mesh is painted in its colours when mo gives no materials and either gives colour_depth or
+ * core or the mesh prints in its colours by itself (hv_colour_mesh_paints): hv_colour_mesh_model
+ * through mo->colour's map, on voxels of the coarser of the printer's pitch and half the depth
+ * (hv_colour_mesh_voxels); otherwise as `hovox voxelize` then `hovox grade` without sources make
+ * it (hv_mesh_model: each body 100% its material or its 3MF composite's mixture) on voxels of the
+ * printer's coarsest pitch (the larger of 25.4/dpi and the layer height of `o`). Either way
+ * coarsened by 5/4 until it fits half of o->max_memory's budget, or on voxels of mo->voxel_size
+ * (> 0). The outline is the mesh's contours, exact; the voxels only place the interfaces between
+ * bodies and carry the colour. mo may be NULL (none). *voxels (may be NULL) gets the voxel size
+ * used, the lattice, whether it was coarsened and whether (and how deep) it was painted. Errors:
+ * HV_ERR_INVALID (colour_depth or core with materials), those of hv_mesh_model_voxels and
+ * hv_mesh_model (a body without a material, naming it), of hv_colour_map_create and
+ * hv_colour_mesh_model. Free *model with hv_volume_destroy. */
+typedef struct hv_layers_mesh_voxels {
+    double size;     /* mm */
+    int64_t dims[3];
+    int coarsened;   /* 1: coarser than the printer's pitch (or half the colour depth), to fit the memory budget */
+    int painted;     /* 1: painted in its colours */
+    double depth;    /* painted: the colour's depth (mm) */
+} hv_layers_mesh_voxels;
+HV_API hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, const hv_layers_mesh_options *mo,
+                                      const hv_progress *progress, hv_volume **model, hv_layers_mesh_voxels *voxels);
+
+/* A painted model's colour in its stack (issue 29; the CLI, Lua and Python alike): when `model`
+ * is painted (hv_colour_map_for_model) and o has no manifest hook yet, sk (zeroed here) gets the
+ * model and its colour map and o's manifest hook becomes hv_colour_manifest_hook over sk, which
+ * hv_layers_write then fills: the skin's dE2000 in manifest.json and in sk. Returns HV_OK also
+ * when the model is NULL or not painted (sk->map NULL, o untouched). Errors: those of
+ * hv_colour_map_for_model but HV_ERR_NOT_FOUND (a damaged record, a profile no longer readable;
+ * o untouched: a front end may warn and write the stack without the colour). The caller frees
+ * sk->map with hv_colour_map_destroy after hv_layers_write. */
+HV_API hv_status hv_layers_colour_hook(hv_layers_options *o, const hv_volume *model, hv_colour_skin *sk);
+
 /* The whole step for a front end (Lua mesh:layers, Python mesh.layers): a copy of `mesh` with
  * each body in its material of mo->materials (hv_body_materials_apply; mo may be NULL), its model
- * (hv_layers_mesh_model at mo->voxel_size; none in MASK mode), then hv_layers_write. The report's warnings begin
+ * (hv_layers_mesh_model; none in MASK mode), then hv_layers_write with the colour's manifest hook
+ * when it is painted (hv_layers_colour_hook; o's own hook otherwise). The report's warnings begin
  * with the size warning of hv_placement_size_warning against the profile's build volume (a mesh
  * under 1 mm or larger than the printer, naming the likely unit). The manifest names the mesh
- * (o->mesh_name, else the mesh's name) as mesh and model. Errors: those of
- * hv_body_materials_apply, hv_layers_mesh_model and hv_layers_write. */
-HV_API hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options *mo, const char *dir, const hv_layers_options *o, const hv_progress *progress,
-                                      hv_layers_report *report);
+ * (o->mesh_name, else the mesh's name) as mesh and model. colour (may be NULL) gets a painted
+ * part's figures (target, achieved, has_achieved) and its colour map (map: free it with
+ * hv_colour_map_destroy; NULL when the part is not painted); its model is NULL (the model is
+ * gone). Errors: those of hv_body_materials_apply, hv_layers_mesh_model, hv_layers_colour_hook
+ * and hv_layers_write. */
+HV_API hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options *mo, const char *dir,
+                                      const hv_layers_options *o, const hv_progress *progress,
+                                      hv_layers_report *report, hv_colour_skin *colour);
 
 /* A scanned volume printed as `hovox layers VOLUME` prints it (issue 30; the Lua and Python
  * front ends' one path, the same bytes as the CLI's): straight from its data at the printer's

@@ -12,8 +12,8 @@ extern "C" {
 #endif
 
 /* Read a 3MF package holding one object (one build item, translated at most) whose mesh carries
- * <v:volumedata> with a <v:composite>: the materials and their fractions. The result is a graded
- * model as hovox makes them:
+ * <v:volumedata> with a <v:composite> (the materials and their fractions) or a <v:color>. The
+ * result is a graded model as hovox makes them:
  *   - the lattice of the image stacks: voxel (i, j, k) is column i, row (rows - 1 - j), sheet k of
  *     the stacks (continued beyond them by each function's tile styles), voxel size and origin
  *     from the <v:materialmapping> transform (all mappings must give the same lattice: an axis-
@@ -28,10 +28,23 @@ extern "C" {
  *   - metadata "hovox.materials.json": the base materials' names (characters hovox does not allow
  *     in a name become '_'; duplicates get a suffix) and display colours, or the table the file
  *     carries in its hovox:materials metadata when that names the same materials (properties
- *     included).
+ *     included);
+ *   - with a <v:color> (issue 29; its function a functionfromimage3d, its channel the vector
+ *     "color"): float grids "colour.r", "colour.g", "colour.b" and "colour.mask", as a painted model
+ *     holds them (hovox/colour.h): at each voxel centre the function sampled through the color's
+ *     own transform (any affine one, on any lattice; filter, tile styles, valuescale and
+ *     valueoffset as spec 2.2 says), each channel truncated to [0, 1] and turned from linear sRGB
+ *     (spec 5.2.1) into the sRGB the grids hold; mask 1 everywhere, or where hovox's property
+ *     hovox:colour.mask (a scalar output) is above one half, the colour 0 elsewhere; with hovox's
+ *     hovox:colour metadata, "hovox.colour.json" (the profile and resins it was painted with);
+ *   - with a <v:color> and no <v:composite> (a colour printer's package): the colour's stack gives
+ *     the lattice (its transform must then be axis-aligned, as a mapping's), and the model is
+ *     printed in the six colour resins of the default colour map (hv_colour_options_init): each
+ *     voxel's fractions those of its colour rounded to 8-bit sRGB (hv_colour_map_fractions; the
+ *     white resin where the mask says no colour), "hovox.colour.json" recording that map.
  * Image sheets are PNGs of any layout and depth (grey, grey+alpha, RGB, RGBA, palette; 1 to 16
- * bits), all of a stack alike in size. <v:property> elements in hovox's namespace are derived
- * arrays and skipped; others, <v:color> and elements of other extensions are ignored unless a
+ * bits), all of a stack alike in size. Other <v:property> elements in hovox's namespace are
+ * derived arrays and skipped; others and elements of other extensions are ignored unless a
  * property says required="true". Refused as unsupported (HV_ERR_UNSUPPORTED, naming the element):
  * <v:levelset>, implicit or private functions, components, several build items, rotated or scaled
  * transforms, an object without volume data, a required extension other than the volumetric one.
@@ -41,7 +54,8 @@ extern "C" {
  * `mesh` (may be NULL) receives the object's mesh in millimetres (build item translation applied),
  * e.g. for slicing. Errors: HV_ERR_IO (cannot open), HV_ERR_BAD_INPUT ("part.3mf: 3D/3dmodel.model:
  * line 12: <v:imagestack>: rowcount 'x' is not a positive integer", "part.3mf: not a ZIP archive",
- * a missing part or referenced image, a PNG whose size differs from its stack's), HV_ERR_UNSUPPORTED,
+ * a missing part or referenced image, a PNG whose size differs from its stack's, a <v:color>
+ * naming no function or an output it lacks, each with the element's line and column), HV_ERR_UNSUPPORTED,
  * HV_ERR_LIMIT (memory budget, image sizes beyond the spec's limits), HV_ERR_NOMEM,
  * HV_ERR_CANCELLED. On success free *vol with hv_volume_destroy and *mesh with hv_mesh_destroy. */
 HV_API hv_status hv_3mf_load(const char *path, hv_volume **vol, hv_mesh **mesh);

@@ -189,6 +189,21 @@ typedef struct hv_tray_placement {
 } hv_tray_placement;
 HV_API void hv_tray_instance_get(const hv_tray *t, int i, hv_tray_placement *out);
 
+/* A part's colour in the stack hv_tray_write last wrote in halftone mode (issue 29): instance i
+ * (copies counted) painted in its colours (its skin's voxels), or a scan printed from a colour
+ * table through the tray's colour map (the printer voxels of its tabulated values, its copies
+ * together), as its manifest entry's "colour" gives it: the mean and max dE2000 of the fractions
+ * against the colours asked for, and with each resin's fractions scaled by the halftone's
+ * achieved over target share. Returns 1 and fills *out, or 0 (out zeroed) when it has none.
+ * description is owned by the tray. */
+typedef struct hv_tray_colour {
+    const char *description; /* the output profile's ("Artifex CMYK SWOP Profile") */
+    hv_intent intent;
+    int printer_voxels;      /* 1: voxels are printer voxels (a scan's colour table); 0: a model's skin voxels */
+    hv_colour_skin_report target, achieved;
+} hv_tray_colour;
+HV_API int hv_tray_instance_colour(const hv_tray *t, int i, hv_tray_colour *out);
+
 /* How `ranks` processes would share the tray's layers (hovox/dist.h): rank r writes layers
  * [ranges[2r], ranges[2r+1]), share[r] of the estimated cost (may be NULL). Plans the tray. */
 HV_API hv_status hv_tray_partition(hv_tray *t, const hv_tray_options *o, int ranks, size_t *ranges, double *share);

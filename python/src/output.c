@@ -146,6 +146,24 @@ static PyObject *layers_report_dict(const hv_layers_report *rep)
                          "object_pixels", (unsigned long long)rep->object_pixels, "warnings", rep->warnings);
 }
 
+/* A stack's colour figures as a dict: {<voxels>: n, mean_de2000_target, max_de2000_target,
+ * mean_de2000_achieved (halftone)}; voxels is "skin_voxels" for a painted model, "printer_voxels"
+ * for a scan's colour table. 0: set; -1: a Python error (d cleared). */
+static int add_colour(PyObject **d, const hv_colour_skin *skin, const char *voxels)
+{
+    if (!*d || !skin->map) return 0;
+    PyObject *cd = skin->has_achieved
+                       ? Py_BuildValue("{s:K,s:d,s:d,s:d}", voxels, (unsigned long long)skin->target.voxels,
+                                       "mean_de2000_target", skin->target.mean_de2000, "max_de2000_target",
+                                       skin->target.max_de2000, "mean_de2000_achieved", skin->achieved.mean_de2000)
+                       : Py_BuildValue("{s:K,s:d,s:d}", voxels, (unsigned long long)skin->target.voxels,
+                                       "mean_de2000_target", skin->target.mean_de2000, "max_de2000_target",
+                                       skin->target.max_de2000);
+    if (!cd || PyDict_SetItemString(*d, "colour", cd) < 0) Py_CLEAR(*d);
+    Py_XDECREF(cd);
+    return *d ? 0 : -1;
+}
+
 /* model.layers([mesh,] dir, *, progress=None, **options of `hovox layers`) -> report */
 static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
 {
@@ -178,14 +196,19 @@ static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
     hvpy_call c;
     hv_layers_report rep;
     PyObject *pins[2] = {self, mo};
+    hv_colour_skin skin; /* a painted model: the skin's dE2000 in the manifest, as the CLI writes it */
+    if (hv_layers_colour_hook(&o, vol, &skin) != HV_OK) hv_error_clear();
     hvpy_begin(&c, oc.progress, pins, mo ? 2 : 1);
     hv_status s = hv_layers_write(mesh, vol, dir, &o, &c.prog, &rep);
     hvpy_end(&c);
     if (s != HV_OK) {
+        hv_colour_map_destroy(skin.map);
         hvpy_call_fail(&c, s);
         goto done;
     }
     PyObject *d = layers_report_dict(&rep);
+    add_colour(&d, &skin, "skin_voxels");
+    hv_colour_map_destroy(skin.map);
     PyObject *mats = d ? PyDict_New() : NULL;
     hv_material_table *t = NULL;
     if (mats && rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
@@ -555,20 +578,25 @@ PyMethodDef hvpy_output_functions[] = {
     {NULL, NULL, 0, NULL},
 };
 
-/* mesh.layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, progress=None, **options of
- * `hovox layers`) -> {width, height, layers, first, last, object_pixels, warnings}: the mesh
- * printed in one step, its bodies in their materials, as `hovox layers PART.3mf -o DIR --material
- * BODY=MATERIAL` prints it, the same bytes (hv_layers_write_mesh) */
+/* mesh.layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, colour_depth=MM, core=RESIN|COLOUR,
+ * icc=FILE, intent=NAME, resins="C,M,Y,K,W,CLEAR", progress=None, **options of `hovox layers`) ->
+ * {width, height, layers, first, last, object_pixels, warnings, colour (painted)}: the mesh printed
+ * in one step, its bodies in their materials or painted in its colours, as `hovox layers PART.3mf
+ * -o DIR` prints it, the same bytes (hv_layers_write_mesh) */
 static PyObject *mesh_layers(PyObject *self, PyObject *args, PyObject *kw)
 {
-    static const char *const own[] = {"dir", "materials", "voxel_size", NULL};
+    const hv_option_set *ls = hv_layers_option_set(), *ms = hv_layers_mesh_option_set();
+    const char *own[40]; /* the step's keys, read by the second read */
+    int k = 0;
+    own[k++] = "dir";
+    for (int i = 0; i < ms->count && k < 39; ++i) own[k++] = ms->options[i].key;
+    own[k] = NULL;
     PyObject *pos = NULL;
     if (!PyArg_ParseTuple(args, "|O:layers", &pos)) return NULL;
     if (!HVPY_MESH(self)) return NULL;
     out_call oc;
     PyObject *res = NULL;
     if (out_begin(&oc, kw) < 0) goto done;
-    const hv_option_set *ls = hv_layers_option_set();
     hv_layers_options o;
     if (hvpy_read_options(oc.rest, ls, &o, own, &oc.a) < 0) goto done;
     const char *theirs[160]; /* the layers' keys, read above: known to the second read */
@@ -578,21 +606,24 @@ static PyObject *mesh_layers(PyObject *self, PyObject *args, PyObject *kw)
     theirs[n++] = "dir";
     theirs[n] = NULL;
     hv_layers_mesh_options mo;
-    if (hvpy_read_options(oc.rest, hv_layers_mesh_option_set(), &mo, theirs, &oc.a) < 0) goto done;
+    if (hvpy_read_options(oc.rest, ms, &mo, theirs, &oc.a) < 0) goto done;
     const char *dir = out_path(&oc, pos, "dir", "the stack's directory");
     if (!dir) goto done;
     hv_mesh *mesh = HVPY_MESH(self); /* after reading the options: they may have run Python code */
     if (!mesh) goto done;
     hvpy_call c;
     hv_layers_report rep;
+    hv_colour_skin skin;
     hvpy_begin(&c, oc.progress, &self, 1);
-    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, &c.prog, &rep);
+    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, &c.prog, &rep, &skin);
     hvpy_end(&c);
     if (s != HV_OK) {
         hvpy_call_fail(&c, s);
         goto done;
     }
     PyObject *d = layers_report_dict(&rep);
+    add_colour(&d, &skin, "skin_voxels"); /* the painted skin's dE2000, as the manifest's colour */
+    hv_colour_map_destroy(skin.map);
     res = d ? hvpy_call_done(&c, d) : NULL;
 done:
     out_end(&oc);
@@ -601,9 +632,12 @@ done:
 
 static PyMethodDef mesh_output_methods[] = {
     {"layers", (PyCFunction)(void (*)(void))mesh_layers, METH_VARARGS | METH_KEYWORDS,
-     "layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, progress=None, **options of `hovox layers`) -> "
-     "{width, height, layers, first, last, object_pixels, warnings}: the mesh printed in one step, each body in its "
-     "material (as `hovox layers PART.3mf --material BODY=MATERIAL`); warnings begin with the size warning."},
+     "layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, colour_depth=MM, core=RESIN|COLOUR, icc=FILE, "
+     "intent=NAME, resins='C,M,Y,K,W,CLEAR', progress=None, **options of `hovox layers`) -> {width, height, layers, "
+     "first, last, object_pixels, warnings, and colour={skin_voxels, mean_de2000_target, max_de2000_target, "
+     "mean_de2000_achieved} when painted}: the mesh printed in one step, each body in its material (as `hovox "
+     "layers PART.3mf --material BODY=MATERIAL`) or painted in its colours (a coloured mesh, or colour_depth or "
+     "core given: as `hovox layers PART.obj --colour-depth MM`); warnings begin with the size warning."},
     {NULL, NULL, 0, NULL}};
 
 int hvpy_init_output(PyObject *m)

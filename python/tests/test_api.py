@@ -265,6 +265,36 @@ def test_mesh_layers_in_one_step(cli, shared, tmp_path):
     assert plan["parts"] == 2 and "part 2 (tiny.stl)" in plan["warnings"] and "unit m" in plan["warnings"]
 
 
+def test_mesh_layers_paints_a_coloured_mesh(cli, root, tmp_path):
+    """issue 29 item 1: mesh.layers paints a coloured mesh as `hovox layers MESH` paints it (one rule
+    in the library, hv_layers_mesh_model): a UV-textured cube's stack has the CLI's bytes, the
+    manifest's colour included, by default and with colour_depth, core and intent; its report
+    carries the colour's dE2000; colour_depth beside materials is refused."""
+    import subprocess
+    subprocess.run(["/usr/bin/python3", os.path.join(root, "tests", "colour", "textured_cube.py"), str(tmp_path)],
+                   check=True, capture_output=True)
+    obj = tmp_path / "cube.obj"
+    cube = hovox.load_mesh(obj)
+    for name, args, kw in (("a", [], {}),
+                           ("b", ["--colour-depth", "0.5", "--core", "#808080", "--intent", "relative"],
+                            {"colour_depth": 0.5, "core": "#808080", "intent": "relative"})):
+        r = cli("layers", obj, "-o", tmp_path / ("cli_" + name), "--layers", "150:153", "-q", *args)
+        assert r.returncode == 0, r.stderr
+        rep = cube.layers(tmp_path / ("py_" + name), layers=(150, 153), **kw)
+        names = sorted(os.listdir(tmp_path / ("cli_" + name)))
+        assert names == sorted(os.listdir(tmp_path / ("py_" + name))) and "layer-00151.png" in names
+        for f in names:
+            assert (tmp_path / ("py_" + name) / f).read_bytes() == (tmp_path / ("cli_" + name) / f).read_bytes(), f
+        man = json.load(open(tmp_path / ("py_" + name) / "manifest.json"))
+        c = rep["colour"]
+        assert c["skin_voxels"] == man["colour"]["skin_voxels"] > 0
+        assert abs(c["mean_de2000_achieved"] - man["colour"]["mean_de2000_achieved"]) < 1e-9
+        assert 0 < c["mean_de2000_target"] <= c["max_de2000_target"]
+    with pytest.raises(hovox.InvalidError, match="materials and colour_depth exclude each other"):
+        cube.layers(tmp_path / "x", colour_depth=1, materials={"cube": "VeroClear"})
+    assert not os.path.exists(tmp_path / "x")
+
+
 def test_a_call_is_one_command(graded_gear, tmp_path):
     """A model loaded by one call may be saved over its file by the next; a call never writes over
     what it reads (a field feature's file)."""

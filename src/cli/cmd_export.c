@@ -83,8 +83,10 @@ static void report(const char *model, const hv_volume *vol, const hv_export_opti
                    (unsigned long long)rep->points);
         else
             printf("mesh        %llu triangles (the exact voxel boundary)\n", (unsigned long long)rep->cells);
-        printf("images      %d stacks of %lld %d-bit sheets of %lld x %lld pixels\n", rep->arrays, (long long)rep->dims[2],
-               rep->bits, (long long)rep->dims[0], (long long)rep->dims[1]);
+        printf("images      %d stacks of %lld %d-bit sheets of %lld x %lld pixels\n", rep->arrays - rep->colour,
+               (long long)rep->dims[2], rep->bits, (long long)rep->dims[0], (long long)rep->dims[1]);
+        if (rep->colour)
+            printf("colour      <v:color> of the colours asked for: stack colour, 16-bit RGBA sheets (linear sRGB)\n");
     } else if (rep->format == HV_EXPORT_VTI)
         printf("image       %lld x %lld x %lld points\n", (long long)rep->dims[0], (long long)rep->dims[1],
                (long long)rep->dims[2]);

@@ -100,19 +100,8 @@ static void colour_hook(hv_layers_options *o, const hv_volume *model, const hv_s
         o->manifest_user = sk;
         return;
     }
-    if (!model) return;
-    hv_status s = hv_colour_map_for_model(model, &sk->map);
-    if (s == HV_ERR_NOT_FOUND) {
-        hv_error_clear();
-        return;
-    }
-    if (s != HV_OK) {
-        cli_warn("%s: %s; the manifest leaves out the colour's dE2000", o->model_name, hv_last_error());
-        return;
-    }
-    sk->model = model;
-    o->manifest = hv_colour_manifest_hook;
-    o->manifest_user = sk;
+    hv_status s = hv_layers_colour_hook(o, model, sk);
+    if (s != HV_OK) cli_warn("%s: %s; the manifest leaves out the colour's dE2000", o->model_name, hv_last_error());
 }
 
 static void report_colour(const hv_colour_skin *sk)
@@ -213,47 +202,29 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
     hv_status s = cli_mesh_load_placed(o->model_name, &c->place, pp ? pp->build : NULL, mesh);
     if (s == HV_OK) s = hv_body_materials_apply(&c->materials, *mesh);
     if (s != HV_OK || o->mode == HV_LAYERS_MASK) return s;
-    int paint = !c->materials.n && (c->colour_depth > 0 || c->core || hv_colour_mesh_paints(*mesh));
+    hv_layers_mesh_options mo; /* the library's one rule: painted in its colours, or its bodies in their materials */
+    memset(&mo, 0, sizeof mo);
+    mo.materials = c->materials;
+    mo.voxel_size = c->voxel_size;
+    mo.colour_depth = c->colour_depth;
+    mo.core = c->core;
+    mo.colour = c->cmap;
     cli_progress bar;
     cli_progress_init(&bar, quiet);
     hv_progress prog = {cli_progress_fn, &bar};
-    hv_colour_map *map = NULL;
-    if (!paint) {
-        hv_layers_mesh_voxels v;
-        s = hv_layers_mesh_model(*mesh, o, c->voxel_size, &prog, model, &v);
-        if (s == HV_OK)
-            hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), each body in its material%s\n", v.size,
-                          (long long)v.dims[0], (long long)v.dims[1], (long long)v.dims[2],
-                          v.coarsened ? " (coarsened to fit the memory budget)" : "");
-    } else { /* a mesh in its colours (issue 29): painted as a tray paints its mesh parts */
-        hv_voxelize_options vo;
-        hv_voxelize_options_init(&vo);
-        vo.max_memory = o->max_memory;
-        double pitch = HV_MAX(HV_MAX(25.4 / o->dpi[0], 25.4 / o->dpi[1]), o->layer_height);
-        double depth = c->colour_depth > 0 ? c->colour_depth : HV_COLOUR_DEPTH_DEFAULT;
-        hv_voxel_plan plan;
-        if (c->voxel_size > 0) {
-            vo.voxel_size[0] = vo.voxel_size[1] = vo.voxel_size[2] = c->voxel_size;
-            s = hv_voxelize_plan(*mesh, &vo, &plan);
-        } else {
-            s = hv_colour_mesh_voxels(*mesh, pitch, depth, hv_memory_budget(o->max_memory) / 2, &vo, &plan);
-            pitch = HV_MAX(pitch, depth / 2);
-        }
-        if (s == HV_OK) {
-            hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), painted in its colours %.6g mm deep over %s%s\n",
-                          vo.voxel_size[0], (long long)plan.dims[0], (long long)plan.dims[1], (long long)plan.dims[2],
-                          depth, c->core ? c->core : "the white resin",
-                          c->voxel_size > 0 || vo.voxel_size[0] <= pitch ? "" : " (coarsened to fit the memory budget)");
-            vo.progress = &prog;
-            s = hv_colour_map_create(&c->cmap, &map);
-            if (s == HV_OK) s = hv_colour_mesh_model(*mesh, &vo, map, depth, c->core, model);
-        }
-    }
+    hv_layers_mesh_voxels v;
+    s = hv_layers_mesh_model(*mesh, o, &mo, &prog, model, &v);
     cli_progress_done(&bar);
-    hv_colour_map_destroy(map);
+    if (s != HV_OK) return s;
+    hv_buf_printf(said, "voxels      %.6g mm (%lld x %lld x %lld), ", v.size, (long long)v.dims[0],
+                  (long long)v.dims[1], (long long)v.dims[2]);
+    if (v.painted)
+        hv_buf_printf(said, "painted in its colours %.6g mm deep over %s", v.depth, c->core ? c->core : "the white resin");
+    else hv_buf_printf(said, "each body in its material");
+    hv_buf_printf(said, "%s\n", v.coarsened ? " (coarsened to fit the memory budget)" : "");
     char note[512];
-    if (s == HV_OK && paint && hv_colour_paint_note(*model, note, sizeof note)) hv_buf_printf(said, "slots       %s\n", note);
-    return s;
+    if (v.painted && hv_colour_paint_note(*model, note, sizeof note)) hv_buf_printf(said, "slots       %s\n", note);
+    return HV_OK;
 }
 
 /* A scan printed straight from its data (issue 30 item 4): no model, the shape and the table's

@@ -224,6 +224,24 @@ static void print_parts(const hv_tray *t)
     }
 }
 
+/* Each coloured part's dE2000 (issue 29), as `layers` prints a painted model's: a painted part's
+ * skin, a scan's colour table over the values it printed (its copies together). */
+static void print_colour(const hv_tray *t)
+{
+    for (int i = 0; i < hv_tray_instance_count(t); ++i) {
+        hv_tray_colour c;
+        if (!hv_tray_instance_colour(t, i, &c)) continue;
+        hv_tray_placement p;
+        hv_tray_instance_get(t, i, &p);
+        char copy[48] = "";
+        if (p.copies > 1) snprintf(copy, sizeof copy, " copy %d of %d", p.copy, p.copies);
+        printf("colour      part %d (%s%s): mean dE2000 %.2f achieved, %.2f target (max %.2f) over %llu %s voxels; "
+               "%s, intent %s\n", p.part, p.name, copy, c.achieved.mean_de2000, c.target.mean_de2000,
+               c.target.max_de2000, (unsigned long long)c.target.voxels, c.printer_voxels ? "printer" : "skin",
+               c.description, hv_intent_name(c.intent));
+    }
+}
+
 static int run(const cli_args *args, void *lib, void *local)
 {
     hv_tray_options *o = lib;
@@ -321,6 +339,7 @@ static int run(const cli_args *args, void *lib, void *local)
             free(ranges);
             free(share);
         }
+        if (!o->dry_run && o->mode == HV_LAYERS_HALFTONE) print_colour(t);
         if (!o->dry_run)
             printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
                    (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",

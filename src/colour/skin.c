@@ -190,6 +190,26 @@ hv_status hv_colour_manifest_hook(void *user, void *manifest)
     return s;
 }
 
+hv_status hv_colour_skin_manifest(hv_colour_skin *sk, int m, const char *const *names, const double *target,
+                                  const double *achieved, void **out)
+{
+    *out = NULL;
+    double scale[HV_COLOUR_SLOTS];
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        scale[k] = 1;
+        for (int j = 0; j < m && achieved; ++j)
+            if (strcmp(names[j], hv_colour_map_resin(sk->map, k)) == 0 && target[j] > 0) scale[k] = achieved[j] / target[j];
+    }
+    json_t *c = NULL;
+    hv_status s = skin_json(sk, achieved ? scale : NULL, &c);
+    char note[512];
+    if (s == HV_OK && sk->model && hv_colour_paint_note(sk->model, note, sizeof note) &&
+        hv_json_set(c, "gives_way", hv_json_text(note)))
+        s = hv_error_set(HV_ERR_NOMEM, "out of memory");
+    *out = c;
+    return s;
+}
+
 hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *const *names, const double *target,
                                   const double *achieved, void **out)
 {
@@ -199,19 +219,8 @@ hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *con
     memset(&sk, 0, sizeof sk);
     sk.model = model;
     hv_status s = hv_colour_map_for_model(model, &sk.map);
-    double scale[HV_COLOUR_SLOTS];
-    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
-        scale[k] = 1;
-        for (int j = 0; j < m && achieved && s == HV_OK; ++j)
-            if (strcmp(names[j], hv_colour_map_resin(sk.map, k)) == 0 && target[j] > 0) scale[k] = achieved[j] / target[j];
-    }
-    json_t *c = NULL;
-    if (s == HV_OK) s = skin_json(&sk, achieved ? scale : NULL, &c);
-    char note[512];
-    if (s == HV_OK && hv_colour_paint_note(model, note, sizeof note) && hv_json_set(c, "gives_way", hv_json_text(note)))
-        s = hv_error_set(HV_ERR_NOMEM, "out of memory");
+    if (s == HV_OK) s = hv_colour_skin_manifest(&sk, m, names, target, achieved, out);
     hv_colour_map_destroy(sk.map);
-    *out = c;
     return s;
 }
 

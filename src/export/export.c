@@ -255,6 +255,9 @@ static hv_status build_colour_props(ex_model *md, size_t *cap)
         if (g[c] < 0 || hv_volume_grid_type(md->vol, g[c]) != HV_GRID_FLOAT) return HV_OK;
     }
     if (mask < 0) return HV_OK;
+    md->painted = hv_volume_grid_type(md->vol, mask) == HV_GRID_FLOAT;
+    memcpy(md->colour, g, sizeof g);
+    md->colour[3] = mask;
     for (int c = 0; c < 3; ++c) {
         int named = 0;
         for (int q = 0; q < md->nprops && !named; ++q) named = strcmp(md->props[q].name, k_rgb[c]) == 0;
@@ -263,6 +266,7 @@ static hv_status build_colour_props(ex_model *md, size_t *cap)
         memset(&p, 0, sizeof p);
         p.kind = EX_GRID;
         p.grid = g[c];
+        p.colour = 1;
         snprintf(p.name, sizeof p.name, "%s", k_rgb[c]);
         hv_status st = add_prop(md, cap, &p);
         if (st != HV_OK) return st;

@@ -17,6 +17,8 @@ typedef struct ex_prop {
     int mat;                     /* table: the material whose fraction is the variable */
     double scale;                /* table: factor to SI units */
     int grid;                    /* grid: the model's float grid */
+    int colour;                  /* 1: one of a painted model's colour.r, .g, .b, added for it
+                                    (a 3MF Volumetric package carries those as its <v:color>) */
     char name[200];
 } ex_prop;
 
@@ -34,6 +36,9 @@ typedef struct ex_model {
     size_t nleaves;
     uint64_t *occ;            /* 8 words per leaf: active, occupied and inside the box */
     uint64_t occupied;
+    /* a painted model (hovox/colour.h): its float grids colour.r, .g, .b (the sRGB asked for)
+     * and colour.mask (1 where a colour was asked for) */
+    int painted, colour[4];
     hv_buf notes;
 } ex_model;
 

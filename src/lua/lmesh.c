@@ -75,16 +75,24 @@ static int mesh_set_colour(lua_State *L)
     return 1;
 }
 
-/* mesh:layers{dir = "stack", materials = {BODY = "MATERIAL"}, voxel_size = MM, view = true, <the
+/* mesh:layers{dir = "stack", materials = {BODY = "MATERIAL"}, voxel_size = MM, colour_depth = MM,
+ *   core = RESIN|COLOUR, icc = FILE, intent = NAME, resins = "C,M,Y,K,W,CLEAR", view = true, <the
  *   options of `hovox layers`: profile, layer_height, mode, halftone, seed, layers = {first, last},
- *   max_memory, ...>} -> {width, height, layers, first, last, object_pixels, warnings}: the mesh
- *   printed in one step, its bodies in their materials, as `hovox layers PART.3mf -o DIR
- *   --material BODY=MATERIAL` prints it, the same bytes (hv_layers_write_mesh); warnings begin
- *   with the size warning (a mesh under 1 mm or larger than the printer, naming the likely unit) */
+ *   max_memory, ...>} -> {width, height, layers, first, last, object_pixels, warnings, colour =
+ *   {skin_voxels, mean_de2000_target, max_de2000_target, mean_de2000_achieved} when painted}: the
+ *   mesh printed in one step, its bodies in their materials or painted in its colours, as `hovox
+ *   layers PART.3mf -o DIR [--material BODY=MATERIAL | --colour-depth MM --core ...]` prints it,
+ *   the same bytes (hv_layers_write_mesh); warnings begin with the size warning (a mesh under 1 mm
+ *   or larger than the printer, naming the likely unit) */
 static int mesh_layers(lua_State *L)
 {
-    static const char *const own[] = {"dir", "view", "materials", "voxel_size", NULL};
-    const hv_option_set *ls = hv_layers_option_set();
+    const hv_option_set *ls = hv_layers_option_set(), *ms = hv_layers_mesh_option_set();
+    const char *own[40]; /* the step's keys, read by the second read */
+    int k = 0;
+    own[k++] = "dir";
+    own[k++] = "view";
+    for (int i = 0; i < ms->count && k < 39; ++i) own[k++] = ms->options[i].key;
+    own[k] = NULL;
     hv_lua_mesh(L, 1);
     hv_layers_options o;
     int holder = hv_lua_read(L, 2, ls, &o, own);
@@ -96,7 +104,7 @@ static int mesh_layers(lua_State *L)
     theirs[n++] = "view";
     theirs[n] = NULL;
     hv_layers_mesh_options mo;
-    hv_lua_read_options(L, 2, hv_layers_mesh_option_set(), &mo, theirs, holder);
+    hv_lua_read_options(L, 2, ms, &mo, theirs, holder);
     const char *dir = hv_lua_out_path(L, 2, "dir", holder, "the stack's directory");
     lua_getfield(L, 2, "view"); /* view = true: the stack's page, DIR/index.html (hovox view) */
     if (!lua_isnil(L, -1) && !lua_isboolean(L, -1)) return luaL_error(L, "view must be true or false");
@@ -105,9 +113,12 @@ static int mesh_layers(lua_State *L)
     hv_lua_check_paths(L, 2, ls, &o); /* gcvf: where it is used */
     hv_mesh *mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
-    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, hv_lua_progress(L), &rep);
+    hv_colour_skin skin;
+    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, hv_lua_progress(L), &rep, &skin);
+    int coloured = skin.map != NULL;
+    hv_colour_map_destroy(skin.map);
     if (s != HV_OK) return fail(L, s);
-    lua_createtable(L, 0, 7);
+    lua_createtable(L, 0, 8);
     const struct { const char *k; double v; } f[] = {{"width", rep.width}, {"height", rep.height},
                                                      {"layers", (double)rep.layers_total}, {"first", (double)rep.first},
                                                      {"last", (double)rep.last},
@@ -118,6 +129,20 @@ static int mesh_layers(lua_State *L)
     }
     lua_pushstring(L, rep.warnings);
     lua_setfield(L, -2, "warnings");
+    if (coloured) { /* the painted skin's dE2000, as the manifest's colour */
+        lua_createtable(L, 0, 4);
+        lua_pushinteger(L, (lua_Integer)skin.target.voxels);
+        lua_setfield(L, -2, "skin_voxels");
+        lua_pushnumber(L, skin.target.mean_de2000);
+        lua_setfield(L, -2, "mean_de2000_target");
+        lua_pushnumber(L, skin.target.max_de2000);
+        lua_setfield(L, -2, "max_de2000_target");
+        if (skin.has_achieved) {
+            lua_pushnumber(L, skin.achieved.mean_de2000);
+            lua_setfield(L, -2, "mean_de2000_achieved");
+        }
+        lua_setfield(L, -2, "colour");
+    }
     return 1;
 }
 

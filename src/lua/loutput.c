@@ -146,14 +146,7 @@ static int model_layers(lua_State *L)
     vol = hv_lua_model(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
     hv_colour_skin skin; /* a painted model: the skin's dE2000 in the manifest (hovox/colour.h) */
-    memset(&skin, 0, sizeof skin);
-    if (hv_colour_map_for_model(vol, &skin.map) == HV_OK) {
-        skin.model = vol;
-        o.manifest = hv_colour_manifest_hook;
-        o.manifest_user = &skin;
-    } else {
-        hv_error_clear();
-    }
+    if (hv_layers_colour_hook(&o, vol, &skin) != HV_OK) hv_error_clear();
     hv_status s = hv_layers_write(mesh, vol, dir, &o, hv_lua_progress(L), &rep);
     int coloured = skin.map != NULL;
     hv_colour_map_destroy(skin.map);

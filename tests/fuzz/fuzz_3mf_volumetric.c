@@ -3,8 +3,9 @@
  * fail cleanly or give a graded model whose fractions are finite and sum to 1 on every voxel, and
  * a mesh. An input that is not a ZIP archive is taken as the model part of a package that holds the
  * sheets of tests/data/good/volumetric_box.3mf (4 x 3 grey PNGs /3D/volumetric/{cyan,agilus}/
- * sheet000{1,2}.png), so the XML reader is fuzzed past the archive's checksums. Memory is capped
- * at 64 MiB per input, so a package that declares more is refused. */
+ * sheet000{1,2}.png), so the XML reader is fuzzed past the archive's checksums. A colour read
+ * (<v:color>) must be four grids of sRGB in [0, 1], the mask 0 or 1 and the colour 0 where it is
+ * 0. Memory is capped at 64 MiB per input, so a package that declares more is refused. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -104,6 +105,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if ((g[j] = hv_material_grid(v, t, j)) < 0) abort();
     int og = hv_volume_grid_find(v, "occupancy");
     if (og < 0) abort();
+    static const char *const colour[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    int cg[4];
+    for (int c = 0; c < 4; ++c) cg[c] = hv_volume_grid_find(v, colour[c]);
+    if ((cg[0] < 0) != (cg[3] < 0) || (cg[1] < 0) != (cg[3] < 0) || (cg[2] < 0) != (cg[3] < 0)) abort();
     for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
         for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
             if (!HV_BIT_GET(hv_volume_leaf_bool_c(v, og, l), n)) continue;
@@ -114,6 +119,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 sum += f;
             }
             if (fabs(sum - 1) > 1e-5) abort();
+            /* a colour read (<v:color>): sRGB in [0, 1], 0 where none was asked for, the mask 0 or 1 */
+            for (int c = 0; c < 4 && cg[3] >= 0; ++c) {
+                float x = hv_volume_leaf_float_c(v, cg[c], l)[n], mask = hv_volume_leaf_float_c(v, cg[3], l)[n];
+                if (!(x >= 0 && x <= 1) || (c == 3 && x != 0 && x != 1) || (mask == 0 && x != 0)) abort();
+            }
         }
     hv_material_table_destroy(t);
     hv_mesh_destroy(mesh);

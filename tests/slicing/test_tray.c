@@ -626,3 +626,61 @@ Test(tray, peak_rss_follows_the_plan_not_the_parts, .timeout = 300)
     snprintf(cmd, sizeof cmd, "diff -r '%s' '%s' >/dev/null", a, b);
     cr_expect_eq(t_run(cmd, NULL), 0, "1 and 8 threads wrote different stacks");
 }
+
+/* Issue 29 item 3: a painted part's dE2000, as its manifest entry's "colour" gives it, for the
+ * CLI's colour line (hv_tray_instance_colour); a plain part has none, nor has a mask stack written
+ * after. */
+Test(tray, a_painted_parts_colour_is_reported, .timeout = 120)
+{
+    FILE *f = fopen(t_tmpfile("red.mtl"), "w");
+    fputs("newmtl red\nKd 1 0 0\n", f);
+    fclose(f);
+    f = fopen(t_tmpfile("red.obj"), "w");
+    fputs("mtllib red.mtl\nv 0 0 0\nv 6 0 0\nv 0 6 0\nv 0 0 6\nusemtl red\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n", f);
+    fclose(f);
+    char model[4200], mesh[4200];
+    make_part(t_tmpdir(), model, mesh, sizeof model);
+    hv_tray *t = NULL;
+    cr_assert_eq(hv_tray_create(&t), HV_OK);
+    hv_tray_part p;
+    hv_tray_part_init(&p);
+    p.mesh = t_tmpfile("red.obj");
+    p.at[0] = 40;
+    p.at[1] = 40;
+    p.placed = 1;
+    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK, "%s", hv_last_error());
+    hv_tray_part_init(&p);
+    p.mesh = mesh;
+    p.material = "VeroPureWhite";
+    p.at[0] = 80;
+    p.at[1] = 40;
+    p.placed = 1;
+    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK, "%s", hv_last_error());
+    hv_tray_options o;
+    hv_tray_options_init(&o);
+    o.cache_dir = t_tmpfile("bncache");
+    o.first = 40;
+    o.last = 42;
+    hv_tray_colour c;
+    cr_assert_eq(hv_tray_instance_colour(t, 0, &c), 0); /* not written yet */
+    const char *dir = t_tmpfile("painted_tray");
+    cr_assert_eq(hv_tray_write(t, dir, &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_tray_instance_colour(t, 0, &c), 1);
+    json_t *m = manifest(dir);
+    json_t *col = json_object_get(json_array_get(json_object_get(m, "parts"), 0), "colour");
+    cr_assert(col);
+    cr_assert_eq((json_int_t)c.target.voxels, json_integer_value(json_object_get(col, "skin_voxels")));
+    cr_assert_float_eq(c.target.mean_de2000, json_number_value(json_object_get(col, "mean_de2000_target")), 1e-12);
+    cr_assert_float_eq(c.achieved.mean_de2000, json_number_value(json_object_get(col, "mean_de2000_achieved")), 1e-12);
+    cr_assert(c.target.voxels > 0 && c.target.mean_de2000 > 15 && !c.printer_voxels && c.intent == HV_INTENT_PERCEPTUAL);
+    cr_assert_str_eq(c.description, "Artifex CMYK SWOP Profile");
+    cr_assert_null(json_object_get(json_array_get(json_object_get(m, "parts"), 1), "colour"));
+    json_decref(m);
+    cr_assert_eq(hv_tray_instance_colour(t, 1, &c), 0);
+    cr_assert_eq(hv_tray_instance_colour(t, 2, &c), 0);
+    /* a mask written after: no colour, none reported */
+    o.mode = HV_LAYERS_MASK;
+    cr_assert_eq(hv_tray_write(t, t_tmpfile("painted_mask"), &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_tray_instance_colour(t, 0, &c), 0);
+    hv_tray_destroy(t);
+}

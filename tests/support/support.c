@@ -1,5 +1,6 @@
 /* tests/support/support.c - see support.h. */
 #include <png.h>
+#include <zip.h>
 #include <zlib.h>
 #include <criterion/criterion.h>
 
@@ -228,4 +229,16 @@ size_t t_png_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n
     b[8 + n] = (uint8_t)(crc >> 24), b[9 + n] = (uint8_t)(crc >> 16), b[10 + n] = (uint8_t)(crc >> 8),
     b[11 + n] = (uint8_t)crc;
     return 12 + n;
+}
+
+void t_zip_write(const char *path, const char *const *names, const void *const *data, const size_t *sizes, int n)
+{
+    int err = 0;
+    zip_t *za = zip_open(path, ZIP_CREATE | ZIP_TRUNCATE, &err);
+    cr_assert_not_null(za, "%s: cannot make a zip (%d)", path, err);
+    for (int i = 0; i < n; ++i) {
+        zip_source_t *src = zip_source_buffer(za, data[i], sizes[i], 0);
+        cr_assert(src && zip_file_add(za, names[i], src, ZIP_FL_OVERWRITE) >= 0, "%s: %s", path, names[i]);
+    }
+    cr_assert_eq(zip_close(za), 0, "%s", path);
 }

@@ -49,4 +49,7 @@ void t_pack_rows(const uint8_t *px, int w, int h, int depth, uint8_t *rows, size
  * that build damaged PNGs by hand. */
 size_t t_png_chunk(uint8_t *b, const char *type, const uint8_t *data, uint32_t n);
 
+/* A ZIP archive at path holding n entries (name, data, size), as a hand-made 3MF package; asserts. */
+void t_zip_write(const char *path, const char *const *names, const void *const *data, const size_t *sizes, int n);
+
 #endif

@@ -4,6 +4,8 @@
 #ifndef HOVOX_THREEMF_INTERNAL_H
 #define HOVOX_THREEMF_INTERNAL_H
 
+#include <math.h>
+
 #include "core/internal.h"
 #include "hovox/threemf.h"
 #include "hovox/volume.h"
@@ -28,6 +30,12 @@
 #define TMF_CT_MODEL "application/vnd.ms-package.3dmanufacturing-3dmodel+xml"
 #define TMF_CT_RELATIONSHIPS "application/vnd.openxmlformats-package.relationships+xml"
 #define TMF_CT_PNG "image/png"
+
+/* sRGB's transfer function and its inverse (IEC 61966-2-1, as 3MF Materials 1.2 section 1.2
+ * gives them), for c in [0, 1]: a <v:color> is linear sRGB (Volumetric 5.2.1), while a painted
+ * model's colour grids hold the sRGB asked for. */
+static inline double tmf_srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
+static inline double tmf_linear_to_srgb(double c) { return c <= 0.0031308 ? c * 12.92 : 1.055 * pow(c, 1 / 2.4) - 0.055; }
 
 /* libxml2 reports some errors (encodings, I/O) through its generic handler, which prints to
  * stderr: the library never prints, so readers and writers run between these two calls (the

@@ -3,7 +3,9 @@
  * model part streamed through the 3MF package module (package.c; hostile input: every count bounded by the
  * memory budget before it grows, every id and reference checked), the object's mesh voxelized on the
  * lattice of the image stacks by src/voxel's centre test, the materials' fractions sampled from
- * the PNG sheets (hv_png_decode) and normalised as the composite element prescribes (spec 5.2.2). */
+ * the PNG sheets (hv_png_decode) and normalised as the composite element prescribes (spec 5.2.2),
+ * a color element's function sampled anywhere (spec 2.2: filter, tile styles; 5.2.1: linear sRGB)
+ * into the colour grids a painted model holds. */
 #include <errno.h>
 #include <libxml/xmlmemory.h>
 #include <libxml/xmlstring.h>
@@ -14,6 +16,8 @@
 #include <sys/stat.h>
 #include <zip.h>
 
+#include "core/json.h"
+#include "hovox/colour.h"
 #include "hovox/export.h"
 #include "hovox/image.h"
 #include "hovox/material.h"
@@ -46,7 +50,7 @@ typedef struct img3d {
     char *name;
     uint64_t rows, cols, sheets;
     char **paths;
-    int *lines;         /* of each imagesheet */
+    int *lines;         /* of each imagesheet: its line and column */
     size_t npaths, cap;
     int channels, bits; /* of the first sheet decoded */
 } img3d;
@@ -57,6 +61,7 @@ typedef struct func {
     int line, kind;
     double offset, scale;
     int tile[3]; /* 0 wrap, 1 mirror, 2 clamp */
+    int nearest; /* filter: 1 nearest, 0 linear */
     char elem[64];
 } func;
 
@@ -66,9 +71,19 @@ typedef struct mapping {
     double t[12];
 } mapping;
 
+/* A <v:color>, or the <v:property> hovox:colour.mask hovox writes beside it (where a colour was
+ * asked for): the function, its output and the transform to it, where it was read. */
+typedef struct fieldref {
+    int present, line, col;
+    uint32_t functionid;
+    char channel[48];
+    double t[12];
+} fieldref;
+
 typedef struct voldata {
     uint32_t id, basematerialid;
     int line, composites, composite_line;
+    fieldref colour, mask;
     mapping *maps;
     int nmaps;
     size_t cap;
@@ -104,10 +119,12 @@ typedef struct rd {
     const tmf_attr *attrs;
     int nattrs, depth;
     int stack[MAX_DEPTH + 1]; /* kinds of the open elements */
-    int meta, meta_line;      /* hovox metadata being read: 1 materials, 2 origin */
+    int meta, meta_line, meta_col; /* hovox metadata being read: 1 materials, 2 origin, 3 colour */
+    int colour_at[2];              /* the line and column of hovox:colour */
     /* model */
     double unit;
     char *materials_json;
+    char *colour_json;        /* hovox:colour, a painted model's record (hovox.colour.json) */
     double origin_meta[3];
     int has_origin;
     /* resources */
@@ -141,6 +158,19 @@ static int line_of(rd *r)
     int line = 0, col = 0;
     if (r->x) tmf_xml_where(r->x, &line, &col);
     return line;
+}
+
+/* "part.3mf: 3D/3dmodel.model: line 12, column 7: <elem> ...", for a place recorded while the
+ * element was read. */
+static hv_status bad_at_col(rd *r, hv_status code, int line, int col, const char *fmt, ...) HV_PRINTF(5, 6);
+static hv_status bad_at_col(rd *r, hv_status code, int line, int col, const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return hv_error_set(code, "%s: %s: line %d, column %d: %s", r->name, r->part, line, col, msg);
 }
 
 /* "part.3mf: 3D/3dmodel.model: line 12: <elem> ..." */
@@ -429,8 +459,11 @@ static hv_status on_metadata(rd *r)
         *colon = '\0';
         const char *ns = tmf_xml_lookup_ns(r->x, name);
         if (ns && strcmp(ns, TMF_NS_HOVOX) == 0) {
-            r->meta = strcmp(colon + 1, "materials") == 0 ? 1 : strcmp(colon + 1, "origin") == 0 ? 2 : 0;
-            r->meta_line = line_of(r);
+            r->meta = strcmp(colon + 1, "materials") == 0 ? 1
+                      : strcmp(colon + 1, "origin") == 0  ? 2
+                      : strcmp(colon + 1, "colour") == 0  ? 3
+                                                          : 0;
+            tmf_xml_where(r->x, &r->meta_line, &r->meta_col);
         }
     }
     xmlFree(name);
@@ -443,10 +476,15 @@ static hv_status end_metadata(rd *r)
     const char *text = tmf_xml_text(r->x);
     int meta = r->meta;
     r->meta = 0;
-    if (meta == 1) {
-        free(r->materials_json);
-        r->materials_json = hv_strdup(text);
-        return r->materials_json ? HV_OK : HV_ERR_NOMEM;
+    if (meta == 1 || meta == 3) {
+        char **dst = meta == 1 ? &r->materials_json : &r->colour_json;
+        if (meta == 3) {
+            r->colour_at[0] = r->meta_line;
+            r->colour_at[1] = r->meta_col;
+        }
+        free(*dst);
+        *dst = hv_strdup(text);
+        return *dst ? HV_OK : HV_ERR_NOMEM;
     }
     if (meta == 2) {
         double o[3];
@@ -686,9 +724,9 @@ static hv_status on_imagesheet(rd *r)
     if (path[0] != '/' || !path[1] || strlen(path) > 1024)
         s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> path '%.60s' is not an absolute part name", elem_name(r), path);
     size_t lcap = im->cap;
-    if (s == HV_OK) s = grow(r, (void **)&im->lines, &lcap, im->npaths + 1, sizeof *im->lines, "image sheets");
+    if (s == HV_OK) s = grow(r, (void **)&im->lines, &lcap, im->npaths + 1, 2 * sizeof *im->lines, "image sheets");
     if (s == HV_OK) s = grow(r, (void **)&im->paths, &im->cap, im->npaths + 1, sizeof *im->paths, "image sheets");
-    if (s == HV_OK) im->lines[im->npaths] = line_of(r);
+    if (s == HV_OK) tmf_xml_where(r->x, &im->lines[2 * im->npaths], &im->lines[2 * im->npaths + 1]);
     if (s == HV_OK) s = charge(r, strlen(path), "image sheets");
     if (s == HV_OK) {
         im->paths[im->npaths] = hv_strdup(path + 1);
@@ -735,6 +773,7 @@ static hv_status on_funcimg(rd *r)
     char *filter = s == HV_OK ? get_attr(r, "filter") : NULL;
     if (filter && strcmp(filter, "linear") != 0 && strcmp(filter, "nearest") != 0)
         s = bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<%s> filter '%.40s' is not linear or nearest", elem_name(r), filter);
+    if (s == HV_OK) f->nearest = filter && strcmp(filter, "nearest") == 0;
     xmlFree(filter);
     return s;
 }
@@ -790,30 +829,52 @@ static hv_status on_matmap(rd *r)
     return s;
 }
 
+/* A <v:color> or the hovox:colour.mask <v:property>: its function, output and transform, and
+ * where it stands (the function is checked once all resources are read). */
+static hv_status field_ref(rd *r, const char *what, fieldref *f)
+{
+    voldata *v = &r->vols[r->nvols - 1];
+    if (f->present)
+        return bad_at(r, HV_ERR_BAD_INPUT, line_of(r), "<v:volumedata> id %u has more than one %s", v->id, what);
+    f->present = 1;
+    tmf_xml_where(r->x, &f->line, &f->col);
+    hv_status s = id_attr(r, "functionid", 1, &f->functionid, NULL);
+    char *ch = NULL;
+    if (s == HV_OK) s = need_attr(r, "channel", &ch);
+    if (s == HV_OK) snprintf(f->channel, sizeof f->channel, "%s", ch);
+    xmlFree(ch);
+    double x;
+    if (s == HV_OK) s = matrix_attr(r, "transform", f->t, NULL);
+    if (s == HV_OK) s = number_attr(r, "minfeaturesize", 0.0, &x);
+    if (s == HV_OK) s = number_attr(r, "fallbackvalue", 0.0, &x);
+    return s;
+}
+
 static hv_status on_property(rd *r)
 {
     voldata *v = &r->vols[r->nvols - 1];
     char *req = get_attr(r, "required"), *name = get_attr(r, "name");
-    if (req && (strcmp(req, "true") == 0 || strcmp(req, "1") == 0) && !v->refuse_line) {
-        /* hovox's own properties are derived from the fractions; another's is a requirement hovox
-         * cannot meet */
-        int ours = 0;
-        char *colon = name ? strchr(name, ':') : NULL;
-        if (colon) {
-            *colon = '\0';
-            const char *ns = tmf_xml_lookup_ns(r->x, name);
-            ours = ns && strcmp(ns, TMF_NS_HOVOX) == 0;
-            *colon = ':';
-        }
-        if (!ours) {
-            v->refuse_line = line_of(r);
-            snprintf(v->refuse, sizeof v->refuse, "<v:property> '%.100s' is required, and hovox does not read "
-                     "properties", name ? name : "?");
-        }
+    /* hovox's own (urn:hovox:3mf:2025): the colour mask, and properties derived from the fractions */
+    int ours = 0;
+    char *colon = name ? strchr(name, ':') : NULL;
+    if (colon) {
+        *colon = '\0';
+        const char *ns = tmf_xml_lookup_ns(r->x, name);
+        ours = ns && strcmp(ns, TMF_NS_HOVOX) == 0;
+        *colon = ':';
+    }
+    hv_status s = HV_OK;
+    if (ours && strcmp(colon + 1, "colour.mask") == 0) {
+        s = field_ref(r, "hovox:colour.mask", &v->mask);
+    } else if (!ours && req && (strcmp(req, "true") == 0 || strcmp(req, "1") == 0) && !v->refuse_line) {
+        /* another's required property is a requirement hovox cannot meet */
+        v->refuse_line = line_of(r);
+        snprintf(v->refuse, sizeof v->refuse, "<v:property> '%.100s' is required, and hovox does not read "
+                 "properties", name ? name : "?");
     }
     xmlFree(req);
     xmlFree(name);
-    return HV_OK;
+    return s;
 }
 
 /* ---- reading the model part ----------------------------------------------------------------------------- */
@@ -905,6 +966,8 @@ static hv_status on_element(rd *r, kind k, kind parent, int depth, kind *self)
             *self = k;
         } else if (k == K_PROPERTY) {
             s = on_property(r);
+        } else if (k == K_COLOR) {
+            s = field_ref(r, "<v:color>", &r->vols[r->nvols - 1].colour);
         }
         break;
     case K_COMPOSITE:
@@ -1150,17 +1213,18 @@ static hv_status load_sheet(rd *r, img3d *im, sheet_cache *c, int64_t sheet)
     hv_status s = read_entry(r, part, &data, &size);
     if (s != HV_OK) return s;
     char label[1300];
-    snprintf(label, sizeof label, "%s: %s: line %d: <v:imagesheet> /%s", r->name, r->part, im->lines[sheet], part);
+    const int *at = im->lines + 2 * sheet;
+    snprintf(label, sizeof label, "%s: %s: line %d, column %d: <v:imagesheet> /%s", r->name, r->part, at[0], at[1], part);
     s = hv_png_decode(data, size, label, (uint64_t)im->rows * im->cols * 4, &c->px);
     free(data);
     if (s == HV_ERR_LIMIT || (s == HV_OK && ((uint64_t)c->px.width != im->cols || (uint64_t)c->px.height != im->rows))) {
         uint64_t w = s == HV_OK ? (uint64_t)c->px.width : 0, h = s == HV_OK ? (uint64_t)c->px.height : 0;
         hv_png_pixels_free(&c->px);
         if (s == HV_OK)
-            return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s is %llu x %llu pixels; its "
+            return bad_at_col(r, HV_ERR_BAD_INPUT, at[0], at[1], "<v:imagesheet> /%s is %llu x %llu pixels; its "
                           "<v:imagestack> has %llu columns and %llu rows", part, (unsigned long long)w,
                           (unsigned long long)h, (unsigned long long)im->cols, (unsigned long long)im->rows);
-        return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s is larger than its <v:imagestack> of "
+        return bad_at_col(r, HV_ERR_BAD_INPUT, at[0], at[1], "<v:imagesheet> /%s is larger than its <v:imagestack> of "
                       "%llu x %llu", part, (unsigned long long)im->cols, (unsigned long long)im->rows);
     }
     if (s != HV_OK) return s;
@@ -1169,7 +1233,7 @@ static hv_status load_sheet(rd *r, img3d *im, sheet_cache *c, int64_t sheet)
         im->bits = c->px.bit_depth;
     } else if (im->channels != c->px.channels || im->bits != c->px.bit_depth) {
         hv_png_pixels_free(&c->px);
-        return bad_at(r, HV_ERR_BAD_INPUT, im->lines[sheet], "<v:imagesheet> /%s differs in pixel layout from the "
+        return bad_at_col(r, HV_ERR_BAD_INPUT, at[0], at[1], "<v:imagesheet> /%s differs in pixel layout from the "
                       "sheets before it in its stack", part);
     }
     c->sheet = sheet;
@@ -1209,7 +1273,11 @@ typedef struct used {
     const bgroup *bg;
     const func *f[HV_MAX_MATERIALS];
     img3d *im[HV_MAX_MATERIALS];
-    double shift[3]; /* the build item's translation */
+    const func *cf, *mf; /* the colour's function and the colour mask's (NULL: none) */
+    img3d *cim, *mim;
+    int mask_channel;    /* the mask's output: 0 red, 1 green, 2 blue, 3 alpha */
+    int lattice_line;    /* the element whose transform gives the lattice */
+    double shift[3];     /* the build item's translation */
 } used;
 
 /* The fractions of the voxels of leaf l at height z, from the decoded sheets. */
@@ -1259,6 +1327,71 @@ static int cmp_resid(const void *a, const void *b)
 
 static int near_zero(double v, double scale) { return fabs(v) <= 1e-12 * scale; }
 
+static const char *const k_scalars[4] = {"red", "green", "blue", "alpha"};
+
+/* The function a <v:color> (vector: its output must be color) or the colour mask (a scalar output)
+ * names, and its image stack, every sheet in the package: *ch the scalar's channel. */
+static hv_status resolve_field(rd *r, const fieldref *fr, const char *elem, int vector, const func **fo, img3d **io,
+                               int *ch)
+{
+    const func *f = find_res(r->funcs, r->nfuncs, sizeof *r->funcs, fr->functionid);
+    if (!f) return bad_at_col(r, HV_ERR_BAD_INPUT, fr->line, fr->col, "%s functionid %u names no function", elem, fr->functionid);
+    if (f->kind != F_IMAGE)
+        return bad_at_col(r, HV_ERR_UNSUPPORTED, fr->line, fr->col, "%s functionid %u is a <%s> (line %d): only "
+                          "functionfromimage3d is supported", elem, fr->functionid, f->elem, f->line);
+    *ch = -1;
+    for (int c = 0; c < 4 && !vector; ++c)
+        if (strcmp(fr->channel, k_scalars[c]) == 0) *ch = c;
+    if (vector ? strcmp(fr->channel, "color") != 0 : *ch < 0)
+        return bad_at_col(r, HV_ERR_BAD_INPUT, fr->line, fr->col, "%s channel '%s' is not a %s output of the "
+                          "<v:functionfromimage3d> on line %d (%s)", elem, fr->channel, vector ? "vector" : "scalar",
+                          f->line, vector ? "color; red, green, blue and alpha are scalars" : "red, green, blue or alpha");
+    img3d *im = (img3d *)find_res(r->images, r->nimages, sizeof *r->images, f->image3did);
+    if (!im) return bad_at(r, HV_ERR_BAD_INPUT, f->line, "<%s> image3did %u names no <v:image3d>", f->elem, f->image3did);
+    if (!im->has_stack)
+        return bad_at(r, HV_ERR_UNSUPPORTED, im->line, "<v:image3d> %u has no <v:imagestack> (other image kinds are "
+                      "not supported)", im->id);
+    for (size_t k = 0; k < im->npaths; ++k)
+        if (!tmf_pkg_has(r->pk, im->paths[k]))
+            return bad_at_col(r, HV_ERR_BAD_INPUT, im->lines[2 * k], im->lines[2 * k + 1],
+                              "<v:imagesheet> /%s is missing from the package", im->paths[k]);
+    *fo = f;
+    *io = im;
+    return HV_OK;
+}
+
+/* A transform hovox can take a lattice from: an axis-aligned scale with positive diagonal and a
+ * translation. */
+static int axis_aligned(const double *t)
+{
+    double big = 0;
+    for (int k = 0; k < 12; ++k) big = HV_MAX(big, fabs(t[k]));
+    return t[0] > 0 && t[4] > 0 && t[8] > 0 && near_zero(t[1], big) && near_zero(t[2], big) && near_zero(t[3], big) &&
+           near_zero(t[5], big) && near_zero(t[6], big) && near_zero(t[7], big);
+}
+
+/* Volume data with a colour and no composite (another producer's colour): the colour's stack gives
+ * the lattice, and the model is printed in the six colour resins (colour_resins). */
+static hv_status resolve_colour_alone(rd *r, used *u, lattice *lat)
+{
+    const voldata *vd = u->vd;
+    int ch;
+    hv_status s = resolve_field(r, &vd->colour, "<v:color>", 1, &u->cf, &u->cim, &ch);
+    if (s == HV_OK && vd->mask.present)
+        s = resolve_field(r, &vd->mask, "<v:property> hovox:colour.mask", 0, &u->mf, &u->mim, &u->mask_channel);
+    if (s != HV_OK) return s;
+    if (!axis_aligned(vd->colour.t))
+        return bad_at_col(r, HV_ERR_UNSUPPORTED, vd->colour.line, vd->colour.col, "<v:color> transform is not an "
+                          "axis-aligned scale and translation: without a <v:composite> the colour's stack gives the "
+                          "voxels, and rotations, shears and mirrors are not supported");
+    memcpy(lat->t, vd->colour.t, sizeof lat->t);
+    lat->n[0] = u->cim->cols;
+    lat->n[1] = u->cim->rows;
+    lat->n[2] = u->cim->sheets;
+    u->lattice_line = vd->colour.line;
+    return HV_OK;
+}
+
 static hv_status resolve(rd *r, used *u, lattice *lat)
 {
     memset(u, 0, sizeof *u);
@@ -1299,9 +1432,11 @@ static hv_status resolve(rd *r, used *u, lattice *lat)
         return bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh> volumeid %u names no <v:volumedata>", o->volumeid);
     const voldata *vd = u->vd;
     if (vd->refuse_line) return bad_at(r, HV_ERR_UNSUPPORTED, vd->refuse_line, "%s", vd->refuse);
+    if (!vd->composites && vd->colour.present) return resolve_colour_alone(r, u, lat);
     if (!vd->composites)
-        return bad_at(r, HV_ERR_UNSUPPORTED, vd->line, "<v:volumedata> %u has no <v:composite>: hovox reads material "
-                      "compositions", vd->id);
+        return bad_at(r, HV_ERR_UNSUPPORTED, vd->line, "<v:volumedata> %u has no <v:composite> and no <v:color>: hovox "
+                      "reads material compositions and colours", vd->id);
+    u->lattice_line = vd->maps ? vd->maps[0].line : vd->line;
     u->bg = find_res(r->groups, r->ngroups, sizeof *r->groups, vd->basematerialid);
     if (!u->bg)
         return bad_at(r, HV_ERR_BAD_INPUT, vd->composite_line, "<v:composite> basematerialid %u names no "
@@ -1325,10 +1460,7 @@ static hv_status resolve(rd *r, used *u, lattice *lat)
         u->im[j] = im;
         /* the transform: an axis-aligned scale with positive diagonal, and a translation */
         const double *t = m->t;
-        double big = 0;
-        for (int k = 0; k < 12; ++k) big = HV_MAX(big, fabs(t[k]));
-        if (!(t[0] > 0 && t[4] > 0 && t[8] > 0) || !near_zero(t[1], big) || !near_zero(t[2], big) ||
-            !near_zero(t[3], big) || !near_zero(t[5], big) || !near_zero(t[6], big) || !near_zero(t[7], big))
+        if (!axis_aligned(t))
             return bad_at(r, HV_ERR_UNSUPPORTED, m->line, "<v:materialmapping> transform is not an axis-aligned scale "
                           "and translation (rotations, shears and mirrors are not supported)");
         uint64_t n[3] = {im->cols, im->rows, im->sheets};
@@ -1350,9 +1482,15 @@ static hv_status resolve(rd *r, used *u, lattice *lat)
     for (int j = 0; j < vd->nmaps; ++j)
         for (size_t k = 0; k < u->im[j]->npaths; ++k)
             if (!tmf_pkg_has(r->pk, u->im[j]->paths[k]))
-                return bad_at(r, HV_ERR_BAD_INPUT, u->im[j]->lines[k], "<v:imagesheet> /%s is missing from the package",
-                              u->im[j]->paths[k]);
-    return HV_OK;
+                return bad_at_col(r, HV_ERR_BAD_INPUT, u->im[j]->lines[2 * k], u->im[j]->lines[2 * k + 1],
+                                  "<v:imagesheet> /%s is missing from the package", u->im[j]->paths[k]);
+    /* the colour, and where it was asked for (a mask without a colour means nothing) */
+    int ch;
+    hv_status s = HV_OK;
+    if (vd->colour.present) s = resolve_field(r, &vd->colour, "<v:color>", 1, &u->cf, &u->cim, &ch);
+    if (s == HV_OK && vd->colour.present && vd->mask.present)
+        s = resolve_field(r, &vd->mask, "<v:property> hovox:colour.mask", 0, &u->mf, &u->mim, &u->mask_channel);
+    return s;
 }
 
 /* Material names hovox accepts: [A-Za-z0-9_-], 1-64 bytes, unique. */
@@ -1418,8 +1556,8 @@ static hv_status lattice_transform(rd *r, const used *u, const lattice *lat, hv_
         double c0 = (-t[9 + a] / t[4 * a] + 0.5 * L + u->shift[a]) * r->unit; /* centre of s = 0, mm */
         xf->voxel[a] = L * r->unit;
         if (!(xf->voxel[a] > 0 && isfinite(xf->voxel[a]) && isfinite(c0)))
-            return bad_at(r, HV_ERR_BAD_INPUT, u->vd->maps[0].line,
-                          "<v:materialmapping> transform gives voxels of %g mm", xf->voxel[a]);
+            return bad_at(r, HV_ERR_BAD_INPUT, u->lattice_line, "<%s> transform gives voxels of %g mm",
+                          u->bg ? "v:materialmapping" : "v:color", xf->voxel[a]);
         double k = r->has_origin ? floor((c0 - r->origin_meta[a]) / xf->voxel[a] + 0.5) : floor(c0 / xf->voxel[a]);
         if (r->has_origin && fabs((c0 - r->origin_meta[a]) / xf->voxel[a] - k) > 1e-6) k = floor(c0 / xf->voxel[a]);
         if (!(fabs(k) < 1e9)) k = 0;
@@ -1447,10 +1585,162 @@ static hv_status object_mesh(rd *r, const used *u, hv_mesh **mesh)
     return s;
 }
 
-static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume **vol, hv_mesh **mesh)
+/* ---- the colour ----------------------------------------------------------------------------------------- */
+
+/* A function sampled anywhere (spec 2.2): its stack's decoded sheets kept in a few slots, the
+ * least recently used one decoded again. */
+enum { SAMPLER_SLOTS = 4 };
+typedef struct sampler {
+    const func *f;
+    img3d *im;
+    const double *t; /* object -> the function's UVW (the element's transform) */
+    sheet_cache slot[SAMPLER_SLOTS];
+    uint64_t last[SAMPLER_SLOTS], tick;
+} sampler;
+
+static hv_status sampler_init(rd *r, sampler *sp, const func *f, img3d *im, const double *t)
+{
+    memset(sp, 0, sizeof *sp);
+    sp->f = f;
+    sp->im = im;
+    sp->t = t;
+    for (int i = 0; i < SAMPLER_SLOTS; ++i) sp->slot[i].sheet = -1;
+    return charge(r, (uint64_t)SAMPLER_SLOTS * im->rows * im->cols * 4 * sizeof(uint16_t), "image sheets");
+}
+
+static void sampler_free(sampler *sp)
+{
+    for (int i = 0; i < SAMPLER_SLOTS; ++i) hv_png_pixels_free(&sp->slot[i].px);
+}
+
+static hv_status sampler_sheet(rd *r, sampler *sp, int64_t k, const hv_png_pixels **px)
+{
+    int victim = 0;
+    for (int i = 0; i < SAMPLER_SLOTS; ++i) {
+        if (sp->slot[i].sheet == k) {
+            sp->last[i] = ++sp->tick;
+            *px = &sp->slot[i].px;
+            return HV_OK;
+        }
+        if (sp->last[i] < sp->last[victim]) victim = i;
+    }
+    sp->last[victim] = ++sp->tick;
+    *px = &sp->slot[victim].px;
+    return load_sheet(r, sp->im, &sp->slot[victim], k);
+}
+
+/* The function's R, G, B and A (spec 3.2's table) at object point x, scaled and offset (2.2). The
+ * point's UVW as image indices (voxel centres on integers; rows run down from the highest v, ties
+ * of "nearest" go to the lower index), each tap's index tiled by the tile style, "linear"
+ * trilinear between the eight around it. */
+static hv_status sample_rgba(rd *r, sampler *sp, const double x[3], double out[4])
+{
+    const double *t = sp->t;
+    const img3d *im = sp->im;
+    const int64_t n[3] = {(int64_t)im->cols, (int64_t)im->rows, (int64_t)im->sheets};
+    int64_t idx[3][2];
+    double wt[3][2];
+    for (int b = 0; b < 3; ++b) {
+        double w = x[0] * t[b] + x[1] * t[3 + b] + x[2] * t[6 + b] + t[9 + b];
+        double q = (b == 1 ? 1 - w : w) * (double)n[b] - 0.5;
+        q = q > -1e15 && q < 1e15 ? q : q > 0 ? 1e15 : -1e15; /* far off (and NaN): an edge */
+        double f0 = sp->f->nearest ? ceil(q - 0.5) : floor(q), fr = sp->f->nearest ? 0 : q - f0;
+        idx[b][0] = tile_index((int64_t)f0, n[b], sp->f->tile[b]);
+        idx[b][1] = tile_index((int64_t)f0 + 1, n[b], sp->f->tile[b]);
+        wt[b][0] = 1 - fr;
+        wt[b][1] = fr;
+    }
+    double acc[4] = {0, 0, 0, 0};
+    for (int kz = 0; kz < 2; ++kz) {
+        if (wt[2][kz] == 0) continue;
+        const hv_png_pixels *px = NULL;
+        hv_status s = sampler_sheet(r, sp, idx[2][kz], &px);
+        if (s != HV_OK) return s;
+        for (int ky = 0; ky < 2; ++ky)
+            for (int kx = 0; kx < 2; ++kx) {
+                double w = wt[2][kz] * wt[1][ky] * wt[0][kx];
+                if (w == 0) continue;
+                size_t at = (size_t)idx[1][ky] * im->cols + (size_t)idx[0][kx];
+                for (int c = 0; c < 4; ++c) acc[c] += w * channel_value(px, at, c);
+            }
+    }
+    for (int c = 0; c < 4; ++c) out[c] = acc[c] * sp->f->scale + sp->f->offset;
+    return HV_OK;
+}
+
+/* The <v:color> of a package read into grids colour.r, .g, .b (the sRGB asked for: the colour is
+ * linear sRGB, spec 5.2.1, each channel truncated to [0, 1]) and colour.mask (hovox's property
+ * hovox:colour.mask above one half; 1 everywhere without it), as a painted model holds them. */
+typedef struct colour_job {
+    sampler col, mask;
+    int has_mask, mask_shared; /* the mask is the colour's sample's channel (same function and transform) */
+    int mask_channel;
+    int grid[4];
+    const lattice *lat;
+    const int64_t *off;
+} colour_job;
+
+static hv_status colour_begin(rd *r, const used *u, const lattice *lat, const int64_t *off, hv_volume *v, colour_job *cj)
+{
+    const voldata *vd = u->vd;
+    memset(cj, 0, sizeof *cj);
+    cj->lat = lat;
+    cj->off = off;
+    static const char *const k_grids[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    hv_status s = HV_OK;
+    for (int k = 0; k < 4 && s == HV_OK; ++k) s = hv_volume_grid_add(v, k_grids[k], HV_GRID_FLOAT, &cj->grid[k]);
+    if (s == HV_OK) s = sampler_init(r, &cj->col, u->cf, u->cim, vd->colour.t);
+    cj->has_mask = u->mf != NULL;
+    cj->mask_channel = u->mask_channel;
+    cj->mask_shared = cj->has_mask && u->mf == u->cf && memcmp(vd->mask.t, vd->colour.t, sizeof vd->mask.t) == 0;
+    if (s == HV_OK && cj->has_mask && !cj->mask_shared) s = sampler_init(r, &cj->mask, u->mf, u->mim, vd->mask.t);
+    return s;
+}
+
+static void colour_end(colour_job *cj)
+{
+    sampler_free(&cj->col);
+    sampler_free(&cj->mask);
+}
+
+static double unit_clamp(double v) { return v > 0 ? (v < 1 ? v : 1) : 0; /* NaN: 0 */ }
+
+/* The colour of the voxels of leaf l at height z. */
+static hv_status colour_layer(rd *r, colour_job *cj, hv_volume *v, size_t l, int64_t z)
+{
+    const int32_t *o = hv_volume_leaf_origins(v) + 3 * l;
+    const uint64_t *on = hv_volume_leaf_mask(v, l);
+    float *dst[4];
+    for (int k = 0; k < 4; ++k) dst[k] = hv_volume_leaf_float(v, cj->grid[k], l);
+    const double *t = cj->lat->t;
+    for (unsigned i = 0; i < 8; ++i)
+        for (unsigned j = 0; j < 8; ++j) {
+            unsigned n = (i << 6) | (j << 3) | (unsigned)(z & 7);
+            if (!HV_BIT_GET(on, n)) continue;
+            /* the voxel centre in object coordinates, from the lattice index (voxel centres on integers) */
+            int64_t s3[3] = {o[0] + (int64_t)i - cj->off[0], o[1] + (int64_t)j - cj->off[1], z - cj->off[2]};
+            double x[3], rgba[4], m[4];
+            for (int a = 0; a < 3; ++a) x[a] = (((double)s3[a] + 0.5) / (double)cj->lat->n[a] - t[9 + a]) / t[4 * a];
+            hv_status s = sample_rgba(r, &cj->col, x, rgba);
+            if (s == HV_OK && cj->has_mask && !cj->mask_shared) s = sample_rgba(r, &cj->mask, x, m);
+            if (s != HV_OK) return s;
+            double mask = !cj->has_mask ? 1 : unit_clamp(cj->mask_shared ? rgba[cj->mask_channel] : m[cj->mask_channel]);
+            int asked = mask > 0.5;
+            for (int c = 0; c < 3; ++c) dst[c][n] = asked ? (float)tmf_linear_to_srgb(unit_clamp(rgba[c])) : 0.0f;
+            dst[3][n] = asked ? 1.0f : 0.0f;
+        }
+    return HV_OK;
+}
+
+/* ---- the model ------------------------------------------------------------------------------------------- */
+
+/* The model's voxels: the mesh's voxel centres on the stacks' lattice, as its topology and bool
+ * grid "occupancy"; *off: hovox index = lattice index + off. */
+static hv_status model_voxels(rd *r, const used *u, const lattice *lat, int64_t off[3], hv_volume **vol)
 {
     const object *o = u->obj;
     const double *t = lat->t;
+    *vol = NULL;
     /* vertices in lattice index space, and the world lattice */
     double *s3 = NULL;
     hv_status s = charge(r, (uint64_t)o->nv * 3 * sizeof(double), "vertices");
@@ -1465,13 +1755,13 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
             s3[3 * v + (size_t)a] = w;
         }
     hv_transform xf;
-    int64_t off[3] = {0, 0, 0};
     if (s == HV_OK) s = lattice_transform(r, u, lat, &xf, off);
     leafmap lm;
     memset(&lm, 0, sizeof lm);
     uint64_t voxels = 0;
-    r->leaf_bytes = hv_volume_memory_estimate(1024, u->bg->n, 1) / 1024;
+    r->leaf_bytes = hv_volume_memory_estimate(1024, (u->bg ? u->bg->n : HV_COLOUR_SLOTS) + (u->cf ? 4 : 0), 1) / 1024;
     if (s == HV_OK) s = occupancy(r, s3, o->nv, r->tri + 3 * o->t0, o->nt, off, &lm, &voxels);
+    free(s3);
     if (s == HV_OK && voxels == 0)
         s = bad_at(r, HV_ERR_BAD_INPUT, o->mesh_line, "<mesh> of object %u holds no voxel centre of the image stack's "
                    "lattice", o->id);
@@ -1483,17 +1773,26 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
     if (s == HV_OK) s = hv_volume_grid_add(v, "occupancy", HV_GRID_BOOL, &og);
     size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
     for (size_t l = 0; l < nl; ++l) memcpy(hv_volume_leaf_bool(v, og, l), hv_volume_leaf_mask(v, l), 8 * sizeof(uint64_t));
-    /* the materials */
-    hv_material_table *table = NULL;
-    if (s == HV_OK && (s = build_table(r, u, &table)) != HV_OK && s != HV_ERR_NOMEM)
-        s = bad_at(r, HV_ERR_BAD_INPUT, u->bg->line, "<basematerials> %u: %s", u->bg->id, hv_last_error());
-    int m = u->bg->n, grid[HV_MAX_MATERIALS];
+    if (s != HV_OK) {
+        hv_volume_destroy(v);
+        return s;
+    }
+    *vol = v;
+    return HV_OK;
+}
+
+/* The fractions (and the colour, when the package has one) of every voxel, sampled from the
+ * sheets layer by layer; a stack's decoded sheet is kept while its layer lasts. */
+static hv_status sample_model(rd *r, const used *u, const lattice *lat, const int64_t off[3], hv_volume *v,
+                              const hv_material_table *table)
+{
+    int m = u->bg ? u->bg->n : 0, grid[HV_MAX_MATERIALS];
+    hv_status s = HV_OK;
     for (int j = 0; j < m && s == HV_OK; ++j) {
         char gname[80];
         snprintf(gname, sizeof gname, "material.%s", hv_material_name(table, j));
         s = hv_volume_grid_add(v, gname, HV_GRID_FLOAT, &grid[j]);
     }
-    /* sample the sheets layer by layer; a stack's decoded sheet is kept while its layer lasts */
     sheet_cache cache[HV_MAX_MATERIALS];
     int cache_of[HV_MAX_MATERIALS];
     for (int j = 0; j < m; ++j) {
@@ -1512,7 +1811,10 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
             if (cache_of[j] == j) need += (uint64_t)u->im[j]->rows * u->im[j]->cols * 4 * sizeof(uint16_t);
         s = charge(r, need, "image sheets");
     }
-    if (s != HV_OK) nl = 0;
+    colour_job cj;
+    memset(&cj, 0, sizeof cj);
+    if (s == HV_OK && u->cf) s = colour_begin(r, u, lat, off, v, &cj);
+    size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
     const int32_t *orig = nl ? hv_volume_leaf_origins(v) : NULL;
     /* the leaves in z order, a slab (8 layers) at a time */
     zleaf *zl = NULL;
@@ -1533,15 +1835,102 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
                 int64_t sheet = tile_index(z - off[2], (int64_t)u->im[j]->sheets, u->f[j]->tile[2]);
                 s = load_sheet(r, u->im[j], &cache[j], sheet);
             }
-            for (size_t li = b; li < e && s == HV_OK; ++li) fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
+            for (size_t li = b; li < e && s == HV_OK; ++li) {
+                if (m) fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
+                if (u->cf) s = colour_layer(r, &cj, v, zl[li].leaf, z);
+            }
         }
     }
     free(zl);
+    colour_end(&cj);
     for (int j = 0; j < m; ++j) hv_png_pixels_free(&cache[j].px);
+    return s;
+}
+
+/* A colour without a composite, printed as hovox prints a painted part: in the six colour resins
+ * of hovox's default colour map (hovox/colour.h: Ghostscript's default_cmyk.icc, perceptual, the
+ * J750's resins), each voxel's fractions those of its colour rounded to 8-bit sRGB (the white
+ * resin where hovox:colour.mask says no colour was asked for), and the map recorded as a painted
+ * model's (hovox.colour.json), so layers measure the colour's dE2000 through it. */
+static hv_status colour_resins(hv_volume *v, hv_material_table **out)
+{
+    *out = NULL;
+    hv_colour_map *map = NULL;
+    hv_colour_options o;
+    hv_colour_options_init(&o);
+    hv_status s = hv_colour_map_create(&o, &map);
+    hv_material_table *t = NULL;
+    if (s == HV_OK) s = hv_material_table_create(&t);
+    int grid[HV_COLOUR_SLOTS], cg[4];
+    static const char *const k_colour[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    for (int c = 0; c < 4; ++c) cg[c] = hv_volume_grid_find(v, k_colour[c]);
+    for (int k = 0; k < HV_COLOUR_SLOTS && s == HV_OK; ++k) {
+        char gname[160];
+        snprintf(gname, sizeof gname, "material.%s", hv_colour_map_resin(map, k));
+        s = hv_material_add(t, hv_colour_map_resin(map, k), NULL, NULL);
+        if (s == HV_OK) s = hv_volume_grid_add(v, gname, HV_GRID_FLOAT, &grid[k]);
+    }
+    size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
+    for (size_t l = 0; l < nl; ++l) {
+        const uint64_t *on = hv_volume_leaf_mask(v, l);
+        const float *c[4];
+        for (int k = 0; k < 4; ++k) c[k] = hv_volume_leaf_float_c(v, cg[k], l);
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            if (!HV_BIT_GET(on, n)) continue;
+            float f[HV_COLOUR_SLOTS] = {0};
+            uint8_t rgba[4] = {0, 0, 0, 255};
+            for (int k = 0; k < 3; ++k) rgba[k] = (uint8_t)lrintf(c[k][n] * 255.0f);
+            if (c[3][n] > 0.5f) hv_colour_map_fractions(map, rgba, f);
+            else f[HV_COLOUR_W] = 1;
+            for (int k = 0; k < HV_COLOUR_SLOTS; ++k) hv_volume_leaf_float(v, grid[k], l)[n] = f[k];
+        }
+    }
+    json_t *doc = json_object(), *resins = json_array();
+    int bad = !doc || !resins;
+    for (int k = 0; k < HV_COLOUR_SLOTS && !bad && s == HV_OK; ++k)
+        bad |= json_array_append_new(resins, hv_json_text(hv_colour_map_resin(map, k)));
+    if (s == HV_OK) {
+        bad |= hv_json_set(doc, "icc", hv_json_text(hv_colour_map_icc(map)));
+        bad |= hv_json_set(doc, "description", hv_json_text(hv_colour_map_description(map)));
+        bad |= hv_json_set(doc, "intent", json_string(hv_intent_name(hv_colour_map_intent(map))));
+        bad |= hv_json_set(doc, "resins", resins);
+        resins = NULL;
+        bad |= hv_json_set(doc, "source", json_string("3MF <v:color>"));
+    }
+    char *text = s == HV_OK && !bad ? hv_json_dump(doc) : NULL;
+    if (s == HV_OK && !text) s = HV_ERR_NOMEM;
+    if (s == HV_OK) s = hv_volume_meta_set_json(v, "hovox.colour.json", text);
+    free(text);
+    json_decref(resins);
+    json_decref(doc);
+    hv_colour_map_destroy(map);
+    if (s != HV_OK) {
+        hv_material_table_destroy(t);
+        return s;
+    }
+    *out = t;
+    return HV_OK;
+}
+
+static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume **vol, hv_mesh **mesh)
+{
+    int64_t off[3] = {0, 0, 0};
+    hv_volume *v = NULL;
+    hv_status s = model_voxels(r, u, lat, off, &v);
+    /* the materials: the composite's, or the colour's resins */
+    hv_material_table *table = NULL;
+    if (s == HV_OK && u->bg && (s = build_table(r, u, &table)) != HV_OK && s != HV_ERR_NOMEM)
+        s = bad_at(r, HV_ERR_BAD_INPUT, u->bg->line, "<basematerials> %u: %s", u->bg->id, hv_last_error());
+    if (s == HV_OK) s = sample_model(r, u, lat, off, v, table);
+    if (s == HV_OK && !u->bg) s = colour_resins(v, &table);
     if (s == HV_OK) s = hv_material_table_store(v, table);
     hv_material_table_destroy(table);
+    /* a painted model's record, with its colour */
+    if (s == HV_OK && u->cf && r->colour_json && (s = hv_volume_meta_set_json(v, "hovox.colour.json", r->colour_json)) != HV_OK &&
+        s != HV_ERR_NOMEM)
+        s = bad_at_col(r, HV_ERR_BAD_INPUT, r->colour_at[0], r->colour_at[1], "<metadata> hovox:colour is not a JSON "
+                       "document");
     if (s == HV_OK && mesh) s = object_mesh(r, u, mesh); /* the mesh, in millimetres */
-    free(s3);
     if (s != HV_OK) {
         hv_volume_destroy(v);
         return s;
@@ -1574,6 +1963,7 @@ static void rd_free(rd *r)
     free(r->xyz);
     free(r->tri);
     free(r->materials_json);
+    free(r->colour_json);
 }
 
 

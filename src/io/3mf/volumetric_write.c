@@ -1,8 +1,9 @@
-/* src/threemf/write.c - graded models out as 3MF packages with the Volumetric extension (3MF
- * Consortium, "3MF Volumetric & Implicit Extensions" 0.8, Part I): the exact voxel boundary as the
- * core mesh, the materials as base materials, one image3d stack of PNG sheets per material
- * fraction and derived property, a functionfromimage3d per stack, a volumedata whose composite maps
- * the fractions to the base materials. OPC on libzip (core/zip.c), XML with libxml2's xmlwriter. */
+/* src/io/3mf/volumetric_write.c - graded models out as 3MF packages with the Volumetric extension
+ * (3MF Consortium, "3MF Volumetric & Implicit Extensions" 0.8, Part I): the exact voxel boundary as
+ * the core mesh, the materials as base materials, one image3d stack of PNG sheets per material
+ * fraction and derived property (and a painted model's colours, RGBA), a functionfromimage3d per
+ * stack, a volumedata whose composite maps the fractions to the base materials and whose color
+ * reads the colours. OPC on libzip (core/zip.c), XML with libxml2's xmlwriter. */
 #include <errno.h>
 #include <libxml/xmlwriter.h>
 #include <math.h>
@@ -19,11 +20,14 @@
 
 /* ---- image stacks ----------------------------------------------------------------------------- */
 
-/* One image3d stack: a material's fractions (prop < 0) or a derived property array. */
+/* One image3d stack: a material's fractions (mat >= 0), a derived property array (prop >= 0) or
+ * a painted model's colours (both -1). */
 typedef struct stack {
     char name[96];   /* image3d name, the folder of its sheets, and (properties) the local name */
     char unit[64];   /* properties: the SI unit ("" for none) */
     int mat, prop;
+    int channels, bits; /* of its PNG sheets: 1 (grey) or 4 (RGBA); 8 or 16 */
+    size_t off;      /* where its sheet starts in a worker's buffer */
     double lo, hi;   /* properties: the range over the exported voxels */
 } stack;
 
@@ -45,6 +49,9 @@ static void ncname(char *dst, size_t size, const char *src, size_t n)
 typedef struct plan3 {
     int nstacks;
     stack *stacks;
+    int colour;      /* the colour stack, or -1 */
+    size_t sheet;    /* bytes of one sheet of every stack (a worker's buffer) */
+    size_t biggest;  /* bytes of the largest stack's sheet */
     int64_t lo[3], n[3]; /* the image box: lowest occupied voxel and voxels per axis */
     uint64_t quads;
     int bits;
@@ -57,9 +64,28 @@ static void plan3_free(plan3 *p)
     memset(p, 0, sizeof *p);
 }
 
+/* Stack t's name made unique among the stacks before it (names are folders and property names). */
+static void unique_name(plan3 *p, int t)
+{
+    stack *s = &p->stacks[t];
+    for (int k = 0, dup = 1; k < t; ++k)
+        if (strcmp(p->stacks[k].name, s->name) == 0) {
+            char tmp[96];
+            snprintf(tmp, sizeof tmp, "%.80s.%d", s->name, ++dup);
+            snprintf(s->name, sizeof s->name, "%s", tmp);
+            k = -1;
+        }
+}
+
+/* The stacks: the materials' fractions, the property arrays (but a painted model's colour.r, .g,
+ * .b), and a painted model's colours as one RGBA stack of 16 bits (linear sRGB: 8 bits would
+ * lose the dark colours, more than 1/255 once back in sRGB). p->n must be set. */
 static hv_status make_stacks(const ex_model *md, plan3 *p)
 {
-    p->nstacks = md->m + md->nprops;
+    int nprops = 0;
+    for (int q = 0; q < md->nprops; ++q) nprops += !md->props[q].colour;
+    p->nstacks = md->m + nprops + md->painted;
+    p->colour = md->painted ? p->nstacks - 1 : -1;
     p->stacks = hv_calloc((size_t)p->nstacks, sizeof *p->stacks);
     if (!p->stacks) return HV_ERR_NOMEM;
     for (int j = 0; j < md->m; ++j) {
@@ -68,8 +94,9 @@ static hv_status make_stacks(const ex_model *md, plan3 *p)
         s->mat = j;
         s->prop = -1;
     }
-    for (int q = 0; q < md->nprops; ++q) {
-        stack *s = &p->stacks[md->m + q];
+    for (int q = 0, t = md->m; q < md->nprops; ++q) {
+        if (md->props[q].colour) continue;
+        stack *s = &p->stacks[t];
         const char *name = md->props[q].name, *br = strchr(name, '[');
         size_t n = br ? (size_t)(br - name) : strlen(name);
         char base[200];
@@ -81,32 +108,35 @@ static hv_status make_stacks(const ex_model *md, plan3 *p)
         }
         s->mat = -1;
         s->prop = q;
-        /* names are unique among the stacks (they are folders and property names) */
-        for (int k = 0, dup = 1; k < md->m + q; ++k)
-            if (strcmp(p->stacks[k].name, s->name) == 0) {
-                char tmp[96];
-                snprintf(tmp, sizeof tmp, "%.80s.%d", s->name, ++dup);
-                snprintf(s->name, sizeof s->name, "%s", tmp);
-                k = -1;
-            }
+        unique_name(p, t++);
+    }
+    if (p->colour >= 0) {
+        stack *s = &p->stacks[p->colour];
+        snprintf(s->name, sizeof s->name, "colour");
+        s->mat = s->prop = -1;
+        unique_name(p, p->colour);
+    }
+    size_t pixels = (size_t)p->n[0] * (size_t)p->n[1];
+    for (int t = 0; t < p->nstacks; ++t) {
+        stack *s = &p->stacks[t];
+        s->channels = t == p->colour ? 4 : 1;
+        s->bits = t == p->colour ? 16 : p->bits;
+        s->off = p->sheet;
+        size_t bytes = pixels * (size_t)s->channels * (s->bits == 16 ? 2 : 1);
+        p->sheet += bytes;
+        p->biggest = HV_MAX(p->biggest, bytes);
     }
     return HV_OK;
 }
 
-static size_t sample_bytes(int bits) { return bits == 16 ? 2 : 1; }
-
 /* The sheets' samples, all stacks (a bound of their PNGs, which hold them deflated). */
-static double raw_bytes(const plan3 *p)
-{
-    return (double)p->n[0] * (double)p->n[1] * (double)p->n[2] * (double)sample_bytes(p->bits) * p->nstacks;
-}
+static double raw_bytes(const plan3 *p) { return (double)p->sheet * (double)p->n[2]; }
 
 /* Bytes of the writer's buffers: the mesh, per worker one sheet per stack, and the encoded sheets
  * when they stay in memory. */
 static uint64_t plan_bytes(const plan3 *p)
 {
-    double sheet = (double)p->n[0] * (double)p->n[1] * (double)sample_bytes(p->bits);
-    double per_worker = sheet * (p->nstacks + 1.1); /* the stacks' sheets and one encoded PNG */
+    double per_worker = (double)p->sheet + 1.1 * (double)p->biggest; /* the stacks' sheets and one encoded PNG */
     double b = (double)tmf_boundary_bytes(p->quads) + per_worker * HV_MAX(1, hv_threads()) + (1 << 20);
     if (p->in_memory) b += raw_bytes(p) * 1.01 + 256.0 * (double)p->n[2] * p->nstacks;
     return b > 1.8e19 ? UINT64_MAX : (uint64_t)b;
@@ -163,6 +193,7 @@ static void plan3_report(const ex_model *md, const plan3 *p, hv_export_report *r
     }
     r->arrays = p->nstacks;
     r->bits = p->bits;
+    r->colour = p->colour >= 0;
     r->cells = 2 * p->quads;
     r->points = 0;
     r->memory_bytes = plan_bytes(p);
@@ -219,6 +250,7 @@ typedef struct wctx {
     /* property ranges, per worker then merged */
     double *lo, *hi;
     int nthreads;
+    float show[HV_MAX_MATERIALS][4]; /* the materials' display colours (sRGB) */
 } wctx;
 
 static void voxel_props(const ex_model *md, size_t l, unsigned off, const double *pf, double *v)
@@ -272,6 +304,35 @@ static hv_status range_fn(void *ctx, size_t b, size_t e, int thread)
     return HV_OK;
 }
 
+static void put_sample(uint8_t *d, unsigned val, int bits)
+{
+    if (bits == 16) {
+        d[0] = (uint8_t)(val >> 8);
+        d[1] = (uint8_t)val;
+    } else {
+        d[0] = (uint8_t)val;
+    }
+}
+
+/* A painted model's colour at a voxel as a pixel of the colour stack (16-bit RGBA): linear sRGB
+ * (Volumetric 5.2.1) of the colour asked for, alpha 1 (colour.mask); under a resin core, where no
+ * colour was asked for, the composition's colour, sum p_j * colour_j of the materials' display
+ * colours (what a render shows there), alpha 0. */
+static void colour_pixel(const wctx *c, size_t l, unsigned n, const double *pf, uint8_t *d)
+{
+    const ex_model *md = c->md;
+    double rgb[3] = {0, 0, 0};
+    int asked = hv_volume_leaf_float_c(md->vol, md->colour[3], l)[n] > 0.5f;
+    for (int k = 0; k < 3; ++k) {
+        if (asked) rgb[k] = hv_volume_leaf_float_c(md->vol, md->colour[k], l)[n];
+        else
+            for (int j = 0; j < md->m; ++j) rgb[k] += pf[j] * c->show[j][k];
+        double v = rgb[k] > 0 ? (rgb[k] < 1 ? rgb[k] : 1) : 0; /* NaN: 0 */
+        put_sample(d + 2 * k, (unsigned)lrint(tmf_srgb_to_linear(v) * 65535.0), 16);
+    }
+    put_sample(d + 6, asked ? 65535u : 0u, 16);
+}
+
 static void sheet_path(char *buf, size_t size, const char *dir, int t, int64_t k)
 {
     snprintf(buf, size, "%s/s%d-%lld.png", dir, t, (long long)k);
@@ -284,20 +345,18 @@ static hv_status sheet_fn(void *ctx, size_t b, size_t e, int thread)
     wctx *c = ctx;
     const ex_model *md = c->md;
     const plan3 *p = c->p;
-    size_t bps = sample_bytes(p->bits), nx = (size_t)p->n[0], ny = (size_t)p->n[1];
-    size_t plane = nx * ny * bps;
+    size_t nx = (size_t)p->n[0], ny = (size_t)p->n[1];
     unsigned maxval = p->bits == 16 ? 65535u : 255u;
-    uint8_t *buf = hv_malloc_array((size_t)p->nstacks, plane);
+    uint8_t *buf = hv_malloc(p->sheet ? p->sheet : 1);
     if (!buf) return HV_ERR_NOMEM;
     const int32_t *orig = hv_volume_leaf_origins(md->vol);
     hv_status s = HV_OK;
     hv_png_options po;
     hv_png_options_init(&po);
-    po.bit_depth = p->bits;
     po.compression = c->level;
     po.in_place = 1;
     for (size_t k = b; k < e && s == HV_OK; ++k) {
-        memset(buf, 0, (size_t)p->nstacks * plane);
+        memset(buf, 0, p->sheet);
         int64_t z = p->lo[2] + (int64_t)k;
         int64_t slab = (z >> 3) - c->zslab0;
         unsigned zl = (unsigned)(z & 7);
@@ -316,35 +375,31 @@ static hv_status sheet_fn(void *ctx, size_t b, size_t e, int thread)
                     if (md->nprops) voxel_props(md, l, n, pf, v);
                     size_t col = (size_t)(o[0] + (int64_t)x - p->lo[0]);
                     size_t row = (size_t)(p->lo[1] + p->n[1] - 1 - (o[1] + (int64_t)y)); /* row 0: highest y */
-                    size_t at = (row * nx + col) * bps;
                     for (int t = 0; t < p->nstacks; ++t) {
                         const stack *st = &p->stacks[t];
-                        unsigned val;
-                        if (st->mat >= 0) {
-                            val = qf[st->mat];
+                        uint8_t *d = buf + st->off + (row * nx + col) * (size_t)st->channels * (st->bits == 16 ? 2 : 1);
+                        if (t == p->colour) {
+                            colour_pixel(c, l, n, pf, d);
+                        } else if (st->mat >= 0) {
+                            put_sample(d, qf[st->mat], st->bits);
                         } else {
                             double r = st->hi > st->lo ? (v[st->prop] - st->lo) / (st->hi - st->lo) : 0;
-                            val = (unsigned)HV_CLAMP(floor(r * maxval + 0.5), 0.0, (double)maxval);
-                        }
-                        uint8_t *d = buf + (size_t)t * plane + at;
-                        if (bps == 2) {
-                            d[0] = (uint8_t)(val >> 8);
-                            d[1] = (uint8_t)val;
-                        } else {
-                            d[0] = (uint8_t)val;
+                            put_sample(d, (unsigned)HV_CLAMP(floor(r * maxval + 0.5), 0.0, (double)maxval), st->bits);
                         }
                     }
                 }
         }
         for (int t = 0; t < p->nstacks && s == HV_OK; ++t) {
+            const stack *st = &p->stacks[t];
+            po.bit_depth = st->bits;
             if (c->png) {
                 size_t at = (size_t)t * (size_t)p->n[2] + k;
-                s = hv_png_encode(buf + (size_t)t * plane, (int)nx, (int)ny, 1, 0, &po, &c->png[at], &c->png_size[at]);
+                s = hv_png_encode(buf + st->off, (int)nx, (int)ny, st->channels, 0, &po, &c->png[at], &c->png_size[at]);
                 continue;
             }
             char path[4400];
             sheet_path(path, sizeof path, c->dir, t, (int64_t)k);
-            s = hv_png_write(path, buf + (size_t)t * plane, (int)nx, (int)ny, 1, 0, &po);
+            s = hv_png_write(path, buf + st->off, (int)nx, (int)ny, st->channels, 0, &po);
         }
     }
     free(buf);
@@ -507,7 +562,8 @@ static void color_text(char *buf, size_t size, const float rgba[4])
 
 /* The model part's document start, its <model> element and metadata: the application, the
  * material table as JSON (skipped when it cannot be made: that status is returned, and the
- * part is then not finished) and the model's origin. */
+ * part is then not finished), the model's origin and a painted model's colour record (the
+ * profile, intent, resins, depth and core: hovox.colour.json). */
 static hv_status part_metadata(xw *x, const ex_model *md, const hv_transform *xf)
 {
     char *json = NULL;
@@ -527,6 +583,8 @@ static hv_status part_metadata(xw *x, const ex_model *md, const hv_transform *xf
     if (s == HV_OK) x_text_element(x, "metadata", "name", "hovox:materials", json);
     snprintf(text, sizeof text, "%.17g %.17g %.17g", xf->origin[0], xf->origin[1], xf->origin[2]);
     x_text_element(x, "metadata", "name", "hovox:origin", text);
+    const char *colour = md->painted ? hv_volume_meta_string(md->vol, "hovox.colour.json") : NULL;
+    if (colour) x_text_element(x, "metadata", "name", "hovox:colour", colour);
     free(json);
     return s;
 }
@@ -550,7 +608,10 @@ static void part_materials(xw *x, const ex_model *md)
 }
 
 /* Per stack t: its image3d (id 2 + 2t, the sheets in order) and the function reading it (id
- * 3 + 2t; a property stack's values scaled back from [0, 1] to [lo, hi]). */
+ * 3 + 2t; a property stack's values scaled back from [0, 1] to [lo, hi]). The colour's filter is
+ * nearest: every point inside the mesh (the voxels' exact boundary) lies in an exported voxel's
+ * cell and takes its colour, where linear would blend the skin with the empty pixels around
+ * it (the fractions need not care: the composite divides by their sum). */
 static void part_functions(xw *x, const plan3 *p)
 {
     for (int t = 0; t < p->nstacks; ++t) {
@@ -575,9 +636,9 @@ static void part_functions(xw *x, const plan3 *p)
         x_attr_int(x, "id", 3 + 2 * t);
         x_attr(x, "displayname", st->name);
         x_attr_int(x, "image3did", 2 + 2 * t);
-        x_attr(x, "filter", "linear");
-        x_attr_num(x, "valueoffset", st->mat >= 0 ? 0.0 : st->lo);
-        x_attr_num(x, "valuescale", st->mat >= 0 ? 1.0 : st->hi - st->lo);
+        x_attr(x, "filter", t == p->colour ? "nearest" : "linear");
+        x_attr_num(x, "valueoffset", st->prop >= 0 ? st->lo : 0.0);
+        x_attr_num(x, "valuescale", st->prop >= 0 ? st->hi - st->lo : 1.0);
         x_attr(x, "tilestyleu", "clamp");
         x_attr(x, "tilestylev", "clamp");
         x_attr(x, "tilestylew", "clamp");
@@ -585,8 +646,10 @@ static void part_functions(xw *x, const plan3 *p)
     }
 }
 
-/* <v:volumedata id=volume_id>: the composite of the material stacks and a property per other
- * stack, each through the transform from object millimetres to the images' UVW. */
+/* <v:volumedata id=volume_id>: the composite of the material stacks, the colour (channel color:
+ * red, green, blue), a property per property stack, and the colour's alpha as property
+ * hovox:colour.mask (where a colour was asked for), each through the transform from object
+ * millimetres to the images' UVW. */
 static void part_volumedata(xw *x, const plan3 *p, const hv_transform *xf, int volume_id)
 {
     /* object millimetres to UVW: u = (x - x0) / (columns * Lx) with x0 the image's lowest face,
@@ -612,9 +675,16 @@ static void part_volumedata(xw *x, const plan3 *p, const hv_transform *xf, int v
         x_end(x);
     }
     x_end(x);
+    if (p->colour >= 0) {
+        x_start(x, "v:color");
+        x_attr_int(x, "functionid", 3 + 2 * p->colour);
+        x_attr(x, "channel", "color");
+        x_attr(x, "transform", matrix);
+        x_end(x);
+    }
     for (int t = 0; t < p->nstacks; ++t) {
         const stack *st = &p->stacks[t];
-        if (st->mat >= 0) continue;
+        if (st->prop < 0) continue;
         char qname[128];
         snprintf(qname, sizeof qname, "hovox:%s", st->name);
         x_start(x, "v:property");
@@ -624,6 +694,15 @@ static void part_volumedata(xw *x, const plan3 *p, const hv_transform *xf, int v
         x_attr(x, "name", qname);
         x_attr(x, "required", "false");
         if (st->unit[0]) x_attr(x, "hovox:unit", st->unit);
+        x_end(x);
+    }
+    if (p->colour >= 0) {
+        x_start(x, "v:property");
+        x_attr_int(x, "functionid", 3 + 2 * p->colour);
+        x_attr(x, "channel", "alpha");
+        x_attr(x, "transform", matrix);
+        x_attr(x, "name", "hovox:colour.mask");
+        x_attr(x, "required", "false");
         x_end(x);
     }
     x_end(x);
@@ -758,8 +837,10 @@ static hv_status property_ranges(wctx *c, plan3 *p, const hv_progress *progress)
     /* every fraction is checked here too, before anything is written */
     hv_status s = hv_parallel_for(hv_volume_leaf_count(md->vol), 16, range_fn, c, progress, "export fill");
     if (s != HV_OK) return s;
-    for (int q = 0; q < md->nprops; ++q) {
-        stack *st = &p->stacks[md->m + q];
+    for (int k = 0; k < p->nstacks; ++k) {
+        stack *st = &p->stacks[k];
+        int q = st->prop;
+        if (q < 0) continue;
         st->lo = INFINITY;
         st->hi = -INFINITY;
         for (int t = 0; t < c->nthreads; ++t) {
@@ -797,6 +878,7 @@ hv_status ex_3mf_write(const ex_model *md, const char *path, const hv_export_opt
     c.p = &p;
     c.dir = dir;
     c.level = opt->zlib_level ? opt->zlib_level : 1;
+    for (int j = 0; j < md->m; ++j) hv_material_color(md->table, j, c.show[j]);
     if (s == HV_OK && p.in_memory) {
         size_t n = (size_t)p.nstacks * (size_t)p.n[2];
         c.png = hv_calloc(n, sizeof *c.png);

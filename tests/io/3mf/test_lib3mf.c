@@ -1,7 +1,10 @@
 /* tests/io/3mf/test_lib3mf.c - an independent reader opens hovox's 3MF Volumetric packages: lib3mf
  * 1.8 (Debian lib3mf-dev, the 3MF Consortium's library; it predates the Volumetric extension, so it
  * reads the core mesh and must pass over the rest without error or warning). Its C API is declared
- * here (its headers are C++ only); the types follow lib3mf's NMR_WinTypes.h for GCC. */
+ * here (its headers are C++ only); the types follow lib3mf's NMR_WinTypes.h for GCC. Its library
+ * knows no Volumetric element (no image3d, functionfromimage3d or color in lib3MF.so.1.8.1; the
+ * MODELEXTENSION_VOLUMETRIC of its NMR_ModelTypes.h is an unused enum value), so the colour's part
+ * of a package is checked by hand in test_volumetric.c. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdint.h>
@@ -92,16 +95,32 @@ static L3 *read_3mf(const char *path)
     return model;
 }
 
-Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials)
+/* The box painted (issue 29): colour grids as hv_colour_paint leaves them, so the package carries a
+ * <v:color> over one more (RGBA) stack, which lib3mf must pass over like the rest. */
+static void paint_box(hv_volume *v)
+{
+    static const char *const names[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    int g[4], og = hv_volume_grid_find(v, "occupancy");
+    for (int c = 0; c < 4; ++c) cr_assert_eq(hv_volume_grid_add(v, names[c], HV_GRID_FLOAT, &g[c]), HV_OK);
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l)
+        for (unsigned n = 0; n < 512; ++n) {
+            if (!HV_BIT_GET(hv_volume_leaf_bool(v, og, l), n)) continue;
+            for (int c = 0; c < 4; ++c) hv_volume_leaf_float(v, g[c], l)[n] = c == 3 ? 1.0f : (float)((n * (c + 3)) % 7) / 6;
+        }
+}
+
+static void opens_the_box(int painted)
 {
     hv_volume *v = make_box();
-    const char *path = t_tmpfile("box.3mf");
+    if (painted) paint_box(v);
+    const char *path = t_tmpfile(painted ? "painted_box.3mf" : "box.3mf");
     hv_export_options o;
     hv_export_options_init(&o);
     o.volumetric = 1;
     o.bits = 16;
     hv_export_report r;
     cr_assert_eq(hv_export_write(v, path, &o, &r), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(r.colour, painted);
     L3 *model = read_3mf(path);
     L3 *it = NULL, *mesh = NULL;
     cr_assert_eq(lib3mf_model_getmeshobjects(model, &it), 0);
@@ -166,6 +185,9 @@ Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials)
     lib3mf_release(model);
     hv_volume_destroy(v);
 }
+
+Test(lib3mf, opens_the_package_and_reads_the_core_mesh_and_base_materials) { opens_the_box(0); }
+Test(lib3mf, opens_a_package_with_colour_and_reads_the_same) { opens_the_box(1); }
 
 /* ---- the shape's 3MF core package (issue 28) ------------------------------------------------------
  * A plate 8 x 4 x 2 and a rod of radius 1 (64 sides) through it, voxelized at 0.25 mm, the rod in

@@ -1531,20 +1531,32 @@ typedef struct wjob {
     size_t encoded;
 } wjob;
 
-/* whole bytes at a time where the run covers them */
-void hv_tray_or_packed(uint8_t *row, int bits, int x0, const uint8_t *sp, int n, const uint8_t *lut)
+/* whole bytes at a time where the run covers them; BITS a constant where it is inlined, so the
+ * bytes' inner loop unrolls (a 4-bit plate, six colour resins, packed at the 2-bit plate's cost per
+ * pixel, where the loop over a run-time depth took it 1.45 times as long) */
+static inline __attribute__((always_inline)) void or_packed(uint8_t *row, int BITS, int x0, const uint8_t *sp, int n,
+                                                            const uint8_t *lut)
 {
-    int per = 8 / bits, k = 0, x = x0;
+    int per = 8 / BITS, k = 0, x = x0;
     for (; k < n && x % per; ++k, ++x)
-        row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - bits - bits * (x % per)));
+        row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - BITS - BITS * (x % per)));
     uint8_t *byte = row + x / per;
     for (; k + per <= n; k += per, x += per) {
         unsigned v = 0;
-        for (int i = 0; i < per; ++i) v = v << bits | lut[sp[k + i]];
+        for (int i = 0; i < per; ++i) v = v << BITS | lut[sp[k + i]];
         *byte++ |= (uint8_t)v;
     }
     for (; k < n; ++k, ++x)
-        row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - bits - bits * (x % per)));
+        row[x / per] |= (uint8_t)(lut[sp[k]] << (8 - BITS - BITS * (x % per)));
+}
+
+void hv_tray_or_packed(uint8_t *row, int bits, int x0, const uint8_t *sp, int n, const uint8_t *lut)
+{
+    switch (bits) {
+    case 1: or_packed(row, 1, x0, sp, n, lut); break;
+    case 2: or_packed(row, 2, x0, sp, n, lut); break;
+    default: or_packed(row, 4, x0, sp, n, lut); break;
+    }
 }
 
 /* Part i's layer li drawn into its plate (threads draw parts of one layer at once: OR and the

@@ -671,6 +671,17 @@ static void literals(walker *w, const uint8_t *row, size_t at, size_t n)
     w->ntok += n;
 }
 
+/* Four whole bytes of the bit buffer out when it holds 32 bits or more; returns the new end. */
+static inline uint8_t *flush32(uint8_t *o, uint64_t *acc, int *nb)
+{
+    if (*nb < 32) return o;
+    uint32_t v = (uint32_t)*acc;
+    memcpy(o, &v, 4);
+    *acc >>= 32;
+    *nb -= 32;
+    return o + 4;
+}
+
 /* The symbols written with the codes, the bit buffer in registers. */
 static void emit(const walker *w, bits *b)
 {
@@ -693,25 +704,13 @@ static void emit(const walker *w, bits *b)
                 nb += w->len[s];
                 acc |= (uint64_t)g_len_xval[l] << nb;
                 nb += g_len_xbits[l];
-                if (nb >= 32) {
-                    uint32_t v = (uint32_t)acc;
-                    memcpy(o, &v, 4);
-                    o += 4;
-                    acc >>= 32;
-                    nb -= 32;
-                }
+                o = flush32(o, &acc, &nb);
                 acc |= (uint64_t)w->dcode[ds] << nb;
                 nb += w->dlen[ds];
                 acc |= (uint64_t)w->dxval[k] << nb;
                 nb += w->dxbits[k];
             }
-            if (nb >= 32) {
-                uint32_t v = (uint32_t)acc;
-                memcpy(o, &v, 4);
-                o += 4;
-                acc >>= 32;
-                nb -= 32;
-            }
+            o = flush32(o, &acc, &nb);
         }
         b->len = (size_t)(o - b->buf);
         b->acc = acc;

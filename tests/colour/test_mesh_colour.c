@@ -21,21 +21,10 @@ static hv_mesh *load(const char *path)
     return m;
 }
 
-static hv_mesh *red_cube(double size)
-{
-    hv_mesh *m = t_cube_mesh(0, size);
-    size_t nf = hv_mesh_facet_count(m);
-    uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t i = 0; i < 3 * nf; ++i) c[i] = 0xFF0000FFu;
-    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
-    free(c);
-    return m;
-}
-
 Test(mesh_colour, which_meshes_print_in_their_colours)
 {
     /* corner colours (as PLY vertex colours and 3MF colour groups give them): painted */
-    hv_mesh *m = red_cube(4);
+    hv_mesh *m = t_red_cube(4);
     cr_assert_eq(hv_colour_mesh_paints(m), 1);
     /* the same cube once its body is made of a material: printed in it */
     cr_assert_eq(hv_mesh_body_material_set(m, hv_mesh_body_at(m, 0)->name, "VeroWhite"), HV_OK);
@@ -75,7 +64,7 @@ Test(mesh_colour, which_meshes_print_in_their_colours)
 
 Test(mesh_colour, voxels_a_quarter_of_the_depth_within_the_budget)
 {
-    hv_mesh *m = red_cube(40); /* only planned */
+    hv_mesh *m = t_red_cube(40); /* only planned */
     hv_voxelize_options o;
     hv_voxelize_options_init(&o);
     hv_voxel_plan plan;
@@ -101,7 +90,7 @@ Test(mesh_colour, voxels_a_quarter_of_the_depth_within_the_budget)
 
 Test(mesh_colour, the_model_is_voxelize_then_paint)
 {
-    hv_mesh *m = red_cube(4);
+    hv_mesh *m = t_red_cube(4);
     hv_voxelize_options o;
     hv_voxelize_options_init(&o);
     o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;

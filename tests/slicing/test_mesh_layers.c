@@ -14,17 +14,6 @@
 #include "hovox/material.h"
 #include "support/support.h"
 
-static hv_mesh *red_cube(double size)
-{
-    hv_mesh *m = t_cube_mesh(0, size);
-    size_t nf = hv_mesh_facet_count(m);
-    uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t i = 0; i < 3 * nf; ++i) c[i] = 0xFF0000FFu;
-    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
-    free(c);
-    return m;
-}
-
 static void j750(hv_layers_options *o)
 {
     hv_layers_options_init(o);
@@ -60,7 +49,7 @@ static double mean_of(const hv_volume *v, const char *name)
 
 Test(mesh_layers, a_coloured_mesh_is_painted_and_materials_win)
 {
-    hv_mesh *m = red_cube(6);
+    hv_mesh *m = t_red_cube(6);
     hv_layers_options o;
     j750(&o);
     hv_volume *v = NULL;
@@ -130,7 +119,7 @@ Test(mesh_layers, a_plain_mesh_is_not_painted_unless_asked)
     FILE *f = fopen(t_tmpfile("bad.icc"), "w");
     fputs("not a profile\n", f);
     fclose(f);
-    hv_mesh *red = red_cube(4);
+    hv_mesh *red = t_red_cube(4);
     mo.colour.icc = t_tmpfile("bad.icc");
     cr_assert_eq(hv_layers_mesh_model(red, &o, &mo, NULL, &v, NULL), HV_ERR_BAD_INPUT);
     cr_assert(strstr(hv_last_error(), "not an ICC profile"), "%s", hv_last_error());
@@ -151,7 +140,7 @@ static int same_file(const char *a, const char *b)
 
 Test(mesh_layers, the_front_ends_step_writes_the_clis_files_with_the_colour, .timeout = 120)
 {
-    hv_mesh *m = red_cube(6);
+    hv_mesh *m = t_red_cube(6);
     hv_layers_options o;
     j750(&o);
     o.mesh_name = o.model_name = "red.ply";

@@ -115,6 +115,18 @@ hv_mesh *t_cube_mesh(double lo, double hi)
     return t_box_mesh(a, b);
 }
 
+hv_mesh *t_red_cube(double size)
+{
+    hv_mesh *m = t_cube_mesh(0, size);
+    size_t nf = hv_mesh_facet_count(m);
+    uint32_t *c = malloc(3 * nf * sizeof *c);
+    cr_assert(c != NULL);
+    for (size_t i = 0; i < 3 * nf; ++i) c[i] = 0xFF0000FFu;
+    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
+    free(c);
+    return m;
+}
+
 hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3])
 {
     size_t cap = 64, n = 0;

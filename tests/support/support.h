@@ -27,6 +27,8 @@ char *t_slurp(const char *path, size_t *len);
 /* The closed box [lo, hi] (hv_generate_box), and the cube [lo, hi]^3; assert. */
 hv_mesh *t_box_mesh(const double lo[3], const double hi[3]);
 hv_mesh *t_cube_mesh(double lo, double hi);
+/* The cube [0, size]^3 with every corner coloured opaque red (0xFF0000FF, RGBA); asserts. */
+hv_mesh *t_red_cube(double size);
 /* Activate the voxels [lo, hi] (inclusive index box) of v, leaf block by leaf block. Returns
  * hv_volume_topology_add's status (HV_ERR_NOMEM when the blocks cannot be listed). */
 hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3]);

@@ -641,6 +641,30 @@ static void damage_crc(unsigned char *data, size_t len, const char *name)
     cr_assert_eq(hits, 2);
 }
 
+/* The model part of one object, the mesh knot, with the build of BUILD: its vertices written with
+ * %.9g and no spaces (compact), or %.6f, a tab and a space before "/>" as lib3mf writes them. */
+static void knot_model_xml(hv_buf *xml, const hv_mesh *knot, int lib3mf_style)
+{
+    size_t nv = hv_mesh_vertex_count(knot), nf = hv_mesh_facet_count(knot);
+    hv_buf_init(xml);
+    hv_buf_printf(xml, "%s<resources><object id=\"1\" name=\"knot\" type=\"model\"><mesh><vertices>", MODEL_HEAD);
+    for (size_t i = 0; i < nv; ++i) {
+        const float *v = hv_mesh_vertices(knot) + 3 * i;
+        if (lib3mf_style)
+            hv_buf_printf(xml, "\n\t<vertex x=\"%.6f\" y=\"%.6f\" z=\"%.6f\" />", (double)v[0], (double)v[1], (double)v[2]);
+        else
+            hv_buf_printf(xml, "\n<vertex x=\"%.9g\" y=\"%.9g\" z=\"%.9g\"/>", (double)v[0], (double)v[1], (double)v[2]);
+    }
+    hv_buf_printf(xml, "</vertices><triangles>");
+    for (size_t f = 0; f < nf; ++f) {
+        const uint32_t *t = hv_mesh_facets(knot) + 3 * f;
+        hv_buf_printf(xml, lib3mf_style ? "\n\t<triangle v1=\"%u\" v2=\"%u\" v3=\"%u\" />"
+                                        : "\n<triangle v1=\"%u\" v2=\"%u\" v3=\"%u\"/>",
+                      t[0], t[1], t[2]);
+    }
+    hv_buf_printf(xml, "</triangles></mesh></object></resources>%s", BUILD);
+}
+
 /* Issue 26 item 2: a part of a MiB or more inflates on a thread of its own while the parser
  * reads the chunk before; the mesh, a late XML error and an inflate error (a bad CRC, found
  * at the part's end on that thread) are the same as on one thread. */
@@ -650,18 +674,7 @@ Test(threemf, a_large_part_inflates_on_its_own_thread_with_the_same_result)
     cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 400, 40, &knot), HV_OK); /* 32,000 facets */
     size_t nv = hv_mesh_vertex_count(knot), nf = hv_mesh_facet_count(knot);
     hv_buf xml;
-    hv_buf_init(&xml);
-    hv_buf_printf(&xml, "%s<resources><object id=\"1\" name=\"knot\" type=\"model\"><mesh><vertices>", MODEL_HEAD);
-    for (size_t i = 0; i < nv; ++i) {
-        const float *v = hv_mesh_vertices(knot) + 3 * i;
-        hv_buf_printf(&xml, "\n<vertex x=\"%.9g\" y=\"%.9g\" z=\"%.9g\"/>", (double)v[0], (double)v[1], (double)v[2]);
-    }
-    hv_buf_printf(&xml, "</vertices><triangles>");
-    for (size_t f = 0; f < nf; ++f) {
-        const uint32_t *t = hv_mesh_facets(knot) + 3 * f;
-        hv_buf_printf(&xml, "\n<triangle v1=\"%u\" v2=\"%u\" v3=\"%u\"/>", t[0], t[1], t[2]);
-    }
-    hv_buf_printf(&xml, "</triangles></mesh></object></resources>%s", BUILD);
+    knot_model_xml(&xml, knot, 0);
     cr_assert(!xml.failed && xml.len > ((size_t)2 << 20), "%zu bytes: past the 1 MiB a thread needs", xml.len);
     const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", xml.data};
     size_t len;
@@ -732,20 +745,9 @@ Test(threemf, a_large_part_inflated_in_one_call_reads_and_fails_as_streamed)
 {
     hv_mesh *knot = NULL;
     cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 300, 30, &knot), HV_OK); /* 18,000 facets */
-    size_t nv = hv_mesh_vertex_count(knot), nf = hv_mesh_facet_count(knot);
+    size_t nf = hv_mesh_facet_count(knot);
     hv_buf xml;
-    hv_buf_init(&xml);
-    hv_buf_printf(&xml, "%s<resources><object id=\"1\" name=\"knot\" type=\"model\"><mesh><vertices>", MODEL_HEAD);
-    for (size_t i = 0; i < nv; ++i) {
-        const float *v = hv_mesh_vertices(knot) + 3 * i;
-        hv_buf_printf(&xml, "\n\t<vertex x=\"%.6f\" y=\"%.6f\" z=\"%.6f\" />", (double)v[0], (double)v[1], (double)v[2]);
-    }
-    hv_buf_printf(&xml, "</vertices><triangles>");
-    for (size_t f = 0; f < nf; ++f) {
-        const uint32_t *t = hv_mesh_facets(knot) + 3 * f;
-        hv_buf_printf(&xml, "\n\t<triangle v1=\"%u\" v2=\"%u\" v3=\"%u\" />", t[0], t[1], t[2]);
-    }
-    hv_buf_printf(&xml, "</triangles></mesh></object></resources>%s", BUILD);
+    knot_model_xml(&xml, knot, 1);
     cr_assert(!xml.failed && xml.len > ((size_t)1 << 20), "%zu bytes: past the 1 MiB of the one-call path", xml.len);
     const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", xml.data};
     size_t len;

@@ -10,11 +10,11 @@
 /usr/bin/python3 tests/colour/colour_assembly.py "$TMP" >/dev/null || exit 9
 C="/usr/bin/python3 tests/colour/check_assembly.py"
 $HOVOX colour '#c01010' '#2050c0' | tail -2
-$HOVOX layers "$TMP/badge.3mf" -o "$TMP/a" --layers 74:75 -q | sed -n '/^voxels/p;/^bodies/p;/^colour/p'
+$HOVOX layers "$TMP/badge.3mf" -o "$TMP/a" --layers 74:75 | sed -n '/^voxels/p;/^bodies/p;/^colour/p'
 $C "$TMP/a" 74 base=0.5,0.5,19.5,19.5 grip=22.5,0.5,29.5,19.5
-$HOVOX layers "$TMP/badge.3mf" -o "$TMP/b" --layers 222:223 -q | sed -n '/^colour/p'
+$HOVOX layers "$TMP/badge.3mf" -o "$TMP/b" --layers 222:223 | sed -n '/^colour/p'
 $C "$TMP/b" 222 badgeskin=4.1,4.1,4.6,15.9 badgecore=6,6,14,14
-$HOVOX layers "$TMP/badge.3mf" -o "$TMP/c" --layers 74:75 --colour-depth 1 -q | sed -n '/^bodies/p;/^colour/p'
+$HOVOX layers "$TMP/badge.3mf" -o "$TMP/c" --layers 74:75 --colour-depth 1 | sed -n '/^bodies/p;/^colour/p'
 $C "$TMP/c" 74 base=0.5,0.5,19.5,19.5 gripskin=22.1,0.1,22.6,19.9 gripcore=24,2,28,18
 $HOVOX tray --part "$TMP/badge.3mf@60,60" --colour-depth 1 -o "$TMP/t" --layers 74:75 | sed -n '/^plate/p;/^colour/p'
 /usr/bin/python3 -c "

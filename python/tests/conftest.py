@@ -28,6 +28,14 @@ def cli():
     return run
 
 
+def make_test_data(*args, **kw):
+    """Run a script that makes test data (NumPy, nibabel, Pillow: not code under test) with Debian's
+    python3, checked; under `make sanitize` without the ASan preload, whose leak check would stop
+    the interpreter at exit."""
+    env = {k: v for k, v in os.environ.items() if k not in ("LD_PRELOAD", "PYTHONMALLOC")}
+    return subprocess.run(["/usr/bin/python3"] + [str(a) for a in args], check=True, env=env, **kw)
+
+
 @pytest.fixture(scope="session")
 def shared():
     return os.path.join(ROOT, os.environ.get("HOVOX_SHARED") or "tests/data")

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import hovox
+from conftest import make_test_data
 
 
 def test_mesh_files_arrays_and_transform(tmp_path, shared):
@@ -270,9 +271,7 @@ def test_mesh_layers_paints_a_coloured_mesh(cli, root, tmp_path):
     in the library, hv_layers_mesh_model): a UV-textured cube's stack has the CLI's bytes, the
     manifest's colour included, by default and with colour_depth, core and intent; its report
     carries the colour's dE2000; colour_depth beside materials is refused."""
-    import subprocess
-    subprocess.run(["/usr/bin/python3", os.path.join(root, "tests", "colour", "textured_cube.py"), str(tmp_path)],
-                   check=True, capture_output=True)
+    make_test_data(os.path.join(root, "tests", "colour", "textured_cube.py"), tmp_path, capture_output=True)
     obj = tmp_path / "cube.obj"
     cube = hovox.load_mesh(obj)
     for name, args, kw in (("a", [], {}),

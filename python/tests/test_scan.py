@@ -8,6 +8,7 @@ import subprocess
 import pytest
 
 import hovox
+from conftest import make_test_data
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -16,11 +17,8 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 @pytest.fixture(scope="module")
 def phantom(tmp_path_factory):
     d = tmp_path_factory.mktemp("ph")
-    # the phantom is test data made by NumPy and nibabel, not code under test: under `make sanitize`
-    # it runs without the ASan preload, whose leak check would stop the interpreter at exit
-    env = {k: v for k, v in os.environ.items() if k not in ("LD_PRELOAD", "PYTHONMALLOC")}
-    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tests/io/scan/make_phantom.py"), str(d), "--size", "20,24,18",
-                    "--spacing", "4,4,6", "--formats", "nii"], check=True, stdout=subprocess.DEVNULL, env=env)
+    make_test_data(os.path.join(ROOT, "tests/io/scan/make_phantom.py"), d, "--size", "20,24,18", "--spacing", "4,4,6",
+                   "--formats", "nii", stdout=subprocess.DEVNULL)
     (d / "bone.csv").write_text("HU,VeroClear,Agilus30,VeroWhite\n-1000,1,0,0\n0,0,1,0\n300,0,1,0\n1000,0,0,1\n")
     (d / "col.csv").write_text("HU,colour\n-1000,#ffffff00\n30,#d08070\n1000,#f0f0e0\n")
     return d

@@ -929,9 +929,10 @@ static void depth_z(job *J, worker *w, const slab_pick *pk)
         }
         w->vstate[p] = 1;
         float d = (float)((c0 * d0[p] + c1 * d1[p]) / cov);
+        int skin0 = d0[p] <= D, skin1 = d1[p] <= D;
         dz[p] = d;
-        if (c0 > 0 && c1 > 0 && (d0[p] <= D) != (d1[p] <= D)) {
-            const float *from = ((d0[p] <= D) == (d <= D)) ? m0 : m1;
+        if (c0 > 0 && c1 > 0 && skin0 != skin1) {
+            const float *from = (skin0 == (d <= D)) ? m0 : m1;
             for (int g = 0; g < m; ++g) w->vimg[(size_t)g * vox + p] = from[(size_t)g * vox + p];
             continue;
         }
@@ -988,6 +989,31 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
         t[c] = acc;                                                                                                \
     }
 
+/* The depth at (i + tx, j + ty) of the window's depth plane dv, bilinear `lin`, where a crease may
+ * cross the cell (two faces equally near: the core's edges): each corner's plane continued from
+ * outside the cell (its steps from the voxels beyond it along x and y; at the window's edge the
+ * cell's own step; each at most a voxel: a distance grows no faster), the least of the four, and
+ * the larger of that and the bilinear value. Exact on a plane and at such a crease; where the
+ * distance is curved the other way (a concave edge of the part), bilinear. */
+static float depth_cell_ridge(const job *J, const float *dv, int i, int j, float tx, float ty, float lin)
+{
+    size_t vw = (size_t)J->vw;
+    float hx = (float)J->xf.voxel[0], hy = (float)J->xf.voxel[1], best = INFINITY;
+#define DV(a, b) dv[(size_t)(b) * vw + (size_t)(a)]
+    for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) {
+            int x = i + a, y = j + b, xo = a ? x + 1 : x - 1, yo = b ? y + 1 : y - 1;
+            float d = DV(x, y);
+            float gx = xo >= 0 && xo < J->vw ? (a ? DV(xo, y) - d : d - DV(xo, y)) : DV(i + 1, y) - DV(i, y);
+            float gy = yo >= 0 && yo < J->vh ? (b ? DV(x, yo) - d : d - DV(x, yo)) : DV(x, j + 1) - DV(x, j);
+            gx = fminf(fmaxf(gx, -hx), hx);
+            gy = fminf(fmaxf(gy, -hy), hy);
+            best = fminf(best, d + gx * (tx - (float)a) + gy * (ty - (float)b));
+        }
+#undef DV
+    return fmaxf(lin, best);
+}
+
 /* Pixel (r, c) of a painted model in the colour depth's band (its bilinear cell or POI taps hold
  * voxels of both sides): its side by the depth at its centre, bilinear in the window's depth
  * (exact where the surface is flat: the composed POI operator is not, it is off by up to 0.09 mm
@@ -1002,6 +1028,7 @@ static void depth_pixel(job *J, worker *w, float *frac, size_t plane, size_t q, 
     float wt[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty}, d = 0, own = 0;
     const float *dv = w->vimg + (size_t)J->m * vox;
     for (int k = 0; k < 4; ++k) d += wt[k] * dv[at[k]];
+    d = depth_cell_ridge(J, dv, J->bx[c], J->by[r], tx, ty, d);
     int skin = d <= D;
     for (int k = 0; k < 4; ++k) {
         if ((dv[at[k]] <= D) != skin) wt[k] = 0;

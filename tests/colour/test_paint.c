@@ -2,7 +2,8 @@
  * a 10 mm cube whose six faces carry six flat corner colours, voxelized at 0.5 mm and painted 1 mm
  * deep: a voxel near a face holds the colour map's fractions of that face's colour, a voxel deeper
  * than 1 mm the core resin, and the change is sharp at the depth (the voxels' exact distance to
- * the nearest face decides); with a core colour, deep voxels hold its fractions. */
+ * the nearest face decides); with a core colour, deep voxels hold its fractions; colour.depth holds
+ * each voxel's distance and side for the stack. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdlib.h>
@@ -293,4 +294,53 @@ Test(paint, six_slots_a_role_gives_way_to_a_seventh_resin)
     /* one black face, two nearly opaque ones (alpha 240): black is used more than clear */
     static const uint32_t both[6] = {0x000000FFu, 0x00FF00F0u, 0x0000FFF0u, 0xFFFF00FFu, 0x00FFFFFFu, 0xFF00FFFFu};
     six_slots_case(both, "VeroClear", "folded into VeroPureWhite");
+}
+
+/* colour.depth (the stack's per-pixel depth): every voxel inside the cube holds its distance to the
+ * nearest face within 1e-5 mm up to the depth and two voxels (1 + 2 x 0.5 mm), the depth and three
+ * voxels beyond; on the skin's side of the depth (<= it as a float) exactly where painting gave the
+ * voxel the skin (no core resin); hv_colour_depth_grid finds it with the recorded depth, and does
+ * not without the record (a model painted before). */
+Test(paint, colour_depth_holds_each_voxels_distance_and_side)
+{
+    hv_mesh *m = face_cube(k_face);
+    hv_volume *v = half_mm_voxels(m);
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
+    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
+    float depth = 0;
+    int g = hv_colour_depth_grid(v, &depth);
+    cr_assert_geq(g, 0);
+    cr_assert_eq(depth, 1.0f);
+    int core = hv_volume_grid_find(v, "material.Agilus30");
+    double *xyz = NULL;
+    size_t n = 0, exact = 0, far = 0;
+    cr_assert_eq(hv_volume_centres(v, "occupancy", &xyz, &n), HV_OK);
+    hv_accessor acc;
+    hv_accessor_init(&acc, v);
+    for (size_t i = 0; i < n; ++i) {
+        const double *p = xyz + 3 * i;
+        if (p[0] < 0 || p[0] > 10 || p[1] < 0 || p[1] > 10 || p[2] < 0 || p[2] > 10) continue;
+        double dmin = INFINITY, idx[3];
+        for (int a = 0; a < 3; ++a) dmin = fmin(dmin, fmin(p[a], 10 - p[a]));
+        hv_volume_world_to_index(v, p, idx);
+        int32_t x = (int32_t)lrint(idx[0]), y = (int32_t)lrint(idx[1]), z = (int32_t)lrint(idx[2]);
+        float d = hv_accessor_float(&acc, g, x, y, z), c = hv_accessor_float(&acc, core, x, y, z);
+        if (dmin <= 2.0 - 1e-9) {
+            cr_assert(fabs(d - dmin) < 1e-5, "voxel at %g,%g,%g: depth %g, distance %g", p[0], p[1], p[2], (double)d, dmin);
+            ++exact;
+        } else {
+            cr_assert_eq(d, 2.5f, "voxel at %g,%g,%g, %g deep: %g", p[0], p[1], p[2], dmin, (double)d);
+            ++far;
+        }
+        cr_assert_eq(d <= depth, c == 0, "voxel at %g,%g,%g: depth %g, core %g", p[0], p[1], p[2], (double)d, (double)c);
+    }
+    cr_assert_gt(exact, 3000);
+    cr_assert_gt(far, 100);
+    cr_assert_eq(hv_volume_meta_set_json(v, "hovox.colour.json", "{}"), HV_OK);
+    cr_assert_eq(hv_colour_depth_grid(v, &depth), -1, "a record without the depth");
+    free(xyz);
+    hv_colour_map_destroy(map);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
 }

@@ -6,11 +6,12 @@
 # object pixel whose centre lies deeper than the depth plus one printer voxel (0.0847 mm; its
 # distance to the nearest of the six faces, from the manifest's pixel grid and z) prints the core,
 # and every one shallower than the depth less one printer voxel prints a colour resin, never the
-# core. The stack puts the change at the depth bilinear in the model's colour.depth grid (exact where
-# the nearest face is one plane); at the core's edges (two faces within a voxel of equally near,
-# the depth within a voxel) the distance has a crease that interpolation rounds off: there a pixel
-# may be off, by at most a third of a voxel. Before the colour.depth grid the change was spread
-# over a model voxel: +-0.25 / +-0.5 mm on the coarse voxels.
+# core. The stack puts the change where the depth from the model's colour.depth grid crosses it:
+# bilinear, exact where the nearest face is one plane; at the core's edges (two faces within a
+# voxel of equally near, the depth within a voxel: counted apart) the distance has a crease that
+# bilinear rounds off (44 pixels off, up to 0.29 voxel, on 0.5 mm voxels), so there each voxel's
+# plane continued from outside the cell. Before the colour.depth grid the change was spread over a
+# model voxel (+-0.25 / +-0.5 mm on the coarse voxels).
 /usr/bin/python3 -c "
 import sys; sys.path.insert(0, 'tests/colour'); import check_paint
 check_paint.SIZE = 4; check_paint.write_cube(sys.argv[1])" "$TMP"
@@ -62,7 +63,7 @@ for name, h in (("fine", 0.0846667), ("quarter", 0.25), ("half", 0.5)):
     print("%-7s voxels %.4g mm: %d pixels deeper than the depth + 1 printer voxel, %d shallower than the depth - 1; "
           "%d of them off; at the core's edges %d, %d off (worst %.2f voxel)"
           % (name, h, n["core"], n["colour"], n["off"], n["edge"], n["edge_off"], worst))
-    fail |= n["off"] > 0 or worst > 1 / 3 or n["core"] < 500 or n["colour"] < 1000
+    fail |= n["off"] > 0 or n["edge_off"] > 0 or n["core"] < 500 or n["colour"] < 1000
 raise SystemExit(1 if fail else 0)
 PY
 echo "rc=$?"

@@ -158,8 +158,8 @@ HV_API hv_status hv_colour_samples_error(const hv_colour_map *map, size_t n, con
  * model and map the caller sets, or map and samples in place of the model): adds "colour" {icc,
  * description, intent, skin_voxels (samples: printer_voxels), mean_de2000_target,
  * max_de2000_target, and mean_de2000_achieved when the manifest's materials have "achieved"
- * (halftone): the fractions scaled per resin by achieved / target}, and fills target, achieved
- * and has_achieved. */
+ * (halftone): the fractions scaled per resin by achieved / target}, and fills target, achieved,
+ * has_achieved and printer_voxels. */
 typedef struct hv_colour_skin {
     const hv_volume *model;
     hv_colour_map *map;
@@ -170,6 +170,9 @@ typedef struct hv_colour_skin {
     const uint8_t *rgb;
     const float *fractions;
     const uint64_t *weight;
+    /* set by the hook with target: 1 when its voxels are printer voxels (the samples), 0 a
+       model's skin voxels (still 0 when a front end clears model afterwards) */
+    int printer_voxels;
 } hv_colour_skin;
 HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
 

@@ -145,12 +145,13 @@ static hv_status skin_json(hv_colour_skin *sk, const double *scale, json_t **out
                                                 &sk->achieved);
     if (s != HV_OK) return s;
     sk->has_achieved = scale != NULL;
+    sk->printer_voxels = !sk->model;
     json_t *c = json_object();
     int bad = !c;
     bad |= hv_json_set(c, "icc", hv_json_text(hv_colour_map_icc(sk->map)));
     bad |= hv_json_set(c, "description", hv_json_text(hv_colour_map_description(sk->map)));
     bad |= hv_json_set(c, "intent", json_string(hv_intent_name(hv_colour_map_intent(sk->map))));
-    bad |= hv_json_set(c, sk->model ? "skin_voxels" : "printer_voxels", json_integer((json_int_t)sk->target.voxels));
+    bad |= hv_json_set(c, sk->printer_voxels ? "printer_voxels" : "skin_voxels", json_integer((json_int_t)sk->target.voxels));
     bad |= hv_json_set(c, "mean_de2000_target", hv_json_number(sk->target.mean_de2000));
     bad |= hv_json_set(c, "max_de2000_target", hv_json_number(sk->target.max_de2000));
     if (scale) bad |= hv_json_set(c, "mean_de2000_achieved", hv_json_number(sk->achieved.mean_de2000));

@@ -1441,7 +1441,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
      * spans), which the threads share by drawing parts into them, and per thread only the buffers
      * of the one part it renders (the largest part's). The plates are as many as the budget
      * holds, at most INFLIGHT and the threads; memory no longer grows a plate per thread. */
-    size_t stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
+    size_t stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8 + 1; /* the filter byte */
     uint64_t plate = (uint64_t)stride * (uint64_t)t->H + (uint64_t)t->H * 8;
     int threads = HV_MAX(hv_threads(), 1);
     uint64_t scratch = (uint64_t)threads * hv_layers_scratch_need_total(&need);
@@ -1494,7 +1494,8 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
 /* ---- writing ------------------------------------------------------------------------------------ */
 
 typedef struct tplate {
-    uint8_t *rows; /* packed plate image */
+    uint8_t *rows; /* packed plate image, each row after a zero byte (PNG's filter None: the
+                      encoder compresses the rows where they lie, hv_png_options.filter_bytes) */
     int32_t *span; /* 2 per row, in bytes: the drawn columns (empty when span[0] >= span[1]) */
 } tplate;
 
@@ -1642,6 +1643,7 @@ static hv_status encode_layer(wjob *J, size_t li)
         po.bit_depth = t->bit_depth;
         po.packed = t->bit_depth < 8;
         po.row_spans = pl->span;
+        po.filter_bytes = 1;
         if (J->o->mode != HV_LAYERS_MASK) {
             po.palette = t->palette;
             po.palette_size = t->palette_size;
@@ -1748,6 +1750,7 @@ static hv_status tray_run(wjob *J, const hv_progress *progress)
     if (!J->plate || !J->scratch || !J->order || !J->free_for || !J->draws_left) st = HV_ERR_NOMEM;
     for (int i = 0; i < k && st == HV_OK; ++i) {
         J->plate[i].rows = hv_calloc((size_t)t->H, J->stride);
+        if (J->plate[i].rows) J->plate[i].rows++; /* row y at rows + y * stride, its filter byte before it */
         J->plate[i].span = hv_calloc((size_t)t->H * 2, sizeof *J->plate[i].span);
         if (!J->plate[i].rows || !J->plate[i].span) st = hv_error_set(HV_ERR_NOMEM, "tray: out of memory for a plate image");
         J->free_for[i] = J->run_lo + (size_t)i;
@@ -1772,7 +1775,7 @@ static hv_status tray_run(wjob *J, const hv_progress *progress)
     pthread_mutex_destroy(&J->mu);
     for (int i = 0; i < ROW_LOCKS; ++i) pthread_mutex_destroy(&J->lock[i]);
     for (int i = 0; i < k && J->plate; ++i) {
-        free(J->plate[i].rows);
+        free(J->plate[i].rows ? J->plate[i].rows - 1 : NULL);
         free(J->plate[i].span);
     }
     for (int i = 0; i < threads && J->scratch; ++i) hv_layers_scratch_destroy(J->scratch[i]);
@@ -2090,7 +2093,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     J.o = o;
     J.first = J.run_lo = rep.first;
     J.last = J.run_hi = rep.last;
-    J.stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
+    J.stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8 + 1; /* a row's bytes after its filter byte */
     J.st_bytes = hv_calloc(rep.last - rep.first, sizeof *J.st_bytes);
     if (st == HV_OK && !J.st_bytes) st = HV_ERR_NOMEM;
     st = hv_stack_open(&out, st, dir, o->force, o->gcvf_path, NULL, D);

@@ -1001,7 +1001,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     int q = (s->p.rotation / 90) % 4;
     if (!s->p.mesh) {
         double bmin[3], bmax[3];
-        hv_status st = hv_model_load(s->p.model, &model);
+        hv_status st = hv_model_load_colour(s->p.model, &o->colour, &model); /* a 3MF colour: the tray's map */
         if (st == HV_OK) st = model_shape(s, q, &model, &mesh, bmin, bmax);
         if (st == HV_OK) {
             s->mesh = mesh;
@@ -1028,7 +1028,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
         st = hv_body_materials_apply(&one, mesh);
         if (st != HV_OK && s->pair_where && s->pair_where[k]) where = s->pair_where[k];
     }
-    if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
+    if (st == HV_OK && s->p.model) st = hv_model_load_colour(s->p.model, &o->colour, &model);
     else if (st == HV_OK && !s->p.material) st = bodies_model(t, s, mesh, o, &model);
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;

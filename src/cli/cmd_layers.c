@@ -272,13 +272,13 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         o->mesh_name = o->model_name;
         if (o->mode == HV_LAYERS_MASK) o->model_name = NULL;
     } else if (!c->mesh && hv_3mf_sniff(o->model_name)) { /* a 3MF Volumetric model: its mesh and its model in one read */
-        s = hv_3mf_load(o->model_name, &model, &mesh);
+        s = hv_3mf_load_colour(o->model_name, &c->cmap, &model, &mesh); /* a colour alone: through --icc ... */
         o->mesh_name = o->model_name;
     } else {
         /* without --mesh the shape is the one the model records (issue 28) */
         const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
         s = c->mesh ? cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh) : HV_OK;
-        if (s == HV_OK && o->model_name) s = hv_model_load(o->model_name, &model);
+        if (s == HV_OK && o->model_name) s = hv_model_load_colour(o->model_name, &c->cmap, &model);
     }
     hv_layers_report r;
     memset(&r, 0, sizeof r);
@@ -353,11 +353,12 @@ static int run_cli(const cli_args *args, void *lib, void *local)
         int rc = cli_scan_refuse(args, "layers", "is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a "
                                                "DICOM directory)");
         static const char *const colour[] = {"icc", "intent", "resins", "colour_depth", "core"};
-        for (int k = 0; k < 5 && rc < 0 && !mesh_in; ++k)
+        int package = o->model_name && hv_3mf_sniff(o->model_name); /* its colour without a composite takes them */
+        for (int k = package ? 3 : 0; k < 5 && rc < 0 && !mesh_in; ++k)
             if (cli_given(args, colour[k]))
-                rc = cli_usage_error("layers", "%s is for a mesh painted in one step or a scanned volume's colour "
-                                               "--lut (a model's colours were mapped to resins when it was painted)",
-                                     cli_spell(colour[k]));
+                rc = cli_usage_error("layers", "%s is for a mesh painted in one step, a 3MF package's colour or a "
+                                               "scanned volume's colour --lut (a model's colours were mapped to resins "
+                                               "when it was painted)", cli_spell(colour[k]));
         for (int k = 3; k < 5 && rc < 0 && c->materials.n; ++k)
             if (cli_given(args, colour[k]))
                 rc = cli_usage_error("layers", "%s paints the mesh in its colours; --material prints its bodies in "

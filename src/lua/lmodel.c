@@ -48,11 +48,16 @@ static int l_voxelize(lua_State *L)
     return 1;
 }
 
+/* hovox.load(path, {icc = FILE, intent = NAME, resins = "C,M,Y,K,W,CLEAR"}) -> Model: a 3MF
+ * package's colour without a composite through that colour map (hv_model_load_colour) */
 static int l_load(lua_State *L)
 {
     const char *path = luaL_checkstring(L, 1);
+    hv_colour_options co;
+    hv_lua_read(L, 2, hv_colour_option_set(), &co, NULL);
+    path = luaL_checkstring(L, 1); /* again: reading the options may have run a finalizer */
     hv_volume *v;
-    hv_status s = hv_model_load(path, &v);
+    hv_status s = hv_model_load_colour(path, &co, &v);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);
     return 1;

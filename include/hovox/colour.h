@@ -127,14 +127,23 @@ HV_API hv_status hv_colour_paint(hv_volume *model, const hv_mesh *mesh, hv_colou
 
 /* What painting keeps beside the fractions (issue 29): float grids "colour.r", "colour.g",
  * "colour.b" (the requested sRGB colour, in [0, 1]) and "colour.mask" (1 where a colour was asked
- * for: the skin, and a colour core; 0 under a resin core), and metadata hovox.colour.json (the
- * profile, intent, resins, depth and core). The render shows those colours; the stack manifest
- * their dE2000.
+ * for: the skin, and a colour core; 0 under a resin core), "colour.depth" (each voxel's distance
+ * to the surface in mm, exact up to the depth plus two voxels (the largest edge), the depth plus
+ * three voxels beyond; a voxel painted as skin holds at most the depth as a float, one deeper more),
+ * and metadata hovox.colour.json (the profile, intent, resins, depth and core). The render shows
+ * those colours; the stack manifest their dE2000; layers and trays put the change from skin to
+ * core at the depth per printer pixel (hv_colour_depth_grid).
  * The colour map painting used, made again from the model's record. Errors: HV_ERR_NOT_FOUND
  * (the model is not painted), HV_ERR_BAD_INPUT (a damaged record), those of
  * hv_colour_map_create (the profile no longer readable). *out is freed with
  * hv_colour_map_destroy. */
 HV_API hv_status hv_colour_map_for_model(const hv_volume *model, hv_colour_map **out);
+
+/* A painted model's colour.depth grid (its index) with the depth painted (*depth_mm, as a float:
+ * a voxel is skin when its value is <= it); -1 when the model has no such grid or no record of the
+ * depth (painted before the grid, or a Volumetric package's colour): then the stack interpolates
+ * the fractions across the depth as any other. Never fails. */
+HV_API int hv_colour_depth_grid(const hv_volume *model, float *depth_mm);
 
 typedef struct hv_colour_skin_report {
     uint64_t voxels;                /* occupied voxels with a requested colour */

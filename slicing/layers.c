@@ -1028,7 +1028,11 @@ static void depth_pixel(job *J, worker *w, float *frac, size_t plane, size_t q, 
     float wt[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty}, d = 0, own = 0;
     const float *dv = w->vimg + (size_t)J->m * vox;
     for (int k = 0; k < 4; ++k) d += wt[k] * dv[at[k]];
-    d = depth_cell_ridge(J, dv, J->bx[c], J->by[r], tx, ty, d);
+    /* the crease rule only raises the depth, by at most a voxel along each axis (the least corner
+     * plane is at most the least corner's depth, <= d, and two steps of a voxel): the side it can
+     * change is that of a depth at most that far below D */
+    if (d <= D && d > D - (float)(J->xf.voxel[0] + J->xf.voxel[1]))
+        d = depth_cell_ridge(J, dv, J->bx[c], J->by[r], tx, ty, d);
     int skin = d <= D;
     for (int k = 0; k < 4; ++k) {
         if ((dv[at[k]] <= D) != skin) wt[k] = 0;

@@ -127,14 +127,23 @@ HV_API hv_status hv_colour_paint(hv_volume *model, const hv_mesh *mesh, hv_colou
 
 /* What painting keeps beside the fractions (issue 29): float grids "colour.r", "colour.g",
  * "colour.b" (the requested sRGB colour, in [0, 1]) and "colour.mask" (1 where a colour was asked
- * for: the skin, and a colour core; 0 under a resin core), and metadata hovox.colour.json (the
- * profile, intent, resins, depth and core). The render shows those colours; the stack manifest
- * their dE2000.
+ * for: the skin, and a colour core; 0 under a resin core), "colour.depth" (each voxel's distance
+ * to the surface in mm, exact up to the depth plus two voxels (the largest edge), the depth plus
+ * three voxels beyond; a voxel painted as skin holds at most the depth as a float, one deeper more),
+ * and metadata hovox.colour.json (the profile, intent, resins, depth and core). The render shows
+ * those colours; the stack manifest their dE2000; layers and trays put the change from skin to
+ * core at the depth per printer pixel (hv_colour_depth_grid).
  * The colour map painting used, made again from the model's record. Errors: HV_ERR_NOT_FOUND
  * (the model is not painted), HV_ERR_BAD_INPUT (a damaged record), those of
  * hv_colour_map_create (the profile no longer readable). *out is freed with
  * hv_colour_map_destroy. */
 HV_API hv_status hv_colour_map_for_model(const hv_volume *model, hv_colour_map **out);
+
+/* A painted model's colour.depth grid (its index) with the depth painted (*depth_mm, as a float:
+ * a voxel is skin when its value is <= it); -1 when the model has no such grid or no record of the
+ * depth (painted before the grid, or a Volumetric package's colour): then the stack interpolates
+ * the fractions across the depth as any other. Never fails. */
+HV_API int hv_colour_depth_grid(const hv_volume *model, float *depth_mm);
 
 typedef struct hv_colour_skin_report {
     uint64_t voxels;                /* occupied voxels with a requested colour */
@@ -143,9 +152,15 @@ typedef struct hv_colour_skin_report {
 /* CIEDE2000 between each such voxel's requested colour and what its six fractions print (each
  * multiplied by scale[k] when scale is given, then normalised: a halftone's achieved over target
  * share per resin), both through `map` (hv_colour_map_lab_of_srgb, _of_fractions). Errors:
- * HV_ERR_NOT_FOUND (no colour grids). */
+ * HV_ERR_NOT_FOUND (no colour grids), NOMEM, CANCELLED. */
 HV_API hv_status hv_colour_skin_error(const hv_volume *model, const hv_colour_map *map,
                                       const double scale[HV_COLOUR_SLOTS], hv_colour_skin_report *out);
+/* hv_colour_skin_error for n scales at once (scales[s] NULL: the fractions as they are), into
+ * out[0 .. n): the voxels read and each requested colour's Lab made once, the dE2000 on
+ * hv_threads() threads; the same figures as n calls. Errors: HV_ERR_NOT_FOUND (no colour grids),
+ * NOMEM, CANCELLED. */
+HV_API hv_status hv_colour_skin_errors(const hv_volume *model, const hv_colour_map *map, int n,
+                                       const double *const *scales, hv_colour_skin_report *out);
 /* The same over weighted samples in place of a model's voxels (a scan printed from a colour lookup
  * table, issue 30: its tabulated values): sample i asks for the sRGB colour rgb[3i .. 3i+2] and prints
  * the fractions fractions[6i .. 6i+5] at weight[i] printer voxels (weight 0: left out); out->voxels
@@ -158,8 +173,8 @@ HV_API hv_status hv_colour_samples_error(const hv_colour_map *map, size_t n, con
  * model and map the caller sets, or map and samples in place of the model): adds "colour" {icc,
  * description, intent, skin_voxels (samples: printer_voxels), mean_de2000_target,
  * max_de2000_target, and mean_de2000_achieved when the manifest's materials have "achieved"
- * (halftone): the fractions scaled per resin by achieved / target}, and fills target, achieved
- * and has_achieved. */
+ * (halftone): the fractions scaled per resin by achieved / target}, and fills target, achieved,
+ * has_achieved and printer_voxels. */
 typedef struct hv_colour_skin {
     const hv_volume *model;
     hv_colour_map *map;
@@ -170,6 +185,9 @@ typedef struct hv_colour_skin {
     const uint8_t *rgb;
     const float *fractions;
     const uint64_t *weight;
+    /* set by the hook with target: 1 when its voxels are printer voxels (the samples), 0 a
+       model's skin voxels (still 0 when a front end clears model afterwards) */
+    int printer_voxels;
 } hv_colour_skin;
 HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
 
@@ -254,21 +272,19 @@ HV_API hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_opt
 HV_API hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double depth, uint64_t budget,
                                        hv_voxelize_options *opt, hv_voxel_plan *plan);
 
-/* The "colour" object a stack manifest gives a painted model (jansson json_t *, owned by the
- * caller; NULL in *out when the model is not painted, HV_OK): {icc, description, intent,
- * skin_voxels, mean_de2000_target, max_de2000_target, and mean_de2000_achieved when `achieved`
- * is given}. `names`, `target` and `achieved` are the model's m materials as a halftone printed
- * them (achieved NULL: no halftone); each colour resin's fractions are scaled by its achieved /
- * target. A tray gives one per painted part. Errors: those of hv_colour_map_for_model, NOMEM. */
-HV_API hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *const *names, const double *target,
-                                         const double *achieved, void **out);
-
-/* The same "colour" object for sk's model or samples (sk->map set by the caller; model or
- * samples as for hv_colour_manifest_hook), filling sk's target, achieved and has_achieved: a
- * tray's painted part or scan printed from a colour table. Errors: those of
- * hv_colour_skin_error, NOMEM. */
-HV_API hv_status hv_colour_skin_manifest(hv_colour_skin *sk, int m, const char *const *names, const double *target,
-                                         const double *achieved, void **out);
+/* The same "colour" object for copies of one painted model or of one scan printed from a colour
+ * table (a tray's copies of a part): sk[0 .. copies) share sk[0]'s map and its model or samples
+ * (set by the caller, as for hv_colour_manifest_hook); copy c's halftone printed the m materials
+ * `names` at target[c] and achieved[c] (achieved[c] NULL: no halftone); each colour resin's
+ * fractions are scaled by its achieved / target. Fills each sk[c]'s target, achieved and
+ * has_achieved and out[c] (jansson json_t *, owned by the caller): {icc, description, intent,
+ * skin_voxels (samples: printer_voxels), mean_de2000_target, max_de2000_target, and
+ * mean_de2000_achieved when achieved[c] is given, gives_way when painting gave a resin up}. The
+ * requested colours are read and their Lab made once for all copies; copies whose halftones
+ * printed alike share their figures. Errors: those of hv_colour_skin_errors, NOMEM (then every
+ * out[c] NULL). */
+HV_API hv_status hv_colour_skin_manifests(hv_colour_skin *sk, int copies, int m, const char *const *names,
+                                          const double *const *target, const double *const *achieved, void **out);
 
 /* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
  * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by

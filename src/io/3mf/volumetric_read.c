@@ -1973,7 +1973,6 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
     }
     colour_job cj;
     memset(&cj, 0, sizeof cj);
-    if (s == HV_OK && u->cf) s = colour_begin(r, u, lat, off, v, &cj);
     size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
     const int32_t *orig = nl ? hv_volume_leaf_origins(v) : NULL;
     /* the leaves in z order, a slab (8 layers) at a time */
@@ -1985,6 +1984,7 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
         for (size_t l = 0; l < nl; ++l) zl[l] = (zleaf){orig[3 * l + 2], l};
         if (nl) qsort(zl, nl, sizeof *zl, cmp_zleaf);
     }
+    if (s == HV_OK && u->cf) s = colour_begin(r, u, lat, off, v, &cj); /* last: its sheets take what is left */
     for (size_t b = 0, e = 0; b < nl && s == HV_OK; b = e) {
         int32_t z0 = zl[b].z;
         for (e = b; e < nl && zl[e].z == z0; ++e) {}

@@ -233,6 +233,24 @@ def test_tray(graded_gear, gear_mesh, tmp_path):
         t.add(mesh=pin, copies=0)
 
 
+def test_tray_resin_mapping_keeps_a_body_in_its_resin(cli, root, tmp_path):
+    """issue 29 item 1: a tray's resin mapping is a resin for the body rule, from Python as from the
+    CLI (the library's tray): badge.3mf asked for colour with resin={"PLA_Blue": "VeroCyan-V"} prints
+    its grip in VeroCyan-V and paints the badge alone; the layer is the CLI's, byte for byte."""
+    make_test_data(os.path.join(root, "tests", "colour", "colour_assembly.py"), tmp_path, capture_output=True)
+    badge = tmp_path / "badge.3mf"
+    r = cli("tray", "--part", "%s@60,60" % badge, "--colour-depth", "1", "--resin", "PLA_Blue=VeroCyan-V",
+            "-o", tmp_path / "cli", "--layers", "74:75", "-q")
+    assert r.returncode == 0, r.stderr
+    t = hovox.tray(resin={"PLA_Blue": "VeroCyan-V"})
+    t.add(mesh=badge, at=(60, 60), colour_depth=1)
+    t.layers(tmp_path / "py", layers=(74, 75))
+    f = "layer-00074.png"
+    assert (tmp_path / "py" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes()
+    part = json.load(open(tmp_path / "py" / "manifest.json"))["parts"][0]
+    assert part["materials"]["PLA_Blue"]["resin"] == "VeroCyan-V" and part["colour"]["skin_voxels"] == 3380
+
+
 def test_mesh_layers_in_one_step(cli, shared, tmp_path):
     """issue 27 item 2: mesh.layers prints a mesh in its bodies' materials in one step, the bytes of
     `hovox layers PART.3mf -o DIR --material BODY=MATERIAL`; the size warning names the unit."""

@@ -20,9 +20,8 @@ def mix(cmyk, alpha):
     return [alpha * v * scale for v in ink] + [alpha * white, 1 - alpha]
 
 
-def main():
-    hovox = sys.argv[1]
-    extra = sys.argv[2:]
+def profile_args(extra):
+    """The profile and intent of --icc FILE and --intent NAME among extra (default: hovox's)."""
     icc = "/usr/share/color/icc/ghostscript/default_cmyk.icc"
     intent = "perceptual"
     for i, a in enumerate(extra):
@@ -30,6 +29,13 @@ def main():
             icc = extra[i + 1]
         if a == "--intent":
             intent = extra[i + 1]
+    return icc, intent
+
+
+def main():
+    hovox = sys.argv[1]
+    extra = sys.argv[2:]
+    icc, intent = profile_args(extra)
     steps = [0, 51, 128, 204, 255]
     colours = [(r, g, b, 255) for r in steps for g in steps for b in steps]
     colours += [(255, 0, 0, 128), (10, 200, 30, 0), (90, 90, 250, 200)]

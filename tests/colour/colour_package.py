@@ -21,7 +21,7 @@ import zipfile
 from PIL import Image, ImageCms
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from check_littlecms import INTENTS, mix  # noqa: E402
+from check_littlecms import INTENTS, mix, profile_args  # noqa: E402
 
 N = (5, 4, 3)  # columns, rows, sheets
 TILES = ("wrap", "mirror", "clamp")
@@ -134,13 +134,7 @@ def write(out):
 
 def check(path, extra):
     doc = json.load(open(path))
-    icc = "/usr/share/color/icc/ghostscript/default_cmyk.icc"
-    intent = "perceptual"
-    for i, a in enumerate(extra):
-        if a == "--icc":
-            icc = extra[i + 1]
-        if a == "--intent":
-            intent = extra[i + 1]
+    icc, intent = profile_args(extra)
     nearest = doc["package"].endswith("nearest.3mf")
     vox = doc["voxels"]
     worst_c = 0.0

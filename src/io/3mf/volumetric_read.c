@@ -1633,6 +1633,8 @@ typedef struct sampler {
     const double *t; /* object -> the function's UVW (the element's transform) */
     sheet_cache slot[SAMPLER_SLOTS];
     uint64_t last[SAMPLER_SLOTS], tick;
+    sheet_cache *all; /* per sheet of the stack: a slab's sheets decoded beforehand (colour_slab), or NULL */
+    int shared;       /* read from `all` alone (threads sample at once): a sheet not there is a bug */
 } sampler;
 
 static hv_status sampler_init(rd *r, sampler *sp, const func *f, img3d *im, const double *t)
@@ -1650,10 +1652,18 @@ static hv_status sampler_init(rd *r, sampler *sp, const func *f, img3d *im, cons
 static void sampler_free(sampler *sp)
 {
     for (int i = 0; i < SAMPLER_SLOTS; ++i) hv_png_pixels_free(&sp->slot[i].px);
+    for (size_t k = 0; sp->all && k < sp->im->sheets; ++k) hv_png_pixels_free(&sp->all[k].px);
+    free(sp->all);
+    sp->all = NULL;
 }
 
 static hv_status sampler_sheet(rd *r, sampler *sp, int64_t k, const hv_png_pixels **px)
 {
+    if (sp->all && sp->all[k].sheet == k) {
+        *px = &sp->all[k].px;
+        return HV_OK;
+    }
+    if (sp->shared) return hv_error_set(HV_ERR_INTERNAL, "3MF colour: sheet %lld was not decoded", (long long)k);
     int victim = 0;
     for (int i = 0; i < SAMPLER_SLOTS; ++i) {
         if (sp->slot[i].sheet == k) {
@@ -1672,23 +1682,26 @@ static hv_status sampler_sheet(rd *r, sampler *sp, int64_t k, const hv_png_pixel
  * point's UVW as image indices (voxel centres on integers; rows run down from the highest v, ties
  * of "nearest" go to the lower index), each tap's index tiled by the tile style, "linear"
  * trilinear between the eight around it. */
-static hv_status sample_rgba(rd *r, sampler *sp, const double x[3], double out[4])
+static void axis_taps(const sampler *sp, const double x[3], int b, int64_t idx[2], double wt[2])
 {
     const double *t = sp->t;
+    const int64_t n = (int64_t)(b == 0 ? sp->im->cols : b == 1 ? sp->im->rows : sp->im->sheets);
+    double w = x[0] * t[b] + x[1] * t[3 + b] + x[2] * t[6 + b] + t[9 + b];
+    double q = (b == 1 ? 1 - w : w) * (double)n - 0.5;
+    q = q > -1e15 && q < 1e15 ? q : q > 0 ? 1e15 : -1e15; /* far off (and NaN): an edge */
+    double f0 = sp->f->nearest ? ceil(q - 0.5) : floor(q), fr = sp->f->nearest ? 0 : q - f0;
+    idx[0] = tile_index((int64_t)f0, n, sp->f->tile[b]);
+    idx[1] = tile_index((int64_t)f0 + 1, n, sp->f->tile[b]);
+    wt[0] = 1 - fr;
+    wt[1] = fr;
+}
+
+static hv_status sample_rgba(rd *r, sampler *sp, const double x[3], double out[4])
+{
     const img3d *im = sp->im;
-    const int64_t n[3] = {(int64_t)im->cols, (int64_t)im->rows, (int64_t)im->sheets};
     int64_t idx[3][2];
     double wt[3][2];
-    for (int b = 0; b < 3; ++b) {
-        double w = x[0] * t[b] + x[1] * t[3 + b] + x[2] * t[6 + b] + t[9 + b];
-        double q = (b == 1 ? 1 - w : w) * (double)n[b] - 0.5;
-        q = q > -1e15 && q < 1e15 ? q : q > 0 ? 1e15 : -1e15; /* far off (and NaN): an edge */
-        double f0 = sp->f->nearest ? ceil(q - 0.5) : floor(q), fr = sp->f->nearest ? 0 : q - f0;
-        idx[b][0] = tile_index((int64_t)f0, n[b], sp->f->tile[b]);
-        idx[b][1] = tile_index((int64_t)f0 + 1, n[b], sp->f->tile[b]);
-        wt[b][0] = 1 - fr;
-        wt[b][1] = fr;
-    }
+    for (int b = 0; b < 3; ++b) axis_taps(sp, x, b, idx[b], wt[b]);
     double acc[4] = {0, 0, 0, 0};
     for (int kz = 0; kz < 2; ++kz) {
         if (wt[2][kz] == 0) continue;
@@ -1717,6 +1730,11 @@ typedef struct colour_job {
     int grid[4];
     const lattice *lat;
     const int64_t *off;
+    uint64_t allowance; /* bytes a slab's decoded sheets may take (charged), else one thread's LRU */
+    rd *r;
+    hv_volume *v;
+    const zleaf *zl; /* the slab being sampled */
+    int32_t z0;
 } colour_job;
 
 static hv_status colour_begin(rd *r, const used *u, const lattice *lat, const int64_t *off, hv_volume *v, colour_job *cj)
@@ -1733,6 +1751,15 @@ static hv_status colour_begin(rd *r, const used *u, const lattice *lat, const in
     cj->mask_channel = u->mask_channel;
     cj->mask_shared = cj->has_mask && u->mf == u->cf && memcmp(vd->mask.t, vd->colour.t, sizeof vd->mask.t) == 0;
     if (s == HV_OK && cj->has_mask && !cj->mask_shared) s = sampler_init(r, &cj->mask, u->mf, u->mim, vd->mask.t);
+    /* a slab's sheets decoded once for all threads: a quarter of what is left of the budget, at most 1 GiB */
+    uint64_t left = r->budget - HV_MIN(r->budget, r->used);
+    cj->allowance = HV_MIN(left / 4, (uint64_t)1 << 30);
+    if (s == HV_OK && charge(r, cj->allowance, "image sheets") != HV_OK) {
+        hv_error_clear();
+        cj->allowance = 0;
+    }
+    cj->r = r;
+    cj->v = v;
     return s;
 }
 
@@ -1744,6 +1771,15 @@ static void colour_end(colour_job *cj)
 
 static double unit_clamp(double v) { return v > 0 ? (v < 1 ? v : 1) : 0; /* NaN: 0 */ }
 
+/* The centre of voxel (i, j) of the leaf at origin o, at height z, in object coordinates: from its
+ * lattice index (voxel centres on integers). */
+static void voxel_centre(const colour_job *cj, const int32_t *o, unsigned i, unsigned j, int64_t z, double x[3])
+{
+    const double *t = cj->lat->t;
+    int64_t s3[3] = {o[0] + (int64_t)i - cj->off[0], o[1] + (int64_t)j - cj->off[1], z - cj->off[2]};
+    for (int a = 0; a < 3; ++a) x[a] = (((double)s3[a] + 0.5) / (double)cj->lat->n[a] - t[9 + a]) / t[4 * a];
+}
+
 /* The colour of the voxels of leaf l at height z. */
 static hv_status colour_layer(rd *r, colour_job *cj, hv_volume *v, size_t l, int64_t z)
 {
@@ -1751,15 +1787,12 @@ static hv_status colour_layer(rd *r, colour_job *cj, hv_volume *v, size_t l, int
     const uint64_t *on = hv_volume_leaf_mask(v, l);
     float *dst[4];
     for (int k = 0; k < 4; ++k) dst[k] = hv_volume_leaf_float(v, cj->grid[k], l);
-    const double *t = cj->lat->t;
     for (unsigned i = 0; i < 8; ++i)
         for (unsigned j = 0; j < 8; ++j) {
             unsigned n = (i << 6) | (j << 3) | (unsigned)(z & 7);
             if (!HV_BIT_GET(on, n)) continue;
-            /* the voxel centre in object coordinates, from the lattice index (voxel centres on integers) */
-            int64_t s3[3] = {o[0] + (int64_t)i - cj->off[0], o[1] + (int64_t)j - cj->off[1], z - cj->off[2]};
             double x[3], rgba[4], m[4];
-            for (int a = 0; a < 3; ++a) x[a] = (((double)s3[a] + 0.5) / (double)cj->lat->n[a] - t[9 + a]) / t[4 * a];
+            voxel_centre(cj, o, i, j, z, x);
             hv_status s = sample_rgba(r, &cj->col, x, rgba);
             if (s == HV_OK && cj->has_mask && !cj->mask_shared) s = sample_rgba(r, &cj->mask, x, m);
             if (s != HV_OK) return s;
@@ -1769,6 +1802,94 @@ static hv_status colour_layer(rd *r, colour_job *cj, hv_volume *v, size_t l, int
             dst[3][n] = asked ? 1.0f : 0.0f;
         }
     return HV_OK;
+}
+
+/* Mark the sheets of sp the voxels of a slab's leaves sample (the taps sample_rgba reads along w). */
+static void mark_sheets(const colour_job *cj, const sampler *sp, const zleaf *zl, size_t n, int32_t z0, uint8_t *need)
+{
+    for (size_t li = 0; li < n; ++li) {
+        const int32_t *o = hv_volume_leaf_origins(cj->v) + 3 * zl[li].leaf;
+        const uint64_t *on = hv_volume_leaf_mask(cj->v, zl[li].leaf);
+        for (int64_t z = z0; z < (int64_t)z0 + 8; ++z)
+            for (unsigned i = 0; i < 8; ++i)
+                for (unsigned j = 0; j < 8; ++j) {
+                    if (!HV_BIT_GET(on, (i << 6) | (j << 3) | (unsigned)(z & 7))) continue;
+                    double x[3], wt[2];
+                    int64_t idx[2];
+                    voxel_centre(cj, o, i, j, z, x);
+                    axis_taps(sp, x, 2, idx, wt);
+                    for (int k = 0; k < 2; ++k)
+                        if (wt[k] != 0) need[idx[k]] = 1;
+                }
+    }
+}
+
+/* Decode the sheets of sp a slab needs, in ascending order, into sp->all (those it no longer needs
+ * freed). */
+static hv_status slab_sheets(colour_job *cj, sampler *sp, const uint8_t *need)
+{
+    if (!sp->all) {
+        if (!(sp->all = hv_calloc(sp->im->sheets, sizeof *sp->all))) return HV_ERR_NOMEM;
+        for (size_t k = 0; k < sp->im->sheets; ++k) sp->all[k].sheet = -1;
+    }
+    for (size_t k = 0; k < sp->im->sheets; ++k)
+        if (!need[k] && sp->all[k].sheet >= 0) {
+            hv_png_pixels_free(&sp->all[k].px);
+            sp->all[k].sheet = -1;
+        }
+    for (size_t k = 0; k < sp->im->sheets; ++k) {
+        if (!need[k] || sp->all[k].sheet == (int64_t)k) continue;
+        sp->all[k].sheet = -1;
+        hv_status s = load_sheet(cj->r, sp->im, &sp->all[k], (int64_t)k);
+        if (s != HV_OK) return s;
+    }
+    return HV_OK;
+}
+
+static hv_status colour_chunk(void *ctx, size_t begin, size_t end, int thread)
+{
+    (void)thread;
+    colour_job *cj = ctx;
+    for (size_t li = begin; li < end; ++li)
+        for (int64_t z = cj->z0; z < (int64_t)cj->z0 + 8; ++z) {
+            hv_status s = colour_layer(cj->r, cj, cj->v, cj->zl[li].leaf, z);
+            if (s != HV_OK) return s;
+        }
+    return HV_OK;
+}
+
+/* The colour of a slab's leaves (issue 29 item 4: on the library's threads). The sheets its voxels
+ * sample are decoded first, on this thread, in ascending order (the package is read by one thread;
+ * a damaged sheet is reported the same way whatever the threads), then the leaves are sampled in
+ * parallel, reading them alone; each voxel's colour is computed as before, so the model does not
+ * depend on the thread count. When the sheets would take more than cj->allowance, one thread
+ * samples through its few least-recently-used sheets (the colour's reader before). */
+static hv_status colour_slab(colour_job *cj, const zleaf *zl, size_t n, int32_t z0)
+{
+    sampler *sp[2] = {&cj->col, cj->has_mask && !cj->mask_shared ? &cj->mask : NULL};
+    uint64_t bytes = 0;
+    hv_status s = HV_OK;
+    uint8_t *need[2] = {NULL, NULL};
+    for (int q = 0; q < 2 && s == HV_OK; ++q) {
+        if (!sp[q]) continue;
+        if (!(need[q] = hv_calloc(sp[q]->im->sheets, 1))) s = HV_ERR_NOMEM;
+        if (s == HV_OK) mark_sheets(cj, sp[q], zl, n, z0, need[q]);
+        for (size_t k = 0; s == HV_OK && k < sp[q]->im->sheets; ++k)
+            bytes += need[q][k] ? (uint64_t)sp[q]->im->rows * sp[q]->im->cols * 4 * sizeof(uint16_t) : 0;
+    }
+    int shared = s == HV_OK && bytes <= cj->allowance;
+    for (int q = 0; q < 2 && shared && s == HV_OK; ++q)
+        if (sp[q]) s = slab_sheets(cj, sp[q], need[q]);
+    for (int q = 0; q < 2; ++q)
+        if (sp[q]) sp[q]->shared = shared;
+    cj->zl = zl;
+    cj->z0 = z0;
+    if (s == HV_OK) s = shared ? hv_parallel_for(n, 4, colour_chunk, cj, NULL, NULL) : colour_chunk(cj, 0, n, 0);
+    for (int q = 0; q < 2; ++q) {
+        if (sp[q]) sp[q]->shared = 0;
+        free(need[q]);
+    }
+    return s;
 }
 
 /* ---- the model ------------------------------------------------------------------------------------------- */
@@ -1852,7 +1973,6 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
     }
     colour_job cj;
     memset(&cj, 0, sizeof cj);
-    if (s == HV_OK && u->cf) s = colour_begin(r, u, lat, off, v, &cj);
     size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
     const int32_t *orig = nl ? hv_volume_leaf_origins(v) : NULL;
     /* the leaves in z order, a slab (8 layers) at a time */
@@ -1864,6 +1984,7 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
         for (size_t l = 0; l < nl; ++l) zl[l] = (zleaf){orig[3 * l + 2], l};
         if (nl) qsort(zl, nl, sizeof *zl, cmp_zleaf);
     }
+    if (s == HV_OK && u->cf) s = colour_begin(r, u, lat, off, v, &cj); /* last: its sheets take what is left */
     for (size_t b = 0, e = 0; b < nl && s == HV_OK; b = e) {
         int32_t z0 = zl[b].z;
         for (e = b; e < nl && zl[e].z == z0; ++e) {}
@@ -1874,11 +1995,9 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
                 int64_t sheet = tile_index(z - off[2], (int64_t)u->im[j]->sheets, u->f[j]->tile[2]);
                 s = load_sheet(r, u->im[j], &cache[j], sheet);
             }
-            for (size_t li = b; li < e && s == HV_OK; ++li) {
-                if (m) fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
-                if (u->cf) s = colour_layer(r, &cj, v, zl[li].leaf, z);
-            }
+            for (size_t li = b; li < e && s == HV_OK && m; ++li) fill_layer(u, v, grid, zl[li].leaf, z, off, cache, cache_of);
         }
+        if (s == HV_OK && u->cf) s = colour_slab(&cj, zl + b, e - b, z0);
     }
     free(zl);
     colour_end(&cj);
@@ -1891,7 +2010,34 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
  * hovox/colour.h: Ghostscript's default_cmyk.icc, perceptual, the J750's resins), each voxel's
  * fractions those of its colour rounded to 8-bit sRGB (the white resin where hovox:colour.mask
  * says no colour was asked for), and the map recorded as a painted model's (hovox.colour.json),
- * so layers measure the colour's dE2000 through it. */
+ * so layers measure the colour's dE2000 through it. Leaves on the library's threads. */
+typedef struct resin_job {
+    hv_volume *v;
+    hv_colour_map *map; /* its fractions are thread-safe */
+    const int *cg, *grid;
+} resin_job;
+
+static hv_status resin_chunk(void *ctx, size_t begin, size_t end, int thread)
+{
+    (void)thread;
+    const resin_job *j = ctx;
+    for (size_t l = begin; l < end; ++l) {
+        const uint64_t *on = hv_volume_leaf_mask(j->v, l);
+        const float *c[4];
+        for (int k = 0; k < 4; ++k) c[k] = hv_volume_leaf_float_c(j->v, j->cg[k], l);
+        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
+            if (!HV_BIT_GET(on, n)) continue;
+            float f[HV_COLOUR_SLOTS] = {0};
+            uint8_t rgba[4] = {0, 0, 0, 255};
+            for (int k = 0; k < 3; ++k) rgba[k] = (uint8_t)lrintf(c[k][n] * 255.0f);
+            if (c[3][n] > 0.5f) hv_colour_map_fractions(j->map, rgba, f);
+            else f[HV_COLOUR_W] = 1;
+            for (int k = 0; k < HV_COLOUR_SLOTS; ++k) hv_volume_leaf_float(j->v, j->grid[k], l)[n] = f[k];
+        }
+    }
+    return HV_OK;
+}
+
 static hv_status colour_resins(const hv_colour_options *opt, hv_volume *v, hv_material_table **out)
 {
     *out = NULL;
@@ -1910,21 +2056,8 @@ static hv_status colour_resins(const hv_colour_options *opt, hv_volume *v, hv_ma
         s = hv_material_add(t, hv_colour_map_resin(map, k), NULL, NULL);
         if (s == HV_OK) s = hv_volume_grid_add(v, gname, HV_GRID_FLOAT, &grid[k]);
     }
-    size_t nl = s == HV_OK ? hv_volume_leaf_count(v) : 0;
-    for (size_t l = 0; l < nl; ++l) {
-        const uint64_t *on = hv_volume_leaf_mask(v, l);
-        const float *c[4];
-        for (int k = 0; k < 4; ++k) c[k] = hv_volume_leaf_float_c(v, cg[k], l);
-        for (unsigned n = 0; n < HV_LEAF_SIZE; ++n) {
-            if (!HV_BIT_GET(on, n)) continue;
-            float f[HV_COLOUR_SLOTS] = {0};
-            uint8_t rgba[4] = {0, 0, 0, 255};
-            for (int k = 0; k < 3; ++k) rgba[k] = (uint8_t)lrintf(c[k][n] * 255.0f);
-            if (c[3][n] > 0.5f) hv_colour_map_fractions(map, rgba, f);
-            else f[HV_COLOUR_W] = 1;
-            for (int k = 0; k < HV_COLOUR_SLOTS; ++k) hv_volume_leaf_float(v, grid[k], l)[n] = f[k];
-        }
-    }
+    resin_job rj = {v, map, cg, grid};
+    if (s == HV_OK) s = hv_parallel_for(hv_volume_leaf_count(v), 16, resin_chunk, &rj, NULL, NULL);
     json_t *doc = json_object(), *resins = json_array();
     int bad = !doc || !resins;
     for (int k = 0; k < HV_COLOUR_SLOTS && !bad && s == HV_OK; ++k)

@@ -5,19 +5,6 @@
 # for: the core), and `layers` reports the colour's dE2000 through that map
 $HOVOX voxelize samples/colour_cube.obj --voxel-size 1 --colour-depth 1 --core Agilus30 -o "$TMP/c.vdb" >/dev/null || exit 9
 $HOVOX export "$TMP/c.vdb" -o "$TMP/c.3mf" --volumetric -q >/dev/null || exit 9
-/usr/bin/python3 - "$TMP" <<'PY'
-import re, sys, zipfile
-d = sys.argv[1]
-src = zipfile.ZipFile(d + '/c.3mf')
-out = zipfile.ZipFile(d + '/alone.3mf', 'w')
-for n in src.namelist():
-    data = src.read(n)
-    if n == '3D/3dmodel.model':
-        text = re.sub(r'<v:composite .*?</v:composite>\s*', '', data.decode(), flags=re.S)
-        text = re.sub(r'<metadata name="hovox:(materials|colour)">.*?</metadata>\s*', '', text, flags=re.S)
-        data = text.encode()
-    out.writestr(n, data)
-out.close()
-PY
+/usr/bin/python3 tests/colour/colour_alone.py "$TMP/c.3mf" "$TMP/alone.3mf" || exit 9
 $HOVOX probe "$TMP/alone.3mf" 5,5,0.5 5,5,5
 $HOVOX layers "$TMP/alone.3mf" -o "$TMP/st" --dpi 254,254 --layer-height 0.1 | sed -n '/^material/,$p'

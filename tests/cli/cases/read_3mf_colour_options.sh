@@ -3,7 +3,7 @@
 # caller's colour map: `layers --icc --intent --resins` and a tray's (the tray's options, part
 # MODEL,MESH; its targets within 1e-4 of layers', its pixels lie elsewhere), the same dE2000, the
 # profile and resins named (the white role played by Agilus30White here). Voxels as fine as the
-# image's finest step (2.75 mm here). python/tests/test_api.py checks every voxel's colour
+# image's finest step (2.75 mm here). Lua's hovox.load(path, {icc, resins}) alike. python/tests/test_api.py checks every voxel's colour
 # against the spec's sampling and its fractions against Pillow ImageCms. Refused: a profile that is
 # not one (exit 1, nothing written); --icc for a .vdb model (exit 2: its colours were mapped).
 /usr/bin/python3 tests/colour/colour_package.py write "$TMP" || exit 9
@@ -18,6 +18,19 @@ $HOVOX tray --part turned.3mf,turned.3mf@60,60 -o tray --layers 100:101 --icc $P
 import json
 p = json.load(open('tray/manifest.json'))['parts'][0]
 print(', '.join('%s %.6f' % (k, v['target']) for k, v in p['materials'].items()), p['colour']['skin_voxels'])"
+# Lua's hovox.load(path, {icc, resins}) takes them too (the default: `hovox probe`'s fractions)
+cat >l.lua <<'LUA'
+local a = hovox.load("turned.3mf")
+local b = hovox.load("turned.3mf", {icc = "/usr/share/color/icc/ghostscript/ps_cmyk.icc",
+                                    resins = "VeroCyan-V,VeroMagenta-V,VeroYellow-V,VeroBlackPlus,Agilus30White,VeroClear"})
+local _, fa = a:probe{12, 10, 6}
+local _, fb = b:probe{12, 10, 6}
+print(string.format("default: cyan %.4f white %.4f; ps_cmyk: cyan %.4f Agilus30White %.4f", fa["VeroCyan-V"],
+                    fa["VeroPureWhite"], fb["VeroCyan-V"], fb["Agilus30White"]))
+print(pcall(hovox.load, "turned.3mf", {icc = "/etc/passwd"}))
+LUA
+$HOVOX run l.lua; echo "rc=$?"
+$HOVOX probe turned.3mf 12,10,6
 $HOVOX layers turned.3mf -o bad --icc /etc/passwd; echo "rc=$?"
 [ -e bad ] || echo "nothing written"
 cd - >/dev/null || exit 9

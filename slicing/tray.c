@@ -755,10 +755,30 @@ static const char *where_of(const hv_tray *t, const instance *in)
  * coarsened until the voxelization fits a quarter of the budget; or a mesh that prints in its
  * colours (issue 29), its model painted as `layers MESH` paints it, on voxels half the colour's
  * depth or the printer's pitch (hv_colour_mesh_voxels). */
+/* The body rule's resins (issue 29 item 1): a material the tray prints in a resin, by its --resin
+ * MATERIAL=RESIN mapping (a job file's "resin" object, Lua's and Python's resin = {...}) or a resin
+ * of its table named like it (the profile's, hv_resin_find, and --resin-color's), as resin_of
+ * maps it. */
+static int tray_is_resin(void *user, const char *material)
+{
+    const hv_tray_options *o = user;
+    size_t n = strlen(material);
+    for (int i = 0; i < o->nresin; ++i) {
+        const char *eq = strchr(o->resin[i], '=');
+        if (eq && (size_t)(eq - o->resin[i]) == n && strncmp(o->resin[i], material, n) == 0) return 1;
+    }
+    for (int i = 0; i < o->ncolor; ++i) {
+        const char *eq = strchr(o->resin_color[i], '=');
+        if (eq && (size_t)(eq - o->resin_color[i]) == n && strncasecmp(o->resin_color[i], material, n) == 0) return 1;
+    }
+    return 0;
+}
+
 static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *mesh, const hv_tray_options *o,
                               hv_volume **model)
 {
-    int paint = s->p.colour_depth > 0 || s->p.core || hv_colour_mesh_paints(mesh);
+    hv_colour_body_rule rule = {s->p.colour_depth > 0 || s->p.core, tray_is_resin, (void *)o};
+    int paint = rule.asked || hv_colour_mesh_paints(mesh, &rule);
     for (size_t i = 0; i < hv_mesh_body_count(mesh) && !paint; ++i) {
         const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
         if (b->material == HV_MESH_NO_MATERIAL)
@@ -781,7 +801,7 @@ static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *
     hv_colour_map *map = NULL;
     hv_status st = hv_colour_mesh_voxels(mesh, pitch, depth, budget, &vo, &plan);
     if (st == HV_OK) st = hv_colour_map_create(&o->colour, &map);
-    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, s->p.colour_depth > 0 || s->p.core, model);
+    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, &rule, model);
     hv_colour_map_destroy(map);
     return st;
 }
@@ -981,7 +1001,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     int q = (s->p.rotation / 90) % 4;
     if (!s->p.mesh) {
         double bmin[3], bmax[3];
-        hv_status st = hv_model_load(s->p.model, &model);
+        hv_status st = hv_model_load_colour(s->p.model, &o->colour, &model); /* a 3MF colour: the tray's map */
         if (st == HV_OK) st = model_shape(s, q, &model, &mesh, bmin, bmax);
         if (st == HV_OK) {
             s->mesh = mesh;
@@ -1008,7 +1028,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
         st = hv_body_materials_apply(&one, mesh);
         if (st != HV_OK && s->pair_where && s->pair_where[k]) where = s->pair_where[k];
     }
-    if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
+    if (st == HV_OK && s->p.model) st = hv_model_load_colour(s->p.model, &o->colour, &model);
     else if (st == HV_OK && !s->p.material) st = bodies_model(t, s, mesh, o, &model);
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;

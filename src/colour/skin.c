@@ -271,6 +271,7 @@ static hv_status skin_figures(hv_colour_skin *sk, int copies, const double *cons
         s = hv_colour_samples_error(sk->map, sk->samples, sk->rgb, sk->fractions, sk->weight, sc[k], &r[k]);
     for (int c = 0; c < copies && s == HV_OK; ++c) {
         sk[c].target = r[0];
+        sk[c].printer_voxels = !sk[0].model;
         sk[c].has_achieved = scale && scale[c];
         if (sk[c].has_achieved) sk[c].achieved = r[slot[c]];
     }
@@ -289,7 +290,7 @@ static hv_status skin_json(const hv_colour_skin *sk, json_t **out)
     bad |= hv_json_set(c, "icc", hv_json_text(hv_colour_map_icc(sk->map)));
     bad |= hv_json_set(c, "description", hv_json_text(hv_colour_map_description(sk->map)));
     bad |= hv_json_set(c, "intent", json_string(hv_intent_name(hv_colour_map_intent(sk->map))));
-    bad |= hv_json_set(c, sk->model ? "skin_voxels" : "printer_voxels", json_integer((json_int_t)sk->target.voxels));
+    bad |= hv_json_set(c, sk->printer_voxels ? "printer_voxels" : "skin_voxels", json_integer((json_int_t)sk->target.voxels));
     bad |= hv_json_set(c, "mean_de2000_target", hv_json_number(sk->target.mean_de2000));
     bad |= hv_json_set(c, "max_de2000_target", hv_json_number(sk->target.max_de2000));
     if (sk->has_achieved) bad |= hv_json_set(c, "mean_de2000_achieved", hv_json_number(sk->achieved.mean_de2000));

@@ -70,11 +70,12 @@ Test(skin, one_colour_everywhere_gives_its_own_de2000)
     cr_assert_gt(r2.mean_de2000, r.mean_de2000 + 1);
     /* the manifest hook */
     json_t *doc = json_pack("{s:[{s:s,s:f,s:f}]}", "materials", "name", "VeroYellow-V", "target", 0.2, "achieved", 0.4);
-    hv_colour_skin sk = {v, map, {0}, {0}, 0, 0, NULL, NULL, NULL};
+    hv_colour_skin sk = {.model = v, .map = map};
     cr_assert_eq(hv_colour_manifest_hook(&sk, doc), HV_OK, "%s", hv_last_error());
     json_t *c = json_object_get(doc, "colour");
     cr_assert_not_null(c);
     cr_assert_eq(json_integer_value(json_object_get(c, "skin_voxels")), (json_int_t)r.voxels);
+    cr_assert(!sk.printer_voxels);
     cr_assert(fabs(json_number_value(json_object_get(c, "mean_de2000_target")) - r.mean_de2000) < 1e-9);
     cr_assert(fabs(json_number_value(json_object_get(c, "mean_de2000_achieved")) - r2.mean_de2000) < 1e-9);
     json_decref(doc);
@@ -140,10 +141,11 @@ Test(skin, weighted_samples_give_the_models_figures)
     /* the hook with samples */
     json_t *doc = json_pack("{s:[{s:s,s:f,s:f}]}", "materials", "name", "VeroYellow-V", "target", 0.2, "achieved", 0.4);
     w[1] = 0;
-    hv_colour_skin sk = {NULL, map, {0}, {0}, 0, 2, rgb, fr, w};
+    hv_colour_skin sk = {.map = map, .samples = 2, .rgb = rgb, .fractions = fr, .weight = w};
     cr_assert_eq(hv_colour_manifest_hook(&sk, doc), HV_OK, "%s", hv_last_error());
     json_t *c = json_object_get(doc, "colour");
     cr_assert_eq(json_integer_value(json_object_get(c, "printer_voxels")), (json_int_t)r.voxels);
+    cr_assert(sk.printer_voxels, "the hook says its voxels are printer voxels");
     cr_assert(fabs(json_number_value(json_object_get(c, "mean_de2000_achieved")) - rs.mean_de2000) < 1e-3);
     json_decref(doc);
     hv_colour_map_destroy(map);
@@ -236,14 +238,14 @@ Test(skin, several_scales_in_one_pass_are_each_ones_figures)
     const char *names[2] = {"VeroYellow-V", "VeroCyan-V"};
     double tg[3][2] = {{0.2, 0.1}, {0.2, 0.1}, {0.2, 0.1}}, ac[3][2] = {{0.3, 0.1}, {0.2, 0.15}, {0.3, 0.1}};
     const double *tgp[3] = {tg[0], tg[1], tg[2]}, *acp[3] = {ac[0], ac[1], ac[2]};
-    hv_colour_skin sk[3] = {{v, map, {0}, {0}, 0, 0, NULL, NULL, NULL}};
+    hv_colour_skin sk[3] = {{.model = v, .map = map}};
     sk[1] = sk[2] = sk[0];
     void *out[3];
     cr_assert_eq(hv_colour_skin_manifests(sk, 3, 2, names, tgp, acp, out), HV_OK, "%s", hv_last_error());
     for (int c = 0; c < 3; ++c) {
         json_t *doc = json_pack("{s:[{s:s,s:f,s:f},{s:s,s:f,s:f}]}", "materials", "name", names[0], "target", tg[c][0],
                                 "achieved", ac[c][0], "name", names[1], "target", tg[c][1], "achieved", ac[c][1]);
-        hv_colour_skin one = {v, map, {0}, {0}, 0, 0, NULL, NULL, NULL};
+        hv_colour_skin one = {.model = v, .map = map};
         cr_assert_eq(hv_colour_manifest_hook(&one, doc), HV_OK, "%s", hv_last_error());
         cr_assert(json_equal(out[c], json_object_get(doc, "colour")), "copy %d", c);
         cr_assert(sk[c].has_achieved && memcmp(&sk[c].achieved, &one.achieved, sizeof one.achieved) == 0);

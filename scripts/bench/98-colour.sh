@@ -10,7 +10,8 @@
 # gears and shafts are the same graded models on both sides.
 # The trays run in rounds (graded, colour from the mesh, colour from the painted model),
 # BENCH_COLOUR_RUNS rounds (default 1: a whole tray takes minutes); medians over the rounds.
-# BENCH_COLOUR_LAYERS=a:b cuts every tray to those layers.
+# BENCH_COLOUR_LAYERS=a:b cuts every tray to those layers. Wall and CPU (user + sys) both, with
+# their ratios: CPU is the steadier on a loaded machine.
 echo
 echo "== colour: the bench tray with its knots textured in colour vs graded without colour (goal: <= 1.5x)"
 echo "  from the knot's mesh: tray on the textured mesh (paints it) vs voxelize + grade + tray; tray-only: both from models made beforehand"
@@ -42,25 +43,37 @@ EOF
 done
 lay=""
 [ -n "${BENCH_COLOUR_LAYERS:-}" ] && lay="--layers $BENCH_COLOUR_LAYERS"
-tm="" tg="" te="" tc="" tp="" i=0
+tm="" tg="" te="" tc="" tp="" cm="" cg="" ce="" cc="" cp="" i=0
 while [ $i -lt "${BENCH_COLOUR_RUNS:-1}" ]; do
-    # the graded user's model, made again each round (its time is part of that user's cost)
-    m=$(wall sh -c "$make_graded")
-    # shellcheck disable=SC2086
-    g=$(wall "$HOVOX" tray "$cw/graded.json" -o "$cw/graded" $lay --force -q)
+    # the graded user's model, made again each round (its time is part of that user's cost);
+    # each run gives its wall and CPU time (user + sys)
+    # shellcheck disable=SC2046
+    set -- $(wall_cpu sh -c "$make_graded")
+    m=$1 mc=$2
+    # shellcheck disable=SC2046,SC2086
+    set -- $(wall_cpu "$HOVOX" tray "$cw/graded.json" -o "$cw/graded" $lay --force -q)
+    g=$1 gc=$2
     tm="$tm $m" tg="$tg $g" te="$te $(awk -v a="$m" -v b="$g" 'BEGIN { printf "%.4f", a + b }')"
-    # shellcheck disable=SC2086
-    tc="$tc $(wall "$HOVOX" tray "$cw/colour.json" -o "$cw/colour" $lay --force -q)"
-    # shellcheck disable=SC2086
-    tp="$tp $(wall "$HOVOX" tray "$cw/painted.json" -o "$cw/painted" $lay --force -q)"
+    cm="$cm $mc" cg="$cg $gc" ce="$ce $(awk -v a="$mc" -v b="$gc" 'BEGIN { printf "%.4f", a + b }')"
+    # shellcheck disable=SC2046,SC2086
+    set -- $(wall_cpu "$HOVOX" tray "$cw/colour.json" -o "$cw/colour" $lay --force -q)
+    tc="$tc $1" cc="$cc $2"
+    # shellcheck disable=SC2046,SC2086
+    set -- $(wall_cpu "$HOVOX" tray "$cw/painted.json" -o "$cw/painted" $lay --force -q)
+    tp="$tp $1" cp="$cp $2"
     i=$((i + 1))
 done
 # shellcheck disable=SC2086
 t_m=$(median_of $tm) t_g=$(median_of $tg) t_e=$(median_of $te) t_c=$(median_of $tc) t_p=$(median_of $tp)
-echo "  ${BENCH_COLOUR_LAYERS:+layers $BENCH_COLOUR_LAYERS, }medians of ${BENCH_COLOUR_RUNS:-1} round(s)"
+# shellcheck disable=SC2086
+c_m=$(median_of $cm) c_g=$(median_of $cg) c_e=$(median_of $ce) c_c=$(median_of $cc) c_p=$(median_of $cp)
+echo "  ${BENCH_COLOUR_LAYERS:+layers $BENCH_COLOUR_LAYERS, }medians of ${BENCH_COLOUR_RUNS:-1} round(s), wall (CPU = user + sys)"
 echo "  from the mesh: graded knot made $t_m s + tray (3 resins) $t_g s = $t_e s  (runs:$te)"
+echo "                 CPU $c_m s + $c_g s = $c_e s  (runs:$ce)"
 echo "  from the mesh: tray on the textured knot (6 resins)  $t_c s  (runs:$tc)"
-echo "  ratio colour / graded, from the mesh    $(ratio "$t_c" "$t_e")x"
+echo "                 CPU $c_c s  (runs:$cc)"
+echo "  ratio colour / graded, from the mesh    $(ratio "$t_c" "$t_e")x wall, $(ratio "$c_c" "$c_e")x CPU"
 echo "  tray-only: graded tray $t_g s, tray of the painted model $t_p s  (runs:$tp)"
-echo "  ratio colour / graded, tray-only        $(ratio "$t_p" "$t_g")x"
+echo "             CPU $c_g s, $c_p s  (runs:$cp)"
+echo "  ratio colour / graded, tray-only        $(ratio "$t_p" "$t_g")x wall, $(ratio "$c_p" "$c_g")x CPU"
 rm -rf "$cw/graded" "$cw/colour" "$cw/painted" "$cw/paint.vdb" "$cw/occ.vdb" "$cw/grade.vdb"

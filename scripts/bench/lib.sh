@@ -22,6 +22,16 @@ r = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL)
 print("%.4f" % (time.perf_counter() - t))
 sys.exit(r.returncode)' "$@"
 }
+# wall_cpu CMD...  "WALL CPU" of one run of CMD: wall time and CPU time (user + sys of it and its
+# children, s), its output discarded; CPU is the steadier figure on a loaded machine
+wall_cpu() {
+    /usr/bin/python3 -c 'import resource, subprocess, sys, time
+t = time.perf_counter()
+r = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL)
+u = resource.getrusage(resource.RUSAGE_CHILDREN)
+print("%.4f %.4f" % (time.perf_counter() - t, u.ru_utime + u.ru_stime))
+sys.exit(r.returncode)' "$@"
+}
 # median_of X...  median of the numbers given; spread_of X...  "min-max"
 median_of() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {printf "%.4f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
 spread_of() { printf '%s\n' "$@" | sort -g | awk 'NR == 1 {lo = $1} {hi = $1} END {printf "%.3f-%.3f", lo, hi}'; }

@@ -14,7 +14,7 @@
 static int mesh_paints(const hv_mesh *mesh, const hv_layers_mesh_options *mo)
 {
     if (mo && mo->materials.n) return 0;
-    return (mo && (mo->colour_depth > 0 || mo->core)) || hv_colour_mesh_paints(mesh);
+    return (mo && (mo->colour_depth > 0 || mo->core)) || hv_colour_mesh_paints(mesh, NULL);
 }
 
 hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, const hv_layers_mesh_options *mo,
@@ -57,8 +57,8 @@ hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, 
     hv_colour_map *map = NULL;
     s = hv_colour_map_create(mo ? &mo->colour : &co, &map);
     vo.progress = progress;
-    int asked = mo && (mo->colour_depth > 0 || mo->core);
-    if (s == HV_OK) s = hv_colour_mesh_model(mesh, &vo, map, depth, mo ? mo->core : NULL, asked, model);
+    hv_colour_body_rule rule = {mo && (mo->colour_depth > 0 || mo->core), NULL, NULL}; /* layers maps no resins */
+    if (s == HV_OK) s = hv_colour_mesh_model(mesh, &vo, map, depth, mo ? mo->core : NULL, &rule, model);
     hv_colour_map_destroy(map);
     return s;
 }

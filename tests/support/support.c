@@ -155,7 +155,7 @@ hv_volume *t_painted_cube(double size, const uint32_t *rgba, size_t n, hv_mesh *
     size_t nf = hv_mesh_facet_count(m);
     uint32_t *c = malloc(3 * nf * sizeof *c);
     cr_assert(c != NULL);
-    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = rgba[(f / 2) % n];
+    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = rgba[f % n];
     cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
     free(c);
     hv_volume *v = t_voxelize(m, 0.5);

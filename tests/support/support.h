@@ -35,7 +35,7 @@ hv_volume *t_voxelize(const hv_mesh *m, double voxel);
 /* An object of `materials` materials over m's occupancy voxelized at `voxel` mm (hv_object_create;
  * the voxels are the object's to keep); asserts. */
 hv_object *t_object_of(const hv_mesh *m, double voxel, int materials);
-/* The cube [0, size]^3 painted for real: facet f (two to a face) coloured rgba[(f / 2) % n],
+/* The cube [0, size]^3 (12 facets, two to a face) painted for real: facet f coloured rgba[f % n],
  * voxelized at 0.5 mm and painted 1 mm deep over an Agilus30 core through the default colour map
  * (hv_colour_paint). *mesh gets the cube (the caller destroys both); asserts. */
 hv_volume *t_painted_cube(double size, const uint32_t *rgba, size_t n, hv_mesh **mesh);

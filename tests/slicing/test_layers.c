@@ -384,7 +384,7 @@ static void painted_slab(hv_mesh **m, hv_volume **out, int record)
 {
     double lo[3] = {0, 0, 0}, hi[3] = {20, 20, 10};
     cr_assert_eq(hv_generate_box(lo, hi, m), HV_OK);
-    hv_volume *v = voxelize(*m, 1.0);
+    hv_volume *v = t_voxelize(*m, 1.0);
     double *xyz = NULL;
     size_t n = 0;
     cr_assert_eq(hv_volume_centres(v, "occupancy", &xyz, &n), HV_OK);

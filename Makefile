@@ -230,19 +230,23 @@ fuzz-tests: $(FUZZ_BIN)
 	@for f in $(FUZZ_BIN); do n=$$(basename $$f); c=tests/fuzz/corpus/$${n#fuzz_}; \
 	    printf "%s: " $$n; $$f $$c/* || exit 1; done
 
+# The harnesses FUZZ_ONLY picks (all when empty) but fuzz_vdb, which runs in its own build below.
+COMMA := ,
+FUZZ_ASAN = $(filter-out tests/fuzz/fuzz_vdb.c,$(filter %$(FUZZ_ONLY).c,$(FUZZ_C)))
+FUZZ_VDB  = $(if $(FUZZ_ONLY),$(filter vdb,$(FUZZ_ONLY)),vdb)
+
 fuzz:
+	@$(if $(FUZZ_ASAN)$(FUZZ_VDB),:,echo "make fuzz: no harness tests/fuzz/fuzz_*$(FUZZ_ONLY).c (FUZZ_ONLY=$(FUZZ_ONLY))" >&2; exit 2)
 	@sh scripts/install-deps.sh build fuzz
-	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a
-	@# the OpenVDB bridge too, instrumented, so fuzz_vdb sees inside it
-	@# (the fuzz build looks for its plugins in build-fuzz/plugins)
-	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 EXTRA_CFLAGS=-fsanitize=fuzzer-no-link \
-	    EXTRA_CXXFLAGS=-fsanitize=fuzzer-no-link $(ROOT)/build-fuzz/plugins/hovox-vdb.so
-	@mkdir -p build-fuzz/libfuzzer
-	@for t in $(filter-out tests/fuzz/fuzz_vdb.c,$(filter %$(FUZZ_ONLY).c,$(FUZZ_C))); do n=$$(basename $$t .c); \
+	@# only what the picked harnesses need: these link build-fuzz/libhovox.a and load no plugin
+	@# (fuzz_vdb, the one that loads the OpenVDB bridge, has its own build below)
+	$(if $(FUZZ_ASAN),@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ SAN=1 \
+	    EXTRA_CFLAGS=-fsanitize=fuzzer-no-link build-fuzz/libhovox.a)
+	@for t in $(FUZZ_ASAN); do n=$$(basename $$t .c); \
 	    c=tests/fuzz/corpus/$${n#fuzz_}; \
+	    mkdir -p build-fuzz/libfuzzer build-fuzz/corpus-$$n; \
 	    clang++ -g -O1 -fsanitize=fuzzer,address,undefined -rdynamic -Iinclude -Isrc -I. -Itests $(PKG_CFLAGS) -x c $$t -x none \
 	        build-fuzz/libhovox.a $(LIBS) -o build-fuzz/libfuzzer/$$n || exit 1; \
-	    mkdir -p build-fuzz/corpus-$$n; \
 	    LSAN_OPTIONS=suppressions=$(ROOT)/tests/lsan.supp:print_suppressions=0 ASAN_OPTIONS=allocator_may_return_null=1 \
 	        build-fuzz/libfuzzer/$$n -max_total_time=$(FUZZ_SECONDS) build-fuzz/corpus-$$n $$c || exit 1; \
 	done
@@ -251,18 +255,16 @@ fuzz:
 	@# refuses the file; the whole library and the bridge are built again for it (build-fuzz-ub).
 	@# The bridge leaves out UBSan's bool check: OpenVDB reads bool values straight from the file
 	@# (RootNode.h: a byte of 59 loads as a bool), which hovox cannot intercept
-	@if [ -z "$(FUZZ_ONLY)" ] || [ "$(FUZZ_ONLY)" = vdb ]; then \
-	    $(MAKE) --no-print-directory BUILD=build-fuzz-ub CC=clang CXX=clang++ \
-	        EXTRA_CFLAGS="-fsanitize=fuzzer-no-link,undefined -fno-sanitize-recover=undefined" \
-	        EXTRA_CXXFLAGS="-fsanitize=fuzzer-no-link,undefined -fno-sanitize-recover=undefined -fno-sanitize=bool" \
-	        build-fuzz-ub/libhovox.a $(ROOT)/build-fuzz-ub/plugins/hovox-vdb.so || exit 1; \
-	    mkdir -p build-fuzz-ub/libfuzzer build-fuzz-ub/corpus-fuzz_vdb; \
-	    clang++ -g -O1 -fsanitize=fuzzer,undefined -fno-sanitize-recover=undefined -rdynamic -Iinclude -Isrc -I. \
+	$(if $(FUZZ_VDB),@$(MAKE) --no-print-directory BUILD=build-fuzz-ub CC=clang CXX=clang++ \
+	    EXTRA_CFLAGS="-fsanitize=fuzzer-no-link$(COMMA)undefined -fno-sanitize-recover=undefined" \
+	    EXTRA_CXXFLAGS="-fsanitize=fuzzer-no-link$(COMMA)undefined -fno-sanitize-recover=undefined -fno-sanitize=bool" \
+	    build-fuzz-ub/libhovox.a $(ROOT)/build-fuzz-ub/plugins/hovox-vdb.so)
+	$(if $(FUZZ_VDB),@mkdir -p build-fuzz-ub/libfuzzer build-fuzz-ub/corpus-fuzz_vdb && \
+	    clang++ -g -O1 -fsanitize=fuzzer$(COMMA)undefined -fno-sanitize-recover=undefined -rdynamic -Iinclude -Isrc -I. \
 	        -Itests $(PKG_CFLAGS) -x c tests/fuzz/fuzz_vdb.c -x none build-fuzz-ub/libhovox.a $(LIBS) \
-	        -o build-fuzz-ub/libfuzzer/fuzz_vdb || exit 1; \
+	        -o build-fuzz-ub/libfuzzer/fuzz_vdb && \
 	    build-fuzz-ub/libfuzzer/fuzz_vdb -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
-	        build-fuzz-ub/corpus-fuzz_vdb tests/fuzz/corpus/vdb || exit 1; \
-	fi
+	        build-fuzz-ub/corpus-fuzz_vdb tests/fuzz/corpus/vdb)
 
 # ---- Python ------------------------------------------------------------------------------
 # `make python`: the package hovox (python/) built in place over libhovox.a, its plugins copied

@@ -1,7 +1,8 @@
-"""The README's install commands, verbatim, as on a fresh Debian 12 (Debian's python3 first on
-PATH, a fresh HOME): pip builds the package offline with Debian's setuptools into a virtual
-environment that sees Debian's NumPy, and the installed package works from its own directory,
-loading the plugins it carries."""
+"""The README's install commands, verbatim, as on a fresh Debian 12 (a fresh HOME; another
+python3 first on PATH, as pyenv puts one, that the commands must not take: they name Debian's):
+pip builds the package offline with Debian's setuptools into a virtual environment that sees
+Debian's NumPy, and the installed package works from its own directory, loading the plugins it
+carries."""
 import os
 import re
 import shutil
@@ -22,7 +23,11 @@ def test_readme_install_commands_verbatim(root, tmp_path):
     script = readme_block(root, "python-install")
     home = tmp_path / "home"
     home.mkdir()
-    env = {"HOME": str(home), "PATH": "/usr/bin:/bin", "LANG": "C.UTF-8", "PIP_NO_INDEX": "1",
+    decoy = tmp_path / "decoy"
+    decoy.mkdir()
+    (decoy / "python3").write_text("#!/bin/sh\necho 'a python3 without NumPy (pyenv): not the one to take' >&2\nexit 1\n")
+    (decoy / "python3").chmod(0o755)
+    env = {"HOME": str(home), "PATH": str(decoy) + ":/usr/bin:/bin", "LANG": "C.UTF-8", "PIP_NO_INDEX": "1",
            "PIP_DISABLE_PIP_VERSION_CHECK": "1"}
     r = subprocess.run(["sh", "-e", "-c", script], cwd=root, env=env, capture_output=True, text=True, timeout=900)
     assert r.returncode == 0, r.stdout + r.stderr

@@ -47,7 +47,8 @@ static uint64_t surface_bytes(hv_mesh *const *m, size_t n, double v)
             area += 0.5 * sqrt(x * x + y * y + z * z);
         }
     }
-    double threads = hv_cpus_allowed(); /* TBB's workers: the affinity mask's processors */
+    double threads = hv_threads(); /* TBB's workers: --threads (the bridge's limit), at most the processors */
+    if (threads > hv_cpus_allowed()) threads = hv_cpus_allowed();
     return (uint64_t)(area / (v * v) * (SURFACE_VOXEL_BYTES + SURFACE_VOXEL_BYTES_THREAD * threads) +
                       SURFACE_FIXED_BYTES + SURFACE_FIXED_BYTES_THREAD * threads);
 }

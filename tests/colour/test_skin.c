@@ -9,32 +9,16 @@
 #include <string.h>
 
 #include "hovox/colour.h"
-#include "hovox/voxelize.h"
 #include "support/support.h"
 
 /* A 6 mm cube painted 1 mm deep over an Agilus30 core: every facet in rgba, or (rgba 0) each in a
  * colour of its own. */
 static hv_volume *painted(hv_mesh **mesh, uint32_t rgba)
 {
-    hv_mesh *m = t_cube_mesh(0, 6);
-    size_t nf = hv_mesh_facet_count(m);
-    uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t i = 0; i < 3 * nf; ++i)
-        c[i] = rgba ? rgba : (uint32_t)(0x30 + 40 * (i / 3 % 5)) << 24 | (uint32_t)(0xE0 - 30 * (i / 3 % 7)) << 16 |
-                                 (uint32_t)(0x50 + 17 * (i / 3)) << 8 | 0xFFu;
-    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
-    free(c);
-    hv_voxelize_options o;
-    hv_voxelize_options_init(&o);
-    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
-    hv_volume *v = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
-    hv_colour_map *map = NULL;
-    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
-    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
-    hv_colour_map_destroy(map);
-    *mesh = m;
-    return v;
+    uint32_t c[12]; /* t_cube_mesh's facets */
+    for (uint32_t f = 0; f < 12; ++f)
+        c[f] = rgba ? rgba : (0x30 + 40 * (f % 5)) << 24 | (0xE0 - 30 * (f % 7)) << 16 | (0x50 + 17 * f) << 8 | 0xFFu;
+    return t_painted_cube(6, c, 12, mesh);
 }
 
 Test(skin, one_colour_everywhere_gives_its_own_de2000)
@@ -87,11 +71,7 @@ Test(skin, one_colour_everywhere_gives_its_own_de2000)
 Test(skin, an_unpainted_model_is_told)
 {
     hv_mesh *m = t_cube_mesh(0, 2);
-    hv_voxelize_options o;
-    hv_voxelize_options_init(&o);
-    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
-    hv_volume *v = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK);
+    hv_volume *v = t_voxelize(m, 0.5);
     hv_colour_map *map = NULL;
     cr_assert_eq(hv_colour_map_for_model(v, &map), HV_ERR_NOT_FOUND);
     cr_assert_null(map);

@@ -17,7 +17,6 @@
 #include "hovox/material.h"
 #include "hovox/solid.h"
 #include "hovox/tray.h"
-#include "hovox/voxelize.h"
 #include "support/support.h"
 
 static hv_mesh *plate(void)
@@ -37,18 +36,7 @@ static hv_mesh *rod(void)
     return m;
 }
 
-static hv_object *object_of(const hv_mesh *m)
-{
-    hv_voxelize_options o;
-    hv_voxelize_options_init(&o);
-    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.25;
-    hv_volume *v = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
-    hv_object *obj = NULL;
-    cr_assert_eq(hv_object_create(v, "occupancy", 2, &obj), HV_OK);
-    hv_volume_destroy(v);
-    return obj;
-}
+static hv_object *object_of(const hv_mesh *m) { return t_object_of(m, 0.25, 2); }
 
 static hv_material_table *table(void)
 {

@@ -66,16 +66,6 @@ static const char *jstr(const json_t *o, const char *key)
 
 /* ---- models ------------------------------------------------------------------------------------ */
 
-static hv_volume *voxelize(const hv_mesh *m, double voxel)
-{
-    hv_voxelize_options o;
-    hv_voxelize_options_init(&o);
-    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = voxel;
-    hv_volume *v = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
-    return v;
-}
-
 /* Grade with one source: `frf` (NULL: the model's contour), f an expression, Ms, Me. */
 static hv_volume *grade(const hv_volume *vox, hv_frf *frf, double dn, double dg, const char *f, const double *ms,
                         const double *me, int m)
@@ -115,7 +105,7 @@ static hv_mesh *shaft_mesh(void)
 
 static hv_volume *shaft_model(const hv_mesh *m)
 {
-    hv_volume *v = voxelize(m, 1.0);
+    hv_volume *v = t_voxelize(m, 1.0);
     double ms[3] = {0, 0, 1}, me[3] = {0, 0.2, 0.8};
     hv_volume *g = grade(v, NULL, 0, 20.416, "sin(0.1538*d)", ms, me, 3);
     hv_volume_destroy(v);
@@ -306,7 +296,7 @@ Test(layers, shaft_fractions_match_wu_formula, .timeout = 300)
 Test(layers, analytic_feature_isolates_resampling_error, .timeout = 300)
 {
     hv_mesh *m = shaft_mesh();
-    hv_volume *v = voxelize(m, 1.0);
+    hv_volume *v = t_voxelize(m, 1.0);
     double o3[3] = {0, 0, 0}, dir3[3] = {1, 0, 0}, ms[2] = {1, 0}, me[2] = {0, 1};
     hv_frf *axis = NULL;
     cr_assert_eq(hv_frf_line(o3, dir3, &axis), HV_OK);
@@ -339,7 +329,7 @@ Test(layers, analytic_feature_isolates_resampling_error, .timeout = 300)
 Test(layers, a_material_absent_from_a_layer_is_zero_there_and_resampled_elsewhere, .timeout = 300)
 {
     hv_mesh *m = shaft_mesh();
-    hv_volume *v = voxelize(m, 1.0);
+    hv_volume *v = t_voxelize(m, 1.0);
     double p0[3] = {0, 0, -27.5}, up[3] = {0, 0, 1}, ms[2] = {1, 0}, me[2] = {0.5, 0.5};
     hv_frf *plane = NULL;
     cr_assert_eq(hv_frf_plane(p0, up, &plane), HV_OK);
@@ -394,7 +384,7 @@ static void painted_slab(hv_mesh **m, hv_volume **out, int record)
 {
     double lo[3] = {0, 0, 0}, hi[3] = {20, 20, 10};
     cr_assert_eq(hv_generate_box(lo, hi, m), HV_OK);
-    hv_volume *v = voxelize(*m, 1.0);
+    hv_volume *v = t_voxelize(*m, 1.0);
     double *xyz = NULL;
     size_t n = 0;
     cr_assert_eq(hv_volume_centres(v, "occupancy", &xyz, &n), HV_OK);
@@ -662,7 +652,7 @@ Test(layers, fractions_and_mask_bit_depths)
     double lo[3] = {0, 0, 0}, hi[3] = {10, 8, 3};
     hv_mesh *m = NULL;
     cr_assert_eq(hv_generate_box(lo, hi, &m), HV_OK);
-    hv_volume *v = voxelize(m, 0.5);
+    hv_volume *v = t_voxelize(m, 0.5);
     double ms[2] = {1, 0}, me[2] = {0, 1}, p0[3] = {0, 0, 0}, n[3] = {1, 0, 0};
     hv_frf *plane = NULL;
     cr_assert_eq(hv_frf_plane(p0, n, &plane), HV_OK);
@@ -957,7 +947,7 @@ Test(layers, bad_input)
     cr_assert_eq(hv_generate_sphere(c, 5, 32, 16, &m), HV_OK);
     double c2[3] = {50, 0, 0};
     cr_assert_eq(hv_generate_sphere(c2, 5, 32, 16, &far), HV_OK);
-    hv_volume *v = voxelize(m, 0.5);
+    hv_volume *v = t_voxelize(m, 0.5);
     hv_layers_options o = opts(HV_LAYERS_HALFTONE, 100, 100, 0.5);
     hv_layers_report r;
     cr_expect_eq(hv_layers_plan(m, v, &o, &r), HV_ERR_BAD_INPUT, "no materials");

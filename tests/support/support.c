@@ -6,6 +6,9 @@
 
 #include "support.h"
 
+#include "hovox/colour.h"
+#include "hovox/voxelize.h"
+
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,6 +128,43 @@ hv_mesh *t_red_cube(double size)
     cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
     free(c);
     return m;
+}
+
+hv_volume *t_voxelize(const hv_mesh *m, double voxel)
+{
+    hv_voxelize_options o;
+    hv_voxelize_options_init(&o);
+    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = voxel;
+    hv_volume *v = NULL;
+    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
+    return v;
+}
+
+hv_object *t_object_of(const hv_mesh *m, double voxel, int materials)
+{
+    hv_volume *v = t_voxelize(m, voxel);
+    hv_object *obj = NULL;
+    cr_assert_eq(hv_object_create(v, "occupancy", materials, &obj), HV_OK, "%s", hv_last_error());
+    hv_volume_destroy(v);
+    return obj;
+}
+
+hv_volume *t_painted_cube(double size, const uint32_t *rgba, size_t n, hv_mesh **mesh)
+{
+    hv_mesh *m = t_cube_mesh(0, size);
+    size_t nf = hv_mesh_facet_count(m);
+    uint32_t *c = malloc(3 * nf * sizeof *c);
+    cr_assert(c != NULL);
+    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = rgba[f % n];
+    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
+    free(c);
+    hv_volume *v = t_voxelize(m, 0.5);
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
+    hv_colour_map_destroy(map);
+    *mesh = m;
+    return v;
 }
 
 hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3])

@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "hovox/generate.h"
+#include "hovox/material.h"
 #include "hovox/mesh.h"
 #include "hovox/volume.h"
 
@@ -29,6 +30,15 @@ hv_mesh *t_box_mesh(const double lo[3], const double hi[3]);
 hv_mesh *t_cube_mesh(double lo, double hi);
 /* The cube [0, size]^3 with every corner coloured opaque red (0xFF0000FF, RGBA); asserts. */
 hv_mesh *t_red_cube(double size);
+/* m voxelized in cubic voxels of `voxel` mm (hv_voxelize, its other options the defaults); asserts. */
+hv_volume *t_voxelize(const hv_mesh *m, double voxel);
+/* An object of `materials` materials over m's occupancy voxelized at `voxel` mm (hv_object_create;
+ * the voxels are the object's to keep); asserts. */
+hv_object *t_object_of(const hv_mesh *m, double voxel, int materials);
+/* The cube [0, size]^3 (12 facets, two to a face) painted for real: facet f coloured rgba[f % n],
+ * voxelized at 0.5 mm and painted 1 mm deep over an Agilus30 core through the default colour map
+ * (hv_colour_paint). *mesh gets the cube (the caller destroys both); asserts. */
+hv_volume *t_painted_cube(double size, const uint32_t *rgba, size_t n, hv_mesh **mesh);
 /* Activate the voxels [lo, hi] (inclusive index box) of v, leaf block by leaf block. Returns
  * hv_volume_topology_add's status (HV_ERR_NOMEM when the blocks cannot be listed). */
 hv_status t_add_box(hv_volume *v, const int lo[3], const int hi[3]);

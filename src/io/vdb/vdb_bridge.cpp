@@ -212,6 +212,7 @@ HV_CHECKED_ROOT(hv_vec3i)
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/VolumeToMesh.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -1151,9 +1152,33 @@ int b_surface(int nleaf, const float *const *xyz, const size_t *nv, const uint32
     catch (...) { return fail(E_BAD_INPUT, "unknown exception making the surface"); }
 }
 
+/* ---- threads: hovox's count (hv_threads(), --threads) as TBB's limit for all OpenVDB runs here
+ * (meshToLevelSet, the CSG, volumeToMesh, the trees' reductions on save); without it TBB took
+ * every processor of the affinity mask whatever --threads said. Kept (not freed) until the count
+ * changes: a global_control lives as long as its limit should. */
+std::mutex g_threads_mutex;
+tbb::global_control *g_threads_limit = nullptr;
+int g_threads_n = 0;
+
+int b_threads(int n)
+{
+    if (n < 1) n = 1;
+    try {
+        std::lock_guard<std::mutex> lock(g_threads_mutex);
+        if (n == g_threads_n) return 0;
+        delete g_threads_limit;
+        g_threads_limit = nullptr;
+        g_threads_n = 0;
+        g_threads_limit = new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(n));
+        g_threads_n = n;
+        return 0;
+    }
+    HV_CATCH_PREFIXED(E_NOMEM, "thread limit: ", "OpenVDB")
+}
+
 const hv_vdb_api g_api = {
     HV_VDB_ABI,   b_last_error,    b_save,         b_load,      b_leaf_count,
-    b_leaf_topology, b_leaf_buffers, b_grid_free, b_destroy, b_surface,
+    b_leaf_topology, b_leaf_buffers, b_grid_free, b_destroy, b_surface, b_threads,
 };
 
 } // namespace

@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-#define HV_VDB_ABI 6
+#define HV_VDB_ABI 7
 
 enum { HV_META_STRING = 0, HV_META_NUMBER = 1 };
 
@@ -61,6 +61,9 @@ typedef struct hv_vdb_api {
     int (*surface)(int nleaf, const float *const *xyz, const size_t *nv, const uint32_t *const *tri, const size_t *nt,
                    int nnode, const int *ops, const uint32_t *leaf, const uint32_t *a, const uint32_t *b, double voxel,
                    float **out_xyz, size_t *out_nv, uint32_t **out_tri, size_t *out_nt, hv_vdb_cancel_fn cancel);
+    /* at most n threads (n >= 1; hv_threads()) for everything OpenVDB runs until the next call
+     * (TBB's max_allowed_parallelism); 0, or a status (out of memory) */
+    int (*threads)(int n);
 } hv_vdb_api;
 
 /* The plugin's one exported symbol. */

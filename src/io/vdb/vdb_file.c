@@ -21,10 +21,15 @@ static hv_plugin g_vdb_plugin = HV_PLUGIN_DEF("hovox-vdb", HV_VDB_ENTRY, HV_VDB_
 
 static int cancel_poll(void) { return hv_cancel_requested(); }
 
+/* The bridge, its OpenVDB held to hv_threads() (--threads) threads: the count may change
+ * between calls (Lua, Python). */
 static hv_status api(void)
 {
     const void *t = NULL;
-    return hv_plugin_api(&g_vdb_plugin, &t);
+    hv_status s = hv_plugin_api(&g_vdb_plugin, &t);
+    int rc = s == HV_OK ? g_api->threads(hv_threads()) : 0;
+    if (rc) s = hv_error_set((hv_status)rc, "OpenVDB bridge: %s", g_api->last_error());
+    return s;
 }
 
 /* ---- files ------------------------------------------------------------------------------ */

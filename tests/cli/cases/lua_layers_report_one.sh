@@ -19,8 +19,10 @@ local function show(name, r)
     print("", "materials: " .. keys(r.materials))
     local c = r.colour
     print("", "colour: " .. keys(c))
-    print("", string.format("%d %.4f %.4f %.4f", c.skin_voxels or c.printer_voxels, c.mean_de2000_target,
-                            c.max_de2000_target, c.mean_de2000_achieved))
+    local f = io.open(name .. ".fig", "w") -- the figures, compared with the manifest's below
+    f:write(string.format("%d %.4f %.4f %.4f\n", c.skin_voxels or c.printer_voxels, c.mean_de2000_target,
+                          c.max_de2000_target, c.mean_de2000_achieved))
+    f:close()
 end
 local cube = hovox.load_mesh("cube.obj")
 show("mesh", cube:layers{dir = "m", layers = {150, 152}})
@@ -31,7 +33,8 @@ show("scan", hovox.layers_scan("ph/phantom.nii", {range = {-480, 500}, lut = "co
                                                    layer_height = 2, layers = {20, 22}, dir = "s"}))
 LUA
 $HOVOX run r.lua; echo "rc=$?"
-for d in m v s; do
+for d in mesh:m model:v scan:s; do
     /usr/bin/python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["colour"]
-print("manifest", sys.argv[1].split("/")[0], " ".join(k for k in sorted(c) if "voxels" in k), "%d %.4f %.4f %.4f" % (c.get("skin_voxels", c.get("printer_voxels")), c["mean_de2000_target"], c["max_de2000_target"], c["mean_de2000_achieved"]))' "$d/manifest.json"
+print("%d %.4f %.4f %.4f" % (c.get("skin_voxels", c.get("printer_voxels")), c["mean_de2000_target"], c["max_de2000_target"], c["mean_de2000_achieved"]))' "${d#*:}/manifest.json" >"${d%:*}.man"
+    cmp -s "${d%:*}.fig" "${d%:*}.man" && echo "${d%:*}: the report's colour figures are the manifest's"
 done

@@ -12,15 +12,16 @@ cat >"$TMP/job.json" <<'JOB'
 JOB
 $HOVOX tray "$TMP/job.json" -o "$TMP/a" | grep -v '^memory'
 echo "rc=$?"
-$HOVOX tray -o "$TMP/b" --part "$TMP/cis.3mf@40,40" --materials shell=VeroCyan-V --materials core=Agilus30Black \
-    --layers 185:186 -q >/dev/null
-echo "rc=$?"
-cmp "$TMP/a/layer-00185.png" "$TMP/b/layer-00185.png" && echo "job file and --materials: the same layer"
+# the same part from the command line, OPTION BODY=MATERIAL after the --part: the job file's layer
+same_layer() { # DIR OPTION LABEL
+    $HOVOX tray -o "$TMP/$1" --part "$TMP/cis.3mf@40,40" "$2" shell=VeroCyan-V "$2" core=Agilus30Black \
+        --layers 185:186 -q
+    echo "rc=$?"
+    cmp "$TMP/a/layer-00185.png" "$TMP/$1/layer-00185.png" && echo "$3: the same layer"
+}
+same_layer b --materials "job file and --materials"
 # --material, as layers and voxelize spell it, is the same option (the help names both)
-$HOVOX tray -o "$TMP/b2" --part "$TMP/cis.3mf@40,40" --material shell=VeroCyan-V --material core=Agilus30Black \
-    --layers 185:186 -q
-echo "rc=$?"
-cmp "$TMP/a/layer-00185.png" "$TMP/b2/layer-00185.png" && echo "--material: the same layer"
+same_layer b2 --material "--material"
 $HOVOX tray --help | grep -A1 -- '--materials\? BODY'
 /usr/bin/python3 - "$TMP/a/manifest.json" <<'PY'
 import json, sys
@@ -36,17 +37,15 @@ echo "rc=$?"
 # body the mesh does not have (at its entry: an object's key, a list's element), "materials" beside
 # "material" or a model; and
 # --materials before any --part (exit 1 or 2, nothing written)
-printf '{"parts": [{"mesh": "tet.obj",\n  "materials": {"tip": 3}}]}\n' >"$TMP/bad1.json"
-$HOVOX tray "$TMP/bad1.json" -o "$TMP/d"; echo "rc=$?"
-printf '{"parts": [{"mesh": "tet.obj", "materials": {"": "VeroCyan-V"}}]}\n' >"$TMP/bad2.json"
-$HOVOX tray "$TMP/bad2.json" -o "$TMP/d"; echo "rc=$?"
-printf '{"parts": [{"mesh": "tet.obj", "materials": {"tap": "VeroCyan-V"}}]}\n' >"$TMP/bad3.json"
-$HOVOX tray "$TMP/bad3.json" -o "$TMP/d"; echo "rc=$?"
-printf '{"parts": [{"mesh": "tet.obj",\n  "materials": ["tip=VeroCyan-V",\n    "tap=VeroCyan-V"]}]}\n' >"$TMP/bad6.json"
-$HOVOX tray "$TMP/bad6.json" -o "$TMP/d"; echo "rc=$?"
-printf '{"parts": [{"mesh": "tet.obj", "material": "VeroCyan-V", "materials": ["tip=VeroCyan-V"]}]}\n' >"$TMP/bad4.json"
-$HOVOX tray "$TMP/bad4.json" -o "$TMP/d"; echo "rc=$?"
-printf '{"parts": [{"model": "m.vdb", "mesh": "tet.obj", "materials": {"tip": "VeroCyan-V"}}]}\n' >"$TMP/bad5.json"
-$HOVOX tray "$TMP/bad5.json" -o "$TMP/d"; echo "rc=$?"
+refused() { # NAME JSON (\n: a new line): the job file NAME.json, refused
+    printf '%b\n' "$2" >"$TMP/$1.json"
+    $HOVOX tray "$TMP/$1.json" -o "$TMP/d"; echo "rc=$?"
+}
+refused bad1 '{"parts": [{"mesh": "tet.obj",\n  "materials": {"tip": 3}}]}'
+refused bad2 '{"parts": [{"mesh": "tet.obj", "materials": {"": "VeroCyan-V"}}]}'
+refused bad3 '{"parts": [{"mesh": "tet.obj", "materials": {"tap": "VeroCyan-V"}}]}'
+refused bad6 '{"parts": [{"mesh": "tet.obj",\n  "materials": ["tip=VeroCyan-V",\n    "tap=VeroCyan-V"]}]}'
+refused bad4 '{"parts": [{"mesh": "tet.obj", "material": "VeroCyan-V", "materials": ["tip=VeroCyan-V"]}]}'
+refused bad5 '{"parts": [{"model": "m.vdb", "mesh": "tet.obj", "materials": {"tip": "VeroCyan-V"}}]}'
 $HOVOX tray --materials tip=VeroCyan-V --part "$TMP/tet.obj@40,40" -o "$TMP/d"; echo "rc=$?"
 ls "$TMP"

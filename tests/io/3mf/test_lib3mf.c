@@ -200,20 +200,12 @@ extern LIB3MFRESULT lib3mf_propertyhandler_getbasematerial(L3 *handler, unsigned
                                                            unsigned *material);
 
 #include "hovox/generate.h"
-#include "hovox/voxelize.h"
 
 static hv_object *part(hv_mesh *m, double b)
 {
-    hv_voxelize_options o;
-    hv_voxelize_options_init(&o);
-    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.25;
-    hv_volume *v = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
-    hv_object *obj = NULL;
-    cr_assert_eq(hv_object_create(v, "occupancy", 2, &obj), HV_OK);
+    hv_object *obj = t_object_of(m, 0.25, 2);
     double p[2] = {1 - b, b};
     cr_assert_eq(hv_object_set_base(obj, p), HV_OK, "%s", hv_last_error());
-    hv_volume_destroy(v);
     hv_mesh_destroy(m);
     return obj;
 }

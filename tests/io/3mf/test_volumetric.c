@@ -24,7 +24,6 @@
 #include "hovox/material.h"
 #include "hovox/model.h"
 #include "hovox/threemf.h"
-#include "hovox/voxelize.h"
 #include "support/support.h"
 
 #define NS_CORE "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"
@@ -1259,22 +1258,10 @@ Test(threemf_colour, the_colour_part_of_the_package_follows_the_spec)
  * the record, so the colour map and the skin's dE2000 are made again from the package. */
 Test(threemf_colour, a_painted_cube_comes_back_painted)
 {
-    static const uint32_t k_pair[6] = {0xE03020FFu, 0x20B040FFu, 0x3050E0FFu, 0xF0E020FFu, 0x10D0D0FFu, 0x501020FFu};
-    hv_mesh *m = t_cube_mesh(0, 6);
-    size_t nf = hv_mesh_facet_count(m);
-    uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t f = 0; f < nf; ++f) c[3 * f] = c[3 * f + 1] = c[3 * f + 2] = k_pair[(f / 2) % 6];
-    cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
-    free(c);
-    hv_voxelize_options o;
-    hv_voxelize_options_init(&o);
-    o.voxel_size[0] = o.voxel_size[1] = o.voxel_size[2] = 0.5;
-    hv_volume *v = NULL;
-    cr_assert_eq(hv_voxelize(m, &o, &v), HV_OK, "%s", hv_last_error());
-    hv_colour_map *map = NULL;
-    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
-    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
-    hv_colour_map_destroy(map);
+    static const uint32_t k_pair[12] = {0xE03020FFu, 0xE03020FFu, 0x20B040FFu, 0x20B040FFu, 0x3050E0FFu, 0x3050E0FFu,
+                                        0xF0E020FFu, 0xF0E020FFu, 0x10D0D0FFu, 0x10D0D0FFu, 0x501020FFu, 0x501020FFu};
+    hv_mesh *m = NULL;
+    hv_volume *v = t_painted_cube(6, k_pair, 12, &m);
     const char *path = t_tmpfile("painted.3mf");
     hv_export_report r = export_3mf(v, path, 8);
     cr_expect_eq(r.colour, 1);

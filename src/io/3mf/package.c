@@ -7,6 +7,7 @@
 #include <limits.h>
 #include <libdeflate.h>
 #include <libxml/parser.h>
+#include <libxml/parserInternals.h>
 #include <libxml/SAX2.h>
 #include <math.h>
 #include <pthread.h>
@@ -26,7 +27,9 @@
 #define PKG_MAX_DEPTH 256
 #define PKG_CHUNK 65536
 #define PKG_RING 4                       /* chunks the inflater thread may run ahead */
+#ifndef PKG_THREAD_FLOOR /* (defined otherwise only by the differential check: every part the whole path) */
 #define PKG_THREAD_FLOOR ((uint64_t)1 << 20) /* parts smaller than this inflate on the parser's thread */
+#endif
 
 /* ---- opening ------------------------------------------------------------------------------ */
 
@@ -316,6 +319,7 @@ typedef struct feed {
     inflater *in;
     uint8_t *whole; /* the part inflated in one call (one thread), handed out a chunk at a time */
     size_t whole_len, whole_at;
+    int counted; /* the whole part is counted against its limits already (pull_parse) */
     char *buf[PKG_RING];
     size_t len[PKG_RING];
     size_t head, tail; /* chunks filled and not yet parsed: [head, tail) */
@@ -368,8 +372,8 @@ static int feed_whole(feed *f)
         in->declared > pk->inflate_cap - HV_MIN(pk->inflated, pk->inflate_cap) || in->comp_size == 0 ||
         in->comp_size > in->declared + 1024)
         return 0;
-    uint8_t *comp = hv_malloc((size_t)in->comp_size);
-    uint8_t *out = hv_malloc((size_t)in->declared);
+    uint8_t *comp = hv_malloc_big((size_t)in->comp_size, 1);
+    uint8_t *out = hv_malloc_big((size_t)in->declared + 1, 1); /* + the NUL libxml2 reads at the end */
     struct libdeflate_decompressor *d = comp && out ? libdeflate_alloc_decompressor() : NULL;
     int ok = d != NULL;
     zip_int64_t n = ok ? zip_fread(in->f, comp, in->comp_size) : -1;
@@ -380,6 +384,7 @@ static int feed_whole(feed *f)
     libdeflate_free_decompressor(d);
     free(comp);
     if (ok) {
+        out[made] = 0;
         f->whole = out;
         f->whole_len = made;
         return 1;
@@ -427,7 +432,7 @@ static hv_status feed_next(feed *f, const char **data, size_t *len)
         *len = HV_MIN(f->whole_len - f->whole_at, (size_t)PKG_CHUNK);
         *data = (const char *)f->whole + f->whole_at;
         f->whole_at += *len;
-        return inflate_count(f->in, *len);
+        return f->counted ? HV_OK : inflate_count(f->in, *len);
     }
     if (!f->threaded) {
         *data = f->buf[0];
@@ -486,6 +491,14 @@ struct tmf_xml {
     hv_buf text;
     char xml_error[400];
     int err_line, err_col;
+    /* a whole part parsed by pull_parse, then again by push (its replay): */
+    uint64_t seen;       /* elements' starts and ends so far */
+    uint64_t failed_at;  /* the one whose start or end failed (0: none) */
+    uint64_t replay;     /* the replay hands the first `replay` of them to no one */
+    int collect_after;   /* `collect` after the last one handled well */
+    int restart;         /* not UTF-8: parsed by push from its start, as if pull_parse had not been */
+    hv_status fail;      /* the replay raises this at failed_at, with fail_msg */
+    char fail_msg[2048];
 };
 
 tmf_pkg *tmf_xml_pkg(tmf_xml *x) { return x->pk; }
@@ -578,23 +591,49 @@ const char *tmf_xml_qname(tmf_xml *x)
     return x->qname;
 }
 
+/* An element's start or end failed: where, then the parse stops. */
+static void fail(tmf_xml *x, hv_status s)
+{
+    if (x->status == HV_OK) x->failed_at = x->seen;
+    stop(x, s);
+}
+
+/* pull_parse's replay: 1 when this start or end goes to no handler, being one the handler had
+ * (after the last of them its element's text is collected again if the handler asked for it)
+ * or the one it failed at (the error raised again). */
+static int replayed(tmf_xml *x)
+{
+    if (x->seen <= x->replay) {
+        if (x->seen == x->replay && x->collect_after) {
+            want_text(x, 1);
+            x->text.len = 0;
+        }
+        return 1;
+    }
+    if (x->fail == HV_OK || x->seen != x->failed_at) return 0;
+    stop(x, hv_error_set(x->fail, "%s", x->fail_msg));
+    return 1;
+}
+
 static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
                      const xmlChar **ns, int nattrs, int ndefaulted, const xmlChar **attrs)
 {
     (void)prefix, (void)nns, (void)ns, (void)ndefaulted;
     tmf_xml *x = ctx;
     if (x->status != HV_OK) return;
+    x->seen++;
     if (++x->depth > PKG_MAX_DEPTH) {
-        stop(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "elements nested more than %d deep", PKG_MAX_DEPTH));
+        fail(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "elements nested more than %d deep", PKG_MAX_DEPTH));
         return;
     }
     if (nattrs > PKG_MAX_ATTRS) {
-        stop(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<%s> has %d attributes, more than %d", (const char *)local, nattrs,
+        fail(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<%s> has %d attributes, more than %d", (const char *)local, nattrs,
                             PKG_MAX_ATTRS));
         return;
     }
     set_qname(x, prefix, local);
     if (x->collect) want_text(x, 0);
+    if (replayed(x)) return;
     tmf_attr a[PKG_MAX_ATTRS];
     for (int i = 0; i < nattrs; ++i) {
         const xmlChar **t = attrs + 5 * i;
@@ -604,18 +643,22 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
         a[i].len = (size_t)(t[4] - t[3]);
     }
     hv_status s = x->h->start ? x->h->start(x->ctx, x, (const char *)local, (const char *)uri, a, nattrs) : HV_OK;
-    if (s != HV_OK) stop(x, s);
+    if (s == HV_OK) x->collect_after = x->collect;
+    else fail(x, s);
 }
 
 static void on_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri)
 {
     tmf_xml *x = ctx;
     if (x->status != HV_OK) return;
+    x->seen++;
     x->depth--;
     set_qname(x, prefix, local);
+    if (replayed(x)) return;
     hv_status s = x->h->end ? x->h->end(x->ctx, x, (const char *)local, (const char *)uri) : HV_OK;
     if (x->collect) want_text(x, 0);
-    if (s != HV_OK) stop(x, s);
+    if (s == HV_OK) x->collect_after = x->collect;
+    else fail(x, s);
 }
 
 #define PKG_MAX_TEXT ((size_t)64 << 20)
@@ -670,6 +713,108 @@ void tmf_xml_quiet_begin(tmf_xml_quiet *q)
 
 void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, q->fn); }
 
+#define PKG_XML_OPTIONS (XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA)
+
+/* The push parser fed chunk by chunk: the streamed path, and a whole part pull_parse leaves to it. */
+static hv_status push_parse(tmf_xml *x, feed *f, xmlSAXHandler *sax)
+{
+    hv_status s = HV_OK;
+    x->ctxt = xmlCreatePushParserCtxt(sax, x, NULL, 0, x->part);
+    if (!x->ctxt) s = HV_ERR_NOMEM;
+    else xmlCtxtUseOptions(x->ctxt, PKG_XML_OPTIONS);
+    size_t got = 0;
+    int done = 0;
+    while (s == HV_OK && !done) {
+        const char *chunk = NULL;
+        if ((s = feed_next(f, &chunk, &got)) != HV_OK) break;
+        done = got == 0;
+        int rc = xmlParseChunk(x->ctxt, chunk, (int)got, done);
+        feed_done(f);
+        if (x->status != HV_OK) s = x->status;
+        else if (rc != 0 || x->xml_error[0] || x->ctxt->disableSAX) {
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", x->pk->name, x->part,
+                             x->err_line, x->err_col, x->xml_error[0] ? x->xml_error : "the parser stopped");
+        }
+    }
+    if (x->ctxt) {
+        if (x->ctxt->myDoc) xmlFreeDoc(x->ctxt->myDoc);
+        xmlFreeParserCtxt(x->ctxt);
+        x->ctxt = NULL;
+    }
+    return s;
+}
+
+/* pull_parse: the document's declared encoding, once its XML declaration is read. */
+static void on_document(void *ctx)
+{
+    tmf_xml *x = ctx;
+    const char *enc = (const char *)x->ctxt->encoding;
+    if (x->ctxt->input->encoding || (enc && strcasecmp(enc, "UTF-8") != 0 && strcasecmp(enc, "UTF8") != 0)) {
+        x->restart = 1;
+        xmlStopParser(x->ctxt);
+    }
+}
+
+/* A part inflated whole (one thread) parsed where it lies by libxml2's pull parser: not copied
+ * into the push parser's buffer nor each tag looked ahead for (8% of libxml2's time on a 1M-facet
+ * model: issue 26). The handler must get what the push parser gives it, so a part in another
+ * encoding than UTF-8 (by BOM or declaration: the string input has no decoder) is parsed by push
+ * from its start, before any element, and one not well-formed to its last byte (the parsers'
+ * messages, lines and columns differ, at a truncated end above all) by push from its start too,
+ * which hands the handler none of the starts and ends it had and raises again the error of the
+ * one it failed at (after an XML error the parse went on past). 1: parsed (*s). */
+static int pull_parse(tmf_xml *x, feed *f, const xmlSAXHandler *sax, hv_status *s)
+{
+    if (f->whole_len < 4 || f->whole_len > INT_MAX) return 0;
+    xmlCharEncoding enc = xmlDetectCharEncoding(f->whole, 4);
+    if (enc != XML_CHAR_ENCODING_NONE && enc != XML_CHAR_ENCODING_UTF8) return 0;
+    if ((*s = inflate_count(f->in, f->whole_len)) != HV_OK) return 1;
+    f->counted = 1;
+    xmlParserCtxtPtr c = xmlNewParserCtxt();
+    xmlSAXHandler *own = c ? xmlMalloc(sizeof *own) : NULL;
+    xmlParserInputPtr in = own ? xmlNewInputStream(c) : NULL;
+    if (!in) {
+        xmlFree(own);
+        xmlFreeParserCtxt(c);
+        *s = HV_ERR_NOMEM;
+        return 1;
+    }
+    memcpy(own, sax, sizeof *own);
+    own->startDocument = on_document;
+    xmlFree(c->sax);
+    c->sax = own;
+    c->userData = x;
+    in->base = in->cur = f->whole;
+    in->end = f->whole + f->whole_len; /* a NUL before it ends the parse early: checked below */
+    in->length = (int)f->whole_len;
+    inputPush(c, in);
+    xmlCtxtUseOptions(c, PKG_XML_OPTIONS);
+    x->ctxt = c;
+    int rc = xmlParseDocument(c);
+    int whole = rc == 0 && c->wellFormed && !c->disableSAX && c->input == in && in->cur == in->end;
+    xmlFreeParserCtxt(c);
+    x->ctxt = NULL;
+    if (!x->xml_error[0] && !x->restart && (x->status != HV_OK || whole)) {
+        *s = x->status; /* a handler's error with no XML error before it is the push parser's too */
+        return 1;
+    }
+    /* by push from the start: the starts and ends handled skipped, the failing one failing again */
+    x->replay = x->restart ? 0 : x->seen;
+    if (!x->restart && x->status != HV_OK) {
+        x->fail = x->status;
+        snprintf(x->fail_msg, sizeof x->fail_msg, "%s", hv_last_error());
+        if (x->failed_at) x->replay = x->failed_at - 1; /* else it failed between them (text, DOCTYPE): again there */
+    }
+    x->status = HV_OK;
+    x->seen = 0;
+    x->depth = 0;
+    x->collect = 0;
+    x->text.len = 0;
+    x->xml_error[0] = '\0';
+    x->err_line = x->err_col = 0;
+    return 0;
+}
+
 hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf_xml_handler *h, void *ctx)
 {
     zip_int64_t i = locate(pk, part, 0);
@@ -703,27 +848,7 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     }
     tmf_xml_quiet quiet;
     tmf_xml_quiet_begin(&quiet);
-    x.ctxt = xmlCreatePushParserCtxt(&sax, &x, NULL, 0, part);
-    if (!x.ctxt) s = HV_ERR_NOMEM;
-    else xmlCtxtUseOptions(x.ctxt, XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA);
-    size_t got = 0;
-    int done = 0;
-    while (s == HV_OK && !done) {
-        const char *chunk = NULL;
-        if ((s = feed_next(&f, &chunk, &got)) != HV_OK) break;
-        done = got == 0;
-        int rc = xmlParseChunk(x.ctxt, chunk, (int)got, done);
-        feed_done(&f);
-        if (x.status != HV_OK) s = x.status;
-        else if (rc != 0 || x.xml_error[0] || x.ctxt->disableSAX) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", pk->name, part,
-                             x.err_line, x.err_col, x.xml_error[0] ? x.xml_error : "the parser stopped");
-        }
-    }
-    if (x.ctxt) {
-        if (x.ctxt->myDoc) xmlFreeDoc(x.ctxt->myDoc);
-        xmlFreeParserCtxt(x.ctxt);
-    }
+    if (!f.whole || !pull_parse(&x, &f, &sax, &s)) s = push_parse(&x, &f, &sax);
     tmf_xml_quiet_end(&quiet);
     hv_buf_free(&x.text);
     feed_close(&f);

@@ -156,7 +156,7 @@ static hv_status grow_to(reader *r, tmf_xml *x, void **p, size_t *cap, size_t ne
         return tmf_xml_bad(x, HV_ERR_LIMIT, "%s: reading this model needs more than half the memory budget (%s)",
                            r->label[0] ? r->label : "the model", hv_size_text(b, sizeof b, (double)r->budget));
     }
-    void *q = hv_realloc(*p, ncap * size);
+    void *q = hv_realloc_big(*p, ncap * size);
     if (!q) return HV_ERR_NOMEM;
     r->charged += more;
     *p = q;

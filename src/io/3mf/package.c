@@ -359,6 +359,31 @@ static void *feed_main(void *arg)
     }
 }
 
+/* The part's raw stream opened again at its start. 0: it cannot be (feed_open says so). */
+static int reread(inflater *in)
+{
+    zip_fclose(in->f);
+    in->f = zip_fopen_index(in->pk->zip, (zip_uint64_t)in->index, ZIP_FL_COMPRESSED);
+    return in->f != NULL;
+}
+
+/* The compressed bytes of a part of a package in memory, where they lie (a 1M-facet model's 16 MB
+ * not copied: issue 26). libzip reads a compressed part through a window on the package's source,
+ * so once it has handed out the first bytes the source's position says where they start; used
+ * only when those bytes are there, and libdeflate and the CRC check the rest (or the part
+ * streams). NULL: read them (reread first). */
+static const uint8_t *in_place(inflater *in, zip_int64_t *n)
+{
+    tmf_pkg *pk = in->pk;
+    uint8_t head[64];
+    zip_int64_t k = (zip_int64_t)HV_MIN(in->comp_size, (uint64_t)sizeof head);
+    if (!pk->data || zip_fread(in->f, head, (zip_uint64_t)k) != k) return NULL;
+    zip_int64_t at = zip_source_tell(pk->src) - k;
+    if (at < 0 || (uint64_t)at + in->comp_size > pk->size || memcmp(pk->data + at, head, (size_t)k) != 0) return NULL;
+    *n = (zip_int64_t)in->comp_size;
+    return pk->data + at;
+}
+
 /* One thread: a deflated part of PKG_THREAD_FLOOR bytes or more, within its limits, inflates in one
  * libdeflate call (two to three times zlib's speed: issue 26 item 2) into a buffer the parser then
  * reads. The whole part must be good: the stream inflates to at most its declared size and its
@@ -372,14 +397,17 @@ static int feed_whole(feed *f)
         in->declared > pk->inflate_cap - HV_MIN(pk->inflated, pk->inflate_cap) || in->comp_size == 0 ||
         in->comp_size > in->declared + 1024)
         return 0;
-    uint8_t *comp = hv_malloc_big((size_t)in->comp_size, 1);
     uint8_t *out = hv_malloc_big((size_t)in->declared + 1, 1); /* + the NUL libxml2 reads at the end */
-    struct libdeflate_decompressor *d = comp && out ? libdeflate_alloc_decompressor() : NULL;
-    int ok = d != NULL;
-    zip_int64_t n = ok ? zip_fread(in->f, comp, in->comp_size) : -1;
+    struct libdeflate_decompressor *d = out ? libdeflate_alloc_decompressor() : NULL;
+    uint8_t *comp = NULL;
+    zip_int64_t n = -1;
+    const uint8_t *src = d ? in_place(in, &n) : NULL;
+    if (d && !src && reread(in) && (comp = hv_malloc_big((size_t)in->comp_size, 1)) != NULL)
+        n = zip_fread(in->f, comp, in->comp_size), src = comp;
+    int ok = src != NULL;
     size_t used = 0, made = 0;
     ok = ok && n > 0 &&
-         libdeflate_deflate_decompress_ex(d, comp, (size_t)n, out, (size_t)in->declared, &used, &made) == LIBDEFLATE_SUCCESS &&
+         libdeflate_deflate_decompress_ex(d, src, (size_t)n, out, (size_t)in->declared, &used, &made) == LIBDEFLATE_SUCCESS &&
          (!in->raw->check_crc || (uint32_t)libdeflate_crc32(0, out, made) == in->raw->want_crc);
     libdeflate_free_decompressor(d);
     free(comp);
@@ -390,9 +418,7 @@ static int feed_whole(feed *f)
         return 1;
     }
     free(out);
-    /* from the start: the raw stream again */
-    zip_fclose(in->f);
-    in->f = zip_fopen_index(pk->zip, (zip_uint64_t)in->index, ZIP_FL_COMPRESSED);
+    reread(in); /* from the start: the raw stream again */
     return 0;
 }
 
@@ -1047,6 +1073,8 @@ hv_status tmf_pkg_open(tmf_pkg *pk, const void *data, size_t size, const char *p
             zip_error_fini(&ze);
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: empty file (0 bytes)", name);
         }
+        pk->data = data;
+        pk->size = size;
         pk->src = zip_source_buffer_create(data, size, 0, &ze);
         if (!pk->src) {
             zip_error_fini(&ze);

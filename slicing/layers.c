@@ -11,6 +11,7 @@
 
 #include "core/internal.h"
 #include "core/json.h"
+#include "hovox/colour.h"
 #include "hovox/material.h"
 #include "hovox/image.h"
 #include "hovox/solid.h"
@@ -70,6 +71,15 @@ typedef struct job {
     int axl;
     int *axs;
     float *axp;
+    /* a model painted in colour with its colour.depth (depth_grid >= 0, else -1): nd 1, the depth
+     * decoded as one more slab plane and carried as window plane m; per printer column and row the
+     * bilinear cell of the pixel centre (first voxel bx/by, weight of the second bxt/byt) and the
+     * voxels that cell and the POI taps span (bxu0..bxu1, byu0..byu1); per voxel column the printer
+     * columns whose span holds it (cf..cl, none: cf > cl): see depth_band */
+    int depth_grid, nd;
+    float depth_mm;
+    int *bx, *bxu0, *bxu1, *by, *byu0, *byu1, *cf, *cl;
+    float *bxt, *byt;
     hv_object *obj;
     /* halftone */
     const uint32_t *ranks;
@@ -137,6 +147,16 @@ static void job_free(job *J)
     free(J->ayw);
     free(J->axs);
     free(J->axp);
+    free(J->bx);
+    free(J->bxu0);
+    free(J->bxu1);
+    free(J->bxt);
+    free(J->by);
+    free(J->byu0);
+    free(J->byu1);
+    free(J->byt);
+    free(J->cf);
+    free(J->cl);
     hv_object_destroy(J->obj);
     hv_material_table_destroy(J->table);
     hv_layer_plan_destroy(J->plan);
@@ -176,8 +196,8 @@ static void worker_sizes(const job *J, uint64_t sz[WB_COUNT])
     sz[WB_FRAC] = (banded(J) ? (uint64_t)J->W * (uint64_t)HV_MIN(J->H, BAND_ROWS) : px) * m * 4;
     sz[WB_XTMP] = (uint64_t)J->vh * (uint64_t)J->W * 4; /* the x pass */
     sz[WB_OCC0] = sz[WB_OCC1] = vox;                    /* two voxel slabs */
-    sz[WB_MAT0] = sz[WB_MAT1] = vox * m * 4;
-    sz[WB_VIMG] = vox * m * 4; /* filled image, state, fronts */
+    sz[WB_MAT0] = sz[WB_MAT1] = vox * (m + (uint64_t)J->nd) * 4;
+    sz[WB_VIMG] = vox * (m + (uint64_t)J->nd) * 4; /* filled image, state, fronts */
     sz[WB_VSTATE] = vox;
     sz[WB_FRONT] = sz[WB_FRONT2] = vox * 4;
 }
@@ -365,6 +385,8 @@ static hv_status job_plan_materials(job *J, const hv_volume *model)
     }
     if (hv_volume_mask_count(model, J->occ_grid) == 0)
         return hv_error_set(HV_ERR_BAD_INPUT, "the model has no occupied voxel");
+    J->depth_grid = hv_colour_depth_grid(model, &J->depth_mm);
+    J->nd = J->depth_grid >= 0;
     return HV_OK;
 }
 
@@ -453,6 +475,50 @@ static hv_status job_plan_window(job *J, const hv_layers_options *o)
     return HV_OK;
 }
 
+/* One axis of depth_band's cells: for each of the n printer cells (centres at o + (c + 0.5) * p)
+ * the first voxel of its bilinear pair (voxel centres at vo + (v0 + i) * h, i < nv), the second's
+ * weight, and the voxels the pair and the POI taps of ax span. */
+static hv_status depth_axis(const hv_poi_axis *ax, int n, double o, double p, double vo, double h, int v0, int nv,
+                            int **b, float **t, int **u0, int **u1)
+{
+    *b = hv_malloc_array((size_t)n, sizeof **b);
+    *t = hv_malloc_array((size_t)n, sizeof **t);
+    *u0 = hv_malloc_array((size_t)n, sizeof **u0);
+    *u1 = hv_malloc_array((size_t)n, sizeof **u1);
+    if (!*b || !*t || !*u0 || !*u1) return HV_ERR_NOMEM;
+    for (int c = 0; c < n; ++c) {
+        double u = (o + ((double)c + 0.5) * p - vo) / h - v0, f = floor(u);
+        int i = (int)HV_CLAMP(f, 0.0, (double)HV_MAX(nv - 2, 0));
+        (*b)[c] = i;
+        (*t)[c] = (float)HV_CLAMP(u - i, 0.0, 1.0);
+        (*u0)[c] = HV_MIN(i, ax->start[c]);
+        (*u1)[c] = HV_MAX(HV_MIN(i + 1, nv - 1), ax->start[c] + ax->len[c] - 1);
+    }
+    return HV_OK;
+}
+
+/* depth_band's cells along x and y (a painted model with colour.depth). */
+static hv_status job_plan_depth(job *J)
+{
+    hv_status st = depth_axis(&J->ax, J->W, J->grid.origin[0], J->grid.pixel[0], J->xf.origin[0], J->xf.voxel[0],
+                              J->vi0, J->vw, &J->bx, &J->bxt, &J->bxu0, &J->bxu1);
+    if (st == HV_OK)
+        st = depth_axis(&J->ay, J->H, J->grid.origin[1], J->grid.pixel[1], J->xf.origin[1], J->xf.voxel[1], J->vj0,
+                        J->vh, &J->by, &J->byt, &J->byu0, &J->byu1);
+    if (st != HV_OK) return st;
+    J->cf = hv_malloc_array((size_t)J->vw, sizeof *J->cf);
+    J->cl = hv_malloc_array((size_t)J->vw, sizeof *J->cl);
+    if (!J->cf || !J->cl) return HV_ERR_NOMEM;
+    /* the spans' ends grow with the column (both operators' do), so those holding i are a run */
+    for (int i = 0, a = 0, b = 0; i < J->vw; ++i) {
+        while (a < J->W && J->bxu1[a] < i) ++a;
+        while (b < J->W && J->bxu0[b] <= i) ++b;
+        J->cf[i] = a;
+        J->cl[i] = b - 1;
+    }
+    return HV_OK;
+}
+
 /* The palette (background, then the materials' colours) and the PNG bit depth. */
 static void job_plan_palette(job *J, const hv_layers_options *o)
 {
@@ -519,6 +585,7 @@ static hv_status job_plan(job *J, const hv_mesh *mesh, const hv_volume *model,
     if (st == HV_OK && uses_model(o)) st = J->src ? job_plan_source_materials(J) : job_plan_materials(J, model);
     if (st == HV_OK && model) st = job_plan_fit(J, model);
     if (st == HV_OK && uses_voxels(J)) st = job_plan_window(J, o);
+    if (st == HV_OK && uses_voxels(J) && J->nd) st = job_plan_depth(J);
     if (st != HV_OK) return st;
     job_plan_palette(J, o);
     return job_plan_memory(J, o, pl);
@@ -631,8 +698,8 @@ static hv_status worker_ready(job *J, worker *w)
 
 /* ---- material: z interpolation, extension, POI (Wu 2.4.2) ---------------------------------- */
 
-/* Decode voxel layer k of the window into occ (vw * vh) and mat (m planes of them); 1 when any
- * voxel of it is occupied. */
+/* Decode voxel layer k of the window into occ (vw * vh) and mat (m planes of them, then a painted
+ * model's colour.depth); 1 when any voxel of it is occupied. */
 static int slab_decode(const job *J, hv_accessor *acc, int32_t k, uint8_t *occ, float *mat)
 {
     size_t vox = (size_t)J->vw * (size_t)J->vh;
@@ -646,6 +713,7 @@ static int slab_decode(const job *J, hv_accessor *acc, int32_t k, uint8_t *occ, 
             any |= o;
             for (int g = 0; g < J->m; ++g)
                 mat[(size_t)g * vox + p] = o ? hv_accessor_float(acc, J->mat_grid[g], vi, vj, k) : 0.0f;
+            if (J->nd) mat[(size_t)J->m * vox + p] = o ? hv_accessor_float(acc, J->depth_grid, vi, vj, k) : 0.0f;
         }
     }
     return any;
@@ -793,9 +861,10 @@ static size_t queue_neighbours(const job *J, uint8_t *state, size_t p, int32_t *
  * a mean of zeros stays zero). */
 static void extend(job *J, worker *w)
 {
-    int m = J->m, g_of[HV_MAX_MATERIALS], nl = 0;
+    int m = J->m, g_of[HV_MAX_MATERIALS + 1], nl = 0;
     for (int g = 0; g < m; ++g)
         if (w->live[g]) g_of[nl++] = g;
+    if (J->nd) g_of[nl++] = m; /* a painted model's depth */
     size_t vox = (size_t)J->vw * (size_t)J->vh, nf = 0;
     uint8_t *state = w->vstate; /* 1 assigned, 2 queued, 0 untouched */
     for (size_t p = 0; p < vox; ++p)
@@ -804,7 +873,7 @@ static void extend(job *J, worker *w)
         for (size_t f = 0; f < nf; ++f) {
             size_t p = (size_t)w->front[f], nb[8];
             int k = neighbours8(J, p, nb), n = 0;
-            double acc[HV_MAX_MATERIALS] = {0};
+            double acc[HV_MAX_MATERIALS + 1] = {0};
             for (int t = 0; t < k; ++t) {
                 if (state[nb[t]] != 1) continue;
                 ++n;
@@ -840,6 +909,37 @@ static void mark_live(job *J, worker *w)
     }
 }
 
+/* voxel_image's z part for a painted model with its colour.depth: the depth linear in z; where the
+ * two voxel layers lie on both sides of the colour depth, the composition of the one on the side the
+ * depth at z says (skin when <= the depth), so the change is sharp in z at the depth itself, not
+ * spread over a voxel; elsewhere linear as for any model. */
+static void depth_z(job *J, worker *w, const slab_pick *pk)
+{
+    size_t vox = (size_t)J->vw * (size_t)J->vh;
+    int m = J->m;
+    double w0 = pk->w0, w1 = pk->w1;
+    const uint8_t *o0 = pk->s0.occ, *o1 = pk->s1.occ;
+    const float *m0 = pk->s0.mat, *m1 = pk->s1.mat, *d0 = m0 + (size_t)m * vox, *d1 = m1 + (size_t)m * vox;
+    float D = J->depth_mm, *dz = w->vimg + (size_t)m * vox;
+    for (size_t p = 0; p < vox; ++p) {
+        double c0 = o0[p] ? w0 : 0, c1 = o1[p] ? w1 : 0, cov = c0 + c1;
+        if (!(cov > 0)) {
+            w->vstate[p] = 0;
+            continue;
+        }
+        w->vstate[p] = 1;
+        float d = (float)((c0 * d0[p] + c1 * d1[p]) / cov);
+        dz[p] = d;
+        if (c0 > 0 && c1 > 0 && (d0[p] <= D) != (d1[p] <= D)) {
+            const float *from = ((d0[p] <= D) == (d <= D)) ? m0 : m1;
+            for (int g = 0; g < m; ++g) w->vimg[(size_t)g * vox + p] = from[(size_t)g * vox + p];
+            continue;
+        }
+        for (int g = 0; g < m; ++g)
+            w->vimg[(size_t)g * vox + p] = (float)((c0 * m0[(size_t)g * vox + p] + c1 * m1[(size_t)g * vox + p]) / cov);
+    }
+}
+
 /* The window image at height z: linear in z between the voxel layers around it (from the
  * worker's own slabs, or w->store's) over the occupied voxels (renormalised by the coverage), then
  * extended. */
@@ -855,20 +955,26 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
     double w0 = pk.w0, w1 = pk.w1;
     const uint8_t *o0 = pk.s0.occ, *o1 = pk.s1.occ;
     const float *m0 = pk.s0.mat, *m1 = pk.s1.mat;
-    for (size_t p = 0; p < vox; ++p) {
-        double c0 = o0[p] ? w0 : 0, c1 = o1[p] ? w1 : 0, cov = c0 + c1;
-        if (cov > 0) {
-            w->vstate[p] = 1;
-            for (int g = 0; g < m; ++g)
-                w->vimg[(size_t)g * vox + p] =
-                    (float)((c0 * m0[(size_t)g * vox + p] + c1 * m1[(size_t)g * vox + p]) / cov);
-        } else {
-            w->vstate[p] = 0;
+    if (J->nd) depth_z(J, w, &pk);
+    else
+        for (size_t p = 0; p < vox; ++p) {
+            double c0 = o0[p] ? w0 : 0, c1 = o1[p] ? w1 : 0, cov = c0 + c1;
+            if (cov > 0) {
+                w->vstate[p] = 1;
+                for (int g = 0; g < m; ++g)
+                    w->vimg[(size_t)g * vox + p] =
+                        (float)((c0 * m0[(size_t)g * vox + p] + c1 * m1[(size_t)g * vox + p]) / cov);
+            } else {
+                w->vstate[p] = 0;
+            }
         }
-    }
     slabs_put(S, &pk);
     mark_live(J, w);
     extend(J, w);
+    if (J->nd) { /* the voxels' sides for depth_band, in the extension's state (all 1 after it) */
+        const float *d = w->vimg + (size_t)m * vox;
+        for (size_t p = 0; p < vox; ++p) w->vstate[p] = d[p] <= J->depth_mm ? 1 : 2;
+    }
     return HV_OK;
 }
 
@@ -881,6 +987,70 @@ static hv_status voxel_image(job *J, worker *w, size_t index, double z)
         for (int k = 0; k < (L); ++k) acc += wt[k] * p[k];                                                         \
         t[c] = acc;                                                                                                \
     }
+
+/* Pixel (r, c) of a painted model in the colour depth's band (its bilinear cell or POI taps hold
+ * voxels of both sides): its side by the depth at its centre, bilinear in the window's depth
+ * (exact where the surface is flat: the composed POI operator is not, it is off by up to 0.09 mm
+ * from 0.5 mm voxels to the J750's pitch), and its fractions the bilinear mean of the cell's
+ * voxels on that side alone (renormalised; none with weight: the POI value stays). */
+static void depth_pixel(job *J, worker *w, float *frac, size_t plane, size_t q, int r, int c, const int *live, int nl)
+{
+    size_t vox = (size_t)J->vw * (size_t)J->vh, vw = (size_t)J->vw;
+    size_t p0 = (size_t)J->by[r] * vw + (size_t)J->bx[c];
+    size_t at[4] = {p0, p0 + 1, p0 + vw, p0 + vw + 1};
+    float tx = J->bxt[c], ty = J->byt[r], D = J->depth_mm;
+    float wt[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty}, d = 0, own = 0;
+    const float *dv = w->vimg + (size_t)J->m * vox;
+    for (int k = 0; k < 4; ++k) d += wt[k] * dv[at[k]];
+    int skin = d <= D;
+    for (int k = 0; k < 4; ++k) {
+        if ((dv[at[k]] <= D) != skin) wt[k] = 0;
+        own += wt[k];
+    }
+    if (!(own > 0)) return;
+    for (int k = 0; k < 4; ++k) wt[k] /= own;
+    for (int l = 0; l < nl; ++l) {
+        const float *v = w->vimg + (size_t)live[l] * vox;
+        frac[(size_t)live[l] * plane + q] = wt[0] * v[at[0]] + wt[1] * v[at[1]] + wt[2] * v[at[2]] + wt[3] * v[at[3]];
+    }
+}
+
+/* The pixels of rows r0..r1 (columns c0..c1) in the colour depth's band, through depth_pixel. Per
+ * row the sides of the voxels (w->vstate: 1 skin, 2 core) or-ed over the rows its cells span, one
+ * byte per voxel column; only the pixels whose span holds a column of both sides, or two neighbours
+ * of different sides, are looked at (those that span voxel column i are J->cf[i] .. J->cl[i]). */
+static void depth_band(job *J, worker *w, float *frac, size_t plane, int rbase, int r0, int r1, int c0, int c1)
+{
+    size_t W = (size_t)J->W, vw = (size_t)J->vw;
+    uint8_t *co = (uint8_t *)w->xtmp; /* free after the passes */
+    int ilo = J->bxu0[c0], ihi = J->bxu1[c1], live[HV_MAX_MATERIALS], nl = 0;
+    size_t n = (size_t)(ihi - ilo + 1);
+    for (int g = 0; g < J->m; ++g)
+        if (w->live[g]) live[nl++] = g;
+    for (int r = r0; r <= r1; ++r) {
+        const uint8_t *mrow = w->mask + (size_t)r * W;
+        if (!memchr(mrow + c0, 1, (size_t)(c1 - c0 + 1))) continue;
+        memcpy(co, w->vstate + (size_t)J->byu0[r] * vw + (size_t)ilo, n);
+        for (int j = J->byu0[r] + 1; j <= J->byu1[r]; ++j) {
+            const uint8_t *b = w->vstate + (size_t)j * vw + (size_t)ilo;
+#pragma omp simd
+            for (size_t i = 0; i < n; ++i) co[i] |= b[i];
+        }
+        int next = c0; /* the first pixel not looked at */
+        for (int i = ilo; i <= ihi; ++i) {
+            uint8_t a = co[i - ilo];
+            if (a != 3 && (i == ihi || (a | co[i + 1 - ilo]) != 3)) continue;
+            int cb = HV_MIN(c1, J->cl[i]);
+            for (int c = HV_MAX(next, J->cf[i]); c <= cb; ++c) {
+                uint8_t o = 0;
+                for (int k = J->bxu0[c]; k <= J->bxu1[c]; ++k) o |= co[k - ilo];
+                if (o == 3 && mrow[c])
+                    depth_pixel(J, w, frac, plane, (size_t)(r - rbase) * W + (size_t)c, r, c, live, nl);
+            }
+            next = HV_MAX(next, cb + 1);
+        }
+    }
+}
 
 /* POI of the window image onto the object pixels of rows r0..r1 (columns c0..c1 hold all of
  * them): into frac, m planes of `plane` floats whose row 0 is layer row rbase. */
@@ -958,6 +1128,7 @@ HV_HOT_CLONES static void resample_layer(job *J, worker *w, float *frac, size_t 
     }
     /* every operator row sums to 1 and the window image sums to 1 per pixel, so the fractions
      * sum to 1 up to float rounding: no renormalisation pass */
+    if (J->nd) depth_band(J, w, frac, plane, rbase, r0, r1, c0, c1);
 }
 
 /* How far the resampled fractions are from the direct evaluation over a layer, summed row by row. */
@@ -1684,7 +1855,7 @@ hv_status hv_layers_part_gather(hv_layers_part *p, const hv_dist *d) { return di
 uint64_t hv_layers_part_slab_bytes(const hv_layers_part *p)
 {
     const job *J = &p->J;
-    return uses_voxels(J) ? (uint64_t)J->vw * (uint64_t)J->vh * (1 + 4 * (uint64_t)J->m) : 0;
+    return uses_voxels(J) ? (uint64_t)J->vw * (uint64_t)J->vh * (1 + 4 * (uint64_t)(J->m + J->nd)) : 0;
 }
 
 static hv_status part_nomem(const job *J)
@@ -1716,7 +1887,7 @@ static hv_status part_slab_get(job *J, void *ctx, int32_t k, int32_t keep, slab_
             e = &p->slab[p->nslab];
             memset(e, 0, sizeof *e);
             e->occ = hv_malloc(vox);
-            e->mat = hv_malloc_array(vox * (size_t)HV_MAX(J->m, 1), sizeof *e->mat);
+            e->mat = hv_malloc_array(vox * (size_t)HV_MAX(J->m + J->nd, 1), sizeof *e->mat);
         }
         if (!g || !e->occ || !e->mat) {
             if (e) {

@@ -14,7 +14,7 @@
 static int mesh_paints(const hv_mesh *mesh, const hv_layers_mesh_options *mo)
 {
     if (mo && mo->materials.n) return 0;
-    return (mo && (mo->colour_depth > 0 || mo->core)) || hv_colour_mesh_paints(mesh);
+    return (mo && (mo->colour_depth > 0 || mo->core)) || hv_colour_mesh_paints(mesh, NULL);
 }
 
 hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, const hv_layers_mesh_options *mo,
@@ -57,8 +57,8 @@ hv_status hv_layers_mesh_model(const hv_mesh *mesh, const hv_layers_options *o, 
     hv_colour_map *map = NULL;
     s = hv_colour_map_create(mo ? &mo->colour : &co, &map);
     vo.progress = progress;
-    int asked = mo && (mo->colour_depth > 0 || mo->core);
-    if (s == HV_OK) s = hv_colour_mesh_model(mesh, &vo, map, depth, mo ? mo->core : NULL, asked, model);
+    hv_colour_body_rule rule = {mo && (mo->colour_depth > 0 || mo->core), NULL, NULL}; /* layers maps no resins */
+    if (s == HV_OK) s = hv_colour_mesh_model(mesh, &vo, map, depth, mo ? mo->core : NULL, &rule, model);
     hv_colour_map_destroy(map);
     return s;
 }
@@ -110,11 +110,12 @@ const hv_option_set *hv_layers_mesh_option_set(void) { return &k_mesh_set; }
 
 hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options *mo, const char *dir,
                                const hv_layers_options *o, const hv_progress *progress, hv_layers_report *report,
-                               hv_colour_skin *colour)
+                               hv_colour_skin *colour, hv_material_table **table)
 {
     hv_layers_report rep;
     memset(&rep, 0, sizeof rep);
     if (colour) memset(colour, 0, sizeof *colour);
+    if (table) *table = NULL;
     char size_warning[1024] = "";
     const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
     if (hv_placement_size_warning(mesh, pp ? pp->build : NULL)) {
@@ -135,12 +136,19 @@ hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options
     memset(&sk, 0, sizeof sk);
     if (s == HV_OK) s = hv_layers_colour_hook(&lo, model, &sk);
     if (s == HV_OK) s = hv_layers_write(m, model, dir, &lo, progress, &rep);
+    if (s == HV_OK && table && rep.materials > 0) s = hv_material_table_load(model, table);
     hv_volume_destroy(model);
     hv_mesh_destroy(m);
     sk.model = NULL;
     if (s == HV_OK && colour) *colour = sk;
     else hv_colour_map_destroy(sk.map);
-    if (s != HV_OK) return s;
+    if (s != HV_OK) {
+        if (table) {
+            hv_material_table_destroy(*table);
+            *table = NULL;
+        }
+        return s;
+    }
     if (*size_warning) { /* first, as the CLI prints it when it reads the mesh */
         char rest[sizeof rep.warnings];
         snprintf(rest, sizeof rest, "%s", rep.warnings);

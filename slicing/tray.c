@@ -755,10 +755,30 @@ static const char *where_of(const hv_tray *t, const instance *in)
  * coarsened until the voxelization fits a quarter of the budget; or a mesh that prints in its
  * colours (issue 29), its model painted as `layers MESH` paints it, on voxels half the colour's
  * depth or the printer's pitch (hv_colour_mesh_voxels). */
+/* The body rule's resins (issue 29 item 1): a material the tray prints in a resin, by its --resin
+ * MATERIAL=RESIN mapping (a job file's "resin" object, Lua's and Python's resin = {...}) or a resin
+ * of its table named like it (the profile's, hv_resin_find, and --resin-color's), as resin_of
+ * maps it. */
+static int tray_is_resin(void *user, const char *material)
+{
+    const hv_tray_options *o = user;
+    size_t n = strlen(material);
+    for (int i = 0; i < o->nresin; ++i) {
+        const char *eq = strchr(o->resin[i], '=');
+        if (eq && (size_t)(eq - o->resin[i]) == n && strncmp(o->resin[i], material, n) == 0) return 1;
+    }
+    for (int i = 0; i < o->ncolor; ++i) {
+        const char *eq = strchr(o->resin_color[i], '=');
+        if (eq && (size_t)(eq - o->resin_color[i]) == n && strncasecmp(o->resin_color[i], material, n) == 0) return 1;
+    }
+    return 0;
+}
+
 static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *mesh, const hv_tray_options *o,
                               hv_volume **model)
 {
-    int paint = s->p.colour_depth > 0 || s->p.core || hv_colour_mesh_paints(mesh);
+    hv_colour_body_rule rule = {s->p.colour_depth > 0 || s->p.core, tray_is_resin, (void *)o};
+    int paint = rule.asked || hv_colour_mesh_paints(mesh, &rule);
     for (size_t i = 0; i < hv_mesh_body_count(mesh) && !paint; ++i) {
         const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
         if (b->material == HV_MESH_NO_MATERIAL)
@@ -781,7 +801,7 @@ static hv_status bodies_model(const hv_tray *t, const source *s, const hv_mesh *
     hv_colour_map *map = NULL;
     hv_status st = hv_colour_mesh_voxels(mesh, pitch, depth, budget, &vo, &plan);
     if (st == HV_OK) st = hv_colour_map_create(&o->colour, &map);
-    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, s->p.colour_depth > 0 || s->p.core, model);
+    if (st == HV_OK) st = hv_colour_mesh_model(mesh, &vo, map, depth, s->p.core, &rule, model);
     hv_colour_map_destroy(map);
     return st;
 }
@@ -981,7 +1001,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
     int q = (s->p.rotation / 90) % 4;
     if (!s->p.mesh) {
         double bmin[3], bmax[3];
-        hv_status st = hv_model_load(s->p.model, &model);
+        hv_status st = hv_model_load_colour(s->p.model, &o->colour, &model); /* a 3MF colour: the tray's map */
         if (st == HV_OK) st = model_shape(s, q, &model, &mesh, bmin, bmax);
         if (st == HV_OK) {
             s->mesh = mesh;
@@ -1008,7 +1028,7 @@ static hv_status load_source(hv_tray *t, source *s, const hv_tray_options *o)
         st = hv_body_materials_apply(&one, mesh);
         if (st != HV_OK && s->pair_where && s->pair_where[k]) where = s->pair_where[k];
     }
-    if (st == HV_OK && s->p.model) st = hv_model_load(s->p.model, &model);
+    if (st == HV_OK && s->p.model) st = hv_model_load_colour(s->p.model, &o->colour, &model);
     else if (st == HV_OK && !s->p.material) st = bodies_model(t, s, mesh, o, &model);
     for (int i = 0; i < q && st == HV_OK && model; ++i) {
         hv_volume *r = NULL;
@@ -1441,7 +1461,7 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
      * spans), which the threads share by drawing parts into them, and per thread only the buffers
      * of the one part it renders (the largest part's). The plates are as many as the budget
      * holds, at most INFLIGHT and the threads; memory no longer grows a plate per thread. */
-    size_t stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
+    size_t stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8 + 1; /* the filter byte */
     uint64_t plate = (uint64_t)stride * (uint64_t)t->H + (uint64_t)t->H * 8;
     int threads = HV_MAX(hv_threads(), 1);
     uint64_t scratch = (uint64_t)threads * hv_layers_scratch_need_total(&need);
@@ -1494,7 +1514,8 @@ hv_status hv_tray_plan(hv_tray *t, const hv_tray_options *o, const hv_progress *
 /* ---- writing ------------------------------------------------------------------------------------ */
 
 typedef struct tplate {
-    uint8_t *rows; /* packed plate image */
+    uint8_t *rows; /* packed plate image, each row after a zero byte (PNG's filter None: the
+                      encoder compresses the rows where they lie, hv_png_options.filter_bytes) */
     int32_t *span; /* 2 per row, in bytes: the drawn columns (empty when span[0] >= span[1]) */
 } tplate;
 
@@ -1642,6 +1663,7 @@ static hv_status encode_layer(wjob *J, size_t li)
         po.bit_depth = t->bit_depth;
         po.packed = t->bit_depth < 8;
         po.row_spans = pl->span;
+        po.filter_bytes = 1;
         if (J->o->mode != HV_LAYERS_MASK) {
             po.palette = t->palette;
             po.palette_size = t->palette_size;
@@ -1748,6 +1770,7 @@ static hv_status tray_run(wjob *J, const hv_progress *progress)
     if (!J->plate || !J->scratch || !J->order || !J->free_for || !J->draws_left) st = HV_ERR_NOMEM;
     for (int i = 0; i < k && st == HV_OK; ++i) {
         J->plate[i].rows = hv_calloc((size_t)t->H, J->stride);
+        if (J->plate[i].rows) J->plate[i].rows++; /* row y at rows + y * stride, its filter byte before it */
         J->plate[i].span = hv_calloc((size_t)t->H * 2, sizeof *J->plate[i].span);
         if (!J->plate[i].rows || !J->plate[i].span) st = hv_error_set(HV_ERR_NOMEM, "tray: out of memory for a plate image");
         J->free_for[i] = J->run_lo + (size_t)i;
@@ -1772,7 +1795,7 @@ static hv_status tray_run(wjob *J, const hv_progress *progress)
     pthread_mutex_destroy(&J->mu);
     for (int i = 0; i < ROW_LOCKS; ++i) pthread_mutex_destroy(&J->lock[i]);
     for (int i = 0; i < k && J->plate; ++i) {
-        free(J->plate[i].rows);
+        free(J->plate[i].rows ? J->plate[i].rows - 1 : NULL);
         free(J->plate[i].span);
     }
     for (int i = 0; i < threads && J->scratch; ++i) hv_layers_scratch_destroy(J->scratch[i]);
@@ -1792,38 +1815,63 @@ static json_t *num2(double a, double b)
     return x;
 }
 
-/* The manifest's document (NULL: out of memory). */
-/* A painted part's skin dE2000 (issue 29), or a scan's colour table's over the values it printed
- * (issue 30; copies share the source, so its figures are the copies' together): the part's
- * "colour" in the manifest, kept for hv_tray_instance_colour. A profile no longer readable: the
- * part goes without. Returns nonzero when out of memory. */
-static int part_colour(hv_tray *t, int i, const hv_layers_report *pr, json_t *p)
+/* The "colour" of each copy of source si when it is a painted part's skin dE2000 (issue 29) or a
+ * scan's colour table's over the values it printed (issue 30; copies share the source, so its
+ * figures are the copies' together), into colour[i] per instance i (the manifest's, kept for
+ * hv_tray_instance_colour): the map made and the skin read once for all copies
+ * (hv_colour_skin_manifests). A profile no longer readable: the part goes without. Returns
+ * nonzero when out of memory. */
+static int source_colour(hv_tray *t, int si, void **colour)
 {
-    instance *in = &t->inst[i];
-    const source *s = &t->src[in->src];
-    hv_colour_skin sk;
-    memset(&sk, 0, sizeof sk);
+    const source *s = &t->src[si];
+    hv_colour_skin base;
+    memset(&base, 0, sizeof base);
     hv_status st = HV_OK;
     if (s->model) {
-        st = hv_colour_map_for_model(s->model, &sk.map);
-        sk.model = s->model;
-    } else if (s->ssrc && s->scan_map && hv_scan_source_colour(s->ssrc, &sk.samples, &sk.rgb, &sk.fractions, &sk.weight)) {
-        sk.map = s->scan_map;
+        if (!hv_volume_meta_string(s->model, "hovox.colour.json")) return 0; /* not painted */
+        st = hv_colour_map_for_model(s->model, &base.map);
+        base.model = s->model;
+    } else if (s->ssrc && s->scan_map && hv_scan_source_colour(s->ssrc, &base.samples, &base.rgb, &base.fractions, &base.weight)) {
+        base.map = s->scan_map;
     }
-    void *colour = NULL;
-    if (st == HV_OK && sk.map) st = hv_colour_skin_manifest(&sk, s->m, s->mat_name, pr->target, pr->achieved, &colour);
+    int n = 0;
+    for (int i = 0; i < t->ninst; ++i) n += t->inst[i].src == si;
+    hv_colour_skin *sk = hv_calloc((size_t)HV_MAX(n, 1), sizeof *sk);
+    hv_layers_report *pr = hv_calloc((size_t)HV_MAX(n, 1), sizeof *pr);
+    const double **tg = hv_calloc((size_t)HV_MAX(n, 1), sizeof *tg), **ac = hv_calloc((size_t)HV_MAX(n, 1), sizeof *ac);
+    int *of = hv_calloc((size_t)HV_MAX(n, 1), sizeof *of);
+    void **out = hv_calloc((size_t)HV_MAX(n, 1), sizeof *out);
+    int failed = !sk || !pr || !tg || !ac || !of || !out;
+    if (st == HV_OK && base.map && !failed) {
+        for (int i = 0, c = 0; i < t->ninst; ++i) {
+            if (t->inst[i].src != si) continue;
+            hv_layers_part_report(t->inst[i].part, &pr[c]);
+            sk[c] = base;
+            tg[c] = pr[c].target;
+            ac[c] = pr[c].achieved;
+            of[c++] = i;
+        }
+        st = hv_colour_skin_manifests(sk, n, s->m, s->mat_name, tg, ac, out);
+    }
     if (st != HV_OK && st != HV_ERR_NOMEM) hv_error_clear();
-    int failed = st == HV_ERR_NOMEM;
-    if (colour) {
-        failed |= hv_json_set(p, "colour", colour);
+    failed |= st == HV_ERR_NOMEM;
+    for (int c = 0; c < n && out && out[c]; ++c) {
+        instance *in = &t->inst[of[c]];
+        colour[of[c]] = out[c];
         in->coloured = 1;
-        in->ctarget = sk.target;
-        in->cachieved = sk.achieved;
-        in->cprinter = !sk.model;
-        in->cintent = hv_colour_map_intent(sk.map);
-        snprintf(in->cdesc, sizeof in->cdesc, "%s", hv_colour_map_description(sk.map));
+        in->ctarget = sk[c].target;
+        in->cachieved = sk[c].achieved;
+        in->cprinter = !sk[c].model;
+        in->cintent = hv_colour_map_intent(sk[c].map);
+        snprintf(in->cdesc, sizeof in->cdesc, "%s", hv_colour_map_description(sk[c].map));
     }
-    if (sk.model) hv_colour_map_destroy(sk.map);
+    if (base.model) hv_colour_map_destroy(base.map);
+    free(sk);
+    free(pr);
+    free(tg);
+    free(ac);
+    free(of);
+    free(out);
     return failed;
 }
 
@@ -1840,6 +1888,7 @@ int hv_tray_instance_colour(const hv_tray *t, int i, hv_tray_colour *out)
     return 1;
 }
 
+/* The manifest's document (NULL: out of memory). */
 static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_report *rep, const uint64_t *obj_px)
 {
     json_t *doc = json_object();
@@ -1874,6 +1923,10 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
     failed |= hv_json_set(doc, "resin_colors_note",
                           hv_json_text("public resin names; display colours chosen by hovox, not vendor-confirmed"));
     json_t *parts = json_array();
+    void **colour = hv_calloc((size_t)HV_MAX(t->ninst, 1), sizeof *colour);
+    failed |= !colour;
+    for (int i = 0; i < t->ninst; ++i) t->inst[i].coloured = 0;
+    for (int si = 0; si < t->nsrc && colour && o->mode == HV_LAYERS_HALFTONE; ++si) failed |= source_colour(t, si, colour);
     for (int i = 0; i < t->ninst; ++i) {
         const instance *in = &t->inst[i];
         const source *s = &t->src[in->src];
@@ -1918,10 +1971,10 @@ static json_t *manifest_doc(hv_tray *t, const hv_tray_options *o, const hv_tray_
             failed |= hv_json_set(mats, s->mat_name[j], mj);
         }
         failed |= hv_json_set(p, "materials", mats);
-        t->inst[i].coloured = 0;
-        if (o->mode == HV_LAYERS_HALFTONE) failed |= part_colour(t, i, &pr, p);
+        if (colour && colour[i]) failed |= hv_json_set(p, "colour", colour[i]);
         failed |= json_array_append_new(parts, p);
     }
+    free(colour);
     failed |= hv_json_set(doc, "parts", parts);
     return hv_stack_manifest_done(doc, failed);
 }
@@ -2060,7 +2113,7 @@ hv_status hv_tray_write(hv_tray *t, const char *dir, const hv_tray_options *o, c
     J.o = o;
     J.first = J.run_lo = rep.first;
     J.last = J.run_hi = rep.last;
-    J.stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8;
+    J.stride = ((size_t)t->W * (size_t)t->bit_depth + 7) / 8 + 1; /* a row's bytes after its filter byte */
     J.st_bytes = hv_calloc(rep.last - rep.first, sizeof *J.st_bytes);
     if (st == HV_OK && !J.st_bytes) st = HV_ERR_NOMEM;
     st = hv_stack_open(&out, st, dir, o->force, o->gcvf_path, NULL, D);

@@ -127,14 +127,23 @@ HV_API hv_status hv_colour_paint(hv_volume *model, const hv_mesh *mesh, hv_colou
 
 /* What painting keeps beside the fractions (issue 29): float grids "colour.r", "colour.g",
  * "colour.b" (the requested sRGB colour, in [0, 1]) and "colour.mask" (1 where a colour was asked
- * for: the skin, and a colour core; 0 under a resin core), and metadata hovox.colour.json (the
- * profile, intent, resins, depth and core). The render shows those colours; the stack manifest
- * their dE2000.
+ * for: the skin, and a colour core; 0 under a resin core), "colour.depth" (each voxel's distance
+ * to the surface in mm, exact up to the depth plus two voxels (the largest edge), the depth plus
+ * three voxels beyond; a voxel painted as skin holds at most the depth as a float, one deeper more),
+ * and metadata hovox.colour.json (the profile, intent, resins, depth and core). The render shows
+ * those colours; the stack manifest their dE2000; layers and trays put the change from skin to
+ * core at the depth per printer pixel (hv_colour_depth_grid).
  * The colour map painting used, made again from the model's record. Errors: HV_ERR_NOT_FOUND
  * (the model is not painted), HV_ERR_BAD_INPUT (a damaged record), those of
  * hv_colour_map_create (the profile no longer readable). *out is freed with
  * hv_colour_map_destroy. */
 HV_API hv_status hv_colour_map_for_model(const hv_volume *model, hv_colour_map **out);
+
+/* A painted model's colour.depth grid (its index) with the depth painted (*depth_mm, as a float:
+ * a voxel is skin when its value is <= it); -1 when the model has no such grid or no record of the
+ * depth (painted before the grid, or a Volumetric package's colour): then the stack interpolates
+ * the fractions across the depth as any other. Never fails. */
+HV_API int hv_colour_depth_grid(const hv_volume *model, float *depth_mm);
 
 typedef struct hv_colour_skin_report {
     uint64_t voxels;                /* occupied voxels with a requested colour */
@@ -143,9 +152,15 @@ typedef struct hv_colour_skin_report {
 /* CIEDE2000 between each such voxel's requested colour and what its six fractions print (each
  * multiplied by scale[k] when scale is given, then normalised: a halftone's achieved over target
  * share per resin), both through `map` (hv_colour_map_lab_of_srgb, _of_fractions). Errors:
- * HV_ERR_NOT_FOUND (no colour grids). */
+ * HV_ERR_NOT_FOUND (no colour grids), NOMEM, CANCELLED. */
 HV_API hv_status hv_colour_skin_error(const hv_volume *model, const hv_colour_map *map,
                                       const double scale[HV_COLOUR_SLOTS], hv_colour_skin_report *out);
+/* hv_colour_skin_error for n scales at once (scales[s] NULL: the fractions as they are), into
+ * out[0 .. n): the voxels read and each requested colour's Lab made once, the dE2000 on
+ * hv_threads() threads; the same figures as n calls. Errors: HV_ERR_NOT_FOUND (no colour grids),
+ * NOMEM, CANCELLED. */
+HV_API hv_status hv_colour_skin_errors(const hv_volume *model, const hv_colour_map *map, int n,
+                                       const double *const *scales, hv_colour_skin_report *out);
 /* The same over weighted samples in place of a model's voxels (a scan printed from a colour lookup
  * table, issue 30: its tabulated values): sample i asks for the sRGB colour rgb[3i .. 3i+2] and prints
  * the fractions fractions[6i .. 6i+5] at weight[i] printer voxels (weight 0: left out); out->voxels
@@ -158,8 +173,8 @@ HV_API hv_status hv_colour_samples_error(const hv_colour_map *map, size_t n, con
  * model and map the caller sets, or map and samples in place of the model): adds "colour" {icc,
  * description, intent, skin_voxels (samples: printer_voxels), mean_de2000_target,
  * max_de2000_target, and mean_de2000_achieved when the manifest's materials have "achieved"
- * (halftone): the fractions scaled per resin by achieved / target}, and fills target, achieved
- * and has_achieved. */
+ * (halftone): the fractions scaled per resin by achieved / target}, and fills target, achieved,
+ * has_achieved and printer_voxels. */
 typedef struct hv_colour_skin {
     const hv_volume *model;
     hv_colour_map *map;
@@ -170,6 +185,9 @@ typedef struct hv_colour_skin {
     const uint8_t *rgb;
     const float *fractions;
     const uint64_t *weight;
+    /* set by the hook with target: 1 when its voxels are printer voxels (the samples), 0 a
+       model's skin voxels (still 0 when a front end clears model afterwards) */
+    int printer_voxels;
 } hv_colour_skin;
 HV_API hv_status hv_colour_manifest_hook(void *user, void *manifest);
 
@@ -185,39 +203,64 @@ HV_API int hv_colour_paint_note(const hv_volume *model, char *buf, size_t size);
 HV_API hv_status hv_colour_paint_text(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
                                       const char *core);
 
+/* The body rule's inputs (issue 29): whether the user asked for colour, and which material names
+ * the caller prints in a resin beside the printer's table (hv_resin_find). is_resin (may be NULL:
+ * the table alone) gets the name a body's material takes in a model (hv_material_name_from of the
+ * file's text: "PLA Blue" -> "PLA_Blue") and returns 1 when the caller prints that material in a
+ * resin: a tray's MATERIAL=RESIN mapping (`--resin`, a job file's "resin" object, Lua and Python
+ * `resin = {...}`) or a resin the tray adds (`--resin-color`); `user` is passed to it. A rule of
+ * NULL is {0, NULL, NULL}: colour not asked, the table alone. */
+typedef struct hv_colour_body_rule {
+    int asked; /* the user asked for colour: a colour depth or core given */
+    int (*is_resin)(void *user, const char *material);
+    void *user;
+} hv_colour_body_rule;
+
 /* Which bodies print in their colours (issue 29 item 2), one rule for `layers MESH`, a tray's
- * mesh part, Lua and Python; paint[i] (may be NULL; one per body) is 1 for body i painted, 0 for
- * one that prints in its material; returns how many are painted. After the 3MF specifications:
- * a colour group's entries ("#rrggbb") are colour and nothing else (Materials extension ch. 2),
- * and a body without a material takes colour: painted. A composite is a mixture of materials:
- * printed in it. A base material is what its body is made of (the core specification keeps its
- * displaycolor for rendering: "a producer MUST NOT assume that displaycolor has any effect on
- * the printed part"): printed in it, unless `asked` (the user asked for colour: a colour depth
- * or core given) and its name is no resin of the printer's table (hv_resin_find) - then its
- * colours (its display colour, or a texture or colours on its facets) paint it. An OBJ's
- * materials are its MTL's appearances (Kd, map_Kd): painted, unless one names a resin of the
- * table. A body whose material names a resin of the table always stays in the resin. */
-HV_API size_t hv_colour_mesh_bodies(const hv_mesh *mesh, int asked, uint8_t *paint);
+ * mesh part, `voxelize --colour-depth`, Lua (mesh:layers, model:paint) and Python; paint[i] (may
+ * be NULL; one per body) is 1 for body i painted, 0 for one that prints in its material; returns
+ * how many are painted. After the 3MF specifications: a colour group's entries ("#rrggbb") are
+ * colour and nothing else (Materials extension ch. 2), and a body without a material takes
+ * colour: painted. A body given a colour by the user (hv_mesh_body_colour_set, `voxelize --colour
+ * BODY=COLOUR`, Lua mesh:colour) is painted. A composite is a mixture of materials: printed in
+ * it. A base material is what its body is made of (the core specification keeps its displaycolor
+ * for rendering: "a producer MUST NOT assume that displaycolor has any effect on the printed
+ * part"): printed in it, unless rule->asked and it is no resin (neither of the printer's table nor
+ * the caller's, rule->is_resin) - then its colours (its display colour, or a texture or colours on
+ * its facets) paint it. An OBJ's materials are its MTL's appearances (Kd, map_Kd): painted,
+ * unless one is a resin. A body whose material is a resin always stays in the resin. */
+HV_API size_t hv_colour_mesh_bodies(const hv_mesh *mesh, const hv_colour_body_rule *rule, uint8_t *paint);
 
 /* Does the mesh print in its colours when nothing else says (the one rule of `layers MESH` and
  * a tray's mesh part)? 1 when it has colour (a texture, corner colours such as PLY vertex colours
  * or 3MF colour groups, material colours) and a body takes it unasked (hv_colour_mesh_bodies with
- * asked 0): a coloured mesh, or an assembly with a colour-group body beside bodies of resins. 0
- * for an assembly whose bodies are all made of materials (base materials, composites), and for a
- * mesh without colour. */
-HV_API int hv_colour_mesh_paints(const hv_mesh *mesh);
+ * rule->asked taken as 0; rule's is_resin as given, may be NULL): a coloured mesh, or an assembly
+ * with a colour-group body beside bodies of resins. 0 for an assembly whose bodies are all made of
+ * materials (base materials, composites, resins), and for a mesh without colour. */
+HV_API int hv_colour_mesh_paints(const hv_mesh *mesh, const hv_colour_body_rule *rule);
+
+/* `model` (voxelized from `mesh`, in the same coordinates: `voxelize --colour-depth`, Lua
+ * model:paint) painted body by body (hv_colour_mesh_bodies with `rule`): hv_colour_paint_text
+ * (depth, core) when every body takes colour; in an assembly whose bodies do not all take it,
+ * the colour is carried from the painted bodies' facets alone and every voxel of a body that
+ * keeps its material (its region, hv_voxelize_regions_read) is 100 % that material or its
+ * composite's mixture, with no colour asked for there; colour resins no voxel uses then leave the
+ * table while it holds more than six (the printer's slots). A single body that takes colour is
+ * painted exactly as hv_colour_paint_text paints it. Errors: HV_ERR_BAD_INPUT ("NAME: no body to
+ * paint in its colours: shell is VeroPureWhite, core is a composite ..."), HV_ERR_NOT_FOUND (an
+ * assembly's model without regions), those of hv_colour_paint_text. On failure the model may
+ * hold some of the grids: destroy it. */
+HV_API hv_status hv_colour_mesh_paint(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
+                                      const char *core, const hv_colour_body_rule *rule);
 
 /* A model of `mesh` painted in its colours (one step from a coloured mesh to a stack): the mesh
- * voxelized by `vopt`, then hv_colour_paint_text(depth, core). In an assembly whose bodies do not
- * all take colour (hv_colour_mesh_bodies with `asked`), the colour is carried from the painted
- * bodies' facets alone and every voxel of a body that keeps its material (its region) is 100 %
- * that material or its composite's mixture, with no colour asked for there; colour resins no
- * voxel uses then leave the table while it holds more than six (the printer's slots). The model
- * records no shape (the caller slices it with the mesh). Errors: HV_ERR_BAD_INPUT ("NAME: no body
- * to paint in its colours: shell is VeroPureWhite, core is a composite ..."), those of
- * hv_voxelize and hv_colour_paint_text. Free *out with hv_volume_destroy. */
+ * voxelized by `vopt`, then hv_colour_mesh_paint(depth, core, rule) - the same model `voxelize
+ * --colour-depth` makes on the same voxels. The bodies are checked before voxelizing. The model
+ * records no shape (the caller slices it with the mesh). Errors: those of hv_colour_mesh_paint and
+ * hv_voxelize. Free *out with hv_volume_destroy. */
 HV_API hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *vopt, hv_colour_map *map,
-                                      double depth, const char *core, int asked, hv_volume **out);
+                                      double depth, const char *core, const hv_colour_body_rule *rule,
+                                      hv_volume **out);
 
 /* The voxels for hv_colour_mesh_model: opt->voxel_size set to the coarser of `pitch` (say the
  * printer's coarsest) and depth / 2 (the skin two voxels deep: colour is carried from the
@@ -229,21 +272,19 @@ HV_API hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_opt
 HV_API hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double depth, uint64_t budget,
                                        hv_voxelize_options *opt, hv_voxel_plan *plan);
 
-/* The "colour" object a stack manifest gives a painted model (jansson json_t *, owned by the
- * caller; NULL in *out when the model is not painted, HV_OK): {icc, description, intent,
- * skin_voxels, mean_de2000_target, max_de2000_target, and mean_de2000_achieved when `achieved`
- * is given}. `names`, `target` and `achieved` are the model's m materials as a halftone printed
- * them (achieved NULL: no halftone); each colour resin's fractions are scaled by its achieved /
- * target. A tray gives one per painted part. Errors: those of hv_colour_map_for_model, NOMEM. */
-HV_API hv_status hv_colour_part_manifest(const hv_volume *model, int m, const char *const *names, const double *target,
-                                         const double *achieved, void **out);
-
-/* The same "colour" object for sk's model or samples (sk->map set by the caller; model or
- * samples as for hv_colour_manifest_hook), filling sk's target, achieved and has_achieved: a
- * tray's painted part or scan printed from a colour table. Errors: those of
- * hv_colour_skin_error, NOMEM. */
-HV_API hv_status hv_colour_skin_manifest(hv_colour_skin *sk, int m, const char *const *names, const double *target,
-                                         const double *achieved, void **out);
+/* The same "colour" object for copies of one painted model or of one scan printed from a colour
+ * table (a tray's copies of a part): sk[0 .. copies) share sk[0]'s map and its model or samples
+ * (set by the caller, as for hv_colour_manifest_hook); copy c's halftone printed the m materials
+ * `names` at target[c] and achieved[c] (achieved[c] NULL: no halftone); each colour resin's
+ * fractions are scaled by its achieved / target. Fills each sk[c]'s target, achieved and
+ * has_achieved and out[c] (jansson json_t *, owned by the caller): {icc, description, intent,
+ * skin_voxels (samples: printer_voxels), mean_de2000_target, max_de2000_target, and
+ * mean_de2000_achieved when achieved[c] is given, gives_way when painting gave a resin up}. The
+ * requested colours are read and their Lab made once for all copies; copies whose halftones
+ * printed alike share their figures. Errors: those of hv_colour_skin_errors, NOMEM (then every
+ * out[c] NULL). */
+HV_API hv_status hv_colour_skin_manifests(hv_colour_skin *sk, int copies, int m, const char *const *names,
+                                          const double *const *target, const double *const *achieved, void **out);
 
 /* CIE L*a*b* (D50) of an sRGB colour, and of what fractions print: the inks back through the
  * profile (CMYK to Lab, the same intent; white adds nothing, the colour part is normalised by

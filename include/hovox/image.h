@@ -68,6 +68,11 @@ typedef struct hv_png_options {
                                row_spans[2y+1]) is zero (lo >= hi: the row is all zero); the
                                encoder then reads no byte outside them. Without it the encoder
                                finds them itself for indexed and sub-byte images. */
+    int filter_bytes;       /* 1, for rows PNG stores unfiltered (indexed, or packed below 8
+                               bits): each row is preceded by a zero byte that is the caller's
+                               (pixels[y * stride - 1]) and stride is the row's bytes + 1, so
+                               the compressor reads the rows where they lie, with no copy (a
+                               tray's plate). Rows whose bytes differ from that are copied. */
 } hv_png_options;
 
 /* Defaults: compression -1, no pHYs, no palette, no text, bit depth 8, one pixel a byte, the

@@ -382,11 +382,12 @@ HV_API hv_status hv_layers_colour_hook(hv_layers_options *o, const hv_volume *mo
  * (o->mesh_name, else the mesh's name) as mesh and model. colour (may be NULL) gets a painted
  * part's figures (target, achieved, has_achieved) and its colour map (map: free it with
  * hv_colour_map_destroy; NULL when the part is not painted); its model is NULL (the model is
- * gone). Errors: those of hv_body_materials_apply, hv_layers_mesh_model, hv_layers_colour_hook
- * and hv_layers_write. */
+ * gone). *table (may be NULL) the stack's material table, as hv_layers_write_scan's (NULL in mask
+ * mode; free with hv_material_table_destroy). Errors: those of hv_body_materials_apply,
+ * hv_layers_mesh_model, hv_layers_colour_hook, hv_layers_write and hv_material_table_load. */
 HV_API hv_status hv_layers_write_mesh(const hv_mesh *mesh, const hv_layers_mesh_options *mo, const char *dir,
                                       const hv_layers_options *o, const hv_progress *progress,
-                                      hv_layers_report *report, hv_colour_skin *colour);
+                                      hv_layers_report *report, hv_colour_skin *colour, hv_material_table **table);
 
 /* A scanned volume printed as `hovox layers VOLUME` prints it (issue 30; the Lua and Python
  * front ends' one path, the same bytes as the CLI's): straight from its data at the printer's

@@ -175,6 +175,7 @@ typedef struct hv_mesh_body {
     int32_t material;      /* index into the mesh's materials, or HV_MESH_NO_MATERIAL */
     size_t first_facet;    /* facets [first_facet, first_facet + facet_count) */
     size_t facet_count;    /* >= 1 */
+    int coloured;          /* given a colour by hv_mesh_body_colour_set: painted whatever its material */
 } hv_mesh_body;
 
 HV_API size_t hv_mesh_body_count(const hv_mesh *mesh);
@@ -295,7 +296,8 @@ HV_API const int32_t *hv_mesh_facet_textures(const hv_mesh *mesh);
 
 /* Give the body named `body` one flat colour (0xRRGGBBAA, straight alpha), whatever its texture,
  * corner or material colours said (`--colour BODY=COLOUR` of voxelize);
- * the other facets keep their colours (a material's colour moves into corner colours). Errors:
+ * the other facets keep their colours (a material's colour moves into corner colours); the body is
+ * marked coloured, so the body rule paints it (hv_colour_mesh_bodies). Errors:
  * HV_ERR_NOT_FOUND ("gear.obj: no body 'hub' (bodies: rim, spokes)"), HV_ERR_NOMEM; the mesh is
  * unchanged on failure. */
 HV_API hv_status hv_mesh_body_colour_set(hv_mesh *mesh, const char *body, uint32_t rgba);

@@ -16,6 +16,13 @@ extern "C" {
  * "not an OpenVDB file (bad magic number)"). On success free *out with hv_volume_destroy. */
 HV_API hv_status hv_model_load(const char *path, hv_volume **out);
 
+/* hv_model_load with the caller's colour options (a tray's or `layers`' --icc, --intent, --resins;
+ * NULL: the defaults) for a 3MF package's colour without a composite (hv_3mf_load_colour); an
+ * OpenVDB file, and a package whose composite gives the fractions, ignore them. Errors: those of
+ * hv_model_load and of hv_colour_map_create (the profile, the resins). */
+struct hv_colour_options;
+HV_API hv_status hv_model_load_colour(const char *path, const struct hv_colour_options *colour, hv_volume **out);
+
 /* hv_model_load taking only the grids `names` selects from an OpenVDB file (hv_volume_load_grids); a
  * 3MF package is read whole. Errors: those of hv_model_load, HV_ERR_INVALID (n < 0,
  * an empty or NULL name). */

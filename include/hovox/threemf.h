@@ -38,10 +38,14 @@ extern "C" {
  *     hovox:colour.mask (a scalar output) is above one half, the colour 0 elsewhere; with hovox's
  *     hovox:colour metadata, "hovox.colour.json" (the profile and resins it was painted with);
  *   - with a <v:color> and no <v:composite> (a colour printer's package): the colour's stack gives
- *     the lattice (its transform must then be axis-aligned, as a mapping's), and the model is
- *     printed in the six colour resins of the default colour map (hv_colour_options_init): each
- *     voxel's fractions those of its colour rounded to 8-bit sRGB (hv_colour_map_fractions; the
- *     white resin where the mask says no colour), "hovox.colour.json" recording that map.
+ *     the lattice when its transform is an axis-aligned scale with positive diagonal and a
+ *     translation; with any other affine transform (turned, sheared, mirrored, or a picture
+ *     extruded through the part) the lattice is axis-aligned cubic voxels over the mesh's box, as
+ *     fine as the image's finest step (one image voxel across its planes along each image axis),
+ *     each centre sampled through the colour's transform. The model is printed in the six colour
+ *     resins of the default colour map (hv_colour_options_init; hv_3mf_load_colour: the caller's):
+ *     each voxel's fractions those of its colour rounded to 8-bit sRGB (hv_colour_map_fractions;
+ *     the white resin where the mask says no colour), "hovox.colour.json" recording that map.
  * Image sheets are PNGs of any layout and depth (grey, grey+alpha, RGB, RGBA, palette; 1 to 16
  * bits), all of a stack alike in size. Other <v:property> elements in hovox's namespace are
  * derived arrays and skipped; others and elements of other extensions are ignored unless a
@@ -59,6 +63,14 @@ extern "C" {
  * HV_ERR_LIMIT (memory budget, image sizes beyond the spec's limits), HV_ERR_NOMEM,
  * HV_ERR_CANCELLED. On success free *vol with hv_volume_destroy and *mesh with hv_mesh_destroy. */
 HV_API hv_status hv_3mf_load(const char *path, hv_volume **vol, hv_mesh **mesh);
+
+/* hv_3mf_load with the caller's colour options (`layers --icc --intent --resins`, a tray's) for a
+ * colour without a composite: its six resins' fractions through that map (NULL: the defaults); a
+ * package whose composite gives the fractions ignores them. Errors: also those of
+ * hv_colour_map_create (an unreadable or non-CMYK profile, resins that are not six names). */
+struct hv_colour_options;
+HV_API hv_status hv_3mf_load_colour(const char *path, const struct hv_colour_options *colour, hv_volume **vol,
+                                    hv_mesh **mesh);
 
 /* The same from a package in memory; `name` names it in messages. */
 HV_API hv_status hv_3mf_parse(const void *data, size_t size, const char *name, hv_volume **vol, hv_mesh **mesh);

@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "hovox/colour.h"
 #include "hovox/model.h"
 #include "hovox/voxelize.h"
 
@@ -105,17 +106,32 @@ done:
 }
 
 /* load(path) -> Model (.vdb, or a 3MF Volumetric package) */
-static PyObject *py_load(PyObject *self, PyObject *arg)
+/* load(path, *, icc=None, intent=None, resins=None) -> Model: a 3MF package's colour without a
+ * composite through that colour map (hv_model_load_colour) */
+static PyObject *py_load(PyObject *self, PyObject *args, PyObject *kw)
 {
     (void)self;
+    PyObject *arg;
+    if (!PyArg_ParseTuple(args, "O:load", &arg)) return NULL;
+    hv_colour_options co;
+    hvpy_arena a;
+    if (hvpy_arena_init(&a) < 0) return NULL;
+    if (hvpy_read_options(kw, hv_colour_option_set(), &co, NULL, &a) < 0) {
+        hvpy_arena_free(&a);
+        return NULL;
+    }
     PyObject *path = hvpy_path(arg, "path");
-    if (!path) return NULL;
+    if (!path) {
+        hvpy_arena_free(&a);
+        return NULL;
+    }
     hvpy_call c;
     hv_volume *v = NULL;
     hvpy_begin(&c, NULL, NULL, 0);
-    hv_status s = hv_model_load(PyBytes_AS_STRING(path), &v);
+    hv_status s = hv_model_load_colour(PyBytes_AS_STRING(path), &co, &v);
     hvpy_end(&c);
     Py_DECREF(path);
+    hvpy_arena_free(&a);
     return s != HV_OK ? hvpy_call_fail(&c, s) : hvpy_call_done(&c, hvpy_new_model(v));
 }
 
@@ -621,7 +637,10 @@ PyMethodDef hvpy_model_functions[] = {
      "voxelize(mesh, *, dims=None, voxel_size=None, adjacency=26, fill='auto', max_memory=None, like=None, "
      "progress=None) -> Model (bool grids occupancy and surface): the options of `hovox voxelize`; like=model puts "
      "it on that model's lattice."},
-    {"load", py_load, METH_O, "load(path) -> Model from a .vdb file or a 3MF Volumetric package."},
+    {"load", (PyCFunction)(void (*)(void))py_load, METH_VARARGS | METH_KEYWORDS,
+     "load(path, *, icc=None, intent=None, resins=None) -> Model from a .vdb file or a 3MF Volumetric package; a "
+     "package's colour without a composite prints in the six colour resins through icc, intent, resins (default "
+     "Ghostscript's default_cmyk.icc, perceptual, the J750's)."},
     {NULL, NULL, 0, NULL},
 };
 

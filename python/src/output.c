@@ -615,7 +615,7 @@ static PyObject *mesh_layers(PyObject *self, PyObject *args, PyObject *kw)
     hv_layers_report rep;
     hv_colour_skin skin;
     hvpy_begin(&c, oc.progress, &self, 1);
-    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, &c.prog, &rep, &skin);
+    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, &c.prog, &rep, &skin, NULL);
     hvpy_end(&c);
     if (s != HV_OK) {
         hvpy_call_fail(&c, s);

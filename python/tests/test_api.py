@@ -294,6 +294,41 @@ def test_mesh_layers_paints_a_coloured_mesh(cli, root, tmp_path):
     assert not os.path.exists(tmp_path / "x")
 
 
+def test_a_turned_package_colour_through_a_chosen_profile(root, tmp_path):
+    """issue 29 item 3: a colour printer's package (tests/colour/colour_package.py, written by Python):
+    a <v:color> without a <v:composite>, turned 30 degrees (not axis-aligned), linear and nearest.
+    hovox.load(path, icc, intent, resins) prints it through that colour map: every voxel's colour is
+    the spec's sampling at its centre (the script's own sampler) and its fractions Pillow ImageCms's
+    through that profile; the resins are the ones named; another profile moves the fractions."""
+    script = os.path.join(root, "tests", "colour", "colour_package.py")
+    make_test_data(script, "write", tmp_path, capture_output=True)
+    ps = "/usr/share/color/icc/ghostscript/ps_cmyk.icc"
+    means = {}
+    for pkg, kw in (("turned.3mf", {}), ("turned.3mf", {"icc": ps, "resins": "C1,M1,Y1,K1,W1,X1"}),
+                    ("nearest.3mf", {"intent": "relative"})):
+        m = hovox.load(tmp_path / pkg, **kw)
+        names = m.materials().names()
+        assert names == (kw["resins"].split(",") if "resins" in kw else
+                         ["VeroCyan-V", "VeroMagenta-V", "VeroYellow-V", "VeroBlackPlus", "VeroPureWhite", "VeroClear"])
+        tf = m.transform()
+        lo = np.array(m.index_box()[0])
+        occ = m.occupancy()
+        rgb = np.stack([m.grid("colour." + c) for c in "rgb"], axis=-1)
+        fr = m.fractions()
+        voxels = []
+        for ijk in np.argwhere(occ):
+            centre = np.array(tf["origin"]) + (lo + ijk) * np.array(tf["voxel"])
+            voxels.append([float(v) for v in centre] + [float(v) for v in rgb[tuple(ijk)]] +
+                          [float(v) for v in fr[tuple(ijk)]])
+        assert len(voxels) > 100
+        means[(pkg, "icc" in kw)] = np.mean([v[6:] for v in voxels], axis=0)
+        path = tmp_path / ("voxels_%d.json" % len(means))
+        json.dump({"package": pkg, "voxels": voxels}, open(path, "w"))
+        args = [a for k in ("icc", "intent") if k in kw for a in ("--" + k, kw[k])]
+        make_test_data(script, "check", path, *args, capture_output=True)
+    assert np.abs(means[("turned.3mf", True)] - means[("turned.3mf", False)]).max() > 0.02
+
+
 def test_a_call_is_one_command(graded_gear, tmp_path):
     """A model loaded by one call may be saved over its file by the next; a call never writes over
     what it reads (a field feature's file)."""

@@ -91,6 +91,10 @@ void cli_warn(const char *fmt, ...) HV_PRINTF(1, 2);
 /* A mesh reader's notes (hv_mesh_note_at), each as a warning; mesh may be NULL. */
 struct hv_mesh;
 void cli_mesh_notes(const struct hv_mesh *mesh);
+/* "bodies      painted: badge; in their materials: base (Agilus30Black)\n" into said when an
+ * assembly's bodies do not all take colour (hv_colour_mesh_bodies, colour `asked` or not). */
+struct hv_buf;
+void cli_describe_bodies(const struct hv_mesh *mesh, int asked, struct hv_buf *said);
 
 /* A JSON object printed on stdout as one line: {"key": value, ...} (jansson, round-trip
  * numbers). cli_json_end prints it; with lines_key, `lines` (records already in JSON, each

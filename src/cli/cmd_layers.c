@@ -190,27 +190,6 @@ static hv_status scan_model(const hv_layers_options *o, const layers_cli *c, hv_
     return s;
 }
 
-/* An assembly painted by body (issue 29 item 2): which bodies took colour, which kept their
- * materials (hv_colour_mesh_bodies, the rule painting followed). Nothing when all took colour. */
-static void describe_bodies(const hv_mesh *mesh, int asked, hv_buf *said)
-{
-    size_t nb = hv_mesh_body_count(mesh);
-    uint8_t *paint = malloc(nb);
-    if (!paint) return;
-    size_t np = hv_colour_mesh_bodies(mesh, asked, paint);
-    for (int pass = 0; np < nb && pass < 2; ++pass) {
-        hv_buf_printf(said, pass ? "; in their materials: " : "bodies      painted: ");
-        for (size_t i = 0, k = 0; i < nb; ++i) {
-            if (paint[i] != !pass) continue;
-            const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
-            hv_buf_printf(said, "%s%s", k++ ? ", " : "", b->name);
-            if (pass) hv_buf_printf(said, " (%s)", hv_mesh_material_at(mesh, (size_t)b->material)->name);
-        }
-    }
-    if (np < nb) hv_buf_printf(said, "\n");
-    free(paint);
-}
-
 /* A mesh in one step (issue 27 item 2): the mesh placed, its bodies given their --material, and
  * (unless only the mask is printed) its model made in memory: voxelized at the printer's coarsest
  * pitch (or --voxel-size), coarsened by 5/4 until the plan fits half the memory budget, each body
@@ -243,7 +222,7 @@ static hv_status mesh_model(const hv_layers_options *o, const layers_cli *c, int
         hv_buf_printf(said, "painted in its colours %.6g mm deep over %s", v.depth, c->core ? c->core : "the white resin");
     else hv_buf_printf(said, "each body in its material");
     hv_buf_printf(said, "%s\n", v.coarsened ? " (coarsened to fit the memory budget)" : "");
-    if (v.painted) describe_bodies(*mesh, c->colour_depth > 0 || c->core, said);
+    if (v.painted) cli_describe_bodies(*mesh, c->colour_depth > 0 || c->core, said);
     char note[512];
     if (v.painted && hv_colour_paint_note(*model, note, sizeof note)) hv_buf_printf(said, "slots       %s\n", note);
     return HV_OK;
@@ -293,13 +272,13 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         o->mesh_name = o->model_name;
         if (o->mode == HV_LAYERS_MASK) o->model_name = NULL;
     } else if (!c->mesh && hv_3mf_sniff(o->model_name)) { /* a 3MF Volumetric model: its mesh and its model in one read */
-        s = hv_3mf_load(o->model_name, &model, &mesh);
+        s = hv_3mf_load_colour(o->model_name, &c->cmap, &model, &mesh); /* a colour alone: through --icc ... */
         o->mesh_name = o->model_name;
     } else {
         /* without --mesh the shape is the one the model records (issue 28) */
         const hv_printer_profile *pp = o->profile ? hv_printer_profile_find(o->profile) : NULL;
         s = c->mesh ? cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh) : HV_OK;
-        if (s == HV_OK && o->model_name) s = hv_model_load(o->model_name, &model);
+        if (s == HV_OK && o->model_name) s = hv_model_load_colour(o->model_name, &c->cmap, &model);
     }
     hv_layers_report r;
     memset(&r, 0, sizeof r);
@@ -374,11 +353,12 @@ static int run_cli(const cli_args *args, void *lib, void *local)
         int rc = cli_scan_refuse(args, "layers", "is for scanned volumes (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a "
                                                "DICOM directory)");
         static const char *const colour[] = {"icc", "intent", "resins", "colour_depth", "core"};
-        for (int k = 0; k < 5 && rc < 0 && !mesh_in; ++k)
+        int package = o->model_name && hv_3mf_sniff(o->model_name); /* its colour without a composite takes them */
+        for (int k = package ? 3 : 0; k < 5 && rc < 0 && !mesh_in; ++k)
             if (cli_given(args, colour[k]))
-                rc = cli_usage_error("layers", "%s is for a mesh painted in one step or a scanned volume's colour "
-                                               "--lut (a model's colours were mapped to resins when it was painted)",
-                                     cli_spell(colour[k]));
+                rc = cli_usage_error("layers", "%s is for a mesh painted in one step, a 3MF package's colour or a "
+                                               "scanned volume's colour --lut (a model's colours were mapped to resins "
+                                               "when it was painted)", cli_spell(colour[k]));
         for (int k = 3; k < 5 && rc < 0 && c->materials.n; ++k)
             if (cli_given(args, colour[k]))
                 rc = cli_usage_error("layers", "%s paints the mesh in its colours; --material prints its bodies in "

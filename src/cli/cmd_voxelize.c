@@ -213,6 +213,11 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
                hv_intent_name(hv_colour_map_intent(map)));
         char note[512];
         if (vol && hv_colour_paint_note(vol, note, sizeof note)) printf("slots       %s\n", note);
+        hv_buf said; /* an assembly painted by body: the bodies that kept their materials */
+        hv_buf_init(&said);
+        cli_describe_bodies(mesh, 1, &said);
+        if (said.len) fputs(said.data, stdout);
+        hv_buf_free(&said);
     }
     if (vol) printf("wrote       %s\n", c->output);
     hv_regions_destroy(rg);
@@ -240,10 +245,13 @@ static hv_status set_colours(hv_mesh *raw, const vox_cli *c, const char *path)
     return HV_OK;
 }
 
-/* The core: a colour when the text reads as one, else a resin; default the map's white resin. */
+/* Painted by the body rule of `layers MESH` (issue 29 item 2: colour asked for; an assembly's
+ * bodies of resins and composites keep them); the core a colour when the text reads as one, else a
+ * resin; default the map's white resin. */
 static hv_status paint(hv_volume *vol, const hv_mesh *mesh, const vox_cli *c, hv_colour_map *map)
 {
-    return hv_colour_paint_text(vol, mesh, map, colour_depth(c), c->core);
+    hv_colour_body_rule rule = {1, NULL, NULL};
+    return hv_colour_mesh_paint(vol, mesh, map, colour_depth(c), c->core, &rule);
 }
 
 static int run(const char *path, hv_voxelize_options *opt, const vox_cli *c, int quiet)

@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "core/internal.h"
+#include "hovox/colour.h"
 #include "hovox/mesh.h"
 #include "hovox/threemf.h"
 
@@ -107,4 +109,27 @@ void cli_progress_done(cli_progress *p)
 int cli_is_mesh_input(const char *path)
 {
     return hv_3mf_sniff(path) ? !hv_3mf_is_volumetric(path) : hv_mesh_sniff(path);
+}
+
+/* An assembly painted by body (issue 29 item 2): which bodies took colour, which kept their
+ * materials (hv_colour_mesh_bodies, the rule painting followed; `layers MESH`, `voxelize
+ * --colour-depth`). Nothing when all took colour. */
+void cli_describe_bodies(const hv_mesh *mesh, int asked, hv_buf *said)
+{
+    size_t nb = hv_mesh_body_count(mesh);
+    uint8_t *paint = malloc(nb);
+    if (!paint) return;
+    hv_colour_body_rule rule = {asked, NULL, NULL};
+    size_t np = hv_colour_mesh_bodies(mesh, &rule, paint);
+    for (int pass = 0; np < nb && pass < 2; ++pass) {
+        hv_buf_printf(said, pass ? "; in their materials: " : "bodies      painted: ");
+        for (size_t i = 0, k = 0; i < nb; ++i) {
+            if (paint[i] != !pass) continue;
+            const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
+            hv_buf_printf(said, "%s%s", k++ ? ", " : "", b->name);
+            if (pass) hv_buf_printf(said, " (%s)", hv_mesh_material_at(mesh, (size_t)b->material)->name);
+        }
+    }
+    if (np < nb) hv_buf_printf(said, "\n");
+    free(paint);
 }

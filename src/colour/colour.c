@@ -3,6 +3,7 @@
  * mixed with white and clear into six resin fractions, cached per distinct colour; Lab of what the
  * fractions print (the profile's A2B, relative colorimetric) and CIEDE2000 (Sharma, Wu, Dalal
  * 2005, as LittleCMS implements it). */
+#include <inttypes.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -77,6 +78,31 @@ static pthread_once_t g_lcms_once = PTHREAD_ONCE_INIT;
 static void lcms_init(void) { cmsSetLogErrorHandler(lcms_log); }
 
 /* ---- the map -------------------------------------------------------------------------------- */
+
+/* Refuses what is no ICC profile before LittleCMS reads it, with one message that says what and
+ * which value (ICC.1:2022 7.2: a 128-byte header, its size at byte 0, "acsp" at byte 36): `name`
+ * the file, `is` "" or "its embedded colour profile is " (a texture's). LittleCMS's own messages
+ * ("not an ICC profile, invalid signature", "Read from memory error. Got 13 bytes, ...") said
+ * the same twice or in its terms. */
+static hv_status icc_header_check(const char *name, const char *is, const unsigned char *d, size_t size)
+{
+    if (size < 128)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %snot an ICC profile (%zu bytes, shorter than the 128-byte header)",
+                            name, is, size);
+    if (memcmp(d + 36, "acsp", 4) != 0) {
+        char sig[20], *p = sig;
+        for (int i = 36; i < 40; ++i)
+            p += d[i] >= 0x20 && d[i] < 0x7f && d[i] != '"' && d[i] != '\\' ? sprintf(p, "%c", d[i])
+                                                                            : sprintf(p, "\\x%02x", d[i]);
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %snot an ICC profile (bytes 36-39 are \"%s\", not the signature \"acsp\")",
+                            name, is, sig);
+    }
+    uint32_t declared = (uint32_t)d[0] << 24 | (uint32_t)d[1] << 16 | (uint32_t)d[2] << 8 | d[3];
+    if (declared > size)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %sa truncated ICC profile (its header gives %" PRIu32 " bytes, %s %zu)",
+                            name, is, declared, *is ? "there are" : "the file has", size);
+    return HV_OK;
+}
 
 typedef struct cache_slot {
     uint64_t key; /* input id << 32 | rgba, plus 1 (0: empty) */
@@ -166,14 +192,17 @@ hv_status hv_colour_map_create(const hv_colour_options *opt, hv_colour_map **out
     m->intent = opt->intent;
     m->icc = hv_strdup(path);
     t_lcms_msg[0] = '\0';
-    m->out = cmsOpenProfileFromMem(data, (cmsUInt32Number)size);
+    s = icc_header_check(path, "", (const unsigned char *)data, size);
+    if (s == HV_OK) m->out = cmsOpenProfileFromMem(data, (cmsUInt32Number)size);
     free(data);
+    if (s != HV_OK) goto fail;
     if (!m->icc) {
         s = HV_ERR_NOMEM;
         goto fail;
     }
     if (!m->out) {
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: not an ICC profile%s%s", path, t_lcms_msg[0] ? ": " : "", t_lcms_msg);
+        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: a damaged ICC profile (LittleCMS: %s)", path,
+                         t_lcms_msg[0] ? t_lcms_msg : "no reason given");
         goto fail;
     }
     cmsColorSpaceSignature cs = cmsGetColorSpace(m->out);
@@ -245,8 +274,15 @@ hv_status hv_colour_map_add_input(hv_colour_map *m, const void *icc, size_t size
         return hv_error_set(HV_ERR_LIMIT, "%s: more than %d input colour profiles", name, MAX_INPUTS - 1);
     pthread_once(&g_lcms_once, lcms_init);
     t_lcms_msg[0] = '\0';
-    cmsHPROFILE in = size <= ICC_MAX_BYTES ? cmsOpenProfileFromMem(icc, (cmsUInt32Number)size) : NULL;
-    if (!in) return hv_error_set(HV_ERR_BAD_INPUT, "%s: its embedded colour profile is not an ICC profile", name);
+    static const char is[] = "its embedded colour profile is ";
+    if (size > ICC_MAX_BYTES)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %snot an ICC profile (larger than 64 MiB)", name, is);
+    hv_status s = icc_header_check(name, is, icc, size);
+    if (s != HV_OK) return s;
+    cmsHPROFILE in = cmsOpenProfileFromMem(icc, (cmsUInt32Number)size);
+    if (!in)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %sa damaged ICC profile (LittleCMS: %s)", name, is,
+                            t_lcms_msg[0] ? t_lcms_msg : "no reason given");
     cmsColorSpaceSignature cs = cmsGetColorSpace(in);
     if (cs != cmsSigRgbData && cs != cmsSigGrayData) {
         cmsCloseProfile(in);

@@ -13,38 +13,51 @@
 #include "hovox/material.h"
 #include "hovox/voxelize.h"
 
+/* Is the material named `name` (the file's text) a resin: of the printer's table, or one the caller
+ * prints in a resin (its mapping, by the name the material takes in a model)? */
+static int is_resin(const char *name, const hv_colour_body_rule *rule)
+{
+    if (hv_resin_find(name)) return 1;
+    if (!rule || !rule->is_resin) return 0;
+    char model_name[65];
+    hv_material_name_from(name, model_name);
+    return rule->is_resin(rule->user, model_name) != 0;
+}
+
 /* Does body i print in its colours? The 3MF Materials extension's colour groups (entries
  * "#rrggbb") are colour and nothing else; an OBJ's materials are its MTL's appearances; a 3MF
  * base material is what the body is made of (the core specification keeps its displaycolor for
  * rendering: "a producer MUST NOT assume that displaycolor has any effect on the printed part"),
- * so it prints in it unless the user asks for colour and it names no resin of the printer's
- * table; a composite prints in its mixture; a resin the table knows stays in the resin. */
-static int body_paints(const hv_mesh *mesh, size_t i, int asked, int obj)
+ * so it prints in it unless the user asks for colour and it is no resin (the printer's table or
+ * the caller's mapping); a composite prints in its mixture; a resin stays in the resin; a body
+ * the user gave a colour takes it. */
+static int body_paints(const hv_mesh *mesh, size_t i, const hv_colour_body_rule *rule, int obj)
 {
-    int32_t k = hv_mesh_body_at(mesh, i)->material;
-    if (k == HV_MESH_NO_MATERIAL) return 1;
-    const hv_mesh_material *mm = hv_mesh_material_at(mesh, (size_t)k);
+    const hv_mesh_body *b = hv_mesh_body_at(mesh, i);
+    if (b->coloured || b->material == HV_MESH_NO_MATERIAL) return 1;
+    const hv_mesh_material *mm = hv_mesh_material_at(mesh, (size_t)b->material);
     if (mm->nparts) return 0;
     if (mm->name[0] == '#') return 1;
-    if (hv_resin_find(mm->name)) return 0;
-    return obj || asked;
+    if (is_resin(mm->name, rule)) return 0;
+    return obj || (rule && rule->asked);
 }
 
-size_t hv_colour_mesh_bodies(const hv_mesh *mesh, int asked, uint8_t *paint)
+size_t hv_colour_mesh_bodies(const hv_mesh *mesh, const hv_colour_body_rule *rule, uint8_t *paint)
 {
     int obj = hv_mesh_get_report(mesh)->format == HV_MESH_OBJ;
     size_t n = 0;
     for (size_t i = 0; i < hv_mesh_body_count(mesh); ++i) {
-        int p = body_paints(mesh, i, asked, obj);
+        int p = body_paints(mesh, i, rule, obj);
         if (paint) paint[i] = (uint8_t)p;
         n += (size_t)p;
     }
     return n;
 }
 
-int hv_colour_mesh_paints(const hv_mesh *mesh)
+int hv_colour_mesh_paints(const hv_mesh *mesh, const hv_colour_body_rule *rule)
 {
-    return hv_mesh_has_colour(mesh) && hv_colour_mesh_bodies(mesh, 0, NULL) > 0;
+    hv_colour_body_rule unasked = {0, rule ? rule->is_resin : NULL, rule ? rule->user : NULL};
+    return hv_mesh_has_colour(mesh) && hv_colour_mesh_bodies(mesh, &unasked, NULL) > 0;
 }
 
 /* A copy of the mesh whose facets of bodies that keep their materials have no colour, so
@@ -175,29 +188,49 @@ static void list_bodies(const hv_mesh *mesh, char *buf, size_t size)
     }
 }
 
-hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *vopt, hv_colour_map *map, double depth,
-                               const char *core, int asked, hv_volume **out)
+/* The bodies painted (paint[i], one per body; *np of them), or the message when none is and the
+ * mesh has colour. */
+static hv_status bodies_to_paint(const hv_mesh *mesh, const hv_colour_body_rule *rule, uint8_t **paint, size_t *np)
 {
-    *out = NULL;
     size_t nb = hv_mesh_body_count(mesh);
-    uint8_t *paint = hv_calloc(nb ? nb : 1, 1);
-    if (!paint) return HV_ERR_NOMEM;
-    size_t np = hv_colour_mesh_bodies(mesh, asked, paint);
-    hv_status s = HV_OK;
-    if (np == 0 && hv_mesh_has_colour(mesh)) {
-        char bodies[512];
-        list_bodies(mesh, bodies, sizeof bodies);
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: no body to paint in its colours: %s (a resin or a composite prints in "
-                         "itself)", *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "the mesh", bodies);
-    }
+    *paint = hv_calloc(nb ? nb : 1, 1);
+    if (!*paint) return HV_ERR_NOMEM;
+    *np = hv_colour_mesh_bodies(mesh, rule, *paint);
+    if (*np || !hv_mesh_has_colour(mesh)) return HV_OK; /* no colour: hv_colour_paint_text says so */
+    char bodies[512];
+    list_bodies(mesh, bodies, sizeof bodies);
+    free(*paint);
+    *paint = NULL;
+    return hv_error_set(HV_ERR_BAD_INPUT, "%s: no body to paint in its colours: %s (a resin or a composite prints in "
+                        "itself)", *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "the mesh", bodies);
+}
+
+hv_status hv_colour_mesh_paint(hv_volume *model, const hv_mesh *mesh, hv_colour_map *map, double depth,
+                               const char *core, const hv_colour_body_rule *rule)
+{
+    uint8_t *paint = NULL;
+    size_t np = 0;
+    hv_status s = bodies_to_paint(mesh, rule, &paint, &np);
     hv_mesh *own = NULL; /* the painted bodies' colours alone */
-    if (s == HV_OK && np && np < nb) s = colour_bodies_only(mesh, paint, &own);
-    hv_volume *vol = NULL;
-    if (s == HV_OK) s = hv_voxelize(mesh, vopt, &vol);
-    if (s == HV_OK) s = hv_colour_paint_text(vol, own ? own : mesh, map, depth, core);
-    if (s == HV_OK && own) s = keep_materials(vol, mesh, paint);
+    if (s == HV_OK && np && np < hv_mesh_body_count(mesh)) s = colour_bodies_only(mesh, paint, &own);
+    if (s == HV_OK) s = hv_colour_paint_text(model, own ? own : mesh, map, depth, core);
+    if (s == HV_OK && own) s = keep_materials(model, mesh, paint);
     hv_mesh_destroy(own);
     free(paint);
+    return s;
+}
+
+hv_status hv_colour_mesh_model(const hv_mesh *mesh, const hv_voxelize_options *vopt, hv_colour_map *map, double depth,
+                               const char *core, const hv_colour_body_rule *rule, hv_volume **out)
+{
+    *out = NULL;
+    uint8_t *paint = NULL;
+    size_t np = 0;
+    hv_status s = bodies_to_paint(mesh, rule, &paint, &np); /* refused before voxelizing */
+    free(paint);
+    hv_volume *vol = NULL;
+    if (s == HV_OK) s = hv_voxelize(mesh, vopt, &vol);
+    if (s == HV_OK) s = hv_colour_mesh_paint(vol, mesh, map, depth, core, rule);
     if (s != HV_OK) {
         hv_volume_destroy(vol);
         return s;

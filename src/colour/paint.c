@@ -301,9 +301,11 @@ typedef struct paint_job {
     hv_colour_map *map;
     const double *xyz;
     size_t n;
-    double depth2;
+    double band2; /* searched this far (squared): the depth and two voxels, for colour.depth */
     int nmat, core_slot;
     const float *core_rgba, *corefr;
+    double depth2; /* the colour depth, squared: a voxel no farther from the surface is skin */
+    float depth_f, far; /* the colour depth as the grid compares it; the depth beyond the band */
     float *val;
     front *cache; /* one per thread */
     const int *tex_input; /* per texture its input profile in the map (0: sRGB) */
@@ -322,16 +324,30 @@ static void fractions(front *c, hv_colour_map *map, int id, const uint8_t c8[4],
     memcpy(out, c->f[j], sizeof c->f[j]);
 }
 
+/* colour.depth of a voxel d mm from the surface: its side of the depth kept when rounded to a float
+ * (the stack compares the float with the float depth), `far` beyond the band. */
+static float skin_depth(const paint_job *J, double d, int skin)
+{
+    float f = d < J->far ? (float)d : J->far;
+    if (skin && f > J->depth_f) f = J->depth_f;
+    if (!skin && f <= J->depth_f) f = nextafterf(J->depth_f, INFINITY);
+    return f;
+}
+
 static hv_status paint_range(void *ctx, size_t begin, size_t end, int thread)
 {
     const paint_job *J = ctx;
     size_t guess = SIZE_MAX, n = J->n;
     for (size_t i = begin; i < end; ++i) {
         float fr[HV_COLOUR_SLOTS + 1] = {0}, rgba[4], want[4] = {0, 0, 0, 0};
-        hit h = {J->depth2, SIZE_MAX, {0, 0, 0}};
+        hit h = {J->band2, SIZE_MAX, {0, 0, 0}};
         bvh_nearest(J->tree, J->xyz + 3 * i, guess, &h);
         if (h.q != SIZE_MAX) guess = h.q;
-        if (h.q != SIZE_MAX && hv_mesh_colour_at(J->mesh, J->tree->facet[h.q], h.bary, rgba)) {
+        /* the nearest facet within the band is the nearest within the depth when it is that near
+         * (the bound only prunes; ties go by try_facet's rule either way) */
+        int skin = h.q != SIZE_MAX && h.d2 <= J->depth2;
+        J->val[(size_t)(J->nmat + 4) * n + i] = skin_depth(J, h.q != SIZE_MAX ? sqrt(h.d2) : INFINITY, skin);
+        if (skin && hv_mesh_colour_at(J->mesh, J->tree->facet[h.q], h.bary, rgba)) {
             uint8_t c8[4];
             for (int k = 0; k < 4; ++k) c8[k] = (uint8_t)lrintf(rgba[k] * 255.0f);
             /* a texture's colours are in its embedded profile, when it has one */
@@ -403,8 +419,9 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
     for (int k = 0; core && k < HV_COLOUR_SLOTS; ++k)
         if (strcmp(core, hv_colour_map_resin(map, k)) == 0) core_slot = k;
     int nmat = HV_COLOUR_SLOTS + (core && core_slot < 0 ? 1 : 0);
-    /* the fractions, then the requested colour: r, g, b and the mask of voxels that have one */
-    val = hv_malloc_array(n ? n : 1, (size_t)(nmat + 4) * sizeof *val);
+    /* the fractions, then the requested colour: r, g, b and the mask of voxels that have one, then
+     * the depth */
+    val = hv_malloc_array(n ? n : 1, (size_t)(nmat + 5) * sizeof *val);
     cache = hv_calloc((size_t)hv_threads(), sizeof *cache);
     if (!val || !cache) {
         s = HV_ERR_NOMEM;
@@ -431,7 +448,14 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
         free(tex_input);
         goto done;
     }
-    paint_job job = {&tree, mesh, map, xyz, n, depth * depth, nmat, core_slot, core_rgba, corefr, val, cache, tex_input};
+    /* colour.depth: exact within the depth and two voxels (the largest edge) beyond it, so the
+     * voxels around a printer pixel at the depth on either side have their true distances */
+    hv_transform xf = hv_volume_get_transform(vol);
+    double h = HV_MAX(xf.voxel[0], HV_MAX(xf.voxel[1], xf.voxel[2]));
+    paint_job job = {.tree = &tree, .mesh = mesh, .map = map, .xyz = xyz, .n = n,
+                     .band2 = (depth + 2 * h) * (depth + 2 * h), .nmat = nmat, .core_slot = core_slot,
+                     .core_rgba = core_rgba, .corefr = corefr, .depth2 = depth * depth, .depth_f = (float)depth,
+                     .far = (float)(depth + 3 * h), .val = val, .cache = cache, .tex_input = tex_input};
     /* voxels come in leaf order, so a chunk is a compact block and the last voxel's facet a close bound */
     if (n) s = hv_parallel_for(n, 4096, paint_range, &job, NULL, NULL);
     free(tex_input);
@@ -454,8 +478,8 @@ hv_status hv_colour_paint(hv_volume *vol, const hv_mesh *mesh, hv_colour_map *ma
         snprintf(name, sizeof name, "material.%s", k < HV_COLOUR_SLOTS ? hv_colour_map_resin(map, k) : core);
         s = hv_volume_grid_set(vol, name, "occupancy", val + (size_t)k * n, n);
     }
-    static const char *const k_want[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
-    for (int k = 0; k < 4 && s == HV_OK; ++k) s = hv_volume_grid_set(vol, k_want[k], "occupancy", val + (size_t)(nmat + k) * n, n);
+    static const char *const k_want[5] = {"colour.r", "colour.g", "colour.b", "colour.mask", "colour.depth"};
+    for (int k = 0; k < 5 && s == HV_OK; ++k) s = hv_volume_grid_set(vol, k_want[k], "occupancy", val + (size_t)(nmat + k) * n, n);
     if (s == HV_OK) s = hv_material_table_store(vol, tab);
     if (s == HV_OK) s = record(vol, map, depth, core, core_rgba, gives, share);
     hv_material_table_destroy(tab);
@@ -476,4 +500,21 @@ hv_status hv_colour_paint_text(hv_volume *vol, const hv_mesh *mesh, hv_colour_ma
     if (core && hv_color_parse(core, rgba) == HV_OK) return hv_colour_paint(vol, mesh, map, depth, NULL, rgba);
     hv_error_clear();
     return hv_colour_paint(vol, mesh, map, depth, core ? core : hv_colour_map_resin(map, HV_COLOUR_W), NULL);
+}
+
+int hv_colour_depth_grid(const hv_volume *model, float *depth_mm)
+{
+    *depth_mm = 0;
+    int g = hv_volume_grid_find(model, "colour.depth");
+    const char *text = hv_volume_meta_string(model, "hovox.colour.json");
+    if (g < 0 || hv_volume_grid_type(model, g) != HV_GRID_FLOAT || !text) return -1;
+    json_t *doc = NULL;
+    double d = 0;
+    hv_status s = hv_json_parse(text, strlen(text), "hovox.colour.json", &doc);
+    if (s == HV_OK) s = hv_json_get_number(doc, "depth_mm", "hovox.colour.json", &d);
+    json_decref(doc);
+    if (s != HV_OK) hv_error_clear(); /* a damaged record: hv_colour_map_for_model reports it */
+    if (s != HV_OK || !(d > 0) || !isfinite(d)) return -1;
+    *depth_mm = (float)d;
+    return g;
 }

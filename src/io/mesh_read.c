@@ -14,7 +14,7 @@ static hv_status with_bodies(hv_mesh *m, size_t nf, const char *name, const hv_m
 {
     hv_status s = HV_OK;
     if (nbodies > 0 || nmats > 0) {
-        hv_mesh_body whole = {NULL, HV_MESH_NO_MATERIAL, 0, nf};
+        hv_mesh_body whole = {NULL, HV_MESH_NO_MATERIAL, 0, nf, 0};
         char *stem = NULL;
         if (nbodies == 0) { /* one body named after the file, with the materials given */
             stem = hv_file_stem(name);

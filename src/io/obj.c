@@ -65,14 +65,10 @@ static hv_status bad_coord(const obj_reader *r, const char *what, const char *pr
 
 static hv_status parse_coord(const obj_reader *r, const char *s, const char *e, const char *what, float *out)
 {
-    char buf[80];
     size_t n = (size_t)(e - s);
-    if (n >= sizeof buf) return bad_coord(r, what, "number", s, n);
-    memcpy(buf, s, n);
-    buf[n] = '\0';
-    char *endp;
-    float v = strtof(buf, &endp);
-    if (endp != buf + n) return bad_coord(r, what, "number", s, n);
+    float v = 0;
+    /* strtof's value and verdict, without its cost on plain decimals (hv_parse_float) */
+    if (n >= 80 || !hv_parse_float(s, n, &v)) return bad_coord(r, what, "number", s, n);
     if (!isfinite(v)) return bad_coord(r, what, "finite float", s, n);
     *out = v;
     return HV_OK;
@@ -94,16 +90,10 @@ static hv_status tex_coord(obj_reader *r, const char *p, const char *e)
         if (k == 3)
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: texture coordinate has more than 3 values (u v w)",
                                 r->name, r->line);
-        char buf[80], q[72];
+        char q[72];
         size_t n = (size_t)(te - ts);
-        char *endp = buf;
         float v = NAN;
-        if (n < sizeof buf) {
-            memcpy(buf, ts, n);
-            buf[n] = '\0';
-            v = strtof(buf, &endp);
-        }
-        if (n >= sizeof buf || endp != buf + n || !isfinite(v))
+        if (n >= 80 || !hv_parse_float(ts, n, &v) || !isfinite(v))
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: texture coordinate %s is not a finite number: '%s'",
                                 r->name, r->line, what[k], hv_quote(q, sizeof q, ts, n));
         uv[k] = v;

@@ -107,9 +107,10 @@ hv_volume *hv_lua_model(lua_State *L, int arg);
 hv_mesh *hv_lua_mesh(lua_State *L, int arg);
 void hv_lua_push_model(lua_State *L, hv_volume *vol);
 void hv_lua_push_mesh(lua_State *L, hv_mesh *mesh);
-/* What model:layers and hovox.layers_scan return (loutput.c): {width, height, layers, first, last,
- * object_pixels, diff_mean, diff_max, warnings, materials = {<name of t> = {target, achieved}},
- * colour = {skin_voxels | printer_voxels, mean_de2000_target, mean_de2000_achieved} when skin}. */
+/* What model:layers, mesh:layers and hovox.layers_scan return (loutput.c): {width, height, layers,
+ * first, last, object_pixels, diff_mean, diff_max (compared), warnings, materials = {<name of t> =
+ * {target, achieved}}, colour = {skin_voxels | printer_voxels (skin->printer_voxels),
+ * mean_de2000_target, max_de2000_target, mean_de2000_achieved (halftone)} when skin}. */
 struct hv_layers_report;
 struct hv_colour_skin;
 void hv_lua_push_layers_report(lua_State *L, const struct hv_layers_report *r, const hv_material_table *t,

@@ -78,8 +78,8 @@ static int mesh_set_colour(lua_State *L)
 /* mesh:layers{dir = "stack", materials = {BODY = "MATERIAL"}, voxel_size = MM, colour_depth = MM,
  *   core = RESIN|COLOUR, icc = FILE, intent = NAME, resins = "C,M,Y,K,W,CLEAR", view = true, <the
  *   options of `hovox layers`: profile, layer_height, mode, halftone, seed, layers = {first, last},
- *   max_memory, ...>} -> {width, height, layers, first, last, object_pixels, warnings, colour =
- *   {skin_voxels, mean_de2000_target, max_de2000_target, mean_de2000_achieved} when painted}: the
+ *   max_memory, ...>} -> the report of model:layers (hv_lua_push_layers_report: its materials,
+ *   and colour = {skin_voxels, mean_de2000_target, max_de2000_target, mean_de2000_achieved} when painted): the
  *   mesh printed in one step, its bodies in their materials or painted in its colours, as `hovox
  *   layers PART.3mf -o DIR [--material BODY=MATERIAL | --colour-depth MM --core ...]` prints it,
  *   the same bytes (hv_layers_write_mesh); warnings begin with the size warning (a mesh under 1 mm
@@ -114,35 +114,13 @@ static int mesh_layers(lua_State *L)
     hv_mesh *mesh = hv_lua_mesh(L, 1); /* again: reading the options may have run a finalizer */
     hv_layers_report rep;
     hv_colour_skin skin;
-    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, hv_lua_progress(L), &rep, &skin);
+    hv_material_table *t = NULL;
+    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, hv_lua_progress(L), &rep, &skin, &t);
     int coloured = skin.map != NULL;
     hv_colour_map_destroy(skin.map);
     if (s != HV_OK) return fail(L, s);
-    lua_createtable(L, 0, 8);
-    const struct { const char *k; double v; } f[] = {{"width", rep.width}, {"height", rep.height},
-                                                     {"layers", (double)rep.layers_total}, {"first", (double)rep.first},
-                                                     {"last", (double)rep.last},
-                                                     {"object_pixels", (double)rep.object_pixels}};
-    for (size_t i = 0; i < HV_COUNT(f); ++i) {
-        lua_pushinteger(L, (lua_Integer)f[i].v);
-        lua_setfield(L, -2, f[i].k);
-    }
-    lua_pushstring(L, rep.warnings);
-    lua_setfield(L, -2, "warnings");
-    if (coloured) { /* the painted skin's dE2000, as the manifest's colour */
-        lua_createtable(L, 0, 4);
-        lua_pushinteger(L, (lua_Integer)skin.target.voxels);
-        lua_setfield(L, -2, "skin_voxels");
-        lua_pushnumber(L, skin.target.mean_de2000);
-        lua_setfield(L, -2, "mean_de2000_target");
-        lua_pushnumber(L, skin.target.max_de2000);
-        lua_setfield(L, -2, "max_de2000_target");
-        if (skin.has_achieved) {
-            lua_pushnumber(L, skin.achieved.mean_de2000);
-            lua_setfield(L, -2, "mean_de2000_achieved");
-        }
-        lua_setfield(L, -2, "colour");
-    }
+    hv_lua_push_layers_report(L, &rep, t, coloured ? &skin : NULL); /* skin: its figures only */
+    hv_material_table_destroy(t);
     return 1;
 }
 

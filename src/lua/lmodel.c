@@ -48,11 +48,16 @@ static int l_voxelize(lua_State *L)
     return 1;
 }
 
+/* hovox.load(path, {icc = FILE, intent = NAME, resins = "C,M,Y,K,W,CLEAR"}) -> Model: a 3MF
+ * package's colour without a composite through that colour map (hv_model_load_colour) */
 static int l_load(lua_State *L)
 {
     const char *path = luaL_checkstring(L, 1);
+    hv_colour_options co;
+    hv_lua_read(L, 2, hv_colour_option_set(), &co, NULL);
+    path = luaL_checkstring(L, 1); /* again: reading the options may have run a finalizer */
     hv_volume *v;
-    hv_status s = hv_model_load(path, &v);
+    hv_status s = hv_model_load_colour(path, &co, &v);
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);
     return 1;
@@ -235,7 +240,8 @@ static void destroy_mats(void *p) { hv_material_table_destroy(p); }
 
 /* model:paint(mesh, {colour_depth = MM (default 1), core = RESIN | COLOUR, icc = FILE, intent =
  * NAME, resins = "C,M,Y,K,W,CLEAR"}) -> the model: painted in the mesh's colours, as `hovox
- * voxelize --colour-depth` (hv_colour_paint_text); the mesh is the one it was voxelized from */
+ * voxelize --colour-depth` (hv_colour_mesh_paint: the body rule of mesh:layers, colour asked for);
+ * the mesh is the one it was voxelized from */
 static int model_paint(lua_State *L)
 {
     static const char *const extra[] = {"colour_depth", "core", NULL};
@@ -254,7 +260,8 @@ static int model_paint(lua_State *L)
     hv_mesh *mesh = hv_lua_mesh(L, 2);
     hv_colour_map *map = NULL;
     hv_status s = hv_colour_map_create(&co, &map);
-    if (s == HV_OK) s = hv_colour_paint_text(u->p, mesh, map, depth, core);
+    hv_colour_body_rule rule = {1, NULL, NULL};
+    if (s == HV_OK) s = hv_colour_mesh_paint(u->p, mesh, map, depth, core, &rule);
     hv_colour_map_destroy(map);
     if (s != HV_OK) return fail(L, s);
     hv_material_table *t = u->mats; /* the table changed */

@@ -163,9 +163,10 @@ void hv_lua_push_layers_report(lua_State *L, const hv_layers_report *r, const hv
 {
     lua_createtable(L, 0, 11);
     if (skin) {
-        lua_createtable(L, 0, 3);
-        SET_INT(skin->model ? "skin_voxels" : "printer_voxels", skin->target.voxels);
+        lua_createtable(L, 0, 4);
+        SET_INT(skin->printer_voxels ? "printer_voxels" : "skin_voxels", skin->target.voxels);
         SET_NUM("mean_de2000_target", skin->target.mean_de2000);
+        SET_NUM("max_de2000_target", skin->target.max_de2000);
         if (skin->has_achieved) SET_NUM("mean_de2000_achieved", skin->achieved.mean_de2000);
         lua_setfield(L, -2, "colour");
     }

@@ -419,5 +419,6 @@ hv_status hv_mesh_body_colour_set(hv_mesh *m, const char *body, uint32_t rgba)
     m->corner_rgba = c;
     m->corner_uv = uv;
     m->facet_tex = ft;
+    m->bodies[b].coloured = 1; /* the user's colour: the body rule paints it */
     return HV_OK;
 }

@@ -241,7 +241,7 @@ hv_status hv_mesh_default_body(hv_mesh *m)
 {
     char *stem = hv_file_stem(m->name);
     if (!stem) return HV_ERR_NOMEM;
-    hv_mesh_body b = {stem, HV_MESH_NO_MATERIAL, 0, m->nf};
+    hv_mesh_body b = {stem, HV_MESH_NO_MATERIAL, 0, m->nf, 0};
     hv_status s = hv_mesh_set_bodies(m, &b, 1, NULL, 0, NULL);
     free(stem);
     return s;

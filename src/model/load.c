@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include "core/internal.h"
+#include "hovox/colour.h"
 #include "hovox/model.h"
 #include "hovox/threemf.h"
 
@@ -36,14 +37,16 @@ static hv_status checked(hv_volume **out)
     return s;
 }
 
-hv_status hv_model_load(const char *path, hv_volume **out)
+hv_status hv_model_load(const char *path, hv_volume **out) { return hv_model_load_colour(path, NULL, out); }
+
+hv_status hv_model_load_colour(const char *path, const hv_colour_options *colour, hv_volume **out)
 {
     *out = NULL;
     model_kind kind;
     hv_status s = sniff(path, &kind);
     if (s != HV_OK) return s;
     hv_input_note(path);
-    s = kind == MODEL_3MF ? hv_3mf_load(path, out, NULL) : hv_volume_load(path, out);
+    s = kind == MODEL_3MF ? hv_3mf_load_colour(path, colour, out, NULL) : hv_volume_load(path, out);
     return s == HV_OK ? checked(out) : s;
 }
 

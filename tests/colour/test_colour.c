@@ -171,12 +171,73 @@ Test(colour, an_input_profile_that_is_srgb_gives_srgbs_fractions)
     for (int k = 0; k < HV_COLOUR_SLOTS; ++k) cr_assert(fabs(f[k] - g[k]) < 0.01, "slot %d: %g vs %g", k, (double)f[k], (double)g[k]);
     free(icc);
     cr_assert_eq(hv_colour_map_add_input(m, "junk", 4, "skin.png", &id), HV_ERR_BAD_INPUT);
-    cr_assert_str_eq(hv_last_error(), "skin.png: its embedded colour profile is not an ICC profile");
+    cr_assert_str_eq(hv_last_error(),
+                     "skin.png: its embedded colour profile is not an ICC profile (4 bytes, shorter than the 128-byte header)");
     icc = t_slurp(hv_colour_default_icc(), &n);
     cr_assert_eq(hv_colour_map_add_input(m, icc, n, "skin.jpg", &id), HV_ERR_BAD_INPUT);
     cr_assert_str_eq(hv_last_error(), "skin.jpg: its embedded colour profile is CMYK, not RGB or grey");
     free(icc);
     hv_colour_map_destroy(m);
+}
+
+/* Review item 2: what is no ICC profile is refused in one message that names the file, what is
+ * wrong and the value (LittleCMS said "not an ICC profile: not an ICC profile, invalid signature"). */
+static void write_bytes(const char *path, const char *d, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    cr_assert_not_null(fp);
+    cr_assert_eq(fwrite(d, 1, n, fp), n);
+    fclose(fp);
+}
+
+Test(colour, what_is_no_icc_profile_is_refused_in_one_message)
+{
+    size_t n = 0;
+    char *good = t_slurp(hv_colour_default_icc(), &n);
+    cr_assert(n > 400);
+    hv_colour_map *m = NULL;
+    hv_colour_options o;
+    hv_colour_options_init(&o);
+    char *bad = malloc(n);
+    char want[1300];
+    const char *path = t_tmpfile("bad.icc");
+    o.icc = path;
+    /* shorter than the header */
+    write_bytes(path, "not a profile", 13);
+    cr_assert_eq(hv_colour_map_create(&o, &m), HV_ERR_BAD_INPUT);
+    snprintf(want, sizeof want, "%s: not an ICC profile (13 bytes, shorter than the 128-byte header)", path);
+    cr_assert_str_eq(hv_last_error(), want);
+    /* no signature (was: "not an ICC profile: not an ICC profile, invalid signature") */
+    memcpy(bad, good, n);
+    memcpy(bad + 36, "ab\x01\"", 4);
+    write_bytes(path, bad, n);
+    cr_assert_eq(hv_colour_map_create(&o, &m), HV_ERR_BAD_INPUT);
+    snprintf(want, sizeof want, "%s: not an ICC profile (bytes 36-39 are \"ab\\x01\\x22\", not the signature \"acsp\")",
+             path);
+    cr_assert_str_eq(hv_last_error(), want);
+    /* cut short: was "the profile has no perceptual intent for output" */
+    write_bytes(path, good, 400);
+    cr_assert_eq(hv_colour_map_create(&o, &m), HV_ERR_BAD_INPUT);
+    snprintf(want, sizeof want, "%s: a truncated ICC profile (its header gives %zu bytes, the file has 400)", path, n);
+    cr_assert_str_eq(hv_last_error(), want);
+    /* a tag table LittleCMS refuses: its reason */
+    memcpy(bad, good, n);
+    memcpy(bad + 128, "\0\0\x27\x0f", 4); /* 9999 tags */
+    write_bytes(path, bad, n);
+    cr_assert_eq(hv_colour_map_create(&o, &m), HV_ERR_BAD_INPUT);
+    snprintf(want, sizeof want, "%s: a damaged ICC profile (LittleCMS: Too many tags (9999))", path);
+    cr_assert_str_eq(hv_last_error(), want);
+    cr_assert_null(m);
+    /* the same for a texture's embedded profile */
+    cr_assert_eq(hv_colour_map_create(NULL, &m), HV_OK, "%s", hv_last_error());
+    int id = -1;
+    cr_assert_eq(hv_colour_map_add_input(m, good, 400, "skin.png", &id), HV_ERR_BAD_INPUT);
+    snprintf(want, sizeof want,
+             "skin.png: its embedded colour profile is a truncated ICC profile (its header gives %zu bytes, there are 400)", n);
+    cr_assert_str_eq(hv_last_error(), want);
+    hv_colour_map_destroy(m);
+    free(bad);
+    free(good);
 }
 
 Test(colour, refusals)

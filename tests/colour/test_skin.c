@@ -12,12 +12,16 @@
 #include "hovox/voxelize.h"
 #include "support/support.h"
 
+/* A 6 mm cube painted 1 mm deep over an Agilus30 core: every facet in rgba, or (rgba 0) each in a
+ * colour of its own. */
 static hv_volume *painted(hv_mesh **mesh, uint32_t rgba)
 {
     hv_mesh *m = t_cube_mesh(0, 6);
     size_t nf = hv_mesh_facet_count(m);
     uint32_t *c = malloc(3 * nf * sizeof *c);
-    for (size_t i = 0; i < 3 * nf; ++i) c[i] = rgba;
+    for (size_t i = 0; i < 3 * nf; ++i)
+        c[i] = rgba ? rgba : (uint32_t)(0x30 + 40 * (i / 3 % 5)) << 24 | (uint32_t)(0xE0 - 30 * (i / 3 % 7)) << 16 |
+                                 (uint32_t)(0x50 + 17 * (i / 3)) << 8 | 0xFFu;
     cr_assert_eq(hv_mesh_set_corner_colours(m, c), HV_OK);
     free(c);
     hv_voxelize_options o;
@@ -66,11 +70,12 @@ Test(skin, one_colour_everywhere_gives_its_own_de2000)
     cr_assert_gt(r2.mean_de2000, r.mean_de2000 + 1);
     /* the manifest hook */
     json_t *doc = json_pack("{s:[{s:s,s:f,s:f}]}", "materials", "name", "VeroYellow-V", "target", 0.2, "achieved", 0.4);
-    hv_colour_skin sk = {v, map, {0}, {0}, 0, 0, NULL, NULL, NULL};
+    hv_colour_skin sk = {.model = v, .map = map};
     cr_assert_eq(hv_colour_manifest_hook(&sk, doc), HV_OK, "%s", hv_last_error());
     json_t *c = json_object_get(doc, "colour");
     cr_assert_not_null(c);
     cr_assert_eq(json_integer_value(json_object_get(c, "skin_voxels")), (json_int_t)r.voxels);
+    cr_assert(!sk.printer_voxels);
     cr_assert(fabs(json_number_value(json_object_get(c, "mean_de2000_target")) - r.mean_de2000) < 1e-9);
     cr_assert(fabs(json_number_value(json_object_get(c, "mean_de2000_achieved")) - r2.mean_de2000) < 1e-9);
     json_decref(doc);
@@ -136,12 +141,120 @@ Test(skin, weighted_samples_give_the_models_figures)
     /* the hook with samples */
     json_t *doc = json_pack("{s:[{s:s,s:f,s:f}]}", "materials", "name", "VeroYellow-V", "target", 0.2, "achieved", 0.4);
     w[1] = 0;
-    hv_colour_skin sk = {NULL, map, {0}, {0}, 0, 2, rgb, fr, w};
+    hv_colour_skin sk = {.map = map, .samples = 2, .rgb = rgb, .fractions = fr, .weight = w};
     cr_assert_eq(hv_colour_manifest_hook(&sk, doc), HV_OK, "%s", hv_last_error());
     json_t *c = json_object_get(doc, "colour");
     cr_assert_eq(json_integer_value(json_object_get(c, "printer_voxels")), (json_int_t)r.voxels);
+    cr_assert(sk.printer_voxels, "the hook says its voxels are printer voxels");
     cr_assert(fabs(json_number_value(json_object_get(c, "mean_de2000_achieved")) - rs.mean_de2000) < 1e-3);
     json_decref(doc);
+    hv_colour_map_destroy(map);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+}
+
+/* What a halftone's scale does to the fractions, as the skin's figures take it (skin.c). */
+static double expected_de(const hv_colour_map *map, const uint8_t want[3], const float fr[HV_COLOUR_SLOTS],
+                          const double *scale)
+{
+    float f[HV_COLOUR_SLOTS];
+    double total = 0;
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        double v = (double)fr[k] * (scale ? scale[k] : 1.0);
+        f[k] = (float)v;
+        total += v;
+    }
+    for (int k = 0; k < HV_COLOUR_SLOTS && total > 0; ++k) f[k] = (float)(f[k] / total);
+    double lw[3], lg[3];
+    hv_colour_map_lab_of_srgb(map, want, lw);
+    hv_colour_map_lab_of_fractions(map, f, lg);
+    return hv_colour_delta_e2000(lw, lg);
+}
+
+/* hv_colour_skin_errors: many scales in one pass (700: the pass then holds two leaves at a time)
+ * give, to the last bit and on one thread or two, each scale's figures of a voxel-by-voxel loop in
+ * leaf order; hv_colour_skin_manifests gives copies that printed alike the same figures and each
+ * copy those of the manifest hook alone. */
+Test(skin, several_scales_in_one_pass_are_each_ones_figures)
+{
+    hv_mesh *m = NULL;
+    hv_volume *v = painted(&m, 0);
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_for_model(v, &map), HV_OK, "%s", hv_last_error());
+    enum { N = 700 };
+    static double sc[N][HV_COLOUR_SLOTS];
+    const double *scales[N];
+    for (int s = 0; s < N; ++s) {
+        for (int k = 0; k < HV_COLOUR_SLOTS; ++k) sc[s][k] = 1 + 0.002 * (double)((s * (k + 3)) % 97);
+        scales[s] = s % 5 == 0 ? NULL : sc[s];
+    }
+    int occ = hv_volume_grid_find(v, "occupancy"), mask = hv_volume_grid_find(v, "colour.mask");
+    int rgb[3] = {hv_volume_grid_find(v, "colour.r"), hv_volume_grid_find(v, "colour.g"), hv_volume_grid_find(v, "colour.b")};
+    int grid[HV_COLOUR_SLOTS];
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) {
+        char name[160];
+        snprintf(name, sizeof name, "material.%s", hv_colour_map_resin(map, k));
+        grid[k] = hv_volume_grid_find(v, name);
+    }
+    cr_assert_gt(hv_volume_leaf_count(v), 4);
+    static double sum[N], max[N];
+    uint64_t voxels = 0;
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) {
+        const uint64_t *on = hv_volume_leaf_bool_c(v, occ, l);
+        const float *mk = hv_volume_leaf_float_c(v, mask, l);
+        for (unsigned n = 0; n < 512; ++n) {
+            if (!((on[n >> 6] >> (n & 63)) & 1u) || !(mk[n] > 0.5f)) continue;
+            uint8_t want[3];
+            for (int a = 0; a < 3; ++a)
+                want[a] = (uint8_t)lrintf(fminf(fmaxf(hv_volume_leaf_float_c(v, rgb[a], l)[n], 0.0f), 1.0f) * 255.0f);
+            float fr[HV_COLOUR_SLOTS];
+            for (int k = 0; k < HV_COLOUR_SLOTS; ++k) fr[k] = grid[k] >= 0 ? hv_volume_leaf_float_c(v, grid[k], l)[n] : 0;
+            for (int s = 0; s < N; ++s) {
+                double de = expected_de(map, want, fr, scales[s]);
+                sum[s] += de;
+                max[s] = fmax(max[s], de);
+            }
+            voxels++;
+        }
+    }
+    static hv_colour_skin_report r[N], r1[N];
+    hv_set_threads(2);
+    cr_assert_eq(hv_colour_skin_errors(v, map, N, scales, r), HV_OK, "%s", hv_last_error());
+    hv_set_threads(1);
+    cr_assert_eq(hv_colour_skin_errors(v, map, N, scales, r1), HV_OK, "%s", hv_last_error());
+    hv_set_threads(0);
+    double lo = 1e9, hi = 0;
+    for (int s = 0; s < N; ++s) {
+        cr_assert_eq(r[s].voxels, voxels);
+        cr_assert(r[s].mean_de2000 == sum[s] / (double)voxels && r[s].max_de2000 == max[s],
+                  "scale %d: mean %.17g max %.17g, voxel by voxel %.17g %.17g", s, r[s].mean_de2000, r[s].max_de2000,
+                  sum[s] / (double)voxels, max[s]);
+        cr_assert(memcmp(&r[s], &r1[s], sizeof r[s]) == 0, "scale %d: one thread and two differ", s);
+        lo = fmin(lo, r[s].mean_de2000);
+        hi = fmax(hi, r[s].mean_de2000);
+    }
+    cr_assert_gt(hi - lo, 0.01, "the scales move the figures (%g .. %g)", lo, hi);
+    /* three copies, the first and the last printed alike */
+    const char *names[2] = {"VeroYellow-V", "VeroCyan-V"};
+    double tg[3][2] = {{0.2, 0.1}, {0.2, 0.1}, {0.2, 0.1}}, ac[3][2] = {{0.3, 0.1}, {0.2, 0.15}, {0.3, 0.1}};
+    const double *tgp[3] = {tg[0], tg[1], tg[2]}, *acp[3] = {ac[0], ac[1], ac[2]};
+    hv_colour_skin sk[3] = {{v, map, {0}, {0}, 0, 0, NULL, NULL, NULL}};
+    sk[1] = sk[2] = sk[0];
+    void *out[3];
+    cr_assert_eq(hv_colour_skin_manifests(sk, 3, 2, names, tgp, acp, out), HV_OK, "%s", hv_last_error());
+    for (int c = 0; c < 3; ++c) {
+        json_t *doc = json_pack("{s:[{s:s,s:f,s:f},{s:s,s:f,s:f}]}", "materials", "name", names[0], "target", tg[c][0],
+                                "achieved", ac[c][0], "name", names[1], "target", tg[c][1], "achieved", ac[c][1]);
+        hv_colour_skin one = {v, map, {0}, {0}, 0, 0, NULL, NULL, NULL};
+        cr_assert_eq(hv_colour_manifest_hook(&one, doc), HV_OK, "%s", hv_last_error());
+        cr_assert(json_equal(out[c], json_object_get(doc, "colour")), "copy %d", c);
+        cr_assert(sk[c].has_achieved && memcmp(&sk[c].achieved, &one.achieved, sizeof one.achieved) == 0);
+        cr_assert(memcmp(&sk[c].target, &one.target, sizeof one.target) == 0);
+        json_decref(doc);
+    }
+    cr_assert(sk[0].achieved.mean_de2000 == sk[2].achieved.mean_de2000);
+    cr_assert(sk[0].achieved.mean_de2000 != sk[1].achieved.mean_de2000);
+    for (int c = 0; c < 3; ++c) json_decref(out[c]);
     hv_colour_map_destroy(map);
     hv_volume_destroy(v);
     hv_mesh_destroy(m);

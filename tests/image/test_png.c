@@ -363,3 +363,50 @@ Test(png, an_empty_plate_costs_next_to_nothing)
     free(span);
     free(rows);
 }
+
+/* hv_png_options.filter_bytes (a tray's plate): rows that each follow a zero byte of the caller's
+ * go to libdeflate where they lie and give the bytes of the rows copied; a row whose byte before it
+ * is not zero sends the image the copying way, with the same bytes. Packed 1, 2 and 4 bits and
+ * 8-bit indices, dense (libdeflate) and sparse (the span coder). */
+Test(png, rows_after_their_filter_bytes_are_compressed_where_they_lie)
+{
+    for (int depth = 1; depth <= 8; depth *= 2)
+        for (int sparse = 0; sparse < 2; ++sparse) {
+            int w = 1203, h = 97;
+            uint8_t *px = sparse ? halftone(w, h, depth, 2) : plate(w, h, depth, -1);
+            shape s = {w, h, depth, 1, depth < 8, 0, 0};
+            size_t want_size;
+            setenv("HOVOX_PNG_SPARSE", "1", 1);
+            uint8_t *want = encode(&s, px, &want_size);
+            size_t n = depth < 8 ? ((size_t)w * (size_t)depth + 7) / 8 : (size_t)w, stride = n + 1;
+            uint8_t *base = calloc(stride * (size_t)h + 1, 1), *rows = base + 1; /* t_pack_rows clears a stride */
+            if (depth < 8) t_pack_rows(px, w, h, depth, rows, stride);
+            else
+                for (int r = 0; r < h; ++r) memcpy(rows + (size_t)r * stride, px + (size_t)r * (size_t)w, (size_t)w);
+            hv_png_options o;
+            hv_png_options_init(&o);
+            o.bit_depth = depth;
+            o.packed = depth < 8;
+            o.compression = 1;
+            o.dpi[0] = 600;
+            o.dpi[1] = 300;
+            o.palette = g_pal;
+            o.palette_size = 1 << depth;
+            o.filter_bytes = 1;
+            for (int dirty = 0; dirty < 2; ++dirty) {
+                if (dirty) base[5 * stride] = 7; /* row 5's filter byte: not PNG's None */
+                uint8_t *data = NULL;
+                size_t size = 0;
+                cr_assert_eq(hv_png_encode(rows, w, h, 1, stride, &o, &data, &size), HV_OK, "%s", hv_last_error());
+                cr_assert(size == want_size && memcmp(data, want, size) == 0,
+                          "%d bits, %s, filter byte %s: the bytes differ from the rows copied", depth,
+                          sparse ? "sparse" : "dense", dirty ? "7" : "0");
+                free(data);
+            }
+            unsetenv("HOVOX_PNG_SPARSE");
+            check(&s, px, want, want_size);
+            free(want);
+            free(base);
+            free(px);
+        }
+}

@@ -331,7 +331,7 @@ Test(appearance, join_keeps_a_material_colour_as_corner_colours)
 {
     hv_mesh *red = t_cube_mesh(0, 1), *plain = t_cube_mesh(2, 3), *j = NULL;
     size_t nf = hv_mesh_facet_count(red);
-    hv_mesh_body body = {"red", HV_MESH_NO_MATERIAL, 0, nf};
+    hv_mesh_body body = {"red", HV_MESH_NO_MATERIAL, 0, nf, 0};
     hv_mesh_material mat = {"Red", 0xFF000080u, 1, 0, NULL};
     int32_t *fm = calloc(nf, sizeof *fm);
     cr_assert_eq(hv_mesh_set_bodies(red, &body, 1, &mat, 1, fm), HV_OK);
@@ -361,7 +361,7 @@ Test(appearance, body_colour_overrides_its_texture_and_keeps_the_others_colours)
     add_tex(a, HV_TILE_CLAMP, HV_TILE_CLAMP, HV_FILTER_NEAREST);
     uv_everywhere(a, 0, 0.1f, 0.9f);
     size_t nb = hv_mesh_facet_count(b);
-    hv_mesh_body body = {"red", HV_MESH_NO_MATERIAL, 0, nb};
+    hv_mesh_body body = {"red", HV_MESH_NO_MATERIAL, 0, nb, 0};
     hv_mesh_material mat = {"Red", 0xFF0000FFu, 1, 0, NULL};
     int32_t *fm = calloc(nb, sizeof *fm);
     cr_assert_eq(hv_mesh_set_bodies(b, &body, 1, &mat, 1, fm), HV_OK);

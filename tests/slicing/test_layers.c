@@ -385,6 +385,103 @@ Test(layers, a_material_absent_from_a_layer_is_zero_there_and_resampled_elsewher
     hv_mesh_destroy(m);
 }
 
+/* A box 20 x 20 x 10 mm on 1 mm voxels "painted" by hand (issue 29, the colour depth on the stack):
+ * colour.depth the linear field d = 0.6 x + 0.8 z (a face's distance, tilted so the depth crosses
+ * voxel columns in x and voxel layers in z), M1 (the skin) 1 where d <= 7.3 mm, M2 (the core)
+ * elsewhere, and the record hovox.colour.json with that depth (record 0: none, as a model painted
+ * before the grid). */
+static void painted_slab(hv_mesh **m, hv_volume **out, int record)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {20, 20, 10};
+    cr_assert_eq(hv_generate_box(lo, hi, m), HV_OK);
+    hv_volume *v = voxelize(*m, 1.0);
+    double *xyz = NULL;
+    size_t n = 0;
+    cr_assert_eq(hv_volume_centres(v, "occupancy", &xyz, &n), HV_OK);
+    float *g = malloc(3 * n * sizeof *g);
+    cr_assert_not_null(g);
+    for (size_t i = 0; i < n; ++i) {
+        float d = (float)(0.6 * xyz[3 * i] + 0.8 * xyz[3 * i + 2]);
+        g[i] = d <= 7.3f;
+        g[n + i] = 1 - g[i];
+        g[2 * n + i] = d;
+    }
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_create(&t), HV_OK);
+    cr_assert_eq(hv_material_add(t, "M1", NULL, NULL), HV_OK);
+    cr_assert_eq(hv_material_add(t, "M2", NULL, NULL), HV_OK);
+    cr_assert_eq(hv_volume_grid_set(v, "material.M1", "occupancy", g, n), HV_OK);
+    cr_assert_eq(hv_volume_grid_set(v, "material.M2", "occupancy", g + n, n), HV_OK);
+    cr_assert_eq(hv_volume_grid_set(v, "colour.depth", "occupancy", g + 2 * n, n), HV_OK);
+    cr_assert_eq(hv_material_table_store(v, t), HV_OK);
+    if (record) cr_assert_eq(hv_volume_meta_set_json(v, "hovox.colour.json", "{\"depth_mm\": 7.3}"), HV_OK);
+    hv_material_table_destroy(t);
+    free(g);
+    free(xyz);
+    *out = v;
+}
+
+/* Every object pixel of the painted slab's fraction layers (0.254 mm pixels, 0.1 mm layers) on its
+ * side of the depth at its centre, pure: M1 255 where 0.6 x + 0.8 z < 7.3 - 0.001, 0 where more than
+ * 7.3 + 0.001. Returns the pixels not so; *band counts those within a voxel of the depth. */
+static uint64_t depth_sides(const hv_mesh *m, const hv_volume *v, const char *name, uint64_t *band)
+{
+    hv_layers_options o = opts(HV_LAYERS_FRACTIONS, 100, 100, 0.1);
+    const char *dir = t_tmpfile(name);
+    run(m, v, dir, &o, NULL);
+    json_t *j = manifest_load(dir);
+    const json_t *layers = json_object_get(j, "layers");
+    double ox = jnum(j, "origin_mm", 0), oy = jnum(j, "origin_mm", 1), sx = jnum(j, "pixel_mm", 0),
+           sy = jnum(j, "pixel_mm", 1);
+    uint64_t off = 0, n = 0;
+    *band = 0;
+    for (size_t l = 0; l < json_array_size(layers); ++l) {
+        const json_t *L = json_array_get(layers, l);
+        double z = jnum(L, "z_mm", -1);
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", dir, json_string_value(jat(json_object_get(L, "files"), 0)));
+        t_png im;
+        t_png_load(path, &im);
+        for (int r = 0; r < im.h; ++r)
+            for (int c = 0; c < im.w; ++c) {
+                double x = ox + (c + 0.5) * sx, y = oy + (r + 0.5) * sy, d = 0.6 * x + 0.8 * z;
+                if (x < 0 || x > 20 || y < 0 || y > 20 || fabs(d - 7.3) < 0.001) continue;
+                int a = im.px[(size_t)r * (size_t)im.w + (size_t)c], want = d < 7.3 ? 255 : 0;
+                ++n;
+                *band += fabs(d - 7.3) < 0.6; /* within a voxel of the depth (|grad d| = 1) */
+                off += a != want;
+            }
+        free(im.px);
+    }
+    cr_assert(n > 200000, "%llu pixels", (unsigned long long)n);
+    json_decref(j);
+    return off;
+}
+
+Test(layers, colour_depth_splits_each_pixel_by_its_side, .timeout = 300)
+{
+    hv_mesh *m = NULL;
+    hv_volume *v = NULL;
+    painted_slab(&m, &v, 1);
+    uint64_t band = 0, off = depth_sides(m, v, "depth_sides", &band);
+    cr_log_info("colour.depth: %llu pixels off their side, %llu within a voxel of the depth", (unsigned long long)off,
+                (unsigned long long)band);
+    cr_expect_eq(off, 0, "%llu pixels off their side of the depth (%llu within a voxel of it)",
+                 (unsigned long long)off, (unsigned long long)band);
+    cr_expect(band > 10000, "%llu pixels within a voxel of the depth", (unsigned long long)band);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+    /* without the record (painted before colour.depth): interpolated across the depth as before */
+    painted_slab(&m, &v, 0);
+    off = depth_sides(m, v, "depth_plain", &band);
+    cr_log_info("no record: %llu pixels off their side, %llu within a voxel of the depth", (unsigned long long)off,
+                (unsigned long long)band);
+    cr_expect(off > band / 4, "no record: %llu of the %llu pixels within a voxel of the depth mixed",
+              (unsigned long long)off, (unsigned long long)band);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+}
+
 /* ---- format, manifest, determinism, splits ---------------------------------------------------- */
 
 static int same_file(const char *a, const char *b)

@@ -172,8 +172,12 @@ Test(mesh_layers, the_front_ends_step_writes_the_clis_files_with_the_colour, .ti
     hv_volume_destroy(v);
     /* the front ends' step: the same files, the same figures */
     hv_colour_skin sb;
-    cr_assert_eq(hv_layers_write_mesh(m, NULL, b, &o, NULL, &rb, &sb), HV_OK, "%s", hv_last_error());
+    hv_material_table *tb = NULL;
+    cr_assert_eq(hv_layers_write_mesh(m, NULL, b, &o, NULL, &rb, &sb, &tb), HV_OK, "%s", hv_last_error());
     cr_assert(sb.map && !sb.model && sb.has_achieved);
+    cr_assert(!sb.printer_voxels, "a painted model's voxels are skin voxels, its model gone or not");
+    cr_assert(tb && hv_material_count(tb) == rb.materials && rb.materials == 6, "the stack's six resins");
+    hv_material_table_destroy(tb);
     cr_assert_eq(sb.target.voxels, sk.target.voxels);
     cr_assert_float_eq(sb.achieved.mean_de2000, sk.achieved.mean_de2000, 1e-12);
     cr_assert_eq(ra.object_pixels, rb.object_pixels);

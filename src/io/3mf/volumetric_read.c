@@ -147,6 +147,7 @@ typedef struct rd {
     uint32_t *tri; /* 3 per triangle, indices into the object's vertices */
     size_t ntri, tcap;
     int builds, resources_seen;
+    const hv_colour_options *colour; /* a colour without a composite prints through it (NULL: defaults) */
     uint64_t leaf_bytes; /* what a leaf of the model will cost (hv_volume_memory_estimate) */
 } rd;
 
@@ -1370,8 +1371,47 @@ static int axis_aligned(const double *t)
            near_zero(t[5], big) && near_zero(t[6], big) && near_zero(t[7], big);
 }
 
+/* A lattice for a colour whose transform is not an axis-aligned scale (the spec allows any affine
+ * one, 2.2 and 6): axis-aligned cubic voxels over the mesh's box, as fine as the image's finest
+ * step - one image voxel along image axis b spans 1/(n_b |grad w_b|) object units across its
+ * planes (a w_b that does not vary, as a picture extruded through the part, sets none) - so every
+ * voxel centre samples the function through the colour's own transform, as a mapping's lattice
+ * samples a colour of its own. */
+static hv_status colour_lattice(rd *r, const used *u, const double *t, lattice *lat)
+{
+    const object *o = u->obj;
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, h = HUGE_VAL, ext = 0;
+    for (size_t v = 0; v < o->nv; ++v)
+        for (int a = 0; a < 3; ++a) {
+            double x = r->xyz[3 * (o->v0 + v) + (size_t)a];
+            lo[a] = fmin(lo[a], x);
+            hi[a] = fmax(hi[a], x);
+        }
+    const uint64_t n[3] = {u->cim->cols, u->cim->rows, u->cim->sheets};
+    for (int b = 0; b < 3; ++b) {
+        double g = sqrt(t[b] * t[b] + t[3 + b] * t[3 + b] + t[6 + b] * t[6 + b]) * (double)n[b];
+        if (g > 0 && isfinite(g)) h = fmin(h, 1.0 / g);
+    }
+    for (int a = 0; a < 3; ++a) ext = fmax(ext, hi[a] - lo[a]);
+    if (!(h < HUGE_VAL)) h = ext / 64; /* one colour everywhere: any voxels carry it */
+    if (!(h > 0 && isfinite(h)))
+        return bad_at_col(r, HV_ERR_BAD_INPUT, u->vd->colour.line, u->vd->colour.col, "<v:color> transform gives "
+                          "image voxels of %g object units", h);
+    for (int a = 0; a < 3; ++a) {
+        double na = fmax(1, ceil((hi[a] - lo[a]) / h));
+        if (!(na < 1e9))
+            return bad_at_col(r, HV_ERR_LIMIT, u->vd->colour.line, u->vd->colour.col, "<v:color> transform: the "
+                              "mesh spans %.4g of the image's voxels: too many to sample", na);
+        lat->n[a] = (uint64_t)na;
+        for (int b = 0; b < 3; ++b) lat->t[3 * a + b] = a == b ? 1.0 / (h * na) : 0;
+        lat->t[9 + a] = -lo[a] / (h * na);
+    }
+    return HV_OK;
+}
+
 /* Volume data with a colour and no composite (another producer's colour): the colour's stack gives
- * the lattice, and the model is printed in the six colour resins (colour_resins). */
+ * the lattice when its transform is an axis-aligned scale, else colour_lattice does; the model is
+ * printed in the six colour resins (colour_resins). */
 static hv_status resolve_colour_alone(rd *r, used *u, lattice *lat)
 {
     const voldata *vd = u->vd;
@@ -1380,15 +1420,12 @@ static hv_status resolve_colour_alone(rd *r, used *u, lattice *lat)
     if (s == HV_OK && vd->mask.present)
         s = resolve_field(r, &vd->mask, "<v:property> hovox:colour.mask", 0, &u->mf, &u->mim, &u->mask_channel);
     if (s != HV_OK) return s;
-    if (!axis_aligned(vd->colour.t))
-        return bad_at_col(r, HV_ERR_UNSUPPORTED, vd->colour.line, vd->colour.col, "<v:color> transform is not an "
-                          "axis-aligned scale and translation: without a <v:composite> the colour's stack gives the "
-                          "voxels, and rotations, shears and mirrors are not supported");
+    u->lattice_line = vd->colour.line;
+    if (!axis_aligned(vd->colour.t)) return colour_lattice(r, u, vd->colour.t, lat);
     memcpy(lat->t, vd->colour.t, sizeof lat->t);
     lat->n[0] = u->cim->cols;
     lat->n[1] = u->cim->rows;
     lat->n[2] = u->cim->sheets;
-    u->lattice_line = vd->colour.line;
     return HV_OK;
 }
 
@@ -1850,17 +1887,18 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
 }
 
 /* A colour without a composite, printed as hovox prints a painted part: in the six colour resins
- * of hovox's default colour map (hovox/colour.h: Ghostscript's default_cmyk.icc, perceptual, the
- * J750's resins), each voxel's fractions those of its colour rounded to 8-bit sRGB (the white
- * resin where hovox:colour.mask says no colour was asked for), and the map recorded as a painted
- * model's (hovox.colour.json), so layers measure the colour's dE2000 through it. */
-static hv_status colour_resins(hv_volume *v, hv_material_table **out)
+ * of the caller's colour map (its profile, intent and resins; without one hovox's default,
+ * hovox/colour.h: Ghostscript's default_cmyk.icc, perceptual, the J750's resins), each voxel's
+ * fractions those of its colour rounded to 8-bit sRGB (the white resin where hovox:colour.mask
+ * says no colour was asked for), and the map recorded as a painted model's (hovox.colour.json),
+ * so layers measure the colour's dE2000 through it. */
+static hv_status colour_resins(const hv_colour_options *opt, hv_volume *v, hv_material_table **out)
 {
     *out = NULL;
     hv_colour_map *map = NULL;
     hv_colour_options o;
     hv_colour_options_init(&o);
-    hv_status s = hv_colour_map_create(&o, &map);
+    hv_status s = hv_colour_map_create(opt ? opt : &o, &map);
     hv_material_table *t = NULL;
     if (s == HV_OK) s = hv_material_table_create(&t);
     int grid[HV_COLOUR_SLOTS], cg[4];
@@ -1924,7 +1962,7 @@ static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume
     if (s == HV_OK && u->bg && (s = build_table(r, u, &table)) != HV_OK && s != HV_ERR_NOMEM)
         s = bad_at(r, HV_ERR_BAD_INPUT, u->bg->line, "<basematerials> %u: %s", u->bg->id, hv_last_error());
     if (s == HV_OK) s = sample_model(r, u, lat, off, v, table);
-    if (s == HV_OK && !u->bg) s = colour_resins(v, &table);
+    if (s == HV_OK && !u->bg) s = colour_resins(r->colour, v, &table);
     if (s == HV_OK) s = hv_material_table_store(v, table);
     hv_material_table_destroy(table);
     /* a painted model's record, with its colour */
@@ -1969,8 +2007,8 @@ static void rd_free(rd *r)
 }
 
 
-static hv_status read_package(const void *data, size_t size, const char *path, const char *name, hv_volume **vol,
-                              hv_mesh **mesh)
+static hv_status read_package(const void *data, size_t size, const char *path, const char *name,
+                              const hv_colour_options *colour, hv_volume **vol, hv_mesh **mesh)
 {
     *vol = NULL;
     if (mesh) *mesh = NULL;
@@ -1984,6 +2022,7 @@ static hv_status read_package(const void *data, size_t size, const char *path, c
     r.part = pk.model;
     r.budget = pk.budget;
     r.unit = 1;
+    r.colour = colour;
     s = read_model(&r);
     used u;
     lattice lat;
@@ -1996,12 +2035,17 @@ static hv_status read_package(const void *data, size_t size, const char *path, c
 
 hv_status hv_3mf_parse(const void *data, size_t size, const char *name, hv_volume **vol, hv_mesh **mesh)
 {
-    return read_package(size ? data : "", size, NULL, name, vol, mesh);
+    return read_package(size ? data : "", size, NULL, name, NULL, vol, mesh);
 }
 
 hv_status hv_3mf_load(const char *path, hv_volume **vol, hv_mesh **mesh)
 {
-    return read_package(NULL, 0, path, path, vol, mesh);
+    return read_package(NULL, 0, path, path, NULL, vol, mesh);
+}
+
+hv_status hv_3mf_load_colour(const char *path, const hv_colour_options *colour, hv_volume **vol, hv_mesh **mesh)
+{
+    return read_package(NULL, 0, path, path, colour, vol, mesh);
 }
 
 int hv_3mf_sniff(const char *path)

@@ -6,6 +6,14 @@ $HOVOX colour 1,1,0 --resins 'C1, M1,Y1,K1,W1,Clear1' --intent relative
 printf 'not a profile' > "$TMP/x.icc"
 $HOVOX colour '#ff0000' --icc "$TMP/x.icc"
 echo "rc=$?"
+# a file of a profile's size without the signature, and a profile cut short (review item 2: one
+# message each, file, what and value)
+head -c 300 /dev/zero | tr '\0' 'x' > "$TMP/y.icc"
+$HOVOX colour '#ff0000' --icc "$TMP/y.icc"
+echo "rc=$?"
+head -c 400 /usr/share/color/icc/ghostscript/ps_cmyk.icc > "$TMP/z.icc"
+$HOVOX colour '#ff0000' --icc "$TMP/z.icc"
+echo "rc=$?"
 $HOVOX colour '#ff0000' --icc /usr/share/color/icc/ghostscript/srgb.icc
 echo "rc=$?"
 $HOVOX colour '#ff0000' --icc "$TMP/none.icc"

@@ -1487,6 +1487,54 @@ Test(threemf_colour, a_foreign_colour_reads_through_its_own_function_and_lattice
     free(model);
 }
 
+/* Every occupied voxel of v (the foreign mesh: a box of 0.02 .. 0.58 x 0.01 .. 0.39 x 0.04 .. 0.27 cm
+ * moved 0.5 cm along x; on 1 mm voxels from its corner 6 x 4 x 2 centres inside) holds
+ * the spec's sample of the colour at its centre through transform T, as sRGB (spec_sample: this
+ * test's own sampler), and the six resins' fractions of that colour through the model's map;
+ * at least `min` voxels. */
+static void check_every_colour(hv_volume *v, texel_fn texel, const int n[3], const int tile[3], int nearest,
+                               const double *T, double scale, double offset, int min)
+{
+    static const char *const names[3] = {"colour.r", "colour.g", "colour.b"};
+    hv_colour_map *map = NULL;
+    cr_assert_eq(hv_colour_map_for_model(v, &map), HV_OK, "%s", hv_last_error());
+    hv_material_table *t = NULL;
+    cr_assert_eq(hv_material_table_load(v, &t), HV_OK);
+    int og = hv_volume_grid_find(v, "occupancy"), g[3], mg[HV_COLOUR_SLOTS], count = 0;
+    for (int c = 0; c < 3; ++c) g[c] = hv_volume_grid_find(v, names[c]);
+    for (int k = 0; k < HV_COLOUR_SLOTS; ++k) mg[k] = hv_material_grid(v, t, k);
+    double worst = 0;
+    for (size_t l = 0; l < hv_volume_leaf_count(v); ++l) {
+        const int32_t *o = hv_volume_leaf_origins(v) + 3 * l;
+        const uint64_t *in = hv_volume_leaf_bool_c(v, og, l);
+        for (unsigned q = 0; q < 512; ++q) {
+            if (!((in[q >> 6] >> (q & 63)) & 1u)) continue;
+            double idx[3] = {o[0] + (double)(q >> 6), o[1] + (double)((q >> 3) & 7), o[2] + (double)(q & 7)}, w[3], x[3],
+                   uvw[3];
+            hv_volume_index_to_world(v, idx, w);
+            for (int a = 0; a < 3; ++a) x[a] = w[a] / 10 - (a == 0 ? 0.5 : 0);
+            for (int b = 0; b < 3; ++b) uvw[b] = x[0] * T[b] + x[1] * T[3 + b] + x[2] * T[6 + b] + T[9 + b];
+            uint8_t rgba[4] = {0, 0, 0, 255};
+            for (int c = 0; c < 3; ++c) {
+                double want = srgb(fmin(1, fmax(0, spec_sample(texel, n, tile, nearest, uvw, c) * scale + offset)));
+                double got = hv_volume_leaf_float_c(v, g[c], l)[q];
+                worst = fmax(worst, fabs(got - want));
+                rgba[c] = (uint8_t)lrint(want * 255);
+            }
+            float f[HV_COLOUR_SLOTS];
+            hv_colour_map_fractions(map, rgba, f);
+            for (int k = 0; k < HV_COLOUR_SLOTS; ++k)
+                cr_assert_float_eq(hv_volume_leaf_float_c(v, mg[k], l)[q], f[k], 1e-6, "voxel %g %g %g resin %d", idx[0],
+                                   idx[1], idx[2], k);
+            ++count;
+        }
+    }
+    cr_expect(worst < 2e-6, "colour %.3g away from the spec's sample", worst);
+    cr_expect_geq(count, min, "%d voxels", count);
+    hv_material_table_destroy(t);
+    hv_colour_map_destroy(map);
+}
+
 /* Volume data with a colour and no composite (a colour printer's package): the colour's stack gives
  * the voxels, and the model prints in the six colour resins of the default colour map, each voxel
  * the fractions of its colour (as 8-bit sRGB), recorded so the colour map is made again. */
@@ -1538,13 +1586,16 @@ Test(threemf_colour, a_colour_without_a_composite_prints_in_the_colour_resins)
     hv_material_table_destroy(t);
     hv_colour_map_destroy(map);
     hv_volume_destroy(v);
-    /* turned, the colour gives no lattice */
+    /* turned a quarter and scaled (issue 29 item 3): axis-aligned voxels over the mesh's box as fine
+     * as the image's finest step (the tint's 4 columns over 1/2.5 cm: 1 mm), each centre the spec's
+     * sample of the colour through its own transform, and its fractions those of that colour */
     turned = replace(turned, "<v:color functionid=\"8\" channel=\"color\"/>", TINT_COLOR);
     turned = replace(turned, "  <v:volumedata id=\"9\">", TINT);
-    cr_expect_eq(load_tinted(turned, "colour_turned.3mf", &v), HV_ERR_UNSUPPORTED);
-    cr_expect(strstr(hv_last_error(), "<v:color> transform is not an axis-aligned scale and translation: without a "
-                     "<v:composite>"), "%s", hv_last_error());
-    cr_expect_null(v);
+    cr_assert_eq(load_tinted(turned, "colour_turned.3mf", &v), HV_OK, "%s", hv_last_error());
+    cr_expect_float_eq(hv_volume_get_transform(v).voxel[0], 1.0, 1e-12);
+    static const int tint_n[3] = {4, 3, 2}, tint_tile[3] = {1, 0, 2};
+    check_every_colour(v, tint_texel, tint_n, tint_tile, 0, TINT_T, 0.9, 0.05, 6 * 4 * 2);
+    hv_volume_destroy(v);
     free(turned);
     free(model);
 }

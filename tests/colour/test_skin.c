@@ -238,14 +238,14 @@ Test(skin, several_scales_in_one_pass_are_each_ones_figures)
     const char *names[2] = {"VeroYellow-V", "VeroCyan-V"};
     double tg[3][2] = {{0.2, 0.1}, {0.2, 0.1}, {0.2, 0.1}}, ac[3][2] = {{0.3, 0.1}, {0.2, 0.15}, {0.3, 0.1}};
     const double *tgp[3] = {tg[0], tg[1], tg[2]}, *acp[3] = {ac[0], ac[1], ac[2]};
-    hv_colour_skin sk[3] = {{v, map, {0}, {0}, 0, 0, NULL, NULL, NULL}};
+    hv_colour_skin sk[3] = {{.model = v, .map = map}};
     sk[1] = sk[2] = sk[0];
     void *out[3];
     cr_assert_eq(hv_colour_skin_manifests(sk, 3, 2, names, tgp, acp, out), HV_OK, "%s", hv_last_error());
     for (int c = 0; c < 3; ++c) {
         json_t *doc = json_pack("{s:[{s:s,s:f,s:f},{s:s,s:f,s:f}]}", "materials", "name", names[0], "target", tg[c][0],
                                 "achieved", ac[c][0], "name", names[1], "target", tg[c][1], "achieved", ac[c][1]);
-        hv_colour_skin one = {v, map, {0}, {0}, 0, 0, NULL, NULL, NULL};
+        hv_colour_skin one = {.model = v, .map = map};
         cr_assert_eq(hv_colour_manifest_hook(&one, doc), HV_OK, "%s", hv_last_error());
         cr_assert(json_equal(out[c], json_object_get(doc, "colour")), "copy %d", c);
         cr_assert(sk[c].has_achieved && memcmp(&sk[c].achieved, &one.achieved, sizeof one.achieved) == 0);

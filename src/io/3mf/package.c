@@ -523,6 +523,7 @@ struct tmf_xml {
     uint64_t replay;     /* the replay hands the first `replay` of them to no one */
     int collect_after;   /* `collect` after the last one handled well */
     int restart;         /* not UTF-8: parsed by push from its start, as if pull_parse had not been */
+    int pulling;         /* pull_parse is parsing */
     hv_status fail;      /* the replay raises this at failed_at, with fail_msg */
     char fail_msg[2048];
 };
@@ -718,6 +719,9 @@ static void on_error(void *ctx, xmlErrorPtr e)
     while (n > 0 && (x->xml_error[n - 1] == '\n' || x->xml_error[n - 1] == ' ')) x->xml_error[--n] = '\0';
     x->err_line = e->line;
     x->err_col = e->int2;
+    /* pull_parse: the push parser takes the part from its start; the pull parser would go on
+     * past a fatal error without SAX (a DOCTYPE's entities declared, the rest read for nothing) */
+    if (x->pulling) xmlStopParser(x->ctxt);
 }
 
 static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
@@ -799,7 +803,13 @@ static int pull_parse(tmf_xml *x, feed *f, const xmlSAXHandler *sax, hv_status *
     xmlParserCtxtPtr c = xmlNewParserCtxt();
     xmlSAXHandler *own = c ? xmlMalloc(sizeof *own) : NULL;
     xmlParserInputPtr in = own ? xmlNewInputStream(c) : NULL;
-    if (!in) {
+    if (in) {
+        in->base = in->cur = f->whole;
+        in->end = f->whole + f->whole_len; /* a NUL before it ends the parse early: checked below */
+        in->length = (int)f->whole_len;
+    }
+    if (!in || inputPush(c, in) < 0) {
+        if (in) xmlFreeInputStream(in);
         xmlFree(own);
         xmlFreeParserCtxt(c);
         *s = HV_ERR_NOMEM;
@@ -810,14 +820,13 @@ static int pull_parse(tmf_xml *x, feed *f, const xmlSAXHandler *sax, hv_status *
     xmlFree(c->sax);
     c->sax = own;
     c->userData = x;
-    in->base = in->cur = f->whole;
-    in->end = f->whole + f->whole_len; /* a NUL before it ends the parse early: checked below */
-    in->length = (int)f->whole_len;
-    inputPush(c, in);
     xmlCtxtUseOptions(c, PKG_XML_OPTIONS);
     x->ctxt = c;
+    x->pulling = 1;
     int rc = xmlParseDocument(c);
+    x->pulling = 0;
     int whole = rc == 0 && c->wellFormed && !c->disableSAX && c->input == in && in->cur == in->end;
+    if (c->myDoc) xmlFreeDoc(c->myDoc);
     xmlFreeParserCtxt(c);
     x->ctxt = NULL;
     if (!x->xml_error[0] && !x->restart && (x->status != HV_OK || whole)) {

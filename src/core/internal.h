@@ -42,6 +42,9 @@ void *hv_malloc_array(size_t count, size_t size);
  * per 2 MiB instead of one per 4 KiB (on this project's VMs the faults were a fifth of a
  * contour grading's time). Freed with free(). Not zeroed. */
 void *hv_malloc_big(size_t count, size_t size);
+/* As hv_realloc, for arrays that grow to many MiB as they are filled (a reader's vertices): the
+ * new memory past 2 MiB boundaries on huge pages where the system allows, as hv_malloc_big. */
+void *hv_realloc_big(void *p, size_t size);
 /* hv_malloc_big, zeroed (for buffers written sparsely, such as images). */
 void *hv_calloc_big(size_t count, size_t size);
 char *hv_strdup(const char *s);

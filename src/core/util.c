@@ -75,6 +75,19 @@ void *hv_malloc_big(size_t count, size_t size)
     return p;
 }
 
+void *hv_realloc_big(void *p, size_t size)
+{
+    void *q = hv_realloc(p, size);
+#ifdef MADV_HUGEPAGE
+    size_t huge = (size_t)2 << 20;
+    if (q && size >= 4 * huge) { /* the whole 2 MiB pages inside it (pages touched before stay as they are) */
+        uintptr_t a = ((uintptr_t)q + huge - 1) & ~(uintptr_t)(huge - 1), e = ((uintptr_t)q + size) & ~(uintptr_t)(huge - 1);
+        if (e > a) (void)madvise((void *)a, e - a, MADV_HUGEPAGE);
+    }
+#endif
+    return q;
+}
+
 void *hv_calloc_big(size_t count, size_t size)
 {
     void *p = hv_malloc_big(count, size);

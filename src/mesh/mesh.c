@@ -539,8 +539,8 @@ hv_status hv_mesh_from_indexed(const float *xyz, size_t npts, const uint32_t *tr
     hv_status s = mesh_new(nf, name, format, &m);
     if (s != HV_OK) return s;
     size_t nrefs = 3 * nf;
-    weld_ctx w = {xyz, npts, hv_malloc_array(HV_MAX(npts, 1), sizeof(uint64_t)),
-                  hv_malloc_array(HV_MAX(npts, 1), sizeof(uint32_t)), 0};
+    weld_ctx w = {xyz, npts, hv_malloc_big(HV_MAX(npts, 1), sizeof(uint64_t)),
+                  hv_malloc_big(HV_MAX(npts, 1), sizeof(uint32_t)), 0};
     m->xyz = hv_malloc_array(3 * HV_MIN(npts, nrefs), sizeof *m->xyz);
     if (!w.hash || !w.rep || !m->xyz) s = HV_ERR_NOMEM;
     if (s == HV_OK) s = weld(&w);

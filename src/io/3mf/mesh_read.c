@@ -138,9 +138,16 @@ typedef struct pending {
 
 /* ---- memory: every array the reader grows is charged to half the memory budget --------------- */
 
-static hv_status grow(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need, size_t size)
+static hv_status grow_to(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need, size_t size);
+
+/* Room for `need` elements; the test inline, as a million vertices and triangles each ask. */
+static inline hv_status grow(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need, size_t size)
 {
-    if (need <= *cap) return HV_OK;
+    return need <= *cap ? HV_OK : grow_to(r, x, p, cap, need, size);
+}
+
+static hv_status grow_to(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need, size_t size)
+{
     size_t ncap = *cap ? *cap : 64;
     while (ncap < need) ncap = ncap > SIZE_MAX / 4 ? need : ncap * 2;
     uint64_t more = (uint64_t)(ncap - *cap) * size;
@@ -149,7 +156,7 @@ static hv_status grow(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need,
         return tmf_xml_bad(x, HV_ERR_LIMIT, "%s: reading this model needs more than half the memory budget (%s)",
                            r->label[0] ? r->label : "the model", hv_size_text(b, sizeof b, (double)r->budget));
     }
-    void *q = hv_realloc(*p, ncap * size);
+    void *q = hv_realloc_big(*p, ncap * size);
     if (!q) return HV_ERR_NOMEM;
     r->charged += more;
     *p = q;
@@ -1041,6 +1048,7 @@ typedef struct build {
     uint32_t *tri; /* 3 per facet: indices into pts */
     uint32_t *stamp, *slot; /* per vertex of an object: the placement that placed it, and where */
     uint32_t placement;
+    int as_read; /* pts and tri are the one object's as read (as_read): not placed, not freed here */
     int32_t *fmat;
     size_t nf;
     int any_material;
@@ -1190,6 +1198,18 @@ static void compose(const double *a, const double *b, double *out) /* out = a af
     }
 }
 
+/* Facet b->nf's material, and the next facet. The materials are written from the first facet
+ * that has one (those before it none): a model without them touches no 4 MB of -1s a million facets. */
+static void facet_material(build *b, int32_t mat)
+{
+    if (mat >= 0 && !b->any_material) {
+        for (size_t f = 0; f < b->nf; ++f) b->fmat[f] = -1;
+        b->any_material = 1;
+    }
+    if (b->any_material) b->fmat[b->nf] = mat;
+    b->nf++;
+}
+
 /* The object's triangles placed by t: a vertex is placed once per placement, when a triangle
  * first uses it (vertices no triangle uses cost nothing), so the points never outnumber the
  * corners; hv_mesh_build_indexed welds them into the mesh the corners would give. */
@@ -1200,7 +1220,15 @@ static hv_status place_mesh(build *b, const object *o, const double *t)
     int flip = det < 0; /* Core 4.1: a mirror keeps the sign of the volume */
     uint32_t mark = ++b->placement; /* placements are at most TMF_MAX_PLACEMENTS */
     const int32_t dflt[4] = {o->dres, o->dentry, o->dentry, o->dentry}; /* no triangle has properties of its own */
-    for (size_t f = 0; f < o->nt; ++f) {
+    for (size_t f = 0; f < o->nt && b->as_read; ++f) { /* its points and triangles are there: their properties */
+        int32_t mat;
+        const int32_t *ref = r->refs ? r->refs + 4 * (o->t0 + f) : dflt;
+        hv_status s = material_of(b, ref[0], ref[1], &mat);
+        if (s != HV_OK) return s;
+        appearance_of(b, ref, 0);
+        facet_material(b, mat);
+    }
+    for (size_t f = 0; f < o->nt && !b->as_read; ++f) {
         const uint32_t *tri = r->tri + 3 * (o->t0 + f);
         uint32_t *dst = b->tri + 3 * b->nf;
         for (int c = 0; c < 3; ++c) {
@@ -1226,8 +1254,7 @@ static hv_status place_mesh(build *b, const object *o, const double *t)
         hv_status s = material_of(b, ref[0], ref[1], &mat);
         if (s != HV_OK) return s;
         appearance_of(b, ref, flip);
-        b->fmat[b->nf++] = mat;
-        if (mat >= 0) b->any_material = 1;
+        facet_material(b, mat);
     }
     return HV_OK;
 }
@@ -1328,7 +1355,7 @@ static hv_status set_appearance(build *b, hv_mesh *m)
     for (size_t f = 0; f < b->nf && s == HV_OK; ++f) { /* facets without a colour of their own */
         uint32_t *c = b->corner + 3 * f;
         if (c[0] || c[1] || c[2] || b->ftex[f] >= 0) continue;
-        int32_t mat = b->fmat[f];
+        int32_t mat = b->any_material ? b->fmat[f] : -1;
         mats = mat >= 0 ? hv_mesh_material_at(m, (size_t)mat) : NULL;
         if (mats && mats->has_color) c[0] = c[1] = c[2] = mats->rgba;
         else if (b->ftex[f] == -1) b->ftex[f] = HV_MESH_NO_COLOUR, no_colour = 1;
@@ -1336,6 +1363,23 @@ static hv_status set_appearance(build *b, hv_mesh *m)
     if (s == HV_OK) s = hv_mesh_set_corner_colours(m, b->corner);
     if (s == HV_OK && (hv_mesh_texture_count(m) || no_colour)) s = hv_mesh_set_corner_uvs(m, b->uv, b->ftex);
     return s;
+}
+
+/* One build item placing one mesh object as it lies (the identity, bit for bit, in millimetres):
+ * its points and triangles as read are what place_mesh would make of them, in another order
+ * that hv_mesh_build_indexed's welding and numbering by first use do not see, so they are handed
+ * over as they are, not copied (issue 26: a 1M-facet model's points and triangles, 18 MB). The
+ * one difference, -0 placed as +0 (p + 0 * q + 0), is made here. */
+static int as_read(reader *r)
+{
+    static const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    if (r->nitems != 1 || r->unit != 1.0 || memcmp(r->items[0].t, id, sizeof id) != 0) return 0;
+    const object *o = &r->objs[r->items[0].obj];
+    if (o->nc != 0 || o->nt == 0 || o->type == T_SUPPORT || o->type == T_OTHER) return 0;
+    float *p = r->xyz + 3 * o->v0;
+    for (size_t i = 0; i < 3 * o->nv; ++i)
+        if (p[i] == 0) p[i] = 0;
+    return 1;
 }
 
 static hv_status assemble(reader *r, const char *name, hv_mesh **out)
@@ -1354,10 +1398,17 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         else nf += o->tri;
     }
     hv_mesh_item *items = hv_calloc(r->nitems + 1, sizeof *items);
-    b.pts = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.pts); /* pages touched as placed */
-    b.tri = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.tri);
-    b.stamp = hv_calloc(maxv, sizeof *b.stamp);
-    b.slot = hv_malloc_array(maxv, sizeof *b.slot);
+    if ((b.as_read = as_read(r))) {
+        const object *o = &r->objs[r->items[0].obj];
+        b.pts = r->xyz + 3 * o->v0;
+        b.npts = o->nv;
+        b.tri = r->tri + 3 * o->t0;
+    } else {
+        b.pts = hv_malloc_big((size_t)HV_MAX(nf, 1) * 9, sizeof *b.pts); /* pages touched as placed */
+        b.tri = hv_malloc_big((size_t)HV_MAX(nf, 1) * 3, sizeof *b.tri);
+        b.stamp = hv_calloc(maxv, sizeof *b.stamp);
+        b.slot = hv_malloc_array(maxv, sizeof *b.slot);
+    }
     b.fmat = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.fmat);
     int appearance = 0; /* colour or texture groups: the facets' appearance is kept */
     for (size_t k = 0; k < r->ids.n; ++k) appearance |= r->res[k].kind == R_COLOR || r->res[k].kind == R_TEXTURE;
@@ -1366,7 +1417,7 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
         b.uv = hv_malloc_big((size_t)HV_MAX(nf, 1) * 6, sizeof *b.uv);
         b.ftex = hv_malloc_big((size_t)HV_MAX(nf, 1), sizeof *b.ftex);
     }
-    hv_status s = items && b.pts && b.tri && b.stamp && b.slot && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
+    hv_status s = items && b.pts && b.tri && ((b.stamp && b.slot) || b.as_read) && b.fmat && (!appearance || (b.corner && b.uv && b.ftex)) ? HV_OK : HV_ERR_NOMEM;
     for (size_t i = 0; i < r->nitems && s == HV_OK; ++i) {
         const object *o = &r->objs[r->items[i].obj];
         items[i].body = -1;
@@ -1413,8 +1464,10 @@ static hv_status assemble(reader *r, const char *name, hv_mesh **out)
     free(mats);
     free(items);
     free(bodies);
-    free(b.pts);
-    free(b.tri);
+    if (!b.as_read) {
+        free(b.pts);
+        free(b.tri);
+    }
     free(b.stamp);
     free(b.slot);
     free(b.fmat);

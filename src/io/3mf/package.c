@@ -7,6 +7,7 @@
 #include <limits.h>
 #include <libdeflate.h>
 #include <libxml/parser.h>
+#include <libxml/parserInternals.h>
 #include <libxml/SAX2.h>
 #include <math.h>
 #include <pthread.h>
@@ -26,7 +27,9 @@
 #define PKG_MAX_DEPTH 256
 #define PKG_CHUNK 65536
 #define PKG_RING 4                       /* chunks the inflater thread may run ahead */
+#ifndef PKG_THREAD_FLOOR /* (defined otherwise only by the differential check: every part the whole path) */
 #define PKG_THREAD_FLOOR ((uint64_t)1 << 20) /* parts smaller than this inflate on the parser's thread */
+#endif
 
 /* ---- opening ------------------------------------------------------------------------------ */
 
@@ -316,6 +319,7 @@ typedef struct feed {
     inflater *in;
     uint8_t *whole; /* the part inflated in one call (one thread), handed out a chunk at a time */
     size_t whole_len, whole_at;
+    int counted; /* the whole part is counted against its limits already (pull_parse) */
     char *buf[PKG_RING];
     size_t len[PKG_RING];
     size_t head, tail; /* chunks filled and not yet parsed: [head, tail) */
@@ -355,6 +359,31 @@ static void *feed_main(void *arg)
     }
 }
 
+/* The part's raw stream opened again at its start. 0: it cannot be (feed_open says so). */
+static int reread(inflater *in)
+{
+    zip_fclose(in->f);
+    in->f = zip_fopen_index(in->pk->zip, (zip_uint64_t)in->index, ZIP_FL_COMPRESSED);
+    return in->f != NULL;
+}
+
+/* The compressed bytes of a part of a package in memory, where they lie (a 1M-facet model's 16 MB
+ * not copied: issue 26). libzip reads a compressed part through a window on the package's source,
+ * so once it has handed out the first bytes the source's position says where they start; used
+ * only when those bytes are there, and libdeflate and the CRC check the rest (or the part
+ * streams). NULL: read them (reread first). */
+static const uint8_t *in_place(inflater *in, zip_int64_t *n)
+{
+    tmf_pkg *pk = in->pk;
+    uint8_t head[64];
+    zip_int64_t k = (zip_int64_t)HV_MIN(in->comp_size, (uint64_t)sizeof head);
+    if (!pk->data || zip_fread(in->f, head, (zip_uint64_t)k) != k) return NULL;
+    zip_int64_t at = zip_source_tell(pk->src) - k;
+    if (at < 0 || (uint64_t)at + in->comp_size > pk->size || memcmp(pk->data + at, head, (size_t)k) != 0) return NULL;
+    *n = (zip_int64_t)in->comp_size;
+    return pk->data + at;
+}
+
 /* One thread: a deflated part of PKG_THREAD_FLOOR bytes or more, within its limits, inflates in one
  * libdeflate call (two to three times zlib's speed: issue 26 item 2) into a buffer the parser then
  * reads. The whole part must be good: the stream inflates to at most its declared size and its
@@ -368,26 +397,28 @@ static int feed_whole(feed *f)
         in->declared > pk->inflate_cap - HV_MIN(pk->inflated, pk->inflate_cap) || in->comp_size == 0 ||
         in->comp_size > in->declared + 1024)
         return 0;
-    uint8_t *comp = hv_malloc((size_t)in->comp_size);
-    uint8_t *out = hv_malloc((size_t)in->declared);
-    struct libdeflate_decompressor *d = comp && out ? libdeflate_alloc_decompressor() : NULL;
-    int ok = d != NULL;
-    zip_int64_t n = ok ? zip_fread(in->f, comp, in->comp_size) : -1;
+    uint8_t *out = hv_malloc_big((size_t)in->declared + 1, 1); /* + the NUL libxml2 reads at the end */
+    struct libdeflate_decompressor *d = out ? libdeflate_alloc_decompressor() : NULL;
+    uint8_t *comp = NULL;
+    zip_int64_t n = -1;
+    const uint8_t *src = d ? in_place(in, &n) : NULL;
+    if (d && !src && reread(in) && (comp = hv_malloc_big((size_t)in->comp_size, 1)) != NULL)
+        n = zip_fread(in->f, comp, in->comp_size), src = comp;
+    int ok = src != NULL;
     size_t used = 0, made = 0;
     ok = ok && n > 0 &&
-         libdeflate_deflate_decompress_ex(d, comp, (size_t)n, out, (size_t)in->declared, &used, &made) == LIBDEFLATE_SUCCESS &&
+         libdeflate_deflate_decompress_ex(d, src, (size_t)n, out, (size_t)in->declared, &used, &made) == LIBDEFLATE_SUCCESS &&
          (!in->raw->check_crc || (uint32_t)libdeflate_crc32(0, out, made) == in->raw->want_crc);
     libdeflate_free_decompressor(d);
     free(comp);
     if (ok) {
+        out[made] = 0;
         f->whole = out;
         f->whole_len = made;
         return 1;
     }
     free(out);
-    /* from the start: the raw stream again */
-    zip_fclose(in->f);
-    in->f = zip_fopen_index(pk->zip, (zip_uint64_t)in->index, ZIP_FL_COMPRESSED);
+    reread(in); /* from the start: the raw stream again */
     return 0;
 }
 
@@ -427,7 +458,7 @@ static hv_status feed_next(feed *f, const char **data, size_t *len)
         *len = HV_MIN(f->whole_len - f->whole_at, (size_t)PKG_CHUNK);
         *data = (const char *)f->whole + f->whole_at;
         f->whole_at += *len;
-        return inflate_count(f->in, *len);
+        return f->counted ? HV_OK : inflate_count(f->in, *len);
     }
     if (!f->threaded) {
         *data = f->buf[0];
@@ -486,6 +517,15 @@ struct tmf_xml {
     hv_buf text;
     char xml_error[400];
     int err_line, err_col;
+    /* a whole part parsed by pull_parse, then again by push (its replay): */
+    uint64_t seen;       /* elements' starts and ends so far */
+    uint64_t failed_at;  /* the one whose start or end failed (0: none) */
+    uint64_t replay;     /* the replay hands the first `replay` of them to no one */
+    int collect_after;   /* `collect` after the last one handled well */
+    int restart;         /* not UTF-8: parsed by push from its start, as if pull_parse had not been */
+    int pulling;         /* pull_parse is parsing */
+    hv_status fail;      /* the replay raises this at failed_at, with fail_msg */
+    char fail_msg[2048];
 };
 
 tmf_pkg *tmf_xml_pkg(tmf_xml *x) { return x->pk; }
@@ -578,23 +618,49 @@ const char *tmf_xml_qname(tmf_xml *x)
     return x->qname;
 }
 
+/* An element's start or end failed: where, then the parse stops. */
+static void fail(tmf_xml *x, hv_status s)
+{
+    if (x->status == HV_OK) x->failed_at = x->seen;
+    stop(x, s);
+}
+
+/* pull_parse's replay: 1 when this start or end goes to no handler, being one the handler had
+ * (after the last of them its element's text is collected again if the handler asked for it)
+ * or the one it failed at (the error raised again). */
+static int replayed(tmf_xml *x)
+{
+    if (x->seen <= x->replay) {
+        if (x->seen == x->replay && x->collect_after) {
+            want_text(x, 1);
+            x->text.len = 0;
+        }
+        return 1;
+    }
+    if (x->fail == HV_OK || x->seen != x->failed_at) return 0;
+    stop(x, hv_error_set(x->fail, "%s", x->fail_msg));
+    return 1;
+}
+
 static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
                      const xmlChar **ns, int nattrs, int ndefaulted, const xmlChar **attrs)
 {
     (void)prefix, (void)nns, (void)ns, (void)ndefaulted;
     tmf_xml *x = ctx;
     if (x->status != HV_OK) return;
+    x->seen++;
     if (++x->depth > PKG_MAX_DEPTH) {
-        stop(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "elements nested more than %d deep", PKG_MAX_DEPTH));
+        fail(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "elements nested more than %d deep", PKG_MAX_DEPTH));
         return;
     }
     if (nattrs > PKG_MAX_ATTRS) {
-        stop(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<%s> has %d attributes, more than %d", (const char *)local, nattrs,
+        fail(x, tmf_xml_bad(x, HV_ERR_BAD_INPUT, "<%s> has %d attributes, more than %d", (const char *)local, nattrs,
                             PKG_MAX_ATTRS));
         return;
     }
     set_qname(x, prefix, local);
     if (x->collect) want_text(x, 0);
+    if (replayed(x)) return;
     tmf_attr a[PKG_MAX_ATTRS];
     for (int i = 0; i < nattrs; ++i) {
         const xmlChar **t = attrs + 5 * i;
@@ -604,18 +670,22 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
         a[i].len = (size_t)(t[4] - t[3]);
     }
     hv_status s = x->h->start ? x->h->start(x->ctx, x, (const char *)local, (const char *)uri, a, nattrs) : HV_OK;
-    if (s != HV_OK) stop(x, s);
+    if (s == HV_OK) x->collect_after = x->collect;
+    else fail(x, s);
 }
 
 static void on_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri)
 {
     tmf_xml *x = ctx;
     if (x->status != HV_OK) return;
+    x->seen++;
     x->depth--;
     set_qname(x, prefix, local);
+    if (replayed(x)) return;
     hv_status s = x->h->end ? x->h->end(x->ctx, x, (const char *)local, (const char *)uri) : HV_OK;
     if (x->collect) want_text(x, 0);
-    if (s != HV_OK) stop(x, s);
+    if (s == HV_OK) x->collect_after = x->collect;
+    else fail(x, s);
 }
 
 #define PKG_MAX_TEXT ((size_t)64 << 20)
@@ -649,6 +719,9 @@ static void on_error(void *ctx, xmlErrorPtr e)
     while (n > 0 && (x->xml_error[n - 1] == '\n' || x->xml_error[n - 1] == ' ')) x->xml_error[--n] = '\0';
     x->err_line = e->line;
     x->err_col = e->int2;
+    /* pull_parse: the push parser takes the part from its start; the pull parser would go on
+     * past a fatal error without SAX (a DOCTYPE's entities declared, the rest read for nothing) */
+    if (x->pulling) xmlStopParser(x->ctxt);
 }
 
 static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
@@ -669,6 +742,113 @@ void tmf_xml_quiet_begin(tmf_xml_quiet *q)
 }
 
 void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, q->fn); }
+
+#define PKG_XML_OPTIONS (XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA)
+
+/* The push parser fed chunk by chunk: the streamed path, and a whole part pull_parse leaves to it. */
+static hv_status push_parse(tmf_xml *x, feed *f, xmlSAXHandler *sax)
+{
+    hv_status s = HV_OK;
+    x->ctxt = xmlCreatePushParserCtxt(sax, x, NULL, 0, x->part);
+    if (!x->ctxt) s = HV_ERR_NOMEM;
+    else xmlCtxtUseOptions(x->ctxt, PKG_XML_OPTIONS);
+    size_t got = 0;
+    int done = 0;
+    while (s == HV_OK && !done) {
+        const char *chunk = NULL;
+        if ((s = feed_next(f, &chunk, &got)) != HV_OK) break;
+        done = got == 0;
+        int rc = xmlParseChunk(x->ctxt, chunk, (int)got, done);
+        feed_done(f);
+        if (x->status != HV_OK) s = x->status;
+        else if (rc != 0 || x->xml_error[0] || x->ctxt->disableSAX) {
+            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", x->pk->name, x->part,
+                             x->err_line, x->err_col, x->xml_error[0] ? x->xml_error : "the parser stopped");
+        }
+    }
+    if (x->ctxt) {
+        if (x->ctxt->myDoc) xmlFreeDoc(x->ctxt->myDoc);
+        xmlFreeParserCtxt(x->ctxt);
+        x->ctxt = NULL;
+    }
+    return s;
+}
+
+/* pull_parse: the document's declared encoding, once its XML declaration is read. */
+static void on_document(void *ctx)
+{
+    tmf_xml *x = ctx;
+    const char *enc = (const char *)x->ctxt->encoding;
+    if (x->ctxt->input->encoding || (enc && strcasecmp(enc, "UTF-8") != 0 && strcasecmp(enc, "UTF8") != 0)) {
+        x->restart = 1;
+        xmlStopParser(x->ctxt);
+    }
+}
+
+/* A part inflated whole (one thread) parsed where it lies by libxml2's pull parser: not copied
+ * into the push parser's buffer nor each tag looked ahead for (8% of libxml2's time on a 1M-facet
+ * model: issue 26). The handler must get what the push parser gives it, so a part in another
+ * encoding than UTF-8 (by BOM or declaration: the string input has no decoder) is parsed by push
+ * from its start, before any element, and one not well-formed to its last byte (the parsers'
+ * messages, lines and columns differ, at a truncated end above all) by push from its start too,
+ * which hands the handler none of the starts and ends it had and raises again the error of the
+ * one it failed at (after an XML error the parse went on past). 1: parsed (*s). */
+static int pull_parse(tmf_xml *x, feed *f, const xmlSAXHandler *sax, hv_status *s)
+{
+    if (f->whole_len < 4 || f->whole_len > INT_MAX) return 0;
+    xmlCharEncoding enc = xmlDetectCharEncoding(f->whole, 4);
+    if (enc != XML_CHAR_ENCODING_NONE && enc != XML_CHAR_ENCODING_UTF8) return 0;
+    if ((*s = inflate_count(f->in, f->whole_len)) != HV_OK) return 1;
+    f->counted = 1;
+    xmlParserCtxtPtr c = xmlNewParserCtxt();
+    xmlSAXHandler *own = c ? xmlMalloc(sizeof *own) : NULL;
+    xmlParserInputPtr in = own ? xmlNewInputStream(c) : NULL;
+    if (in) {
+        in->base = in->cur = f->whole;
+        in->end = f->whole + f->whole_len; /* a NUL before it ends the parse early: checked below */
+        in->length = (int)f->whole_len;
+    }
+    if (!in || inputPush(c, in) < 0) {
+        if (in) xmlFreeInputStream(in);
+        xmlFree(own);
+        xmlFreeParserCtxt(c);
+        *s = HV_ERR_NOMEM;
+        return 1;
+    }
+    memcpy(own, sax, sizeof *own);
+    own->startDocument = on_document;
+    xmlFree(c->sax);
+    c->sax = own;
+    c->userData = x;
+    xmlCtxtUseOptions(c, PKG_XML_OPTIONS);
+    x->ctxt = c;
+    x->pulling = 1;
+    int rc = xmlParseDocument(c);
+    x->pulling = 0;
+    int whole = rc == 0 && c->wellFormed && !c->disableSAX && c->input == in && in->cur == in->end;
+    if (c->myDoc) xmlFreeDoc(c->myDoc);
+    xmlFreeParserCtxt(c);
+    x->ctxt = NULL;
+    if (!x->xml_error[0] && !x->restart && (x->status != HV_OK || whole)) {
+        *s = x->status; /* a handler's error with no XML error before it is the push parser's too */
+        return 1;
+    }
+    /* by push from the start: the starts and ends handled skipped, the failing one failing again */
+    x->replay = x->restart ? 0 : x->seen;
+    if (!x->restart && x->status != HV_OK) {
+        x->fail = x->status;
+        snprintf(x->fail_msg, sizeof x->fail_msg, "%s", hv_last_error());
+        if (x->failed_at) x->replay = x->failed_at - 1; /* else it failed between them (text, DOCTYPE): again there */
+    }
+    x->status = HV_OK;
+    x->seen = 0;
+    x->depth = 0;
+    x->collect = 0;
+    x->text.len = 0;
+    x->xml_error[0] = '\0';
+    x->err_line = x->err_col = 0;
+    return 0;
+}
 
 hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf_xml_handler *h, void *ctx)
 {
@@ -703,27 +883,7 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     }
     tmf_xml_quiet quiet;
     tmf_xml_quiet_begin(&quiet);
-    x.ctxt = xmlCreatePushParserCtxt(&sax, &x, NULL, 0, part);
-    if (!x.ctxt) s = HV_ERR_NOMEM;
-    else xmlCtxtUseOptions(x.ctxt, XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA);
-    size_t got = 0;
-    int done = 0;
-    while (s == HV_OK && !done) {
-        const char *chunk = NULL;
-        if ((s = feed_next(&f, &chunk, &got)) != HV_OK) break;
-        done = got == 0;
-        int rc = xmlParseChunk(x.ctxt, chunk, (int)got, done);
-        feed_done(&f);
-        if (x.status != HV_OK) s = x.status;
-        else if (rc != 0 || x.xml_error[0] || x.ctxt->disableSAX) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", pk->name, part,
-                             x.err_line, x.err_col, x.xml_error[0] ? x.xml_error : "the parser stopped");
-        }
-    }
-    if (x.ctxt) {
-        if (x.ctxt->myDoc) xmlFreeDoc(x.ctxt->myDoc);
-        xmlFreeParserCtxt(x.ctxt);
-    }
+    if (!f.whole || !pull_parse(&x, &f, &sax, &s)) s = push_parse(&x, &f, &sax);
     tmf_xml_quiet_end(&quiet);
     hv_buf_free(&x.text);
     feed_close(&f);
@@ -922,6 +1082,8 @@ hv_status tmf_pkg_open(tmf_pkg *pk, const void *data, size_t size, const char *p
             zip_error_fini(&ze);
             return hv_error_set(HV_ERR_BAD_INPUT, "%s: empty file (0 bytes)", name);
         }
+        pk->data = data;
+        pk->size = size;
         pk->src = zip_source_buffer_create(data, size, 0, &ze);
         if (!pk->src) {
             zip_error_fini(&ze);

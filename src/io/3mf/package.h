@@ -20,6 +20,8 @@ typedef struct tmf_pkg {
     const char *name; /* the file, for messages */
     zip_t *zip;
     zip_source_t *src;
+    const uint8_t *data; /* the package in memory (NULL: read from its file) */
+    size_t size;
     uint64_t budget;      /* the memory budget the readers charge (hv_memory_budget(0) when opened) */
     uint64_t inflate_cap; /* bytes all parts may inflate to */
     uint64_t inflated;    /* bytes inflated so far */

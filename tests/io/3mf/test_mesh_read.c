@@ -806,6 +806,117 @@ Test(threemf, a_large_part_inflated_in_one_call_reads_and_fails_as_streamed)
     hv_mesh_destroy(knot);
 }
 
+/* Issue 26: on one thread a large part inflated whole is parsed where it lies by libxml2's pull
+ * parser. Where it would tell the handler something else than the push parser, the push parser
+ * reads the part again from its start (the elements handled already not handed over twice):
+ * here a truncated part (pull: "Premature end of data", push: "Extra content at the end of the
+ * document", a line apart), a callback's error after an XML one that does not stop the parse,
+ * and a part in ISO-8859-1 whose bytes would pass for UTF-8. One thread's message and mesh are
+ * two threads' (push). A single item placing its object as it lies hands over its points
+ * without copying them: -0 is still placed as +0. */
+Test(threemf, a_large_part_parsed_in_place_reads_and_fails_as_pushed)
+{
+    hv_mesh *knot = NULL;
+    cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 300, 30, &knot), HV_OK); /* 18,000 facets */
+    hv_buf xml;
+    knot_model_xml(&xml, knot, 1);
+    cr_assert(!xml.failed && xml.len > ((size_t)1 << 20), "%zu bytes: past the 1 MiB of the one-call path", xml.len);
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", xml.data};
+    char got[2][512];
+    /* cut in the middle of the triangles */
+    char *cut = hv_strdup(xml.data);
+    *strstr(cut + xml.len / 2, "\n\t<triangle") = '\0';
+    parts[5] = cut;
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    for (int k = 0; k < 2; ++k) {
+        hv_set_threads(2 - k);
+        hv_error_clear();
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "knot.3mf", &m), HV_ERR_BAD_INPUT);
+        snprintf(got[k], sizeof got[k], "%s", hv_last_error());
+    }
+    cr_assert(strstr(got[0], "malformed XML: Extra content at the end of the document"), "%s", got[0]);
+    cr_assert_str_eq(got[1], got[0]);
+    free(data);
+    /* a prefix no namespace binds (an XML error the parse goes on after), then a triangle out of range */
+    char *late = hv_strdup(xml.data);
+    char *tri = strstr(late, "<triangle v1=");
+    memcpy(tri + 1, "q:triang", 8); /* <q:triang v1=...: the reader skips it */
+    char *last = strstr(late + xml.len - 200, "v1=\"");
+    memcpy(last + 4, "9999999", 7);
+    parts[5] = late;
+    data = zip_parts(parts, 3, &len);
+    for (int k = 0; k < 2; ++k) {
+        hv_set_threads(2 - k);
+        hv_error_clear();
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "knot.3mf", &m), HV_ERR_BAD_INPUT);
+        snprintf(got[k], sizeof got[k], "%s", hv_last_error());
+    }
+    cr_assert(strstr(got[0], "malformed XML: Namespace prefix q on triang is not defined"), "%s", got[0]);
+    cr_assert_str_eq(got[1], got[0]);
+    free(data);
+    /* a declaration that is not one, then a DOCTYPE's entities (fuzz_3mf, pull against push: the
+     * pull parser went on past the error without SAX, declared them in a document of its own and
+     * left it; it stops at the first error now), 1 MiB of comment after the root */
+    hv_buf ent;
+    hv_buf_init(&ent);
+    hv_buf_printf(&ent, "<?xml vernasion=\"1.0\"?>\n<!DOCTYPE model [<!ENTITY a \"aaaa\"><!ENTITY b \"&a;&a;&a;\">]>\n"
+                        "<model>&b;</model>\n<!--");
+    while (ent.len < ((size_t)1 << 20) + 100) hv_buf_append(&ent, " padding padding padding padding", 32);
+    hv_buf_append(&ent, "-->\n", 4);
+    parts[5] = ent.data;
+    data = zip_parts(parts, 3, &len);
+    for (int k = 0; k < 2; ++k) {
+        hv_set_threads(2 - k);
+        hv_error_clear();
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "knot.3mf", &m), HV_ERR_BAD_INPUT);
+        snprintf(got[k], sizeof got[k], "%s", hv_last_error());
+    }
+    cr_assert(strstr(got[0], "line 1, column"), "%s", got[0]);
+    cr_assert_str_eq(got[1], got[0]);
+    free(data);
+    hv_buf_free(&ent);
+    /* ISO-8859-1: the object's name "Ã©tÃ©" read as "é" would be UTF-8 read in place */
+    hv_buf latin;
+    hv_buf_init(&latin);
+    const char *enc = strstr(xml.data, "encoding=\"UTF-8\""), *name = strstr(xml.data, "name=\"knot\"");
+    cr_assert(enc && name && enc < name);
+    hv_buf_append(&latin, xml.data, (size_t)(enc - xml.data));
+    hv_buf_append(&latin, "encoding=\"ISO-8859-1\"", 21);
+    hv_buf_append(&latin, enc + 16, (size_t)(name - enc - 16));
+    hv_buf_append(&latin, "name=\"\xc3\xa9t\xc3\xa9\"", 12);
+    hv_buf_append(&latin, name + 11, strlen(name + 11));
+    /* and one vertex at -0 */
+    char *x0 = strstr(latin.data, "<vertex x=\"");
+    cr_assert_not_null(x0);
+    memcpy(x0 + 11, "-0.000000", 9);
+    parts[5] = latin.data;
+    data = zip_parts(parts, 3, &len);
+    hv_mesh *m[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k) {
+        hv_set_threads(2 - k);
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "knot.3mf", &m[k]), HV_OK, "%s", hv_last_error());
+        cr_assert_str_eq(hv_mesh_body_at(m[k], 0)->name, "\xc3\x83\xc2\xa9t\xc3\x83\xc2\xa9");
+        cr_assert_eq(hv_mesh_item_at(m[k], 0)->object_name[1], '\x83');
+        cr_assert_eq(hv_mesh_vertices(m[k])[0], 0.0f);
+        cr_assert(!signbit(hv_mesh_vertices(m[k])[0]), "-0 is placed as +0");
+    }
+    cr_assert_eq(hv_mesh_vertex_count(m[0]), hv_mesh_vertex_count(m[1]));
+    cr_assert_eq(memcmp(hv_mesh_vertices(m[0]), hv_mesh_vertices(m[1]), 3 * hv_mesh_vertex_count(m[0]) * sizeof(float)), 0);
+    cr_assert_eq(memcmp(hv_mesh_facets(m[0]), hv_mesh_facets(m[1]), 3 * hv_mesh_facet_count(m[0]) * sizeof(uint32_t)), 0);
+    hv_set_threads(0);
+    for (int k = 0; k < 2; ++k) hv_mesh_destroy(m[k]);
+    free(data);
+    hv_buf_free(&latin);
+    free(late);
+    free(cut);
+    hv_buf_free(&xml);
+    hv_mesh_destroy(knot);
+}
+
 Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)
 {
     /* a DOCTYPE (entities: XXE, billion laughs) never reaches its subset */

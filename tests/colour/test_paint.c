@@ -57,13 +57,21 @@ static hv_volume *half_mm_voxels(const hv_mesh *m)
     return v;
 }
 
+/* The six-colour cube on 0.5 mm voxels painted 1 mm deep over Agilus30 through the default map. */
+static hv_volume *painted_face_cube(hv_mesh **m, hv_colour_map **map)
+{
+    *m = face_cube(k_face);
+    hv_volume *v = half_mm_voxels(*m);
+    cr_assert_eq(hv_colour_map_create(NULL, map), HV_OK);
+    cr_assert_eq(hv_colour_paint(v, *m, *map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
+    return v;
+}
+
 Test(paint, six_faces_six_colours_a_sharp_depth_and_the_core)
 {
-    hv_mesh *m = face_cube(k_face);
-    hv_volume *v = half_mm_voxels(m);
+    hv_mesh *m = NULL;
     hv_colour_map *map = NULL;
-    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
-    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
+    hv_volume *v = painted_face_cube(&m, &map);
     hv_material_table *t = NULL;
     cr_assert_eq(hv_material_table_load(v, &t), HV_OK, "%s", hv_last_error());
     /* six slots: Agilus30 takes one; no colour here is translucent, so VeroClear gives way */
@@ -303,11 +311,9 @@ Test(paint, six_slots_a_role_gives_way_to_a_seventh_resin)
  * not without the record (a model painted before). */
 Test(paint, colour_depth_holds_each_voxels_distance_and_side)
 {
-    hv_mesh *m = face_cube(k_face);
-    hv_volume *v = half_mm_voxels(m);
+    hv_mesh *m = NULL;
     hv_colour_map *map = NULL;
-    cr_assert_eq(hv_colour_map_create(NULL, &map), HV_OK);
-    cr_assert_eq(hv_colour_paint(v, m, map, 1.0, "Agilus30", NULL), HV_OK, "%s", hv_last_error());
+    hv_volume *v = painted_face_cube(&m, &map);
     float depth = 0;
     int g = hv_colour_depth_grid(v, &depth);
     cr_assert_geq(g, 0);

@@ -18,10 +18,10 @@ echo "  from the knot's mesh: tray on the textured mesh (paints it) vs voxelize 
 bench_tray_parts "$work/tray"
 cw="$work/colour"
 mkdir -p "$cw"
-if [ ! -f "$cw/knot_colour.vdb" ]; then
-    /usr/bin/python3 "$here/bench/textured_knot.py" "$work/tray/knot.stl" "$cw/knotc.obj"
-    "$HOVOX" voxelize "$cw/knotc.obj" --dims 160 --colour-depth 1 -o "$cw/knot_colour.vdb" -q >/dev/null
-fi
+[ -f "$cw/knotc.obj" ] || /usr/bin/python3 "$here/bench/textured_knot.py" "$work/tray/knot.stl" "$cw/knotc.obj"
+# painted by this build every time: a model painted by an older build (no colour.depth grid) would
+# print by the older path and make the tray-only side look cheaper than it is
+"$HOVOX" voxelize "$cw/knotc.obj" --dims 160 --colour-depth 1 -o "$cw/knot_colour.vdb" -q >/dev/null
 t_paint=$(median colour_paint "$HOVOX" voxelize "$cw/knotc.obj" --dims 160 --colour-depth 1 -o "$cw/paint.vdb" -q)
 # one string: hyperfine runs it through a shell
 make_graded="'$HOVOX' voxelize '$work/tray/knot.stl' --dims 160 -o '$cw/occ.vdb' -q >/dev/null && '$HOVOX' grade '$cw/occ.vdb' -o '$cw/grade.vdb' --materials A,B,C --frf contour --ranges 0,4,0 --ms 1,0,0 --me 0,0.5,0.5 -q"

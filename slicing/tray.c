@@ -1249,7 +1249,8 @@ static hv_status place_all(hv_tray *t, const hv_tray_options *o)
             continue;
         }
         if (!s->p.placed) {
-            st = hv_error_set(HV_ERR_INVALID, "%s%s%s has no position: give it one (at = X,Y) or arrange the tray",
+            st = hv_error_set(HV_ERR_INVALID, "%s%s%s has no position: give it one (--part PART@X,Y; \"at\": [X, Y] in a job file; at = {X, Y} in "
+                              "Lua) or arrange the tray",
                               where_of(t, in), WHERE_SEP(t, in), inst_name(t, in, nb, sizeof nb));
             break;
         }

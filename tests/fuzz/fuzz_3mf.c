@@ -17,12 +17,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     hv_set_memory_cap(256u << 20);
-    uint8_t *packed = NULL;
-    if (size < 2 || data[0] != 'P' || data[1] != 'K') {
-        packed = fuzz_3mf_package(data, size, ZIP_CM_STORE, &size);
-        if (!packed) return 0;
-        data = packed;
-    }
+    uint8_t *packed;
+    data = fuzz_3mf_input(data, &size, ZIP_CM_STORE, &packed);
+    if (!data) return 0;
     /* HV_ERR_UNSUPPORTED is a clean refusal (an extension hovox does not read): the reader has
      * no plugin since the package module replaced lib3mf */
     fuzz_mesh_parse(hv_mesh_parse_3mf, data, size, "fuzz.3mf");

@@ -76,12 +76,9 @@ static int same_mesh(const hv_mesh *a, const hv_mesh *b)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     hv_set_memory_cap(256u << 20);
-    uint8_t *packed = NULL;
-    if (size < 2 || data[0] != 'P' || data[1] != 'K') {
-        packed = fuzz_3mf_package(data, size, ZIP_CM_DEFLATE, &size);
-        if (!packed) return 0;
-        data = packed;
-    }
+    uint8_t *packed;
+    data = fuzz_3mf_input(data, &size, ZIP_CM_DEFLATE, &packed);
+    if (!data) return 0;
     static char pull_msg[FUZZ_MSG], push_msg[FUZZ_MSG];
     hv_mesh *pull = NULL, *push = NULL;
     hv_status s1 = parse_on(data, size, 1, pull_msg, &pull), s2 = parse_on(data, size, 2, push_msg, &push);

@@ -66,4 +66,14 @@ static inline uint8_t *fuzz_3mf_package(const uint8_t *xml, size_t size, int met
     return out;
 }
 
+/* The bytes a 3MF target parses: `data` as it is when it starts with "PK" (a package), else a
+ * package made of it (*packed: free it; *size updated), or NULL when none could be made. */
+static inline const uint8_t *fuzz_3mf_input(const uint8_t *data, size_t *size, int method, uint8_t **packed)
+{
+    *packed = NULL;
+    if (*size >= 2 && data[0] == 'P' && data[1] == 'K') return data;
+    *packed = fuzz_3mf_package(data, *size, method, size);
+    return *packed;
+}
+
 #endif

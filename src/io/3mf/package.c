@@ -801,7 +801,10 @@ uint64_t tmf_xml_bulk_merged(void) { return g_bulk_merged; }
 
 void tmf_xml_bulk(tmf_xml *x, const tmf_bulk *b)
 {
-    if (!x->whole || x->pulling || x->collect || x->status != HV_OK || hv_threads() < 2) return;
+    const xmlParserCtxtPtr c = x->ctxt;
+    if (!x->whole || x->pulling || x->collect || x->status != HV_OK || hv_threads() < 2 || !c->input || !c->input->buf ||
+        c->input->buf->encoder) /* the bytes the parser reads are not the part's */
+        return;
     x->bulk = *b;
     x->bulk_depth = x->depth;
     x->bulk_asked = 1;

@@ -1,13 +1,24 @@
 /* tests/fuzz/fuzz_3mf_pull_push.c - differential fuzz target for the 3MF package module
- * (src/io/3mf/package.c, issue 26): on one thread a deflated part is inflated whole and parsed in
- * place by libxml2's pull parser, falling back to the push parser (replaying the elements already
- * handled) for anything not well-formed UTF-8; on two threads it streams through the push parser
- * beside an inflater thread. package.c is compiled into this target with PKG_THREAD_FLOOR 1, so
- * every part, however small, takes those paths. Both runs must give the same status and message,
- * and the same mesh (points, facets, bodies, materials, colours, notes), which must be sound
- * (mesh_fuzz_check.h). Bytes that start with "PK" are a package as they are; any others are the
- * model part's XML, packed with every member deflated. */
+ * (src/io/3mf/package.c, issue 26). package.c is compiled into this target with PKG_THREAD_FLOOR 1
+ * and PKG_BULK_SHARE 1, so every deflated part, however small, is inflated whole, and every
+ * <vertices> and <triangles> asked to be read ahead is cut. Each input is parsed three ways:
+ *   pull:   deflated, one thread: the part parsed where it lies by libxml2's pull parser, falling
+ *           back to the push parser (replaying the elements already handled) for anything not
+ *           well-formed UTF-8;
+ *   bulk:   deflated, 2 to 4 threads: the whole part pushed, its bulk elements cut into pieces that
+ *           other threads parse (tmf_xml_bulk), a piece given up where its cut or content is not
+ *           fit;
+ *   stream: stored, one thread: the part streamed chunk by chunk to the push parser, the reference.
+ * All must give the same status and message, and the same mesh (points, facets, bodies,
+ * materials, colours, notes), which must be sound (mesh_fuzz_check.h). Bytes that start with "PK"
+ * are a package as they are (pull against bulk); any others are the model part's XML, packed
+ * here. A part is handed to the push parser PKG_CHUNK (64 KiB) at a time, and a bulk element is cut
+ * only past what the parser has been fed when it opens, so for every other input the XML is first
+ * padded with blanks after the start tag of its first <vertices> or <triangles>, so that the first
+ * chunk ends in them, 0 to 96 before its first child (as a large part's would): its children are
+ * then cut into pieces. */
 #define PKG_THREAD_FLOOR 1
+#define PKG_BULK_SHARE 1
 #include "io/3mf/package.c"
 
 #include <stdint.h>
@@ -22,6 +33,33 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 #define FUZZ_MSG 4096
+#define FUZZ_CHUNK 65536 /* package.c's PKG_CHUNK */
+
+/* The XML with blanks after the start tag of its first <vertices> or <triangles> (`which`), so
+ * that the first chunk ends in them, `left` (< 97) of them after its end (malloc'd, *size updated),
+ * or NULL when it has none or it lies past the first chunk. */
+static uint8_t *padded(const uint8_t *xml, size_t *size, int which, int left)
+{
+    static const char *const k_tag[2] = {"<vertices", "<triangles"};
+    const uint8_t *at = NULL;
+    for (int k = 0; k < 2 && !at; ++k) { /* (memmem is not C11) */
+        const char *t = k_tag[(which + k) & 1];
+        size_t n = strlen(t);
+        for (size_t i = 0; !at && i + n <= *size; ++i)
+            if (memcmp(xml + i, t, n) == 0) at = xml + i;
+    }
+    const uint8_t *gt = at ? memchr(at, '>', *size - (size_t)(at - xml)) : NULL;
+    size_t head = gt ? (size_t)(gt - xml) + 1 : 0; /* the bytes up to the start tag's end */
+    if (!gt || head >= FUZZ_CHUNK) return NULL;
+    size_t pad = FUZZ_CHUNK - head + (size_t)left;
+    uint8_t *out = malloc(*size + pad);
+    if (!out) return NULL;
+    memcpy(out, xml, head);
+    memset(out + head, ' ', pad);
+    memcpy(out + head + pad, gt + 1, *size - head);
+    *size += pad;
+    return out;
+}
 
 static hv_status parse_on(const uint8_t *data, size_t size, int threads, char *msg, hv_mesh **m)
 {
@@ -73,30 +111,49 @@ static int same_mesh(const hv_mesh *a, const hv_mesh *b)
     return same_text(hv_mesh_file_unit(a), hv_mesh_file_unit(b));
 }
 
+/* Way `way`'s result against the pull parse's (status s1, message m1, mesh a); aborts when they differ. */
+static void same_as_pull(const char *way, hv_status s1, const char *m1, const hv_mesh *a, hv_status s, const char *m,
+                         const hv_mesh *b)
+{
+    if (s1 != s || strcmp(m1, m) != 0) {
+        fprintf(stderr, "pull and %s differ:\n  %s: %s\n  %s: %s\n", way, hv_status_name(s1), m1, hv_status_name(s), m);
+        abort();
+    }
+    if (s1 == HV_OK && !same_mesh(a, b)) {
+        fprintf(stderr, "pull and %s built different meshes\n", way);
+        abort();
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     hv_set_memory_cap(256u << 20);
-    uint8_t *packed;
-    data = fuzz_3mf_input(data, &size, ZIP_CM_DEFLATE, &packed);
-    if (!data) return 0;
-    static char pull_msg[FUZZ_MSG], push_msg[FUZZ_MSG];
-    hv_mesh *pull = NULL, *push = NULL;
-    hv_status s1 = parse_on(data, size, 1, pull_msg, &pull), s2 = parse_on(data, size, 2, push_msg, &push);
-    if (s1 != s2 || strcmp(pull_msg, push_msg) != 0) {
-        fprintf(stderr, "pull (1 thread) and push (2 threads) differ:\n  %s: %s\n  %s: %s\n", hv_status_name(s1),
-                pull_msg, hv_status_name(s2), push_msg);
-        abort();
+    static char pull_msg[FUZZ_MSG], msg[FUZZ_MSG];
+    uint8_t *pad = NULL;
+    if (size % 2 && !(size >= 2 && data[0] == 'P' && data[1] == 'K') &&
+        (pad = padded(data, &size, (int)(size / 2 % 2), (int)(size / 4 % 97))) != NULL)
+        data = pad;
+    uint8_t *deflated = NULL, *stored = NULL;
+    size_t dsize = size, ssize = size;
+    const uint8_t *d = fuzz_3mf_input(data, &dsize, ZIP_CM_DEFLATE, &deflated);
+    const uint8_t *st = deflated ? fuzz_3mf_input(data, &ssize, ZIP_CM_STORE, &stored) : NULL;
+    hv_mesh *pull = NULL, *other = NULL;
+    hv_status s1 = d ? parse_on(d, dsize, 1, pull_msg, &pull) : HV_OK;
+    if (d && s1 == HV_OK) fuzz_check_mesh(pull);
+    if (d) {
+        hv_status s = parse_on(d, dsize, 2 + (int)(size % 3), msg, &other);
+        same_as_pull("bulk", s1, pull_msg, pull, s, msg, other);
+        hv_mesh_destroy(other);
     }
-    if (s1 == HV_OK) {
-        fuzz_check_mesh(pull);
-        if (!same_mesh(pull, push)) {
-            fprintf(stderr, "pull (1 thread) and push (2 threads) built different meshes\n");
-            abort();
-        }
+    if (st) {
+        hv_status s = parse_on(st, ssize, 1, msg, &other);
+        same_as_pull("stream", s1, pull_msg, pull, s, msg, other);
+        hv_mesh_destroy(other);
     }
     hv_mesh_destroy(pull);
-    hv_mesh_destroy(push);
     hv_set_threads(0);
-    free(packed);
+    free(deflated);
+    free(stored);
+    free(pad);
     return 0;
 }

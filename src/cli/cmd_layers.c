@@ -267,7 +267,7 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         s = scan_source(o, c, so, &scan, &src, &scan_map, &said);
     } else if (so) {
         s = scan_model(o, c, so, quiet, &model, &said);
-    } else if (!c->mesh && o->model_name && cli_is_mesh_input(o->model_name)) {
+    } else if (!c->mesh && o->model_name && hv_model_file_is_mesh(o->model_name)) {
         s = mesh_model(o, c, quiet, &mesh, &model, &said);
         o->mesh_name = o->model_name;
         if (o->mode == HV_LAYERS_MASK) o->model_name = NULL;
@@ -339,7 +339,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
     if (!c->mesh && args->npos == 0) return cli_usage_error("layers", "missing MODEL.vdb or --mesh");
-    int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && cli_is_mesh_input(args->pos[0]);
+    int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && hv_model_file_is_mesh(args->pos[0]);
     if (!c->mesh && !mesh_in && hv_placement_given(&c->place))
         return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
                                          "sliced where its recorded shape is");

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "hovox/dist.h"
+#include "hovox/model.h"
 #include "hovox/scan.h"
 #include "hovox/tray.h"
 
@@ -179,7 +180,7 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
         *comma = '\0';
         p->model = buf;
         p->mesh = comma + 1;
-    } else if (access(buf, F_OK) == 0 && !cli_is_mesh_input(buf) && !hv_scan_path_is_scan(buf)) {
+    } else if (access(buf, F_OK) == 0 && !hv_model_file_is_mesh(buf) && !hv_scan_path_is_scan(buf)) {
         p->model = buf; /* a model alone: its recorded shape (issue 28) */
     } else {
         char *colon = strrchr(buf, ':');

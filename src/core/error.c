@@ -152,4 +152,22 @@ hv_status hv_error_prefix(hv_status status, const char *fmt, ...)
     return status;
 }
 
+static void append(char *msg, const char *suffix)
+{
+    size_t m = strlen(msg);
+    snprintf(msg + m, HV_ERROR_MAX - m, "%s", suffix);
+}
+
+hv_status hv_error_suffix(hv_status status, const char *fmt, ...)
+{
+    char suffix[HV_ERROR_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(suffix, sizeof suffix, fmt, ap);
+    va_end(ap);
+    append(g_message, suffix);
+    if (g_marked[0]) append(g_marked, suffix);
+    return status;
+}
+
 const char *hv_version(void) { return HV_VERSION_STRING; }

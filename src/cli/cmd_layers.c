@@ -29,6 +29,7 @@ typedef struct layers_cli {
     double colour_depth;    /* a mesh in one step painted in its colours */
     const char *core;
     hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut, a painted mesh's colours */
+    char cmap_given[40];    /* "--icc, --resins": those given, for a package whose composite ignores them */
 } layers_cli;
 
 static const hv_option k_local_opts[] = {
@@ -280,6 +281,10 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         s = c->mesh ? cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh) : HV_OK;
         if (s == HV_OK && o->model_name) s = hv_model_load_colour(o->model_name, &c->cmap, &model);
     }
+    if (s == HV_OK && model && c->cmap_given[0] && !hv_3mf_colour_mapped(model))
+        cli_warn("%s: its <v:composite> gives the material fractions, so %s %s no effect (%s the colour of a package "
+                 "without a composite)", o->model_name, c->cmap_given, strchr(c->cmap_given, ' ') ? "have" : "has",
+                 strchr(c->cmap_given, ' ') ? "they map" : "it maps");
     hv_layers_report r;
     memset(&r, 0, sizeof r);
     if (s == HV_OK) {
@@ -334,7 +339,7 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
 static int run_cli(const cli_args *args, void *lib, void *local)
 {
     hv_layers_options *o = lib;
-    const layers_cli *c = local;
+    layers_cli *c = local;
     if (!c->output && !c->dry_run) return cli_usage_error("layers", "missing -o DIR");
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
         return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
@@ -354,6 +359,14 @@ static int run_cli(const cli_args *args, void *lib, void *local)
                                                "DICOM directory)");
         static const char *const colour[] = {"icc", "intent", "resins", "colour_depth", "core"};
         int package = o->model_name && hv_3mf_sniff(o->model_name); /* its colour without a composite takes them */
+        for (int k = 0, n = 0; package && !mesh_in && k < 3; ++k) /* "--icc", "--icc and --resins", ... */
+            if (cli_given(args, colour[k])) {
+                int later = 0;
+                for (int j = k + 1; j < 3; ++j) later |= cli_given(args, colour[j]);
+                size_t at = strlen(c->cmap_given);
+                snprintf(c->cmap_given + at, sizeof c->cmap_given - at, "%s%s", n++ ? later ? ", " : " and " : "",
+                         cli_spell(colour[k]));
+            }
         for (int k = package ? 3 : 0; k < 5 && rc < 0 && !mesh_in; ++k)
             if (cli_given(args, colour[k]))
                 rc = cli_usage_error("layers", "%s is for a mesh painted in one step, a 3MF package's colour or a "

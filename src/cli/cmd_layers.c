@@ -72,7 +72,8 @@ static void print_plan(const hv_layers_report *r, const hv_layers_options *o)
     printf("image       %d x %d pixels of %.6g x %.6g mm, origin (%.6g, %.6g), %d-bit\n", r->width, r->height,
            r->pixel_mm[0], -r->pixel_mm[1], r->origin_mm[0], r->origin_mm[1], r->bit_depth);
     printf("layers      %zu to %zu of %zu\n", r->first, r->last - 1, r->layers_total);
-    printf("memory      about %.1f MiB (%d workers)\n", (double)r->memory_bytes / 1048576.0, r->threads);
+    char mem[32];
+    printf("memory      about %s (%d workers)\n", hv_size_text(mem, sizeof mem, (double)r->memory_bytes), r->threads);
 }
 
 /* The library's warnings, one line each, from `from` on. */

@@ -344,10 +344,11 @@ static int run(const cli_args *args, void *lib, void *local)
             free(share);
         }
         if (!o->dry_run && o->mode == HV_LAYERS_HALFTONE) print_colour(t);
+        char sz[32];
         if (!o->dry_run)
-            printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
-                   (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",
-                   o->gcvf_path ? o->gcvf_path : "");
+            printf("wrote       %s (%zu layers, %llu object pixels, %s%s%s)\n", c->output, r.last - r.first,
+                   (unsigned long long)r.object_pixels, hv_size_text(sz, sizeof sz, (double)r.bytes),
+                   o->gcvf_path ? ", " : "", o->gcvf_path ? o->gcvf_path : "");
     }
     if (s == HV_OK && !o->dry_run) cli_view_report(&page, c->output, args->quiet);
     hv_tray_destroy(t);

@@ -201,7 +201,8 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
            plan->xf.origin[2]);
     printf("surface     adjacency %d, fill %s%s\n", opt->adjacency, hv_fill_mode_name(plan->fill),
            plan->fill == HV_FILL_AUTO ? " (decided per body)" : "");
-    printf("memory      about %.1f MiB\n", (double)plan->memory_bytes / 1048576.0);
+    char mem[32];
+    printf("memory      about %s\n", hv_size_text(mem, sizeof mem, (double)plan->memory_bytes));
     if (vol)
         printf("occupied    %llu voxels (%llu surface), volume %.6g (mesh %.6g)\n", (unsigned long long)occupied,
                (unsigned long long)surface, (double)occupied * vv, r->volume);

@@ -1,4 +1,4 @@
-/* src/cli/cmd_layers.c - `hovox layers MODEL.vdb --mesh MESH.stl -o DIR`: printer slice stacks
+/* src/cli/cmd_layers.c - `hovox layers MODEL.vdb|MODEL.3mf|MESH|VOLUME -o DIR`: printer slice stacks
  * (Wu 2.4.2): contour-constrained material layers at printer resolution, halftoned or as
  * fractions or masks, PNG layers with manifest.json, optionally a GCVF zip. A 3MF Volumetric
  * model brings its mesh. The options are the library's (hv_layers_option_set). */
@@ -342,9 +342,12 @@ static int run_cli(const cli_args *args, void *lib, void *local)
     hv_layers_options *o = lib;
     layers_cli *c = local;
     if (!c->output && !c->dry_run) return cli_usage_error("layers", "missing -o DIR");
+    if (!c->mesh && args->npos == 0)
+        return cli_usage_error("layers", "missing the input: MODEL.vdb, MODEL.3mf, a mesh (.stl, .obj, .ply, .3mf) or a "
+                                         "scanned volume");
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
-        return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
-    if (!c->mesh && args->npos == 0) return cli_usage_error("layers", "missing MODEL.vdb or --mesh");
+        return cli_usage_error("layers", "missing MODEL.vdb (--mesh alone prints only --mode mask; a mesh given in place "
+                                         "of MODEL.vdb prints in one step)");
     int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && hv_model_file_is_mesh(args->pos[0]);
     if (!c->mesh && !mesh_in && hv_placement_given(&c->place))
         return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
@@ -396,7 +399,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 }
 
 const cli_spec cmd_layers = {
-    "layers", "printer slice stacks (PNG) from a model",
+    "layers", "printer slice stacks (PNG) from a model, a mesh or a scanned volume",
     "MODEL.vdb -o DIR [--mesh MESH] [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
     "       hovox layers PART.stl|.obj|.ply|.3mf -o DIR [--material BODY=MATERIAL]... [options]\n"
     "       hovox layers --mesh MESH -o DIR --mode mask [options]\n"

@@ -451,7 +451,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 
 const cli_spec cmd_voxelize = {
     "voxelize", "voxelize a mesh or a scanned volume into a .vdb model (surface + interior)",
-    "MESH -o MODEL.vdb [options]\n       VOLUME (--iso V | --range LO,HI | --labels A,B,...) -o MODEL.vdb [options]",
+    "MESH -o MODEL.vdb [options]\n       hovox voxelize VOLUME (--iso V | --range LO,HI | --labels A,B,...) -o MODEL.vdb [options]",
     "Voxelize a mesh (Wu 2.1; Huang et al. 1998): triangles mark the voxels in their face\n"
     "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
     "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"

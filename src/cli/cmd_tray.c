@@ -271,7 +271,10 @@ static int run(const cli_args *args, void *lib, void *local)
     } else {
         s = hv_tray_create(&t);
     }
-    if (s == HV_OK && !c->output && !o->dry_run) s = hv_error_set(HV_ERR_INVALID, "--output: missing -o DIR");
+    if (s == HV_OK && !c->output && !o->dry_run) {
+        hv_tray_destroy(t);
+        return cli_usage_error("tray", "missing -o DIR");
+    }
     char bufs[MAX_CLI_PARTS][1024];
     for (int i = 0; i < c->nparts && s == HV_OK; ++i) {
         hv_tray_part p;

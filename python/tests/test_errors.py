@@ -31,6 +31,13 @@ def test_status_and_message(tmp_path):
         hovox.load(tmp_path / "none.vdb")
 
 
+def test_unknown_shape_names_the_shapes():
+    """The library's message, the CLI's too (tests/cli/cases/generate_unknown_key)."""
+    with pytest.raises(hovox.InvalidError) as e:
+        hovox.generate("blob")
+    assert str(e.value) == "unknown shape 'blob' (shapes: sphere, box, holed-box, torus, cylinder, knot, gear)"
+
+
 def test_load_on_a_mesh_names_load_mesh(tmp_path):
     """hovox.load on a mesh says it is one and names hovox.load_mesh, not "bad magic number"."""
     hovox.generate.box().save(tmp_path / "b.stl")

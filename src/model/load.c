@@ -1,6 +1,8 @@
 /* src/model/load.c - the one model loader (hovox/model.h): an OpenVDB file or a 3MF Volumetric
  * package, told apart by the first bytes, its grids checked against each other (check.c). */
+#include <errno.h>
 #include <stdio.h>
+#include <string.h>
 #include <sys/stat.h>
 
 #include "core/internal.h"
@@ -22,7 +24,7 @@ static int is_vdb(const unsigned char *magic, size_t got)
 static hv_status sniff(const char *path, model_kind *kind)
 {
     struct stat st;
-    if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: no such file", path);
+    if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     if (S_ISDIR(st.st_mode)) return hv_error_set(HV_ERR_IO, "%s: is a directory, not a file", path);
     FILE *fp = fopen(path, "rb");
     if (!fp) return hv_error_set(HV_ERR_IO, "%s: cannot open for reading", path);

@@ -64,7 +64,8 @@ HV_API hv_status hv_placement_apply(const hv_placement *p, hv_mesh **mesh);
  * fits no orientation of the build volume `build` (x, y, z in mm; NULL: no upper bound). The
  * message names the mesh, its size and the likely unit with the option that gives it
  * ("bunny.stl is 0.155 x 0.153 x 0.12 mm, smaller than 1 mm: if its unit is metres, {unit} m
- * makes it 155 mm across"). Returns 1 with the message recorded as the calling thread's last
+ * makes it 155 mm across"; for a 3MF, which states its unit, a scale from it: "if its numbers
+ * are metres (the package says millimeter), {scale} 1000 makes it 155 mm across"). Returns 1 with the message recorded as the calling thread's last
  * message (as hv_error_option records it: hv_last_error, hv_error_spell), else 0. */
 HV_API int hv_placement_size_warning(const hv_mesh *mesh, const double build[3]);
 

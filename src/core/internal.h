@@ -104,8 +104,9 @@ hv_status hv_atomic_write(const char *path, const void *data, size_t size);
  * the file is removed. */
 hv_status hv_write_in_place(const char *path, const void *data, size_t size);
 /* s[0..len) as a float, exactly as strtof reads it (the same value, the same strings taken and
- * refused), much faster for the plain decimals files hold (src/core/numparse.c). Returns 1 when
- * all len bytes are one number (*out set), else 0. */
+ * refused, but for white space after the number, taken as strtof takes it before: an XML
+ * number's), much faster for the plain decimals files hold (src/core/numparse.c). Returns 1 when
+ * all len bytes are one number and white space around it (*out set), else 0. */
 int hv_parse_float(const char *s, size_t len, float *out);
 /* "512 bytes", "8.8 KiB", "1.5 GiB" (binary units, one decimal) into buf; returns buf. */
 const char *hv_size_text(char *buf, size_t size, double bytes);

@@ -70,6 +70,9 @@ int hv_parse_float(const char *s, size_t len, float *out)
         }
     }
     char buf[128], *end;
+    /* white space after the number, as strtof takes it before: an XML Schema number (3MF's
+     * ST_Number, an xs:double) collapses white space on both sides (3MF Core 2.3.4) */
+    while (len > 0 && (s[len - 1] == ' ' || s[len - 1] == '\t' || s[len - 1] == '\n' || s[len - 1] == '\r')) --len;
     if (len == 0 || len >= sizeof buf) return 0;
     memcpy(buf, s, len);
     buf[len] = '\0';

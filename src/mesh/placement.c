@@ -250,13 +250,22 @@ int hv_placement_size_warning(const hv_mesh *mesh, const double build[3])
         large = sorted[0] > fit[0] || sorted[1] > fit[1] || sorted[2] > fit[2];
     }
     if (!(largest > 0) || (!small && !large)) return 0;
-    /* the likely unit: for a small mesh the largest of m, in, cm that leaves it fitting the
-     * build volume (scans come in metres, American CAD in inches), for a large one micrometres */
-    static const int small_units[] = {2, 3, 1}, large_units[] = {5};
+    /* A 3MF package states its unit, so --unit is refused for it (hv_placement_transform): its
+     * hint is a scale from the unit it states (as read; a placed mesh's, millimetres) */
+    int pkg = r->format == HV_MESH_3MF;
+    double unit = 1.0;
+    const char *stated = pkg ? hv_mesh_file_unit(mesh) : NULL;
+    for (size_t i = 0; stated && i < HV_COUNT(k_units); ++i)
+        if (strcmp(stated, k_units[i].alias) == 0) unit = k_units[i].mm;
+    /* the likely unit: for a small mesh the largest of m, in, cm (and mm, for a package in a
+     * smaller unit) that leaves it fitting the build volume (scans come in metres, American CAD in
+     * inches), for a large one micrometres (then mm, cm, for a package in a larger unit) */
+    static const int small_units[] = {2, 3, 1, 0}, large_units[] = {5, 0, 1};
     const int *cand = small ? small_units : large_units;
     int ncand = small ? (int)HV_COUNT(small_units) : (int)HV_COUNT(large_units), best = -1;
     for (int i = 0; i < ncand && best < 0; ++i) {
-        double f = k_units[cand[i]].mm, s[3] = {sorted[0] * f, sorted[1] * f, sorted[2] * f};
+        double f = k_units[cand[i]].mm / unit, s[3] = {sorted[0] * f, sorted[1] * f, sorted[2] * f};
+        if (small ? f <= 1 : f >= 1) continue; /* only a larger unit for a small mesh, a smaller one for a large */
         int fits = s[2] >= 1.0 && (!build || (s[0] <= fit[0] && s[1] <= fit[1] && s[2] <= fit[2]));
         if (fits) best = cand[i];
     }
@@ -264,7 +273,13 @@ int hv_placement_size_warning(const hv_mesh *mesh, const double build[3])
     if (small) snprintf(what, sizeof what, "smaller than 1 mm");
     else snprintf(what, sizeof what, "larger than the build volume %g x %g x %g mm", build[0], build[1], build[2]);
     const char *name = *hv_mesh_name(mesh) ? hv_mesh_name(mesh) : "the mesh";
-    if (best >= 0)
+    if (best >= 0 && pkg) {
+        char says[64] = "";
+        if (stated) snprintf(says, sizeof says, " (the package says %s)", stated);
+        hv_error_option(HV_OK, "%s is %.4g x %.4g x %.4g mm, %s: if its numbers are %s%s, {scale} %g makes it %.3g mm across",
+                        name, side[0], side[1], side[2], what, k_units[best].words, says, k_units[best].mm / unit,
+                        largest * k_units[best].mm / unit);
+    } else if (best >= 0)
         hv_error_option(HV_OK, "%s is %.4g x %.4g x %.4g mm, %s: if its unit is %s, {unit} %s makes it %.3g mm across",
                         name, side[0], side[1], side[2], what, k_units[best].words, k_units[best].name,
                         largest * k_units[best].mm);

@@ -14,7 +14,9 @@ static void same(const char *s)
     size_t n = strlen(s);
     char *end;
     float want = strtof(s, &end);
-    int ok_want = n > 0 && end == s + n;
+    const char *rest = end; /* white space after the number is taken, as strtof takes it before */
+    while (rest < s + n && (*rest == ' ' || *rest == '\t' || *rest == '\n' || *rest == '\r')) ++rest;
+    int ok_want = n > 0 && end != s && rest == s + n;
     float got = 0;
     int ok_got = hv_parse_float(s, n, &got);
     cr_assert_eq(ok_got, ok_want, "'%s': taken %d, strtof %d", s, ok_got, ok_want);
@@ -81,4 +83,25 @@ Test(numparse, edges_and_malformed_text)
         "infinity", "1,5", "--1", "1-", "0e99999", "1e-99999", "1e99999", "00000000000000000000000001.5",
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) same(cases[i]);
+}
+
+/* 3MF Core 2.3.4: an ST_Number collapses white space, so " 1.5 " is a coordinate (a producer's
+ * padded columns); before, white space after the number was refused ("x is not a finite number"). */
+Test(numparse, white_space_around_a_number)
+{
+    static const struct {
+        const char *s;
+        int ok;
+        float v;
+    } cases[] = {
+        {"1.5 ", 1, 1.5f}, {" 1.5 ", 1, 1.5f}, {"\t-2e3\n", 1, -2000.0f}, {"0 \r\n", 1, 0.0f}, {" +.25\t\t", 1, 0.25f},
+        {"1 x", 0, 0}, {"1 1", 0, 0}, {" ", 0, 0}, {" \t\n", 0, 0}, {"1\v", 0, 0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+        float got = -1;
+        int ok = hv_parse_float(cases[i].s, strlen(cases[i].s), &got);
+        cr_assert_eq(ok, cases[i].ok, "case %zu: taken %d", i, ok);
+        if (ok) cr_assert_eq(got, cases[i].v, "case %zu: %g", i, (double)got);
+        same(cases[i].s);
+    }
 }

@@ -1387,6 +1387,10 @@ static hv_status place(build *b, size_t obj, const double *t, int split)
             continue;
         }
         const component *c = &b->r->comps[o->c0 + f->next++];
+        const object *k = &b->r->objs[c->obj];
+        /* as an item of them: a support mesh is not filled (Core 4.1: "MUST NOT fill this mesh"),
+         * and Core 4.1 expects one as a component of the object it supports; "other" is not output */
+        if (k->type == T_SUPPORT || k->type == T_OTHER) continue;
         frame *g = &stack[++top];
         g->obj = c->obj;
         g->next = 0;

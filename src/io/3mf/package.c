@@ -648,6 +648,28 @@ static int replayed(tmf_xml *x)
     return 1;
 }
 
+/* SAX2 with these callbacks and no other. */
+static void sax_init(xmlSAXHandler *sax, startElementNsSAX2Func start, endElementNsSAX2Func end, xmlStructuredErrorFunc error)
+{
+    memset(sax, 0, sizeof *sax);
+    sax->initialized = XML_SAX2_MAGIC;
+    sax->startElementNs = start;
+    sax->endElementNs = end;
+    sax->serror = error;
+}
+
+/* libxml2's attributes (local, prefix, URI, value, end: five pointers each) as tmf_attr. */
+static void attrs_of(const xmlChar **attrs, int n, tmf_attr *a)
+{
+    for (int i = 0; i < n; ++i) {
+        const xmlChar **t = attrs + 5 * i;
+        a[i].local = (const char *)t[0];
+        a[i].uri = (const char *)t[2];
+        a[i].value = (const char *)t[3];
+        a[i].len = (size_t)(t[4] - t[3]);
+    }
+}
+
 static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
                      const xmlChar **ns, int nattrs, int ndefaulted, const xmlChar **attrs)
 {
@@ -668,13 +690,7 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
     if (x->collect) want_text(x, 0);
     if (replayed(x)) return;
     tmf_attr a[PKG_MAX_ATTRS];
-    for (int i = 0; i < nattrs; ++i) {
-        const xmlChar **t = attrs + 5 * i;
-        a[i].local = (const char *)t[0];
-        a[i].uri = (const char *)t[2];
-        a[i].value = (const char *)t[3];
-        a[i].len = (size_t)(t[4] - t[3]);
-    }
+    attrs_of(attrs, nattrs, a);
     hv_status s = x->h->start ? x->h->start(x->ctx, x, (const char *)local, (const char *)uri, a, nattrs) : HV_OK;
     if (s == HV_OK) x->collect_after = x->collect;
     else fail(x, s);
@@ -785,7 +801,10 @@ uint64_t tmf_xml_bulk_merged(void) { return g_bulk_merged; }
 
 void tmf_xml_bulk(tmf_xml *x, const tmf_bulk *b)
 {
-    if (!x->whole || x->pulling || x->collect || x->status != HV_OK || hv_threads() < 2) return;
+    const xmlParserCtxtPtr c = x->ctxt;
+    if (!x->whole || x->pulling || x->collect || x->status != HV_OK || hv_threads() < 2 || !c->input || !c->input->buf ||
+        c->input->buf->encoder) /* the bytes the parser reads are not the part's */
+        return;
     x->bulk = *b;
     x->bulk_depth = x->depth;
     x->bulk_asked = 1;
@@ -867,13 +886,7 @@ static void piece_start(void *ctx, const xmlChar *local, const xmlChar *prefix, 
         p->cap = cap;
     }
     tmf_attr a[PKG_MAX_ATTRS];
-    for (int i = 0; i < nattrs; ++i) {
-        const xmlChar **t = attrs + 5 * i;
-        a[i].local = (const char *)t[0];
-        a[i].uri = (const char *)t[2];
-        a[i].value = (const char *)t[3];
-        a[i].len = (size_t)(t[4] - t[3]);
-    }
+    attrs_of(attrs, nattrs, a);
     (void)uri;
     if (b->item(b->arg, a, nattrs, p->items + p->count * b->item_size)) p->count++;
     else piece_stop(p);
@@ -921,11 +934,7 @@ static void *piece_main(void *arg)
     tmf_xml_quiet quiet;
     tmf_xml_quiet_begin(&quiet); /* libxml2's generic error function is the thread's own */
     xmlSAXHandler sax;
-    memset(&sax, 0, sizeof sax);
-    sax.initialized = XML_SAX2_MAGIC;
-    sax.startElementNs = piece_start;
-    sax.endElementNs = piece_end;
-    sax.serror = piece_error;
+    sax_init(&sax, piece_start, piece_end, piece_error);
     p->ctxt = xmlCreatePushParserCtxt(&sax, p, NULL, 0, NULL);
     if (p->ctxt) {
         xmlCtxtUseOptions(p->ctxt, PKG_XML_OPTIONS);
@@ -1231,13 +1240,8 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     hv_status s = inflate_open(pk, i, part, limit, &in);
     if (s != HV_OK) return s;
     xmlSAXHandler sax;
-    memset(&sax, 0, sizeof sax);
-    sax.initialized = XML_SAX2_MAGIC;
-    sax.startElementNs = on_start;
-    sax.endElementNs = on_end;
-    sax.internalSubset = on_doctype;
-    sax.serror = on_error;
-    sax.characters = sax.cdataBlock = NULL; /* want_text sets them */
+    sax_init(&sax, on_start, on_end, on_error);
+    sax.internalSubset = on_doctype; /* characters and cdataBlock: want_text sets them */
     tmf_xml x;
     memset(&x, 0, sizeof x);
     x.pk = pk;

@@ -288,3 +288,50 @@ with open('tests/data/bad/ply_ascii_bad_value.ply', 'w') as f:
 with open('tests/data/bad/ply_no_faces.ply', 'w') as f:
     f.write('ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n'
             'end_header\n0 0 0\n')
+
+
+# ---- other producers' conventions (a new user's files, suser) ---------------------------------
+def streamed(path, parts):
+    """A package written to a pipe, as a streaming producer writes it: each part's sizes in a data
+    descriptor after its data, ZIP64 extra fields (3MF Core 1.1: consumers MUST read both)."""
+    class Pipe(io.RawIOBase):
+        def __init__(self, f):
+            self.f = f
+
+        def writable(self):
+            return True
+
+        def write(self, b):
+            return self.f.write(b)
+    with open(path, 'wb') as raw, zipfile.ZipFile(Pipe(raw), 'w', zipfile.ZIP_DEFLATED) as z:
+        for name, data in parts:
+            with z.open(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), 'w', force_zip64=True) as f:
+                f.write(data)
+
+
+# A hand writer's package: a UTF-8 byte order mark, CRLF lines, the core namespace on a prefix,
+# attributes in another order and in single quotes, coordinates padded with white space (an
+# ST_Number collapses it, Core 2.3.4), a transform spread over lines; the box 10 x 6 x 4 turned a
+# quarter about z and moved by (20, 5, 1): x 14..20, y 5..15, z 1..5, volume 240
+hv, ht = cuboid((0, 0, 0), (10, 6, 4))
+hand = ('<?xml version="1.0" encoding="UTF-8"?>\r\n<c:model xmlns:c="http://schemas.microsoft.com/3dmanufacturing/'
+        "core/2015/02\" xml:lang='en-GB' unit='millimeter'>\r\n<c:metadata name='Title'>hand written</c:metadata>\r\n"
+        '<c:resources>\r\n<c:object name=\'box\' type="model" id=\'7\'>\r\n<c:mesh>\r\n<c:vertices>\r\n' +
+        ''.join("<c:vertex z=' %s ' y='%6s  ' x=\"\t%s\"/>\r\n" % (z, y, x) for x, y, z in hv) +
+        '</c:vertices>\r\n<c:triangles>\r\n' +
+        ''.join("<c:triangle v3='%d' v1='%d' v2='%d'/>\r\n" % (c, a, b) for a, b, c in ht) +
+        "</c:triangles>\r\n</c:mesh>\r\n</c:object>\r\n</c:resources>\r\n<c:build>\r\n"
+        "<c:item transform='0 1 0\r\n -1 0 0\r\n 0 0 1\r\n 20 5 1 ' objectid='7'/>\r\n</c:build>\r\n</c:model>\r\n")
+streamed('tests/data/good/3mf_hand_writer.3mf', [('[Content_Types].xml', CT.encode()), ('_rels/.rels', RELS.encode()),
+                                                 ('3D/3dmodel.model', b'\xef\xbb\xbf' + hand.encode())])
+# A part and the support it stands on, one object of components (Core 4.1: "support" objects
+# SHOULD be referenced in an object with the "model" they support, and a manufacturing device
+# MUST NOT fill them): the part is the 10 mm cube (volume 1000), the support a tetrahedron beside
+# it at x 12..15, which is no part of the print
+sv2, st2 = cuboid((0, 0, 0), (10, 10, 10))
+package('tests/data/good/3mf_support_component.3mf', model(
+    '<object id="1" name="part" type="model">' + mesh_xml(sv2, st2) + '</object>' +
+    tet(oid=2, name='prop').replace('type="model"', 'type="support"') +
+    '<object id="3" name="part and prop" type="model"><components><component objectid="1"/>'
+    '<component objectid="2" transform="3 0 0 0 3 0 0 0 3 12 0 0"/></components></object>',
+    '<item objectid="3"/>'))

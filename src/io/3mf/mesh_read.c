@@ -118,6 +118,7 @@ typedef struct reader {
     char label[200]; /* "object 3 'name'" */
     uint64_t loose_props;  /* triangles with a pid in objects without a default one */
     char loose_first[1400]; /* where the first is */
+    char slicer_note[1400]; /* the volumes of a slicer's config not read as parts (slicer_volumes) */
     /* Production extension: objects in other model parts (p:path). The part being read (NULL:
      * the root; ids are then "part|id"), the references of the root waiting for their part, and
      * the root's objects (the others are appended after them). */
@@ -1519,6 +1520,78 @@ static hv_status read_other_parts(reader *r, const char *name, const tmf_xml_han
     return s;
 }
 
+static int by_first(const void *a, const void *b)
+{
+    uint64_t x = ((const tmf_slicer_volume *)a)->first, y = ((const tmf_slicer_volume *)b)->first;
+    return (x > y) - (x < y);
+}
+
+/* PrusaSlicer's volumes (slicer_config.c): the triangles of a negative volume, a modifier, a
+ * support blocker or enforcer are dropped from their object, as PrusaSlicer prints none of them
+ * as a part (a negative volume is cut out, which hovox does not do: the note says so); an object
+ * without a name of its own takes the config's. Only the root model's mesh objects are named. */
+static hv_status slicer_volumes(reader *r, const char *name)
+{
+    tmf_slicer_config c;
+    hv_status s = tmf_slicer_config_read(r->pk, &c);
+    if (s != HV_OK) return s;
+    if (c.unread[0])
+        snprintf(r->slicer_note, sizeof r->slicer_note, "%s (the config is not read: every volume is read as a part)", c.unread);
+    for (size_t i = 0; i < c.nnames && s == HV_OK; ++i) {
+        int64_t k = lookup_in(r, NULL, c.names[i].object);
+        object *o = k >= 0 && r->res[k].kind == R_OBJECT ? &r->objs[r->res[k].first] : NULL;
+        if (o && !o->name && c.names[i].name[0] && !(o->name = hv_strdup(c.names[i].name))) s = HV_ERR_NOMEM;
+    }
+    uint8_t *drop = NULL;
+    size_t dropped = 0, negative = 0, nvol = 0;
+    char first[200] = "";
+    for (size_t i = 0; i < c.nvols; ++i) { /* as ranges of the reader's triangles, sorted below */
+        tmf_slicer_volume *v = &c.vols[i];
+        int64_t k = lookup_in(r, NULL, v->object);
+        object *o = k >= 0 && r->res[k].kind == R_OBJECT ? &r->objs[r->res[k].first] : NULL;
+        if (v->kind == TMF_VOLUME_PART || !o || o->nc || v->last >= o->nt) continue; /* not this model's */
+        negative += v->kind == TMF_VOLUME_NEGATIVE;
+        if (nvol++ == 0)
+            snprintf(first, sizeof first, "%s '%s' of object %llu", tmf_slicer_volume_kind(v->kind), v->name,
+                     (unsigned long long)v->object);
+        c.vols[nvol - 1].first = o->t0 + v->first; /* vols[nvol-1] is at or before v */
+        c.vols[nvol - 1].last = o->t0 + v->last;
+    }
+    if (nvol && !(drop = hv_calloc(r->ntri, 1))) s = HV_ERR_NOMEM;
+    if (drop) { /* each triangle marked once however the ranges overlap (a config of many volumes) */
+        qsort(c.vols, nvol, sizeof *c.vols, by_first);
+        uint64_t next = 0;
+        for (size_t i = 0; i < nvol; ++i)
+            for (uint64_t t = HV_MAX(next, c.vols[i].first); t <= c.vols[i].last; ++t, next = t) drop[t] = 1, ++dropped;
+    }
+    if (drop && s == HV_OK) { /* keep the others, in order: objects' triangles lie in object order */
+        size_t j = 0;
+        for (size_t i = 0; i < r->nobj; ++i) {
+            object *o = &r->objs[i];
+            size_t t0 = j;
+            for (size_t t = o->t0; t < o->t0 + o->nt; ++t) {
+                if (drop[t]) continue;
+                memmove(r->tri + 3 * j, r->tri + 3 * t, 3 * sizeof *r->tri);
+                if (r->refs) memmove(r->refs + 4 * j, r->refs + 4 * t, 4 * sizeof *r->refs);
+                ++j;
+            }
+            o->t0 = t0;
+            o->nt = j - t0;
+        }
+        r->ntri = j;
+        char many[64] = "";
+        if (nvol > 1) snprintf(many, sizeof many, " and %zu more volume%s", nvol - 1, nvol == 2 ? "" : "s");
+        snprintf(r->slicer_note, sizeof r->slicer_note,
+                 "%s: Metadata/Slic3r_PE_model.config: the %s%s, no part of the print in PrusaSlicer: %zu triangle%s "
+                 "not read%s",
+                 name, first, many, dropped, dropped == 1 ? "" : "s",
+                 negative ? " (a negative volume is not cut out of the parts, as PrusaSlicer cuts it)" : "");
+    }
+    free(drop);
+    tmf_slicer_config_free(&c);
+    return s;
+}
+
 hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out)
 {
     *out = NULL;
@@ -1537,6 +1610,7 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     s = tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &r);
     if (s == HV_OK && !r.resources_seen) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: the model has no <resources>", name, pk.model);
     if (s == HV_OK) s = read_other_parts(&r, name, &h);
+    if (s == HV_OK) s = slicer_volumes(&r, name);
     uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / TMF_TRIANGLE_BYTES);
     uint64_t placed = 0;
     if (s == HV_OK) s = expand_counts(&r, name, max_tri, &placed);
@@ -1553,6 +1627,10 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
             hv_mesh_destroy(*out);
             *out = NULL;
         }
+    }
+    if (s == HV_OK && r.slicer_note[0] && (s = hv_mesh_add_note(*out, r.slicer_note)) != HV_OK) {
+        hv_mesh_destroy(*out);
+        *out = NULL;
     }
     reader_free(&r);
     tmf_pkg_close(&pk);

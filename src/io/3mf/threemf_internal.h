@@ -47,6 +47,35 @@ typedef struct tmf_xml_quiet {
 void tmf_xml_quiet_begin(tmf_xml_quiet *q);
 void tmf_xml_quiet_end(const tmf_xml_quiet *q);
 
+/* ---- a slicer's project config (slicer_config.c) -------------------------------------------
+ * PrusaSlicer keeps every volume of an object in the object's one <mesh> and lists them in
+ * Metadata/Slic3r_PE_model.config: a range of the object's triangles (firstid..lastid) and a type.
+ * Only model parts are printed; a negative volume is cut from them, modifiers, support blockers
+ * and enforcers are settings regions. The config also names the objects (the model does not). */
+enum { TMF_VOLUME_PART = 0, TMF_VOLUME_NEGATIVE, TMF_VOLUME_MODIFIER, TMF_VOLUME_BLOCKER, TMF_VOLUME_ENFORCER };
+typedef struct tmf_slicer_volume {
+    uint64_t object, first, last; /* the object's id in the root model; its triangles first..last */
+    int kind;                     /* TMF_VOLUME_* */
+    char name[36];                /* (a 16 MiB config holds at most 400,000 volumes: 26 MB) */
+} tmf_slicer_volume;
+typedef struct tmf_slicer_config {
+    tmf_slicer_volume *vols;
+    size_t nvols, cap;
+    struct tmf_slicer_name {
+        uint64_t object;
+        char name[128];
+    } *names;
+    size_t nnames, ncap;
+    char unread[512]; /* why a config the package holds was not read ("": read, or none) */
+} tmf_slicer_config;
+struct tmf_pkg;
+/* The package's PrusaSlicer config, if it holds one (none: empty). A config that is not
+ * well-formed is not read (the model is read as the specification says) and `unread` says why.
+ * Errors: HV_ERR_NOMEM only. Free with tmf_slicer_config_free. */
+hv_status tmf_slicer_config_read(struct tmf_pkg *pk, tmf_slicer_config *c);
+void tmf_slicer_config_free(tmf_slicer_config *c);
+const char *tmf_slicer_volume_kind(int kind); /* "modifier" */
+
 /* ---- the exact voxel boundary (boundary.c) --------------------------------------------------
  * The faces between occupied and unoccupied voxels, two triangles each, wound outward (counter-
  * clockwise seen from outside). Vertices sit on voxel corners: corner (a, b, c) is the lowest

@@ -68,6 +68,7 @@ typedef struct object {
 typedef struct component {
     size_t obj;
     double t[12];
+    int skip; /* a slicer's config says it places no part (slicer_volumes) */
 } component;
 
 typedef struct item {
@@ -762,6 +763,7 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
     if (is_component) {
         if ((s = grow(r, x, (void **)&r->comps, &r->ccap, r->ncomp + 1, sizeof *r->comps)) != HV_OK) return s;
         r->comps[r->ncomp].obj = obj;
+        r->comps[r->ncomp].skip = 0;
         memcpy(r->comps[r->ncomp++].t, t, sizeof t);
         r->objs[r->nobj - 1].nc++;
     } else {
@@ -1307,7 +1309,7 @@ static hv_status place(build *b, size_t obj, const double *t, int split)
         const object *k = &b->r->objs[c->obj];
         /* as an item of them: a support mesh is not filled (Core 4.1: "MUST NOT fill this mesh"),
          * and Core 4.1 expects one as a component of the object it supports; "other" is not output */
-        if (k->type == T_SUPPORT || k->type == T_OTHER) continue;
+        if (k->type == T_SUPPORT || k->type == T_OTHER || c->skip) continue;
         frame *g = &stack[++top];
         g->obj = c->obj;
         g->next = 0;
@@ -1526,10 +1528,18 @@ static int by_first(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* PrusaSlicer's volumes (slicer_config.c): the triangles of a negative volume, a modifier, a
- * support blocker or enforcer are dropped from their object, as PrusaSlicer prints none of them
- * as a part (a negative volume is cut out, which hovox does not do: the note says so); an object
- * without a name of its own takes the config's. Only the root model's mesh objects are named. */
+/* The root model's object `id` (a mesh or components object), or NULL. */
+static object *root_object(reader *r, uint64_t id)
+{
+    int64_t k = lookup_in(r, NULL, id);
+    return k >= 0 && r->res[k].kind == R_OBJECT ? &r->objs[r->res[k].first] : NULL;
+}
+
+/* A slicer's volumes (slicer_config.c) that it prints as no part (a negative volume is cut out,
+ * which hovox does not do: the note says so; modifiers, support blockers and enforcers are
+ * settings regions) are not read: PrusaSlicer's ranges of an object's triangles are dropped
+ * before anything is counted, Bambu's components are skipped when placed. An object without a
+ * name of its own takes the config's (Bambu's parts: the objects their components place). */
 static hv_status slicer_volumes(reader *r, const char *name)
 {
     tmf_slicer_config c;
@@ -1538,34 +1548,52 @@ static hv_status slicer_volumes(reader *r, const char *name)
     if (c.unread[0])
         snprintf(r->slicer_note, sizeof r->slicer_note, "%s (the config is not read: every volume is read as a part)", c.unread);
     for (size_t i = 0; i < c.nnames && s == HV_OK; ++i) {
-        int64_t k = lookup_in(r, NULL, c.names[i].object);
-        object *o = k >= 0 && r->res[k].kind == R_OBJECT ? &r->objs[r->res[k].first] : NULL;
-        if (o && !o->name && c.names[i].name[0] && !(o->name = hv_strdup(c.names[i].name))) s = HV_ERR_NOMEM;
+        object *o = root_object(r, c.names[i].object);
+        for (size_t k = 0; o && c.names[i].part && k < o->nc; ++k) { /* Bambu: the part's own object */
+            object *p = &r->objs[r->comps[o->c0 + k].obj];
+            if (p->id == c.names[i].part && p->nc == 0) {
+                o = p;
+                break;
+            }
+        }
+        if (o && (!c.names[i].part || o->nc == 0) && !o->name && c.names[i].name[0] &&
+            !(o->name = hv_strdup(c.names[i].name)))
+            s = HV_ERR_NOMEM;
     }
     uint8_t *drop = NULL;
-    size_t dropped = 0, negative = 0, nvol = 0;
+    size_t dropped = 0, negative = 0, nvol = 0, nrange = 0;
     char first[200] = "";
-    for (size_t i = 0; i < c.nvols; ++i) { /* as ranges of the reader's triangles, sorted below */
+    for (size_t i = 0; i < c.nvols; ++i) { /* ranges as the reader's triangles, sorted below */
         tmf_slicer_volume *v = &c.vols[i];
-        int64_t k = lookup_in(r, NULL, v->object);
-        object *o = k >= 0 && r->res[k].kind == R_OBJECT ? &r->objs[r->res[k].first] : NULL;
-        if (v->kind == TMF_VOLUME_PART || !o || o->nc || v->last >= o->nt) continue; /* not this model's */
+        object *o = root_object(r, v->object);
+        size_t hit = 0;
+        if (v->kind == TMF_VOLUME_PART || !o) continue;
+        if (v->part) /* Bambu: the components placing that object */
+            for (size_t k = 0; k < o->nc; ++k) {
+                component *cp = &r->comps[o->c0 + k];
+                if (r->objs[cp->obj].id != v->part || cp->skip) continue;
+                cp->skip = 1;
+                dropped += r->objs[cp->obj].nt;
+                hit = 1;
+            }
+        else if (o->nc == 0 && v->last < o->nt) { /* PrusaSlicer: a range of a mesh object */
+            c.vols[nrange].first = o->t0 + v->first; /* vols[nrange] is at or before v */
+            c.vols[nrange++].last = o->t0 + v->last;
+            hit = 1;
+        }
+        if (!hit) continue; /* not this model's */
         negative += v->kind == TMF_VOLUME_NEGATIVE;
         if (nvol++ == 0)
             snprintf(first, sizeof first, "%s '%s' of object %llu", tmf_slicer_volume_kind(v->kind), v->name,
                      (unsigned long long)v->object);
-        c.vols[nvol - 1].first = o->t0 + v->first; /* vols[nvol-1] is at or before v */
-        c.vols[nvol - 1].last = o->t0 + v->last;
     }
-    if (nvol && !(drop = hv_calloc(r->ntri, 1))) s = HV_ERR_NOMEM;
+    if (nrange && !(drop = hv_calloc(r->ntri, 1))) s = HV_ERR_NOMEM;
     if (drop) { /* each triangle marked once however the ranges overlap (a config of many volumes) */
-        qsort(c.vols, nvol, sizeof *c.vols, by_first);
+        qsort(c.vols, nrange, sizeof *c.vols, by_first);
         uint64_t next = 0;
-        for (size_t i = 0; i < nvol; ++i)
+        for (size_t i = 0; i < nrange; ++i)
             for (uint64_t t = HV_MAX(next, c.vols[i].first); t <= c.vols[i].last; ++t, next = t) drop[t] = 1, ++dropped;
-    }
-    if (drop && s == HV_OK) { /* keep the others, in order: objects' triangles lie in object order */
-        size_t j = 0;
+        size_t j = 0; /* keep the others, in order: objects' triangles lie in object order */
         for (size_t i = 0; i < r->nobj; ++i) {
             object *o = &r->objs[i];
             size_t t0 = j;
@@ -1579,13 +1607,14 @@ static hv_status slicer_volumes(reader *r, const char *name)
             o->nt = j - t0;
         }
         r->ntri = j;
+    }
+    if (nvol && s == HV_OK) {
         char many[64] = "";
         if (nvol > 1) snprintf(many, sizeof many, " and %zu more volume%s", nvol - 1, nvol == 2 ? "" : "s");
         snprintf(r->slicer_note, sizeof r->slicer_note,
-                 "%s: Metadata/Slic3r_PE_model.config: the %s%s, no part of the print in PrusaSlicer: %zu triangle%s "
-                 "not read%s",
-                 name, first, many, dropped, dropped == 1 ? "" : "s",
-                 negative ? " (a negative volume is not cut out of the parts, as PrusaSlicer cuts it)" : "");
+                 "%s: %s: the %s%s, no part of the print in %s: %zu triangle%s not read%s", name, c.part, first, many,
+                 c.slicer, dropped, dropped == 1 ? "" : "s",
+                 negative ? " (a negative volume is not cut out of the parts, as the slicer cuts it)" : "");
     }
     free(drop);
     tmf_slicer_config_free(&c);

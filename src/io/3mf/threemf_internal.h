@@ -48,28 +48,34 @@ void tmf_xml_quiet_begin(tmf_xml_quiet *q);
 void tmf_xml_quiet_end(const tmf_xml_quiet *q);
 
 /* ---- a slicer's project config (slicer_config.c) -------------------------------------------
- * PrusaSlicer keeps every volume of an object in the object's one <mesh> and lists them in
- * Metadata/Slic3r_PE_model.config: a range of the object's triangles (firstid..lastid) and a type.
- * Only model parts are printed; a negative volume is cut from them, modifiers, support blockers
- * and enforcers are settings regions. The config also names the objects (the model does not). */
+ * Slicers type the volumes of an object in a config of their own: PrusaSlicer keeps them all in
+ * the object's one <mesh> and lists them in Metadata/Slic3r_PE_model.config, each a range of the
+ * object's triangles (firstid..lastid); Bambu Studio and OrcaSlicer make each a mesh object that a
+ * component of the object places, and list them in Metadata/model_settings.config (<part id> the
+ * component's objectid). Only model parts are printed; a negative volume is cut from them,
+ * modifiers, support blockers and enforcers are settings regions. The configs also name the
+ * objects and parts (the model often does not). */
 enum { TMF_VOLUME_PART = 0, TMF_VOLUME_NEGATIVE, TMF_VOLUME_MODIFIER, TMF_VOLUME_BLOCKER, TMF_VOLUME_ENFORCER };
 typedef struct tmf_slicer_volume {
-    uint64_t object, first, last; /* the object's id in the root model; its triangles first..last */
-    int kind;                     /* TMF_VOLUME_* */
-    char name[36];                /* (a 16 MiB config holds at most 400,000 volumes: 26 MB) */
+    uint64_t object;      /* the object's id in the root model */
+    uint64_t part;        /* Bambu: the id of the object its component places; 0: PrusaSlicer's range */
+    uint64_t first, last; /* PrusaSlicer: the object's triangles first..last */
+    int kind;             /* TMF_VOLUME_* */
+    char name[36];        /* (a 16 MiB config holds at most 400,000 volumes: 30 MB) */
 } tmf_slicer_volume;
 typedef struct tmf_slicer_config {
+    const char *part, *slicer; /* the config read ("Metadata/Slic3r_PE_model.config"), its slicer; NULL: none */
     tmf_slicer_volume *vols;
     size_t nvols, cap;
     struct tmf_slicer_name {
-        uint64_t object;
+        uint64_t object, part; /* part 0: the object's own name */
         char name[128];
     } *names;
     size_t nnames, ncap;
     char unread[512]; /* why a config the package holds was not read ("": read, or none) */
 } tmf_slicer_config;
 struct tmf_pkg;
-/* The package's PrusaSlicer config, if it holds one (none: empty). A config that is not
+/* The package's slicer config, if it holds one (none: c->part NULL). A config that is not
  * well-formed is not read (the model is read as the specification says) and `unread` says why.
  * Errors: HV_ERR_NOMEM only. Free with tmf_slicer_config_free. */
 hv_status tmf_slicer_config_read(struct tmf_pkg *pk, tmf_slicer_config *c);

@@ -437,10 +437,12 @@ static hv_status fill_range(void *vctx, size_t begin, size_t end, int thread)
 
 
 
-/* A painted model's colour grids (paint_brick). */
+/* A painted model's colour grids that paint_brick reads (and hv_render_volume_load loads; not
+ * colour.depth, which only the stack uses). */
+static const char *const k_paint[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+
 static void find_paint(hv_render_scene *s, const hv_volume *vol)
 {
-    static const char *const k_paint[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
     s->painted = s->materials > 0;
     for (int k = 0; k < 4; ++k) {
         s->paint[k] = hv_volume_grid_find(vol, k_paint[k]);
@@ -672,9 +674,9 @@ hv_status hv_render_scene_create_lazy(const hv_volume *vol, const hv_progress *p
 hv_status hv_render_volume_load(const char *path, hv_volume **out)
 {
     /* what build() reads: the occupancy, the material table's grids (hv_material_grid), a painted
-     * model's colours */
-    static const char *const k_grids[] = {"occupancy", "material.*", "colour.*"};
-    hv_status st = hv_model_load_grids(path, k_grids, 3, out);
+     * model's colours (k_paint) */
+    const char *const k_grids[] = {"occupancy", "material.*", k_paint[0], k_paint[1], k_paint[2], k_paint[3]};
+    hv_status st = hv_model_load_grids(path, k_grids, (int)(sizeof k_grids / sizeof *k_grids), out);
     int g = st == HV_OK ? hv_volume_grid_find(*out, "occupancy") : 0;
     if (g < 0 || (st == HV_OK && hv_volume_grid_type(*out, g) != HV_GRID_BOOL)) {
         hv_volume_destroy(*out);

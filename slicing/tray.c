@@ -269,9 +269,7 @@ typedef struct instance {
     int cx, cy;      /* the footprint's cell (0,0) on the plate's CELL grid */
     int arranged;    /* placed by arrange() */
     int coloured;    /* written: its manifest entry has a "colour" (hv_tray_instance_colour) */
-    hv_colour_skin_report ctarget, cachieved;
-    int cprinter;    /* the colour's voxels are printer voxels (a scan's colour table) */
-    hv_intent cintent;
+    hv_tray_colour colour; /* what hv_tray_instance_colour gives, but its description: */
     char cdesc[128];
 } instance;
 
@@ -1860,10 +1858,10 @@ static int source_colour(hv_tray *t, int si, void **colour)
         instance *in = &t->inst[of[c]];
         colour[of[c]] = out[c];
         in->coloured = 1;
-        in->ctarget = sk[c].target;
-        in->cachieved = sk[c].achieved;
-        in->cprinter = !sk[c].model;
-        in->cintent = hv_colour_map_intent(sk[c].map);
+        in->colour = (hv_tray_colour){.intent = hv_colour_map_intent(sk[c].map),
+                                      .printer_voxels = sk[c].printer_voxels,
+                                      .target = sk[c].target,
+                                      .achieved = sk[c].achieved};
         snprintf(in->cdesc, sizeof in->cdesc, "%s", hv_colour_map_description(sk[c].map));
     }
     if (base.model) hv_colour_map_destroy(base.map);
@@ -1881,11 +1879,8 @@ int hv_tray_instance_colour(const hv_tray *t, int i, hv_tray_colour *out)
     memset(out, 0, sizeof *out);
     if (i < 0 || i >= t->ninst || !t->inst[i].coloured) return 0;
     const instance *in = &t->inst[i];
-    out->description = in->cdesc;
-    out->intent = in->cintent;
-    out->printer_voxels = in->cprinter;
-    out->target = in->ctarget;
-    out->achieved = in->cachieved;
+    *out = in->colour;
+    out->description = in->cdesc; /* here: instances move when the tray grows */
     return 1;
 }
 

@@ -138,30 +138,46 @@ done:
     return res;
 }
 
-/* A layers report's common keys: width, height, layers, first, last, object_pixels, warnings. */
-static PyObject *layers_report_dict(const hv_layers_report *rep)
+/* What model.layers, mesh.layers and hovox.layers_scan return, the keys of Lua's report
+ * (hv_lua_push_layers_report): {width, height, layers, first, last, object_pixels, diff_mean,
+ * diff_max (compared), warnings, materials = {<name of t>: {target, achieved}} (t NULL: empty),
+ * colour = {skin_voxels | printer_voxels (skin->printer_voxels), mean_de2000_target,
+ * max_de2000_target, mean_de2000_achieved (halftone)} when skin}. NULL: a Python error. */
+static PyObject *layers_report(const hv_layers_report *r, const hv_material_table *t, const hv_colour_skin *skin)
 {
-    return Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep->width, "height", rep->height, "layers",
-                         (Py_ssize_t)rep->layers_total, "first", (Py_ssize_t)rep->first, "last", (Py_ssize_t)rep->last,
-                         "object_pixels", (unsigned long long)rep->object_pixels, "warnings", rep->warnings);
-}
-
-/* A stack's colour figures as a dict: {<voxels>: n, mean_de2000_target, max_de2000_target,
- * mean_de2000_achieved (halftone)}; voxels is "skin_voxels" for a painted model, "printer_voxels"
- * for a scan's colour table. 0: set; -1: a Python error (d cleared). */
-static int add_colour(PyObject **d, const hv_colour_skin *skin, const char *voxels)
-{
-    if (!*d || !skin->map) return 0;
-    PyObject *cd = skin->has_achieved
-                       ? Py_BuildValue("{s:K,s:d,s:d,s:d}", voxels, (unsigned long long)skin->target.voxels,
-                                       "mean_de2000_target", skin->target.mean_de2000, "max_de2000_target",
-                                       skin->target.max_de2000, "mean_de2000_achieved", skin->achieved.mean_de2000)
-                       : Py_BuildValue("{s:K,s:d,s:d}", voxels, (unsigned long long)skin->target.voxels,
-                                       "mean_de2000_target", skin->target.mean_de2000, "max_de2000_target",
-                                       skin->target.max_de2000);
-    if (!cd || PyDict_SetItemString(*d, "colour", cd) < 0) Py_CLEAR(*d);
-    Py_XDECREF(cd);
-    return *d ? 0 : -1;
+    PyObject *d = Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", r->width, "height", r->height, "layers",
+                                (Py_ssize_t)r->layers_total, "first", (Py_ssize_t)r->first, "last",
+                                (Py_ssize_t)r->last, "object_pixels", (unsigned long long)r->object_pixels,
+                                "warnings", r->warnings);
+    PyObject *x = NULL, *y = NULL;
+    int ok = d != NULL;
+    if (ok && r->compared) {
+        ok = (x = PyFloat_FromDouble(r->diff_mean)) && (y = PyFloat_FromDouble(r->diff_max)) &&
+             PyDict_SetItemString(d, "diff_mean", x) == 0 && PyDict_SetItemString(d, "diff_max", y) == 0;
+        Py_CLEAR(x);
+        Py_CLEAR(y);
+    }
+    PyObject *mats = ok ? PyDict_New() : NULL;
+    ok = mats != NULL;
+    for (int j = 0; ok && t && j < r->materials && j < hv_material_count(t); ++j) {
+        ok = (x = Py_BuildValue("{s:d,s:d}", "target", r->target[j], "achieved", r->achieved[j])) &&
+             PyDict_SetItemString(mats, hv_material_name(t, j), x) == 0;
+        Py_CLEAR(x);
+    }
+    ok = ok && PyDict_SetItemString(d, "materials", mats) == 0;
+    Py_XDECREF(mats);
+    if (ok && skin) {
+        x = Py_BuildValue("{s:K,s:d,s:d}", skin->printer_voxels ? "printer_voxels" : "skin_voxels",
+                          (unsigned long long)skin->target.voxels, "mean_de2000_target", skin->target.mean_de2000,
+                          "max_de2000_target", skin->target.max_de2000);
+        if (x && skin->has_achieved) ok = (y = PyFloat_FromDouble(skin->achieved.mean_de2000)) &&
+                                          PyDict_SetItemString(x, "mean_de2000_achieved", y) == 0;
+        ok = ok && x && PyDict_SetItemString(d, "colour", x) == 0;
+        Py_CLEAR(x);
+        Py_CLEAR(y);
+    }
+    if (!ok) Py_CLEAR(d);
+    return d;
 }
 
 /* model.layers([mesh,] dir, *, progress=None, **options of `hovox layers`) -> report */
@@ -206,30 +222,11 @@ static PyObject *model_layers(PyObject *self, PyObject *args, PyObject *kw)
         hvpy_call_fail(&c, s);
         goto done;
     }
-    PyObject *d = layers_report_dict(&rep);
-    add_colour(&d, &skin, "skin_voxels");
-    hv_colour_map_destroy(skin.map);
-    PyObject *mats = d ? PyDict_New() : NULL;
     hv_material_table *t = NULL;
-    if (mats && rep.materials > 0 && hv_material_table_load(vol, &t) == HV_OK) {
-        for (int j = 0; j < rep.materials && j < hv_material_count(t); ++j) {
-            PyObject *x = Py_BuildValue("{s:d,s:d}", "target", rep.target[j], "achieved", rep.achieved[j]);
-            if (!x || PyDict_SetItemString(mats, hv_material_name(t, j), x) < 0) Py_CLEAR(mats);
-            Py_XDECREF(x);
-            if (!mats) break;
-        }
-    }
+    if (rep.materials > 0 && hv_material_table_load(vol, &t) != HV_OK) t = NULL;
+    PyObject *d = layers_report(&rep, t, skin.map ? &skin : NULL);
     hv_material_table_destroy(t);
-    if (mats && PyDict_SetItemString(d, "materials", mats) == 0 && rep.compared) {
-        PyObject *mean = PyFloat_FromDouble(rep.diff_mean), *mx = PyFloat_FromDouble(rep.diff_max);
-        if (!mean || !mx || PyDict_SetItemString(d, "diff_mean", mean) < 0 || PyDict_SetItemString(d, "diff_max", mx) < 0)
-            Py_CLEAR(d);
-        Py_XDECREF(mean);
-        Py_XDECREF(mx);
-    } else if (!mats) {
-        Py_CLEAR(d);
-    }
-    Py_XDECREF(mats);
+    hv_colour_map_destroy(skin.map);
     res = d ? hvpy_call_done(&c, d) : NULL;
 done:
     out_end(&oc);
@@ -418,7 +415,9 @@ static PyMethodDef model_output_methods[] = {
     {"layers", (PyCFunction)(void (*)(void))model_layers, METH_VARARGS | METH_KEYWORDS,
      "layers(mesh, dir, *, progress=None, **options of `hovox layers` (profile, dpi, layer_height, mode, method, "
      "halftone, seed, layers=(first, last), threshold, fill_rule, background, compare, gcvf, force, max_memory, ...)) "
-     "-> {width, height, layers, first, last, object_pixels, materials: {name: {target, achieved}}, warnings}."},
+     "-> {width, height, layers, first, last, object_pixels, materials: {name: {target, achieved}}, diff_mean, "
+     "diff_max (compare), warnings, and colour={skin_voxels, mean_de2000_target, max_de2000_target, "
+     "mean_de2000_achieved} when painted}."},
     {"profile", (PyCFunction)(void (*)(void))model_profile, METH_VARARGS | METH_KEYWORDS,
      "profile(*, from_=..., to=..., samples=200, property=None, title=None, size=None, mark=None, y_range=None, "
      "csv=None, plot=None) -> {t, xyz, inside, fractions (n, m), materials, property}: material fractions along a "
@@ -534,25 +533,7 @@ static PyObject *py_layers_scan(PyObject *self, PyObject *args, PyObject *kw)
         hvpy_call_fail(&c, s);
         goto done;
     }
-    PyObject *d = Py_BuildValue("{s:i,s:i,s:n,s:n,s:n,s:K,s:s}", "width", rep.width, "height", rep.height, "layers",
-                                (Py_ssize_t)rep.layers_total, "first", (Py_ssize_t)rep.first, "last",
-                                (Py_ssize_t)rep.last, "object_pixels", (unsigned long long)rep.object_pixels,
-                                "warnings", rep.warnings);
-    PyObject *mats = d ? PyDict_New() : NULL;
-    for (int j = 0; mats && t && j < rep.materials && j < hv_material_count(t); ++j) {
-        PyObject *x = Py_BuildValue("{s:d,s:d}", "target", rep.target[j], "achieved", rep.achieved[j]);
-        if (!x || PyDict_SetItemString(mats, hv_material_name(t, j), x) < 0) Py_CLEAR(mats);
-        Py_XDECREF(x);
-    }
-    if (!mats || PyDict_SetItemString(d, "materials", mats) < 0) Py_CLEAR(d);
-    Py_XDECREF(mats);
-    if (d && skin.map) {
-        PyObject *cd = Py_BuildValue("{s:K,s:d,s:d,s:d}", "printer_voxels", (unsigned long long)skin.target.voxels,
-                                     "mean_de2000_target", skin.target.mean_de2000, "max_de2000_target",
-                                     skin.target.max_de2000, "mean_de2000_achieved", skin.achieved.mean_de2000);
-        if (!cd || PyDict_SetItemString(d, "colour", cd) < 0) Py_CLEAR(d);
-        Py_XDECREF(cd);
-    }
+    PyObject *d = layers_report(&rep, t, skin.map ? &skin : NULL);
     res = d ? hvpy_call_done(&c, d) : NULL;
 done:
     hv_material_table_destroy(t);
@@ -580,7 +561,7 @@ PyMethodDef hvpy_output_functions[] = {
 
 /* mesh.layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, colour_depth=MM, core=RESIN|COLOUR,
  * icc=FILE, intent=NAME, resins="C,M,Y,K,W,CLEAR", progress=None, **options of `hovox layers`) ->
- * {width, height, layers, first, last, object_pixels, warnings, colour (painted)}: the mesh printed
+ * the report of model.layers (layers_report; colour when painted): the mesh printed
  * in one step, its bodies in their materials or painted in its colours, as `hovox layers PART.3mf
  * -o DIR` prints it, the same bytes (hv_layers_write_mesh) */
 static PyObject *mesh_layers(PyObject *self, PyObject *args, PyObject *kw)
@@ -615,14 +596,15 @@ static PyObject *mesh_layers(PyObject *self, PyObject *args, PyObject *kw)
     hv_layers_report rep;
     hv_colour_skin skin;
     hvpy_begin(&c, oc.progress, &self, 1);
-    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, &c.prog, &rep, &skin, NULL);
+    hv_material_table *t = NULL;
+    hv_status s = hv_layers_write_mesh(mesh, &mo, dir, &o, &c.prog, &rep, &skin, &t);
     hvpy_end(&c);
-    if (s != HV_OK) {
+    if (s != HV_OK) { /* skin and t are empty */
         hvpy_call_fail(&c, s);
         goto done;
     }
-    PyObject *d = layers_report_dict(&rep);
-    add_colour(&d, &skin, "skin_voxels"); /* the painted skin's dE2000, as the manifest's colour */
+    PyObject *d = layers_report(&rep, t, skin.map ? &skin : NULL); /* the painted skin's figures, as the manifest's */
+    hv_material_table_destroy(t);
     hv_colour_map_destroy(skin.map);
     res = d ? hvpy_call_done(&c, d) : NULL;
 done:
@@ -634,8 +616,8 @@ static PyMethodDef mesh_output_methods[] = {
     {"layers", (PyCFunction)(void (*)(void))mesh_layers, METH_VARARGS | METH_KEYWORDS,
      "layers(dir, *, materials={BODY: MATERIAL}, voxel_size=MM, colour_depth=MM, core=RESIN|COLOUR, icc=FILE, "
      "intent=NAME, resins='C,M,Y,K,W,CLEAR', progress=None, **options of `hovox layers`) -> {width, height, layers, "
-     "first, last, object_pixels, warnings, and colour={skin_voxels, mean_de2000_target, max_de2000_target, "
-     "mean_de2000_achieved} when painted}: the mesh printed in one step, each body in its material (as `hovox "
+     "first, last, object_pixels, materials: {name: {target, achieved}}, warnings, and colour={skin_voxels, "
+     "mean_de2000_target, max_de2000_target, mean_de2000_achieved} when painted}: the mesh printed in one step, each body in its material (as `hovox "
      "layers PART.3mf --material BODY=MATERIAL`) or painted in its colours (a coloured mesh, or colour_depth or "
      "core given: as `hovox layers PART.obj --colour-depth MM`); warnings begin with the size warning."},
     {NULL, NULL, 0, NULL}};

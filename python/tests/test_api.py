@@ -312,6 +312,57 @@ def test_mesh_layers_paints_a_coloured_mesh(cli, root, tmp_path):
     assert not os.path.exists(tmp_path / "x")
 
 
+LUA_REPORTS = r"""
+local function keys(t)
+    local k = {}
+    for n in pairs(t or {}) do k[#k + 1] = n end
+    table.sort(k)
+    return table.concat(k, " ")
+end
+local function show(name, r)
+    print(name .. "|" .. keys(r) .. "|" .. keys(r.materials) .. "|" .. keys(r.colour))
+end
+show("mesh", hovox.load_mesh("cube.obj"):layers{dir = "lua_m", layers = {150, 152}})
+show("model", hovox.load("cube.vdb"):layers{dir = "lua_v", layers = {150, 152}})
+show("scan", hovox.layers_scan("ph/phantom.nii", {range = {-480, 500}, lut = "col.csv", dpi = {100, 100},
+                                                  layer_height = 2, layers = {20, 22}, dir = "lua_s"}))
+show("mask", hovox.load_mesh("cube.obj"):layers{dir = "lua_k", layers = {150, 152}, mode = "mask"})
+"""
+
+
+def test_layers_reports_are_luas(cli, root, tmp_path):
+    """issue 26 review (smend item 2): mesh.layers, model.layers and hovox.layers_scan build one report
+    (layers_report in python/src/output.c), with the keys of Lua's (hv_lua_push_layers_report) for the
+    same job: materials (mesh.layers had none), colour with skin_voxels for a painted mesh or model and
+    printer_voxels for a scan's colour table, and the same material names."""
+    make_test_data(os.path.join(root, "tests", "colour", "textured_cube.py"), tmp_path, capture_output=True)
+    make_test_data(os.path.join(root, "tests", "io", "scan", "make_phantom.py"), tmp_path / "ph", "--size", "20,24,18",
+                   "--spacing", "4,4,6", "--formats", "nii", capture_output=True)
+    (tmp_path / "col.csv").write_text("HU,colour\n-1000,#ffffff00\n30,#d08070\n1000,#f0f0e0\n")
+    r = cli("voxelize", tmp_path / "cube.obj", "--voxel-size", "0.5", "--colour-depth", "1", "-o",
+            tmp_path / "cube.vdb", "-q")
+    assert r.returncode == 0, r.stderr
+    (tmp_path / "r.lua").write_text(LUA_REPORTS)
+    r = cli("run", "r.lua", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    lua = {}
+    for line in r.stdout.splitlines():
+        name, top, mats, colour = line.split("|")
+        lua[name] = (top.split(), mats.split(), colour.split())
+    cube = hovox.load_mesh(tmp_path / "cube.obj")
+    py = {"mesh": cube.layers(tmp_path / "py_m", layers=(150, 152)),
+          "model": hovox.load(tmp_path / "cube.vdb").layers(tmp_path / "py_v", layers=(150, 152)),
+          "scan": hovox.layers_scan(tmp_path / "ph" / "phantom.nii", tmp_path / "py_s", range=(-480, 500),
+                                    lut=str(tmp_path / "col.csv"), dpi=(100, 100), layer_height=2, layers=(20, 22)),
+          "mask": cube.layers(tmp_path / "py_k", layers=(150, 152), mode="mask")}
+    assert sorted(lua) == sorted(py)
+    for name, rep in py.items():
+        assert (sorted(rep), sorted(rep["materials"]), sorted(rep.get("colour", {}))) == lua[name], name
+    assert "skin_voxels" in py["mesh"]["colour"] and "skin_voxels" in py["model"]["colour"]
+    assert "printer_voxels" in py["scan"]["colour"] and "colour" not in py["mask"]
+    assert len(py["mesh"]["materials"]) == 6 and py["mask"]["materials"] == {}
+
+
 def test_a_turned_package_colour_through_a_chosen_profile(root, tmp_path):
     """issue 29 item 3: a colour printer's package (tests/colour/colour_package.py, written by Python):
     a <v:color> without a <v:composite>, turned 30 degrees (not axis-aligned), linear and nearest.

@@ -916,6 +916,45 @@ Test(render, volume_load_reads_what_the_scene_needs)
     hv_volume_destroy(v);
 }
 
+Test(render, volume_load_leaves_the_colour_depth)
+{
+    /* a painted model (issue 26 review): hv_render_volume_load reads the colour grids the scene
+     * paints with (colour.r, .g, .b, .mask), not colour.depth (a float per voxel only the stack
+     * uses); the same picture as the whole model read from the same file */
+    const uint32_t rgba[2] = {0xff2020ffu, 0x20ff20ffu};
+    hv_mesh *m = NULL;
+    hv_volume *v = t_painted_cube(6, rgba, 2, &m);
+    cr_assert_geq(hv_volume_grid_find(v, "colour.depth"), 0, "painting writes colour.depth");
+    const char *path = t_tmpfile("painted_load.vdb");
+    cr_assert_eq(hv_volume_save(v, path), HV_OK, "%s", hv_last_error());
+    hv_volume *r = NULL, *whole = NULL;
+    cr_assert_eq(hv_render_volume_load(path, &r), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_volume_load(path, &whole), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_volume_grid_find(r, "colour.depth"), -1, "the render loaded colour.depth");
+    cr_assert_geq(hv_volume_grid_find(r, "colour.mask"), 0, "the render left the colours");
+    for (int g = 0; g < hv_volume_grid_count(whole); ++g) { /* every other grid read is one the scene uses */
+        const char *n = hv_volume_grid_name(whole, g);
+        int wanted = strncmp(n, "material.", 9) == 0 || (strncmp(n, "colour.", 7) == 0 && strcmp(n, "colour.depth") != 0) ||
+                     strcmp(n, "occupancy") == 0;
+        cr_expect_eq(hv_volume_grid_find(r, n) >= 0, wanted, "%s: %s", n, wanted ? "not loaded" : "loaded");
+    }
+    for (int mode = 0; mode < 2; ++mode) {
+        hv_render_options o;
+        hv_render_options_init(&o);
+        o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
+        o.width = 64;
+        o.height = 48;
+        hv_image *a = render(whole, &o), *b = render(r, &o);
+        cr_expect(memcmp(a->rgba, b->rgba, sizeof(float) * 4 * 64 * 48) == 0, "mode %d: other pixels", mode);
+        hv_image_destroy(a);
+        hv_image_destroy(b);
+    }
+    hv_volume_destroy(r);
+    hv_volume_destroy(whole);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
+}
+
 extern int r_render_base; /* renderer/render_internal.h */
 
 Test(render, instruction_set_variants_agree)

@@ -16,6 +16,7 @@
 #include "hovox/generate.h"
 #include "hovox/layers.h"
 #include "hovox/material.h"
+#include "hovox/scan.h"
 #include "hovox/tray.h"
 #include "hovox/voxelize.h"
 #include "support/support.h"
@@ -628,6 +629,26 @@ Test(tray, peak_rss_follows_the_plan_not_the_parts, .timeout = 300)
     cr_expect_eq(t_run(cmd, NULL), 0, "1 and 8 threads wrote different stacks");
 }
 
+/* Add part p at (x, y) on the plate. */
+static void add_at(hv_tray *t, hv_tray_part *p, double x, double y)
+{
+    p->at[0] = x;
+    p->at[1] = y;
+    p->placed = 1;
+    cr_assert_eq(hv_tray_add(t, p, NULL), HV_OK, "%s", hv_last_error());
+}
+
+/* A tray's default options for its layers [first, last), the blue-noise cache in the test's dir. */
+static hv_tray_options window_options(size_t first, size_t last)
+{
+    hv_tray_options o;
+    hv_tray_options_init(&o);
+    o.cache_dir = t_tmpfile("bncache");
+    o.first = first;
+    o.last = last;
+    return o;
+}
+
 /* Issue 29 item 3: a painted part's dE2000, as its manifest entry's "colour" gives it, for the
  * CLI's colour line (hv_tray_instance_colour); a plain part has none, nor has a mask stack written
  * after. */
@@ -646,22 +667,12 @@ Test(tray, a_painted_parts_colour_is_reported, .timeout = 120)
     hv_tray_part p;
     hv_tray_part_init(&p);
     p.mesh = t_tmpfile("red.obj");
-    p.at[0] = 40;
-    p.at[1] = 40;
-    p.placed = 1;
-    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK, "%s", hv_last_error());
+    add_at(t, &p, 40, 40);
     hv_tray_part_init(&p);
     p.mesh = mesh;
     p.material = "VeroPureWhite";
-    p.at[0] = 80;
-    p.at[1] = 40;
-    p.placed = 1;
-    cr_assert_eq(hv_tray_add(t, &p, NULL), HV_OK, "%s", hv_last_error());
-    hv_tray_options o;
-    hv_tray_options_init(&o);
-    o.cache_dir = t_tmpfile("bncache");
-    o.first = 40;
-    o.last = 42;
+    add_at(t, &p, 80, 40);
+    hv_tray_options o = window_options(40, 42);
     hv_tray_colour c;
     cr_assert_eq(hv_tray_instance_colour(t, 0, &c), 0); /* not written yet */
     const char *dir = t_tmpfile("painted_tray");
@@ -683,5 +694,54 @@ Test(tray, a_painted_parts_colour_is_reported, .timeout = 120)
     o.mode = HV_LAYERS_MASK;
     cr_assert_eq(hv_tray_write(t, t_tmpfile("painted_mask"), &o, NULL, NULL), HV_OK, "%s", hv_last_error());
     cr_assert_eq(hv_tray_instance_colour(t, 0, &c), 0);
+    hv_tray_destroy(t);
+}
+
+/* One truth for whose voxels a colour counts (issue 26 review): each coloured copy's
+ * hv_tray_instance_colour says printer voxels exactly when its manifest entry names them so, with
+ * the same count: the painted cube's skin voxels, the scan's colour table's printer voxels, in one
+ * tray. */
+Test(tray, a_coloured_parts_voxels_are_the_kind_its_manifest_names, .timeout = 120)
+{
+    char cmd[5000];
+    snprintf(cmd, sizeof cmd,
+             "/usr/bin/python3 tests/io/scan/make_phantom.py %s --size 20,24,18 --spacing 4,4,6 --formats nii "
+             ">/dev/null && cp samples/colour_cube.obj samples/colour_cube.mtl %s",
+             t_tmpfile("ph"), t_tmpdir());
+    cr_assert_eq(t_run(cmd, NULL), 0, "%s", cmd);
+    FILE *f = fopen(t_tmpfile("col.csv"), "w");
+    fputs("HU,colour\n-1000,#ffffff00\n30,#d08070\n1000,#f0f0e0\n", f);
+    fclose(f);
+    hv_tray *t = NULL;
+    cr_assert_eq(hv_tray_create(&t), HV_OK);
+    hv_tray_part p;
+    hv_tray_part_init(&p);
+    p.mesh = t_tmpfile("colour_cube.obj");
+    p.copies = 2;
+    add_at(t, &p, 40, 30);
+    hv_tray_part_init(&p);
+    p.scan = t_tmpfile("ph/phantom.nii");
+    p.lut = t_tmpfile("col.csv");
+    p.select = HV_SCAN_SELECT_ISO;
+    p.iso = -480;
+    add_at(t, &p, 120, 60);
+    hv_tray_options o = window_options(20, 22);
+    const char *dir = t_tmpfile("kinds_tray");
+    cr_assert_eq(hv_tray_write(t, dir, &o, NULL, NULL), HV_OK, "%s", hv_last_error());
+    json_t *m = manifest(dir);
+    json_t *parts = json_object_get(m, "parts");
+    cr_assert_eq(json_array_size(parts), 3, "one entry per copy");
+    for (int i = 0; i < 3; ++i) {
+        hv_tray_colour c;
+        cr_assert_eq(hv_tray_instance_colour(t, i, &c), 1, "copy %d is coloured", i);
+        cr_assert_eq(c.printer_voxels, i == 2, "copy %d: %s voxels", i, c.printer_voxels ? "printer" : "skin");
+        json_t *col = json_object_get(json_array_get(parts, (size_t)i), "colour");
+        const char *kind = c.printer_voxels ? "printer_voxels" : "skin_voxels";
+        cr_assert(json_is_integer(json_object_get(col, kind)), "copy %d: the manifest has no %s", i, kind);
+        cr_assert_null(json_object_get(col, c.printer_voxels ? "skin_voxels" : "printer_voxels"));
+        cr_assert_eq(json_integer_value(json_object_get(col, kind)), (json_int_t)c.target.voxels);
+        cr_assert(c.target.voxels > 0);
+    }
+    json_decref(m);
     hv_tray_destroy(t);
 }

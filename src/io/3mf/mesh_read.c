@@ -116,6 +116,7 @@ typedef struct reader {
     int group; /* the property group being read (index into res) */
     int has_model, resources_seen, builds;
     const char *vertex_name, *triangle_name; /* "vertex", "triangle" as the parser's dictionary spells them */
+    size_t bulk_nv; /* the vertices triangle_item checks indices against (tmf_xml_bulk) */
     char label[200]; /* "object 3 'name'" */
     uint64_t loose_props;  /* triangles with a pid in objects without a default one */
     char loose_first[1400]; /* where the first is */
@@ -148,22 +149,33 @@ static inline hv_status grow(reader *r, tmf_xml *x, void **p, size_t *cap, size_
     return need <= *cap ? HV_OK : grow_to(r, x, p, cap, need, size);
 }
 
-static hv_status grow_to(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need, size_t size)
+/* Room for `need` elements, the capacity doubled as often as it takes (so a bulk merge reaches
+ * the capacity, and the charge, one element at a time would): HV_OK, HV_ERR_LIMIT (past half the
+ * memory budget) or HV_ERR_NOMEM, no message. */
+static hv_status room(reader *r, void **p, size_t *cap, size_t need, size_t size)
 {
+    if (need <= *cap) return HV_OK;
     size_t ncap = *cap ? *cap : 64;
     while (ncap < need) ncap = ncap > SIZE_MAX / 4 ? need : ncap * 2;
     uint64_t more = (uint64_t)(ncap - *cap) * size;
-    if (ncap > SIZE_MAX / size || more > r->budget / 2 - HV_MIN(r->charged, r->budget / 2)) {
-        char b[32];
-        return tmf_xml_bad(x, HV_ERR_LIMIT, "%s: reading this model needs more than half the memory budget (%s)",
-                           r->label[0] ? r->label : "the model", hv_size_text(b, sizeof b, (double)r->budget));
-    }
+    if (ncap > SIZE_MAX / size || more > r->budget / 2 - HV_MIN(r->charged, r->budget / 2)) return HV_ERR_LIMIT;
     void *q = hv_realloc_big(*p, ncap * size);
     if (!q) return HV_ERR_NOMEM;
     r->charged += more;
     *p = q;
     *cap = ncap;
     return HV_OK;
+}
+
+static hv_status grow_to(reader *r, tmf_xml *x, void **p, size_t *cap, size_t need, size_t size)
+{
+    hv_status s = room(r, p, cap, need, size);
+    if (s == HV_ERR_LIMIT) {
+        char b[32];
+        return tmf_xml_bad(x, HV_ERR_LIMIT, "%s: reading this model needs more than half the memory budget (%s)",
+                           r->label[0] ? r->label : "the model", hv_size_text(b, sizeof b, (double)r->budget));
+    }
+    return s;
 }
 
 static void reader_free(reader *r)
@@ -574,12 +586,72 @@ static inline int named(const char *local, const char **seen, const char *want)
     return 1;
 }
 
+/* ---- vertices and triangles in the form every producer writes them -----------------------
+ * <vertex x= y= z=/> and <triangle v1= v2= v3=/>, in that order, good values: taken by these
+ * alone, on the parser's thread or, for the rest of a large <vertices> or <triangles>, on others
+ * (tmf_xml_bulk). Any other form, or a value in error, goes to on_vertex and on_triangle, which
+ * read every form and say what is wrong. 1: taken. */
+static int vertex_item(const void *arg, const tmf_attr *a, int n, void *out)
+{
+    (void)arg;
+    float *p = out;
+    if (n != 3) return 0;
+    for (int k = 0; k < 3; ++k)
+        if (a[k].local[0] != "xyz"[k] || a[k].local[1] || a[k].len >= 80 || !hv_parse_float(a[k].value, a[k].len, &p[k]) ||
+            !isfinite(p[k]))
+            return 0;
+    return 1;
+}
+
+/* arg: the object's vertex count (size_t) */
+static int triangle_item(const void *arg, const tmf_attr *a, int n, void *out)
+{
+    size_t nv = *(const size_t *)arg;
+    uint32_t *t = out;
+    if (n != 3) return 0;
+    for (int c = 0; c < 3; ++c) {
+        const char *l = a[c].local;
+        uint64_t i = 0;
+        if (l[0] != 'v' || l[1] != '1' + c || l[2] || tmf_attr_uint(&a[c], UINT32_MAX, &i) <= 0 || i >= nv) return 0;
+        t[c] = (uint32_t)i;
+    }
+    return 1;
+}
+
+/* A bulk piece's vertices, or triangles, where their elements would have put them one by one. */
+static int merge_vertices(void *ctx, const void *items, size_t count)
+{
+    reader *r = ctx;
+    if (room(r, (void **)&r->xyz, &r->xcap, r->nxyz + 3 * count, sizeof *r->xyz) != HV_OK) return 0;
+    memcpy(r->xyz + r->nxyz, items, 3 * count * sizeof *r->xyz);
+    r->nxyz += 3 * count;
+    r->objs[r->nobj - 1].nv += count;
+    return 1;
+}
+
+static int merge_triangles(void *ctx, const void *items, size_t count)
+{
+    reader *r = ctx; /* once a triangle has properties of its own, each gets its entry: one by one */
+    if (r->refs || room(r, (void **)&r->tri, &r->tcap, 3 * (r->ntri + count), sizeof *r->tri) != HV_OK) return 0;
+    memcpy(r->tri + 3 * r->ntri, items, 3 * count * sizeof *r->tri);
+    r->ntri += count;
+    r->objs[r->nobj - 1].nt += count;
+    return 1;
+}
+
+static const tmf_bulk k_vertices = {"vertex", 3, 3 * sizeof(float), vertex_item, NULL, merge_vertices};
+
 static hv_status on_vertex(reader *r, tmf_xml *x, const tmf_attr *a, int n)
 {
     static const char *const axis[] = {"x", "y", "z"};
     hv_status s = grow(r, x, (void **)&r->xyz, &r->xcap, r->nxyz + 3, sizeof *r->xyz);
     if (s != HV_OK) return s;
     object *o = &r->objs[r->nobj - 1];
+    if (vertex_item(NULL, a, n, r->xyz + r->nxyz)) {
+        r->nxyz += 3;
+        o->nv++;
+        return HV_OK;
+    }
     for (int k = 0; k < 3; ++k) {
         const tmf_attr *v = k < n && a[k].local[0] == axis[k][0] && !a[k].local[1] ? &a[k] : tmf_attr_find(a, n, axis[k], NULL);
         if (!v) return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "%s: vertex %zu has no %s", r->label, o->nv, axis[k]);
@@ -622,6 +694,11 @@ static hv_status on_triangle(reader *r, tmf_xml *x, const tmf_attr *a, int n)
     object *o = &r->objs[r->nobj - 1];
     char place[240]; /* written when a message needs it (a million triangles need none) */
     hv_status s = grow(r, x, (void **)&r->tri, &r->tcap, 3 * (r->ntri + 1), sizeof *r->tri);
+    if (s == HV_OK && !r->refs && triangle_item(&o->nv, a, n, r->tri + 3 * r->ntri)) {
+        r->ntri++;
+        o->nt++;
+        return HV_OK;
+    }
     if (s == HV_OK && (r->refs || n > 3)) s = own_refs(r, x);
     if (s != HV_OK) return s;
     for (int c = 0; c < 3; ++c) {
@@ -951,8 +1028,15 @@ static hv_status on_start(void *ctx, tmf_xml *x, const char *local, const char *
         }
         break;
     case W_MESH:
-        if (strcmp(local, "vertices") == 0) r->at = W_VERTICES;
-        else if (strcmp(local, "triangles") == 0) r->at = W_TRIANGLES;
+        if (strcmp(local, "vertices") == 0) {
+            r->at = W_VERTICES;
+            tmf_xml_bulk(x, &k_vertices);
+        } else if (strcmp(local, "triangles") == 0) {
+            r->at = W_TRIANGLES;
+            r->bulk_nv = r->objs[r->nobj - 1].nv; /* fixed while its triangles are read */
+            tmf_bulk b = {"triangle", 3, 3 * sizeof(uint32_t), triangle_item, &r->bulk_nv, merge_triangles};
+            tmf_xml_bulk(x, &b);
+        }
         else if (uri && strcmp(uri, TMF_NS_BEAM) == 0) return unsupported(x, "<beamlattice> is of", uri);
         else break;
         return HV_OK;

@@ -427,7 +427,7 @@ static hv_status feed_open(feed *f, inflater *in)
 {
     memset(f, 0, sizeof *f);
     f->in = in;
-    if (hv_threads() == 1 && feed_whole(f)) return HV_OK;
+    if (feed_whole(f)) return HV_OK; /* one thread: pulled; several: pushed, its bulk elements read ahead */
     if (!in->f) {
         char q[96];
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: part '/%s' cannot be read (libzip: %s)", in->pk->name,
@@ -526,6 +526,12 @@ struct tmf_xml {
     int pulling;         /* pull_parse is parsing */
     hv_status fail;      /* the replay raises this at failed_at, with fail_msg */
     char fail_msg[2048];
+    /* tmf_xml_bulk: the element whose children may be read ahead, while it is open */
+    feed *whole;         /* the part, lying whole in memory and pushed from there (else NULL) */
+    tmf_bulk bulk;
+    int bulk_depth;      /* its depth (0: none) */
+    int bulk_asked;      /* asked and not yet tried */
+    char bulk_qname[160];
 };
 
 tmf_pkg *tmf_xml_pkg(tmf_xml *x) { return x->pk; }
@@ -642,6 +648,28 @@ static int replayed(tmf_xml *x)
     return 1;
 }
 
+/* SAX2 with these callbacks and no other. */
+static void sax_init(xmlSAXHandler *sax, startElementNsSAX2Func start, endElementNsSAX2Func end, xmlStructuredErrorFunc error)
+{
+    memset(sax, 0, sizeof *sax);
+    sax->initialized = XML_SAX2_MAGIC;
+    sax->startElementNs = start;
+    sax->endElementNs = end;
+    sax->serror = error;
+}
+
+/* libxml2's attributes (local, prefix, URI, value, end: five pointers each) as tmf_attr. */
+static void attrs_of(const xmlChar **attrs, int n, tmf_attr *a)
+{
+    for (int i = 0; i < n; ++i) {
+        const xmlChar **t = attrs + 5 * i;
+        a[i].local = (const char *)t[0];
+        a[i].uri = (const char *)t[2];
+        a[i].value = (const char *)t[3];
+        a[i].len = (size_t)(t[4] - t[3]);
+    }
+}
+
 static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
                      const xmlChar **ns, int nattrs, int ndefaulted, const xmlChar **attrs)
 {
@@ -662,13 +690,7 @@ static void on_start(void *ctx, const xmlChar *local, const xmlChar *prefix, con
     if (x->collect) want_text(x, 0);
     if (replayed(x)) return;
     tmf_attr a[PKG_MAX_ATTRS];
-    for (int i = 0; i < nattrs; ++i) {
-        const xmlChar **t = attrs + 5 * i;
-        a[i].local = (const char *)t[0];
-        a[i].uri = (const char *)t[2];
-        a[i].value = (const char *)t[3];
-        a[i].len = (size_t)(t[4] - t[3]);
-    }
+    attrs_of(attrs, nattrs, a);
     hv_status s = x->h->start ? x->h->start(x->ctx, x, (const char *)local, (const char *)uri, a, nattrs) : HV_OK;
     if (s == HV_OK) x->collect_after = x->collect;
     else fail(x, s);
@@ -679,6 +701,7 @@ static void on_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const
     tmf_xml *x = ctx;
     if (x->status != HV_OK) return;
     x->seen++;
+    if (x->depth == x->bulk_depth) x->bulk_depth = x->bulk_asked = 0;
     x->depth--;
     set_qname(x, prefix, local);
     if (replayed(x)) return;
@@ -745,27 +768,383 @@ void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, 
 
 #define PKG_XML_OPTIONS (XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA)
 
-/* The push parser fed chunk by chunk: the streamed path, and a whole part pull_parse leaves to it. */
+/* One chunk to the push parser (terminate: the last): the handler's status, else the XML error. */
+static hv_status push_chunk(tmf_xml *x, const char *data, size_t len, int terminate)
+{
+    int rc = xmlParseChunk(x->ctxt, data, (int)len, terminate);
+    if (x->status != HV_OK) return x->status;
+    if (rc != 0 || x->xml_error[0] || x->ctxt->disableSAX)
+        return hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", x->pk->name, x->part,
+                            x->err_line, x->err_col, x->xml_error[0] ? x->xml_error : "the parser stopped");
+    return HV_OK;
+}
+
+/* ---- bulk: a run of like children read ahead on other threads (tmf_xml_bulk) ----------------
+ * The element's content from where the parser has been fed to about its end (bulk_reach) is cut at '<'
+ * into one share per thread. The parser goes on through the first share itself; every other is
+ * parsed by a push parser of its own, inside a copy of the element's start tag that declares the
+ * namespaces in scope (nsTab), handing each child to the bulk's item function. The cuts are
+ * checked, not trusted: the parser must stand in the element's content at the first cut with
+ * nothing but blanks unparsed (not in a comment, a CDATA section or a child), and each piece must
+ * be well-formed content made only of children taken, which it cannot be if its cut fell inside
+ * markup. The pieces taken are merged in order, the parser's line and column set where the bytes
+ * skipped would have left them, and it goes on from the first piece not taken, or from the
+ * element's end tag where a piece met it. */
+#ifndef PKG_BULK_SHARE /* (defined otherwise only by the differential check: every bulk element cut) */
+#define PKG_BULK_SHARE ((size_t)1 << 20) /* bytes of children worth a thread */
+#endif
+#define PKG_BULK_MAX 64                  /* pieces */
+#define PKG_PIECE_CHUNK 262144
+
+static _Atomic uint64_t g_bulk_merged;
+uint64_t tmf_xml_bulk_merged(void) { return g_bulk_merged; }
+
+void tmf_xml_bulk(tmf_xml *x, const tmf_bulk *b)
+{
+    const xmlParserCtxtPtr c = x->ctxt;
+    if (!x->whole || x->pulling || x->collect || x->status != HV_OK || hv_threads() < 2 || !c->input || !c->input->buf ||
+        c->input->buf->encoder) /* the bytes the parser reads are not the part's */
+        return;
+    x->bulk = *b;
+    x->bulk_depth = x->depth;
+    x->bulk_asked = 1;
+    snprintf(x->bulk_qname, sizeof x->bulk_qname, "%s", tmf_xml_qname(x));
+}
+
+typedef struct piece {
+    const tmf_bulk *b;
+    const uint8_t *from, *to;
+    const char *open; /* the element's start tag, namespaces declared */
+    size_t open_len;
+    const char *close;
+    size_t close_len;
+    xmlParserCtxtPtr ctxt;
+    const xmlChar *child; /* the children's name in this parser's dictionary, once seen */
+    int depth, ok, started;
+    const uint8_t *end;  /* where the element's own end tag closed the piece (NULL: our copy did) */
+    const uint8_t *stop; /* the children taken end here: `to`, `end`, or a child not taken */
+    uint8_t *items;
+    size_t count, cap;
+    uint64_t lines, tail; /* newlines in [from, to), characters after the last (or all) */
+    pthread_t thread;
+} piece;
+
+static void piece_bail(piece *p)
+{
+    p->ok = 0;
+    xmlStopParser(p->ctxt);
+}
+
+/* The piece's byte where its parser stands (the copy of the start tag before it aside); NULL
+ * outside the piece's own bytes. */
+static const uint8_t *piece_here(const piece *p)
+{
+    const xmlParserInputPtr in = p->ctxt->input;
+    size_t past = (size_t)in->consumed + (size_t)(in->cur - in->base);
+    if (past <= p->open_len || past - p->open_len > (size_t)(p->to - p->from)) return NULL;
+    return p->from + (past - p->open_len);
+}
+
+/* A child the piece does not take, just read: the piece ends before it, where it starts (found
+ * back from the parser's place within its start tag: no '<' in names and attribute values). */
+static void piece_stop(piece *p)
+{
+    const uint8_t *q = piece_here(p);
+    while (q && q > p->from && q[-1] != '<') --q;
+    if (!q || q == p->from) {
+        piece_bail(p);
+        return;
+    }
+    p->stop = q - 1;
+    xmlStopParser(p->ctxt);
+}
+
+static void piece_start(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri, int nns,
+                        const xmlChar **ns, int nattrs, int ndefaulted, const xmlChar **attrs)
+{
+    (void)prefix, (void)ns;
+    piece *p = ctx;
+    if (!p->ok || p->depth++ == 0) return; /* the copy of the element's start tag */
+    if (p->depth > 2) { /* inside a child: where that child starts is not known */
+        piece_bail(p);
+        return;
+    }
+    const tmf_bulk *b = p->b;
+    if (local != p->child && !p->child && strcmp((const char *)local, b->child) == 0) p->child = local;
+    if (local != p->child || nns || ndefaulted || nattrs != b->nattrs || nattrs > PKG_MAX_ATTRS) {
+        piece_stop(p);
+        return;
+    }
+    if (p->count == p->cap) {
+        size_t cap = p->cap ? 2 * p->cap : 4096;
+        uint8_t *q = hv_realloc_big(p->items, cap * b->item_size);
+        if (!q) {
+            piece_bail(p);
+            return;
+        }
+        p->items = q;
+        p->cap = cap;
+    }
+    tmf_attr a[PKG_MAX_ATTRS];
+    attrs_of(attrs, nattrs, a);
+    (void)uri;
+    if (b->item(b->arg, a, nattrs, p->items + p->count * b->item_size)) p->count++;
+    else piece_stop(p);
+}
+
+/* The element's own end tag within the piece closes it there: the children before it are the
+ * piece's, the parser goes on from that tag (found back from just past it: it holds no '<'). */
+static void piece_end(void *ctx, const xmlChar *local, const xmlChar *prefix, const xmlChar *uri)
+{
+    (void)local, (void)prefix, (void)uri;
+    piece *p = ctx;
+    if (--p->depth > 0 || !p->ok) return;
+    const uint8_t *q = piece_here(p);
+    if (!q) return; /* our copy's end tag */
+    while (q > p->from && q[-1] != '<') --q;
+    if (q == p->from || q[0] != '/') {
+        piece_bail(p);
+        return;
+    }
+    p->end = p->stop = q - 1;
+    xmlStopParser(p->ctxt);
+}
+
+static void piece_error(void *ctx, xmlErrorPtr e)
+{
+    piece *p = ctx;
+    if (e && e->level >= XML_ERR_ERROR && p->ok) piece_bail(p);
+}
+
+/* Newlines in [from, stop) and the characters (UTF-8 sequences) after the last, as libxml2 counts
+ * lines and columns. */
+static void piece_lines(piece *p)
+{
+    const uint8_t *at = p->from, *last = NULL;
+    for (const uint8_t *q; (q = memchr(at, '\n', (size_t)(p->stop - at))) != NULL; at = q + 1) {
+        p->lines++;
+        last = q;
+    }
+    for (const uint8_t *c = last ? last + 1 : p->from; c < p->stop; ++c) p->tail += (*c & 0xC0) != 0x80;
+}
+
+static void *piece_main(void *arg)
+{
+    piece *p = arg;
+    tmf_xml_quiet quiet;
+    tmf_xml_quiet_begin(&quiet); /* libxml2's generic error function is the thread's own */
+    xmlSAXHandler sax;
+    sax_init(&sax, piece_start, piece_end, piece_error);
+    p->ctxt = xmlCreatePushParserCtxt(&sax, p, NULL, 0, NULL);
+    if (p->ctxt) {
+        xmlCtxtUseOptions(p->ctxt, PKG_XML_OPTIONS);
+        p->ok = 1;
+        int rc = xmlParseChunk(p->ctxt, p->open, (int)p->open_len, 0);
+        for (const uint8_t *at = p->from; rc == 0 && p->ok && !p->stop && at < p->to;) {
+            size_t n = HV_MIN((size_t)(p->to - at), (size_t)PKG_PIECE_CHUNK);
+            rc = xmlParseChunk(p->ctxt, (const char *)at, (int)n, 0);
+            at += n;
+        }
+        if (rc == 0 && p->ok && !p->stop) rc = xmlParseChunk(p->ctxt, p->close, (int)p->close_len, 1);
+        /* whole: to its end, well-formed; stopped: at a child not taken or the element's end */
+        p->ok = p->ok && (p->stop ? 1 : rc == 0 && p->ctxt->wellFormed && !p->ctxt->disableSAX && p->depth == 0);
+        if (p->ctxt->myDoc) xmlFreeDoc(p->ctxt->myDoc);
+        xmlFreeParserCtxt(p->ctxt);
+        p->ctxt = NULL;
+    }
+    if (!p->stop) p->stop = p->to;
+    if (p->ok) piece_lines(p);
+    tmf_xml_quiet_end(&quiet);
+    return NULL;
+}
+
+/* The element's start tag again, with every namespace in scope declared (the last binding of
+ * each prefix), for a piece's parser; NULL when it cannot be written plainly. */
+static char *bulk_open_tag(const tmf_xml *x, size_t *len)
+{
+    hv_buf b;
+    hv_buf_init(&b);
+    hv_buf_printf(&b, "<%s", x->bulk_qname);
+    const xmlParserCtxtPtr c = x->ctxt;
+    for (int i = c->nsNr - 2; i >= 0; i -= 2) {
+        const xmlChar *prefix = c->nsTab[i], *url = c->nsTab[i + 1];
+        int shadowed = 0;
+        for (int j = i + 2; j < c->nsNr && !shadowed; j += 2) shadowed = c->nsTab[j] == prefix;
+        if (shadowed || !url) continue;
+        if (strpbrk((const char *)url, "&<\"") != NULL) {
+            hv_buf_free(&b);
+            return NULL;
+        }
+        if (prefix) hv_buf_printf(&b, " xmlns:%s=\"%s\"", (const char *)prefix, (const char *)url);
+        else hv_buf_printf(&b, " xmlns=\"%s\"", (const char *)url);
+    }
+    hv_buf_puts(&b, ">");
+    if (b.failed) {
+        hv_buf_free(&b);
+        return NULL;
+    }
+    *len = b.len;
+    return b.data;
+}
+
+/* 1 when the first tag at or after `at` starts a child: '<', a prefix maybe, the child's name. */
+static int child_next(const uint8_t *data, size_t at, size_t len, const char *child)
+{
+    const uint8_t *q = memchr(data + at, '<', len - at);
+    if (!q) return 0;
+    size_t k = strlen(child), i = 1, left = (size_t)(data + len - q);
+    for (size_t j = 1; j < left && j < 64 && q[j] != ' ' && q[j] != '/' && q[j] != '>'; ++j)
+        if (q[j] == ':') i = j + 1;
+    return i + k < left && memcmp(q + i, child, k) == 0 &&
+           (q[i + k] == ' ' || q[i + k] == '\t' || q[i + k] == '\n' || q[i + k] == '\r' || q[i + k] == '/' || q[i + k] == '>');
+}
+
+/* Where the element's run of children ends, about: halving the rest of the part while a child
+ * follows the middle, then the next '<' (0: no child follows `from`). A guess, not trusted:
+ * pieces past the true end are not taken, and the piece holding it ends there (piece_end). */
+static size_t bulk_reach(const uint8_t *data, size_t from, size_t len, const char *child)
+{
+    if (!child_next(data, from, len, child)) return 0;
+    size_t lo = from, hi = len;
+    while (hi - lo > 4096) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (child_next(data, mid, len, child)) lo = mid;
+        else hi = mid;
+    }
+    const uint8_t *q = memchr(data + hi, '<', len - hi);
+    return q ? (size_t)(q - data) : len;
+}
+
+static int blanks_only(const xmlChar *p, const xmlChar *e)
+{
+    for (; p < e; ++p)
+        if (*p != ' ' && *p != '\t' && *p != '\r' && *p != '\n') return 0;
+    return 1;
+}
+
+/* The parser where the bytes skipped would have left it. The blanks it holds unparsed (before
+ * the first cut) are parsed first, ended by an empty comment (no handler sees comments); then
+ * its line and column are set past the skipped newlines and the characters after the last. */
+static hv_status skip_lines(tmf_xml *x, uint64_t lines, uint64_t tail)
+{
+    static const char mark[] = "<!---->";
+    hv_status s = push_chunk(x, mark, sizeof mark - 1, 0);
+    if (s != HV_OK) return s;
+    xmlParserInputPtr in = x->ctxt->input;
+    if (lines > 0) {
+        in->line += (int)lines;
+        in->col = (int)tail + 1;
+    } else
+        in->col += (int)tail - (int)(sizeof mark - 1);
+    return HV_OK;
+}
+
+/* The parser stands in the bulk element's content, nothing but blanks unparsed, fit to skip. */
+static int bulk_standing(const tmf_xml *x)
+{
+    const xmlParserCtxtPtr c = x->ctxt;
+    return x->status == HV_OK && !x->xml_error[0] && !c->disableSAX && c->instate == XML_PARSER_CONTENT &&
+           x->bulk_depth != 0 && x->depth == x->bulk_depth && c->input && c->input->buf && !c->input->buf->encoder &&
+           blanks_only(c->input->cur, c->input->end);
+}
+
+static hv_status bulk_run(tmf_xml *x, feed *f)
+{
+    const uint8_t *data = f->whole;
+    size_t len = f->whole_len, from = f->whole_at;
+    size_t e = bulk_reach(data, from, len, x->bulk.child);
+    size_t span = e > from ? e - from : 0;
+    int n = (int)HV_MIN((size_t)HV_MIN(hv_threads(), PKG_BULK_MAX), span / PKG_BULK_SHARE);
+    if (n < 2) return HV_OK;
+    size_t cut[PKG_BULK_MAX + 1];
+    int m = 0; /* cuts: cut[0] ends the parser's share, cut[m] = e */
+    for (int i = 1; i < n; ++i) {
+        size_t at = from + span / (size_t)n * (size_t)i;
+        const uint8_t *q = memchr(data + at, '<', e - at);
+        at = q ? (size_t)(q - data) : e;
+        if (at < e && (m == 0 || at > cut[m - 1])) cut[m++] = at;
+    }
+    if (m == 0) return HV_OK;
+    cut[m] = e;
+    size_t open_len = 0;
+    char *open = bulk_open_tag(x, &open_len);
+    char close[168];
+    size_t close_len = (size_t)snprintf(close, sizeof close, "</%s>", x->bulk_qname);
+    piece *pc = open ? hv_calloc((size_t)m, sizeof *pc) : NULL;
+    if (!pc) {
+        free(open);
+        return HV_OK; /* parsed here as usual */
+    }
+    for (int i = 0; i < m; ++i) {
+        piece *p = &pc[i];
+        p->b = &x->bulk;
+        p->from = data + cut[i];
+        p->to = data + cut[i + 1];
+        p->open = open;
+        p->open_len = open_len;
+        p->close = close;
+        p->close_len = close_len;
+        p->started = pthread_create(&p->thread, NULL, piece_main, p) == 0;
+    }
+    /* the parser's own share, to the first cut */
+    hv_status s = HV_OK;
+    size_t at = f->whole_at;
+    while (s == HV_OK && at < cut[0]) {
+        size_t k = HV_MIN(cut[0] - at, (size_t)PKG_CHUNK);
+        s = push_chunk(x, (const char *)data + at, k, 0);
+        at += k;
+    }
+    for (int i = 0; i < m; ++i)
+        if (pc[i].started) pthread_join(pc[i].thread, NULL);
+    /* each piece, at its cut: merged and skipped where the parser stands in the element's content
+     * and the piece took children, then the rest to the next cut parsed here */
+    for (int i = 0; s == HV_OK && i < m && x->bulk_depth; ++i) {
+        const piece *p = &pc[i];
+        if (p->started && p->ok && p->count && p->tail < (uint64_t)INT_MAX / 2 && p->lines < (uint64_t)INT_MAX / 2 &&
+            bulk_standing(x) && x->bulk.merge(x->ctx, p->items, p->count)) {
+            x->seen += 2 * (uint64_t)p->count;
+            g_bulk_merged += p->count;
+            s = skip_lines(x, p->lines, p->tail);
+            at = (size_t)(p->stop - data);
+            if (p->end) break; /* the element ends in it: the parser goes on from its end tag */
+        }
+        while (s == HV_OK && at < cut[i + 1]) {
+            size_t k = HV_MIN(cut[i + 1] - at, (size_t)PKG_CHUNK);
+            s = push_chunk(x, (const char *)data + at, k, 0);
+            at += k;
+        }
+    }
+    f->whole_at = at;
+    for (int i = 0; i < m; ++i) free(pc[i].items);
+    free(pc);
+    free(open);
+    return s;
+}
+
+/* The push parser fed chunk by chunk: the streamed path, a whole part on several threads (its
+ * bulk elements read ahead), and a whole part pull_parse leaves to it. */
 static hv_status push_parse(tmf_xml *x, feed *f, xmlSAXHandler *sax)
 {
     hv_status s = HV_OK;
     x->ctxt = xmlCreatePushParserCtxt(sax, x, NULL, 0, x->part);
     if (!x->ctxt) s = HV_ERR_NOMEM;
     else xmlCtxtUseOptions(x->ctxt, PKG_XML_OPTIONS);
+    if (s == HV_OK && f->whole && !f->counted && (s = inflate_count(f->in, f->whole_len)) == HV_OK) f->counted = 1;
+    x->whole = f->whole && x->replay == 0 ? f : NULL;
     size_t got = 0;
     int done = 0;
     while (s == HV_OK && !done) {
+        if (x->bulk_asked) {
+            x->bulk_asked = 0;
+            if ((s = bulk_run(x, f)) != HV_OK) break;
+        }
         const char *chunk = NULL;
         if ((s = feed_next(f, &chunk, &got)) != HV_OK) break;
         done = got == 0;
-        int rc = xmlParseChunk(x->ctxt, chunk, (int)got, done);
+        s = push_chunk(x, chunk, got, done);
         feed_done(f);
-        if (x->status != HV_OK) s = x->status;
-        else if (rc != 0 || x->xml_error[0] || x->ctxt->disableSAX) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: line %d, column %d: malformed XML: %s", x->pk->name, x->part,
-                             x->err_line, x->err_col, x->xml_error[0] ? x->xml_error : "the parser stopped");
-        }
     }
+    x->whole = NULL;
     if (x->ctxt) {
         if (x->ctxt->myDoc) xmlFreeDoc(x->ctxt->myDoc);
         xmlFreeParserCtxt(x->ctxt);
@@ -861,13 +1240,8 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     hv_status s = inflate_open(pk, i, part, limit, &in);
     if (s != HV_OK) return s;
     xmlSAXHandler sax;
-    memset(&sax, 0, sizeof sax);
-    sax.initialized = XML_SAX2_MAGIC;
-    sax.startElementNs = on_start;
-    sax.endElementNs = on_end;
-    sax.internalSubset = on_doctype;
-    sax.serror = on_error;
-    sax.characters = sax.cdataBlock = NULL; /* want_text sets them */
+    sax_init(&sax, on_start, on_end, on_error);
+    sax.internalSubset = on_doctype; /* characters and cdataBlock: want_text sets them */
     tmf_xml x;
     memset(&x, 0, sizeof x);
     x.pk = pk;
@@ -883,7 +1257,7 @@ hv_status tmf_xml_parse(tmf_pkg *pk, const char *part, uint64_t limit, const tmf
     }
     tmf_xml_quiet quiet;
     tmf_xml_quiet_begin(&quiet);
-    if (!f.whole || !pull_parse(&x, &f, &sax, &s)) s = push_parse(&x, &f, &sax);
+    if (!f.whole || hv_threads() > 1 || !pull_parse(&x, &f, &sax, &s)) s = push_parse(&x, &f, &sax);
     tmf_xml_quiet_end(&quiet);
     hv_buf_free(&x.text);
     feed_close(&f);

@@ -83,6 +83,33 @@ tmf_pkg *tmf_xml_pkg(tmf_xml *x);
 const char *tmf_xml_qname(tmf_xml *x);
 /* The namespace URI a prefix is bound to where the parser is, or NULL. */
 const char *tmf_xml_lookup_ns(const tmf_xml *x, const char *prefix);
+/* ---- a long run of like children, read ahead on other threads ------------------------------
+ * A mesh's <vertices> and <triangles> hold a million children of one form. Asked from the start
+ * callback of the element that holds them (tmf_xml_bulk), the rest of its content may be cut at
+ * child boundaries into pieces that other threads parse with parsers of their own (issue 26: a
+ * 1M-facet model's libxml2 time scales with cores). A piece hands each child (local name
+ * `child`, exactly `nattrs` attributes, no children of its own) to `item`, which writes
+ * `item_size` bytes or returns 0 to give the piece up; `merge` then receives each whole piece's
+ * items on the parser's thread, in document order, where the children's start and end callbacks
+ * would have come. Anything else in a piece (another element, a child `item` does not take, XML
+ * that is not well-formed, a cut that is not between children) gives it up: that piece and those
+ * after it are parsed here as usual, so every message, line and column is the serial parse's.
+ * `item` runs on other threads at once: it reads only its arguments and `arg`, which must not
+ * change until the element ends. A hint: one thread, a small part, text being collected, no
+ * whole part in memory, and it does nothing. */
+typedef struct tmf_bulk {
+    const char *child;
+    int nattrs;
+    size_t item_size;
+    int (*item)(const void *arg, const tmf_attr *attrs, int nattrs, void *out);
+    const void *arg;
+    /* 1: merged; 0: nothing changed (no room in the budget, say): the piece is parsed as usual */
+    int (*merge)(void *ctx, const void *items, size_t count);
+} tmf_bulk;
+void tmf_xml_bulk(tmf_xml *x, const tmf_bulk *b);
+/* Children read ahead and merged so far, in this process (for the tests). */
+uint64_t tmf_xml_bulk_merged(void);
+
 /* Called from a start callback: collect the element's text (at most 64 MiB), which the end
  * callback reads with tmf_xml_text ("" when none). */
 void tmf_xml_collect_text(tmf_xml *x);

@@ -111,4 +111,9 @@ void tmf_boundary_free(tmf_boundary *m);
 /* Bytes tmf_boundary_build needs at most for a boundary of `quads` quads. */
 uint64_t tmf_boundary_bytes(uint64_t quads);
 
+/* The most the Volumetric reader decodes of a colour slab's image sheets ahead, for its threads
+ * (volumetric_read.c colour_slab; 1 GiB, and never past a quarter of the memory budget left);
+ * past it one thread samples through a few sheets. The tests lower it to compare the two ways. */
+extern uint64_t tmf_colour_sheets_max;
+
 #endif

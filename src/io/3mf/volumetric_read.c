@@ -1737,6 +1737,8 @@ typedef struct colour_job {
     int32_t z0;
 } colour_job;
 
+uint64_t tmf_colour_sheets_max = (uint64_t)1 << 30;
+
 static hv_status colour_begin(rd *r, const used *u, const lattice *lat, const int64_t *off, hv_volume *v, colour_job *cj)
 {
     const voldata *vd = u->vd;
@@ -1751,9 +1753,10 @@ static hv_status colour_begin(rd *r, const used *u, const lattice *lat, const in
     cj->mask_channel = u->mask_channel;
     cj->mask_shared = cj->has_mask && u->mf == u->cf && memcmp(vd->mask.t, vd->colour.t, sizeof vd->mask.t) == 0;
     if (s == HV_OK && cj->has_mask && !cj->mask_shared) s = sampler_init(r, &cj->mask, u->mf, u->mim, vd->mask.t);
-    /* a slab's sheets decoded once for all threads: a quarter of what is left of the budget, at most 1 GiB */
+    /* a slab's sheets decoded once for all threads: a quarter of what is left of the budget, at most
+     * tmf_colour_sheets_max */
     uint64_t left = r->budget - HV_MIN(r->budget, r->used);
-    cj->allowance = HV_MIN(left / 4, (uint64_t)1 << 30);
+    cj->allowance = HV_MIN(left / 4, tmf_colour_sheets_max);
     if (s == HV_OK && charge(r, cj->allowance, "image sheets") != HV_OK) {
         hv_error_clear();
         cj->allowance = 0;

@@ -16,6 +16,7 @@
 #include "hovox/image.h"
 #include "hovox/mesh.h"
 #include "core/internal.h"
+#include "io/3mf/package.h"
 #include "io/reader_check.h"
 #include "support/lib3mf_c.h"
 #include "support/support.h"
@@ -569,7 +570,9 @@ static unsigned char *zip_parts(const char *const *parts, size_t n, size_t *len)
     for (size_t i = 0; i < n; ++i) {
         if (!parts[2 * i + 1]) continue;
         zip_source_t *s = zip_source_buffer(z, parts[2 * i + 1], strlen(parts[2 * i + 1]), 0);
-        cr_assert(zip_file_add(z, parts[2 * i], s, ZIP_FL_OVERWRITE) >= 0);
+        zip_int64_t at = zip_file_add(z, parts[2 * i], s, ZIP_FL_OVERWRITE);
+        cr_assert(at >= 0);
+        cr_assert_eq(zip_set_file_compression(z, (zip_uint64_t)at, ZIP_CM_DEFLATE, 1), 0); /* fast: big parts */
     }
     cr_assert_eq(zip_close(z), 0);
     FILE *fp = fopen(path, "rb");
@@ -1640,4 +1643,152 @@ Test(threemf, a_slicers_assembly_of_texture_composite_and_nested_components)
     cr_assert_eq(hv_mesh_note_count(m), 1);
     hv_mesh_destroy(m);
     free(data);
+}
+
+/* ---- issue 26: the rest of a large <vertices> or <triangles> read ahead on other threads ---- */
+
+/* How a producer writes the model (bulk_model). */
+enum {
+    B_ONE_LINE = 1,  /* no newline anywhere */
+    B_CRLF = 2,      /* CR LF between elements */
+    B_COMMENTS = 4,  /* long comments among the children, holding children's markup */
+    B_CDATA = 8,     /* CDATA sections and processing instructions among them, the same */
+    B_ODD = 16,      /* some children in another form: attributes reordered, an extra one */
+    B_PREFIX = 32,   /* the core namespace under a prefix: <c:vertex> */
+    B_PROPS = 64,    /* some triangles with properties of their own */
+    B_TWO = 128,     /* two objects, each a knot */
+    B_FOREIGN = 4096, /* elements of another namespace among the children, with the children's attributes */
+    B_LATIN = 8192,   /* declared ISO-8859-1: the parser reads decoded bytes, not the part's: none read ahead */
+    B_BAD_INDEX = 256, B_BAD_NUMBER = 512, B_BAD_XML = 1024, B_BAD_ITEM = 2048 /* an error late in the part */
+};
+
+static void bulk_extra(hv_buf *xml, int how, size_t i, const char *c)
+{
+    if ((how & B_FOREIGN) && i % 50 == 13) hv_buf_puts(xml, "<q:point x=\"9\" y=\"9\" z=\"9\"/><q:tri v1=\"0\" v2=\"1\" v3=\"2\"/>");
+    if ((how & B_COMMENTS) && i % 40 == 7) {
+        hv_buf_puts(xml, "<!-- ");
+        for (int k = 0; k < 30; ++k) hv_buf_printf(xml, "<%svertex x=\"%d\" y=\"0\" z=\"0\"/> ", c, k);
+        hv_buf_puts(xml, "-->");
+    }
+    if ((how & B_CDATA) && i % 60 == 11) {
+        hv_buf_printf(xml, "<![CDATA[ <%striangle v1=\"0\" v2=\"1\" v3=\"2\"/> ", c);
+        for (int k = 0; k < 20; ++k) hv_buf_printf(xml, "<%svertex x=\"%d\" y=\"0\" z=\"0\"/> ", c, k);
+        hv_buf_printf(xml, "]]><?hovox <%svertex x=\"1\" y=\"2\" z=\"3\"/> ?>", c);
+    }
+}
+
+/* The knot's coordinates as a producer prints them ("%.6f"), printed once for every model. */
+static char (*g_coords)[3][24];
+
+static void bulk_model(hv_buf *xml, const hv_mesh *knot, int how)
+{
+    const char *nl = how & B_ONE_LINE ? "" : how & B_CRLF ? "\r\n" : "\n", *c = how & B_PREFIX ? "c:" : "";
+    const char *core = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";
+    size_t nv = hv_mesh_vertex_count(knot), nf = hv_mesh_facet_count(knot);
+    int objects = how & B_TWO ? 2 : 1;
+    hv_buf_init(xml);
+    hv_buf_printf(xml, "<?xml version=\"1.0\" encoding=\"%s\"?>%s<model unit=\"millimeter\" xmlns=\"%s\" xmlns:c=\"%s\" "
+                  "xmlns:q=\"urn:hovox:test\">%s<resources>", how & B_LATIN ? "ISO-8859-1" : "UTF-8", nl, core, core, nl);
+    if (how & B_PROPS)
+        hv_buf_puts(xml, "<basematerials id=\"9\"><base name=\"red\" displaycolor=\"#FF0000\"/>"
+                         "<base name=\"blue\" displaycolor=\"#0000FF\"/></basematerials>");
+    for (int o = 0; o < objects; ++o) {
+        hv_buf_printf(xml, "<object id=\"%d\" type=\"model\"%s><mesh>%s<%svertices>", o + 1,
+                      how & B_PROPS ? " pid=\"9\" pindex=\"0\"" : "", nl, c);
+        for (size_t i = 0; i < nv; ++i) {
+            const char *x = g_coords[i][0], *y = g_coords[i][1], *z = g_coords[i][2];
+            const char *shift = o ? "1" : ""; /* the second object 1000 mm or more away */
+            bulk_extra(xml, how, i, c);
+            if ((how & B_BAD_NUMBER) && i == nv - 5) hv_buf_printf(xml, "%s\t<%svertex x=\"%s\" y=\"1e999\" z=\"%s\"/>", nl, c, x, z);
+            else if ((how & B_ODD) && i % 997 == 3) hv_buf_printf(xml, "%s\t<%svertex z=\"%s\" x=\"%s%s\" y=\"%s\"/>", nl, c, z, shift, x, y);
+            else if ((how & B_ODD) && i % 997 == 5) hv_buf_printf(xml, "%s\t<%svertex x=\"%s%s\" y=\"%s\" z=\"%s\" q=\"1\"/>", nl, c, shift, x, y, z);
+            else hv_buf_printf(xml, "%s\t<%svertex x=\"%s%s\" y=\"%s\" z=\"%s\" />", nl, c, shift, x, y, z);
+        }
+        hv_buf_printf(xml, "%s</%svertices>%s<%striangles>", nl, c, nl, c);
+        for (size_t f = 0; f < nf; ++f) {
+            const uint32_t *t = hv_mesh_facets(knot) + 3 * f;
+            bulk_extra(xml, how, f, c);
+            if ((how & B_BAD_INDEX) && f == nf - 7) hv_buf_printf(xml, "%s\t<%striangle v1=\"%u\" v2=\"%zu\" v3=\"%u\"/>", nl, c, t[0], nv, t[2]);
+            else if ((how & B_BAD_XML) && f == nf - 9) hv_buf_printf(xml, "%s\t<%striangle v1=\"%u\" v2=\"%u\" v3=\"%u\">", nl, c, t[0], t[1], t[2]);
+            else if ((how & B_PROPS) && f % 1013 == 17)
+                hv_buf_printf(xml, "%s\t<%striangle v1=\"%u\" v2=\"%u\" v3=\"%u\" pid=\"9\" p1=\"1\"/>", nl, c, t[0], t[1], t[2]);
+            else if ((how & B_ODD) && f % 991 == 2) hv_buf_printf(xml, "%s\t<%striangle v2=\"%u\" v1=\"%u\" v3=\"%u\"/>", nl, c, t[1], t[0], t[2]);
+            else hv_buf_printf(xml, "%s\t<%striangle v1=\"%u\" v2=\"%u\" v3=\"%u\" />", nl, c, t[0], t[1], t[2]);
+        }
+        hv_buf_printf(xml, "%s</%striangles>%s</mesh></object>", nl, c, nl);
+    }
+    hv_buf_printf(xml, "%s</resources>%s<build>", nl, nl);
+    for (int o = 0; o < objects; ++o) hv_buf_printf(xml, "%s<item objectid=\"%d\"/>", nl, o + 1);
+    if (how & B_BAD_ITEM) hv_buf_printf(xml, "%s<item objectid=\"77\"/>", nl);
+    hv_buf_printf(xml, "%s</build>%s</model>%s", nl, nl, nl);
+}
+
+/* The model read on 1, 2 and 4 threads: the same mesh, or the same message with its line and column.
+ * Returns the children merged from other threads' pieces. */
+static uint64_t same_on_any_threads(const hv_mesh *knot, int how)
+{
+    hv_buf xml;
+    bulk_model(&xml, knot, how);
+    cr_assert(!xml.failed);
+    const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", xml.data};
+    size_t len;
+    unsigned char *data = zip_parts(parts, 3, &len);
+    hv_mesh *m[3] = {NULL, NULL, NULL};
+    hv_status st[3];
+    char msg[3][512];
+    uint64_t before = tmf_xml_bulk_merged();
+    for (int k = 0; k < 3; ++k) {
+        hv_set_threads(1 << k); /* 1, 2, 4 */
+        hv_error_clear();
+        st[k] = hv_mesh_parse_3mf(data, len, "big.3mf", &m[k]);
+        snprintf(msg[k], sizeof msg[k], "%s", st[k] == HV_OK ? "" : hv_last_error());
+    }
+    hv_set_threads(0);
+    for (int k = 1; k < 3; ++k) {
+        cr_assert_eq(st[k], st[0], "how %d, %d threads: %s / %s", how, 1 << k, msg[k], msg[0]);
+        cr_assert_str_eq(msg[k], msg[0], "how %d, %d threads", how, 1 << k);
+        if (st[0] != HV_OK) continue;
+        size_t nv = hv_mesh_vertex_count(m[0]), nf = hv_mesh_facet_count(m[0]);
+        cr_assert_eq(hv_mesh_vertex_count(m[k]), nv, "how %d", how);
+        cr_assert_eq(hv_mesh_facet_count(m[k]), nf, "how %d", how);
+        cr_assert_eq(hv_mesh_body_count(m[k]), hv_mesh_body_count(m[0]), "how %d", how);
+        cr_assert_eq(memcmp(hv_mesh_vertices(m[k]), hv_mesh_vertices(m[0]), 3 * nv * sizeof(float)), 0, "how %d", how);
+        cr_assert_eq(memcmp(hv_mesh_facets(m[k]), hv_mesh_facets(m[0]), 3 * nf * sizeof(uint32_t)), 0, "how %d", how);
+        const int32_t *f0 = hv_mesh_facet_materials(m[0]), *fk = hv_mesh_facet_materials(m[k]);
+        cr_assert_eq(!f0, !fk, "how %d", how);
+        if (f0) cr_assert_eq(memcmp(fk, f0, nf * sizeof *f0), 0, "how %d", how);
+    }
+    for (int k = 0; k < 3; ++k) hv_mesh_destroy(m[k]);
+    free(data);
+    hv_buf_free(&xml);
+    return tmf_xml_bulk_merged() - before;
+}
+
+/* With two threads or more the rest of a <vertices> or <triangles> of a few MiB is cut into
+ * pieces other threads parse. Wherever the cuts fall (in comments, CDATA sections and processing
+ * instructions holding children's markup, at children in another form or with properties, under
+ * a prefix, in CR LF or one long line, across two objects) the mesh, or the message with its line
+ * and column, is one thread's; and the pieces do read ahead (children merged from them). */
+Test(threemf, a_large_mesh_read_ahead_in_pieces_is_read_as_on_one_thread, .timeout = 120)
+{
+    hv_mesh *knot = NULL;
+    cr_assert_eq(hv_generate_torus_knot(2, 3, 30, 12, 5, 1000, 60, &knot), HV_OK); /* 120,000 facets */
+    size_t nv = hv_mesh_vertex_count(knot);
+    g_coords = malloc(nv * sizeof *g_coords);
+    for (size_t i = 0; i < nv; ++i)
+        for (int k = 0; k < 3; ++k) snprintf(g_coords[i][k], sizeof g_coords[i][k], "%.6f", (double)hv_mesh_vertices(knot)[3 * i + (size_t)k]);
+    uint64_t plain = same_on_any_threads(knot, 0);
+    cr_assert_gt(plain, 100000, "read ahead: %llu children", (unsigned long long)plain);
+    static const int hows[] = {B_ONE_LINE, B_CRLF, B_COMMENTS, B_CDATA | B_CRLF, B_ODD, B_PREFIX | B_ONE_LINE, B_PROPS, B_TWO, B_FOREIGN};
+    for (size_t i = 0; i < sizeof hows / sizeof *hows; ++i) {
+        uint64_t n = same_on_any_threads(knot, hows[i]);
+        cr_assert_gt(n, 0, "how %d: nothing read ahead", hows[i]);
+    }
+    same_on_any_threads(knot, B_TWO | B_COMMENTS | B_ODD); /* cuts in comments may leave nothing to read ahead */
+    cr_assert_eq(same_on_any_threads(knot, B_LATIN), 0);
+    static const int bad[] = {B_BAD_INDEX, B_BAD_NUMBER, B_BAD_XML, B_BAD_ITEM, B_BAD_ITEM | B_ONE_LINE,
+                              B_BAD_ITEM | B_CRLF | B_COMMENTS, B_BAD_INDEX | B_ONE_LINE | B_PREFIX};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; ++i) same_on_any_threads(knot, bad[i]);
+    free(g_coords);
+    hv_mesh_destroy(knot);
 }

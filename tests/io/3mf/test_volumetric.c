@@ -24,6 +24,7 @@
 #include "hovox/material.h"
 #include "hovox/model.h"
 #include "hovox/threemf.h"
+#include "io/3mf/threemf_internal.h"
 #include "support/support.h"
 
 #define NS_CORE "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"
@@ -1769,4 +1770,57 @@ Test(threemf, sheets_through_temporary_files_give_the_same_package)
     cr_expect_eq(t_run(cmd, NULL), 0, "the same package either way");
     cr_expect_eq(count_entries(t_tmpdir(), "tmp-"), 0, "no temporary left");
     hv_volume_destroy(v);
+}
+
+/* The colour reader's single-thread way (colour_slab, issue 26 review): when a slab's image sheets
+ * would take more than its allowance, one thread samples through a few least-recently-used sheets
+ * in place of the sheets decoded ahead for all threads. Forced here by lowering the allowance
+ * (tmf_colour_sheets_max): to none, every slab one thread's; to one and a half sheets, the cube's
+ * slab that samples one sheet decoded ahead and its slabs that sample 5 and 8 (of 4 slots) one
+ * thread's. The same colour grids, bit for bit, as the threaded read on 2 threads and on 1. */
+Test(threemf_colour, the_single_thread_colour_read_gives_the_threaded_colours, .timeout = 120)
+{
+    static const uint32_t k_pair[12] = {0xE03020FFu, 0xE03020FFu, 0x20B040FFu, 0x20B040FFu, 0x3050E0FFu, 0x3050E0FFu,
+                                        0xF0E020FFu, 0xF0E020FFu, 0x10D0D0FFu, 0x10D0D0FFu, 0x501020FFu, 0x501020FFu};
+    hv_mesh *m = NULL;
+    hv_volume *v = t_painted_cube(10, k_pair, 12, &m);
+    const char *path = t_tmpfile("painted_slabs.3mf");
+    hv_export_report r = export_3mf(v, path, 16);
+    cr_assert_eq(r.colour, 1);
+    const uint64_t sheet = (uint64_t)(r.hi[0] - r.lo[0] + 1) * (uint64_t)(r.hi[1] - r.lo[1] + 1) * 4 * sizeof(uint16_t);
+    const uint64_t kept = tmf_colour_sheets_max;
+    const struct {
+        int threads;
+        uint64_t max;
+    } k_way[4] = {{2, kept}, {1, kept}, {2, 0}, {2, sheet + sheet / 2}};
+    hv_volume *back[4] = {NULL, NULL, NULL, NULL};
+    for (int w = 0; w < 4; ++w) {
+        hv_set_threads(k_way[w].threads);
+        tmf_colour_sheets_max = k_way[w].max;
+        hv_status s = hv_model_load(path, &back[w]);
+        tmf_colour_sheets_max = kept;
+        hv_set_threads(0);
+        cr_assert_eq(s, HV_OK, "%s", hv_last_error());
+    }
+    static const char *const names[4] = {"colour.r", "colour.g", "colour.b", "colour.mask"};
+    size_t nl = hv_volume_leaf_count(back[0]);
+    cr_assert_gt(nl, 8, "slabs of several leaves");
+    for (int w = 1; w < 4; ++w) {
+        cr_assert_eq(hv_volume_leaf_count(back[w]), nl);
+        for (int k = 0; k < 4; ++k) {
+            int ga = hv_volume_grid_find(back[0], names[k]), gb = hv_volume_grid_find(back[w], names[k]);
+            cr_assert(ga >= 0 && gb >= 0, "%s", names[k]);
+            for (size_t l = 0; l < nl; ++l)
+                cr_assert(memcmp(hv_volume_leaf_float(back[0], ga, l), hv_volume_leaf_float(back[w], gb, l),
+                                 512 * sizeof(float)) == 0,
+                          "way %d (%d threads, sheets ahead at most %llu bytes): %s differs in leaf %zu", w,
+                          k_way[w].threads, (unsigned long long)k_way[w].max, names[k], l);
+        }
+    }
+    /* and they are the painted colours */
+    int lo[3] = {(int)r.lo[0], (int)r.lo[1], (int)r.lo[2]}, hi[3] = {(int)r.hi[0], (int)r.hi[1], (int)r.hi[2]};
+    cr_expect(compare_colours(v, back[2], lo, hi, 1.0 / 255) < 1.0e-4);
+    for (int w = 0; w < 4; ++w) hv_volume_destroy(back[w]);
+    hv_volume_destroy(v);
+    hv_mesh_destroy(m);
 }

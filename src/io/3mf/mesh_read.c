@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "hovox/image.h"
 #include "io/io_internal.h"
@@ -68,6 +69,7 @@ typedef struct object {
 typedef struct component {
     size_t obj;
     double t[12];
+    int skip; /* a slicer's config says it places no part (slicer_volumes) */
 } component;
 
 typedef struct item {
@@ -119,6 +121,7 @@ typedef struct reader {
     char label[200]; /* "object 3 'name'" */
     uint64_t loose_props;  /* triangles with a pid in objects without a default one */
     char loose_first[1400]; /* where the first is */
+    char slicer_note[1400]; /* the volumes of a slicer's config not read as parts (slicer_volumes) */
     /* Production extension: objects in other model parts (p:path). The part being read (NULL:
      * the root; ids are then "part|id"), the references of the root waiting for their part, and
      * the root's objects (the others are appended after them). */
@@ -838,6 +841,7 @@ static hv_status on_reference(reader *r, tmf_xml *x, const tmf_attr *a, int n, i
     if (is_component) {
         if ((s = grow(r, x, (void **)&r->comps, &r->ccap, r->ncomp + 1, sizeof *r->comps)) != HV_OK) return s;
         r->comps[r->ncomp].obj = obj;
+        r->comps[r->ncomp].skip = 0;
         memcpy(r->comps[r->ncomp++].t, t, sizeof t);
         r->objs[r->nobj - 1].nc++;
     } else {
@@ -904,8 +908,9 @@ static hv_status on_texture2d(reader *r, tmf_xml *x, uint64_t id, const tmf_attr
     if (!path || path->len < 2 || path->len >= TMF_MAX_PART_NAME || path->value[0] != '/')
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2d %llu: path '%s' is not a part name", (unsigned long long)id,
                            path ? tmf_attr_quote(path, q, sizeof q) : "");
-    int png = ct && ct->len == 9 && memcmp(ct->value, "image/png", 9) == 0;
-    if (!png && !(ct && ct->len == 10 && memcmp(ct->value, "image/jpeg", 10) == 0))
+    /* media types compare without case (RFC 7231 3.1.1.1) */
+    int png = ct && ct->len == 9 && strncasecmp(ct->value, "image/png", 9) == 0;
+    if (!png && !(ct && ct->len == 10 && strncasecmp(ct->value, "image/jpeg", 10) == 0))
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2d %llu: contenttype '%s' is not image/png or image/jpeg",
                            (unsigned long long)id, ct ? tmf_attr_quote(ct, q, sizeof q) : "");
     hv_status s = define(r, x, id, R_TEX2D);
@@ -1390,7 +1395,7 @@ static hv_status place(build *b, size_t obj, const double *t, int split)
         const object *k = &b->r->objs[c->obj];
         /* as an item of them: a support mesh is not filled (Core 4.1: "MUST NOT fill this mesh"),
          * and Core 4.1 expects one as a component of the object it supports; "other" is not output */
-        if (k->type == T_SUPPORT || k->type == T_OTHER) continue;
+        if (k->type == T_SUPPORT || k->type == T_OTHER || c->skip) continue;
         frame *g = &stack[++top];
         g->obj = c->obj;
         g->next = 0;
@@ -1603,6 +1608,105 @@ static hv_status read_other_parts(reader *r, const char *name, const tmf_xml_han
     return s;
 }
 
+static int by_first(const void *a, const void *b)
+{
+    uint64_t x = ((const tmf_slicer_volume *)a)->first, y = ((const tmf_slicer_volume *)b)->first;
+    return (x > y) - (x < y);
+}
+
+/* The root model's object `id` (a mesh or components object), or NULL. */
+static object *root_object(reader *r, uint64_t id)
+{
+    int64_t k = lookup_in(r, NULL, id);
+    return k >= 0 && r->res[k].kind == R_OBJECT ? &r->objs[r->res[k].first] : NULL;
+}
+
+/* A slicer's volumes (slicer_config.c) that it prints as no part (a negative volume is cut out,
+ * which hovox does not do: the note says so; modifiers, support blockers and enforcers are
+ * settings regions) are not read: PrusaSlicer's ranges of an object's triangles are dropped
+ * before anything is counted, Bambu's components are skipped when placed. An object without a
+ * name of its own takes the config's (Bambu's parts: the objects their components place). */
+static hv_status slicer_volumes(reader *r, const char *name)
+{
+    tmf_slicer_config c;
+    hv_status s = tmf_slicer_config_read(r->pk, &c);
+    if (s != HV_OK) return s;
+    if (c.unread[0])
+        snprintf(r->slicer_note, sizeof r->slicer_note, "%s (the config is not read: every volume is read as a part)", c.unread);
+    for (size_t i = 0; i < c.nnames && s == HV_OK; ++i) {
+        object *o = root_object(r, c.names[i].object);
+        for (size_t k = 0; o && c.names[i].part && k < o->nc; ++k) { /* Bambu: the part's own object */
+            object *p = &r->objs[r->comps[o->c0 + k].obj];
+            if (p->id == c.names[i].part && p->nc == 0) {
+                o = p;
+                break;
+            }
+        }
+        if (o && (!c.names[i].part || o->nc == 0) && !o->name && c.names[i].name[0] &&
+            !(o->name = hv_strdup(c.names[i].name)))
+            s = HV_ERR_NOMEM;
+    }
+    uint8_t *drop = NULL;
+    size_t dropped = 0, negative = 0, nvol = 0, nrange = 0;
+    char first[200] = "";
+    for (size_t i = 0; i < c.nvols; ++i) { /* ranges as the reader's triangles, sorted below */
+        tmf_slicer_volume *v = &c.vols[i];
+        object *o = root_object(r, v->object);
+        size_t hit = 0;
+        if (v->kind == TMF_VOLUME_PART || !o) continue;
+        if (v->part) /* Bambu: the components placing that object */
+            for (size_t k = 0; k < o->nc; ++k) {
+                component *cp = &r->comps[o->c0 + k];
+                if (r->objs[cp->obj].id != v->part || cp->skip) continue;
+                cp->skip = 1;
+                dropped += r->objs[cp->obj].nt;
+                hit = 1;
+            }
+        else if (o->nc == 0 && v->last < o->nt) { /* PrusaSlicer: a range of a mesh object */
+            c.vols[nrange].first = o->t0 + v->first; /* vols[nrange] is at or before v */
+            c.vols[nrange++].last = o->t0 + v->last;
+            hit = 1;
+        }
+        if (!hit) continue; /* not this model's */
+        negative += v->kind == TMF_VOLUME_NEGATIVE;
+        if (nvol++ == 0)
+            snprintf(first, sizeof first, "%s '%s' of object %llu", tmf_slicer_volume_kind(v->kind), v->name,
+                     (unsigned long long)v->object);
+    }
+    if (nrange && !(drop = hv_calloc(r->ntri, 1))) s = HV_ERR_NOMEM;
+    if (drop) { /* each triangle marked once however the ranges overlap (a config of many volumes) */
+        qsort(c.vols, nrange, sizeof *c.vols, by_first);
+        uint64_t next = 0;
+        for (size_t i = 0; i < nrange; ++i)
+            for (uint64_t t = HV_MAX(next, c.vols[i].first); t <= c.vols[i].last; ++t, next = t) drop[t] = 1, ++dropped;
+        size_t j = 0; /* keep the others, in order: objects' triangles lie in object order */
+        for (size_t i = 0; i < r->nobj; ++i) {
+            object *o = &r->objs[i];
+            size_t t0 = j;
+            for (size_t t = o->t0; t < o->t0 + o->nt; ++t) {
+                if (drop[t]) continue;
+                memmove(r->tri + 3 * j, r->tri + 3 * t, 3 * sizeof *r->tri);
+                if (r->refs) memmove(r->refs + 4 * j, r->refs + 4 * t, 4 * sizeof *r->refs);
+                ++j;
+            }
+            o->t0 = t0;
+            o->nt = j - t0;
+        }
+        r->ntri = j;
+    }
+    if (nvol && s == HV_OK) {
+        char many[64] = "";
+        if (nvol > 1) snprintf(many, sizeof many, " and %zu more volume%s", nvol - 1, nvol == 2 ? "" : "s");
+        snprintf(r->slicer_note, sizeof r->slicer_note,
+                 "%s: %s: the %s%s, no part of the print in %s: %zu triangle%s not read%s", name, c.part, first, many,
+                 c.slicer, dropped, dropped == 1 ? "" : "s",
+                 negative ? " (a negative volume is not cut out of the parts, as the slicer cuts it)" : "");
+    }
+    free(drop);
+    tmf_slicer_config_free(&c);
+    return s;
+}
+
 hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_mesh **out)
 {
     *out = NULL;
@@ -1621,6 +1725,7 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
     s = tmf_xml_parse(&pk, pk.model, pk.inflate_cap, &h, &r);
     if (s == HV_OK && !r.resources_seen) s = hv_error_set(HV_ERR_BAD_INPUT, "%s: %s: the model has no <resources>", name, pk.model);
     if (s == HV_OK) s = read_other_parts(&r, name, &h);
+    if (s == HV_OK) s = slicer_volumes(&r, name);
     uint64_t max_tri = HV_MIN((uint64_t)INT32_MAX / 3, pk.budget / TMF_TRIANGLE_BYTES);
     uint64_t placed = 0;
     if (s == HV_OK) s = expand_counts(&r, name, max_tri, &placed);
@@ -1637,6 +1742,10 @@ hv_status hv_mesh_parse_3mf(const void *data, size_t size, const char *name, hv_
             hv_mesh_destroy(*out);
             *out = NULL;
         }
+    }
+    if (s == HV_OK && r.slicer_note[0] && (s = hv_mesh_add_note(*out, r.slicer_note)) != HV_OK) {
+        hv_mesh_destroy(*out);
+        *out = NULL;
     }
     reader_free(&r);
     tmf_pkg_close(&pk);

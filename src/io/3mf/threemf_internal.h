@@ -47,6 +47,41 @@ typedef struct tmf_xml_quiet {
 void tmf_xml_quiet_begin(tmf_xml_quiet *q);
 void tmf_xml_quiet_end(const tmf_xml_quiet *q);
 
+/* ---- a slicer's project config (slicer_config.c) -------------------------------------------
+ * Slicers type the volumes of an object in a config of their own: PrusaSlicer keeps them all in
+ * the object's one <mesh> and lists them in Metadata/Slic3r_PE_model.config, each a range of the
+ * object's triangles (firstid..lastid); Bambu Studio and OrcaSlicer make each a mesh object that a
+ * component of the object places, and list them in Metadata/model_settings.config (<part id> the
+ * component's objectid). Only model parts are printed; a negative volume is cut from them,
+ * modifiers, support blockers and enforcers are settings regions. The configs also name the
+ * objects and parts (the model often does not). */
+enum { TMF_VOLUME_PART = 0, TMF_VOLUME_NEGATIVE, TMF_VOLUME_MODIFIER, TMF_VOLUME_BLOCKER, TMF_VOLUME_ENFORCER };
+typedef struct tmf_slicer_volume {
+    uint64_t object;      /* the object's id in the root model */
+    uint64_t part;        /* Bambu: the id of the object its component places; 0: PrusaSlicer's range */
+    uint64_t first, last; /* PrusaSlicer: the object's triangles first..last */
+    int kind;             /* TMF_VOLUME_* */
+    char name[36];        /* (a 16 MiB config holds at most 400,000 volumes: 30 MB) */
+} tmf_slicer_volume;
+typedef struct tmf_slicer_config {
+    const char *part, *slicer; /* the config read ("Metadata/Slic3r_PE_model.config"), its slicer; NULL: none */
+    tmf_slicer_volume *vols;
+    size_t nvols, cap;
+    struct tmf_slicer_name {
+        uint64_t object, part; /* part 0: the object's own name */
+        char name[128];
+    } *names;
+    size_t nnames, ncap;
+    char unread[512]; /* why a config the package holds was not read ("": read, or none) */
+} tmf_slicer_config;
+struct tmf_pkg;
+/* The package's slicer config, if it holds one (none: c->part NULL). A config that is not
+ * well-formed is not read (the model is read as the specification says) and `unread` says why.
+ * Errors: HV_ERR_NOMEM only. Free with tmf_slicer_config_free. */
+hv_status tmf_slicer_config_read(struct tmf_pkg *pk, tmf_slicer_config *c);
+void tmf_slicer_config_free(tmf_slicer_config *c);
+const char *tmf_slicer_volume_kind(int kind); /* "modifier" */
+
 /* ---- the exact voxel boundary (boundary.c) --------------------------------------------------
  * The faces between occupied and unoccupied voxels, two triangles each, wound outward (counter-
  * clockwise seen from outside). Vertices sit on voxel corners: corner (a, b, c) is the lowest

@@ -335,3 +335,67 @@ package('tests/data/good/3mf_support_component.3mf', model(
     '<object id="3" name="part and prop" type="model"><components><component objectid="1"/>'
     '<component objectid="2" transform="3 0 0 0 3 0 0 0 3 12 0 0"/></components></object>',
     '<item objectid="3"/>'))
+# PrusaSlicer 2.5's project layout: an object's volumes all in its one <mesh>, listed in
+# Metadata/Slic3r_PE_model.config as ranges of its triangles with their types; the build item
+# its instance, with PrusaSlicer's own (unprefixed) printable attribute. A 20 x 20 x 10 part, a
+# settings modifier overlapping it and a negative volume inside it. PrusaSlicer 2.5 itself
+# (prusa-slicer --export-stl) exports the part alone: 12 facets, volume 4000, x 100..120, z 0..10
+PS_NS = 'xmlns:slic3rpe="http://schemas.slic3r.org/3mf/2017/06"'
+ps_vols = [('part', 'ModelPart', cuboid((0, 0, 0), (20, 20, 10))), ('infill', 'ParameterModifier', cuboid((5, 5, 5), (30, 15, 20))),
+           ('hole', 'NegativeVolume', cuboid((5, 5, 5), (15, 15, 20)))]
+ps_v, ps_t, ps_cfg = [], [], ''
+for vname, vtype, (cv_, ct_) in ps_vols:
+    off, first = len(ps_v), len(ps_t)
+    ps_v += cv_
+    ps_t += [(a + off, b + off, c + off) for a, b, c in ct_]
+    ps_cfg += ('  <volume firstid="%d" lastid="%d">\n   <metadata type="volume" key="name" value="%s"/>\n'
+               '   <metadata type="volume" key="volume_type" value="%s"/>\n'
+               '   <metadata type="volume" key="matrix" value="1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"/>\n'
+               '   <mesh edges_fixed="0" degenerate_facets="0" facets_removed="0" facets_reversed="0" backwards_edges="0"/>\n'
+               '  </volume>\n' % (first, len(ps_t) - 1, vname, vtype))
+ps_model = ('<?xml version="1.0" encoding="UTF-8"?>\n<model unit="millimeter" xml:lang="en-US" xmlns="http://schemas.'
+            'microsoft.com/3dmanufacturing/core/2015/02" %s>\n <metadata name="slic3rpe:Version3mf">1</metadata>\n'
+            ' <metadata name="Application">PrusaSlicer-2.5.0</metadata>\n <resources>\n  <object id="1" type="model">\n'
+            '   %s\n  </object>\n </resources>\n <build>\n  <item objectid="1" transform="1 0 0 0 1 0 0 0 1 100 100 0" '
+            'printable="1"/>\n </build>\n</model>\n' % (PS_NS, mesh_xml(ps_v, ps_t)))
+ps_config = ('<?xml version="1.0" encoding="UTF-8"?>\n<config>\n <object id="1" instances_count="1">\n'
+             '  <metadata type="object" key="name" value="bracket.stl"/>\n' + ps_cfg + ' </object>\n</config>\n')
+with zipfile.ZipFile('tests/data/good/3mf_prusaslicer_volumes.3mf', 'w', zipfile.ZIP_DEFLATED) as z:
+    for name, data in (('[Content_Types].xml', CT), ('_rels/.rels', RELS), ('3D/3dmodel.model', ps_model),
+                       ('Metadata/Slic3r_PE_model.config', ps_config)):
+        z.writestr(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), data, zipfile.ZIP_DEFLATED)
+# Bambu Studio's (and OrcaSlicer's) project layout: the root model requires p and holds one object
+# of components, each placing a mesh object of /3D/Objects/object_1.model; Metadata/model_settings.config
+# types each part (<part id> the component's objectid): the 20 x 20 x 10 body a normal_part, a box
+# overlapping it a modifier_part, a box beside it a support_blocker. The item moves it by (50, 60, 0):
+# the body alone, 12 facets, volume 4000, x 50..70, y 60..80, z 0..10
+bb_parts = [(1, 'body', 'normal_part', cuboid((0, 0, 0), (20, 20, 10))), (3, 'dense', 'modifier_part', cuboid((5, 5, 5), (30, 15, 20))),
+            (4, 'no support', 'support_blocker', cuboid((25, 0, 0), (30, 5, 5)))]
+bb_objects = ('<?xml version="1.0" encoding="UTF-8"?>\n<model unit="millimeter" xml:lang="en-US" xmlns="http://schemas.microsoft.'
+              'com/3dmanufacturing/core/2015/02" xmlns:BambuStudio="http://schemas.bambulab.com/package/2021" xmlns:p="%s" '
+              'requiredextensions="p">\n <metadata name="BambuStudio:3mfVersion">1</metadata>\n <resources>\n' % PROD +
+              ''.join('  <object id="%d" p:UUID="0000000%d%s type="model">\n   %s\n  </object>\n' % (i, i, U, mesh_xml(v_, t_))
+                      for i, _, _, (v_, t_) in bb_parts) + ' </resources>\n <build/>\n</model>\n')
+bb_root = ('<?xml version="1.0" encoding="UTF-8"?>\n<model unit="millimeter" xml:lang="en-US" xmlns="http://schemas.microsoft.'
+           'com/3dmanufacturing/core/2015/02" xmlns:BambuStudio="http://schemas.bambulab.com/package/2021" xmlns:p="%s" '
+           'requiredextensions="p">\n <metadata name="Application">BambuStudio-01.09.07.52</metadata>\n'
+           ' <metadata name="BambuStudio:3mfVersion">1</metadata>\n <resources>\n'
+           '  <object id="2" p:UUID="00000002%s type="model">\n   <components>\n' % (PROD, U) +
+           ''.join('    <component p:path="/3D/Objects/object_1.model" objectid="%d" p:UUID="0001000%d%s transform="1 0 0 0 1 0 0 0 1 0 0 0"/>\n'
+                   % (i, i, U) for i, _, _, _ in bb_parts) +
+           '   </components>\n  </object>\n </resources>\n <build p:UUID="00000009%s>\n' % U +
+           '  <item objectid="2" p:UUID="0000000a%s transform="1 0 0 0 1 0 0 0 1 50 60 0" printable="1"/>\n </build>\n</model>\n' % U)
+bb_config = ('<?xml version="1.0" encoding="UTF-8"?>\n<config>\n  <object id="2">\n    <metadata key="name" value="bracket"/>\n'
+             '    <metadata key="extruder" value="1"/>\n' +
+             ''.join('    <part id="%d" subtype="%s">\n      <metadata key="name" value="%s"/>\n'
+                     '      <metadata key="matrix" value="1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"/>\n    </part>\n' % (i, sub, n_)
+                     for i, n_, sub, _ in bb_parts) +
+             '  </object>\n  <plate>\n    <metadata key="plater_id" value="1"/>\n    <model_instance>\n'
+             '      <metadata key="object_id" value="2"/>\n      <metadata key="instance_id" value="0"/>\n'
+             '    </model_instance>\n  </plate>\n</config>\n')
+BB_RELS = PARTS_RELS
+with zipfile.ZipFile('tests/data/good/3mf_bambu_parts.3mf', 'w', zipfile.ZIP_DEFLATED) as z:
+    for name, data in (('[Content_Types].xml', CT), ('_rels/.rels', RELS), ('3D/3dmodel.model', bb_root),
+                       ('3D/_rels/3dmodel.model.rels', BB_RELS), ('3D/Objects/object_1.model', bb_objects),
+                       ('Metadata/model_settings.config', bb_config)):
+        z.writestr(zipfile.ZipInfo(name, (2024, 1, 1, 0, 0, 0)), data, zipfile.ZIP_DEFLATED)

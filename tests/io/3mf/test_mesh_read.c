@@ -965,14 +965,27 @@ Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)
                   "components may not form a cycle");
     refused_model(MODEL_HEAD "<resources><object id=\"1\"><mesh><vertices><vertex x=\"0\" y=\"0\"",
                   "bad.3mf: 3D/3dmodel.model: line 2, column 242: malformed XML: attributes construct error");
-    /* issue 32 item 5: the part read is the one the relationship names, never a look-alike */
-    const char *cased[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3DModel.model",
-                           MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
+    /* issue 32 item 5: the part read is never one of two look-alikes. OPC part names compare without
+     * case (ECMA-376-2 9.1.1.1.2): a relationship naming '/3D/3dmodel.model' names the entry
+     * '3D/3DModel.model' (a package so written reads, its content type in capitals too: media
+     * types compare without case); a package holding both is not one OPC allows */
+    static const char loud_types[] = "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+                                     "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3DManufacturing-3DModel+xml\"/>"
+                                     "</Types>";
+    const char *cased[] = {"[Content_Types].xml", loud_types, "_rels/.rels", k_rels, "3D/3DModel.model",
+                           MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD, "3D/3dmodel.model", NULL};
     size_t len;
     unsigned char *data = zip_parts(cased, 3, &len);
+    hv_mesh *tet = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "cased.3mf", &tet), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_facet_count(tet), 4);
+    hv_mesh_destroy(tet);
+    free(data);
+    cased[7] = MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD;
+    data = zip_parts(cased, 4, &len);
     refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT,
-            "bad.3mf: missing model part '/3D/3dmodel.model' (named by _rels/.rels; the package holds "
-            "'/3D/3DModel.model', spelt in another case)");
+            "bad.3mf: the model part '/3D/3dmodel.model' is held twice, as '/3D/3dmodel.model' and '/3D/3DModel.model' "
+            "(OPC part names compare without case, so a package may not hold both)");
     free(data);
     const char *no_types[] = {"_rels/.rels", k_rels, "3D/3dmodel.model", MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
     data = zip_parts(no_types, 2, &len);
@@ -1494,6 +1507,93 @@ Test(threemf, objects_in_other_model_parts_are_read_by_their_production_path)
         cr_assert_eq(hv_mesh_parse_3mf(data, len, "p.3mf", &m), HV_ERR_BAD_INPUT, "%zu", k);
         cr_assert_null(m);
         cr_assert(strstr(hv_last_error(), cases[k][2]), "%s", hv_last_error());
+        free(data);
+    }
+}
+
+/* PrusaSlicer's Metadata/Slic3r_PE_model.config: the triangles of a volume it prints as no part
+ * (a modifier, Slic3r PE's older modifier key too, a support blocker) are not read, with one note;
+ * a config that is not well-formed, or whose ranges are not the object's, changes nothing (the
+ * model is read as the specification says; the note says why the config was not read) */
+Test(threemf, prusaslicer_volumes_that_are_no_part_are_not_read)
+{
+#define PS_CONFIG(vols) "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<config><object id=\"1\" instances_count=\"1\">" \
+    "<metadata type=\"object\" key=\"name\" value=\"tet.stl\"/>" vols "</object></config>"
+#define PS_VOLUME(first, last, meta) "<volume firstid=\"" first "\" lastid=\"" last "\">" meta "</volume>"
+#define PS_META(key, value) "<metadata type=\"volume\" key=\"" key "\" value=\"" value "\"/>"
+    static const struct {
+        const char *config;
+        size_t facets;
+        const char *note; /* NULL: none */
+    } cases[] = {
+        {PS_CONFIG(PS_VOLUME("0", "2", PS_META("volume_type", "ModelPart")) PS_VOLUME("3", "3", PS_META("name", "m") PS_META("volume_type", "ParameterModifier"))),
+         3, "p.3mf: Metadata/Slic3r_PE_model.config: the modifier 'm' of object 1, no part of the print in PrusaSlicer: 1 triangle not read"},
+        {PS_CONFIG(PS_VOLUME("0", "1", PS_META("modifier", "1")) PS_VOLUME("2", "2", PS_META("volume_type", "SupportBlocker"))),
+         1, "the modifier '' of object 1 and 1 more volume, no part of the print in PrusaSlicer: 3 triangles not read"},
+        {PS_CONFIG(PS_VOLUME("0", "3", PS_META("volume_type", "ModelPart"))), 4, NULL},
+        {PS_CONFIG(PS_VOLUME("3", "9", PS_META("volume_type", "ParameterModifier"))), 4, NULL}, /* past its end */
+        {PS_CONFIG(PS_VOLUME("3", "1", PS_META("volume_type", "ParameterModifier"))), 4, NULL}, /* not a range */
+        {"<config><object id=\"7\">" PS_VOLUME("0", "0", PS_META("volume_type", "ParameterModifier")) "</object></config>", 4, NULL},
+        {"<config><object id=\"1\"><volume firstid=\"3\" lastid=\"3\"></config>", 4,
+         "Metadata/Slic3r_PE_model.config: line 1, column"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
+        const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model",
+                               MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD,
+                               "Metadata/Slic3r_PE_model.config", cases[k].config};
+        size_t len;
+        unsigned char *data = zip_parts(parts, 4, &len);
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "p.3mf", &m), HV_OK, "%zu: %s", k, hv_last_error());
+        cr_assert_eq(hv_mesh_facet_count(m), cases[k].facets, "%zu", k);
+        cr_assert_eq(hv_mesh_note_count(m), cases[k].note ? 1u : 0u, "%zu", k);
+        if (cases[k].note) cr_assert(strstr(hv_mesh_note_at(m, 0), cases[k].note), "%zu: %s", k, hv_mesh_note_at(m, 0));
+        cr_assert_str_eq(hv_mesh_body_at(m, 0)->name, "tet"); /* the model's own name first */
+        hv_mesh_destroy(m);
+        free(data);
+    }
+}
+
+/* Bambu Studio's and OrcaSlicer's Metadata/model_settings.config: a <part> whose subtype is not
+ * normal_part is the object a component of the object places (its id the component's objectid):
+ * that component is not placed; the part's name names its object */
+Test(threemf, bambu_parts_that_are_no_part_are_not_placed)
+{
+    static const char model[] = MODEL_HEAD "<resources>" TET_OBJECT("", "")
+        "<object id=\"3\" type=\"model\"><mesh>" TET_VERTICES "<triangles><triangle v1=\"0\" v2=\"2\" v3=\"1\"/>"
+        "</triangles></mesh></object><object id=\"5\" type=\"model\"><components><component objectid=\"1\"/>"
+        "<component objectid=\"3\"/><component objectid=\"3\" transform=\"1 0 0 0 1 0 0 0 1 5 0 0\"/></components></object>"
+        "</resources><build><item objectid=\"5\"/></build></model>";
+    static const struct {
+        const char *config;
+        size_t facets;
+        const char *body0, *note;
+    } cases[] = {
+        {"<config><object id=\"5\"><metadata key=\"name\" value=\"asm\"/><part id=\"1\" subtype=\"normal_part\"/>"
+         "<part id=\"3\" subtype=\"support_enforcer\"><metadata key=\"name\" value=\"enf\"/></part></object></config>",
+         4, "tet", "b.3mf: Metadata/model_settings.config: the support enforcer 'enf' of object 5, no part of the print in "
+                   "Bambu Studio and OrcaSlicer: 2 triangles not read"},
+        {"<config><object id=\"5\"><part id=\"3\" subtype=\"normal_part\"><metadata key=\"name\" value=\"lid\"/></part>"
+         "</object></config>", 6, "tet", NULL},
+        {"<config><object id=\"5\"><part id=\"1\" subtype=\"modifier_part\"/></object></config>", 2, "body 1",
+         "the modifier '' of object 5, no part of the print in Bambu Studio and OrcaSlicer: 4 triangles not read"},
+        {"<config><object id=\"1\"><part id=\"1\" subtype=\"modifier_part\"/></object><object id=\"9\"><part id=\"3\" "
+         "subtype=\"negative_part\"/></object></config>", 6, "tet", NULL}, /* not components of theirs */
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; ++k) {
+        const char *parts[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3dmodel.model", model,
+                               "Metadata/model_settings.config", cases[k].config};
+        size_t len;
+        unsigned char *data = zip_parts(parts, 4, &len);
+        hv_mesh *m = NULL;
+        cr_assert_eq(hv_mesh_parse_3mf(data, len, "b.3mf", &m), HV_OK, "%zu: %s", k, hv_last_error());
+        cr_assert_eq(hv_mesh_facet_count(m), cases[k].facets, "%zu: %zu", k, hv_mesh_facet_count(m));
+        cr_assert_eq(hv_mesh_note_count(m), cases[k].note ? 1u : 0u, "%zu", k);
+        if (cases[k].note) cr_assert(strstr(hv_mesh_note_at(m, 0), cases[k].note), "%zu: %s", k, hv_mesh_note_at(m, 0));
+        if (k == 1) cr_assert_str_eq(hv_mesh_body_at(m, 1)->name, "lid"); /* the part's name, its object has none */
+        cr_assert_eq(strncmp(hv_mesh_body_at(m, 0)->name, cases[k].body0, strlen(cases[k].body0)), 0, "%zu: %s", k,
+                     hv_mesh_body_at(m, 0)->name);
+        hv_mesh_destroy(m);
         free(data);
     }
 }

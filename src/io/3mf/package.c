@@ -452,10 +452,19 @@ static hv_status feed_open(feed *f, inflater *in)
 }
 
 /* The next chunk (*len 0: the part's end); feed_done once it is parsed. */
+/* The bytes of a whole part to hand the push parser next from `at`, at most to `end`: to the next
+ * multiple of PKG_CHUNK, so that the parser has the same bytes before it at every step as when
+ * the part is fed from its start (libxml2's push parser says some errors differently by where its
+ * input ends: "Input is not proper UTF-8" or "error parsing attribute name"). */
+static size_t whole_chunk(size_t at, size_t end)
+{
+    return HV_MIN(end - at, (size_t)PKG_CHUNK - at % PKG_CHUNK);
+}
+
 static hv_status feed_next(feed *f, const char **data, size_t *len)
 {
-    if (f->whole) {
-        *len = HV_MIN(f->whole_len - f->whole_at, (size_t)PKG_CHUNK);
+    if (f->whole) { /* on the PKG_CHUNK grid from the part's start, wherever a bulk left it (whole_chunk) */
+        *len = whole_chunk(f->whole_at, f->whole_len);
         *data = (const char *)f->whole + f->whole_at;
         f->whole_at += *len;
         return f->counted ? HV_OK : inflate_count(f->in, *len);
@@ -531,6 +540,7 @@ struct tmf_xml {
     tmf_bulk bulk;
     int bulk_depth;      /* its depth (0: none) */
     int bulk_asked;      /* asked and not yet tried */
+    int bulk_cut;        /* the parser's input was cut for a bulk in this parse (its chunks are not the serial ones) */
     char bulk_qname[160];
 };
 
@@ -742,9 +752,12 @@ static void on_error(void *ctx, xmlErrorPtr e)
     while (n > 0 && (x->xml_error[n - 1] == '\n' || x->xml_error[n - 1] == ' ')) x->xml_error[--n] = '\0';
     x->err_line = e->line;
     x->err_col = e->int2;
-    /* pull_parse: the push parser takes the part from its start; the pull parser would go on
-     * past a fatal error without SAX (a DOCTYPE's entities declared, the rest read for nothing) */
-    if (x->pulling) xmlStopParser(x->ctxt);
+    /* the first error is the part's: parsing stops there. The push parser would go on after some
+     * (an undefined namespace prefix) to the end of its chunk, where a callback's later error
+     * could take its place, so the message would depend on where chunks end (found by
+     * fuzz_3mf_pull_push); the pull parser would go on without SAX past a fatal one (a DOCTYPE's
+     * entities declared, the rest read for nothing) */
+    xmlStopParser(x->ctxt);
 }
 
 static pthread_once_t g_xml_once = PTHREAD_ONCE_INIT;
@@ -767,6 +780,28 @@ void tmf_xml_quiet_begin(tmf_xml_quiet *q)
 void tmf_xml_quiet_end(const tmf_xml_quiet *q) { xmlSetGenericErrorFunc(q->ctx, q->fn); }
 
 #define PKG_XML_OPTIONS (XML_PARSE_NONET | XML_PARSE_BIG_LINES | XML_PARSE_NOCDATA)
+
+/* The part to be parsed again by push from its start, serially: the starts and ends handled
+ * already skipped, the failing one failing again (pull_parse's fall-back, and a part whose bulk
+ * elements were read ahead meeting an XML error: libxml2's push parser words some errors by where
+ * its input ends, so the message is the serial parse's). */
+static void replay_from_start(tmf_xml *x)
+{
+    x->replay = x->restart ? 0 : x->seen;
+    if (!x->restart && x->status != HV_OK) {
+        x->fail = x->status;
+        snprintf(x->fail_msg, sizeof x->fail_msg, "%s", hv_last_error());
+        if (x->failed_at) x->replay = x->failed_at - 1; /* else it failed between them (text, DOCTYPE): again there */
+    }
+    x->status = HV_OK;
+    x->seen = 0;
+    x->depth = 0;
+    x->collect = 0;
+    x->text.len = 0;
+    x->xml_error[0] = '\0';
+    x->err_line = x->err_col = 0;
+    x->bulk_depth = x->bulk_asked = 0;
+}
 
 /* One chunk to the push parser (terminate: the last): the handler's status, else the XML error. */
 static hv_status push_chunk(tmf_xml *x, const char *data, size_t len, int terminate)
@@ -1086,11 +1121,12 @@ static hv_status bulk_run(tmf_xml *x, feed *f)
         p->close_len = close_len;
         p->started = pthread_create(&p->thread, NULL, piece_main, p) == 0;
     }
+    x->bulk_cut = 1;
     /* the parser's own share, to the first cut */
     hv_status s = HV_OK;
     size_t at = f->whole_at;
     while (s == HV_OK && at < cut[0]) {
-        size_t k = HV_MIN(cut[0] - at, (size_t)PKG_CHUNK);
+        size_t k = whole_chunk(at, cut[0]);
         s = push_chunk(x, (const char *)data + at, k, 0);
         at += k;
     }
@@ -1109,7 +1145,7 @@ static hv_status bulk_run(tmf_xml *x, feed *f)
             if (p->end) break; /* the element ends in it: the parser goes on from its end tag */
         }
         while (s == HV_OK && at < cut[i + 1]) {
-            size_t k = HV_MIN(cut[i + 1] - at, (size_t)PKG_CHUNK);
+            size_t k = whole_chunk(at, cut[i + 1]);
             s = push_chunk(x, (const char *)data + at, k, 0);
             at += k;
         }
@@ -1123,7 +1159,20 @@ static hv_status bulk_run(tmf_xml *x, feed *f)
 
 /* The push parser fed chunk by chunk: the streamed path, a whole part on several threads (its
  * bulk elements read ahead), and a whole part pull_parse leaves to it. */
+static hv_status push_parse_once(tmf_xml *x, feed *f, xmlSAXHandler *sax);
+
 static hv_status push_parse(tmf_xml *x, feed *f, xmlSAXHandler *sax)
+{
+    hv_status s = push_parse_once(x, f, sax);
+    if (s != HV_OK && x->bulk_cut && x->status == HV_OK && x->xml_error[0]) {
+        replay_from_start(x);
+        f->whole_at = 0;
+        s = push_parse_once(x, f, sax);
+    }
+    return s;
+}
+
+static hv_status push_parse_once(tmf_xml *x, feed *f, xmlSAXHandler *sax)
 {
     hv_status s = HV_OK;
     x->ctxt = xmlCreatePushParserCtxt(sax, x, NULL, 0, x->part);
@@ -1212,20 +1261,7 @@ static int pull_parse(tmf_xml *x, feed *f, const xmlSAXHandler *sax, hv_status *
         *s = x->status; /* a handler's error with no XML error before it is the push parser's too */
         return 1;
     }
-    /* by push from the start: the starts and ends handled skipped, the failing one failing again */
-    x->replay = x->restart ? 0 : x->seen;
-    if (!x->restart && x->status != HV_OK) {
-        x->fail = x->status;
-        snprintf(x->fail_msg, sizeof x->fail_msg, "%s", hv_last_error());
-        if (x->failed_at) x->replay = x->failed_at - 1; /* else it failed between them (text, DOCTYPE): again there */
-    }
-    x->status = HV_OK;
-    x->seen = 0;
-    x->depth = 0;
-    x->collect = 0;
-    x->text.len = 0;
-    x->xml_error[0] = '\0';
-    x->err_line = x->err_col = 0;
+    replay_from_start(x);
     return 0;
 }
 

@@ -6,13 +6,16 @@
 #   make python     the Python package hovox, built in place (python/); make python-tests runs its tests
 #   make demo       the gear sample end to end
 #   make deps       install every Debian package (build, test, bench)
-# Options: WERROR=1 (warnings are errors, as in CI), BUILD=dir, SHARED=tests/data (holds meshes/: copies of the shared test meshes).
+# Options: WERROR=1 (warnings are errors, as in CI; a build keeps it until WERROR=0), BUILD=dir,
+#          SHARED=tests/data (holds meshes/: copies of the shared test meshes).
 
 BUILD   ?= build
 SHARED  ?= tests/data
 CC      ?= gcc
 CXX     ?= g++
-WERROR  ?= 0
+# Not given: what $(BUILD) was last built with, so `make demo` or `make bench` after a
+# `make WERROR=1` reuses the build instead of compiling everything again without -Werror.
+WERROR  ?= $(if $(shell grep -qs -- ' -Werror ' $(BUILD)/.flags && echo y),1,0)
 SAN     ?= 0
 OPT     ?= -O2
 
@@ -107,11 +110,15 @@ deps:
 	sh scripts/install-deps.sh
 
 # ---- build rules --------------------------------------------------------------------------
-# Objects are rebuilt when the flags change.
+# Objects are rebuilt when the flags change. Compared when the Makefile is read, so `make -n`
+# shows only what would really be compiled and writes nothing.
 FLAGS_NOW := $(CC) $(CXX) $(CPPFLAGS_ALL) $(CFLAGS_ALL) $(CXXFLAGS_ALL)
+ifneq ($(shell echo '$(FLAGS_NOW)' | cmp -s - $(BUILD)/.flags || echo changed),)
 $(BUILD)/.flags: FORCE
+endif
+$(BUILD)/.flags:
 	@mkdir -p $(BUILD)
-	@echo '$(FLAGS_NOW)' | cmp -s - $@ || echo '$(FLAGS_NOW)' > $@
+	@echo '$(FLAGS_NOW)' > $@
 FORCE:
 # Test and fuzz objects come from chained pattern rules, so make would delete them as
 # intermediates after every run and rebuild them all (minutes) in the next: keep them (only

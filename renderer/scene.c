@@ -593,9 +593,10 @@ static hv_status scene_bricks(hv_render_scene *s, const r_occ *occ, size_t nocc,
     s->brick_kind = hv_malloc(s->nbricks);
     s->brick_alpha = hv_malloc_array(s->nbricks, sizeof *s->brick_alpha);
     s->brick_slot = hv_malloc_array(s->nbricks, sizeof *s->brick_slot);
+    char mb[32];
     if (!s->bricks || !s->cells || !s->brick_kind || !s->brick_alpha || !s->brick_slot)
-        return hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%.1f MiB)", s->nbricks,
-                            (double)s->nbricks * RB_VOX * sizeof(rvox) / 1048576.0);
+        return hv_error_set(HV_ERR_NOMEM, "render: out of memory for %zu bricks (%s)", s->nbricks,
+                            hv_size_text(mb, sizeof mb, (double)s->nbricks * RB_VOX * sizeof(rvox)));
     for (size_t b = 0; b < s->nbricks; ++b) atomic_init(&s->brick_slot[b], -1);
     return HV_OK;
 }

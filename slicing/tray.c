@@ -1119,6 +1119,33 @@ static const char *src_label(const source *s, char *buf, size_t n)
     return buf;
 }
 
+/* How to fit the slots: a material printed in a resin --resin-color added (else a plain part's),
+ * mapped onto the used resin nearest in display colour. Returns that resin, or -1 (*material NULL). */
+static int slots_hint(const hv_tray *t, const char **material)
+{
+    int base, culprit = -1;
+    hv_tray_resins(t->profile, &base);
+    for (int r = base; r < t->nresins && culprit < 0; ++r)
+        if (t->used[r]) culprit = r;
+    for (int i = 0; i < t->nsrc && culprit < 0; ++i)
+        if (!t->src[i].graded) culprit = t->src[i].resin[0];
+    *material = NULL;
+    for (int i = 0; i < t->nsrc && !*material; ++i)
+        for (int j = 0; j < t->src[i].m && !*material; ++j)
+            if (t->src[i].resin[j] == culprit) *material = t->src[i].mat_name[j];
+    int near = -1;
+    long best = 0;
+    for (int r = 0; r < t->nresins && *material; ++r) {
+        if (!t->used[r] || r == culprit) continue;
+        long d = 0;
+        for (int k = 0; k < 3; ++k) d += (long)(t->resins[r].rgb[k] - t->resins[culprit].rgb[k]) *
+                                         (t->resins[r].rgb[k] - t->resins[culprit].rgb[k]);
+        if (near < 0 || d < best) near = r, best = d;
+    }
+    if (near < 0) *material = NULL;
+    return near;
+}
+
 static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
 {
     char lb[512];
@@ -1155,8 +1182,14 @@ static hv_status setup_palette(hv_tray *t, const hv_tray_options *o)
         size_t n = 0;
         for (int r = 0; r < t->nresins && n < sizeof list; ++r)
             if (t->used[r]) n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", t->resins[r].name);
-        return hv_error_set(HV_ERR_INVALID, "tray: %d resins (%s) exceed the %s's %d material slots", slots, list,
-                            t->profile->name, t->profile->material_slots);
+        const char *material;
+        int near = slots_hint(t, &material);
+        if (near < 0)
+            return hv_error_set(HV_ERR_INVALID, "tray: %d resins (%s) exceed the %s's %d material slots", slots, list,
+                                t->profile->name, t->profile->material_slots);
+        return hv_error_option(HV_ERR_INVALID, "tray: %d resins (%s) exceed the %s's %d material slots; print %s in a "
+                               "resin already used, e.g. {resin} %s=%s (the nearest in display colour)", slots, list,
+                               t->profile->name, t->profile->material_slots, material, material, t->resins[near].name);
     }
     /* palette: 0 is no material (black), then the resins used, in the table's order */
     memset(t->palette, 0, 3);

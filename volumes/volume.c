@@ -348,6 +348,21 @@ int hv_volume_grid_find(const hv_volume *v, const char *name)
     return -1;
 }
 
+int hv_volume_grid_need(const hv_volume *v, const char *name, hv_grid_type type)
+{
+    int g = hv_volume_grid_find(v, name);
+    if (g >= 0 && v->grids[g].type == type) return g;
+    hv_buf names;
+    hv_buf_init(&names);
+    for (int k = 0; k < v->ngrids; ++k)
+        if (v->grids[k].type == type) hv_buf_printf(&names, "%s%s", names.len ? ", " : "", v->grids[k].name);
+    const char *t = hv_grid_type_name(type);
+    hv_error_set(HV_ERR_NOT_FOUND, "no %s grid '%s' (%s grids: %s)", t, name, t,
+                 names.len && !names.failed ? names.data : "none");
+    hv_buf_free(&names);
+    return -1;
+}
+
 static hv_status check_name(const hv_volume *v, const char *name)
 {
     size_t n = name ? strlen(name) : 0;

@@ -52,6 +52,10 @@ HV_API hv_status hv_error_set(hv_status status, const char *fmt, ...) HV_PRINTF(
 /* Prefix the current detail message with context ("gear.stl: " + message). Returns status. */
 HV_API hv_status hv_error_prefix(hv_status status, const char *fmt, ...) HV_PRINTF(2, 3);
 
+/* Append to the current detail message (a front end's own hint: "; hovox.load_mesh reads it").
+ * Returns status. */
+HV_API hv_status hv_error_suffix(hv_status status, const char *fmt, ...) HV_PRINTF(2, 3);
+
 /* Forget the calling thread's detail message. */
 HV_API void hv_error_clear(void);
 

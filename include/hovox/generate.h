@@ -62,7 +62,8 @@ typedef struct hv_shape_params {
     int segments, rings, axis, teeth, layers, p, q, segments_around;
 } hv_shape_params;
 
-/* Number of shapes; index of a shape by name (-1: none); name and a one-line description. */
+/* Number of shapes; index of a shape by name (-1: none, the message "unknown shape 'x' (shapes:
+ * sphere, box, ...)" recorded); name and a one-line description. */
 HV_API int hv_shape_count(void);
 HV_API int hv_shape_find(const char *name);
 HV_API const char *hv_shape_name(int shape);

@@ -13,8 +13,14 @@ extern "C" {
 /* Load a model: an OpenVDB file (hv_volume_load), or a 3MF package with the Volumetric extension
  * (a ZIP archive; hv_3mf_load, hovox/threemf.h), told apart by their first bytes. Errors: those of
  * the reader; HV_ERR_IO (missing, unreadable, a directory), HV_ERR_BAD_INPUT (neither format:
- * "not an OpenVDB file (bad magic number)"). On success free *out with hv_volume_destroy. */
+ * "not an OpenVDB file (bad magic number)"; a mesh file, hv_mesh_sniff's, "a mesh, not a model").
+ * On success free *out with hv_volume_destroy. */
 HV_API hv_status hv_model_load(const char *path, hv_volume **out);
+
+/* 1 when `path` holds a mesh rather than a model: a 3MF package without the Volumetric extension,
+ * or a file that is not an OpenVDB file and that hv_mesh_sniff takes for a mesh; else 0 (also for
+ * a missing file). A front end whose model load failed names its mesh loader when this says 1. */
+HV_API int hv_model_file_is_mesh(const char *path);
 
 /* hv_model_load with the caller's colour options (a tray's or `layers`' --icc, --intent, --resins;
  * NULL: the defaults) for a 3MF package's colour without a composite (hv_3mf_load_colour); an

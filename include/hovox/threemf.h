@@ -72,6 +72,12 @@ struct hv_colour_options;
 HV_API hv_status hv_3mf_load_colour(const char *path, const struct hv_colour_options *colour, hv_volume **vol,
                                     hv_mesh **mesh);
 
+/* 1 when the model's material fractions were made on load from its colour through the caller's
+ * colour map (a package's <v:color> without a <v:composite>, hv_3mf_load_colour, hv_model_load_colour;
+ * its hovox.colour.json says "source": "3MF <v:color>"), else 0: a package whose composite gives the
+ * fractions, an OpenVDB model. A front end whose colour options had no effect says so. */
+HV_API int hv_3mf_colour_mapped(const hv_volume *vol);
+
 /* The same from a package in memory; `name` names it in messages. */
 HV_API hv_status hv_3mf_parse(const void *data, size_t size, const char *name, hv_volume **vol, hv_mesh **mesh);
 

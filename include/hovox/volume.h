@@ -62,6 +62,9 @@ HV_API const char *hv_volume_grid_name(const hv_volume *vol, int g);
 HV_API hv_grid_type hv_volume_grid_type(const hv_volume *vol, int g);
 /* Index of the named grid, or -1. */
 HV_API int hv_volume_grid_find(const hv_volume *vol, const char *name);
+/* Index of the named grid of that type; else -1, recording HV_ERR_NOT_FOUND "no bool grid 'x'
+ * (bool grids: occupancy, surface)" (callers prefix whose: "the model has "). */
+HV_API int hv_volume_grid_need(const hv_volume *vol, const char *name, hv_grid_type type);
 
 /* Add a grid valued 0 (false) on every active voxel; *index receives its index (may be NULL).
  * Errors: HV_ERR_INVALID (empty name, name longer than 255 bytes, name already used),

@@ -324,14 +324,7 @@ static PyObject *py_generate(PyObject *self, PyObject *args, PyObject *kw)
     const char *name;
     if (!PyArg_ParseTuple(args, "s:generate", &name)) return NULL;
     int shape = hv_shape_find(name);
-    if (shape < 0) {
-        char list[512];
-        size_t n = 0;
-        list[0] = '\0';
-        for (int i = 0; i < hv_shape_count() && n < sizeof list; ++i)
-            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", hv_shape_name(i));
-        return hvpy_raise(HV_ERR_INVALID, "unknown shape '%s' (shapes: %s)", name, list);
-    }
+    if (shape < 0) return hvpy_raise(HV_ERR_INVALID, "%s", hv_last_error()); /* names the shapes */
     hv_shape_params p;
     hvpy_arena a;
     if (hvpy_arena_init(&a) < 0) return NULL;

@@ -129,6 +129,8 @@ static PyObject *py_load(PyObject *self, PyObject *args, PyObject *kw)
     hv_volume *v = NULL;
     hvpy_begin(&c, NULL, NULL, 0);
     hv_status s = hv_model_load_colour(PyBytes_AS_STRING(path), &co, &v);
+    if (s != HV_OK && hv_model_file_is_mesh(PyBytes_AS_STRING(path)))
+        hv_error_suffix(s, "; hovox.load_mesh reads it");
     hvpy_end(&c);
     Py_DECREF(path);
     hvpy_arena_free(&a);

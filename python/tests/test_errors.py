@@ -31,6 +31,23 @@ def test_status_and_message(tmp_path):
         hovox.load(tmp_path / "none.vdb")
 
 
+def test_unknown_shape_names_the_shapes():
+    """The library's message, the CLI's too (tests/cli/cases/generate_unknown_key)."""
+    with pytest.raises(hovox.InvalidError) as e:
+        hovox.generate("blob")
+    assert str(e.value) == "unknown shape 'blob' (shapes: sphere, box, holed-box, torus, cylinder, knot, gear)"
+
+
+def test_load_on_a_mesh_names_load_mesh(tmp_path):
+    """hovox.load on a mesh says it is one and names hovox.load_mesh, not "bad magic number"."""
+    hovox.generate.box().save(tmp_path / "b.stl")
+    with pytest.raises(hovox.BadInputError) as e:
+        hovox.load(tmp_path / "b.stl")
+    assert str(e.value) == (str(tmp_path / "b.stl") + ": a mesh, not a model (a .vdb file or a 3MF Volumetric "
+                            "package): voxelize the mesh instead; hovox.load_mesh reads it")
+    assert len(hovox.load_mesh(tmp_path / "b.stl").facets) == 12
+
+
 def test_same_refusals_as_the_cli(cli, root, tmp_path, gear_mesh):
     """The twelve pairs of tests/cli/cases/front_ends_agree.sh, from Python."""
     m = hovox.load(root + "/tests/data/models/linear2.vdb")

@@ -268,6 +268,49 @@ static int find_long(target *t, int nt, const char *name, int *ti, const hv_opti
     return 0;
 }
 
+/* Levenshtein distance of two short names, capped at 99 for long ones. */
+static int edit_distance(const char *a, const char *b)
+{
+    size_t n = strlen(a), m = strlen(b);
+    if (n > 63 || m > 63) return 99;
+    int row[64];
+    for (size_t j = 0; j <= m; ++j) row[j] = (int)j;
+    for (size_t i = 1; i <= n; ++i) {
+        int diag = row[0];
+        row[0] = (int)i;
+        for (size_t j = 1; j <= m; ++j) {
+            int up = row[j], best = diag + (a[i - 1] != b[j - 1]);
+            if (up + 1 < best) best = up + 1;
+            if (row[j - 1] + 1 < best) best = row[j - 1] + 1;
+            diag = up;
+            row[j] = best;
+        }
+    }
+    return row[m];
+}
+
+/* The option of the command nearest to the unknown "--name" (a typo: at most 2 edits, fewer than
+ * half its letters), or NULL. */
+static const char *nearest_long(const target *t, int nt, const cli_spec *spec, const char *name)
+{
+    char key[96];
+    snprintf(key, sizeof key, "%s", name);
+    for (char *p = key; *p; ++p)
+        if (*p == '-') *p = '_';
+    const char *best = NULL;
+    int bd = 3;
+    for (int i = 0; i < nt; ++i)
+        for (int k = 0; t[i].set && k < t[i].set->count; ++k) {
+            const char *cand = t[i].set->options[k].key;
+            if (t[i].set == &k_common && ((strcmp(cand, "threads") == 0 && !(spec->flags & CLI_THREADS)) ||
+                                          (strcmp(cand, "quiet") == 0 && !(spec->flags & CLI_QUIET))))
+                continue;
+            int d = edit_distance(key, cand);
+            if (d < bd && 2 * d < (int)strlen(key)) best = cand, bd = d;
+        }
+    return best;
+}
+
 static int find_short(target *t, int nt, char c, int *ti, const hv_option **opt)
 {
     for (int i = 0; i < nt; ++i)
@@ -323,7 +366,11 @@ static int parse(const cli_spec *spec, int argc, char **argv, void *lib_opts, vo
             memcpy(name, a + 2, n);
             name[n] = '\0';
             if (eq) value = eq + 1;
-            if (!find_long(t, 3, name, &ti, &o, &alias)) return cli_usage_error(spec->name, "unknown option '%s'", a);
+            if (!find_long(t, 3, name, &ti, &o, &alias)) {
+                const char *near = nearest_long(t, 3, spec, name);
+                if (near) return cli_usage_error(spec->name, "unknown option '%s' (did you mean '%s'?)", a, cli_spell(near));
+                return cli_usage_error(spec->name, "unknown option '%s'", a);
+            }
         } else {
             if (!find_short(t, 3, a[1], &ti, &o)) return cli_usage_error(spec->name, "unknown option '%.2s'", a);
             snprintf(name, sizeof name, "%c", a[1]);

@@ -116,9 +116,6 @@ int cli_json_end(cli_json *j, const char *lines_key, const char *lines);
  * option value (HV_ERR_INVALID naming an option) is a usage error instead (exit 2). */
 int cli_fail(hv_status status);
 
-/* 1 when a file given where a model goes is a mesh (STL, OBJ, PLY, or a 3MF package without volume
- * data), by its content (layers MESH, tray --part MESH). */
-int cli_is_mesh_input(const char *path);
 /* Print "hovox <cmd>: <message> (see 'hovox <cmd> --help')" on one line; returns EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, ...) HV_PRINTF(2, 3);
 /* Several processes (hovox-mpi): the collectives the stack commands pass to the library, and

@@ -54,7 +54,7 @@ static const char *shapes_text(void)
 static int build(const char *shape_name, char **kv, int nkv, const generate_cli *c)
 {
     int shape = hv_shape_find(shape_name);
-    if (shape < 0) return cli_usage_error("generate", "unknown shape '%s'", shape_name);
+    if (shape < 0) return cli_usage_error("generate", "%s", hv_last_error()); /* names the shapes */
     hv_shape_params p;
     hv_optargs args;
     hv_optargs_begin(&args, hv_shape_option_set(shape), &p);

@@ -1,4 +1,4 @@
-/* src/cli/cmd_layers.c - `hovox layers MODEL.vdb --mesh MESH.stl -o DIR`: printer slice stacks
+/* src/cli/cmd_layers.c - `hovox layers MODEL.vdb|MODEL.3mf|MESH|VOLUME -o DIR`: printer slice stacks
  * (Wu 2.4.2): contour-constrained material layers at printer resolution, halftoned or as
  * fractions or masks, PNG layers with manifest.json, optionally a GCVF zip. A 3MF Volumetric
  * model brings its mesh. The options are the library's (hv_layers_option_set). */
@@ -29,6 +29,7 @@ typedef struct layers_cli {
     double colour_depth;    /* a mesh in one step painted in its colours */
     const char *core;
     hv_colour_options cmap; /* --icc, --intent, --resins: a scan's colour --lut, a painted mesh's colours */
+    char cmap_given[40];    /* "--icc, --resins": those given, for a package whose composite ignores them */
 } layers_cli;
 
 static const hv_option k_local_opts[] = {
@@ -71,7 +72,8 @@ static void print_plan(const hv_layers_report *r, const hv_layers_options *o)
     printf("image       %d x %d pixels of %.6g x %.6g mm, origin (%.6g, %.6g), %d-bit\n", r->width, r->height,
            r->pixel_mm[0], -r->pixel_mm[1], r->origin_mm[0], r->origin_mm[1], r->bit_depth);
     printf("layers      %zu to %zu of %zu\n", r->first, r->last - 1, r->layers_total);
-    printf("memory      about %.1f MiB (%d workers)\n", (double)r->memory_bytes / 1048576.0, r->threads);
+    char mem[32];
+    printf("memory      about %s (%d workers)\n", hv_size_text(mem, sizeof mem, (double)r->memory_bytes), r->threads);
 }
 
 /* The library's warnings, one line each, from `from` on. */
@@ -267,7 +269,7 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         s = scan_source(o, c, so, &scan, &src, &scan_map, &said);
     } else if (so) {
         s = scan_model(o, c, so, quiet, &model, &said);
-    } else if (!c->mesh && o->model_name && cli_is_mesh_input(o->model_name)) {
+    } else if (!c->mesh && o->model_name && hv_model_file_is_mesh(o->model_name)) {
         s = mesh_model(o, c, quiet, &mesh, &model, &said);
         o->mesh_name = o->model_name;
         if (o->mode == HV_LAYERS_MASK) o->model_name = NULL;
@@ -280,6 +282,10 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
         s = c->mesh ? cli_mesh_load_placed(c->mesh, &c->place, pp ? pp->build : NULL, &mesh) : HV_OK;
         if (s == HV_OK && o->model_name) s = hv_model_load_colour(o->model_name, &c->cmap, &model);
     }
+    if (s == HV_OK && model && c->cmap_given[0] && !hv_3mf_colour_mapped(model))
+        cli_warn("%s: its <v:composite> gives the material fractions, so %s %s no effect (%s the colour of a package "
+                 "without a composite)", o->model_name, c->cmap_given, strchr(c->cmap_given, ' ') ? "have" : "has",
+                 strchr(c->cmap_given, ' ') ? "they map" : "it maps");
     hv_layers_report r;
     memset(&r, 0, sizeof r);
     if (s == HV_OK) {
@@ -334,12 +340,15 @@ static int run(hv_layers_options *o, const layers_cli *c, hv_scan_voxelize_optio
 static int run_cli(const cli_args *args, void *lib, void *local)
 {
     hv_layers_options *o = lib;
-    const layers_cli *c = local;
+    layers_cli *c = local;
     if (!c->output && !c->dry_run) return cli_usage_error("layers", "missing -o DIR");
+    if (!c->mesh && args->npos == 0)
+        return cli_usage_error("layers", "missing the input: MODEL.vdb, MODEL.3mf, a mesh (.stl, .obj, .ply, .3mf) or a "
+                                         "scanned volume");
     if (args->npos == 0 && o->mode != HV_LAYERS_MASK)
-        return cli_usage_error("layers", "missing MODEL.vdb (only --mode mask works from the mesh alone)");
-    if (!c->mesh && args->npos == 0) return cli_usage_error("layers", "missing MODEL.vdb or --mesh");
-    int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && cli_is_mesh_input(args->pos[0]);
+        return cli_usage_error("layers", "missing MODEL.vdb (--mesh alone prints only --mode mask; a mesh given in place "
+                                         "of MODEL.vdb prints in one step)");
+    int mesh_in = !c->mesh && args->npos && !hv_scan_path_is_scan(args->pos[0]) && hv_model_file_is_mesh(args->pos[0]);
     if (!c->mesh && !mesh_in && hv_placement_given(&c->place))
         return cli_usage_error("layers", "--unit, --up, --scale, --rotate and --translate place a --mesh; a model is "
                                          "sliced where its recorded shape is");
@@ -354,6 +363,14 @@ static int run_cli(const cli_args *args, void *lib, void *local)
                                                "DICOM directory)");
         static const char *const colour[] = {"icc", "intent", "resins", "colour_depth", "core"};
         int package = o->model_name && hv_3mf_sniff(o->model_name); /* its colour without a composite takes them */
+        for (int k = 0, n = 0; package && !mesh_in && k < 3; ++k) /* "--icc", "--icc and --resins", ... */
+            if (cli_given(args, colour[k])) {
+                int later = 0;
+                for (int j = k + 1; j < 3; ++j) later |= cli_given(args, colour[j]);
+                size_t at = strlen(c->cmap_given);
+                snprintf(c->cmap_given + at, sizeof c->cmap_given - at, "%s%s", n++ ? later ? ", " : " and " : "",
+                         cli_spell(colour[k]));
+            }
         for (int k = package ? 3 : 0; k < 5 && rc < 0 && !mesh_in; ++k)
             if (cli_given(args, colour[k]))
                 rc = cli_usage_error("layers", "%s is for a mesh painted in one step, a 3MF package's colour or a "
@@ -382,7 +399,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 }
 
 const cli_spec cmd_layers = {
-    "layers", "printer slice stacks (PNG) from a model",
+    "layers", "printer slice stacks (PNG) from a model, a mesh or a scanned volume",
     "MODEL.vdb -o DIR [--mesh MESH] [options]\n       hovox layers MODEL.3mf -o DIR [options]\n"
     "       hovox layers PART.stl|.obj|.ply|.3mf -o DIR [--material BODY=MATERIAL]... [options]\n"
     "       hovox layers --mesh MESH -o DIR --mode mask [options]\n"

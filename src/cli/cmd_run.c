@@ -490,8 +490,17 @@ static int run_script(const run_cli *c, char **argv, int argc, int quiet)
     lua_pushcfunction(L, message);
     /* a sandboxed script is text: Lua does not verify precompiled chunks */
     int st = luaL_loadfilex(L, script, sandbox ? "t" : "bt");
-    if (st != LUA_OK && !strstr(lua_tostring(L, -1) ? lua_tostring(L, -1) : "", script)) {
-        lua_pushfstring(L, "%s: %s", script, lua_tostring(L, -1)); /* name the script */
+    const char *lm = st != LUA_OK ? lua_tostring(L, -1) : NULL;
+    const char *at = lm ? strstr(lm, script) : NULL;
+    size_t sl = strlen(script);
+    if (st == LUA_ERRFILE && at && strncmp(lm, "cannot ", 7) == 0 && strncmp(at + sl, ": ", 2) == 0) {
+        /* Lua's "cannot open S: reason" in hovox's form, "S: cannot open: reason" */
+        char what[32];
+        snprintf(what, sizeof what, "%.*s", (int)(at - lm - 1), lm);
+        lua_pushfstring(L, "%s: %s: %s", script, what, at + sl + 2);
+        lua_remove(L, -2);
+    } else if (st != LUA_OK && !at) {
+        lua_pushfstring(L, "%s: %s", script, lm ? lm : ""); /* name the script */
         lua_remove(L, -2);
     }
     if (st == LUA_OK) {

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "core/internal.h"
 #include "hovox/dist.h"
+#include "hovox/model.h"
 #include "hovox/scan.h"
 #include "hovox/tray.h"
 
@@ -179,7 +180,7 @@ static hv_status parse_part(const char *spec, char *buf, size_t size, hv_tray_pa
         *comma = '\0';
         p->model = buf;
         p->mesh = comma + 1;
-    } else if (access(buf, F_OK) == 0 && !cli_is_mesh_input(buf) && !hv_scan_path_is_scan(buf)) {
+    } else if (access(buf, F_OK) == 0 && !hv_model_file_is_mesh(buf) && !hv_scan_path_is_scan(buf)) {
         p->model = buf; /* a model alone: its recorded shape (issue 28) */
     } else {
         char *colon = strrchr(buf, ':');
@@ -270,7 +271,10 @@ static int run(const cli_args *args, void *lib, void *local)
     } else {
         s = hv_tray_create(&t);
     }
-    if (s == HV_OK && !c->output && !o->dry_run) s = hv_error_set(HV_ERR_INVALID, "--output: missing -o DIR");
+    if (s == HV_OK && !c->output && !o->dry_run) {
+        hv_tray_destroy(t);
+        return cli_usage_error("tray", "missing -o DIR");
+    }
     char bufs[MAX_CLI_PARTS][1024];
     for (int i = 0; i < c->nparts && s == HV_OK; ++i) {
         hv_tray_part p;
@@ -343,10 +347,11 @@ static int run(const cli_args *args, void *lib, void *local)
             free(share);
         }
         if (!o->dry_run && o->mode == HV_LAYERS_HALFTONE) print_colour(t);
+        char sz[32];
         if (!o->dry_run)
-            printf("wrote       %s (%zu layers, %llu object pixels, %.1f MiB%s%s)\n", c->output, r.last - r.first,
-                   (unsigned long long)r.object_pixels, (double)r.bytes / 1048576.0, o->gcvf_path ? ", " : "",
-                   o->gcvf_path ? o->gcvf_path : "");
+            printf("wrote       %s (%zu layers, %llu object pixels, %s%s%s)\n", c->output, r.last - r.first,
+                   (unsigned long long)r.object_pixels, hv_size_text(sz, sizeof sz, (double)r.bytes),
+                   o->gcvf_path ? ", " : "", o->gcvf_path ? o->gcvf_path : "");
     }
     if (s == HV_OK && !o->dry_run) cli_view_report(&page, c->output, args->quiet);
     hv_tray_destroy(t);

@@ -201,7 +201,8 @@ static int report(const char *path, const hv_mesh *mesh, const hv_voxel_plan *pl
            plan->xf.origin[2]);
     printf("surface     adjacency %d, fill %s%s\n", opt->adjacency, hv_fill_mode_name(plan->fill),
            plan->fill == HV_FILL_AUTO ? " (decided per body)" : "");
-    printf("memory      about %.1f MiB\n", (double)plan->memory_bytes / 1048576.0);
+    char mem[32];
+    printf("memory      about %s\n", hv_size_text(mem, sizeof mem, (double)plan->memory_bytes));
     if (vol)
         printf("occupied    %llu voxels (%llu surface), volume %.6g (mesh %.6g)\n", (unsigned long long)occupied,
                (unsigned long long)surface, (double)occupied * vv, r->volume);
@@ -450,7 +451,7 @@ static int run_cli(const cli_args *args, void *lib, void *local)
 
 const cli_spec cmd_voxelize = {
     "voxelize", "voxelize a mesh or a scanned volume into a .vdb model (surface + interior)",
-    "MESH -o MODEL.vdb [options]\n       VOLUME (--iso V | --range LO,HI | --labels A,B,...) -o MODEL.vdb [options]",
+    "MESH -o MODEL.vdb [options]\n       hovox voxelize VOLUME (--iso V | --range LO,HI | --labels A,B,...) -o MODEL.vdb [options]",
     "Voxelize a mesh (Wu 2.1; Huang et al. 1998): triangles mark the voxels in their face\n"
     "slab, edge cylinders and vertex spheres; the interior is filled. Writes bool grids\n"
     "'occupancy' (surface and interior) and 'surface', voxel (i,j,k) centred at\n"

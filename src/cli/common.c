@@ -106,11 +106,6 @@ void cli_progress_done(cli_progress *p)
     p->stage[0] = '\0';
 }
 
-int cli_is_mesh_input(const char *path)
-{
-    return hv_3mf_sniff(path) ? !hv_3mf_is_volumetric(path) : hv_mesh_sniff(path);
-}
-
 /* An assembly painted by body (issue 29 item 2): which bodies took colour, which kept their
  * materials (hv_colour_mesh_bodies, the rule painting followed; `layers MESH`, `voxelize
  * --colour-depth`). Nothing when all took colour. */

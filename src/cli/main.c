@@ -22,7 +22,7 @@ static void print_help(FILE *out)
         fprintf(out, "  %-10s %s\n", g_commands[i]->name, g_commands[i]->summary);
     fprintf(out,
             "\n"
-            "Run 'hovox <command> --help' for a command's options.\n"
+            "Run 'hovox <command> --help' or 'hovox help <command>' for a command's options.\n"
             "\n"
             "Exit codes: 0 ok, 1 bad input, 2 usage, 3 resource limit, 4 I/O,\n"
             "            70 internal error, 130 interrupted.\n");
@@ -43,14 +43,22 @@ int main(int argc, char **argv)
         printf("hovox %s\n", hv_version());
         return EXIT_OK;
     }
+    char *help_argv[] = {NULL, "--help", NULL};
+    if ((strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) && argc > 3) {
+        fprintf(stderr, "hovox: %s takes one command at most (got '%s' and '%s')\n", cmd, argv[2], argv[3]);
+        return EXIT_USAGE;
+    }
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
-        print_help(stdout);
-        return EXIT_OK;
+        if (argc == 2) {
+            print_help(stdout);
+            return EXIT_OK;
+        }
+        cmd = help_argv[0] = argv[2]; /* `hovox help layers` is `hovox layers --help` */
     }
     for (size_t i = 0; i < sizeof g_commands / sizeof g_commands[0]; ++i)
         if (strcmp(cmd, g_commands[i]->name) == 0) {
             cli_install_signals();
-            return cli_main(g_commands[i], argc - 1, argv + 1);
+            return help_argv[0] ? cli_main(g_commands[i], 2, help_argv) : cli_main(g_commands[i], argc - 1, argv + 1);
         }
     fprintf(stderr, "hovox: unknown command '%s'\nTry 'hovox --help'.\n", cmd);
     return EXIT_USAGE;

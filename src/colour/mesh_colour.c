@@ -258,8 +258,9 @@ hv_status hv_colour_mesh_voxels(const hv_mesh *mesh, double pitch, double depth,
             return HV_OK;
         if (s != HV_OK && s != HV_ERR_LIMIT) return s;
     }
+    char b[32];
     if (s == HV_OK)
-        s = hv_error_set(HV_ERR_LIMIT, "%s: no voxel size from %g mm to %g mm paints it within %.1f MiB",
-                         hv_mesh_name(mesh), fmax(pitch, depth / 2), v / 1.25, (double)budget / 1048576.0);
+        s = hv_error_set(HV_ERR_LIMIT, "%s: no voxel size from %g mm to %g mm paints it within %s",
+                         hv_mesh_name(mesh), fmax(pitch, depth / 2), v / 1.25, hv_size_text(b, sizeof b, (double)budget));
     return s;
 }

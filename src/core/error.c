@@ -128,27 +128,41 @@ const char *hv_error_spell(hv_spell_fn spell, void *user, char *buf, size_t size
     return buf;
 }
 
-static void prepend(char *msg, const char *prefix)
+/* Context added before (at_end 0) or after the current message, marked copy included. */
+static void add_context(int at_end, const char *fmt, va_list ap) HV_PRINTF(2, 0);
+static void add_context(int at_end, const char *fmt, va_list ap)
 {
-    char old[HV_ERROR_MAX];
-    memcpy(old, msg, sizeof old);
-    size_t n = strlen(prefix), m = strlen(old);
-    if (n > HV_ERROR_MAX - 1) n = HV_ERROR_MAX - 1;
-    if (m > HV_ERROR_MAX - 1 - n) m = HV_ERROR_MAX - 1 - n;
-    memcpy(msg, prefix, n);
-    memcpy(msg + n, old, m);
-    msg[n + m] = '\0';
+    char text[HV_ERROR_MAX], old[HV_ERROR_MAX];
+    vsnprintf(text, sizeof text, fmt, ap);
+    for (int k = 0; k < 2; ++k) {
+        char *msg = k ? g_marked : g_message;
+        if (k && !g_marked[0]) break;
+        memcpy(old, msg, sizeof old);
+        const char *a = at_end ? old : text, *b = at_end ? text : old;
+        size_t n = strlen(a), m = strlen(b);
+        if (n > HV_ERROR_MAX - 1) n = HV_ERROR_MAX - 1;
+        if (m > HV_ERROR_MAX - 1 - n) m = HV_ERROR_MAX - 1 - n;
+        memmove(msg, a, n);
+        memcpy(msg + n, b, m);
+        msg[n + m] = '\0';
+    }
 }
 
 hv_status hv_error_prefix(hv_status status, const char *fmt, ...)
 {
-    char prefix[HV_ERROR_MAX];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(prefix, sizeof prefix, fmt, ap);
+    add_context(0, fmt, ap);
     va_end(ap);
-    prepend(g_message, prefix);
-    if (g_marked[0]) prepend(g_marked, prefix);
+    return status;
+}
+
+hv_status hv_error_suffix(hv_status status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    add_context(1, fmt, ap);
+    va_end(ap);
     return status;
 }
 

@@ -220,18 +220,8 @@ static hv_status build_grid_props(ex_model *md, const char *grids, size_t *cap)
         memcpy(p.name, s, n);
         p.name[n] = '\0';
         p.kind = EX_GRID;
-        p.grid = hv_volume_grid_find(md->vol, p.name);
-        if (p.grid < 0 || hv_volume_grid_type(md->vol, p.grid) != HV_GRID_FLOAT) {
-            hv_buf names;
-            hv_buf_init(&names);
-            for (int g = 0; g < hv_volume_grid_count(md->vol); ++g)
-                if (hv_volume_grid_type(md->vol, g) == HV_GRID_FLOAT)
-                    hv_buf_printf(&names, "%s%s", names.len ? ", " : "", hv_volume_grid_name(md->vol, g));
-            hv_status st = hv_error_set(HV_ERR_NOT_FOUND, "export: the model has no float grid '%s' (float grids: %s)",
-                                        p.name, names.len ? names.data : "none");
-            hv_buf_free(&names);
-            return st;
-        }
+        p.grid = hv_volume_grid_need(md->vol, p.name, HV_GRID_FLOAT);
+        if (p.grid < 0) return hv_error_prefix(HV_ERR_NOT_FOUND, "export: the model has ");
         int clash = strcmp(p.name, "occupancy") == 0 || strncmp(p.name, "fraction.", 9) == 0;
         for (int q = 0; q < md->nprops && !clash; ++q) clash = strcmp(md->props[q].name, p.name) == 0;
         if (clash) return hv_error_option(HV_ERR_INVALID, "{grids}: array '%s' is named twice", p.name);

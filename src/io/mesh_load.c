@@ -85,7 +85,12 @@ hv_status hv_mesh_load(const char *path, hv_mesh **out)
     if (r < 0) r = by_ext;
     if (r < 0) r = looks_like((const unsigned char *)data, size);
     if (r < 0) {
+        /* OpenVDB's int64 magic 0x56444220: a model handed to the mesh loader is told what it is */
+        int vdb = size >= 4 && memcmp(data, "\x20\x42\x44\x56", 4) == 0;
         free(data);
+        if (vdb)
+            return hv_error_set(HV_ERR_BAD_INPUT, "%s: an OpenVDB model, not a mesh (meshes: %s)", path,
+                                hv_mesh_load_extensions());
         const char *dot = strrchr(hv_basename(path), '.');
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: unsupported mesh format '%s' (supported: %s)", path,
                             dot ? dot + 1 : "", hv_mesh_load_extensions());

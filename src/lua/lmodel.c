@@ -58,6 +58,7 @@ static int l_load(lua_State *L)
     path = luaL_checkstring(L, 1); /* again: reading the options may have run a finalizer */
     hv_volume *v;
     hv_status s = hv_model_load_colour(path, &co, &v);
+    if (s != HV_OK && hv_model_file_is_mesh(path)) hv_error_suffix(s, "; hovox.load_mesh reads it");
     if (s != HV_OK) return fail(L, s);
     hv_lua_push_model(L, v);
     return 1;

@@ -52,17 +52,10 @@ static hv_status probe_vdb(const char *path, const char *grid, size_t n, const d
     hv_volume *v;
     hv_status s = hv_volume_load(path, &v);
     if (s != HV_OK) return s;
-    int g = hv_volume_grid_find(v, grid);
-    if (g < 0 || hv_volume_grid_type(v, g) != HV_GRID_FLOAT) {
-        hv_buf b;
-        hv_buf_init(&b);
-        for (int i = 0; i < hv_volume_grid_count(v); ++i)
-            if (hv_volume_grid_type(v, i) == HV_GRID_FLOAT) hv_buf_printf(&b, "%s%s", b.len ? ", " : "", hv_volume_grid_name(v, i));
-        s = hv_error_set(HV_ERR_BAD_INPUT, "%s: no float grid '%s' (float grids: %s)", path, grid,
-                         b.len && !b.failed ? b.data : "none");
-        hv_buf_free(&b);
+    int g = hv_volume_grid_need(v, grid, HV_GRID_FLOAT);
+    if (g < 0) {
         hv_volume_destroy(v);
-        return s;
+        return hv_error_prefix(HV_ERR_BAD_INPUT, "%s: ", path);
     }
     range[0] = INFINITY;
     range[1] = -INFINITY;
@@ -227,9 +220,8 @@ static hv_status field_feature(const hv_volume *vol, const char *grid, const cha
                                probe_fn probe, void *ctx, hv_field_outside outside, hv_frf **out)
 {
     grid = grid ? grid : "occupancy";
-    int g = hv_volume_grid_find(vol, grid);
-    if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL)
-        return hv_error_set(HV_ERR_NOT_FOUND, "the model has no bool grid '%s'", grid);
+    int g = hv_volume_grid_need(vol, grid, HV_GRID_BOOL);
+    if (g < 0) return hv_error_prefix(HV_ERR_NOT_FOUND, "the model has ");
     hv_transform xf = hv_volume_get_transform(vol);
     hv_volume *m = NULL;
     double *xyz = NULL;

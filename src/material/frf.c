@@ -111,9 +111,8 @@ hv_status hv_frf_segment(const double a[3], const double b[3], hv_frf **out)
 static hv_status copy_mask(const hv_volume *vol, const char *grid, hv_volume **out)
 {
     *out = NULL;
-    int g = hv_volume_grid_find(vol, grid);
-    if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL)
-        return hv_error_set(HV_ERR_NOT_FOUND, "the model has no bool grid '%s'", grid);
+    int g = hv_volume_grid_need(vol, grid, HV_GRID_BOOL);
+    if (g < 0) return hv_error_prefix(HV_ERR_NOT_FOUND, "the model has ");
     hv_transform xf = hv_volume_get_transform(vol);
     hv_volume *m;
     hv_status s = hv_volume_create(&xf, &m);

@@ -82,8 +82,9 @@ hv_status hv_mesh_model_voxels(const hv_mesh *mesh, double pitch, uint64_t budge
         if (s == HV_OK && plan->memory_bytes <= budget) return HV_OK;
         if (s != HV_OK && s != HV_ERR_LIMIT) return s;
     }
+    char b[32];
     if (s == HV_OK)
-        s = hv_error_set(HV_ERR_LIMIT, "%s: no voxel size from %g mm to %g mm fits %.1f MiB", hv_mesh_name(mesh), pitch,
-                         v / 1.25, (double)budget / 1048576.0);
+        s = hv_error_set(HV_ERR_LIMIT, "%s: no voxel size from %g mm to %g mm fits %s", hv_mesh_name(mesh), pitch,
+                         v / 1.25, hv_size_text(b, sizeof b, (double)budget));
     return s;
 }

@@ -242,9 +242,8 @@ hv_status hv_object_create(const hv_volume *vol, const char *grid, int m, hv_obj
     *out = NULL;
     if (m < 1 || m > HV_MAX_MATERIALS)
         return hv_error_set(HV_ERR_INVALID, "material count %d out of range [1, %d]", m, HV_MAX_MATERIALS);
-    int g = hv_volume_grid_find(vol, grid);
-    if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL)
-        return hv_error_set(HV_ERR_NOT_FOUND, "the model has no bool grid '%s'", grid);
+    int g = hv_volume_grid_need(vol, grid, HV_GRID_BOOL);
+    if (g < 0) return hv_error_prefix(HV_ERR_NOT_FOUND, "the model has ");
     hv_transform xf = hv_volume_get_transform(vol);
     hv_object *o;
     hv_status s = object_new(m, &xf, &o);
@@ -332,10 +331,10 @@ hv_status hv_object_from_regions(const hv_volume *vol, const hv_material_table *
     if (s == HV_OK) s = object_new(m, &xf, &o);
     for (size_t i = 0; i < n && s == HV_OK; ++i) {
         const hv_region_info *g = hv_regions_at(rg, i);
-        int gi = hv_volume_grid_find(vol, g->grid);
-        if (gi < 0 || hv_volume_grid_type(vol, gi) != HV_GRID_BOOL) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: region '%s': the model has no bool grid '%s'",
-                             hv_schema_key(HV_DOC_REGIONS), g->name, g->grid);
+        int gi = hv_volume_grid_need(vol, g->grid, HV_GRID_BOOL);
+        if (gi < 0) {
+            s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: region '%s': the model has ", hv_schema_key(HV_DOC_REGIONS),
+                                g->name);
             break;
         }
         hv_volume *mask;
@@ -1131,9 +1130,9 @@ hv_status hv_object_from_doc(const json_t *doc, const hv_volume *vol, hv_object 
         if ((s = hv_json_get_string(e, "grid", place, &grid)) != HV_OK ||
             (s = hv_json_need(e, "sources", JSON_ARRAY, place, &list)) != HV_OK)
             break;
-        int g = hv_volume_grid_find(vol, grid);
-        if (g < 0 || hv_volume_grid_type(vol, g) != HV_GRID_BOOL) {
-            s = hv_error_set(HV_ERR_BAD_INPUT, "%s: the model has no bool grid '%s'", place, grid);
+        int g = hv_volume_grid_need(vol, grid, HV_GRID_BOOL);
+        if (g < 0) {
+            s = hv_error_prefix(HV_ERR_BAD_INPUT, "%s: the model has ", place);
             break;
         }
         hv_volume *mask;

@@ -180,6 +180,12 @@ int hv_shape_find(const char *name)
 {
     for (int i = 0; name && i < (int)HV_COUNT(k_shapes); ++i)
         if (strcmp(k_shapes[i].set.name, name) == 0) return i;
+    char list[512];
+    size_t n = 0;
+    list[0] = '\0';
+    for (int i = 0; i < (int)HV_COUNT(k_shapes) && n < sizeof list; ++i)
+        n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", k_shapes[i].set.name);
+    hv_error_set(HV_ERR_NOT_FOUND, "unknown shape '%s' (shapes: %s)", name ? name : "", list);
     return -1;
 }
 

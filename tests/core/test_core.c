@@ -34,6 +34,8 @@ Test(status, detail_message_and_prefix)
     cr_assert_str_eq(hv_last_error(), "cannot open x.stl");
     cr_assert_eq(hv_error_prefix(HV_ERR_IO, "%s: ", "gear"), HV_ERR_IO);
     cr_assert_str_eq(hv_last_error(), "gear: cannot open x.stl");
+    cr_assert_eq(hv_error_suffix(HV_ERR_IO, "; %s", "a hint"), HV_ERR_IO);
+    cr_assert_str_eq(hv_last_error(), "gear: cannot open x.stl; a hint");
     hv_error_clear();
     cr_assert_str_eq(hv_last_error(), "");
 }
@@ -45,6 +47,8 @@ Test(status, long_messages_are_truncated_not_overflowed)
     big[sizeof big - 1] = '\0';
     hv_error_set(HV_ERR_INVALID, "%s", big);
     hv_error_prefix(HV_ERR_INVALID, "%s", big);
+    cr_assert_lt(strlen(hv_last_error()), 2048);
+    hv_error_suffix(HV_ERR_INVALID, "%s", big);
     cr_assert_lt(strlen(hv_last_error()), 2048);
 }
 

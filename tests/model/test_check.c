@@ -121,15 +121,28 @@ Test(load, the_reader_is_chosen_by_content)
     cr_assert_eq(hv_model_load(path, &w), HV_OK, "%s", hv_last_error());
     cr_assert_eq(hv_volume_grid_count(w), 3);
     hv_volume_destroy(w);
-    /* neither format, a directory, a missing file */
-    const char *text = t_tmpfile("not_a_model.vdb");
-    FILE *f = fopen(text, "w");
+    cr_assert_eq(hv_model_file_is_mesh(path), 0);
+    /* a mesh is told it is one (hv_model_file_is_mesh: the front ends name their mesh loader) */
+    const char *mesh = t_tmpfile("not_a_model.vdb");
+    FILE *f = fopen(mesh, "w");
     cr_assert(f);
     fputs("solid nothing\nendsolid nothing\n", f);
+    fclose(f);
+    cr_assert_eq(hv_model_load(mesh, &w), HV_ERR_BAD_INPUT);
+    cr_assert(strstr(hv_last_error(), "not_a_model.vdb: a mesh, not a model"), "%s", hv_last_error());
+    cr_assert_null(w);
+    cr_assert_eq(hv_model_file_is_mesh(mesh), 1);
+    /* neither format, a directory, a missing file */
+    const char *text = t_tmpfile("notes.txt");
+    f = fopen(text, "w");
+    cr_assert(f);
+    fputs("nothing here\n", f);
     fclose(f);
     cr_assert_eq(hv_model_load(text, &w), HV_ERR_BAD_INPUT);
     cr_assert(strstr(hv_last_error(), "not an OpenVDB file"), "%s", hv_last_error());
     cr_assert_null(w);
+    cr_assert_eq(hv_model_file_is_mesh(text), 0);
+    cr_assert_eq(hv_model_file_is_mesh(t_tmpfile("missing.vdb")), 0);
     cr_assert_eq(hv_model_load(t_tmpdir(), &w), HV_ERR_IO);
     cr_assert_eq(hv_model_load(t_tmpfile("missing.vdb"), &w), HV_ERR_IO);
 }

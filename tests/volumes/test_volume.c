@@ -55,6 +55,12 @@ Test(volume, grids_share_one_topology)
     cr_assert_eq(z[2], 20);
     cr_assert_eq(hv_volume_grid_find(v, "mask"), b);
     cr_assert_eq(hv_volume_grid_find(v, "nope"), -1);
+    /* the grid of a type, or a message listing that type's grids */
+    cr_assert_eq(hv_volume_grid_need(v, "mask", HV_GRID_BOOL), b);
+    cr_assert_eq(hv_volume_grid_need(v, "density", HV_GRID_BOOL), -1);
+    cr_assert_str_eq(hv_last_error(), "no bool grid 'density' (bool grids: mask)");
+    cr_assert_eq(hv_volume_grid_need(v, "nope", HV_GRID_FLOAT), -1);
+    cr_assert_str_eq(hv_last_error(), "no float grid 'nope' (float grids: density)");
     cr_assert_null(hv_volume_leaf_bool(v, f, 0));
     cr_assert_null(hv_volume_leaf_float(v, b, 0));
     /* a new grid starts at zero everywhere */

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "hovox/image.h"
 #include "io/io_internal.h"
@@ -907,8 +908,9 @@ static hv_status on_texture2d(reader *r, tmf_xml *x, uint64_t id, const tmf_attr
     if (!path || path->len < 2 || path->len >= TMF_MAX_PART_NAME || path->value[0] != '/')
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2d %llu: path '%s' is not a part name", (unsigned long long)id,
                            path ? tmf_attr_quote(path, q, sizeof q) : "");
-    int png = ct && ct->len == 9 && memcmp(ct->value, "image/png", 9) == 0;
-    if (!png && !(ct && ct->len == 10 && memcmp(ct->value, "image/jpeg", 10) == 0))
+    /* media types compare without case (RFC 7231 3.1.1.1) */
+    int png = ct && ct->len == 9 && strncasecmp(ct->value, "image/png", 9) == 0;
+    if (!png && !(ct && ct->len == 10 && strncasecmp(ct->value, "image/jpeg", 10) == 0))
         return tmf_xml_bad(x, HV_ERR_BAD_INPUT, "texture2d %llu: contenttype '%s' is not image/png or image/jpeg",
                            (unsigned long long)id, ct ? tmf_attr_quote(ct, q, sizeof q) : "");
     hv_status s = define(r, x, id, R_TEX2D);

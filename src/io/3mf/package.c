@@ -1408,19 +1408,25 @@ static hv_status find_start_part(tmf_pkg *pk)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: _rels/.rels names the model part '%s', not a part name", pk->name,
                             hv_quote(q, sizeof q, r.target, strlen(r.target)));
     snprintf(pk->model, sizeof pk->model, "%s", r.target);
-    if (locate(pk, pk->model, 0) < 0) {
-        zip_int64_t other = zip_name_locate(pk->zip, pk->model, ZIP_FL_NOCASE);
-        const char *on = other >= 0 ? zip_get_name(pk->zip, (zip_uint64_t)other, 0) : NULL;
-        char q2[96];
-        if (on) /* issue 32 item 5: the part read is the one named, never a look-alike */
-            return hv_error_set(HV_ERR_BAD_INPUT,
-                                "%s: missing model part '/%s' (named by _rels/.rels; the package holds '/%s', spelt "
-                                "in another case)",
-                                pk->name, hv_quote(q, sizeof q, pk->model, strlen(pk->model)),
-                                hv_quote(q2, sizeof q2, on, strlen(on)));
+    /* part names compare without case (ECMA-376 Part 2, 9.1.1.1.2): the part named is the entry
+     * spelt so in any case, and a package holding two such is not one OPC allows (issue 32 item
+     * 5: the part read is never one of two look-alikes) */
+    zip_int64_t at = locate(pk, pk->model, 1), ne = zip_get_num_entries(pk->zip, 0);
+    if (at < 0)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: missing model part '/%s' (named by _rels/.rels)", pk->name,
                             hv_quote(q, sizeof q, pk->model, strlen(pk->model)));
+    const char *spelt = zip_get_name(pk->zip, (zip_uint64_t)at, 0);
+    for (zip_int64_t k = 0; k < ne && spelt; ++k) {
+        const char *other = zip_get_name(pk->zip, (zip_uint64_t)k, 0);
+        if (k == at || !other || strcasecmp(other, spelt) != 0) continue;
+        char q2[96], q3[96];
+        return hv_error_set(HV_ERR_BAD_INPUT,
+                            "%s: the model part '/%s' is held twice, as '/%s' and '/%s' (OPC part names compare "
+                            "without case, so a package may not hold both)",
+                            pk->name, hv_quote(q, sizeof q, pk->model, strlen(pk->model)),
+                            hv_quote(q2, sizeof q2, spelt, strlen(spelt)), hv_quote(q3, sizeof q3, other, strlen(other)));
     }
+    if (spelt) snprintf(pk->model, sizeof pk->model, "%s", spelt);
     /* its content type */
     i = locate(pk, "[Content_Types].xml", 1);
     if (i < 0) return hv_error_set(HV_ERR_BAD_INPUT, "%s: not a 3MF package: no [Content_Types].xml", pk->name);
@@ -1435,7 +1441,7 @@ static hv_status find_start_part(tmf_pkg *pk)
     if (!pk->model_type[0])
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: [Content_Types].xml gives the model part '/%s' no content type", pk->name,
                             hv_quote(q, sizeof q, pk->model, strlen(pk->model)));
-    if (strcmp(pk->model_type, TMF_CT_MODEL) != 0) {
+    if (strcasecmp(pk->model_type, TMF_CT_MODEL) != 0) { /* media types compare without case (RFC 7231 3.1.1.1) */
         char q2[96];
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: the model part '/%s' has content type '%s', not %s", pk->name,
                             hv_quote(q, sizeof q, pk->model, strlen(pk->model)),

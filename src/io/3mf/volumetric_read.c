@@ -2014,6 +2014,8 @@ static hv_status sample_model(rd *r, const used *u, const lattice *lat, const in
  * fractions those of its colour rounded to 8-bit sRGB (the white resin where hovox:colour.mask
  * says no colour was asked for), and the map recorded as a painted model's (hovox.colour.json),
  * so layers measure the colour's dE2000 through it. Leaves on the library's threads. */
+#define COLOUR_SOURCE "3MF <v:color>" /* hovox.colour.json's "source" of such a model */
+
 typedef struct resin_job {
     hv_volume *v;
     hv_colour_map *map; /* its fractions are thread-safe */
@@ -2071,7 +2073,7 @@ static hv_status colour_resins(const hv_colour_options *opt, hv_volume *v, hv_ma
         bad |= hv_json_set(doc, "intent", json_string(hv_intent_name(hv_colour_map_intent(map))));
         bad |= hv_json_set(doc, "resins", resins);
         resins = NULL;
-        bad |= hv_json_set(doc, "source", json_string("3MF <v:color>"));
+        bad |= hv_json_set(doc, "source", json_string(COLOUR_SOURCE));
     }
     char *text = s == HV_OK && !bad ? hv_json_dump(doc) : NULL;
     if (s == HV_OK && !text) s = HV_ERR_NOMEM;
@@ -2086,6 +2088,19 @@ static hv_status colour_resins(const hv_colour_options *opt, hv_volume *v, hv_ma
     }
     *out = t;
     return HV_OK;
+}
+
+int hv_3mf_colour_mapped(const hv_volume *vol)
+{
+    const char *text = vol ? hv_volume_meta_string(vol, "hovox.colour.json") : NULL;
+    json_t *doc = NULL;
+    const char *source = NULL;
+    int mapped = text && hv_json_parse(text, strlen(text), "hovox.colour.json", &doc) == HV_OK &&
+                 hv_json_get_string(doc, "source", "hovox.colour.json", &source) == HV_OK &&
+                 strcmp(source, COLOUR_SOURCE) == 0;
+    json_decref(doc);
+    if (text && !mapped) hv_error_clear(); /* a question, not a failure: a damaged record says nothing */
+    return mapped;
 }
 
 static hv_status make_volume(rd *r, const used *u, const lattice *lat, hv_volume **vol, hv_mesh **mesh)

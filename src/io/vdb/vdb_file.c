@@ -310,7 +310,7 @@ static hv_status load(const char *path, const char *const *names, int n, int ope
 {
     *out = NULL;
     struct stat st;
-    if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: no such file", path);
+    if (stat(path, &st) != 0) return hv_error_set(HV_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     if (S_ISDIR(st.st_mode)) return hv_error_set(HV_ERR_IO, "%s: is a directory, not a file", path);
     FILE *fp = fopen(path, "rb");
     if (!fp) return hv_error_set(HV_ERR_IO, "%s: cannot open for reading", path);

@@ -2,7 +2,8 @@
 # (no translucent colour) painted over an Agilus30Clear core: it takes a slot, VeroClear gives way
 # (no voxel used it), and the planner says so; the stack has six resins whose targets sum to 1, in
 # layers (one step) and in a tray; the tray's manifest carries the note. A seventh resin besides
-# (a VeroUltraClear part) is refused naming the seven (exit 1, nothing written).
+# (a VeroUltraClear part) is refused naming the seven and how to map one onto a resin already used
+# (exit 1, nothing written).
 /usr/bin/python3 -c "
 import sys; sys.path.insert(0, 'tests/colour'); import check_paint
 check_paint.SIZE = 4; check_paint.write_cube(sys.argv[1])" "$TMP"
@@ -23,4 +24,9 @@ print([p['resin'] for p in m['palette'] if p['resin']])
 print(m['parts'][0]['colour']['gives_way'])"
 "$HOVOX" generate box max=4,4,4 -o plain.stl >/dev/null
 "$HOVOX" tray --part cube.obj@40,30 --core Agilus30Clear --part plain.stl:VeroUltraClear@60,30 -o out; echo "rc=$?"
+# a resin --resin-color adds takes a seventh slot: the message says how to map it onto a resin
+# already used (the nearest in display colour), and doing so fits
+"$HOVOX" tray --part cube.obj@40,30 --part plain.stl:Gold@60,30 --resin-color Gold=#d4af37 -o out; echo "rc=$?"
+"$HOVOX" tray --part cube.obj@40,30 --part plain.stl:Gold@60,30 --resin-color Gold=#d4af37 --resin Gold=VeroYellow-V \
+    -o out --dry-run | grep -E '^plate'
 ls

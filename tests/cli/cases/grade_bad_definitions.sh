@@ -15,3 +15,6 @@ $HOVOX grade "$TMP/b.vdb" -o "$TMP/g5.vdb" --materials A,B --frf point:0,0,0 --r
 echo "rc=$?"
 $HOVOX grade "$TMP/b.vdb" -o "$TMP/g6.vdb" --materials A,B --frf point:0,0,0 --ranges 0,4,0 --ms 1,0 --ms 0,1 --me 0,1
 echo "rc=$?"
+# a mask feature naming a grid the model lacks lists the bool grids it has (exit 1)
+$HOVOX grade "$TMP/b.vdb" -o "$TMP/g7.vdb" --materials A,B --frf mask:core --ranges 0,4,0 --ms 1,0 --me 0,1
+echo "rc=$?"

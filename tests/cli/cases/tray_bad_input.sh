@@ -23,4 +23,5 @@ job '{"parts": [{"mesh": "b.stl", "material": "VeroPureWhite"}]}'
 rm -f s.stl s_occ.vdb s.vdb
 "$HOVOX" tray -o out --part b.stl@40,40; echo "rc=$?"
 "$HOVOX" tray -o out; echo "rc=$?"
+"$HOVOX" tray --part b.stl:VeroPureWhite@40,40; echo "rc=$?"
 ls

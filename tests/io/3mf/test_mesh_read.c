@@ -965,14 +965,27 @@ Test(threemf, the_package_module_refuses_what_opc_and_the_core_forbid)
                   "components may not form a cycle");
     refused_model(MODEL_HEAD "<resources><object id=\"1\"><mesh><vertices><vertex x=\"0\" y=\"0\"",
                   "bad.3mf: 3D/3dmodel.model: line 2, column 242: malformed XML: attributes construct error");
-    /* issue 32 item 5: the part read is the one the relationship names, never a look-alike */
-    const char *cased[] = {"[Content_Types].xml", k_types, "_rels/.rels", k_rels, "3D/3DModel.model",
-                           MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
+    /* issue 32 item 5: the part read is never one of two look-alikes. OPC part names compare without
+     * case (ECMA-376-2 9.1.1.1.2): a relationship naming '/3D/3dmodel.model' names the entry
+     * '3D/3DModel.model' (a package so written reads, its content type in capitals too: media
+     * types compare without case); a package holding both is not one OPC allows */
+    static const char loud_types[] = "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+                                     "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3DManufacturing-3DModel+xml\"/>"
+                                     "</Types>";
+    const char *cased[] = {"[Content_Types].xml", loud_types, "_rels/.rels", k_rels, "3D/3DModel.model",
+                           MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD, "3D/3dmodel.model", NULL};
     size_t len;
     unsigned char *data = zip_parts(cased, 3, &len);
+    hv_mesh *tet = NULL;
+    cr_assert_eq(hv_mesh_parse_3mf(data, len, "cased.3mf", &tet), HV_OK, "%s", hv_last_error());
+    cr_assert_eq(hv_mesh_facet_count(tet), 4);
+    hv_mesh_destroy(tet);
+    free(data);
+    cased[7] = MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD;
+    data = zip_parts(cased, 4, &len);
     refused(hv_mesh_parse_3mf, "bad.3mf", data, len, HV_ERR_BAD_INPUT,
-            "bad.3mf: missing model part '/3D/3dmodel.model' (named by _rels/.rels; the package holds "
-            "'/3D/3DModel.model', spelt in another case)");
+            "bad.3mf: the model part '/3D/3dmodel.model' is held twice, as '/3D/3dmodel.model' and '/3D/3DModel.model' "
+            "(OPC part names compare without case, so a package may not hold both)");
     free(data);
     const char *no_types[] = {"_rels/.rels", k_rels, "3D/3dmodel.model", MODEL_HEAD "<resources>" TET_OBJECT("", "") "</resources>" BUILD};
     data = zip_parts(no_types, 2, &len);

@@ -307,8 +307,9 @@ static hv_status job_plan_shape(job *J, const hv_mesh *mesh, const hv_volume *mo
     J->first = o->first;
     J->last = o->last ? o->last : J->nlayers;
     if (J->first >= J->nlayers || J->last > J->nlayers || J->first >= J->last)
-        return hv_error_set(HV_ERR_INVALID, "layers: range %zu:%zu is outside the %zu layers of the plan (0:%zu)",
-                            o->first, J->last, J->nlayers, J->nlayers);
+        return hv_error_option(HV_ERR_INVALID, "%s: {layers} %zu:%zu is outside the %zu layers of the plan (0:%zu)",
+                               o->model_name ? o->model_name : o->mesh_name ? o->mesh_name : "layers", o->first,
+                               J->last, J->nlayers, J->nlayers);
     return HV_OK;
 }
 

@@ -580,8 +580,13 @@ _Static_assert((int)HV_OP_INTERSECT == (int)HV_GEOMETRY_INTERSECT && (int)HV_OP_
 hv_status hv_object_boolean(const hv_object *a, const hv_object *b, hv_bool_op op, hv_object **out)
 {
     *out = NULL;
-    if (!hv_transform_same(&a->xf, &b->xf))
-        return hv_error_set(HV_ERR_INVALID, "heterogeneous Boolean: the objects lie on different voxel lattices");
+    if (!hv_transform_same(&a->xf, &b->xf)) {
+        const double *va = a->xf.voxel, *vb = b->xf.voxel, *oa = a->xf.origin, *ob = b->xf.origin;
+        return hv_error_option(HV_ERR_INVALID, "heterogeneous Boolean: the objects lie on different voxel lattices "
+                               "(voxels %g x %g x %g mm from %g, %g, %g against %g x %g x %g mm from %g, %g, %g): "
+                               "voxelize the second with {like} set to the first", va[0], va[1], va[2], oa[0], oa[1], oa[2], vb[0],
+                               vb[1], vb[2], ob[0], ob[1], ob[2]);
+    }
     if (a->m != b->m)
         return hv_error_set(HV_ERR_INVALID, "heterogeneous Boolean: %d materials against %d", a->m, b->m);
     if (a->nreg == 0 || b->nreg == 0)

@@ -122,6 +122,17 @@ static void flat(hv_render_options *o)
     o->specular = 0;
 }
 
+/* The default options in mode 0 (volume) or 1 (surface), width x height pixels. */
+static hv_render_options mode_options(int mode, int width, int height)
+{
+    hv_render_options o;
+    hv_render_options_init(&o);
+    o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
+    o.width = width;
+    o.height = height;
+    return o;
+}
+
 static void transparent(hv_render_options *o)
 {
     for (int k = 0; k < 4; ++k) o->background[k] = 0;
@@ -480,10 +491,7 @@ Test(render, shaft_cut_shows_radial_gradient)
 {
     hv_volume *v = shaft_volume();
     for (int mode = 0; mode < 2; ++mode) {
-        hv_render_options o;
-        hv_render_options_init(&o);
-        o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
-        o.width = o.height = 128;
+        hv_render_options o = mode_options(mode, 128, 128);
         flat(&o);
         cr_assert_eq(hv_clip_parse("x>75", &o.clip[0]), HV_OK);
         o.clips = 1;
@@ -766,11 +774,7 @@ Test(render, output_does_not_depend_on_thread_count)
 {
     hv_volume *v = shaft_volume();
     for (int mode = 0; mode < 2; ++mode) {
-        hv_render_options o;
-        hv_render_options_init(&o);
-        o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
-        o.width = 100;
-        o.height = 70;
+        hv_render_options o = mode_options(mode, 100, 70);
         o.samples = 2;
         cr_assert_eq(hv_clip_parse("x>60&y<0", &o.clip[0]), HV_OK);
         o.clips = 1;
@@ -939,11 +943,7 @@ Test(render, volume_load_leaves_the_colour_depth)
         cr_expect_eq(hv_volume_grid_find(r, n) >= 0, wanted, "%s: %s", n, wanted ? "not loaded" : "loaded");
     }
     for (int mode = 0; mode < 2; ++mode) {
-        hv_render_options o;
-        hv_render_options_init(&o);
-        o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
-        o.width = 64;
-        o.height = 48;
+        hv_render_options o = mode_options(mode, 64, 48);
         hv_image *a = render(whole, &o), *b = render(r, &o);
         cr_expect(memcmp(a->rgba, b->rgba, sizeof(float) * 4 * 64 * 48) == 0, "mode %d: other pixels", mode);
         hv_image_destroy(a);
@@ -962,11 +962,7 @@ Test(render, instruction_set_variants_agree)
     /* the AVX2 ray caster (where the CPU has it) and the general one: the same floats */
     hv_volume *v = shaft_volume();
     for (int mode = 0; mode < 2; ++mode) {
-        hv_render_options o;
-        hv_render_options_init(&o);
-        o.mode = mode ? HV_RENDER_SURFACE : HV_RENDER_VOLUME;
-        o.width = 120;
-        o.height = 90;
+        hv_render_options o = mode_options(mode, 120, 90);
         cr_assert_eq(hv_clip_parse("x>60&z>0", &o.clip[0]), HV_OK);
         o.clips = 1;
         hv_image *a = render(v, &o);

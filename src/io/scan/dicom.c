@@ -393,6 +393,11 @@ hv_status scan_read_dicom_dir(hv_scan *scan, const char *dir, const hv_scan_opti
     hv_status st = HV_OK;
     struct dirent *de;
     while ((de = readdir(d)) != NULL) {
+        if (strcmp(de->d_name, "manifest.json") == 0) { /* hovox's own output, not a series */
+            st = BAD("%s: a slice stack (it holds manifest.json), not a DICOM series: 'hovox view %s' shows it", dir,
+                     dir);
+            break;
+        }
         if (de->d_name[0] == '.' || strcmp(de->d_name, "DICOMDIR") == 0) continue;
         size_t a = strlen(dir), b = strlen(de->d_name);
         int slash = a && dir[a - 1] == '/';

@@ -1254,15 +1254,21 @@ Test(threemf_colour, the_colour_part_of_the_package_follows_the_spec)
     hv_volume_destroy(v);
 }
 
+/* A cube `size` mm across painted 1 mm deep around an Agilus30 core, a colour per facet pair. */
+static hv_volume *pairs_cube(double size, hv_mesh **m)
+{
+    static const uint32_t k_pair[12] = {0xE03020FFu, 0xE03020FFu, 0x20B040FFu, 0x20B040FFu, 0x3050E0FFu, 0x3050E0FFu,
+                                        0xF0E020FFu, 0xF0E020FFu, 0x10D0D0FFu, 0x10D0D0FFu, 0x501020FFu, 0x501020FFu};
+    return t_painted_cube(size, k_pair, 12, m);
+}
+
 /* A cube painted for real (hv_colour_paint, 1 mm deep around an Agilus30 core, a colour per facet
  * pair) comes back painted: the colours within 1/255, the same mask, the fractions within 1/255,
  * the record, so the colour map and the skin's dE2000 are made again from the package. */
 Test(threemf_colour, a_painted_cube_comes_back_painted)
 {
-    static const uint32_t k_pair[12] = {0xE03020FFu, 0xE03020FFu, 0x20B040FFu, 0x20B040FFu, 0x3050E0FFu, 0x3050E0FFu,
-                                        0xF0E020FFu, 0xF0E020FFu, 0x10D0D0FFu, 0x10D0D0FFu, 0x501020FFu, 0x501020FFu};
     hv_mesh *m = NULL;
-    hv_volume *v = t_painted_cube(6, k_pair, 12, &m);
+    hv_volume *v = pairs_cube(6, &m);
     const char *path = t_tmpfile("painted.3mf");
     hv_export_report r = export_3mf(v, path, 8);
     cr_expect_eq(r.colour, 1);
@@ -1780,10 +1786,8 @@ Test(threemf, sheets_through_temporary_files_give_the_same_package)
  * thread's. The same colour grids, bit for bit, as the threaded read on 2 threads and on 1. */
 Test(threemf_colour, the_single_thread_colour_read_gives_the_threaded_colours, .timeout = 120)
 {
-    static const uint32_t k_pair[12] = {0xE03020FFu, 0xE03020FFu, 0x20B040FFu, 0x20B040FFu, 0x3050E0FFu, 0x3050E0FFu,
-                                        0xF0E020FFu, 0xF0E020FFu, 0x10D0D0FFu, 0x10D0D0FFu, 0x501020FFu, 0x501020FFu};
     hv_mesh *m = NULL;
-    hv_volume *v = t_painted_cube(10, k_pair, 12, &m);
+    hv_volume *v = pairs_cube(10, &m);
     const char *path = t_tmpfile("painted_slabs.3mf");
     hv_export_report r = export_3mf(v, path, 16);
     cr_assert_eq(r.colour, 1);

@@ -93,7 +93,8 @@ HV_API const char *hv_mesh_load_extensions(void);
  * budget allows), HV_ERR_NOMEM. On failure *out is NULL. Polygons are fan-triangulated around
  * their first corner (right for the convex polygons exporters write).
  *
- * OBJ: `v` (x y z, an optional w or a trailing colour read and not used), `f` with v, v/vt,
+ * OBJ: `v` (x y z, an optional w read and not used; `v x y z r g b` in [0, 1] the vertex's colour,
+ * the corners' colours when every vertex has one, else a note), `f` with v, v/vt,
  * v//vn or v/vt/vn corners; indices count from 1, or back from -1 for the last vertex defined,
  * and must name a vertex (texture coordinate, normal) defined above the face. `o` and `g`
  * start a body of that name (one that holds no face is dropped, a name that comes back

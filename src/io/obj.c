@@ -39,6 +39,10 @@ typedef struct obj_reader {
     int body_new, mat_new;  /* an o/g or usemtl since the last face: look the name up there */
     hv_buf body_name, mat_name;
     size_t ignored;         /* l and p statements */
+    uint32_t *vrgb;         /* per vertex 0xRRGGBBAA from `v x y z r g b` (0: none); NULL while none has one */
+    size_t vrcap, ncol;     /* vertices with a colour */
+    size_t bad_col_line;    /* the first colour outside [0, 1] (0: none) */
+    char bad_col[32];
     uint32_t *poly;
     size_t pcap;
 } obj_reader;
@@ -106,6 +110,33 @@ static hv_status tex_coord(obj_reader *r, const char *p, const char *e)
     return HV_OK;
 }
 
+/* `v x y z r g b`, as MeshLab, Blender and scanners write a vertex's colour (sRGB in [0, 1]; a w
+ * or seven values carry none): vertex r->nv's colour, 0 without one. */
+static hv_status vertex_colour(obj_reader *r, const float *rgb)
+{
+    hv_status s = HV_OK;
+    if (!r->vrgb) { /* the first colour: the vertices above it have none */
+        if ((s = hv_grow((void **)&r->vrgb, &r->vrcap, r->nv + 1, sizeof *r->vrgb)) != HV_OK) return s;
+        memset(r->vrgb, 0, (r->nv + 1) * sizeof *r->vrgb);
+    } else if ((s = hv_grow((void **)&r->vrgb, &r->vrcap, r->nv + 1, sizeof *r->vrgb)) != HV_OK)
+        return s;
+    uint32_t c = 0xFFu;
+    for (int k = 0; rgb && k < 3; ++k) {
+        if (!(rgb[k] >= 0 && rgb[k] <= 1)) {
+            if (!r->bad_col_line) {
+                r->bad_col_line = r->line;
+                snprintf(r->bad_col, sizeof r->bad_col, "%g", (double)rgb[k]);
+            }
+            rgb = NULL;
+            break;
+        }
+        c |= (uint32_t)lrintf(rgb[k] * 255) << (24 - 8 * k);
+    }
+    r->vrgb[r->nv] = rgb ? c : 0;
+    r->ncol += rgb != NULL;
+    return HV_OK;
+}
+
 static hv_status vertex(obj_reader *r, const char *p, const char *e)
 {
     static const char *const what[] = {"x", "y", "z", "w", "value 5", "value 6", "value 7"};
@@ -115,6 +146,7 @@ static hv_status vertex(obj_reader *r, const char *p, const char *e)
         return hv_error_set(HV_ERR_LIMIT, "%s: line %zu: more than %u vertices", r->name, r->line, UINT32_MAX);
     const char *ts, *te;
     int k = 0;
+    float val[7];
     for (; hv_io_next_token(&p, e, &ts, &te); ++k) {
         if (k == 7)
             return hv_error_set(HV_ERR_BAD_INPUT,
@@ -123,11 +155,13 @@ static hv_status vertex(obj_reader *r, const char *p, const char *e)
                                 r->name, r->line);
         float v = 0;
         if ((s = parse_coord(r, ts, te, what[k], &v)) != HV_OK) return s;
-        if (k < 3) r->xyz[3 * r->nv + (size_t)k] = v; /* w and colours: read, not used */
+        if (k < 3) r->xyz[3 * r->nv + (size_t)k] = v;
+        val[k] = v;
     }
     if (k < 3)
         return hv_error_set(HV_ERR_BAD_INPUT, "%s: line %zu: vertex has %d coordinate%s, 3 needed", r->name,
                             r->line, k, k == 1 ? "" : "s");
+    if ((k == 6 || r->vrgb) && (s = vertex_colour(r, k == 6 ? val + 3 : NULL)) != HV_OK) return s;
     r->nv++;
     return HV_OK;
 }
@@ -480,6 +514,29 @@ static hv_status look_up(obj_reader *r, hv_mesh_material *mats, size_t nm, obj_l
     return HV_OK;
 }
 
+/* The vertices' colours as the corner colours of the facets (where[t]: triangle t's facet), when
+ * every vertex has one in [0, 1]; else none, and a note says why. */
+static hv_status vertex_colours(const obj_reader *r, const size_t *where, hv_mesh *m)
+{
+    char note[512];
+    if (r->bad_col_line)
+        snprintf(note, sizeof note, "%s: line %zu: vertex colour %s is outside [0, 1]: the vertex colours are not used",
+                 r->name, r->bad_col_line, r->bad_col);
+    else if (r->ncol < r->nv)
+        snprintf(note, sizeof note, "%s: %zu of the %zu vertices have a colour (v x y z r g b): the vertex colours are not used",
+                 r->name, r->ncol, r->nv);
+    else {
+        uint32_t *corner = hv_malloc_array(r->nt, 3 * sizeof *corner);
+        if (!corner) return HV_ERR_NOMEM;
+        for (size_t t = 0; t < r->nt; ++t)
+            for (int c = 0; c < 3; ++c) corner[3 * where[t] + (size_t)c] = r->vrgb[r->tri[3 * t + (size_t)c]];
+        hv_status s = hv_mesh_set_corner_colours(m, corner);
+        free(corner);
+        return s;
+    }
+    return hv_mesh_add_note(m, note);
+}
+
 /* The triangles grouped by body (first appearance order), as a soup, with their materials; with
  * read_files, the materials' colours and textures from the mtllib files. */
 static hv_status finish(obj_reader *r, int read_files, hv_mesh **out)
@@ -516,6 +573,7 @@ static hv_status finish(obj_reader *r, int read_files, hv_mesh **out)
         if (fmat) fmat[f] = r->tmat[t];
     }
     s = hv_mesh_build(soup, r->nt, r->name, HV_MESH_OBJ, bodies, nb, mats, nm, fmat, out);
+    if (s == HV_OK && (r->vrgb || r->bad_col_line)) s = vertex_colours(r, where, *out);
     if (s != HV_OK || look.npics == 0) goto done;
     for (size_t j = 0; j < look.npics && s == HV_OK; ++j) {
         const hv_mtl_material *m = look.pic_mat[j];
@@ -619,6 +677,7 @@ hv_status hv_obj_parse(const void *data, size_t size, const char *name, int read
                          r.nv == 1 ? "ex" : "ices", r.ignored ? "; lines and points are not read" : "");
     if (s == HV_OK) s = finish(&r, read_files, out);
     free(r.xyz);
+    free(r.vrgb);
     free(r.tri);
     free(r.tbody);
     free(r.tmat);

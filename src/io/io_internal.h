@@ -56,6 +56,11 @@ hv_status hv_obj_parse(const void *data, size_t size, const char *name, int read
 /* Wavefront text (OBJ and its MTL libraries): the next blank-separated token of [*p, e) into
  * [*ts, *te); 0 at the end of the statement or at a comment ('#'). */
 static inline int hv_io_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+/* Per-vertex colours (0xRRGGBBAA) as the corner colours of the mesh's facets: corner c of
+ * triangle t is vertex tri[3t+c], and triangle t is facet where[t] (NULL: facet t). PLY and
+ * OBJ vertex colours. */
+hv_status hv_io_vertex_colours(hv_mesh *m, const uint32_t *vcol, const uint32_t *tri, size_t nt, const size_t *where);
+
 static inline int hv_io_next_token(const char **p, const char *e, const char **ts, const char **te)
 {
     const char *s = *p;

@@ -58,3 +58,16 @@ hv_status hv_mesh_build_indexed(const float *xyz, size_t npts, const uint32_t *t
     if (s != HV_OK) return s;
     return with_bodies(m, nf, name, bodies, nbodies, mats, nmats, facet_mat, out);
 }
+
+/* ---- vertex colours ------------------------------------------------------------------------ */
+
+hv_status hv_io_vertex_colours(hv_mesh *m, const uint32_t *vcol, const uint32_t *tri, size_t nt, const size_t *where)
+{
+    uint32_t *corner = hv_malloc_array(nt, 3 * sizeof *corner);
+    if (!corner) return HV_ERR_NOMEM;
+    for (size_t t = 0; t < nt; ++t)
+        for (size_t c = 0; c < 3; ++c) corner[3 * (where ? where[t] : t) + c] = vcol[tri[3 * t + c]];
+    hv_status s = hv_mesh_set_corner_colours(m, corner);
+    free(corner);
+    return s;
+}

@@ -114,12 +114,10 @@ static hv_status tex_coord(obj_reader *r, const char *p, const char *e)
  * or seven values carry none): vertex r->nv's colour, 0 without one. */
 static hv_status vertex_colour(obj_reader *r, const float *rgb)
 {
-    hv_status s = HV_OK;
-    if (!r->vrgb) { /* the first colour: the vertices above it have none */
-        if ((s = hv_grow((void **)&r->vrgb, &r->vrcap, r->nv + 1, sizeof *r->vrgb)) != HV_OK) return s;
-        memset(r->vrgb, 0, (r->nv + 1) * sizeof *r->vrgb);
-    } else if ((s = hv_grow((void **)&r->vrgb, &r->vrcap, r->nv + 1, sizeof *r->vrgb)) != HV_OK)
-        return s;
+    int first = !r->vrgb; /* the first colour: the vertices above it have none */
+    hv_status s = hv_grow((void **)&r->vrgb, &r->vrcap, r->nv + 1, sizeof *r->vrgb);
+    if (s != HV_OK) return s;
+    if (first) memset(r->vrgb, 0, r->nv * sizeof *r->vrgb);
     uint32_t c = 0xFFu;
     for (int k = 0; rgb && k < 3; ++k) {
         if (!(rgb[k] >= 0 && rgb[k] <= 1)) {
@@ -525,15 +523,8 @@ static hv_status vertex_colours(const obj_reader *r, const size_t *where, hv_mes
     else if (r->ncol < r->nv)
         snprintf(note, sizeof note, "%s: %zu of the %zu vertices have a colour (v x y z r g b): the vertex colours are not used",
                  r->name, r->ncol, r->nv);
-    else {
-        uint32_t *corner = hv_malloc_array(r->nt, 3 * sizeof *corner);
-        if (!corner) return HV_ERR_NOMEM;
-        for (size_t t = 0; t < r->nt; ++t)
-            for (int c = 0; c < 3; ++c) corner[3 * where[t] + (size_t)c] = r->vrgb[r->tri[3 * t + (size_t)c]];
-        hv_status s = hv_mesh_set_corner_colours(m, corner);
-        free(corner);
-        return s;
-    }
+    else
+        return hv_io_vertex_colours(m, r->vrgb, r->tri, r->nt, where);
     return hv_mesh_add_note(m, note);
 }
 

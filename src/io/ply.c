@@ -588,11 +588,7 @@ hv_status hv_mesh_parse_ply(const void *data, size_t size, const char *name, hv_
         s = hv_mesh_build(soup, r.nt, name, f, NULL, 0, NULL, 0, NULL, out);
     }
     if (s == HV_OK && r.colour) { /* facets are in file order: corner c of facet t is vertex tri[3t+c] */
-        uint32_t *corner = hv_malloc_array(r.nt, 3 * sizeof *corner);
-        if (!corner) s = HV_ERR_NOMEM;
-        for (size_t i = 0; corner && i < 3 * r.nt; ++i) corner[i] = r.colour[r.tri[i]];
-        if (s == HV_OK) s = hv_mesh_set_corner_colours(*out, corner);
-        free(corner);
+        s = hv_io_vertex_colours(*out, r.colour, r.tri, r.nt, NULL);
         if (s != HV_OK) {
             hv_mesh_destroy(*out);
             *out = NULL;
